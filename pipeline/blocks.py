@@ -1,0 +1,207 @@
+"""The block inventory: CSV schema, validation and rigid-block geometry.
+
+A block is a free-standing rectangular rigid body of full height ``height_m``
+and full base width ``width_m`` in its rocking plane (Housner 1963 notation:
+half-height h, half-width b). Required columns: ``id,height_m,width_m``;
+optional: ``name,mu,azimuth_deg,restitution,site,notes``. A blank ``mu``
+takes ``blocks.default_mu`` from the configuration; a blank ``azimuth_deg``
+(the rocking direction, deg clockwise from north, an axis) means "worst
+orientation"; a blank ``restitution`` means Housner's value.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during
+earthquakes. BSSA 53(2), 403-417.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .constants import G
+from .errors import BlockParameterError, InventoryError
+
+REQUIRED = ("id", "height_m", "width_m")
+OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "site", "notes")
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Rocking geometry of one or many blocks (arrays broadcast together).
+
+    Attributes
+    ----------
+    h : ndarray
+        Half-height, height of the centre of mass [m].
+    b : ndarray
+        Half-width [m].
+    R : ndarray
+        Distance from a base corner to the centre of mass, sqrt(b^2 + h^2) [m].
+    alpha : ndarray
+        Slenderness angle atan(b/h) [rad].
+    p : ndarray
+        Frequency parameter sqrt(3 g / (4 R)) of a rectangular block [rad s-1].
+    e_housner : ndarray
+        Housner coefficient of restitution, the angular-velocity ratio across an
+        impact, 1 - 1.5 sin^2(alpha) [-] (its square is the energy ratio).
+    """
+
+    h: np.ndarray
+    b: np.ndarray
+    R: np.ndarray
+    alpha: np.ndarray
+    p: np.ndarray
+    e_housner: np.ndarray
+
+
+def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
+    """Return the rocking geometry of rectangular blocks.
+
+    Parameters
+    ----------
+    height_m : float or array_like
+        Full height 2h [m], > 0.
+    width_m : float or array_like
+        Full base width 2b in the rocking plane [m], > 0.
+    g_ms2 : float
+        Gravity [m s-2].
+
+    Raises
+    ------
+    BlockParameterError
+        If a size is not a positive finite number.
+
+    References
+    ----------
+    Housner (1963) eqs. 1-5: I0 = (4/3) m R^2, p^2 = 3g/(4R), e = 1 - 1.5 sin^2(alpha).
+    """
+    height = np.asarray(height_m, dtype=float)
+    width = np.asarray(width_m, dtype=float)
+    for name, v in (("height_m", height), ("width_m", width)):
+        if not np.all(np.isfinite(v)) or np.any(v <= 0):
+            raise BlockParameterError(f"{name} = {v.tolist()!r}: must be a positive, finite size in metres")
+    h, b = height / 2.0, width / 2.0
+    R = np.hypot(b, h)
+    alpha = np.arctan2(b, h)
+    p = np.sqrt(3.0 * g_ms2 / (4.0 * R))          # rectangle: p^2 = m g R / I0
+    e = 1.0 - 1.5 * np.sin(alpha) ** 2             # Housner (1963) eq. 5, velocity ratio
+    return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
+
+
+@dataclass(frozen=True)
+class Inventory:
+    """A validated block inventory (one entry per block, arrays aligned).
+
+    ``mu`` is filled from the default where blank; ``azimuth_deg`` and
+    ``restitution`` are NaN where blank.
+    """
+
+    ids: tuple[str, ...]
+    names: tuple[str, ...]
+    sites: tuple[str, ...]
+    notes: tuple[str, ...]
+    height_m: np.ndarray
+    width_m: np.ndarray
+    mu: np.ndarray
+    azimuth_deg: np.ndarray
+    restitution: np.ndarray
+    source: str
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def geometry(self, *, g_ms2: float = G) -> Geometry:
+        """Rocking geometry of every block."""
+        return geometry(self.height_m, self.width_m, g_ms2=g_ms2)
+
+
+def _number(value: str, *, where: str, column: str, rule: str, ok) -> float:
+    try:
+        x = float(value)
+    except ValueError:
+        raise InventoryError(f"{where}, column {column!r}: {value!r} is not a number; expected {rule}") from None
+    if not math.isfinite(x) or not ok(x):
+        raise InventoryError(f"{where}, column {column!r}: {value!r} is out of range; expected {rule}")
+    return x
+
+
+def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
+    """Read and validate an inventory CSV; any bad row stops everything.
+
+    Raises
+    ------
+    InventoryError
+        Naming the file, line and column, what was found and what is expected.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InventoryError(f"{path}: inventory file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InventoryError(f"{path}: cannot be read as UTF-8 text ({exc})") from exc
+    lines = [line for line in text.splitlines()]
+    reader = csv.reader(lines)
+    try:
+        header = [c.strip() for c in next(reader)]
+    except StopIteration:
+        raise InventoryError(f"{path}: empty file; expected a header line 'id,height_m,width_m,...'") from None
+    unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
+    if unknown:
+        raise InventoryError(f"{path}, line 1: unknown column(s) {unknown}; valid columns are "
+                             f"{list(REQUIRED + OPTIONAL)}")
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}")
+    dupes = {c for c in header if header.count(c) > 1}
+    if dupes:
+        raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
+    rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL}
+    seen: dict[str, int] = {}
+    for row in reader:
+        line = reader.line_num
+        if not any(cell.strip() for cell in row):
+            continue
+        where = f"{path}, line {line}"
+        if len(row) != len(header):
+            raise InventoryError(f"{where}: {len(row)} fields, expected {len(header)} as in the header")
+        rec = {c: row[i].strip() for i, c in enumerate(header)}
+        bid = rec["id"]
+        if not bid:
+            raise InventoryError(f"{where}, column 'id': empty; every block needs a unique id")
+        if bid in seen:
+            raise InventoryError(f"{where}, column 'id': duplicate id {bid!r} (first on line {seen[bid]})")
+        seen[bid] = line
+        rows["id"].append(bid)
+        for c in ("height_m", "width_m"):
+            if not rec[c]:
+                raise InventoryError(f"{where}, column {c!r}: missing; expected a positive size in metres")
+            rows[c].append(_number(rec[c], where=where, column=c, rule="a positive size in metres",
+                                   ok=lambda x: x > 0))
+        mu = rec.get("mu", "")
+        rows["mu"].append(default_mu if not mu else _number(
+            mu, where=where, column="mu", rule="a friction coefficient > 0", ok=lambda x: x > 0))
+        az = rec.get("azimuth_deg", "")
+        rows["azimuth_deg"].append(math.nan if not az else _number(
+            az, where=where, column="azimuth_deg", rule="an azimuth in [0, 360] deg (blank = worst)",
+            ok=lambda x: 0 <= x <= 360) % 180.0)
+        e = rec.get("restitution", "")
+        rows["restitution"].append(math.nan if not e else _number(
+            e, where=where, column="restitution", rule="a velocity restitution ratio in (0, 1]",
+            ok=lambda x: 0 < x <= 1))
+        for c in ("name", "site", "notes"):
+            rows[c].append(rec.get(c, ""))
+    if not rows["id"]:
+        raise InventoryError(f"{path}: no blocks; add at least one row under the header")
+    return Inventory(
+        ids=tuple(rows["id"]), names=tuple(rows["name"]), sites=tuple(rows["site"]),
+        notes=tuple(rows["notes"]),
+        height_m=np.array(rows["height_m"]), width_m=np.array(rows["width_m"]),
+        mu=np.array(rows["mu"]), azimuth_deg=np.array(rows["azimuth_deg"]),
+        restitution=np.array(rows["restitution"]), source=str(path),
+    )

@@ -1,0 +1,182 @@
+"""Configuration: TOML files validated against one source of truth, the dataclasses here.
+
+Every default lives in this module. ``configs/screen.toml`` spells the same
+defaults out for users (a test keeps the two equal). A TOML file only needs
+the keys it changes; unknown sections or keys are an error that lists the
+valid ones.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .constants import G
+from .errors import ConfigError
+from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+def _steps(*steps: dict) -> tuple:
+    return tuple(dict(s) for s in steps)
+
+
+@dataclass(frozen=True)
+class RecordsConfig:
+    """Reading and grouping records."""
+
+    #: g used to convert records stated in g [m s-2].
+    g_ms2: float = G
+    #: Components of one recording may differ by this many samples; trimmed to the shorter.
+    max_length_mismatch_samples: int = 20
+    #: Traces of one station starting within this time belong to one recording [s].
+    group_time_tolerance_s: float = 60.0
+    #: Units of files that do not state them, by glob (also read from ``units.toml``).
+    declared_units: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ProcessingConfig:
+    """Ordered processing steps by delivery level (see :mod:`pipeline.records.processing`)."""
+
+    uncorrected: tuple = _steps(
+        {"step": "demean"},
+        {"step": "detrend", "type": "linear"},
+        {"step": "taper", "max_percentage": 0.05, "type": "hann"},
+        {"step": "highpass", "freq": 0.05, "corners": 4, "zerophase": True},
+        {"step": "integrate", "method": "trapezoid"},
+    )
+    corrected: tuple = _steps({"step": "integrate", "method": "trapezoid"})
+
+
+@dataclass(frozen=True)
+class BlocksConfig:
+    """Inventory defaults."""
+
+    #: Friction coefficient used where the inventory leaves ``mu`` blank [-].
+    default_mu: float = 0.6
+
+
+@dataclass(frozen=True)
+class Config:
+    """The whole configuration."""
+
+    records: RecordsConfig = field(default_factory=RecordsConfig)
+    processing: ProcessingConfig = field(default_factory=ProcessingConfig)
+    blocks: BlocksConfig = field(default_factory=BlocksConfig)
+
+    def to_dict(self) -> dict:
+        """Plain-data form (embedded in outputs, hashed for re-runs)."""
+        return json.loads(json.dumps(dataclasses.asdict(self), default=list))
+
+    def digest(self) -> str:
+        """SHA-256 of the canonical JSON form."""
+        return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+def _check_value(section: str, key: str, value: Any, default: Any, where: str) -> Any:
+    name = f"{where}: [{section}] {key}"
+    if isinstance(default, bool):
+        if not isinstance(value, bool):
+            raise ConfigError(f"{name} = {value!r}: expected true or false")
+        return value
+    if isinstance(default, int) and not isinstance(default, bool):
+        if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+            raise ConfigError(f"{name} = {value!r}: expected a non-negative integer")
+        return value
+    if isinstance(default, float):
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not value > 0:
+            raise ConfigError(f"{name} = {value!r}: expected a positive number")
+        return float(value)
+    if isinstance(default, str):
+        if not isinstance(value, str):
+            raise ConfigError(f"{name} = {value!r}: expected a string")
+        return value
+    if isinstance(default, dict):
+        if not isinstance(value, dict):
+            raise ConfigError(f"{name}: expected a table")
+        return dict(value)
+    if isinstance(default, tuple):
+        return _check_steps(name, value)
+    raise ConfigError(f"{name}: unsupported value {value!r}")  # pragma: no cover
+
+
+def _check_steps(name: str, steps: Any) -> tuple:
+    if not isinstance(steps, list) or not all(isinstance(s, dict) for s in steps):
+        raise ConfigError(f"{name}: expected an array of tables [[...]] with a 'step' key")
+    out = []
+    for k, s in enumerate(steps, start=1):
+        step = s.get("step")
+        if step not in STEP_PARAMS:
+            raise ConfigError(f"{name}, step {k}: unknown step {step!r}; valid steps: {sorted(STEP_PARAMS)}")
+        allowed = STEP_PARAMS[step]
+        for p, v in s.items():
+            if p == "step":
+                continue
+            if p not in allowed:
+                raise ConfigError(f"{name}, step {k} ({step}): unknown parameter {p!r}; "
+                                  f"valid: {sorted(allowed)}")
+            typ = allowed[p]
+            ok = isinstance(v, (int, float)) and not isinstance(v, bool) if typ is float else (
+                isinstance(v, typ) and not (typ is int and isinstance(v, bool)))
+            if not ok:
+                raise ConfigError(f"{name}, step {k} ({step}): {p} = {v!r} must be {typ.__name__}")
+        if step == "integrate" and s.get("method", "trapezoid") not in INTEGRATION_METHODS:
+            raise ConfigError(f"{name}, step {k}: integrate method {s['method']!r}; "
+                              f"valid: {list(INTEGRATION_METHODS)}")
+        out.append(dict(s))
+    if not out or out[-1]["step"] != "integrate" or sum(s["step"] == "integrate" for s in out) != 1:
+        raise ConfigError(f"{name}: the steps must end with exactly one 'integrate' step "
+                          "(velocity is needed for the pulses)")
+    return tuple(out)
+
+
+def config_from_dict(data: dict, *, where: str = "<config>") -> Config:
+    """Build a validated :class:`Config` from nested plain data (missing keys keep defaults)."""
+    base = Config()
+    sections = {f.name: f for f in dataclasses.fields(Config)}
+    unknown = set(data) - set(sections)
+    if unknown:
+        raise ConfigError(f"{where}: unknown section(s) {sorted(unknown)}; valid: {sorted(sections)}")
+    kwargs = {}
+    for name in sections:
+        current = getattr(base, name)
+        given = data.get(name, {})
+        if not isinstance(given, dict):
+            raise ConfigError(f"{where}: [{name}] must be a table")
+        keys = {f.name for f in dataclasses.fields(current)}
+        bad = set(given) - keys
+        if bad:
+            raise ConfigError(f"{where}: unknown key(s) {sorted(bad)} in [{name}]; valid: {sorted(keys)}")
+        values = {k: _check_value(name, k, v, getattr(current, k), where) for k, v in given.items()}
+        kwargs[name] = dataclasses.replace(current, **values)
+    return Config(**kwargs)
+
+
+def load_config(path: str | Path | None = None) -> Config:
+    """Load and validate a TOML configuration (None gives the defaults).
+
+    Raises
+    ------
+    ConfigError
+        If the file is missing, not TOML, or holds unknown or invalid keys.
+    """
+    if path is None:
+        return Config()
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: configuration file not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
+    return config_from_dict(data, where=str(path))

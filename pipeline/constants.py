@@ -1,0 +1,10 @@
+"""Physical constants and unit factors, named once for the whole package."""
+
+#: Standard acceleration of gravity [m s-2] (CGPM 1901; also UDUNITS ``standard_free_fall``).
+G = 9.80665
+
+#: Centimetre to metre.
+CM_TO_M = 0.01
+
+#: The gravity value the Shahi & Baker (2014) MATLAB code uses [m s-2] (981 cm/s^2).
+G_MATLAB = 9.81

@@ -1,0 +1,49 @@
+"""Exception hierarchy.
+
+Every error raised on bad input is a :class:`RockscreenError` and also the
+builtin class a Python user would expect (``ValueError`` for bad values,
+``OSError`` for file-system trouble), so ``except ValueError`` keeps working.
+Messages say what was found, what was expected, and how to fix it.
+"""
+
+from __future__ import annotations
+
+
+class RockscreenError(Exception):
+    """Base class of every error raised by rockscreen."""
+
+
+class RecordFormatError(RockscreenError, ValueError):
+    """A record file is corrupt, truncated, empty or not in a known format."""
+
+
+class UnitsError(RockscreenError, ValueError):
+    """The physical units of a record cannot be determined or converted."""
+
+
+class RecordGroupingError(RockscreenError, ValueError):
+    """Components of one station recording do not fit together."""
+
+
+class InventoryError(RockscreenError, ValueError):
+    """The block inventory CSV is invalid (names file, line and column)."""
+
+
+class ConfigError(RockscreenError, ValueError):
+    """The TOML configuration is invalid (names the key and the valid values)."""
+
+
+class BlockParameterError(RockscreenError, ValueError):
+    """Impossible block or friction parameters (names the parameter and range)."""
+
+
+class PulseError(RockscreenError, ValueError):
+    """Pulse extraction cannot run on this record (too short, all zero, ...)."""
+
+
+class OutputError(RockscreenError, OSError):
+    """Results cannot be written (unwritable directory, disk full, ...)."""
+
+
+class OutputLockedError(OutputError):
+    """Another run holds the lock on the output directory."""

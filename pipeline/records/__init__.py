@@ -1,0 +1,1 @@
+"""Reading records: obspy plug-ins, units, grouping into station recordings, processing."""

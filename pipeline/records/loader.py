@@ -1,0 +1,357 @@
+"""From a directory of files to :class:`~pipeline.records.record.Record` objects.
+
+Two passes, so that records stream through memory one at a time:
+
+1. :func:`scan` reads only headers and groups the files of one station
+   recording (SEED id and start time for obspy formats; header station line
+   for AT2), returning light :class:`RecordSource` objects;
+2. :func:`load_record` reads one source's data, converts units, aligns the
+   components, applies the processing steps and integrates to velocity.
+
+A file or group that fails becomes a :class:`Failure` carrying the reason;
+the other records are unaffected.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import warnings
+from collections import defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import obspy
+
+from ..config import Config
+from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UnitsError
+from .orientation import orientation_of
+from .processing import apply_steps, integrate, integration_method
+from .record import Record
+from .units import canonical_units, declared_units_for, to_ms2
+
+#: Files in a records directory that are metadata, not records.
+SIDE_FILES = {"units.toml"}
+SIDE_SUFFIXES = {".xml", ".md", ".txt", ".csv", ".toml", ".json", ".nc", ".html", ".png", ".svg"}
+#: Formats whose start time is not stored in the file.
+TIMELESS_FORMATS = {"PEER_AT2", "NF_ASCII"}
+
+
+@dataclass(frozen=True)
+class RecordSource:
+    """The files of one station recording, before their data are read."""
+
+    record_id: str
+    files: tuple[str, ...]
+    formats: tuple[str, ...]
+
+    def digest(self) -> str:
+        """SHA-256 over the content of the files (for re-run detection)."""
+        h = hashlib.sha256()
+        for f in sorted(self.files):
+            h.update(Path(f).name.encode())
+            h.update(Path(f).read_bytes())
+        return h.hexdigest()
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A record (or an unreadable file) that could not be screened."""
+
+    record_id: str
+    files: tuple[str, ...]
+    reason: str
+
+
+def read_declared_units(root: Path, config: Config) -> dict[str, str]:
+    """Merge ``units.toml`` in ``root`` (table ``[files]``) with the configuration's declarations."""
+    from ..config import tomllib
+
+    declared = {}
+    for pattern, unit in config.records.declared_units.items():
+        declared[pattern] = canonical_units(unit, where=f"config records.declared_units[{pattern!r}]")
+    path = root / "units.toml"
+    if path.exists():
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise UnitsError(f"{path}: not valid TOML ({exc})") from exc
+        for pattern, unit in data.get("files", {}).items():
+            declared[pattern] = canonical_units(str(unit), where=f"{path} [files] {pattern!r}")
+    return declared
+
+
+def read_inventory(root: Path, extra: str | Path | None = None):
+    """Read every StationXML file in ``root`` (and ``extra``) into one inventory, or None."""
+    paths = sorted(p for p in root.rglob("*.xml") if p.is_file())
+    if extra is not None:
+        paths.append(Path(extra))
+    inventory = None
+    for p in paths:
+        try:
+            inv = obspy.read_inventory(str(p))
+        except Exception as exc:
+            if extra is not None and Path(extra) == p:
+                raise UnitsError(f"{p}: not a readable StationXML inventory ({exc})") from exc
+            continue
+        inventory = inv if inventory is None else inventory + inv
+    return inventory
+
+
+def _record_files(root: Path) -> list[Path]:
+    files = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
+        for name in sorted(filenames):
+            p = Path(dirpath) / name
+            if name.startswith(".") or name in SIDE_FILES or p.suffix.lower() in SIDE_SUFFIXES:
+                continue
+            files.append(p)
+    return files
+
+
+def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obspy.Stream:
+    try:
+        if path.stat().st_size == 0:
+            raise RecordFormatError(f"{path}: the file is empty; expected a strong-motion record")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            st = obspy.read(str(path), format=fmt, headonly=headonly)
+        for w in caught:
+            if "end of file" in str(w.message).lower():
+                raise RecordFormatError(f"{path}: truncated ({w.message}); re-download the file")
+        return st
+    except RockscreenError:
+        raise
+    except TypeError as exc:
+        if "Unknown format" in str(exc) or "unknown format" in str(exc).lower():
+            raise RecordFormatError(
+                f"{path}: unrecognised format (not AT2, COSMOS, CSMIP/DMG, or any format obspy "
+                "reads); remove it from the records directory or convert it"
+            ) from None
+        raise RecordFormatError(f"{path}: cannot be read ({exc})") from exc
+    except Exception as exc:
+        raise RecordFormatError(f"{path}: corrupt or truncated ({type(exc).__name__}: {exc})") from exc
+
+
+def _group_key(tr, path: Path) -> tuple:
+    fmt = tr.stats._format
+    if fmt == "PEER_AT2":
+        return ("AT2", str(path.parent), tr.stats.at2.station_line.lower())
+    cha = tr.stats.channel
+    knet_like = re.fullmatch(r"(NS|EW|UD)([12]?)", cha)
+    seed_like = not knet_like and len(cha) == 3 and cha[:2].isalpha()
+    if fmt in TIMELESS_FORMATS or not (seed_like or knet_like):
+        return ("FILE", str(path))
+    band = cha[:2] if seed_like else knet_like.group(2)
+    return ("SEED", tr.stats.network, tr.stats.station, tr.stats.location, band)
+
+
+def _common_stem(files: list[str]) -> str:
+    stems = [Path(f).stem for f in files]
+    prefix = os.path.commonprefix(stems).rstrip("-_. ")
+    return prefix if len(prefix) >= 3 else stems[0]
+
+
+def scan(root: str | Path, *, config: Config) -> tuple[list[RecordSource], list[Failure]]:
+    """Group the files under ``root`` into station recordings, reading headers only.
+
+    Returns
+    -------
+    sources : list of RecordSource
+        One per station recording, sorted by id.
+    failures : list of Failure
+        Files that could not even be identified.
+    """
+    root = Path(root)
+    if not root.is_dir():
+        raise RecordFormatError(f"{root}: records directory not found")
+    groups: dict[tuple, list[tuple]] = defaultdict(list)
+    failures = []
+    for path in _record_files(root):
+        try:
+            st = _read(path, headonly=True)
+        except RecordFormatError as exc:
+            failures.append(Failure(path.stem, (str(path),), str(exc)))
+            continue
+        for tr in st:
+            groups[_group_key(tr, path)].append((tr.stats.starttime, str(path), tr.stats._format))
+    sources = []
+    tol = config.records.group_time_tolerance_s
+    for key, members in groups.items():
+        members.sort()
+        clusters: list[list[tuple]] = []
+        for m in members:
+            if key[0] == "SEED" and clusters and abs(m[0] - clusters[-1][0][0]) <= tol:
+                clusters[-1].append(m)
+            elif key[0] != "SEED" and clusters:
+                clusters[-1].append(m)
+            else:
+                clusters.append([m])
+        for c in clusters:
+            files = sorted({f for _, f, _ in c})
+            formats = tuple(sorted({fmt for _, _, fmt in c}))
+            sources.append(RecordSource(_common_stem(files), tuple(files), formats))
+    seen: dict[str, int] = defaultdict(int)
+    unique = []
+    for s in sorted(sources, key=lambda s: (s.record_id, s.files)):
+        seen[s.record_id] += 1
+        rid = s.record_id if seen[s.record_id] == 1 else f"{s.record_id}#{seen[s.record_id]}"
+        unique.append(RecordSource(rid, s.files, s.formats))
+    return unique, failures
+
+
+def _header_peak_ms2(tr, g_ms2: float) -> float | None:
+    s = tr.stats
+    if "at2" in s and s.at2.header_pga_g is not None:
+        return abs(s.at2.header_pga_g) * g_ms2
+    if "knet" in s and s.knet.get("accmax") is not None:
+        return abs(float(s.knet.accmax)) * 0.01  # Max. Acc. (gal)
+    if "dmg" in s and s.dmg.header_peak is not None and s.dmg.header_peak_units:
+        return abs(s.dmg.header_peak) * (0.01 if "cm" in s.dmg.header_peak_units else g_ms2)
+    return None
+
+
+def _align(traces, *, max_mismatch: int, notes: list[str]) -> None:
+    """Trim components in place to a common length (time-aligned where start times exist)."""
+    dts = {round(t.stats.delta, 12) for t in traces}
+    if max(dts) - min(dts) > 1e-9 * max(dts):
+        detail = ", ".join(f"{t.stats.channel}: {t.stats.delta:g} s" for t in traces)
+        raise RecordGroupingError(
+            f"components have different sampling intervals ({detail}); resample them to one "
+            "interval before screening"
+        )
+    timed = all(t.stats._format not in TIMELESS_FORMATS and t.stats.get(
+        t.stats._format.lower(), {}).get("time_known", True) for t in traces)
+    lengths = [t.stats.npts for t in traces]
+    if timed and len(traces) > 1:
+        start = max(t.stats.starttime for t in traces)
+        end = min(t.stats.endtime for t in traces)
+        if end <= start:
+            raise RecordGroupingError("components do not overlap in time")
+        for t in traces:
+            t.trim(start, end, nearest_sample=True)
+        n = min(t.stats.npts for t in traces)
+        for t in traces:
+            t.data = t.data[:n]
+        if len(set(lengths)) > 1 or n != lengths[0]:
+            notes.append(f"components trimmed to their common time window: {lengths} -> {n} samples")
+        return
+    n = min(lengths)
+    if max(lengths) - n > max_mismatch:
+        raise RecordGroupingError(
+            f"component lengths {lengths} differ by {max(lengths) - n} samples, more than "
+            f"records.max_length_mismatch_samples = {max_mismatch}, and the files hold no start "
+            "time to align them; check that the files belong together or raise the setting"
+        )
+    if max(lengths) != n:
+        for t in traces:
+            t.data = t.data[:n]
+        notes.append(f"component lengths {lengths} trimmed to the shorter, {n} samples")
+
+
+def load_record(source: RecordSource, *, root: str | Path, config: Config,
+                declared: dict[str, str] | None = None, inventory=None) -> Record:
+    """Read, convert, align and process one station recording.
+
+    Raises
+    ------
+    RockscreenError
+        (``RecordFormatError``, ``UnitsError``, ``RecordGroupingError``) with the reason.
+    """
+    root = Path(root)
+    declared = read_declared_units(root, config) if declared is None else declared
+    notes: list[str] = []
+    traces = []
+    for f in source.files:
+        path = Path(f)
+        for tr in _read(path):
+            unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
+                               g_ms2=config.records.g_ms2, inventory=inventory)
+            tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
+            tr.stats.rockscreen_file = str(path)
+            traces.append(tr)
+    oriented = [(orientation_of(tr, inventory), tr) for tr in traces]
+    unknown = [tr.stats.channel for o, tr in oriented if o is None]
+    if unknown:
+        raise RecordGroupingError(
+            f"cannot tell the orientation of component(s) {unknown} in {[Path(f).name for f in source.files]}; "
+            "expected an azimuth, N/E, 1/2, L/T, FN/FP, H1/H2 or UP/V/Z"
+        )
+    verticals = [tr for o, tr in oriented if o.vertical]
+    horizontals = [(o, tr) for o, tr in oriented if not o.vertical]
+    if len(verticals) > 1 or len(horizontals) > 2:
+        raise RecordGroupingError(
+            f"{len(horizontals)} horizontal and {len(verticals)} vertical components grouped "
+            "together; one recording has at most two horizontals and one vertical"
+        )
+    if not horizontals:
+        raise RecordGroupingError("vertical component only: no horizontal motion to screen")
+    azimuth_known = all(o.azimuth_deg is not None for o, _ in horizontals)
+    if len(horizontals) == 2:
+        (o1, t1), (o2, t2) = horizontals
+        if azimuth_known:
+            diff = (o2.azimuth_deg - o1.azimuth_deg) % 360.0
+            if abs(diff - 270.0) < 1.0:
+                horizontals = [(o2, t2), (o1, t1)]
+            elif abs(diff - 90.0) >= 1.0:
+                raise RecordGroupingError(
+                    f"horizontal components at {o1.azimuth_deg:g} and {o2.azimuth_deg:g} deg are not "
+                    "orthogonal; rotate them to an orthogonal pair first"
+                )
+            az = (horizontals[0][0].azimuth_deg, (horizontals[0][0].azimuth_deg + 90.0) % 360.0)
+        else:
+            if o1.pair_index is None or o2.pair_index is None or o1.pair_index == o2.pair_index:
+                raise RecordGroupingError(
+                    f"components {t1.stats.channel} and {t2.stats.channel} mix known and unknown "
+                    "azimuths; cannot form an orthogonal pair"
+                )
+            horizontals.sort(key=lambda ot: ot[0].pair_index)
+            az = (0.0, 90.0)
+            notes.append("absolute azimuth unknown (relative orthogonal pair); block azimuths "
+                         "are not used, worst orientation instead")
+    else:
+        o1 = horizontals[0][0]
+        az = (o1.azimuth_deg if o1.azimuth_deg is not None else 0.0,)
+        notes.append("single horizontal component")
+    ordered = [tr for _, tr in horizontals] + verticals
+    _align(ordered, max_mismatch=config.records.max_length_mismatch_samples, notes=notes)
+    history = []
+    for tr in ordered:
+        level = tr.stats.get("processing_level", "uncorrected")
+        steps = getattr(config.processing, level)
+        apply_steps(tr, steps)
+        history += list(tr.stats.rockscreen_history) + [
+            f"{Path(tr.stats.rockscreen_file).name} {tr.stats.channel}: {p}" for p in tr.stats.get("processing", [])]
+    for tr in ordered:
+        data = np.asarray(tr.data, dtype=float)
+        if not np.all(np.isfinite(data)):
+            raise RecordFormatError(f"{tr.stats.rockscreen_file}: NaN or infinite samples after processing")
+        if not np.any(data) and tr in [t for _, t in horizontals]:
+            notes.append(f"component {tr.stats.channel} is all zero")
+    hz = np.vstack([np.asarray(tr.data, dtype=float) for _, tr in horizontals])
+    levels = {tr.stats.get("processing_level", "uncorrected") for tr in ordered}
+    level = "corrected" if levels == {"corrected"} else "uncorrected"
+    method = integration_method(getattr(config.processing, level))
+    dt = float(ordered[0].stats.delta)
+    history.append(f"velocity: integrate ({method})")
+    peaks = {tr.stats.channel: p for tr in ordered
+             if (p := _header_peak_ms2(tr, config.records.g_ms2)) is not None}
+    return Record(
+        record_id=source.record_id,
+        dt_s=dt,
+        horizontal_ms2=hz,
+        azimuths_deg=tuple(float(a) for a in az),
+        azimuth_known=azimuth_known,
+        vertical_ms2=np.asarray(verticals[0].data, dtype=float) if verticals else None,
+        files=source.files,
+        formats=source.formats,
+        component_codes=tuple(tr.stats.channel for tr in ordered),
+        processing_level=level,
+        notes=notes,
+        history=history,
+        header_peaks_ms2=peaks,
+        velocity_ms=integrate(hz, dt, method=method),
+    )

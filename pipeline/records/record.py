@@ -1,0 +1,96 @@
+"""The ground-motion record handed from the reading stage to the pulse stage."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Record:
+    """One station recording in SI units, ready for screening.
+
+    Attributes
+    ----------
+    record_id : str
+        Stable identifier (station and event, or file stem).
+    dt_s : float
+        Sampling interval [s].
+    horizontal_ms2 : ndarray, shape (n_h, npts)
+        Horizontal accelerations [m s-2]; ``n_h`` is 1 or 2. With two
+        components the second points 90 deg clockwise of the first.
+    azimuths_deg : tuple of float
+        Azimuth of each horizontal [deg clockwise from north] (nominal 0/90
+        when ``azimuth_known`` is False).
+    azimuth_known : bool
+        False when only the relative orientation of the pair is known.
+    vertical_ms2 : ndarray, shape (npts,), or None
+        Vertical acceleration [m s-2], positive up.
+    files : tuple of str
+        Source files.
+    formats : tuple of str
+        obspy format names of the source files.
+    component_codes : tuple of str
+        Codes of the horizontals then the vertical (as in the files).
+    processing_level : str
+        ``"corrected"`` or ``"uncorrected"`` as delivered.
+    notes : list of str
+        Human-readable notes (trimming, flags).
+    history : list of str
+        Ordered processing history (units conversion, obspy steps).
+    header_peaks_ms2 : dict
+        Peak acceleration stated in a file header, by component code [m s-2].
+    velocity_ms : ndarray, shape (n_h, npts)
+        Horizontal ground velocity [m s-1] from the configured integration step.
+    """
+
+    record_id: str
+    dt_s: float
+    horizontal_ms2: np.ndarray
+    azimuths_deg: tuple[float, ...]
+    azimuth_known: bool
+    vertical_ms2: np.ndarray | None
+    files: tuple[str, ...]
+    formats: tuple[str, ...]
+    component_codes: tuple[str, ...]
+    processing_level: str
+    notes: list[str] = field(default_factory=list)
+    history: list[str] = field(default_factory=list)
+    header_peaks_ms2: dict[str, float] = field(default_factory=dict)
+    velocity_ms: np.ndarray | None = None
+
+    @property
+    def npts(self) -> int:
+        """Number of samples."""
+        return int(self.horizontal_ms2.shape[1])
+
+    @property
+    def single_component(self) -> bool:
+        """True when only one horizontal component was recorded."""
+        return self.horizontal_ms2.shape[0] == 1
+
+    def along(self, azimuth_deg: float) -> np.ndarray:
+        """Horizontal acceleration projected on ``azimuth_deg`` [m s-2].
+
+        With one component the azimuth is ignored and that component returned.
+        """
+        if self.single_component:
+            return self.horizontal_ms2[0]
+        phi = np.deg2rad(azimuth_deg - self.azimuths_deg[0])
+        return np.cos(phi) * self.horizontal_ms2[0] + np.sin(phi) * self.horizontal_ms2[1]
+
+    def velocity_along(self, azimuth_deg: float) -> np.ndarray:
+        """Horizontal velocity projected on ``azimuth_deg`` [m s-1]."""
+        if self.single_component:
+            return self.velocity_ms[0]
+        phi = np.deg2rad(azimuth_deg - self.azimuths_deg[0])
+        return np.cos(phi) * self.velocity_ms[0] + np.sin(phi) * self.velocity_ms[1]
+
+    def pgv_ms(self) -> float:
+        """Peak of the horizontal velocity vector [m s-1]."""
+        return float(np.max(np.sqrt(np.sum(self.velocity_ms**2, axis=0))))
+
+    def pga_ms2(self) -> float:
+        """Peak of the horizontal acceleration vector [m s-2]."""
+        return float(np.max(np.sqrt(np.sum(self.horizontal_ms2**2, axis=0))))

@@ -1,0 +1,186 @@
+"""Records x blocks orchestration: one task per record, one writer.
+
+A task (:func:`screen_record`) loads one record by path, computes everything
+that record needs for all blocks at once, and returns plain arrays; the
+caller assembles the tasks' results into one Dataset (:func:`assemble`) and
+writes it. Nothing is kept of a record but its results, so memory does not
+grow with the number of records.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import __version__
+from .blocks import Inventory
+from .config import Config
+from .errors import RockscreenError
+from .records.loader import Failure, RecordSource, load_record, scan
+from .records.record import Record
+from .store import COMPONENTS, apply_schema
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Context:
+    """What every task needs besides its record (picklable)."""
+
+    root: str
+    config: Config
+    inventory: Inventory
+    declared_units: dict
+    station_inventory: object = None
+
+
+@dataclass
+class RecordResult:
+    """Results of one record: per-record scalars and per-component values."""
+
+    record_id: str
+    status: str
+    values: dict = field(default_factory=dict)
+    components: dict = field(default_factory=dict)
+
+
+def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
+    values = {
+        "files": ";".join(Path(f).name for f in rec.files),
+        "formats": ";".join(rec.formats),
+        "notes": "; ".join(rec.notes),
+        "history": "\n".join(rec.history),
+        "dt": rec.dt_s,
+        "npts": rec.npts,
+        "duration": rec.dt_s * (rec.npts - 1),
+        "n_horizontal": rec.horizontal_ms2.shape[0],
+        "has_vertical": int(rec.vertical_ms2 is not None),
+        "azimuth_known": int(rec.azimuth_known),
+        "processing_level": rec.processing_level,
+        "pga": rec.pga_ms2(),
+        "pgv": rec.pgv_ms(),
+    }
+    comps = {"component_code": ["", "", ""], "component_azimuth": [np.nan] * 3,
+             "component_pga": [np.nan] * 3, "component_header_pga": [np.nan] * 3}
+    series = list(rec.horizontal_ms2) + ([rec.vertical_ms2] if rec.vertical_ms2 is not None else [])
+    slots = list(range(rec.horizontal_ms2.shape[0])) + ([2] if rec.vertical_ms2 is not None else [])
+    for k, (slot, data) in enumerate(zip(slots, series)):
+        code = rec.component_codes[k]
+        comps["component_code"][slot] = code
+        comps["component_azimuth"][slot] = rec.azimuths_deg[slot] if slot < 2 else np.nan
+        comps["component_pga"][slot] = float(np.max(np.abs(data)))
+        comps["component_header_pga"][slot] = rec.header_peaks_ms2.get(code, np.nan)
+    return values, comps
+
+
+def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
+    """Screen one record against every block; failures come back as a status, never raise."""
+    try:
+        rec = load_record(source, root=ctx.root, config=ctx.config, declared=ctx.declared_units,
+                          inventory=ctx.station_inventory)
+        values, comps = _record_values(rec, source)
+        values["content_sha256"] = source.digest()
+        return RecordResult(source.record_id, "ok", values, comps)
+    except RockscreenError as exc:
+        return RecordResult(source.record_id, f"failed: {exc}",
+                            {"files": ";".join(Path(f).name for f in source.files)})
+    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
+        log.exception("unexpected error on record %s", source.record_id)
+        return RecordResult(source.record_id, f"failed: unexpected {type(exc).__name__}: {exc}",
+                            {"files": ";".join(Path(f).name for f in source.files)})
+
+
+def failure_result(f: Failure) -> RecordResult:
+    """A file that could not be identified, as a failed record row."""
+    return RecordResult(f.record_id, f"failed: {f.reason}", {"files": ";".join(Path(p).name for p in f.files)})
+
+
+def assemble(results: list[RecordResult], inventory: Inventory, config: Config, *,
+             attrs: dict | None = None) -> xr.Dataset:
+    """Build the results Dataset (dimensions ``record``, ``block``, ``component``)."""
+    from .store import SCHEMA
+
+    results = sorted(results, key=lambda r: r.record_id)
+    rids = [r.record_id for r in results]
+    data_vars: dict[str, tuple] = {"status": (("record",), np.array([r.status for r in results], dtype=object))}
+    record_vars = [n for n, (dims, *_ ) in SCHEMA.items() if dims == ("record",) and n != "status"]
+    for name in record_vars:
+        vals = [r.values.get(name) for r in results]
+        if any(v is not None for v in vals):
+            sample = next(v for v in vals if v is not None)
+            if isinstance(sample, str):
+                arr = np.array([v if v is not None else "" for v in vals], dtype=object)
+            else:
+                arr = np.array([v if v is not None else np.nan for v in vals], dtype=float)
+            data_vars[name] = (("record",), arr)
+    for name in ("component_code", "component_azimuth", "component_pga", "component_header_pga"):
+        is_str = name == "component_code"
+        rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
+        data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    e = np.where(np.isnan(inventory.restitution), geom.e_housner, inventory.restitution)
+    data_vars.update({
+        "block_name": (("block",), np.array(inventory.names, dtype=object)),
+        "site": (("block",), np.array(inventory.sites, dtype=object)),
+        "height": (("block",), inventory.height_m),
+        "width": (("block",), inventory.width_m),
+        "half_height": (("block",), geom.h),
+        "half_width": (("block",), geom.b),
+        "corner_distance": (("block",), geom.R),
+        "slenderness": (("block",), geom.alpha),
+        "frequency_parameter": (("block",), geom.p),
+        "restitution": (("block",), e),
+        "mu": (("block",), inventory.mu),
+        "block_azimuth": (("block",), inventory.azimuth_deg),
+    })
+    ds = xr.Dataset(data_vars, coords={
+        "record": np.array(rids, dtype=object),
+        "block": np.array(inventory.ids, dtype=object),
+        "component": np.array(COMPONENTS, dtype=object),
+    })
+    ds = apply_schema(ds)
+    ds.attrs.update({
+        "Conventions": "CF-1.11",
+        "title": "rockscreen overturning screening of free-standing rigid blocks",
+        "source": f"rockscreen {__version__}",
+        **(attrs or {}),
+    })
+    return ds
+
+
+def run(records_dir: str | Path, inventory: Inventory, config: Config, *, station_inventory=None,
+        declared_units: dict | None = None, progress=None) -> tuple[xr.Dataset, dict]:
+    """Screen every record under ``records_dir`` against ``inventory`` (serial).
+
+    Returns
+    -------
+    ds : xarray.Dataset
+        The results.
+    summary : dict
+        Counts and wall time for the closing summary.
+    """
+    from .records.loader import read_declared_units
+
+    t0 = time.perf_counter()
+    sources, failures = scan(records_dir, config=config)
+    declared = read_declared_units(Path(records_dir), config) if declared_units is None else declared_units
+    ctx = Context(str(records_dir), config, inventory, declared, station_inventory)
+    results = [failure_result(f) for f in failures]
+    for f in failures:
+        log.warning("record %s failed: %s", f.record_id, f.reason)
+    iterator = progress(sources) if progress else sources
+    for source in iterator:
+        res = screen_record(source, ctx)
+        if res.status != "ok":
+            log.warning("record %s %s", res.record_id, res.status)
+        results.append(res)
+    ds = assemble(results, inventory, config)
+    n_ok = sum(r.status == "ok" for r in results)
+    summary = {"records_ok": n_ok, "records_failed": len(results) - n_ok,
+               "blocks": len(inventory), "wall_time_s": time.perf_counter() - t0}
+    return ds, summary

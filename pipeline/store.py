@@ -1,0 +1,126 @@
+"""Results as an xarray Dataset in netCDF: schema, CF attributes, atomic writes.
+
+One table, :data:`SCHEMA`, gives every variable its dimensions, UDUNITS
+units (``m s-2``, never ``g``, which UDUNITS reads as gram) and
+``long_name``; categorical variables carry ``flag_values``/``flag_meanings``.
+Files are written to a temporary name in the same directory, flushed to disk,
+then renamed over the target, so a reader sees the old or the new file,
+never a partial one.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .errors import OutputError
+
+#: name -> (dims, units or None, long_name, extra attributes)
+SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    # per record
+    "status": (("record",), None, "screening status: 'ok' or the reason the record failed", {}),
+    "files": (("record",), None, "source files of the record, ';'-separated", {}),
+    "formats": (("record",), None, "obspy format names of the source files", {}),
+    "notes": (("record",), None, "notes on the record (trimming, orientation, flags)", {}),
+    "history": (("record",), None, "ordered processing history, newline-separated", {}),
+    "content_sha256": (("record",), None, "SHA-256 of the source files' content", {}),
+    "dt": (("record",), "s", "sampling interval", {}),
+    "npts": (("record",), "1", "number of samples after alignment", {}),
+    "duration": (("record",), "s", "record duration", {}),
+    "n_horizontal": (("record",), "1", "number of horizontal components", {}),
+    "has_vertical": (("record",), "1", "record has a vertical component", {}),
+    "azimuth_known": (("record",), "1", "absolute azimuth of the horizontals is known", {}),
+    "processing_level": (("record",), None, "delivery level: corrected or uncorrected", {}),
+    "pga": (("record",), "m s-2", "peak ground acceleration, peak of the horizontal vector", {}),
+    "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector", {}),
+    # per record and component
+    "component_code": (("record", "component"), None, "channel or component code in the file", {}),
+    "component_azimuth": (("record", "component"), "degree", "component azimuth clockwise from north", {}),
+    "component_pga": (("record", "component"), "m s-2", "peak absolute acceleration of the component", {}),
+    "component_header_pga": (("record", "component"), "m s-2", "peak acceleration stated in the file header", {}),
+    # per block
+    "block_name": (("block",), None, "block name", {}),
+    "site": (("block",), None, "site or collection of the block", {}),
+    "height": (("block",), "m", "full block height 2h", {}),
+    "width": (("block",), "m", "full base width 2b in the rocking plane", {}),
+    "half_height": (("block",), "m", "half-height h (centre-of-mass height)", {}),
+    "half_width": (("block",), "m", "half-width b", {}),
+    "corner_distance": (("block",), "m", "R = sqrt(b^2 + h^2), base corner to centre of mass", {}),
+    "slenderness": (("block",), "rad", "alpha = atan(b/h)", {}),
+    "frequency_parameter": (("block",), "rad s-1", "p = sqrt(3 g / (4 R))", {}),
+    "restitution": (("block",), "1", "angular-velocity restitution across an impact (Housner where not given)", {}),
+    "mu": (("block",), "1", "friction coefficient between block and base", {}),
+    "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
+}
+
+COMPONENTS = ("h1", "h2", "v")
+
+
+def apply_schema(ds: xr.Dataset) -> xr.Dataset:
+    """Attach units and long names from :data:`SCHEMA` to every known variable."""
+    for name, (_, units, long_name, extra) in SCHEMA.items():
+        if name in ds:
+            attrs = {"long_name": long_name, **extra}
+            if units is not None:
+                attrs["units"] = units
+            ds[name].attrs.update(attrs)
+    return ds
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    enc = {}
+    for name, var in ds.variables.items():
+        if var.dtype.kind == "f":
+            enc[name] = {"zlib": True, "complevel": 4, "_FillValue": np.nan}
+        elif var.dtype.kind in "OU":
+            enc[name] = {"dtype": str}
+    return enc
+
+
+def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to ``path`` (netCDF4) atomically: temporary file, fsync, rename.
+
+    Raises
+    ------
+    OutputError
+        If the directory is not writable or the disk is full; the previous
+        file at ``path``, if any, is left untouched.
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        os.close(fd)
+    except OSError as exc:
+        raise OutputError(f"{path.parent}: cannot write results here ({exc.strerror or exc}); "
+                          "choose another --out directory or fix its permissions") from exc
+    try:
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except OSError as exc:
+        _remove_quietly(tmp)
+        raise OutputError(f"{path}: writing failed ({exc.strerror or exc}); the previous results, if "
+                          "any, are intact. Free disk space or choose another --out") from exc
+    except BaseException:
+        _remove_quietly(tmp)
+        raise
+    return path
+
+
+def _remove_quietly(path) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
+
+
+def open_results(path: str | Path) -> xr.Dataset:
+    """Open a results file fully into memory (the file is closed on return)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return ds.load()

@@ -1,0 +1,56 @@
+"""Shared fixtures: project data found by fixture, never by string paths in tests."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from pipeline.config import Config
+
+PROJECT = Path(__file__).resolve().parents[1]
+RECORDS = PROJECT / "records"
+DATA = Path(__file__).resolve().parent / "data"
+
+
+@pytest.fixture(scope="session")
+def records_dir() -> Path:
+    """The bundled real records."""
+    return RECORDS
+
+
+@pytest.fixture(scope="session")
+def data_dir() -> Path:
+    """Small test-only data."""
+    return DATA
+
+
+@pytest.fixture(scope="session")
+def config() -> Config:
+    """The default configuration."""
+    return Config()
+
+
+@pytest.fixture(scope="session")
+def blocks_csv() -> Path:
+    """The sample inventory."""
+    return PROJECT / "configs" / "blocks.csv"
+
+
+@pytest.fixture
+def make_records(tmp_path):
+    """Copy chosen bundled files (paths relative to records/) into a fresh directory."""
+
+    def _make(*relpaths: str, units_toml: bool = True) -> Path:
+        root = tmp_path / "recs"
+        root.mkdir(exist_ok=True)
+        for rel in relpaths:
+            dst = root / rel
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(RECORDS / rel, dst)
+        if units_toml:
+            shutil.copy(RECORDS / "units.toml", root / "units.toml")
+        return root
+
+    return _make

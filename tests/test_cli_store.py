@@ -1,0 +1,87 @@
+"""End to end: the screen command, exit codes, bad files in a batch, atomic round-trip writes."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline.cli import main
+from pipeline.store import open_results, write_atomic
+from pipeline.errors import OutputError
+
+
+def test_screen_writes_dataset_with_records_and_blocks(make_records, blocks_csv, tmp_path):
+    root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+                        "knet/test.knet")
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    ds = open_results(out / "screening.nc")
+    assert ds.sizes["record"] == 2 and ds.sizes["block"] == 13
+    assert list(ds.status.values) == ["ok", "ok"]
+    assert ds.pga.attrs["units"] == "m s-2" and ds.pgv.attrs["units"] == "m s-1"
+    rin = ds.sel(record="RSN1063_NORTHR_RRS")
+    # peak of the horizontal vector is at least each component's peak
+    assert float(rin.pga) >= float(rin.component_pga.sel(component="h1")) - 1e-12
+    assert "rockscreen_config" in ds.attrs and "package_versions" in ds.attrs
+
+
+def test_bad_file_fails_alone_and_sets_exit_code(make_records, blocks_csv, tmp_path, caplog):
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
+    (root / "garbage.AT2").write_bytes(b"\x00\x01 not a record")
+    (root / "empty.V2").write_bytes(b"")
+    out = tmp_path / "out"
+    code = main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    assert code == 1
+    ds = open_results(out / "screening.nc")
+    status = dict(zip(ds.record.values, ds.status.values))
+    assert status["RSN77_SFERN_PUL164"] == "ok" and status["test"] == "ok"
+    assert "garbage.AT2" in status["garbage"] and "unrecognised format" in status["garbage"]
+    assert "empty.V2" in status["empty"] and "empty" in status["empty"]
+    assert "garbage.AT2" in caplog.text
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+                 "--tolerate-failures"]) == 0
+
+
+def test_bad_inventory_exits_2_and_writes_nothing(make_records, tmp_path, capsys):
+    root = make_records("knet/test.knet")
+    inv = tmp_path / "inv.csv"
+    inv.write_text("id,height_m,width_m\nA,1,0.2\nB,tall,0.2\n")
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(inv), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "line 3, column 'height_m'" in err and "nothing was screened" in err
+    assert not out.exists()
+
+
+def test_missing_records_dir_is_usage_error(blocks_csv, tmp_path, capsys):
+    assert main(["--records", str(tmp_path / "nope"), "--blocks", str(blocks_csv)]) == 2
+    assert "records directory not found" in capsys.readouterr().err
+
+
+def test_roundtrip_identical(tmp_path):
+    ds = xr.Dataset(
+        {"pga": (("record",), np.array([1.5, np.nan])), "status": (("record",), np.array(["ok", "failed: x"], dtype=object)),
+         "n": (("record",), np.array([3, 4]))},
+        coords={"record": np.array(["a", "b"], dtype=object)}, attrs={"title": "t"})
+    ds.pga.attrs["units"] = "m s-2"
+    path = write_atomic(ds, tmp_path / "r.nc")
+    back = open_results(path)
+    xr.testing.assert_identical(ds, back)
+
+
+def test_failed_write_leaves_previous_file_intact(tmp_path, monkeypatch):
+    ds = xr.Dataset({"x": (("r",), np.arange(3.0))})
+    path = write_atomic(ds, tmp_path / "r.nc")
+    before = path.read_bytes()
+
+    def disk_full(self, *a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", disk_full)
+    with pytest.raises(OutputError, match="No space left.*previous results, if any, are intact"):
+        write_atomic(ds * 2, path)
+    assert path.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["r.nc"]  # no temporary left behind

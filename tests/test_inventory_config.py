@@ -1,0 +1,98 @@
+"""Inventory validation and configuration (one source of truth)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.blocks import geometry, read_inventory
+from pipeline.config import Config, config_from_dict, load_config
+from pipeline.errors import BlockParameterError, ConfigError, InventoryError
+
+PROJECT = Path(__file__).resolve().parents[1]
+
+
+def test_sample_inventory_reads(blocks_csv):
+    inv = read_inventory(blocks_csv, default_mu=0.6)
+    assert len(inv) >= 12
+    assert {"COL-0.5", "COL-1", "COL-20", "PBR-01", "TRAF-01"} <= set(inv.ids)
+    cols = [inv.ids.index(c) for c in ("COL-0.5", "COL-1", "COL-20")]
+    assert np.allclose(inv.width_m[cols] / inv.height_m[cols], 0.11)
+
+
+BAD_ROWS = [
+    ("id,height_m,width_m\nA,1.0\n", r"line 2: 2 fields, expected 3"),
+    ("id,height_m,width_m\nA,abc,0.2\n", r"line 2, column 'height_m': 'abc' is not a number"),
+    ("id,height_m,width_m\nA,0,0.2\n", r"line 2, column 'height_m': '0' is out of range"),
+    ("id,height_m,width_m\nA,1,-0.2\n", r"line 2, column 'width_m': '-0.2' is out of range"),
+    ("id,height_m,width_m\nA,1,0.2\nA,2,0.3\n", r"line 3, column 'id': duplicate id 'A' \(first on line 2\)"),
+    ("id,height_m,width_m,colour\nA,1,0.2,red\n", r"line 1: unknown column\(s\) \['colour'\]"),
+    ("id,height_m\nA,1\n", r"line 1: missing required column\(s\) \['width_m'\]"),
+    ("id,height_m,width_m,mu\nA,1,0.2,0\n", r"line 2, column 'mu': '0' is out of range"),
+    ("id,height_m,width_m\nA,,0.2\n", r"line 2, column 'height_m': missing"),
+    ("id,height_m,width_m\nA,nan,0.2\n", r"line 2, column 'height_m': 'nan' is out of range"),
+    ("", r"empty file"),
+]
+
+
+@pytest.mark.parametrize("text,message", BAD_ROWS)
+def test_bad_inventory_rows_name_file_line_column(tmp_path, text, message):
+    path = tmp_path / "inv.csv"
+    path.write_text(text)
+    with pytest.raises(InventoryError, match=message) as info:
+        read_inventory(path, default_mu=0.6)
+    assert "inv.csv" in str(info.value)
+
+
+def test_blank_optional_fields_take_defaults(tmp_path):
+    path = tmp_path / "inv.csv"
+    path.write_text("id,height_m,width_m,mu,azimuth_deg\nA,1,0.2,,\nB,1,0.2,0.4,200\n")
+    inv = read_inventory(path, default_mu=0.55)
+    assert inv.mu.tolist() == [0.55, 0.4]
+    assert math.isnan(inv.azimuth_deg[0]) and inv.azimuth_deg[1] == 20.0  # an axis: mod 180
+
+
+def test_geometry_closed_forms():
+    # h = 1, b = 0.2: the rocking-dynamics.md section 3 block, whose numbers use g = 9.81
+    g = geometry(2.0, 0.4, g_ms2=9.81)
+    assert g.alpha == pytest.approx(0.197396, abs=1e-6)
+    assert g.p == pytest.approx(2.686005, abs=1e-6)
+    assert g.e_housner == pytest.approx(0.942308, abs=1e-6)
+    assert g.e_housner ** 2 == pytest.approx(0.887944, abs=1e-6)  # energy ratio r = e^2
+
+
+@pytest.mark.parametrize("h,w", [(0, 1), (-1, 1), (1, 0), (float("inf"), 1)])
+def test_geometry_rejects_impossible_sizes(h, w):
+    with pytest.raises(BlockParameterError, match="positive, finite size"):
+        geometry(h, w)
+
+
+def test_shipped_config_equals_builtin_defaults():
+    assert load_config(PROJECT / "configs" / "screen.toml") == Config()
+
+
+@pytest.mark.parametrize("data,message", [
+    ({"recrods": {}}, r"unknown section\(s\) \['recrods'\]; valid"),
+    ({"records": {"gee": 9.8}}, r"unknown key\(s\) \['gee'\] in \[records\]; valid: .*g_ms2"),
+    ({"records": {"g_ms2": -1}}, r"g_ms2 = -1: expected a positive number"),
+    ({"processing": {"corrected": [{"step": "smooth"}]}}, r"unknown step 'smooth'; valid steps"),
+    ({"processing": {"corrected": [{"step": "demean"}]}}, r"must end with exactly one 'integrate'"),
+    ({"processing": {"corrected": [{"step": "integrate", "method": "simpson"}]}}, r"integrate method 'simpson'"),
+    ({"processing": {"corrected": [{"step": "highpass", "freq": "x"}, {"step": "integrate"}]}},
+     r"freq = 'x' must be float"),
+])
+def test_config_errors_name_key_and_valid_values(data, message):
+    with pytest.raises(ConfigError, match=message):
+        config_from_dict(data)
+
+
+def test_config_file_errors(tmp_path):
+    with pytest.raises(ConfigError, match="not found"):
+        load_config(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[records\n")
+    with pytest.raises(ConfigError, match="not valid TOML"):
+        load_config(bad)
