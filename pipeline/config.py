@@ -67,12 +67,24 @@ class BlocksConfig:
 
 
 @dataclass(frozen=True)
+class PulsesConfig:
+    """Velocity-pulse extraction (Shahi & Baker 2014)."""
+
+    #: "shahi_baker_2014" (two components, 5 candidates) or "baker_2007" (one component).
+    method: str = "shahi_baker_2014"
+    #: Shortest and longest pulse period searched [s].
+    tp_min_s: float = 0.25
+    tp_max_s: float = 15.0
+
+
+@dataclass(frozen=True)
 class Config:
     """The whole configuration."""
 
     records: RecordsConfig = field(default_factory=RecordsConfig)
     processing: ProcessingConfig = field(default_factory=ProcessingConfig)
     blocks: BlocksConfig = field(default_factory=BlocksConfig)
+    pulses: PulsesConfig = field(default_factory=PulsesConfig)
 
     def to_dict(self) -> dict:
         """Plain-data form (embedded in outputs, hashed for re-runs)."""
@@ -81,6 +93,10 @@ class Config:
     def digest(self) -> str:
         """SHA-256 of the canonical JSON form."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+#: Keys whose string values are limited to a set.
+CHOICES = {("pulses",): {"method": ("shahi_baker_2014", "baker_2007")}}
 
 
 def _check_value(section: str, key: str, value: Any, default: Any, where: str) -> Any:
@@ -158,6 +174,10 @@ def config_from_dict(data: dict, *, where: str = "<config>") -> Config:
         if bad:
             raise ConfigError(f"{where}: unknown key(s) {sorted(bad)} in [{name}]; valid: {sorted(keys)}")
         values = {k: _check_value(name, k, v, getattr(current, k), where) for k, v in given.items()}
+        choices = CHOICES.get((name,), {})
+        for k, v in values.items():
+            if k in choices and v not in choices[k]:
+                raise ConfigError(f"{where}: [{name}] {k} = {v!r}; valid: {list(choices[k])}")
         kwargs[name] = dataclasses.replace(current, **values)
     return Config(**kwargs)
 

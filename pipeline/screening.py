@@ -20,7 +20,8 @@ import xarray as xr
 from . import __version__
 from .blocks import Inventory
 from .config import Config
-from .errors import RockscreenError
+from .errors import PulseError, RockscreenError
+from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record, scan
 from .records.record import Record
 from .store import COMPONENTS, apply_schema
@@ -47,6 +48,8 @@ class RecordResult:
     status: str
     values: dict = field(default_factory=dict)
     components: dict = field(default_factory=dict)
+    blocks: dict = field(default_factory=dict)
+    series: dict = field(default_factory=dict)
 
 
 def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
@@ -78,6 +81,49 @@ def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
     return values, comps
 
 
+def _block_directions(rec: Record, inventory: Inventory, strongest_deg: float) -> np.ndarray:
+    """Direction each block is checked along: its azimuth, or the strongest pulse axis."""
+    az = inventory.azimuth_deg
+    if not rec.azimuth_known or rec.single_component:
+        return np.full(len(inventory), strongest_deg)
+    return np.where(np.isnan(az), strongest_deg, np.round(az) % 180.0)
+
+
+def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
+    cfg = ctx.config.pulses
+    nb = len(ctx.inventory)
+    try:
+        pulse = analyze(rec, method=cfg.method, tp_min_s=cfg.tp_min_s, tp_max_s=cfg.tp_max_s)
+    except PulseError as exc:
+        return {"is_pulse": -1, "pulse_late": -1, "pulse_method": cfg.method,
+                "pulse_flags": f"no pulse extracted: {exc}"}, {}, {}
+    res, best, lobe = pulse.result, pulse.result.best, pulse.lobe
+    flags = list(res.flags)
+    if not rec.azimuth_known:
+        flags.append("pulse azimuth relative to the first component (absolute azimuth unknown)")
+    values = {
+        "is_pulse": int(res.is_pulse), "pulse_indicator": best.pulse_indicator,
+        "pulse_period": res.tp_s, "pulse_azimuth": pulse.azimuth_deg, "pulse_late": int(best.late),
+        "pulse_ap": lobe.ap_ms2, "pulse_tp": lobe.tp_s, "pulse_beta": lobe.beta, "pulse_dv": lobe.dv_ms,
+        "pulse_record_ap": pulse.record_ap_ms2, "pulse_candidate": res.chosen + 1,
+        "pulse_method": res.method, "pulse_flags": "; ".join(flags),
+    }
+    directions = _block_directions(rec, ctx.inventory, pulse.azimuth_deg)
+    names = ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv", "block_record_ap")
+    blocks = {n: np.full(nb, np.nan) for n in names}
+    blocks["block_pulse_azimuth"] = directions
+    for d in np.unique(directions):
+        sel = directions == d
+        if d == pulse.azimuth_deg:
+            lb, rap = lobe, pulse.record_ap_ms2
+        else:
+            lb, rap = pulse.along(rec, float(d))
+        for n, v in zip(names, (lb.ap_ms2, lb.tp_s, lb.beta, lb.dv_ms, rap)):
+            blocks[n][sel] = v
+    series = {"velocity": best.velocity_cms / 100.0, "pulse": best.pulse_cms / 100.0, "dt": rec.dt_s}
+    return values, blocks, series
+
+
 def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
     """Screen one record against every block; failures come back as a status, never raise."""
     try:
@@ -85,7 +131,9 @@ def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
                           inventory=ctx.station_inventory)
         values, comps = _record_values(rec, source)
         values["content_sha256"] = source.digest()
-        return RecordResult(source.record_id, "ok", values, comps)
+        pulse_values, block_values, series = _pulse_values(rec, ctx)
+        values.update(pulse_values)
+        return RecordResult(source.record_id, "ok", values, comps, block_values, series)
     except RockscreenError as exc:
         return RecordResult(source.record_id, f"failed: {exc}",
                             {"files": ";".join(Path(f).name for f in source.files)})
@@ -122,6 +170,15 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         is_str = name == "component_code"
         rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
+    nb = len(inventory)
+    block_vars = [n for n, (dims, *_ ) in SCHEMA.items() if dims == ("record", "block")]
+    for name in block_vars:
+        rows = [r.blocks.get(name, np.full(nb, np.nan)) for r in results]
+        data_vars[name] = (("record", "block"), np.array(rows, dtype=float).reshape(len(results), nb))
+    for name in ("is_pulse", "pulse_late"):
+        if name in data_vars:
+            vals = data_vars[name][1]
+            data_vars[name] = (("record",), np.where(np.isnan(vals), -1, vals).astype("i1"))
     geom = inventory.geometry(g_ms2=config.records.g_ms2)
     e = np.where(np.isnan(inventory.restitution), geom.e_housner, inventory.restitution)
     data_vars.update({

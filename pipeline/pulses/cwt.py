@@ -1,0 +1,133 @@
+"""The legacy-MATLAB-style continuous wavelet transform with the db4 wavelet.
+
+``pywt.cwt`` accepts only continuous wavelets and rejects ``db4``, but the
+Shahi & Baker (2014) classifier is calibrated on MATLAB's legacy
+``cwt(x, scales, 'db4')``. That transform is rebuilt here from its
+definition (../shared/reference/pulse-identification.md section 2.2):
+
+* Psi = running integral of the db4 wavelet function sampled by
+  ``pywt.Wavelet('db4').wavefun(level=10)`` on x in [0, 7], step h = 2^-10;
+* for an integer scale a: j_m = floor(m / (a h)), m = 0..floor(7a);
+  kernel f = reverse(Psi[j]);
+* C(a, .) = -sqrt(a) * central_N(diff(conv_full(v, f))).
+
+The kernel spectra are cached per (scale, FFT length), so a record's two
+components are transformed at all scales with one FFT each plus one
+multiply per scale.
+
+References
+----------
+Shahi, S. K., & Baker, J. W. (2014). An efficient algorithm to identify
+strong-velocity pulses in multicomponent ground motions. BSSA 104(5), 2456-2466.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pywt
+from scipy import fft as sfft
+
+#: db4 support length [in units of the scale].
+SUPPORT = 7.0
+#: Resolution of the sampled wavelet function (MATLAB ``intwave(db4, 10)``).
+WAVEFUN_LEVEL = 10
+
+
+@lru_cache(maxsize=1)
+def _psi_integral() -> tuple[np.ndarray, float]:
+    _, psi, x = pywt.Wavelet("db4").wavefun(level=WAVEFUN_LEVEL)
+    h = float(x[1] - x[0])
+    return np.cumsum(psi) * h, h
+
+
+@lru_cache(maxsize=4096)
+def kernel(scale: int) -> np.ndarray:
+    """The reversed integrated-wavelet kernel f of one integer scale (read-only)."""
+    integ, h = _psi_integral()
+    m = np.arange(int(np.floor(scale * SUPPORT)) + 1)
+    j = np.floor(m / (scale * h)).astype(int)
+    if j.size == 1:
+        j = np.array([j[0], j[0]])
+    f = integ[j][::-1].copy()
+    f.setflags(write=False)
+    return f
+
+
+@lru_cache(maxsize=4096)
+def _kernel_spectrum(scale: int, nfft: int) -> np.ndarray:
+    spec = sfft.rfft(kernel(scale), nfft)
+    spec.setflags(write=False)
+    return spec
+
+
+def _first_kept(n_signal: int, n_kernel: int) -> int:
+    """0-based start of MATLAB ``wkeep1(diff(conv_full), N)``, central part."""
+    n_diff = n_signal + n_kernel - 2
+    return (n_diff - n_signal) // 2
+
+
+def cwt(signal: np.ndarray, scales) -> np.ndarray:
+    """Legacy MATLAB ``cwt(signal, scales, 'db4')``.
+
+    Parameters
+    ----------
+    signal : ndarray, shape (N,) or (n, N)
+        Signal(s), one per row.
+    scales : sequence of int
+        Integer scales [samples].
+
+    Returns
+    -------
+    ndarray, shape (n_scales, N) or (n, n_scales, N)
+        Coefficients.
+    """
+    x = np.atleast_2d(np.asarray(signal, dtype=float))
+    n = x.shape[-1]
+    scales = [int(s) for s in scales]
+    longest = max(len(kernel(s)) for s in scales)
+    nfft = sfft.next_fast_len(n + longest - 1, real=True)
+    xs = sfft.rfft(x, nfft, axis=-1)
+    out = np.empty((x.shape[0], len(scales), n))
+    for k, a in enumerate(scales):
+        f = kernel(a)
+        full = sfft.irfft(xs * _kernel_spectrum(a, nfft), nfft, axis=-1)[:, : n + len(f) - 1]
+        first = _first_kept(n, len(f))
+        d = np.diff(full[:, first:first + n + 1], axis=-1)
+        out[:, k, :] = -np.sqrt(a) * d
+    return out[0] if np.ndim(signal) == 1 else out
+
+
+def cwt_window(signal: np.ndarray, scale: int, lo: int, hi: int) -> np.ndarray:
+    """Coefficients of one scale at output samples ``lo..hi`` (inclusive, 0-based) only.
+
+    Only the part of ``signal`` that reaches those outputs is convolved.
+    """
+    f = kernel(scale)
+    n, L = signal.size, f.size
+    first = _first_kept(n, L)
+    k0, k1 = first + lo, first + hi + 1           # needed indices of conv_full
+    j0, j1 = max(0, k0 - L + 1), min(n - 1, k1)   # signal samples that reach them
+    seg = signal[j0:j1 + 1]
+    nfft = sfft.next_fast_len(seg.size + L - 1, real=True)
+    full = sfft.irfft(sfft.rfft(seg, nfft) * _kernel_spectrum(scale, nfft), nfft)
+    # full_segment[k - j0] == conv_full(signal)[k] for k in [k0, k1]
+    part = full[k0 - j0:k1 - j0 + 1]
+    return -np.sqrt(scale) * np.diff(part)
+
+
+def scales_for(dt_s: float, *, tp_min_s: float = 0.25, tp_max_s: float = 15.0, n_scales: int = 50) -> np.ndarray:
+    """The 51 integer scales searched (pulse-identification.md section 2.3).
+
+    ``s_min = floor(TpMin/1.4/dt)``, ``step = ceil((TpMax/1.4/dt - s_min)/50)``,
+    scales ``s_min : step : s_min + 50 step``.
+    """
+    s_min = int(np.floor(tp_min_s / 1.4 / dt_s))
+    step = int(np.ceil((tp_max_s / 1.4 / dt_s - s_min) / n_scales))
+    return s_min + step * np.arange(n_scales + 1)
+
+
+def pseudo_period(scale: int, dt_s: float) -> float:
+    """Tp = 1 / scal2frq(a, 'db4', dt) = a dt / centfrq(db4) [s] (centfrq = 5/7)."""
+    return scale * dt_s / pywt.central_frequency("db4")
