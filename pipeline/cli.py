@@ -89,6 +89,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                       "reference paper: energy-based critical pulse model for rocking blocks",
     })
     out = write_atomic(ds, args.out / "screening.nc")
+    write_atomic(summary["pulse_series"], args.out / "pulses.nc")
     print(f"records: {summary['records_ok']} ok, {summary['records_failed']} failed; "
           f"blocks: {summary['blocks']}; wall time {summary['wall_time_s']:.1f} s", file=sys.stderr)
     print(f"wrote {out}", file=sys.stderr)

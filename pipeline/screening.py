@@ -24,7 +24,7 @@ from .errors import PulseError, RockscreenError
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record, scan
 from .records.record import Record
-from .store import COMPONENTS, apply_schema
+from .store import COMPONENTS, apply_schema, pulse_series_dataset
 
 log = logging.getLogger(__name__)
 
@@ -237,7 +237,9 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, statio
             log.warning("record %s %s", res.record_id, res.status)
         results.append(res)
     ds = assemble(results, inventory, config)
+    summary_series = pulse_series_dataset(results)
     n_ok = sum(r.status == "ok" for r in results)
     summary = {"records_ok": n_ok, "records_failed": len(results) - n_ok,
-               "blocks": len(inventory), "wall_time_s": time.perf_counter() - t0}
+               "blocks": len(inventory), "wall_time_s": time.perf_counter() - t0,
+               "pulse_series": summary_series}
     return ds, summary

@@ -143,6 +143,28 @@ def _remove_quietly(path) -> None:
         pass
 
 
+def pulse_series_dataset(results) -> xr.Dataset:
+    """Extracted pulses of all records as a CF contiguous ragged array (featureType timeSeries).
+
+    Variables on dimension ``sample``: ``velocity`` and ``pulse`` [m s-1] along each record's
+    chosen pulse orientation; ``row_size`` gives each record's number of samples.
+    """
+    rows = [(r.record_id, r.series) for r in results if r.series]
+    ids = np.array([rid for rid, _ in rows], dtype=object)
+    sizes = np.array([s["velocity"].size for _, s in rows], dtype="i4")
+    cat = lambda k: np.concatenate([s[k] for _, s in rows]) if rows else np.zeros(0)  # noqa: E731
+    ds = xr.Dataset(
+        {"record_id": (("station",), ids, {"cf_role": "timeseries_id", "long_name": "record"}),
+         "row_size": (("station",), sizes, {"sample_dimension": "sample", "long_name": "samples per record"}),
+         "dt": (("station",), np.array([s["dt"] for _, s in rows], dtype=float), {"units": "s", "long_name": "sampling interval"}),
+         "velocity": (("sample",), cat("velocity").astype("f4"),
+                      {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"}),
+         "pulse": (("sample",), cat("pulse").astype("f4"),
+                   {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"})},
+        attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
+    return ds
+
+
 def open_results(path: str | Path) -> xr.Dataset:
     """Open a results file fully into memory (the file is closed on return)."""
     with xr.open_dataset(path, engine="netcdf4") as ds:

@@ -196,3 +196,20 @@ def test_hard_case_single_spike_and_drift():
     drift = np.linspace(0, 200, n) + np.random.default_rng(1).normal(0, 1, n)
     res = classify(np.vstack([drift, 0.5 * drift]), dt)
     assert np.isfinite(res.best.pulse_indicator)
+
+
+def test_pulse_series_file_and_plot(make_records, blocks_csv, tmp_path):
+    from pipeline.report.pulse_plot import plot_pulse
+    import xarray as xr
+
+    root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    ps = xr.open_dataset(out / "pulses.nc")
+    assert ps.featureType == "timeSeries" and int(ps.row_size.sum()) == ps.sizes["sample"]
+    n = int(ps.row_size[0])
+    v, p = ps.velocity.values[:n], ps.pulse.values[:n]
+    # the pulse explains most of the velocity of this strongly pulse-like record
+    assert np.max(np.abs(v - p)) < 0.6 * np.max(np.abs(v))
+    png = plot_pulse(v, p, float(ps.dt[0]), title="Rinaldi", path=tmp_path / "p.png", tp_s=1.246)
+    assert png.stat().st_size > 10_000
