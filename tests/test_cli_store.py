@@ -85,3 +85,15 @@ def test_failed_write_leaves_previous_file_intact(tmp_path, monkeypatch):
         write_atomic(ds * 2, path)
     assert path.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["r.nc"]  # no temporary left behind
+
+
+def test_inventory_flag_supplies_the_response(make_records, blocks_csv, tmp_path, records_dir):
+    root = make_records("mseed/CI.CCC..HNE.mseed", "mseed/CI.CCC..HNN.mseed", units_toml=False)
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
+    assert "StationXML" in str(open_results(out / "screening.nc").status.values[0])
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+                 "--inventory", str(records_dir / "mseed" / "CI.CCC.xml")]) == 0
+    ds = open_results(out / "screening.nc")
+    # SOURCES.md: HNE 0.565 g, HNN 0.470 g (counts / sensitivity ~2.14e5 per m/s^2)
+    assert float(ds.component_pga.sel(component="h2").values[0]) / 9.80665 == pytest.approx(0.565, rel=1e-2)
