@@ -150,7 +150,7 @@ def pulse_series_dataset(results) -> xr.Dataset:
     chosen pulse orientation; ``row_size`` gives each record's number of samples.
     """
     rows = [(r.record_id, r.series) for r in results if r.series]
-    ids = np.array([rid for rid, _ in rows], dtype=object)
+    ids = np.array([rid for rid, _ in rows], dtype=str)  # unicode: an empty object array cannot be written
     sizes = np.array([s["velocity"].size for _, s in rows], dtype="i4")
     cat = lambda k: np.concatenate([s[k] for _, s in rows]) if rows else np.zeros(0)  # noqa: E731
     ds = xr.Dataset(
