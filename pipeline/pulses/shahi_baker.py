@@ -28,11 +28,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from functools import lru_cache
+
 import numpy as np
 import pywt
 
 from ..errors import PulseError
-from .cwt import cwt, cwt_window, pseudo_period, scales_for
+from .cwt import SUPPORT, cwt, cwt_window, pseudo_period, scales_for
 
 #: Number of candidate pulses examined (Shahi & Baker 2014).
 N_CANDIDATES = 5
@@ -139,18 +141,13 @@ def wavelet_on_grid(coef: float, scale: int, position: int, n: int) -> np.ndarra
     return out
 
 
-_WF4 = None
-
-
+@lru_cache(maxsize=1)
 def _wavefun4():
-    global _WF4  # immutable cache of a constant table
-    if _WF4 is None:
-        _WF4 = pywt.Wavelet("db4").wavefun(level=4)
-    return _WF4
+    return pywt.Wavelet("db4").wavefun(level=4)
 
 
-def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int, scales: np.ndarray,
-            dt_s: float) -> tuple[int, np.ndarray, list[int], list[float]]:
+def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
+            scales: np.ndarray) -> tuple[int, np.ndarray, list[int], list[float]]:
     """Extract the pulse of a candidate from ``velocity`` (the record along its orientation).
 
     Parameters
@@ -245,7 +242,7 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
             return float(cwt_window(_vt, a, _col, _col)[0])
 
         scale, pulse, positions, coefs = extract(v_theta, column_coef, column=col, row=row,
-                                                 scales=scales, dt_s=dt_s)
+                                                 scales=scales)
         resid = v_theta - pulse
         pgv = float(np.max(np.abs(v_theta)))
         pgv_res = float(np.max(np.abs(resid)))
@@ -269,7 +266,7 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
         band = np.abs(np.arange(n) - col) < WINDOW_FRACTION * scales[row]
         energy[:, band] = 0.0
     chosen = next((k for k, c in enumerate(candidates) if c.is_pulse), 0)
-    if SUPPORT_SAMPLES(candidates[chosen].scale) > n:
+    if SUPPORT * candidates[chosen].scale > n:  # db4 support is 7 scales = 5 Tp
         flags.append("pulse wavelet (5 Tp) longer than the record: Tp may be cut short")
     is_pulse = any(c.is_pulse for c in candidates)
     return PulseResult(is_pulse, candidates[chosen].tp_s if is_pulse else math.nan, candidates,
@@ -297,14 +294,8 @@ def extract_along(result: PulseResult, angle_rad: float) -> tuple[np.ndarray, np
     def column_coef(a: int) -> float:
         return float(cwt_window(v_phi, a, col, col)[0])
 
-    _, pulse, _, _ = extract(v_phi, column_coef, column=col, row=row, scales=result.scales,
-                             dt_s=result.dt_s)
+    _, pulse, _, _ = extract(v_phi, column_coef, column=col, row=row, scales=result.scales)
     return v_phi, pulse
-
-
-def SUPPORT_SAMPLES(scale: int) -> int:
-    """Support of a db4 wavelet at ``scale`` [samples]."""
-    return int(7 * scale)
 
 
 def _baker_late(velocity: np.ndarray, pulse: np.ndarray) -> bool:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import io
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -18,9 +17,6 @@ from ..errors import RecordFormatError
 
 #: Bytes read by a format check: enough for every header we detect on.
 PEEK_BYTES = 4096
-
-_FLOAT_RE = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
-
 
 def source_name(source) -> str:
     """Return a printable name for a path or file-like ``source``."""
@@ -166,9 +162,3 @@ def check_samples(data: np.ndarray, *, npts: int, name: str) -> np.ndarray:
         bad = int(np.count_nonzero(~np.isfinite(data)))
         raise RecordFormatError(f"{name}: {bad} of {npts} samples are NaN or infinite")
     return data
-
-
-def first_float(text: str) -> float | None:
-    """Return the first number in ``text`` or None."""
-    m = _FLOAT_RE.search(text)
-    return float(m.group(0)) if m else None

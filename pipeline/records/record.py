@@ -75,17 +75,17 @@ class Record:
 
         With one component the azimuth is ignored and that component returned.
         """
-        if self.single_component:
-            return self.horizontal_ms2[0]
-        phi = np.deg2rad(azimuth_deg - self.azimuths_deg[0])
-        return np.cos(phi) * self.horizontal_ms2[0] + np.sin(phi) * self.horizontal_ms2[1]
+        return self._project(self.horizontal_ms2, azimuth_deg)
 
     def velocity_along(self, azimuth_deg: float) -> np.ndarray:
         """Horizontal velocity projected on ``azimuth_deg`` [m s-1]."""
+        return self._project(self.velocity_ms, azimuth_deg)
+
+    def _project(self, rows: np.ndarray, azimuth_deg: float) -> np.ndarray:
         if self.single_component:
-            return self.velocity_ms[0]
+            return rows[0]
         phi = np.deg2rad(azimuth_deg - self.azimuths_deg[0])
-        return np.cos(phi) * self.velocity_ms[0] + np.sin(phi) * self.velocity_ms[1]
+        return np.cos(phi) * rows[0] + np.sin(phi) * rows[1]
 
     def pgv_ms(self) -> float:
         """Peak of the horizontal velocity vector [m s-1]."""
