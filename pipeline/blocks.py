@@ -119,6 +119,36 @@ class Inventory:
         """Rocking geometry of every block."""
         return geometry(self.height_m, self.width_m, g_ms2=g_ms2)
 
+    def select(self, block_id: str) -> "Inventory":
+        """The one-block inventory of ``block_id``.
+
+        Raises
+        ------
+        InventoryError
+            If the id is not in the inventory (the message lists some valid ids).
+        """
+        try:
+            k = self.ids.index(block_id)
+        except ValueError:
+            shown = ", ".join(self.ids[:10]) + (", ..." if len(self.ids) > 10 else "")
+            raise InventoryError(f"{self.source}: no block with id {block_id!r}; ids are {shown}") from None
+        return Inventory(
+            ids=(self.ids[k],), names=(self.names[k],), sites=(self.sites[k],), notes=(self.notes[k],),
+            height_m=self.height_m[k:k + 1], width_m=self.width_m[k:k + 1], mu=self.mu[k:k + 1],
+            azimuth_deg=self.azimuth_deg[k:k + 1], restitution=self.restitution[k:k + 1], source=self.source)
+
+    @classmethod
+    def single(cls, *, height_m: float, width_m: float, mu: float, block_id: str = "block",
+               azimuth_deg: float = math.nan) -> "Inventory":
+        """A one-block inventory from sizes given on the command line (validated)."""
+        geometry(height_m, width_m)
+        if not (math.isfinite(mu) and mu > 0):
+            raise BlockParameterError(f"mu = {mu!r}: the friction coefficient must be a finite number > 0 "
+                                      "(typical 0.3-0.8)")
+        return cls(ids=(block_id,), names=("",), sites=("",), notes=("",), height_m=np.array([height_m]),
+                   width_m=np.array([width_m]), mu=np.array([mu]), azimuth_deg=np.array([azimuth_deg]),
+                   restitution=np.array([math.nan]), source="<command line>")
+
 
 def _number(value: str, *, where: str, column: str, rule: str, ok) -> float:
     try:

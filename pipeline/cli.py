@@ -98,7 +98,92 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
-SUBCOMMANDS = {}
+def chart_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen chart``."""
+    from .closed_forms import PULSE_BETA
+
+    p = argparse.ArgumentParser(
+        prog="screen chart",
+        description="Stability chart of one block for one pulse shape (the reference paper's Figs. 2a and 4), "
+                    "optionally with every record's pulse as a point.",
+    )
+    g = p.add_argument_group("block (sizes, or an id in an inventory)")
+    g.add_argument("--height", type=float, help="full block height [m]")
+    g.add_argument("--width", type=float, help="full base width in the rocking plane [m]")
+    g.add_argument("--mu", type=float, help="friction coefficient (default: blocks.default_mu)")
+    g.add_argument("--block", help="block id in --blocks")
+    g.add_argument("--blocks", type=Path, help="inventory CSV holding --block")
+    p.add_argument("--pulse", default="half-sine", choices=sorted(PULSE_BETA), help="pulse shape")
+    p.add_argument("--periods", type=float, nargs="+", metavar="T",
+                   help="pulse periods T = 2 t_p [s] (default: 0.1 to 10 transition periods)")
+    pts = p.add_mutually_exclusive_group()
+    pts.add_argument("--records", type=Path, help="directory of records to extract pulses from and plot")
+    pts.add_argument("--results", type=Path, help="screening.nc whose pulses to plot")
+    p.add_argument("--inventory", type=Path, help="StationXML for --records in counts")
+    p.add_argument("--config", type=Path, help="TOML configuration")
+    p.add_argument("--out", type=Path, default=Path("chart.nc"), help="chart data, netCDF (default chart.nc)")
+    p.add_argument("--figure", type=Path, help="figure, .png/.svg/.pdf (default: --out with .png)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    return p
+
+
+def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen chart``: write the chart's netCDF and figure."""
+    import xarray as xr
+
+    from .blocks import Inventory, read_inventory
+    from .chart import points_from_results, stability_chart
+    from .config import load_config
+    from .report.stability_plot import plot_stability_chart
+    from .store import write_atomic
+
+    config = load_config(args.config)
+    if args.block is not None:
+        if args.blocks is None or args.height is not None or args.width is not None:
+            raise RockscreenError("screen chart: give either --block ID with --blocks CSV, or --height and --width")
+        block = read_inventory(args.blocks, default_mu=config.blocks.default_mu).select(args.block)
+        if args.mu is not None:
+            block = Inventory.single(height_m=float(block.height_m[0]), width_m=float(block.width_m[0]),
+                                     mu=args.mu, block_id=args.block, azimuth_deg=float(block.azimuth_deg[0]))
+    elif args.height is not None and args.width is not None:
+        block = Inventory.single(height_m=args.height, width_m=args.width,
+                                 mu=config.blocks.default_mu if args.mu is None else args.mu)
+    else:
+        raise RockscreenError("screen chart: give the block as --height H --width W [--mu MU], "
+                              "or as --block ID --blocks inventory.csv")
+    chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
+                            pulse=args.pulse, periods_s=args.periods, g_ms2=config.records.g_ms2,
+                            form=config.criteria.form)
+    block_id = args.block
+    if args.records is not None:
+        from .records.loader import read_declared_units, read_inventory as read_station_inventory
+        from .screening import run
+
+        if not args.records.is_dir():
+            raise RockscreenError(f"{args.records}: records directory not found")
+        results, _ = run(args.records, block, config,
+                         station_inventory=read_station_inventory(args.records, args.inventory),
+                         declared_units=read_declared_units(args.records, config), progress=_progress(args.quiet))
+        block_id = block.ids[0]
+    elif args.results is not None:
+        from .store import open_results
+
+        results = open_results(args.results)
+    else:
+        results = None
+    if results is not None:
+        chart = xr.merge([chart, points_from_results(chart, results, block_id=block_id)],
+                         combine_attrs="override")
+    chart.attrs["history"] = f"screen {shlex.join(argv)}"
+    out = write_atomic(chart, args.out)
+    figure = plot_stability_chart(chart, args.figure or args.out.with_suffix(".png"))
+    print(f"transition period {chart.attrs['transition_period']:.3f} s (Eq. 9); wrote {out} and {figure}",
+          file=sys.stderr)
+    return EXIT_OK
+
+
+SUBCOMMANDS = {"chart": (chart_parser, cmd_chart)}
 
 
 def build_parser() -> argparse.ArgumentParser:

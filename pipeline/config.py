@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from .constants import G
+from .criteria import FORMS
 from .errors import ConfigError
 from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
 
@@ -78,6 +79,15 @@ class PulsesConfig:
 
 
 @dataclass(frozen=True)
+class CriteriaConfig:
+    """The reference paper's criterion (:mod:`pipeline.criteria`)."""
+
+    #: "exact": uplift at g tan(alpha) and the exact critical velocity of Eq. 4;
+    #: "small_angle": the paper's alpha g and alpha g / p.
+    form: str = "exact"
+
+
+@dataclass(frozen=True)
 class Config:
     """The whole configuration."""
 
@@ -85,6 +95,7 @@ class Config:
     processing: ProcessingConfig = field(default_factory=ProcessingConfig)
     blocks: BlocksConfig = field(default_factory=BlocksConfig)
     pulses: PulsesConfig = field(default_factory=PulsesConfig)
+    criteria: CriteriaConfig = field(default_factory=CriteriaConfig)
 
     def to_dict(self) -> dict:
         """Plain-data form (embedded in outputs, hashed for re-runs)."""
@@ -96,7 +107,8 @@ class Config:
 
 
 #: Keys whose string values are limited to a set.
-CHOICES = {("pulses",): {"method": ("shahi_baker_2014", "baker_2007")}}
+CHOICES = {("pulses",): {"method": ("shahi_baker_2014", "baker_2007")},
+           ("criteria",): {"form": FORMS}}
 
 
 def _check_value(section: str, key: str, value: Any, default: Any, where: str) -> Any:

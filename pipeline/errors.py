@@ -33,12 +33,20 @@ class ConfigError(RockscreenError, ValueError):
     """The TOML configuration is invalid (names the key and the valid values)."""
 
 
-class BlockParameterError(RockscreenError, ValueError):
+class ParameterError(RockscreenError, ValueError):
+    """An impossible analysis parameter (names the parameter and its valid range)."""
+
+
+class BlockParameterError(ParameterError):
     """Impossible block or friction parameters (names the parameter and range)."""
 
 
 class PulseError(RockscreenError, ValueError):
     """Pulse extraction cannot run on this record (too short, all zero, ...)."""
+
+
+class ResultsError(RockscreenError, ValueError):
+    """A results file given as input is missing or not a rockscreen netCDF file."""
 
 
 class OutputError(RockscreenError, OSError):

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
+from . import __version__, criteria
+from .closed_forms import PULSE_BETA
 from .blocks import Inventory
 from .config import Config
 from .errors import PulseError, RockscreenError
@@ -87,6 +88,11 @@ def _block_directions(rec: Record, inventory: Inventory, strongest_deg: float) -
     if not rec.azimuth_known or rec.single_component:
         return np.full(len(inventory), strongest_deg)
     return np.where(np.isnan(az), strongest_deg, np.round(az) % 180.0)
+
+
+#: Per (record, block) variables computed in the tasks (the criterion is computed in :func:`assemble`).
+PULSE_BLOCK_VARS = ("block_pulse_azimuth", "block_pulse_ap", "block_pulse_tp", "block_pulse_beta",
+                    "block_pulse_dv", "block_record_ap")
 
 
 def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
@@ -171,16 +177,22 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
     nb = len(inventory)
-    block_vars = [n for n, (dims, *_ ) in SCHEMA.items() if dims == ("record", "block")]
-    for name in block_vars:
+    for name in PULSE_BLOCK_VARS:
         rows = [r.blocks.get(name, np.full(nb, np.nan)) for r in results]
         data_vars[name] = (("record", "block"), np.array(rows, dtype=float).reshape(len(results), nb))
     for name in ("is_pulse", "pulse_late"):
         if name in data_vars:
             vals = data_vars[name][1]
             data_vars[name] = (("record",), np.where(np.isnan(vals), -1, vals).astype("i1"))
-    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    g = config.records.g_ms2
+    geom = inventory.geometry(g_ms2=g)
     e = np.where(np.isnan(inventory.restitution), geom.e_housner, inventory.restitution)
+    form = config.criteria.form
+    scenes = criteria.evaluate(
+        data_vars["block_pulse_ap"][1], data_vars["block_pulse_tp"][1], data_vars["block_pulse_beta"][1],
+        data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
+        g_ms2=g, form=form)
+    data_vars.update({name: (("record", "block"), arr) for name, arr in scenes.items()})
     data_vars.update({
         "block_name": (("block",), np.array(inventory.names, dtype=object)),
         "site": (("block",), np.array(inventory.sites, dtype=object)),
@@ -194,6 +206,10 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         "restitution": (("block",), e),
         "mu": (("block",), inventory.mu),
         "block_azimuth": (("block",), inventory.azimuth_deg),
+        "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
+        "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
+        "transition_period": (("block",), criteria.transition_period(geom.p, PULSE_BETA["half-sine"])),
+        "rocking_applicable": (("block",), criteria.rocking_applicable(geom.alpha).astype("i1")),
     })
     ds = xr.Dataset(data_vars, coords={
         "record": np.array(rids, dtype=object),

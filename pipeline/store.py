@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .errors import OutputError
+from .errors import OutputError, ResultsError
+
+FLAG3 = np.array([-1, 0, 1], dtype="i1")
 
 #: name -> (dims, units or None, long_name, extra attributes)
 SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
@@ -60,6 +62,33 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_pulse_beta": (("record", "block"), "1", "pulse fullness factor beta along the block direction", {}),
     "block_pulse_dv": (("record", "block"), "m s-1", "pulse velocity change along the block direction", {}),
     "block_record_ap": (("record", "block"), "m s-2", "record peak acceleration during the lobe, block direction", {}),
+    # the reference paper's criterion per (record, block) scene (pipeline.criteria)
+    "uplift": (("record", "block"), None, "pulse peak acceleration reaches the uplift acceleration (Eq. 1)",
+               {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "energy_ratio": (("record", "block"), "1", "pulse velocity increment over the critical velocity (Eq. 4)", {}),
+    "overturn_criterion": (("record", "block"), None,
+                           "overturning by the paper's criterion: uplift, energy ratio >= 1, below the sliding line",
+                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                            "comment": "not_evaluated: no pulse, or block too squat for pure rocking"}),
+    "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
+                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "criterion_scale": (("record", "block"), "1",
+                        "smallest factor on the record that reaches the criterion's overturning boundary",
+                        {"comment": "inf where the scaled pulse crosses the sliding line first"}),
+    "onset": (("record", "block"), None, "mode at the onset of motion (Zhang & Makris 2001 eq. 7)",
+              {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
+               "flag_meanings": "not_evaluated rest slide rock slide_rock",
+               "comment": "slide_rock: mu > tan(alpha) but a pulse arriving at full amplitude needs more friction"}),
+    "onset_friction_demand": (("record", "block"), "1",
+                              "friction needed to start rocking without sliding, pulse at full amplitude", {}),
+    "normalized_acceleration": (("record", "block"), "1", "pulse peak acceleration over the uplift acceleration", {}),
+    "normalized_duration": (("record", "block"), "1", "pulse lobe duration over the block's transition duration",
+                            {}),
+    "closed_form_ratio": (("record", "block"), "1",
+                          "pulse peak over the Makris & Roussos (2000) half-sine minimum at the same duration", {}),
+    "overturn_closed_form": (("record", "block"), None,
+                             "overturning of the equivalent half-sine pulse (Makris & Roussos 2000 eq. 27)",
+                             {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
     # per record and component
     "component_code": (("record", "component"), None, "channel or component code in the file", {}),
     "component_azimuth": (("record", "component"), "degree", "component azimuth clockwise from north", {}),
@@ -78,6 +107,11 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "restitution": (("block",), "1", "angular-velocity restitution across an impact (Housner where not given)", {}),
     "mu": (("block",), "1", "friction coefficient between block and base", {}),
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
+    "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
+    "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),
+    "transition_period": (("block",), "s", "the paper's transition period pi / p of a half-sine pulse (Eq. 9)", {}),
+    "rocking_applicable": (("block",), None, "pure-rocking model applies (Housner e > 0, alpha < 54.7 deg)",
+                           {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}),
 }
 
 COMPONENTS = ("h1", "h2", "v")
@@ -166,6 +200,19 @@ def pulse_series_dataset(results) -> xr.Dataset:
 
 
 def open_results(path: str | Path) -> xr.Dataset:
-    """Open a results file fully into memory (the file is closed on return)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+    """Open a results file fully into memory (the file is closed on return).
+
+    Raises
+    ------
+    ResultsError
+        If the file is missing or not a netCDF file.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ResultsError(f"{path}: results file not found; run 'screen --records DIR --blocks CSV --out DIR' "
+                           "first, which writes DIR/screening.nc")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return ds.load()
+    except (OSError, ValueError) as exc:
+        raise ResultsError(f"{path}: not a readable netCDF results file ({exc})") from exc

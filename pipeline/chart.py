@@ -1,0 +1,209 @@
+"""Stability charts: the paper's safe-unsafe boundary of one block for one pulse shape.
+
+:func:`stability_chart` gives, over a grid of pulse periods T = 2 t_p, the
+criterion's critical acceleration (Eq. 7 with the configured form of Eqs. 1
+and 4), the paper's small-angle boundary, the energy hyperbola, the uplift and
+sliding lines and, where one is published, the closed-form threshold of the
+idealized pulse (Makris & Roussos 2000 for the half-sine, Housner 1963 for the
+step). :func:`chart_points` places recorded pulses on it.
+
+Records have their own fullness factor beta. On the dimensional chart a
+record is drawn at the period a pulse of the chart's shape would need to carry
+the same velocity increment with the same peak, T beta / beta_shape (the
+reference paper's Fig. 6 normalization), so a point lies above the energy
+curve exactly when its energy ratio is >= 1. On the normalized chart (the
+paper's Fig. 4) the axes are a_p / a_uplift and t_p / t_transition(beta),
+where every block and every pulse shape share the boundary max(1 / x, 1).
+
+References
+----------
+Reference paper, Eqs. (1)-(9), Figs. 2a, 4 and 6.
+Makris & Roussos (2000) eq. 27; Housner (1963) eq. 9.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import criteria
+from .blocks import geometry
+from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
+from .constants import G
+from .errors import ParameterError
+
+#: Default period grid, as multiples of the paper's transition period.
+DEFAULT_PERIOD_RANGE = (0.1, 10.0)
+DEFAULT_PERIOD_COUNT = 241
+
+
+def default_periods(height_m: float, width_m: float, *, pulse: str, g_ms2: float = G) -> np.ndarray:
+    """Log-spaced periods [s] around the block's transition period."""
+    geom = geometry(height_m, width_m, g_ms2=g_ms2)
+    t_bar = float(criteria.transition_period(geom.p, pulse_beta(pulse)))
+    lo, hi = DEFAULT_PERIOD_RANGE
+    return np.geomspace(lo * t_bar, hi * t_bar, DEFAULT_PERIOD_COUNT)
+
+
+def closed_form_acceleration(periods_s, *, pulse: str, p: float, alpha: float, g_ms2: float = G) -> np.ndarray:
+    """Closed-form minimum overturning amplitude of one idealized pulse [m s-2] (linear model).
+
+    Half-sine of period T (duration T/2, w_p = 2 pi / T): Makris & Roussos
+    (2000) eq. 27. Step of duration T/2: Housner (1963) eq. 9. NaN for shapes
+    without a published closed form.
+    """
+    T = np.asarray(periods_s, dtype=float)
+    if pulse == "half-sine":
+        ratio = makris_roussos_halfsine(2.0 * np.pi / (T * p))
+    elif pulse == "step":
+        ratio = housner_rectangle_amplitude(p * T / 2.0)
+    else:
+        return np.full(T.shape, np.nan)
+    return ratio * alpha * g_ms2
+
+
+def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = "half-sine",
+                    periods_s=None, g_ms2: float = G, form: str = "exact") -> xr.Dataset:
+    """The stability chart of one block for one pulse shape, as a Dataset.
+
+    Parameters
+    ----------
+    height_m, width_m : float
+        Full block height and base width [m], > 0.
+    mu : float
+        Friction coefficient [-], > 0.
+    pulse : str
+        Pulse shape (:data:`pipeline.closed_forms.PULSE_BETA`).
+    periods_s : array_like, optional
+        Pulse periods T = 2 t_p [s], > 0 (default: around the transition period).
+    g_ms2 : float
+        Gravity [m s-2].
+    form : {"exact", "small_angle"}
+        Forms of the paper's Eqs. 1 and 4 for ``critical_acceleration``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinate ``period`` [s]; ``critical_acceleration`` [m s-2] and the
+        curves it is made of; global attribute ``transition_period`` [s]
+        (Eq. 9, 2 / (p beta), pi / p for a half-sine).
+    """
+    geom = geometry(height_m, width_m, g_ms2=g_ms2)
+    mu = float(criteria.check_friction(mu))
+    beta = pulse_beta(pulse)
+    R, alpha, p = float(geom.R), float(geom.alpha), float(geom.p)
+    T = default_periods(height_m, width_m, pulse=pulse, g_ms2=g_ms2) if periods_s is None else (
+        np.asarray(periods_s, dtype=float).ravel())
+    if T.size == 0 or np.any(~(T > 0)) or not np.all(np.isfinite(T)):
+        raise ParameterError(f"periods = {T.tolist()[:5]}: pulse periods must be finite and > 0 s")
+    T = np.sort(T)
+    tp = T / 2.0
+    a_up = float(criteria.uplift_acceleration(alpha, g_ms2=g_ms2, form=form))
+    v_crit = float(criteria.critical_velocity(R, alpha, g_ms2=g_ms2, form=form))
+    crit = criteria.critical_acceleration(tp, R, alpha, beta, g_ms2=g_ms2, form=form)
+    crit_small = criteria.critical_acceleration(tp, R, alpha, beta, g_ms2=g_ms2, form="small_angle")
+    t_bar = float(criteria.transition_period(p, beta))
+    t_bar_form = 2.0 * float(criteria.transition_duration(R, alpha, beta, g_ms2=g_ms2, form=form))
+    ds = xr.Dataset(
+        {
+            "critical_acceleration": ("period", crit, {
+                "units": "m s-2", "long_name": "smallest overturning pulse amplitude by the paper's criterion",
+                "comment": f"Eq. 7 with the {form} forms of Eqs. 1 and 4; valid below sliding_acceleration"}),
+            "critical_acceleration_small_angle": ("period", crit_small, {
+                "units": "m s-2", "long_name": "the paper's Eq. 7 as printed: alpha g max(1 / (p beta t_p), 1)"}),
+            "energy_acceleration": ("period", v_crit / (beta * tp), {
+                "units": "m s-2", "long_name": "energy hyperbola v_crit / (beta t_p) (Eq. 5)"}),
+            "closed_form_acceleration": ("period", closed_form_acceleration(
+                T, pulse=pulse, p=p, alpha=alpha, g_ms2=g_ms2), {
+                "units": "m s-2", "long_name": "closed-form minimum overturning amplitude, linear model",
+                "comment": "half-sine: Makris & Roussos (2000) eq. 27; step: Housner (1963) eq. 9; "
+                           "NaN where none is published"}),
+            "normalized_period": ("period", T / t_bar_form, {
+                "units": "1", "long_name": "period over the criterion's transition period"}),
+            "critical_acceleration_normalized": ("period", crit / a_up, {
+                "units": "1", "long_name": "critical acceleration over the uplift acceleration"}),
+            "uplift_acceleration": ((), a_up, {"units": "m s-2", "long_name": "uplift acceleration (Eq. 1)"}),
+            "sliding_acceleration": ((), mu * g_ms2, {
+                "units": "m s-2", "long_name": "the paper's sliding line mu g (mu / alpha in units of alpha g)"}),
+            "critical_velocity": ((), v_crit, {"units": "m s-1", "long_name": "critical velocity (Eq. 4)"}),
+        },
+        coords={"period": ("period", T, {"units": "s", "long_name": "pulse period T = 2 t_p",
+                                         "standard_name": "period"})},
+    )
+    ds.attrs.update({
+        "Conventions": "CF-1.11",
+        "title": f"stability chart: {height_m:g} m x {width_m:g} m block, {pulse} pulse",
+        "pulse": pulse, "beta": beta, "form": form,
+        "height": height_m, "width": width_m, "mu": mu, "g": g_ms2,
+        "half_height": float(geom.h), "half_width": float(geom.b), "corner_distance": R,
+        "slenderness": alpha, "frequency_parameter": p, "restitution_housner": float(geom.e_housner),
+        "rocking_applicable": int(criteria.rocking_applicable(alpha)),
+        "transition_period": t_bar,
+        "transition_period_comment": "Eq. 9: 2 / (p beta), pi / p for a half-sine [s]",
+        "transition_period_form": t_bar_form,
+        "transition_period_form_comment": f"intersection of the {form} Eq. 5 curve with the Eq. 1 line [s]",
+        "references": "reference paper Eqs. 1-9; Makris & Roussos (2000) eq. 27; Housner (1963) eq. 9",
+    })
+    return ds
+
+
+def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is_pulse=None) -> xr.Dataset:
+    """Recorded pulses as points on a chart (dimension ``record``).
+
+    The verdicts are recomputed for the chart's block and form. Records
+    without a pulse are dropped.
+    """
+    a = np.abs(np.asarray(ap_ms2, dtype=float))
+    keep = np.isfinite(a) & np.isfinite(np.asarray(tp_s, dtype=float))
+    ids = np.asarray(record_ids, dtype=object)[keep]
+    a, tp = a[keep], np.asarray(tp_s, dtype=float)[keep]
+    b, dv = np.asarray(beta, dtype=float)[keep], np.abs(np.asarray(dv_ms, dtype=float))[keep]
+    pulse_like = (np.full(a.shape, -1) if is_pulse is None else np.asarray(is_pulse)[keep]).astype("i1")
+    at = chart.attrs
+    geom = geometry(at["height"], at["width"], g_ms2=at["g"])
+    scene = criteria.evaluate(a, tp, b, dv, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=at["mu"],
+                              g_ms2=at["g"], form=at["form"])
+    flag = {"flag_values": np.array([-1, 0, 1], dtype="i1"), "flag_meanings": "not_evaluated false true"}
+    return xr.Dataset(
+        {
+            "record_ap": ("record", a, {"units": "m s-2", "long_name": "pulse peak acceleration"}),
+            "record_tp": ("record", tp, {"units": "s", "long_name": "pulse lobe duration"}),
+            "record_beta": ("record", b, {"units": "1", "long_name": "pulse fullness factor"}),
+            "record_dv": ("record", dv, {"units": "m s-1", "long_name": "pulse velocity increment"}),
+            "record_period": ("record", 2.0 * tp * b / at["beta"], {
+                "units": "s", "long_name": "period of the chart's pulse shape with the same a_p and dv",
+                "comment": "2 t_p beta / beta_shape (the paper's Fig. 6 normalization)"}),
+            "record_energy_ratio": ("record", scene["energy_ratio"], {"units": "1"}),
+            "record_normalized_acceleration": ("record", scene["normalized_acceleration"], {"units": "1"}),
+            "record_normalized_duration": ("record", scene["normalized_duration"], {"units": "1"}),
+            "record_overturn_criterion": ("record", scene["overturn_criterion"], flag),
+            "record_is_pulse": ("record", pulse_like, {**flag, "flag_meanings": "unavailable non_pulse pulse_like"}),
+        },
+        coords={"record": ("record", ids)},
+    )
+
+
+def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str | None) -> xr.Dataset:
+    """Points of every record of a ``screening.nc`` on ``chart``.
+
+    With ``block_id`` present in the results, the pulse along that block's
+    direction is used; otherwise the record's strongest pulse axis (worst
+    orientation).
+    """
+    ok = results["status"].values == "ok"
+    if block_id is not None and "block" in results.dims and block_id in list(results["block"].values):
+        sel = results.sel(block=block_id)
+        names = ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")
+    else:
+        sel = results
+        names = ("pulse_ap", "pulse_tp", "pulse_beta", "pulse_dv")
+    missing = [n for n in names if n not in sel]
+    if missing:
+        from .errors import RockscreenError
+
+        raise RockscreenError(f"results file has no {missing}: it was written before pulses were extracted; "
+                              "re-run screen on the records")
+    cols = [sel[n].values[ok] for n in names]
+    is_pulse = sel["is_pulse"].values[ok] if "is_pulse" in sel else None
+    return chart_points(chart, record_ids=results["record"].values[ok], ap_ms2=cols[0], tp_s=cols[1],
+                        beta=cols[2], dv_ms=cols[3], is_pulse=is_pulse)

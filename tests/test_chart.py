@@ -1,0 +1,103 @@
+"""`screen chart` and the criterion variables of screening.nc, end to end."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline.cli import main
+from pipeline.constants import G
+from pipeline.store import open_results
+
+
+@pytest.fixture(scope="module")
+def screened(tmp_path_factory, records_dir, blocks_csv):
+    """The sample inventory screened against a few bundled records (pulse-like and not)."""
+    import shutil
+
+    root = tmp_path_factory.mktemp("recs")
+    for rel in ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+                "peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(records_dir / rel, root / rel)
+    out = tmp_path_factory.mktemp("out")
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    return root, out / "screening.nc"
+
+
+def test_criterion_variables_follow_the_paper(screened):
+    ds = open_results(screened[1])
+    for name in ("uplift", "overturn_criterion", "above_sliding_line", "onset", "overturn_closed_form"):
+        assert ds[name].dtype == np.int8 and "flag_meanings" in ds[name].attrs
+    assert ds.energy_ratio.attrs["units"] == "1" and ds.critical_velocity.attrs["units"] == "m s-1"
+    alpha, R, mu = ds.slenderness.values, ds.corner_distance.values, ds.mu.values
+    # hand formulas, written here independently of pipeline.criteria
+    v_crit = np.sqrt(8 * G * R / 3 * (1 - np.cos(alpha)) / np.cos(alpha) ** 2)
+    ap, dv = np.abs(ds.block_pulse_ap.values), np.abs(ds.block_pulse_dv.values)
+    uplift = ap >= G * np.tan(alpha)
+    ratio = dv / v_crit
+    over = uplift & (ratio >= 1) & (ap <= mu * G)
+    np.testing.assert_allclose(ds.energy_ratio.values, ratio, rtol=1e-12)
+    np.testing.assert_array_equal(ds.uplift.values, uplift.astype("i1"))
+    np.testing.assert_array_equal(ds.overturn_criterion.values, over.astype("i1"))
+    assert ds.overturn_criterion.values.any() and not ds.overturn_criterion.values.all()
+    # Pacoima Dam (RSN77, a_p 0.46 g) overturns the 20 m b/h = 0.11 column (mu 0.5) by the criterion; Rinaldi's
+    # pulse (0.83 g) is above that column's sliding line mu g, where the paper leaves it to sliding
+    col = ds.sel(block="COL-20")
+    assert int(col.overturn_criterion.sel(record="RSN77_SFERN_PUL164")) == 1
+    rin = col.sel(record="RSN1063_NORTHR_RRS")
+    assert (int(rin.uplift), int(rin.above_sliding_line), int(rin.overturn_criterion)) == (1, 1, 0)
+    assert int(col.uplift.sel(record="test")) == 0
+    np.testing.assert_allclose(ds.transition_period.sel(block="COL-1"), 0.821, atol=2e-3)
+
+
+def test_chart_dataset_and_figure(tmp_path):
+    out = tmp_path / "chart.nc"
+    assert main(["chart", "--height", "1", "--width", "0.11", "--mu", "0.5", "--out", str(out),
+                 "--figure", str(tmp_path / "chart.svg")]) == 0
+    ds = xr.open_dataset(out)
+    assert ds.period.attrs["units"] == "s" and ds.critical_acceleration.attrs["units"] == "m s-2"
+    assert ds.attrs["transition_period"] == pytest.approx(0.821, abs=2e-3)
+    T, crit = ds.period.values, ds.critical_acceleration.values
+    alpha = math.atan(0.11)
+    v = math.sqrt(8 * G * math.hypot(0.055, 0.5) / 3 * (1 - math.cos(alpha)) / math.cos(alpha) ** 2)
+    np.testing.assert_allclose(crit, np.maximum(v / ((2 / math.pi) * T / 2), G * 0.11), rtol=1e-12)
+    assert (tmp_path / "chart.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
+    ds.close()
+
+
+def test_chart_with_records_and_results_agree(screened, blocks_csv, tmp_path):
+    root, results = screened
+    a, b = tmp_path / "a.nc", tmp_path / "b.nc"
+    assert main(["chart", "--block", "COL-1", "--blocks", str(blocks_csv), "--records", str(root), "-q",
+                 "--out", str(a)]) == 0
+    assert main(["chart", "--block", "COL-1", "--blocks", str(blocks_csv), "--results", str(results),
+                 "--out", str(b)]) == 0
+    da, db = xr.open_dataset(a), xr.open_dataset(b)
+    assert da.sizes["record"] == 3
+    np.testing.assert_allclose(da.record_ap.values, db.record_ap.values, rtol=1e-12)
+    np.testing.assert_array_equal(da.record_overturn_criterion.values, db.record_overturn_criterion.values)
+    ds = open_results(results).sel(block="COL-1")
+    np.testing.assert_array_equal(db.record_overturn_criterion.values,
+                                  ds.overturn_criterion.sel(record=db.record.values).values)
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    da.close(), db.close()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["chart", "--height", "-1", "--width", "0.2"], "height_m"),
+    (["chart", "--height", "1", "--width", "0"], "width_m"),
+    (["chart", "--height", "1", "--width", "0.2", "--mu", "-0.2"], "mu"),
+    (["chart", "--width", "0.2"], "--height H --width W"),
+    (["chart", "--height", "1", "--width", "0.2", "--periods", "0", "1"], "periods"),
+    (["chart", "--block", "NOPE", "--blocks", "{blocks}"], "no block with id 'NOPE'"),
+    (["chart", "--height", "1", "--width", "0.2", "--results", "{missing}"], "results file not found"),
+])
+def test_chart_bad_input_exits_2_with_message(argv, message, blocks_csv, tmp_path, capsys):
+    argv = [a.format(blocks=blocks_csv, missing=tmp_path / "none.nc") for a in argv]
+    assert main(argv + ["--out", str(tmp_path / "c.nc")]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "c.nc").exists()
