@@ -21,6 +21,8 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 
 demo: $(VENV)/.installed
 	$(BIN)/screen --records records --blocks configs/blocks.csv --out results --tolerate-failures
+	$(BIN)/screen chart --block COL-1 --blocks configs/blocks.csv --results results/screening.nc \
+	    --out results/chart-COL-1.nc
 
 test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 $(PYTEST_ARGS)

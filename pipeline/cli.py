@@ -92,6 +92,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     write_atomic(summary["pulse_series"], args.out / "pulses.nc")
     print(f"records: {summary['records_ok']} ok, {summary['records_failed']} failed; "
           f"blocks: {summary['blocks']}; wall time {summary['wall_time_s']:.1f} s", file=sys.stderr)
+    print("scenes by physics: " + ", ".join(f"{k} {v}" for k, v in summary["scenes_by_physics"].items())
+          + "; by response: " + ", ".join(f"{k} {v}" for k, v in summary["scenes_by_response"].items()),
+          file=sys.stderr)
     print(f"wrote {out}", file=sys.stderr)
     if summary["records_failed"] and not args.tolerate_failures:
         return EXIT_RECORD_FAILURES

@@ -88,6 +88,25 @@ class CriteriaConfig:
 
 
 @dataclass(frozen=True)
+class SimulationConfig:
+    """The rocking and sliding simulator (:mod:`pipeline.rocking`)."""
+
+    #: Relative tolerance of the Runge-Kutta error control [-].
+    rtol: float = 1e-7
+    #: Absolute tolerance as a fraction of alpha (theta) and p alpha (omega) [-].
+    atol: float = 1e-9
+    #: An impact whose rebound is below rest_ratio * p * alpha puts the block to rest [-].
+    rest_ratio: float = 1e-6
+    #: Largest integration step as a fraction of 1/p [-].
+    max_step_p: float = 0.05
+    #: Cap on impacts plus uplifts per scene (chatter guard; the scene is flagged) [-].
+    max_events: int = 200000
+    #: Vertical motion is simulated when max |a_v| exceeds this fraction of g, i.e. when it
+    #: moves the uplift threshold (g + a_v) tan(alpha) by more than this fraction [-].
+    vertical_fraction: float = 0.05
+
+
+@dataclass(frozen=True)
 class Config:
     """The whole configuration."""
 
@@ -96,6 +115,7 @@ class Config:
     blocks: BlocksConfig = field(default_factory=BlocksConfig)
     pulses: PulsesConfig = field(default_factory=PulsesConfig)
     criteria: CriteriaConfig = field(default_factory=CriteriaConfig)
+    simulation: SimulationConfig = field(default_factory=SimulationConfig)
 
     def to_dict(self) -> dict:
         """Plain-data form (embedded in outputs, hashed for re-runs)."""

@@ -10,6 +10,7 @@ grow with the number of records.
 from __future__ import annotations
 
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +26,7 @@ from .errors import PulseError, RockscreenError
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record, scan
 from .records.record import Record
+from .rocking.planner import PHYSICS, RESPONSE, simulate_scene
 from .store import COMPONENTS, apply_schema, pulse_series_dataset
 
 log = logging.getLogger(__name__)
@@ -130,6 +132,46 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
     return values, blocks, series
 
 
+#: Per (record, block) variables of the simulator.
+SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
+                   "friction_demand", "friction_exceeded", "sliding_max", "free_flight")
+
+
+def _strongest_axis_deg(rec: Record) -> float:
+    """Azimuth of the peak horizontal acceleration vector (used when no pulse was found)."""
+    h = rec.horizontal_ms2
+    if h.shape[0] < 2:
+        return float(rec.azimuths_deg[0]) % 180.0
+    k = int(np.argmax(np.hypot(h[0], h[1])))
+    ang = math.degrees(math.atan2(h[1][k], h[0][k]))       # from the first component towards the second
+    return round(float(rec.azimuths_deg[0]) + ang) % 180.0
+
+
+def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dict:
+    """Plan and simulate every block of the inventory against one record."""
+    inv, cfg = ctx.inventory, ctx.config
+    g = cfg.records.g_ms2
+    geom = inv.geometry(g_ms2=g)
+    e = np.where(np.isnan(inv.restitution), geom.e_housner, inv.restitution)
+    nb = len(inv)
+    out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
+    av = rec.vertical_ms2
+    for d in np.unique(directions):
+        ah = rec.along(float(d))
+        for j in np.flatnonzero(directions == d):
+            sc = simulate_scene(ah, av, rec.dt_s, p=float(geom.p[j]), alpha=float(geom.alpha[j]),
+                                e=float(max(e[j], 0.0)), R_m=float(geom.R[j]), mu=float(inv.mu[j]), g_ms2=g,
+                                settings=cfg.simulation)
+            row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": int(sc.overturned),
+                   "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
+                   "friction_demand": sc.friction_demand,
+                   "friction_exceeded": int(sc.friction_demand > inv.mu[j]) if np.isfinite(sc.friction_demand)
+                   else -1, "sliding_max": sc.sliding_max_m, "free_flight": int(sc.free_flight)}
+            for n, v in row.items():
+                out[n][j] = v
+    return out
+
+
 def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
     """Screen one record against every block; failures come back as a status, never raise."""
     try:
@@ -139,6 +181,10 @@ def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
         values["content_sha256"] = source.digest()
         pulse_values, block_values, series = _pulse_values(rec, ctx)
         values.update(pulse_values)
+        directions = block_values.get("block_pulse_azimuth")
+        if directions is None:
+            directions = _block_directions(rec, ctx.inventory, _strongest_axis_deg(rec))
+        block_values.update(_simulation_values(rec, directions, ctx))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series)
     except RockscreenError as exc:
         return RecordResult(source.record_id, f"failed: {exc}",
@@ -177,9 +223,14 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
     nb = len(inventory)
-    for name in PULSE_BLOCK_VARS:
+    for name in PULSE_BLOCK_VARS + SIMULATION_VARS:
         rows = [r.blocks.get(name, np.full(nb, np.nan)) for r in results]
         data_vars[name] = (("record", "block"), np.array(rows, dtype=float).reshape(len(results), nb))
+    for name in ("physics", "response", "overturn_simulated", "friction_exceeded", "free_flight"):
+        vals = data_vars[name][1]
+        data_vars[name] = (("record", "block"), np.where(np.isnan(vals), -1, vals).astype("i1"))
+    vals = data_vars["n_impacts"][1]
+    data_vars["n_impacts"] = (("record", "block"), np.where(np.isnan(vals), -1, vals).astype("i4"))
     for name in ("is_pulse", "pulse_late"):
         if name in data_vars:
             vals = data_vars[name][1]
@@ -255,7 +306,11 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, statio
     ds = assemble(results, inventory, config)
     summary_series = pulse_series_dataset(results)
     n_ok = sum(r.status == "ok" for r in results)
+    phys = ds["physics"].values
+    resp = ds["response"].values
     summary = {"records_ok": n_ok, "records_failed": len(results) - n_ok,
+               "scenes_by_physics": {k: int(np.sum(phys == v)) for k, v in PHYSICS.items()},
+               "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
                "blocks": len(inventory), "wall_time_s": time.perf_counter() - t0,
                "pulse_series": summary_series}
     return ds, summary

@@ -19,7 +19,7 @@ def test_screen_writes_dataset_with_records_and_blocks(make_records, blocks_csv,
     out = tmp_path / "out"
     assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     ds = open_results(out / "screening.nc")
-    assert ds.sizes["record"] == 2 and ds.sizes["block"] == 13
+    assert ds.sizes["record"] == 2 and ds.sizes["block"] == 14
     assert list(ds.status.values) == ["ok", "ok"]
     assert ds.pga.attrs["units"] == "m s-2" and ds.pgv.attrs["units"] == "m s-1"
     rin = ds.sel(record="RSN1063_NORTHR_RRS")

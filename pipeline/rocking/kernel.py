@@ -1,0 +1,576 @@
+"""Event-driven kernels: rocking (Housner, nonlinear or linearised) and Coulomb sliding.
+
+One source, two paths: the functions are compiled with numba when it is
+installed (``njit``) and run as plain Python otherwise, or under
+``NUMBA_DISABLE_JIT=1`` (the tests run both and compare).
+
+Rocking scheme (rocking-dynamics.md section 5):
+
+* the pivot side ``s`` (+1 about O, -1 about O') is discrete state, never
+  ``sgn(theta)`` inside the right-hand side;
+* the ground acceleration is linear between samples; each sample interval is
+  integrated by an embedded Dormand-Prince 5(4) Runge-Kutta pair with error
+  control (``rtol``, ``atol`` relative to alpha and p alpha), steps never
+  crossing a sample;
+* an impact (theta reaching 0 on the pivot side) is located as the root of
+  the local solution: first on the cubic Hermite interpolant of the step,
+  then by Newton iterations on the Runge-Kutta step length, so the impact
+  time is accurate to the integration tolerance (not to a sample);
+  there theta = 0, omega <- e omega and the pivot switches;
+* "rest" is a mode: an impact whose rebound is slower than
+  ``rest_ratio * p * alpha`` ends the Zeno cascade; from rest the block lifts
+  again at the exact (linear-in-time) crossing of
+  |a_h| = (g + a_v) tan(alpha) (alpha for the linear model), rotating away
+  from a_h;
+* overturning is |theta| >= pi/2 while the ground moves; after the record
+  ends, the energy of the free motion decides (section 1.5), including the
+  swing after the next impact, so free rocking need not be integrated.
+
+References
+----------
+Housner (1963) BSSA 53(2); Yim, Chopra & Penzien (1980) EESD 8; Makris &
+Roussos (2000) Geotechnique 50(3); Zhang & Makris (2001) J. Eng. Mech.
+127(5), eqs. 10-20. Dormand, J. R. & Prince, P. J. (1980). A family of
+embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1), 19-26.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+try:  # numba is optional: the same source runs as Python without it
+    from numba import njit as _njit
+
+    def jit(f):
+        return _njit(cache=True, nogil=True)(f)
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover - exercised by the no-numba install
+    def jit(f):
+        return f
+
+    HAVE_NUMBA = False
+
+HALF_PI = 0.5 * math.pi
+
+# status bits of the rocking kernel
+STATUS_CHATTER = 1        # event cap reached: forced to rest
+STATUS_FREE_FLIGHT = 2    # g + a_v <= 0 or f_z <= 0 met along the trajectory
+STATUS_STEP_UNDERFLOW = 4  # step size fell below 1e-14 s: accepted anyway
+
+# modes
+REST, ROCK, OVERTURNED = 0, 1, 2
+
+# Dormand & Prince (1980) RK5(4)7M coefficients
+C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
+A21 = 1 / 5
+A31, A32 = 3 / 40, 9 / 40
+A41, A42, A43 = 44 / 45, -56 / 15, 32 / 9
+A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
+A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
+B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
+E1, E3, E4, E5, E6, E7 = 71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40
+
+
+@jit
+def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
+    """Angular acceleration [rad s-2] of a rectangular block rocking on pivot side s.
+
+    Nonlinear (M&R eqs. 1-3 with g -> g + a_v, Yim 1980):
+    theta'' = -p^2 [ (1 + a_v/g) sin(alpha s - theta) + (a_h/g) cos(alpha s - theta) ];
+    linearised (M&R eqs. 8-9): sin(x) -> x, cos(x) -> 1.
+    """
+    phi = alpha * s - theta
+    if linear:
+        return -p2 * ((1.0 + av / g) * phi + ah / g)
+    return -p2 * ((1.0 + av / g) * math.sin(phi) + (ah / g) * math.cos(phi))
+
+
+@jit
+def _dopri_step(t, th, om, h, t0, a0, sa, v0, sv, s, p2, alpha, g, linear):
+    """One Dormand-Prince step; returns theta, omega and their error estimates."""
+    k1t = om
+    k1o = rocking_accel(th, om, a0 + sa * (t - t0), v0 + sv * (t - t0), s, p2, alpha, g, linear)
+    y2t, y2o = th + h * A21 * k1t, om + h * A21 * k1o
+    tt = t + C2 * h
+    k2t, k2o = y2o, rocking_accel(y2t, y2o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    y3t = th + h * (A31 * k1t + A32 * k2t)
+    y3o = om + h * (A31 * k1o + A32 * k2o)
+    tt = t + C3 * h
+    k3t, k3o = y3o, rocking_accel(y3t, y3o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    y4t = th + h * (A41 * k1t + A42 * k2t + A43 * k3t)
+    y4o = om + h * (A41 * k1o + A42 * k2o + A43 * k3o)
+    tt = t + C4 * h
+    k4t, k4o = y4o, rocking_accel(y4t, y4o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    y5t = th + h * (A51 * k1t + A52 * k2t + A53 * k3t + A54 * k4t)
+    y5o = om + h * (A51 * k1o + A52 * k2o + A53 * k3o + A54 * k4o)
+    tt = t + C5 * h
+    k5t, k5o = y5o, rocking_accel(y5t, y5o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    y6t = th + h * (A61 * k1t + A62 * k2t + A63 * k3t + A64 * k4t + A65 * k5t)
+    y6o = om + h * (A61 * k1o + A62 * k2o + A63 * k3o + A64 * k4o + A65 * k5o)
+    tt = t + h
+    k6t, k6o = y6o, rocking_accel(y6t, y6o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    th1 = th + h * (B1 * k1t + B3 * k3t + B4 * k4t + B5 * k5t + B6 * k6t)
+    om1 = om + h * (B1 * k1o + B3 * k3o + B4 * k4o + B5 * k5o + B6 * k6o)
+    k7t, k7o = om1, rocking_accel(th1, om1, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    et = h * (E1 * k1t + E3 * k3t + E4 * k4t + E5 * k5t + E6 * k6t + E7 * k7t)
+    eo = h * (E1 * k1o + E3 * k3o + E4 * k4o + E5 * k5o + E6 * k6o + E7 * k7o)
+    return th1, om1, et, eo, k7o
+
+
+@jit
+def _hermite(th0, om0, th1, om1, h, x):
+    """Cubic Hermite interpolant of theta on a step, at fraction x in [0, 1]."""
+    x2 = x * x
+    x3 = x2 * x
+    return ((2 * x3 - 3 * x2 + 1) * th0 + (x3 - 2 * x2 + x) * h * om0
+            + (-2 * x3 + 3 * x2) * th1 + (x3 - x2) * h * om1)
+
+
+@jit
+def _first_crossing(th0, om0, th1, om1, h, s):
+    """Fraction of the step where s*theta first drops below 0 on the Hermite cubic, or -1."""
+    n = 16
+    prev = 0.0
+    for i in range(1, n + 1):
+        x = i / n
+        v = s * _hermite(th0, om0, th1, om1, h, x)
+        if v < 0.0:
+            lo, hi = prev, x
+            for _ in range(50):
+                mid = 0.5 * (lo + hi)
+                if s * _hermite(th0, om0, th1, om1, h, mid) < 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            return 0.5 * (lo + hi)
+        prev = x
+    return -1.0
+
+
+@jit
+def _hermite_peak(th0, om0, th1, om1, h):
+    """Largest |theta| of the Hermite cubic inside a step where omega changes sign."""
+    best = max(abs(th0), abs(th1))
+    lo, hi = 0.0, 1.0
+    # omega of the cubic: bisection on its sign between the two ends
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        d = (_hermite(th0, om0, th1, om1, h, mid + 1e-7) - _hermite(th0, om0, th1, om1, h, mid - 1e-7))
+        if d * om0 > 0:
+            lo = mid
+        else:
+            hi = mid
+    return max(best, abs(_hermite(th0, om0, th1, om1, h, 0.5 * (lo + hi))))
+
+
+@jit
+def _uplift_fraction(a0, a1, v0, v1, g, thr):
+    """First fraction x in [0, 1] where |a| > (g + v) thr on a linear piece, or -1."""
+    best = -1.0
+    for sig in (1.0, -1.0):
+        l0 = sig * a0 - (g + v0) * thr
+        l1 = sig * a1 - (g + v1) * thr
+        if l0 > 0.0:
+            return 0.0
+        if l1 > 0.0:
+            x = -l0 / (l1 - l0)
+            if best < 0.0 or x < best:
+                best = x
+    return best
+
+
+@jit
+def free_motion_energy(theta, omega, p2, alpha, linear):
+    """Energy of the free motion per unit p^2-scaled inertia, and its value at the saddle.
+
+    Nonlinear: E = omega^2/2 + p^2 cos(alpha - |theta|), saddle p^2, pivot p^2 cos(alpha).
+    Linear: E = omega^2/2 - p^2 (|theta| - alpha)^2 / 2, saddle 0, pivot -p^2 alpha^2 / 2.
+    """
+    if linear:
+        return 0.5 * omega * omega - 0.5 * p2 * (abs(theta) - alpha) ** 2, 0.0, -0.5 * p2 * alpha * alpha
+    return 0.5 * omega * omega + p2 * math.cos(alpha - abs(theta)), p2, p2 * math.cos(alpha)
+
+
+@jit
+def free_outcome(theta, omega, p2, alpha, e, linear):
+    """Fate of a block rocking freely (no more ground motion) from (theta, omega).
+
+    Returns (overturns, peak |theta| still to come, impacts counted before it
+    overturns or settles: 0 or 1). Energy is conserved between impacts and
+    multiplied by e^2 (kinetic part at theta = 0) at each: a block that does
+    not escape on its current outward swing, or on the first swing after the
+    next impact, never escapes (rocking-dynamics.md section 1.5).
+    """
+    E, E_top, E_pivot = free_motion_energy(theta, omega, p2, alpha, linear)
+    outward = theta * omega > 0.0 or (theta == 0.0 and omega != 0.0)
+    a = abs(theta)
+    if a >= alpha:                 # beyond the saddle: escapes unless moving back over it
+        if not outward and E > E_top:
+            pass
+        else:
+            return True, HALF_PI, 0
+    if outward:
+        if E >= E_top:
+            return True, HALF_PI, 0
+        return False, _peak_from_energy(E, p2, alpha, linear), 0
+    E_next = E_pivot + e * e * (E - E_pivot)                      # next impact keeps e^2 of the kinetic energy
+    if E_next >= E_top:
+        return True, HALF_PI, 1
+    return False, _peak_from_energy(E_next, p2, alpha, linear), 1
+
+
+@jit
+def _peak_from_energy(E, p2, alpha, linear):
+    if linear:
+        return alpha - math.sqrt(max(-2.0 * E / p2, 0.0))
+    return alpha - math.acos(min(max(E / p2, -1.0), 1.0))
+
+
+@jit
+def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, max_step_p, max_events,
+         theta0, omega0, tail_energy, theta_out, impacts_out):
+    """Integrate rocking under a sampled ground motion.
+
+    Parameters
+    ----------
+    ah, av : ndarray
+        Horizontal and vertical ground acceleration at t = k dt [m s-2]
+        (``av`` empty: no vertical). Zero after the last sample.
+    dt : float
+        Sampling interval [s].
+    t_end : float
+        End of the simulation [s] (>= the record's end to see it all).
+    p, alpha, e, g, R : float
+        Frequency parameter [rad s-1], slenderness [rad], restitution
+        (angular-velocity ratio) [-], gravity [m s-2], corner distance [m].
+    linear : bool
+        Linearised equation of motion (cross-checks against closed forms).
+    rtol, atol : float
+        Relative tolerance and absolute tolerance as a fraction of alpha
+        (theta) and p alpha (omega).
+    rest_ratio : float
+        Rebound below ``rest_ratio * p * alpha`` ends the impact cascade.
+    max_step_p : float
+        Largest step as a fraction of 1/p.
+    max_events : int
+        Cap on impacts plus uplifts (chatter guard).
+    theta0, omega0 : float
+        Initial state [rad], [rad s-1] (both 0: at rest).
+    tail_energy : bool
+        After the record, decide by :func:`free_outcome` instead of integrating.
+    theta_out : ndarray
+        Filled with theta at t = k dt for k < len (pass an empty array to skip).
+    impacts_out : ndarray, shape (m, 3)
+        Filled with (t, omega before, omega after) of the first m impacts.
+
+    Returns
+    -------
+    tuple
+        (overturned, t_overturn, theta_max, n_impacts, friction_max, status,
+        t_stop, theta_end, omega_end, mode_end, n_uplifts, t_first_impact)
+    """
+    n = ah.shape[0]
+    has_v = av.shape[0] == n
+    p2 = p * p
+    thr = alpha if linear else math.tan(alpha)
+    t_rec = (n - 1) * dt
+    atol_t = atol * alpha
+    atol_o = atol * alpha * p
+    h_max = max_step_p / p
+    rest_omega = rest_ratio * p * alpha
+    n_out = theta_out.shape[0]
+    m_out = impacts_out.shape[0]
+
+    th, om = theta0, omega0
+    mode = REST
+    s = 1.0
+    if th != 0.0 or om != 0.0:
+        mode = ROCK
+        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    t = 0.0
+    theta_max = abs(th)
+    n_imp = 0
+    n_up = 0
+    n_events = 0
+    fric_max = 0.0
+    status = 0
+    overturned = False
+    t_over = math.nan
+    t_first = math.nan
+    h = min(h_max, dt) * 0.1
+    out_k = 0
+    if n_out > 0:
+        theta_out[0] = th
+        out_k = 1
+
+    while t < t_end:
+        k = int(t / dt + 1e-9)
+        t0 = k * dt
+        t1 = min(t0 + dt, t_end)
+        if t1 <= t:                       # rounding at a sample boundary
+            k += 1
+            t0 = k * dt
+            t1 = min(t0 + dt, t_end)
+        if k < n - 1:
+            a0, a1 = ah[k], ah[k + 1]
+            v0 = av[k] if has_v else 0.0
+            v1 = av[k + 1] if has_v else 0.0
+        else:
+            a0 = a1 = v0 = v1 = 0.0
+            if tail_energy and t >= t_rec:
+                break
+        sa = (a1 - a0) / dt
+        sv = (v1 - v0) / dt
+        if mode == REST:
+            if k >= n - 1:                # nothing moves it any more
+                t = t_end
+                break
+            if t == t0 and k + 1 < n:
+                # fast scan over whole sample intervals that cannot lift the block (linear pieces:
+                # below the threshold at both ends means below it throughout)
+                j = k
+                while j + 1 < n:
+                    gj = g + (av[j] if has_v else 0.0)
+                    gj1 = g + (av[j + 1] if has_v else 0.0)
+                    if abs(ah[j]) > gj * thr or abs(ah[j + 1]) > gj1 * thr or gj <= 0.0 or gj1 <= 0.0:
+                        break
+                    j += 1
+                if j > k:
+                    while out_k < n_out and out_k <= j:
+                        theta_out[out_k] = 0.0
+                        out_k += 1
+                    t = min(j * dt, t_end)
+                    continue
+            aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
+            aa1, vv1 = a0 + sa * (t1 - t0), v0 + sv * (t1 - t0)
+            if has_v and (g + vv0 <= 0.0 or g + vv1 <= 0.0):
+                status |= STATUS_FREE_FLIGHT
+            x = _uplift_fraction(aa0, aa1, vv0, vv1, g, thr)
+            if x < 0.0:
+                t = t1
+            else:
+                t = t + x * (t1 - t)
+                a_now = a0 + sa * (t - t0)
+                s = -1.0 if a_now > 0.0 else 1.0
+                th, om = 0.0, 0.0
+                mode = ROCK
+                n_up += 1
+                n_events += 1
+                h = min(h_max, dt) * 0.01
+            while out_k < n_out and out_k * dt <= t + 1e-12:
+                theta_out[out_k] = 0.0
+                out_k += 1
+            continue
+
+        # rocking: one adaptive step inside the sample interval
+        hh = min(h, h_max, t1 - t)
+        if hh <= 1e-14:
+            hh = t1 - t
+        th1, om1, et, eo, acc1 = _dopri_step(t, th, om, hh, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
+        sc_t = atol_t + rtol * max(abs(th), abs(th1))
+        sc_o = atol_o + rtol * max(abs(om), abs(om1))
+        err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
+        if err > 1.0 and hh > 1e-14:
+            h = hh * max(0.1, 0.9 * err ** -0.2)
+            if h < 1e-14:
+                status |= STATUS_STEP_UNDERFLOW
+                h = 1e-14
+            continue
+        # accepted: events inside the step
+        x = -1.0
+        if s * th1 < 0.0:
+            x = _first_crossing(th, om, th1, om1, hh, s)
+            if x < 0.0:
+                x = 1.0
+        elif s * om < 0.0 and s * om1 > 0.0:
+            x = _first_crossing(th, om, th1, om1, hh, s)
+        if x >= 0.0:
+            # impact: Newton on the step length so that theta(t + h*) = 0 on the RK solution
+            hs = x * hh
+            ths, oms = th, om
+            for _ in range(8):
+                ths, oms, _et, _eo, _acc = _dopri_step(t, th, om, hs, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
+                if oms == 0.0 or abs(ths) <= 1e-13 * alpha:
+                    break
+                hs = min(max(hs - ths / oms, 0.0), hh)
+            theta_max = max(theta_max, abs(th), abs(ths))
+            if s * om > 0.0 and s * oms < 0.0:
+                theta_max = max(theta_max, _hermite_peak(th, om, ths, oms, hs))
+            t = t + hs
+            while out_k < n_out and out_k * dt <= t + 1e-12:
+                theta_out[out_k] = _hermite(th, om, ths, oms, hs, (out_k * dt - (t - hs)) / hs) if hs > 0 else 0.0
+                out_k += 1
+            om_after = e * oms                                   # Housner: omega ratio e, energy ratio e^2
+            if n_imp < m_out:
+                impacts_out[n_imp, 0] = t
+                impacts_out[n_imp, 1] = oms
+                impacts_out[n_imp, 2] = om_after
+            if n_imp == 0:
+                t_first = t
+            n_imp += 1
+            n_events += 1
+            th, om, s = 0.0, om_after, -s
+            if abs(om) < rest_omega or n_events >= max_events:
+                if n_events >= max_events:
+                    status |= STATUS_CHATTER
+                om = 0.0
+                mode = REST
+            h = max(hh, 1e-6 / p)         # the new pivot's motion is smooth: keep the step size
+            continue
+        if abs(th1) >= HALF_PI:
+            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), 1e-300)
+            t_over = t + frac * hh
+            overturned = True
+            theta_max = HALF_PI
+            mode = OVERTURNED
+            t = t_over
+            break
+        if om * om1 < 0.0:
+            theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
+        theta_max = max(theta_max, abs(th1))
+        # friction and lift-off demand at the step end (Z&M eqs. 16-20)
+        phi = alpha * s - th1
+        a_end = a0 + sa * (t + hh - t0)
+        v_end = v0 + sv * (t + hh - t0)
+        fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
+        fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
+        if fz <= 0.0:
+            status |= STATUS_FREE_FLIGHT
+        else:
+            fric_max = max(fric_max, abs(fx) / fz)
+        while out_k < n_out and out_k * dt <= t + hh + 1e-12:
+            theta_out[out_k] = _hermite(th, om, th1, om1, hh, (out_k * dt - t) / hh)
+            out_k += 1
+        t = t + hh
+        th, om = th1, om1
+        h = hh * min(5.0, max(0.2, 0.9 * err ** -0.2)) if err > 0 else hh * 5.0
+
+    if not overturned and mode == ROCK and tail_energy and t >= t_rec - 1e-9:
+        over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
+        theta_max = max(theta_max, peak)
+        if over:
+            overturned = True
+            t_over = t
+            mode = OVERTURNED
+            n_imp += extra                 # the impact on the way, before the escaping swing
+    return (overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first)
+
+
+@jit
+def slide(ah, av, dt, mu, g):
+    """Coulomb stick-slip of a block on a moving base, integrated exactly per sample.
+
+    Relative displacement u (block minus ground): while slipping in direction
+    d = sign(u'), u'' = -a_h - d mu (g + a_v); sticking while
+    |a_h| <= mu (g + a_v). The ground acceleration is linear between samples,
+    so u' is quadratic and u cubic in time, and slip ends at the exact root of u'.
+
+    Returns
+    -------
+    tuple
+        (peak |u| [m], final u [m], number of slip episodes, time slipping [s],
+        free flight met (bool))
+    """
+    n = ah.shape[0]
+    has_v = av.shape[0] == n
+    u, v = 0.0, 0.0
+    slipping = False
+    d = 0.0
+    u_max = 0.0
+    n_slips = 0
+    t_slip = 0.0
+    flight = False
+    for k in range(n - 1):
+        a0, a1 = ah[k], ah[k + 1]
+        v0 = av[k] if has_v else 0.0
+        v1 = av[k + 1] if has_v else 0.0
+        if g + v0 <= 0.0 or g + v1 <= 0.0:
+            flight = True
+        x = 0.0                                   # position in the sample, in [0, dt]
+        guard = 0
+        while x < dt and guard < 64:
+            guard += 1
+            ka = (a1 - a0) / dt
+            kv = (v1 - v0) / dt
+            ax = a0 + ka * x
+            vx = v0 + kv * x
+            if not slipping:
+                f = _uplift_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
+                if f < 0.0:
+                    x = dt
+                    break
+                x = x + f * (dt - x)
+                ax = a0 + ka * x
+                d = -1.0 if ax > 0.0 else 1.0
+                slipping = True
+                n_slips += 1
+                v = 0.0
+                continue
+            # slipping: v(tau) = v + c0 tau + c1 tau^2 / 2, tau from x
+            c0 = -ax - d * mu * (g + vx)
+            c1 = -ka - d * mu * kv
+            rem = dt - x
+            tau = _first_stop(v, c0, c1, rem, d)
+            if tau < 0.0:
+                u = u + v * rem + c0 * rem * rem / 2 + c1 * rem ** 3 / 6
+                v = v + c0 * rem + c1 * rem * rem / 2
+                t_slip += rem
+                u_max = max(u_max, abs(u))
+                x = dt
+                break
+            u = u + v * tau + c0 * tau * tau / 2 + c1 * tau ** 3 / 6
+            v = 0.0
+            t_slip += tau
+            u_max = max(u_max, abs(u))
+            x = x + tau
+            ax = a0 + ka * x
+            vx = v0 + kv * x
+            if abs(ax) > mu * (g + vx):
+                d = -1.0 if ax > 0.0 else 1.0     # slips back the other way at once
+                n_slips += 1
+            else:
+                slipping = False
+    return u_max, u, n_slips, t_slip, flight
+
+
+@jit
+def _first_stop(v, c0, c1, rem, d):
+    """First tau in (0, rem] where d * v(tau) reaches 0, v(tau) = v + c0 tau + c1 tau^2 / 2; -1 if none."""
+    # d * v(tau) starts >= 0 and we look for its first return to 0
+    A = 0.5 * c1 * d
+    B = c0 * d
+    C = v * d
+    tiny = 1e-15
+    best = -1.0
+    if abs(A) < 1e-300:
+        if B < 0.0:
+            r = -C / B
+            if r > tiny and r <= rem:
+                best = r
+        return best
+    disc = B * B - 4 * A * C
+    if disc < 0.0:
+        return -1.0
+    sq = math.sqrt(disc)
+    q = -0.5 * (B + math.copysign(sq, B))
+    r1 = q / A
+    r2 = C / q if q != 0.0 else r1
+    for r in (r1, r2):
+        if r > tiny and r <= rem and (best < 0.0 or r < best):
+            # must be a crossing downward (d * v decreasing) or a touch
+            if 2 * A * r + B <= 0.0:
+                best = r
+    return best
+
+
+def empty_theta() -> np.ndarray:
+    """An empty output array (skip the theta history)."""
+    return np.zeros(0)
+
+
+def empty_impacts() -> np.ndarray:
+    """An empty impact log."""
+    return np.zeros((0, 3))

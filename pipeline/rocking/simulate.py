@@ -1,0 +1,190 @@
+"""Simulation of one scene (a ground motion and a block): rocking or sliding.
+
+Thin, validated wrappers around the kernels of :mod:`pipeline.rocking.kernel`,
+returning plain dataclasses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import SimulationConfig
+from ..constants import G
+from ..errors import ParameterError
+from . import kernel
+
+
+@dataclass(frozen=True)
+class RockResult:
+    """Outcome of a rocking simulation.
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn : float
+        Time [s] at which |theta| reached pi/2, or at which the free motion after the
+        record was found to escape (NaN if it stands).
+    theta_max : float
+        Largest |theta| / alpha [-] (pi / (2 alpha) when it overturns).
+    n_impacts : int
+        Impacts simulated (during the record when the tail is decided by energy).
+    friction_demand : float
+        Largest |f_x / f_z| along the trajectory [-].
+    status : int
+        Bits: 1 chatter cap, 2 free flight (g + a_v <= 0 or f_z <= 0), 4 step underflow.
+    t_stop, theta_end, omega_end : float
+        Where the simulation stopped [s], [rad], [rad s-1].
+    mode_end : int
+        0 rest, 1 rocking, 2 overturned.
+    n_uplifts : int
+    t_first_impact : float
+    theta : ndarray or None
+        theta [rad] at t = k dt when asked for.
+    impacts : ndarray or None
+        (t, omega before, omega after) of each impact when asked for.
+    """
+
+    overturned: bool
+    t_overturn: float
+    theta_max: float
+    n_impacts: int
+    friction_demand: float
+    status: int
+    t_stop: float
+    theta_end: float
+    omega_end: float
+    mode_end: int
+    n_uplifts: int
+    t_first_impact: float
+    theta: np.ndarray | None = None
+    impacts: np.ndarray | None = None
+
+    @property
+    def free_flight(self) -> bool:
+        return bool(self.status & kernel.STATUS_FREE_FLIGHT)
+
+    @property
+    def chatter(self) -> bool:
+        return bool(self.status & kernel.STATUS_CHATTER)
+
+
+@dataclass(frozen=True)
+class SlideResult:
+    """Outcome of a Coulomb stick-slip simulation."""
+
+    sliding_max_m: float
+    sliding_end_m: float
+    n_slips: int
+    time_slipping_s: float
+    free_flight: bool
+
+
+def _series(name: str, a, n: int | None = None) -> np.ndarray:
+    arr = np.ascontiguousarray(a, dtype=np.float64)
+    if arr.ndim != 1 or arr.size < 2:
+        raise ParameterError(f"{name}: expected a 1-D series of at least 2 samples, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name}: holds NaN or infinite values at sample "
+                             f"{int(np.flatnonzero(~np.isfinite(arr))[0])}; clean the record first")
+    if n is not None and arr.size != n:
+        raise ParameterError(f"{name}: {arr.size} samples, expected {n} as the horizontal")
+    return arr
+
+
+def _positive(**values) -> None:
+    for name, v in values.items():
+        if not (math.isfinite(v) and v > 0):
+            raise ParameterError(f"{name} = {v!r}: must be a finite number > 0")
+
+
+def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, av_ms2=None, g_ms2: float = G,
+         settings: SimulationConfig = SimulationConfig(), linear: bool = False, t_end_s: float | None = None,
+         tail: str = "energy", theta0: float = 0.0, omega0: float = 0.0, history: bool = False,
+         log_impacts: int = 0) -> RockResult:
+    """Rocking response of a rectangular block to a sampled ground acceleration.
+
+    Parameters
+    ----------
+    ah_ms2 : array_like
+        Horizontal ground acceleration along the block's rocking plane [m s-2].
+    dt_s : float
+        Sampling interval [s].
+    p, alpha, e, R_m : float
+        Frequency parameter [rad s-1], slenderness [rad] (0 < alpha < pi/2),
+        angular-velocity restitution [-] (0 <= e <= 1), corner distance [m].
+    av_ms2 : array_like, optional
+        Vertical ground acceleration, positive up [m s-2].
+    g_ms2 : float
+        Gravity [m s-2].
+    settings : SimulationConfig
+        Tolerances and thresholds.
+    linear : bool
+        Use the linearised equation of motion.
+    t_end_s : float, optional
+        End time [s]; default the record's end.
+    tail : {"energy", "integrate"}
+        After the record: decide overturning from the energy of the free motion
+        (no integration), or integrate free rocking until rest, overturning or t_end_s.
+    theta0, omega0 : float
+        Initial rotation [rad] and angular velocity [rad s-1].
+    history : bool
+        Return theta at every sample time up to t_end_s.
+    log_impacts : int
+        Log the first ``log_impacts`` impacts.
+
+    Raises
+    ------
+    ParameterError
+        For impossible parameters or non-finite input.
+    """
+    ah = _series("horizontal acceleration", ah_ms2)
+    av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
+    _positive(dt_s=dt_s, p=p, R_m=R_m, g_ms2=g_ms2)
+    if not 0 < alpha < math.pi / 2:
+        raise ParameterError(f"alpha = {alpha!r}: the slenderness must be in (0, pi/2) rad")
+    if not 0 <= e <= 1:
+        raise ParameterError(f"e = {e!r}: the restitution (angular-velocity ratio) must be in [0, 1]")
+    if tail not in ("energy", "integrate"):
+        raise ParameterError(f"tail = {tail!r}: expected 'energy' or 'integrate'")
+    t_rec = (ah.size - 1) * dt_s
+    t_end = t_rec if t_end_s is None else float(t_end_s)
+    theta_out = np.full(int(math.floor(t_end / dt_s + 1e-9)) + 1, np.nan) if history else kernel.empty_theta()
+    impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
+    out = kernel.rock(ah, av, float(dt_s), t_end, float(p), float(alpha), float(e), float(g_ms2), float(R_m),
+                      bool(linear), settings.rtol, settings.atol, settings.rest_ratio, settings.max_step_p,
+                      int(settings.max_events), float(theta0), float(omega0), tail == "energy", theta_out,
+                      impacts_out)
+    overturned, t_over, theta_max, n_imp, fric, status, t_stop, th, om, mode, n_up, t_first = out
+    if history and overturned:
+        k = int(math.floor(t_over / dt_s)) + 1
+        theta_out[k:] = np.nan
+    return RockResult(bool(overturned), float(t_over), float(theta_max) / alpha, int(n_imp), float(fric), int(status),
+                      float(t_stop), float(th), float(om), int(mode), int(n_up), float(t_first),
+                      theta_out if history else None,
+                      impacts_out[: min(log_impacts, int(n_imp))] if log_impacts else None)
+
+
+def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> SlideResult:
+    """Coulomb stick-slip sliding of a block on a moving base (exact per sample).
+
+    Parameters
+    ----------
+    ah_ms2 : array_like
+        Horizontal ground acceleration [m s-2].
+    dt_s : float
+        Sampling interval [s].
+    mu : float
+        Friction coefficient [-], > 0.
+    av_ms2 : array_like, optional
+        Vertical ground acceleration, positive up [m s-2].
+    g_ms2 : float
+        Gravity [m s-2].
+    """
+    ah = _series("horizontal acceleration", ah_ms2)
+    av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
+    _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
+    u_max, u_end, n_slips, t_slip, flight = kernel.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
+    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), bool(flight))
