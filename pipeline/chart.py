@@ -207,3 +207,49 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
     is_pulse = sel["is_pulse"].values[ok] if "is_pulse" in sel else None
     return chart_points(chart, record_ids=results["record"].values[ok], ap_ms2=cols[0], tp_s=cols[1],
                         beta=cols[2], dv_ms=cols[3], is_pulse=is_pulse)
+
+
+def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, settings=None,
+                                    samples_per_period: int = 200) -> xr.Dataset:
+    """Add ``critical_acceleration_simulated`` [m s-2]: the first overturning amplitude of the pulse.
+
+    For each period the pulse (``harmonic``: ``cycles`` sine cycles; other
+    shapes: one pulse) is simulated with the nonlinear rigid rocking model,
+    the amplitude scanned upward from the uplift acceleration in steps of
+    ``settings.scan_step`` times it until the first overturning, never by
+    bisection (overturning is not monotonic in amplitude). NaN where nothing
+    overturns below the sliding line mu g (or ``settings.scan_max_factor``
+    times the uplift acceleration).
+    """
+    from .config import SimulationConfig
+    from .rocking.excitation import pulse
+    from .rocking.simulate import rock
+
+    settings = settings or SimulationConfig()
+    at = chart.attrs
+    geom = geometry(at["height"], at["width"], g_ms2=at["g"])
+    alpha, p, R, e = float(geom.alpha), float(geom.p), float(geom.R), float(geom.e_housner)
+    shape = "half-sine" if at["pulse"] == "half-sine" and cycles == 1 else at["pulse"]
+    a_up = float(criteria.uplift_acceleration(alpha, g_ms2=at["g"]))
+    top = min(at["mu"] * at["g"], settings.scan_max_factor * a_up)
+    out = np.full(chart.sizes["period"], np.nan)
+    n_runs = 0
+    for i, T in enumerate(chart["period"].values):
+        k = 1
+        while a_up * (1 + k * settings.scan_step) <= top:
+            amp = a_up * (1 + k * settings.scan_step)
+            acc, dt = pulse(shape, amplitude_ms2=amp, period_s=float(T), cycles=cycles,
+                            samples_per_period=samples_per_period)
+            n_runs += 1
+            if rock(acc, dt, p=p, alpha=alpha, e=e, R_m=R, g_ms2=at["g"], settings=settings).overturned:
+                out[i] = amp
+                break
+            k += 1
+    chart = chart.copy()
+    chart["critical_acceleration_simulated"] = ("period", out, {
+        "units": "m s-2", "long_name": "first overturning amplitude, nonlinear rigid rocking simulation",
+        "comment": f"{shape}, {cycles if shape == 'harmonic' else 1} cycle(s); upward scan from the uplift "
+                   f"acceleration in steps of {settings.scan_step:g} of it, no bisection; NaN: none below "
+                   f"{top:.4g} m s-2"})
+    chart.attrs["simulation_runs"] = n_runs
+    return chart

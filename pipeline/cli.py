@@ -124,6 +124,9 @@ def chart_parser() -> argparse.ArgumentParser:
     pts.add_argument("--results", type=Path, help="screening.nc whose pulses to plot")
     p.add_argument("--inventory", type=Path, help="StationXML for --records in counts")
     p.add_argument("--config", type=Path, help="TOML configuration")
+    p.add_argument("--simulate", action="store_true",
+                   help="add critical_acceleration_simulated: upward amplitude scan with the rocking simulator")
+    p.add_argument("--cycles", type=int, default=25, help="cycles of the harmonic pulse for --simulate (25)")
     p.add_argument("--out", type=Path, default=Path("chart.nc"), help="chart data, netCDF (default chart.nc)")
     p.add_argument("--figure", type=Path, help="figure, .png/.svg/.pdf (default: --out with .png)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -158,6 +161,12 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
                             pulse=args.pulse, periods_s=args.periods, g_ms2=config.records.g_ms2,
                             form=config.criteria.form)
+    if args.simulate:
+        from .chart import simulated_critical_acceleration
+
+        if args.cycles < 1:
+            raise RockscreenError(f"--cycles {args.cycles}: must be a positive integer")
+        chart = simulated_critical_acceleration(chart, cycles=args.cycles, settings=config.simulation)
     block_id = args.block
     if args.records is not None:
         from .records.loader import read_declared_units, read_inventory as read_station_inventory

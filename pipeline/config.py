@@ -104,6 +104,11 @@ class SimulationConfig:
     #: Vertical motion is simulated when max |a_v| exceeds this fraction of g, i.e. when it
     #: moves the uplift threshold (g + a_v) tan(alpha) by more than this fraction [-].
     vertical_fraction: float = 0.05
+    #: Amplitude step of upward threshold scans, as a fraction of the uplift acceleration [-]
+    #: (scans never bisect: overturning is not monotonic in amplitude).
+    scan_step: float = 0.005
+    #: Scans stop at this multiple of the uplift acceleration (or at the sliding line mu g) [-].
+    scan_max_factor: float = 20.0
 
 
 @dataclass(frozen=True)
