@@ -431,16 +431,18 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
         if om * om1 < 0.0:
             theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
         theta_max = max(theta_max, abs(th1))
-        # friction and lift-off demand at the step end (Z&M eqs. 16-20)
-        phi = alpha * s - th1
-        a_end = a0 + sa * (t + hh - t0)
-        v_end = v0 + sv * (t + hh - t0)
-        fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
-        fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
-        if fz <= 0.0:
-            status |= STATUS_FREE_FLIGHT
-        else:
-            fric_max = max(fric_max, abs(fx) / fz)
+        # friction and lift-off demand at the step end (Z&M eqs. 16-20), while the block can still
+        # come back (|theta| < alpha): past the saddle it falls whether or not the base slides
+        if abs(th1) < alpha:
+            phi = alpha * s - th1
+            a_end = a0 + sa * (t + hh - t0)
+            v_end = v0 + sv * (t + hh - t0)
+            fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
+            fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
+            if fz <= 0.0:
+                status |= STATUS_FREE_FLIGHT
+            else:
+                fric_max = max(fric_max, abs(fx) / fz)
         while out_k < n_out and out_k * dt <= t + hh + 1e-12:
             theta_out[out_k] = _hermite(th, om, th1, om1, hh, (out_k * dt - t) / hh)
             out_k += 1
