@@ -13,7 +13,6 @@ Run: python benchmarks/bench_rocking.py [--limit N]
 from __future__ import annotations
 
 import argparse
-import math
 import time
 from pathlib import Path
 
@@ -21,7 +20,7 @@ import numpy as np
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
-from pipeline.records.loader import load_record, read_declared_units, scan
+from pipeline.records.loader import iter_records
 from pipeline.rocking.planner import PHYSICS, plan
 from pipeline.rocking.reference import rock_reference
 from pipeline.rocking.simulate import rock
@@ -34,18 +33,11 @@ def main() -> None:
     ap.add_argument("--limit", type=int, default=0, help="stop after N scenes (0: all)")
     args = ap.parse_args()
     cfg = Config()
-    records = ROOT / "records"
-    sources, _ = scan(records, config=cfg)
-    declared = read_declared_units(records, cfg)
     inv = read_inventory(ROOT / "configs" / "blocks.csv", default_mu=cfg.blocks.default_mu)
     geo = inv.geometry()
     rock(np.array([0.0, 5.0, 0.0]), 0.01, p=2.0, alpha=0.1, e=0.9, R_m=1.0)         # compile / load cache
     rows = []
-    for src in sources:
-        try:
-            rec = load_record(src, root=str(records), config=cfg, declared=declared, inventory=None)
-        except Exception:
-            continue
+    for rec in iter_records(ROOT / "records", config=cfg):
         ah = rec.horizontal_ms2[0]
         for j in range(len(inv)):
             alpha, p, e = float(geo.alpha[j]), float(geo.p[j]), max(float(geo.e_housner[j]), 0.0)

@@ -93,6 +93,22 @@ def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
     return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
 
 
+def check_friction(mu) -> np.ndarray:
+    """Validate friction coefficients: finite and > 0.
+
+    Raises
+    ------
+    BlockParameterError
+        Naming the value and the valid range.
+    """
+    mu = np.asarray(mu, dtype=float)
+    bad = ~(np.isfinite(mu) & (mu > 0))
+    if np.any(bad):
+        raise BlockParameterError(f"mu = {mu[bad].tolist()[:3]}: the friction coefficient must be a finite "
+                                  "number > 0 (typical 0.3-0.8)")
+    return mu
+
+
 @dataclass(frozen=True)
 class Inventory:
     """A validated block inventory (one entry per block, arrays aligned).
@@ -119,6 +135,10 @@ class Inventory:
         """Rocking geometry of every block."""
         return geometry(self.height_m, self.width_m, g_ms2=g_ms2)
 
+    def effective_restitution(self, geom: Geometry) -> np.ndarray:
+        """Angular-velocity restitution per block: the inventory's value, else Housner's."""
+        return np.where(np.isnan(self.restitution), geom.e_housner, self.restitution)
+
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
 
@@ -142,9 +162,7 @@ class Inventory:
                azimuth_deg: float = math.nan) -> "Inventory":
         """A one-block inventory from sizes given on the command line (validated)."""
         geometry(height_m, width_m)
-        if not (math.isfinite(mu) and mu > 0):
-            raise BlockParameterError(f"mu = {mu!r}: the friction coefficient must be a finite number > 0 "
-                                      "(typical 0.3-0.8)")
+        check_friction(mu)
         return cls(ids=(block_id,), names=("",), sites=("",), notes=("",), height_m=np.array([height_m]),
                    width_m=np.array([width_m]), mu=np.array([mu]), azimuth_deg=np.array([azimuth_deg]),
                    restitution=np.array([math.nan]), source="<command line>")

@@ -27,20 +27,20 @@ import numpy as np
 import xarray as xr
 
 from . import criteria
-from .blocks import geometry
+from .blocks import check_friction, geometry
 from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
 from .constants import G
-from .errors import ParameterError
+from .errors import ParameterError, ResultsError
+from .store import FLAG3
 
 #: Default period grid, as multiples of the paper's transition period.
 DEFAULT_PERIOD_RANGE = (0.1, 10.0)
 DEFAULT_PERIOD_COUNT = 241
 
 
-def default_periods(height_m: float, width_m: float, *, pulse: str, g_ms2: float = G) -> np.ndarray:
-    """Log-spaced periods [s] around the block's transition period."""
-    geom = geometry(height_m, width_m, g_ms2=g_ms2)
-    t_bar = float(criteria.transition_period(geom.p, pulse_beta(pulse)))
+def default_periods(transition_period_s: float) -> np.ndarray:
+    """Log-spaced periods [s] around a transition period [s]."""
+    t_bar = transition_period_s
     lo, hi = DEFAULT_PERIOD_RANGE
     return np.geomspace(lo * t_bar, hi * t_bar, DEFAULT_PERIOD_COUNT)
 
@@ -89,11 +89,11 @@ def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = 
         (Eq. 9, 2 / (p beta), pi / p for a half-sine).
     """
     geom = geometry(height_m, width_m, g_ms2=g_ms2)
-    mu = float(criteria.check_friction(mu))
+    mu = float(check_friction(mu))
     beta = pulse_beta(pulse)
     R, alpha, p = float(geom.R), float(geom.alpha), float(geom.p)
-    T = default_periods(height_m, width_m, pulse=pulse, g_ms2=g_ms2) if periods_s is None else (
-        np.asarray(periods_s, dtype=float).ravel())
+    t_bar = float(criteria.transition_period(p, beta))
+    T = default_periods(t_bar) if periods_s is None else np.asarray(periods_s, dtype=float).ravel()
     if T.size == 0 or np.any(~(T > 0)) or not np.all(np.isfinite(T)):
         raise ParameterError(f"periods = {T.tolist()[:5]}: pulse periods must be finite and > 0 s")
     T = np.sort(T)
@@ -102,7 +102,6 @@ def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = 
     v_crit = float(criteria.critical_velocity(R, alpha, g_ms2=g_ms2, form=form))
     crit = criteria.critical_acceleration(tp, R, alpha, beta, g_ms2=g_ms2, form=form)
     crit_small = criteria.critical_acceleration(tp, R, alpha, beta, g_ms2=g_ms2, form="small_angle")
-    t_bar = float(criteria.transition_period(p, beta))
     t_bar_form = 2.0 * float(criteria.transition_duration(R, alpha, beta, g_ms2=g_ms2, form=form))
     ds = xr.Dataset(
         {
@@ -163,7 +162,7 @@ def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is
     geom = geometry(at["height"], at["width"], g_ms2=at["g"])
     scene = criteria.evaluate(a, tp, b, dv, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=at["mu"],
                               g_ms2=at["g"], form=at["form"])
-    flag = {"flag_values": np.array([-1, 0, 1], dtype="i1"), "flag_meanings": "not_evaluated false true"}
+    flag = {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}
     return xr.Dataset(
         {
             "record_ap": ("record", a, {"units": "m s-2", "long_name": "pulse peak acceleration"}),
@@ -199,9 +198,7 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
         names = ("pulse_ap", "pulse_tp", "pulse_beta", "pulse_dv")
     missing = [n for n in names if n not in sel]
     if missing:
-        from .errors import RockscreenError
-
-        raise RockscreenError(f"results file has no {missing}: it was written before pulses were extracted; "
+        raise ResultsError(f"results file has no {missing}: it was written before pulses were extracted; "
                               "re-run screen on the records")
     cols = [sel[n].values[ok] for n in names]
     is_pulse = sel["is_pulse"].values[ok] if "is_pulse" in sel else None
@@ -229,7 +226,7 @@ def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, sett
     at = chart.attrs
     geom = geometry(at["height"], at["width"], g_ms2=at["g"])
     alpha, p, R, e = float(geom.alpha), float(geom.p), float(geom.R), float(geom.e_housner)
-    shape = "half-sine" if at["pulse"] == "half-sine" and cycles == 1 else at["pulse"]
+    shape = at["pulse"]
     a_up = float(criteria.uplift_acceleration(alpha, g_ms2=at["g"]))
     top = min(at["mu"] * at["g"], settings.scan_max_factor * a_up)
     out = np.full(chart.sizes["period"], np.nan)

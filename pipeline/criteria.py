@@ -36,7 +36,8 @@ import numpy as np
 
 from .closed_forms import makris_roussos_halfsine
 from .constants import G
-from .errors import BlockParameterError, ParameterError
+from .blocks import check_friction
+from .errors import ParameterError
 
 #: Forms of Eqs. 1 and 4: "exact" (g tan(alpha), exact critical velocity) or "small_angle".
 FORMS = ("exact", "small_angle")
@@ -52,22 +53,6 @@ def _form(form: str) -> str:
     if form not in FORMS:
         raise ParameterError(f"criterion form {form!r} is unknown; valid: {list(FORMS)}")
     return form
-
-
-def check_friction(mu) -> np.ndarray:
-    """Validate friction coefficients: finite and > 0.
-
-    Raises
-    ------
-    BlockParameterError
-        Naming the value and the valid range.
-    """
-    mu = np.asarray(mu, dtype=float)
-    bad = ~(np.isfinite(mu) & (mu > 0))
-    if np.any(bad):
-        raise BlockParameterError(f"mu = {mu[bad].tolist()[:3]}: the friction coefficient must be a finite "
-                                  "number > 0 (typical 0.3-0.8)")
-    return mu
 
 
 def rocking_applicable(alpha) -> np.ndarray:
@@ -169,7 +154,7 @@ def onset_friction_demand(accel_ms2, alpha, *, g_ms2: float = G):
     return np.where(excess > 0, num / den, a / g_ms2)
 
 
-def onset_mode(ap_ms2, alpha, mu, *, g_ms2: float = G) -> np.ndarray:
+def onset_mode(ap_ms2, alpha, mu, *, g_ms2: float = G, demand=None) -> np.ndarray:
     """Mode at the onset of motion under a pulse of peak ``ap_ms2`` (codes of :data:`ONSET`).
 
     * rest: the pulse neither lifts (a_p < g tan alpha) nor slides (a_p <= mu g) the block;
@@ -179,13 +164,15 @@ def onset_mode(ap_ms2, alpha, mu, *, g_ms2: float = G) -> np.ndarray:
     * slide_rock: mu > tan(alpha) (rocks under a gradual pulse) but a pulse
       arriving at full amplitude needs more friction than mu (eq. 7 with lambda = 1).
 
-    NaN amplitudes give -1.
+    NaN amplitudes give -1. ``demand`` is :func:`onset_friction_demand` of ``ap_ms2``
+    when the caller has it already.
     """
     a = np.abs(np.asarray(ap_ms2, dtype=float))
     alpha = np.asarray(alpha, dtype=float)
     mu = np.asarray(mu, dtype=float)
     tan_a = np.tan(alpha)
-    demand = onset_friction_demand(a, alpha, g_ms2=g_ms2)
+    if demand is None:
+        demand = onset_friction_demand(a, alpha, g_ms2=g_ms2)
     rocks_first = mu > tan_a                                             # static test (section 1.8)
     lifts = a >= g_ms2 * tan_a
     code = np.where(
@@ -252,14 +239,15 @@ def evaluate(ap_ms2, tp_s, beta, dv_ms, *, R_m, alpha, p, mu, g_ms2: float = G,
         omega_over_p = np.where(tp > 0, np.pi / (np.where(tp > 0, tp, 1.0) * p), 1.0)
         a_min_hs = makris_roussos_halfsine(omega_over_p) * alpha * g_ms2
         cf_ratio = a / a_min_hs
+        demand = onset_friction_demand(a, alpha, g_ms2=g_ms2)
     return {
         "uplift": _flag(uplift, have),
         "energy_ratio": np.where(have, energy_ratio, np.nan),
         "overturn_criterion": _flag(overturn, rocking),
         "above_sliding_line": _flag(~below_sliding, have),
         "criterion_scale": np.where(rocking, scale, np.nan),
-        "onset": onset_mode(np.where(have, a, np.nan), alpha, mu, g_ms2=g_ms2),
-        "onset_friction_demand": np.where(have, onset_friction_demand(a, alpha, g_ms2=g_ms2), np.nan),
+        "onset": onset_mode(np.where(have, a, np.nan), alpha, mu, g_ms2=g_ms2, demand=demand),
+        "onset_friction_demand": np.where(have, demand, np.nan),
         "normalized_acceleration": np.where(have, a / a_up, np.nan),
         "normalized_duration": np.where(have, tp / t_bar, np.nan),
         "closed_form_ratio": np.where(rocking, cf_ratio, np.nan),

@@ -10,7 +10,6 @@ grow with the number of records.
 from __future__ import annotations
 
 import logging
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -132,19 +131,12 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
     return values, blocks, series
 
 
+#: Integer variables that are counts rather than flags (-1: not evaluated).
+INTEGER_DTYPES = {"n_impacts": "i4"}
+
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight")
-
-
-def _strongest_axis_deg(rec: Record) -> float:
-    """Azimuth of the peak horizontal acceleration vector (used when no pulse was found)."""
-    h = rec.horizontal_ms2
-    if h.shape[0] < 2:
-        return float(rec.azimuths_deg[0]) % 180.0
-    k = int(np.argmax(np.hypot(h[0], h[1])))
-    ang = math.degrees(math.atan2(h[1][k], h[0][k]))       # from the first component towards the second
-    return round(float(rec.azimuths_deg[0]) + ang) % 180.0
 
 
 def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dict:
@@ -152,7 +144,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dic
     inv, cfg = ctx.inventory, ctx.config
     g = cfg.records.g_ms2
     geom = inv.geometry(g_ms2=g)
-    e = np.where(np.isnan(inv.restitution), geom.e_housner, inv.restitution)
+    e = inv.effective_restitution(geom)
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
     av = rec.vertical_ms2
@@ -164,9 +156,8 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dic
                                 settings=cfg.simulation)
             row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": int(sc.overturned),
                    "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
-                   "friction_demand": sc.friction_demand,
-                   "friction_exceeded": int(sc.friction_demand > inv.mu[j]) if np.isfinite(sc.friction_demand)
-                   else -1, "sliding_max": sc.sliding_max_m, "free_flight": int(sc.free_flight)}
+                   "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
+                   "sliding_max": sc.sliding_max_m, "free_flight": int(sc.free_flight)}
             for n, v in row.items():
                 out[n][j] = v
     return out
@@ -183,7 +174,7 @@ def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
         values.update(pulse_values)
         directions = block_values.get("block_pulse_azimuth")
         if directions is None:
-            directions = _block_directions(rec, ctx.inventory, _strongest_axis_deg(rec))
+            directions = _block_directions(rec, ctx.inventory, rec.pga_azimuth_deg())
         block_values.update(_simulation_values(rec, directions, ctx))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series)
     except RockscreenError as exc:
@@ -226,18 +217,13 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
     for name in PULSE_BLOCK_VARS + SIMULATION_VARS:
         rows = [r.blocks.get(name, np.full(nb, np.nan)) for r in results]
         data_vars[name] = (("record", "block"), np.array(rows, dtype=float).reshape(len(results), nb))
-    for name in ("physics", "response", "overturn_simulated", "friction_exceeded", "free_flight"):
-        vals = data_vars[name][1]
-        data_vars[name] = (("record", "block"), np.where(np.isnan(vals), -1, vals).astype("i1"))
-    vals = data_vars["n_impacts"][1]
-    data_vars["n_impacts"] = (("record", "block"), np.where(np.isnan(vals), -1, vals).astype("i4"))
-    for name in ("is_pulse", "pulse_late"):
-        if name in data_vars:
-            vals = data_vars[name][1]
-            data_vars[name] = (("record",), np.where(np.isnan(vals), -1, vals).astype("i1"))
+    for name, (dims, arr) in list(data_vars.items()):
+        dtype = INTEGER_DTYPES.get(name) or ("i1" if "flag_values" in SCHEMA.get(name, (0, 0, 0, {}))[3] else None)
+        if dtype and arr.dtype.kind == "f":                  # NaN (not evaluated) -> -1
+            data_vars[name] = (dims, np.where(np.isnan(arr), -1, arr).astype(dtype))
     g = config.records.g_ms2
     geom = inventory.geometry(g_ms2=g)
-    e = np.where(np.isnan(inventory.restitution), geom.e_housner, inventory.restitution)
+    e = inventory.effective_restitution(geom)
     form = config.criteria.form
     scenes = criteria.evaluate(
         data_vars["block_pulse_ap"][1], data_vars["block_pulse_tp"][1], data_vars["block_pulse_beta"][1],

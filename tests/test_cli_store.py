@@ -97,3 +97,17 @@ def test_inventory_flag_supplies_the_response(make_records, blocks_csv, tmp_path
     ds = open_results(out / "screening.nc")
     # SOURCES.md: HNE 0.565 g, HNN 0.470 g (counts / sensitivity ~2.14e5 per m/s^2)
     assert float(ds.component_pga.sel(component="h2").values[0]) / 9.80665 == pytest.approx(0.565, rel=1e-2)
+
+
+def test_processing_history_is_reproducible(make_records, config):
+    """obspy's history names the StationXML inventory with a memory address; two loads must read the same."""
+    from pipeline.records.loader import iter_records, read_inventory
+
+    root = make_records("mseed/CI.CCC..HNE.mseed", "mseed/CI.CCC..HNN.mseed", "mseed/CI.CCC..HNZ.mseed",
+                        "mseed/CI.CCC.xml")
+
+    first = next(iter_records(root, config=config, inventory=read_inventory(root)))
+    second = next(iter_records(root, config=config, inventory=read_inventory(root)))
+    assert any("remove_sensitivity" in h for h in first.history)
+    assert first.history == second.history
+    assert not any(" at 0x" in h for h in first.history)

@@ -39,6 +39,12 @@ def test_restitution_energy_ratio_at_every_impact(alpha, e_expected):
     ke = res.impacts[:, 2] ** 2 / res.impacts[:, 1] ** 2
     assert len(ke) == 50 and np.all(np.abs(ke - b["e"] ** 2) < 1e-12)
     assert np.all(np.sign(res.impacts[:, 1]) == np.sign(res.impacts[:, 2]))
+    # between impacts the free motion conserves energy, so the speed arriving at an impact is the speed the
+    # previous one left (the first from the release: omega^2 = 2 p^2 (cos(alpha - theta0) - cos(alpha)))
+    p, a = b["p"], alpha
+    first = math.sqrt(2 * p * p * (math.cos(a - 0.6 * a) - math.cos(a)))
+    assert abs(res.impacts[0, 1]) == pytest.approx(first, rel=1e-7)
+    np.testing.assert_allclose(np.abs(res.impacts[1:, 1]), np.abs(res.impacts[:-1, 2]), rtol=1e-6)
 
 
 @pytest.mark.parametrize("phi0, lin, nonlin", [(0.1, 0.173918, 0.174394), (0.5, 0.490304, 0.490864),

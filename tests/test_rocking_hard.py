@@ -15,7 +15,7 @@ import pytest
 from pipeline.blocks import geometry
 from pipeline.closed_forms import housner_rectangle_duration
 from pipeline.config import Config
-from pipeline.records.loader import load_record, read_declared_units, scan
+from pipeline.records.loader import iter_records
 from pipeline.rocking import kernel
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import simulate_scene
@@ -27,15 +27,7 @@ G = 9.80665
 
 @pytest.fixture(scope="module")
 def real_records(records_dir):
-    cfg = Config()
-    sources, _ = scan(records_dir, config=cfg)
-    declared = read_declared_units(records_dir, cfg)
-    out = []
-    for s in sources:
-        try:
-            out.append(load_record(s, root=str(records_dir), config=cfg, declared=declared, inventory=None))
-        except Exception:
-            pass
+    out = list(iter_records(records_dir, config=Config()))
     assert len(out) >= 30
     return out
 

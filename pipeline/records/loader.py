@@ -252,6 +252,11 @@ def _align(traces, *, max_mismatch: int, notes: list[str]) -> None:
         notes.append(f"component lengths {lengths} trimmed to the shorter, {n} samples")
 
 
+#: obspy writes arguments such as ``<Inventory object at 0x7f...>`` into its processing history;
+#: the address changes from run to run, so it is dropped to keep results reproducible.
+_OBJECT_ADDRESS = re.compile(r" object at 0x[0-9a-fA-F]+>")
+
+
 def load_record(source: RecordSource, *, root: str | Path, config: Config,
                 declared: dict[str, str] | None = None, inventory=None) -> Record:
     """Read, convert, align and process one station recording.
@@ -324,7 +329,8 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
         steps = getattr(config.processing, level)
         apply_steps(tr, steps)
         history += list(tr.stats.rockscreen_history) + [
-            f"{Path(tr.stats.rockscreen_file).name} {tr.stats.channel}: {p}" for p in tr.stats.get("processing", [])]
+            f"{Path(tr.stats.rockscreen_file).name} {tr.stats.channel}: {_OBJECT_ADDRESS.sub('>', p)}"
+            for p in tr.stats.get("processing", [])]
     for tr in ordered:
         data = np.asarray(tr.data, dtype=float)
         if not np.all(np.isfinite(data)):
@@ -355,3 +361,19 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
         header_peaks_ms2=peaks,
         velocity_ms=integrate(hz, dt, method=method),
     )
+
+
+def iter_records(root: str | Path, *, config: Config, inventory=None):
+    """Every record under ``root`` that loads, in scan order (failures are skipped).
+
+    For benchmarks and tests that need the bundled records as arrays; the
+    screening itself keeps the failures (:func:`pipeline.screening.run`).
+    """
+    root = Path(root)
+    sources, _ = scan(root, config=config)
+    declared = read_declared_units(root, config)
+    for source in sources:
+        try:
+            yield load_record(source, root=root, config=config, declared=declared, inventory=inventory)
+        except RockscreenError:
+            continue

@@ -94,3 +94,12 @@ class Record:
     def pga_ms2(self) -> float:
         """Peak of the horizontal acceleration vector [m s-2]."""
         return float(np.max(np.sqrt(np.sum(self.horizontal_ms2**2, axis=0))))
+
+    def pga_azimuth_deg(self) -> float:
+        """Axis of the peak horizontal acceleration vector, clockwise from north, modulo 180 [deg]."""
+        if self.single_component:
+            return float(self.azimuths_deg[0]) % 180.0
+        h = self.horizontal_ms2
+        k = int(np.argmax(np.hypot(h[0], h[1])))
+        turn = np.degrees(np.arctan2(h[1][k], h[0][k]))     # from the first component towards the second
+        return float(round(self.azimuths_deg[0] + turn) % 180.0)

@@ -151,15 +151,21 @@ def _first_crossing(th0, om0, th1, om1, h, s):
 
 
 @jit
+def _hermite_rate(th0, om0, th1, om1, h, x):
+    """d theta / d x of the Hermite cubic at fraction x (x = (t - t0) / h)."""
+    x2 = x * x
+    return ((6 * x2 - 6 * x) * (th0 - th1) + (3 * x2 - 4 * x + 1) * h * om0 + (3 * x2 - 2 * x) * h * om1)
+
+
+@jit
 def _hermite_peak(th0, om0, th1, om1, h):
     """Largest |theta| of the Hermite cubic inside a step where omega changes sign."""
     best = max(abs(th0), abs(th1))
     lo, hi = 0.0, 1.0
-    # omega of the cubic: bisection on its sign between the two ends
+    # the cubic's rate keeps the sign of omega0 until the turning point: bisection on it
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        d = (_hermite(th0, om0, th1, om1, h, mid + 1e-7) - _hermite(th0, om0, th1, om1, h, mid - 1e-7))
-        if d * om0 > 0:
+        if _hermite_rate(th0, om0, th1, om1, h, mid) * om0 > 0:
             lo = mid
         else:
             hi = mid
@@ -167,8 +173,12 @@ def _hermite_peak(th0, om0, th1, om1, h):
 
 
 @jit
-def _uplift_fraction(a0, a1, v0, v1, g, thr):
-    """First fraction x in [0, 1] where |a| > (g + v) thr on a linear piece, or -1."""
+def _exceed_fraction(a0, a1, v0, v1, g, thr):
+    """First fraction x in [0, 1] where |a| > (g + v) thr on a linear piece, or -1.
+
+    Uplift from rest (thr = tan(alpha), or alpha for the linear model) and the
+    start of slip (thr = mu) are both this test.
+    """
     best = -1.0
     for sig in (1.0, -1.0):
         l0 = sig * a0 - (g + v0) * thr
@@ -348,7 +358,7 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
             aa1, vv1 = a0 + sa * (t1 - t0), v0 + sv * (t1 - t0)
             if has_v and (g + vv0 <= 0.0 or g + vv1 <= 0.0):
                 status |= STATUS_FREE_FLIGHT
-            x = _uplift_fraction(aa0, aa1, vv0, vv1, g, thr)
+            x = _exceed_fraction(aa0, aa1, vv0, vv1, g, thr)
             if x < 0.0:
                 t = t1
             else:
@@ -500,7 +510,7 @@ def slide(ah, av, dt, mu, g):
             ax = a0 + ka * x
             vx = v0 + kv * x
             if not slipping:
-                f = _uplift_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
+                f = _exceed_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
                 if f < 0.0:
                     x = dt
                     break

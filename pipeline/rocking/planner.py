@@ -38,10 +38,15 @@ PHYSICS = {"none": 0, "sliding": 1, "rocking": 2, "rocking_vertical": 3}
 RESPONSE = {"rest": 0, "slide": 1, "rock": 2, "slide_rock": 3, "overturn": 4}
 
 
+def uses_vertical(av_ms2: np.ndarray | None, *, g_ms2: float, vertical_fraction: float) -> bool:
+    """True when a vertical component exists and max |a_v| exceeds ``vertical_fraction`` g."""
+    return av_ms2 is not None and float(np.max(np.abs(av_ms2))) > vertical_fraction * g_ms2
+
+
 def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: float, g_ms2: float = G,
          vertical_fraction: float = SimulationConfig.vertical_fraction) -> int:
     """Physics code (:data:`PHYSICS`) for one scene."""
-    use_v = av_ms2 is not None and float(np.max(np.abs(av_ms2))) > vertical_fraction * g_ms2
+    use_v = uses_vertical(av_ms2, g_ms2=g_ms2, vertical_fraction=vertical_fraction)
     gv = g_ms2 + av_ms2 if use_v else g_ms2
     peak = np.abs(ah_ms2)
     tan_a = math.tan(alpha)
@@ -68,6 +73,8 @@ class Scene:
     sliding_max_m: float
     free_flight: bool
     chatter: bool
+    #: 1 where the pure-rocking friction demand exceeded mu, -1 where it is not defined (sliding).
+    friction_exceeded: int
 
 
 def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
@@ -93,19 +100,20 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
         physics = plan(ah_ms2, av_ms2, alpha=alpha, mu=mu, g_ms2=g_ms2,
                        vertical_fraction=settings.vertical_fraction)
     if physics == PHYSICS["none"]:
-        return Scene(physics, RESPONSE["rest"], False, 0.0, 0, math.nan, 0.0, 0.0, False, False)
+        return Scene(physics, RESPONSE["rest"], False, 0.0, 0, math.nan, 0.0, 0.0, False, False, 0)
     if physics == PHYSICS["sliding"]:
-        use_v = av_ms2 is not None and float(np.max(np.abs(av_ms2))) > settings.vertical_fraction * g_ms2
+        use_v = uses_vertical(av_ms2, g_ms2=g_ms2, vertical_fraction=settings.vertical_fraction)
         res = slide(ah_ms2, dt_s, mu=mu, av_ms2=av_ms2 if use_v else None, g_ms2=g_ms2)
         return Scene(physics, RESPONSE["slide"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                     res.free_flight, False)
+                     res.free_flight, False, -1)
     av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
     res = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings)
+    exceeded = res.friction_demand > mu
     if res.overturned:
         response = RESPONSE["overturn"]
-    elif res.friction_demand > mu:
+    elif exceeded:
         response = RESPONSE["slide_rock"]
     else:
         response = RESPONSE["rock"]
     return Scene(physics, response, res.overturned, res.theta_max, res.n_impacts, res.t_overturn,
-                 res.friction_demand, math.nan, res.free_flight, res.chatter)
+                 res.friction_demand, math.nan, res.free_flight, res.chatter, int(exceeded))

@@ -158,9 +158,6 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
                       int(settings.max_events), float(theta0), float(omega0), tail == "energy", theta_out,
                       impacts_out)
     overturned, t_over, theta_max, n_imp, fric, status, t_stop, th, om, mode, n_up, t_first = out
-    if history and overturned:
-        k = int(math.floor(t_over / dt_s)) + 1
-        theta_out[k:] = np.nan
     return RockResult(bool(overturned), float(t_over), float(theta_max) / alpha, int(n_imp), float(fric), int(status),
                       float(t_stop), float(th), float(om), int(mode), int(n_up), float(t_first),
                       theta_out if history else None,
