@@ -17,6 +17,7 @@ earthquakes. BSSA 53(2), 403-417.
 from __future__ import annotations
 
 import csv
+import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -139,6 +140,15 @@ class Inventory:
         """Angular-velocity restitution per block: the inventory's value, else Housner's."""
         return np.where(np.isnan(self.restitution), geom.e_housner, self.restitution)
 
+    def take(self, indices) -> "Inventory":
+        """The sub-inventory of the blocks at ``indices`` (in that order)."""
+        k = np.asarray(indices, dtype=int)
+        pick = lambda seq: tuple(seq[i] for i in k)  # noqa: E731
+        return Inventory(ids=pick(self.ids), names=pick(self.names), sites=pick(self.sites),
+                         notes=pick(self.notes), height_m=self.height_m[k], width_m=self.width_m[k],
+                         mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
+                         source=self.source)
+
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
 
@@ -152,10 +162,18 @@ class Inventory:
         except ValueError:
             shown = ", ".join(self.ids[:10]) + (", ..." if len(self.ids) > 10 else "")
             raise InventoryError(f"{self.source}: no block with id {block_id!r}; ids are {shown}") from None
-        return Inventory(
-            ids=(self.ids[k],), names=(self.names[k],), sites=(self.sites[k],), notes=(self.notes[k],),
-            height_m=self.height_m[k:k + 1], width_m=self.width_m[k:k + 1], mu=self.mu[k:k + 1],
-            azimuth_deg=self.azimuth_deg[k:k + 1], restitution=self.restitution[k:k + 1], source=self.source)
+        return self.take([k])
+
+    def digests(self) -> tuple[str, ...]:
+        """Per-block SHA-256 of everything that enters the computation (not names or notes).
+
+        A block whose digest is unchanged between two runs keeps its results.
+        """
+        out = []
+        for j, bid in enumerate(self.ids):
+            fields = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j], self.restitution[j])
+            out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
+        return tuple(out)
 
     @classmethod
     def single(cls, *, height_m: float, width_m: float, mu: float, block_id: str = "block",

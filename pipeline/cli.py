@@ -1,11 +1,16 @@
 """Command line: ``screen`` and its subcommands.
 
 ``screen --records DIR --blocks inventory.csv [--out DIR]`` screens every
-record against every block and writes ``OUT/screening.nc``.
+record against every block and writes ``OUT/screening.nc`` and
+``OUT/pulses.nc``. Running it again into the same ``--out`` computes only
+what is new or changed (:mod:`pipeline.batch`); ``-n N`` uses N local
+processes and ``--scheduler`` a Dask cluster (:mod:`pipeline.executors`).
 
 Exit codes: 0 success; 1 at least one record failed (its reason is in
 ``status`` and the log; ``--tolerate-failures`` makes this 0); 2 bad usage,
-configuration or inventory (nothing is written).
+configuration or inventory (nothing is written); 3 the output cannot be
+written (earlier results intact); 75 another run holds the output;
+130 interrupted (what was computed is kept in the scene cache).
 """
 
 from __future__ import annotations
@@ -16,15 +21,18 @@ import json
 import logging
 import shlex
 import sys
+import time
 from importlib import metadata
 from pathlib import Path
 
 from . import __version__
-from .errors import InventoryError, OutputError, RockscreenError
+from .errors import InventoryError, OutputError, OutputLockedError, RockscreenError
 
 log = logging.getLogger("pipeline")
 
-EXIT_OK, EXIT_RECORD_FAILURES, EXIT_USAGE = 0, 1, 2
+EXIT_OK, EXIT_RECORD_FAILURES, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
+EXIT_LOCKED = 75          # sysexits EX_TEMPFAIL: another run holds the output; try again later
+EXIT_INTERRUPTED = 130
 
 
 def _package_versions() -> str:
@@ -48,6 +56,14 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", type=Path, default=Path("results"), help="output directory (default: results/)")
     p.add_argument("--config", type=Path, help="TOML configuration (default: built-in, as configs/screen.toml)")
     p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
+    ex = p.add_argument_group("execution")
+    ex.add_argument("-n", "--num-processes", type=int, default=1, metavar="N",
+                    help="worker processes on this machine (default 1: serial)")
+    ex.add_argument("--scheduler", metavar="ADDRESS",
+                    help="Dask: 'local' for a LocalCluster of N workers, or a scheduler address tcp://HOST:PORT "
+                         "(the records directory must be readable by the workers at the same path)")
+    ex.add_argument("--force", action="store_true",
+                    help="recompute every record and block (default: only what is new or changed)")
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, warnings only")
@@ -55,47 +71,88 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _progress(quiet: bool):
+    """A tqdm wrapper on stderr (silent when stderr is not a terminal), or None with ``-q``."""
     if quiet:
         return None
     from tqdm import tqdm
 
-    return lambda it: tqdm(it, desc="records", unit="rec", file=sys.stderr, disable=None, leave=False)
+    return lambda it, total=None: tqdm(it, total=total, desc="records", unit="rec", file=sys.stderr,
+                                       disable=None, leave=False)
 
 
-def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
-    """The main job: screen records against blocks and write results."""
-    from .blocks import read_inventory
-    from .config import load_config
-    from .records.loader import read_declared_units, read_inventory as read_station_inventory
-    from .screening import run
-    from .store import write_atomic
-
-    config = load_config(args.config)
-    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
-    if not args.records.is_dir():
-        raise RockscreenError(f"{args.records}: records directory not found")
-    station_inventory = read_station_inventory(args.records, args.inventory)
-    declared = read_declared_units(args.records, config)
-    ds, summary = run(args.records, inventory, config, station_inventory=station_inventory,
-                      declared_units=declared, progress=_progress(args.quiet))
-    ds.attrs.update({
-        "history": f"{Path(sys.argv[0]).name} {shlex.join(argv)}",
+def _provenance(args: argparse.Namespace, argv: list[str], config) -> dict:
+    return {
+        "history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {Path(sys.argv[0]).name} "
+                   f"{shlex.join(argv)}",
         "rockscreen_config": json.dumps(config.to_dict(), sort_keys=True),
         "rockscreen_config_sha256": config.digest(),
         "package_versions": _package_versions(),
         "inventory_file": str(args.blocks),
         "inventory_sha256": _sha256(args.blocks),
+        "records_directory": str(args.records),
         "references": "Housner (1963) BSSA 53(2); Shahi & Baker (2014) BSSA 104(5); "
                       "reference paper: energy-based critical pulse model for rocking blocks",
-    })
-    out = write_atomic(ds, args.out / "screening.nc")
-    write_atomic(summary["pulse_series"], args.out / "pulses.nc")
-    print(f"records: {summary['records_ok']} ok, {summary['records_failed']} failed; "
-          f"blocks: {summary['blocks']}; wall time {summary['wall_time_s']:.1f} s", file=sys.stderr)
-    print("scenes by physics: " + ", ".join(f"{k} {v}" for k, v in summary["scenes_by_physics"].items())
-          + "; by response: " + ", ".join(f"{k} {v}" for k, v in summary["scenes_by_response"].items()),
+    }
+
+
+def _print_summary(summary: dict, out: Path) -> None:
+    s = summary
+    print(f"records: {s['records_ok']} ok ({s['records_screened']} screened, {s['records_reused']} reused"
+          + (f", {s['records_vanished']} kept from the last run: files gone" if s["records_vanished"] else "")
+          + f"), {s['records_failed']} failed; blocks: {s['blocks']} ({s['blocks_changed']} new or changed); "
+          f"scenes computed: {s['scenes_computed']}; {s['executor']}; wall time {s['wall_time_s']:.1f} s",
+          file=sys.stderr)
+    print("scenes by physics: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_physics"].items())
+          + "; by response: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_response"].items()),
           file=sys.stderr)
     print(f"wrote {out}", file=sys.stderr)
+
+
+def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
+    """The main job: screen records against blocks and write results (incrementally)."""
+    from .batch import run
+    from .blocks import read_inventory
+    from .cache import ensure_writable, files_sha256
+    from .config import load_config
+    from .executors import make_executor
+    from .records.loader import read_declared_units, read_inventory as read_station_inventory, stationxml_paths
+    from .store import OutputLock, remove_stale_temporaries, write_atomic
+
+    config = load_config(args.config)
+    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+    if not args.records.is_dir():
+        raise RockscreenError(f"{args.records}: records directory not found")
+    if args.num_processes < 1:
+        raise RockscreenError(f"-n {args.num_processes}: the number of worker processes must be >= 1")
+    station_inventory = read_station_inventory(args.records, args.inventory)
+    stationxml_sha = files_sha256(stationxml_paths(args.records, args.inventory))
+    declared = read_declared_units(args.records, config)
+    out_dir = ensure_writable(args.out)
+    started = time.time()
+    try:
+        with OutputLock(out_dir, command=shlex.join(argv)) as lock:
+            if lock.stale_owner:
+                log.warning("took over the lock of a run that died (pid %s, started %s)",
+                            lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
+            remove_stale_temporaries(out_dir)
+            with make_executor(n_workers=args.num_processes, scheduler=args.scheduler) as executor:
+                ds, pulses, summary = run(args.records, inventory, config, out_dir=out_dir, executor=executor,
+                                          force=args.force, station_inventory=station_inventory,
+                                          declared_units=declared, stationxml_sha256=stationxml_sha,
+                                          progress=_progress(args.quiet))
+            ds.attrs.update(_provenance(args, argv, config))
+            pulses.attrs["rockscreen_run_key"] = ds.attrs["rockscreen_run_key"]
+            write_atomic(pulses, out_dir / "pulses.nc")
+            out = write_atomic(ds, out_dir / "screening.nc")      # the main file last
+            summary["cache"].prune()
+    except KeyboardInterrupt:
+        cache_dir = out_dir / ".rockscreen" / "cache"
+        kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
+        print(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will not be "
+              f"screened again; {out_dir / 'screening.nc'} still holds the previous complete results, if any. "
+              "Run the same command again to finish.", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    _print_summary(summary, out)
     if summary["records_failed"] and not args.tolerate_failures:
         return EXIT_RECORD_FAILURES
     return EXIT_OK
@@ -169,12 +226,12 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
         chart = simulated_critical_acceleration(chart, cycles=args.cycles, settings=config.simulation)
     block_id = args.block
     if args.records is not None:
+        from .batch import run
         from .records.loader import read_declared_units, read_inventory as read_station_inventory
-        from .screening import run
 
         if not args.records.is_dir():
             raise RockscreenError(f"{args.records}: records directory not found")
-        results, _ = run(args.records, block, config,
+        results, _, _ = run(args.records, block, config,
                          station_inventory=read_station_inventory(args.records, args.inventory),
                          declared_units=read_declared_units(args.records, config), progress=_progress(args.quiet))
         block_id = block.ids[0]
@@ -203,7 +260,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="screen",
         description="Screen strong-motion records for the overturning of free-standing rigid blocks.",
-        epilog="Exit codes: 0 ok; 1 some records failed (see status); 2 bad usage, config or inventory.",
+        epilog="Exit codes: 0 ok; 1 some records failed (see status); 2 bad usage, config or inventory; "
+               "3 the output cannot be written (permissions, disk full; earlier results intact); "
+               "75 another run holds the output (try again later); 130 interrupted (work done is kept).",
     )
     p.add_argument("--version", action="version", version=f"rockscreen {__version__}")
     _add_run_arguments(p)
@@ -227,16 +286,19 @@ def main(argv: list[str] | None = None) -> int:
     except InventoryError as exc:
         print(f"error: {exc}\nnothing was screened or written.", file=sys.stderr)
         return EXIT_USAGE
+    except OutputLockedError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_LOCKED
     except OutputError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+        return EXIT_OUTPUT
     except RockscreenError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("interrupted: no results were written for this run; earlier results are intact.",
               file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

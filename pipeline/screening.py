@@ -23,10 +23,10 @@ from .blocks import Inventory
 from .config import Config
 from .errors import PulseError, RockscreenError
 from .pulses import analyze
-from .records.loader import Failure, RecordSource, load_record, scan
+from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
-from .rocking.planner import PHYSICS, RESPONSE, simulate_scene
-from .store import COMPONENTS, apply_schema, pulse_series_dataset
+from .rocking.planner import simulate_scene
+from .store import COMPONENTS, apply_schema
 
 log = logging.getLogger(__name__)
 
@@ -52,6 +52,14 @@ class RecordResult:
     components: dict = field(default_factory=dict)
     blocks: dict = field(default_factory=dict)
     series: dict = field(default_factory=dict)
+    #: ids of the blocks the arrays in ``blocks`` are aligned with
+    block_ids: tuple = ()
+    #: inventory digests of those blocks (what they were computed with)
+    block_digests: tuple = ()
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
 
 
 def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
@@ -163,27 +171,38 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dic
     return out
 
 
-def screen_record(source: RecordSource, ctx: Context) -> RecordResult:
-    """Screen one record against every block; failures come back as a status, never raise."""
+def screen_record(source: RecordSource, ctx: Context, block_ids=None) -> RecordResult:
+    """Screen one record against the blocks ``block_ids`` (all when None).
+
+    Loads the record by path inside the task; failures come back as a
+    status, never raise, so one bad record never stops the batch.
+    """
+    inv = ctx.inventory
+    if block_ids is not None:
+        index = {b: k for k, b in enumerate(inv.ids)}
+        inv = inv.take([index[b] for b in block_ids])
+    task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory)
+    files = {"files": ";".join(Path(f).name for f in source.files)}
     try:
+        content = source.digest()
         rec = load_record(source, root=ctx.root, config=ctx.config, declared=ctx.declared_units,
                           inventory=ctx.station_inventory)
         values, comps = _record_values(rec, source)
-        values["content_sha256"] = source.digest()
-        pulse_values, block_values, series = _pulse_values(rec, ctx)
+        values["content_sha256"] = content
+        values["screened_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+        pulse_values, block_values, series = _pulse_values(rec, task_ctx)
         values.update(pulse_values)
         directions = block_values.get("block_pulse_azimuth")
         if directions is None:
-            directions = _block_directions(rec, ctx.inventory, rec.pga_azimuth_deg())
-        block_values.update(_simulation_values(rec, directions, ctx))
-        return RecordResult(source.record_id, "ok", values, comps, block_values, series)
+            directions = _block_directions(rec, inv, rec.pga_azimuth_deg())
+        block_values.update(_simulation_values(rec, directions, task_ctx))
+        return RecordResult(source.record_id, "ok", values, comps, block_values, series,
+                            block_ids=inv.ids, block_digests=inv.digests())
     except RockscreenError as exc:
-        return RecordResult(source.record_id, f"failed: {exc}",
-                            {"files": ";".join(Path(f).name for f in source.files)})
+        return RecordResult(source.record_id, f"failed: {exc}", files)
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
         log.exception("unexpected error on record %s", source.record_id)
-        return RecordResult(source.record_id, f"failed: unexpected {type(exc).__name__}: {exc}",
-                            {"files": ";".join(Path(f).name for f in source.files)})
+        return RecordResult(source.record_id, f"failed: unexpected {type(exc).__name__}: {exc}", files)
 
 
 def failure_result(f: Failure) -> RecordResult:
@@ -213,10 +232,16 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         is_str = name == "component_code"
         rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
+    position = {b: k for k, b in enumerate(inventory.ids)}
     nb = len(inventory)
     for name in PULSE_BLOCK_VARS + SIMULATION_VARS:
-        rows = [r.blocks.get(name, np.full(nb, np.nan)) for r in results]
-        data_vars[name] = (("record", "block"), np.array(rows, dtype=float).reshape(len(results), nb))
+        arr = np.full((len(results), nb), np.nan)
+        for i, r in enumerate(results):
+            if name in r.blocks:
+                cols = [position.get(b, -1) for b in r.block_ids]
+                keep = [k for k, c in enumerate(cols) if c >= 0]
+                arr[i, [cols[k] for k in keep]] = np.asarray(r.blocks[name], dtype=float)[keep]
+        data_vars[name] = (("record", "block"), arr)
     for name, (dims, arr) in list(data_vars.items()):
         dtype = INTEGER_DTYPES.get(name) or ("i1" if "flag_values" in SCHEMA.get(name, (0, 0, 0, {}))[3] else None)
         if dtype and arr.dtype.kind == "f":                  # NaN (not evaluated) -> -1
@@ -242,6 +267,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         "frequency_parameter": (("block",), geom.p),
         "restitution": (("block",), e),
         "mu": (("block",), inventory.mu),
+        "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
         "block_azimuth": (("block",), inventory.azimuth_deg),
         "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
         "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
@@ -261,42 +287,3 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         **(attrs or {}),
     })
     return ds
-
-
-def run(records_dir: str | Path, inventory: Inventory, config: Config, *, station_inventory=None,
-        declared_units: dict | None = None, progress=None) -> tuple[xr.Dataset, dict]:
-    """Screen every record under ``records_dir`` against ``inventory`` (serial).
-
-    Returns
-    -------
-    ds : xarray.Dataset
-        The results.
-    summary : dict
-        Counts and wall time for the closing summary.
-    """
-    from .records.loader import read_declared_units
-
-    t0 = time.perf_counter()
-    sources, failures = scan(records_dir, config=config)
-    declared = read_declared_units(Path(records_dir), config) if declared_units is None else declared_units
-    ctx = Context(str(records_dir), config, inventory, declared, station_inventory)
-    results = [failure_result(f) for f in failures]
-    for f in failures:
-        log.warning("record %s failed: %s", f.record_id, f.reason)
-    iterator = progress(sources) if progress else sources
-    for source in iterator:
-        res = screen_record(source, ctx)
-        if res.status != "ok":
-            log.warning("record %s %s", res.record_id, res.status)
-        results.append(res)
-    ds = assemble(results, inventory, config)
-    summary_series = pulse_series_dataset(results)
-    n_ok = sum(r.status == "ok" for r in results)
-    phys = ds["physics"].values
-    resp = ds["response"].values
-    summary = {"records_ok": n_ok, "records_failed": len(results) - n_ok,
-               "scenes_by_physics": {k: int(np.sum(phys == v)) for k, v in PHYSICS.items()},
-               "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
-               "blocks": len(inventory), "wall_time_s": time.perf_counter() - t0,
-               "pulse_series": summary_series}
-    return ds, summary

@@ -10,14 +10,17 @@ never a partial one.
 
 from __future__ import annotations
 
+import json
 import os
+import socket
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from .errors import OutputError, ResultsError
+from .errors import OutputError, OutputLockedError, ResultsError
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
 
@@ -29,7 +32,13 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "formats": (("record",), None, "obspy format names of the source files", {}),
     "notes": (("record",), None, "notes on the record (trimming, orientation, flags)", {}),
     "history": (("record",), None, "ordered processing history, newline-separated", {}),
-    "content_sha256": (("record",), None, "SHA-256 of the source files' content", {}),
+    "content_sha256": (("record",), None, "SHA-256 of the source files' names and content", {}),
+    "screened_utc": (("record",), None, "UTC time the record was screened (ISO 8601); older than the run "
+                     "when its results were reused", {}),
+    "source_present": (("record",), None, "the record's files were in the records directory at this run",
+                       {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true",
+                        "comment": "false: the files vanished; the results of the last run that saw them "
+                                   "are kept"}),
     "dt": (("record",), "s", "sampling interval", {}),
     "npts": (("record",), "1", "number of samples after alignment", {}),
     "duration": (("record",), "s", "record duration", {}),
@@ -129,6 +138,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "frequency_parameter": (("block",), "rad s-1", "p = sqrt(3 g / (4 R))", {}),
     "restitution": (("block",), "1", "angular-velocity restitution across an impact (Housner where not given)", {}),
     "mu": (("block",), "1", "friction coefficient between block and base", {}),
+    "block_sha256": (("block",), None, "SHA-256 of the block's inventory entry (what its results depend on)",
+                     {}),
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),
@@ -175,6 +186,7 @@ def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
         os.close(fd)
+        os.chmod(tmp, default_file_mode())
     except OSError as exc:
         raise OutputError(f"{path.parent}: cannot write results here ({exc.strerror or exc}); "
                           "choose another --out directory or fix its permissions") from exc
@@ -191,6 +203,24 @@ def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
         _remove_quietly(tmp)
         raise
     return path
+
+
+def remove_stale_temporaries(out_dir: str | Path) -> int:
+    """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
+    out = Path(out_dir)
+    n = 0
+    for pattern in (".*.nc.*.tmp", ".rockscreen/cache/.entry.*.npz.tmp"):
+        for p in out.glob(pattern):
+            _remove_quietly(p)
+            n += 1
+    return n
+
+
+def default_file_mode() -> int:
+    """The mode an ordinary new file gets under the process umask (mkstemp alone gives 0600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
 
 
 def _remove_quietly(path) -> None:
@@ -239,3 +269,69 @@ def open_results(path: str | Path) -> xr.Dataset:
             return ds.load()
     except (OSError, ValueError) as exc:
         raise ResultsError(f"{path}: not a readable netCDF results file ({exc})") from exc
+
+
+class OutputLock:
+    """An exclusive lock on an output directory, held for the length of a run.
+
+    The lock is the file ``OUT/.rockscreen/lock``, created with ``O_EXCL``
+    and holding the owner's pid, host, start time and command. A lock left by
+    a run that died on this host (its pid no longer exists) is taken over
+    with a warning; a live one raises :class:`OutputLockedError`.
+    """
+
+    def __init__(self, out_dir: str | Path, *, command: str = ""):
+        self.path = Path(out_dir) / ".rockscreen" / "lock"
+        self.command = command
+        self.stale_owner: dict | None = None
+
+    def _owner(self) -> dict:
+        try:
+            return json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            return {}
+
+    def acquire(self) -> "OutputLock":
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        info = {"pid": os.getpid(), "host": socket.gethostname(),
+                "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "command": self.command}
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                owner = self._owner()
+                if owner.get("host") == info["host"] and not _pid_alive(int(owner.get("pid", -1))):
+                    self.stale_owner = owner
+                    self.path.unlink(missing_ok=True)   # the run that held it is dead: take over
+                    continue
+                raise OutputLockedError(
+                    f"{self.path.parent.parent}: another run is writing this output (pid {owner.get('pid', '?')} "
+                    f"on {owner.get('host', '?')}, started {owner.get('started_utc', '?')}: "
+                    f"{owner.get('command', '')!s}). Wait for it to finish or use another --out; if that run "
+                    f"is dead on another machine, delete {self.path}") from None
+            with os.fdopen(fd, "w") as fh:
+                json.dump(info, fh)
+            return self
+        raise OutputLockedError(f"{self.path}: could not take the lock; delete it if no run is active")
+
+    def release(self) -> None:
+        if self._owner().get("pid") == os.getpid():
+            self.path.unlink(missing_ok=True)
+
+    def __enter__(self) -> "OutputLock":
+        return self.acquire()
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
 import shutil
 
 import numpy as np
@@ -111,3 +113,37 @@ def test_processing_history_is_reproducible(make_records, config):
     assert any("remove_sensitivity" in h for h in first.history)
     assert first.history == second.history
     assert not any(" at 0x" in h for h in first.history)
+
+
+def test_every_variable_has_cf_attributes_and_provenance(make_records, blocks_csv, tmp_path):
+    """CF: UDUNITS units (never 'g', which is gram), long_name, consistent flags; global provenance."""
+    cf_units = pytest.importorskip("cf_units")
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
+    (root / "bad.AT2").write_text("not a record\n")
+    out = tmp_path / "out"
+    main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    for path in (out / "screening.nc", out / "pulses.nc"):
+        ds = open_results(path)
+        assert ds.attrs["Conventions"].startswith("CF-")
+        for name, var in ds.variables.items():
+            if name in ("record", "block", "component"):
+                continue
+            assert var.attrs.get("long_name"), f"{path.name}:{name} has no long_name"
+            units = var.attrs.get("units")
+            if units is not None:
+                assert units != "g"
+                cf_units.Unit(units)                       # raises on anything UDUNITS cannot parse
+            if "flag_values" in var.attrs:
+                values = np.atleast_1d(var.attrs["flag_values"])
+                assert len(values) == len(var.attrs["flag_meanings"].split()), name
+                assert var.dtype == values.dtype == np.int8, name
+                assert set(np.unique(var.values)) <= set(values.tolist()), name
+    ds = open_results(out / "screening.nc")
+    for key in ("history", "rockscreen_config", "rockscreen_config_sha256", "package_versions",
+                "inventory_sha256", "rockscreen_run_key", "references", "title", "source"):
+        assert ds.attrs.get(key), key
+    assert json.loads(ds.attrs["package_versions"])["numpy"] == np.__version__
+    assert ds.attrs["inventory_sha256"] == hashlib.sha256(blocks_csv.read_bytes()).hexdigest()
+    ok = ds.status.values == "ok"
+    assert all(len(h) == 64 for h in ds.content_sha256.values[ok])
+    assert all(len(h) == 64 for h in ds.block_sha256.values)

@@ -52,7 +52,12 @@ class RecordSource:
         h = hashlib.sha256()
         for f in sorted(self.files):
             h.update(Path(f).name.encode())
-            h.update(Path(f).read_bytes())
+            try:
+                h.update(Path(f).read_bytes())
+            except OSError as exc:
+                raise RecordFormatError(f"{f}: the file vanished or became unreadable after the records "
+                                        f"directory was scanned ({exc.strerror}); re-run when the directory "
+                                        "is stable") from None
         return h.hexdigest()
 
 
@@ -83,11 +88,17 @@ def read_declared_units(root: Path, config: Config) -> dict[str, str]:
     return declared
 
 
-def read_inventory(root: Path, extra: str | Path | None = None):
-    """Read every StationXML file in ``root`` (and ``extra``) into one inventory, or None."""
-    paths = sorted(p for p in root.rglob("*.xml") if p.is_file())
+def stationxml_paths(root: Path, extra: str | Path | None = None) -> list[Path]:
+    """The StationXML files a run uses: every ``*.xml`` under ``root``, then ``extra``."""
+    paths = sorted(p for p in Path(root).rglob("*.xml") if p.is_file())
     if extra is not None:
         paths.append(Path(extra))
+    return paths
+
+
+def read_inventory(root: Path, extra: str | Path | None = None):
+    """Read every StationXML file in ``root`` (and ``extra``) into one inventory, or None."""
+    paths = stationxml_paths(root, extra)
     inventory = None
     for p in paths:
         try:
@@ -114,7 +125,12 @@ def _record_files(root: Path) -> list[Path]:
 
 def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obspy.Stream:
     try:
-        if path.stat().st_size == 0:
+        try:
+            size = path.stat().st_size
+        except FileNotFoundError:
+            raise RecordFormatError(f"{path}: the file vanished after the records directory was scanned; "
+                                    "re-run when the directory is stable") from None
+        if size == 0:
             raise RecordFormatError(f"{path}: the file is empty; expected a strong-motion record")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -367,7 +383,7 @@ def iter_records(root: str | Path, *, config: Config, inventory=None):
     """Every record under ``root`` that loads, in scan order (failures are skipped).
 
     For benchmarks and tests that need the bundled records as arrays; the
-    screening itself keeps the failures (:func:`pipeline.screening.run`).
+    screening itself keeps the failures (:func:`pipeline.batch.run`).
     """
     root = Path(root)
     sources, _ = scan(root, config=config)

@@ -1,0 +1,224 @@
+"""A screening run: plan what to compute, run it on an executor, collect the results.
+
+Data flow (one writer)::
+
+    scan -> keys -> plan (cache hits, blocks to compute) -> executor tasks
+         -> writer: cache entry per record as it returns -> assemble -> Dataset
+
+With an output directory, every record's result is saved to the scene
+cache (:mod:`pipeline.cache`) as soon as its task returns, so a run that is
+interrupted or killed loses nothing it computed, and the next run into the
+same output computes only:
+
+* records that are new, whose files changed, or that failed last time;
+* every record, when the configuration, the package version, the declared
+  units or the StationXML changed (the run key);
+* for unchanged records, only the blocks that are new or whose inventory
+  row changed.
+
+Records whose files vanished since the last run keep their last results,
+flagged ``source_present = 0``.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .blocks import Inventory
+from .cache import SceneCache, files_sha256, merge, run_key
+from .config import Config
+from .errors import RockscreenError
+from .executors import SerialExecutor, TaskLost
+from .records.loader import RecordSource, read_declared_units, scan
+from .rocking.planner import PHYSICS, RESPONSE
+from .screening import Context, RecordResult, assemble, failure_result, screen_record
+from .store import pulse_series_dataset
+
+log = logging.getLogger(__name__)
+
+
+def _task(item: tuple, ctx: Context) -> RecordResult:
+    """One executor task: a record and the ids of the blocks to screen it against (None: all)."""
+    source, block_ids = item
+    return screen_record(source, ctx, block_ids)
+
+
+@dataclass
+class Plan:
+    """What a run computes and what it reuses."""
+
+    tasks: list = field(default_factory=list)          # (RecordSource, block ids or None)
+    cached: dict = field(default_factory=dict)         # record id -> cached RecordResult
+    failures: list = field(default_factory=list)       # RecordResult of records that cannot be read
+    vanished: list = field(default_factory=list)       # record ids kept from the last run
+    dropped: list = field(default_factory=list)        # vanished record ids that could not be kept
+    blocks_changed: int = 0                            # blocks new or changed since the last run
+
+    @property
+    def scenes_to_compute(self) -> int:
+        return sum(len(ids) for _, ids in self.tasks)
+
+
+def _previous_block_digests(previous: xr.Dataset | None) -> dict:
+    if previous is None or "block_sha256" not in previous:
+        return {}
+    return dict(zip(previous["block"].values.tolist(), previous["block_sha256"].values.tolist()))
+
+
+def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache | None,
+         previous: xr.Dataset | None = None, force: bool = False) -> Plan:
+    """Decide, per record, whether to reuse its cached result, complete it, or screen it.
+
+    Parameters
+    ----------
+    sources : list of RecordSource
+        The records found by the scan.
+    inventory : Inventory
+        The current inventory.
+    cache : SceneCache or None
+        The output's scene cache (None: compute everything, keep nothing).
+    previous : xarray.Dataset, optional
+        The last complete results in the output (for vanished records).
+    force : bool
+        Recompute everything, ignoring the cache.
+    """
+    out = Plan()
+    digests = dict(zip(inventory.ids, inventory.digests()))
+    old_digests = _previous_block_digests(previous)
+    out.blocks_changed = sum(old_digests.get(b) != d for b, d in digests.items()) if old_digests else len(digests)
+    seen = set()
+    for src in sources:
+        seen.add(src.record_id)
+        try:
+            content = src.digest()
+        except RockscreenError as exc:
+            out.failures.append(RecordResult(src.record_id, f"failed: {exc}",
+                                             {"files": ";".join(Path(f).name for f in src.files)}))
+            continue
+        entry = None if (cache is None or force) else cache.load(content)
+        have = {} if entry is None else dict(zip(entry.block_ids, entry.block_digests))
+        missing = tuple(b for b in inventory.ids if have.get(b) != digests[b])
+        if entry is not None:
+            out.cached[src.record_id] = entry
+        if missing:
+            out.tasks.append((src, missing))
+    if previous is not None and cache is not None and "content_sha256" in previous:
+        ok = previous["status"].values == "ok"
+        for rid, content in zip(previous["record"].values[ok], previous["content_sha256"].values[ok]):
+            if rid in seen:
+                continue
+            entry = cache.load(str(content))
+            if entry is None:
+                out.dropped.append(str(rid))
+            else:
+                out.vanished.append(str(rid))
+                out.cached[str(rid)] = entry
+    return out
+
+
+def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path | None = None,
+        executor=None, force: bool = False, station_inventory=None, declared_units: dict | None = None,
+        stationxml_sha256: str = "", progress=None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+    """Screen every record under ``records_dir`` against ``inventory``.
+
+    Parameters
+    ----------
+    records_dir : path
+        Directory of records (read by path inside the tasks).
+    inventory : Inventory
+        The blocks.
+    config : Config
+        The effective configuration.
+    out_dir : path, optional
+        Output directory whose scene cache and last results make this run
+        incremental. None: compute everything in memory.
+    executor : optional
+        A :mod:`pipeline.executors` executor, already entered (default serial).
+    force : bool
+        Recompute every record and block.
+    progress : callable, optional
+        ``progress(iterable, total)`` wrapping the stream of finished tasks.
+
+    Returns
+    -------
+    results : xarray.Dataset
+        The screening results.
+    pulses : xarray.Dataset
+        The extracted pulses as a CF ragged array.
+    summary : dict
+        Counts and wall time for the closing summary.
+    """
+    from .store import open_results
+
+    t0 = time.perf_counter()
+    records_dir = Path(records_dir)
+    sources, scan_failures = scan(records_dir, config=config)
+    declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
+    ctx = Context(str(records_dir), config, inventory, declared, station_inventory)
+    key = run_key(config.to_dict(), declared_units=declared, station_inventory_sha256=stationxml_sha256)
+    cache = SceneCache(out_dir, key) if out_dir is not None else None
+    previous = None
+    if out_dir is not None and (Path(out_dir) / "screening.nc").is_file():
+        try:
+            previous = open_results(Path(out_dir) / "screening.nc")
+        except Exception as exc:   # a damaged earlier file must not stop the run; it is replaced
+            log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced",
+                        out_dir, exc)
+    the_plan = plan(sources, inventory, cache=cache, previous=previous, force=force)
+    for rid in the_plan.vanished:
+        log.warning("record %s: its files are no longer in %s; its last results are kept (source_present = 0)",
+                    rid, records_dir)
+    for rid in the_plan.dropped:
+        log.warning("record %s: its files are no longer in %s and its results were computed under another "
+                    "configuration; it is left out of the new results", rid, records_dir)
+    results: dict[str, RecordResult] = dict(the_plan.cached)
+    failed = [failure_result(f) for f in scan_failures] + the_plan.failures
+    executor = executor or SerialExecutor()
+    stream = executor.map_unordered(_task, the_plan.tasks, ctx)
+    if progress is not None:
+        stream = progress(stream, len(the_plan.tasks))
+    computed_records = computed_scenes = 0
+    for (source, block_ids), res in stream:
+        if isinstance(res, TaskLost):
+            res = RecordResult(source.record_id, f"failed: {res}",
+                               {"files": ";".join(Path(f).name for f in source.files)})
+        if not res.ok:
+            log.warning("record %s %s", res.record_id, res.status)
+            results.pop(res.record_id, None)
+            failed.append(res)
+            continue
+        res = merge(results.get(res.record_id), res)
+        if cache is not None:
+            cache.save(res)
+        results[res.record_id] = res
+        computed_records += 1
+        computed_scenes += len(block_ids)
+    for f in scan_failures:
+        log.warning("record %s failed: %s", f.record_id, f.reason)
+    vanished = set(the_plan.vanished)
+    for rid, res in results.items():
+        res.values["source_present"] = 0 if rid in vanished else 1
+    for res in failed:
+        res.values["source_present"] = 1
+    everything = list(results.values()) + failed
+    ds = assemble(everything, inventory, config)
+    ds.attrs["rockscreen_run_key"] = key
+    pulses = pulse_series_dataset(sorted(everything, key=lambda r: r.record_id))
+    phys, resp = ds["physics"].values, ds["response"].values
+    summary = {
+        "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
+        "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
+        "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
+        "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
+        "scenes_by_physics": {k: int(np.sum(phys == v)) for k, v in PHYSICS.items()},
+        "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
+        "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
+        "wall_time_s": time.perf_counter() - t0, "cache": cache,
+    }
+    return ds, pulses, summary

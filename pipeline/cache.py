@@ -1,0 +1,208 @@
+"""The scene cache: one file per screened record, so re-runs redo only what changed.
+
+Each record that screens successfully is saved, as soon as its task
+returns, to ``OUT/.rockscreen/cache/<key>.npz``, where the key hashes the
+record's content (its files' names and bytes) with the *run key* (the
+effective configuration, the package version, the declared units and the
+StationXML inventory). An entry holds the record's own values and its
+results for a set of blocks, each tagged with the block's inventory digest
+(:meth:`pipeline.blocks.Inventory.digests`).
+
+A later run into the same output looks each record up by its key and
+computes only the blocks that are missing or whose inventory row changed.
+A run that is killed or interrupted keeps every entry it wrote, so the
+next run picks up where it stopped. Entries are plain ``.npz`` files read
+with ``allow_pickle=False``: nothing in the output directory can execute
+code on load.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import tempfile
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .errors import OutputError
+from .store import default_file_mode
+
+log = logging.getLogger(__name__)
+
+#: Sub-directory of the output directory that holds the run state.
+STATE_DIR = ".rockscreen"
+#: Bump when the entry layout changes: older entries are then ignored.
+ENTRY_FORMAT = 1
+
+
+def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "") -> str:
+    """SHA-256 over everything, besides a record and a block, that changes results.
+
+    Parameters
+    ----------
+    config_dict : dict
+        The effective configuration (:meth:`pipeline.config.Config.to_dict`).
+    declared_units : dict
+        File pattern -> declared units (``units.toml`` and the configuration).
+    station_inventory_sha256 : str
+        Digest of the StationXML files used for records in counts.
+    """
+    payload = json.dumps({"config": config_dict, "version": __version__, "entry_format": ENTRY_FORMAT,
+                          "declared_units": declared_units, "stationxml": station_inventory_sha256},
+                         sort_keys=True, default=str)
+    return hashlib.sha256(payload.encode()).hexdigest()
+
+
+def files_sha256(paths) -> str:
+    """SHA-256 over the names and content of ``paths`` (empty string for none)."""
+    paths = sorted(Path(p) for p in paths)
+    if not paths:
+        return ""
+    h = hashlib.sha256()
+    for p in paths:
+        h.update(p.name.encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def record_key(content_sha256: str, run: str) -> str:
+    """Cache key of one record under one run key."""
+    return hashlib.sha256(f"{content_sha256}\n{run}".encode()).hexdigest()[:40]
+
+
+class SceneCache:
+    """Per-record result files under ``OUT/.rockscreen/cache``.
+
+    Parameters
+    ----------
+    out_dir : path
+        The run's output directory.
+    run : str
+        The run key (:func:`run_key`).
+    """
+
+    def __init__(self, out_dir: str | Path, run: str):
+        self.dir = Path(out_dir) / STATE_DIR / "cache"
+        self.run = run
+        self.used: set[str] = set()
+        self.write_errors = 0
+
+    def path(self, content_sha256: str) -> Path:
+        return self.dir / f"{record_key(content_sha256, self.run)}.npz"
+
+    def load(self, content_sha256: str):
+        """The cached result of a record, or None (missing, unreadable or of another layout)."""
+        from .screening import RecordResult
+
+        path = self.path(content_sha256)
+        self.used.add(path.name)
+        if not path.is_file():
+            return None
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                if int(z["entry_format"]) != ENTRY_FORMAT:
+                    return None
+                res = RecordResult(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
+                                   block_digests=tuple(z["block_digests"].tolist()))
+                for key in z.files:
+                    kind, _, name = key.partition(".")
+                    target = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}.get(kind)
+                    if target is None:
+                        continue
+                    arr = z[key]
+                    target[name] = arr.item() if arr.ndim == 0 else (
+                        arr.tolist() if kind == "c" else arr)
+        except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+            log.warning("%s: unreadable cache entry (%s); the record is screened again", path, exc)
+            return None
+        return res
+
+    def save(self, result) -> None:
+        """Write one record's result atomically; a failure is logged, never raised.
+
+        The run goes on without the cache (the final write reports a full disk);
+        the results stay in memory.
+        """
+        path = self.path(result.values["content_sha256"])
+        self.used.add(path.name)
+        arrays = {"entry_format": np.array(ENTRY_FORMAT), "record_id": np.array(result.record_id),
+                  "block_ids": np.array(result.block_ids, dtype=str),
+                  "block_digests": np.array(result.block_digests, dtype=str)}
+        for kind, table in (("v", result.values), ("c", result.components), ("b", result.blocks),
+                            ("s", result.series)):
+            for name, value in table.items():
+                arrays[f"{kind}.{name}"] = np.asarray(value)
+        tmp = None
+        try:
+            self.dir.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".npz.tmp", dir=self.dir)
+            os.chmod(tmp, default_file_mode())
+            with os.fdopen(fd, "wb") as fh:
+                np.savez(fh, **arrays)
+            os.replace(tmp, path)
+        except OSError as exc:
+            self.write_errors += 1
+            if tmp is not None:
+                Path(tmp).unlink(missing_ok=True)
+            if self.write_errors == 1:
+                log.warning("%s: cannot save the scene cache (%s); results are kept in memory until the "
+                            "final write", self.dir, exc.strerror or exc)
+
+    def prune(self) -> int:
+        """Delete entries not used by this run (other configurations, changed records); returns the count."""
+        if not self.dir.is_dir():
+            return 0
+        n = 0
+        for p in self.dir.iterdir():
+            if p.name not in self.used:
+                try:
+                    p.unlink()
+                    n += 1
+                except OSError:
+                    pass
+        return n
+
+
+def merge(old, new):
+    """A record's cached result completed by a task that screened only some blocks.
+
+    The new task's record values replace the old ones (they are the same
+    computation on the same content); block columns are the union, the new
+    ones winning.
+    """
+    if old is None:
+        return new
+    ids = list(new.block_ids) + [b for b in old.block_ids if b not in set(new.block_ids)]
+    digests = list(new.block_digests) + [d for b, d in zip(old.block_ids, old.block_digests)
+                                         if b not in set(new.block_ids)]
+    keep_old = [k for k, b in enumerate(old.block_ids) if b not in set(new.block_ids)]
+    blocks = {name: np.concatenate([np.asarray(new.blocks[name], dtype=float),
+                                    np.asarray(old.blocks[name], dtype=float)[keep_old]])
+              for name in new.blocks}
+    new.block_ids, new.block_digests, new.blocks = tuple(ids), tuple(digests), blocks
+    return new
+
+
+def ensure_writable(out_dir: str | Path) -> Path:
+    """Create the output directory and check that files can be created in it.
+
+    Raises
+    ------
+    OutputError
+        Naming the directory and the reason, before any record is screened.
+    """
+    out = Path(out_dir)
+    try:
+        (out / STATE_DIR).mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".probe.", dir=out)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise OutputError(f"{out}: the output directory is not writable ({exc.strerror or exc}); "
+                          "choose another --out or fix its permissions. Nothing was screened.") from exc
+    return out

@@ -1,0 +1,205 @@
+"""Executors behind one interface: serial, local processes, Dask distributed.
+
+Every executor maps a task function over items and yields ``(item, result)``
+pairs as they complete, in any order, to a single consumer (the writer).
+Tasks are coarse (one record with its blocks) and load their data by path,
+so a task's arguments are a path list and the shared context. The shared
+context (configuration, inventory) is sent once per worker where the
+backend allows it (Dask ``scatter``).
+
+A worker that dies does not lose its task: the process executor restarts
+its pool and resubmits what was in flight; Dask reschedules it by itself.
+A task that kills its worker every time fails alone, as a failed record.
+
+References
+----------
+Dask best practices (coarse tasks, load data inside tasks) and
+``distributed.as_completed``: https://docs.dask.org/en/stable/best-practices.html
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import signal
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from typing import Callable, Iterable, Iterator
+
+from .errors import RockscreenError
+
+log = logging.getLogger(__name__)
+
+#: How many times a task is retried after its worker died.
+MAX_TASK_ATTEMPTS = 3
+
+
+class TaskLost(RockscreenError, RuntimeError):
+    """A task whose worker died on every attempt."""
+
+
+class SerialExecutor:
+    """Run tasks one after another in this process (the default; easiest to debug)."""
+
+    name = "serial"
+    n_workers = 1
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return None
+
+    def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
+        for item in items:
+            yield item, fn(item, shared)
+
+
+class ProcessExecutor:
+    """A local process pool with a bounded number of tasks in flight.
+
+    Parameters
+    ----------
+    n_workers : int
+        Worker processes (``-n N``).
+    """
+
+    name = "processes"
+
+    def __init__(self, n_workers: int):
+        if n_workers < 1:
+            raise RockscreenError(f"-n {n_workers}: the number of worker processes must be >= 1")
+        self.n_workers = n_workers
+        self._pool = None
+
+    def _new_pool(self) -> ProcessPoolExecutor:
+        # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
+        return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=multiprocessing.get_context("forkserver"),
+                                   initializer=_ignore_sigint)
+
+    def __enter__(self):
+        self._pool = self._new_pool()
+        return self
+
+    def __exit__(self, exc_type, *exc):
+        if self._pool is not None:
+            self._pool.shutdown(wait=exc_type is None, cancel_futures=True)
+        self._pool = None
+
+    def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
+        pending = list(items)[::-1]          # a stack: pop() takes items in their given order
+        attempts: dict[int, int] = {}
+        in_flight: dict = {}
+        limit = 2 * self.n_workers
+        while pending or in_flight:
+            while pending and len(in_flight) < limit:
+                item = pending.pop()
+                in_flight[self._pool.submit(fn, item, shared)] = item
+            done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
+            broken = []
+            for fut in done:
+                item = in_flight.pop(fut)
+                try:
+                    yield item, fut.result()
+                except BrokenProcessPool:
+                    broken.append(item)
+            if broken:
+                # a worker died: every task in flight is lost with the pool; start a new pool and retry
+                lost = broken + list(in_flight.values())
+                in_flight.clear()
+                self._pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = self._new_pool()
+                log.warning("a worker process died; restarting the pool and retrying %d task(s)", len(lost))
+                for item in lost:
+                    n = attempts[id(item)] = attempts.get(id(item), 1) + 1
+                    if n > MAX_TASK_ATTEMPTS:
+                        yield item, TaskLost(f"the worker process died {MAX_TASK_ATTEMPTS} times on this task")
+                    else:
+                        pending.append(item)
+
+
+def _ignore_sigint() -> None:
+    """Workers ignore Ctrl-C: the parent handles it, cancels the pool and keeps what was done."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class DaskExecutor:
+    """Dask distributed: a remote scheduler (``tcp://HOST:PORT``) or a LocalCluster (``local``).
+
+    Parameters
+    ----------
+    scheduler : str
+        ``"local"`` for a LocalCluster on this machine, else a scheduler address.
+    n_workers : int
+        Workers of the LocalCluster (ignored for a remote scheduler).
+    """
+
+    name = "dask"
+
+    def __init__(self, scheduler: str, n_workers: int = 2):
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise RockscreenError("--scheduler needs Dask: pip install 'rockscreen[dask]'") from None
+        self.scheduler = scheduler
+        self.n_workers = n_workers
+        self.client = self.cluster = None
+
+    def __enter__(self):
+        from distributed import Client, LocalCluster
+
+        # distributed sets its own loggers to INFO on import; follow the application's verbosity instead
+        logging.getLogger("distributed").setLevel(max(logging.getLogger().getEffectiveLevel(), logging.INFO))
+        if self.scheduler == "local":
+            self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
+                                        host="127.0.0.1", dashboard_address=":0")
+            self.client = Client(self.cluster)
+            log.info("Dask LocalCluster at %s, dashboard %s", self.cluster.scheduler_address,
+                     self.client.dashboard_link)
+        else:
+            try:
+                self.client = Client(self.scheduler, timeout="20s")
+            except OSError as exc:
+                raise RockscreenError(f"--scheduler {self.scheduler}: no Dask scheduler answers there ({exc}); "
+                                      "start one with 'dask scheduler' or use --scheduler local") from exc
+        self.n_workers = max(1, len(self.client.scheduler_info().get("workers", {})))
+        return self
+
+    def __exit__(self, *exc):
+        if self.client is not None:
+            self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+        self.client = self.cluster = None
+
+    def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return
+        shared_future = self.client.scatter(shared, broadcast=True)
+        futures = {self.client.submit(fn, item, shared_future, pure=False): k for k, item in enumerate(items)}
+        try:
+            for fut in as_completed(futures):
+                item = items[futures[fut]]
+                try:
+                    yield item, fut.result()
+                except Exception as exc:            # KilledWorker after repeated worker deaths, ...
+                    yield item, TaskLost(f"Dask could not run this task: {type(exc).__name__}: {exc}")
+                fut.release()
+        finally:
+            self.client.cancel(list(futures))
+
+
+def make_executor(*, n_workers: int = 1, scheduler: str | None = None):
+    """The executor for the command-line options ``-n`` and ``--scheduler``.
+
+    ``scheduler`` is None/"serial", "processes", "local" (Dask LocalCluster)
+    or a Dask scheduler address; with None, ``n_workers > 1`` means processes.
+    """
+    if scheduler in (None, "serial", "processes"):
+        if scheduler == "processes" or n_workers > 1:
+            return ProcessExecutor(n_workers)
+        return SerialExecutor()
+    return DaskExecutor(scheduler, n_workers=n_workers)

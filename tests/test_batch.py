@@ -1,0 +1,369 @@
+"""Batch screening: re-runs that redo only what changed, locks, faults, executors (serial, processes, Dask).
+
+Every expected value here comes from an independent run: a fresh serial run
+into an empty output is the truth that re-runs, partial re-runs and the
+other executors must reproduce exactly.
+"""
+
+from __future__ import annotations
+
+import errno
+import json
+import operator
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline.batch import _task, plan
+from pipeline.blocks import read_inventory
+from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
+from pipeline.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
+from pipeline.records.loader import read_declared_units, scan
+from pipeline.screening import Context
+from pipeline.store import open_results
+
+#: Provenance that differs between two runs by design.
+RUN_SPECIFIC = ("screened_utc",)
+
+
+def assert_same_results(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Identical values, dtypes and variable attributes, except run-specific provenance."""
+    a, b = a.drop_vars(RUN_SPECIFIC, errors="ignore"), b.drop_vars(RUN_SPECIFIC, errors="ignore")
+    a.attrs, b.attrs = {}, {}
+    xr.testing.assert_identical(a, b)
+
+
+def screen(records, blocks, out, *extra) -> int:
+    return main(["--records", str(records), "--blocks", str(blocks), "--out", str(out), "-q",
+                 "--tolerate-failures", *map(str, extra)])
+
+
+@pytest.fixture
+def few_records(make_records):
+    """Six real records of four formats (a quick batch)."""
+    return make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+                        "peer-at2/RSN77_SFERN_PUL164.AT2", "peer-at2/RSN6_IMPVALL.I_I-ELC180.AT2",
+                        "knet/test.knet", "cosmos/CE23837.V1C", "peer-at2/RSN1086_NORTHR_SYL090.AT2",
+                        "peer-at2/RSN1086_NORTHR_SYL360.AT2")
+
+
+@pytest.fixture
+def fresh(tmp_path, blocks_csv):
+    """A fresh serial run of a records directory into an empty output: the truth."""
+
+    def _fresh(records, blocks=blocks_csv):
+        out = tmp_path / f"fresh-{len(list(tmp_path.iterdir()))}"
+        assert screen(records, blocks, out) == EXIT_OK
+        return open_results(out / "screening.nc")
+
+    return _fresh
+
+
+def summary_line(capsys) -> str:
+    return next(line for line in capsys.readouterr().err.splitlines() if line.startswith("records:"))
+
+
+def test_rerun_reuses_everything_and_changes_nothing(few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    first = open_results(out / "screening.nc")
+    assert "6 screened, 0 reused" in summary_line(capsys)
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert "0 screened, 6 reused" in summary_line(capsys)
+    second = open_results(out / "screening.nc")
+    assert_same_results(first, second)
+    # reused records keep the time they were screened
+    assert list(first.screened_utc.values) == list(second.screened_utc.values)
+
+
+def test_changed_and_new_records_only_are_screened(few_records, blocks_csv, tmp_path, records_dir, capsys, fresh):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    before = open_results(out / "screening.nc")
+    # one record edited in place (a sample changed), one new record arrives
+    knet = few_records / "knet" / "test.knet"
+    text = knet.read_text().splitlines()
+    text[-1] = text[-1].replace(text[-1].split()[0], str(int(text[-1].split()[0]) + 5), 1)
+    knet.write_text("\n".join(text) + "\n")
+    shutil.copy(records_dir / "peer-at2" / "RSN15_KERN_TAF021.AT2", few_records / "peer-at2")
+    capsys.readouterr()
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert "2 screened, 5 reused" in summary_line(capsys)
+    after = open_results(out / "screening.nc")
+    assert after.content_sha256.sel(record="test") != before.content_sha256.sel(record="test")
+    assert_same_results(after, fresh(few_records))
+
+
+def test_inventory_edit_rescreens_only_affected_blocks(few_records, blocks_csv, tmp_path, capsys, fresh):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    rows = blocks_csv.read_text().splitlines()
+    edited = [rows[0]] + [r.replace(",0.5,90,", ",0.45,90,") if r.startswith("STAT-02") else r
+                          for r in rows[2:]] + ["NEW-1,added column drum,2.0,0.4,0.6,,,site,"]
+    inv2 = tmp_path / "inventory-edited.csv"
+    inv2.write_text("\n".join(edited) + "\n")
+    capsys.readouterr()
+    assert screen(few_records, inv2, out) == EXIT_OK
+    line = summary_line(capsys)
+    assert "2 new or changed" in line and "scenes computed: 12" in line   # 2 blocks x 6 records
+    assert_same_results(open_results(out / "screening.nc"), fresh(few_records, inv2))
+
+
+def test_configuration_change_rescreens_everything(few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    cfg = tmp_path / "small-angle.toml"
+    cfg.write_text('[criteria]\nform = "small_angle"\n')
+    capsys.readouterr()
+    assert screen(few_records, blocks_csv, out, "--config", cfg) == EXIT_OK
+    assert "6 screened, 0 reused" in summary_line(capsys)
+    assert json.loads(open_results(out / "screening.nc").attrs["rockscreen_config"])["criteria"]["form"] == \
+        "small_angle"
+    # the stale cache entries of the old configuration are pruned after the successful write
+    assert len(list((out / ".rockscreen" / "cache").glob("*.npz"))) == 6
+
+
+def test_force_recomputes_all(few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    capsys.readouterr()
+    assert screen(few_records, blocks_csv, out, "--force") == EXIT_OK
+    assert "6 screened, 0 reused" in summary_line(capsys)
+
+
+def test_vanished_record_keeps_its_results_flagged(few_records, blocks_csv, tmp_path, caplog):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    before = open_results(out / "screening.nc")
+    (few_records / "knet" / "test.knet").unlink()
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    after = open_results(out / "screening.nc")
+    assert "record test: its files are no longer in" in caplog.text
+    assert int(after.source_present.sel(record="test")) == 0
+    assert int(after.source_present.sel(record="RSN77_SFERN_PUL164")) == 1
+    xr.testing.assert_identical(before.drop_vars("source_present").sel(record="test"),
+                                after.drop_vars("source_present").sel(record="test"))
+
+
+def test_file_vanishing_after_the_scan_fails_that_record_alone(few_records, blocks_csv, config):
+    inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
+    sources, _ = scan(few_records, config=config)
+    gone = next(s for s in sources if s.record_id == "test")
+    Path(gone.files[0]).unlink()
+    p = plan(sources, inventory, cache=None)
+    assert [r.record_id for r in p.failures] == ["test"]
+    assert "vanished" in p.failures[0].status and "test.knet" in p.failures[0].status
+    assert len(p.tasks) == len(sources) - 1
+    ctx = Context(str(few_records), config, inventory, read_declared_units(few_records, config))
+    res = _task((gone, None), ctx)
+    assert res.status.startswith("failed") and "vanished" in res.status
+
+
+# -- locks, unwritable output, full disk --------------------------------------------------------------
+
+def _write_lock(out: Path, pid: int) -> Path:
+    lock = out / ".rockscreen" / "lock"
+    lock.parent.mkdir(parents=True)
+    lock.write_text(json.dumps({"pid": pid, "host": socket.gethostname(), "started_utc": "2026-11-22T00:00:00Z",
+                                "command": "screen --records elsewhere"}))
+    return lock
+
+
+def test_live_lock_refuses_a_second_writer(few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    _write_lock(out, os.getpid())                      # this test process is alive
+    assert screen(few_records, blocks_csv, out) == EXIT_LOCKED
+    err = capsys.readouterr().err
+    assert "another run is writing this output" in err and f"pid {os.getpid()}" in err
+    assert not (out / "screening.nc").exists()
+
+
+def test_lock_of_a_dead_run_is_taken_over(few_records, blocks_csv, tmp_path, caplog):
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    out = tmp_path / "out"
+    lock = _write_lock(out, dead.pid)
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert "took over the lock of a run that died" in caplog.text
+    assert not lock.exists()                           # released at the end
+
+
+def test_unwritable_output_is_reported_before_any_work(few_records, blocks_csv, tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a directory")
+    assert screen(few_records, blocks_csv, blocker / "out") == EXIT_OUTPUT
+    err = capsys.readouterr().err
+    assert "output directory is not writable" in err and "Nothing was screened" in err
+
+
+def test_disk_full_keeps_previous_results_and_the_work_done(few_records, blocks_csv, tmp_path, capsys,
+                                                            monkeypatch):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    previous = (out / "screening.nc").read_bytes()
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[criteria]\nform = "small_angle"\n')
+
+    def disk_full(self, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    with monkeypatch.context() as m:
+        m.setattr(xr.Dataset, "to_netcdf", disk_full)
+        assert screen(few_records, blocks_csv, out, "--config", cfg) == EXIT_OUTPUT
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and "previous results, if any, are intact" in err
+    assert (out / "screening.nc").read_bytes() == previous
+    assert not list(out.glob(".*.tmp"))
+    # space freed: the next run writes the work already done without screening anything again
+    assert screen(few_records, blocks_csv, out, "--config", cfg) == EXIT_OK
+    assert "0 screened, 6 reused" in summary_line(capsys)
+
+
+def test_cache_that_cannot_be_written_does_not_stop_the_run(few_records, blocks_csv, tmp_path, monkeypatch,
+                                                            caplog, fresh):
+    def disk_full(*a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", disk_full)
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert "cannot save the scene cache (No space left on device)" in caplog.text
+    monkeypatch.undo()
+    assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
+
+
+# -- killed and interrupted runs (a real process, a real signal) --------------------------------------
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGKILL, -signal.SIGKILL), (signal.SIGINT, 130)])
+def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_path, config, sig, code):
+    out = tmp_path / "out"
+    recs = tmp_path / "recs"
+    shutil.copytree(records_dir / "peer-at2", recs)
+    shutil.copy(records_dir / "units.toml", recs)
+    n_records = len(scan(recs, config=config)[0])
+    assert screen(recs, blocks_csv, out) == EXIT_OK
+    previous = (out / "screening.nc").read_bytes()
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[criteria]\nform = "small_angle"\n')       # a new run key: every record is screened again
+    cache = out / ".rockscreen" / "cache"
+    old_entries = set(cache.glob("*.npz"))
+    cmd = [sys.executable, "-m", "pipeline", "--records", str(recs), "--blocks", str(blocks_csv),
+           "--out", str(out), "--config", str(cfg), "-q", "--tolerate-failures"]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while len(set(cache.glob("*.npz")) - old_entries) < 2 and time.monotonic() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == code, err
+    if sig == signal.SIGINT:
+        assert "interrupted:" in err and "will not be screened again" in err
+        assert not (out / ".rockscreen" / "lock").exists()
+    done = len(set(cache.glob("*.npz")) - old_entries)
+    assert 2 <= done < n_records, "the run must be stopped mid-way"
+    assert (out / "screening.nc").read_bytes() == previous     # the previous complete result, untouched
+    rerun = subprocess.run(cmd, stderr=subprocess.PIPE, text=True, timeout=300)
+    assert rerun.returncode == 0, rerun.stderr
+    assert f"{n_records - done} screened, {done} reused" in rerun.stderr
+    assert json.loads(open_results(out / "screening.nc").attrs["rockscreen_config"])["criteria"]["form"] == \
+        "small_angle"
+
+
+# -- executors -----------------------------------------------------------------------------------------
+
+@pytest.fixture
+def tasks(few_records, blocks_csv, config):
+    inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
+    sources, _ = scan(few_records, config=config)
+    ctx = Context(str(few_records), config, inventory, read_declared_units(few_records, config))
+    return [(s, None) for s in sources], ctx
+
+
+def _by_record(pairs) -> dict:
+    return {item[0].record_id: res for item, res in pairs}
+
+
+def assert_same_record_results(a: dict, b: dict) -> None:
+    assert sorted(a) == sorted(b)
+    for rid in a:
+        ra, rb = a[rid], b[rid]
+        assert ra.status == rb.status and ra.block_ids == rb.block_ids
+        for name in ra.blocks:
+            np.testing.assert_array_equal(ra.blocks[name], rb.blocks[name])
+        np.testing.assert_equal({k: v for k, v in ra.values.items() if k not in RUN_SPECIFIC},
+                                {k: v for k, v in rb.values.items() if k not in RUN_SPECIFIC})
+
+
+def test_process_pool_survives_a_killed_worker(tasks):
+    items, ctx = tasks
+    with SerialExecutor() as ex:
+        serial = _by_record(ex.map_unordered(_task, items, ctx))
+    got = []
+    with ProcessExecutor(2) as ex:
+        for k, pair in enumerate(ex.map_unordered(_task, items, ctx)):
+            got.append(pair)
+            if k == 0:
+                victim = next(iter(ex._pool._processes))
+                os.kill(victim, signal.SIGKILL)
+    assert_same_record_results(serial, _by_record(got))
+
+
+def test_a_task_that_always_kills_its_worker_fails_alone():
+    items = [abs, abs, signal.raise_signal, abs]
+    with ProcessExecutor(2) as ex:
+        out = list(ex.map_unordered(operator.call, items, signal.SIGKILL))
+    results = [r for _, r in out]
+    assert sum(isinstance(r, TaskLost) for r in results) == 1
+    assert sorted(r for r in results if not isinstance(r, TaskLost)) == [9, 9, 9]
+
+
+@pytest.fixture
+def dask_cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=":0") as cluster:
+        yield cluster
+
+
+def test_dask_scheduler_results_identical_to_serial(few_records, blocks_csv, tmp_path, dask_cluster, fresh,
+                                                    capsys):
+    out = tmp_path / "out"
+    address = dask_cluster.scheduler_address
+    assert address.startswith("tcp://127.0.0.1:")
+    assert screen(few_records, blocks_csv, out, "--scheduler", address) == EXIT_OK
+    assert "dask (2 workers)" in summary_line(capsys)
+    assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
+
+
+def test_processes_results_identical_to_serial(few_records, blocks_csv, tmp_path, fresh):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out, "-n", 2) == EXIT_OK
+    assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
+
+
+def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
+    items, ctx = tasks
+    with SerialExecutor() as ex:
+        serial = _by_record(ex.map_unordered(_task, items, ctx))
+    got = []
+    killed = None
+    with DaskExecutor("local", n_workers=2) as ex:
+        for k, pair in enumerate(ex.map_unordered(_task, items, ctx)):
+            got.append(pair)
+            if killed is None:
+                busy = [w for w, keys in ex.client.processing().items() if keys]
+                if busy:
+                    pid = ex.client.run(os.getpid, workers=[busy[0]])[busy[0]]
+                    os.kill(pid, signal.SIGKILL)
+                    killed = pid
+    assert killed is not None, "no worker was busy to kill"
+    assert_same_record_results(serial, _by_record(got))
