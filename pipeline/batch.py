@@ -101,7 +101,7 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
             out.failures.append(RecordResult(src.record_id, f"failed: {exc}",
                                              {"files": ";".join(Path(f).name for f in src.files)}))
             continue
-        entry = None if (cache is None or force) else cache.load(content)
+        entry = None if (cache is None or force) else cache.load(src.record_id, content)
         have = {} if entry is None else dict(zip(entry.block_ids, entry.block_digests))
         missing = tuple(b for b in inventory.ids if have.get(b) != digests[b])
         if entry is not None:
@@ -113,7 +113,7 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
         for rid, content in zip(previous["record"].values[ok], previous["content_sha256"].values[ok]):
             if rid in seen:
                 continue
-            entry = cache.load(str(content))
+            entry = cache.load(str(rid), str(content))
             if entry is None:
                 out.dropped.append(str(rid))
             else:

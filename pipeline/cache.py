@@ -2,7 +2,7 @@
 
 Each record that screens successfully is saved, as soon as its task
 returns, to ``OUT/.rockscreen/cache/<key>.npz``, where the key hashes the
-record's content (its files' names and bytes) with the *run key* (the
+record's id and content (its files' names and bytes) with the *run key* (the
 effective configuration, the package version, the declared units and the
 StationXML inventory). An entry holds the record's own values and its
 results for a set of blocks, each tagged with the block's inventory digest
@@ -70,9 +70,13 @@ def files_sha256(paths) -> str:
     return h.hexdigest()
 
 
-def record_key(content_sha256: str, run: str) -> str:
-    """Cache key of one record under one run key."""
-    return hashlib.sha256(f"{content_sha256}\n{run}".encode()).hexdigest()[:40]
+def record_key(record_id: str, content_sha256: str, run: str) -> str:
+    """Cache key of one record (its id and content) under one run key.
+
+    The id is part of the key: two copies of the same files in two
+    directories are two records and must not share an entry.
+    """
+    return hashlib.sha256(f"{record_id}\n{content_sha256}\n{run}".encode()).hexdigest()[:40]
 
 
 class SceneCache:
@@ -92,14 +96,14 @@ class SceneCache:
         self.used: set[str] = set()
         self.write_errors = 0
 
-    def path(self, content_sha256: str) -> Path:
-        return self.dir / f"{record_key(content_sha256, self.run)}.npz"
+    def path(self, record_id: str, content_sha256: str) -> Path:
+        return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
 
-    def load(self, content_sha256: str):
+    def load(self, record_id: str, content_sha256: str):
         """The cached result of a record, or None (missing, unreadable or of another layout)."""
         from .screening import RecordResult
 
-        path = self.path(content_sha256)
+        path = self.path(record_id, content_sha256)
         self.used.add(path.name)
         if not path.is_file():
             return None
@@ -128,7 +132,7 @@ class SceneCache:
         The run goes on without the cache (the final write reports a full disk);
         the results stay in memory.
         """
-        path = self.path(result.values["content_sha256"])
+        path = self.path(result.record_id, result.values["content_sha256"])
         self.used.add(path.name)
         arrays = {"entry_format": np.array(ENTRY_FORMAT), "record_id": np.array(result.record_id),
                   "block_ids": np.array(result.block_ids, dtype=str),

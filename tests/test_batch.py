@@ -367,3 +367,17 @@ def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
                     killed = pid
     assert killed is not None, "no worker was busy to kill"
     assert_same_record_results(serial, _by_record(got))
+
+
+def test_copies_of_one_record_in_two_directories_stay_two_records(make_records, blocks_csv, tmp_path, capsys):
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    (root / "copy").mkdir()
+    shutil.copy(root / "peer-at2" / "RSN77_SFERN_PUL164.AT2", root / "copy")
+    out = tmp_path / "out"
+    for expected in ("2 screened, 0 reused", "0 screened, 2 reused"):
+        assert screen(root, blocks_csv, out) == EXIT_OK
+        assert expected in summary_line(capsys)
+        ds = open_results(out / "screening.nc")
+        assert sorted(ds.record.values) == ["RSN77_SFERN_PUL164", "RSN77_SFERN_PUL164#2"]
+        a, b = (ds.isel(record=k).drop_vars(["record", "files", "screened_utc"]) for k in (0, 1))
+        xr.testing.assert_identical(a, b)

@@ -12,8 +12,8 @@ from pipeline.cli import main
 from pipeline.config import load_config
 from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
-from pipeline.pulses.cwt import cwt, cwt_window, scales_for
-from pipeline.pulses.shahi_baker import wavelet_on_grid
+from pipeline.pulses.cwt import cwt, cwt_point, cwt_window, scales_for
+from pipeline.pulses.shahi_baker import _strongest_point, extract_along, wavelet_on_grid
 from pipeline.records.loader import load_record, scan
 from pipeline.store import open_results
 
@@ -114,6 +114,31 @@ def test_cwt_window_equals_full_transform():
     x = np.random.default_rng(0).normal(size=3000)
     full = cwt(x, [57])[0]
     np.testing.assert_allclose(cwt_window(x, 57, 1000, 1200), full[1000:1201], rtol=1e-10, atol=1e-10)
+
+
+@pytest.mark.parametrize("n, scale", [(40, 3), (3000, 57), (3000, 700), (20000, 1500)])
+def test_cwt_point_equals_the_full_transform(n, scale):
+    """The dot-product coefficient against the FFT transform, at both edges and inside."""
+    x = np.random.default_rng(n).normal(size=n)
+    full = cwt(x, [scale])[0]
+    for col in (0, 1, n // 3, n - 2, n - 1):
+        assert cwt_point(x, scale, col) == pytest.approx(full[col], rel=1e-9, abs=1e-9 * np.abs(full).max())
+
+
+def test_strongest_point_along_any_orientation_is_the_brute_force_argmax(example_velocity):
+    """The sorted-amplitude search returns MATLAB's column-major argmax of (cos C1 + sin C2)^2."""
+    v, dt = example_velocity
+    res = classify(v, dt)
+    c = res.coeffs
+    for deg in np.arange(0.0, 180.0, 2.5):
+        ca, sa = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+        flat = int(np.argmax(((ca * c[0] + sa * c[1]) ** 2).ravel(order="F")))
+        assert _strongest_point(res, ca, sa) == (flat % c.shape[1], flat // c.shape[1]), deg
+    # along the first candidate's orientation its point is the maximum (projection <= amplitude <= its
+    # amplitude), so the same pulse comes back
+    first = res.candidates[0]
+    _, pulse = extract_along(res, first.angle_rad)
+    np.testing.assert_allclose(pulse, first.pulse_cms, rtol=1e-9, atol=1e-9)
 
 
 def test_scales_worked_values():

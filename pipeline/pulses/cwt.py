@@ -42,7 +42,7 @@ def _psi_integral() -> tuple[np.ndarray, float]:
     return np.cumsum(psi) * h, h
 
 
-@lru_cache(maxsize=4096)
+@lru_cache(maxsize=512)
 def kernel(scale: int) -> np.ndarray:
     """The reversed integrated-wavelet kernel f of one integer scale (read-only)."""
     integ, h = _psi_integral()
@@ -55,7 +55,7 @@ def kernel(scale: int) -> np.ndarray:
     return f
 
 
-@lru_cache(maxsize=4096)
+@lru_cache(maxsize=64)
 def _kernel_spectrum(scale: int, nfft: int) -> np.ndarray:
     spec = sfft.rfft(kernel(scale), nfft)
     spec.setflags(write=False)
@@ -115,6 +115,35 @@ def cwt_window(signal: np.ndarray, scale: int, lo: int, hi: int) -> np.ndarray:
     # full_segment[k - j0] == conv_full(signal)[k] for k in [k0, k1]
     part = full[k0 - j0:k1 - j0 + 1]
     return -np.sqrt(scale) * np.diff(part)
+
+
+@lru_cache(maxsize=256)
+def _kernel_step(scale: int) -> np.ndarray:
+    """g[i] = f[i] - f[i-1] for i = 0..L (f zero outside 0..L-1): the kernel of diff(conv)."""
+    f = kernel(scale)
+    g = np.diff(np.concatenate([[0.0], f, [0.0]]))
+    g.setflags(write=False)
+    return g
+
+
+def cwt_point(signal: np.ndarray, scale: int, column: int) -> float:
+    """The coefficient of one scale at one output sample, as a direct dot product.
+
+    Equal to ``cwt_window(signal, scale, column, column)[0]`` (to rounding):
+    ``-sqrt(a) (conv_full[k+1] - conv_full[k])`` with ``k = first + column``
+    is ``-sqrt(a) sum_j s[j] g[k + 1 - j]`` for the kernel step ``g``. One
+    O(L) product instead of an FFT of the window, for the scale refinement
+    that evaluates one column at dozens of scales.
+    """
+    g = _kernel_step(scale)
+    n, L = signal.size, g.size - 1
+    k = _first_kept(n, L) + column
+    j0, j1 = max(0, k + 1 - L), min(n - 1, k + 1)
+    if j1 < j0:
+        return 0.0
+    # s[j] pairs with g[k + 1 - j]: j = j0..j1 -> g indices k+1-j0 down to k+1-j1
+    taps = g[k + 1 - j1:k + 2 - j0][::-1]
+    return float(-np.sqrt(scale) * np.dot(signal[j0:j1 + 1], taps))
 
 
 def scales_for(dt_s: float, *, tp_min_s: float = 0.25, tp_max_s: float = 15.0, n_scales: int = 50) -> np.ndarray:

@@ -34,7 +34,7 @@ import numpy as np
 import pywt
 
 from ..errors import PulseError
-from .cwt import SUPPORT, cwt, cwt_window, pseudo_period, scales_for
+from .cwt import SUPPORT, cwt, cwt_point, cwt_window, pseudo_period, scales_for
 
 #: Number of candidate pulses examined (Shahi & Baker 2014).
 N_CANDIDATES = 5
@@ -91,6 +91,8 @@ class PulseResult:
     coeffs: np.ndarray | None = None         #: their transforms, (n_c, 51, N)
     scales: np.ndarray | None = None
     dt_s: float = math.nan
+    #: strongest points of the two-component transform, for :func:`extract_along` (built on first use)
+    _strongest: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
     def best(self) -> Candidate:
@@ -239,7 +241,7 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
         v_theta = v[0] if single else ct * v[0] + st * v[1]
 
         def column_coef(a: int, _col=col, _vt=v_theta) -> float:
-            return float(cwt_window(_vt, a, _col, _col)[0])
+            return cwt_point(_vt, a, _col)
 
         scale, pulse, positions, coefs = extract(v_theta, column_coef, column=col, row=row,
                                                  scales=scales)
@@ -273,6 +275,34 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
                        chosen, method, flags, v, coeffs, scales, dt_s)
 
 
+def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, int]:
+    """(row, column) of the largest (ca C1 + sa C2)^2, ties in MATLAB's column-major order.
+
+    Exact and cheap for many orientations: the projection of a point never
+    exceeds its amplitude C1^2 + C2^2. The points are sorted once by
+    amplitude; for an orientation, the best of the first k points is the
+    maximum over the whole transform as soon as it beats the amplitude of
+    point k, so only the head of the list is searched (k grows 4x until then).
+    """
+    c = result.coeffs
+    n_rows = c.shape[1]
+    if result._strongest is None:
+        amp = (c[0] ** 2 + c[1] ** 2).ravel()
+        order = np.argsort(amp, kind="stable")[::-1]
+        rows, cols = np.divmod(order, c.shape[2])
+        result._strongest = (c[0].ravel()[order], c[1].ravel()[order], cols * n_rows + rows, amp[order])
+    c1, c2, f_index, amp = result._strongest
+    k = 1024
+    while True:
+        proj = (ca * c1[:k] + sa * c2[:k]) ** 2
+        best = float(np.max(proj))
+        if k >= amp.size or best > amp[k] * (1.0 + 1e-12):   # margin: rounding of the projection
+            break
+        k *= 4
+    flat = int(np.min(f_index[:k][proj == best]))
+    return flat % n_rows, flat // n_rows
+
+
 def extract_along(result: PulseResult, angle_rad: float) -> tuple[np.ndarray, np.ndarray]:
     """Extract the largest pulse along ``angle_rad`` from the first component.
 
@@ -286,13 +316,11 @@ def extract_along(result: PulseResult, angle_rad: float) -> tuple[np.ndarray, np
         best = result.best
         return best.velocity_cms, best.pulse_cms
     ca, sa = math.cos(angle_rad), math.sin(angle_rad)
-    c_phi = ca * c[0] + sa * c[1]
-    flat = int(np.argmax((c_phi**2).ravel(order="F")))
-    row, col = flat % c_phi.shape[0], flat // c_phi.shape[0]
+    row, col = _strongest_point(result, ca, sa)
     v_phi = ca * v[0] + sa * v[1]
 
     def column_coef(a: int) -> float:
-        return float(cwt_window(v_phi, a, col, col)[0])
+        return cwt_point(v_phi, a, col)
 
     _, pulse, _, _ = extract(v_phi, column_coef, column=col, row=row, scales=result.scales)
     return v_phi, pulse

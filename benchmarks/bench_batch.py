@@ -1,0 +1,164 @@
+"""Batch screening at scale: 100 real records x 1000 blocks at the default fidelity.
+
+The records directory holds the 35 bundled real records once, then copies of
+the bundled PEER AT2 records in sub-directories until there are 100 records
+(each copy is its own record to the pipeline: its own id and cache entry).
+The 1000 blocks are drawn once with a fixed seed over the range of the
+sample inventory: full height 0.3-4 m, slenderness alpha 0.08-0.6 rad,
+friction 0.3-0.8, half with a blank azimuth (checked along the pulse).
+
+Each configuration runs the real ``screen`` command in a fresh process into
+an empty output, and the script prints what it measured:
+
+* wall time, scenes per second and peak memory (the largest process and
+  the sum over the process tree, sampled every 0.05 s) for serial, ``-n 2``
+  processes and a Dask LocalCluster of 2 workers;
+* a re-run into the same output (everything reused from the scene cache);
+* the criterion tier alone: ``criteria.evaluate`` on the 100 x 1000 pulse
+  arrays of the results, scenes per second;
+* peak memory against the number of records (25, 50, 100; serial).
+
+Run: python benchmarks/bench_batch.py [--records N] [--blocks N] [--skip-dask] [--skip-memory]
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def make_records(dest: Path, n_records: int) -> int:
+    """The bundled records, then AT2 copies in sub-directories until ``n_records``; returns the count."""
+    from pipeline.config import Config
+    from pipeline.records.loader import scan
+
+    shutil.copytree(ROOT / "records", dest)
+    cfg = Config()
+    base = len(scan(dest, config=cfg)[0])
+    at2 = len(scan(ROOT / "records" / "peer-at2", config=cfg)[0])
+    k = 0
+    while base + k * at2 < n_records:
+        k += 1
+        shutil.copytree(ROOT / "records" / "peer-at2", dest / f"copy-{k}")
+    sources = scan(dest, config=cfg)[0]
+    # trim the last copy so that exactly n_records are scanned
+    extra = len(sources) - n_records
+    if extra > 0:
+        last = sorted((s for s in sources if f"copy-{k}" in s.files[0]), key=lambda s: s.record_id)[:extra]
+        for s in last:
+            for f in s.files:
+                Path(f).unlink()
+    return len(scan(dest, config=cfg)[0])
+
+
+def make_blocks(path: Path, n_blocks: int, seed: int = 20261122) -> None:
+    rng = np.random.default_rng(seed)
+    height = rng.uniform(0.3, 4.0, n_blocks)
+    alpha = rng.uniform(0.08, 0.6, n_blocks)
+    width = height * np.tan(alpha)
+    mu = rng.uniform(0.3, 0.8, n_blocks)
+    az = np.where(rng.random(n_blocks) < 0.5, np.nan, rng.uniform(0, 180, n_blocks))
+    lines = ["id,height_m,width_m,mu,azimuth_deg"]
+    for j in range(n_blocks):
+        lines.append(f"B{j:05d},{height[j]:.4f},{width[j]:.4f},{mu[j]:.3f},"
+                     + ("" if np.isnan(az[j]) else f"{az[j]:.1f}"))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def timed_run(args: list[str]) -> dict:
+    """Run ``screen`` in a fresh process; wall time and peak RSS (largest process, tree total)."""
+    import psutil
+
+    cmd = [sys.executable, "-m", "pipeline", *args, "-q", "--tolerate-failures"]
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    ps = psutil.Process(proc.pid)
+    peak_one = peak_sum = 0
+    while proc.poll() is None:
+        try:
+            rss = [p.memory_info().rss for p in [ps, *ps.children(recursive=True)]]
+        except psutil.Error:
+            rss = []
+        if rss:
+            peak_one, peak_sum = max(peak_one, max(rss)), max(peak_sum, sum(rss))
+        time.sleep(0.05)
+    wall = time.perf_counter() - t0
+    err = proc.stderr.read()
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
+    summary = next((line for line in err.splitlines() if line.startswith("records:")), "")
+    return {"wall_s": wall, "peak_one_mb": peak_one / 2**20, "peak_sum_mb": peak_sum / 2**20, "summary": summary}
+
+
+def criterion_rate(results: Path, repeat: int = 20) -> tuple[int, float]:
+    """Scenes per second of the paper's criterion alone on the run's pulse arrays."""
+    from pipeline import criteria
+    from pipeline.store import open_results
+
+    ds = open_results(results)
+    geo = dict(R_m=ds.corner_distance.values, alpha=ds.slenderness.values, p=ds.frequency_parameter.values,
+               mu=ds.mu.values, g_ms2=9.80665, form="exact")
+    args = [ds[n].values for n in ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")]
+    criteria.evaluate(*args, **geo)
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        criteria.evaluate(*args, **geo)
+        best = min(best, time.perf_counter() - t0)
+    return args[0].size, args[0].size / best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--records", type=int, default=100)
+    ap.add_argument("--blocks", type=int, default=1000)
+    ap.add_argument("--skip-dask", action="store_true")
+    ap.add_argument("--skip-memory", action="store_true")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory(prefix="bench-batch-") as tmp:
+        tmp = Path(tmp)
+        n_rec = make_records(tmp / "records", args.records)
+        blocks = tmp / "blocks.csv"
+        make_blocks(blocks, args.blocks)
+        scenes = n_rec * args.blocks
+        print(f"{n_rec} records x {args.blocks} blocks = {scenes} scenes")
+        # compile the kernel's numba cache once, outside the timings
+        timed_run(["--records", str(ROOT / "records" / "sac"), "--blocks", str(blocks), "--out", str(tmp / "warm")])
+        configs = [("serial", []), ("processes -n 2", ["-n", "2"])]
+        if not args.skip_dask:
+            configs.append(("dask local, 2 workers", ["--scheduler", "local", "-n", "2"]))
+        print(f"{'executor':24s} {'wall s':>8s} {'scenes/s':>9s} {'peak RSS MB (largest / total)':>30s}")
+        last_out = None
+        for name, extra in configs:
+            out = tmp / f"out-{len(extra)}-{name.split()[0]}"
+            r = timed_run(["--records", str(tmp / "records"), "--blocks", str(blocks), "--out", str(out), *extra])
+            print(f"{name:24s} {r['wall_s']:8.1f} {scenes / r['wall_s']:9.0f} "
+                  f"{r['peak_one_mb']:14.0f} / {r['peak_sum_mb']:.0f}")
+            print(f"    {r['summary']}")
+            last_out = out
+        r = timed_run(["--records", str(tmp / "records"), "--blocks", str(blocks), "--out", str(last_out)])
+        print(f"{'re-run, all reused':24s} {r['wall_s']:8.1f} {'':9s} {r['peak_one_mb']:14.0f} / "
+              f"{r['peak_sum_mb']:.0f}\n    {r['summary']}")
+        n, rate = criterion_rate(last_out / "screening.nc")
+        print(f"criterion tier alone (criteria.evaluate on {n} scenes, best of 20): {rate:.3g} scenes/s")
+        if not args.skip_memory:
+            print("peak RSS against the number of records (serial, largest process):")
+            for n_sub in (25, 50, 100):
+                sub = tmp / f"records-{n_sub}"
+                make_records(sub, n_sub)
+                r = timed_run(["--records", str(sub), "--blocks", str(blocks), "--out", str(tmp / f"m{n_sub}")])
+                print(f"    {n_sub:4d} records: {r['peak_one_mb']:6.0f} MB, wall {r['wall_s']:.1f} s")
+                shutil.rmtree(sub)
+
+
+if __name__ == "__main__":
+    main()
