@@ -60,10 +60,6 @@ class Plan:
     dropped: list = field(default_factory=list)        # vanished record ids that could not be kept
     blocks_changed: int = 0                            # blocks new or changed since the last run
 
-    @property
-    def scenes_to_compute(self) -> int:
-        return sum(len(ids) for _, ids in self.tasks)
-
 
 def _previous_block_digests(previous: xr.Dataset | None) -> dict:
     if previous is None or "block_sha256" not in previous:
