@@ -68,7 +68,7 @@ def _previous_block_digests(previous: xr.Dataset | None) -> dict:
 
 
 def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache | None,
-         previous: xr.Dataset | None = None, force: bool = False) -> Plan:
+         previous: xr.Dataset | None = None, force: bool = False, unreadable: tuple = ()) -> Plan:
     """Decide, per record, whether to reuse its cached result, complete it, or screen it.
 
     Parameters
@@ -83,12 +83,14 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
         The last complete results in the output (for vanished records).
     force : bool
         Recompute everything, ignoring the cache.
+    unreadable : tuple of str
+        Ids of records present but unreadable at the scan: they fail, they have not vanished.
     """
     out = Plan()
     digests = dict(zip(inventory.ids, inventory.digests()))
     old_digests = _previous_block_digests(previous)
     out.blocks_changed = sum(old_digests.get(b) != d for b, d in digests.items()) if old_digests else len(digests)
-    seen = set()
+    seen = set(unreadable)
     for src in sources:
         seen.add(src.record_id)
         try:
@@ -166,7 +168,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         except Exception as exc:   # a damaged earlier file must not stop the run; it is replaced
             log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced",
                         out_dir, exc)
-    the_plan = plan(sources, inventory, cache=cache, previous=previous, force=force)
+    the_plan = plan(sources, inventory, cache=cache, previous=previous, force=force,
+                    unreadable=tuple(f.record_id for f in scan_failures))
     for rid in the_plan.vanished:
         log.warning("record %s: its files are no longer in %s; its last results are kept (source_present = 0)",
                     rid, records_dir)

@@ -381,3 +381,15 @@ def test_copies_of_one_record_in_two_directories_stay_two_records(make_records, 
         assert sorted(ds.record.values) == ["RSN77_SFERN_PUL164", "RSN77_SFERN_PUL164#2"]
         a, b = (ds.isel(record=k).drop_vars(["record", "files", "screened_utc"]) for k in (0, 1))
         xr.testing.assert_identical(a, b)
+
+
+def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(few_records, blocks_csv,
+                                                                                 tmp_path, caplog):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    (few_records / "knet" / "test.knet").write_bytes(b"\x00garbage\x00" * 10)
+    assert main(["--records", str(few_records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
+    ds = open_results(out / "screening.nc")
+    assert list(ds.record.values).count("test") == 1
+    assert ds.status.sel(record="test").item().startswith("failed") and "test.knet" in ds.status.sel(record="test").item()
+    assert "no longer in" not in caplog.text
