@@ -393,3 +393,15 @@ def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(f
     assert list(ds.record.values).count("test") == 1
     assert ds.status.sel(record="test").item().startswith("failed") and "test.knet" in ds.status.sel(record="test").item()
     assert "no longer in" not in caplog.text
+
+
+def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path, capsys, caplog, fresh):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    entry = sorted((out / ".rockscreen" / "cache").glob("*.npz"))[0]
+    entry.write_bytes(b"PK\x03\x04 truncated")
+    capsys.readouterr()
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert "1 screened, 5 reused" in summary_line(capsys)
+    assert "unreadable cache entry" in caplog.text
+    assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
