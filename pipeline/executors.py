@@ -8,8 +8,10 @@ context (configuration, inventory) is sent once per worker where the
 backend allows it (Dask ``scatter``).
 
 A worker that dies does not lose its task: the process executor restarts
-its pool and resubmits what was in flight; Dask reschedules it by itself.
-A task that kills its worker every time fails alone, as a failed record.
+its pool and re-runs each task that was in flight alone (so a task that
+kills its worker is told apart from its neighbours); Dask reschedules it by
+itself. A task that kills its worker every time fails alone, as a failed
+record.
 
 References
 ----------
@@ -23,6 +25,7 @@ import logging
 import multiprocessing
 import os
 import signal
+from collections import deque
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, Iterable, Iterator
@@ -31,7 +34,7 @@ from .errors import RockscreenError
 
 log = logging.getLogger(__name__)
 
-#: How many times a task is retried after its worker died.
+#: How many times a task may kill its worker, running alone, before it is given up.
 MAX_TASK_ATTEMPTS = 3
 #: Thread-pool sizes set to 1 for process workers (unless already set).
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
@@ -95,35 +98,50 @@ class ProcessExecutor:
         self._pool = None
 
     def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
-        pending = list(items)[::-1]          # a stack: pop() takes items in their given order
-        attempts: dict[int, int] = {}
+        pending = deque(items)
+        suspects: deque = deque()       # tasks in flight when a worker died: each is re-run alone
+        deaths: dict[int, int] = {}
         in_flight: dict = {}
+        alone = False
         limit = 2 * self.n_workers
-        while pending or in_flight:
-            while pending and len(in_flight) < limit:
-                item = pending.pop()
+        while pending or suspects or in_flight:
+            if not in_flight and suspects:
+                item = suspects.popleft()
+                in_flight[self._pool.submit(fn, item, shared)] = item
+                alone = True
+            while not alone and pending and len(in_flight) < limit:
+                item = pending.popleft()
                 in_flight[self._pool.submit(fn, item, shared)] = item
             done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
-            broken = []
+            broken = False
             for fut in done:
                 item = in_flight.pop(fut)
                 try:
-                    yield item, fut.result()
+                    result = fut.result()
                 except BrokenProcessPool:
-                    broken.append(item)
+                    in_flight[fut] = item
+                    broken = True
+                    continue
+                yield item, result
             if broken:
-                # a worker died: every task in flight is lost with the pool; start a new pool and retry
-                lost = broken + list(in_flight.values())
+                # the pool is lost with every task in flight: start a new one; a task that was
+                # running alone killed its worker itself, the others are re-run alone to find out
+                lost = list(in_flight.values())
                 in_flight.clear()
                 self._pool.shutdown(wait=False, cancel_futures=True)
                 self._pool = self._new_pool()
                 log.warning("a worker process died; restarting the pool and retrying %d task(s)", len(lost))
-                for item in lost:
-                    n = attempts[id(item)] = attempts.get(id(item), 1) + 1
-                    if n > MAX_TASK_ATTEMPTS:
-                        yield item, TaskLost(f"the worker process died {MAX_TASK_ATTEMPTS} times on this task")
+                if alone:
+                    (item,) = lost
+                    n = deaths[id(item)] = deaths.get(id(item), 0) + 1
+                    if n >= MAX_TASK_ATTEMPTS:
+                        yield item, TaskLost(f"the worker process died {n} times running this task alone")
                     else:
-                        pending.append(item)
+                        suspects.append(item)
+                else:
+                    suspects.extend(lost)
+            if not in_flight:
+                alone = False
 
 
 def _ignore_sigint() -> None:
