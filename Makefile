@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo test test-fast bench clean
+.PHONY: demo test test-fast browser bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -24,8 +24,21 @@ demo: $(VENV)/.installed
 	$(BIN)/screen chart --block COL-1 --blocks configs/blocks.csv --results results/screening.nc \
 	    --out results/chart-COL-1.nc
 
-test: $(VENV)/.installed-test
+test: $(VENV)/.installed-test browser
 	$(BIN)/python -m pytest -n 2 $(PYTEST_ARGS)
+
+# The report is tested in headless Chromium (Debian's package). Installed when missing and possible
+# (root with apt-get); otherwise that test is skipped with a loud reason.
+browser:
+	@command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	    echo "installing Debian's chromium for the report test (apt-get)"; \
+	    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; } >/dev/null 2>&1 \
+	      || echo "WARNING: could not install chromium; the browser test will be skipped"; \
+	  else \
+	    echo "WARNING: chromium is missing and cannot be installed here (needs root and apt-get);" \
+	         "the browser test will be skipped"; \
+	  fi; }
 
 test-fast: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 -m "not slow" $(PYTEST_ARGS)

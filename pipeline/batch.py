@@ -219,5 +219,6 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
         "wall_time_s": time.perf_counter() - t0, "cache": cache,
+        "sources": {s.record_id: s for s in sources}, "context": ctx,
     }
     return ds, pulses, summary

@@ -116,6 +116,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     from .config import load_config
     from .executors import make_executor
     from .records.loader import read_declared_units, read_inventory as read_station_inventory, stationxml_paths
+    from .margins import add_margins
+    from .report.html import build_report
     from .store import OutputLock, remove_stale_temporaries, write_atomic
 
     config = load_config(args.config)
@@ -140,11 +142,17 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                                           force=args.force, station_inventory=station_inventory,
                                           declared_units=declared, stationxml_sha256=stationxml_sha,
                                           progress=_progress(args.quiet))
+                t_margin = time.perf_counter()
+                ds, histories, margin_summary = add_margins(ds, summary["sources"], summary["context"], executor)
+                summary["margins"] = dict(margin_summary, wall_time_s=time.perf_counter() - t_margin)
             ds.attrs.update(_provenance(args, argv, config))
-            pulses.attrs["rockscreen_run_key"] = ds.attrs["rockscreen_run_key"]
+            for side in (pulses, histories):
+                side.attrs["rockscreen_run_key"] = ds.attrs["rockscreen_run_key"]
             write_atomic(pulses, out_dir / "pulses.nc")
+            write_atomic(histories, out_dir / "histories.nc")
             out = write_atomic(ds, out_dir / "screening.nc")      # the main file last
             summary["cache"].prune()
+            report, assets = build_report(out)
     except KeyboardInterrupt:
         cache_dir = out_dir / ".rockscreen" / "cache"
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
@@ -153,6 +161,11 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
               "Run the same command again to finish.", file=sys.stderr)
         return EXIT_INTERRUPTED
     _print_summary(summary, out)
+    m = summary["margins"]
+    print(f"margins: {m['simulations']} scaled scenes simulated in {m['wall_time_s']:.1f} s"
+          + (f"; records no longer readable for margins: {', '.join(m['unavailable'])}" if m["unavailable"] else ""),
+          file=sys.stderr)
+    print(f"wrote {report} and {assets}", file=sys.stderr)
     if summary["records_failed"] and not args.tolerate_failures:
         return EXIT_RECORD_FAILURES
     return EXIT_OK
@@ -252,7 +265,27 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
-SUBCOMMANDS = {"chart": (chart_parser, cmd_chart)}
+def report_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen report``."""
+    p = argparse.ArgumentParser(prog="screen report",
+                                description="Regenerate report.html and assets.csv from a results file "
+                                            "(pulses.nc and histories.nc are read from the same directory).")
+    p.add_argument("results", type=Path, help="screening.nc written by screen")
+    p.add_argument("--out", type=Path, help="output directory (default: the results file's directory)")
+    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    return p
+
+
+def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen report``: the asset-risk report from results alone."""
+    from .report.html import build_report
+
+    html, assets = build_report(args.results, args.out)
+    print(f"wrote {html} and {assets}", file=sys.stderr)
+    return EXIT_OK
+
+
+SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report)}
 
 
 def build_parser() -> argparse.ArgumentParser:

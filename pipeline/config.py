@@ -109,6 +109,11 @@ class SimulationConfig:
     scan_step: float = 0.005
     #: Scans stop at this multiple of the uplift acceleration (or at the sliding line mu g) [-].
     scan_max_factor: float = 20.0
+    #: Margin ``overturn_scale``: the factor on the governing record grows by this fraction per
+    #: step, from the factor that first lifts the block (upward scan, no bisection) [-].
+    margin_step: float = 0.01
+    #: The margin scan stops at this factor on the record (reported as "more than this") [-].
+    margin_max_factor: float = 10.0
 
 
 @dataclass(frozen=True)

@@ -204,7 +204,8 @@ class DaskExecutor:
         items = list(items)
         if not items:
             return
-        shared_future = self.client.scatter(shared, broadcast=True)
+        # hash=False: a fresh key per map, so a second map never races with the release of the first
+        shared_future = self.client.scatter(shared, broadcast=True, hash=False)
         futures = {self.client.submit(fn, item, shared_future, pure=False): k for k, item in enumerate(items)}
         try:
             for fut in as_completed(futures):

@@ -144,6 +144,16 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),
     "transition_period": (("block",), "s", "the paper's transition period pi / p of a half-sine pulse (Eq. 9)", {}),
+    "governing_record": (("block",), None, "record whose scene is worst for the block (simulated overturn, then "
+                         "criterion overturn, then max theta/alpha, then energy ratio)", {}),
+    "overturn_scale": (("block",), "1", "margin by the criterion: smallest factor on the governing record that "
+                       "reaches the criterion's boundary (closed form)",
+                       {"comment": "inf: the scaled pulse crosses the sliding line first; NaN: not evaluated"}),
+    "overturn_scale_simulated": (("block",), "1", "margin by simulation: smallest factor on the governing record "
+                                 "under which the block overturns (upward scan, no bisection)",
+                                 {"comment": "inf: none up to simulation.margin_max_factor; NaN: the rocking model "
+                                             "does not apply (the block slides or is squat) or no record"}),
+    "margin_simulations": (("block",), "1", "scenes simulated by the margin scan (-1: none)", {}),
     "rocking_applicable": (("block",), None, "pure-rocking model applies (Housner e > 0, alpha < 54.7 deg)",
                            {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}),
 }

@@ -29,8 +29,19 @@ def plot_pulse(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, ti
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    fig = pulse_axes(plt, velocity_ms, pulse_ms, dt_s,
+                     title=title + (f"  (Tp = {tp_s:.3f} s)" if tp_s and np.isfinite(tp_s) else ""))
+    path = Path(path)
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def pulse_axes(plt, velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, title: str,
+               figsize=(7, 6)):
+    """The three-panel figure (original, pulse, residual) [cm/s] on a new matplotlib figure."""
     t = np.arange(velocity_ms.size) * dt_s
-    fig, axes = plt.subplots(3, 1, figsize=(7, 6), sharex=True, sharey=True)
+    fig, axes = plt.subplots(3, 1, figsize=figsize, sharex=True, sharey=True)
     for ax, y, label in zip(axes, (velocity_ms, pulse_ms, velocity_ms - pulse_ms),
                             ("Original ground motion", "Extracted pulse", "Residual ground motion")):
         ax.plot(t, 100 * y, lw=0.8, color="k")
@@ -38,9 +49,6 @@ def plot_pulse(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, ti
         ax.set_title(label, fontsize=9)
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle(title + (f"  (Tp = {tp_s:.3f} s)" if tp_s and np.isfinite(tp_s) else ""), fontsize=10)
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return fig

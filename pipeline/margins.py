@@ -1,0 +1,252 @@
+"""Per asset: the governing record, the margin to overturning, the rocking history.
+
+For every block the *governing record* is the one whose scene is worst:
+overturned by the simulation first, then by the paper's criterion, then the
+largest max |theta| / alpha, then the largest energy ratio. On that record:
+
+* ``overturn_scale`` is the criterion's margin: the smallest factor on the
+  record that reaches the criterion's boundary (closed form, the scene's
+  ``criterion_scale``);
+* ``overturn_scale_simulated`` is the simulator's margin: the smallest factor
+  on the whole record (horizontal and vertical) under which the block
+  overturns, found by an upward scan of the factor from the one that first
+  lifts the block, growing ``simulation.margin_step`` (1 %) per step. Never by
+  bisection: overturning is not monotonic in amplitude, so a bisection can
+  step over a window of overturning. The factor 1 is always tried, so the
+  margin is <= 1 exactly when the scene overturned. ``inf`` means nothing
+  overturns up to ``simulation.margin_max_factor``;
+* theta(t) / alpha of the governing scene for the assets at risk, for the report.
+
+References
+----------
+Purvance, Anooshehpoor & Brune (2008) scale records to find overturning
+thresholds; Zhang & Makris (2001) show the non-monotonic overturning that
+rules out bisection.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+import xarray as xr
+
+from .criteria import rocking_applicable
+from .errors import RockscreenError
+from .records.loader import RecordSource, load_record
+from .rocking.planner import PHYSICS, plan, simulate_scene
+from .rocking.simulate import rock
+from .screening import Context
+
+log = logging.getLogger(__name__)
+
+
+def governing_records(ds: xr.Dataset) -> np.ndarray:
+    """Index of the governing record of every block (-1 where no record was screened)."""
+    ok = ds["status"].values == "ok"
+    out = np.full(ds.sizes["block"], -1)
+    if not ok.any():
+        return out
+    sim = ds["overturn_simulated"].values == 1
+    crit = ds["overturn_criterion"].values == 1
+    theta = np.nan_to_num(ds["theta_max"].values, nan=-1.0, posinf=1e300)
+    energy = np.nan_to_num(ds["energy_ratio"].values, nan=-1.0, posinf=1e300)
+    rows = np.flatnonzero(ok)
+    for j in range(ds.sizes["block"]):
+        # lexsort: last key is primary; the last element of the order is the worst scene
+        order = np.lexsort((energy[rows, j], theta[rows, j], crit[rows, j], sim[rows, j]))
+        out[j] = rows[order[-1]]
+    return out
+
+
+def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
+    """Blocks whose governing scene overturns by the simulation or by the criterion."""
+    cols = np.arange(ds.sizes["block"])
+    has = rec_index >= 0
+    r = np.where(has, rec_index, 0)
+    sim = ds["overturn_simulated"].values[r, cols] == 1
+    crit = ds["overturn_criterion"].values[r, cols] == 1
+    return has & (sim | crit)
+
+
+def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: float, alpha: float, e: float,
+                             R_m: float, mu: float, g_ms2: float, settings,
+                             overturns_at_one: bool | None = None) -> tuple[float, int]:
+    """Smallest factor on the record under which the block overturns (upward scan).
+
+    Parameters
+    ----------
+    ah_ms2, av_ms2 : ndarray
+        Horizontal acceleration along the block's direction and vertical (or None) [m s-2].
+    dt_s : float
+        Sampling interval [s].
+    p, alpha, e, R_m, mu : float
+        Block frequency parameter [rad s-1], slenderness [rad], restitution [-], corner distance [m],
+        friction [-].
+    settings : SimulationConfig
+        ``margin_step`` and ``margin_max_factor``, and the integration settings.
+    overturns_at_one : bool, optional
+        The simulated verdict of the unscaled record, when already known.
+
+    Returns
+    -------
+    scale : float
+        The first factor of the scan that overturns; ``inf`` when none up to
+        ``margin_max_factor``; NaN for blocks the rocking model does not apply to
+        (sliding or squat blocks never overturn in it).
+    runs : int
+        Scenes simulated.
+    """
+    if not (mu > math.tan(alpha) and bool(rocking_applicable(alpha))):
+        return math.nan, 0
+    tan_a = math.tan(alpha)
+    lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
+    if not np.any(lift > 0):
+        return math.inf, 0
+    f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
+
+    def overturns(factor: float) -> bool:
+        av = None if av_ms2 is None else factor * av_ms2
+        return simulate_scene(factor * ah_ms2, av, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
+                              settings=settings).overturned
+
+    runs = 0
+    while f < 1.0:
+        runs += 1
+        if overturns(f):
+            return f, runs
+        f *= 1.0 + settings.margin_step
+    if overturns_at_one is None:
+        runs += 1
+        overturns_at_one = overturns(1.0)
+    if overturns_at_one:
+        return 1.0, runs
+    f = 1.0 + settings.margin_step
+    while f <= settings.margin_max_factor:
+        runs += 1
+        if overturns(f):
+            return f, runs
+        f *= 1.0 + settings.margin_step
+    return math.inf, runs
+
+
+def theta_history(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
+                  g_ms2: float, settings) -> np.ndarray | None:
+    """theta(t) / alpha at every sample of the scene, or None where nothing rocks."""
+    physics = plan(ah_ms2, av_ms2, alpha=alpha, mu=mu, g_ms2=g_ms2, vertical_fraction=settings.vertical_fraction)
+    if physics not in (PHYSICS["rocking"], PHYSICS["rocking_vertical"]):
+        return None
+    av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
+    res = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
+               history=True)
+    return res.theta / alpha
+
+
+def margin_task(item: tuple, ctx: Context) -> dict:
+    """One record and the blocks it governs: their margins and, for those at risk, theta(t)/alpha.
+
+    ``item`` is ``(source, [(block_id, direction_deg, overturned, want_history), ...])``.
+    Returns ``{block_id: (scale, runs, history or None, dt_s)}``, or ``{"error": reason}``.
+    """
+    source, blocks = item
+    cfg = ctx.config
+    g = cfg.records.g_ms2
+    try:
+        rec = load_record(source, root=ctx.root, config=cfg, declared=ctx.declared_units,
+                          inventory=ctx.station_inventory)
+    except RockscreenError as exc:
+        return {"error": str(exc)}
+    inv = ctx.inventory
+    geom = inv.geometry(g_ms2=g)
+    e = inv.effective_restitution(geom)
+    index = {b: k for k, b in enumerate(inv.ids)}
+    out = {}
+    for block_id, direction, overturned, want_history in blocks:
+        j = index[block_id]
+        ah = rec.along(float(direction))
+        kw = dict(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]),
+                  mu=float(inv.mu[j]), g_ms2=g, settings=cfg.simulation)
+        scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, overturns_at_one=overturned, **kw)
+        history = theta_history(ah, rec.vertical_ms2, rec.dt_s, **kw) if want_history else None
+        out[block_id] = (scale, runs, history, rec.dt_s)
+    return out
+
+
+def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, executor) -> tuple:
+    """Governing record, both margins and the at-risk histories of every block.
+
+    Returns
+    -------
+    ds : xarray.Dataset
+        ``ds`` with per-block ``governing_record``, ``overturn_scale``,
+        ``overturn_scale_simulated`` and ``margin_simulations``.
+    histories : xarray.Dataset
+        theta(t)/alpha of the governing scene of every block at risk (CF ragged array).
+    summary : dict
+        ``simulations`` (scenes run by the scans) and ``unavailable`` (record ids whose
+        files could not be loaded again).
+    """
+    from .store import apply_schema
+
+    rec_index = governing_records(ds)
+    risky = at_risk(ds, rec_index)
+    nb = ds.sizes["block"]
+    cols = np.arange(nb)
+    r = np.where(rec_index >= 0, rec_index, 0)
+    record_ids = ds["record"].values
+    governing = np.array([record_ids[i] if i >= 0 else "" for i in rec_index], dtype=object)
+    crit_scale = np.where(rec_index >= 0, ds["criterion_scale"].values[r, cols], np.nan)
+    sim_scale = np.full(nb, np.nan)
+    runs = np.full(nb, -1, dtype="i4")
+    histories: dict[str, tuple] = {}
+    items = {}
+    for j in np.flatnonzero(rec_index >= 0):
+        rid = str(record_ids[rec_index[j]])
+        direction = float(ds["block_pulse_azimuth"].values[rec_index[j], j])
+        if not np.isfinite(direction):
+            continue
+        overturned = bool(ds["overturn_simulated"].values[rec_index[j], j] == 1)
+        items.setdefault(rid, []).append((str(ds["block"].values[j]), direction, overturned, bool(risky[j])))
+    unavailable = [rid for rid in items if rid not in sources]
+    tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
+    position = {b: k for k, b in enumerate(ds["block"].values.tolist())}
+    for (source, _), result in executor.map_unordered(margin_task, tasks, ctx):
+        if isinstance(result, Exception) or "error" in result:
+            log.warning("record %s: no margins (%s)", source.record_id,
+                        result if isinstance(result, Exception) else result["error"])
+            unavailable.append(source.record_id)
+            continue
+        for block_id, (scale, n, history, dt) in result.items():
+            k = position[block_id]
+            sim_scale[k], runs[k] = scale, n
+            if history is not None:
+                histories[block_id] = (history, dt, source.record_id)
+    ds = ds.copy()
+    ds["governing_record"] = (("block",), governing)
+    ds["overturn_scale"] = (("block",), crit_scale)
+    ds["overturn_scale_simulated"] = (("block",), sim_scale)
+    ds["margin_simulations"] = (("block",), runs)
+    ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, x(1 + "
+                                   f"{ctx.config.simulation.margin_step:g}) per step, up to "
+                                   f"{ctx.config.simulation.margin_max_factor:g}; no bisection")
+    return apply_schema(ds), history_dataset(histories), {"simulations": int(runs[runs > 0].sum()),
+                                                         "unavailable": sorted(set(unavailable))}
+
+
+def history_dataset(histories: dict) -> xr.Dataset:
+    """theta(t)/alpha per block as a CF contiguous ragged array (featureType timeSeries)."""
+    ids = sorted(histories)
+    sizes = np.array([histories[b][0].size for b in ids], dtype="i4")
+    data = np.concatenate([histories[b][0] for b in ids]) if ids else np.zeros(0)
+    return xr.Dataset(
+        {"block_id": (("station",), np.array(ids, dtype=str), {"cf_role": "timeseries_id", "long_name": "block"}),
+         "governing_record": (("station",), np.array([histories[b][2] for b in ids], dtype=str),
+                              {"long_name": "governing record of the block"}),
+         "row_size": (("station",), sizes, {"sample_dimension": "sample", "long_name": "samples per block"}),
+         "dt": (("station",), np.array([histories[b][1] for b in ids], dtype=float),
+                {"units": "s", "long_name": "sampling interval"}),
+         "theta_over_alpha": (("sample",), data.astype("f4"),
+                              {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
+                               "comment": "NaN after overturning"})},
+        attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})

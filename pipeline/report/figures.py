@@ -1,0 +1,111 @@
+"""Figures of the asset-risk report, returned as PNG bytes for embedding.
+
+* :func:`scenes_chart`: the reference paper's normalized stability chart
+  (Fig. 4) with every (record, block) scene as a point, coloured by the
+  simulated response: a_p / (g tan alpha) against t_p over the block's
+  transition duration. In these coordinates the criterion's boundary is the
+  same for every block: the uplift line y = 1 and the energy hyperbola
+  x y = 1 (Eqs. 1, 5 and 7).
+* :func:`theta_figure`: theta(t) / alpha of an asset's governing scene.
+* :func:`pulse_figure`: original velocity, extracted pulse and residual.
+
+References
+----------
+Reference paper (../shared/papers/000_d93111b78a095782.txt), Fig. 4 and Eq. 7.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+#: Colour and label of each simulated response code (store.SCHEMA "response").
+RESPONSE_STYLE = {4: ("tab:red", "overturn"), 3: ("tab:orange", "slide + rock"), 2: ("tab:blue", "rock"),
+                  1: ("tab:green", "slide"), 0: ("0.6", "rest"), -1: ("0.85", "not simulated")}
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def png_bytes(fig) -> bytes:
+    """Render a matplotlib figure to PNG and close it."""
+    plt = _pyplot()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
+    """Normalized stability chart with one point per scene.
+
+    Parameters
+    ----------
+    x : ndarray
+        t_p over the block's transition duration [-] (``normalized_duration``).
+    y : ndarray
+        a_p over the uplift acceleration g tan(alpha) [-] (``normalized_acceleration``).
+    response : ndarray of int
+        Simulated response code per scene.
+    """
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
+    ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
+    lo = min(0.05, float(np.min(x[ok])) / 1.5) if ok.any() else 0.05
+    hi = max(20.0, float(np.max(x[ok])) * 1.5) if ok.any() else 20.0
+    xs = np.geomspace(lo, hi, 400)
+    ax.fill_between(xs, np.maximum(1.0, 1.0 / xs), 1e3, color="tab:red", alpha=0.07,
+                    label="overturns by the criterion")
+    ax.plot(xs, np.maximum(1.0, 1.0 / xs), color="tab:red", lw=2, label="criterion boundary (Eq. 7)")
+    for code, (colour, label) in RESPONSE_STYLE.items():
+        sel = ok & (response == code)
+        if sel.any():
+            ax.scatter(x[sel], y[sel], s=14, color=colour, edgecolor="k", linewidth=0.3,
+                       label=f"{label} ({int(sel.sum())})", zorder=3)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ymax = max(10.0, float(np.max(y[ok])) * 1.5) if ok.any() else 10.0
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(min(0.05, float(np.min(y[ok])) / 1.5) if ok.any() else 0.05, ymax)
+    ax.set_xlabel("pulse duration / transition duration, t_p / t_bar")
+    ax.set_ylabel("pulse acceleration / uplift acceleration, a_p / (g tan alpha)")
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=8, loc="upper right", title="simulated response", title_fontsize=8)
+    ax.set_title(f"Every screened scene ({int(ok.sum())} with an extracted pulse)", fontsize=10)
+    return png_bytes(fig)
+
+
+def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:
+    """theta(t) / alpha of one scene; the overturning limits at +-pi/(2 alpha) are off the scale."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 2.6), constrained_layout=True)
+    t = np.arange(theta_over_alpha.size) * dt_s
+    ax.plot(t, theta_over_alpha, color="k", lw=0.8)
+    ax.axhline(1.0, color="tab:red", lw=0.8, ls="--")
+    ax.axhline(-1.0, color="tab:red", lw=0.8, ls="--")
+    finite = np.isfinite(theta_over_alpha)
+    if finite.any() and not finite.all():
+        t_end = t[np.flatnonzero(finite)[-1]]
+        ax.axvline(t_end, color="tab:red", lw=1.5)
+        ax.text(t_end, 0, " overturns", color="tab:red", va="center", fontsize=8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("theta / alpha")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    return png_bytes(fig)
+
+
+def pulse_figure(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, title: str) -> bytes:
+    """Original velocity, extracted pulse and residual [cm/s] (Shahi & Baker's ``make_plot``)."""
+    from .pulse_plot import pulse_axes
+
+    plt = _pyplot()
+    fig = pulse_axes(plt, velocity_ms, pulse_ms, dt_s, title=title, figsize=(7.5, 4.2))
+    return png_bytes(fig)

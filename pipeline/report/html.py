@@ -1,0 +1,212 @@
+"""The asset-risk report: ``OUT/report.html`` (one self-contained page) and ``OUT/assets.csv``.
+
+Built from the results files alone (``screening.nc``, and next to it
+``pulses.nc`` and ``histories.nc`` when present), so ``screen report`` can
+regenerate it without the records. Figures are PNG embedded as data URIs;
+the page loads nothing from the network. Tables sort on a click (a few
+lines of inline script); the same script marks every figure that rendered
+(``data-rendered``) and shows a visible warning for any that did not.
+
+Recommendation rule (per asset, on its governing record; thresholds here):
+
+* simulated margin <= 1: "restrain or anchor" (it overturns under the record);
+* simulated margin <= :data:`RELOCATE_BELOW_SCALE`, or the criterion says it
+  overturns: "restrain, or relocate" (little margin, or the heuristic flags it);
+* the governing scene slides (or the pure-rocking friction demand exceeds mu):
+  "limit sliding";
+* otherwise "no action".
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import figures
+
+#: A simulated margin below this factor calls for restraint or relocation [-].
+RELOCATE_BELOW_SCALE = 1.5
+#: Responses (store.SCHEMA "response") that call for limiting sliding.
+SLIDING_RESPONSES = {1: "slide", 3: "slide_rock"}
+RESPONSE_NAMES = {-1: "not simulated", 0: "rest", 1: "slide", 2: "rock", 3: "slide_rock", 4: "overturn"}
+PHYSICS_NAMES = {-1: "not simulated", 0: "none", 1: "sliding", 2: "rocking", 3: "rocking_vertical"}
+VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
+
+ASSET_COLUMNS = ("rank", "block", "name", "site", "h_m", "b_m", "R_m", "alpha_deg", "p_rad_s", "mu",
+                 "governing_record", "verdict_criterion", "verdict_simulation", "theta_max_over_alpha",
+                 "response", "physics", "overturn_scale_criterion", "overturn_scale_simulated", "recommendation")
+
+
+def recommendation(*, sim_scale: float, crit_overturns: bool, response: int) -> str:
+    """The action for one asset (see the module docstring for the rule)."""
+    if np.isfinite(sim_scale) and sim_scale <= 1.0:
+        return "restrain or anchor: overturns under the governing record"
+    if (np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE) or crit_overturns:
+        why = (f"overturns with the record x{sim_scale:.2f}" if np.isfinite(sim_scale)
+               and sim_scale <= RELOCATE_BELOW_SCALE else "the paper's criterion predicts overturning")
+        return f"restrain, or relocate: {why}"
+    if response in SLIDING_RESPONSES:
+        return "limit sliding (friction pads or a restraint)"
+    return "no action"
+
+
+def asset_rows(ds: xr.Dataset) -> list[dict]:
+    """One row per block, sorted by risk (smallest simulated margin first)."""
+    rows = []
+    rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
+    for j, block in enumerate(ds["block"].values.tolist()):
+        gov = str(ds["governing_record"].values[j]) if "governing_record" in ds else ""
+        i = rec_pos.get(gov)
+        at = (lambda name, default=np.nan: ds[name].values[i, j] if i is not None else default)  # noqa: E731
+        sim_scale = float(ds["overturn_scale_simulated"].values[j])
+        crit_scale = float(ds["overturn_scale"].values[j])
+        crit = int(at("overturn_criterion", -1))
+        sim = int(at("overturn_simulated", -1))
+        response = int(at("response", -1))
+        rows.append({
+            "block": block, "name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
+            "h_m": float(ds["half_height"].values[j]), "b_m": float(ds["half_width"].values[j]),
+            "R_m": float(ds["corner_distance"].values[j]), "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
+            "p_rad_s": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
+            "governing_record": gov, "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
+            "theta_max_over_alpha": float(at("theta_max")), "response": RESPONSE_NAMES[response],
+            "physics": PHYSICS_NAMES[int(at("physics", -1))],
+            "overturn_scale_criterion": crit_scale, "overturn_scale_simulated": sim_scale,
+            "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response),
+        })
+    key = lambda r: (np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),  # noqa: E731
+                     np.nan_to_num(r["overturn_scale_criterion"], nan=np.inf),
+                     -np.nan_to_num(r["theta_max_over_alpha"], nan=-1.0))
+    rows.sort(key=key)
+    for k, r in enumerate(rows, 1):
+        r["rank"] = k
+    return rows
+
+
+def write_assets_csv(rows: list[dict], path: Path) -> Path:
+    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit')."""
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.DictWriter(fh, fieldnames=ASSET_COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({c: r[c] for c in ASSET_COLUMNS})
+    return path
+
+
+def _data_uri(png: bytes) -> str:
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[dict]:
+    series = {}
+    if pulses is not None and pulses.sizes.get("station", 0):
+        ends = np.cumsum(pulses["row_size"].values)
+        for k, rid in enumerate(pulses["record_id"].values.tolist()):
+            a, b = ends[k] - pulses["row_size"].values[k], ends[k]
+            series[rid] = (pulses["velocity"].values[a:b].astype(float), pulses["pulse"].values[a:b].astype(float),
+                           float(pulses["dt"].values[k]))
+    rows = []
+    g = 9.80665
+    for i, rid in enumerate(ds["record"].values.tolist()):
+        val = lambda name: ds[name].values[i] if name in ds else np.nan  # noqa: E731
+        is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
+        row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / g,
+               "pgv_cms": 100 * float(val("pgv")), "tp_s": float(val("pulse_period")),
+               "pi": float(val("pulse_indicator")),
+               "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
+               "azimuth_deg": float(val("pulse_azimuth")), "figure": None}
+        if rid in series:
+            v, p, dt = series[rid]
+            row["figure"] = _data_uri(figures.pulse_figure(v, p, dt, title=rid))
+        rows.append(row)
+    return rows
+
+
+def _histories(path: Path) -> dict:
+    if not path.is_file():
+        return {}
+    from ..store import open_results
+
+    h = open_results(path)
+    ends = np.cumsum(h["row_size"].values)
+    out = {}
+    for k, bid in enumerate(h["block_id"].values.tolist()):
+        a, b = ends[k] - h["row_size"].values[k], ends[k]
+        out[bid] = (h["theta_over_alpha"].values[a:b].astype(float), float(h["dt"].values[k]),
+                    str(h["governing_record"].values[k]))
+    return out
+
+
+def build_report(results_path: str | Path, out_dir: str | Path | None = None) -> tuple[Path, Path]:
+    """Write ``report.html`` and ``assets.csv`` next to ``results_path`` (or in ``out_dir``).
+
+    Raises
+    ------
+    ResultsError
+        If the results file is missing, unreadable, or has no margins (written by a
+        rockscreen older than the report).
+    """
+    from jinja2 import Environment, PackageLoader, select_autoescape
+
+    from ..errors import ResultsError
+    from ..store import open_results
+
+    results_path = Path(results_path)
+    ds = open_results(results_path)
+    if "overturn_scale_simulated" not in ds:
+        raise ResultsError(f"{results_path}: no margins (overturn_scale_simulated); re-run 'screen' with this "
+                           "version to compute them, then 'screen report'")
+    out_dir = Path(out_dir) if out_dir is not None else results_path.parent
+    out_dir.mkdir(parents=True, exist_ok=True)
+    pulses_path = results_path.parent / "pulses.nc"
+    pulses = open_results(pulses_path) if pulses_path.is_file() else None
+    assets = asset_rows(ds)
+    histories = _histories(results_path.parent / "histories.nc")
+    for r in assets:
+        h = histories.get(r["block"])
+        r["figure"] = None if h is None else _data_uri(figures.theta_figure(
+            h[0], h[1], title=f"{r['block']} under {h[2]}: theta / alpha"))
+    ok = ds["status"].values == "ok"
+    resp = ds["response"].values
+    chart = _data_uri(figures.scenes_chart(ds["normalized_duration"].values.ravel(),
+                                           ds["normalized_acceleration"].values.ravel(), resp.ravel()))
+    counts = {}
+    for r in assets:
+        counts[r["recommendation"].split(":")[0]] = counts.get(r["recommendation"].split(":")[0], 0) + 1
+    summary = {
+        "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
+        "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
+        "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
+        "blocks": ds.sizes["block"],
+        "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
+        "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
+        "by_recommendation": sorted(counts.items(), key=lambda kv: -kv[1]),
+        "scenes": int(ok.sum()) * ds.sizes["block"],
+    }
+    env = Environment(loader=PackageLoader("pipeline.report", "templates"),
+                      autoescape=select_autoescape(["html", "j2"]))
+    env.filters["num"] = _num
+    html = env.get_template("report.html.j2").render(
+        title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
+        records=_record_rows(ds, pulses), chart=chart)
+    html_path = out_dir / "report.html"
+    html_path.write_text(html, encoding="utf-8")
+    return html_path, write_assets_csv(assets, out_dir / "assets.csv")
+
+
+def _num(x, digits: int = 3) -> str:
+    """A number for a table cell: '' for NaN, 'none up to the limit' for inf."""
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return str(x)
+    if math.isnan(x):
+        return ""
+    if math.isinf(x):
+        return "> limit"
+    return f"{x:.{digits}g}"
