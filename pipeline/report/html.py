@@ -31,6 +31,8 @@ from . import figures
 
 #: A simulated margin below this factor calls for restraint or relocation [-].
 RELOCATE_BELOW_SCALE = 1.5
+#: theta(t)/alpha figures drawn, riskiest assets first (all histories stay in histories.nc).
+MAX_HISTORY_FIGURES = 60
 #: Responses (store.SCHEMA "response") that call for limiting sliding.
 SLIDING_RESPONSES = {1: "slide", 3: "slide_rock"}
 RESPONSE_NAMES = {-1: "not simulated", 0: "rest", 1: "slide", 2: "rock", 3: "slide_rock", 4: "overturn"}
@@ -167,10 +169,13 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
     pulses = open_results(pulses_path) if pulses_path.is_file() else None
     assets = asset_rows(ds)
     histories = _histories(results_path.parent / "histories.nc")
-    for r in assets:
+    drawn = 0
+    for r in assets:                       # in risk order: the riskiest assets get the figures
         h = histories.get(r["block"])
-        r["figure"] = None if h is None else _data_uri(figures.theta_figure(
-            h[0], h[1], title=f"{r['block']} under {h[2]}: theta / alpha"))
+        r["figure"] = None
+        if h is not None and drawn < MAX_HISTORY_FIGURES:
+            r["figure"] = _data_uri(figures.theta_figure(h[0], h[1], title=f"{r['block']} under {h[2]}: theta / alpha"))
+            drawn += 1
     ok = ds["status"].values == "ok"
     resp = ds["response"].values
     chart = _data_uri(figures.scenes_chart(ds["normalized_duration"].values.ravel(),
@@ -187,6 +192,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": sorted(counts.items(), key=lambda kv: -kv[1]),
         "scenes": int(ok.sum()) * ds.sizes["block"],
+        "histories": len(histories), "histories_drawn": drawn,
     }
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
