@@ -79,31 +79,17 @@ def record_key(record_id: str, content_sha256: str, run: str) -> str:
     return hashlib.sha256(f"{record_id}\n{content_sha256}\n{run}".encode()).hexdigest()[:40]
 
 
-class SceneCache:
-    """Per-record result files under ``OUT/.rockscreen/cache``.
+class _NpzStore:
+    """A directory of ``.npz`` entries written atomically, with pruning of unused entries."""
 
-    Parameters
-    ----------
-    out_dir : path
-        The run's output directory.
-    run : str
-        The run key (:func:`run_key`).
-    """
+    what = "cache"
 
-    def __init__(self, out_dir: str | Path, run: str):
-        self.dir = Path(out_dir) / STATE_DIR / "cache"
-        self.run = run
+    def __init__(self, directory: Path):
+        self.dir = directory
         self.used: set[str] = set()
         self.write_errors = 0
 
-    def path(self, record_id: str, content_sha256: str) -> Path:
-        return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
-
-    def load(self, record_id: str, content_sha256: str):
-        """The cached result of a record, or None (missing, unreadable or of another layout)."""
-        from .screening import RecordResult
-
-        path = self.path(record_id, content_sha256)
+    def _read(self, path: Path) -> dict | None:
         self.used.add(path.name)
         if not path.is_file():
             return None
@@ -111,51 +97,29 @@ class SceneCache:
             with np.load(path, allow_pickle=False) as z:
                 if int(z["entry_format"]) != ENTRY_FORMAT:
                     return None
-                res = RecordResult(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
-                                   block_digests=tuple(z["block_digests"].tolist()))
-                for key in z.files:
-                    kind, _, name = key.partition(".")
-                    target = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}.get(kind)
-                    if target is None:
-                        continue
-                    arr = z[key]
-                    target[name] = arr.item() if arr.ndim == 0 else (
-                        arr.tolist() if kind == "c" else arr)
+                return {k: z[k] for k in z.files}
         except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
-            log.warning("%s: unreadable cache entry (%s); the record is screened again", path, exc)
+            log.warning("%s: unreadable %s entry (%s); it is computed again", path, self.what, exc)
             return None
-        return res
 
-    def save(self, result) -> None:
-        """Write one record's result atomically; a failure is logged, never raised.
-
-        The run goes on without the cache (the final write reports a full disk);
-        the results stay in memory.
-        """
-        path = self.path(result.record_id, result.values["content_sha256"])
+    def _write(self, path: Path, arrays: dict) -> None:
+        """Write atomically; a failure is logged once, never raised (the run goes on in memory)."""
         self.used.add(path.name)
-        arrays = {"entry_format": np.array(ENTRY_FORMAT), "record_id": np.array(result.record_id),
-                  "block_ids": np.array(result.block_ids, dtype=str),
-                  "block_digests": np.array(result.block_digests, dtype=str)}
-        for kind, table in (("v", result.values), ("c", result.components), ("b", result.blocks),
-                            ("s", result.series)):
-            for name, value in table.items():
-                arrays[f"{kind}.{name}"] = np.asarray(value)
         tmp = None
         try:
             self.dir.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".npz.tmp", dir=self.dir)
             os.chmod(tmp, default_file_mode())
             with os.fdopen(fd, "wb") as fh:
-                np.savez(fh, **arrays)
+                np.savez(fh, entry_format=np.array(ENTRY_FORMAT), **arrays)
             os.replace(tmp, path)
         except OSError as exc:
             self.write_errors += 1
             if tmp is not None:
                 Path(tmp).unlink(missing_ok=True)
             if self.write_errors == 1:
-                log.warning("%s: cannot save the scene cache (%s); results are kept in memory until the "
-                            "final write", self.dir, exc.strerror or exc)
+                log.warning("%s: cannot save the %s (%s); results are kept in memory until the final write",
+                            self.dir, self.what, exc.strerror or exc)
 
     def prune(self) -> int:
         """Delete entries not used by this run (other configurations, changed records); returns the count."""
@@ -170,6 +134,89 @@ class SceneCache:
                 except OSError:
                     pass
         return n
+
+
+class SceneCache(_NpzStore):
+    """Per-record result files under ``OUT/.rockscreen/cache``.
+
+    Parameters
+    ----------
+    out_dir : path
+        The run's output directory.
+    run : str
+        The run key (:func:`run_key`).
+    """
+
+    what = "scene cache"
+
+    def __init__(self, out_dir: str | Path, run: str):
+        super().__init__(Path(out_dir) / STATE_DIR / "cache")
+        self.run = run
+
+    def path(self, record_id: str, content_sha256: str) -> Path:
+        return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
+
+    def load(self, record_id: str, content_sha256: str):
+        """The cached result of a record, or None (missing, unreadable or of another layout)."""
+        from .screening import RecordResult
+
+        z = self._read(self.path(record_id, content_sha256))
+        if z is None:
+            return None
+        res = RecordResult(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
+                           block_digests=tuple(z["block_digests"].tolist()))
+        tables = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}
+        for key, arr in z.items():
+            kind, _, name = key.partition(".")
+            if kind in tables:
+                tables[kind][name] = arr.item() if arr.ndim == 0 else (arr.tolist() if kind == "c" else arr)
+        return res
+
+    def save(self, result) -> None:
+        """Write one record's result atomically; a failure is logged, never raised."""
+        arrays = {"record_id": np.array(result.record_id), "block_ids": np.array(result.block_ids, dtype=str),
+                  "block_digests": np.array(result.block_digests, dtype=str)}
+        for kind, table in (("v", result.values), ("c", result.components), ("b", result.blocks),
+                            ("s", result.series)):
+            for name, value in table.items():
+                arrays[f"{kind}.{name}"] = np.asarray(value)
+        self._write(self.path(result.record_id, result.values["content_sha256"]), arrays)
+
+    def margins(self) -> "MarginCache":
+        """The margin cache of the same output and run key."""
+        return MarginCache(self.dir.parent / "margins", self.run)
+
+
+class MarginCache(_NpzStore):
+    """Margin scans (``pipeline.margins``) per (governing record, block), under ``OUT/.rockscreen/margins``.
+
+    The key hashes the record's cache key (id, content, run key) with the block's inventory
+    digest: everything a margin and its history depend on.
+    """
+
+    what = "margin cache"
+
+    def __init__(self, directory: Path, run: str):
+        super().__init__(directory)
+        self.run = run
+
+    def path(self, record_id: str, content_sha256: str, block_sha256: str) -> Path:
+        key = hashlib.sha256(f"{record_key(record_id, content_sha256, self.run)}\n{block_sha256}".encode())
+        return self.dir / f"{key.hexdigest()[:40]}.npz"
+
+    def get(self, record_id: str, content_sha256: str, block_sha256: str):
+        """(scale, runs, history or None, dt) or None."""
+        z = self._read(self.path(record_id, content_sha256, block_sha256))
+        if z is None:
+            return None
+        history = z["history"] if z["history"].size else None
+        return float(z["scale"]), int(z["runs"]), history, float(z["dt"])
+
+    def put(self, record_id: str, content_sha256: str, block_sha256: str, value: tuple) -> None:
+        scale, runs, history, dt = value
+        self._write(self.path(record_id, content_sha256, block_sha256),
+                    {"scale": np.array(scale), "runs": np.array(runs), "dt": np.array(dt),
+                     "history": np.zeros(0) if history is None else np.asarray(history)})
 
 
 def merge(old, new):

@@ -143,7 +143,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                                           declared_units=declared, stationxml_sha256=stationxml_sha,
                                           progress=_progress(args.quiet))
                 t_margin = time.perf_counter()
-                ds, histories, margin_summary = add_margins(ds, summary["sources"], summary["context"], executor)
+                margin_cache = summary["cache"].margins()
+                ds, histories, margin_summary = add_margins(ds, summary["sources"], summary["context"], executor,
+                                                            cache=margin_cache)
                 summary["margins"] = dict(margin_summary, wall_time_s=time.perf_counter() - t_margin)
             ds.attrs.update(_provenance(args, argv, config))
             for side in (pulses, histories):
@@ -152,6 +154,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
             write_atomic(histories, out_dir / "histories.nc")
             out = write_atomic(ds, out_dir / "screening.nc")      # the main file last
             summary["cache"].prune()
+            margin_cache.prune()
             report, assets = build_report(out)
     except KeyboardInterrupt:
         cache_dir = out_dir / ".rockscreen" / "cache"
@@ -162,7 +165,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         return EXIT_INTERRUPTED
     _print_summary(summary, out)
     m = summary["margins"]
-    print(f"margins: {m['simulations']} scaled scenes simulated in {m['wall_time_s']:.1f} s"
+    print(f"margins: {m['computed']} scanned, {m['reused']} reused ({m['simulations']} scaled scenes behind them); "
+          f"{m['wall_time_s']:.1f} s"
           + (f"; records no longer readable for margins: {', '.join(m['unavailable'])}" if m["unavailable"] else ""),
           file=sys.stderr)
     print(f"wrote {report} and {assets}", file=sys.stderr)

@@ -173,8 +173,12 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     return out
 
 
-def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, executor) -> tuple:
+def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, executor, *,
+                cache=None) -> tuple:
     """Governing record, both margins and the at-risk histories of every block.
+
+    With a :class:`pipeline.cache.MarginCache`, scans already done for the same record
+    content, block and run key are reused, and new ones are saved as they return.
 
     Returns
     -------
@@ -184,7 +188,8 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     histories : xarray.Dataset
         theta(t)/alpha of the governing scene of every block at risk (CF ragged array).
     summary : dict
-        ``simulations`` (scenes run by the scans) and ``unavailable`` (record ids whose
+        ``simulations`` (scaled scenes behind the margins), ``computed`` and ``reused``
+        (margins scanned now or taken from the cache) and ``unavailable`` (record ids whose
         files could not be loaded again).
     """
     from .store import apply_schema
@@ -201,27 +206,43 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     runs = np.full(nb, -1, dtype="i4")
     histories: dict[str, tuple] = {}
     items = {}
+    content = dict(zip(record_ids.tolist(), ds["content_sha256"].values.tolist())) if "content_sha256" in ds else {}
+    block_ids = ds["block"].values.tolist()
+    digest = dict(zip(block_ids, ds["block_sha256"].values.tolist()))
+
+    def keep(j: int, rid: str, value: tuple) -> None:
+        scale, n, history, dt = value
+        sim_scale[j], runs[j] = scale, n
+        if history is not None:
+            histories[block_ids[j]] = (history, dt, rid)
+
+    reused = 0
     for j in np.flatnonzero(rec_index >= 0):
         rid = str(record_ids[rec_index[j]])
         direction = float(ds["block_pulse_azimuth"].values[rec_index[j], j])
         if not np.isfinite(direction):
             continue
+        hit = cache.get(rid, content[rid], digest[block_ids[j]]) if cache is not None else None
+        if hit is not None:
+            keep(j, rid, hit)
+            reused += 1
+            continue
         overturned = bool(ds["overturn_simulated"].values[rec_index[j], j] == 1)
-        items.setdefault(rid, []).append((str(ds["block"].values[j]), direction, overturned, bool(risky[j])))
+        items.setdefault(rid, []).append((block_ids[j], direction, overturned, bool(risky[j])))
     unavailable = [rid for rid in items if rid not in sources]
     tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
-    position = {b: k for k, b in enumerate(ds["block"].values.tolist())}
+    position = {b: k for k, b in enumerate(block_ids)}
     for (source, _), result in executor.map_unordered(margin_task, tasks, ctx):
         if isinstance(result, Exception) or "error" in result:
             log.warning("record %s: no margins (%s)", source.record_id,
                         result if isinstance(result, Exception) else result["error"])
             unavailable.append(source.record_id)
             continue
-        for block_id, (scale, n, history, dt) in result.items():
-            k = position[block_id]
-            sim_scale[k], runs[k] = scale, n
-            if history is not None:
-                histories[block_id] = (history, dt, source.record_id)
+        rid = source.record_id
+        for block_id, value in result.items():
+            keep(position[block_id], rid, value)
+            if cache is not None:
+                cache.put(rid, content[rid], digest[block_id], value)
     ds = ds.copy()
     ds["governing_record"] = (("block",), governing)
     ds["overturn_scale"] = (("block",), crit_scale)
@@ -230,8 +251,10 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, x(1 + "
                                    f"{ctx.config.simulation.margin_step:g}) per step, up to "
                                    f"{ctx.config.simulation.margin_max_factor:g}; no bisection")
-    return apply_schema(ds), history_dataset(histories), {"simulations": int(runs[runs > 0].sum()),
-                                                         "unavailable": sorted(set(unavailable))}
+    computed = sum(len(blocks) for _, blocks in tasks)
+    return apply_schema(ds), history_dataset(histories), {
+        "simulations": int(runs[runs > 0].sum()), "reused": reused, "computed": computed,
+        "unavailable": sorted(set(unavailable))}
 
 
 def history_dataset(histories: dict) -> xr.Dataset:

@@ -219,7 +219,7 @@ def remove_stale_temporaries(out_dir: str | Path) -> int:
     """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
     out = Path(out_dir)
     n = 0
-    for pattern in (".*.nc.*.tmp", ".rockscreen/cache/.entry.*.npz.tmp"):
+    for pattern in (".*.nc.*.tmp", ".rockscreen/*/.entry.*.npz.tmp"):
         for p in out.glob(pattern):
             _remove_quietly(p)
             n += 1

@@ -78,7 +78,9 @@ def test_rerun_reuses_everything_and_changes_nothing(few_records, blocks_csv, tm
     first = open_results(out / "screening.nc")
     assert "6 screened, 0 reused" in summary_line(capsys)
     assert screen(few_records, blocks_csv, out) == EXIT_OK
-    assert "0 screened, 6 reused" in summary_line(capsys)
+    err = capsys.readouterr().err
+    assert "0 screened, 6 reused" in err
+    assert "margins: 0 scanned, 14 reused" in err            # the margin scans are cached too
     second = open_results(out / "screening.nc")
     assert_same_results(first, second)
     # reused records keep the time they were screened
@@ -406,5 +408,5 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     capsys.readouterr()
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     assert "1 screened, 5 reused" in summary_line(capsys)
-    assert "unreadable cache entry" in caplog.text
+    assert "unreadable scene cache entry" in caplog.text
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
