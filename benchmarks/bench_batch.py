@@ -7,8 +7,9 @@ The 1000 blocks are drawn once with a fixed seed over the range of the
 sample inventory: full height 0.3-4 m, slenderness alpha 0.08-0.6 rad,
 friction 0.3-0.8, half with a blank azimuth (checked along the pulse).
 
-Each configuration runs the real ``screen`` command in a fresh process into
-an empty output, and the script prints what it measured:
+Each configuration runs the real ``screen`` command (screening, margins,
+report) in a fresh process into an empty output, and the script prints what
+it measured:
 
 * wall time, scenes computed per second and peak memory (the largest process and
   the sum over the process tree, sampled every 0.05 s) for serial, ``-n 2``
@@ -95,7 +96,7 @@ def timed_run(args: list[str]) -> dict:
     err = proc.stderr.read()
     if proc.returncode not in (0, 1):
         raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
-    summary = next((line for line in err.splitlines() if line.startswith("records:")), "")
+    summary = "\n    ".join(line for line in err.splitlines() if line.startswith(("records:", "margins:")))
     return {"wall_s": wall, "peak_one_mb": peak_one / 2**20, "peak_sum_mb": peak_sum / 2**20, "summary": summary}
 
 
@@ -142,7 +143,7 @@ def main() -> None:
         for name, extra in configs:
             out = tmp / f"out-{len(extra)}-{name.split()[0]}"
             r = timed_run(["--records", str(tmp / "records"), "--blocks", str(blocks), "--out", str(out), *extra])
-            computed = int(r["summary"].split("scenes computed: ")[1].split(";")[0])
+            computed = int(r["summary"].split("scenes computed: ")[1].split(";")[0])      # screened scenes
             print(f"{name:24s} {r['wall_s']:8.1f} {computed / r['wall_s']:9.0f} "
                   f"{r['peak_one_mb']:14.0f} / {r['peak_sum_mb']:.0f}")
             print(f"    {r['summary']}")
