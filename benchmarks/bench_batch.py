@@ -143,7 +143,7 @@ def main() -> None:
         for name, extra in configs:
             out = tmp / f"out-{len(extra)}-{name.split()[0]}"
             r = timed_run(["--records", str(tmp / "records"), "--blocks", str(blocks), "--out", str(out), *extra])
-            computed = int(r["summary"].split("scenes computed: ")[1].split(";")[0])      # screened scenes
+            computed = int(r["summary"].split("scenes computed: ")[1].split()[0])      # screened scenes
             print(f"{name:24s} {r['wall_s']:8.1f} {computed / r['wall_s']:9.0f} "
                   f"{r['peak_one_mb']:14.0f} / {r['peak_sum_mb']:.0f}")
             print(f"    {r['summary']}")

@@ -26,6 +26,7 @@ from importlib import metadata
 from pathlib import Path
 
 from . import __version__
+from .config import FIDELITY_TIERS
 from .errors import InventoryError, OutputError, OutputLockedError, RockscreenError
 
 log = logging.getLogger("pipeline")
@@ -62,6 +63,9 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     ex.add_argument("--scheduler", metavar="ADDRESS",
                     help="Dask: 'local' for a LocalCluster of N workers, or a scheduler address tcp://HOST:PORT "
                          "(the records directory must be readable by the workers at the same path)")
+    ex.add_argument("--fidelity", choices=FIDELITY_TIERS,
+                    help="criterion | screen | full | reference (default: [fidelity] tier, 'full'); "
+                         "the cost and error of each are measured by 'screen bench'")
     ex.add_argument("--force", action="store_true",
                     help="recompute every record and block (default: only what is new or changed)")
     p.add_argument("--tolerate-failures", action="store_true",
@@ -100,7 +104,8 @@ def _print_summary(summary: dict, out: Path) -> None:
     print(f"records: {s['records_ok']} ok ({s['records_screened']} screened, {s['records_reused']} reused"
           + (f", {s['records_vanished']} kept from the last run: files gone" if s["records_vanished"] else "")
           + f"), {s['records_failed']} failed; blocks: {s['blocks']} ({s['blocks_changed']} new or changed); "
-          f"scenes computed: {s['scenes_computed']}; {s['executor']}; wall time {s['wall_time_s']:.1f} s",
+          f"scenes computed: {s['scenes_computed']} at fidelity {s['fidelity']}; {s['executor']}; "
+          f"wall time {s['wall_time_s']:.1f} s",
           file=sys.stderr)
     print("scenes by physics: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_physics"].items())
           + "; by response: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_response"].items()),
@@ -121,6 +126,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     from .store import OutputLock, remove_stale_temporaries, write_atomic
 
     config = load_config(args.config)
+    if args.fidelity is not None:
+        config = config.with_tier(args.fidelity)
     inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
     if not args.records.is_dir():
         raise RockscreenError(f"{args.records}: records directory not found")
@@ -289,7 +296,40 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
-SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report)}
+def bench_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen bench``."""
+    p = argparse.ArgumentParser(prog="screen bench",
+                                description="Run every fidelity tier on the same scenes and measure time per scene "
+                                            "and agreement with the reference tier; also the cost of the simulation "
+                                            "settings. Writes bench.csv, bench.md and bench.png.")
+    p.add_argument("--records", type=Path, default=Path("records"), help="records directory (default: records/)")
+    p.add_argument("--blocks", type=Path, default=Path("configs/blocks.csv"),
+                   help="inventory CSV (default: configs/blocks.csv)")
+    p.add_argument("--out", type=Path, default=Path("bench"), help="output directory (default: bench/)")
+    p.add_argument("--config", type=Path, help="TOML configuration")
+    p.add_argument("--tiers-only", action="store_true", help="skip the sweep of the simulation settings")
+    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    return p
+
+
+def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen bench``: what accuracy costs in time."""
+    from .bench import markdown, run_bench
+    from .blocks import read_inventory
+    from .config import load_config
+
+    config = load_config(args.config)
+    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+    if not args.records.is_dir():
+        raise RockscreenError(f"{args.records}: records directory not found")
+    rows = run_bench(args.records, inventory, config, out_dir=args.out, settings_sweep=not args.tiers_only)
+    print(markdown(rows), end="")
+    print(f"wrote {args.out / 'bench.csv'}, {args.out / 'bench.md'} and {args.out / 'bench.png'}", file=sys.stderr)
+    return EXIT_OK
+
+
+SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
+               "bench": (bench_parser, cmd_bench)}
 
 
 def build_parser() -> argparse.ArgumentParser:

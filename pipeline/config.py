@@ -116,6 +116,32 @@ class SimulationConfig:
     margin_max_factor: float = 10.0
 
 
+#: Fidelity tiers, cheapest first (see :class:`FidelityConfig`).
+FIDELITY_TIERS = ("criterion", "screen", "full", "reference")
+
+
+@dataclass(frozen=True)
+class FidelityConfig:
+    """How much of the ladder of models a run climbs (``screen --fidelity``).
+
+    ``criterion``: the paper's criterion on the extracted pulse only, nothing simulated.
+    ``screen``: the criterion everywhere; the simulator only where the criterion's margin
+    (``criterion_scale``) is within [1/band, band] or undefined. ``full``: every scene that
+    the exact uplift / slip test does not rule out is simulated. ``reference``: as ``full``
+    with the tight ``reference_*`` integration settings. The default is the cheapest tier
+    with no measured miss on the bundled records (``screen bench``; README).
+    """
+
+    tier: str = "full"
+    #: ``screen`` tier: scenes with 1/band <= criterion_scale <= band are simulated [-].
+    band: float = 3.0
+    #: ``reference`` tier: relative and absolute tolerances, rest ratio and largest step (x 1/p).
+    reference_rtol: float = 1e-11
+    reference_atol: float = 1e-13
+    reference_rest_ratio: float = 1e-9
+    reference_max_step_p: float = 0.01
+
+
 @dataclass(frozen=True)
 class Config:
     """The whole configuration."""
@@ -126,6 +152,27 @@ class Config:
     pulses: PulsesConfig = field(default_factory=PulsesConfig)
     criteria: CriteriaConfig = field(default_factory=CriteriaConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    fidelity: FidelityConfig = field(default_factory=FidelityConfig)
+
+    def simulation_settings(self) -> SimulationConfig:
+        """The integration settings of the fidelity tier (tight ones for ``reference``)."""
+        if self.fidelity.tier != "reference":
+            return self.simulation
+        f = self.fidelity
+        return dataclasses.replace(self.simulation, rtol=f.reference_rtol, atol=f.reference_atol,
+                                   rest_ratio=f.reference_rest_ratio, max_step_p=f.reference_max_step_p)
+
+    def with_tier(self, tier: str) -> "Config":
+        """The same configuration at another fidelity tier.
+
+        Raises
+        ------
+        ConfigError
+            For an unknown tier.
+        """
+        if tier not in FIDELITY_TIERS:
+            raise ConfigError(f"fidelity {tier!r}: valid tiers are {list(FIDELITY_TIERS)}")
+        return dataclasses.replace(self, fidelity=dataclasses.replace(self.fidelity, tier=tier))
 
     def to_dict(self) -> dict:
         """Plain-data form (embedded in outputs, hashed for re-runs)."""
@@ -138,7 +185,8 @@ class Config:
 
 #: Keys whose string values are limited to a set.
 CHOICES = {("pulses",): {"method": ("shahi_baker_2014", "baker_2007")},
-           ("criteria",): {"form": FORMS}}
+           ("criteria",): {"form": FORMS},
+           ("fidelity",): {"tier": FIDELITY_TIERS}}
 
 
 def _check_value(section: str, key: str, value: Any, default: Any, where: str) -> Any:

@@ -166,7 +166,7 @@ def margin_task(item: tuple, ctx: Context) -> dict:
         j = index[block_id]
         ah = rec.along(float(direction))
         kw = dict(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]),
-                  mu=float(inv.mu[j]), g_ms2=g, settings=cfg.simulation)
+                  mu=float(inv.mu[j]), g_ms2=g, settings=cfg.simulation_settings())
         scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, overturns_at_one=overturned, **kw)
         history = theta_history(ah, rec.vertical_ms2, rec.dt_s, **kw) if want_history else None
         out[block_id] = (scale, runs, history, rec.dt_s)
@@ -217,7 +217,8 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
             histories[block_ids[j]] = (history, dt, rid)
 
     reused = 0
-    for j in np.flatnonzero(rec_index >= 0):
+    simulate = ctx.config.fidelity.tier != "criterion"      # the criterion tier simulates nothing
+    for j in np.flatnonzero((rec_index >= 0) & simulate):
         rid = str(record_ids[rec_index[j]])
         direction = float(ds["block_pulse_azimuth"].values[rec_index[j], j])
         if not np.isfinite(direction):

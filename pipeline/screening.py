@@ -147,8 +147,34 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight")
 
 
-def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dict:
-    """Plan and simulate every block of the inventory against one record."""
+def simulation_mask(block_values: dict, inventory: Inventory, config: Config) -> np.ndarray:
+    """Blocks the fidelity tier sends to the simulator for one record (``config.fidelity``).
+
+    ``criterion``: none. ``full`` and ``reference``: all (the planner still integrates nothing
+    where the ground neither lifts nor slides the block). ``screen``: the blocks whose
+    criterion margin ``criterion_scale`` lies in [1/band, band], or is undefined (no pulse,
+    squat block); outside the band the criterion's verdict stands.
+    """
+    nb = len(inventory)
+    tier = config.fidelity.tier
+    if tier == "criterion":
+        return np.zeros(nb, dtype=bool)
+    if tier != "screen" or "block_pulse_ap" not in block_values:
+        return np.ones(nb, dtype=bool)
+    g = config.records.g_ms2
+    geom = inventory.geometry(g_ms2=g)
+    scale = criteria.evaluate(block_values["block_pulse_ap"], block_values["block_pulse_tp"],
+                              block_values["block_pulse_beta"], block_values["block_pulse_dv"], R_m=geom.R,
+                              alpha=geom.alpha, p=geom.p, mu=inventory.mu, g_ms2=g,
+                              form=config.criteria.form)["criterion_scale"]
+    band = config.fidelity.band
+    with np.errstate(invalid="ignore", divide="ignore"):
+        clear = (scale < 1.0 / band) | (scale > band)          # NaN compares False: simulated
+    return ~clear
+
+
+def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None) -> dict:
+    """Plan and simulate the blocks in ``mask`` (default all) against one record."""
     inv, cfg = ctx.inventory, ctx.config
     g = cfg.records.g_ms2
     geom = inv.geometry(g_ms2=g)
@@ -156,12 +182,14 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context) -> dic
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
     av = rec.vertical_ms2
-    for d in np.unique(directions):
+    settings = cfg.simulation_settings()
+    mask = np.ones(nb, dtype=bool) if mask is None else mask
+    for d in np.unique(directions[mask]):
         ah = rec.along(float(d))
-        for j in np.flatnonzero(directions == d):
+        for j in np.flatnonzero((directions == d) & mask):
             sc = simulate_scene(ah, av, rec.dt_s, p=float(geom.p[j]), alpha=float(geom.alpha[j]),
                                 e=float(max(e[j], 0.0)), R_m=float(geom.R[j]), mu=float(inv.mu[j]), g_ms2=g,
-                                settings=cfg.simulation)
+                                settings=settings)
             row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": int(sc.overturned),
                    "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
                    "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
@@ -195,7 +223,8 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None) -> RecordR
         directions = block_values.get("block_pulse_azimuth")
         if directions is None:
             directions = _block_directions(rec, inv, rec.pga_azimuth_deg())
-        block_values.update(_simulation_values(rec, directions, task_ctx))
+        mask = simulation_mask(block_values, inv, ctx.config)
+        block_values.update(_simulation_values(rec, directions, task_ctx, mask))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
     except RockscreenError as exc:
@@ -255,6 +284,11 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
         g_ms2=g, form=form)
     data_vars.update({name: (("record", "block"), arr) for name, arr in scenes.items()})
+    simulated = data_vars["overturn_simulated"][1]
+    data_vars["overturn"] = (("record", "block"), np.where(simulated >= 0, simulated,
+                                                          scenes["overturn_criterion"]).astype("i1"))
+    data_vars["verdict_source"] = (("record", "block"), np.where(
+        simulated >= 0, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
     data_vars.update({
         "block_name": (("block",), np.array(inventory.names, dtype=object)),
         "site": (("block",), np.array(inventory.sites, dtype=object)),

@@ -98,6 +98,11 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "overturn_closed_form": (("record", "block"), None,
                              "overturning of the equivalent half-sine pulse (Makris & Roussos 2000 eq. 27)",
                              {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    # the run's verdict at its fidelity tier (config [fidelity])
+    "overturn": (("record", "block"), None, "overturning verdict at the run's fidelity: the simulation's where it "
+                 "ran, else the criterion's", {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "verdict_source": (("record", "block"), None, "model behind the verdict 'overturn'",
+                       {"flag_values": FLAG3, "flag_meanings": "none criterion simulation"}),
     # the simulator per (record, block) scene (pipeline.rocking)
     "physics": (("record", "block"), None, "physics simulated for the scene (scene planner)",
                 {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),

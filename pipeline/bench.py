@@ -1,0 +1,276 @@
+"""``screen bench``: what accuracy costs in time, measured on real records.
+
+Every fidelity tier (:data:`pipeline.config.FIDELITY_TIERS`) runs on the same
+scenes: each record is loaded and its pulse extracted once (the common part,
+timed apart), then each tier's own work is timed: the paper's criterion for
+all scenes, and the simulations the tier asks for. Every tier is compared with
+``reference`` (the full simulation at tight tolerances):
+
+* overturning verdicts: misses (the reference overturns, the tier does not)
+  and false alarms (the other way round), split by pulse-like and non-pulse
+  records;
+* max |theta| / alpha: the largest and median difference over the scenes that
+  rock in the reference and in which the block stands in both.
+
+Then the simulation's own settings are varied one at a time around the
+defaults (integration tolerance, rest threshold, largest step) on the ``full``
+tier, against the reference; and the margin scan step on each block's worst
+scene, against the finest step (the error columns are then relative margin
+differences).
+
+Results: ``OUT/bench.csv``, ``OUT/bench.md`` and ``OUT/bench.png`` (error against
+time per scene). The records are held in memory for the whole run; use a
+representative sample, not a whole archive.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import criteria
+from .blocks import Inventory
+from .config import FIDELITY_TIERS, Config
+from .errors import RockscreenError
+from .margins import overturn_scale_simulated
+from .records.loader import load_record, read_declared_units, scan
+from .records.loader import read_inventory as read_station_inventory
+from .screening import Context, _block_directions, _pulse_values, _simulation_values, simulation_mask
+
+COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "scenes",
+           "misses", "false_alarms", "misses_pulse", "false_alarms_pulse", "misses_non_pulse",
+           "false_alarms_non_pulse", "theta_error_max", "theta_error_median")
+
+
+@dataclasses.dataclass
+class _Scene:
+    """Per-record data shared by the tiers."""
+
+    record: object
+    blocks: dict
+    directions: np.ndarray
+    is_pulse: int
+
+
+def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list[_Scene], float]:
+    sources, _ = scan(records_dir, config=config)
+    ctx = Context(str(records_dir), config, inventory, read_declared_units(records_dir, config),
+                  read_station_inventory(records_dir))
+    out, t_common = [], 0.0
+    for src in sources:
+        try:
+            t0 = time.perf_counter()
+            rec = load_record(src, root=records_dir, config=config, declared=ctx.declared_units,
+                              inventory=ctx.station_inventory)
+            values, blocks, _ = _pulse_values(rec, ctx)
+            t_common += time.perf_counter() - t0
+        except RockscreenError:
+            continue
+        directions = blocks.get("block_pulse_azimuth")
+        if directions is None:
+            directions = _block_directions(rec, inventory, rec.pga_azimuth_deg())
+        out.append(_Scene(rec, blocks, directions, int(values.get("is_pulse", -1))))
+    if not out:
+        raise RockscreenError(f"{records_dir}: no record could be screened; nothing to benchmark")
+    return out, t_common
+
+
+def _criterion(scenes: list[_Scene], inventory: Inventory, config: Config) -> tuple[np.ndarray, float]:
+    """The criterion's verdict for every scene (records x blocks) and its time."""
+    nb = len(inventory)
+    arrays = {n: np.vstack([s.blocks.get(n, np.full(nb, np.nan)) for s in scenes])
+              for n in ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")}
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    t0 = time.perf_counter()
+    out = criteria.evaluate(arrays["block_pulse_ap"], arrays["block_pulse_tp"], arrays["block_pulse_beta"],
+                            arrays["block_pulse_dv"], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
+                            g_ms2=config.records.g_ms2, form=config.criteria.form)
+    return out["overturn_criterion"], time.perf_counter() - t0
+
+
+def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config) -> tuple[dict, float]:
+    """Simulate what the tier of ``config`` asks for; verdicts and theta_max per scene, and the time."""
+    ctx = Context("", config, inventory, {})
+    nb = len(inventory)
+    verdict = np.full((len(scenes), nb), -1, dtype=int)
+    theta = np.full((len(scenes), nb), np.nan)
+    t = 0.0
+    for i, s in enumerate(scenes):
+        t0 = time.perf_counter()
+        mask = simulation_mask(s.blocks, inventory, config)
+        sim = _simulation_values(s.record, s.directions, ctx, mask)
+        t += time.perf_counter() - t0
+        verdict[i] = np.where(np.isnan(sim["overturn_simulated"]), -1, sim["overturn_simulated"])
+        theta[i] = sim["theta_max"]
+    return {"overturn_simulated": verdict, "theta_max": theta}, t
+
+
+def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_pulse: np.ndarray) -> dict:
+    """Misses and false alarms against the reference (split by pulse class), theta_max error."""
+    judged = ref["overturn_simulated"] >= 0
+    ref_yes = judged & (ref["overturn_simulated"] == 1)
+    yes = tier_verdict == 1
+    miss, alarm = ref_yes & ~yes, judged & ~ref_yes & yes
+    pulse = np.broadcast_to(is_pulse[:, None] == 1, miss.shape)
+    # theta error over the scenes that rock (reference theta > 0) and stand in both
+    both = np.isfinite(tier_theta) & (np.nan_to_num(ref["theta_max"]) > 0) & ~yes & judged & ~ref_yes
+    err = np.abs(tier_theta[both] - ref["theta_max"][both])
+    return {"misses": int(miss.sum()), "false_alarms": int(alarm.sum()),
+            "misses_pulse": int((miss & pulse).sum()), "false_alarms_pulse": int((alarm & pulse).sum()),
+            "misses_non_pulse": int((miss & ~pulse).sum()), "false_alarms_non_pulse": int((alarm & ~pulse).sum()),
+            "theta_error_max": float(err.max()) if err.size else np.nan,
+            "theta_error_median": float(np.median(err)) if err.size else np.nan}
+
+
+def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path,
+              settings_sweep: bool = True) -> list[dict]:
+    """Run every tier (and the settings sweep) and write bench.csv, bench.md and bench.png.
+
+    Returns
+    -------
+    list of dict
+        The rows of the table (:data:`COLUMNS`).
+    """
+    records_dir, out_dir = Path(records_dir), Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    scenes, t_common = _load(records_dir, inventory, config)
+    is_pulse = np.array([s.is_pulse for s in scenes])
+    n_scenes = len(scenes) * len(inventory)
+    crit, t_crit = _criterion(scenes, inventory, config)
+    ref, t_ref = _simulate(scenes, inventory, config.with_tier("reference"))
+    rows = [{"section": "common", "setting": "load records and extract pulses", "value": "",
+             "time_s": t_common, "time_per_scene_us": 1e6 * t_common / n_scenes, "scenes": n_scenes}]
+    for tier in FIDELITY_TIERS:
+        cfg = config.with_tier(tier)
+        sim, t_sim = (ref, t_ref) if tier == "reference" else _simulate(scenes, inventory, cfg)
+        simulated = sim["overturn_simulated"] >= 0
+        verdict = np.where(simulated, sim["overturn_simulated"], crit)
+        t = t_crit + t_sim
+        rows.append({"section": "tier", "setting": "fidelity", "value": tier, "time_s": t,
+                     "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
+                     "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
+    if settings_sweep:
+        rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes)
+    _write(rows, out_dir)
+    return rows
+
+
+def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[dict]:
+    rows = []
+    sweeps = {"rtol": (1e-4, 1e-5, 1e-6, 1e-7, 1e-9), "rest_ratio": (1e-3, 1e-4, 1e-5, 1e-6, 1e-8),
+              "max_step_p": (0.2, 0.1, 0.05, 0.02)}
+    full = config.with_tier("full")
+    for name, values in sweeps.items():
+        for v in values:
+            cfg = dataclasses.replace(full, simulation=dataclasses.replace(full.simulation, **{name: v}))
+            sim, t = _simulate(scenes, inventory, cfg)
+            default = getattr(config.simulation, name) == v
+            rows.append({"section": "simulation", "setting": name + (" (default)" if default else ""), "value": v,
+                         "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
+                         "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()), "scenes": n_scenes,
+                         **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+    rows += _margin_sweep(scenes, inventory, full, ref)
+    return rows
+
+
+def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
+    """Margin scans on each block's worst simulated scene, for several steps, against the finest."""
+    g = config.records.g_ms2
+    geom = inventory.geometry(g_ms2=g)
+    e = inventory.effective_restitution(geom)
+    theta = np.nan_to_num(ref["theta_max"], nan=-1.0)
+    worst = np.argmax(np.where(ref["overturn_simulated"] == 1, np.inf, theta), axis=0)
+    steps = (0.04, 0.02, 0.01, 0.005)
+    margins, times = {}, {}
+    for step in steps:
+        settings = dataclasses.replace(config.simulation, margin_step=step)
+        t0 = time.perf_counter()
+        out = []
+        for j, i in enumerate(worst):
+            rec = scenes[i].record
+            out.append(overturn_scale_simulated(
+                rec.along(float(scenes[i].directions[j])), rec.vertical_ms2, rec.dt_s, p=float(geom.p[j]),
+                alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]), mu=float(inventory.mu[j]),
+                g_ms2=g, settings=settings)[0])
+        times[step], margins[step] = time.perf_counter() - t0, np.array(out)
+    finest = margins[min(steps)]
+    rows = []
+    for step in steps:
+        ok = np.isfinite(finest) & np.isfinite(margins[step])
+        rel = np.abs(margins[step][ok] / finest[ok] - 1.0)
+        rows.append({"section": "margin", "setting": "margin_step" + (
+            " (default)" if step == config.simulation.margin_step else ""), "value": step,
+            "time_s": times[step], "time_per_scene_us": 1e6 * times[step] / len(worst),
+            "scenes_simulated": len(worst), "scenes": len(worst),
+            "theta_error_max": float(rel.max()) if rel.size else np.nan,
+            "theta_error_median": float(np.median(rel)) if rel.size else np.nan})
+    return rows
+
+
+def _write(rows: list[dict], out_dir: Path) -> None:
+    with open(out_dir / "bench.csv", "w", newline="", encoding="utf-8") as fh:
+        w = csv.DictWriter(fh, fieldnames=COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({c: r.get(c, "") for c in COLUMNS})
+    (out_dir / "bench.md").write_text(markdown(rows), encoding="utf-8")
+    _plot(rows, out_dir / "bench.png")
+
+
+def markdown(rows: list[dict]) -> str:
+    """The table as Markdown (the margin rows' error columns are relative margin differences)."""
+    head = ("| section | setting | value | time [s] | per scene [us] | simulated | misses (pulse / non-pulse) | "
+            "false alarms (pulse / non-pulse) | theta/alpha error max / median |")
+    lines = [head, "|" + "---|" * 9]
+    fmt = lambda x, d=3: "" if x in ("", None) or (isinstance(x, float) and np.isnan(x)) else (  # noqa: E731
+        f"{x:.{d}g}" if isinstance(x, float) else str(x))
+    for r in rows:
+        mp = f"{r['misses']} ({r['misses_pulse']} / {r['misses_non_pulse']})" if "misses" in r else ""
+        fa = (f"{r['false_alarms']} ({r['false_alarms_pulse']} / {r['false_alarms_non_pulse']})"
+              if "false_alarms" in r else "")
+        err = (f"{fmt(r.get('theta_error_max', ''))} / {fmt(r.get('theta_error_median', ''))}"
+               if "theta_error_max" in r else "")
+        lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r['time_s'])} | "
+                     f"{fmt(r['time_per_scene_us'])} | {r.get('scenes_simulated', '')} | {mp} | {fa} | {err} |")
+    return "\n".join(lines) + "\n"
+
+
+def _plot(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    for r in rows:
+        if r["section"] == "tier":
+            wrong = r["misses"] + r["false_alarms"]
+            ax.scatter(r["time_per_scene_us"], max(wrong, 0.5), s=40)
+            ax.annotate(f"{r['value']} ({r['misses']} missed, {r['false_alarms']} false)",
+                        (r["time_per_scene_us"], max(wrong, 0.5)), fontsize=8, xytext=(4, 4),
+                        textcoords="offset points")
+        elif r["section"] == "simulation":
+            err = r.get("theta_error_max", np.nan)
+            ax2.scatter(r["time_per_scene_us"], err if np.isfinite(err) and err > 0 else 1e-12, s=25,
+                        marker="o" if r["setting"].startswith("rtol") else "s")
+            ax2.annotate(f"{r['setting'].split()[0]}={r['value']:g}", (r["time_per_scene_us"],
+                         err if np.isfinite(err) and err > 0 else 1e-12), fontsize=7, xytext=(3, 3),
+                         textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("time per scene [us]")
+    ax.set_ylabel("wrong verdicts vs reference (0 drawn at 0.5)")
+    ax.set_title("fidelity tiers", fontsize=10)
+    ax2.set_xscale("log")
+    ax2.set_yscale("log")
+    ax2.set_xlabel("time per scene [us]")
+    ax2.set_ylabel("largest theta_max/alpha error vs reference")
+    ax2.set_title("simulation settings (full tier)", fontsize=10)
+    for a in (ax, ax2):
+        a.grid(which="both", alpha=0.3)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
