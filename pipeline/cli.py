@@ -328,8 +328,59 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
+def infer_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen infer``."""
+    from .infer import INFER_SHAPES
+
+    p = argparse.ArgumentParser(prog="screen infer",
+                                description="Archaeoseismology: the pulses (a_p, t_p, orientation) consistent with "
+                                            "which blocks toppled and which stood, by the paper's criterion and by "
+                                            "simulation; conflicting observations are reported.")
+    p.add_argument("--blocks", required=True, type=Path, help="inventory CSV of the observed blocks")
+    p.add_argument("--observed", required=True, type=Path,
+                   help="CSV id,outcome[,fall_azimuth_deg] with outcome toppled or standing")
+    p.add_argument("--pulse", default="half-sine", choices=INFER_SHAPES, help="assumed pulse shape")
+    p.add_argument("--out", type=Path, default=Path("infer"), help="output directory (default: infer/)")
+    p.add_argument("--config", type=Path, help="TOML configuration ([infer] grid)")
+    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    return p
+
+
+def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen infer``: write infer.nc and infer.png, print the bounds and any conflict."""
+    from .blocks import read_inventory
+    from .config import load_config
+    from .infer import infer, read_observations, summarize
+    from .report.infer_plot import plot_inference
+    from .store import write_atomic
+
+    config = load_config(args.config)
+    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+    obs = read_observations(args.observed, inventory)
+    ds = infer(obs, shape=args.pulse, config=config)
+    ds.attrs["history"] = f"screen {shlex.join(argv)}"
+    out = write_atomic(ds, args.out / "infer.nc")
+    figure = plot_inference(ds, args.out / "infer.png", g_ms2=config.records.g_ms2)
+    g = config.records.g_ms2
+    for method, info in summarize(ds).items():
+        if info["consistent"]:
+            print(f"{method}: every observation holds for t_p {info['tp_range_s'][0]:.3g}-{info['tp_range_s'][1]:.3g} s, "
+                  f"a_p {info['ap_range_ms2'][0] / g:.3g}-{info['ap_range_ms2'][1] / g:.3g} g, "
+                  f"pulse velocity beta a_p t_p {info['pgv_range_ms'][0]:.3g}-{info['pgv_range_ms'][1]:.3g} m/s, "
+                  f"axis {', '.join(f'{a:g}' for a in info['azimuths_deg'])} deg ({info['grid_points']} grid points)")
+        else:
+            print(f"{method}: the observations cannot all hold under one pulse of this shape. Conflicting pairs: "
+                  f"{'; '.join(' vs '.join(p) for p in info['pairs']) or 'none alone (three or more together)'}"
+                  + (f"; impossible alone: {', '.join(info['impossible'])}" if info["impossible"] else "")
+                  + f". Largest consistent subset ({len(info['largest_subset'])} of "
+                  f"{len(info['largest_subset']) + len(info['left_out'])}) leaves out: {', '.join(info['left_out'])}")
+    print(f"simulation: {ds.attrs['simulation_runs']} runs in {ds.attrs['simulation_time_s']:.1f} s; "
+          f"wrote {out} and {figure}", file=sys.stderr)
+    return EXIT_OK
+
+
 SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
-               "bench": (bench_parser, cmd_bench)}
+               "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer)}
 
 
 def build_parser() -> argparse.ArgumentParser:

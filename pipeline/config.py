@@ -143,6 +143,22 @@ class FidelityConfig:
 
 
 @dataclass(frozen=True)
+class InferConfig:
+    """``screen infer``: the (a_p, t_p) grid and the orientation handling."""
+
+    #: Pulse durations t_p on the grid, log-spaced over 0.1-10 transition durations of the blocks [-].
+    n_durations: int = 40
+    #: Pulse accelerations a_p on the grid, log-spaced over 0.5-20 uplift accelerations [-].
+    n_accelerations: int = 40
+    #: Pulse orientations tried when a block has a rocking plane or a fall azimuth [deg].
+    azimuth_step_deg: float = 15.0
+    #: A block free to rock in any plane falls within this angle of the pulse axis [deg].
+    fall_tolerance_deg: float = 20.0
+    #: Samples per period T = 2 t_p of the simulated idealized pulse [-].
+    samples_per_period: int = 200
+
+
+@dataclass(frozen=True)
 class Config:
     """The whole configuration."""
 
@@ -153,6 +169,7 @@ class Config:
     criteria: CriteriaConfig = field(default_factory=CriteriaConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     fidelity: FidelityConfig = field(default_factory=FidelityConfig)
+    infer: InferConfig = field(default_factory=InferConfig)
 
     def simulation_settings(self) -> SimulationConfig:
         """The integration settings of the fidelity tier (tight ones for ``reference``)."""

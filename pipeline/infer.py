@@ -1,0 +1,286 @@
+"""Archaeoseismology: bound the dominant pulse from what toppled and what stood.
+
+Given blocks of known sizes and, for each, whether it toppled or stood (and,
+optionally, the azimuth it fell towards), find the idealized pulses
+(a_p, t_p), and orientations, under which every observation holds:
+
+* by the paper's criterion (closed form, Eqs. 1, 5, 7 and the sliding line
+  a_p <= mu g): a block overturns where a_p >= max(v_crit / (beta t_p), g tan alpha);
+* by the nonlinear rocking simulation of the idealized pulse at every grid point.
+
+The pulse acts along an axis at azimuth phi. A block with a rocking plane
+(``azimuth_deg`` in the inventory) feels a_p |cos(phi - plane)|; a block free
+to rock in any plane (blank azimuth: a column) feels the full a_p and falls
+along the pulse axis, so its fall azimuth, if observed, must lie within
+``infer.fall_tolerance_deg`` of phi (mod 180). Without any azimuth the
+orientation drops out and a single orientation is used.
+
+The grid is log-spaced: t_p over 0.1-10 times the blocks' transition
+durations, a_p over 0.5-20 times their uplift accelerations. Observations
+that cannot all hold together are reported: the pairs that exclude each
+other, and the largest subset that holds at some grid point.
+
+References
+----------
+Reference paper (../shared/papers/000_d93111b78a095782.txt): "the approach could be used in
+archaeoseismology to identify the characteristics of the dominant pulse content of past
+earthquakes based on their impacts on various historical and heritage structures".
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import criteria
+from .blocks import Inventory
+from .closed_forms import PULSE_BETA
+from .config import Config
+from .errors import InventoryError
+from .rocking.excitation import pulse
+from .rocking.planner import simulate_scene
+
+OUTCOMES = ("toppled", "standing")
+#: Shapes an inference can assume (half pulses, as in the paper).
+INFER_SHAPES = ("half-sine", "step", "linear", "parabolic")
+
+
+@dataclass(frozen=True)
+class Observations:
+    """Observed outcomes, aligned with ``inventory``."""
+
+    inventory: Inventory
+    toppled: np.ndarray          #: bool per block
+    fall_azimuth_deg: np.ndarray  #: fall azimuth mod 180 [deg] (NaN: not observed)
+    source: str
+
+
+def read_observations(path: str | Path, inventory: Inventory) -> Observations:
+    """Read ``id,outcome[,fall_azimuth_deg]`` (outcome: toppled | standing).
+
+    Raises
+    ------
+    InventoryError
+        Naming the file, line and column, what was found and what is expected.
+    """
+    path = Path(path)
+    try:
+        rows = list(csv.reader(path.read_text(encoding="utf-8-sig").splitlines()))
+    except FileNotFoundError:
+        raise InventoryError(f"{path}: observations file not found") from None
+    if not rows:
+        raise InventoryError(f"{path}: empty; expected a header 'id,outcome[,fall_azimuth_deg]'")
+    header = [c.strip() for c in rows[0]]
+    if "id" not in header or "outcome" not in header or set(header) - {"id", "outcome", "fall_azimuth_deg"}:
+        raise InventoryError(f"{path}, line 1: header {header}; expected 'id,outcome' and optionally "
+                             "'fall_azimuth_deg'")
+    index = {b: k for k, b in enumerate(inventory.ids)}
+    picked, toppled, fall, seen = [], [], [], {}
+    for line, row in enumerate(rows[1:], start=2):
+        if not any(c.strip() for c in row):
+            continue
+        rec = dict(zip(header, (c.strip() for c in row)))
+        where = f"{path}, line {line}"
+        bid = rec.get("id", "")
+        if bid not in index:
+            raise InventoryError(f"{where}, column 'id': {bid!r} is not in the inventory {inventory.source}")
+        if bid in seen:
+            raise InventoryError(f"{where}, column 'id': {bid!r} observed twice (first on line {seen[bid]})")
+        seen[bid] = line
+        outcome = rec.get("outcome", "").lower()
+        if outcome not in OUTCOMES:
+            raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected toppled or standing")
+        az = rec.get("fall_azimuth_deg", "")
+        if az:
+            try:
+                a = float(az)
+            except ValueError:
+                raise InventoryError(f"{where}, column 'fall_azimuth_deg': {az!r} is not a number") from None
+            if not (0 <= a <= 360) or outcome != "toppled":
+                raise InventoryError(f"{where}, column 'fall_azimuth_deg': {az!r}; expected an azimuth in "
+                                     "[0, 360] deg, and only for a toppled block")
+        picked.append(index[bid])
+        toppled.append(outcome == "toppled")
+        fall.append(float(az) % 180.0 if az else math.nan)
+    if not picked:
+        raise InventoryError(f"{path}: no observations; add one line per block 'id,toppled' or 'id,standing'")
+    return Observations(inventory.take(picked), np.array(toppled), np.array(fall), str(path))
+
+
+def grid(inv: Inventory, *, shape: str, config: Config, oriented: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(t_p [s], a_p [m s-2], pulse azimuth [deg]) of the search grid.
+
+    Orientations are searched only when ``oriented`` (a rocking plane or a fall azimuth is known).
+    """
+    cfg, g = config.infer, config.records.g_ms2
+    if cfg.n_durations < 2 or cfg.n_accelerations < 2:
+        raise InventoryError("[infer] n_durations and n_accelerations must be at least 2")
+    geom = inv.geometry(g_ms2=g)
+    a_up = criteria.uplift_acceleration(geom.alpha, g_ms2=g)
+    t_bar = criteria.transition_duration(geom.R, geom.alpha, PULSE_BETA[shape], g_ms2=g)
+    tp = np.geomspace(0.1 * float(np.min(t_bar)), 10.0 * float(np.max(t_bar)), cfg.n_durations)
+    ap = np.geomspace(0.5 * float(np.min(a_up)), 20.0 * float(np.max(a_up)), cfg.n_accelerations)
+    return tp, ap, (np.arange(0.0, 180.0, cfg.azimuth_step_deg) if oriented else np.array([0.0]))
+
+
+def _felt(inv: Inventory, azimuths: np.ndarray) -> np.ndarray:
+    """Fraction of the pulse each block feels, (block, azimuth)."""
+    plane = inv.azimuth_deg[:, None]
+    return np.where(np.isnan(plane), 1.0, np.abs(np.cos(np.radians(azimuths[None, :] - plane))))
+
+
+def criterion_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config) -> np.ndarray:
+    """Overturning by the paper's criterion, (block, azimuth, duration, acceleration)."""
+    g = config.records.g_ms2
+    geom = inv.geometry(g_ms2=g)
+    a_crit = criteria.critical_acceleration(tp[None, :], geom.R[:, None], geom.alpha[:, None], PULSE_BETA[shape],
+                                            g_ms2=g, form=config.criteria.form)          # (block, tp)
+    felt = _felt(inv, azimuths)[:, :, None, None] * ap[None, None, None, :]
+    below_sliding = felt <= inv.mu[:, None, None, None] * g                            # the paper's line
+    applicable = criteria.rocking_applicable(geom.alpha)[:, None, None, None]
+    return (felt >= a_crit[:, None, :, None]) & below_sliding & applicable
+
+
+def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config) -> tuple[np.ndarray, int]:
+    """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs."""
+    g = config.records.g_ms2
+    geom = inv.geometry(g_ms2=g)
+    e = inv.effective_restitution(geom)
+    felt = _felt(inv, azimuths)
+    out = np.zeros((len(inv), azimuths.size, tp.size, ap.size), dtype=bool)
+    runs = 0
+    settings = config.simulation_settings()
+    for j in range(len(inv)):
+        kw = dict(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]),
+                  mu=float(inv.mu[j]), g_ms2=g, settings=settings)
+        memo: dict[tuple, bool] = {}
+        for k, t in enumerate(tp):
+            unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
+                             samples_per_period=config.infer.samples_per_period)
+            for m, a in enumerate(ap):
+                for q in range(azimuths.size):
+                    amp = float(a * felt[j, q])
+                    key = (k, round(amp, 12))
+                    if key not in memo:
+                        memo[key] = simulate_scene(amp * unit, None, dt, **kw).overturned
+                        runs += 1
+                    out[j, q, k, m] = memo[key]
+    return out, runs
+
+
+def _fall_ok(obs: Observations, azimuths: np.ndarray, tolerance_deg: float) -> np.ndarray:
+    """(block, azimuth): the pulse axis agrees with the observed fall of blocks free to rock in any plane."""
+    fall = obs.fall_azimuth_deg[:, None]
+    free = np.isnan(obs.inventory.azimuth_deg)[:, None]
+    diff = np.abs((azimuths[None, :] - fall + 90.0) % 180.0 - 90.0)
+    return np.where(np.isnan(fall) | ~free, True, diff <= tolerance_deg)
+
+
+def consistency(overturns: np.ndarray, obs: Observations, azimuths: np.ndarray, config: Config) -> np.ndarray:
+    """Per observation: where it holds, (observation, azimuth, duration, acceleration)."""
+    holds = np.where(obs.toppled[:, None, None, None], overturns, ~overturns)
+    return holds & _fall_ok(obs, azimuths, config.infer.fall_tolerance_deg)[:, :, None, None]
+
+
+def conflicts(holds: np.ndarray, ids: tuple) -> dict:
+    """Whether all observations hold together; if not, the conflicting pairs and a largest consistent subset."""
+    n = holds.shape[0]
+    flat = holds.reshape(n, -1)
+    feasible = flat.all(axis=0)
+    if feasible.any():
+        return {"consistent": True, "pairs": [], "largest_subset": list(ids), "left_out": []}
+    pairs = [(ids[a], ids[b]) for a in range(n) for b in range(a + 1, n) if not (flat[a] & flat[b]).any()]
+    alone = [ids[a] for a in range(n) if not flat[a].any()]
+    count = flat.sum(axis=0)
+    best = int(np.argmax(count))
+    keep = [ids[a] for a in range(n) if flat[a, best]]
+    return {"consistent": False, "pairs": pairs, "impossible": alone, "largest_subset": keep,
+            "left_out": [i for i in ids if i not in keep]}
+
+
+def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durations_s=None,
+          accelerations_ms2=None) -> xr.Dataset:
+    """The consistency masks on the grid, by the criterion and by simulation (netCDF-ready Dataset).
+
+    Parameters
+    ----------
+    obs : Observations
+        The blocks and what happened to them.
+    shape : str
+        Assumed pulse shape (:data:`INFER_SHAPES`).
+    config : Config
+        ``[infer]`` grid settings and the simulation settings.
+    durations_s, accelerations_ms2 : array_like, optional
+        A fixed grid of t_p [s] and a_p [m s-2] instead of the one fitted to the blocks
+        (to compare sites or subsets on the same grid).
+    """
+    from .errors import ParameterError
+
+    if shape not in INFER_SHAPES:
+        raise ParameterError(f"pulse {shape!r}: screen infer assumes one of {list(INFER_SHAPES)}")
+    inv = obs.inventory
+    oriented = bool(np.any(np.isfinite(inv.azimuth_deg)) or np.any(np.isfinite(obs.fall_azimuth_deg)))
+    tp, ap, az = grid(inv, shape=shape, config=config, oriented=oriented)
+    if durations_s is not None:
+        tp = np.asarray(durations_s, dtype=float)
+    if accelerations_ms2 is not None:
+        ap = np.asarray(accelerations_ms2, dtype=float)
+    crit = consistency(criterion_overturns(inv, tp, ap, az, shape=shape, config=config), obs, az, config)
+    t0 = time.perf_counter()
+    sim_over, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config)
+    t_sim = time.perf_counter() - t0
+    sim = consistency(sim_over, obs, az, config)
+    dims = ("observation", "azimuth", "duration", "acceleration")
+    flag = {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}
+    ds = xr.Dataset(
+        {"observation_holds_criterion": (dims, crit.astype("i1"), {
+            "long_name": "the observation holds under the pulse, by the paper's criterion", **flag}),
+         "observation_holds_simulation": (dims, sim.astype("i1"), {
+             "long_name": "the observation holds under the pulse, by the rocking simulation", **flag}),
+         "consistent_criterion": (dims[1:], crit.all(axis=0).astype("i1"), {
+             "long_name": "every observation holds, by the paper's criterion", **flag}),
+         "consistent_simulation": (dims[1:], sim.all(axis=0).astype("i1"), {
+             "long_name": "every observation holds, by the rocking simulation", **flag}),
+         "observations_holding_simulation": (dims[1:], sim.sum(axis=0).astype("i4"), {
+             "long_name": "number of observations that hold, by the rocking simulation", "units": "1"}),
+         "toppled": (("observation",), obs.toppled.astype("i1"), {"long_name": "the block toppled", **flag}),
+         "fall_azimuth": (("observation",), obs.fall_azimuth_deg, {
+             "long_name": "observed fall azimuth, mod 180", "units": "degree"}),
+         "height": (("observation",), inv.height_m, {"long_name": "full block height", "units": "m"}),
+         "width": (("observation",), inv.width_m, {"long_name": "full base width", "units": "m"}),
+         "mu": (("observation",), inv.mu, {"long_name": "friction coefficient", "units": "1"}),
+         "block_azimuth": (("observation",), inv.azimuth_deg, {
+             "long_name": "rocking plane azimuth (NaN: any plane)", "units": "degree"})},
+        coords={"observation": np.array(inv.ids, dtype=object),
+                "azimuth": ("azimuth", az, {"long_name": "pulse axis azimuth, mod 180", "units": "degree"}),
+                "duration": ("duration", tp, {"long_name": "pulse duration t_p (half period)", "units": "s"}),
+                "acceleration": ("acceleration", ap, {"long_name": "pulse peak acceleration a_p",
+                                                      "units": "m s-2"})},
+        attrs={"Conventions": "CF-1.11", "title": "rockscreen: pulses consistent with observed toppling",
+               "pulse": shape, "pulse_beta": PULSE_BETA[shape], "simulation_runs": runs,
+               "simulation_time_s": round(t_sim, 3), "observations_file": obs.source})
+    return ds
+
+
+def summarize(ds: xr.Dataset) -> dict:
+    """Bounds of the consistent region and the conflicts, by both methods."""
+    ids = tuple(ds["observation"].values.tolist())
+    out = {}
+    for method in ("criterion", "simulation"):
+        mask = ds[f"consistent_{method}"].values.astype(bool)
+        info = conflicts(ds[f"observation_holds_{method}"].values.astype(bool), ids)
+        if mask.any():
+            q, k, m = np.nonzero(mask)
+            tp, ap = ds["duration"].values[k], ds["acceleration"].values[m]
+            info.update(tp_range_s=(float(tp.min()), float(tp.max())), ap_range_ms2=(float(ap.min()), float(ap.max())),
+                        pgv_range_ms=(float((ds.attrs["pulse_beta"] * tp * ap).min()),
+                                      float((ds.attrs["pulse_beta"] * tp * ap).max())),
+                        azimuths_deg=sorted(set(ds["azimuth"].values[q].tolist())), grid_points=int(mask.sum()))
+        out[method] = info
+    return out

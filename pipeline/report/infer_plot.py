@@ -1,0 +1,63 @@
+"""The chart of ``screen infer``: the pulses consistent with every observation over the stability chart."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .. import criteria
+from ..blocks import geometry
+
+
+def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) -> Path:
+    """Shade the consistent (t_p, a_p) region (any orientation) and draw each block's boundary.
+
+    Simulation: filled; criterion: hatched outline. Each block's criterion boundary
+    (Eq. 7, with the paper's sliding line where it is lower) is drawn solid when the block
+    toppled and dashed when it stood, labelled with its id.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tp = ds["duration"].values
+    ap_g = ds["acceleration"].values / g_ms2
+    fig, ax = plt.subplots(figsize=(8.5, 6), constrained_layout=True)
+    sim = ds["consistent_simulation"].values.astype(bool).any(axis=0).T        # (acceleration, duration)
+    crit = ds["consistent_criterion"].values.astype(bool).any(axis=0).T
+    # grid cells (log-spaced edges halfway between the grid points): green where the simulation
+    # is consistent, hatched where the criterion is
+    edges = lambda x: np.concatenate([[x[0] ** 1.5 / x[1] ** 0.5], np.sqrt(x[1:] * x[:-1]),  # noqa: E731
+                                      [x[-1] ** 1.5 / x[-2] ** 0.5]])
+    te, ae = edges(tp), edges(ap_g)
+    if sim.any():
+        ax.pcolormesh(te, ae, np.ma.masked_where(~sim, sim.astype(float)), cmap="Greens", vmin=0, vmax=1.5,
+                      alpha=0.6, shading="flat")
+    if crit.any():
+        for k, m in zip(*np.nonzero(crit)):
+            ax.add_patch(plt.Rectangle((te[m], ae[k]), te[m + 1] - te[m], ae[k + 1] - ae[k], fill=False,
+                                       hatch="//", edgecolor="k", linewidth=0.0))
+    beta = float(ds.attrs["pulse_beta"])
+    for k, bid in enumerate(ds["observation"].values.tolist()):
+        geo = geometry(float(ds["height"][k]), float(ds["width"][k]), g_ms2=g_ms2)
+        curve = criteria.critical_acceleration(tp, geo.R, geo.alpha, beta, g_ms2=g_ms2) / g_ms2
+        toppled = bool(ds["toppled"][k])
+        line, = ax.plot(tp, curve, lw=1.2, ls="-" if toppled else "--")
+        ax.annotate(f"{bid} ({'toppled' if toppled else 'standing'})", (tp[-1], curve[-1]), fontsize=7,
+                    color=line.get_color(), xytext=(3, 0), textcoords="offset points", va="center")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(tp[0], tp[-1] * 3)
+    ax.set_ylim(ap_g[0], ap_g[-1])
+    ax.set_xlabel("pulse duration t_p [s]")
+    ax.set_ylabel("pulse acceleration a_p [g]")
+    ax.set_title(f"Pulses ({ds.attrs['pulse']}) consistent with every observation: simulation (green), "
+                 "criterion (hatched)", fontsize=9)
+    ax.grid(which="both", alpha=0.25)
+    path = Path(path)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path

@@ -1,0 +1,132 @@
+"""screen infer: synthetic sites where the pulse is known, conflicts, the worked example, bad input."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.blocks import Inventory, geometry, read_inventory
+from pipeline.cli import main
+from pipeline.closed_forms import PULSE_BETA
+from pipeline.config import Config
+from pipeline.constants import G
+from pipeline.criteria import critical_acceleration
+from pipeline.errors import InventoryError
+from pipeline.infer import infer, read_observations, summarize
+from pipeline.rocking.excitation import pulse
+from pipeline.rocking.planner import simulate_scene
+
+PROJECT = Path(__file__).resolve().parents[1]
+
+#: A site of free-standing columns (height, width) spanning slenderness and size.
+SITE = [(2.0, 0.40), (3.0, 0.45), (1.5, 0.40), (4.0, 0.55), (2.5, 0.60), (6.0, 0.80), (1.2, 0.35), (5.0, 0.90)]
+
+
+def _inventory(blocks, tmp_path) -> Inventory:
+    path = tmp_path / "site.csv"
+    path.write_text("id,height_m,width_m,mu\n" + "".join(f"B{k},{h},{w},0.8\n" for k, (h, w) in enumerate(blocks)))
+    return read_inventory(path, default_mu=0.6)
+
+
+def _observe(inv: Inventory, toppled, tmp_path, name="obs.csv"):
+    path = tmp_path / name
+    path.write_text("id,outcome\n" + "".join(f"{b},{'toppled' if t else 'standing'}\n" for b, t in zip(inv.ids, toppled)))
+    return read_observations(path, inv)
+
+
+def _simulated_outcomes(inv, ap, tp, settings):
+    """Which blocks a finely sampled half-sine (1000 samples per period) topples."""
+    unit, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=2 * tp, samples_per_period=1000)
+    geo = inv.geometry()
+    return [simulate_scene(ap * unit, None, dt, p=float(geo.p[j]), alpha=float(geo.alpha[j]),
+                           e=float(geo.e_housner[j]), R_m=float(geo.R[j]), mu=float(inv.mu[j]), g_ms2=G,
+                           settings=settings).overturned for j in range(len(inv))]
+
+
+def _criterion_outcomes(inv, ap, tp):
+    geo = inv.geometry()
+    return list((ap >= critical_acceleration(tp, geo.R, geo.alpha, PULSE_BETA["half-sine"])) & (ap <= inv.mu * G))
+
+
+@pytest.mark.parametrize("i_ap, i_tp", [(14, 22), (20, 12), (9, 30)])
+def test_true_pulse_lies_in_the_inferred_region_which_shrinks_as_blocks_are_added(tmp_path, i_ap, i_tp):
+    config = Config()
+    inv = _inventory(SITE, tmp_path)
+    probe = infer(_observe(inv, [True] * len(inv), tmp_path), config=config)
+    # the truth: near a grid point but off it, outcomes from a 5x finer pulse sampling
+    ap = float(probe.acceleration[i_ap]) * 1.002
+    tp = float(probe.duration[i_tp]) * 0.998
+    for method, outcomes in (("simulation", _simulated_outcomes(inv, ap, tp, config.simulation)),
+                             ("criterion", _criterion_outcomes(inv, ap, tp))):
+        sizes = []
+        for n in (2, 4, 6, 8):
+            sub = inv.take(range(n))
+            ds = infer(_observe(sub, outcomes[:n], tmp_path, f"o{n}.csv"), config=config,
+                       durations_s=probe.duration.values, accelerations_ms2=probe.acceleration.values)
+            region = ds[f"consistent_{method}"].values[0].astype(bool)
+            assert region[i_tp, i_ap], (method, n, "the true pulse is outside the inferred region")
+            sizes.append(int(region.sum()))
+        assert sizes == sorted(sizes, reverse=True) and sizes[-1] < sizes[0], (method, sizes)
+
+
+def test_scale_effect_conflict_is_reported(tmp_path, capsys):
+    """Same slenderness, the larger block toppled and the smaller stood: no pulse does that."""
+    inv = _inventory([(2.0, 0.5), (1.0, 0.25), (3.0, 0.4)], tmp_path)
+    ds = infer(_observe(inv, [True, False, True], tmp_path), config=Config())
+    for method, info in summarize(ds).items():
+        assert not info["consistent"], method
+        assert ("B0", "B1") in info["pairs"], (method, info["pairs"])
+        assert len(info["largest_subset"]) == 2 and len(info["left_out"]) == 1
+        assert info["left_out"][0] in ("B0", "B1")
+
+
+def test_fall_azimuths_constrain_the_pulse_axis(tmp_path):
+    inv = _inventory(SITE[:4], tmp_path)
+    path = tmp_path / "obs.csv"
+    path.write_text("id,outcome,fall_azimuth_deg\nB0,toppled,95\nB1,toppled,100\nB2,standing,\nB3,toppled,290\n")
+    ds = infer(read_observations(path, inv), config=Config())
+    holds = ds.consistent_simulation.values.astype(bool)
+    axes = sorted(ds.azimuth.values[holds.any(axis=(1, 2))].tolist())
+    tol = Config().infer.fall_tolerance_deg
+    assert axes and all(abs((a - 100 + 90) % 180 - 90) <= tol + 5 for a in axes)   # falls at 95, 100, 110 (=290)
+    assert 105.0 in axes and 0.0 not in axes
+
+
+def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
+    """configs/colonnade-*.csv: outcomes made with a half-sine of 0.25 g, t_p = 1.4 s, axis 40 deg."""
+    out = tmp_path / "infer"
+    assert main(["infer", "--blocks", str(PROJECT / "configs" / "colonnade-blocks.csv"), "--observed",
+                 str(PROJECT / "configs" / "colonnade-observed.csv"), "--out", str(out)]) == 0
+    import xarray as xr
+
+    ds = xr.open_dataset(out / "infer.nc").load()
+    near = lambda coord, x: int(np.argmin(np.abs(np.log(ds[coord].values / x))))  # noqa: E731
+    k, m = near("duration", 1.4), near("acceleration", 0.25 * G)
+    sim = ds.consistent_simulation.values.astype(bool)
+    q = int(np.argmin(np.abs(ds.azimuth.values - 40)))
+    assert sim[q, k - 1:k + 2, m - 1:m + 2].any(), "the true pulse is outside the simulated region"
+    # the paper's criterion rules the true pulse out: it says COL-S2 (a_up 0.19 g) would fall
+    crit = ds.consistent_criterion.values.astype(bool)
+    assert crit.any() and not crit[:, k - 1:k + 2, m - 1:m + 2].any()
+    assert (out / "infer.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("text, message", [
+    ("id,outcome\nNOPE,toppled\n", "line 2, column 'id': 'NOPE' is not in the inventory"),
+    ("id,outcome\nB0,fell\n", "line 2, column 'outcome': 'fell'; expected toppled or standing"),
+    ("id,outcome,fall_azimuth_deg\nB0,standing,30\n", "only for a toppled block"),
+    ("id,outcome\nB0,toppled\nB0,standing\n", "observed twice"),
+    ("id,result\nB0,toppled\n", "line 1: header"),
+])
+def test_bad_observations_name_the_line(tmp_path, text, message, capsys):
+    inv = _inventory(SITE[:2], tmp_path)
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InventoryError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        read_observations(path, inv)
+    assert main(["infer", "--blocks", str(tmp_path / "site.csv"), "--observed", str(path), "--out",
+                 str(tmp_path / "o")]) == 2
+    assert message.split(":")[0] in capsys.readouterr().err
