@@ -255,19 +255,26 @@ def _plot(rows: list[dict], path: Path) -> None:
     markers = {"rtol": "o", "rest_ratio": "s", "max_step_p": "^"}
     for name, marker in markers.items():
         sweep = [r for r in rows if r["section"] == "simulation" and r["setting"].split()[0] == name]
+        sweep = [r for r in sweep if np.isfinite(r.get("theta_error_median", np.nan))]
+        if not sweep:
+            continue
         x = [r["time_per_scene_us"] for r in sweep]
-        y = [r["theta_error_median"] for r in sweep]
+        y = [max(r["theta_error_median"], 1e-16) for r in sweep]        # 0 drawn at 1e-16 on the log axis
         ax2.plot(x, y, marker=marker, lw=0.8, label=name)
         for r, xi, yi in zip(sweep, x, y):
             ax2.annotate(f"{r['value']:g}", (xi, yi), fontsize=7, xytext=(3, 3), textcoords="offset points")
-    ax2.legend(fontsize=8)
+    if ax2.lines:
+        ax2.legend(fontsize=8)
+    else:
+        ax2.text(0.5, 0.5, "settings not swept (--tiers-only)", transform=ax2.transAxes, ha="center")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("time per scene [us]")
     ax.set_ylabel("wrong verdicts vs reference (0 drawn at 0.5)")
     ax.set_title("fidelity tiers", fontsize=10)
-    ax2.set_xscale("log")
-    ax2.set_yscale("log")
+    if ax2.lines:
+        ax2.set_xscale("log")
+        ax2.set_yscale("log")
     ax2.set_xlabel("time per scene [us]")
     ax2.set_ylabel("median theta_max/alpha error vs reference")
     ax2.set_title("simulation settings (full tier)", fontsize=10)
