@@ -147,3 +147,16 @@ def test_every_variable_has_cf_attributes_and_provenance(make_records, blocks_cs
     ok = ds.status.values == "ok"
     assert all(len(h) == 64 for h in ds.content_sha256.values[ok])
     assert all(len(h) == 64 for h in ds.block_sha256.values)
+
+
+def test_full_screening_dataset_roundtrips_identically(make_records, blocks_csv, config, tmp_path):
+    """The real results Dataset (strings, int8 flags with attributes, NaN, inf): write, reopen, identical."""
+    from pipeline.batch import run
+    from pipeline.blocks import read_inventory
+
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
+    (root / "bad.AT2").write_text("not a record\n")
+    ds, pulses, _ = run(root, read_inventory(blocks_csv, default_mu=config.blocks.default_mu), config)
+    assert np.isinf(ds.criterion_scale.values).any() or np.isnan(ds.criterion_scale.values).any()
+    for data, name in ((ds, "screening.nc"), (pulses, "pulses.nc")):
+        xr.testing.assert_identical(data, open_results(write_atomic(data, tmp_path / name)))
