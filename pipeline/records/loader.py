@@ -289,6 +289,9 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
     for f in source.files:
         path = Path(f)
         for tr in _read(path):
+            if tr.stats.npts < 2:
+                raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
+                                        "sample(s); the file is truncated or has no data. Re-download it")
             unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
                                g_ms2=config.records.g_ms2, inventory=inventory)
             tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
