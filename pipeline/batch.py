@@ -31,7 +31,7 @@ import numpy as np
 import xarray as xr
 
 from .blocks import Inventory
-from .cache import SceneCache, files_sha256, merge, run_key
+from .cache import SceneCache, merge, run_key
 from .config import Config
 from .errors import RockscreenError
 from .executors import SerialExecutor, TaskLost
@@ -44,16 +44,16 @@ log = logging.getLogger(__name__)
 
 
 def _task(item: tuple, ctx: Context) -> RecordResult:
-    """One executor task: a record and the ids of the blocks to screen it against (None: all)."""
-    source, block_ids = item
-    return screen_record(source, ctx, block_ids)
+    """One executor task: a record, the ids of the blocks to screen it against (None: all), its digest."""
+    source, block_ids, content = item
+    return screen_record(source, ctx, block_ids, content)
 
 
 @dataclass
 class Plan:
     """What a run computes and what it reuses."""
 
-    tasks: list = field(default_factory=list)          # (RecordSource, block ids or None)
+    tasks: list = field(default_factory=list)          # (RecordSource, block ids or None, content digest)
     cached: dict = field(default_factory=dict)         # record id -> cached RecordResult
     failures: list = field(default_factory=list)       # RecordResult of records that cannot be read
     vanished: list = field(default_factory=list)       # record ids kept from the last run
@@ -105,7 +105,7 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
         if entry is not None:
             out.cached[src.record_id] = entry
         if missing:
-            out.tasks.append((src, missing))
+            out.tasks.append((src, missing, content))
     if previous is not None and cache is not None and "content_sha256" in previous:
         ok = previous["status"].values == "ok"
         for rid, content in zip(previous["record"].values[ok], previous["content_sha256"].values[ok]):
@@ -183,7 +183,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     if progress is not None:
         stream = progress(stream, len(the_plan.tasks))
     computed_records = computed_scenes = 0
-    for (source, block_ids), res in stream:
+    for (source, block_ids, _), res in stream:
         if isinstance(res, TaskLost):
             res = RecordResult(source.record_id, f"failed: {res}",
                                {"files": ";".join(Path(f).name for f in source.files)})

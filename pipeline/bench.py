@@ -25,7 +25,6 @@ representative sample, not a whole archive.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import time
 from pathlib import Path
@@ -37,9 +36,10 @@ from .blocks import Inventory
 from .config import FIDELITY_TIERS, Config
 from .errors import RockscreenError
 from .margins import overturn_scale_simulated
-from .records.loader import load_record, read_declared_units, scan
+from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
-from .screening import Context, _block_directions, _pulse_values, _simulation_values, simulation_mask
+from .store import write_csv_atomic, write_text_atomic
+from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "scenes",
            "misses", "false_alarms", "misses_pulse", "false_alarms_pulse", "misses_non_pulse",
@@ -64,15 +64,11 @@ def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list
     for src in sources:
         try:
             t0 = time.perf_counter()
-            rec = load_record(src, root=records_dir, config=config, declared=ctx.declared_units,
-                              inventory=ctx.station_inventory)
-            values, blocks, _ = _pulse_values(rec, ctx)
+            rec = ctx.load(src)
+            values, blocks, _, directions = pulses_and_directions(rec, ctx)
             t_common += time.perf_counter() - t0
         except RockscreenError:
             continue
-        directions = blocks.get("block_pulse_azimuth")
-        if directions is None:
-            directions = _block_directions(rec, inventory, rec.pga_azimuth_deg())
         out.append(_Scene(rec, blocks, directions, int(values.get("is_pulse", -1))))
     if not out:
         raise RockscreenError(f"{records_dir}: no record could be screened; nothing to benchmark")
@@ -179,9 +175,7 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
 
 def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
     """Margin scans on each block's worst simulated scene, for several steps, against the finest."""
-    g = config.records.g_ms2
-    geom = inventory.geometry(g_ms2=g)
-    e = inventory.effective_restitution(geom)
+    params = inventory.scene_params(g_ms2=config.records.g_ms2)
     theta = np.nan_to_num(ref["theta_max"], nan=-1.0)
     worst = np.argmax(np.where(ref["overturn_simulated"] == 1, np.inf, theta), axis=0)
     steps = (0.04, 0.02, 0.01, 0.005)
@@ -192,10 +186,8 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
         out = []
         for j, i in enumerate(worst):
             rec = scenes[i].record
-            out.append(overturn_scale_simulated(
-                rec.along(float(scenes[i].directions[j])), rec.vertical_ms2, rec.dt_s, p=float(geom.p[j]),
-                alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]), mu=float(inventory.mu[j]),
-                g_ms2=g, settings=settings)[0])
+            out.append(overturn_scale_simulated(rec.along(float(scenes[i].directions[j])), rec.vertical_ms2,
+                                                rec.dt_s, settings=settings, **params[j])[0])
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)
     finest = margins[min(steps)]
     rows = []
@@ -212,12 +204,8 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
 
 
 def _write(rows: list[dict], out_dir: Path) -> None:
-    with open(out_dir / "bench.csv", "w", newline="", encoding="utf-8") as fh:
-        w = csv.DictWriter(fh, fieldnames=COLUMNS)
-        w.writeheader()
-        for r in rows:
-            w.writerow({c: r.get(c, "") for c in COLUMNS})
-    (out_dir / "bench.md").write_text(markdown(rows), encoding="utf-8")
+    write_csv_atomic(out_dir / "bench.csv", COLUMNS, rows)
+    write_text_atomic(out_dir / "bench.md", markdown(rows))
     _plot(rows, out_dir / "bench.png")
 
 
@@ -240,10 +228,9 @@ def markdown(rows: list[dict]) -> str:
 
 
 def _plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
+    from .report.mpl import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.6), constrained_layout=True)
     tiers = [r for r in rows if r["section"] == "tier"]
@@ -280,5 +267,4 @@ def _plot(rows: list[dict], path: Path) -> None:
     ax2.set_title("simulation settings (full tier)", fontsize=10)
     for a in (ax, ax2):
         a.grid(which="both", alpha=0.3)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)

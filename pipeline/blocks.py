@@ -140,6 +140,17 @@ class Inventory:
         """Angular-velocity restitution per block: the inventory's value, else Housner's."""
         return np.where(np.isnan(self.restitution), geom.e_housner, self.restitution)
 
+    def scene_params(self, *, g_ms2: float = G) -> list[dict]:
+        """Per block, the block's keyword arguments of the simulator (``simulate_scene``, ``rock``).
+
+        ``p`` [rad s-1], ``alpha`` [rad], ``e`` (effective restitution, clipped at 0 for blocks
+        too squat to rock), ``R_m`` [m], ``mu`` [-], ``g_ms2``.
+        """
+        geom = self.geometry(g_ms2=g_ms2)
+        e = np.maximum(self.effective_restitution(geom), 0.0)
+        return [{"p": float(geom.p[j]), "alpha": float(geom.alpha[j]), "e": float(e[j]), "R_m": float(geom.R[j]),
+                 "mu": float(self.mu[j]), "g_ms2": g_ms2} for j in range(len(self))]
+
     def take(self, indices) -> "Inventory":
         """The sub-inventory of the blocks at ``indices`` (in that order)."""
         k = np.asarray(indices, dtype=int)
@@ -186,7 +197,8 @@ class Inventory:
                    restitution=np.array([math.nan]), source="<command line>")
 
 
-def _number(value: str, *, where: str, column: str, rule: str, ok) -> float:
+def parse_number(value: str, *, where: str, column: str, rule: str, ok) -> float:
+    """A finite number from a CSV cell, or an :class:`InventoryError` naming ``where`` and ``column``."""
     try:
         x = float(value)
     except ValueError:
@@ -194,6 +206,47 @@ def _number(value: str, *, where: str, column: str, rule: str, ok) -> float:
     if not math.isfinite(x) or not ok(x):
         raise InventoryError(f"{where}, column {column!r}: {value!r} is out of range; expected {rule}")
     return x
+
+
+def read_csv_table(path: Path, *, what: str, expected_header: str):
+    """Header and rows of a small CSV table, for the readers of user tables.
+
+    Returns
+    -------
+    header : list of str
+        Stripped column names of line 1.
+    records : iterator of (line, where, dict)
+        Per non-blank row: its line number, ``"<path>, line <n>"`` for messages, and
+        column -> stripped cell.
+
+    Raises
+    ------
+    InventoryError
+        File missing, not UTF-8, empty, or (while iterating) a row whose field count differs
+        from the header's.
+    """
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InventoryError(f"{path}: {what} file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InventoryError(f"{path}: cannot be read as UTF-8 text ({exc})") from exc
+    reader = csv.reader(text.splitlines())
+    try:
+        header = [c.strip() for c in next(reader)]
+    except StopIteration:
+        raise InventoryError(f"{path}: empty file; expected a header line {expected_header!r}") from None
+
+    def records():
+        for row in reader:
+            if not any(cell.strip() for cell in row):
+                continue
+            where = f"{path}, line {reader.line_num}"
+            if len(row) != len(header):
+                raise InventoryError(f"{where}: {len(row)} fields, expected {len(header)} as in the header")
+            yield reader.line_num, where, {c: row[i].strip() for i, c in enumerate(header)}
+
+    return header, records()
 
 
 def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
@@ -205,18 +258,7 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         Naming the file, line and column, what was found and what is expected.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InventoryError(f"{path}: inventory file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InventoryError(f"{path}: cannot be read as UTF-8 text ({exc})") from exc
-    lines = [line for line in text.splitlines()]
-    reader = csv.reader(lines)
-    try:
-        header = [c.strip() for c in next(reader)]
-    except StopIteration:
-        raise InventoryError(f"{path}: empty file; expected a header line 'id,height_m,width_m,...'") from None
+    header, records = read_csv_table(path, what="inventory", expected_header="id,height_m,width_m,...")
     unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
     if unknown:
         raise InventoryError(f"{path}, line 1: unknown column(s) {unknown}; valid columns are "
@@ -229,14 +271,7 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL}
     seen: dict[str, int] = {}
-    for row in reader:
-        line = reader.line_num
-        if not any(cell.strip() for cell in row):
-            continue
-        where = f"{path}, line {line}"
-        if len(row) != len(header):
-            raise InventoryError(f"{where}: {len(row)} fields, expected {len(header)} as in the header")
-        rec = {c: row[i].strip() for i, c in enumerate(header)}
+    for line, where, rec in records:
         bid = rec["id"]
         if not bid:
             raise InventoryError(f"{where}, column 'id': empty; every block needs a unique id")
@@ -247,17 +282,17 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         for c in ("height_m", "width_m"):
             if not rec[c]:
                 raise InventoryError(f"{where}, column {c!r}: missing; expected a positive size in metres")
-            rows[c].append(_number(rec[c], where=where, column=c, rule="a positive size in metres",
+            rows[c].append(parse_number(rec[c], where=where, column=c, rule="a positive size in metres",
                                    ok=lambda x: x > 0))
         mu = rec.get("mu", "")
-        rows["mu"].append(default_mu if not mu else _number(
+        rows["mu"].append(default_mu if not mu else parse_number(
             mu, where=where, column="mu", rule="a friction coefficient > 0", ok=lambda x: x > 0))
         az = rec.get("azimuth_deg", "")
-        rows["azimuth_deg"].append(math.nan if not az else _number(
+        rows["azimuth_deg"].append(math.nan if not az else parse_number(
             az, where=where, column="azimuth_deg", rule="an azimuth in [0, 360] deg (blank = worst)",
             ok=lambda x: 0 <= x <= 360) % 180.0)
         e = rec.get("restitution", "")
-        rows["restitution"].append(math.nan if not e else _number(
+        rows["restitution"].append(math.nan if not e else parse_number(
             e, where=where, column="restitution", rule="a velocity restitution ratio in (0, 1]",
             ok=lambda x: 0 < x <= 1))
         for c in ("name", "site", "notes"):

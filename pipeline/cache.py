@@ -30,12 +30,10 @@ import numpy as np
 
 from . import __version__
 from .errors import OutputError
-from .store import default_file_mode
+from .store import STATE_DIR, replace_atomically
 
 log = logging.getLogger(__name__)
 
-#: Sub-directory of the output directory that holds the run state.
-STATE_DIR = ".rockscreen"
 #: Bump when the entry layout changes: older entries are then ignored.
 ENTRY_FORMAT = 1
 
@@ -58,18 +56,6 @@ def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256
     return hashlib.sha256(payload.encode()).hexdigest()
 
 
-def files_sha256(paths) -> str:
-    """SHA-256 over the names and content of ``paths`` (empty string for none)."""
-    paths = sorted(Path(p) for p in paths)
-    if not paths:
-        return ""
-    h = hashlib.sha256()
-    for p in paths:
-        h.update(p.name.encode())
-        h.update(p.read_bytes())
-    return h.hexdigest()
-
-
 def record_key(record_id: str, content_sha256: str, run: str) -> str:
     """Cache key of one record (its id and content) under one run key.
 
@@ -77,6 +63,11 @@ def record_key(record_id: str, content_sha256: str, run: str) -> str:
     directories are two records and must not share an entry.
     """
     return hashlib.sha256(f"{record_id}\n{content_sha256}\n{run}".encode()).hexdigest()[:40]
+
+
+def scene_cache_dir(out_dir: str | Path) -> Path:
+    """Where the scene cache of an output directory lives."""
+    return Path(out_dir) / STATE_DIR / "cache"
 
 
 class _NpzStore:
@@ -105,21 +96,19 @@ class _NpzStore:
     def _write(self, path: Path, arrays: dict) -> None:
         """Write atomically; a failure is logged once, never raised (the run goes on in memory)."""
         self.used.add(path.name)
-        tmp = None
-        try:
-            self.dir.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".npz.tmp", dir=self.dir)
-            os.chmod(tmp, default_file_mode())
-            with os.fdopen(fd, "wb") as fh:
+
+        def write(tmp: str) -> None:
+            with open(tmp, "wb") as fh:
                 np.savez(fh, entry_format=np.array(ENTRY_FORMAT), **arrays)
-            os.replace(tmp, path)
-        except OSError as exc:
+
+        try:
+            replace_atomically(path, write)
+        except OutputError as exc:
             self.write_errors += 1
-            if tmp is not None:
-                Path(tmp).unlink(missing_ok=True)
             if self.write_errors == 1:
+                cause = exc.__cause__
                 log.warning("%s: cannot save the %s (%s); results are kept in memory until the final write",
-                            self.dir, self.what, exc.strerror or exc)
+                            self.dir, self.what, getattr(cause, "strerror", None) or cause or exc)
 
     def prune(self) -> int:
         """Delete entries not used by this run (other configurations, changed records); returns the count."""
@@ -150,7 +139,7 @@ class SceneCache(_NpzStore):
     what = "scene cache"
 
     def __init__(self, out_dir: str | Path, run: str):
-        super().__init__(Path(out_dir) / STATE_DIR / "cache")
+        super().__init__(scene_cache_dir(out_dir))
         self.run = run
 
     def path(self, record_id: str, content_sha256: str) -> Path:
@@ -228,10 +217,10 @@ def merge(old, new):
     """
     if old is None:
         return new
-    ids = list(new.block_ids) + [b for b in old.block_ids if b not in set(new.block_ids)]
-    digests = list(new.block_digests) + [d for b, d in zip(old.block_ids, old.block_digests)
-                                         if b not in set(new.block_ids)]
-    keep_old = [k for k, b in enumerate(old.block_ids) if b not in set(new.block_ids)]
+    fresh = set(new.block_ids)
+    keep_old = [k for k, b in enumerate(old.block_ids) if b not in fresh]
+    ids = list(new.block_ids) + [old.block_ids[k] for k in keep_old]
+    digests = list(new.block_digests) + [old.block_digests[k] for k in keep_old]
     blocks = {name: np.concatenate([np.asarray(new.blocks[name], dtype=float),
                                     np.asarray(old.blocks[name], dtype=float)[keep_old]])
               for name in new.blocks}

@@ -74,6 +74,24 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
 
 
+def _config_and_inventory(args: argparse.Namespace):
+    """The configuration (``--config``, and ``--fidelity`` where the command has it) and the ``--blocks`` inventory."""
+    from .blocks import read_inventory
+    from .config import load_config
+
+    config = load_config(args.config)
+    if getattr(args, "fidelity", None) is not None:
+        config = config.with_tier(args.fidelity)
+    return config, read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+
+
+def _records_dir(path: Path) -> Path:
+    """``--records``, checked to be a directory."""
+    if not path.is_dir():
+        raise RockscreenError(f"{path}: records directory not found")
+    return path
+
+
 def _progress(quiet: bool):
     """A tqdm wrapper on stderr (silent when stderr is not a terminal), or None with ``-q``."""
     if quiet:
@@ -116,21 +134,16 @@ def _print_summary(summary: dict, out: Path) -> None:
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     """The main job: screen records against blocks and write results (incrementally)."""
     from .batch import run
-    from .blocks import read_inventory
-    from .cache import ensure_writable, files_sha256
-    from .config import load_config
+    from .cache import ensure_writable, scene_cache_dir
     from .executors import make_executor
-    from .records.loader import read_declared_units, read_inventory as read_station_inventory, stationxml_paths
+    from .records.loader import files_sha256, read_declared_units, stationxml_paths
+    from .records.loader import read_inventory as read_station_inventory
     from .margins import add_margins
     from .report.html import build_report
     from .store import OutputLock, remove_stale_temporaries, write_atomic
 
-    config = load_config(args.config)
-    if args.fidelity is not None:
-        config = config.with_tier(args.fidelity)
-    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
-    if not args.records.is_dir():
-        raise RockscreenError(f"{args.records}: records directory not found")
+    config, inventory = _config_and_inventory(args)
+    _records_dir(args.records)
     if args.num_processes < 1:
         raise RockscreenError(f"-n {args.num_processes}: the number of worker processes must be >= 1")
     station_inventory = read_station_inventory(args.records, args.inventory)
@@ -164,7 +177,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
             margin_cache.prune()
             report, assets = build_report(out)
     except KeyboardInterrupt:
-        cache_dir = out_dir / ".rockscreen" / "cache"
+        cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
         print(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will not be "
               f"screened again; {out_dir / 'screening.nc'} still holds the previous complete results, if any. "
@@ -253,9 +266,7 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
         from .batch import run
         from .records.loader import read_declared_units, read_inventory as read_station_inventory
 
-        if not args.records.is_dir():
-            raise RockscreenError(f"{args.records}: records directory not found")
-        results, _, _ = run(args.records, block, config,
+        results, _, _ = run(_records_dir(args.records), block, config,
                          station_inventory=read_station_inventory(args.records, args.inventory),
                          declared_units=read_declared_units(args.records, config), progress=_progress(args.quiet))
         block_id = block.ids[0]
@@ -315,14 +326,9 @@ def bench_parser() -> argparse.ArgumentParser:
 def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen bench``: what accuracy costs in time."""
     from .bench import markdown, run_bench
-    from .blocks import read_inventory
-    from .config import load_config
 
-    config = load_config(args.config)
-    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
-    if not args.records.is_dir():
-        raise RockscreenError(f"{args.records}: records directory not found")
-    rows = run_bench(args.records, inventory, config, out_dir=args.out, settings_sweep=not args.tiers_only)
+    config, inventory = _config_and_inventory(args)
+    rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out, settings_sweep=not args.tiers_only)
     print(markdown(rows), end="")
     print(f"wrote {args.out / 'bench.csv'}, {args.out / 'bench.md'} and {args.out / 'bench.png'}", file=sys.stderr)
     return EXIT_OK
@@ -348,14 +354,11 @@ def infer_parser() -> argparse.ArgumentParser:
 
 def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen infer``: write infer.nc and infer.png, print the bounds and any conflict."""
-    from .blocks import read_inventory
-    from .config import load_config
     from .infer import infer, read_observations, summarize
     from .report.infer_plot import plot_inference
     from .store import write_atomic
 
-    config = load_config(args.config)
-    inventory = read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+    config, inventory = _config_and_inventory(args)
     obs = read_observations(args.observed, inventory)
     ds = infer(obs, shape=args.pulse, config=config)
     ds.attrs["history"] = f"screen {shlex.join(argv)}"

@@ -29,7 +29,6 @@ earthquakes based on their impacts on various historical and heritage structures
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from dataclasses import dataclass
@@ -39,7 +38,7 @@ import numpy as np
 import xarray as xr
 
 from . import criteria
-from .blocks import Inventory
+from .blocks import Inventory, parse_number, read_csv_table
 from .closed_forms import PULSE_BETA
 from .config import Config
 from .errors import InventoryError
@@ -70,23 +69,13 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
         Naming the file, line and column, what was found and what is expected.
     """
     path = Path(path)
-    try:
-        rows = list(csv.reader(path.read_text(encoding="utf-8-sig").splitlines()))
-    except FileNotFoundError:
-        raise InventoryError(f"{path}: observations file not found") from None
-    if not rows:
-        raise InventoryError(f"{path}: empty; expected a header 'id,outcome[,fall_azimuth_deg]'")
-    header = [c.strip() for c in rows[0]]
+    header, records = read_csv_table(path, what="observations", expected_header="id,outcome[,fall_azimuth_deg]")
     if "id" not in header or "outcome" not in header or set(header) - {"id", "outcome", "fall_azimuth_deg"}:
         raise InventoryError(f"{path}, line 1: header {header}; expected 'id,outcome' and optionally "
                              "'fall_azimuth_deg'")
     index = {b: k for k, b in enumerate(inventory.ids)}
     picked, toppled, fall, seen = [], [], [], {}
-    for line, row in enumerate(rows[1:], start=2):
-        if not any(c.strip() for c in row):
-            continue
-        rec = dict(zip(header, (c.strip() for c in row)))
-        where = f"{path}, line {line}"
+    for line, where, rec in records:
         bid = rec.get("id", "")
         if bid not in index:
             raise InventoryError(f"{where}, column 'id': {bid!r} is not in the inventory {inventory.source}")
@@ -97,17 +86,16 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
         if outcome not in OUTCOMES:
             raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected toppled or standing")
         az = rec.get("fall_azimuth_deg", "")
+        fall_deg = math.nan
         if az:
-            try:
-                a = float(az)
-            except ValueError:
-                raise InventoryError(f"{where}, column 'fall_azimuth_deg': {az!r} is not a number") from None
-            if not (0 <= a <= 360) or outcome != "toppled":
-                raise InventoryError(f"{where}, column 'fall_azimuth_deg': {az!r}; expected an azimuth in "
-                                     "[0, 360] deg, and only for a toppled block")
+            if outcome != "toppled":
+                raise InventoryError(f"{where}, column 'fall_azimuth_deg': {az!r}; a fall azimuth is given only "
+                                     "for a toppled block")
+            fall_deg = parse_number(az, where=where, column="fall_azimuth_deg", rule="an azimuth in [0, 360] deg",
+                                    ok=lambda x: 0 <= x <= 360) % 180.0
         picked.append(index[bid])
         toppled.append(outcome == "toppled")
-        fall.append(float(az) % 180.0 if az else math.nan)
+        fall.append(fall_deg)
     if not picked:
         raise InventoryError(f"{path}: no observations; add one line per block 'id,toppled' or 'id,standing'")
     return Observations(inventory.take(picked), np.array(toppled), np.array(fall), str(path))
@@ -149,16 +137,13 @@ def criterion_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
 
 def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config) -> tuple[np.ndarray, int]:
     """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs."""
-    g = config.records.g_ms2
-    geom = inv.geometry(g_ms2=g)
-    e = inv.effective_restitution(geom)
+    params = inv.scene_params(g_ms2=config.records.g_ms2)
     felt = _felt(inv, azimuths)
     out = np.zeros((len(inv), azimuths.size, tp.size, ap.size), dtype=bool)
     runs = 0
     settings = config.simulation_settings()
     for j in range(len(inv)):
-        kw = dict(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]),
-                  mu=float(inv.mu[j]), g_ms2=g, settings=settings)
+        kw = dict(params[j], settings=settings)
         memo: dict[tuple, bool] = {}
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),

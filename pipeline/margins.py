@@ -34,7 +34,7 @@ import xarray as xr
 
 from .criteria import rocking_applicable
 from .errors import RockscreenError
-from .records.loader import RecordSource, load_record
+from .records.loader import RecordSource
 from .rocking.planner import PHYSICS, plan, simulate_scene
 from .rocking.simulate import rock
 from .screening import Context
@@ -151,22 +151,17 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     """
     source, blocks = item
     cfg = ctx.config
-    g = cfg.records.g_ms2
     try:
-        rec = load_record(source, root=ctx.root, config=cfg, declared=ctx.declared_units,
-                          inventory=ctx.station_inventory)
+        rec = ctx.load(source)
     except RockscreenError as exc:
         return {"error": str(exc)}
     inv = ctx.inventory
-    geom = inv.geometry(g_ms2=g)
-    e = inv.effective_restitution(geom)
+    params = inv.scene_params(g_ms2=cfg.records.g_ms2)
     index = {b: k for k, b in enumerate(inv.ids)}
     out = {}
     for block_id, direction, overturned, want_history in blocks:
-        j = index[block_id]
         ah = rec.along(float(direction))
-        kw = dict(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(max(e[j], 0.0)), R_m=float(geom.R[j]),
-                  mu=float(inv.mu[j]), g_ms2=g, settings=cfg.simulation_settings())
+        kw = dict(params[index[block_id]], settings=cfg.simulation_settings())
         scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, overturns_at_one=overturned, **kw)
         history = theta_history(ah, rec.vertical_ms2, rec.dt_s, **kw) if want_history else None
         out[block_id] = (scale, runs, history, rec.dt_s)
@@ -260,17 +255,11 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
 
 def history_dataset(histories: dict) -> xr.Dataset:
     """theta(t)/alpha per block as a CF contiguous ragged array (featureType timeSeries)."""
-    ids = sorted(histories)
-    sizes = np.array([histories[b][0].size for b in ids], dtype="i4")
-    data = np.concatenate([histories[b][0] for b in ids]) if ids else np.zeros(0)
-    return xr.Dataset(
-        {"block_id": (("station",), np.array(ids, dtype=str), {"cf_role": "timeseries_id", "long_name": "block"}),
-         "governing_record": (("station",), np.array([histories[b][2] for b in ids], dtype=str),
-                              {"long_name": "governing record of the block"}),
-         "row_size": (("station",), sizes, {"sample_dimension": "sample", "long_name": "samples per block"}),
-         "dt": (("station",), np.array([histories[b][1] for b in ids], dtype=float),
-                {"units": "s", "long_name": "sampling interval"}),
-         "theta_over_alpha": (("sample",), data.astype("f4"),
-                              {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
-                               "comment": "NaN after overturning"})},
-        attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
+    from .store import ragged_dataset
+
+    rows = [{"id": b, "theta_over_alpha": histories[b][0], "dt": histories[b][1], "governing_record": histories[b][2]}
+            for b in sorted(histories)]
+    return ragged_dataset("block_id", "block", rows, {
+        "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
+                             "comment": "NaN after overturning"}},
+        station={"governing_record": {"long_name": "governing record of the block"}})

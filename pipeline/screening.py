@@ -41,6 +41,11 @@ class Context:
     declared_units: dict
     station_inventory: object = None
 
+    def load(self, source: RecordSource) -> Record:
+        """Read, convert and process one record (:func:`pipeline.records.loader.load_record`)."""
+        return load_record(source, root=self.root, config=self.config, declared=self.declared_units,
+                           inventory=self.station_inventory)
+
 
 @dataclass
 class RecordResult:
@@ -139,6 +144,16 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
     return values, blocks, series
 
 
+def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, np.ndarray]:
+    """The record's pulse values, per-block pulse values and series (:func:`_pulse_values`), and the
+    direction each block is simulated along: the pulse's, or the peak vector's when no pulse was found."""
+    values, blocks, series = _pulse_values(rec, ctx)
+    directions = blocks.get("block_pulse_azimuth")
+    if directions is None:
+        directions = _block_directions(rec, ctx.inventory, rec.pga_azimuth_deg())
+    return values, blocks, series, directions
+
+
 #: Integer variables that are counts rather than flags (-1: not evaluated).
 INTEGER_DTYPES = {"n_impacts": "i4"}
 
@@ -176,9 +191,7 @@ def simulation_mask(block_values: dict, inventory: Inventory, config: Config) ->
 def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None) -> dict:
     """Plan and simulate the blocks in ``mask`` (default all) against one record."""
     inv, cfg = ctx.inventory, ctx.config
-    g = cfg.records.g_ms2
-    geom = inv.geometry(g_ms2=g)
-    e = inv.effective_restitution(geom)
+    params = inv.scene_params(g_ms2=cfg.records.g_ms2)
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
     av = rec.vertical_ms2
@@ -187,9 +200,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     for d in np.unique(directions[mask]):
         ah = rec.along(float(d))
         for j in np.flatnonzero((directions == d) & mask):
-            sc = simulate_scene(ah, av, rec.dt_s, p=float(geom.p[j]), alpha=float(geom.alpha[j]),
-                                e=float(max(e[j], 0.0)), R_m=float(geom.R[j]), mu=float(inv.mu[j]), g_ms2=g,
-                                settings=settings)
+            sc = simulate_scene(ah, av, rec.dt_s, settings=settings, **params[j])
             row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": int(sc.overturned),
                    "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
                    "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
@@ -199,11 +210,14 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     return out
 
 
-def screen_record(source: RecordSource, ctx: Context, block_ids=None) -> RecordResult:
+def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sha256: str | None = None
+                  ) -> RecordResult:
     """Screen one record against the blocks ``block_ids`` (all when None).
 
     Loads the record by path inside the task; failures come back as a
     status, never raise, so one bad record never stops the batch.
+    ``content_sha256`` is the digest the caller already took of the files
+    (computed here when None).
     """
     inv = ctx.inventory
     if block_ids is not None:
@@ -212,17 +226,13 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None) -> RecordR
     task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory)
     files = {"files": ";".join(Path(f).name for f in source.files)}
     try:
-        content = source.digest()
-        rec = load_record(source, root=ctx.root, config=ctx.config, declared=ctx.declared_units,
-                          inventory=ctx.station_inventory)
+        content = source.digest() if content_sha256 is None else content_sha256
+        rec = ctx.load(source)
         values, comps = _record_values(rec, source)
         values["content_sha256"] = content
         values["screened_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-        pulse_values, block_values, series = _pulse_values(rec, task_ctx)
+        pulse_values, block_values, series, directions = pulses_and_directions(rec, task_ctx)
         values.update(pulse_values)
-        directions = block_values.get("block_pulse_azimuth")
-        if directions is None:
-            directions = _block_directions(rec, inv, rec.pga_azimuth_deg())
         mask = simulation_mask(block_values, inv, ctx.config)
         block_values.update(_simulation_values(rec, directions, task_ctx, mask))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,

@@ -10,12 +10,14 @@ never a partial one.
 
 from __future__ import annotations
 
+import csv
 import json
 import os
 import socket
 import tempfile
 import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import xarray as xr
@@ -23,6 +25,8 @@ import xarray as xr
 from .errors import OutputError, OutputLockedError, ResultsError
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
+#: Sub-directory of an output directory holding the run state (lock, scene and margin caches).
+STATE_DIR = ".rockscreen"
 
 #: name -> (dims, units or None, long_name, extra attributes)
 SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
@@ -188,7 +192,22 @@ def _encoding(ds: xr.Dataset) -> dict:
 
 
 def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to ``path`` (netCDF4) atomically: temporary file, fsync, rename.
+    """Write ``ds`` to ``path`` (netCDF4) atomically (:func:`replace_atomically`).
+
+    Raises
+    ------
+    OutputError
+        If the directory is not writable or the disk is full; the previous
+        file at ``path``, if any, is left untouched.
+    """
+    return replace_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds)))
+
+
+def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
+    """Create or replace ``path`` through ``write(temporary_path)``: temporary file, fsync, rename.
+
+    The temporary ``.<name>.*.tmp`` lies in the same directory, so the rename is atomic:
+    a reader, or a run killed at any instant, sees the old file or the new one.
 
     Raises
     ------
@@ -206,7 +225,7 @@ def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
         raise OutputError(f"{path.parent}: cannot write results here ({exc.strerror or exc}); "
                           "choose another --out directory or fix its permissions") from exc
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+        write(tmp)
         with open(tmp, "rb+") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
@@ -220,11 +239,27 @@ def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
     return path
 
 
+def write_text_atomic(path: str | Path, text: str) -> Path:
+    """Write UTF-8 text atomically (:func:`replace_atomically`)."""
+    return replace_atomically(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+
+
+def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
+    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`)."""
+    def write(tmp: str) -> None:
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(columns), restval="", extrasaction="ignore")
+            w.writeheader()
+            w.writerows(rows)
+
+    return replace_atomically(path, write)
+
+
 def remove_stale_temporaries(out_dir: str | Path) -> int:
     """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
     out = Path(out_dir)
     n = 0
-    for pattern in (".*.nc.*.tmp", ".rockscreen/*/.entry.*.npz.tmp"):
+    for pattern in (".*.tmp", f"{STATE_DIR}/*/.*.tmp"):
         for p in out.glob(pattern):
             _remove_quietly(p)
             n += 1
@@ -245,26 +280,57 @@ def _remove_quietly(path) -> None:
         pass
 
 
+def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: dict[str, dict],
+                   station: dict[str, dict] | None = None) -> xr.Dataset:
+    """Time series of different lengths as a CF contiguous ragged array (featureType timeSeries).
+
+    Parameters
+    ----------
+    id_name, id_long_name : str
+        Name and long name of the series id variable (``cf_role = timeseries_id``).
+    rows : list of dict
+        One per series: ``"id"``, ``"dt"`` [s] and an array per name in ``series``.
+    series : dict
+        Name -> attributes of each per-sample variable (stored as float32).
+    station : dict, optional
+        Name -> attributes of further per-series string variables taken from ``rows``.
+
+    References
+    ----------
+    CF conventions 1.11, section 9 and appendix H (contiguous ragged array representation).
+    """
+    first = next(iter(series))
+    ids = np.array([r["id"] for r in rows], dtype=str)   # unicode: an empty object array cannot be written
+    data = {"row_size": (("station",), np.array([np.size(r[first]) for r in rows], dtype="i4"),
+                         {"sample_dimension": "sample", "long_name": f"samples per {id_long_name}"}),
+            "dt": (("station",), np.array([r["dt"] for r in rows], dtype=float),
+                   {"units": "s", "long_name": "sampling interval"}),
+            id_name: (("station",), ids, {"cf_role": "timeseries_id", "long_name": id_long_name})}
+    for name, attrs in (station or {}).items():
+        data[name] = (("station",), np.array([r[name] for r in rows], dtype=str), attrs)
+    for name, attrs in series.items():
+        values = np.concatenate([np.asarray(r[name]) for r in rows]) if rows else np.zeros(0)
+        data[name] = (("sample",), values.astype("f4"), attrs)
+    return xr.Dataset(data, attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
+
+
+def ragged_rows(ds: xr.Dataset, id_name: str) -> dict[str, slice]:
+    """Series id -> slice of the ``sample`` dimension, for a :func:`ragged_dataset`."""
+    sizes = ds["row_size"].values
+    ends = np.cumsum(sizes)
+    return {sid: slice(int(e - n), int(e)) for sid, n, e in zip(ds[id_name].values.tolist(), sizes, ends)}
+
+
 def pulse_series_dataset(results) -> xr.Dataset:
-    """Extracted pulses of all records as a CF contiguous ragged array (featureType timeSeries).
+    """Extracted pulses of all records as a CF contiguous ragged array (:func:`ragged_dataset`).
 
     Variables on dimension ``sample``: ``velocity`` and ``pulse`` [m s-1] along each record's
     chosen pulse orientation; ``row_size`` gives each record's number of samples.
     """
-    rows = [(r.record_id, r.series) for r in results if r.series]
-    ids = np.array([rid for rid, _ in rows], dtype=str)  # unicode: an empty object array cannot be written
-    sizes = np.array([s["velocity"].size for _, s in rows], dtype="i4")
-    cat = lambda k: np.concatenate([s[k] for _, s in rows]) if rows else np.zeros(0)  # noqa: E731
-    ds = xr.Dataset(
-        {"record_id": (("station",), ids, {"cf_role": "timeseries_id", "long_name": "record"}),
-         "row_size": (("station",), sizes, {"sample_dimension": "sample", "long_name": "samples per record"}),
-         "dt": (("station",), np.array([s["dt"] for _, s in rows], dtype=float), {"units": "s", "long_name": "sampling interval"}),
-         "velocity": (("sample",), cat("velocity").astype("f4"),
-                      {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"}),
-         "pulse": (("sample",), cat("pulse").astype("f4"),
-                   {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"})},
-        attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
-    return ds
+    rows = [{"id": r.record_id, **r.series} for r in results if r.series]
+    return ragged_dataset("record_id", "record", rows, {
+        "velocity": {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"},
+        "pulse": {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"}})
 
 
 def open_results(path: str | Path) -> xr.Dataset:
@@ -296,7 +362,7 @@ class OutputLock:
     """
 
     def __init__(self, out_dir: str | Path, *, command: str = ""):
-        self.path = Path(out_dir) / ".rockscreen" / "lock"
+        self.path = Path(out_dir) / STATE_DIR / "lock"
         self.command = command
         self.stale_owner: dict | None = None
 

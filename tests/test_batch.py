@@ -168,7 +168,7 @@ def test_file_vanishing_after_the_scan_fails_that_record_alone(few_records, bloc
     assert "vanished" in p.failures[0].status and "test.knet" in p.failures[0].status
     assert len(p.tasks) == len(sources) - 1
     ctx = Context(str(few_records), config, inventory, read_declared_units(few_records, config))
-    res = _task((gone, None), ctx)
+    res = _task((gone, None, None), ctx)
     assert res.status.startswith("failed") and "vanished" in res.status
 
 
@@ -289,7 +289,7 @@ def tasks(few_records, blocks_csv, config):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
     sources, _ = scan(few_records, config=config)
     ctx = Context(str(few_records), config, inventory, read_declared_units(few_records, config))
-    return [(s, None) for s in sources], ctx
+    return [(s, None, None) for s in sources], ctx
 
 
 def _by_record(pairs) -> dict:

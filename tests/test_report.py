@@ -87,6 +87,12 @@ def test_governing_record_is_the_worst_scene(screened):
     index = governing_records(ds)
     ok = ds.status.values == "ok"
     for j, bid in enumerate(ds.block.values):
+        # the worst scene by the documented order, found independently with Python's tuple ordering
+        key = lambda i: (ds.overturn_simulated.values[i, j] == 1, ds.overturn_criterion.values[i, j] == 1,  # noqa: E731
+                         np.nan_to_num(ds.theta_max.values[i, j], nan=-1.0),
+                         np.nan_to_num(ds.energy_ratio.values[i, j], nan=-1.0))
+        worst = max(np.flatnonzero(ok), key=key)
+        assert key(worst) == key(index[j]), bid
         assert ds.governing_record.values[j] == ds.record.values[index[j]]
         sim = ds.overturn_simulated.values[ok, j] == 1
         if sim.any():

@@ -7,7 +7,6 @@ never raise from a format check.
 
 from __future__ import annotations
 
-import io
 import os
 from pathlib import Path
 

@@ -48,17 +48,31 @@ class RecordSource:
     formats: tuple[str, ...]
 
     def digest(self) -> str:
-        """SHA-256 over the content of the files (for re-run detection)."""
-        h = hashlib.sha256()
-        for f in sorted(self.files):
-            h.update(Path(f).name.encode())
-            try:
-                h.update(Path(f).read_bytes())
-            except OSError as exc:
-                raise RecordFormatError(f"{f}: the file vanished or became unreadable after the records "
-                                        f"directory was scanned ({exc.strerror}); re-run when the directory "
-                                        "is stable") from None
-        return h.hexdigest()
+        """SHA-256 over the names and content of the files (for re-run detection)."""
+        try:
+            return files_sha256(self.files)
+        except OSError as exc:
+            raise RecordFormatError(f"{exc.filename}: the file vanished or became unreadable after the records "
+                                    f"directory was scanned ({exc.strerror}); re-run when the directory "
+                                    "is stable") from None
+
+
+def files_sha256(paths) -> str:
+    """SHA-256 over the names and bytes of ``paths``, in sorted order ("" for none).
+
+    Raises
+    ------
+    OSError
+        If a file cannot be read.
+    """
+    paths = sorted(str(p) for p in paths)
+    if not paths:
+        return ""
+    h = hashlib.sha256()
+    for f in paths:
+        h.update(Path(f).name.encode())
+        h.update(Path(f).read_bytes())
+    return h.hexdigest()
 
 
 @dataclass(frozen=True)

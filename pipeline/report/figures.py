@@ -20,23 +20,18 @@ import io
 
 import numpy as np
 
+from ..rocking.planner import RESPONSE
+from .mpl import pyplot
+
 #: Colour and label of each simulated response code (store.SCHEMA "response").
-RESPONSE_STYLE = {4: ("tab:red", "overturn"), 3: ("tab:orange", "slide + rock"), 2: ("tab:blue", "rock"),
-                  1: ("tab:green", "slide"), 0: ("0.6", "rest"), -1: ("0.85", "not simulated")}
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide_rock"]: ("tab:orange", "slide + rock"),
+                  RESPONSE["rock"]: ("tab:blue", "rock"), RESPONSE["slide"]: ("tab:green", "slide"),
+                  RESPONSE["rest"]: ("0.6", "rest"), -1: ("0.85", "not simulated")}
 
 
 def png_bytes(fig) -> bytes:
     """Render a matplotlib figure to PNG and close it."""
-    plt = _pyplot()
+    plt = pyplot()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90)
     plt.close(fig)
@@ -55,7 +50,7 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
     response : ndarray of int
         Simulated response code per scene.
     """
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
     ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
     lo = min(0.05, float(np.min(x[ok])) / 1.5) if ok.any() else 0.05
@@ -84,7 +79,7 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
 
 def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:
     """theta(t) / alpha of one scene; the overturning limits at +-pi/(2 alpha) are off the scale."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 2.6), constrained_layout=True)
     t = np.arange(theta_over_alpha.size) * dt_s
     ax.plot(t, theta_over_alpha, color="k", lw=0.8)
@@ -106,6 +101,6 @@ def pulse_figure(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, 
     """Original velocity, extracted pulse and residual [cm/s] (Shahi & Baker's ``make_plot``)."""
     from .pulse_plot import pulse_axes
 
-    plt = _pyplot()
+    plt = pyplot()
     fig = pulse_axes(plt, velocity_ms, pulse_ms, dt_s, title=title, figsize=(7.5, 4.2))
     return png_bytes(fig)

@@ -20,23 +20,26 @@ Recommendation rule (per asset, on its governing record; thresholds here):
 from __future__ import annotations
 
 import base64
-import csv
+from collections import Counter
 import math
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from ..constants import G
+from ..rocking.planner import PHYSICS, RESPONSE
+from ..store import open_results, ragged_rows, write_csv_atomic, write_text_atomic
 from . import figures
 
 #: A simulated margin below this factor calls for restraint or relocation [-].
 RELOCATE_BELOW_SCALE = 1.5
 #: theta(t)/alpha figures drawn, riskiest assets first (all histories stay in histories.nc).
 MAX_HISTORY_FIGURES = 60
-#: Responses (store.SCHEMA "response") that call for limiting sliding.
-SLIDING_RESPONSES = {1: "slide", 3: "slide_rock"}
-RESPONSE_NAMES = {-1: "not simulated", 0: "rest", 1: "slide", 2: "rock", 3: "slide_rock", 4: "overturn"}
-PHYSICS_NAMES = {-1: "not simulated", 0: "none", 1: "sliding", 2: "rocking", 3: "rocking_vertical"}
+#: Responses that call for limiting sliding.
+SLIDING_RESPONSES = {RESPONSE["slide"], RESPONSE["slide_rock"]}
+RESPONSE_NAMES = {-1: "not simulated", **{code: name for name, code in RESPONSE.items()}}
+PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.items()}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 
 ASSET_COLUMNS = ("rank", "block", "name", "site", "h_m", "b_m", "R_m", "alpha_deg", "p_rad_s", "mu",
@@ -91,13 +94,8 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
 
 
 def write_assets_csv(rows: list[dict], path: Path) -> Path:
-    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit')."""
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.DictWriter(fh, fieldnames=ASSET_COLUMNS)
-        w.writeheader()
-        for r in rows:
-            w.writerow({c: r[c] for c in ASSET_COLUMNS})
-    return path
+    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit'), atomically."""
+    return write_csv_atomic(path, ASSET_COLUMNS, [{c: r[c] for c in ASSET_COLUMNS} for r in rows])
 
 
 def _data_uri(png: bytes) -> str:
@@ -106,18 +104,15 @@ def _data_uri(png: bytes) -> str:
 
 def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[dict]:
     series = {}
-    if pulses is not None and pulses.sizes.get("station", 0):
-        ends = np.cumsum(pulses["row_size"].values)
-        for k, rid in enumerate(pulses["record_id"].values.tolist()):
-            a, b = ends[k] - pulses["row_size"].values[k], ends[k]
-            series[rid] = (pulses["velocity"].values[a:b].astype(float), pulses["pulse"].values[a:b].astype(float),
+    if pulses is not None:
+        for k, (rid, rows_k) in enumerate(ragged_rows(pulses, "record_id").items()):
+            series[rid] = (pulses["velocity"].values[rows_k].astype(float), pulses["pulse"].values[rows_k].astype(float),
                            float(pulses["dt"].values[k]))
     rows = []
-    g = 9.80665
     for i, rid in enumerate(ds["record"].values.tolist()):
         val = lambda name: ds[name].values[i] if name in ds else np.nan  # noqa: E731
         is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
-        row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / g,
+        row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
                "pgv_cms": 100 * float(val("pgv")), "tp_s": float(val("pulse_period")),
                "pi": float(val("pulse_indicator")),
                "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
@@ -132,16 +127,10 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[dict]:
 def _histories(path: Path) -> dict:
     if not path.is_file():
         return {}
-    from ..store import open_results
-
     h = open_results(path)
-    ends = np.cumsum(h["row_size"].values)
-    out = {}
-    for k, bid in enumerate(h["block_id"].values.tolist()):
-        a, b = ends[k] - h["row_size"].values[k], ends[k]
-        out[bid] = (h["theta_over_alpha"].values[a:b].astype(float), float(h["dt"].values[k]),
-                    str(h["governing_record"].values[k]))
-    return out
+    return {bid: (h["theta_over_alpha"].values[rows].astype(float), float(h["dt"].values[k]),
+                  str(h["governing_record"].values[k]))
+            for k, (bid, rows) in enumerate(ragged_rows(h, "block_id").items())}
 
 
 def build_report(results_path: str | Path, out_dir: str | Path | None = None) -> tuple[Path, Path]:
@@ -156,8 +145,6 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
     from jinja2 import Environment, PackageLoader, select_autoescape
 
     from ..errors import ResultsError
-    from ..store import open_results
-
     results_path = Path(results_path)
     ds = open_results(results_path)
     if "overturn_scale_simulated" not in ds:
@@ -180,9 +167,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
     resp = ds["response"].values
     chart = _data_uri(figures.scenes_chart(ds["normalized_duration"].values.ravel(),
                                            ds["normalized_acceleration"].values.ravel(), resp.ravel()))
-    counts = {}
-    for r in assets:
-        counts[r["recommendation"].split(":")[0]] = counts.get(r["recommendation"].split(":")[0], 0) + 1
+    counts = Counter(r["recommendation"].split(":")[0] for r in assets)
     summary = {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
@@ -190,7 +175,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
         "blocks": ds.sizes["block"],
         "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
-        "by_recommendation": sorted(counts.items(), key=lambda kv: -kv[1]),
+        "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
         "histories": len(histories), "histories_drawn": drawn,
     }
@@ -200,8 +185,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
     html = env.get_template("report.html.j2").render(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
         records=_record_rows(ds, pulses), chart=chart)
-    html_path = out_dir / "report.html"
-    html_path.write_text(html, encoding="utf-8")
+    html_path = write_text_atomic(out_dir / "report.html", html)
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
 
 

@@ -9,6 +9,7 @@ import xarray as xr
 
 from .. import criteria
 from ..blocks import geometry
+from .mpl import pyplot, save_figure
 
 
 def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) -> Path:
@@ -18,10 +19,7 @@ def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) 
     (Eq. 7, with the paper's sliding line where it is lower) is drawn solid when the block
     toppled and dashed when it stood, labelled with its id.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     tp = ds["duration"].values
     ap_g = ds["acceleration"].values / g_ms2
@@ -57,7 +55,4 @@ def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) 
     ax.set_title(f"Pulses ({ds.attrs['pulse']}) consistent with every observation: simulation (green), "
                  "criterion (hatched)", fontsize=9)
     ax.grid(which="both", alpha=0.25)
-    path = Path(path)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=100)

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .mpl import pyplot, save_figure
+
 
 def plot_pulse(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, title: str,
                path: str | Path, tp_s: float | None = None) -> Path:
@@ -24,17 +26,9 @@ def plot_pulse(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, ti
     tp_s : float, optional
         Pulse period, shown in the title [s].
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig = pulse_axes(plt, velocity_ms, pulse_ms, dt_s,
+    fig = pulse_axes(pyplot(), velocity_ms, pulse_ms, dt_s,
                      title=title + (f"  (Tp = {tp_s:.3f} s)" if tp_s and np.isfinite(tp_s) else ""))
-    path = Path(path)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def pulse_axes(plt, velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, title: str,

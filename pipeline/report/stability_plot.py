@@ -7,6 +7,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from .mpl import pyplot, save_figure
+
 
 def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | None = None):
     """Draw ``chart`` (from :func:`pipeline.chart.stability_chart`, optionally merged with
@@ -20,10 +22,7 @@ def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | No
     pathlib.Path
         The file written.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     at = chart.attrs
     g = at["g"]
@@ -86,8 +85,4 @@ def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | No
     for a in (ax, axn):
         a.grid(True, which="both", alpha=0.3)
     fig.suptitle(title or at.get("title", "stability chart"), fontsize=10)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)
