@@ -37,7 +37,7 @@ from .errors import RockscreenError
 from .executors import SerialExecutor, TaskLost
 from .records.loader import RecordSource, read_declared_units, scan
 from .rocking.planner import PHYSICS, RESPONSE
-from .screening import Context, RecordResult, assemble, failure_result, screen_record
+from .screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
 from .store import pulse_series_dataset
 
 log = logging.getLogger(__name__)
@@ -219,6 +219,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
                               **{k: int(np.sum(phys == v)) for k, v in PHYSICS.items()}},
         "fidelity": config.fidelity.tier,
         "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
+        "scenes_by_orientation": {k: int(np.sum(ds["orientation"].values == v)) for k, v in ORIENTATION.items()},
+        "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
         "wall_time_s": time.perf_counter() - t0, "cache": cache,
         "sources": {s.record_id: s for s in sources}, "context": ctx,

@@ -14,9 +14,11 @@ all scenes, and the simulations the tier asks for. Every tier is compared with
 
 Then the simulation's own settings are varied one at a time around the
 defaults (integration tolerance, rest threshold, largest step) on the ``full``
-tier, against the reference; and the margin scan step on each block's worst
-scene, against the finest step (the error columns are then relative margin
-differences).
+tier, against the reference; the orientation scan (its grid step, and the
+pulse axis alone as before the scan existed); the approximation that drops a
+small vertical (``vertical_fraction``); and the margin scan step on each
+block's worst scene, against the finest step (the error columns are then
+relative margin differences).
 
 Results: ``OUT/bench.csv``, ``OUT/bench.md`` and ``OUT/bench.png`` (error against
 time per scene). The records are held in memory for the whole run; use a
@@ -41,7 +43,8 @@ from .records.loader import read_inventory as read_station_inventory
 from .store import write_csv_atomic, write_text_atomic
 from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
 
-COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "scenes",
+COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",
+           "scenes",
            "misses", "false_alarms", "misses_pulse", "false_alarms_pulse", "misses_non_pulse",
            "false_alarms_non_pulse", "theta_error_max", "theta_error_median")
 
@@ -88,21 +91,28 @@ def _criterion(scenes: list[_Scene], inventory: Inventory, config: Config) -> tu
     return out["overturn_criterion"], time.perf_counter() - t0
 
 
-def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config) -> tuple[dict, float]:
-    """Simulate what the tier of ``config`` asks for; verdicts and theta_max per scene, and the time."""
+def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, scan: bool = True
+              ) -> tuple[dict, float]:
+    """Simulate what the tier of ``config`` asks for; verdicts, theta_max and planes integrated per scene,
+    and the time."""
     ctx = Context("", config, inventory, {})
     nb = len(inventory)
     verdict = np.full((len(scenes), nb), -1, dtype=int)
     theta = np.full((len(scenes), nb), np.nan)
+    planes = np.zeros((len(scenes), nb))
+    azimuth = np.full((len(scenes), nb), np.nan)
     t = 0.0
     for i, s in enumerate(scenes):
         t0 = time.perf_counter()
         mask = simulation_mask(s.blocks, inventory, config)
-        sim = _simulation_values(s.record, s.directions, ctx, mask)
+        sim = _simulation_values(s.record, s.directions, ctx, mask, scan=scan)
         t += time.perf_counter() - t0
         verdict[i] = np.where(np.isnan(sim["overturn_simulated"]), -1, sim["overturn_simulated"])
         theta[i] = sim["theta_max"]
-    return {"overturn_simulated": verdict, "theta_max": theta}, t
+        planes[i] = np.nan_to_num(sim["planes_simulated"])
+        azimuth[i] = sim["governing_azimuth"]
+    return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes,
+            "governing_azimuth": azimuth}, t
 
 
 def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_pulse: np.ndarray) -> dict:
@@ -148,6 +158,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
         t = t_crit + t_sim
         rows.append({"section": "tier", "setting": "fidelity", "value": tier, "time_s": t,
                      "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
+                     "planes_simulated": int(sim.get("planes_simulated", np.zeros(1)).sum()),
                      "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
     if settings_sweep:
         rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes)
@@ -169,12 +180,28 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
                          "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
                          "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()), "scenes": n_scenes,
                          **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+    # the orientation scan: coarser grids, no refinement, and the pulse axis alone (no scan)
+    variants = [("orientation_step_deg", v, {"orientation_step_deg": v}, True) for v in (5.0, 10.0, 15.0, 30.0)]
+    variants += [("orientation_refine_deg", 0.0, {"orientation_refine_deg": 0.0}, True),
+                 ("pulse axis only (no scan)", "", {}, False),
+                 ("vertical_fraction (approximation)", 0.05, {"vertical_fraction": 0.05}, True)]
+    for label, v, change, scan in variants:
+        cfg = dataclasses.replace(full, simulation=dataclasses.replace(full.simulation, **change))
+        sim, t = _simulate(scenes, inventory, cfg, scan=scan)
+        default = bool(change) and all(getattr(config.simulation, k) == x for k, x in change.items())
+        section = "vertical" if label.startswith("vertical") else "orientation"
+        rows.append({"section": section, "setting": label + (" (default)" if default else ""), "value": v,
+                     "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
+                     "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()),
+                     "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
+                     **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
     rows += _margin_sweep(scenes, inventory, full, ref)
     return rows
 
 
 def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
-    """Margin scans on each block's worst simulated scene, for several steps, against the finest."""
+    """Margin scans on each block's worst simulated scene (in its governing plane), for several steps, against
+    the finest."""
     params = inventory.scene_params(g_ms2=config.records.g_ms2)
     theta = np.nan_to_num(ref["theta_max"], nan=-1.0)
     worst = np.argmax(np.where(ref["overturn_simulated"] == 1, np.inf, theta), axis=0)
@@ -186,7 +213,9 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
         out = []
         for j, i in enumerate(worst):
             rec = scenes[i].record
-            out.append(overturn_scale_simulated(rec.along(float(scenes[i].directions[j])), rec.vertical_ms2,
+            plane = ref["governing_azimuth"][i, j]
+            plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
+            out.append(overturn_scale_simulated(rec.along(plane), rec.vertical_ms2,
                                                 rec.dt_s, settings=settings, **params[j])[0])
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)
     finest = margins[min(steps)]
@@ -211,9 +240,9 @@ def _write(rows: list[dict], out_dir: Path) -> None:
 
 def markdown(rows: list[dict]) -> str:
     """The table as Markdown (the margin rows' error columns are relative margin differences)."""
-    head = ("| section | setting | value | time [s] | per scene [us] | simulated | misses (pulse / non-pulse) | "
-            "false alarms (pulse / non-pulse) | theta/alpha error max / median |")
-    lines = [head, "|" + "---|" * 9]
+    head = ("| section | setting | value | time [s] | per scene [us] | simulated | planes | "
+            "misses (pulse / non-pulse) | false alarms (pulse / non-pulse) | theta/alpha error max / median |")
+    lines = [head, "|" + "---|" * 10]
     fmt = lambda x, d=3: "" if x in ("", None) or (isinstance(x, float) and np.isnan(x)) else (  # noqa: E731
         f"{x:.{d}g}" if isinstance(x, float) else str(x))
     for r in rows:
@@ -223,7 +252,8 @@ def markdown(rows: list[dict]) -> str:
         err = (f"{fmt(r.get('theta_error_max', ''))} / {fmt(r.get('theta_error_median', ''))}"
                if "theta_error_max" in r else "")
         lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r['time_s'])} | "
-                     f"{fmt(r['time_per_scene_us'])} | {r.get('scenes_simulated', '')} | {mp} | {fa} | {err} |")
+                     f"{fmt(r['time_per_scene_us'])} | {r.get('scenes_simulated', '')} | "
+                     f"{r.get('planes_simulated', '')} | {mp} | {fa} | {err} |")
     return "\n".join(lines) + "\n"
 
 

@@ -186,8 +186,7 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
     """Points of every record of a ``screening.nc`` on ``chart``.
 
     With ``block_id`` present in the results, the pulse along that block's
-    direction is used; otherwise the record's strongest pulse axis (worst
-    orientation).
+    direction is used; otherwise the record's strongest pulse axis.
     """
     ok = results["status"].values == "ok"
     if block_id is not None and "block" in results.dims and block_id in list(results["block"].values):

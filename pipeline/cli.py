@@ -26,7 +26,7 @@ from importlib import metadata
 from pathlib import Path
 
 from . import __version__
-from .config import FIDELITY_TIERS
+from .config import CRITERION_MEASURED_MISSES, FIDELITY_TIERS
 from .errors import InventoryError, OutputError, OutputLockedError, RockscreenError
 
 log = logging.getLogger("pipeline")
@@ -64,8 +64,9 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
                     help="Dask: 'local' for a LocalCluster of N workers, or a scheduler address tcp://HOST:PORT "
                          "(the records directory must be readable by the workers at the same path)")
     ex.add_argument("--fidelity", choices=FIDELITY_TIERS,
-                    help="criterion | screen | full | reference (default: [fidelity] tier, 'full'); "
-                         "the cost and error of each are measured by 'screen bench'")
+                    help="criterion (the paper's criterion alone: fast, NOT conservative) | full (default: "
+                         "the exact at-rest certificate, then the simulator for every scene that moves) | "
+                         "reference (full at tight tolerances); 'screen bench' measures the cost and error of each")
     ex.add_argument("--force", action="store_true",
                     help="recompute every record and block (default: only what is new or changed)")
     p.add_argument("--tolerate-failures", action="store_true",
@@ -128,6 +129,13 @@ def _print_summary(summary: dict, out: Path) -> None:
     print("scenes by physics: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_physics"].items())
           + "; by response: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_response"].items()),
           file=sys.stderr)
+    print("scenes by orientation: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_orientation"].items())
+          + f"; rocking planes integrated: {s['planes_simulated']}", file=sys.stderr)
+    if s["scenes_by_response"].get("free_flight"):
+        print(f"free flight: {s['scenes_by_response']['free_flight']} scene(s) where the ground's g + a_v reached 0 "
+              "before any overturning have no verdict (response free_flight)", file=sys.stderr)
+    if s["fidelity"] == "criterion":
+        print(f"WARNING: fidelity 'criterion' is not conservative: {CRITERION_MEASURED_MISSES}", file=sys.stderr)
     print(f"wrote {out}", file=sys.stderr)
 
 

@@ -210,7 +210,9 @@ def evaluate(ap_ms2, tp_s, beta, dv_ms, *, R_m, alpha, p, mu, g_ms2: float = G,
     dict
         ``uplift``, ``overturn_criterion``, ``above_sliding_line``,
         ``overturn_closed_form``, ``onset`` (int8 flags, -1 not evaluated),
-        ``energy_ratio`` = |dv| / v_crit, ``criterion_scale`` (the smallest factor
+        ``velocity_ratio`` = |dv| / v_crit (the ratio Eqs. 4-5 compare with 1),
+        ``energy_ratio`` = (|dv| / v_crit)^2 (the pulse's kinetic energy over the energy
+        that overturns), ``criterion_scale`` (the smallest factor
         on the record that reaches the criterion's boundary; inf where the
         sliding line is crossed first), ``onset_friction_demand``,
         ``normalized_acceleration`` = a_p / a_uplift, ``normalized_duration`` =
@@ -229,9 +231,9 @@ def evaluate(ap_ms2, tp_s, beta, dv_ms, *, R_m, alpha, p, mu, g_ms2: float = G,
     rocking = have & rocking_applicable(alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         uplift = a >= a_up                                                  # Eq. (1)
-        energy_ratio = dv / v_crit                                          # Eqs. (4)-(5)
+        velocity_ratio = dv / v_crit                                        # Eqs. (4)-(5)
         below_sliding = a <= mu * g_ms2                                     # paper: a_p / (alpha g) <= mu / alpha
-        overturn = uplift & (energy_ratio >= 1.0) & below_sliding
+        overturn = uplift & (velocity_ratio >= 1.0) & below_sliding
         scale = np.maximum(a_up / a, v_crit / dv)                           # reach both Eq. 1 and Eq. 5
         scale = np.where(scale * a <= mu * g_ms2, scale, np.inf)
         t_bar = transition_duration(R_m, alpha, beta, g_ms2=g_ms2, form=form)
@@ -242,7 +244,8 @@ def evaluate(ap_ms2, tp_s, beta, dv_ms, *, R_m, alpha, p, mu, g_ms2: float = G,
         demand = onset_friction_demand(a, alpha, g_ms2=g_ms2)
     return {
         "uplift": _flag(uplift, have),
-        "energy_ratio": np.where(have, energy_ratio, np.nan),
+        "velocity_ratio": np.where(have, velocity_ratio, np.nan),
+        "energy_ratio": np.where(have, velocity_ratio ** 2, np.nan),
         "overturn_criterion": _flag(overturn, rocking),
         "above_sliding_line": _flag(~below_sliding, have),
         "criterion_scale": np.where(rocking, scale, np.nan),

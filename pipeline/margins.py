@@ -2,19 +2,25 @@
 
 For every block the *governing record* is the one whose scene is worst:
 overturned by the simulation first, then by the paper's criterion, then the
-largest max |theta| / alpha, then the largest energy ratio. On that record:
+largest max |theta| / alpha, then the largest velocity ratio of the paper's criterion. On that record:
 
 * ``overturn_scale`` is the criterion's margin: the smallest factor on the
   record that reaches the criterion's boundary (closed form, the scene's
   ``criterion_scale``);
 * ``overturn_scale_simulated`` is the simulator's margin: the smallest factor
-  on the whole record (horizontal and vertical) under which the block
-  overturns, found by an upward scan of the factor from the one that first
-  lifts the block, growing ``simulation.margin_step`` (1 %) per step. Never by
-  bisection: overturning is not monotonic in amplitude, so a bisection can
-  step over a window of overturning. The factor 1 is always tried, so the
-  margin is <= 1 exactly when the scene overturned. ``inf`` means nothing
-  overturns up to ``simulation.margin_max_factor``;
+  of an upward scan on the whole record (horizontal and vertical), in the
+  governing scene's rocking plane, under which the block overturns. The scan
+  starts from the factor that first lifts the block and grows by
+  ``simulation.margin_step`` (1 %) per step; the factor 1 is always tried.
+  Never by bisection: overturning is not monotonic in amplitude, so a
+  bisection can step over a window of overturning. What holds: a scene that
+  overturns has a margin <= 1. A scene that stands can also have a margin
+  below 1, when a smaller factor overturns it (a window of overturning below
+  the nominal amplitude); such blocks are flagged ``overturns_below_nominal``.
+  A window narrower than one step can be missed. ``inf`` means nothing
+  overturns up to ``simulation.margin_max_factor``; NaN that the rocking
+  model does not apply, or that the scaled record reaches free flight
+  (g + a_v <= 0) before any overturning;
 * theta(t) / alpha of the governing scene for the assets at risk, for the report.
 
 References
@@ -32,11 +38,9 @@ import math
 import numpy as np
 import xarray as xr
 
-from .criteria import rocking_applicable
 from .errors import RockscreenError
 from .records.loader import RecordSource
-from .rocking.planner import PHYSICS, plan, simulate_scene
-from .rocking.simulate import rock
+from .rocking.planner import rocks, simulate_scene
 from .screening import Context
 
 log = logging.getLogger(__name__)
@@ -51,7 +55,7 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
     sim = ds["overturn_simulated"].values == 1
     crit = ds["overturn_criterion"].values == 1
     theta = np.nan_to_num(ds["theta_max"].values, nan=-1.0, posinf=1e300)
-    energy = np.nan_to_num(ds["energy_ratio"].values, nan=-1.0, posinf=1e300)
+    energy = np.nan_to_num(ds["velocity_ratio"].values, nan=-1.0, posinf=1e300)
     rows = np.flatnonzero(ok)
     for j in range(ds.sizes["block"]):
         # lexsort: last key is primary; the last element of the order is the worst scene
@@ -92,13 +96,14 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
     Returns
     -------
     scale : float
-        The first factor of the scan that overturns; ``inf`` when none up to
-        ``margin_max_factor``; NaN for blocks the rocking model does not apply to
-        (sliding or squat blocks never overturn in it).
+        The first factor of the scan that overturns (below 1 for a standing scene when a
+        smaller factor overturns it); ``inf`` when none up to ``margin_max_factor``; NaN for
+        blocks the rocking model does not apply to (sliding or squat blocks never overturn in
+        it), and when a scaled record reaches free flight before any overturning.
     runs : int
         Scenes simulated.
     """
-    if not (mu > math.tan(alpha) and bool(rocking_applicable(alpha))):
+    if not rocks(alpha, mu):
         return math.nan, 0
     tan_a = math.tan(alpha)
     lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
@@ -106,27 +111,31 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
         return math.inf, 0
     f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
 
-    def overturns(factor: float) -> bool:
+    def verdict(factor: float) -> int:
         av = None if av_ms2 is None else factor * av_ms2
         return simulate_scene(factor * ah_ms2, av, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
-                              settings=settings).overturned
+                              settings=settings).verdict
 
     runs = 0
     while f < 1.0:
         runs += 1
-        if overturns(f):
-            return f, runs
+        v = verdict(f)
+        if v != 0:                      # overturns, or free flight: no verdict above this factor
+            return (f if v == 1 else math.nan), runs
         f *= 1.0 + settings.margin_step
     if overturns_at_one is None:
         runs += 1
-        overturns_at_one = overturns(1.0)
-    if overturns_at_one:
-        return 1.0, runs
+        v = verdict(1.0)
+    else:
+        v = int(overturns_at_one)
+    if v != 0:
+        return (1.0 if v == 1 else math.nan), runs
     f = 1.0 + settings.margin_step
     while f <= settings.margin_max_factor:
         runs += 1
-        if overturns(f):
-            return f, runs
+        v = verdict(f)
+        if v != 0:
+            return (f if v == 1 else math.nan), runs
         f *= 1.0 + settings.margin_step
     return math.inf, runs
 
@@ -134,13 +143,9 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
                   g_ms2: float, settings) -> np.ndarray | None:
     """theta(t) / alpha at every sample of the scene, or None where nothing rocks."""
-    physics = plan(ah_ms2, av_ms2, alpha=alpha, mu=mu, g_ms2=g_ms2, vertical_fraction=settings.vertical_fraction)
-    if physics not in (PHYSICS["rocking"], PHYSICS["rocking_vertical"]):
-        return None
-    av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
-    res = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
-               history=True)
-    return res.theta / alpha
+    sc = simulate_scene(ah_ms2, av_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
+                        settings=settings, history=True)
+    return sc.theta_over_alpha
 
 
 def margin_task(item: tuple, ctx: Context) -> dict:
@@ -215,7 +220,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     simulate = ctx.config.fidelity.tier != "criterion"      # the criterion tier simulates nothing
     for j in np.flatnonzero((rec_index >= 0) & simulate):
         rid = str(record_ids[rec_index[j]])
-        direction = float(ds["block_pulse_azimuth"].values[rec_index[j], j])
+        direction = float(ds["governing_azimuth"].values[rec_index[j], j])
         if not np.isfinite(direction):
             continue
         hit = cache.get(rid, content[rid], digest[block_ids[j]]) if cache is not None else None
@@ -244,7 +249,11 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     ds["overturn_scale"] = (("block",), crit_scale)
     ds["overturn_scale_simulated"] = (("block",), sim_scale)
     ds["margin_simulations"] = (("block",), runs)
-    ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, x(1 + "
+    standing = np.where(rec_index >= 0, ds["overturn_simulated"].values[r, cols] == 0, False)
+    below = np.where(np.isfinite(sim_scale), standing & (sim_scale < 1.0), False)
+    ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(sim_scale), -1, below).astype("i1"))
+    ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing "
+                                   f"scene's rocking plane, x(1 + "
                                    f"{ctx.config.simulation.margin_step:g}) per step, up to "
                                    f"{ctx.config.simulation.margin_max_factor:g}; no bisection")
     computed = sum(len(blocks) for _, blocks in tasks)

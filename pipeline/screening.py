@@ -25,7 +25,7 @@ from .errors import PulseError, RockscreenError
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
-from .rocking.planner import simulate_scene
+from .rocking.orientation import Planes, plane_grid, worst_plane
 from .store import COMPONENTS, apply_schema
 
 log = logging.getLogger(__name__)
@@ -155,58 +155,74 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
 
 
 #: Integer variables that are counts rather than flags (-1: not evaluated).
-INTEGER_DTYPES = {"n_impacts": "i4"}
+INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4"}
 
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
-                   "friction_demand", "friction_exceeded", "sliding_max", "free_flight")
+                   "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
+                   "governing_azimuth", "orientation", "planes_simulated")
+
+#: How the rocking plane of a scene was chosen (the ``orientation`` flag).
+ORIENTATION = {"given": 0, "scanned": 1, "scanned_relative": 2, "single_component": 3}
 
 
 def simulation_mask(block_values: dict, inventory: Inventory, config: Config) -> np.ndarray:
     """Blocks the fidelity tier sends to the simulator for one record (``config.fidelity``).
 
-    ``criterion``: none. ``full`` and ``reference``: all (the planner still integrates nothing
-    where the ground neither lifts nor slides the block). ``screen``: the blocks whose
-    criterion margin ``criterion_scale`` lies in [1/band, band], or is undefined (no pulse,
-    squat block); outside the band the criterion's verdict stands.
+    ``criterion``: none. ``full`` and ``reference``: all; the planner then integrates nothing
+    where the exact at-rest certificate holds (no uplift, no slip at any sample).
     """
-    nb = len(inventory)
-    tier = config.fidelity.tier
-    if tier == "criterion":
-        return np.zeros(nb, dtype=bool)
-    if tier != "screen" or "block_pulse_ap" not in block_values:
-        return np.ones(nb, dtype=bool)
-    g = config.records.g_ms2
-    geom = inventory.geometry(g_ms2=g)
-    scale = criteria.evaluate(block_values["block_pulse_ap"], block_values["block_pulse_tp"],
-                              block_values["block_pulse_beta"], block_values["block_pulse_dv"], R_m=geom.R,
-                              alpha=geom.alpha, p=geom.p, mu=inventory.mu, g_ms2=g,
-                              form=config.criteria.form)["criterion_scale"]
-    band = config.fidelity.band
-    with np.errstate(invalid="ignore", divide="ignore"):
-        clear = (scale < 1.0 / band) | (scale > band)          # NaN compares False: simulated
-    return ~clear
+    return np.full(len(inventory), config.fidelity.tier != "criterion")
 
 
-def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None) -> dict:
-    """Plan and simulate the blocks in ``mask`` (default all) against one record."""
+def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, grid_deg: np.ndarray
+                 ) -> tuple[int, list[float]]:
+    """The orientation code (:data:`ORIENTATION`) of a scene and the planes it is simulated in.
+
+    A block with a given azimuth on a record of known azimuth: its own plane. A blank azimuth,
+    or a record whose absolute azimuth is unknown (the pair's relative orientation is known):
+    ``direction_deg`` (the pulse axis) and every plane of the grid (the worst is kept). A
+    single horizontal: the one plane recorded.
+    """
+    if rec.single_component:
+        return ORIENTATION["single_component"], [direction_deg]
+    if rec.azimuth_known and not np.isnan(block_azimuth_deg):
+        return ORIENTATION["given"], [direction_deg]
+    code = ORIENTATION["scanned"] if rec.azimuth_known else ORIENTATION["scanned_relative"]
+    return code, [direction_deg, *grid_deg.tolist()]
+
+
+def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
+                       scan: bool = True) -> dict:
+    """Plan and simulate the blocks in ``mask`` (default all) against one record, each in its worst plane.
+
+    ``scan=False`` simulates every block in ``directions`` only (the pulse axis for a blank
+    azimuth): what ``screen bench`` compares the orientation scan with.
+    """
     inv, cfg = ctx.inventory, ctx.config
     params = inv.scene_params(g_ms2=cfg.records.g_ms2)
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
-    av = rec.vertical_ms2
     settings = cfg.simulation_settings()
+    step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
+    grid = plane_grid(step)
+    planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
     mask = np.ones(nb, dtype=bool) if mask is None else mask
-    for d in np.unique(directions[mask]):
-        ah = rec.along(float(d))
-        for j in np.flatnonzero((directions == d) & mask):
-            sc = simulate_scene(ah, av, rec.dt_s, settings=settings, **params[j])
-            row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": int(sc.overturned),
-                   "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
-                   "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
-                   "sliding_max": sc.sliding_max_m, "free_flight": int(sc.free_flight)}
-            for n, v in row.items():
-                out[n][j] = v
+    for j in np.flatnonzero(mask):
+        code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
+        if not scan:
+            azimuths = azimuths[:1]
+        scanned = code in (ORIENTATION["scanned"], ORIENTATION["scanned_relative"])
+        res = worst_plane(planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
+                          refine_deg=refine, **params[j])
+        sc = res.scene
+        row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": sc.verdict,
+               "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
+               "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
+               "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
+               "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
+        for n, v in row.items():
+            out[n][j] = v
     return out
 
 
@@ -294,11 +310,13 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
         g_ms2=g, form=form)
     data_vars.update({name: (("record", "block"), arr) for name, arr in scenes.items()})
-    simulated = data_vars["overturn_simulated"][1]
-    data_vars["overturn"] = (("record", "block"), np.where(simulated >= 0, simulated,
+    # the simulation's verdict wherever a scene was simulated (-1 for free flight: no verdict), else the
+    # criterion's (the criterion tier)
+    simulated = data_vars["response"][1] >= 0
+    data_vars["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
                                                           scenes["overturn_criterion"]).astype("i1"))
     data_vars["verdict_source"] = (("record", "block"), np.where(
-        simulated >= 0, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
+        simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
     data_vars.update({
         "block_name": (("block",), np.array(inventory.names, dtype=object)),
         "site": (("block",), np.array(inventory.sites, dtype=object)),

@@ -68,7 +68,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "pulse_candidate": (("record",), "1", "index (1-based) of the chosen candidate", {}),
     "pulse_method": (("record",), None, "pulse extraction method", {}),
     "pulse_flags": (("record",), None, "flags of the pulse extraction (single component, truncation, failure)", {}),
-    # pulses along each block's rocking direction (worst orientation when blank or unknown)
+    # pulses along each block's direction (the strongest pulse axis when blank or unknown); the criterion's input
     "block_pulse_azimuth": (("record", "block"), "degree", "direction the pulse was characterized along", {}),
     "block_pulse_ap": (("record", "block"), "m s-2", "pulse peak acceleration a_p along the block direction", {}),
     "block_pulse_tp": (("record", "block"), "s", "pulse lobe duration t_p along the block direction", {}),
@@ -78,9 +78,12 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     # the reference paper's criterion per (record, block) scene (pipeline.criteria)
     "uplift": (("record", "block"), None, "pulse peak acceleration reaches the uplift acceleration (Eq. 1)",
                {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
-    "energy_ratio": (("record", "block"), "1", "pulse velocity increment over the critical velocity (Eq. 4)", {}),
+    "velocity_ratio": (("record", "block"), "1", "pulse velocity increment over the critical velocity (Eqs. 4-5)",
+                       {"comment": "the paper's energy criterion holds where this is >= 1"}),
+    "energy_ratio": (("record", "block"), "1", "pulse kinetic energy over the energy that overturns, "
+                     "(|dv| / v_crit)^2", {}),
     "overturn_criterion": (("record", "block"), None,
-                           "overturning by the paper's criterion: uplift, energy ratio >= 1, below the sliding line",
+                           "overturning by the paper's criterion: uplift, velocity ratio >= 1, below the sliding line",
                            {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
                             "comment": "not_evaluated: no pulse, or block too squat for pure rocking"}),
     "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
@@ -104,21 +107,26 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                              {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
     # the run's verdict at its fidelity tier (config [fidelity])
     "overturn": (("record", "block"), None, "overturning verdict at the run's fidelity: the simulation's where it "
-                 "ran, else the criterion's", {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                 "ran, else the criterion's", {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                                               "comment": "not_evaluated also where the ground's g + a_v reached 0 "
+                                                          "before any overturning (response free_flight)"}),
     "verdict_source": (("record", "block"), None, "model behind the verdict 'overturn'",
                        {"flag_values": FLAG3, "flag_meanings": "none criterion simulation"}),
     # the simulator per (record, block) scene (pipeline.rocking)
     "physics": (("record", "block"), None, "physics simulated for the scene (scene planner)",
                 {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
-                 "flag_meanings": "not_evaluated none sliding rocking rocking_vertical"}),
+                 "flag_meanings": "not_evaluated none sliding rocking rocking_vertical",
+                 "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included)"}),
     "response": (("record", "block"), None, "simulated response class",
-                 {"flag_values": np.array([-1, 0, 1, 2, 3, 4], dtype="i1"),
-                  "flag_meanings": "not_evaluated rest slide rock slide_rock overturn",
+                 {"flag_values": np.array([-1, 0, 1, 2, 3, 4, 5], dtype="i1"),
+                  "flag_meanings": "not_evaluated rest slide rock slide_rock overturn free_flight",
                   "comment": "slide_rock: the friction demand of pure rocking exceeded mu; the pure-rocking "
-                             "result is not to be trusted"}),
+                             "result is not to be trusted. free_flight: the ground's g + a_v reached 0 before "
+                             "any overturning; the contact model stops there and gives no verdict"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
-                            "comment": "rest and sliding scenes are false without integration"}),
+                            "comment": "scenes proven at rest are false without integration; not_evaluated: "
+                                       "not simulated, or free flight before any overturning"}),
     "theta_max": (("record", "block"), "1", "peak rotation over alpha, max |theta| / alpha", {}),
     "n_impacts": (("record", "block"), "1", "impacts during the record (and the one before an escape after it)",
                   {}),
@@ -128,8 +136,25 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "friction_exceeded": (("record", "block"), None, "friction demand of pure rocking exceeded mu",
                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
     "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground", {}),
-    "free_flight": (("record", "block"), None, "g + a_v <= 0 or lift-off force met (free flight)",
-                    {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "free_flight": (("record", "block"), None, "loss of contact with the base",
+                    {"flag_values": np.array([-1, 0, 1, 2], dtype="i1"),
+                     "flag_meanings": "not_evaluated none ground_flight block_liftoff",
+                     "comment": "ground_flight: the ground's g + a_v reached 0 (the simulation stopped there); "
+                                "block_liftoff: the rocking block's own contact force f_z reached 0 (flagged, "
+                                "the rigid-contact result is kept)"}),
+    "time_free_flight": (("record", "block"), "s", "time the ground's g + a_v reached 0 (free flight)", {}),
+    "governing_azimuth": (("record", "block"), "degree",
+                          "azimuth of the rocking plane whose result is reported, clockwise from north, modulo 180",
+                          {"comment": "for orientation scanned_relative: relative to the record's first component "
+                                      "taken as 0 deg"}),
+    "orientation": (("record", "block"), None, "how the rocking plane was chosen",
+                    {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
+                     "flag_meanings": "not_evaluated given scanned scanned_relative single_component",
+                     "comment": "scanned: worst of every plane k * simulation.orientation_step_deg and the pulse "
+                                "axis that moves the block, refined around the worst standing plane; "
+                                "scanned_relative: the same on a record of unknown absolute azimuth"}),
+    "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
+                         {}),
     # per record and component
     "component_code": (("record", "component"), None, "channel or component code in the file", {}),
     "component_azimuth": (("record", "component"), "degree", "component azimuth clockwise from north", {}),
@@ -154,15 +179,23 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),
     "transition_period": (("block",), "s", "the paper's transition period pi / p of a half-sine pulse (Eq. 9)", {}),
     "governing_record": (("block",), None, "record whose scene is worst for the block (simulated overturn, then "
-                         "criterion overturn, then max theta/alpha, then energy ratio)", {}),
+                         "criterion overturn, then max theta/alpha, then velocity ratio)", {}),
     "overturn_scale": (("block",), "1", "margin by the criterion: smallest factor on the governing record that "
                        "reaches the criterion's boundary (closed form)",
                        {"comment": "inf: the scaled pulse crosses the sliding line first; NaN: not evaluated"}),
-    "overturn_scale_simulated": (("block",), "1", "margin by simulation: smallest factor on the governing record "
-                                 "under which the block overturns (upward scan, no bisection)",
-                                 {"comment": "inf: none up to simulation.margin_max_factor; NaN: the rocking model "
-                                             "does not apply (the block slides or is squat) or no record"}),
+    "overturn_scale_simulated": (("block",), "1", "margin by simulation: smallest factor of an upward scan on the "
+                                 "governing record, in its rocking plane, under which the block overturns",
+                                 {"comment": "<= 1 where the governing scene overturns; also < 1 for a standing "
+                                             "scene with a window of overturning below the nominal amplitude "
+                                             "(overturns_below_nominal). inf: none up to "
+                                             "simulation.margin_max_factor; NaN: the rocking model does not apply "
+                                             "(the block slides or is squat), free flight, or no record"}),
     "margin_simulations": (("block",), "1", "scenes simulated by the margin scan (-1: none)", {}),
+    "overturns_below_nominal": (("block",), None, "the governing scene stands, yet a smaller factor on the "
+                                "record overturns the block (margin below 1)",
+                                {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                                 "comment": "overturning is not monotonic in amplitude: a window of overturning "
+                                            "below the nominal amplitude"}),
     "rocking_applicable": (("block",), None, "pure-rocking model applies (Housner e > 0, alpha < 54.7 deg)",
                            {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}),
 }

@@ -32,7 +32,7 @@ def test_criterion_variables_follow_the_paper(screened):
     ds = open_results(screened[1])
     for name in ("uplift", "overturn_criterion", "above_sliding_line", "onset", "overturn_closed_form"):
         assert ds[name].dtype == np.int8 and "flag_meanings" in ds[name].attrs
-    assert ds.energy_ratio.attrs["units"] == "1" and ds.critical_velocity.attrs["units"] == "m s-1"
+    assert ds.velocity_ratio.attrs["units"] == "1" and ds.critical_velocity.attrs["units"] == "m s-1"
     alpha, R, mu = ds.slenderness.values, ds.corner_distance.values, ds.mu.values
     # hand formulas, written here independently of pipeline.criteria
     v_crit = np.sqrt(8 * G * R / 3 * (1 - np.cos(alpha)) / np.cos(alpha) ** 2)
@@ -40,7 +40,8 @@ def test_criterion_variables_follow_the_paper(screened):
     uplift = ap >= G * np.tan(alpha)
     ratio = dv / v_crit
     over = uplift & (ratio >= 1) & (ap <= mu * G)
-    np.testing.assert_allclose(ds.energy_ratio.values, ratio, rtol=1e-12)
+    np.testing.assert_allclose(ds.velocity_ratio.values, ratio, rtol=1e-12)
+    np.testing.assert_allclose(ds.energy_ratio.values, ratio ** 2, rtol=1e-12)    # kinetic energy ~ velocity^2
     np.testing.assert_array_equal(ds.uplift.values, uplift.astype("i1"))
     squat = np.sin(alpha) ** 2 >= 2 / 3                      # Housner e = 1 - 1.5 sin^2(alpha) <= 0
     assert list(ds.block.values[squat]) == ["CRATE-01"]

@@ -33,7 +33,7 @@ def test_monotone_in_amplitude_below_sliding(a1, a2, tp, b, H, bh, m, f):
     lo, hi = sorted((a1, a2))
     v_lo = _verdict(lo, tp, b, H, bh, m, f)
     v_hi = _verdict(hi, tp, b, H, bh, m, f)
-    assert v_hi["energy_ratio"] >= v_lo["energy_ratio"]
+    assert v_hi["velocity_ratio"] >= v_lo["velocity_ratio"]
     assert v_hi["uplift"] >= v_lo["uplift"]
     if hi <= m * G and v_lo["overturn_criterion"] == 1:
         assert v_hi["overturn_criterion"] == 1
@@ -61,9 +61,9 @@ def test_symmetric_in_sign(a, tp, b, H, bh, m, f):
 def test_invariant_under_similitude(a, tp, b, H, bh, m, f, k):
     # block scaled by k (same slenderness), pulse duration by sqrt(k), same amplitude
     base, scaled = _verdict(a, tp, b, H, bh, m, f), _verdict(a, tp * math.sqrt(k), b, k * H, bh, m, f)
-    assert math.isclose(float(base["energy_ratio"]), float(scaled["energy_ratio"]), rel_tol=1e-9)
+    assert math.isclose(float(base["velocity_ratio"]), float(scaled["velocity_ratio"]), rel_tol=1e-9)
     assert math.isclose(float(base["normalized_duration"]), float(scaled["normalized_duration"]), rel_tol=1e-9)
-    ratio_b, ratio_s = float(base["energy_ratio"]), float(scaled["energy_ratio"])
+    ratio_b, ratio_s = float(base["velocity_ratio"]), float(scaled["velocity_ratio"])
     if abs(ratio_b - 1.0) > 1e-9 and abs(ratio_s - 1.0) > 1e-9:
         assert base["overturn_criterion"] == scaled["overturn_criterion"]
     assert math.isclose(float(base["closed_form_ratio"]), float(scaled["closed_form_ratio"]), rel_tol=1e-9) or (

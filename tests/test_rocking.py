@@ -171,7 +171,13 @@ def test_uplift_threshold_with_and_without_vertical():
     assert rock(1.03 * thr * shape, 0.005, av_ms2=-up, **b).n_uplifts >= 1
     assert plan(1.03 * thr * shape, up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["none"]
     assert plan(1.03 * thr * shape, -up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["rocking_vertical"]
-    assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["rocking"]
+    # the vertical is simulated whenever the record has one, unless the approximation is asked for
+    assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["rocking_vertical"]
+    assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81,
+                vertical_fraction=0.05) == PHYSICS["rocking"]
+    # ... but never from the decision that nothing moves: 0.99 g tan(alpha) lifts once a_v < -1 % g
+    assert plan(0.99 * thr * shape, -0.3 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81,
+                vertical_fraction=0.05) != PHYSICS["none"]
 
 
 def test_friction_demand_of_the_locomotive_case():

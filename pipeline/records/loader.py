@@ -349,7 +349,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
             horizontals.sort(key=lambda ot: ot[0].pair_index)
             az = (0.0, 90.0)
             notes.append("absolute azimuth unknown (relative orthogonal pair); block azimuths "
-                         "are not used, worst orientation instead")
+                         "are not used: the simulator scans every rocking plane (worst plane)")
     else:
         o1 = horizontals[0][0]
         az = (o1.azimuth_deg if o1.azimuth_deg is not None else 0.0,)
@@ -371,6 +371,10 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
         if not np.any(data) and tr in [t for _, t in horizontals]:
             notes.append(f"component {tr.stats.channel} is all zero")
     hz = np.vstack([np.asarray(tr.data, dtype=float) for _, tr in horizontals])
+    if not np.any(hz):
+        raise RecordGroupingError(
+            f"every horizontal sample of {[tr.stats.channel for _, tr in horizontals]} is zero after "
+            "processing: no horizontal motion to screen (a dead channel or a file of zeros); check the source")
     levels = {tr.stats.get("processing_level", "uncorrected") for tr in ordered}
     level = "corrected" if levels == {"corrected"} else "uncorrected"
     method = integration_method(getattr(config.processing, level))

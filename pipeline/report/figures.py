@@ -26,7 +26,8 @@ from .mpl import pyplot
 #: Colour and label of each simulated response code (store.SCHEMA "response").
 RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide_rock"]: ("tab:orange", "slide + rock"),
                   RESPONSE["rock"]: ("tab:blue", "rock"), RESPONSE["slide"]: ("tab:green", "slide"),
-                  RESPONSE["rest"]: ("0.6", "rest"), -1: ("0.85", "not simulated")}
+                  RESPONSE["rest"]: ("0.6", "rest"), RESPONSE["free_flight"]: ("tab:purple", "free flight"),
+                  -1: ("0.85", "not simulated")}
 
 
 def png_bytes(fig) -> bytes:

@@ -9,7 +9,10 @@ lines of inline script); the same script marks every figure that rendered
 
 Recommendation rule (per asset, on its governing record; thresholds here):
 
-* simulated margin <= 1: "restrain or anchor" (it overturns under the record);
+* simulated margin <= 1: "restrain or anchor" (it overturns under the record, or under the
+  record scaled down: a window of overturning below the nominal amplitude, flagged
+  ``overturns_below_nominal``);
+* free flight on the governing record (g + a_v <= 0 before any overturning): "no verdict";
 * simulated margin <= :data:`RELOCATE_BELOW_SCALE`, or the criterion says it
   overturns: "restrain, or relocate" (little margin, or the heuristic flags it);
 * the governing scene slides (or the pure-rocking friction demand exceeds mu):
@@ -43,14 +46,19 @@ PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.it
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 
 ASSET_COLUMNS = ("rank", "block", "name", "site", "h_m", "b_m", "R_m", "alpha_deg", "p_rad_s", "mu",
-                 "governing_record", "verdict_criterion", "verdict_simulation", "theta_max_over_alpha",
+                 "governing_record", "governing_azimuth_deg", "verdict_criterion", "verdict_simulation", "theta_max_over_alpha",
                  "response", "physics", "overturn_scale_criterion", "overturn_scale_simulated", "recommendation")
 
 
-def recommendation(*, sim_scale: float, crit_overturns: bool, response: int) -> str:
+def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True) -> str:
     """The action for one asset (see the module docstring for the rule)."""
     if np.isfinite(sim_scale) and sim_scale <= 1.0:
-        return "restrain or anchor: overturns under the governing record"
+        if overturned:
+            return "restrain or anchor: overturns under the governing record"
+        return (f"restrain or anchor: stands under the governing record but overturns under it x{sim_scale:.2f} "
+                "(overturning is not monotonic in amplitude)")
+    if response == RESPONSE["free_flight"]:
+        return "no verdict: free flight (the ground's g + a_v reached 0 before any overturning)"
     if (np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE) or crit_overturns:
         why = (f"overturns with the record x{sim_scale:.2f}" if np.isfinite(sim_scale)
                and sim_scale <= RELOCATE_BELOW_SCALE else "the paper's criterion predicts overturning")
@@ -78,11 +86,13 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "h_m": float(ds["half_height"].values[j]), "b_m": float(ds["half_width"].values[j]),
             "R_m": float(ds["corner_distance"].values[j]), "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
             "p_rad_s": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
-            "governing_record": gov, "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
+            "governing_record": gov, "governing_azimuth_deg": float(at("governing_azimuth")),
+            "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
             "theta_max_over_alpha": float(at("theta_max")), "response": RESPONSE_NAMES[response],
             "physics": PHYSICS_NAMES[int(at("physics", -1))],
             "overturn_scale_criterion": crit_scale, "overturn_scale_simulated": sim_scale,
-            "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response),
+            "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
+                                             overturned=sim == 1),
         })
     key = lambda r: (np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),  # noqa: E731
                      np.nan_to_num(r["overturn_scale_criterion"], nan=np.inf),
@@ -177,6 +187,9 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
+        "free_flight": int(np.sum(resp[ok] == RESPONSE["free_flight"])),
+        "free_flight_records": [str(r) for r in ds["record"].values[ok][
+            np.any(resp[ok] == RESPONSE["free_flight"], axis=1)]],
         "histories": len(histories), "histories_drawn": drawn,
     }
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),

@@ -57,8 +57,9 @@ HALF_PI = 0.5 * math.pi
 
 # status bits of the rocking kernel
 STATUS_CHATTER = 1        # event cap reached: forced to rest
-STATUS_FREE_FLIGHT = 2    # g + a_v <= 0 or f_z <= 0 met along the trajectory
+STATUS_FREE_FLIGHT = 2    # the ground's g + a_v reached 0: contact lost, the contact model stopped there
 STATUS_STEP_UNDERFLOW = 4  # step size fell below 1e-14 s: accepted anyway
+STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion lifts it): flagged, not stopped
 
 # modes
 REST, ROCK, OVERTURNED = 0, 1, 2
@@ -190,6 +191,17 @@ def _exceed_fraction(a0, a1, v0, v1, g, thr):
             if best < 0.0 or x < best:
                 best = x
     return best
+
+
+@jit
+def _flight_fraction(v0, v1, g):
+    """First fraction x in [0, 1] where g + v <= 0 on a linear piece of the vertical, or -1."""
+    l0, l1 = g + v0, g + v1
+    if l0 <= 0.0:
+        return 0.0
+    if l1 <= 0.0:
+        return l0 / (l0 - l1)
+    return -1.0
 
 
 @jit
@@ -356,9 +368,13 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
                     continue
             aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
             aa1, vv1 = a0 + sa * (t1 - t0), v0 + sv * (t1 - t0)
-            if has_v and (g + vv0 <= 0.0 or g + vv1 <= 0.0):
-                status |= STATUS_FREE_FLIGHT
+            xf = _flight_fraction(vv0, vv1, g) if has_v else -1.0
             x = _exceed_fraction(aa0, aa1, vv0, vv1, g, thr)
+            if xf >= 0.0 and (x < 0.0 or x >= xf):
+                # the ground falls faster than gravity before the block lifts: contact is lost
+                t = t + xf * (t1 - t)
+                status |= STATUS_FREE_FLIGHT
+                break
             if x < 0.0:
                 t = t1
             else:
@@ -389,6 +405,11 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
                 status |= STATUS_STEP_UNDERFLOW
                 h = 1e-14
             continue
+        if has_v and g + v0 + sv * (t + hh - t0) <= 0.0:
+            # contact lost during the step (g + a_v <= 0): the contact model holds no further
+            t = t + _flight_fraction(v0 + sv * (t - t0), v0 + sv * (t + hh - t0), g) * hh
+            status |= STATUS_FREE_FLIGHT
+            break
         # accepted: events inside the step
         x = -1.0
         if s * th1 < 0.0:
@@ -450,7 +471,7 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
             fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
             fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
             if fz <= 0.0:
-                status |= STATUS_FREE_FLIGHT
+                status |= STATUS_LIFTOFF
             else:
                 fric_max = max(fric_max, abs(fx) / fz)
         while out_k < n_out and out_k * dt <= t + hh + 1e-12:
@@ -460,7 +481,7 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
         th, om = th1, om1
         h = hh * min(5.0, max(0.2, 0.9 * err ** -0.2)) if err > 0 else hh * 5.0
 
-    if not overturned and mode == ROCK and tail_energy and t >= t_rec - 1e-9:
+    if not overturned and mode == ROCK and tail_energy and t >= t_rec - 1e-9 and not status & STATUS_FREE_FLIGHT:
         over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
         theta_max = max(theta_max, peak)
         if over:
@@ -500,7 +521,10 @@ def slide(ah, av, dt, mu, g):
         v0 = av[k] if has_v else 0.0
         v1 = av[k + 1] if has_v else 0.0
         if g + v0 <= 0.0 or g + v1 <= 0.0:
+            # the ground falls faster than gravity: no normal force, no friction, and the Coulomb
+            # model holds no further (the caller reports the scene as free flight)
             flight = True
+            break
         x = 0.0                                   # position in the sample, in [0, dt]
         guard = 0
         while x < dt and guard < 64:
@@ -516,7 +540,10 @@ def slide(ah, av, dt, mu, g):
                     break
                 x = x + f * (dt - x)
                 ax = a0 + ka * x
-                d = -1.0 if ax > 0.0 else 1.0
+                if ax == 0.0:                     # no horizontal force: nothing to slip (g + a_v > 0 here)
+                    x = dt
+                    break
+                d = -1.0 if ax > 0.0 else 1.0     # friction opposes the relative motion, u'' = -a_h - d mu N
                 slipping = True
                 n_slips += 1
                 v = 0.0

@@ -23,8 +23,12 @@ from scipy.integrate import solve_ivp
 from ..constants import G
 
 
-def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_ratio=1e-6, linear=False):
-    """Rocking of a block under a sampled horizontal ground motion (no vertical).
+def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_ratio=1e-6, linear=False, av=None):
+    """Rocking of a block under a sampled ground motion (horizontal, and optionally vertical).
+
+    With ``av`` (vertical acceleration, up positive [m s-2]) gravity becomes g + a_v(t) in the
+    equation of motion and in the uplift threshold (Yim et al. 1980). A record that reaches
+    g + a_v <= 0 is refused: the contact model does not hold there.
 
     Returns
     -------
@@ -33,36 +37,44 @@ def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_rati
     """
     ah = np.asarray(ah, dtype=float)
     n = ah.size
+    av = np.zeros(n) if av is None else np.asarray(av, dtype=float)
+    if np.any(g + av <= 0.0):
+        raise ValueError("g + a_v <= 0 somewhere: free flight, outside the rocking model")
     t_rec = (n - 1) * dt
     times = np.arange(n) * dt
-    thr = g * (alpha if linear else math.tan(alpha))
+    thr = alpha if linear else math.tan(alpha)
     p2 = p * p
 
     def ground(t):
         return float(np.interp(t, times, ah, right=0.0))
 
+    def vertical(t):
+        return float(np.interp(t, times, av, right=0.0))
+
     def rhs(t, y, s):
         phi = alpha * s - y[0]
         a = ground(t)
+        gv = 1.0 + vertical(t) / g
         if linear:
-            return [y[1], -p2 * (phi + a / g)]
-        return [y[1], -p2 * (math.sin(phi) + a / g * math.cos(phi))]
+            return [y[1], -p2 * (gv * phi + a / g)]
+        return [y[1], -p2 * (gv * math.sin(phi) + a / g * math.cos(phi))]
 
     t, theta_max, n_imp = 0.0, 0.0, 0
-    over = np.abs(ah) > thr
+    excess = np.abs(ah) - (g + av) * thr          # > 0 where a sample lifts the block
     while t < t_rec:
-        # at rest: next sample interval in which |a| crosses the threshold, crossing by linear interpolation
-        if abs(ground(t)) > thr:
+        # at rest: next sample interval in which |a| crosses (g + a_v) thr, by linear interpolation
+        if abs(ground(t)) > (g + vertical(t)) * thr:
             t_up = t
         else:
             k0 = int(math.floor(t / dt + 1e-9)) + 1
-            idx = np.flatnonzero(over[k0:])
+            idx = np.flatnonzero(excess[k0:] > 0)
             if idx.size == 0:
                 break
             k = k0 + int(idx[0])
-            a0, a1 = ah[k - 1], ah[k]
-            sig = 1.0 if a1 > 0 else -1.0
-            t_up = max((k - 1) * dt + (sig * thr - a0) / (a1 - a0) * dt, t)
+            sig = 1.0 if ah[k] > 0 else -1.0
+            f0 = sig * ah[k - 1] - (g + av[k - 1]) * thr
+            f1 = sig * ah[k] - (g + av[k]) * thr
+            t_up = max((k - 1) * dt + (-f0 / (f1 - f0)) * dt, t)
         s = -1.0 if ground(t_up) > 0 else 1.0
         y = np.array([0.0, 0.0])
         t = t_up

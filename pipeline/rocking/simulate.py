@@ -34,7 +34,9 @@ class RockResult:
     friction_demand : float
         Largest |f_x / f_z| along the trajectory [-].
     status : int
-        Bits: 1 chatter cap, 2 free flight (g + a_v <= 0 or f_z <= 0), 4 step underflow.
+        Bits: 1 chatter cap; 2 free flight (the ground's g + a_v reached 0: contact lost, the
+        simulation stopped at ``t_stop``); 4 step underflow; 8 lift-off (f_z <= 0 met while
+        rocking: flagged, the simulation goes on).
     t_stop, theta_end, omega_end : float
         Where the simulation stopped [s], [rad], [rad s-1].
     mode_end : int
@@ -64,7 +66,13 @@ class RockResult:
 
     @property
     def free_flight(self) -> bool:
+        """The ground's g + a_v reached 0 before the block overturned: the simulation stopped there."""
         return bool(self.status & kernel.STATUS_FREE_FLIGHT)
+
+    @property
+    def liftoff(self) -> bool:
+        """The contact force f_z of the rocking block reached 0 somewhere (its own motion lifts it)."""
+        return bool(self.status & kernel.STATUS_LIFTOFF)
 
     @property
     def chatter(self) -> bool:
@@ -73,7 +81,11 @@ class RockResult:
 
 @dataclass(frozen=True)
 class SlideResult:
-    """Outcome of a Coulomb stick-slip simulation."""
+    """Outcome of a Coulomb stick-slip simulation.
+
+    ``free_flight``: the ground's g + a_v reached 0; the simulation stopped at the start of that
+    sample interval (no normal force, no friction: the Coulomb model holds no further).
+    """
 
     sliding_max_m: float
     sliding_end_m: float

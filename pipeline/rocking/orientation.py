@@ -1,0 +1,170 @@
+"""The worst rocking plane of a block whose orientation is not given.
+
+A symmetric block rocks in a vertical plane of azimuth phi (phi and phi + 180
+are the same plane). From two orthogonal horizontals a1 (azimuth phi1) and a2
+(phi1 + 90 deg) the ground acceleration in that plane is
+a(phi, t) = a1 cos(phi - phi1) + a2 sin(phi - phi1).
+
+Overturning is not monotonic in phi, as it is not in amplitude, so no
+projection of the record picks the worst plane in advance. The scan here
+states what it guarantees:
+
+1. every plane of the grid ``k * step_deg`` (k = 0 .. 180/step - 1), plus the
+   planes the caller adds (the pulse axis), is tested for motion by the exact
+   uplift / slip test (:func:`pipeline.rocking.planner.demand_ratio`); planes
+   where the block provably stays at rest are not integrated;
+2. the planes that move are simulated, strongest demand first; the first
+   overturning ends the scan (the verdict is then "overturns");
+3. when none overturns, the planes within ``step_deg`` of the plane with the
+   largest rotation are simulated every ``refine_deg`` (refinement).
+
+Guarantee: the scan's verdict is "overturns" whenever the block overturns in
+any plane of the grid (or an added plane), with the same simulator and
+settings. Planes between grid points are covered only by the refinement
+around the worst standing plane; a narrow overturning window elsewhere
+between two grid planes can be missed.
+
+References
+----------
+rockscreen reference notes, fragility-and-uncertainty.md section 1 (orientation).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import SimulationConfig
+from ..constants import G
+from .planner import REST_SCENE, RESPONSE, Scene, demand_ratio, motion_threshold, simulate_scene
+
+
+def plane_grid(step_deg: float) -> np.ndarray:
+    """Azimuths of the scanned planes, ``k * step_deg`` in [0, 180) [deg]."""
+    return np.arange(0.0, 180.0 - 1e-9, step_deg)
+
+
+class Planes:
+    """A record's horizontal motion projected on rocking planes, cached per plane.
+
+    Parameters
+    ----------
+    horizontal_ms2 : ndarray, shape (n_h, npts)
+        One or two horizontals [m s-2]; the second 90 deg clockwise of the first.
+    azimuth0_deg : float
+        Azimuth of the first horizontal [deg].
+    vertical_ms2 : ndarray or None
+        Vertical acceleration, up positive [m s-2].
+    g_ms2 : float
+        Gravity [m s-2].
+    """
+
+    def __init__(self, horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.ndarray | None,
+                 *, g_ms2: float = G) -> None:
+        self.h = np.atleast_2d(horizontal_ms2)
+        self.az0 = float(azimuth0_deg)
+        self.vertical = vertical_ms2
+        self.g = g_ms2
+        self._along: dict[float, np.ndarray] = {}
+        self._ratio: dict[float, float] = {}
+
+    @staticmethod
+    def key(azimuth_deg: float) -> float:
+        """The plane of ``azimuth_deg``, in [0, 180), rounded to 1e-6 deg."""
+        return round(float(azimuth_deg) % 180.0, 6) % 180.0
+
+    def along(self, azimuth_deg: float) -> np.ndarray:
+        """Horizontal acceleration in the plane of ``azimuth_deg`` [m s-2]."""
+        k = self.key(azimuth_deg)
+        if k not in self._along:
+            if self.h.shape[0] == 1:
+                self._along[k] = self.h[0]
+            else:
+                phi = math.radians(float(azimuth_deg) - self.az0)
+                self._along[k] = math.cos(phi) * self.h[0] + math.sin(phi) * self.h[1]
+        return self._along[k]
+
+    def ratio(self, azimuth_deg: float) -> float:
+        """Demand ratio max |a| / (g + a_v) in that plane (:func:`planner.demand_ratio`)."""
+        k = self.key(azimuth_deg)
+        if k not in self._ratio:
+            self._ratio[k] = demand_ratio(self.along(azimuth_deg), self.vertical, g_ms2=self.g)
+        return self._ratio[k]
+
+    def vector_ratio(self) -> float:
+        """max_t |a_vec(t)| / (g + a_v(t)): no plane's demand ratio exceeds it (exact certificate)."""
+        mag = np.sqrt(np.sum(self.h ** 2, axis=0))
+        return demand_ratio(mag, self.vertical, g_ms2=self.g)
+
+
+@dataclass(frozen=True)
+class PlaneResult:
+    """The governing plane of a scene and its simulated outcome."""
+
+    scene: Scene
+    #: azimuth of the governing plane [deg, in [0, 180)]
+    azimuth_deg: float
+    #: planes integrated (0: proven at rest in every plane)
+    planes_simulated: int
+
+
+def _worse(a: Scene, b: Scene) -> bool:
+    """True when scene ``a`` is worse than ``b`` (overturn, free flight, then rotation, then sliding)."""
+    def rank(s: Scene) -> tuple:
+        return (s.overturned, s.response == RESPONSE["free_flight"], s.theta_max,
+                0.0 if math.isnan(s.sliding_max_m) else s.sliding_max_m)
+    return rank(a) > rank(b)
+
+
+def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: float, e: float, R_m: float,
+                mu: float, g_ms2: float = G, settings: SimulationConfig = SimulationConfig(),
+                refine_span_deg: float = 0.0, refine_deg: float = 0.0) -> PlaneResult:
+    """Simulate a block in each plane of ``azimuths_deg`` that moves and return the worst.
+
+    Parameters
+    ----------
+    planes : Planes
+        The record's projections.
+    azimuths_deg : sequence of float
+        Planes to test [deg]; the first is reported when the block rests in every plane.
+    dt_s : float
+        Sampling interval [s].
+    p, alpha, e, R_m, mu, g_ms2 : float
+        The block (:meth:`pipeline.blocks.Inventory.scene_params`).
+    settings : SimulationConfig
+        Integration settings.
+    refine_span_deg, refine_deg : float
+        When no plane overturns, the planes within ``refine_span_deg`` of the worst one are also
+        simulated every ``refine_deg`` (0: no refinement).
+    """
+    keys = list(dict.fromkeys(Planes.key(a) for a in azimuths_deg))
+    first = keys[0]
+    thr = motion_threshold(alpha, mu)
+    if len(keys) > 1 and not planes.vector_ratio() > thr:
+        return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
+    kw = dict(p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+    moving = [k for k in keys if planes.ratio(k) > thr]
+    moving.sort(key=lambda k: -planes.ratio(k))
+    best, best_az, n = REST_SCENE, first, 0
+    for k in moving:
+        sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), **kw)
+        n += 1
+        if sc.overturned:
+            return PlaneResult(sc, k, n)
+        if _worse(sc, best):
+            best, best_az = sc, k
+    if refine_deg > 0 and refine_span_deg > refine_deg and best.theta_max > 0:
+        m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
+        extra = [Planes.key(best_az + j * refine_deg) for j in range(-m + 1, m) if j]
+        for k in dict.fromkeys(extra):
+            if k in keys or not planes.ratio(k) > thr:
+                continue
+            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), **kw)
+            n += 1
+            if sc.overturned:
+                return PlaneResult(sc, k, n)
+            if _worse(sc, best):
+                best, best_az = sc, k
+    return PlaneResult(best, best_az, n)
