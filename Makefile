@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo test test-fast browser bench clean
+.PHONY: demo test test-fast lint browser bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -17,6 +17,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	touch $@ $(VENV)/.installed
+
+$(VENV)/.installed-lint: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[lint]'
 	touch $@ $(VENV)/.installed
 
 demo: $(VENV)/.installed
@@ -39,6 +43,18 @@ browser:
 	    echo "WARNING: chromium is missing and cannot be installed here (needs root and apt-get);" \
 	         "the browser test will be skipped"; \
 	  fi; }
+
+# ruff (pyflakes, pycodestyle, isort, bugbear, numpy rules) and mypy, configured in pyproject.toml
+lint: $(VENV)/.installed-lint
+	$(BIN)/ruff check .
+	$(BIN)/mypy
+
+# Benchmarks print measured ratios (never timed tests); each takes about a minute on 2 cores
+bench: $(VENV)/.installed-test
+	$(BIN)/python benchmarks/bench_pulses.py
+	$(BIN)/python benchmarks/bench_rocking.py --limit 60
+	$(BIN)/python benchmarks/criterion_vs_reference.py
+	$(BIN)/screen bench --records records --blocks configs/blocks.csv --out results/bench --tiers-only
 
 test-fast: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 -m "not slow" $(PYTEST_ARGS)

@@ -23,9 +23,17 @@ import obspy
 import pywt
 from scipy.signal import fftconvolve
 
-from pipeline.pulses.shahi_baker import (N_CANDIDATES, N_WAVELETS, WINDOW_FRACTION, classify, dwt_energy,
-                                         is_late, pulse_indicator, wavelet_on_grid)
 from pipeline.pulses.cwt import pseudo_period, scales_for
+from pipeline.pulses.shahi_baker import (
+    N_CANDIDATES,
+    N_WAVELETS,
+    WINDOW_FRACTION,
+    classify,
+    dwt_energy,
+    is_late,
+    pulse_indicator,
+    wavelet_on_grid,
+)
 
 RECORDS = Path(__file__).resolve().parents[1] / "records" / "pulse-reference"
 

@@ -40,8 +40,9 @@ from .errors import RockscreenError
 from .margins import overturn_scale_simulated
 from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
-from .store import write_csv_atomic, write_text_atomic
+from .records.record import Record
 from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
+from .store import write_csv_atomic, write_text_atomic
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",
            "scenes",
@@ -53,7 +54,7 @@ COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes
 class _Scene:
     """Per-record data shared by the tiers."""
 
-    record: object
+    record: Record
     blocks: dict
     directions: np.ndarray
     is_pulse: int
@@ -181,16 +182,17 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
                          "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()), "scenes": n_scenes,
                          **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
     # the orientation scan: coarser grids, no refinement, and the pulse axis alone (no scan)
-    variants = [("orientation_step_deg", v, {"orientation_step_deg": v}, True) for v in (5.0, 10.0, 15.0, 30.0)]
+    variants: list[tuple[str, float | str, dict[str, float], bool]] = [
+        ("orientation_step_deg", v, {"orientation_step_deg": v}, True) for v in (5.0, 10.0, 15.0, 30.0)]
     variants += [("orientation_refine_deg", 0.0, {"orientation_refine_deg": 0.0}, True),
                  ("pulse axis only (no scan)", "", {}, False),
                  ("vertical_fraction (approximation)", 0.05, {"vertical_fraction": 0.05}, True)]
-    for label, v, change, scan in variants:
+    for label, value, change, scanned in variants:
         cfg = dataclasses.replace(full, simulation=dataclasses.replace(full.simulation, **change))
-        sim, t = _simulate(scenes, inventory, cfg, scan=scan)
+        sim, t = _simulate(scenes, inventory, cfg, scan=scanned)
         default = bool(change) and all(getattr(config.simulation, k) == x for k, x in change.items())
         section = "vertical" if label.startswith("vertical") else "orientation"
-        rows.append({"section": section, "setting": label + (" (default)" if default else ""), "value": v,
+        rows.append({"section": section, "setting": label + (" (default)" if default else ""), "value": value,
                      "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
                      "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()),
                      "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
@@ -258,11 +260,10 @@ def markdown(rows: list[dict]) -> str:
 
 
 def _plot(rows: list[dict], path: Path) -> None:
-    from .report.mpl import pyplot, save_figure
+    from .report.mpl import new_figure, save_figure
 
-    plt = pyplot()
-
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.6), constrained_layout=True)
+    fig = new_figure(figsize=(12, 4.6), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
     tiers = [r for r in rows if r["section"] == "tier"]
     for k, r in enumerate(tiers):
         wrong = max(r["misses"] + r["false_alarms"], 0.5)

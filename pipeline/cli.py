@@ -144,9 +144,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     from .batch import run
     from .cache import ensure_writable, scene_cache_dir
     from .executors import make_executor
+    from .margins import add_margins
     from .records.loader import files_sha256, read_declared_units, stationxml_paths
     from .records.loader import read_inventory as read_station_inventory
-    from .margins import add_margins
     from .report.html import build_report
     from .store import OutputLock, remove_stale_temporaries, write_atomic
 
@@ -272,7 +272,8 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     block_id = args.block
     if args.records is not None:
         from .batch import run
-        from .records.loader import read_declared_units, read_inventory as read_station_inventory
+        from .records.loader import read_declared_units
+        from .records.loader import read_inventory as read_station_inventory
 
         results, _, _ = run(_records_dir(args.records), block, config,
                          station_inventory=read_station_inventory(args.records, args.inventory),
@@ -302,6 +303,8 @@ def report_parser() -> argparse.ArgumentParser:
                                             "(pulses.nc and histories.nc are read from the same directory).")
     p.add_argument("results", type=Path, help="screening.nc written by screen")
     p.add_argument("--out", type=Path, help="output directory (default: the results file's directory)")
+    p.add_argument("--all-figures", action="store_true",
+                   help="draw the velocity figure of every record (default: pulse-like records only)")
     p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     return p
 
@@ -310,7 +313,7 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
     from .report.html import build_report
 
-    html, assets = build_report(args.results, args.out)
+    html, assets = build_report(args.results, args.out, all_figures=args.all_figures)
     print(f"wrote {html} and {assets}", file=sys.stderr)
     return EXIT_OK
 
@@ -336,7 +339,8 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     from .bench import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
-    rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out, settings_sweep=not args.tiers_only)
+    rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
+                     settings_sweep=not args.tiers_only)
     print(markdown(rows), end="")
     print(f"wrote {args.out / 'bench.csv'}, {args.out / 'bench.md'} and {args.out / 'bench.png'}", file=sys.stderr)
     return EXIT_OK
@@ -375,7 +379,8 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     g = config.records.g_ms2
     for method, info in summarize(ds).items():
         if info["consistent"]:
-            print(f"{method}: every observation holds for t_p {info['tp_range_s'][0]:.3g}-{info['tp_range_s'][1]:.3g} s, "
+            tp = info["tp_range_s"]
+            print(f"{method}: every observation holds for t_p {tp[0]:.3g}-{tp[1]:.3g} s, "
                   f"a_p {info['ap_range_ms2'][0] / g:.3g}-{info['ap_range_ms2'][1] / g:.3g} g, "
                   f"pulse velocity beta a_p t_p {info['pgv_range_ms'][0]:.3g}-{info['pgv_range_ms'][1]:.3g} m/s, "
                   f"axis {', '.join(f'{a:g}' for a in info['azimuths_deg'])} deg ({info['grid_points']} grid points)")

@@ -22,7 +22,6 @@ under cycloidal pulses. J. Eng. Mech. 127(5), 473-483.
 from __future__ import annotations
 
 import math
-
 from functools import lru_cache
 
 import numpy as np

@@ -223,9 +223,11 @@ ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation
 RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0)}
 
 #: Keys whose string values are limited to a set.
-CHOICES = {("pulses",): {"method": ("shahi_baker_2014", "baker_2007")},
-           ("criteria",): {"form": FORMS},
-           ("fidelity",): {"tier": FIDELITY_TIERS}}
+CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {
+    ("pulses",): {"method": ("shahi_baker_2014", "baker_2007")},
+    ("criteria",): {"form": FORMS},
+    ("fidelity",): {"tier": FIDELITY_TIERS},
+}
 
 
 def _check_value(section: str, key: str, value: Any, default: Any, where: str) -> Any:

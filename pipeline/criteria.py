@@ -34,9 +34,9 @@ import math
 
 import numpy as np
 
+from .blocks import check_friction
 from .closed_forms import makris_roussos_halfsine
 from .constants import G
-from .blocks import check_friction
 from .errors import ParameterError
 
 #: Forms of Eqs. 1 and 4: "exact" (g tan(alpha), exact critical velocity) or "small_angle".

@@ -28,7 +28,7 @@ import signal
 from collections import deque
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from typing import Callable, Iterable, Iterator
+from typing import Any, Callable, Iterable, Iterator
 
 from .errors import RockscreenError
 
@@ -76,7 +76,7 @@ class ProcessExecutor:
         if n_workers < 1:
             raise RockscreenError(f"-n {n_workers}: the number of worker processes must be >= 1")
         self.n_workers = n_workers
-        self._pool = None
+        self._pool: ProcessPoolExecutor | None = None
 
     def _new_pool(self) -> ProcessPoolExecutor:
         # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
@@ -98,6 +98,9 @@ class ProcessExecutor:
         self._pool = None
 
     def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
+        if self._pool is None:
+            raise RuntimeError("ProcessExecutor.map_unordered outside its 'with' block")
+        pool: ProcessPoolExecutor = self._pool
         pending = deque(items)
         suspects: deque = deque()       # tasks in flight when a worker died: each is re-run alone
         deaths: dict[int, int] = {}
@@ -107,11 +110,11 @@ class ProcessExecutor:
         while pending or suspects or in_flight:
             if not in_flight and suspects:
                 item = suspects.popleft()
-                in_flight[self._pool.submit(fn, item, shared)] = item
+                in_flight[pool.submit(fn, item, shared)] = item
                 alone = True
             while not alone and pending and len(in_flight) < limit:
                 item = pending.popleft()
-                in_flight[self._pool.submit(fn, item, shared)] = item
+                in_flight[pool.submit(fn, item, shared)] = item
             done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
             broken = False
             for fut in done:
@@ -128,8 +131,8 @@ class ProcessExecutor:
                 # running alone killed its worker itself, the others are re-run alone to find out
                 lost = list(in_flight.values())
                 in_flight.clear()
-                self._pool.shutdown(wait=False, cancel_futures=True)
-                self._pool = self._new_pool()
+                pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = pool = self._new_pool()
                 log.warning("a worker process died; restarting the pool and retrying %d task(s)", len(lost))
                 if alone:
                     (item,) = lost
@@ -169,7 +172,8 @@ class DaskExecutor:
             raise RockscreenError("--scheduler needs Dask: pip install 'rockscreen[dask]'") from None
         self.scheduler = scheduler
         self.n_workers = n_workers
-        self.client = self.cluster = None
+        self.client: Any = None
+        self.cluster: Any = None
 
     def __enter__(self):
         from distributed import Client, LocalCluster

@@ -74,7 +74,10 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
         raise InventoryError(f"{path}, line 1: header {header}; expected 'id,outcome' and optionally "
                              "'fall_azimuth_deg'")
     index = {b: k for k, b in enumerate(inventory.ids)}
-    picked, toppled, fall, seen = [], [], [], {}
+    picked: list[int] = []
+    toppled: list[bool] = []
+    fall: list[float] = []
+    seen: dict[str, int] = {}
     for line, where, rec in records:
         bid = rec.get("id", "")
         if bid not in index:

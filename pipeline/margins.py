@@ -205,7 +205,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     sim_scale = np.full(nb, np.nan)
     runs = np.full(nb, -1, dtype="i4")
     histories: dict[str, tuple] = {}
-    items = {}
+    items: dict[str, list] = {}
     content = dict(zip(record_ids.tolist(), ds["content_sha256"].values.tolist())) if "content_sha256" in ds else {}
     block_ids = ds["block"].values.tolist()
     digest = dict(zip(block_ids, ds["block_sha256"].values.tolist()))
@@ -218,7 +218,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
 
     reused = 0
     simulate = ctx.config.fidelity.tier != "criterion"      # the criterion tier simulates nothing
-    for j in np.flatnonzero((rec_index >= 0) & simulate):
+    for j in np.flatnonzero((rec_index >= 0) & simulate).tolist():
         rid = str(record_ids[rec_index[j]])
         direction = float(ds["governing_azimuth"].values[rec_index[j], j])
         if not np.isfinite(direction):

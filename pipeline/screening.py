@@ -18,8 +18,8 @@ import numpy as np
 import xarray as xr
 
 from . import __version__, criteria
-from .closed_forms import PULSE_BETA
 from .blocks import Inventory
+from .closed_forms import PULSE_BETA
 from .config import Config
 from .errors import PulseError, RockscreenError
 from .pulses import analyze
@@ -83,8 +83,8 @@ def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
         "pga": rec.pga_ms2(),
         "pgv": rec.pgv_ms(),
     }
-    comps = {"component_code": ["", "", ""], "component_azimuth": [np.nan] * 3,
-             "component_pga": [np.nan] * 3, "component_header_pga": [np.nan] * 3}
+    comps: dict[str, list] = {"component_code": ["", "", ""], "component_azimuth": [np.nan] * 3,
+                              "component_pga": [np.nan] * 3, "component_header_pga": [np.nan] * 3}
     series = list(rec.horizontal_ms2) + ([rec.vertical_ms2] if rec.vertical_ms2 is not None else [])
     slots = list(range(rec.horizontal_ms2.shape[0])) + ([2] if rec.vertical_ms2 is not None else [])
     for k, (slot, data) in enumerate(zip(slots, series)):
@@ -140,6 +140,7 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
             lb, rap = pulse.along(rec, float(d))
         for n, v in zip(names, (lb.ap_ms2, lb.tp_s, lb.beta, lb.dv_ms, rap)):
             blocks[n][sel] = v
+    assert best.velocity_cms is not None and best.pulse_cms is not None     # the chosen candidate has its series
     series = {"velocity": best.velocity_cms / 100.0, "pulse": best.pulse_cms / 100.0, "dt": rec.dt_s}
     return values, blocks, series
 

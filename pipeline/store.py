@@ -17,7 +17,7 @@ import socket
 import tempfile
 import time
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Hashable
 
 import numpy as np
 import xarray as xr
@@ -54,7 +54,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector", {}),
     # pulses (Shahi & Baker 2014), per record, at the chosen candidate's orientation
     "is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
-                 {"flag_values": np.array([-1, 0, 1], dtype="i1"), "flag_meanings": "unavailable non_pulse pulse_like"}),
+                 {"flag_values": np.array([-1, 0, 1], dtype="i1"),
+                  "flag_meanings": "unavailable non_pulse pulse_like"}),
     "pulse_indicator": (("record",), "1", "pulse indicator PI of the chosen candidate (pulse-like if > 0)", {}),
     "pulse_period": (("record",), "s", "pulse period Tp of the first pulse-like candidate", {}),
     "pulse_azimuth": (("record",), "degree", "axis of the chosen pulse, clockwise from north, modulo 180", {}),
@@ -215,7 +216,7 @@ def apply_schema(ds: xr.Dataset) -> xr.Dataset:
 
 
 def _encoding(ds: xr.Dataset) -> dict:
-    enc = {}
+    enc: dict[Hashable, dict] = {}
     for name, var in ds.variables.items():
         if var.dtype.kind == "f":
             enc[name] = {"zlib": True, "complevel": 4, "_FillValue": np.nan}
@@ -274,7 +275,10 @@ def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """Write UTF-8 text atomically (:func:`replace_atomically`)."""
-    return replace_atomically(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    def write(tmp: str) -> None:
+        Path(tmp).write_text(text, encoding="utf-8")
+
+    return replace_atomically(path, write)
 
 
 def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:

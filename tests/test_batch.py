@@ -371,7 +371,7 @@ def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     got = []
     killed = None
     with DaskExecutor("local", n_workers=2) as ex:
-        for k, pair in enumerate(ex.map_unordered(_task, items, ctx)):
+        for pair in ex.map_unordered(_task, items, ctx):
             got.append(pair)
             if killed is None:
                 busy = [w for w, keys in ex.client.processing().items() if keys]
@@ -405,7 +405,8 @@ def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(f
     assert main(["--records", str(few_records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
     ds = open_results(out / "screening.nc")
     assert list(ds.record.values).count("test") == 1
-    assert ds.status.sel(record="test").item().startswith("failed") and "test.knet" in ds.status.sel(record="test").item()
+    status = ds.status.sel(record="test").item()
+    assert status.startswith("failed") and "test.knet" in status
     assert "no longer in" not in caplog.text
 
 

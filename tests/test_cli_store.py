@@ -4,15 +4,14 @@ from __future__ import annotations
 
 import hashlib
 import json
-import shutil
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from pipeline.cli import main
-from pipeline.store import open_results, write_atomic
 from pipeline.errors import OutputError
+from pipeline.store import open_results, write_atomic
 
 
 def test_screen_writes_dataset_with_records_and_blocks(make_records, blocks_csv, tmp_path):
@@ -65,7 +64,8 @@ def test_missing_records_dir_is_usage_error(blocks_csv, tmp_path, capsys):
 
 def test_roundtrip_identical(tmp_path):
     ds = xr.Dataset(
-        {"pga": (("record",), np.array([1.5, np.nan])), "status": (("record",), np.array(["ok", "failed: x"], dtype=object)),
+        {"pga": (("record",), np.array([1.5, np.nan])),
+         "status": (("record",), np.array(["ok", "failed: x"], dtype=object)),
          "n": (("record",), np.array([3, 4]))},
         coords={"record": np.array(["a", "b"], dtype=object)}, attrs={"title": "t"})
     ds.pga.attrs["units"] = "m s-2"

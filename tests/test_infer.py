@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from pipeline.blocks import Inventory, geometry, read_inventory
+from pipeline.blocks import Inventory, read_inventory
 from pipeline.cli import main
 from pipeline.closed_forms import PULSE_BETA
 from pipeline.config import Config
@@ -33,7 +32,8 @@ def _inventory(blocks, tmp_path) -> Inventory:
 
 def _observe(inv: Inventory, toppled, tmp_path, name="obs.csv"):
     path = tmp_path / name
-    path.write_text("id,outcome\n" + "".join(f"{b},{'toppled' if t else 'standing'}\n" for b, t in zip(inv.ids, toppled)))
+    path.write_text("id,outcome\n" + "".join(f"{b},{'toppled' if t else 'standing'}\n"
+                                            for b, t in zip(inv.ids, toppled)))
     return read_observations(path, inv)
 
 

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from pipeline.cli import main
-from pipeline.config import load_config
 from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
 from pipeline.pulses.cwt import cwt, cwt_point, cwt_window, scales_for
@@ -224,8 +223,9 @@ def test_hard_case_single_spike_and_drift():
 
 
 def test_pulse_series_file_and_plot(make_records, blocks_csv, tmp_path):
-    from pipeline.report.pulse_plot import plot_pulse
     import xarray as xr
+
+    from pipeline.report.pulse_plot import plot_pulse
 
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
     out = tmp_path / "out"

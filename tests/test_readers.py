@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import obspy
 import numpy as np
+import obspy
 import pytest
 
 from pipeline.constants import G

@@ -12,7 +12,6 @@ import sys
 
 import numpy as np
 import pytest
-import xarray as xr
 
 from pipeline.blocks import geometry
 from pipeline.chart import simulated_critical_acceleration, stability_chart
@@ -88,9 +87,11 @@ def test_governing_record_is_the_worst_scene(screened):
     ok = ds.status.values == "ok"
     for j, bid in enumerate(ds.block.values):
         # the worst scene by the documented order, found independently with Python's tuple ordering
-        key = lambda i: (ds.overturn_simulated.values[i, j] == 1, ds.overturn_criterion.values[i, j] == 1,  # noqa: E731
-                         np.nan_to_num(ds.theta_max.values[i, j], nan=-1.0),
-                         np.nan_to_num(ds.velocity_ratio.values[i, j], nan=-1.0))
+        def key(i, j=j):
+            return (ds.overturn_simulated.values[i, j] == 1, ds.overturn_criterion.values[i, j] == 1,
+                    np.nan_to_num(ds.theta_max.values[i, j], nan=-1.0),
+                    np.nan_to_num(ds.velocity_ratio.values[i, j], nan=-1.0))
+
         worst = max(np.flatnonzero(ok), key=key)
         assert key(worst) == key(index[j]), bid
         assert ds.governing_record.values[j] == ds.record.values[index[j]]

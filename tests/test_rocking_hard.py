@@ -37,7 +37,10 @@ def rinaldi(real_records):
     return next(r for r in real_records if r.record_id == "RSN1063_NORTHR_RRS")
 
 
-def _bounded(res, max_events=Config().simulation.max_events):
+MAX_EVENTS = Config().simulation.max_events
+
+
+def _bounded(res, max_events=MAX_EVENTS):
     assert math.isfinite(res.theta_max) and res.theta_max >= 0
     assert res.n_impacts < max_events and not res.chatter
     assert not res.status & kernel.STATUS_STEP_UNDERFLOW

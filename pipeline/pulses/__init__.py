@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import PulseError
 from ..records.record import Record
 from .characterize import Lobe, dominant_lobe, record_peak_in
 from .shahi_baker import PulseResult, classify, extract_along
@@ -55,10 +56,13 @@ def analyze(record: Record, *, method: str = "shahi_baker_2014", tp_min_s: float
     PulseError
         When no pulse can be extracted (record too short, all zero).
     """
+    if record.velocity_ms is None:
+        raise PulseError(f"{record.record_id}: no velocity (the record was not integrated)")
     res = classify(record.velocity_ms * CM, record.dt_s, method=method, tp_min_s=tp_min_s,
                    tp_max_s=tp_max_s)
     best = res.best
     azimuth = (record.azimuths_deg[0] + math.degrees(best.angle_rad)) % 180.0
+    assert best.pulse_cms is not None                    # classify fills the chosen candidate's series
     acc = np.gradient(best.pulse_cms / CM, record.dt_s)
     lobe = dominant_lobe(acc, record.dt_s)
     rec_ap = record_peak_in(record.along(azimuth), record.dt_s, lobe)

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-
 from functools import lru_cache
 
 import numpy as np
@@ -285,6 +284,7 @@ def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, in
     point k, so only the head of the list is searched (k grows 4x until then).
     """
     c = result.coeffs
+    assert c is not None                                 # set by classify
     n_rows = c.shape[1]
     if result._strongest is None:
         amp = (c[0] ** 2 + c[1] ** 2).ravel()
@@ -312,8 +312,10 @@ def extract_along(result: PulseResult, angle_rad: float) -> tuple[np.ndarray, np
     orientation [cm/s]. A single-component record returns its own pulse.
     """
     v, c = result.velocity_cms, result.coeffs
+    assert v is not None and c is not None and result.scales is not None      # set by classify
     if c.shape[0] == 1:
         best = result.best
+        assert best.velocity_cms is not None and best.pulse_cms is not None
         return best.velocity_cms, best.pulse_cms
     ca, sa = math.cos(angle_rad), math.sin(angle_rad)
     row, col = _strongest_point(result, ca, sa)

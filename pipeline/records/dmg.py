@@ -50,7 +50,7 @@ def _is_dmg(filename) -> bool:
     lines = peek_lines(filename, 30)
     if not lines or "(Format v" in lines[0]:
         return False
-    return lines[0].strip().lower().startswith(_FIRST) and any(_CHAN.match(l) for l in lines)
+    return lines[0].strip().lower().startswith(_FIRST) and any(_CHAN.match(line) for line in lines)
 
 
 def _orientation(text: str) -> tuple[float | None, bool, str]:
@@ -103,7 +103,7 @@ def _read_dmg(filename, headonly: bool = False, **kwargs) -> Stream:
             npts, dt = int(m1.group(1)), 1.0 / float(m1.group(2))
             unit_word, per_line, width = m1.group(3), int(m1.group(4)), int(m1.group(5))
             level = "uncorrected"
-        else:
+        elif m2:
             npts, dt = int(m2.group(1)), float(m2.group(2))
             unit_word, per_line, width = m2.group(3), int(m2.group(4)), int(m2.group(5))
             level = "corrected"

@@ -175,7 +175,7 @@ def _group_key(tr, path: Path) -> tuple:
     seed_like = not knet_like and len(cha) == 3 and cha[:2].isalpha()
     if fmt in TIMELESS_FORMATS or not (seed_like or knet_like):
         return ("FILE", str(path))
-    band = cha[:2] if seed_like else knet_like.group(2)
+    band = cha[:2] if seed_like or knet_like is None else knet_like.group(2)
     return ("SEED", tr.stats.network, tr.stats.station, tr.stats.location, band)
 
 
@@ -311,13 +311,14 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
             tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
             tr.stats.rockscreen_file = str(path)
             traces.append(tr)
-    oriented = [(orientation_of(tr, inventory), tr) for tr in traces]
-    unknown = [tr.stats.channel for o, tr in oriented if o is None]
+    found = [(orientation_of(tr, inventory), tr) for tr in traces]
+    unknown = [tr.stats.channel for o, tr in found if o is None]
     if unknown:
         raise RecordGroupingError(
             f"cannot tell the orientation of component(s) {unknown} in {[Path(f).name for f in source.files]}; "
             "expected an azimuth, N/E, 1/2, L/T, FN/FP, H1/H2 or UP/V/Z"
         )
+    oriented = [(o, tr) for o, tr in found if o is not None]
     verticals = [tr for o, tr in oriented if o.vertical]
     horizontals = [(o, tr) for o, tr in oriented if not o.vertical]
     if len(verticals) > 1 or len(horizontals) > 2:
@@ -328,9 +329,10 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
     if not horizontals:
         raise RecordGroupingError("vertical component only: no horizontal motion to screen")
     azimuth_known = all(o.azimuth_deg is not None for o, _ in horizontals)
+    az: tuple[float, ...]
     if len(horizontals) == 2:
         (o1, t1), (o2, t2) = horizontals
-        if azimuth_known:
+        if o1.azimuth_deg is not None and o2.azimuth_deg is not None:
             diff = (o2.azimuth_deg - o1.azimuth_deg) % 360.0
             if abs(diff - 270.0) < 1.0:
                 horizontals = [(o2, t2), (o1, t1)]
@@ -339,14 +341,15 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
                     f"horizontal components at {o1.azimuth_deg:g} and {o2.azimuth_deg:g} deg are not "
                     "orthogonal; rotate them to an orthogonal pair first"
                 )
-            az = (horizontals[0][0].azimuth_deg, (horizontals[0][0].azimuth_deg + 90.0) % 360.0)
+            first = float(horizontals[0][0].azimuth_deg or 0.0)
+            az = (first, (first + 90.0) % 360.0)
         else:
             if o1.pair_index is None or o2.pair_index is None or o1.pair_index == o2.pair_index:
                 raise RecordGroupingError(
                     f"components {t1.stats.channel} and {t2.stats.channel} mix known and unknown "
                     "azimuths; cannot form an orthogonal pair"
                 )
-            horizontals.sort(key=lambda ot: ot[0].pair_index)
+            horizontals.sort(key=lambda ot: ot[0].pair_index or 0)
             az = (0.0, 90.0)
             notes.append("absolute azimuth unknown (relative orthogonal pair); block azimuths "
                          "are not used: the simulator scans every rocking plane (worst plane)")

@@ -79,7 +79,7 @@ class Record:
 
     def velocity_along(self, azimuth_deg: float) -> np.ndarray:
         """Horizontal velocity projected on ``azimuth_deg`` [m s-1]."""
-        return self._project(self.velocity_ms, azimuth_deg)
+        return self._project(self._velocity(), azimuth_deg)
 
     def _project(self, rows: np.ndarray, azimuth_deg: float) -> np.ndarray:
         if self.single_component:
@@ -89,7 +89,12 @@ class Record:
 
     def pgv_ms(self) -> float:
         """Peak of the horizontal velocity vector [m s-1]."""
-        return float(np.max(np.sqrt(np.sum(self.velocity_ms**2, axis=0))))
+        return float(np.max(np.sqrt(np.sum(self._velocity() ** 2, axis=0))))
+
+    def _velocity(self) -> np.ndarray:
+        if self.velocity_ms is None:
+            raise ValueError(f"record {self.record_id}: no velocity; the reader integrates every record")
+        return self.velocity_ms
 
     def pga_ms2(self) -> float:
         """Peak of the horizontal acceleration vector [m s-2]."""

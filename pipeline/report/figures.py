@@ -21,7 +21,7 @@ import io
 import numpy as np
 
 from ..rocking.planner import RESPONSE
-from .mpl import pyplot
+from .mpl import new_figure
 
 #: Colour and label of each simulated response code (store.SCHEMA "response").
 RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide_rock"]: ("tab:orange", "slide + rock"),
@@ -32,10 +32,8 @@ RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide
 
 def png_bytes(fig) -> bytes:
     """Render a matplotlib figure to PNG and close it."""
-    plt = pyplot()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90)
-    plt.close(fig)
     return buf.getvalue()
 
 
@@ -51,8 +49,8 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
     response : ndarray of int
         Simulated response code per scene.
     """
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 5.5), constrained_layout=True)
+    fig = new_figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = fig.subplots()
     ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
     lo = min(0.05, float(np.min(x[ok])) / 1.5) if ok.any() else 0.05
     hi = max(20.0, float(np.max(x[ok])) * 1.5) if ok.any() else 20.0
@@ -80,8 +78,9 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
 
 def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:
     """theta(t) / alpha of one scene; the overturning limits at +-pi/(2 alpha) are off the scale."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 2.6), constrained_layout=True)
+    fig = new_figure(figsize=(7.5, 2.6))
+    fig.subplots_adjust(left=0.09, right=0.98, top=0.87, bottom=0.19)
+    ax = fig.subplots()
     t = np.arange(theta_over_alpha.size) * dt_s
     ax.plot(t, theta_over_alpha, color="k", lw=0.8)
     ax.axhline(1.0, color="tab:red", lw=0.8, ls="--")
@@ -90,7 +89,7 @@ def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> by
     if finite.any() and not finite.all():
         t_end = t[np.flatnonzero(finite)[-1]]
         ax.axvline(t_end, color="tab:red", lw=1.5)
-        ax.text(t_end, 0, " overturns", color="tab:red", va="center", fontsize=8)
+        ax.text(t_end, 0, "overturns ", color="tab:red", va="center", ha="right", fontsize=8)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("theta / alpha")
     ax.set_title(title, fontsize=9)
@@ -102,6 +101,5 @@ def pulse_figure(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, 
     """Original velocity, extracted pulse and residual [cm/s] (Shahi & Baker's ``make_plot``)."""
     from .pulse_plot import pulse_axes
 
-    plt = pyplot()
-    fig = pulse_axes(plt, velocity_ms, pulse_ms, dt_s, title=title, figsize=(7.5, 4.2))
+    fig = pulse_axes(velocity_ms, pulse_ms, dt_s, title=title, figsize=(7.5, 4.2))
     return png_bytes(fig)

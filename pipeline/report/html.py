@@ -23,8 +23,8 @@ Recommendation rule (per asset, on its governing record; thresholds here):
 from __future__ import annotations
 
 import base64
-from collections import Counter
 import math
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +46,8 @@ PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.it
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 
 ASSET_COLUMNS = ("rank", "block", "name", "site", "h_m", "b_m", "R_m", "alpha_deg", "p_rad_s", "mu",
-                 "governing_record", "governing_azimuth_deg", "verdict_criterion", "verdict_simulation", "theta_max_over_alpha",
+                 "governing_record", "governing_azimuth_deg", "verdict_criterion", "verdict_simulation",
+                 "theta_max_over_alpha",
                  "response", "physics", "overturn_scale_criterion", "overturn_scale_simulated", "recommendation")
 
 
@@ -75,7 +76,9 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
     for j, block in enumerate(ds["block"].values.tolist()):
         gov = str(ds["governing_record"].values[j]) if "governing_record" in ds else ""
         i = rec_pos.get(gov)
-        at = (lambda name, default=np.nan: ds[name].values[i, j] if i is not None else default)  # noqa: E731
+        def at(name, default=np.nan, i=i, j=j):
+            return ds[name].values[i, j] if i is not None else default
+
         sim_scale = float(ds["overturn_scale_simulated"].values[j])
         crit_scale = float(ds["overturn_scale"].values[j])
         crit = int(at("overturn_criterion", -1))
@@ -84,7 +87,8 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
         rows.append({
             "block": block, "name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
             "h_m": float(ds["half_height"].values[j]), "b_m": float(ds["half_width"].values[j]),
-            "R_m": float(ds["corner_distance"].values[j]), "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
+            "R_m": float(ds["corner_distance"].values[j]),
+            "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
             "p_rad_s": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
             "governing_record": gov, "governing_azimuth_deg": float(at("governing_azimuth")),
             "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
@@ -112,22 +116,25 @@ def _data_uri(png: bytes) -> str:
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
 
-def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[dict]:
+def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False) -> list[dict]:
+    """One row per record; the velocity figure for pulse-like records (every record with ``all_figures``)."""
     series = {}
     if pulses is not None:
         for k, (rid, rows_k) in enumerate(ragged_rows(pulses, "record_id").items()):
-            series[rid] = (pulses["velocity"].values[rows_k].astype(float), pulses["pulse"].values[rows_k].astype(float),
-                           float(pulses["dt"].values[k]))
+            series[rid] = (pulses["velocity"].values[rows_k].astype(float),
+                           pulses["pulse"].values[rows_k].astype(float), float(pulses["dt"].values[k]))
     rows = []
     for i, rid in enumerate(ds["record"].values.tolist()):
-        val = lambda name: ds[name].values[i] if name in ds else np.nan  # noqa: E731
+        def val(name, i=i):
+            return ds[name].values[i] if name in ds else np.nan
+
         is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
         row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
                "pgv_cms": 100 * float(val("pgv")), "tp_s": float(val("pulse_period")),
                "pi": float(val("pulse_indicator")),
                "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
-               "azimuth_deg": float(val("pulse_azimuth")), "figure": None}
-        if rid in series:
+               "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}
+        if rid in series and (all_figures or is_pulse == 1):
             v, p, dt = series[rid]
             row["figure"] = _data_uri(figures.pulse_figure(v, p, dt, title=rid))
         rows.append(row)
@@ -143,8 +150,13 @@ def _histories(path: Path) -> dict:
             for k, (bid, rows) in enumerate(ragged_rows(h, "block_id").items())}
 
 
-def build_report(results_path: str | Path, out_dir: str | Path | None = None) -> tuple[Path, Path]:
+def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
+                 all_figures: bool = False) -> tuple[Path, Path]:
     """Write ``report.html`` and ``assets.csv`` next to ``results_path`` (or in ``out_dir``).
+
+    Velocity figures are drawn for the pulse-like records, or for every record with
+    ``all_figures``; theta(t) figures for the assets at risk (at most
+    :data:`MAX_HISTORY_FIGURES`).
 
     Raises
     ------
@@ -190,14 +202,14 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None) ->
         "free_flight": int(np.sum(resp[ok] == RESPONSE["free_flight"])),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == RESPONSE["free_flight"], axis=1)]],
-        "histories": len(histories), "histories_drawn": drawn,
+        "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
     }
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
     html = env.get_template("report.html.j2").render(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
-        records=_record_rows(ds, pulses), chart=chart)
+        records=_record_rows(ds, pulses, all_figures=all_figures), chart=chart)
     html_path = write_text_atomic(out_dir / "report.html", html)
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
 

@@ -9,7 +9,7 @@ import xarray as xr
 
 from .. import criteria
 from ..blocks import geometry
-from .mpl import pyplot, save_figure
+from .mpl import new_figure, save_figure
 
 
 def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) -> Path:
@@ -19,11 +19,12 @@ def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) 
     (Eq. 7, with the paper's sliding line where it is lower) is drawn solid when the block
     toppled and dashed when it stood, labelled with its id.
     """
-    plt = pyplot()
+    from matplotlib.patches import Rectangle
 
     tp = ds["duration"].values
     ap_g = ds["acceleration"].values / g_ms2
-    fig, ax = plt.subplots(figsize=(8.5, 6), constrained_layout=True)
+    fig = new_figure(figsize=(8.5, 6), layout="constrained")
+    ax = fig.subplots()
     sim = ds["consistent_simulation"].values.astype(bool).any(axis=0).T        # (acceleration, duration)
     crit = ds["consistent_criterion"].values.astype(bool).any(axis=0).T
     # grid cells (log-spaced edges halfway between the grid points): green where the simulation
@@ -36,7 +37,7 @@ def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) 
                       alpha=0.6, shading="flat")
     if crit.any():
         for k, m in zip(*np.nonzero(crit)):
-            ax.add_patch(plt.Rectangle((te[m], ae[k]), te[m + 1] - te[m], ae[k + 1] - ae[k], fill=False,
+            ax.add_patch(Rectangle((te[m], ae[k]), te[m + 1] - te[m], ae[k + 1] - ae[k], fill=False,
                                        hatch="//", edgecolor="k", linewidth=0.0))
     beta = float(ds.attrs["pulse_beta"])
     for k, bid in enumerate(ds["observation"].values.tolist()):

@@ -1,22 +1,24 @@
-"""Matplotlib for files: the non-interactive backend, and figures written atomically."""
+"""Matplotlib for files: figures from the object API (no pyplot, no global backend switch), written atomically."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Literal
 
 
-def pyplot():
-    """``matplotlib.pyplot`` on the Agg backend (no display needed)."""
-    import matplotlib
+def new_figure(*, figsize: tuple[float, float], layout: Literal["constrained", "tight"] | None = None):
+    """A :class:`matplotlib.figure.Figure` not registered with pyplot (nothing to close, no backend state).
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    ``layout`` is matplotlib's layout engine ("constrained", "tight") or None for the fixed
+    margins the caller sets with ``subplots_adjust`` (the cheap choice for figures drawn often).
+    """
+    from matplotlib.figure import Figure
 
-    return plt
+    return Figure(figsize=figsize, layout=layout)
 
 
 def save_figure(fig, path: str | Path, **savefig_kwargs) -> Path:
-    """Write ``fig`` to ``path`` (format from the suffix) atomically, then close it.
+    """Write ``fig`` to ``path`` (format from the suffix) atomically.
 
     Raises
     ------
@@ -26,8 +28,5 @@ def save_figure(fig, path: str | Path, **savefig_kwargs) -> Path:
     from ..store import replace_atomically
 
     path = Path(path)
-    try:
-        return replace_atomically(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png",
-                                                                **savefig_kwargs))
-    finally:
-        pyplot().close(fig)
+    return replace_atomically(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png",
+                                                            **savefig_kwargs))

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .mpl import pyplot, save_figure
+from .mpl import new_figure, save_figure
 
 
 def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | None = None):
@@ -22,15 +22,14 @@ def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | No
     pathlib.Path
         The file written.
     """
-    plt = pyplot()
-
     at = chart.attrs
     g = at["g"]
     T = chart["period"].values
     a_up = float(chart["uplift_acceleration"])
     a_slide = float(chart["sliding_acceleration"])
     t_form = at["transition_period_form"]
-    fig, (ax, axn) = plt.subplots(1, 2, figsize=(12, 6.0), constrained_layout=True)
+    fig = new_figure(figsize=(12, 6.0), layout="constrained")
+    ax, axn = fig.subplots(1, 2)
 
     crit = chart["critical_acceleration"].values
     ax.fill_between(T, np.minimum(crit, a_slide) / g, a_slide / g, where=crit < a_slide,

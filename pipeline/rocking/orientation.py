@@ -38,7 +38,7 @@ import numpy as np
 
 from ..config import SimulationConfig
 from ..constants import G
-from .planner import REST_SCENE, RESPONSE, Scene, demand_ratio, motion_threshold, simulate_scene
+from .planner import RESPONSE, REST_SCENE, Scene, demand_ratio, motion_threshold, simulate_scene
 
 
 def plane_grid(step_deg: float) -> np.ndarray:
@@ -144,12 +144,15 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
     thr = motion_threshold(alpha, mu)
     if len(keys) > 1 and not planes.vector_ratio() > thr:
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
-    kw = dict(p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+    def run(k: float) -> Scene:
+        return simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), p=p, alpha=alpha, e=e,
+                              R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+
     moving = [k for k in keys if planes.ratio(k) > thr]
     moving.sort(key=lambda k: -planes.ratio(k))
     best, best_az, n = REST_SCENE, first, 0
     for k in moving:
-        sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), **kw)
+        sc = run(k)
         n += 1
         if sc.overturned:
             return PlaneResult(sc, k, n)
@@ -161,7 +164,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
         for k in dict.fromkeys(extra):
             if k in keys or not planes.ratio(k) > thr:
                 continue
-            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), **kw)
+            sc = run(k)
             n += 1
             if sc.overturned:
                 return PlaneResult(sc, k, n)

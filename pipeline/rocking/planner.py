@@ -46,7 +46,7 @@ import numpy as np
 from ..config import SimulationConfig
 from ..constants import G
 from ..criteria import rocking_applicable
-from .simulate import rock, slide
+from .simulate import RockResult, rock, slide
 
 PHYSICS = {"none": 0, "sliding": 1, "rocking": 2, "rocking_vertical": 3}
 RESPONSE = {"rest": 0, "slide": 1, "rock": 2, "slide_rock": 3, "overturn": 4, "free_flight": 5}
@@ -179,8 +179,13 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
         return Scene(physics, RESPONSE["slide"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                      0, False, -1)
     av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
-    res = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
-               history=history)
+    rr = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
+              history=history)
+    return _rocking_scene(physics, rr, alpha=alpha, mu=mu, history=history)
+
+
+def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, history: bool) -> Scene:
+    """A rocking simulation's outcome as a :class:`Scene`."""
     exceeded = res.friction_demand > mu
     flight = res.free_flight and not res.overturned
     if res.overturned:

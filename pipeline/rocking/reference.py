@@ -81,13 +81,13 @@ def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_rati
         while True:
             def impact(tt, yy, _s):
                 return yy[0]
-            impact.terminal = True
-            impact.direction = -1.0 if s > 0 else 1.0
+            impact.terminal = True                   # type: ignore[attr-defined]  # solve_ivp's event protocol
+            impact.direction = -1.0 if s > 0 else 1.0  # type: ignore[attr-defined]
 
             def fall(tt, yy, _s):
                 return abs(yy[0]) - math.pi / 2
-            fall.terminal = True
-            fall.direction = 1.0
+            fall.terminal = True                     # type: ignore[attr-defined]
+            fall.direction = 1.0                     # type: ignore[attr-defined]
             def turn(tt, yy, _s):
                 return yy[1]
             sol = solve_ivp(rhs, (t, t_rec), y, method="DOP853", rtol=rtol, atol=atol * alpha,
