@@ -31,7 +31,7 @@ from .blocks import check_friction, geometry
 from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
 from .constants import G
 from .errors import ParameterError, ResultsError
-from .store import FLAG3
+from .schema import FLAG3
 
 #: Default period grid, as multiples of the paper's transition period.
 DEFAULT_PERIOD_RANGE = (0.1, 10.0)

@@ -17,47 +17,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .constants import G
 from .criteria import FORMS
 from .errors import ConfigError
 from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
+from .records.settings import ProcessingConfig, RecordsConfig
+from .rocking.settings import SimulationConfig
+
+__all__ = ["Config", "ProcessingConfig", "RecordsConfig", "SimulationConfig", "config_from_dict", "load_config"]
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
-
-
-def _steps(*steps: dict) -> tuple:
-    return tuple(dict(s) for s in steps)
-
-
-@dataclass(frozen=True)
-class RecordsConfig:
-    """Reading and grouping records."""
-
-    #: g used to convert records stated in g [m s-2].
-    g_ms2: float = G
-    #: Components of one recording may differ by this many samples; trimmed to the shorter.
-    max_length_mismatch_samples: int = 20
-    #: Traces of one station starting within this time belong to one recording [s].
-    group_time_tolerance_s: float = 60.0
-    #: Units of files that do not state them, by glob (also read from ``units.toml``).
-    declared_units: dict = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class ProcessingConfig:
-    """Ordered processing steps by delivery level (see :mod:`pipeline.records.processing`)."""
-
-    uncorrected: tuple = _steps(
-        {"step": "demean"},
-        {"step": "detrend", "type": "linear"},
-        {"step": "taper", "max_percentage": 0.05, "type": "hann"},
-        {"step": "highpass", "freq": 0.05, "corners": 4, "zerophase": True},
-        {"step": "integrate", "method": "trapezoid"},
-    )
-    corrected: tuple = _steps({"step": "integrate", "method": "trapezoid"})
 
 
 @dataclass(frozen=True)
@@ -86,42 +57,6 @@ class CriteriaConfig:
     #: "exact": uplift at g tan(alpha) and the exact critical velocity of Eq. 4;
     #: "small_angle": the paper's alpha g and alpha g / p.
     form: str = "exact"
-
-
-@dataclass(frozen=True)
-class SimulationConfig:
-    """The rocking and sliding simulator (:mod:`pipeline.rocking`)."""
-
-    #: Relative tolerance of the Runge-Kutta error control [-].
-    rtol: float = 1e-7
-    #: Absolute tolerance as a fraction of alpha (theta) and p alpha (omega) [-].
-    atol: float = 1e-9
-    #: An impact whose rebound is below rest_ratio * p * alpha puts the block to rest [-].
-    rest_ratio: float = 1e-6
-    #: Largest integration step as a fraction of 1/p [-].
-    max_step_p: float = 0.05
-    #: Cap on impacts plus uplifts per scene (chatter guard; the scene is flagged) [-].
-    max_events: int = 200000
-    #: 0 (default): the vertical is simulated whenever the record has one. A positive value is an
-    #: approximation that drops a vertical whose peak stays at or below this fraction of g from the
-    #: simulation (never from the at-rest decision); ``screen bench`` measures its effect [-].
-    vertical_fraction: float = 0.0
-    #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
-    #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
-    orientation_step_deg: float = 5.0
-    #: When no grid plane overturns the block, the planes within one grid step of the worst plane
-    #: are also simulated every orientation_refine_deg (0: no refinement) [deg].
-    orientation_refine_deg: float = 1.0
-    #: Amplitude step of upward threshold scans, as a fraction of the uplift acceleration [-]
-    #: (scans never bisect: overturning is not monotonic in amplitude).
-    scan_step: float = 0.005
-    #: Scans stop at this multiple of the uplift acceleration (or at the sliding line mu g) [-].
-    scan_max_factor: float = 20.0
-    #: Margin ``overturn_scale``: the factor on the governing record grows by this fraction per
-    #: step, from the factor that first lifts the block (upward scan, no bisection) [-].
-    margin_step: float = 0.01
-    #: The margin scan stops at this factor on the record (reported as "more than this") [-].
-    margin_max_factor: float = 10.0
 
 
 #: Fidelity tiers, cheapest first (see :class:`FidelityConfig`).

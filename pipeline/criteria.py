@@ -31,6 +31,7 @@ Shenton, H. W. (1996). J. Eng. Mech. 122(7), 690-693.
 from __future__ import annotations
 
 import math
+from enum import IntEnum
 
 import numpy as np
 
@@ -46,7 +47,16 @@ FORMS = ("exact", "small_angle")
 ALPHA_MAX_ROCKING = math.asin(math.sqrt(2.0 / 3.0))
 
 #: Onset modes (flag values of ``onset``).
-ONSET = {"rest": 0, "slide": 1, "rock": 2, "slide_rock": 3}
+class Onset(IntEnum):
+    """Mode at the onset of motion (Zhang & Makris 2001 eq. 7)."""
+
+    rest = 0
+    slide = 1
+    rock = 2
+    slide_rock = 3
+
+
+ONSET = {m.name: m.value for m in Onset}
 
 
 def _form(form: str) -> str:

@@ -41,6 +41,7 @@ import xarray as xr
 from .errors import RockscreenError
 from .records.loader import RecordSource
 from .rocking.planner import rocks, simulate_scene
+from .schema import HISTORY_SERIES, apply_schema
 from .screening import Context
 
 log = logging.getLogger(__name__)
@@ -192,8 +193,6 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
         (margins scanned now or taken from the cache) and ``unavailable`` (record ids whose
         files could not be loaded again).
     """
-    from .store import apply_schema
-
     rec_index = governing_records(ds)
     risky = at_risk(ds, rec_index)
     nb = ds.sizes["block"]
@@ -268,7 +267,5 @@ def history_dataset(histories: dict) -> xr.Dataset:
 
     rows = [{"id": b, "theta_over_alpha": histories[b][0], "dt": histories[b][1], "governing_record": histories[b][2]}
             for b in sorted(histories)]
-    return ragged_dataset("block_id", "block", rows, {
-        "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
-                             "comment": "NaN after overturning"}},
-        station={"governing_record": {"long_name": "governing record of the block"}})
+    return ragged_dataset("block_id", "block", rows, HISTORY_SERIES,
+                          station={"governing_record": {"long_name": "governing record of the block"}})

@@ -25,8 +25,8 @@ from .errors import PulseError, RockscreenError
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
-from .rocking.orientation import Planes, plane_grid, worst_plane
-from .store import COMPONENTS, apply_schema
+from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
+from .schema import COMPONENTS, SCHEMA, apply_schema
 
 log = logging.getLogger(__name__)
 
@@ -164,7 +164,7 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
                    "governing_azimuth", "orientation", "planes_simulated")
 
 #: How the rocking plane of a scene was chosen (the ``orientation`` flag).
-ORIENTATION = {"given": 0, "scanned": 1, "scanned_relative": 2, "single_component": 3}
+ORIENTATION = {m.name: m.value for m in Orientation}
 
 
 def simulation_mask(block_values: dict, inventory: Inventory, config: Config) -> np.ndarray:
@@ -269,8 +269,6 @@ def failure_result(f: Failure) -> RecordResult:
 def assemble(results: list[RecordResult], inventory: Inventory, config: Config, *,
              attrs: dict | None = None) -> xr.Dataset:
     """Build the results Dataset (dimensions ``record``, ``block``, ``component``)."""
-    from .store import SCHEMA
-
     results = sorted(results, key=lambda r: r.record_id)
     rids = [r.record_id for r in results]
     data_vars: dict[str, tuple] = {"status": (("record",), np.array([r.status for r in results], dtype=object))}

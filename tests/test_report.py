@@ -204,3 +204,19 @@ def test_simulated_margins_say_what_holds(screened):
             assert m <= 1.0, bid
         assert flag == int(not over and m < 1.0), bid
         assert np.isfinite(ds.governing_azimuth.values[index[j], j]), bid
+
+
+def test_every_written_file_follows_the_schema(screened):
+    from pipeline import schema
+
+    ds = open_results(screened / "screening.nc")
+    assert schema.check(ds) == []
+    # every flag variable of the schema is written, and its meanings come from the libraries' enumerations
+    from pipeline.rocking.planner import Response
+
+    assert ds.response.attrs["flag_meanings"].split()[1:] == [m.name for m in Response]
+    for name, series in (("pulses.nc", schema.PULSE_SERIES), ("histories.nc", schema.HISTORY_SERIES)):
+        side = open_results(screened / name)
+        for var, attrs in series.items():
+            assert {k: side[var].attrs.get(k) for k in attrs} == attrs, (name, var)
+        assert side.attrs["featureType"] == "timeSeries" and int(side.row_size.sum()) == side.sizes["sample"]

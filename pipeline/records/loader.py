@@ -17,6 +17,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import sys
 import warnings
 from collections import defaultdict
 from dataclasses import dataclass
@@ -25,11 +26,11 @@ from pathlib import Path
 import numpy as np
 import obspy
 
-from ..config import Config
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UnitsError
 from .orientation import orientation_of
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
+from .settings import ReaderSettings
 from .units import canonical_units, declared_units_for, to_ms2
 
 #: Files in a records directory that are metadata, not records.
@@ -84,9 +85,12 @@ class Failure:
     reason: str
 
 
-def read_declared_units(root: Path, config: Config) -> dict[str, str]:
+def read_declared_units(root: Path, config: ReaderSettings) -> dict[str, str]:
     """Merge ``units.toml`` in ``root`` (table ``[files]``) with the configuration's declarations."""
-    from ..config import tomllib
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
 
     declared = {}
     for pattern, unit in config.records.declared_units.items():
@@ -185,7 +189,7 @@ def _common_stem(files: list[str]) -> str:
     return prefix if len(prefix) >= 3 else stems[0]
 
 
-def scan(root: str | Path, *, config: Config) -> tuple[list[RecordSource], list[Failure]]:
+def scan(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource], list[Failure]]:
     """Group the files under ``root`` into station recordings, reading headers only.
 
     Returns
@@ -287,7 +291,7 @@ def _align(traces, *, max_mismatch: int, notes: list[str]) -> None:
 _OBJECT_ADDRESS = re.compile(r" object at 0x[0-9a-fA-F]+>")
 
 
-def load_record(source: RecordSource, *, root: str | Path, config: Config,
+def load_record(source: RecordSource, *, root: str | Path, config: ReaderSettings,
                 declared: dict[str, str] | None = None, inventory=None) -> Record:
     """Read, convert, align and process one station recording.
 
@@ -403,7 +407,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: Config,
     )
 
 
-def iter_records(root: str | Path, *, config: Config, inventory=None):
+def iter_records(root: str | Path, *, config: ReaderSettings, inventory=None):
     """Every record under ``root`` that loads, in scan order (failures are skipped).
 
     For benchmarks and tests that need the bundled records as arrays; the

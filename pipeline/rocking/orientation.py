@@ -33,12 +33,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
-from ..config import SimulationConfig
 from ..constants import G
 from .planner import RESPONSE, REST_SCENE, Scene, demand_ratio, motion_threshold, simulate_scene
+from .settings import SimulationConfig
+
+
+class Orientation(IntEnum):
+    """How the rocking plane of a scene was chosen."""
+
+    given = 0                 # the block's azimuth, on a record of known azimuth
+    scanned = 1               # blank azimuth: the worst plane of the scan
+    scanned_relative = 2      # the same, on a record of unknown absolute azimuth (relative orthogonal pair)
+    single_component = 3      # one horizontal recorded: its plane only
 
 
 def plane_grid(step_deg: float) -> np.ndarray:

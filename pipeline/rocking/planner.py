@@ -40,16 +40,46 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
-from ..config import SimulationConfig
 from ..constants import G
 from ..criteria import rocking_applicable
+from .settings import SimulationConfig
 from .simulate import RockResult, rock, slide
 
-PHYSICS = {"none": 0, "sliding": 1, "rocking": 2, "rocking_vertical": 3}
-RESPONSE = {"rest": 0, "slide": 1, "rock": 2, "slide_rock": 3, "overturn": 4, "free_flight": 5}
+
+class Physics(IntEnum):
+    """The model a scene is simulated with."""
+
+    none = 0
+    sliding = 1
+    rocking = 2
+    rocking_vertical = 3
+
+
+class Response(IntEnum):
+    """The simulated response class of a scene."""
+
+    rest = 0
+    slide = 1
+    rock = 2
+    slide_rock = 3
+    overturn = 4
+    free_flight = 5
+
+
+class FreeFlight(IntEnum):
+    """Loss of contact with the base."""
+
+    none = 0
+    ground_flight = 1       # the ground's g + a_v reached 0: the simulation stopped there
+    block_liftoff = 2       # f_z <= 0 while rocking: flagged, the verdict kept
+
+
+PHYSICS = {m.name: m.value for m in Physics}
+RESPONSE = {m.name: m.value for m in Response}
 
 
 def demand_ratio(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, g_ms2: float = G) -> float:

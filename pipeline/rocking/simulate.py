@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import SimulationConfig
 from ..constants import G
 from ..errors import ParameterError
 from . import kernel
+from .settings import SimulationConfig
 
 
 @dataclass(frozen=True)

@@ -1,32 +1,42 @@
-"""Results as an xarray Dataset in netCDF: schema, CF attributes, atomic writes.
+"""Every output variable, declared once: dimensions, units, long name, flag meanings.
 
-One table, :data:`SCHEMA`, gives every variable its dimensions, UDUNITS
-units (``m s-2``, never ``g``, which UDUNITS reads as gram) and
-``long_name``; categorical variables carry ``flag_values``/``flag_meanings``.
-Files are written to a temporary name in the same directory, flushed to disk,
-then renamed over the target, so a reader sees the old or the new file,
-never a partial one.
+:data:`SCHEMA` gives each variable of ``screening.nc`` its dimensions, UDUNITS
+units (``m s-2``, never ``g``, which UDUNITS reads as gram) and ``long_name``;
+categorical variables carry ``flag_values`` / ``flag_meanings`` generated from
+the enumerations of the libraries that define the categories
+(:class:`pipeline.rocking.planner.Physics`, ...). :func:`apply_schema` attaches
+them; :func:`check` lists where a dataset departs from them (the tests walk
+every written file with it).
 """
 
 from __future__ import annotations
 
-import csv
-import json
-import os
-import socket
-import tempfile
-import time
-from pathlib import Path
-from typing import Callable, Hashable
+from enum import IntEnum
 
 import numpy as np
 import xarray as xr
 
-from .errors import OutputError, OutputLockedError, ResultsError
+from .criteria import Onset
+from .rocking.orientation import Orientation
+from .rocking.planner import FreeFlight, Physics, Response
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
-#: Sub-directory of an output directory holding the run state (lock, scene and margin caches).
-STATE_DIR = ".rockscreen"
+
+
+class VerdictSource(IntEnum):
+    """The model behind a run's verdict."""
+
+    criterion = 0
+    simulation = 1
+
+
+def flags(enum: type[IntEnum], *, missing: str | None = "not_evaluated") -> dict:
+    """``flag_values`` / ``flag_meanings`` of an enumeration, with -1 = ``missing`` first (None: no -1)."""
+    members = sorted(enum, key=lambda m: m.value)
+    values = ([-1] if missing else []) + [m.value for m in members]
+    names = ([missing] if missing else []) + [m.name for m in members]
+    return {"flag_values": np.array(values, dtype="i1"), "flag_meanings": " ".join(names)}
+
 
 #: name -> (dims, units or None, long_name, extra attributes)
 SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
@@ -93,8 +103,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                         "smallest factor on the record that reaches the criterion's overturning boundary",
                         {"comment": "inf where the scaled pulse crosses the sliding line first"}),
     "onset": (("record", "block"), None, "mode at the onset of motion (Zhang & Makris 2001 eq. 7)",
-              {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
-               "flag_meanings": "not_evaluated rest slide rock slide_rock",
+              {**flags(Onset),
                "comment": "slide_rock: mu > tan(alpha) but a pulse arriving at full amplitude needs more friction"}),
     "onset_friction_demand": (("record", "block"), "1",
                               "friction needed to start rocking without sliding, pulse at full amplitude", {}),
@@ -112,15 +121,13 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                                "comment": "not_evaluated also where the ground's g + a_v reached 0 "
                                                           "before any overturning (response free_flight)"}),
     "verdict_source": (("record", "block"), None, "model behind the verdict 'overturn'",
-                       {"flag_values": FLAG3, "flag_meanings": "none criterion simulation"}),
+                       flags(VerdictSource, missing="none")),
     # the simulator per (record, block) scene (pipeline.rocking)
     "physics": (("record", "block"), None, "physics simulated for the scene (scene planner)",
-                {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
-                 "flag_meanings": "not_evaluated none sliding rocking rocking_vertical",
+                {**flags(Physics),
                  "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included)"}),
     "response": (("record", "block"), None, "simulated response class",
-                 {"flag_values": np.array([-1, 0, 1, 2, 3, 4, 5], dtype="i1"),
-                  "flag_meanings": "not_evaluated rest slide rock slide_rock overturn free_flight",
+                 {**flags(Response),
                   "comment": "slide_rock: the friction demand of pure rocking exceeded mu; the pure-rocking "
                              "result is not to be trusted. free_flight: the ground's g + a_v reached 0 before "
                              "any overturning; the contact model stops there and gives no verdict"}),
@@ -138,8 +145,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
     "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground", {}),
     "free_flight": (("record", "block"), None, "loss of contact with the base",
-                    {"flag_values": np.array([-1, 0, 1, 2], dtype="i1"),
-                     "flag_meanings": "not_evaluated none ground_flight block_liftoff",
+                    {**flags(FreeFlight),
                      "comment": "ground_flight: the ground's g + a_v reached 0 (the simulation stopped there); "
                                 "block_liftoff: the rocking block's own contact force f_z reached 0 (flagged, "
                                 "the rigid-contact result is kept)"}),
@@ -149,8 +155,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                           {"comment": "for orientation scanned_relative: relative to the record's first component "
                                       "taken as 0 deg"}),
     "orientation": (("record", "block"), None, "how the rocking plane was chosen",
-                    {"flag_values": np.array([-1, 0, 1, 2, 3], dtype="i1"),
-                     "flag_meanings": "not_evaluated given scanned scanned_relative single_component",
+                    {**flags(Orientation),
                      "comment": "scanned: worst of every plane k * simulation.orientation_step_deg and the pulse "
                                 "axis that moves the block, refined around the worst standing plane; "
                                 "scanned_relative: the same on a record of unknown absolute azimuth"}),
@@ -215,241 +220,41 @@ def apply_schema(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
-def _encoding(ds: xr.Dataset) -> dict:
-    enc: dict[Hashable, dict] = {}
-    for name, var in ds.variables.items():
-        if var.dtype.kind == "f":
-            enc[name] = {"zlib": True, "complevel": 4, "_FillValue": np.nan}
-        elif var.dtype.kind in "OU":
-            enc[name] = {"dtype": str}
-    return enc
+#: Per-sample variables of ``pulses.nc`` (CF contiguous ragged array, one series per record).
+PULSE_SERIES = {
+    "velocity": {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"},
+    "pulse": {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"},
+}
+#: Per-sample variables of ``histories.nc`` (one series per block at risk).
+HISTORY_SERIES = {
+    "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
+                         "comment": "NaN after overturning"},
+}
 
 
-def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to ``path`` (netCDF4) atomically (:func:`replace_atomically`).
-
-    Raises
-    ------
-    OutputError
-        If the directory is not writable or the disk is full; the previous
-        file at ``path``, if any, is left untouched.
-    """
-    return replace_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds)))
-
-
-def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
-    """Create or replace ``path`` through ``write(temporary_path)``: temporary file, fsync, rename.
-
-    The temporary ``.<name>.*.tmp`` lies in the same directory, so the rename is atomic:
-    a reader, or a run killed at any instant, sees the old file or the new one.
-
-    Raises
-    ------
-    OutputError
-        If the directory is not writable or the disk is full; the previous
-        file at ``path``, if any, is left untouched.
-    """
-    path = Path(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        os.close(fd)
-        os.chmod(tmp, default_file_mode())
-    except OSError as exc:
-        raise OutputError(f"{path.parent}: cannot write results here ({exc.strerror or exc}); "
-                          "choose another --out directory or fix its permissions") from exc
-    try:
-        write(tmp)
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except OSError as exc:
-        _remove_quietly(tmp)
-        raise OutputError(f"{path}: writing failed ({exc.strerror or exc}); the previous results, if "
-                          "any, are intact. Free disk space or choose another --out") from exc
-    except BaseException:
-        _remove_quietly(tmp)
-        raise
-    return path
-
-
-def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write UTF-8 text atomically (:func:`replace_atomically`)."""
-    def write(tmp: str) -> None:
-        Path(tmp).write_text(text, encoding="utf-8")
-
-    return replace_atomically(path, write)
-
-
-def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
-    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`)."""
-    def write(tmp: str) -> None:
-        with open(tmp, "w", newline="", encoding="utf-8") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(columns), restval="", extrasaction="ignore")
-            w.writeheader()
-            w.writerows(rows)
-
-    return replace_atomically(path, write)
-
-
-def remove_stale_temporaries(out_dir: str | Path) -> int:
-    """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
-    out = Path(out_dir)
-    n = 0
-    for pattern in (".*.tmp", f"{STATE_DIR}/*/.*.tmp"):
-        for p in out.glob(pattern):
-            _remove_quietly(p)
-            n += 1
-    return n
-
-
-def default_file_mode() -> int:
-    """The mode an ordinary new file gets under the process umask (mkstemp alone gives 0600)."""
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
-
-
-def _remove_quietly(path) -> None:
-    try:
-        os.unlink(path)
-    except OSError:
-        pass
-
-
-def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: dict[str, dict],
-                   station: dict[str, dict] | None = None) -> xr.Dataset:
-    """Time series of different lengths as a CF contiguous ragged array (featureType timeSeries).
-
-    Parameters
-    ----------
-    id_name, id_long_name : str
-        Name and long name of the series id variable (``cf_role = timeseries_id``).
-    rows : list of dict
-        One per series: ``"id"``, ``"dt"`` [s] and an array per name in ``series``.
-    series : dict
-        Name -> attributes of each per-sample variable (stored as float32).
-    station : dict, optional
-        Name -> attributes of further per-series string variables taken from ``rows``.
-
-    References
-    ----------
-    CF conventions 1.11, section 9 and appendix H (contiguous ragged array representation).
-    """
-    first = next(iter(series))
-    ids = np.array([r["id"] for r in rows], dtype=str)   # unicode: an empty object array cannot be written
-    data = {"row_size": (("station",), np.array([np.size(r[first]) for r in rows], dtype="i4"),
-                         {"sample_dimension": "sample", "long_name": f"samples per {id_long_name}"}),
-            "dt": (("station",), np.array([r["dt"] for r in rows], dtype=float),
-                   {"units": "s", "long_name": "sampling interval"}),
-            id_name: (("station",), ids, {"cf_role": "timeseries_id", "long_name": id_long_name})}
-    for name, attrs in (station or {}).items():
-        data[name] = (("station",), np.array([r[name] for r in rows], dtype=str), attrs)
-    for name, attrs in series.items():
-        values = np.concatenate([np.asarray(r[name]) for r in rows]) if rows else np.zeros(0)
-        data[name] = (("sample",), values.astype("f4"), attrs)
-    return xr.Dataset(data, attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
-
-
-def ragged_rows(ds: xr.Dataset, id_name: str) -> dict[str, slice]:
-    """Series id -> slice of the ``sample`` dimension, for a :func:`ragged_dataset`."""
-    sizes = ds["row_size"].values
-    ends = np.cumsum(sizes)
-    return {sid: slice(int(e - n), int(e)) for sid, n, e in zip(ds[id_name].values.tolist(), sizes, ends)}
-
-
-def pulse_series_dataset(results) -> xr.Dataset:
-    """Extracted pulses of all records as a CF contiguous ragged array (:func:`ragged_dataset`).
-
-    Variables on dimension ``sample``: ``velocity`` and ``pulse`` [m s-1] along each record's
-    chosen pulse orientation; ``row_size`` gives each record's number of samples.
-    """
-    rows = [{"id": r.record_id, **r.series} for r in results if r.series]
-    return ragged_dataset("record_id", "record", rows, {
-        "velocity": {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"},
-        "pulse": {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"}})
-
-
-def open_results(path: str | Path) -> xr.Dataset:
-    """Open a results file fully into memory (the file is closed on return).
-
-    Raises
-    ------
-    ResultsError
-        If the file is missing or not a netCDF file.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise ResultsError(f"{path}: results file not found; run 'screen --records DIR --blocks CSV --out DIR' "
-                           "first, which writes DIR/screening.nc")
-    try:
-        with xr.open_dataset(path, engine="netcdf4") as ds:
-            return ds.load()
-    except (OSError, ValueError) as exc:
-        raise ResultsError(f"{path}: not a readable netCDF results file ({exc})") from exc
-
-
-class OutputLock:
-    """An exclusive lock on an output directory, held for the length of a run.
-
-    The lock is the file ``OUT/.rockscreen/lock``, created with ``O_EXCL``
-    and holding the owner's pid, host, start time and command. A lock left by
-    a run that died on this host (its pid no longer exists) is taken over
-    with a warning; a live one raises :class:`OutputLockedError`.
-    """
-
-    def __init__(self, out_dir: str | Path, *, command: str = ""):
-        self.path = Path(out_dir) / STATE_DIR / "lock"
-        self.command = command
-        self.stale_owner: dict | None = None
-
-    def _owner(self) -> dict:
-        try:
-            return json.loads(self.path.read_text())
-        except (OSError, ValueError):
-            return {}
-
-    def acquire(self) -> "OutputLock":
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        info = {"pid": os.getpid(), "host": socket.gethostname(),
-                "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "command": self.command}
-        for _ in range(2):
-            try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                owner = self._owner()
-                if owner.get("host") == info["host"] and not _pid_alive(int(owner.get("pid", -1))):
-                    self.stale_owner = owner
-                    self.path.unlink(missing_ok=True)   # the run that held it is dead: take over
-                    continue
-                raise OutputLockedError(
-                    f"{self.path.parent.parent}: another run is writing this output (pid {owner.get('pid', '?')} "
-                    f"on {owner.get('host', '?')}, started {owner.get('started_utc', '?')}: "
-                    f"{owner.get('command', '')!s}). Wait for it to finish or use another --out; if that run "
-                    f"is dead on another machine, delete {self.path}") from None
-            with os.fdopen(fd, "w") as fh:
-                json.dump(info, fh)
-            return self
-        raise OutputLockedError(f"{self.path}: could not take the lock; delete it if no run is active")
-
-    def release(self) -> None:
-        if self._owner().get("pid") == os.getpid():
-            self.path.unlink(missing_ok=True)
-
-    def __enter__(self) -> "OutputLock":
-        return self.acquire()
-
-    def __exit__(self, *exc) -> None:
-        self.release()
-
-
-def _pid_alive(pid: int) -> bool:
-    if pid <= 0:
-        return False
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
+def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
+    """Where ``ds`` departs from the schema: unknown variables, other dimensions, units, long names
+    or flags, and stored flag values outside their ``flag_values``. Empty when it conforms."""
+    table = SCHEMA if table is None else table
+    problems = []
+    for name, var in ds.data_vars.items():
+        if name not in table:
+            problems.append(f"{name}: not in the schema")
+            continue
+        dims, units, long_name, extra = table[str(name)]
+        if tuple(var.dims) != dims:
+            problems.append(f"{name}: dims {var.dims}, schema {dims}")
+        if var.attrs.get("units") != units:
+            problems.append(f"{name}: units {var.attrs.get('units')!r}, schema {units!r}")
+        if var.attrs.get("long_name") != long_name:
+            problems.append(f"{name}: long_name differs from the schema")
+        if "flag_values" in extra:
+            allowed = set(np.asarray(extra["flag_values"]).tolist())
+            if var.attrs.get("flag_meanings") != extra["flag_meanings"]:
+                problems.append(f"{name}: flag_meanings differ from the schema")
+            if var.dtype.kind not in "iu":
+                problems.append(f"{name}: flags stored as {var.dtype}, expected an integer type")
+            elif not set(np.unique(var.values).tolist()) <= allowed:
+                problems.append(f"{name}: values {sorted(set(np.unique(var.values).tolist()) - allowed)} "
+                                "outside flag_values")
+    return problems

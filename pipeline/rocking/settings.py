@@ -1,0 +1,44 @@
+"""Settings of the simulator (the ``[simulation]`` section of a configuration).
+
+The simulator owns this dataclass; :mod:`pipeline.config` maps a TOML file onto it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SimulationConfig:
+    """The rocking and sliding simulator (:mod:`pipeline.rocking`)."""
+
+    #: Relative tolerance of the Runge-Kutta error control [-].
+    rtol: float = 1e-7
+    #: Absolute tolerance as a fraction of alpha (theta) and p alpha (omega) [-].
+    atol: float = 1e-9
+    #: An impact whose rebound is below rest_ratio * p * alpha puts the block to rest [-].
+    rest_ratio: float = 1e-6
+    #: Largest integration step as a fraction of 1/p [-].
+    max_step_p: float = 0.05
+    #: Cap on impacts plus uplifts per scene (chatter guard; the scene is flagged) [-].
+    max_events: int = 200000
+    #: 0 (default): the vertical is simulated whenever the record has one. A positive value is an
+    #: approximation that drops a vertical whose peak stays at or below this fraction of g from the
+    #: simulation (never from the at-rest decision); ``screen bench`` measures its effect [-].
+    vertical_fraction: float = 0.0
+    #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
+    #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
+    orientation_step_deg: float = 5.0
+    #: When no grid plane overturns the block, the planes within one grid step of the worst plane
+    #: are also simulated every orientation_refine_deg (0: no refinement) [deg].
+    orientation_refine_deg: float = 1.0
+    #: Amplitude step of upward threshold scans, as a fraction of the uplift acceleration [-]
+    #: (scans never bisect: overturning is not monotonic in amplitude).
+    scan_step: float = 0.005
+    #: Scans stop at this multiple of the uplift acceleration (or at the sliding line mu g) [-].
+    scan_max_factor: float = 20.0
+    #: Margin ``overturn_scale``: the factor on the governing record grows by this fraction per
+    #: step, from the factor that first lifts the block (upward scan, no bisection) [-].
+    margin_step: float = 0.01
+    #: The margin scan stops at this factor on the record (reported as "more than this") [-].
+    margin_max_factor: float = 10.0

@@ -1,0 +1,20 @@
+"""Storage: netCDF results (:mod:`.netcdf`), atomic files (:mod:`.atomic`) and the output lock (:mod:`.lock`).
+
+The schema of every variable lives in :mod:`pipeline.schema`.
+"""
+
+from ..schema import COMPONENTS, FLAG3, SCHEMA, apply_schema
+from .atomic import (
+    STATE_DIR,
+    default_file_mode,
+    remove_stale_temporaries,
+    replace_atomically,
+    write_csv_atomic,
+    write_text_atomic,
+)
+from .lock import OutputLock
+from .netcdf import open_results, pulse_series_dataset, ragged_dataset, ragged_rows, write_atomic
+
+__all__ = ["COMPONENTS", "FLAG3", "SCHEMA", "STATE_DIR", "OutputLock", "apply_schema", "default_file_mode",
+           "open_results", "pulse_series_dataset", "ragged_dataset", "ragged_rows", "remove_stale_temporaries",
+           "replace_atomically", "write_atomic", "write_csv_atomic", "write_text_atomic"]

@@ -1,0 +1,97 @@
+"""Files written atomically: a temporary file in the same directory, fsync, rename.
+
+A reader, or a run killed at any instant, sees the old file or the new one, never a partial one.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import tempfile
+from pathlib import Path
+from typing import Callable
+
+from ..errors import OutputError
+
+#: Sub-directory of an output directory holding the run state (lock, scene and margin caches).
+STATE_DIR = ".rockscreen"
+
+
+def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
+    """Create or replace ``path`` through ``write(temporary_path)``: temporary file, fsync, rename.
+
+    The temporary ``.<name>.*.tmp`` lies in the same directory, so the rename is atomic:
+    a reader, or a run killed at any instant, sees the old file or the new one.
+
+    Raises
+    ------
+    OutputError
+        If the directory is not writable or the disk is full; the previous
+        file at ``path``, if any, is left untouched.
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        os.close(fd)
+        os.chmod(tmp, default_file_mode())
+    except OSError as exc:
+        raise OutputError(f"{path.parent}: cannot write results here ({exc.strerror or exc}); "
+                          "choose another --out directory or fix its permissions") from exc
+    try:
+        write(tmp)
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except OSError as exc:
+        _remove_quietly(tmp)
+        raise OutputError(f"{path}: writing failed ({exc.strerror or exc}); the previous results, if "
+                          "any, are intact. Free disk space or choose another --out") from exc
+    except BaseException:
+        _remove_quietly(tmp)
+        raise
+    return path
+
+
+def write_text_atomic(path: str | Path, text: str) -> Path:
+    """Write UTF-8 text atomically (:func:`replace_atomically`)."""
+    def write(tmp: str) -> None:
+        Path(tmp).write_text(text, encoding="utf-8")
+
+    return replace_atomically(path, write)
+
+
+def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
+    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`)."""
+    def write(tmp: str) -> None:
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(columns), restval="", extrasaction="ignore")
+            w.writeheader()
+            w.writerows(rows)
+
+    return replace_atomically(path, write)
+
+
+def remove_stale_temporaries(out_dir: str | Path) -> int:
+    """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
+    out = Path(out_dir)
+    n = 0
+    for pattern in (".*.tmp", f"{STATE_DIR}/*/.*.tmp"):
+        for p in out.glob(pattern):
+            _remove_quietly(p)
+            n += 1
+    return n
+
+
+def default_file_mode() -> int:
+    """The mode an ordinary new file gets under the process umask (mkstemp alone gives 0600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _remove_quietly(path) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass

@@ -1,0 +1,25 @@
+"""The shape of the code: physics and readers are libraries that never import the application."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+#: Application modules no library may load.
+APPLICATION = ("pipeline.cli", "pipeline.batch", "pipeline.screening", "pipeline.config", "pipeline.report",
+               "pipeline.store", "pipeline.cache", "pipeline.executors", "pipeline.margins", "pipeline.bench",
+               "pipeline.run")
+
+
+@pytest.mark.parametrize("library", ["pipeline.rocking.planner", "pipeline.rocking.orientation",
+                                     "pipeline.rocking.reference", "pipeline.records.loader", "pipeline.pulses",
+                                     "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks"])
+def test_libraries_load_no_application_module(library):
+    # a fresh interpreter: what importing the library alone pulls in
+    code = (f"import sys, {library}\n"
+            f"bad = sorted(m for m in sys.modules if m.startswith({APPLICATION!r}))\n"
+            "print(','.join(bad))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "", f"importing {library} loads {out}"
