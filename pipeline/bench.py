@@ -36,7 +36,7 @@ import numpy as np
 from . import criteria
 from .blocks import Inventory
 from .config import FIDELITY_TIERS, Config
-from .errors import RockscreenError
+from .errors import RockscreenError, UsageError
 from .margins import overturn_scale_simulated
 from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
@@ -75,7 +75,7 @@ def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list
             continue
         out.append(_Scene(rec, blocks, directions, int(values.get("is_pulse", -1))))
     if not out:
-        raise RockscreenError(f"{records_dir}: no record could be screened; nothing to benchmark")
+        raise UsageError(f"{records_dir}: no record could be screened; nothing to benchmark")
     return out, t_common
 
 

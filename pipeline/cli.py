@@ -3,8 +3,9 @@
 ``screen --records DIR --blocks inventory.csv [--out DIR]`` screens every
 record against every block and writes ``OUT/screening.nc`` and
 ``OUT/pulses.nc``. Running it again into the same ``--out`` computes only
-what is new or changed (:mod:`pipeline.batch`); ``-n N`` uses N local
-processes and ``--scheduler`` a Dask cluster (:mod:`pipeline.executors`).
+what is new or changed (:mod:`pipeline.run`); ``-n N`` uses N local
+processes and ``--scheduler`` a Dask cluster (:mod:`pipeline.run.executors`).
+This module only parses arguments, calls the run layer or the libraries, and prints.
 
 Exit codes: 0 success; 1 at least one record failed (its reason is in
 ``status`` and the log; ``--tolerate-failures`` makes this 0); 2 bad usage,
@@ -16,39 +17,20 @@ written (earlier results intact); 75 another run holds the output;
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import logging
 import shlex
 import sys
-import time
-from importlib import metadata
 from pathlib import Path
 
 from . import __version__
 from .config import CRITERION_MEASURED_MISSES, FIDELITY_TIERS
-from .errors import InventoryError, OutputError, OutputLockedError, RockscreenError
+from .errors import InventoryError, OutputError, OutputLockedError, RecordsNotFoundError, RockscreenError, UsageError
 
 log = logging.getLogger("pipeline")
 
 EXIT_OK, EXIT_RECORD_FAILURES, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
 EXIT_LOCKED = 75          # sysexits EX_TEMPFAIL: another run holds the output; try again later
 EXIT_INTERRUPTED = 130
-
-
-def _package_versions() -> str:
-    names = ("rockscreen", "obspy", "numpy", "scipy", "PyWavelets", "xarray", "netCDF4", "numba")
-    out = {}
-    for n in names:
-        try:
-            out[n] = metadata.version(n)
-        except metadata.PackageNotFoundError:
-            pass
-    return json.dumps(out, sort_keys=True)
-
-
-def _sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def _add_run_arguments(p: argparse.ArgumentParser) -> None:
@@ -89,7 +71,7 @@ def _config_and_inventory(args: argparse.Namespace):
 def _records_dir(path: Path) -> Path:
     """``--records``, checked to be a directory."""
     if not path.is_dir():
-        raise RockscreenError(f"{path}: records directory not found")
+        raise RecordsNotFoundError(f"{path}: records directory not found; give an existing directory to --records")
     return path
 
 
@@ -101,21 +83,6 @@ def _progress(quiet: bool):
 
     return lambda it, total=None: tqdm(it, total=total, desc="records", unit="rec", file=sys.stderr,
                                        disable=None, leave=False)
-
-
-def _provenance(args: argparse.Namespace, argv: list[str], config) -> dict:
-    return {
-        "history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {Path(sys.argv[0]).name} "
-                   f"{shlex.join(argv)}",
-        "rockscreen_config": json.dumps(config.to_dict(), sort_keys=True),
-        "rockscreen_config_sha256": config.digest(),
-        "package_versions": _package_versions(),
-        "inventory_file": str(args.blocks),
-        "inventory_sha256": _sha256(args.blocks),
-        "records_directory": str(args.records),
-        "references": "Housner (1963) BSSA 53(2); Shahi & Baker (2014) BSSA 104(5); "
-                      "reference paper: energy-based critical pulse model for rocking blocks",
-    }
 
 
 def _print_summary(summary: dict, out: Path) -> None:
@@ -141,64 +108,26 @@ def _print_summary(summary: dict, out: Path) -> None:
 
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     """The main job: screen records against blocks and write results (incrementally)."""
-    from .batch import run
-    from .cache import ensure_writable, scene_cache_dir
-    from .executors import make_executor
-    from .margins import add_margins
-    from .records.loader import files_sha256, read_declared_units, stationxml_paths
-    from .records.loader import read_inventory as read_station_inventory
-    from .report.html import build_report
-    from .store import OutputLock, remove_stale_temporaries, write_atomic
+    from .run import RunInterrupted, ScreenRequest, screen
 
     config, inventory = _config_and_inventory(args)
-    _records_dir(args.records)
-    if args.num_processes < 1:
-        raise RockscreenError(f"-n {args.num_processes}: the number of worker processes must be >= 1")
-    station_inventory = read_station_inventory(args.records, args.inventory)
-    stationxml_sha = files_sha256(stationxml_paths(args.records, args.inventory))
-    declared = read_declared_units(args.records, config)
-    out_dir = ensure_writable(args.out)
-    started = time.time()
+    request = ScreenRequest(records_dir=_records_dir(args.records), blocks_csv=args.blocks, inventory=inventory,
+                            config=config, out_dir=args.out, stationxml=args.inventory,
+                            n_workers=args.num_processes, scheduler=args.scheduler, force=args.force,
+                            command=list(argv))
     try:
-        with OutputLock(out_dir, command=shlex.join(argv)) as lock:
-            if lock.stale_owner:
-                log.warning("took over the lock of a run that died (pid %s, started %s)",
-                            lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
-            remove_stale_temporaries(out_dir)
-            with make_executor(n_workers=args.num_processes, scheduler=args.scheduler) as executor:
-                ds, pulses, summary = run(args.records, inventory, config, out_dir=out_dir, executor=executor,
-                                          force=args.force, station_inventory=station_inventory,
-                                          declared_units=declared, stationxml_sha256=stationxml_sha,
-                                          progress=_progress(args.quiet))
-                t_margin = time.perf_counter()
-                margin_cache = summary["cache"].margins()
-                ds, histories, margin_summary = add_margins(ds, summary["sources"], summary["context"], executor,
-                                                            cache=margin_cache)
-                summary["margins"] = dict(margin_summary, wall_time_s=time.perf_counter() - t_margin)
-            ds.attrs.update(_provenance(args, argv, config))
-            for side in (pulses, histories):
-                side.attrs["rockscreen_run_key"] = ds.attrs["rockscreen_run_key"]
-            write_atomic(pulses, out_dir / "pulses.nc")
-            write_atomic(histories, out_dir / "histories.nc")
-            out = write_atomic(ds, out_dir / "screening.nc")      # the main file last
-            summary["cache"].prune()
-            margin_cache.prune()
-            report, assets = build_report(out)
-    except KeyboardInterrupt:
-        cache_dir = scene_cache_dir(out_dir)
-        kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
-        print(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will not be "
-              f"screened again; {out_dir / 'screening.nc'} still holds the previous complete results, if any. "
-              "Run the same command again to finish.", file=sys.stderr)
+        result = screen(request, progress=_progress(args.quiet))
+    except RunInterrupted as exc:
+        print(str(exc), file=sys.stderr)
         return EXIT_INTERRUPTED
-    _print_summary(summary, out)
-    m = summary["margins"]
+    _print_summary(result.counts, result.screening_path)
+    m = result.margins
     print(f"margins: {m['computed']} scanned, {m['reused']} reused ({m['simulations']} scaled scenes behind them); "
           f"{m['wall_time_s']:.1f} s"
           + (f"; records no longer readable for margins: {', '.join(m['unavailable'])}" if m["unavailable"] else ""),
           file=sys.stderr)
-    print(f"wrote {report} and {assets}", file=sys.stderr)
-    if summary["records_failed"] and not args.tolerate_failures:
+    print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
+    if result.records_failed and not args.tolerate_failures:
         return EXIT_RECORD_FAILURES
     return EXIT_OK
 
@@ -249,7 +178,7 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     config = load_config(args.config)
     if args.block is not None:
         if args.blocks is None or args.height is not None or args.width is not None:
-            raise RockscreenError("screen chart: give either --block ID with --blocks CSV, or --height and --width")
+            raise UsageError("screen chart: give either --block ID with --blocks CSV, or --height and --width")
         block = read_inventory(args.blocks, default_mu=config.blocks.default_mu).select(args.block)
         if args.mu is not None:
             block = Inventory.single(height_m=float(block.height_m[0]), width_m=float(block.width_m[0]),
@@ -258,7 +187,7 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
         block = Inventory.single(height_m=args.height, width_m=args.width,
                                  mu=config.blocks.default_mu if args.mu is None else args.mu)
     else:
-        raise RockscreenError("screen chart: give the block as --height H --width W [--mu MU], "
+        raise UsageError("screen chart: give the block as --height H --width W [--mu MU], "
                               "or as --block ID --blocks inventory.csv")
     chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
                             pulse=args.pulse, periods_s=args.periods, g_ms2=config.records.g_ms2,
@@ -267,17 +196,18 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
         from .chart import simulated_critical_acceleration
 
         if args.cycles < 1:
-            raise RockscreenError(f"--cycles {args.cycles}: must be a positive integer")
+            raise UsageError(f"--cycles {args.cycles}: must be a positive integer")
         chart = simulated_critical_acceleration(chart, cycles=args.cycles, settings=config.simulation)
     block_id = args.block
     if args.records is not None:
-        from .batch import run
         from .records.loader import read_declared_units
         from .records.loader import read_inventory as read_station_inventory
+        from .run.batch import run
 
-        results, _, _ = run(_records_dir(args.records), block, config,
-                         station_inventory=read_station_inventory(args.records, args.inventory),
-                         declared_units=read_declared_units(args.records, config), progress=_progress(args.quiet))
+        results = run(_records_dir(args.records), block, config,
+                      station_inventory=read_station_inventory(args.records, args.inventory),
+                      declared_units=read_declared_units(args.records, config),
+                      progress=_progress(args.quiet)).results
         block_id = block.ids[0]
     elif args.results is not None:
         from .store import open_results

@@ -3,8 +3,9 @@
 #: Standard acceleration of gravity [m s-2] (CGPM 1901; also UDUNITS ``standard_free_fall``).
 G = 9.80665
 
-#: Centimetre to metre.
+#: Centimetre to metre, and metre to centimetre.
 CM_TO_M = 0.01
+M_TO_CM = 100.0
 
 #: The gravity value the Shahi & Baker (2014) MATLAB code uses [m s-2] (981 cm/s^2).
 G_MATLAB = 9.81

@@ -13,6 +13,22 @@ class RockscreenError(Exception):
     """Base class of every error raised by rockscreen."""
 
 
+class UsageError(RockscreenError, ValueError):
+    """A command or function was called with arguments that cannot work together or are out of range."""
+
+
+class RecordsNotFoundError(RockscreenError, FileNotFoundError):
+    """The records directory does not exist."""
+
+
+class DependencyError(RockscreenError, ImportError):
+    """An optional dependency a feature needs is not installed."""
+
+
+class SchedulerError(RockscreenError, ConnectionError):
+    """No Dask scheduler answers at the given address."""
+
+
 class RecordFormatError(RockscreenError, ValueError):
     """A record file is corrupt, truncated, empty or not in a known format."""
 

@@ -178,7 +178,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
                 cache=None) -> tuple:
     """Governing record, both margins and the at-risk histories of every block.
 
-    With a :class:`pipeline.cache.MarginCache`, scans already done for the same record
+    With a :class:`pipeline.run.cache.MarginCache`, scans already done for the same record
     content, block and run key are reused, and new ones are saved as they return.
 
     Returns

@@ -21,6 +21,7 @@ from . import __version__, criteria
 from .blocks import Inventory
 from .closed_forms import PULSE_BETA
 from .config import Config
+from .constants import CM_TO_M
 from .errors import PulseError, RockscreenError
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
@@ -141,7 +142,7 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
         for n, v in zip(names, (lb.ap_ms2, lb.tp_s, lb.beta, lb.dv_ms, rap)):
             blocks[n][sel] = v
     assert best.velocity_cms is not None and best.pulse_cms is not None     # the chosen candidate has its series
-    series = {"velocity": best.velocity_cms / 100.0, "pulse": best.pulse_cms / 100.0, "dt": rec.dt_s}
+    series = {"velocity": best.velocity_cms * CM_TO_M, "pulse": best.pulse_cms * CM_TO_M, "dt": rec.dt_s}
     return values, blocks, series
 
 

@@ -8,9 +8,9 @@ import sys
 import pytest
 
 #: Application modules no library may load.
-APPLICATION = ("pipeline.cli", "pipeline.batch", "pipeline.screening", "pipeline.config", "pipeline.report",
-               "pipeline.store", "pipeline.cache", "pipeline.executors", "pipeline.margins", "pipeline.bench",
-               "pipeline.run")
+APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.screening", "pipeline.config", "pipeline.report",
+               "pipeline.store", "pipeline.schema", "pipeline.margins", "pipeline.bench", "pipeline.chart",
+               "pipeline.infer")
 
 
 @pytest.mark.parametrize("library", ["pipeline.rocking.planner", "pipeline.rocking.orientation",

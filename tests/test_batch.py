@@ -23,11 +23,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pipeline.batch import _task, plan
 from pipeline.blocks import read_inventory
 from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
-from pipeline.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
 from pipeline.records.loader import read_declared_units, scan
+from pipeline.run.batch import _task, plan
+from pipeline.run.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
 from pipeline.screening import Context
 from pipeline.store import open_results
 

@@ -147,8 +147,10 @@ def test_isolated_overturning_window_of_the_half_metre_block():
 
     chart = simulated_critical_acceleration(stability_chart(0.5, 0.055, mu=0.5, pulse="harmonic", periods_s=[0.3]))
     first = float(chart.critical_acceleration_simulated[0]) / G
-    assert 0.12 < first < 0.15
     geo = geometry(0.5, 0.055)
+    # no rigid block moves below g tan(alpha); UDEC's published threshold (paper, Table 1) is 0.1836 g and the
+    # scan's first window lies below the flat "for good" part near it
+    assert math.tan(float(geo.alpha)) < first < 0.1836
     kw = dict(p=float(geo.p), alpha=float(geo.alpha), e=float(geo.e_housner), R_m=float(geo.R))
 
     def over(a_g):

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import M_TO_CM
 from ..errors import PulseError
 from ..records.record import Record
 from .characterize import Lobe, dominant_lobe, record_peak_in
@@ -14,7 +15,7 @@ from .shahi_baker import PulseResult, classify, extract_along
 
 __all__ = ["RecordPulse", "analyze", "classify", "dominant_lobe", "Lobe"]
 
-CM = 100.0  # cm per m
+CM = M_TO_CM  # cm per m (the pulse algorithm works in cm/s, as the published code)
 
 
 @dataclass

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 import obspy
 
+from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UnitsError
 from .orientation import orientation_of
 from .processing import apply_steps, integrate, integration_method
@@ -242,9 +243,9 @@ def _header_peak_ms2(tr, g_ms2: float) -> float | None:
     if "at2" in s and s.at2.header_pga_g is not None:
         return abs(s.at2.header_pga_g) * g_ms2
     if "knet" in s and s.knet.get("accmax") is not None:
-        return abs(float(s.knet.accmax)) * 0.01  # Max. Acc. (gal)
+        return abs(float(s.knet.accmax)) * CM_TO_M  # Max. Acc. (gal)
     if "dmg" in s and s.dmg.header_peak is not None and s.dmg.header_peak_units:
-        return abs(s.dmg.header_peak) * (0.01 if "cm" in s.dmg.header_peak_units else g_ms2)
+        return abs(s.dmg.header_peak) * (CM_TO_M if "cm" in s.dmg.header_peak_units else g_ms2)
     return None
 
 
@@ -411,7 +412,7 @@ def iter_records(root: str | Path, *, config: ReaderSettings, inventory=None):
     """Every record under ``root`` that loads, in scan order (failures are skipped).
 
     For benchmarks and tests that need the bundled records as arrays; the
-    screening itself keeps the failures (:func:`pipeline.batch.run`).
+    screening itself keeps the failures (:func:`pipeline.run.batch.run`).
     """
     root = Path(root)
     sources, _ = scan(root, config=config)

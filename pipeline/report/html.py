@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..constants import G
+from ..constants import M_TO_CM, G
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..store import open_results, ragged_rows, write_csv_atomic, write_text_atomic
 from . import figures
@@ -130,7 +130,7 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
 
         is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
         row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
-               "pgv_cms": 100 * float(val("pgv")), "tp_s": float(val("pulse_period")),
+               "pgv_cms": M_TO_CM * float(val("pgv")), "tp_s": float(val("pulse_period")),
                "pi": float(val("pulse_indicator")),
                "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
                "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}

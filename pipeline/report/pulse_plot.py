@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..constants import M_TO_CM
 from .mpl import new_figure, save_figure
 
 
@@ -43,7 +44,7 @@ def pulse_axes(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, ti
     axes = fig.subplots(3, 1, sharex=True, sharey=True)
     for ax, y, label in zip(axes, (velocity_ms, pulse_ms, velocity_ms - pulse_ms),
                             ("original ground motion", "extracted pulse", "residual ground motion")):
-        ax.plot(t, 100 * y, lw=0.8, color="k")
+        ax.plot(t, M_TO_CM * y, lw=0.8, color="k")
         ax.text(0.005, 0.94, label, transform=ax.transAxes, fontsize=8, va="top",
                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
         ax.grid(alpha=0.3)

@@ -6,7 +6,7 @@ Data flow (one writer)::
          -> writer: cache entry per record as it returns -> assemble -> Dataset
 
 With an output directory, every record's result is saved to the scene
-cache (:mod:`pipeline.cache`) as soon as its task returns, so a run that is
+cache (:mod:`pipeline.run.cache`) as soon as its task returns, so a run that is
 interrupted or killed loses nothing it computed, and the next run into the
 same output computes only:
 
@@ -30,15 +30,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .blocks import Inventory
+from ..blocks import Inventory
+from ..config import Config
+from ..errors import RockscreenError
+from ..records.loader import RecordSource, read_declared_units, scan
+from ..rocking.planner import PHYSICS, RESPONSE
+from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
+from ..store import pulse_series_dataset
 from .cache import SceneCache, merge, run_key
-from .config import Config
-from .errors import RockscreenError
 from .executors import SerialExecutor, TaskLost
-from .records.loader import RecordSource, read_declared_units, scan
-from .rocking.planner import PHYSICS, RESPONSE
-from .screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
-from .store import pulse_series_dataset
 
 log = logging.getLogger(__name__)
 
@@ -120,9 +120,37 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
     return out
 
 
+@dataclass
+class BatchOutcome:
+    """What the screening stage hands to the next stages.
+
+    Attributes
+    ----------
+    results : xarray.Dataset
+        The screening results (``screening.nc`` before margins).
+    pulses : xarray.Dataset
+        The extracted pulses as a CF ragged array (``pulses.nc``).
+    counts : dict
+        Plain counts and wall time for the closing summary.
+    cache : SceneCache or None
+        The scene cache (its margin cache is used by the margins stage; pruned after the write).
+    sources : dict
+        Record id -> :class:`~pipeline.records.loader.RecordSource` of this run.
+    context : Context
+        The tasks' shared context.
+    """
+
+    results: xr.Dataset
+    pulses: xr.Dataset
+    counts: dict
+    cache: SceneCache | None
+    sources: dict[str, RecordSource]
+    context: Context
+
+
 def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path | None = None,
         executor=None, force: bool = False, station_inventory=None, declared_units: dict | None = None,
-        stationxml_sha256: str = "", progress=None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+        stationxml_sha256: str = "", progress=None) -> BatchOutcome:
     """Screen every record under ``records_dir`` against ``inventory``.
 
     Parameters
@@ -137,7 +165,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         Output directory whose scene cache and last results make this run
         incremental. None: compute everything in memory.
     executor : optional
-        A :mod:`pipeline.executors` executor, already entered (default serial).
+        A :mod:`pipeline.run.executors` executor, already entered (default serial).
     force : bool
         Recompute every record and block.
     progress : callable, optional
@@ -145,14 +173,9 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
 
     Returns
     -------
-    results : xarray.Dataset
-        The screening results.
-    pulses : xarray.Dataset
-        The extracted pulses as a CF ragged array.
-    summary : dict
-        Counts and wall time for the closing summary.
+    BatchOutcome
     """
-    from .store import open_results
+    from ..store import open_results
 
     t0 = time.perf_counter()
     records_dir = Path(records_dir)
@@ -210,7 +233,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     ds.attrs["rockscreen_run_key"] = key
     pulses = pulse_series_dataset(sorted(everything, key=lambda r: r.record_id))
     phys, resp = ds["physics"].values, ds["response"].values
-    summary = {
+    counts = {
         "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
         "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
         "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
@@ -222,7 +245,6 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "scenes_by_orientation": {k: int(np.sum(ds["orientation"].values == v)) for k, v in ORIENTATION.items()},
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
-        "wall_time_s": time.perf_counter() - t0, "cache": cache,
-        "sources": {s.record_id: s for s in sources}, "context": ctx,
+        "wall_time_s": time.perf_counter() - t0,
     }
-    return ds, pulses, summary
+    return BatchOutcome(ds, pulses, counts, cache, {s.record_id: s for s in sources}, ctx)

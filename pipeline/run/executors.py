@@ -30,7 +30,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator
 
-from .errors import RockscreenError
+from ..errors import DependencyError, RockscreenError, SchedulerError, UsageError
 
 log = logging.getLogger(__name__)
 
@@ -74,7 +74,7 @@ class ProcessExecutor:
 
     def __init__(self, n_workers: int):
         if n_workers < 1:
-            raise RockscreenError(f"-n {n_workers}: the number of worker processes must be >= 1")
+            raise UsageError(f"-n {n_workers}: the number of worker processes must be >= 1")
         self.n_workers = n_workers
         self._pool: ProcessPoolExecutor | None = None
 
@@ -169,7 +169,7 @@ class DaskExecutor:
         try:
             import distributed  # noqa: F401
         except ImportError:
-            raise RockscreenError("--scheduler needs Dask: pip install 'rockscreen[dask]'") from None
+            raise DependencyError("--scheduler needs Dask: pip install 'rockscreen[dask]'") from None
         self.scheduler = scheduler
         self.n_workers = n_workers
         self.client: Any = None
@@ -190,7 +190,7 @@ class DaskExecutor:
             try:
                 self.client = Client(self.scheduler, timeout="20s")
             except OSError as exc:
-                raise RockscreenError(f"--scheduler {self.scheduler}: no Dask scheduler answers there ({exc}); "
+                raise SchedulerError(f"--scheduler {self.scheduler}: no Dask scheduler answers there ({exc}); "
                                       "start one with 'dask scheduler' or use --scheduler local") from exc
         self.n_workers = max(1, len(self.client.scheduler_info().get("workers", {})))
         return self

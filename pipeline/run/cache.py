@@ -28,9 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from .errors import OutputError
-from .store import STATE_DIR, replace_atomically
+from .. import __version__
+from ..errors import OutputError
+from ..store import STATE_DIR, replace_atomically
 
 log = logging.getLogger(__name__)
 
@@ -147,7 +147,7 @@ class SceneCache(_NpzStore):
 
     def load(self, record_id: str, content_sha256: str):
         """The cached result of a record, or None (missing, unreadable or of another layout)."""
-        from .screening import RecordResult
+        from ..screening import RecordResult
 
         z = self._read(self.path(record_id, content_sha256))
         if z is None:

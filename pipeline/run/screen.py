@@ -1,0 +1,210 @@
+"""The main job as named stages: prepare -> screen (scan, plan, execute, assemble) -> margins -> write -> report.
+
+:func:`screen` takes a :class:`ScreenRequest` and returns a :class:`ScreenResult`;
+the command line only parses arguments into the request and prints the
+result. Each stage is a function of its own, so a new stage (uncertainty,
+fragility) is one more call here, not a change to the CLI.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import shlex
+import sys
+import time
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+import xarray as xr
+
+from ..blocks import Inventory
+from ..config import Config
+from ..errors import RecordsNotFoundError, RockscreenError, UsageError
+from ..margins import add_margins
+from ..records.loader import files_sha256, read_declared_units, stationxml_paths
+from ..records.loader import read_inventory as read_station_inventory
+from ..report.html import build_report
+from ..store import OutputLock, remove_stale_temporaries, write_atomic
+from .batch import BatchOutcome, run
+from .cache import ensure_writable, scene_cache_dir
+from .executors import make_executor
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ScreenRequest:
+    """Everything a screening run needs (what ``screen --records DIR --blocks CSV ...`` parses into).
+
+    Attributes
+    ----------
+    records_dir : Path
+        Directory of records.
+    blocks_csv : Path
+        The inventory file (recorded in the provenance).
+    inventory : Inventory
+        The blocks read from ``blocks_csv``.
+    config : Config
+        The effective configuration.
+    out_dir : Path
+        Output directory (results, report, run state).
+    stationxml : Path, optional
+        StationXML for records in counts (else ``*.xml`` in ``records_dir``).
+    n_workers : int
+        Local worker processes (1: serial), or Dask workers with ``scheduler = "local"``.
+    scheduler : str, optional
+        Dask: ``"local"`` or ``tcp://HOST:PORT``.
+    force : bool
+        Recompute every record and block.
+    command : list of str
+        The command line, for the lock and the provenance.
+    """
+
+    records_dir: Path
+    blocks_csv: Path
+    inventory: Inventory
+    config: Config
+    out_dir: Path
+    stationxml: Path | None = None
+    n_workers: int = 1
+    scheduler: str | None = None
+    force: bool = False
+    command: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ScreenResult:
+    """What a run produced and the counts of its closing summary."""
+
+    screening_path: Path
+    report_path: Path
+    assets_path: Path
+    #: counts of the screening stage (records, scenes by physics / response / orientation, wall time)
+    counts: dict
+    #: counts of the margins stage (computed, reused, simulations, unavailable records, wall time)
+    margins: dict
+
+    @property
+    def records_failed(self) -> int:
+        return int(self.counts["records_failed"])
+
+
+class RunInterrupted(RockscreenError, KeyboardInterrupt):
+    """Ctrl-C during a run: what was computed is kept in the scene cache."""
+
+    def __init__(self, kept: int, cache_dir: Path, out_dir: Path):
+        self.kept, self.cache_dir, self.out_dir = kept, cache_dir, out_dir
+        super().__init__(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will "
+                         f"not be screened again; {out_dir / 'screening.nc'} still holds the previous complete "
+                         "results, if any. Run the same command again to finish.")
+
+
+def package_versions() -> str:
+    """Versions of rockscreen and the libraries its results depend on, as JSON."""
+    names = ("rockscreen", "obspy", "numpy", "scipy", "PyWavelets", "xarray", "netCDF4", "numba")
+    out = {}
+    for n in names:
+        try:
+            out[n] = metadata.version(n)
+        except metadata.PackageNotFoundError:
+            pass
+    return json.dumps(out, sort_keys=True)
+
+
+def provenance(request: ScreenRequest) -> dict:
+    """Global attributes recording how the results were made."""
+    return {
+        "history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {Path(sys.argv[0]).name} "
+                   f"{shlex.join(request.command)}",
+        "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),
+        "rockscreen_config_sha256": request.config.digest(),
+        "package_versions": package_versions(),
+        "inventory_file": str(request.blocks_csv),
+        "inventory_sha256": hashlib.sha256(Path(request.blocks_csv).read_bytes()).hexdigest(),
+        "records_directory": str(request.records_dir),
+        "references": "Housner (1963) BSSA 53(2); Shahi & Baker (2014) BSSA 104(5); "
+                      "reference paper: energy-based critical pulse model for rocking blocks",
+    }
+
+
+def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
+    """Screen every record against every block, incrementally, and write results and the report.
+
+    Stages: :func:`prepare` (inputs and the output directory), then under the output lock
+    :func:`pipeline.run.batch.run` (scan, plan, execute, assemble), :func:`margins_stage`,
+    :func:`write_stage` and :func:`report_stage`.
+
+    Raises
+    ------
+    RunInterrupted
+        On Ctrl-C; the work done is kept in the scene cache.
+    OutputError, OutputLockedError, RockscreenError
+        Unwritable output, another run holding the lock, bad input.
+    """
+    if request.n_workers < 1:
+        raise UsageError(f"-n {request.n_workers}: the number of worker processes must be >= 1")
+    station_inventory, stationxml_sha, declared, out_dir = prepare(request)
+    started = time.time()
+    try:
+        with OutputLock(out_dir, command=shlex.join(request.command)) as lock:
+            if lock.stale_owner:
+                log.warning("took over the lock of a run that died (pid %s, started %s)",
+                            lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
+            remove_stale_temporaries(out_dir)
+            with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
+                outcome = run(request.records_dir, request.inventory, request.config, out_dir=out_dir,
+                              executor=executor, force=request.force, station_inventory=station_inventory,
+                              declared_units=declared, stationxml_sha256=stationxml_sha, progress=progress)
+                margin_cache = outcome.cache.margins() if outcome.cache is not None else None
+                results, histories, margins = margins_stage(outcome, executor, cache=margin_cache)
+            path = write_stage(outcome, results, histories, out_dir, provenance(request), margin_cache=margin_cache)
+            report, assets = report_stage(path)
+    except KeyboardInterrupt:
+        cache_dir = scene_cache_dir(out_dir)
+        kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
+        raise RunInterrupted(kept, cache_dir, out_dir) from None
+    return ScreenResult(path, report, assets, outcome.counts, margins)
+
+
+def prepare(request: ScreenRequest) -> tuple:
+    """Stage 1: the StationXML inventory and its digest, the declared units, a writable output directory."""
+    if not Path(request.records_dir).is_dir():
+        raise RecordsNotFoundError(f"{request.records_dir}: records directory not found; give an existing "
+                                   "directory to --records")
+    station_inventory = read_station_inventory(request.records_dir, request.stationxml)
+    stationxml_sha = files_sha256(stationxml_paths(request.records_dir, request.stationxml))
+    declared = read_declared_units(request.records_dir, request.config)
+    return station_inventory, stationxml_sha, declared, ensure_writable(request.out_dir)
+
+
+def margins_stage(outcome: BatchOutcome, executor, *, cache=None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+    """Stage 3: governing records, margins and histories, on the run's executor (``cache``: a
+    :class:`~pipeline.run.cache.MarginCache` of earlier scans)."""
+    t0 = time.perf_counter()
+    results, histories, summary = add_margins(outcome.results, outcome.sources, outcome.context, executor,
+                                              cache=cache)
+    return results, histories, dict(summary, wall_time_s=time.perf_counter() - t0)
+
+
+def write_stage(outcome: BatchOutcome, results: xr.Dataset, histories: xr.Dataset, out_dir: Path,
+                attrs: dict, *, margin_cache=None) -> Path:
+    """Stage 4: ``pulses.nc``, ``histories.nc``, then ``screening.nc`` last, each atomically; prune the caches."""
+    results.attrs.update(attrs)
+    for side in (outcome.pulses, histories):
+        side.attrs["rockscreen_run_key"] = results.attrs["rockscreen_run_key"]
+    write_atomic(outcome.pulses, out_dir / "pulses.nc")
+    write_atomic(histories, out_dir / "histories.nc")
+    path = write_atomic(results, out_dir / "screening.nc")      # the main file last
+    if outcome.cache is not None:
+        outcome.cache.prune()
+    if margin_cache is not None:
+        margin_cache.prune()
+    return path
+
+
+def report_stage(screening_path: Path) -> tuple[Path, Path]:
+    """Stage 5: ``report.html`` and ``assets.csv`` from the results files alone."""
+    return build_report(screening_path)
