@@ -31,7 +31,7 @@ from .blocks import check_friction, geometry
 from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
 from .constants import G
 from .errors import ParameterError, ResultsError
-from .schema import FLAG3
+from .schema import CHART, apply_schema
 
 #: Default period grid, as multiples of the paper's transition period.
 DEFAULT_PERIOD_RANGE = (0.1, 10.0)
@@ -105,30 +105,22 @@ def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = 
     t_bar_form = 2.0 * float(criteria.transition_duration(R, alpha, beta, g_ms2=g_ms2, form=form))
     ds = xr.Dataset(
         {
-            "critical_acceleration": ("period", crit, {
-                "units": "m s-2", "long_name": "smallest overturning pulse amplitude by the paper's criterion",
-                "comment": f"Eq. 7 with the {form} forms of Eqs. 1 and 4; valid below sliding_acceleration"}),
-            "critical_acceleration_small_angle": ("period", crit_small, {
-                "units": "m s-2", "long_name": "the paper's Eq. 7 as printed: alpha g max(1 / (p beta t_p), 1)"}),
-            "energy_acceleration": ("period", v_crit / (beta * tp), {
-                "units": "m s-2", "long_name": "energy hyperbola v_crit / (beta t_p) (Eq. 5)"}),
+            "critical_acceleration": ("period", crit),
+            "critical_acceleration_small_angle": ("period", crit_small),
+            "energy_acceleration": ("period", v_crit / (beta * tp)),
             "closed_form_acceleration": ("period", closed_form_acceleration(
-                T, pulse=pulse, p=p, alpha=alpha, g_ms2=g_ms2), {
-                "units": "m s-2", "long_name": "closed-form minimum overturning amplitude, linear model",
-                "comment": "half-sine: Makris & Roussos (2000) eq. 27; step: Housner (1963) eq. 9; "
-                           "NaN where none is published"}),
-            "normalized_period": ("period", T / t_bar_form, {
-                "units": "1", "long_name": "period over the criterion's transition period"}),
-            "critical_acceleration_normalized": ("period", crit / a_up, {
-                "units": "1", "long_name": "critical acceleration over the uplift acceleration"}),
-            "uplift_acceleration": ((), a_up, {"units": "m s-2", "long_name": "uplift acceleration (Eq. 1)"}),
-            "sliding_acceleration": ((), mu * g_ms2, {
-                "units": "m s-2", "long_name": "the paper's sliding line mu g (mu / alpha in units of alpha g)"}),
-            "critical_velocity": ((), v_crit, {"units": "m s-1", "long_name": "critical velocity (Eq. 4)"}),
+                T, pulse=pulse, p=p, alpha=alpha, g_ms2=g_ms2)),
+            "normalized_period": ("period", T / t_bar_form),
+            "critical_acceleration_normalized": ("period", crit / a_up),
+            "uplift_acceleration": ((), a_up),
+            "sliding_acceleration": ((), mu * g_ms2),
+            "critical_velocity": ((), v_crit),
         },
-        coords={"period": ("period", T, {"units": "s", "long_name": "pulse period T = 2 t_p",
-                                         "standard_name": "period"})},
+        coords={"period": ("period", T)},
     )
+    apply_schema(ds, CHART)
+    ds["critical_acceleration"].attrs["comment"] = (f"Eq. 7 with the {form} forms of Eqs. 1 and 4; valid below "
+                                                    "sliding_acceleration")
     ds.attrs.update({
         "Conventions": "CF-1.11",
         "title": f"stability chart: {height_m:g} m x {width_m:g} m block, {pulse} pulse",
@@ -162,24 +154,22 @@ def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is
     geom = geometry(at["height"], at["width"], g_ms2=at["g"])
     scene = criteria.evaluate(a, tp, b, dv, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=at["mu"],
                               g_ms2=at["g"], form=at["form"])
-    flag = {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}
-    return xr.Dataset(
+    ds = xr.Dataset(
         {
-            "record_ap": ("record", a, {"units": "m s-2", "long_name": "pulse peak acceleration"}),
-            "record_tp": ("record", tp, {"units": "s", "long_name": "pulse lobe duration"}),
-            "record_beta": ("record", b, {"units": "1", "long_name": "pulse fullness factor"}),
-            "record_dv": ("record", dv, {"units": "m s-1", "long_name": "pulse velocity increment"}),
-            "record_period": ("record", 2.0 * tp * b / at["beta"], {
-                "units": "s", "long_name": "period of the chart's pulse shape with the same a_p and dv",
-                "comment": "2 t_p beta / beta_shape (the paper's Fig. 6 normalization)"}),
-            "record_energy_ratio": ("record", scene["energy_ratio"], {"units": "1"}),
-            "record_normalized_acceleration": ("record", scene["normalized_acceleration"], {"units": "1"}),
-            "record_normalized_duration": ("record", scene["normalized_duration"], {"units": "1"}),
-            "record_overturn_criterion": ("record", scene["overturn_criterion"], flag),
-            "record_is_pulse": ("record", pulse_like, {**flag, "flag_meanings": "unavailable non_pulse pulse_like"}),
+            "record_ap": ("record", a),
+            "record_tp": ("record", tp),
+            "record_beta": ("record", b),
+            "record_dv": ("record", dv),
+            "record_period": ("record", 2.0 * tp * b / at["beta"]),
+            "record_energy_ratio": ("record", scene["energy_ratio"]),
+            "record_normalized_acceleration": ("record", scene["normalized_acceleration"]),
+            "record_normalized_duration": ("record", scene["normalized_duration"]),
+            "record_overturn_criterion": ("record", scene["overturn_criterion"]),
+            "record_is_pulse": ("record", pulse_like),
         },
         coords={"record": ("record", ids)},
     )
+    return apply_schema(ds, CHART)
 
 
 def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str | None) -> xr.Dataset:
@@ -242,10 +232,10 @@ def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, sett
                 break
             k += 1
     chart = chart.copy()
-    chart["critical_acceleration_simulated"] = ("period", out, {
-        "units": "m s-2", "long_name": "first overturning amplitude, nonlinear rigid rocking simulation",
-        "comment": f"{shape}, {cycles if shape == 'harmonic' else 1} cycle(s); upward scan from the uplift "
-                   f"acceleration in steps of {settings.scan_step:g} of it, no bisection; NaN: none below "
-                   f"{top:.4g} m s-2"})
+    chart["critical_acceleration_simulated"] = ("period", out)
+    apply_schema(chart, CHART)
+    chart["critical_acceleration_simulated"].attrs["comment"] = (
+        f"{shape}, {cycles if shape == 'harmonic' else 1} cycle(s); upward scan from the uplift acceleration in "
+        f"steps of {settings.scan_step:g} of it, no bisection; NaN: none below {top:.4g} m s-2")
     chart.attrs["simulation_runs"] = n_runs
     return chart

@@ -44,6 +44,7 @@ from .config import Config
 from .errors import InventoryError
 from .rocking.excitation import pulse
 from .rocking.planner import simulate_scene
+from .schema import INFER, apply_schema
 
 OUTCOMES = ("toppled", "standing")
 #: Shapes an inference can assume (half pulses, as in the paper).
@@ -225,35 +226,24 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
     t_sim = time.perf_counter() - t0
     sim = consistency(sim_over, obs, az, config)
     dims = ("observation", "azimuth", "duration", "acceleration")
-    flag = {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}
     ds = xr.Dataset(
-        {"observation_holds_criterion": (dims, crit.astype("i1"), {
-            "long_name": "the observation holds under the pulse, by the paper's criterion", **flag}),
-         "observation_holds_simulation": (dims, sim.astype("i1"), {
-             "long_name": "the observation holds under the pulse, by the rocking simulation", **flag}),
-         "consistent_criterion": (dims[1:], crit.all(axis=0).astype("i1"), {
-             "long_name": "every observation holds, by the paper's criterion", **flag}),
-         "consistent_simulation": (dims[1:], sim.all(axis=0).astype("i1"), {
-             "long_name": "every observation holds, by the rocking simulation", **flag}),
-         "observations_holding_simulation": (dims[1:], sim.sum(axis=0).astype("i4"), {
-             "long_name": "number of observations that hold, by the rocking simulation", "units": "1"}),
-         "toppled": (("observation",), obs.toppled.astype("i1"), {"long_name": "the block toppled", **flag}),
-         "fall_azimuth": (("observation",), obs.fall_azimuth_deg, {
-             "long_name": "observed fall azimuth, mod 180", "units": "degree"}),
-         "height": (("observation",), inv.height_m, {"long_name": "full block height", "units": "m"}),
-         "width": (("observation",), inv.width_m, {"long_name": "full base width", "units": "m"}),
-         "mu": (("observation",), inv.mu, {"long_name": "friction coefficient", "units": "1"}),
-         "block_azimuth": (("observation",), inv.azimuth_deg, {
-             "long_name": "rocking plane azimuth (NaN: any plane)", "units": "degree"})},
-        coords={"observation": np.array(inv.ids, dtype=object),
-                "azimuth": ("azimuth", az, {"long_name": "pulse axis azimuth, mod 180", "units": "degree"}),
-                "duration": ("duration", tp, {"long_name": "pulse duration t_p (half period)", "units": "s"}),
-                "acceleration": ("acceleration", ap, {"long_name": "pulse peak acceleration a_p",
-                                                      "units": "m s-2"})},
+        {"observation_holds_criterion": (dims, crit.astype("i1")),
+         "observation_holds_simulation": (dims, sim.astype("i1")),
+         "consistent_criterion": (dims[1:], crit.all(axis=0).astype("i1")),
+         "consistent_simulation": (dims[1:], sim.all(axis=0).astype("i1")),
+         "observations_holding_simulation": (dims[1:], sim.sum(axis=0).astype("i4")),
+         "toppled": (("observation",), obs.toppled.astype("i1")),
+         "fall_azimuth": (("observation",), obs.fall_azimuth_deg),
+         "height": (("observation",), inv.height_m),
+         "width": (("observation",), inv.width_m),
+         "mu": (("observation",), inv.mu),
+         "block_azimuth": (("observation",), inv.azimuth_deg)},
+        coords={"observation": np.array(inv.ids, dtype=object), "azimuth": ("azimuth", az),
+                "duration": ("duration", tp), "acceleration": ("acceleration", ap)},
         attrs={"Conventions": "CF-1.11", "title": "rockscreen: pulses consistent with observed toppling",
                "pulse": shape, "pulse_beta": PULSE_BETA[shape], "simulation_runs": runs,
                "simulation_time_s": round(t_sim, 3), "observations_file": obs.source})
-    return ds
+    return apply_schema(ds, INFER)
 
 
 def summarize(ds: xr.Dataset) -> dict:

@@ -40,6 +40,11 @@ def flags(enum: type[IntEnum], *, missing: str | None = "not_evaluated") -> dict
 
 #: name -> (dims, units or None, long_name, extra attributes)
 SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    # coordinates
+    "record": (("record",), None, "record identifier (station and event, or file stem)", {}),
+    "block": (("block",), None, "block (asset) identifier from the inventory", {}),
+    "component": (("component",), None, "component slot: h1 first horizontal, h2 90 deg clockwise of it, "
+                  "v vertical", {}),
     # per record
     "status": (("record",), None, "screening status: 'ok' or the reason the record failed", {}),
     "files": (("record",), None, "source files of the record, ';'-separated", {}),
@@ -209,10 +214,11 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
 COMPONENTS = ("h1", "h2", "v")
 
 
-def apply_schema(ds: xr.Dataset) -> xr.Dataset:
-    """Attach units and long names from :data:`SCHEMA` to every known variable."""
-    for name, (_, units, long_name, extra) in SCHEMA.items():
-        if name in ds:
+def apply_schema(ds: xr.Dataset, table: dict | None = None) -> xr.Dataset:
+    """Attach units, long names and flags from ``table`` (default :data:`SCHEMA`) to every known variable
+    and coordinate."""
+    for name, (_, units, long_name, extra) in (SCHEMA if table is None else table).items():
+        if name in ds.variables:
             attrs = {"long_name": long_name, **extra}
             if units is not None:
                 attrs["units"] = units
@@ -237,7 +243,7 @@ def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
     or flags, and stored flag values outside their ``flag_values``. Empty when it conforms."""
     table = SCHEMA if table is None else table
     problems = []
-    for name, var in ds.data_vars.items():
+    for name, var in ds.variables.items():
         if name not in table:
             problems.append(f"{name}: not in the schema")
             continue
@@ -258,3 +264,65 @@ def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
                 problems.append(f"{name}: values {sorted(set(np.unique(var.values).tolist()) - allowed)} "
                                 "outside flag_values")
     return problems
+
+
+TRUE_FALSE = {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}
+
+#: ``chart.nc`` (``screen chart``): the stability chart of one block and, optionally, records as points.
+CHART: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    "period": (("period",), "s", "pulse period T = 2 t_p", {"standard_name": "period"}),
+    "critical_acceleration": (("period",), "m s-2", "smallest overturning pulse amplitude by the paper's criterion",
+                              {}),
+    "critical_acceleration_small_angle": (("period",), "m s-2",
+                                          "the paper's Eq. 7 as printed: alpha g max(1 / (p beta t_p), 1)", {}),
+    "energy_acceleration": (("period",), "m s-2", "energy hyperbola v_crit / (beta t_p) (Eq. 5)", {}),
+    "closed_form_acceleration": (("period",), "m s-2", "closed-form minimum overturning amplitude, linear model",
+                                 {"comment": "half-sine: Makris & Roussos (2000) eq. 27; step: Housner (1963) "
+                                             "eq. 9; NaN where none is published"}),
+    "normalized_period": (("period",), "1", "period over the criterion's transition period", {}),
+    "critical_acceleration_normalized": (("period",), "1", "critical acceleration over the uplift acceleration", {}),
+    "uplift_acceleration": ((), "m s-2", "uplift acceleration (Eq. 1)", {}),
+    "sliding_acceleration": ((), "m s-2", "the paper's sliding line mu g (mu / alpha in units of alpha g)", {}),
+    "critical_velocity": ((), "m s-1", "critical velocity (Eq. 4)", {}),
+    "critical_acceleration_simulated": (("period",), "m s-2",
+                                        "first overturning amplitude, nonlinear rigid rocking simulation", {}),
+    "record": (("record",), None, "record identifier", {"cf_role": "timeseries_id"}),
+    "record_ap": (("record",), "m s-2", "pulse peak acceleration", {}),
+    "record_tp": (("record",), "s", "pulse lobe duration", {}),
+    "record_beta": (("record",), "1", "pulse fullness factor", {}),
+    "record_dv": (("record",), "m s-1", "pulse velocity increment", {}),
+    "record_period": (("record",), "s", "period of the chart's pulse shape with the same a_p and dv",
+                      {"comment": "2 t_p beta / beta_shape (the paper's Fig. 6 normalization)"}),
+    "record_energy_ratio": (("record",), "1", "pulse kinetic energy over the energy that overturns", {}),
+    "record_normalized_acceleration": (("record",), "1", "pulse peak acceleration over the uplift acceleration",
+                                       {}),
+    "record_normalized_duration": (("record",), "1", "pulse lobe duration over the transition duration", {}),
+    "record_overturn_criterion": (("record",), None, "overturning by the paper's criterion",
+                                  {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "record_is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
+                        {"flag_values": FLAG3, "flag_meanings": "unavailable non_pulse pulse_like"}),
+}
+
+_INFER_DIMS = ("observation", "azimuth", "duration", "acceleration")
+#: ``infer.nc`` (``screen infer``): pulses consistent with observed toppling and standing.
+INFER: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    "observation": (("observation",), None, "block id of the observation", {}),
+    "azimuth": (("azimuth",), "degree", "pulse axis azimuth, mod 180", {}),
+    "duration": (("duration",), "s", "pulse duration t_p (half period)", {}),
+    "acceleration": (("acceleration",), "m s-2", "pulse peak acceleration a_p", {}),
+    "observation_holds_criterion": (_INFER_DIMS, None,
+                                    "the observation holds under the pulse, by the paper's criterion", TRUE_FALSE),
+    "observation_holds_simulation": (_INFER_DIMS, None,
+                                     "the observation holds under the pulse, by the rocking simulation", TRUE_FALSE),
+    "consistent_criterion": (_INFER_DIMS[1:], None, "every observation holds, by the paper's criterion", TRUE_FALSE),
+    "consistent_simulation": (_INFER_DIMS[1:], None, "every observation holds, by the rocking simulation",
+                              TRUE_FALSE),
+    "observations_holding_simulation": (_INFER_DIMS[1:], "1",
+                                        "number of observations that hold, by the rocking simulation", {}),
+    "toppled": (("observation",), None, "the block toppled", TRUE_FALSE),
+    "fall_azimuth": (("observation",), "degree", "observed fall azimuth, mod 180", {}),
+    "height": (("observation",), "m", "full block height", {}),
+    "width": (("observation",), "m", "full base width", {}),
+    "mu": (("observation",), "1", "friction coefficient", {}),
+    "block_azimuth": (("observation",), "degree", "rocking plane azimuth (NaN: any plane)", {}),
+}

@@ -67,6 +67,41 @@ class RecordResult:
     def ok(self) -> bool:
         return self.status == "ok"
 
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """Plain arrays for the scene cache (``v.`` record values, ``c.`` components, ``b.`` block
+        columns, ``s.`` pulse series); read back by :meth:`from_arrays`."""
+        arrays = {"record_id": np.array(self.record_id), "block_ids": np.array(self.block_ids, dtype=str),
+                  "block_digests": np.array(self.block_digests, dtype=str)}
+        for kind, table in (("v", self.values), ("c", self.components), ("b", self.blocks), ("s", self.series)):
+            for name, value in table.items():
+                arrays[f"{kind}.{name}"] = np.asarray(value)
+        return arrays
+
+    @classmethod
+    def from_arrays(cls, z) -> "RecordResult":
+        """The result written by :meth:`to_arrays`.
+
+        Raises
+        ------
+        ValueError
+            When a record value or block column is not a variable of the schema with those
+            dimensions (an entry of another layout), or a simulation column is missing.
+        """
+        res = cls(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
+                  block_digests=tuple(z["block_digests"].tolist()))
+        tables = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}
+        dims = {"v": ("record",), "c": ("record", "component"), "b": ("record", "block")}
+        for key, arr in z.items():
+            kind, _, name = key.partition(".")
+            if kind in dims and (name not in SCHEMA or SCHEMA[name][0] != dims[kind]):
+                raise ValueError(f"{key!r} is not a {dims[kind]} variable of the schema")
+            if kind in tables:
+                tables[kind][name] = arr.item() if arr.ndim == 0 else (arr.tolist() if kind == "c" else arr)
+        missing = set(SIMULATION_VARS) - set(res.blocks)          # pulse columns are absent without a pulse
+        if missing:
+            raise ValueError(f"block columns {sorted(missing)} missing")
+        return res
+
 
 def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
     values = {

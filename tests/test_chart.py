@@ -87,6 +87,9 @@ def test_chart_with_records_and_results_agree(screened, blocks_csv, tmp_path):
     np.testing.assert_array_equal(db.record_overturn_criterion.values,
                                   ds.overturn_criterion.sel(record=db.record.values).values)
     assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    from pipeline import schema
+
+    assert schema.check(da, schema.CHART) == [] and schema.check(db, schema.CHART) == []   # the file's schema
     da.close(), db.close()
 
 

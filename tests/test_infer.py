@@ -112,6 +112,9 @@ def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     crit = ds.consistent_criterion.values.astype(bool)
     assert crit.any() and not crit[:, k - 1:k + 2, m - 1:m + 2].any()
     assert (out / "infer.png").read_bytes()[:4] == b"\x89PNG"
+    from pipeline import schema
+
+    assert schema.check(ds, schema.INFER) == []
 
 
 @pytest.mark.parametrize("text, message", [

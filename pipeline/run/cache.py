@@ -30,6 +30,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import OutputError
+from ..screening import RecordResult
 from ..store import STATE_DIR, replace_atomically
 
 log = logging.getLogger(__name__)
@@ -145,31 +146,21 @@ class SceneCache(_NpzStore):
     def path(self, record_id: str, content_sha256: str) -> Path:
         return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
 
-    def load(self, record_id: str, content_sha256: str):
-        """The cached result of a record, or None (missing, unreadable or of another layout)."""
-        from ..screening import RecordResult
-
+    def load(self, record_id: str, content_sha256: str) -> RecordResult | None:
+        """The cached result of a record, or None (missing, unreadable, or not of the schema's layout)."""
         z = self._read(self.path(record_id, content_sha256))
         if z is None:
             return None
-        res = RecordResult(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
-                           block_digests=tuple(z["block_digests"].tolist()))
-        tables = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}
-        for key, arr in z.items():
-            kind, _, name = key.partition(".")
-            if kind in tables:
-                tables[kind][name] = arr.item() if arr.ndim == 0 else (arr.tolist() if kind == "c" else arr)
-        return res
+        try:
+            return RecordResult.from_arrays(z)
+        except (KeyError, ValueError) as exc:
+            log.warning("%s: %s entry for record %s is not of this version's layout (%s); screening it again",
+                        self.dir, self.what, record_id, exc)
+            return None
 
-    def save(self, result) -> None:
+    def save(self, result: RecordResult) -> None:
         """Write one record's result atomically; a failure is logged, never raised."""
-        arrays = {"record_id": np.array(result.record_id), "block_ids": np.array(result.block_ids, dtype=str),
-                  "block_digests": np.array(result.block_digests, dtype=str)}
-        for kind, table in (("v", result.values), ("c", result.components), ("b", result.blocks),
-                            ("s", result.series)):
-            for name, value in table.items():
-                arrays[f"{kind}.{name}"] = np.asarray(value)
-        self._write(self.path(result.record_id, result.values["content_sha256"]), arrays)
+        self._write(self.path(result.record_id, result.values["content_sha256"]), result.to_arrays())
 
     def margins(self) -> "MarginCache":
         """The margin cache of the same output and run key."""
