@@ -20,6 +20,7 @@ import argparse
 import logging
 import shlex
 import sys
+import time
 from pathlib import Path
 
 from . import __version__
@@ -53,8 +54,7 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
                     help="recompute every record and block (default: only what is new or changed)")
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, warnings only")
-    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    _add_output_options(p)
 
 
 def _config_and_inventory(args: argparse.Namespace):
@@ -75,14 +75,39 @@ def _records_dir(path: Path) -> Path:
     return path
 
 
+def _add_output_options(p: argparse.ArgumentParser) -> None:
+    """-q and -v, the same on every subcommand."""
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print only warnings and errors (no progress, no summary)")
+    p.add_argument("-v", "--verbose", action="store_true", help="rockscreen's own debug messages")
+
+
+#: Seconds between progress lines when stderr is not a terminal (scheduled runs, logs).
+PROGRESS_LINE_S = 30.0
+
+
 def _progress(quiet: bool):
-    """A tqdm wrapper on stderr (silent when stderr is not a terminal), or None with ``-q``."""
+    """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal; otherwise a progress
+    line at most every :data:`PROGRESS_LINE_S` seconds and at every tenth of the work."""
     if quiet:
         return None
-    from tqdm import tqdm
+    if sys.stderr.isatty():
+        from tqdm import tqdm
 
-    return lambda it, total=None: tqdm(it, total=total, desc="records", unit="rec", file=sys.stderr,
-                                       disable=None, leave=False)
+        return lambda it, total=None: tqdm(it, total=total, desc="records", unit="rec", file=sys.stderr,
+                                           leave=False)
+    return _progress_lines
+
+
+def _progress_lines(items, total=None):
+    t0 = last = time.monotonic()
+    step = max(1, (total or 0) // 10)
+    for k, item in enumerate(items, 1):
+        yield item
+        now = time.monotonic()
+        if total and (k % step == 0 or k == total or now - last >= PROGRESS_LINE_S):
+            print(f"progress: {k}/{total} records screened, {now - t0:.0f} s", file=sys.stderr, flush=True)
+            last = now
 
 
 def _print_summary(summary: dict, out: Path) -> None:
@@ -101,8 +126,14 @@ def _print_summary(summary: dict, out: Path) -> None:
     if s["scenes_by_response"].get("free_flight"):
         print(f"free flight: {s['scenes_by_response']['free_flight']} scene(s) where the ground's g + a_v reached 0 "
               "before any overturning have no verdict (response free_flight)", file=sys.stderr)
-    if s["fidelity"] == "criterion":
-        print(f"WARNING: fidelity 'criterion' is not conservative: {CRITERION_MEASURED_MISSES}", file=sys.stderr)
+
+    if s.get("not_records"):
+        names = ", ".join(Path(p).name for p, _ in s["not_records"][:5]) + (", ..." if len(s["not_records"]) > 5
+                                                                             else "")
+        print(f"not records: {len(s['not_records'])} of {s['files_seen']} files ({names}); the list with reasons "
+              "is the global attribute files_not_records of screening.nc", file=sys.stderr)
+    for kept, dup in s.get("duplicates", []):
+        print(f"duplicate: {dup} holds the same bytes as {kept}; screened once, as {kept}", file=sys.stderr)
     print(f"wrote {out}", file=sys.stderr)
 
 
@@ -120,6 +151,10 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     except RunInterrupted as exc:
         print(str(exc), file=sys.stderr)
         return EXIT_INTERRUPTED
+    if config.fidelity.tier == "criterion":
+        log.warning("fidelity 'criterion' is not conservative: %s", CRITERION_MEASURED_MISSES)
+    if args.quiet:
+        return EXIT_RECORD_FAILURES if result.records_failed and not args.tolerate_failures else EXIT_OK
     _print_summary(result.counts, result.screening_path)
     m = result.margins
     print(f"margins: {m['computed']} scanned, {m['reused']} reused ({m['simulations']} scaled scenes behind them); "
@@ -160,8 +195,7 @@ def chart_parser() -> argparse.ArgumentParser:
     p.add_argument("--cycles", type=int, default=25, help="cycles of the harmonic pulse for --simulate (25)")
     p.add_argument("--out", type=Path, default=Path("chart.nc"), help="chart data, netCDF (default chart.nc)")
     p.add_argument("--figure", type=Path, help="figure, .png/.svg/.pdf (default: --out with .png)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    _add_output_options(p)
     return p
 
 
@@ -235,7 +269,7 @@ def report_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="output directory (default: the results file's directory)")
     p.add_argument("--all-figures", action="store_true",
                    help="draw the velocity figure of every record (default: pulse-like records only)")
-    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    _add_output_options(p)
     return p
 
 
@@ -254,13 +288,12 @@ def bench_parser() -> argparse.ArgumentParser:
                                 description="Run every fidelity tier on the same scenes and measure time per scene "
                                             "and agreement with the reference tier; also the cost of the simulation "
                                             "settings. Writes bench.csv, bench.md and bench.png.")
-    p.add_argument("--records", type=Path, default=Path("records"), help="records directory (default: records/)")
-    p.add_argument("--blocks", type=Path, default=Path("configs/blocks.csv"),
-                   help="inventory CSV (default: configs/blocks.csv)")
+    p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
+    p.add_argument("--blocks", required=True, type=Path, help="inventory CSV (id,height_m,width_m,...)")
     p.add_argument("--out", type=Path, default=Path("bench"), help="output directory (default: bench/)")
     p.add_argument("--config", type=Path, help="TOML configuration")
     p.add_argument("--tiers-only", action="store_true", help="skip the sweep of the simulation settings")
-    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    _add_output_options(p)
     return p
 
 
@@ -290,7 +323,7 @@ def infer_parser() -> argparse.ArgumentParser:
     p.add_argument("--pulse", default="half-sine", choices=INFER_SHAPES, help="assumed pulse shape")
     p.add_argument("--out", type=Path, default=Path("infer"), help="output directory (default: infer/)")
     p.add_argument("--config", type=Path, help="TOML configuration ([infer] grid)")
-    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    _add_output_options(p)
     return p
 
 
@@ -327,15 +360,25 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
 
 SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
                "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer)}
+SUBCOMMAND_HELP = {
+    "chart": "stability chart of one block (the paper's Figs. 2a and 4), records as points, --simulate",
+    "report": "rebuild report.html and assets.csv from a screening.nc",
+    "bench": "what accuracy costs: every fidelity tier and setting against the reference, measured",
+    "infer": "archaeoseismology: the pulses consistent with which blocks toppled and which stood",
+}
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of ``screen`` (the main job; subcommands are dispatched before it)."""
     p = argparse.ArgumentParser(
         prog="screen",
-        description="Screen strong-motion records for the overturning of free-standing rigid blocks.",
-        epilog="Exit codes: 0 ok; 1 some records failed (see status); 2 bad usage, config or inventory; "
-               "3 the output cannot be written (permissions, disk full; earlier results intact); "
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Screen strong-motion records for the overturning of free-standing rigid blocks.\n\n"
+                    "screen --records DIR --blocks CSV [--out DIR] ...   the main job (options below)\n\n"
+                    "subcommands (screen SUBCOMMAND --help for each):\n"
+                    + "\n".join(f"  {name:<9} {SUBCOMMAND_HELP[name]}" for name in SUBCOMMANDS),
+        epilog="Exit codes: 0 ok; 1 some records failed (see status); 2 bad usage, config, inventory or no "
+               "record found; 3 the output cannot be written (permissions, disk full; earlier results intact); "
                "75 another run holds the output (try again later); 130 interrupted (work done is kept).",
     )
     p.add_argument("--version", action="version", version=f"rockscreen {__version__}")
@@ -353,9 +396,15 @@ def main(argv: list[str] | None = None) -> int:
     else:
         args = build_parser().parse_args(argv)
         command = cmd_run
-    level = logging.DEBUG if getattr(args, "verbose", False) else logging.WARNING
-    logging.basicConfig(level=level, format="%(levelname)s: %(message)s", stream=sys.stderr)
+    # third parties (matplotlib, numba, distributed, ...) speak at WARNING; -v opens rockscreen's own debug lines
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s", stream=sys.stderr)
+    log.setLevel(logging.DEBUG if getattr(args, "verbose", False) else logging.WARNING)
     try:
+        if sys.stderr.isatty() and not getattr(args, "quiet", False):
+            from tqdm.contrib.logging import logging_redirect_tqdm
+
+            with logging_redirect_tqdm():                    # warnings above the progress bar, never inside it
+                return command(args, argv)
         return command(args, argv)
     except InventoryError as exc:
         print(f"error: {exc}\nnothing was screened or written.", file=sys.stderr)

@@ -29,6 +29,10 @@ class SchedulerError(RockscreenError, ConnectionError):
     """No Dask scheduler answers at the given address."""
 
 
+class NoRecordsError(RockscreenError, ValueError):
+    """The records directory holds no strong-motion record."""
+
+
 class RecordFormatError(RockscreenError, ValueError):
     """A record file is corrupt, truncated, empty or not in a known format."""
 

@@ -43,7 +43,7 @@ def assert_same_results(a: xr.Dataset, b: xr.Dataset) -> None:
 
 
 def screen(records, blocks, out, *extra) -> int:
-    return main(["--records", str(records), "--blocks", str(blocks), "--out", str(out), "-q",
+    return main(["--records", str(records), "--blocks", str(blocks), "--out", str(out),
                  "--tolerate-failures", *map(str, extra)])
 
 
@@ -270,7 +270,7 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
     cache = out / ".rockscreen" / "cache"
     old_entries = set(cache.glob("*.npz"))
     cmd = [sys.executable, "-m", "pipeline", "--records", str(recs), "--blocks", str(blocks_csv),
-           "--out", str(out), "--config", str(cfg), "-q", "--tolerate-failures"]
+           "--out", str(out), "--config", str(cfg), "--tolerate-failures"]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while len(set(cache.glob("*.npz")) - old_entries) < 2 and time.monotonic() < deadline:
@@ -383,18 +383,33 @@ def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     assert_same_record_results(serial, _by_record(got))
 
 
-def test_copies_of_one_record_in_two_directories_stay_two_records(make_records, blocks_csv, tmp_path, capsys):
+def test_same_name_in_two_directories_stays_two_records(make_records, blocks_csv, tmp_path, capsys):
+    # same file name and samples, different bytes (another title line): two records with two ids and cache entries
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
     (root / "copy").mkdir()
-    shutil.copy(root / "peer-at2" / "RSN77_SFERN_PUL164.AT2", root / "copy")
+    lines = (root / "peer-at2" / "RSN77_SFERN_PUL164.AT2").read_text().split("\n")
+    (root / "copy" / "RSN77_SFERN_PUL164.AT2").write_text("\n".join([lines[0] + " (copy)"] + lines[1:]))
     out = tmp_path / "out"
     for expected in ("2 screened, 0 reused", "0 screened, 2 reused"):
         assert screen(root, blocks_csv, out) == EXIT_OK
         assert expected in summary_line(capsys)
         ds = open_results(out / "screening.nc")
         assert sorted(ds.record.values) == ["RSN77_SFERN_PUL164", "RSN77_SFERN_PUL164#2"]
-        a, b = (ds.isel(record=k).drop_vars(["record", "files", "screened_utc"]) for k in (0, 1))
+        a, b = (ds.isel(record=k).drop_vars(["record", "files", "screened_utc", "content_sha256"])
+                for k in (0, 1))
         xr.testing.assert_identical(a, b)
+
+
+def test_one_recording_under_two_names_is_screened_once(make_records, blocks_csv, tmp_path, capsys):
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    shutil.copy(root / "peer-at2" / "RSN77_SFERN_PUL164.AT2", root / "PACOIMA_UPPER_LEFT_164.txt")
+    out = tmp_path / "out"
+    assert screen(root, blocks_csv, out) == EXIT_OK
+    err = capsys.readouterr().err
+    assert "1 screened" in err and "duplicate" in err and "PACOIMA_UPPER_LEFT_164" in err
+    ds = open_results(out / "screening.nc")
+    assert list(ds.record.values) == ["PACOIMA_UPPER_LEFT_164"] or list(ds.record.values) == ["RSN77_SFERN_PUL164"]
+    assert "PACOIMA_UPPER_LEFT_164" in ds.attrs["duplicate_records"] and "RSN77" in ds.attrs["duplicate_records"]
 
 
 def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(few_records, blocks_csv,

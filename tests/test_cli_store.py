@@ -186,3 +186,51 @@ def test_run_layer_equals_the_stages_called_one_by_one(make_records, blocks_csv,
         del written.attrs[name]                                   # provenance added by the write stage
     xr.testing.assert_identical(written, open_results(write_atomic(by_hand, tmp_path / "by_hand.nc")))
     assert result.counts["records_ok"] == 2 and result.report_path.is_file() and result.assets_path.is_file()
+
+
+def test_help_names_every_subcommand(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    for name in ("chart", "report", "bench", "infer"):
+        assert f"\n  {name} " in out
+
+
+def test_quiet_prints_only_warnings_and_verbose_only_rockscreen(make_records, blocks_csv, tmp_path, capsys, caplog):
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "q"), "-q"]) == 0
+    assert capsys.readouterr().err == ""
+    # not a terminal: progress lines instead of a bar, then the summary
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "v"), "-v",
+                 "--force"]) == 0
+    err = capsys.readouterr().err
+    assert "progress: 1/1 records screened" in err and "records: 1 ok" in err
+    debug = [r for r in caplog.records if r.levelname == "DEBUG"]
+    assert debug and all(r.name.startswith("pipeline") for r in debug)
+
+
+def test_records_saved_under_any_name_are_read_by_content(make_records, blocks_csv, tmp_path, capsys):
+    root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
+    for f in sorted((root / "peer-at2").iterdir()):
+        f.rename(f.with_suffix(".txt"))                       # an AT2 pair saved as .txt
+    (root / "notes.csv").write_text("who,what\nme,notes\n")
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "records: 1 ok" in err and "not records: 1 of 3 files (notes.csv)" in err
+    ds = open_results(out / "screening.nc")
+    assert ds.n_horizontal.values.tolist() == [2]
+    assert "notes.csv: no reader recognises its content" in ds.attrs["files_not_records"]
+
+
+@pytest.mark.parametrize("content", [None, "just some notes\n"])
+def test_a_folder_without_records_exits_2_and_leaves_nothing(tmp_path, blocks_csv, capsys, content):
+    root = tmp_path / "recs"
+    root.mkdir()
+    if content is not None:
+        (root / "readme.txt").write_text(content)
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "no strong-motion record found" in err and "Traceback" not in err
+    assert not out.exists()

@@ -18,6 +18,16 @@ from pipeline.records.units import FACTORS_TO_MS2, canonical_units, factor_to_ms
     ("EW", False, 90.0, None), ("UD2", True, None, None), ("UP", True, None, None),
     ("V", True, None, None), ("L", False, None, 0), ("T", False, None, 1), ("FN", False, None, 0),
     ("FP", False, None, 1), ("HN1", False, None, 0), ("HN2", False, None, 1), ("H2", False, None, 1),
+    # PEER NGA-West2 / NGA-East / NGA-Sub suffixes and header components, COSMOS, K-NET/KiK-net, SEED
+    ("LN", False, None, 0), ("TR", False, None, 1), ("LONG", False, None, 0), ("TRAN", False, None, 1),
+    ("R", False, None, 0), ("X", False, None, 0), ("Y", False, None, 1), ("H1", False, None, 0),
+    ("N", False, 0.0, None), ("E", False, 90.0, None), ("S", False, 180.0, None), ("W", False, 270.0, None),
+    ("NS", False, 0.0, None), ("NS1", False, 0.0, None), ("EW1", False, 90.0, None), ("UD1", True, None, None),
+    ("DWN", True, None, None), ("DN", True, None, None), ("Z", True, None, None), ("VER", True, None, None),
+    ("HHN", False, 0.0, None), ("BHE", False, 90.0, None), ("HLZ", True, None, None), ("000", False, 0.0, None),
+    ("090", False, 90.0, None), ("NWH360", False, 0.0, None), ("E06140", False, 140.0, None),
+    ("TCU052-E", False, 90.0, None), ("TCU052-V", True, None, None), ("BAM-L", False, None, 0),
+    ("KJM_000", False, 0.0, None),
 ])
 def test_orientation_codes(code, vertical, azimuth, pair):
     o = orientation_from_code(code)
@@ -52,6 +62,42 @@ def test_grouping_and_orientation(make_records, config, files, n_files, codes, a
     assert rec.azimuth_known is known
 
 
+def _at2_copy(src, dst, *, component: str, npts: int | None = None) -> None:
+    """A bundled AT2 file with another header component, optionally cut to ``npts`` samples."""
+    lines = src.read_text().splitlines()
+    fields = lines[1].split(",")
+    lines[1] = ",".join(fields[:-1] + [f" {component}"])
+    if npts is not None:
+        values = " ".join(lines[4:]).split()[:npts]
+        lines[3] = lines[3].replace(lines[3].split(",")[0], f"NPTS= {npts:6d}")
+        lines = lines[:4] + [" ".join(values[k:k + 5]) for k in range(0, len(values), 5)]
+    dst.write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("first, second, known, pair_note", [
+    ("LN", "TR", False, False),            # PEER longitudinal / transverse
+    ("QX7", "QY9", False, True),           # codes no convention names: an orthogonal pair, flagged
+])
+def test_peer_suffix_pairs_and_unequal_lengths_are_screened(tmp_path, records_dir, config, first, second, known,
+                                                            pair_note):
+    src = records_dir / "peer-at2"
+    _at2_copy(src / "RSN1063_NORTHR_RRS228.AT2", tmp_path / f"RSN1063_NORTHR_RRS-{first}.AT2", component=first)
+    _at2_copy(src / "RSN1063_NORTHR_RRS318.AT2", tmp_path / f"RSN1063_NORTHR_RRS-{second}.AT2",
+              component=second, npts=1600)       # 1991 and 1600 samples, no start times in the files
+    sources, failures = scan(tmp_path, config=config)
+    assert failures == [] and len(sources) == 1
+    rec = load_record(sources[0], root=tmp_path, config=config)
+    assert rec.npts == 1600 and rec.horizontal_ms2.shape == (2, 1600)
+    assert rec.azimuth_known is known and rec.azimuths_deg == (0.0, 90.0)
+    assert any("aligned at their first sample" in n for n in rec.notes)
+    assert any("not recognised" in n for n in rec.notes) is pair_note
+    # the samples are those of the files, from the first one on
+    full = load_record(scan(records_dir / "peer-at2", config=config)[0][
+        [s.record_id for s in scan(records_dir / "peer-at2", config=config)[0]].index("RSN1063_NORTHR_RRS")],
+        root=records_dir, config=config)
+    assert rec.horizontal_ms2[0][:100] == pytest.approx(full.horizontal_ms2[0][:100], rel=1e-6, abs=1e-9)
+
+
 def test_single_component_record_is_flagged(make_records, config):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
     rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
@@ -74,14 +120,16 @@ def _write_at2(path, comp, npts, dt, rng):
     path.write_text("\n".join(lines) + "\n")
 
 
-def test_length_mismatch_over_limit_is_a_clear_error(tmp_path, config):
+def test_length_mismatch_over_the_threshold_is_screened_with_a_warning(tmp_path, config, caplog):
     rng = np.random.default_rng(1)
     _write_at2(tmp_path / "TEST000.AT2", "0", 1000, 0.01, rng)
     _write_at2(tmp_path / "TEST090.AT2", "90", 1030, 0.01, rng)
-    with pytest.raises(RecordGroupingError, match="differ by 30 samples.*max_length_mismatch_samples"):
-        load_record(scan(tmp_path, config=config)[0][0], root=tmp_path, config=config)
+    assert load_record(scan(tmp_path, config=config)[0][0], root=tmp_path, config=config).npts == 1000
+    assert "TEST000.AT2" in caplog.text and "max_length_mismatch_samples = 20" in caplog.text
+    caplog.clear()
     relaxed = config_from_dict({"records": {"max_length_mismatch_samples": 40}})
     assert load_record(scan(tmp_path, config=relaxed)[0][0], root=tmp_path, config=relaxed).npts == 1000
+    assert "max_length_mismatch_samples" not in caplog.text
 
 
 def test_different_sampling_intervals_are_an_error(tmp_path, config):

@@ -15,12 +15,13 @@ the other records are unaffected.
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
 import re
 import sys
 import warnings
 from collections import defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -28,15 +29,18 @@ import obspy
 
 from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UnitsError
-from .orientation import orientation_of
+from .detect import detect_format, looks_like_a_record
+from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
 from .units import canonical_units, declared_units_for, to_ms2
 
+log = logging.getLogger(__name__)
+
 #: Files in a records directory that are metadata, not records.
 SIDE_FILES = {"units.toml"}
-SIDE_SUFFIXES = {".xml", ".md", ".txt", ".csv", ".toml", ".json", ".nc", ".html", ".png", ".svg"}
+SIDE_SUFFIXES = {".xml"}
 #: Formats whose start time is not stored in the file.
 TIMELESS_FORMATS = {"PEER_AT2", "NF_ASCII"}
 
@@ -48,6 +52,12 @@ class RecordSource:
     record_id: str
     files: tuple[str, ...]
     formats: tuple[str, ...]
+    #: obspy format of each file, aligned with ``files`` (detected by content at the scan)
+    file_formats: tuple[str, ...] = ()
+
+    def format_of(self, path: str) -> str | None:
+        """The detected format of one of the files, or None (detect again)."""
+        return dict(zip(self.files, self.file_formats)).get(path)
 
     def digest(self) -> str:
         """SHA-256 over the names and content of the files (for re-run detection)."""
@@ -131,12 +141,14 @@ def read_inventory(root: Path, extra: str | Path | None = None):
 
 
 def _record_files(root: Path) -> list[Path]:
+    """Every regular file under ``root`` that may hold a record: all but hidden files, ``units.toml``
+    and StationXML (``*.xml``, read as the inventory), whatever their extension."""
     files = []
     for dirpath, dirnames, filenames in os.walk(root):
         dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
         for name in sorted(filenames):
             p = Path(dirpath) / name
-            if name.startswith(".") or name in SIDE_FILES or p.suffix.lower() in SIDE_SUFFIXES:
+            if name.startswith(".") or name in SIDE_FILES or p.suffix.lower() in SIDE_SUFFIXES or not p.is_file():
                 continue
             files.append(p)
     return files
@@ -190,24 +202,63 @@ def _common_stem(files: list[str]) -> str:
     return prefix if len(prefix) >= 3 else stems[0]
 
 
-def scan(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource], list[Failure]]:
-    """Group the files under ``root`` into station recordings, reading headers only.
+@dataclass
+class Scan:
+    """What a records directory holds.
 
-    Returns
-    -------
+    Attributes
+    ----------
     sources : list of RecordSource
         One per station recording, sorted by id.
     failures : list of Failure
-        Files that could not even be identified.
+        Files that look like records (by content or by name) but cannot be read.
+    not_records : list of (path, reason)
+        Files no reader recognises and whose name does not say they are records.
+    files_seen : int
+        Regular files offered to the readers.
+    duplicates : list of (kept id, duplicate id, files)
+        Recordings whose files hold the same bytes as an earlier one's under other names: screened
+        once, under the first id.
+    """
+
+    sources: list[RecordSource]
+    failures: list[Failure]
+    not_records: list[tuple[str, str]]
+    files_seen: int
+    duplicates: list[tuple[str, str, tuple[str, ...]]] = field(default_factory=list)
+
+
+def scan(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource], list[Failure]]:
+    """Group the files under ``root`` into station recordings, reading headers only
+    (:func:`scan_directory` without the files that are not records)."""
+    found = scan_directory(root, config=config)
+    return found.sources, found.failures
+
+
+def scan_directory(root: str | Path, *, config: ReaderSettings) -> Scan:
+    """Offer every regular file under ``root`` to the readers by content, and group the records.
+
+    A file no reader recognises is a failed record when its name says it is a record
+    (:data:`pipeline.records.detect.RECORD_SUFFIXES`), and is listed in ``not_records`` otherwise.
     """
     root = Path(root)
     if not root.is_dir():
         raise RecordFormatError(f"{root}: records directory not found")
     groups: dict[tuple, list[tuple]] = defaultdict(list)
     failures = []
-    for path in _record_files(root):
+    not_records = []
+    files = _record_files(root)
+    for path in files:
+        fmt = detect_format(path) if path.stat().st_size > 0 else None
+        if fmt is None and not looks_like_a_record(path):
+            if path.stat().st_size == 0:
+                not_records.append((str(path), "empty file"))
+            else:
+                not_records.append((str(path), "no reader recognises its content (not AT2, COSMOS, CSMIP/DMG, "
+                                               "K-NET, SAC, MiniSEED or any other format obspy reads)"))
+            continue
         try:
-            st = _read(path, headonly=True)
+            st = _read(path, fmt=fmt, headonly=True)
         except RecordFormatError as exc:
             failures.append(Failure(path.stem, (str(path),), str(exc)))
             continue
@@ -226,16 +277,36 @@ def scan(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource
             else:
                 clusters.append([m])
         for c in clusters:
-            files = sorted({f for _, f, _ in c})
-            formats = tuple(sorted({fmt for _, _, fmt in c}))
-            sources.append(RecordSource(_common_stem(files), tuple(files), formats))
+            by_file = {f: fmt for _, f, fmt in c}
+            group_files = sorted(by_file)
+            formats = tuple(sorted(set(by_file.values())))
+            sources.append(RecordSource(_common_stem(group_files), tuple(group_files), formats,
+                                        tuple(by_file[f] for f in group_files)))
     seen: dict[str, int] = defaultdict(int)
     unique = []
     for s in sorted(sources, key=lambda s: (s.record_id, s.files)):
         seen[s.record_id] += 1
         rid = s.record_id if seen[s.record_id] == 1 else f"{s.record_id}#{seen[s.record_id]}"
-        unique.append(RecordSource(rid, s.files, s.formats))
-    return unique, failures
+        unique.append(RecordSource(rid, s.files, s.formats, s.file_formats))
+    kept, duplicates = [], []
+    first_with: dict[tuple, str] = {}
+    for s in unique:
+        content = tuple(sorted(_bytes_sha256(f) for f in s.files))
+        if content in first_with:
+            duplicates.append((first_with[content], s.record_id, s.files))
+            continue
+        first_with[content] = s.record_id
+        kept.append(s)
+    return Scan(kept, failures, not_records, len(files), duplicates)
+
+
+def _bytes_sha256(path: str) -> str:
+    """SHA-256 of a file's bytes (not its name): equal for the same file under two names."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
 
 
 def _header_peak_ms2(tr, g_ms2: float) -> float | None:
@@ -274,17 +345,19 @@ def _align(traces, *, max_mismatch: int, notes: list[str]) -> None:
         if len(set(lengths)) > 1 or n != lengths[0]:
             notes.append(f"components trimmed to their common time window: {lengths} -> {n} samples")
         return
+    # no start times (PEER AT2 and others): the files of one recording start together; align them at their
+    # first sample and keep the common part
     n = min(lengths)
-    if max(lengths) - n > max_mismatch:
-        raise RecordGroupingError(
-            f"component lengths {lengths} differ by {max(lengths) - n} samples, more than "
-            f"records.max_length_mismatch_samples = {max_mismatch}, and the files hold no start "
-            "time to align them; check that the files belong together or raise the setting"
-        )
     if max(lengths) != n:
         for t in traces:
             t.data = t.data[:n]
-        notes.append(f"component lengths {lengths} trimmed to the shorter, {n} samples")
+        note = (f"component lengths {lengths} differ and the files give no start time: aligned at their first "
+                f"sample and trimmed to the shorter, {n} samples")
+        notes.append(note)
+        if max(lengths) - n > max_mismatch:
+            log.warning("%s: %s (more than records.max_length_mismatch_samples = %d; check that the files "
+                        "belong together)", ", ".join(t.stats.get("rockscreen_file", t.stats.channel)
+                                                   for t in traces), note, max_mismatch)
 
 
 #: obspy writes arguments such as ``<Inventory object at 0x7f...>`` into its processing history;
@@ -307,7 +380,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
     traces = []
     for f in source.files:
         path = Path(f)
-        for tr in _read(path):
+        for tr in _read(path, fmt=source.format_of(f) or detect_format(path)):
             if tr.stats.npts < 2:
                 raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
                                         "sample(s); the file is truncated or has no data. Re-download it")
@@ -318,6 +391,15 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
             traces.append(tr)
     found = [(orientation_of(tr, inventory), tr) for tr in traces]
     unknown = [tr.stats.channel for o, tr in found if o is None]
+    if len(unknown) == 2 and all(o is None or o.vertical for o, _ in found):
+        # two horizontals with codes no convention names: an orthogonal pair of unknown absolute azimuth
+        first, second = sorted((tr for o, tr in found if o is None), key=lambda tr: tr.stats.channel)
+        found = [(o, tr) for o, tr in found if o is not None]
+        found += [(Orientation(False, None, 0), first), (Orientation(False, None, 1), second)]
+        notes.append(f"components {first.stats.channel} and {second.stats.channel}: orientation codes not "
+                     "recognised; taken as an orthogonal pair of unknown absolute azimuth "
+                     f"({first.stats.channel} first)")
+        unknown = []
     if unknown:
         raise RecordGroupingError(
             f"cannot tell the orientation of component(s) {unknown} in {[Path(f).name for f in source.files]}; "

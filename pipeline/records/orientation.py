@@ -10,11 +10,16 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-VERTICAL_CODES = {"UP", "V", "Z", "UD", "DWN", "DOWN", "VER", "VERT"}
-NORTH_CODES = {"N", "NS"}
-EAST_CODES = {"E", "EW"}
-#: Orthogonal pairs of unknown absolute azimuth: first -> 0, second -> 90 (nominal).
-RELATIVE_PAIRS = {"1": 0, "2": 1, "L": 0, "T": 1, "FN": 0, "FP": 1, "H1": 0, "H2": 1}
+#: Component codes of the public strong-motion sets (PEER NGA-West2, NGA-East and NGA-Sub file suffixes and
+#: header components, COSMOS, K-NET/KiK-net, SEED): vertical ones.
+VERTICAL_CODES = {"UP", "V", "Z", "UD", "DWN", "DN", "DOWN", "VER", "VERT", "VERTICAL", "HNZ", "HHZ", "HLZ"}
+#: Absolute horizontal azimuths [deg clockwise from north] named by letters.
+AZIMUTH_CODES = {"N": 0.0, "NS": 0.0, "NORTH": 0.0, "S": 180.0, "SN": 180.0, "SOUTH": 180.0,
+                 "E": 90.0, "EW": 90.0, "EAST": 90.0, "W": 270.0, "WE": 270.0, "WEST": 270.0}
+#: Orthogonal pairs of unknown absolute azimuth: first -> 0, second -> 90 (nominal). L/T and LN/TR
+#: (longitudinal / transverse), R/T (radial / transverse), FN/FP (fault normal / parallel), H1/H2, 1/2, X/Y.
+RELATIVE_PAIRS = {"1": 0, "2": 1, "L": 0, "T": 1, "LN": 0, "TR": 1, "LON": 0, "LONG": 0, "TRA": 1, "TRAN": 1,
+                  "TRANS": 1, "R": 0, "RAD": 0, "FN": 0, "FP": 1, "H1": 0, "H2": 1, "X": 0, "Y": 1}
 
 
 @dataclass(frozen=True)
@@ -45,7 +50,18 @@ def orientation_from_code(code: str) -> Orientation | None:
     c = code.strip().upper()
     if re.fullmatch(r"\d+(\.\d+)?", c):
         return Orientation(False, float(c) % 360.0)
-    c = re.sub(r"[12]$", "", c) if re.fullmatch(r"(NS|EW|UD)[12]", c) else c
+    c = re.sub(r"[12]$", "", c) if re.fullmatch(r"(NS|EW|UD)[12]", c) else c     # KiK-net NS1/NS2 ...
+    if re.search(r"[-_. ]", c):                 # "TCU052-E", "BAM-L", "KJM_000": the part after the station
+        return orientation_from_code(re.split(r"[-_. ]+", c.strip("-_. "))[-1])
+    if c in VERTICAL_CODES:
+        return Orientation(True)
+    if c in AZIMUTH_CODES:
+        return Orientation(False, AZIMUTH_CODES[c])
+    if c in RELATIVE_PAIRS:
+        return Orientation(False, None, RELATIVE_PAIRS[c])
+    m = re.fullmatch(r"[A-Z][A-Z0-9]*(\d{3})", c)   # station, then a 3-digit azimuth: "NWH360", "E06140"
+    if m and len(c) >= 5:
+        return Orientation(False, float(m.group(1)) % 360.0)
     if len(c) == 3 and c[:2].isalpha():  # SEED band + instrument + orientation
         last = c[2]
         if last == "Z":
@@ -55,14 +71,6 @@ def orientation_from_code(code: str) -> Orientation | None:
         if last in ("1", "2"):
             return Orientation(False, None, RELATIVE_PAIRS[last])
         return None
-    if c in VERTICAL_CODES:
-        return Orientation(True)
-    if c in NORTH_CODES:
-        return Orientation(False, 0.0)
-    if c in EAST_CODES:
-        return Orientation(False, 90.0)
-    if c in RELATIVE_PAIRS:
-        return Orientation(False, None, RELATIVE_PAIRS[c])
     return None
 
 

@@ -23,7 +23,8 @@ class RecordsConfig:
 
     #: g used to convert records stated in g [m s-2].
     g_ms2: float = G
-    #: Components of one recording may differ by this many samples; trimmed to the shorter.
+    #: Components without start times are aligned at their first sample and trimmed to the shorter; a
+    #: warning names them when their lengths differ by more than this many samples.
     max_length_mismatch_samples: int = 20
     #: Traces of one station starting within this time belong to one recording [s].
     group_time_tolerance_s: float = 60.0

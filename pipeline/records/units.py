@@ -106,7 +106,7 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
             raise UnitsError(f"{path}: K-NET file without a Scale Factor; cannot convert counts")
         trace.data = np.asarray(trace.data, dtype=float) * stats.calib
         return f"units: counts x calib {stats.calib:.6e} (Scale Factor, gal->m/s**2) -> m/s**2"
-    if inventory is not None:
+    if inventory is not None and describes(inventory, trace):
         return _remove_response(trace, path=path, inventory=inventory)
     if fmt == "SAC":
         idep = int(stats.sac.get("idep", 5)) if "sac" in stats else 5
@@ -121,6 +121,17 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
         "directory or pass --inventory; or declare the units in units.toml, e.g. "
         f"\"{path.name}\" = \"cm/s**2\""
     )
+
+
+def describes(inventory, trace) -> bool:
+    """True when the StationXML ``inventory`` has the trace's channel (a StationXML applies to nothing else)."""
+    s = trace.stats
+    try:
+        found = inventory.select(network=s.network or None, station=s.station or None,
+                                 location=s.location if s.location else None, channel=s.channel or None)
+    except Exception:   # a malformed id: the inventory cannot be about this trace
+        return False
+    return bool(s.network and s.station and s.channel) and len(found.get_contents()["channels"]) > 0
 
 
 def _remove_response(trace, *, path: Path, inventory) -> str:

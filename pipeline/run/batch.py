@@ -33,7 +33,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError
-from ..records.loader import RecordSource, read_declared_units, scan
+from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
 from ..store import pulse_series_dataset
@@ -150,7 +150,7 @@ class BatchOutcome:
 
 def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path | None = None,
         executor=None, force: bool = False, station_inventory=None, declared_units: dict | None = None,
-        stationxml_sha256: str = "", progress=None) -> BatchOutcome:
+        stationxml_sha256: str = "", progress=None, scanned: Scan | None = None) -> BatchOutcome:
     """Screen every record under ``records_dir`` against ``inventory``.
 
     Parameters
@@ -170,6 +170,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         Recompute every record and block.
     progress : callable, optional
         ``progress(iterable, total)`` wrapping the stream of finished tasks.
+    scanned : Scan, optional
+        The directory's scan when the caller has it (:func:`~pipeline.records.loader.scan_directory`).
 
     Returns
     -------
@@ -179,7 +181,13 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
 
     t0 = time.perf_counter()
     records_dir = Path(records_dir)
-    sources, scan_failures = scan(records_dir, config=config)
+    found = scan_directory(records_dir, config=config) if scanned is None else scanned
+    sources, scan_failures = found.sources, found.failures
+    for path, reason in found.not_records:
+        log.info("not a record: %s: %s", path, reason)
+    for kept, dup, files in found.duplicates:
+        log.warning("record %s (%s) holds the same bytes as %s: screened once, as %s", dup,
+                    ", ".join(Path(f).name for f in files), kept, kept)
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
     ctx = Context(str(records_dir), config, inventory, declared, station_inventory)
     key = run_key(config.to_dict(), declared_units=declared, station_inventory_sha256=stationxml_sha256)
@@ -231,12 +239,17 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     everything = list(results.values()) + failed
     ds = assemble(everything, inventory, config)
     ds.attrs["rockscreen_run_key"] = key
+    ds.attrs["files_not_records"] = "\n".join(f"{path}: {reason}" for path, reason in found.not_records)
+    ds.attrs["duplicate_records"] = "\n".join(f"{dup} = {kept} ({', '.join(Path(f).name for f in files)})"
+                                              for kept, dup, files in found.duplicates)
     pulses = pulse_series_dataset(sorted(everything, key=lambda r: r.record_id))
     phys, resp = ds["physics"].values, ds["response"].values
     counts = {
         "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
         "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
         "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
+        "files_seen": found.files_seen, "not_records": list(found.not_records),
+        "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates],
         "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
                               **{k: int(np.sum(phys == v)) for k, v in PHYSICS.items()}},

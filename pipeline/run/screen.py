@@ -22,9 +22,9 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
-from ..errors import RecordsNotFoundError, RockscreenError, UsageError
+from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError, UsageError
 from ..margins import add_margins
-from ..records.loader import files_sha256, read_declared_units, stationxml_paths
+from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
 from ..store import OutputLock, remove_stale_temporaries, write_atomic
@@ -146,7 +146,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     """
     if request.n_workers < 1:
         raise UsageError(f"-n {request.n_workers}: the number of worker processes must be >= 1")
-    station_inventory, stationxml_sha, declared, out_dir = prepare(request)
+    station_inventory, stationxml_sha, declared, found, out_dir = prepare(request)
     started = time.time()
     try:
         with OutputLock(out_dir, command=shlex.join(request.command)) as lock:
@@ -155,13 +155,21 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                             lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
             remove_stale_temporaries(out_dir)
             with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
+                log.debug("prepare: %d record(s), %d unreadable, %d not records, %d duplicate(s); executor %s",
+                          len(found.sources), len(found.failures), len(found.not_records), len(found.duplicates),
+                          executor.name)
                 outcome = run(request.records_dir, request.inventory, request.config, out_dir=out_dir,
                               executor=executor, force=request.force, station_inventory=station_inventory,
-                              declared_units=declared, stationxml_sha256=stationxml_sha, progress=progress)
+                              declared_units=declared, stationxml_sha256=stationxml_sha, progress=progress,
+                              scanned=found)
                 margin_cache = outcome.cache.margins() if outcome.cache is not None else None
+                log.debug("screen: %s", {k: v for k, v in outcome.counts.items() if isinstance(v, (int, float))})
                 results, histories, margins = margins_stage(outcome, executor, cache=margin_cache)
+                log.debug("margins: %s", margins)
             path = write_stage(outcome, results, histories, out_dir, provenance(request), margin_cache=margin_cache)
+            log.debug("write: %s", path)
             report, assets = report_stage(path)
+            log.debug("report: %s, %s", report, assets)
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
@@ -170,14 +178,29 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
 
 
 def prepare(request: ScreenRequest) -> tuple:
-    """Stage 1: the StationXML inventory and its digest, the declared units, a writable output directory."""
+    """Stage 1: the StationXML inventory and its digest, the declared units, the scan of the records
+    directory, then a writable output directory (nothing is created when there is nothing to screen).
+
+    Raises
+    ------
+    NoRecordsError
+        When the directory holds no file that is, or looks like, a strong-motion record.
+    """
     if not Path(request.records_dir).is_dir():
         raise RecordsNotFoundError(f"{request.records_dir}: records directory not found; give an existing "
                                    "directory to --records")
+    found = scan_directory(request.records_dir, config=request.config)
+    if not found.sources and not found.failures:
+        listed = "; ".join(f"{Path(p).name}: {r}" for p, r in found.not_records[:5])
+        raise NoRecordsError(
+            f"{request.records_dir}: no strong-motion record found ({found.files_seen} file(s) looked at"
+            + (f"; {listed}" + ("; ..." if len(found.not_records) > 5 else "") if listed else "")
+            + "). Put AT2, COSMOS, CSMIP/DMG, K-NET, SAC, MiniSEED or other obspy-readable records there, "
+              "or point --records at the directory that holds them")
     station_inventory = read_station_inventory(request.records_dir, request.stationxml)
     stationxml_sha = files_sha256(stationxml_paths(request.records_dir, request.stationxml))
     declared = read_declared_units(request.records_dir, request.config)
-    return station_inventory, stationxml_sha, declared, ensure_writable(request.out_dir)
+    return station_inventory, stationxml_sha, declared, found, ensure_writable(request.out_dir)
 
 
 def margins_stage(outcome: BatchOutcome, executor, *, cache=None) -> tuple[xr.Dataset, xr.Dataset, dict]:
