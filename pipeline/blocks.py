@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -27,8 +28,15 @@ import numpy as np
 from .constants import G
 from .errors import BlockParameterError, InventoryError
 
+log = logging.getLogger(__name__)
+
 REQUIRED = ("id", "height_m", "width_m")
 OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "site", "notes")
+#: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
+#: assets.csv and the report. Any other extra column is kept too, with a warning (a typo is likely).
+ASSET_COLUMNS = ("value", "location", "floor", "owner", "category")
+#: Plausible block sizes [m]: from a small figurine to a tall obelisk or rock pillar.
+SIZE_RANGE_M = (0.01, 100.0)
 
 
 @dataclass(frozen=True)
@@ -128,6 +136,8 @@ class Inventory:
     azimuth_deg: np.ndarray
     restitution: np.ndarray
     source: str
+    #: extra inventory columns (asset value, location, floor, ...), column -> one string per block
+    extra: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -158,7 +168,7 @@ class Inventory:
         return Inventory(ids=pick(self.ids), names=pick(self.names), sites=pick(self.sites),
                          notes=pick(self.notes), height_m=self.height_m[k], width_m=self.width_m[k],
                          mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
-                         source=self.source)
+                         source=self.source, extra={c: pick(v) for c, v in self.extra.items()})
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -208,7 +218,7 @@ def parse_number(value: str, *, where: str, column: str, rule: str, ok) -> float
     return x
 
 
-def read_csv_table(path: Path, *, what: str, expected_header: str):
+def read_csv_table(path: Path, *, what: str, expected_header: str, problems: list[str] | None = None):
     """Header and rows of a small CSV table, for the readers of user tables.
 
     Returns
@@ -223,7 +233,7 @@ def read_csv_table(path: Path, *, what: str, expected_header: str):
     ------
     InventoryError
         File missing, not UTF-8, empty, or (while iterating) a row whose field count differs
-        from the header's.
+        from the header's. With ``problems``, such rows are reported there and skipped instead.
     """
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -243,60 +253,87 @@ def read_csv_table(path: Path, *, what: str, expected_header: str):
                 continue
             where = f"{path}, line {reader.line_num}"
             if len(row) != len(header):
-                raise InventoryError(f"{where}: {len(row)} fields, expected {len(header)} as in the header")
+                message = f"{where}: {len(row)} fields, expected {len(header)} as in the header"
+                if problems is None:
+                    raise InventoryError(message)
+                problems.append(message)
+                continue
             yield reader.line_num, where, {c: row[i].strip() for i, c in enumerate(header)}
 
     return header, records()
 
 
 def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
-    """Read and validate an inventory CSV; any bad row stops everything.
+    """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
+
+    Columns: :data:`REQUIRED`, :data:`OPTIONAL`, and any extra ones (kept as given; those not in
+    :data:`ASSET_COLUMNS` also warn).
 
     Raises
     ------
     InventoryError
-        Naming the file, line and column, what was found and what is expected.
+        Naming the file, and for each problem the line and column, what was found and what is expected.
     """
     path = Path(path)
-    header, records = read_csv_table(path, what="inventory", expected_header="id,height_m,width_m,...")
-    unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
-    if unknown:
-        raise InventoryError(f"{path}, line 1: unknown column(s) {unknown}; valid columns are "
-                             f"{list(REQUIRED + OPTIONAL)}")
+    errors: list[str] = []
+    header, records = read_csv_table(path, what="inventory", expected_header="id,height_m,width_m,...",
+                                     problems=errors)
     missing = [c for c in REQUIRED if c not in header]
     if missing:
         raise InventoryError(f"{path}, line 1: missing required column(s) {missing}")
     dupes = {c for c in header if header.count(c) > 1}
     if dupes:
         raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
-    rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL}
+    extras = [c for c in header if c not in REQUIRED + OPTIONAL]
+    unknown = [c for c in extras if c not in ASSET_COLUMNS]
+    if unknown:
+        log.warning("%s, line 1: column(s) %s are not inventory columns; they are kept and carried to the "
+                    "results as given (valid columns: %s; asset columns: %s)", path, unknown,
+                    list(REQUIRED + OPTIONAL), list(ASSET_COLUMNS))
+    rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras)}
     seen: dict[str, int] = {}
+    lo, hi = SIZE_RANGE_M
+    size_rule = f"a size in metres between {lo:g} and {hi:g} (full height, full base width)"
+
+    def cell(where: str, column: str, value: str, rule: str, ok, default: float) -> float:
+        try:
+            return parse_number(value, where=where, column=column, rule=rule, ok=ok)
+        except InventoryError as exc:
+            errors.append(str(exc))
+            return default
+
     for line, where, rec in records:
-        bid = rec["id"]
+        try:
+            bid = rec["id"]
+        except KeyError:
+            errors.append(f"{where}: too few fields")
+            continue
         if not bid:
-            raise InventoryError(f"{where}, column 'id': empty; every block needs a unique id")
-        if bid in seen:
-            raise InventoryError(f"{where}, column 'id': duplicate id {bid!r} (first on line {seen[bid]})")
-        seen[bid] = line
+            errors.append(f"{where}, column 'id': empty; every block needs a unique id")
+        elif bid in seen:
+            errors.append(f"{where}, column 'id': duplicate id {bid!r} (first on line {seen[bid]})")
+        seen.setdefault(bid, line)
         rows["id"].append(bid)
         for c in ("height_m", "width_m"):
             if not rec[c]:
-                raise InventoryError(f"{where}, column {c!r}: missing; expected a positive size in metres")
-            rows[c].append(parse_number(rec[c], where=where, column=c, rule="a positive size in metres",
-                                   ok=lambda x: x > 0))
+                errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
+                rows[c].append(1.0)
+            else:
+                rows[c].append(cell(where, c, rec[c], size_rule, lambda x: lo <= x <= hi, 1.0))
         mu = rec.get("mu", "")
-        rows["mu"].append(default_mu if not mu else parse_number(
-            mu, where=where, column="mu", rule="a friction coefficient > 0", ok=lambda x: x > 0))
+        rows["mu"].append(default_mu if not mu else cell(where, "mu", mu, "a friction coefficient > 0 (at most 5)",
+                                                          lambda x: 0 < x <= 5, default_mu))
         az = rec.get("azimuth_deg", "")
-        rows["azimuth_deg"].append(math.nan if not az else parse_number(
-            az, where=where, column="azimuth_deg", rule="an azimuth in [0, 360] deg (blank = worst)",
-            ok=lambda x: 0 <= x <= 360) % 180.0)
+        rows["azimuth_deg"].append(math.nan if not az else cell(
+            where, "azimuth_deg", az, "an azimuth in [0, 360] deg (blank = the worst rocking plane)",
+            lambda x: 0 <= x <= 360, 0.0) % 180.0)
         e = rec.get("restitution", "")
-        rows["restitution"].append(math.nan if not e else parse_number(
-            e, where=where, column="restitution", rule="a velocity restitution ratio in (0, 1]",
-            ok=lambda x: 0 < x <= 1))
-        for c in ("name", "site", "notes"):
+        rows["restitution"].append(math.nan if not e else cell(
+            where, "restitution", e, "a velocity restitution ratio in (0, 1]", lambda x: 0 < x <= 1, math.nan))
+        for c in ("name", "site", "notes") + tuple(extras):
             rows[c].append(rec.get(c, ""))
+    if errors:
+        raise InventoryError(f"{path}: {len(errors)} problem(s):\n  " + "\n  ".join(errors))
     if not rows["id"]:
         raise InventoryError(f"{path}: no blocks; add at least one row under the header")
     return Inventory(
@@ -305,4 +342,5 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         height_m=np.array(rows["height_m"]), width_m=np.array(rows["width_m"]),
         mu=np.array(rows["mu"]), azimuth_deg=np.array(rows["azimuth_deg"]),
         restitution=np.array(rows["restitution"]), source=str(path),
+        extra={c: tuple(rows[c]) for c in extras},
     )

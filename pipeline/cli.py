@@ -88,7 +88,8 @@ PROGRESS_LINE_S = 30.0
 
 def _progress(quiet: bool):
     """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal; otherwise a progress
-    line at most every :data:`PROGRESS_LINE_S` seconds and at every tenth of the work."""
+    line at every tenth of the work, and for a task finishing :data:`PROGRESS_LINE_S` seconds or more
+    after the previous line."""
     if quiet:
         return None
     if sys.stderr.isatty():

@@ -11,6 +11,7 @@ every written file with it).
 
 from __future__ import annotations
 
+import re
 from enum import IntEnum
 
 import numpy as np
@@ -50,7 +51,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "files": (("record",), None, "source files of the record, ';'-separated", {}),
     "formats": (("record",), None, "obspy format names of the source files", {}),
     "notes": (("record",), None, "notes on the record (trimming, orientation, flags)", {}),
-    "history": (("record",), None, "ordered processing history, newline-separated", {}),
+    "processing_history": (("record",), None, "ordered processing history of the record, newline-separated", {}),
     "content_sha256": (("record",), None, "SHA-256 of the source files' names and content", {}),
     "screened_utc": (("record",), None, "UTC time the record was screened (ISO 8601); older than the run "
                      "when its results were reused", {}),
@@ -59,11 +60,13 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                         "comment": "false: the files vanished; the results of the last run that saw them "
                                    "are kept"}),
     "dt": (("record",), "s", "sampling interval", {}),
-    "npts": (("record",), "1", "number of samples after alignment", {}),
+    "npts": (("record",), "1", "number of samples after alignment (-1: not read)", {}),
     "duration": (("record",), "s", "record duration", {}),
-    "n_horizontal": (("record",), "1", "number of horizontal components", {}),
-    "has_vertical": (("record",), "1", "record has a vertical component", {}),
-    "azimuth_known": (("record",), "1", "absolute azimuth of the horizontals is known", {}),
+    "n_horizontal": (("record",), "1", "number of horizontal components (-1: not read)", {}),
+    "has_vertical": (("record",), None, "record has a vertical component",
+                     {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+    "azimuth_known": (("record",), None, "absolute azimuth of the horizontals is known",
+                      {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
     "processing_level": (("record",), None, "delivery level: corrected or uncorrected", {}),
     "pga": (("record",), "m s-2", "peak ground acceleration, peak of the horizontal vector", {}),
     "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector", {}),
@@ -214,10 +217,32 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
 COMPONENTS = ("h1", "h2", "v")
 
 
+#: Prefix of the variables that carry the inventory's extra columns (asset value, location, ...), as given.
+INVENTORY_PREFIX = "inventory_"
+
+
+def inventory_variable(column: str) -> str:
+    """The screening.nc variable of an extra inventory column."""
+    return INVENTORY_PREFIX + re.sub(r"[^A-Za-z0-9_]", "_", column.strip())
+
+
+def entry(name: str, table: dict | None = None) -> tuple | None:
+    """The schema entry of a variable (dims, units, long_name, attributes), or None if it has none."""
+    table = SCHEMA if table is None else table
+    if name in table:
+        return table[name]
+    if table is SCHEMA and name.startswith(INVENTORY_PREFIX):
+        return (("block",), None, f"inventory column '{name[len(INVENTORY_PREFIX):]}', as given", {})
+    return None
+
+
 def apply_schema(ds: xr.Dataset, table: dict | None = None) -> xr.Dataset:
     """Attach units, long names and flags from ``table`` (default :data:`SCHEMA`) to every known variable
     and coordinate."""
-    for name, (_, units, long_name, extra) in (SCHEMA if table is None else table).items():
+    table = SCHEMA if table is None else table
+    names = set(table) | {str(n) for n in ds.variables if table is SCHEMA and str(n).startswith(INVENTORY_PREFIX)}
+    for name in names:
+        _, units, long_name, extra = entry(name, table) or ((), None, "", {})
         if name in ds.variables:
             attrs = {"long_name": long_name, **extra}
             if units is not None:
@@ -244,10 +269,11 @@ def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
     table = SCHEMA if table is None else table
     problems = []
     for name, var in ds.variables.items():
-        if name not in table:
+        found = entry(str(name), table)
+        if found is None:
             problems.append(f"{name}: not in the schema")
             continue
-        dims, units, long_name, extra = table[str(name)]
+        dims, units, long_name, extra = found
         if tuple(var.dims) != dims:
             problems.append(f"{name}: dims {var.dims}, schema {dims}")
         if var.attrs.get("units") != units:

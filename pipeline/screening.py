@@ -27,7 +27,7 @@ from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
-from .schema import COMPONENTS, SCHEMA, apply_schema
+from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 
 log = logging.getLogger(__name__)
 
@@ -108,7 +108,7 @@ def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
         "files": ";".join(Path(f).name for f in rec.files),
         "formats": ";".join(rec.formats),
         "notes": "; ".join(rec.notes),
-        "history": "\n".join(rec.history),
+        "processing_history": "\n".join(rec.history),
         "dt": rec.dt_s,
         "npts": rec.npts,
         "duration": rec.dt_s * (rec.npts - 1),
@@ -192,7 +192,8 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
 
 
 #: Integer variables that are counts rather than flags (-1: not evaluated).
-INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4"}
+INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
+                  "margin_simulations": "i4", "pulse_candidate": "i1"}
 
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
@@ -353,6 +354,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
     data_vars["verdict_source"] = (("record", "block"), np.where(
         simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
     data_vars.update({
+        **{inventory_variable(c): (("block",), np.array(v, dtype=object)) for c, v in inventory.extra.items()},
         "block_name": (("block",), np.array(inventory.names, dtype=object)),
         "site": (("block",), np.array(inventory.sites, dtype=object)),
         "height": (("block",), inventory.height_m),

@@ -29,7 +29,8 @@ BAD_ROWS = [
     ("id,height_m,width_m\nA,0,0.2\n", r"line 2, column 'height_m': '0' is out of range"),
     ("id,height_m,width_m\nA,1,-0.2\n", r"line 2, column 'width_m': '-0.2' is out of range"),
     ("id,height_m,width_m\nA,1,0.2\nA,2,0.3\n", r"line 3, column 'id': duplicate id 'A' \(first on line 2\)"),
-    ("id,height_m,width_m,colour\nA,1,0.2,red\n", r"line 1: unknown column\(s\) \['colour'\]"),
+    ("id,height_m,width_m\nA,1e9,0.2\n", r"line 2, column 'height_m': '1e9' is out of range; expected a size in "
+                                        r"metres between 0.01 and 100"),
     ("id,height_m\nA,1\n", r"line 1: missing required column\(s\) \['width_m'\]"),
     ("id,height_m,width_m,mu\nA,1,0.2,0\n", r"line 2, column 'mu': '0' is out of range"),
     ("id,height_m,width_m\nA,,0.2\n", r"line 2, column 'height_m': missing"),
@@ -45,6 +46,27 @@ def test_bad_inventory_rows_name_file_line_column(tmp_path, text, message):
     with pytest.raises(InventoryError, match=message) as info:
         read_inventory(path, default_mu=0.6)
     assert "inv.csv" in str(info.value)
+
+
+def test_every_bad_row_is_reported_at_once(tmp_path):
+    path = tmp_path / "inv.csv"
+    path.write_text("id,height_m,width_m,mu\nA,abc,0.2,0.5\nB,1,0.2\nC,1,0.2,-1\nA,2,0.3,0.5\n")
+    with pytest.raises(InventoryError) as info:
+        read_inventory(path, default_mu=0.6)
+    text = str(info.value)
+    assert "4 problem(s)" in text
+    for expected in ("line 2, column 'height_m'", "line 3: 3 fields", "line 4, column 'mu'",
+                     "line 5, column 'id': duplicate id 'A'"):
+        assert expected in text
+
+
+def test_extra_columns_are_kept_and_unknown_ones_warn(tmp_path, caplog):
+    path = tmp_path / "inv.csv"
+    path.write_text("id,height_m,width_m,value,floor,colour\nA,1,0.2,120000,2,red\nB,2,0.4,,G,blue\n")
+    inv = read_inventory(path, default_mu=0.6)
+    assert inv.extra == {"value": ("120000", ""), "floor": ("2", "G"), "colour": ("red", "blue")}
+    assert "['colour'] are not inventory columns" in caplog.text and "value" not in caplog.text.split("[")[1]
+    assert inv.take([1]).extra == {"value": ("",), "floor": ("G",), "colour": ("blue",)}
 
 
 def test_blank_optional_fields_take_defaults(tmp_path):

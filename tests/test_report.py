@@ -113,9 +113,18 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
         rows = list(csv.DictReader(fh))
     n_blocks = sum(1 for line in blocks_csv.read_text().splitlines()[1:] if line.strip())
     assert len(rows) == n_blocks and [int(r["rank"]) for r in rows] == list(range(1, n_blocks + 1))
-    margins = [float(r["overturn_scale_simulated"]) for r in rows]
-    finite = [m for m in margins if not math.isnan(m)]
-    assert finite == sorted(finite) and all(math.isnan(m) for m in margins[len(finite):])
+    # ranked by the number of records that overturn the asset, then by the simulated margin (NaN last)
+    key = [(-int(r["records_overturning"]), float(r["overturn_scale_simulated"])) for r in rows]
+    for (n1, m1), (n2, m2) in zip(key, key[1:]):
+        assert n1 < n2 or (n1 == n2 and (math.isnan(m2) or m1 <= m2))
+    # the count is the records whose verdict is "overturns", recounted from screening.nc
+    ds = open_results(screened / "screening.nc")
+    ok = ds.status.values == "ok"
+    for r in rows:
+        j = list(ds.block.values).index(r["block"])
+        ids = sorted(ds.record.values[ok & (ds.overturn.values[:, j] == 1)])
+        assert int(r["records_overturning"]) == len(ids) and sorted(filter(None, r["records_overturning_ids"]
+                                                                           .split(";"))) == ids
     for r in rows:
         m = float(r["overturn_scale_simulated"])
         if m <= 1.0:
@@ -174,15 +183,27 @@ def test_report_in_headless_chromium(screened, tmp_path, blocks_csv):
     console = [line for line in dom.stderr.splitlines() if ":CONSOLE" in line]
     assert console == [], console
     html = dom.stdout
-    n_figures = len(re.findall(r'<img class="figure"', (screened / "report.html").read_text()))
-    assert n_figures >= 1 + 5                                   # the chart and a pulse plot per record at least
+    source = (screened / "report.html").read_text()
+    n_figures = len(re.findall(r'<img class="figure"', source))
+    n_pulse_like = int((open_results(screened / "screening.nc").is_pulse.values == 1).sum())
+    assert n_figures >= 1 + n_pulse_like                        # the chart and a pulse plot per pulse-like record
+    # every in-page link has its target (checked on the source here, and by the browser below)
+    ids = set(re.findall(r'id="([^"]+)"', source))
+    assert all(target in ids for target in re.findall(r'href="#([^"]+)"', source))
     assert html.count('data-rendered="yes"') == n_figures
     assert 'data-figures-missing="0"' in html
     n_blocks = sum(1 for line in blocks_csv.read_text().splitlines()[1:] if line.strip())
     table = html.split('id="asset-table"')[1].split("</table>")[0]
     assert table.count('class="asset-row') == n_blocks
+    assert 'data-dead-links="0"' in html
+    # the page and the asset table fit a 1400 px laptop window
+    wide = subprocess.run([*common, "--window-size=1400,1000", "--dump-dom", page], capture_output=True, text=True,
+                          timeout=120, env=env)
+    widths = {k: int(v) for k, v in re.findall(r'data-(page-width|asset-table-right)="(\d+)"', wide.stdout)}
+    assert widths.keys() == {"page-width", "asset-table-right"}, wide.stdout[:500]
+    assert widths["page-width"] <= 1400 and widths["asset-table-right"] <= 1400, widths
     shot = tmp_path / "report.png"
-    run = subprocess.run([*common, "--window-size=1280,2400", f"--screenshot={shot}", page],
+    run = subprocess.run([*common, "--window-size=1400,2400", f"--screenshot={shot}", page],
                          capture_output=True, text=True, timeout=120, env=env)
     assert run.returncode == 0, run.stderr[-2000:]
     assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and shot.stat().st_size > 20_000
@@ -220,3 +241,30 @@ def test_every_written_file_follows_the_schema(screened):
         for var, attrs in series.items():
             assert {k: side[var].attrs.get(k) for k in attrs} == attrs, (name, var)
         assert side.attrs["featureType"] == "timeSeries" and int(side.row_size.sum()) == side.sizes["sample"]
+        # a time coordinate: k dt within each series
+        rows = list(side.row_size.values)
+        if rows:
+            first = side.time.values[: rows[0]]
+            np.testing.assert_allclose(first, np.arange(rows[0]) * float(side.dt.values[0]), rtol=1e-12)
+            assert side.time.attrs["units"] == "s"
+
+
+def test_cf_xarray_decodes_every_file(screened):
+    """The CF attributes read back by an independent decoder (cf-xarray): flag meanings, the time axis of the
+    ragged series, and integer types for counts and yes/no values."""
+    cf_xarray = pytest.importorskip("cf_xarray")
+    assert cf_xarray
+    ds = open_results(screened / "screening.nc")
+    from pipeline.rocking.planner import Response
+
+    for member in Response:
+        assert int((ds["response"].cf == member.name).sum()) == int((ds.response.values == member.value).sum())
+    assert int((ds["has_vertical"].cf == "true").sum()) == int((ds.has_vertical.values == 1).sum())
+    for name in ("npts", "n_horizontal", "has_vertical", "azimuth_known", "n_impacts", "planes_simulated"):
+        assert ds[name].dtype.kind == "i", name
+    assert "history" not in ds.data_vars and "processing_history" in ds.data_vars
+    for coord in ("record", "block", "component"):
+        assert ds[coord].attrs.get("long_name"), coord
+    for name in ("pulses.nc", "histories.nc"):
+        side = open_results(screened / name)
+        assert side.cf.axes.get("T") == ["time"], name

@@ -32,6 +32,7 @@ import xarray as xr
 
 from ..constants import M_TO_CM, G
 from ..rocking.planner import PHYSICS, RESPONSE
+from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, write_csv_atomic, write_text_atomic
 from . import figures
 
@@ -45,10 +46,14 @@ RESPONSE_NAMES = {-1: "not simulated", **{code: name for name, code in RESPONSE.
 PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.items()}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 
-ASSET_COLUMNS = ("rank", "block", "name", "site", "h_m", "b_m", "R_m", "alpha_deg", "p_rad_s", "mu",
-                 "governing_record", "governing_azimuth_deg", "verdict_criterion", "verdict_simulation",
-                 "theta_max_over_alpha",
-                 "response", "physics", "overturn_scale_criterion", "overturn_scale_simulated", "recommendation")
+#: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
+#: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene. Extra inventory
+#: columns follow, as given.
+ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
+                 "frequency_parameter", "records_overturning", "records_screened", "governing_record",
+                 "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
+                 "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "recommendation",
+                 "records_overturning_ids")
 
 
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True) -> str:
@@ -70,12 +75,18 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
 
 
 def asset_rows(ds: xr.Dataset) -> list[dict]:
-    """One row per block, sorted by risk (smallest simulated margin first)."""
+    """One row per block, ranked by risk: most records that overturn it first, then the smallest simulated
+    margin, then the criterion's margin, then the largest rotation."""
     rows = []
     rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
+    ok = ds["status"].values == "ok"
+    verdict = ds["overturn"].values if "overturn" in ds else ds["overturn_simulated"].values
+    record_ids = ds["record"].values
+    extra = [str(n) for n in ds.data_vars if str(n).startswith(INVENTORY_PREFIX)]
     for j, block in enumerate(ds["block"].values.tolist()):
         gov = str(ds["governing_record"].values[j]) if "governing_record" in ds else ""
         i = rec_pos.get(gov)
+
         def at(name, default=np.nan, i=i, j=j):
             return ds[name].values[i, j] if i is not None else default
 
@@ -84,32 +95,43 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
         crit = int(at("overturn_criterion", -1))
         sim = int(at("overturn_simulated", -1))
         response = int(at("response", -1))
+        overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
+        below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
-            "block": block, "name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
-            "h_m": float(ds["half_height"].values[j]), "b_m": float(ds["half_width"].values[j]),
-            "R_m": float(ds["corner_distance"].values[j]),
+            "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
+            "height": float(ds["height"].values[j]), "width": float(ds["width"].values[j]),
+            "corner_distance": float(ds["corner_distance"].values[j]),
+            "slenderness": float(ds["slenderness"].values[j]),
             "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
-            "p_rad_s": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
-            "governing_record": gov, "governing_azimuth_deg": float(at("governing_azimuth")),
+            "frequency_parameter": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
+            "records_overturning": len(overturning), "records_screened": int(ok.sum()),
+            "records_overturning_ids": ";".join(overturning),
+            "governing_record": gov, "governing_azimuth": float(at("governing_azimuth")),
             "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
-            "theta_max_over_alpha": float(at("theta_max")), "response": RESPONSE_NAMES[response],
+            "theta_max": float(at("theta_max")), "response": RESPONSE_NAMES[response],
             "physics": PHYSICS_NAMES[int(at("physics", -1))],
-            "overturn_scale_criterion": crit_scale, "overturn_scale_simulated": sim_scale,
+            "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
             "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
                                              overturned=sim == 1),
+            "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
         })
-    key = lambda r: (np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),  # noqa: E731
-                     np.nan_to_num(r["overturn_scale_criterion"], nan=np.inf),
-                     -np.nan_to_num(r["theta_max_over_alpha"], nan=-1.0))
-    rows.sort(key=key)
+
+    def risk(r: dict) -> tuple:
+        return (-r["records_overturning"], np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
+                np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r["theta_max"], nan=-1.0))
+
+    rows.sort(key=risk)
     for k, r in enumerate(rows, 1):
         r["rank"] = k
     return rows
 
 
 def write_assets_csv(rows: list[dict], path: Path) -> Path:
-    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit'), atomically."""
-    return write_csv_atomic(path, ASSET_COLUMNS, [{c: r[c] for c in ASSET_COLUMNS} for r in rows])
+    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit'), then the extra
+    inventory columns as given, atomically."""
+    extra = list(rows[0]["inventory"]) if rows else []
+    table = [{**{c: r[c] for c in ASSET_COLUMNS}, **r["inventory"]} for r in rows]
+    return write_csv_atomic(path, ASSET_COLUMNS + tuple(extra), table)
 
 
 def _data_uri(png: bytes) -> str:

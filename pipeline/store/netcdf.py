@@ -69,7 +69,12 @@ def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: di
     for name, attrs in series.items():
         values = np.concatenate([np.asarray(r[name]) for r in rows]) if rows else np.zeros(0)
         data[name] = (("sample",), values.astype("f4"), attrs)
-    return xr.Dataset(data, attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
+    # the time of each sample from the start of its series (record start times are often unknown: AT2 files)
+    time = (np.concatenate([np.arange(np.size(r[first])) * float(r["dt"]) for r in rows]) if rows
+            else np.zeros(0))
+    coords = {"time": (("sample",), time, {"units": "s", "long_name": "time since the first sample of the series",
+                                           "axis": "T"})}
+    return xr.Dataset(data, coords=coords, attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
 
 
 def ragged_rows(ds: xr.Dataset, id_name: str) -> dict[str, slice]:
