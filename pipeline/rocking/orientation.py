@@ -154,30 +154,25 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
     thr = motion_threshold(alpha, mu)
     if len(keys) > 1 and not planes.vector_ratio() > thr:
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
-    def run(k: float) -> Scene:
-        return simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), p=p, alpha=alpha, e=e,
-                              R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+    state = PlaneResult(REST_SCENE, first, 0)
 
-    moving = [k for k in keys if planes.ratio(k) > thr]
-    moving.sort(key=lambda k: -planes.ratio(k))
-    best, best_az, n = REST_SCENE, first, 0
-    for k in moving:
-        sc = run(k)
-        n += 1
-        if sc.overturned:
-            return PlaneResult(sc, k, n)
-        if _worse(sc, best):
-            best, best_az = sc, k
-    if refine_deg > 0 and refine_span_deg > refine_deg and best.theta_max > 0:
-        m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
-        extra = [Planes.key(best_az + j * refine_deg) for j in range(-m + 1, m) if j]
-        for k in dict.fromkeys(extra):
-            if k in keys or not planes.ratio(k) > thr:
-                continue
-            sc = run(k)
-            n += 1
+    def scan(candidates) -> bool:
+        """Simulate the candidates that move the block, strongest demand first; True at the first overturn."""
+        nonlocal state
+        for k in sorted((k for k in candidates if planes.ratio(k) > thr), key=lambda k: -planes.ratio(k)):
+            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), p=p, alpha=alpha,
+                                e=e, R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+            n = state.planes_simulated + 1
+            state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
+                PlaneResult(state.scene, state.azimuth_deg, n)
             if sc.overturned:
-                return PlaneResult(sc, k, n)
-            if _worse(sc, best):
-                best, best_az = sc, k
-    return PlaneResult(best, best_az, n)
+                return True
+        return False
+
+    if scan(keys):
+        return state
+    if refine_deg > 0 and refine_span_deg > refine_deg and state.scene.theta_max > 0:
+        m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
+        extra = dict.fromkeys(Planes.key(state.azimuth_deg + j * refine_deg) for j in range(-m + 1, m) if j)
+        scan([k for k in extra if k not in keys])
+    return state
