@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import shlex
 import sys
 import time
@@ -41,8 +42,9 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", type=Path, help="TOML configuration (default: built-in, as configs/screen.toml)")
     p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
     ex = p.add_argument_group("execution")
-    ex.add_argument("-n", "--num-processes", type=int, default=1, metavar="N",
-                    help="worker processes on this machine (default 1: serial)")
+    ex.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
+                    help="worker processes on this machine (default: the cores available to this process, or "
+                         f"${WORKERS_ENV}; 1: serial in this process). Results are identical whatever N")
     ex.add_argument("--scheduler", metavar="ADDRESS",
                     help="Dask: 'local' for a LocalCluster of N workers, or a scheduler address tcp://HOST:PORT "
                          "(the records directory must be readable by the workers at the same path)")
@@ -55,6 +57,27 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
     _add_output_options(p)
+
+
+#: Environment variable giving the default of ``-n`` (scheduled runs sharing a machine set it).
+WORKERS_ENV = "ROCKSCREEN_NUM_PROCESSES"
+
+
+def default_workers() -> int:
+    """The default ``-n``: ``$ROCKSCREEN_NUM_PROCESSES``, else the cores this process may run on."""
+    value = os.environ.get(WORKERS_ENV, "").strip()
+    if value:
+        try:
+            n = int(value)
+        except ValueError:
+            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)") from None
+        if n < 1:
+            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)")
+        return n
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
 
 
 def _config_and_inventory(args: argparse.Namespace):
@@ -145,7 +168,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     config, inventory = _config_and_inventory(args)
     request = ScreenRequest(records_dir=_records_dir(args.records), blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,
-                            n_workers=args.num_processes, scheduler=args.scheduler, force=args.force,
+                            n_workers=args.num_processes if args.num_processes is not None else default_workers(),
+                            scheduler=args.scheduler, force=args.force,
                             command=list(argv))
     try:
         result = screen(request, progress=_progress(args.quiet))

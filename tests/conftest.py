@@ -54,3 +54,10 @@ def make_records(tmp_path):
         return root
 
     return _make
+
+
+@pytest.fixture(autouse=True)
+def _serial_by_default(monkeypatch):
+    """Test runs are serial unless a test asks for -n or --scheduler: pytest-xdist already uses the cores.
+    (The default of -n, the available cores, is tested on its own.)"""
+    monkeypatch.setenv("ROCKSCREEN_NUM_PROCESSES", "1")

@@ -364,6 +364,25 @@ def test_processes_results_identical_to_serial(few_records, blocks_csv, tmp_path
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
+def test_default_uses_the_available_cores_with_results_identical_to_serial(make_records, blocks_csv, tmp_path,
+                                                                         fresh, capsys, monkeypatch):
+    from pipeline.cli import default_workers
+
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
+    serial = fresh(root)                                     # -n 1 (the test default)
+    capsys.readouterr()
+    monkeypatch.delenv("ROCKSCREEN_NUM_PROCESSES")
+    cores = len(os.sched_getaffinity(0))
+    assert default_workers() == cores
+    out = tmp_path / "default"
+    assert screen(root, blocks_csv, out) == EXIT_OK
+    executor = "serial (1 worker)" if cores == 1 else f"processes ({cores} workers)"
+    assert executor in summary_line(capsys)
+    assert_same_results(open_results(out / "screening.nc"), serial)
+    monkeypatch.setenv("ROCKSCREEN_NUM_PROCESSES", "zero")
+    assert screen(root, blocks_csv, tmp_path / "bad") == 2
+
+
 def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     items, ctx = tasks
     with SerialExecutor() as ex:

@@ -268,3 +268,20 @@ def test_cf_xarray_decodes_every_file(screened):
     for name in ("pulses.nc", "histories.nc"):
         side = open_results(screened / name)
         assert side.cf.axes.get("T") == ["time"], name
+
+
+def test_unchanged_figures_are_not_drawn_again(screened, tmp_path, monkeypatch):
+    from pipeline.report import figures
+    from pipeline.report.html import build_report
+
+    cache = tmp_path / "figures"
+    first, _ = build_report(screened / "screening.nc", tmp_path / "a", figure_cache=cache)
+    assert len(list(cache.glob("*.png"))) >= 2
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a figure was drawn again although nothing changed")
+
+    for name in ("pulse_figure", "theta_figure", "scenes_chart"):
+        monkeypatch.setattr(figures, name, refuse)
+    second, _ = build_report(screened / "screening.nc", tmp_path / "b", figure_cache=cache)
+    assert first.read_text() == second.read_text()

@@ -23,6 +23,8 @@ Recommendation rule (per asset, on its governing record; thresholds here):
 from __future__ import annotations
 
 import base64
+import hashlib
+import logging
 import math
 from collections import Counter
 from pathlib import Path
@@ -30,11 +32,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from .. import __version__
 from ..constants import M_TO_CM, G
+from ..errors import OutputError
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..schema import INVENTORY_PREFIX
-from ..store import open_results, ragged_rows, write_csv_atomic, write_text_atomic
+from ..store import open_results, ragged_rows, write_bytes_atomic, write_csv_atomic, write_text_atomic
 from . import figures
+
+log = logging.getLogger(__name__)
 
 #: A simulated margin below this factor calls for restraint or relocation [-].
 RELOCATE_BELOW_SCALE = 1.5
@@ -134,11 +140,61 @@ def write_assets_csv(rows: list[dict], path: Path) -> Path:
     return write_csv_atomic(path, ASSET_COLUMNS + tuple(extra), table)
 
 
+class FigureCache:
+    """PNG figures kept by content: a figure whose data, title and drawing code are unchanged is not
+    drawn again (``OUT/.rockscreen/figures``). ``directory=None``: no cache, every figure is drawn.
+
+    Keys hash the figure's kind, the rockscreen version, the arrays' bytes and the title; entries not
+    used by the last report are pruned.
+    """
+
+    def __init__(self, directory: Path | None):
+        self.dir = directory
+        self.used: set[str] = set()
+        self.drawn = self.reused = 0
+
+    def get(self, kind: str, draw, *arrays, title: str = "") -> bytes:
+        """The PNG of ``draw()``, from the cache when the same figure was drawn before."""
+        if self.dir is None:
+            self.drawn += 1
+            return draw()
+        h = hashlib.sha256(f"{kind}\n{__version__}\n{title}".encode())
+        for a in arrays:
+            a = np.ascontiguousarray(a)
+            h.update(str((a.dtype.str, a.shape)).encode())
+            h.update(a.tobytes())
+        path = self.dir / f"{h.hexdigest()[:40]}.png"
+        self.used.add(path.name)
+        try:
+            png = path.read_bytes()
+            if png[:8] == b"\x89PNG\r\n\x1a\n":
+                self.reused += 1
+                return png
+        except OSError:
+            pass
+        png = draw()
+        self.drawn += 1
+        try:
+            write_bytes_atomic(path, png)
+        except OutputError as exc:   # a full disk for the cache must not stop the report
+            log.warning("figure cache %s: %s", self.dir, exc)
+        return png
+
+    def prune(self) -> None:
+        """Delete the figures this report did not use."""
+        if self.dir is None or not self.dir.is_dir():
+            return
+        for p in self.dir.glob("*.png"):
+            if p.name not in self.used:
+                p.unlink(missing_ok=True)
+
+
 def _data_uri(png: bytes) -> str:
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
 
-def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False) -> list[dict]:
+def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False,
+                 cache: FigureCache | None = None) -> list[dict]:
     """One row per record; the velocity figure for pulse-like records (every record with ``all_figures``)."""
     series = {}
     if pulses is not None:
@@ -158,7 +214,9 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
                "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}
         if rid in series and (all_figures or is_pulse == 1):
             v, p, dt = series[rid]
-            row["figure"] = _data_uri(figures.pulse_figure(v, p, dt, title=rid))
+            cache = cache or FigureCache(None)
+            row["figure"] = _data_uri(cache.get("pulse", lambda v=v, p=p, dt=dt, rid=rid: figures.pulse_figure(
+                v, p, dt, title=rid), v, p, np.array([dt]), title=rid))
         rows.append(row)
     return rows
 
@@ -173,12 +231,13 @@ def _histories(path: Path) -> dict:
 
 
 def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
-                 all_figures: bool = False) -> tuple[Path, Path]:
+                 all_figures: bool = False, figure_cache: str | Path | None = None) -> tuple[Path, Path]:
     """Write ``report.html`` and ``assets.csv`` next to ``results_path`` (or in ``out_dir``).
 
     Velocity figures are drawn for the pulse-like records, or for every record with
     ``all_figures``; theta(t) figures for the assets at risk (at most
-    :data:`MAX_HISTORY_FIGURES`).
+    :data:`MAX_HISTORY_FIGURES`). With ``figure_cache`` (a directory), a figure whose data and
+    title are unchanged since it was last drawn is taken from there (:class:`FigureCache`).
 
     Raises
     ------
@@ -198,6 +257,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     out_dir.mkdir(parents=True, exist_ok=True)
     pulses_path = results_path.parent / "pulses.nc"
     pulses = open_results(pulses_path) if pulses_path.is_file() else None
+    cache = FigureCache(Path(figure_cache) if figure_cache is not None else None)
     assets = asset_rows(ds)
     histories = _histories(results_path.parent / "histories.nc")
     drawn = 0
@@ -205,12 +265,14 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         h = histories.get(r["block"])
         r["figure"] = None
         if h is not None and drawn < MAX_HISTORY_FIGURES:
-            r["figure"] = _data_uri(figures.theta_figure(h[0], h[1], title=f"{r['block']} under {h[2]}: theta / alpha"))
+            title = f"{r['block']} under {h[2]}: theta / alpha"
+            r["figure"] = _data_uri(cache.get("theta", lambda h=h, title=title: figures.theta_figure(
+                h[0], h[1], title=title), h[0], np.array([h[1]]), title=title))
             drawn += 1
     ok = ds["status"].values == "ok"
     resp = ds["response"].values
-    chart = _data_uri(figures.scenes_chart(ds["normalized_duration"].values.ravel(),
-                                           ds["normalized_acceleration"].values.ravel(), resp.ravel()))
+    x, y = ds["normalized_duration"].values.ravel(), ds["normalized_acceleration"].values.ravel()
+    chart = _data_uri(cache.get("chart", lambda: figures.scenes_chart(x, y, resp.ravel()), x, y, resp.ravel()))
     counts = Counter(r["recommendation"].split(":")[0] for r in assets)
     summary = {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
@@ -231,7 +293,8 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     env.filters["num"] = _num
     html = env.get_template("report.html.j2").render(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
-        records=_record_rows(ds, pulses, all_figures=all_figures), chart=chart)
+        records=_record_rows(ds, pulses, all_figures=all_figures, cache=cache), chart=chart)
+    cache.prune()
     html_path = write_text_atomic(out_dir / "report.html", html)
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
 

@@ -27,7 +27,7 @@ from ..margins import add_margins
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
-from ..store import OutputLock, remove_stale_temporaries, write_atomic
+from ..store import STATE_DIR, OutputLock, remove_stale_temporaries, write_atomic
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
 from .executors import make_executor
@@ -168,7 +168,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                 log.debug("margins: %s", margins)
             path = write_stage(outcome, results, histories, out_dir, provenance(request), margin_cache=margin_cache)
             log.debug("write: %s", path)
-            report, assets = report_stage(path)
+            report, assets = report_stage(path, figure_cache=out_dir / STATE_DIR / "figures")
             log.debug("report: %s, %s", report, assets)
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
@@ -228,6 +228,7 @@ def write_stage(outcome: BatchOutcome, results: xr.Dataset, histories: xr.Datase
     return path
 
 
-def report_stage(screening_path: Path) -> tuple[Path, Path]:
-    """Stage 5: ``report.html`` and ``assets.csv`` from the results files alone."""
-    return build_report(screening_path)
+def report_stage(screening_path: Path, *, figure_cache: Path | None = None) -> tuple[Path, Path]:
+    """Stage 5: ``report.html`` and ``assets.csv`` from the results files alone; figures unchanged since the
+    last run are taken from ``figure_cache``."""
+    return build_report(screening_path, figure_cache=figure_cache)

@@ -9,6 +9,7 @@ from .atomic import (
     default_file_mode,
     remove_stale_temporaries,
     replace_atomically,
+    write_bytes_atomic,
     write_csv_atomic,
     write_text_atomic,
 )
@@ -17,4 +18,4 @@ from .netcdf import open_results, pulse_series_dataset, ragged_dataset, ragged_r
 
 __all__ = ["COMPONENTS", "FLAG3", "SCHEMA", "STATE_DIR", "OutputLock", "apply_schema", "default_file_mode",
            "open_results", "pulse_series_dataset", "ragged_dataset", "ragged_rows", "remove_stale_temporaries",
-           "replace_atomically", "write_atomic", "write_csv_atomic", "write_text_atomic"]
+           "replace_atomically", "write_atomic", "write_bytes_atomic", "write_csv_atomic", "write_text_atomic"]

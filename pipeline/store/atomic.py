@@ -61,6 +61,14 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     return replace_atomically(path, write)
 
 
+def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
+    """Write bytes atomically (:func:`replace_atomically`)."""
+    def write(tmp: str) -> None:
+        Path(tmp).write_bytes(data)
+
+    return replace_atomically(path, write)
+
+
 def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
     """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`)."""
     def write(tmp: str) -> None:
