@@ -105,7 +105,7 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
     t = 0.0
     for i, s in enumerate(scenes):
         t0 = time.perf_counter()
-        mask = simulation_mask(s.blocks, inventory, config)
+        mask = simulation_mask(inventory, config)
         sim = _simulation_values(s.record, s.directions, ctx, mask, scan=scan)
         t += time.perf_counter() - t0
         verdict[i] = np.where(np.isnan(sim["overturn_simulated"]), -1, sim["overturn_simulated"])

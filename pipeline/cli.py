@@ -44,7 +44,8 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     ex = p.add_argument_group("execution")
     ex.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
                     help="worker processes on this machine (default: the cores available to this process, or "
-                         f"${WORKERS_ENV}; 1: serial in this process). Results are identical whatever N")
+                         f"${WORKERS_ENV}; 1: serial in this process). Tests check -n 2 and Dask against serial: "
+                         "identical results")
     ex.add_argument("--scheduler", metavar="ADDRESS",
                     help="Dask: 'local' for a LocalCluster of N workers, or a scheduler address tcp://HOST:PORT "
                          "(the records directory must be readable by the workers at the same path)")

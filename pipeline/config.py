@@ -79,7 +79,8 @@ class FidelityConfig:
 
     ``criterion``: the paper's criterion on the extracted pulse only, nothing simulated; fast
     and *not conservative* (its measured misses are printed when it is chosen).
-    ``full`` (default): the fastest conservative tier. The exact at-rest certificate (no
+    ``full`` (default): the cheapest tier with no miss measured against ``reference`` (the same
+    model at the default tolerances; ``screen bench``). The exact at-rest certificate (no
     uplift and no slip at any sample, vertical included) skips a scene; every other scene is
     simulated. ``reference``: as ``full`` with the tight ``reference_*`` integration settings.
     """

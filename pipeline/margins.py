@@ -112,32 +112,29 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
         return math.inf, 0
     f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
 
-    def verdict(factor: float) -> int:
-        av = None if av_ms2 is None else factor * av_ms2
-        return simulate_scene(factor * ah_ms2, av, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
-                              settings=settings).verdict
+    def factors():
+        """The scan: from the lifting factor up to 1 (exclusive), then 1 itself, then up to the limit."""
+        x = f
+        while x < 1.0:
+            yield x
+            x *= 1.0 + settings.margin_step
+        yield 1.0
+        x = 1.0 + settings.margin_step
+        while x <= settings.margin_max_factor:
+            yield x
+            x *= 1.0 + settings.margin_step
 
     runs = 0
-    while f < 1.0:
-        runs += 1
-        v = verdict(f)
-        if v != 0:                      # overturns, or free flight: no verdict above this factor
-            return (f if v == 1 else math.nan), runs
-        f *= 1.0 + settings.margin_step
-    if overturns_at_one is None:
-        runs += 1
-        v = verdict(1.0)
-    else:
-        v = int(overturns_at_one)
-    if v != 0:
-        return (1.0 if v == 1 else math.nan), runs
-    f = 1.0 + settings.margin_step
-    while f <= settings.margin_max_factor:
-        runs += 1
-        v = verdict(f)
-        if v != 0:
-            return (f if v == 1 else math.nan), runs
-        f *= 1.0 + settings.margin_step
+    for factor in factors():
+        if factor == 1.0 and overturns_at_one is not None:
+            v = int(overturns_at_one)                   # the unscaled scene's verdict is known
+        else:
+            runs += 1
+            av = None if av_ms2 is None else factor * av_ms2
+            v = simulate_scene(factor * ah_ms2, av, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
+                               settings=settings).verdict
+        if v != 0:                      # overturns; or free flight: no verdict at or above this factor
+            return (factor if v == 1 else math.nan), runs
     return math.inf, runs
 
 

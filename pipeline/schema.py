@@ -22,6 +22,11 @@ from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
+#: Yes / no values that can be missing (-1), and yes / no values that cannot.
+TRISTATE = {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}
+TRUE_FALSE = {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}
+#: The pulse class of a record (Shahi & Baker 2014).
+PULSE_CLASS = {"flag_values": FLAG3, "flag_meanings": "unavailable non_pulse pulse_like"}
 
 
 class VerdictSource(IntEnum):
@@ -56,7 +61,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "screened_utc": (("record",), None, "UTC time the record was screened (ISO 8601); older than the run "
                      "when its results were reused", {}),
     "source_present": (("record",), None, "the record's files were in the records directory at this run",
-                       {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true",
+                       {**TRUE_FALSE,
                         "comment": "false: the files vanished; the results of the last run that saw them "
                                    "are kept"}),
     "dt": (("record",), "s", "sampling interval", {}),
@@ -64,21 +69,20 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "duration": (("record",), "s", "record duration", {}),
     "n_horizontal": (("record",), "1", "number of horizontal components (-1: not read)", {}),
     "has_vertical": (("record",), None, "record has a vertical component",
-                     {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                     TRISTATE),
     "azimuth_known": (("record",), None, "absolute azimuth of the horizontals is known",
-                      {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                      TRISTATE),
     "processing_level": (("record",), None, "delivery level: corrected or uncorrected", {}),
     "pga": (("record",), "m s-2", "peak ground acceleration, peak of the horizontal vector", {}),
     "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector", {}),
     # pulses (Shahi & Baker 2014), per record, at the chosen candidate's orientation
     "is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
-                 {"flag_values": np.array([-1, 0, 1], dtype="i1"),
-                  "flag_meanings": "unavailable non_pulse pulse_like"}),
+                 PULSE_CLASS),
     "pulse_indicator": (("record",), "1", "pulse indicator PI of the chosen candidate (pulse-like if > 0)", {}),
     "pulse_period": (("record",), "s", "pulse period Tp of the first pulse-like candidate", {}),
     "pulse_azimuth": (("record",), "degree", "axis of the chosen pulse, clockwise from north, modulo 180", {}),
     "pulse_late": (("record",), None, "chosen pulse arrives late (Shahi & Baker 2014 rule)",
-                   {"flag_values": np.array([-1, 0, 1], dtype="i1"), "flag_meanings": "unavailable early late"}),
+                   {"flag_values": FLAG3, "flag_meanings": "unavailable early late"}),
     "pulse_ap": (("record",), "m s-2", "peak acceleration of the dominant lobe of the extracted pulse", {}),
     "pulse_tp": (("record",), "s", "duration of the dominant acceleration lobe of the extracted pulse", {}),
     "pulse_beta": (("record",), "1", "fullness factor dv / (a_p t_p) of the dominant lobe", {}),
@@ -96,17 +100,17 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_record_ap": (("record", "block"), "m s-2", "record peak acceleration during the lobe, block direction", {}),
     # the reference paper's criterion per (record, block) scene (pipeline.criteria)
     "uplift": (("record", "block"), None, "pulse peak acceleration reaches the uplift acceleration (Eq. 1)",
-               {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+               TRISTATE),
     "velocity_ratio": (("record", "block"), "1", "pulse velocity increment over the critical velocity (Eqs. 4-5)",
                        {"comment": "the paper's energy criterion holds where this is >= 1"}),
     "energy_ratio": (("record", "block"), "1", "pulse kinetic energy over the energy that overturns, "
                      "(|dv| / v_crit)^2", {}),
     "overturn_criterion": (("record", "block"), None,
                            "overturning by the paper's criterion: uplift, velocity ratio >= 1, below the sliding line",
-                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                           {**TRISTATE,
                             "comment": "not_evaluated: no pulse, or block too squat for pure rocking"}),
     "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
-                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                           TRISTATE),
     "criterion_scale": (("record", "block"), "1",
                         "smallest factor on the record that reaches the criterion's overturning boundary",
                         {"comment": "inf where the scaled pulse crosses the sliding line first"}),
@@ -122,10 +126,10 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                           "pulse peak over the Makris & Roussos (2000) half-sine minimum at the same duration", {}),
     "overturn_closed_form": (("record", "block"), None,
                              "overturning of the equivalent half-sine pulse (Makris & Roussos 2000 eq. 27)",
-                             {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                             TRISTATE),
     # the run's verdict at its fidelity tier (config [fidelity])
     "overturn": (("record", "block"), None, "overturning verdict at the run's fidelity: the simulation's where it "
-                 "ran, else the criterion's", {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                 "ran, else the criterion's", {**TRISTATE,
                                                "comment": "not_evaluated also where the ground's g + a_v reached 0 "
                                                           "before any overturning (response free_flight)"}),
     "verdict_source": (("record", "block"), None, "model behind the verdict 'overturn'",
@@ -140,7 +144,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                              "result is not to be trusted. free_flight: the ground's g + a_v reached 0 before "
                              "any overturning; the contact model stops there and gives no verdict"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
-                           {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                           {**TRISTATE,
                             "comment": "scenes proven at rest are false without integration; not_evaluated: "
                                        "not simulated, or free flight before any overturning"}),
     "theta_max": (("record", "block"), "1", "peak rotation over alpha, max |theta| / alpha", {}),
@@ -150,7 +154,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                       "time |theta| reached pi/2, or end of the record when the free motion escapes", {}),
     "friction_demand": (("record", "block"), "1", "peak |f_x / f_z| along the rocking trajectory", {}),
     "friction_exceeded": (("record", "block"), None, "friction demand of pure rocking exceeded mu",
-                          {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                          TRISTATE),
     "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground", {}),
     "free_flight": (("record", "block"), None, "loss of contact with the base",
                     {**flags(FreeFlight),
@@ -207,11 +211,11 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "margin_simulations": (("block",), "1", "scenes simulated by the margin scan (-1: none)", {}),
     "overturns_below_nominal": (("block",), None, "the governing scene stands, yet a smaller factor on the "
                                 "record overturns the block (margin below 1)",
-                                {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true",
+                                {**TRISTATE,
                                  "comment": "overturning is not monotonic in amplitude: a window of overturning "
                                             "below the nominal amplitude"}),
     "rocking_applicable": (("block",), None, "pure-rocking model applies (Housner e > 0, alpha < 54.7 deg)",
-                           {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}),
+                           TRUE_FALSE),
 }
 
 COMPONENTS = ("h1", "h2", "v")
@@ -239,15 +243,11 @@ def entry(name: str, table: dict | None = None) -> tuple | None:
 def apply_schema(ds: xr.Dataset, table: dict | None = None) -> xr.Dataset:
     """Attach units, long names and flags from ``table`` (default :data:`SCHEMA`) to every known variable
     and coordinate."""
-    table = SCHEMA if table is None else table
-    names = set(table) | {str(n) for n in ds.variables if table is SCHEMA and str(n).startswith(INVENTORY_PREFIX)}
-    for name in names:
-        _, units, long_name, extra = entry(name, table) or ((), None, "", {})
-        if name in ds.variables:
-            attrs = {"long_name": long_name, **extra}
-            if units is not None:
-                attrs["units"] = units
-            ds[name].attrs.update(attrs)
+    for name in ds.variables:
+        found = entry(str(name), table)
+        if found is not None:
+            _, units, long_name, extra = found
+            ds[name].attrs.update({"long_name": long_name, **extra, **({"units": units} if units else {})})
     return ds
 
 
@@ -292,8 +292,6 @@ def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
     return problems
 
 
-TRUE_FALSE = {"flag_values": np.array([0, 1], dtype="i1"), "flag_meanings": "false true"}
-
 #: ``chart.nc`` (``screen chart``): the stability chart of one block and, optionally, records as points.
 CHART: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "period": (("period",), "s", "pulse period T = 2 t_p", {"standard_name": "period"}),
@@ -324,9 +322,9 @@ CHART: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                        {}),
     "record_normalized_duration": (("record",), "1", "pulse lobe duration over the transition duration", {}),
     "record_overturn_criterion": (("record",), None, "overturning by the paper's criterion",
-                                  {"flag_values": FLAG3, "flag_meanings": "not_evaluated false true"}),
+                                  TRISTATE),
     "record_is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
-                        {"flag_values": FLAG3, "flag_meanings": "unavailable non_pulse pulse_like"}),
+                        PULSE_CLASS),
 }
 
 _INFER_DIMS = ("observation", "azimuth", "duration", "acceleration")

@@ -204,7 +204,7 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
 ORIENTATION = {m.name: m.value for m in Orientation}
 
 
-def simulation_mask(block_values: dict, inventory: Inventory, config: Config) -> np.ndarray:
+def simulation_mask(inventory: Inventory, config: Config) -> np.ndarray:
     """Blocks the fidelity tier sends to the simulator for one record (``config.fidelity``).
 
     ``criterion``: none. ``full`` and ``reference``: all; the planner then integrates nothing
@@ -287,7 +287,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         values["screened_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
         pulse_values, block_values, series, directions = pulses_and_directions(rec, task_ctx)
         values.update(pulse_values)
-        mask = simulation_mask(block_values, inv, ctx.config)
+        mask = simulation_mask(inv, ctx.config)
         block_values.update(_simulation_values(rec, directions, task_ctx, mask))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())

@@ -37,14 +37,15 @@ def format_table() -> tuple[tuple[str, Callable[[str], bool]], ...]:
         from obspy.core.util.base import WAVEFORM_PREFERRED_ORDER as preferred
     except ImportError:  # pragma: no cover - older obspy
         preferred = []
-    names = [ep.name for ep in entry_points(group="obspy.plugin.waveform")]
+    installed = entry_points()                 # one pass over the installed distributions, then selections
+    names = [ep.name for ep in installed.select(group="obspy.plugin.waveform")]
     order = [n for n in OWN_FORMATS if n in names] + [n for n in preferred if n in names]
     order += [n for n in names if n not in order]
     table = []
     for name in order:
         if name in UNSAFE_FORMATS:
             continue
-        found = [ep for ep in entry_points(group=f"obspy.plugin.waveform.{name}") if ep.name == "isFormat"]
+        found = list(installed.select(group=f"obspy.plugin.waveform.{name}", name="isFormat"))
         if not found:
             continue
         try:

@@ -54,23 +54,30 @@ class RecordSource:
     formats: tuple[str, ...]
     #: obspy format of each file, aligned with ``files`` (detected by content at the scan)
     file_formats: tuple[str, ...] = ()
+    #: SHA-256 of each file's bytes, aligned with ``files`` (taken at the scan, so a run reads them once)
+    file_sha256: tuple[str, ...] = ()
 
     def format_of(self, path: str) -> str | None:
         """The detected format of one of the files, or None (detect again)."""
         return dict(zip(self.files, self.file_formats)).get(path)
 
     def digest(self) -> str:
-        """SHA-256 over the names and content of the files (for re-run detection)."""
+        """SHA-256 over the names and content of the files (for re-run detection), from the byte digests
+        taken at the scan when there are any; a file that vanished since is an error."""
         try:
-            return files_sha256(self.files)
+            for f in self.files:
+                os.stat(f)
+            return files_sha256(self.files, byte_digests=dict(zip(self.files, self.file_sha256)))
         except OSError as exc:
             raise RecordFormatError(f"{exc.filename}: the file vanished or became unreadable after the records "
                                     f"directory was scanned ({exc.strerror}); re-run when the directory "
                                     "is stable") from None
 
 
-def files_sha256(paths) -> str:
-    """SHA-256 over the names and bytes of ``paths``, in sorted order ("" for none).
+def files_sha256(paths, *, byte_digests: dict[str, str] | None = None) -> str:
+    """SHA-256 over the names and the bytes' SHA-256 of ``paths``, in sorted order ("" for none).
+
+    ``byte_digests`` gives the bytes' digests already taken (path -> hex); the other files are read.
 
     Raises
     ------
@@ -80,10 +87,11 @@ def files_sha256(paths) -> str:
     paths = sorted(str(p) for p in paths)
     if not paths:
         return ""
+    known = byte_digests or {}
     h = hashlib.sha256()
     for f in paths:
         h.update(Path(f).name.encode())
-        h.update(Path(f).read_bytes())
+        h.update((known.get(f) or _bytes_sha256(f)).encode())
     return h.hexdigest()
 
 
@@ -249,9 +257,10 @@ def scan_directory(root: str | Path, *, config: ReaderSettings) -> Scan:
     not_records = []
     files = _record_files(root)
     for path in files:
-        fmt = detect_format(path) if path.stat().st_size > 0 else None
+        empty = path.stat().st_size == 0
+        fmt = None if empty else detect_format(path)
         if fmt is None and not looks_like_a_record(path):
-            if path.stat().st_size == 0:
+            if empty:
                 not_records.append((str(path), "empty file"))
             else:
                 not_records.append((str(path), "no reader recognises its content (not AT2, COSMOS, CSMIP/DMG, "
@@ -291,12 +300,17 @@ def scan_directory(root: str | Path, *, config: ReaderSettings) -> Scan:
     kept, duplicates = [], []
     first_with: dict[tuple, str] = {}
     for s in unique:
-        content = tuple(sorted(_bytes_sha256(f) for f in s.files))
+        try:
+            hashes = tuple(_bytes_sha256(f) for f in s.files)
+        except OSError:                         # vanished since: the plan reports it with the reason
+            kept.append(s)
+            continue
+        content = tuple(sorted(hashes))
         if content in first_with:
             duplicates.append((first_with[content], s.record_id, s.files))
             continue
         first_with[content] = s.record_id
-        kept.append(s)
+        kept.append(RecordSource(s.record_id, s.files, s.formats, s.file_formats, hashes))
     return Scan(kept, failures, not_records, len(files), duplicates)
 
 

@@ -7,6 +7,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def project(rows: np.ndarray, azimuth0_deg: float, azimuth_deg: float) -> np.ndarray:
+    """Horizontal motion in the vertical plane of ``azimuth_deg``: a1 cos(phi - phi1) + a2 sin(phi - phi1),
+    from one or two horizontals (``rows``, the second 90 deg clockwise of the first, which points to
+    ``azimuth0_deg``). One horizontal is returned as it is, whatever the azimuth."""
+    if rows.shape[0] == 1:
+        return rows[0]
+    phi = np.deg2rad(azimuth_deg - azimuth0_deg)
+    return np.cos(phi) * rows[0] + np.sin(phi) * rows[1]
+
+
 @dataclass
 class Record:
     """One station recording in SI units, ready for screening.
@@ -82,10 +92,7 @@ class Record:
         return self._project(self._velocity(), azimuth_deg)
 
     def _project(self, rows: np.ndarray, azimuth_deg: float) -> np.ndarray:
-        if self.single_component:
-            return rows[0]
-        phi = np.deg2rad(azimuth_deg - self.azimuths_deg[0])
-        return np.cos(phi) * rows[0] + np.sin(phi) * rows[1]
+        return project(rows, self.azimuths_deg[0], azimuth_deg)
 
     def pgv_ms(self) -> float:
         """Peak of the horizontal velocity vector [m s-1]."""

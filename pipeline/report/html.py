@@ -196,6 +196,7 @@ def _data_uri(png: bytes) -> str:
 def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False,
                  cache: FigureCache | None = None) -> list[dict]:
     """One row per record; the velocity figure for pulse-like records (every record with ``all_figures``)."""
+    cache = cache or FigureCache(None)
     series = {}
     if pulses is not None:
         for k, (rid, rows_k) in enumerate(ragged_rows(pulses, "record_id").items()):
@@ -214,7 +215,6 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
                "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}
         if rid in series and (all_figures or is_pulse == 1):
             v, p, dt = series[rid]
-            cache = cache or FigureCache(None)
             row["figure"] = _data_uri(cache.get("pulse", lambda v=v, p=p, dt=dt, rid=rid: figures.pulse_figure(
                 v, p, dt, title=rid), v, p, np.array([dt]), title=rid))
         rows.append(row)

@@ -505,7 +505,7 @@ def slide(ah, av, dt, mu, g):
     -------
     tuple
         (peak |u| [m], final u [m], number of slip episodes, time slipping [s],
-        free flight met (bool))
+        time the ground's g + a_v reached 0 [s] (NaN: never; the integration stops there))
     """
     n = ah.shape[0]
     has_v = av.shape[0] == n
@@ -515,7 +515,7 @@ def slide(ah, av, dt, mu, g):
     u_max = 0.0
     n_slips = 0
     t_slip = 0.0
-    flight = False
+    t_flight = math.nan
     for k in range(n - 1):
         a0, a1 = ah[k], ah[k + 1]
         v0 = av[k] if has_v else 0.0
@@ -523,7 +523,7 @@ def slide(ah, av, dt, mu, g):
         if g + v0 <= 0.0 or g + v1 <= 0.0:
             # the ground falls faster than gravity: no normal force, no friction, and the Coulomb
             # model holds no further (the caller reports the scene as free flight)
-            flight = True
+            t_flight = (k + _flight_fraction(v0, v1, g)) * dt
             break
         x = 0.0                                   # position in the sample, in [0, dt]
         guard = 0
@@ -572,7 +572,7 @@ def slide(ah, av, dt, mu, g):
                 n_slips += 1
             else:
                 slipping = False
-    return u_max, u, n_slips, t_slip, flight
+    return u_max, u, n_slips, t_slip, t_flight
 
 
 @jit

@@ -38,6 +38,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
+from ..records.record import project
 from .planner import RESPONSE, REST_SCENE, Scene, demand_ratio, motion_threshold, simulate_scene
 from .settings import SimulationConfig
 
@@ -79,6 +80,7 @@ class Planes:
         self.g = g_ms2
         self._along: dict[float, np.ndarray] = {}
         self._ratio: dict[float, float] = {}
+        self._vector_ratio: float | None = None
 
     @staticmethod
     def key(azimuth_deg: float) -> float:
@@ -89,11 +91,7 @@ class Planes:
         """Horizontal acceleration in the plane of ``azimuth_deg`` [m s-2]."""
         k = self.key(azimuth_deg)
         if k not in self._along:
-            if self.h.shape[0] == 1:
-                self._along[k] = self.h[0]
-            else:
-                phi = math.radians(float(azimuth_deg) - self.az0)
-                self._along[k] = math.cos(phi) * self.h[0] + math.sin(phi) * self.h[1]
+            self._along[k] = project(self.h, self.az0, float(azimuth_deg))
         return self._along[k]
 
     def ratio(self, azimuth_deg: float) -> float:
@@ -104,9 +102,11 @@ class Planes:
         return self._ratio[k]
 
     def vector_ratio(self) -> float:
-        """max_t |a_vec(t)| / (g + a_v(t)): no plane's demand ratio exceeds it (exact certificate)."""
-        mag = np.sqrt(np.sum(self.h ** 2, axis=0))
-        return demand_ratio(mag, self.vertical, g_ms2=self.g)
+        """max_t |a_vec(t)| / (g + a_v(t)): no plane's demand ratio exceeds it (exact certificate; computed
+        once per record, asked once per block)."""
+        if self._vector_ratio is None:
+            self._vector_ratio = demand_ratio(np.sqrt(np.sum(self.h ** 2, axis=0)), self.vertical, g_ms2=self.g)
+        return self._vector_ratio
 
 
 @dataclass(frozen=True)

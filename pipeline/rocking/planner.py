@@ -116,8 +116,10 @@ def uses_vertical(av_ms2: np.ndarray | None, *, g_ms2: float, vertical_fraction:
     """
     if av_ms2 is None:
         return False
+    if vertical_fraction <= 0.0:            # the default: no pass over the samples
+        return True
     peak = float(np.max(np.abs(av_ms2)))
-    return vertical_fraction <= 0.0 or peak > vertical_fraction * g_ms2 or peak >= g_ms2
+    return peak > vertical_fraction * g_ms2 or peak >= g_ms2
 
 
 def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: float, g_ms2: float = G,
@@ -205,7 +207,7 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
         res = slide(ah_ms2, dt_s, mu=mu, av_ms2=av_ms2 if use_v else None, g_ms2=g_ms2)
         if res.free_flight:
             return Scene(physics, RESPONSE["free_flight"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                         1, False, -1, _flight_time(av_ms2, dt_s, g_ms2))
+                         1, False, -1, res.t_flight_s)
         return Scene(physics, RESPONSE["slide"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                      0, False, -1)
     av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
@@ -231,11 +233,3 @@ def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, hi
                  res.friction_demand, math.nan, 1 if flight else (2 if res.liftoff else 0), res.chatter,
                  int(exceeded), res.t_stop if flight else math.nan, theta)
 
-
-def _flight_time(av_ms2, dt_s: float, g_ms2: float) -> float:
-    """First time g + a_v reaches 0 on the linearly interpolated vertical [s]."""
-    gv = g_ms2 + np.asarray(av_ms2, dtype=float)
-    k = int(np.argmax(gv <= 0.0))
-    if k == 0:
-        return 0.0
-    return (k - 1 + gv[k - 1] / (gv[k - 1] - gv[k])) * dt_s

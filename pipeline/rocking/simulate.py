@@ -83,15 +83,21 @@ class RockResult:
 class SlideResult:
     """Outcome of a Coulomb stick-slip simulation.
 
-    ``free_flight``: the ground's g + a_v reached 0; the simulation stopped at the start of that
-    sample interval (no normal force, no friction: the Coulomb model holds no further).
+    ``free_flight``: the ground's g + a_v reached 0 (at ``t_flight_s``); the simulation stopped
+    there (no normal force, no friction: the Coulomb model holds no further).
     """
 
     sliding_max_m: float
     sliding_end_m: float
     n_slips: int
     time_slipping_s: float
-    free_flight: bool
+    #: time the ground's g + a_v reached 0 [s], NaN when it never did
+    t_flight_s: float
+
+    @property
+    def free_flight(self) -> bool:
+        """The ground's g + a_v reached 0: the simulation stopped there."""
+        return not math.isnan(self.t_flight_s)
 
 
 def _series(name: str, a, n: int | None = None) -> np.ndarray:
@@ -195,5 +201,5 @@ def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> S
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
-    u_max, u_end, n_slips, t_slip, flight = kernel.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
-    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), bool(flight))
+    u_max, u_end, n_slips, t_slip, t_flight = kernel.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
+    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight))
