@@ -20,6 +20,11 @@ small vertical (``vertical_fraction``); and the margin scan step on each
 block's worst scene, against the finest step (the error columns are then
 relative margin differences).
 
+Finally the verdicts under declared uncertainty (``[uncertainty]``): the full tier's time
+without and with sampling, and how p_overturn converges with the number of samples (every
+scene drawn to exactly N samples, against the largest N; the error columns are then
+|p - p_largest|, and ``misses`` counts the scenes whose robustness class differs).
+
 Results: ``OUT/bench.csv``, ``OUT/bench.md`` and ``OUT/bench.png`` (error against
 time per scene). The records are held in memory for the whole run; use a
 representative sample, not a whole archive.
@@ -102,6 +107,8 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
     theta = np.full((len(scenes), nb), np.nan)
     planes = np.zeros((len(scenes), nb))
     azimuth = np.full((len(scenes), nb), np.nan)
+    prob = np.full((len(scenes), nb), np.nan)
+    robust = np.full((len(scenes), nb), np.nan)
     t = 0.0
     for i, s in enumerate(scenes):
         t0 = time.perf_counter()
@@ -112,8 +119,10 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
         theta[i] = sim["theta_max"]
         planes[i] = np.nan_to_num(sim["planes_simulated"])
         azimuth[i] = sim["governing_azimuth"]
+        prob[i] = sim["p_overturn"]
+        robust[i] = sim["robustness"]
     return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes,
-            "governing_azimuth": azimuth}, t
+            "governing_azimuth": azimuth, "p_overturn": prob, "robustness": robust}, t
 
 
 def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_pulse: np.ndarray) -> dict:
@@ -144,6 +153,8 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     """
     records_dir, out_dir = Path(records_dir), Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    sampled = config if config.uncertainty.samples > 0 else Config().with_tier(config.fidelity.tier)
+    config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
     scenes, t_common = _load(records_dir, inventory, config)
     is_pulse = np.array([s.is_pulse for s in scenes])
     n_scenes = len(scenes) * len(inventory)
@@ -163,6 +174,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
                      "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
     if settings_sweep:
         rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes)
+        rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes)
     _write(rows, out_dir)
     return rows
 
@@ -198,6 +210,46 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
                      "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
                      **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
     rows += _margin_sweep(scenes, inventory, full, ref)
+    return rows
+
+
+#: Largest numbers of samples compared in the convergence rows (the last is the yardstick).
+CONVERGENCE_SAMPLES = (10, 20, 40, 80)
+
+
+def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
+    """The probabilistic run's cost against the nominal one, and p_overturn against the number of samples.
+
+    Rows ``uncertainty`` / ``nominal`` and ``samples (the configuration)``: time of the full tier
+    without and with sampling (time includes the nominal simulation). Rows ``convergence``: every
+    scene drawn to exactly N samples (no early stop: one batch of N), compared with the largest N;
+    the error columns hold max / median |p - p_largest| and ``misses`` the scenes whose robustness
+    class differs from the largest N's.
+    """
+    full = config.with_tier("full")
+    _, t_nominal = _simulate(scenes, inventory, full.with_uncertainty(samples=0))
+    prob, t_prob = _simulate(scenes, inventory, full)
+    u = full.uncertainty
+    rows = [{"section": "uncertainty", "setting": "nominal (samples = 0)", "value": 0, "time_s": t_nominal,
+             "time_per_scene_us": 1e6 * t_nominal / n_scenes, "scenes": n_scenes},
+            {"section": "uncertainty", "setting": f"samples (batch {u.batch}, sequential stop)", "value": u.samples,
+             "time_s": t_prob, "time_per_scene_us": 1e6 * t_prob / n_scenes, "scenes": n_scenes,
+             "scenes_simulated": int(np.isfinite(prob["p_overturn"]).sum())}]
+    runs = {}
+    for n in CONVERGENCE_SAMPLES:
+        cfg = dataclasses.replace(full, uncertainty=dataclasses.replace(u, samples=n, batch=n))
+        runs[n] = _simulate(scenes, inventory, cfg)
+    best = runs[CONVERGENCE_SAMPLES[-1]][0]
+    for n in CONVERGENCE_SAMPLES:
+        sim, t = runs[n]
+        ok = np.isfinite(sim["p_overturn"]) & np.isfinite(best["p_overturn"])
+        d = np.abs(sim["p_overturn"][ok] - best["p_overturn"][ok])
+        rows.append({"section": "convergence", "setting": "samples per scene (no early stop)", "value": n,
+                     "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes, "scenes": n_scenes,
+                     "scenes_simulated": int(ok.sum()), "misses": int((sim["robustness"] != best["robustness"])[ok]
+                                                                     .sum()),
+                     "theta_error_max": float(d.max()) if d.size else np.nan,
+                     "theta_error_median": float(np.median(d)) if d.size else np.nan})
     return rows
 
 
@@ -248,7 +300,8 @@ def markdown(rows: list[dict]) -> str:
     fmt = lambda x, d=3: "" if x in ("", None) or (isinstance(x, float) and np.isnan(x)) else (  # noqa: E731
         f"{x:.{d}g}" if isinstance(x, float) else str(x))
     for r in rows:
-        mp = f"{r['misses']} ({r['misses_pulse']} / {r['misses_non_pulse']})" if "misses" in r else ""
+        mp = (f"{r['misses']} ({r['misses_pulse']} / {r['misses_non_pulse']})" if "misses_pulse" in r
+              else str(r.get("misses", "")))
         fa = (f"{r['false_alarms']} ({r['false_alarms_pulse']} / {r['false_alarms_non_pulse']})"
               if "false_alarms" in r else "")
         err = (f"{fmt(r.get('theta_error_max', ''))} / {fmt(r.get('theta_error_median', ''))}"

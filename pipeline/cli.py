@@ -55,6 +55,11 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
                          "reference (full at tight tolerances); 'screen bench' measures the cost and error of each")
     ex.add_argument("--force", action="store_true",
                     help="recompute every record and block (default: only what is new or changed)")
+    un = p.add_argument_group("uncertainty (config [uncertainty]; README, 'Robust verdicts')")
+    un.add_argument("--samples", type=int, metavar="N",
+                    help="largest number of samples per scene for p_overturn (default 40; 0: nominal verdicts "
+                         "only, no probability)")
+    un.add_argument("--seed", type=int, metavar="S", help="seed of the common random numbers (default 20261123)")
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
     _add_output_options(p)
@@ -89,6 +94,8 @@ def _config_and_inventory(args: argparse.Namespace):
     config = load_config(args.config)
     if getattr(args, "fidelity", None) is not None:
         config = config.with_tier(args.fidelity)
+    if getattr(args, "samples", None) is not None or getattr(args, "seed", None) is not None:
+        config = config.with_uncertainty(samples=args.samples, seed=args.seed, where="command line")
     return config, read_inventory(args.blocks, default_mu=config.blocks.default_mu)
 
 

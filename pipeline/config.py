@@ -22,8 +22,10 @@ from .errors import ConfigError
 from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
 from .records.settings import ProcessingConfig, RecordsConfig
 from .rocking.settings import SimulationConfig
+from .uncertainty.settings import UncertaintyConfig
 
-__all__ = ["Config", "ProcessingConfig", "RecordsConfig", "SimulationConfig", "config_from_dict", "load_config"]
+__all__ = ["Config", "ProcessingConfig", "RecordsConfig", "SimulationConfig", "UncertaintyConfig", "config_from_dict",
+           "load_config"]
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -121,6 +123,7 @@ class Config:
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
     fidelity: FidelityConfig = field(default_factory=FidelityConfig)
     infer: InferConfig = field(default_factory=InferConfig)
+    uncertainty: UncertaintyConfig = field(default_factory=UncertaintyConfig)
 
     def simulation_settings(self) -> SimulationConfig:
         """The integration settings of the fidelity tier (tight ones for ``reference``)."""
@@ -144,6 +147,21 @@ class Config:
             raise ConfigError(f"fidelity {tier!r}: valid tiers are {list(FIDELITY_TIERS)}")
         return dataclasses.replace(self, fidelity=dataclasses.replace(self.fidelity, tier=tier))
 
+    def with_uncertainty(self, *, where: str = "command line", **values) -> "Config":
+        """The same configuration with ``[uncertainty]`` keys replaced (``screen --samples``, ``--seed``).
+
+        Raises
+        ------
+        ConfigError
+            For a value outside its valid range (named, with the range).
+        """
+        current = self.uncertainty
+        checked = {k: _check_value("uncertainty", k, v, getattr(current, k), where) for k, v in values.items()
+                   if v is not None}
+        unc = dataclasses.replace(current, **checked)
+        _check_uncertainty(unc, where)
+        return dataclasses.replace(self, uncertainty=unc)
+
     def to_dict(self) -> dict:
         """Plain-data form (embedded in outputs, hashed for re-runs)."""
         return json.loads(json.dumps(dataclasses.asdict(self), default=list))
@@ -154,9 +172,31 @@ class Config:
 
 
 #: Float keys for which 0 is a valid value (it switches an approximation or a refinement off).
-ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation_refine_deg")}
+ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation_refine_deg"),
+                *(("uncertainty", k) for k in ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov",
+                                               "azimuth_sd_deg"))}
 #: Float keys limited to a range.
-RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0)}
+RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0),
+          ("uncertainty", "azimuth_sd_deg"): (0.0, 45.0), ("uncertainty", "confidence"): (0.5, 0.999),
+          ("uncertainty", "robust_below"): (0.001, 0.5), ("uncertainty", "robust_above"): (0.5, 0.999)}
+#: Spreads (coefficients of variation): valid in [0, 1); a cov of 1 or more is not a measurement uncertainty.
+COV_KEYS = ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov")
+#: Largest number of samples per scene.
+MAX_SAMPLES = 100000
+
+
+def _check_uncertainty(u: UncertaintyConfig, where: str) -> None:
+    """Ranges of the ``[uncertainty]`` section that the generic checks cannot express."""
+    for key in COV_KEYS:
+        v = getattr(u, key)
+        if not 0.0 <= v < 1.0:
+            raise ConfigError(f"{where}: [uncertainty] {key} = {v!r}: expected a coefficient of variation in "
+                              "[0, 1) (0: no uncertainty on it; 0.05 is a 5 % spread)")
+    if not 0 <= u.samples <= MAX_SAMPLES:
+        raise ConfigError(f"{where}: [uncertainty] samples = {u.samples!r}: expected an integer in "
+                          f"[0, {MAX_SAMPLES}] (0: nominal verdicts only)")
+    if u.batch < 1:
+        raise ConfigError(f"{where}: [uncertainty] batch = {u.batch!r}: expected a positive integer")
 
 #: Keys whose string values are limited to a set.
 CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {
@@ -253,6 +293,7 @@ def config_from_dict(data: dict, *, where: str = "<config>") -> Config:
             if k in choices and v not in choices[k]:
                 raise ConfigError(f"{where}: [{name}] {k} = {v!r}; valid: {list(choices[k])}")
         kwargs[name] = dataclasses.replace(current, **values)
+    _check_uncertainty(kwargs["uncertainty"], where)
     return Config(**kwargs)
 
 

@@ -21,6 +21,11 @@ largest max |theta| / alpha, then the largest velocity ratio of the paper's crit
   overturns up to ``simulation.margin_max_factor``; NaN that the rocking
   model does not apply, or that the scaled record reaches free flight
   (g + a_v <= 0) before any overturning;
+* ``p_overturn_governing``: the fraction of the samples that overturn at factor 1 on the
+  governing record (its scene's ``p_overturn``);
+* ``overturn_scale_median`` (with ``uncertainty.margin_samples`` > 0): the median, over that
+  many samples of the block and the record's amplitude (common random numbers), of the
+  simulated margin on the governing record; each sample costs a whole margin scan;
 * theta(t) / alpha of the governing scene for the assets at risk, for the report.
 
 References
@@ -43,6 +48,7 @@ from .records.loader import RecordSource
 from .rocking.planner import rocks, simulate_scene
 from .schema import HISTORY_SERIES, apply_schema
 from .screening import Context
+from .uncertainty.sampling import common_normals, sample_block
 
 log = logging.getLogger(__name__)
 
@@ -146,11 +152,33 @@ def theta_history(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: flo
     return sc.theta_over_alpha
 
 
+def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, settings, unc,
+                    g_ms2: float) -> tuple[np.ndarray, int]:
+    """The simulated margin of the first ``unc.margin_samples`` samples of block ``j`` (common random
+    numbers), as factors on the *nominal* record: the sampled block's scan on the record scaled by the
+    sample's amplitude factor, times that factor. Returns the margins and the scenes simulated."""
+    n = unc.margin_samples
+    if n <= 0:
+        return np.zeros(0), 0
+    sb = sample_block(common_normals(unc.seed, n), height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
+                      mu=float(inv.mu[j]), restitution=float(inv.restitution[j]), azimuth_deg=math.nan,
+                      settings=unc, g_ms2=g_ms2)
+    out, runs = np.full(n, np.nan), 0
+    for k in range(n):
+        eps = float(sb.amplitude[k])
+        av = None if av_ms2 is None else eps * av_ms2
+        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, p=float(sb.p[k]), alpha=float(sb.alpha[k]),
+                                            e=float(sb.e[k]), R_m=float(sb.R_m[k]), mu=float(sb.mu[k]),
+                                            g_ms2=g_ms2, settings=settings)
+        out[k], runs = scale * eps, runs + r
+    return out, runs
+
+
 def margin_task(item: tuple, ctx: Context) -> dict:
     """One record and the blocks it governs: their margins and, for those at risk, theta(t)/alpha.
 
     ``item`` is ``(source, [(block_id, direction_deg, overturned, want_history), ...])``.
-    Returns ``{block_id: (scale, runs, history or None, dt_s)}``, or ``{"error": reason}``.
+    Returns ``{block_id: (scale, runs, history or None, dt_s, sampled margins)}``, or ``{"error": reason}``.
     """
     source, blocks = item
     cfg = ctx.config
@@ -167,7 +195,9 @@ def margin_task(item: tuple, ctx: Context) -> dict:
         kw = dict(params[index[block_id]], settings=cfg.simulation_settings())
         scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, overturns_at_one=overturned, **kw)
         history = theta_history(ah, rec.vertical_ms2, rec.dt_s, **kw) if want_history else None
-        out[block_id] = (scale, runs, history, rec.dt_s)
+        sampled, more = sampled_margins(ah, rec.vertical_ms2, rec.dt_s, j=index[block_id], inv=inv,
+                                        settings=kw["settings"], unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
+        out[block_id] = (scale, runs + more, history, rec.dt_s, sampled)
     return out
 
 
@@ -199,6 +229,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     governing = np.array([record_ids[i] if i >= 0 else "" for i in rec_index], dtype=object)
     crit_scale = np.where(rec_index >= 0, ds["criterion_scale"].values[r, cols], np.nan)
     sim_scale = np.full(nb, np.nan)
+    median_scale = np.full(nb, np.nan)
     runs = np.full(nb, -1, dtype="i4")
     histories: dict[str, tuple] = {}
     items: dict[str, list] = {}
@@ -207,8 +238,10 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     digest = dict(zip(block_ids, ds["block_sha256"].values.tolist()))
 
     def keep(j: int, rid: str, value: tuple) -> None:
-        scale, n, history, dt = value
+        scale, n, history, dt, sampled = value
         sim_scale[j], runs[j] = scale, n
+        finite = np.asarray(sampled)[~np.isnan(sampled)]
+        median_scale[j] = float(np.median(finite)) if finite.size else np.nan
         if history is not None:
             histories[block_ids[j]] = (history, dt, rid)
 
@@ -245,6 +278,9 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     ds["overturn_scale"] = (("block",), crit_scale)
     ds["overturn_scale_simulated"] = (("block",), sim_scale)
     ds["margin_simulations"] = (("block",), runs)
+    ds["overturn_scale_median"] = (("block",), median_scale)
+    p_gov = ds["p_overturn"].values[r, cols] if "p_overturn" in ds else np.full(nb, np.nan)
+    ds["p_overturn_governing"] = (("block",), np.where(rec_index >= 0, p_gov, np.nan))
     standing = np.where(rec_index >= 0, ds["overturn_simulated"].values[r, cols] == 0, False)
     below = np.where(np.isfinite(sim_scale), standing & (sim_scale < 1.0), False)
     ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(sim_scale), -1, below).astype("i1"))

@@ -20,6 +20,7 @@ import xarray as xr
 from .criteria import Onset
 from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
+from .uncertainty.robust import Robustness
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
 #: Yes / no values that can be missing (-1), and yes / no values that cannot.
@@ -173,6 +174,29 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                 "scanned_relative: the same on a record of unknown absolute azimuth"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
+    # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)
+    "p_overturn": (("record", "block"), "1", "probability of overturning under the declared uncertainty: fraction "
+                   "of the samples with a verdict that overturn",
+                   {"comment": "samples: lognormal factors (median 1) on the record's amplitude, restitution, "
+                               "friction, height and width, normal scatter of a given azimuth (the file's "
+                               "uncertainty_* attributes); common random numbers across records and blocks. "
+                               "NaN: not sampled (samples = 0, criterion tier) or no sample had a verdict"}),
+    "p_overturn_low": (("record", "block"), "1", "lower bound of the two-sided Wilson interval on p_overturn",
+                       {"comment": "confidence: [uncertainty] confidence (default 0.90)"}),
+    "p_overturn_high": (("record", "block"), "1", "upper bound of the two-sided Wilson interval on p_overturn",
+                        {}),
+    "robustness": (("record", "block"), None, "how firmly the declared uncertainty decides the verdict",
+                   {**flags(Robustness),
+                    "comment": "robust_stand: interval below [uncertainty] robust_below; robust_overturn: above "
+                               "robust_above; sensitive: otherwise (the verdict can flip under the declared "
+                               "uncertainty). Sampling stops once the interval decides the class"}),
+    "samples_drawn": (("record", "block"), "1", "samples drawn for the scene (sequential stop; -1: not sampled)",
+                      {}),
+    "samples_overturned": (("record", "block"), "1", "samples that overturned (-1: not sampled)", {}),
+    "samples_free_flight": (("record", "block"), "1", "samples without a verdict: the ground's g + a_v reached 0 "
+                            "before any overturning (-1: not sampled)", {}),
+    "sample_simulations": (("record", "block"), "1", "rocking or sliding planes integrated over the samples "
+                           "(samples proven at rest cost none; -1: not sampled)", {}),
     # per record and component
     "component_code": (("record", "component"), None, "channel or component code in the file", {}),
     "component_azimuth": (("record", "component"), "degree", "component azimuth clockwise from north", {}),
@@ -208,7 +232,14 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                              "(overturns_below_nominal). inf: none up to "
                                              "simulation.margin_max_factor; NaN: the rocking model does not apply "
                                              "(the block slides or is squat), free flight, or no record"}),
-    "margin_simulations": (("block",), "1", "scenes simulated by the margin scan (-1: none)", {}),
+    "margin_simulations": (("block",), "1", "scenes simulated by the margin scan, sampled scans included "
+                           "(-1: none)", {}),
+    "p_overturn_governing": (("block",), "1", "fraction of the samples that overturn on the governing record at "
+                             "factor 1 (its scene's p_overturn)", {"comment": "NaN: not sampled"}),
+    "overturn_scale_median": (("block",), "1", "median over uncertainty.margin_samples samples (block and "
+                              "amplitude, common random numbers) of the simulated margin on the governing record",
+                              {"comment": "as a factor on the nominal record; NaN: not computed "
+                                          "(uncertainty.margin_samples = 0) or no sample in the rocking model"}),
     "overturns_below_nominal": (("block",), None, "the governing scene stands, yet a smaller factor on the "
                                 "record overturns the block (margin below 1)",
                                 {**TRISTATE,

@@ -9,7 +9,9 @@ grow with the number of records.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +30,8 @@ from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
+from .uncertainty.sampling import common_normals
+from .uncertainty.scenes import NOT_EVALUATED, motion, scene_probability
 
 log = logging.getLogger(__name__)
 
@@ -193,12 +197,17 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
 
 #: Integer variables that are counts rather than flags (-1: not evaluated).
 INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
-                  "margin_simulations": "i4", "pulse_candidate": "i1"}
+                  "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
+                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4"}
 
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
                    "governing_azimuth", "orientation", "planes_simulated")
+
+#: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
+PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
+                    "samples_overturned", "samples_free_flight", "sample_simulations")
 
 #: How the rocking plane of a scene was chosen (the ``orientation`` flag).
 ORIENTATION = {m.name: m.value for m in Orientation}
@@ -240,7 +249,9 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     inv, cfg = ctx.inventory, ctx.config
     params = inv.scene_params(g_ms2=cfg.records.g_ms2)
     nb = len(inv)
-    out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS}
+    out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS + PROBABILITY_VARS}
+    unc = cfg.uncertainty
+    z = common_normals(unc.seed, unc.samples) if scan and unc.samples > 0 else None
     settings = cfg.simulation_settings()
     step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
     grid = plane_grid(step)
@@ -259,6 +270,19 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
                "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
+        prob = NOT_EVALUATED
+        if z is not None:
+            given = code != ORIENTATION["scanned"] and code != ORIENTATION["scanned_relative"]
+            m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s,
+                       planes_deg=None if given else azimuths)
+            prob = scene_probability(m, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
+                                     mu=float(inv.mu[j]), restitution=float(inv.restitution[j]),
+                                     azimuth_deg=azimuths[0] if given else math.nan, settings=unc,
+                                     simulation=settings, g_ms2=cfg.records.g_ms2)
+        row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
+                    "robustness": prob.robustness, "samples_drawn": prob.drawn,
+                    "samples_overturned": prob.overturned, "samples_free_flight": prob.free_flight,
+                    "sample_simulations": prob.simulations})
         for n, v in row.items():
             out[n][j] = v
     return out
@@ -325,7 +349,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
     position = {b: k for k, b in enumerate(inventory.ids)}
     nb = len(inventory)
-    for name in PULSE_BLOCK_VARS + SIMULATION_VARS:
+    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS:
         arr = np.full((len(results), nb), np.nan)
         for i, r in enumerate(results):
             if name in r.blocks:
@@ -383,6 +407,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         "Conventions": "CF-1.11",
         "title": "rockscreen overturning screening of free-standing rigid blocks",
         "source": f"rockscreen {__version__}",
+        **{f"uncertainty_{k}": v for k, v in dataclasses.asdict(config.uncertainty).items()},
         **(attrs or {}),
     })
     return ds

@@ -28,8 +28,9 @@ def data_dir() -> Path:
 
 @pytest.fixture(scope="session")
 def config() -> Config:
-    """The default configuration."""
-    return Config()
+    """The default configuration with nominal verdicts only (samples = 0): the tests of the
+    probabilistic default (tests/test_uncertainty.py) build their own."""
+    return Config().with_uncertainty(samples=0)
 
 
 @pytest.fixture(scope="session")

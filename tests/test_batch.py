@@ -43,7 +43,7 @@ def assert_same_results(a: xr.Dataset, b: xr.Dataset) -> None:
 
 
 def screen(records, blocks, out, *extra) -> int:
-    return main(["--records", str(records), "--blocks", str(blocks), "--out", str(out),
+    return main(["--samples", "0", "--records", str(records), "--blocks", str(blocks), "--out", str(out),
                  "--tolerate-failures", *map(str, extra)])
 
 
@@ -269,7 +269,7 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
     cfg.write_text('[criteria]\nform = "small_angle"\n')       # a new run key: every record is screened again
     cache = out / ".rockscreen" / "cache"
     old_entries = set(cache.glob("*.npz"))
-    cmd = [sys.executable, "-m", "pipeline", "--records", str(recs), "--blocks", str(blocks_csv),
+    cmd = [sys.executable, "-m", "pipeline", "--samples", "0", "--records", str(recs), "--blocks", str(blocks_csv),
            "--out", str(out), "--config", str(cfg), "--tolerate-failures"]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
@@ -436,7 +436,8 @@ def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(f
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     (few_records / "knet" / "test.knet").write_bytes(b"\x00garbage\x00" * 10)
-    assert main(["--records", str(few_records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
+    assert main(["--samples", "0",
+                 "--records", str(few_records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
     ds = open_results(out / "screening.nc")
     assert list(ds.record.values).count("test") == 1
     status = ds.status.sel(record="test").item()

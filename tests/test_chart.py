@@ -24,7 +24,7 @@ def screened(tmp_path_factory, records_dir, blocks_csv):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(records_dir / rel, root / rel)
     out = tmp_path_factory.mktemp("out")
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     return root, out / "screening.nc"
 
 

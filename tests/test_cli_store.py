@@ -18,7 +18,7 @@ def test_screen_writes_dataset_with_records_and_blocks(make_records, blocks_csv,
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
                         "knet/test.knet")
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     ds = open_results(out / "screening.nc")
     assert ds.sizes["record"] == 2 and ds.sizes["block"] == 14
     assert list(ds.status.values) == ["ok", "ok"]
@@ -34,7 +34,7 @@ def test_bad_file_fails_alone_and_sets_exit_code(make_records, blocks_csv, tmp_p
     (root / "garbage.AT2").write_bytes(b"\x00\x01 not a record")
     (root / "empty.V2").write_bytes(b"")
     out = tmp_path / "out"
-    code = main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    code = main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
     assert code == 1
     ds = open_results(out / "screening.nc")
     status = dict(zip(ds.record.values, ds.status.values))
@@ -42,7 +42,7 @@ def test_bad_file_fails_alone_and_sets_exit_code(make_records, blocks_csv, tmp_p
     assert "garbage.AT2" in status["garbage"] and "unrecognised format" in status["garbage"]
     assert "empty.V2" in status["empty"] and "empty" in status["empty"]
     assert "garbage.AT2" in caplog.text
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
                  "--tolerate-failures"]) == 0
 
 
@@ -51,14 +51,14 @@ def test_bad_inventory_exits_2_and_writes_nothing(make_records, tmp_path, capsys
     inv = tmp_path / "inv.csv"
     inv.write_text("id,height_m,width_m\nA,1,0.2\nB,tall,0.2\n")
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(inv), "--out", str(out)]) == 2
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "line 3, column 'height_m'" in err and "nothing was screened" in err
     assert not out.exists()
 
 
 def test_missing_records_dir_is_usage_error(blocks_csv, tmp_path, capsys):
-    assert main(["--records", str(tmp_path / "nope"), "--blocks", str(blocks_csv)]) == 2
+    assert main(["--samples", "0", "--records", str(tmp_path / "nope"), "--blocks", str(blocks_csv)]) == 2
     assert "records directory not found" in capsys.readouterr().err
 
 
@@ -92,9 +92,9 @@ def test_failed_write_leaves_previous_file_intact(tmp_path, monkeypatch):
 def test_inventory_flag_supplies_the_response(make_records, blocks_csv, tmp_path, records_dir):
     root = make_records("mseed/CI.CCC..HNE.mseed", "mseed/CI.CCC..HNN.mseed", units_toml=False)
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
     assert "StationXML" in str(open_results(out / "screening.nc").status.values[0])
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
                  "--inventory", str(records_dir / "mseed" / "CI.CCC.xml")]) == 0
     ds = open_results(out / "screening.nc")
     # SOURCES.md: HNE 0.565 g, HNN 0.470 g (counts / sensitivity ~2.14e5 per m/s^2)
@@ -121,7 +121,7 @@ def test_every_variable_has_cf_attributes_and_provenance(make_records, blocks_cs
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
     (root / "bad.AT2").write_text("not a record\n")
     out = tmp_path / "out"
-    main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
     for path in (out / "screening.nc", out / "pulses.nc"):
         ds = open_results(path)
         assert ds.attrs["Conventions"].startswith("CF-")
@@ -198,11 +198,12 @@ def test_help_names_every_subcommand(capsys):
 
 def test_quiet_prints_only_warnings_and_verbose_only_rockscreen(make_records, blocks_csv, tmp_path, capsys, caplog):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "q"), "-q"]) == 0
+    assert main(["--samples", "0",
+                 "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "q"), "-q"]) == 0
     assert capsys.readouterr().err == ""
     # not a terminal: progress lines instead of a bar, then the summary
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "v"), "-v",
-                 "--force"]) == 0
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "v"),
+                 "-v", "--force"]) == 0
     err = capsys.readouterr().err
     assert "progress: 1/1 records screened" in err and "records: 1 ok" in err
     debug = [r for r in caplog.records if r.levelname == "DEBUG"]
@@ -215,7 +216,7 @@ def test_records_saved_under_any_name_are_read_by_content(make_records, blocks_c
         f.rename(f.with_suffix(".txt"))                       # an AT2 pair saved as .txt
     (root / "notes.csv").write_text("who,what\nme,notes\n")
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 0
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 0
     err = capsys.readouterr().err
     assert "records: 1 ok" in err and "not records: 1 of 3 files (notes.csv)" in err
     ds = open_results(out / "screening.nc")
@@ -230,7 +231,7 @@ def test_a_folder_without_records_exits_2_and_leaves_nothing(tmp_path, blocks_cs
     if content is not None:
         (root / "readme.txt").write_text(content)
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 2
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "no strong-motion record found" in err and "Traceback" not in err
     assert not out.exists()

@@ -37,7 +37,7 @@ def by_tier(records, blocks_csv, tmp_path_factory):
     out = {}
     for tier in FIDELITY_TIERS:
         d = tmp_path_factory.mktemp(tier)
-        assert main(["--records", str(records), "--blocks", str(blocks_csv), "--out", str(d), "-q",
+        assert main(["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(d), "-q",
                      "--fidelity", tier]) == 0
         out[tier] = open_results(d / "screening.nc")
     return out
@@ -150,7 +150,7 @@ def test_tier_names_are_checked(blocks_csv, records, capsys):
     with pytest.raises(ConfigError, match="valid tiers"):
         Config().with_tier("fast")
     with pytest.raises(SystemExit):
-        main(["--records", str(records), "--blocks", str(blocks_csv), "--fidelity", "fast"])
+        main(["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--fidelity", "fast"])
     assert "invalid choice: 'fast'" in capsys.readouterr().err
 
 
@@ -171,6 +171,6 @@ def test_criterion_miss_rate_printed_for_the_criterion_tier_is_measured(records_
     assert (crit["misses"], crit["misses_pulse"], crit["misses_non_pulse"], crit["false_alarms"]) == (
         missed, missed_pulse, missed_other, alarms)
     assert tier["full"]["misses"] == 0 and ref["misses"] == 0
-    assert main(["--records", str(records_dir), "--blocks", str(blocks_csv), "--out", str(tmp_path / "o"), "-q",
-                 "--fidelity", "criterion", "--tolerate-failures"]) == 0
+    assert main(["--samples", "0", "--records", str(records_dir), "--blocks", str(blocks_csv),
+                 "--out", str(tmp_path / "o"), "-q", "--fidelity", "criterion", "--tolerate-failures"]) == 0
     assert "not conservative: " + CRITERION_MEASURED_MISSES in capsys.readouterr().err + caplog.text

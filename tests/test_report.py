@@ -38,7 +38,7 @@ def screened(tmp_path_factory, records_dir, blocks_csv):
         shutil.copy(records_dir / rel, root / rel)
     shutil.copy(records_dir / "units.toml", root)
     out = tmp_path_factory.mktemp("out")
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     return out
 
 
@@ -276,7 +276,7 @@ def test_unchanged_figures_are_not_drawn_again(screened, tmp_path, monkeypatch):
 
     cache = tmp_path / "figures"
     first, _ = build_report(screened / "screening.nc", tmp_path / "a", figure_cache=cache)
-    assert len(list(cache.glob("*.png"))) >= 2
+    assert len(list(cache.glob("*.fig"))) >= 2
 
     def refuse(*args, **kwargs):
         raise AssertionError("a figure was drawn again although nothing changed")
@@ -285,3 +285,38 @@ def test_unchanged_figures_are_not_drawn_again(screened, tmp_path, monkeypatch):
         monkeypatch.setattr(figures, name, refuse)
     second, _ = build_report(screened / "screening.nc", tmp_path / "b", figure_cache=cache)
     assert first.read_text() == second.read_text()
+
+
+@pytest.mark.parametrize("n", [50, 1441, 20000])
+def test_svg_trace_keeps_every_peak(n):
+    """The min-max reduction keeps the global extremes and bounds every sample by its column."""
+    from pipeline.report.svg import envelope
+
+    rng = np.random.default_rng(n)
+    y = rng.standard_normal(n).cumsum()
+    y[n // 3] = 50.0                                  # an isolated spike must survive
+    x, v = envelope(y, 700)
+    assert v.size <= 1400
+    assert v.max() == y.max() and v.min() == y.min()
+    if n > 1400:
+        starts = np.linspace(0, n, 701).astype(int)
+        for a, b in zip(starts[:-1], starts[1:]):
+            col = (x >= a) & (x < b)
+            assert v[col].min() == y[a:b].min() and v[col].max() == y[a:b].max()
+
+
+def test_svg_figures_are_well_formed_and_escaped():
+    import xml.etree.ElementTree as ET
+
+    from pipeline.report import figures
+
+    t = np.arange(3000) * 0.01
+    v = np.sin(t)
+    svg = figures.pulse_figure(v, 0.9 * v, 0.01, title="A&B <record>")
+    root = ET.fromstring(svg)                           # raises on malformed XML
+    assert root.tag.endswith("svg")
+    assert "A&B <record>" in "".join(root.itertext())
+    theta = np.sin(t)
+    theta[2000:] = np.nan
+    root = ET.fromstring(figures.theta_figure(theta, 0.01, title="x"))
+    assert "overturns" in "".join(root.itertext())

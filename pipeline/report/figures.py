@@ -1,4 +1,4 @@
-"""Figures of the asset-risk report, returned as PNG bytes for embedding.
+"""Figures of the asset-risk report, returned as PNG or SVG bytes for embedding.
 
 * :func:`scenes_chart`: the reference paper's normalized stability chart
   (Fig. 4) with every (record, block) scene as a point, coloured by the
@@ -6,8 +6,8 @@
   transition duration. In these coordinates the criterion's boundary is the
   same for every block: the uplift line y = 1 and the energy hyperbola
   x y = 1 (Eqs. 1, 5 and 7).
-* :func:`theta_figure`: theta(t) / alpha of an asset's governing scene.
-* :func:`pulse_figure`: original velocity, extracted pulse and residual.
+* :func:`theta_figure`: theta(t) / alpha of an asset's governing scene (SVG, :mod:`.svg`).
+* :func:`pulse_figure`: original velocity, extracted pulse and residual (SVG).
 
 References
 ----------
@@ -20,8 +20,10 @@ import io
 
 import numpy as np
 
+from ..constants import M_TO_CM
 from ..rocking.planner import RESPONSE
 from .mpl import new_figure
+from .svg import Panel, panels_svg
 
 #: Colour and label of each simulated response code (store.SCHEMA "response").
 RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide_rock"]: ("tab:orange", "slide + rock"),
@@ -77,29 +79,20 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
 
 
 def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:
-    """theta(t) / alpha of one scene; the overturning limits at +-pi/(2 alpha) are off the scale."""
-    fig = new_figure(figsize=(7.5, 2.6))
-    fig.subplots_adjust(left=0.09, right=0.98, top=0.87, bottom=0.19)
-    ax = fig.subplots()
-    t = np.arange(theta_over_alpha.size) * dt_s
-    ax.plot(t, theta_over_alpha, color="k", lw=0.8)
-    ax.axhline(1.0, color="tab:red", lw=0.8, ls="--")
-    ax.axhline(-1.0, color="tab:red", lw=0.8, ls="--")
-    finite = np.isfinite(theta_over_alpha)
-    if finite.any() and not finite.all():
-        t_end = t[np.flatnonzero(finite)[-1]]
-        ax.axvline(t_end, color="tab:red", lw=1.5)
-        ax.text(t_end, 0, "overturns ", color="tab:red", va="center", ha="right", fontsize=8)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("theta / alpha")
-    ax.set_title(title, fontsize=9)
-    ax.grid(alpha=0.3)
-    return png_bytes(fig)
+    """SVG of theta(t) / alpha of one scene, with the uplift-scale lines at +-1 and, where the
+    history ends early (NaN after overturning), a marker at the overturn."""
+    theta = np.asarray(theta_over_alpha, dtype=float)
+    finite = np.flatnonzero(np.isfinite(theta))
+    marker = None
+    if finite.size and finite.size < theta.size:
+        marker = (float(finite[-1]) * dt_s, "#c00", "overturns")
+    panel = Panel(theta, hlines=[(1.0, "#c00"), (-1.0, "#c00")], marker=marker)
+    return panels_svg([panel], dt_s, title=title, ylabel="theta / alpha")
 
 
 def pulse_figure(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, title: str) -> bytes:
-    """Original velocity, extracted pulse and residual [cm/s] (Shahi & Baker's ``make_plot``)."""
-    from .pulse_plot import pulse_axes
-
-    fig = pulse_axes(velocity_ms, pulse_ms, dt_s, title=title, figsize=(7.5, 4.2))
-    return png_bytes(fig)
+    """SVG of the original velocity, extracted pulse and residual [cm/s] (the panels of Shahi &
+    Baker's ``make_plot``, on one shared scale)."""
+    v, p = M_TO_CM * np.asarray(velocity_ms, dtype=float), M_TO_CM * np.asarray(pulse_ms, dtype=float)
+    panels = [Panel(v, "original ground motion"), Panel(p, "extracted pulse"), Panel(v - p, "residual ground motion")]
+    return panels_svg(panels, dt_s, title=title, ylabel="velocity [cm/s]")

@@ -2,7 +2,8 @@
 
 Built from the results files alone (``screening.nc``, and next to it
 ``pulses.nc`` and ``histories.nc`` when present), so ``screen report`` can
-regenerate it without the records. Figures are PNG embedded as data URIs;
+regenerate it without the records. Figures are embedded as data URIs (the stability chart a PNG, the
+time series SVG, :mod:`pipeline.report.svg`);
 the page loads nothing from the network. Tables sort on a click (a few
 lines of inline script); the same script marks every figure that rendered
 (``data-rendered``) and shows a visible warning for any that did not.
@@ -38,6 +39,7 @@ from ..errors import OutputError
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, write_bytes_atomic, write_csv_atomic, write_text_atomic
+from ..uncertainty.robust import Robustness
 from . import figures
 
 log = logging.getLogger(__name__)
@@ -51,14 +53,18 @@ SLIDING_RESPONSES = {RESPONSE["slide"], RESPONSE["slide_rock"]}
 RESPONSE_NAMES = {-1: "not simulated", **{code: name for name, code in RESPONSE.items()}}
 PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.items()}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
+ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 
 #: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
-#: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene. Extra inventory
-#: columns follow, as given.
+#: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene, except
+#: p_overturn, its interval and robustness, which are those of the record with the largest p_overturn
+#: (``p_record``). Extra inventory columns follow, as given.
 ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
-                 "frequency_parameter", "records_overturning", "records_screened", "governing_record",
+                 "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record", "robustness",
+                 "records_p_half", "records_sensitive", "records_overturning", "records_screened", "governing_record",
                  "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
-                 "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "recommendation",
+                 "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
+                 "overturn_scale_median", "recommendation",
                  "records_overturning_ids")
 
 
@@ -80,9 +86,28 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     return "no action"
 
 
+def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int) -> dict:
+    """A block's probabilities of overturning: the largest over the records (with its interval, record and
+    robustness class), the records with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
+    empty = {"p_overturn": np.nan, "p_overturn_low": np.nan, "p_overturn_high": np.nan, "p_record": "",
+             "robustness": "", "records_p_half": 0, "records_sensitive": 0}
+    if "p_overturn" not in ds:
+        return empty
+    p = np.where(ok, ds["p_overturn"].values[:, j], np.nan)
+    if not np.isfinite(p).any():
+        return empty
+    i = int(np.nanargmax(p))
+    robust = ds["robustness"].values[:, j]
+    return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
+            "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": str(ds["record"].values[i]),
+            "robustness": ROBUSTNESS_NAMES[int(robust[i])], "records_p_half": int(np.sum(p >= 0.5)),
+            "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive)))}
+
+
 def asset_rows(ds: xr.Dataset) -> list[dict]:
-    """One row per block, ranked by risk: most records that overturn it first, then the smallest simulated
-    margin, then the criterion's margin, then the largest rotation."""
+    """One row per block, ranked by risk: the largest probability of overturning over the records, then the
+    number of records with p_overturn >= 0.5, then the most records that overturn it (nominal), the
+    smallest simulated margin, the criterion's margin and the largest rotation."""
     rows = []
     rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
     ok = ds["status"].values == "ok"
@@ -117,13 +142,19 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "theta_max": float(at("theta_max")), "response": RESPONSE_NAMES[response],
             "physics": PHYSICS_NAMES[int(at("physics", -1))],
             "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
+            "p_overturn_governing": float(ds["p_overturn_governing"].values[j]) if "p_overturn_governing" in ds
+            else np.nan,
+            "overturn_scale_median": float(ds["overturn_scale_median"].values[j]) if "overturn_scale_median" in ds
+            else np.nan,
             "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
                                              overturned=sim == 1),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
+            **_probabilities(ds, ok, j),
         })
 
     def risk(r: dict) -> tuple:
-        return (-r["records_overturning"], np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
+        return (-np.nan_to_num(r["p_overturn"], nan=-1.0), -r["records_p_half"], -r["records_overturning"],
+                np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
                 np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r["theta_max"], nan=-1.0))
 
     rows.sort(key=risk)
@@ -140,8 +171,11 @@ def write_assets_csv(rows: list[dict], path: Path) -> Path:
     return write_csv_atomic(path, ASSET_COLUMNS + tuple(extra), table)
 
 
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
 class FigureCache:
-    """PNG figures kept by content: a figure whose data, title and drawing code are unchanged is not
+    """Figures (PNG or SVG bytes) kept by content: a figure whose data, title and drawing code are unchanged is not
     drawn again (``OUT/.rockscreen/figures``). ``directory=None``: no cache, every figure is drawn.
 
     Keys hash the figure's kind, the rockscreen version, the arrays' bytes and the title; entries not
@@ -154,7 +188,7 @@ class FigureCache:
         self.drawn = self.reused = 0
 
     def get(self, kind: str, draw, *arrays, title: str = "") -> bytes:
-        """The PNG of ``draw()``, from the cache when the same figure was drawn before."""
+        """The bytes of ``draw()``, from the cache when the same figure was drawn before."""
         if self.dir is None:
             self.drawn += 1
             return draw()
@@ -163,11 +197,11 @@ class FigureCache:
             a = np.ascontiguousarray(a)
             h.update(str((a.dtype.str, a.shape)).encode())
             h.update(a.tobytes())
-        path = self.dir / f"{h.hexdigest()[:40]}.png"
+        path = self.dir / f"{h.hexdigest()[:40]}.fig"
         self.used.add(path.name)
         try:
             png = path.read_bytes()
-            if png[:8] == b"\x89PNG\r\n\x1a\n":
+            if png.startswith((PNG_MAGIC, b"<svg")):
                 self.reused += 1
                 return png
         except OSError:
@@ -184,13 +218,15 @@ class FigureCache:
         """Delete the figures this report did not use."""
         if self.dir is None or not self.dir.is_dir():
             return
-        for p in self.dir.glob("*.png"):
+        for p in self.dir.glob("*.*"):
             if p.name not in self.used:
                 p.unlink(missing_ok=True)
 
 
-def _data_uri(png: bytes) -> str:
-    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+def _data_uri(image: bytes) -> str:
+    """A data URI of PNG or SVG bytes."""
+    mime = "image/png" if image.startswith(PNG_MAGIC) else "image/svg+xml"
+    return f"data:{mime};base64," + base64.b64encode(image).decode("ascii")
 
 
 def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False,
@@ -274,6 +310,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     x, y = ds["normalized_duration"].values.ravel(), ds["normalized_acceleration"].values.ravel()
     chart = _data_uri(cache.get("chart", lambda: figures.scenes_chart(x, y, resp.ravel()), x, y, resp.ravel()))
     counts = Counter(r["recommendation"].split(":")[0] for r in assets)
+    sampled = "samples_drawn" in ds and bool(np.any(ds["samples_drawn"].values[ok] > 0))
     summary = {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
@@ -287,6 +324,9 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == RESPONSE["free_flight"], axis=1)]],
         "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
+        "sampled": sampled,
+        "sensitive_scenes": int(np.sum(ds["robustness"].values[ok] == Robustness.sensitive)) if sampled else 0,
+        "uncertainty": {k[len("uncertainty_"):]: v for k, v in ds.attrs.items() if k.startswith("uncertainty_")},
     }
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))

@@ -41,6 +41,7 @@ from ..constants import G
 from ..records.record import project
 from .planner import RESPONSE, REST_SCENE, Scene, demand_ratio, motion_threshold, simulate_scene
 from .settings import SimulationConfig
+from .simulate import FiniteSeries, finite_series
 
 
 class Orientation(IntEnum):
@@ -75,8 +76,10 @@ class Planes:
     def __init__(self, horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.ndarray | None,
                  *, g_ms2: float = G) -> None:
         self.h = np.atleast_2d(horizontal_ms2)
+        for k, h in enumerate(self.h):
+            finite_series(f"horizontal component {k + 1}", h)
         self.az0 = float(azimuth0_deg)
-        self.vertical = vertical_ms2
+        self.vertical = None if vertical_ms2 is None else finite_series("vertical acceleration", vertical_ms2)
         self.g = g_ms2
         self._along: dict[float, np.ndarray] = {}
         self._ratio: dict[float, float] = {}
@@ -91,7 +94,9 @@ class Planes:
         """Horizontal acceleration in the plane of ``azimuth_deg`` [m s-2]."""
         k = self.key(azimuth_deg)
         if k not in self._along:
-            self._along[k] = project(self.h, self.az0, float(azimuth_deg))
+            # a combination of finite series is finite: checked once here, not at every simulation
+            self._along[k] = np.ascontiguousarray(project(self.h, self.az0, float(azimuth_deg)),
+                                                  dtype=np.float64).view(FiniteSeries)
         return self._along[k]
 
     def ratio(self, azimuth_deg: float) -> float:

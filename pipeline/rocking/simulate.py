@@ -100,7 +100,30 @@ class SlideResult:
         return not math.isnan(self.t_flight_s)
 
 
+class FiniteSeries(np.ndarray):
+    """A 1-D float64, C-contiguous series of at least 2 finite samples, checked once.
+
+    The wrappers below check every series they are given; a scene scanned over dozens of
+    planes and blocks would check the same record hundreds of times. A series made by
+    :func:`finite_series` (or projected from such series, :class:`~.orientation.Planes`)
+    skips the check.
+    """
+
+
+def finite_series(name: str, a) -> FiniteSeries:
+    """``a`` checked (:func:`_series`) and marked as checked.
+
+    Raises
+    ------
+    ParameterError
+        For a series that is not 1-D, shorter than 2 samples or not finite.
+    """
+    return _series(name, a).view(FiniteSeries)
+
+
 def _series(name: str, a, n: int | None = None) -> np.ndarray:
+    if type(a) is FiniteSeries and (n is None or a.size == n):
+        return a.view(np.ndarray)
     arr = np.ascontiguousarray(a, dtype=np.float64)
     if arr.ndim != 1 or arr.size < 2:
         raise ParameterError(f"{name}: expected a 1-D series of at least 2 samples, got shape {arr.shape}")

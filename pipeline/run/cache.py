@@ -36,7 +36,7 @@ from ..store import STATE_DIR, replace_atomically
 log = logging.getLogger(__name__)
 
 #: Bump when the entry layout changes: older entries are then ignored.
-ENTRY_FORMAT = 3
+ENTRY_FORMAT = 4
 
 
 def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "") -> str:
@@ -185,18 +185,19 @@ class MarginCache(_NpzStore):
         return self.dir / f"{key.hexdigest()[:40]}.npz"
 
     def get(self, record_id: str, content_sha256: str, block_sha256: str):
-        """(scale, runs, history or None, dt) or None."""
+        """(scale, runs, history or None, dt, sampled margins) or None."""
         z = self._read(self.path(record_id, content_sha256, block_sha256))
         if z is None:
             return None
         history = z["history"] if z["history"].size else None
-        return float(z["scale"]), int(z["runs"]), history, float(z["dt"])
+        return float(z["scale"]), int(z["runs"]), history, float(z["dt"]), np.asarray(z["sampled"], dtype=float)
 
     def put(self, record_id: str, content_sha256: str, block_sha256: str, value: tuple) -> None:
-        scale, runs, history, dt = value
+        scale, runs, history, dt, sampled = value
         self._write(self.path(record_id, content_sha256, block_sha256),
                     {"scale": np.array(scale), "runs": np.array(runs), "dt": np.array(dt),
-                     "history": np.zeros(0) if history is None else np.asarray(history)})
+                     "history": np.zeros(0) if history is None else np.asarray(history),
+                     "sampled": np.asarray(sampled, dtype=float)})
 
 
 def merge(old, new):

@@ -1,0 +1,138 @@
+"""Many variants of one scene in one compiled call: the samples of the uncertainty analysis.
+
+:func:`sample_verdicts` runs, for each sample, what the planner and the orientation scan
+run for a nominal scene (:func:`~.planner.simulate_scene`, :func:`~.orientation.worst_plane`),
+with the same kernels and the same decisions, but without Python between samples:
+
+1. the record scaled by the sample's amplitude factor, vertical included;
+2. the exact at-rest certificate: where the demand ratio max |a| / (g + a_v) of every
+   candidate plane stays at or below min(tan alpha, mu), the sample rests (no integration);
+   for several planes the horizontal vector's peak bounds every plane's demand first;
+3. the planes that move, strongest demand first: Coulomb sliding where mu <= tan alpha (or
+   the sampled block is too squat to rock), else rocking (with the vertical unless the
+   ``vertical_fraction`` approximation drops it); the first plane that overturns decides;
+4. verdict 1 (overturns in some plane), -1 (free flight in some plane and no overturn:
+   undetermined), else 0.
+
+The orientation refinement of the nominal scan (1-degree planes around the worst standing
+plane) is not repeated per sample: a sample's worst plane is over the grid and the pulse axis.
+With unit factors and the nominal block, a sample's verdict equals the nominal scene's
+whenever the nominal verdict was decided on the grid (tested).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .kernel import STATUS_FREE_FLIGHT, jit, rock, slide
+
+
+@jit
+def _demand(h1, h2, c, s, eps, av_s, has_v, g):
+    """max_t |eps (c h1 + s h2)| / (g + a_v) (inf where g + a_v <= 0)."""
+    r = 0.0
+    for i in range(h1.size):
+        a = abs(eps * (c * h1[i] + s * h2[i]))
+        if has_v:
+            gv = g + av_s[i]
+            if gv <= 0.0:
+                return math.inf
+            a = a / gv
+        else:
+            a = a / g
+        if a > r:
+            r = a
+    return r
+
+
+@jit
+def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, alpha_max, vertical_fraction,
+                    rtol, atol, rest_ratio, max_step_p, max_events, verdict_out, planes_out):
+    """Verdicts of the samples of one scene.
+
+    Parameters
+    ----------
+    h1, h2 : ndarray
+        The record's two horizontals [m s-2] (``h2`` zeros for a single component).
+    av : ndarray
+        Vertical [m s-2], empty without one.
+    dt : float
+        Sampling interval [s].
+    cosines, sines : ndarray, shape (n_samples, n_planes)
+        Projection weights of each sample's candidate planes: a = c h1 + s h2.
+    eps, p, alpha, e, R, mu : ndarray, shape (n_samples,)
+        Amplitude factor and block of each sample.
+    g, alpha_max, vertical_fraction : float
+        Gravity [m s-2], the slenderness limit of pure rocking [rad], and the planner's
+        vertical approximation (0: the vertical is always simulated).
+    rtol, atol, rest_ratio, max_step_p, max_events
+        The simulator's settings (:class:`~.settings.SimulationConfig`).
+    verdict_out, planes_out : ndarray (int64)
+        Filled with each sample's verdict (1, 0, -1) and planes integrated.
+    """
+    n = h1.size
+    n_s, n_p = cosines.shape
+    has_v = av.size == n
+    t_end = (n - 1) * dt
+    a = np.empty(n)
+    av_s = np.empty(n if has_v else 0)
+    none = np.zeros(0)
+    ratios = np.empty(n_p)
+    theta_out = np.zeros(0)                  # no theta history, no impact log
+    impacts_out = np.zeros((0, 3))
+    for k in range(n_s):
+        for i in range(av_s.size):
+            av_s[i] = eps[k] * av[i]
+        thr = min(math.tan(alpha[k]), mu[k])
+        verdict_out[k] = 0
+        planes_out[k] = 0
+        if n_p > 1:                          # the horizontal vector bounds every plane's demand
+            r = 0.0
+            for i in range(n):
+                v = eps[k] * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i])
+                if has_v:
+                    gv = g + av_s[i]
+                    if gv <= 0.0:
+                        r = math.inf
+                        break
+                    v = v / gv
+                else:
+                    v = v / g
+                if v > r:
+                    r = v
+            if not r > thr:
+                continue
+        for j in range(n_p):
+            ratios[j] = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g)
+        order = np.argsort(-ratios, kind="mergesort")
+        use_v = False
+        if has_v:
+            peak = 0.0
+            for i in range(n):
+                peak = max(peak, abs(av_s[i]))
+            use_v = vertical_fraction <= 0.0 or peak > vertical_fraction * g or peak >= g
+        rocks = mu[k] > math.tan(alpha[k]) and alpha[k] < alpha_max
+        flight = False
+        for jj in range(n_p):
+            j = order[jj]
+            if not ratios[j] > thr:
+                break
+            for i in range(n):
+                a[i] = eps[k] * (cosines[k, j] * h1[i] + sines[k, j] * h2[i])
+            planes_out[k] += 1
+            if not rocks:
+                res_s = slide(a, av_s if use_v else none, dt, mu[k], g)
+                if not math.isnan(res_s[4]):
+                    flight = True
+                continue
+            res = rock(a, av_s if use_v else none, dt, t_end, p[k], alpha[k], e[k], g, R[k], False, rtol, atol,
+                       rest_ratio, max_step_p, max_events, 0.0, 0.0, True, theta_out, impacts_out)
+            if res[0]:
+                verdict_out[k] = 1
+                break
+            if res[5] & STATUS_FREE_FLIGHT:
+                flight = True
+        if verdict_out[k] == 0 and flight:
+            verdict_out[k] = -1

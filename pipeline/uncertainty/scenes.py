@@ -1,0 +1,136 @@
+"""The probability of overturning of one scene under the declared uncertainty.
+
+Samples are drawn in batches (:attr:`UncertaintyConfig.batch`) and judged by one compiled
+call per batch (:func:`pipeline.rocking.batch.sample_verdicts`); after each batch the Wilson
+interval is tested and sampling stops once it decides the robustness class
+(:mod:`.robust`). Samples proven at rest by the exact certificate are not integrated.
+
+``p_overturn`` = k / n over the samples with a verdict; samples whose ground reached
+g + a_v <= 0 before any overturning (free flight) have none and are counted apart. A scene
+whose first batch holds no sample with a verdict stops there (p undetermined, robustness -1):
+its ground leaves the contact model at every amplitude sampled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import G
+from ..criteria import ALPHA_MAX_ROCKING
+from ..rocking.batch import sample_verdicts
+from ..rocking.settings import SimulationConfig
+from .robust import classify, final_class, wilson_interval
+from .sampling import sample_block
+from .settings import UncertaintyConfig
+
+
+@dataclass(frozen=True)
+class Probability:
+    """A scene's probability of overturning and how it was reached."""
+
+    #: fraction of the samples with a verdict that overturn (NaN: none had a verdict)
+    p: float
+    low: float
+    high: float
+    #: :class:`~.robust.Robustness` code, -1 when no sample had a verdict
+    robustness: int
+    #: samples drawn, samples that overturned, samples in free flight (no verdict)
+    drawn: int
+    overturned: int
+    free_flight: int
+    #: rocking or sliding planes integrated over all samples
+    simulations: int
+
+
+NOT_EVALUATED = Probability(math.nan, math.nan, math.nan, -1, 0, 0, 0, 0)
+
+
+@dataclass(frozen=True)
+class SceneMotion:
+    """What a scene's samples are simulated against: the record and the candidate planes.
+
+    ``planes_deg``: the scanned planes (the pulse axis and the grid) shared by every sample;
+    None for a block with a given rocking plane (``given_deg``, sampled per sample). One
+    horizontal: ``h2`` is zeros and the one recorded plane is used.
+    """
+
+    h1: np.ndarray
+    h2: np.ndarray
+    vertical: np.ndarray
+    dt_s: float
+    azimuth0_deg: float
+    planes_deg: np.ndarray | None
+    single: bool
+
+
+def motion(horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.ndarray | None, dt_s: float,
+           planes_deg=None) -> SceneMotion:
+    """The :class:`SceneMotion` of a record (planes: None for a given azimuth or one horizontal)."""
+    h = np.ascontiguousarray(np.atleast_2d(horizontal_ms2), dtype=float)
+    h2 = h[1] if h.shape[0] > 1 else np.zeros_like(h[0])
+    v = np.zeros(0) if vertical_ms2 is None else np.ascontiguousarray(vertical_ms2, dtype=float)
+    single = h.shape[0] == 1
+    planes = None if planes_deg is None or single else np.asarray(planes_deg, dtype=float)
+    return SceneMotion(h[0], np.ascontiguousarray(h2), v, float(dt_s), float(azimuth0_deg), planes, single)
+
+
+def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m: float, mu: float,
+                      restitution: float, azimuth_deg: float, settings: UncertaintyConfig,
+                      simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G) -> Probability:
+    """Sample one scene until its robustness class is decided or ``z`` is used up.
+
+    Parameters
+    ----------
+    m : SceneMotion
+        The record and the candidate planes.
+    z : ndarray, shape (n, 6)
+        Common random numbers (:func:`~.sampling.common_normals`); n is the largest number of samples.
+    height_m, width_m, mu, restitution, azimuth_deg : float
+        The nominal block (restitution NaN: Housner's; azimuth NaN: scanned).
+    settings : UncertaintyConfig
+        Spreads, batch size and thresholds.
+    simulation : SimulationConfig
+        The simulator's settings.
+    g_ms2 : float
+        Gravity [m s-2].
+    """
+    n_max = len(z)
+    if n_max == 0:
+        return NOT_EVALUATED
+    verdicts = np.empty(n_max, dtype=np.int64)
+    planes = np.zeros(n_max, dtype=np.int64)
+    done = 0
+    low = high = math.nan
+    while done < n_max:
+        rows = z[done: done + max(1, settings.batch)]
+        sb = sample_block(rows, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
+                          azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2)
+        if m.single:
+            phi = np.zeros((len(rows), 1))
+        elif m.planes_deg is None:
+            phi = np.deg2rad(sb.azimuth_deg - m.azimuth0_deg)[:, None]
+        else:
+            phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (len(rows), m.planes_deg.size))
+        sl = slice(done, done + len(rows))
+        s = simulation
+        sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
+                        np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
+                        float(g_ms2), ALPHA_MAX_ROCKING, float(s.vertical_fraction), s.rtol, s.atol, s.rest_ratio,
+                        s.max_step_p, int(s.max_events), verdicts[sl], planes[sl])
+        done += len(rows)
+        v = verdicts[:done]
+        k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
+        lo, hi = wilson_interval(k, n, confidence=settings.confidence)
+        low, high = float(lo), float(hi)
+        if n == 0:                    # every sample so far in free flight: no verdict to estimate p from
+            break
+        if classify(low, high, below=settings.robust_below, above=settings.robust_above) is not None:
+            break
+    v = verdicts[:done]
+    k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
+    return Probability(k / n if n else math.nan, low, high,
+                       final_class(low, high, below=settings.robust_below, above=settings.robust_above),
+                       done, k, int(np.sum(v == -1)), int(planes[:done].sum()))

@@ -1,0 +1,41 @@
+"""Settings of the uncertainty sampling (the ``[uncertainty]`` section of a configuration).
+
+Every spread is the coefficient of variation of a lognormal factor whose *median* is 1, so
+the nominal block and record are the median sample (ln X ~ N(0, s^2), s = sqrt(ln(1 + cov^2))).
+The defaults are declared, not measured; the README says where each comes from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class UncertaintyConfig:
+    """What is uncertain in a scene, and how the probability of overturning is estimated."""
+
+    #: Largest number of samples per scene; 0: nominal verdicts only (no probability) [-].
+    samples: int = 40
+    #: Samples drawn before the first stopping test, and between two tests [-].
+    batch: int = 5
+    #: Lognormal factor on the whole record (horizontals and vertical together) [-, cov].
+    amplitude_cov: float = 0.05
+    #: Lognormal factor on the restitution (capped at 1) [-, cov].
+    restitution_cov: float = 0.05
+    #: Lognormal factor on the friction coefficient [-, cov].
+    friction_cov: float = 0.10
+    #: Independent lognormal factors on the height and on the width [-, cov].
+    size_cov: float = 0.02
+    #: Normal scatter of a given azimuth [deg] (blank azimuths are scanned, not sampled).
+    azimuth_sd_deg: float = 5.0
+    #: Seed of the common random numbers (the same draws for every record and block) [-].
+    seed: int = 20261123
+    #: A scene is robust_stand when the interval's upper bound is below this probability [-].
+    robust_below: float = 0.1
+    #: A scene is robust_overturn when the interval's lower bound is above this probability [-].
+    robust_above: float = 0.9
+    #: Confidence of the two-sided Wilson interval on p_overturn [-].
+    confidence: float = 0.90
+    #: Samples whose margin scan is run on each block's governing record (``overturn_scale_median``);
+    #: 0: off. Each costs a whole margin scan (about 50 simulations) per block [-].
+    margin_samples: int = 0

@@ -1,0 +1,93 @@
+"""Properties of the binomial interval and the sequential stopping rule (issue 19).
+
+The rule's error rates are measured on Bernoulli streams of known p, replaying exactly
+the loop of :func:`pipeline.uncertainty.scenes.scene_probability` (batches, test after each).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.stats import beta as beta_dist
+
+from pipeline.uncertainty.robust import Robustness, classify, final_class, wilson_interval
+from pipeline.uncertainty.settings import UncertaintyConfig
+
+
+@given(n=st.integers(1, 2000), data=st.data(), conf=st.sampled_from([0.8, 0.9, 0.95]))
+def test_wilson_interval_brackets_the_estimate(n, data, conf):
+    k = data.draw(st.integers(0, n))
+    lo, hi = wilson_interval(k, n, confidence=conf)
+    assert 0.0 <= lo <= k / n <= hi <= 1.0
+    wider_lo, wider_hi = wilson_interval(k, n, confidence=0.99)
+    assert wider_lo <= lo + 1e-12 and wider_hi >= hi - 1e-12
+
+
+@given(n=st.integers(5, 500), data=st.data())
+def test_wilson_is_close_to_clopper_pearson(n, data):
+    """A second method: Wilson's bounds lie within 0.1 of the exact (Clopper-Pearson) ones."""
+    k = data.draw(st.integers(0, n))
+    lo, hi = wilson_interval(k, n, confidence=0.9)
+    cp_lo = beta_dist.ppf(0.05, k, n - k + 1) if k > 0 else 0.0
+    cp_hi = beta_dist.ppf(0.95, k + 1, n - k) if k < n else 1.0
+    assert abs(lo - cp_lo) < 0.1 and abs(hi - cp_hi) < 0.1
+    assert lo >= cp_lo - 1e-9 or k == 0            # Wilson is never wider than the exact interval here
+    assert hi <= cp_hi + 1e-9 or k == n
+
+
+def test_no_sample_gives_no_interval():
+    lo, hi = wilson_interval(0, 0)
+    assert np.isnan(lo) and np.isnan(hi)
+    assert final_class(float(lo), float(hi), below=0.1, above=0.9) == -1
+
+
+def _sequential(p: float, rng: np.random.Generator, cfg: UncertaintyConfig) -> tuple[int, int]:
+    """The scene loop on a Bernoulli(p) stream: (final class, samples drawn)."""
+    k = n = 0
+    lo = hi = float("nan")
+    while n < cfg.samples:
+        m = min(cfg.batch, cfg.samples - n)
+        k += int(rng.binomial(m, p))
+        n += m
+        lo, hi = (float(x) for x in wilson_interval(k, n, confidence=cfg.confidence))
+        if classify(lo, hi, below=cfg.robust_below, above=cfg.robust_above) is not None:
+            break
+    return final_class(lo, hi, below=cfg.robust_below, above=cfg.robust_above), n
+
+
+@pytest.mark.parametrize("p, wrong, limit", [
+    # a scene that overturns in 30 % of samples is never called robust_stand more than 5 % of the time
+    (0.30, Robustness.robust_stand, 0.05), (0.70, Robustness.robust_overturn, 0.05),
+    # scenes beyond the thresholds are rarely called robust on the other side
+    (0.20, Robustness.robust_overturn, 0.0), (0.80, Robustness.robust_stand, 0.0),
+])
+def test_sequential_rule_error_rates(p, wrong, limit):
+    cfg = UncertaintyConfig()
+    rng = np.random.default_rng(11)
+    classes = np.array([_sequential(p, rng, cfg)[0] for _ in range(4000)])
+    assert np.mean(classes == wrong) <= limit
+
+
+@pytest.mark.parametrize("p, right, at_least", [(0.0, Robustness.robust_stand, 1.0),
+                                                (1.0, Robustness.robust_overturn, 1.0),
+                                                (0.5, Robustness.sensitive, 1.0),
+                                                (0.01, Robustness.robust_stand, 0.75)])
+def test_sequential_rule_decides_clear_cases(p, right, at_least):
+    cfg = UncertaintyConfig()
+    rng = np.random.default_rng(12)
+    runs = [_sequential(p, rng, cfg) for _ in range(2000)]
+    assert np.mean([c == right for c, _ in runs]) >= at_least
+    if p in (0.0, 1.0):
+        assert all(n == 25 for _, n in runs)         # k = 0 of 25: Wilson's upper bound 0.098 < 0.1
+
+
+@settings(max_examples=50, deadline=None)
+@given(cov=st.floats(0.0, 0.99), z=st.floats(-6, 6))
+def test_lognormal_factor_has_median_one_and_is_positive(cov, z):
+    from pipeline.uncertainty.sampling import lognormal_factor
+
+    assert lognormal_factor(np.array([0.0]), cov)[0] == 1.0
+    f = lognormal_factor(np.array([z, -z]), cov)
+    assert np.all(f > 0) and f[0] * f[1] == pytest.approx(1.0)
