@@ -342,6 +342,64 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
+def fragility_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen fragility``."""
+    from .run.fragility import IMS, SCALABLE
+
+    p = argparse.ArgumentParser(prog="screen fragility",
+                                description="Multiple-stripe analysis: every record scaled to each IM level, every "
+                                            "block judged; lognormal fragility fits, the IMs that predict "
+                                            "overturning, and with --hazard the annual rate of overturning.")
+    p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
+    p.add_argument("--blocks", required=True, type=Path, help="inventory CSV")
+    p.add_argument("--im", required=True, choices=SCALABLE,
+                   help="IM the records are scaled to: " + ", ".join(f"{k} [{IMS[k][0]}]" for k in SCALABLE))
+    p.add_argument("--levels", required=True,
+                   help="increasing IM levels, comma-separated, in the IM's SI unit (a g suffix for accelerations: "
+                        "0.1g,0.2g)")
+    p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (README)")
+    p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
+    p.add_argument("--out", type=Path, default=Path("results/fragility"), help="output directory "
+                   "(default results/fragility/; a run into it again resumes and reuses what was computed)")
+    p.add_argument("--config", type=Path, help="TOML configuration")
+    p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
+    p.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
+                   help=f"worker processes (default: the available cores, or ${WORKERS_ENV})")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask: 'local' or tcp://HOST:PORT")
+    p.add_argument("--samples", type=int, metavar="N", help="samples per scene for p_overturn (0: nominal verdicts)")
+    p.add_argument("--seed", type=int, metavar="S", help="seed of the common random numbers")
+    p.add_argument("--fidelity", choices=FIDELITY_TIERS, help="as for screen")
+    _add_output_options(p)
+    return p
+
+
+def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html, assets.csv."""
+    from .run.fragility import FragilityRequest, fragility, parse_levels
+    from .uncertainty.hazard import read_hazard
+
+    config, inventory = _config_and_inventory(args)
+    levels = parse_levels(args.levels, args.im)
+    if args.bootstrap < 0:
+        raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
+    hazard = read_hazard(args.hazard, im=args.im) if args.hazard is not None else None
+    n = default_workers() if args.num_processes is None else args.num_processes
+    if n < 1:
+        raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
+                               hazard, n, args.scheduler, args.bootstrap, ("screen", *argv), args.inventory)
+    out = fragility(request, progress=_progress(args.quiet))
+    for w in out["warnings"]:
+        log.warning("%s", w)
+    for rid, why in out["failures"]:
+        log.warning("record %s failed: %s", rid, why)
+    if not args.quiet:
+        print(f"fragility: {out['records_computed']} record(s) computed, {out['records_reused']} reused, "
+              f"{out['records_failed']} failed; {out['scenes']} scaled scenes; {out['wall_time_s']:.1f} s\n"
+              f"wrote {', '.join(str(p) for p in out['paths'])}", file=sys.stderr)
+    return EXIT_RECORD_FAILURES if out["failures"] else EXIT_OK
+
+
 def infer_parser() -> argparse.ArgumentParser:
     """Parser of ``screen infer``."""
     from .infer import INFER_SHAPES
@@ -392,12 +450,14 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
 
 
 SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
-               "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer)}
+               "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer),
+               "fragility": (fragility_parser, cmd_fragility)}
 SUBCOMMAND_HELP = {
     "chart": "stability chart of one block (the paper's Figs. 2a and 4), records as points, --simulate",
     "report": "rebuild report.html and assets.csv from a screening.nc",
     "bench": "what accuracy costs: every fidelity tier and setting against the reference, measured",
     "infer": "archaeoseismology: the pulses consistent with which blocks toppled and which stood",
+    "fragility": "fragility curves by multiple-stripe analysis, the IMs that predict overturning, hazard",
 }
 
 

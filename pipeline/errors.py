@@ -49,6 +49,10 @@ class InventoryError(RockscreenError, ValueError):
     """The block inventory CSV is invalid (names file, line and column)."""
 
 
+class HazardError(RockscreenError, ValueError):
+    """The hazard-curve CSV is invalid (names file, line and value)."""
+
+
 class ConfigError(RockscreenError, ValueError):
     """The TOML configuration is invalid (names the key and the valid values)."""
 

@@ -20,6 +20,7 @@ import xarray as xr
 from .criteria import Onset
 from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
+from .uncertainty.fragility import FitStatus
 from .uncertainty.robust import Robustness
 
 FLAG3 = np.array([-1, 0, 1], dtype="i1")
@@ -271,6 +272,10 @@ def entry(name: str, table: dict | None = None) -> tuple | None:
     return None
 
 
+#: Units entry meaning "the unit of the run's intensity measure" (global attribute ``im_units``).
+IM_UNITS = "<units of the IM>"
+
+
 def apply_schema(ds: xr.Dataset, table: dict | None = None) -> xr.Dataset:
     """Attach units, long names and flags from ``table`` (default :data:`SCHEMA`) to every known variable
     and coordinate."""
@@ -278,6 +283,8 @@ def apply_schema(ds: xr.Dataset, table: dict | None = None) -> xr.Dataset:
         found = entry(str(name), table)
         if found is not None:
             _, units, long_name, extra = found
+            if units == IM_UNITS:
+                units = ds.attrs["im_units"]
             ds[name].attrs.update({"long_name": long_name, **extra, **({"units": units} if units else {})})
     return ds
 
@@ -305,6 +312,8 @@ def check(ds: xr.Dataset, table: dict | None = None) -> list[str]:
             problems.append(f"{name}: not in the schema")
             continue
         dims, units, long_name, extra = found
+        if units == IM_UNITS:
+            units = ds.attrs.get("im_units")
         if tuple(var.dims) != dims:
             problems.append(f"{name}: dims {var.dims}, schema {dims}")
         if var.attrs.get("units") != units:
@@ -380,4 +389,42 @@ INFER: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "width": (("observation",), "m", "full base width", {}),
     "mu": (("observation",), "1", "friction coefficient", {}),
     "block_azimuth": (("observation",), "degree", "rocking plane azimuth (NaN: any plane)", {}),
+}
+
+
+#: ``fragility.nc`` (``screen fragility``): stripes, fits, IM ranking and the hazard integral.
+FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    "block": (("block",), None, "block (asset) identifier from the inventory", {}),
+    "record": (("record",), None, "record identifier", {}),
+    "im_level": (("im_level",), IM_UNITS, "level of the intensity measure each stripe's records are scaled to", {}),
+    "im": (("im",), None, "intensity measure compared (pga, pgv, pgv_pga, sa, arias, ap, tp, velocity_ratio)", {}),
+    "fraction_overturned": (("block", "im_level"), "1", "mean over the stripe's records of the overturn outcome "
+                            "(nominal verdict, or p_overturn when sampled)", {}),
+    "n_records": (("block", "im_level"), "1", "records with a verdict in the stripe", {}),
+    "overturned_sum": (("block", "im_level"), "1", "sum of the outcomes in the stripe (the fit's successes)", {}),
+    "median": (("block",), IM_UNITS, "median theta of the lognormal fragility, maximum likelihood on the stripes "
+               "(Baker 2015)", {"comment": "inf: nothing overturns at any level; 0: everything overturns at "
+                                           "every level"}),
+    "beta": (("block",), "1", "lognormal dispersion beta of the fragility", {}),
+    "fit_status": (("block",), None, "how the fit ended", flags(FitStatus, missing=None)),
+    "median_low": (("block",), IM_UNITS, "lower bound of the bootstrap interval on the median (records "
+                   "resampled)", {}),
+    "median_high": (("block",), IM_UNITS, "upper bound of the bootstrap interval on the median", {}),
+    "beta_low": (("block",), "1", "lower bound of the bootstrap interval on beta", {}),
+    "beta_high": (("block",), "1", "upper bound of the bootstrap interval on beta", {}),
+    "scale_factor": (("record", "im_level", "block"), "1", "factor on the record (all components) that brings "
+                     "its IM to the level", {"comment": "NaN: the record's IM is zero or undefined"}),
+    "outcome": (("record", "im_level", "block"), None, "nominal overturning verdict of the scaled record",
+                TRISTATE),
+    "p_overturn": (("record", "im_level", "block"), "1", "probability of overturning of the scaled record under "
+                   "the declared uncertainty", {}),
+    "beta_im": (("block", "im"), "1", "dispersion of a lognormal fit of the same outcomes against each IM "
+                "(efficiency: smaller is better)", {"comment": "inf: the IM does not raise the probability"}),
+    "median_im": (("block", "im"), None, "median of that fit, in the IM's own SI unit (see im_units_by_im)", {}),
+    "sufficiency_p": (("block", "im"), "1", "p-value of adding ln(t_p) to the fit (likelihood ratio; small: the "
+                      "outcome still depends on the pulse period given the IM)", {}),
+    "im_rank": (("block", "im"), "1", "rank of the IM by beta_im (1: most efficient; -1: no fit)", {}),
+    "annual_rate_overturn": (("block",), "yr-1", "mean annual rate of overturning: integral of the fragility over "
+                             "the site's hazard curve", {}),
+    "p_overturn_50yr": (("block",), "1", "probability of overturning in 50 years (Poisson)", {}),
 }

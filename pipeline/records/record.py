@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -74,6 +75,16 @@ class Record:
     def npts(self) -> int:
         """Number of samples."""
         return int(self.horizontal_ms2.shape[1])
+
+    def scaled(self, factor: float) -> "Record":
+        """The record with every component (horizontals, vertical, velocity) multiplied by ``factor``,
+        as multiple-stripe analyses scale records."""
+        f = float(factor)
+        return dataclasses.replace(
+            self, horizontal_ms2=f * self.horizontal_ms2,
+            vertical_ms2=None if self.vertical_ms2 is None else f * self.vertical_ms2,
+            velocity_ms=None if self.velocity_ms is None else f * self.velocity_ms,
+            notes=[*self.notes, f"scaled by {f:g}"])
 
     @property
     def single_component(self) -> bool:

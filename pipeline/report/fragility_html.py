@@ -1,0 +1,132 @@
+"""The fragility report: ``OUT/fragility.html`` and ``OUT/assets.csv`` of ``screen fragility``.
+
+Assets are ranked by their annual rate of overturning when a hazard curve was given, else
+by the fitted median (the most fragile first). Each asset whose stripes hold an overturning
+gets its fragility curve (the fitted lognormal, the stripe fractions and their 90 % Wilson
+intervals) and, with a hazard curve, the integrand P(C | im) |d lambda / d im| that shows
+which shaking levels drive its rate (at most :data:`MAX_FIGURES`, riskiest first).
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..store import write_csv_atomic, write_text_atomic
+from ..uncertainty.fragility import FitStatus, fragility_curve
+from ..uncertainty.hazard import HazardCurve, integrand_segments
+from ..uncertainty.robust import wilson_interval
+from .mpl import new_figure
+
+#: Fragility figures drawn, riskiest assets first (every number stays in fragility.nc and assets.csv).
+MAX_FIGURES = 40
+ASSET_COLUMNS = ("rank", "block", "median", "median_low", "median_high", "beta", "beta_low", "beta_high",
+                 "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
+                 "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
+STATUS_NAMES = {m.value: m.name for m in FitStatus}
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=80)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def curve_figure(ds: xr.Dataset, j: int, hazard: HazardCurve | None) -> str:
+    """The fitted curve with the stripe fractions and their intervals (and the hazard integrand)."""
+    levels = ds["im_level"].values
+    units = ds.attrs["im_units"]
+    fig = new_figure(figsize=(9.0 if hazard is not None else 5.0, 3.4))
+    fig.subplots_adjust(left=0.09, right=0.98, top=0.88, bottom=0.16, wspace=0.28)
+    axes = fig.subplots(1, 2 if hazard is not None else 1, squeeze=False)[0]
+    ax = axes[0]
+    n, z = ds["n_records"].values[j], ds["overturned_sum"].values[j]
+    frac = ds["fraction_overturned"].values[j]
+    lo, hi = wilson_interval(np.round(z), n)
+    ok = n > 0
+    ax.errorbar(levels[ok], frac[ok], yerr=[frac[ok] - lo[ok], hi[ok] - frac[ok]], fmt="o", color="k", ms=4,
+                capsize=2, label="stripes (90 % interval)")
+    theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
+    x = np.geomspace(levels[0] / 2, levels[-1] * 2, 200)
+    if np.isfinite(theta) and theta > 0 and np.isfinite(beta):
+        ax.plot(x, fragility_curve(x, theta, beta), color="tab:red",
+                label=f"lognormal: median {theta:.3g} {units}, beta {beta:.2f}")
+    ax.set_xscale("log")
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xlabel(f"{ds.attrs['im']} [{units}]")
+    ax.set_ylabel("P(overturn)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title(str(ds["block"].values[j]), fontsize=9)
+    if hazard is not None:
+        im, dens, _ = integrand_segments(hazard, theta, beta)
+        axes[1].plot(im, dens * im, color="k")
+        axes[1].set_xscale("log")
+        axes[1].set_xlabel(f"{ds.attrs['im']} [{units}]")
+        axes[1].set_ylabel("P(C|im) |d lambda / d ln im| [1/yr]")
+        axes[1].set_title("which shaking levels drive the rate", fontsize=9)
+        axes[1].grid(alpha=0.3, which="both")
+    return _png(fig)
+
+
+def asset_rows(ds: xr.Dataset) -> list[dict]:
+    """One row per block, riskiest first."""
+    ims = ds["im"].values.tolist()
+    rows = []
+    for j, block in enumerate(ds["block"].values.tolist()):
+        beta_im, rank = ds["beta_im"].values[j], ds["im_rank"].values[j]
+        order = np.argsort(rank)
+        best = int(order[0])
+        vr = ims.index("velocity_ratio")
+        rows.append({
+            "block": block, "j": j,
+            **{k: float(ds[k].values[j]) for k in ("median", "median_low", "median_high", "beta", "beta_low",
+                                                    "beta_high")},
+            "fit_status": STATUS_NAMES[int(ds["fit_status"].values[j])],
+            "annual_rate_overturn": float(ds["annual_rate_overturn"].values[j]) if "annual_rate_overturn" in ds
+            else math.nan,
+            "p_overturn_50yr": float(ds["p_overturn_50yr"].values[j]) if "p_overturn_50yr" in ds else math.nan,
+            "best_im": ims[best] if np.isfinite(beta_im[best]) else "", "best_im_beta": float(beta_im[best]),
+            "velocity_ratio_rank": int(rank[vr]), "velocity_ratio_beta": float(beta_im[vr]),
+            "im_ranking": ";".join(f"{ims[k]}={beta_im[k]:.3g}" for k in order if np.isfinite(beta_im[k])),
+            "at_risk": int(ds["fit_status"].values[j]) != FitStatus.none_overturn,
+        })
+    rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"], nan=-1.0), r["median"]))
+    for k, r in enumerate(rows, 1):
+        r["rank"] = k
+    return rows
+
+
+def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardCurve | None = None
+                           ) -> tuple[Path, Path]:
+    """Write ``fragility.html`` and ``assets.csv`` into ``out_dir``."""
+    from jinja2 import Environment, PackageLoader, select_autoescape
+
+    from .html import _num
+
+    rows = asset_rows(ds)
+    drawn = 0
+    for r in rows:
+        r["figure"] = None
+        if r["at_risk"] and drawn < MAX_FIGURES:
+            r["figure"] = curve_figure(ds, r["j"], hazard)
+            drawn += 1
+    env = Environment(loader=PackageLoader("pipeline.report", "templates"),
+                      autoescape=select_autoescape(["html", "j2"]))
+    env.filters["num"] = _num
+    ims = ds["im"].values.tolist()
+    html = env.get_template("fragility.html.j2").render(
+        attrs=ds.attrs, assets=rows, hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
+        n_records=ds.sizes["record"], drawn=drawn, at_risk=sum(r["at_risk"] for r in rows),
+        mean_beta={im: float(np.nanmedian(np.where(np.isfinite(ds["beta_im"].values[:, k]),
+                                                   ds["beta_im"].values[:, k], np.nan)))
+                   if np.isfinite(ds["beta_im"].values[:, k]).any() else math.nan for k, im in enumerate(ims)},
+        wins={im: int(np.sum(ds["im_rank"].values[:, k] == 1)) for k, im in enumerate(ims)})
+    html_path = write_text_atomic(out_dir / "fragility.html", html)
+    table = [{c: r[c] for c in ASSET_COLUMNS} for r in rows]
+    return html_path, write_csv_atomic(out_dir / "assets.csv", ASSET_COLUMNS, table)

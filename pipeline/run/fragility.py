@@ -1,0 +1,414 @@
+"""``screen fragility``: multiple-stripe analysis, lognormal fragility fits, IM ranking, hazard integral.
+
+Data flow (one task per record, on the same executors as ``screen``)::
+
+    scan -> per record: load, pulse, IMs, then for each level the record scaled (all components
+    by one factor) so that its IM equals the level, every block judged as ``screen`` judges it
+    (certificate, simulator, orientation scan; p_overturn with [uncertainty] samples)
+    -> fragility cache entry per record (a re-run or a resumed run computes only what is missing)
+    -> stripes -> fits, bootstrap, IM efficiency and sufficiency -> hazard -> fragility.nc, report
+
+For the IM ``sa`` (Sa at the block's own period 2 pi / p) the factor differs per block.
+A record whose IM is zero or undefined (no pulse for ``ap``) cannot be scaled: it is left out
+of every stripe of that block, and the run says so.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .. import criteria
+from ..blocks import Inventory
+from ..config import Config
+from ..constants import G
+from ..errors import RockscreenError, UsageError
+from ..records.intensity import arias_intensity, spectral_acceleration
+from ..records.loader import read_declared_units, scan_directory
+from ..schema import FRAGILITY, apply_schema
+from ..screening import Context, _simulation_values, pulses_and_directions
+from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
+from ..uncertainty.hazard import HazardCurve, annual_rate, probability_in
+from .cache import ENTRY_FORMAT, _NpzStore, record_key, run_key
+
+log = logging.getLogger(__name__)
+
+#: Every IM the tool computes: (SI unit, how it grows with the factor f on the record: exponent of f).
+IMS = {"pga": ("m s-2", 1), "pgv": ("m s-1", 1), "pgv_pga": ("s", 0), "sa": ("m s-2", 1), "arias": ("m s-1", 2),
+       "ap": ("m s-2", 1), "tp": ("s", 0), "velocity_ratio": ("1", 1)}
+#: Long names of the IMs.
+IM_NAMES = {"pga": "peak ground acceleration (horizontal vector)", "pgv": "peak ground velocity (horizontal vector)",
+            "pgv_pga": "PGV / PGA", "sa": "Sa(2 pi / p, 5 %), horizontal vector (RotD100), at the block's period",
+            "arias": "Arias intensity (both horizontals)", "ap": "pulse peak acceleration a_p along the block",
+            "tp": "pulse lobe duration t_p along the block",
+            "velocity_ratio": "the paper's pulse measure |dv| / v_crit (Eqs. 4-5)"}
+#: IMs a record can be scaled to (those that grow with the factor).
+SCALABLE = tuple(k for k, (_, power) in IMS.items() if power > 0)
+
+
+@dataclass(frozen=True)
+class FragilityContext:
+    """What every fragility task needs (picklable)."""
+
+    base: Context
+    im: str
+    levels: tuple
+
+
+def record_ims(rec, blocks: dict, inventory: Inventory, *, g_ms2: float) -> dict[str, np.ndarray]:
+    """Every IM of the unscaled record, per block (shape (n_blocks,))."""
+    nb = len(inventory)
+    geo = inventory.geometry(g_ms2=g_ms2)
+    pga, pgv = rec.pga_ms2(), rec.pgv_ms()
+    periods = 2.0 * math.pi / geo.p
+    sa_of = {T: spectral_acceleration(rec.horizontal_ms2, rec.dt_s, float(T)) for T in np.unique(periods)}
+    dv = np.abs(blocks.get("block_pulse_dv", np.full(nb, np.nan)))
+    v_crit = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
+    return {"pga": np.full(nb, pga), "pgv": np.full(nb, pgv), "pgv_pga": np.full(nb, pgv / pga if pga > 0 else np.nan),
+            "sa": np.array([sa_of[T] for T in periods]),
+            "arias": np.full(nb, arias_intensity(rec.horizontal_ms2, rec.dt_s, g_ms2=g_ms2)),
+            "ap": np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float),
+            "tp": np.asarray(blocks.get("block_pulse_tp", np.full(nb, np.nan)), dtype=float),
+            "velocity_ratio": dv / v_crit}
+
+
+def scale_factors(im_values: np.ndarray, levels: np.ndarray, im: str) -> np.ndarray:
+    """Factor on the record that brings its IM to each level, shape (levels, blocks); NaN where the IM is
+    zero or undefined (the record cannot be scaled)."""
+    power = IMS[im][1]
+    x = np.asarray(im_values, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = (np.asarray(levels, dtype=float)[:, None] / x[None, :]) ** (1.0 / power)
+    return np.where(np.isfinite(f) & (f > 0), f, np.nan)
+
+
+def judge_record(rec, base: Context, im: str, levels) -> dict:
+    """One loaded record at every level against every block: outcomes, p_overturn, factors and IMs.
+
+    Returns
+    -------
+    dict
+        ``verdict`` (levels, blocks) int8 (1, 0, -1 no verdict or not scalable), ``p`` (levels, blocks),
+        ``factor`` (levels, blocks) and ``im.<name>`` (blocks) for every IM of :data:`IMS`.
+    """
+    _, blocks, _, directions = pulses_and_directions(rec, base)
+    g = base.config.records.g_ms2
+    ims = record_ims(rec, blocks, base.inventory, g_ms2=g)
+    levels = np.asarray(levels, dtype=float)
+    factors = scale_factors(ims[im], levels, im)
+    nb = len(base.inventory)
+    verdict = np.full((len(levels), nb), -1, dtype="i1")
+    prob = np.full((len(levels), nb), np.nan)
+    simulate = base.config.fidelity.tier != "criterion"
+    geo = base.inventory.geometry(g_ms2=g)
+    for j in range(len(levels)):
+        for f in np.unique(factors[j][np.isfinite(factors[j])]):
+            sel = factors[j] == f
+            if simulate:
+                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel)
+                verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
+                prob[j, sel] = sim["p_overturn"][sel]
+            else:
+                crit = criteria.evaluate(f * ims["ap"], ims["tp"], blocks.get("block_pulse_beta", np.nan),
+                                         f * np.asarray(blocks.get("block_pulse_dv", np.nan)), R_m=geo.R,
+                                         alpha=geo.alpha, p=geo.p, mu=base.inventory.mu, g_ms2=g,
+                                         form=base.config.criteria.form)
+                verdict[j, sel] = np.asarray(crit["overturn_criterion"])[sel]
+    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "factor": factors,
+            **{f"im.{k}": v for k, v in ims.items()}}
+
+
+def fragility_task(item: tuple, ctx: FragilityContext) -> dict:
+    """Executor task: load one record by path and :func:`judge_record` it; failures come back as
+    ``{"error": reason}``, never raised."""
+    source, content = item
+    try:
+        out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels)
+        out.update(record_id=source.record_id, content=content)
+        return out
+    except RockscreenError as exc:
+        return {"error": str(exc)}
+    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
+        log.exception("unexpected error on record %s", source.record_id)
+        return {"error": f"unexpected {type(exc).__name__}: {exc}"}
+
+
+class FragilityCache(_NpzStore):
+    """Per-record fragility results under ``OUT/.rockscreen/fragility`` (resumable runs)."""
+
+    what = "fragility cache"
+
+    def __init__(self, out_dir: Path, key: str):
+        super().__init__(Path(out_dir) / ".rockscreen" / "fragility")
+        self.key = key
+
+    def path(self, record_id: str, content: str) -> Path:
+        return self.dir / f"{record_key(record_id, content, self.key)}.npz"
+
+    def load(self, record_id: str, content: str) -> dict | None:
+        z = self._read(self.path(record_id, content))
+        if z is None:
+            return None
+        out = {k: v for k, v in z.items() if k != "entry_format"}
+        out["record_id"], out["content"] = record_id, content
+        return out
+
+    def save(self, result: dict) -> None:
+        arrays = {k: np.asarray(v) for k, v in result.items() if k not in ("record_id", "content")}
+        self._write(self.path(result["record_id"], result["content"]), arrays)
+
+
+def fragility_key(config: Config, inventory: Inventory, im: str, levels, declared: dict,
+                  stationxml_sha256: str = "") -> str:
+    """Everything besides a record that its fragility results depend on."""
+    payload = json.dumps({"run": run_key(config.to_dict(), declared_units=declared,
+                                         station_inventory_sha256=stationxml_sha256), "im": im,
+                          "levels": [float(x) for x in levels], "blocks": list(inventory.digests()),
+                          "entry_format": ENTRY_FORMAT}, sort_keys=True)
+    return hashlib.sha256(payload.encode()).hexdigest()
+
+
+@dataclass
+class FragilityOutcome:
+    """The stripes of a run and what it cost."""
+
+    dataset: xr.Dataset
+    counts: dict
+
+
+def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
+                executor, out_dir: Path | None = None, progress=None, station_inventory=None,
+                stationxml_sha256: str = "") -> tuple[list[dict], list[tuple], dict]:
+    """Scale every record to every level and judge every block (cached per record under ``out_dir``).
+
+    ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
+
+    Returns
+    -------
+    results : list of dict
+        Per record (sorted by id): ``verdict`` and ``p`` (levels, blocks), ``factor``, ``im.<name>``.
+    failures : list of (record id, reason)
+    counts : dict
+        ``records_computed``, ``records_reused``, ``wall_time_s``.
+    """
+    t0 = time.perf_counter()
+    found = scan_directory(records_dir, config=config)
+    declared = read_declared_units(records_dir, config)
+    base = Context(str(records_dir), config, inventory, declared, station_inventory)
+    ctx = FragilityContext(base, im, tuple(float(x) for x in levels))
+    cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256)) \
+        if out_dir is not None else None
+    results, todo, failures = [], [], [(f.record_id, f.reason) for f in found.failures]
+    for src in found.sources:
+        content = src.digest()
+        hit = cache.load(src.record_id, content) if cache is not None else None
+        if hit is not None:
+            results.append(hit)
+        else:
+            todo.append((src, content))
+    reused = len(results)
+    stream = executor.map_unordered(fragility_task, todo, ctx)
+    if progress is not None:
+        stream = progress(stream, len(todo))
+    for (src, _), res in stream:
+        if isinstance(res, Exception) or "error" in res:
+            failures.append((src.record_id, str(res) if isinstance(res, Exception) else res["error"]))
+            continue
+        if cache is not None:
+            cache.save(res)
+        results.append(res)
+    if cache is not None:
+        cache.prune()
+    results.sort(key=lambda r: str(r["record_id"]))
+    return results, failures, {"records_computed": len(results) - reused, "records_reused": reused,
+                               "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
+
+
+def assemble_fragility(results: list[dict], inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
+                       hazard: HazardCurve | None = None, bootstrap: int = 200) -> xr.Dataset:
+    """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates."""
+    levels = np.asarray(levels, dtype=float)
+    nb, nl = len(inventory), len(levels)
+    sampled = config.uncertainty.samples > 0 and config.fidelity.tier != "criterion"
+    verdict = np.stack([r["verdict"] for r in results]) if results else np.full((0, nl, nb), -1)
+    prob = np.stack([r["p"] for r in results]) if results else np.full((0, nl, nb), np.nan)
+    factor = np.stack([r["factor"] for r in results]) if results else np.full((0, nl, nb), np.nan)
+    # the outcome of a scene: p_overturn when sampled, else the nominal verdict (NaN: no verdict)
+    outcome = prob if sampled else np.where(verdict >= 0, verdict.astype(float), np.nan)
+    outcome = np.where(np.isfinite(factor), outcome, np.nan)
+    n = np.sum(np.isfinite(outcome), axis=0)                                  # (levels, blocks)
+    z = np.nansum(outcome, axis=0)
+    frac = np.where(n > 0, z / np.maximum(n, 1), np.nan)
+    fit = fit_stripes(levels, z.T, n.T)
+    th_ci, be_ci = np.full((nb, 2), np.nan), np.full((nb, 2), np.nan)
+    for j in range(nb):
+        th_ci[j], be_ci[j] = bootstrap_stripes(levels, outcome[:, :, j], draws=bootstrap,
+                                               seed=config.uncertainty.seed + j)
+    # IM efficiency and sufficiency: the same outcomes against every IM of the scaled records
+    names = list(IMS)
+    beta_im = np.full((nb, len(names)), np.nan)
+    median_im = np.full((nb, len(names)), np.nan)
+    suff = np.full((nb, len(names)), np.nan)
+    for j in range(nb):
+        y = outcome[:, :, j].ravel()
+        f = factor[:, :, j]
+        tp = np.repeat(np.array([r["im.tp"][j] for r in results]), nl) if results else np.zeros(0)
+        for k, name in enumerate(names):
+            base = np.array([r[f"im.{name}"][j] for r in results]) if results else np.zeros(0)
+            x = (base[:, None] * f ** IMS[name][1]).ravel() if results else np.zeros(0)
+            cov = None if name == "tp" else np.log(np.where(tp > 0, tp, np.nan))
+            median_im[j, k], beta_im[j, k], suff[j, k] = im_dispersion(x, y, cov)
+    rank = np.argsort(np.argsort(np.where(np.isnan(beta_im), np.inf, beta_im), axis=1, kind="stable"),
+                      axis=1) + 1
+    rank = np.where(np.isnan(beta_im), -1, rank)           # no fit (nothing overturns): not ranked
+    data = {
+        "fraction_overturned": (("block", "im_level"), frac.T),
+        "n_records": (("block", "im_level"), n.T.astype("i4")),
+        "overturned_sum": (("block", "im_level"), z.T),
+        "median": (("block",), fit.theta), "beta": (("block",), fit.beta), "fit_status": (("block",), fit.status),
+        "median_low": (("block",), th_ci[:, 0]), "median_high": (("block",), th_ci[:, 1]),
+        "beta_low": (("block",), be_ci[:, 0]), "beta_high": (("block",), be_ci[:, 1]),
+        "scale_factor": (("record", "im_level", "block"), factor),
+        "outcome": (("record", "im_level", "block"), verdict.astype("i1")),
+        "p_overturn": (("record", "im_level", "block"), prob),
+        "beta_im": (("block", "im"), beta_im), "median_im": (("block", "im"), median_im),
+        "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),
+    }
+    if hazard is not None:
+        rate = np.array([annual_rate(hazard, float(fit.theta[j]), float(fit.beta[j])) for j in range(nb)])
+        data["annual_rate_overturn"] = (("block",), rate)
+        data["p_overturn_50yr"] = (("block",), np.array([probability_in(r, 50.0) for r in rate]))
+    ds = xr.Dataset(data, coords={
+        "block": np.array(inventory.ids, dtype=object), "im_level": levels,
+        "record": np.array([str(r["record_id"]) for r in results], dtype=object),
+        "im": np.array(names, dtype=object)})
+    ds.attrs.update({"im": im, "im_units": IMS[im][0], "im_long_name": IM_NAMES[im],
+                     "im_units_by_im": json.dumps({k: v[0] for k, v in IMS.items()}),
+                     "outcome_measure": "p_overturn" if sampled else "nominal verdict",
+                     "bootstrap_draws": bootstrap, "Conventions": "CF-1.11",
+                     "title": "rockscreen fragility: multiple-stripe analysis"})
+    return apply_schema(ds, FRAGILITY)
+
+
+def parse_levels(text: str, im: str) -> np.ndarray:
+    """``--levels`` in the IM's SI unit, a ``g`` suffix accepted for accelerations.
+
+    Raises
+    ------
+    UsageError
+        For an unknown IM, a value that is not a number, not positive or not increasing.
+    """
+    if im not in SCALABLE:
+        raise UsageError(f"--im {im!r}: unknown or not scalable; valid: {', '.join(SCALABLE)}")
+    unit = IMS[im][0]
+    out: list[float] = []
+    for k, raw in enumerate(text.split(","), 1):
+        s = raw.strip()
+        factor = 1.0
+        if s.lower().endswith("g"):
+            if unit != "m s-2":
+                raise UsageError(f"--levels: value {k} {s!r}: a 'g' suffix is only for accelerations; {im} is in "
+                                 f"{unit}")
+            s, factor = s[:-1], G
+        try:
+            v = float(s) * factor
+        except ValueError:
+            raise UsageError(f"--levels: value {k} {raw.strip()!r} is not a number; give {im} in {unit}"
+                             + (" (or with a g suffix)" if unit == "m s-2" else "")) from None
+        if not (math.isfinite(v) and v > 0):
+            raise UsageError(f"--levels: value {k} {raw.strip()!r} must be a positive number")
+        if out and v <= out[-1]:
+            raise UsageError(f"--levels: value {k} {raw.strip()!r} does not increase; give the levels in "
+                             "increasing order")
+        out.append(v)
+    return np.array(out)
+
+
+def stripe_warnings(ds: xr.Dataset) -> list[str]:
+    """Why records or stripes are missing: records that could not be scaled, stripes with no verdict."""
+    out = []
+    f = ds["scale_factor"].values
+    for i, rid in enumerate(ds["record"].values.tolist()):
+        bad = ~np.isfinite(f[i, 0, :])
+        if bad.any():
+            out.append(f"record {rid}: its {ds.attrs['im']} is zero or undefined for {int(bad.sum())} block(s) "
+                       f"(e.g. {ds['block'].values[np.flatnonzero(bad)[0]]}): it cannot be scaled to a level and is "
+                       "left out of their stripes" + (" (no pulse was extracted)" if ds.attrs["im"] in ("ap", "tp",
+                                                                                               "velocity_ratio")
+                                                      else ""))
+    n = ds["n_records"].values
+    for j, block in enumerate(ds["block"].values.tolist()):
+        empty = np.flatnonzero(n[j] == 0)
+        if empty.size:
+            lv = ", ".join(f"{x:g}" for x in ds["im_level"].values[empty])
+            out.append(f"block {block}: no record has a verdict at level(s) {lv} {ds.attrs['im_units']} (every "
+                       "record unscalable or in free flight there); those stripes are empty")
+    return out
+
+
+@dataclass(frozen=True)
+class FragilityRequest:
+    """Everything ``screen fragility`` was asked for."""
+
+    records_dir: Path
+    blocks_csv: Path
+    inventory: Inventory
+    config: Config
+    im: str
+    levels: np.ndarray
+    out_dir: Path
+    hazard: HazardCurve | None = None
+    n_workers: int = 1
+    scheduler: str | None = None
+    bootstrap: int = 200
+    command: tuple = ()
+    #: StationXML for records in counts (``--inventory``; else ``*.xml`` in the records directory)
+    stationxml: Path | None = None
+
+
+def fragility(request: FragilityRequest, *, progress=None) -> dict:
+    """Run the stripes (resumable), fit, integrate the hazard, write fragility.nc, the report and assets.csv.
+
+    Returns
+    -------
+    dict
+        Counts, paths and warnings for the closing summary.
+    """
+    from ..records.loader import files_sha256, read_inventory, stationxml_paths
+    from ..report.fragility_html import build_fragility_report
+    from ..store import OutputLock, write_atomic
+    from .cache import ensure_writable
+    from .executors import make_executor
+
+    out_dir = ensure_writable(request.out_dir)
+    station = read_inventory(request.records_dir, request.stationxml)
+    with OutputLock(out_dir, command=" ".join(request.command)):
+        with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
+            results, failures, counts = run_stripes(request.records_dir, request.inventory, request.config,
+                                                    im=request.im, levels=request.levels, executor=executor,
+                                                    out_dir=out_dir, progress=progress, station_inventory=station,
+                                                    stationxml_sha256=files_sha256(stationxml_paths(
+                                                        request.records_dir, request.stationxml)))
+        if not results:
+            raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
+                             + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
+        ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=request.levels,
+                                hazard=request.hazard, bootstrap=request.bootstrap)
+        ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} "
+                                    f"{' '.join(request.command)}",
+                         "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),
+                         "inventory_file": str(request.blocks_csv),
+                         "records_failed": "\n".join(f"{r}: {why}" for r, why in failures),
+                         "hazard_curve": request.hazard.path if request.hazard is not None else ""})
+        nc = write_atomic(ds, out_dir / "fragility.nc")
+        html, csv_path = build_fragility_report(ds, out_dir, hazard=request.hazard)
+    return {**counts, "scenes": int(ds.sizes["record"] * ds.sizes["im_level"] * ds.sizes["block"]),
+            "failures": failures, "warnings": stripe_warnings(ds), "paths": (nc, html, csv_path)}

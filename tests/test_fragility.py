@@ -1,0 +1,204 @@
+"""Issue 20: fragility by multiple-stripe analysis, IM ranking, the hazard integral.
+
+Independent truth: the overturning of every scaled half-sine record by the independent solver
+(``solve_ivp``, :func:`rock_reference`); a maximum-likelihood fit of those counts by a general
+optimizer (Nelder-Mead on the binomial likelihood), not the scoring iterations under test; a
+numerical integration of the fitted curve over the hazard curve on a dense grid; Sa against
+``scipy.signal.lsim``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import cumulative_trapezoid
+from scipy.optimize import minimize
+from scipy.stats import binom, norm
+
+from pipeline.blocks import Inventory
+from pipeline.config import Config
+from pipeline.errors import HazardError, UsageError
+from pipeline.records.record import Record
+from pipeline.rocking.excitation import pulse
+from pipeline.rocking.reference import rock_reference
+from pipeline.run.fragility import assemble_fragility, judge_record, parse_levels, stripe_warnings
+from pipeline.screening import Context
+from pipeline.uncertainty.fragility import FitStatus, fit_stripes
+from pipeline.uncertainty.hazard import HazardCurve, annual_rate, read_hazard
+
+G = 9.80665
+PERIODS = np.geomspace(0.3, 3.0, 16)
+LEVELS = np.array([0.2, 0.3, 0.45, 0.65, 0.9, 1.3, 2.0]) * G
+BLOCK = dict(height_m=2.0, width_m=0.3, mu=2.0)          # mu = 2: the block rocks, never slides
+
+
+def _record(k: int, period: float) -> Record:
+    """A one-component half-sine of unit amplitude [m s-2], then 3 s of rest."""
+    a, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=period, samples_per_period=200)
+    a = np.concatenate([a, np.zeros(int(3.0 / dt))])
+    h = a[None, :]
+    return Record(f"HS{k:02d}", dt, h, (0.0,), False, None, (), (), ("H1",), "corrected",
+                  velocity_ms=cumulative_trapezoid(h, dx=dt, axis=1, initial=0.0))
+
+
+@pytest.fixture(scope="module")
+def suite():
+    """The 16 records, judged by the pipeline (nominal verdicts) and by the independent solver."""
+    inv = Inventory.single(**BLOCK, block_id="B")
+    cfg = Config().with_uncertainty(samples=0)
+    ctx = Context("", cfg, inv, {})
+    recs = [_record(k, T) for k, T in enumerate(PERIODS)]
+    results = [judge_record(r, ctx, "pga", LEVELS) for r in recs]
+    geo = inv.geometry(g_ms2=G)
+    p, alpha, e = float(geo.p[0]), float(geo.alpha[0]), float(geo.e_housner[0])
+    independent = np.array([[rock_reference(level * r.horizontal_ms2[0], r.dt_s, p=p, alpha=alpha, e=e,
+                                            g=G)["overturned"] for level in LEVELS] for r in recs], dtype=float)
+    ds = assemble_fragility(results, inv, cfg, im="pga", levels=LEVELS, bootstrap=100)
+    return ds, independent, results
+
+
+def test_stripe_counts_agree_with_the_independent_solver(suite):
+    ds, independent, _ = suite
+    counts = ds["overturned_sum"].values[0]
+    assert np.all(ds["n_records"].values[0] == 16)
+    assert np.all(np.abs(counts - independent.sum(axis=0)) <= 1), (counts, independent.sum(axis=0))
+    assert 0 < independent.sum() < independent.size          # the suite spans standing and overturning
+
+
+def test_fit_agrees_with_a_general_maximum_likelihood_fit(suite):
+    ds, independent, _ = suite
+    z, n = independent.sum(axis=0), np.full(len(LEVELS), 16.0)
+
+    def nll(q):
+        return -np.sum(binom.logpmf(z, n, np.clip(norm.cdf((np.log(LEVELS) - q[0]) / math.exp(q[1])),
+                                                   1e-12, 1 - 1e-12)))
+
+    best = minimize(nll, [math.log(np.median(LEVELS)), math.log(0.5)], method="Nelder-Mead",
+                    options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 10000})
+    theta, beta = math.exp(best.x[0]), math.exp(best.x[1])
+    assert int(ds["fit_status"].values[0]) == FitStatus.ok
+    assert float(ds["median"].values[0]) == pytest.approx(theta, rel=0.05)
+    assert float(ds["beta"].values[0]) == pytest.approx(beta, rel=0.15)
+    assert ds["median_low"].values[0] < ds["median"].values[0] < ds["median_high"].values[0]
+
+
+def test_hazard_integral_agrees_with_a_dense_numerical_integration(suite, tmp_path):
+    ds, _, _ = suite
+    theta, beta = float(ds["median"].values[0]), float(ds["beta"].values[0])
+    path = tmp_path / "hazard.csv"
+    pga_g = np.array([0.05, 0.1, 0.2, 0.4, 0.8, 1.6])
+    rate = np.array([2e-2, 8e-3, 2e-3, 4e-4, 5e-5, 4e-6])
+    path.write_text("pga_g,annual_rate\n" + "\n".join(f"{a},{r}" for a, r in zip(pga_g, rate)) + "\n")
+    curve = read_hazard(path, im="pga")
+    got = annual_rate(curve, theta, beta)
+    x = np.geomspace(curve.levels[0], curve.levels[-1], 200001)
+    lam = np.exp(np.interp(np.log(x), np.log(curve.levels), np.log(curve.rates)))
+    frag = norm.cdf(np.log(x / theta) / beta)
+    dense = float(np.sum(0.5 * (frag[1:] + frag[:-1]) * -np.diff(lam))) + frag[-1] * lam[-1]
+    assert got == pytest.approx(dense, rel=0.05)
+    assert got == pytest.approx(dense, rel=1e-4)           # far better than asked: Gauss-Legendre per segment
+
+
+def test_fit_statuses_and_a_second_fit_path():
+    lv = np.array([0.1, 0.2, 0.4, 0.8])
+    n = np.full(4, 10.0)
+    assert FitStatus(int(fit_stripes(lv, np.zeros(4), n).status)) == FitStatus.none_overturn
+    assert FitStatus(int(fit_stripes(lv, n, n).status)) == FitStatus.all_overturn
+    sep = fit_stripes(lv, np.array([0, 0, 10, 10.0]), n)
+    assert FitStatus(int(sep.status)) == FitStatus.separated
+    assert float(sep.theta) == pytest.approx(math.sqrt(0.2 * 0.4))
+
+
+def test_im_ranking_and_sufficiency_are_reported(suite):
+    ds, _, _ = suite
+    ims = ds["im"].values.tolist()
+    beta = dict(zip(ims, ds["beta_im"].values[0]))
+    # records scaled to PGA: PGA's own dispersion is the stripes' (same points); Sa and Arias are computed
+    assert beta["pga"] == pytest.approx(float(ds["beta"].values[0]), rel=0.05)
+    assert np.isfinite(beta["sa"]) and np.isfinite(beta["arias"])
+    assert sorted(ds["im_rank"].values[0].tolist()) == list(range(1, len(ims) + 1))
+
+
+@pytest.mark.parametrize("text, im, message", [
+    ("0.2,0.1", "pga", "does not increase"), ("0.1,-0.2", "pga", "positive"), ("0.1,x", "pga", "not a number"),
+    ("0.1g", "pgv", "only for accelerations"), ("0.1", "tp", "not scalable"),
+])
+def test_bad_levels_are_usage_errors(text, im, message):
+    with pytest.raises(UsageError, match=message):
+        parse_levels(text, im)
+
+
+def test_levels_accept_a_g_suffix():
+    np.testing.assert_allclose(parse_levels("0.1g, 2.0", "pga"), [0.1 * G, 2.0])
+
+
+@pytest.mark.parametrize("body, message", [
+    ("pga_g\n0.1\n", "header"), ("pgv_g,annual_rate\n0.1,1e-2\n", "header"),
+    ("pga_g,annual_rate\n0.1,1e-2\n0.2,2e-2\n", "line 3: annual_rate = 2e-2 does not decrease"),
+    ("pga_g,annual_rate\n0.1,1e-2\n-0.2,1e-3\n", "line 3: pga_g = '-0.2'; expected a positive number"),
+    ("pga_g,annual_rate\n0.1,1e-2\n0.05,1e-3\n", "does not increase"),
+    ("pga_g,annual_rate\n0.1,abc\n", "line 2: annual_rate = 'abc' is not a number"),
+])
+def test_bad_hazard_curves_name_the_file_line_and_value(tmp_path, body, message):
+    path = tmp_path / "h.csv"
+    path.write_text(body)
+    with pytest.raises(HazardError) as err:
+        read_hazard(path, im="pga")
+    assert str(path) in str(err.value) and message in str(err.value)
+
+
+def test_an_unscalable_record_is_reported(suite):
+    """ap is undefined where no pulse was extracted: the record cannot be scaled, and the run says why."""
+    ds, _, results = suite
+    inv = Inventory.single(**BLOCK, block_id="B")
+    bad = dict(results[0])
+    bad["factor"] = np.full_like(bad["factor"], np.nan)
+    cfg = Config().with_uncertainty(samples=0)
+    ds2 = assemble_fragility([bad, *results[1:]], inv, cfg, im="pga", levels=LEVELS, bootstrap=0)
+    assert ds2["n_records"].values[0, 0] == 15
+    assert any("cannot be scaled" in w and "HS00" in w for w in stripe_warnings(ds2))
+
+
+def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
+    """screen fragility end to end: a second run reuses every record; Dask gives the same numbers."""
+    pytest.importorskip("distributed")
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    records = make_records("peer-at2/RSN1176_KOCAELI_YPT060.AT2", "peer-at2/RSN1176_KOCAELI_YPT150.AT2",
+                           "peer-at2/RSN4040_BAM_BAM-L.AT2", "peer-at2/RSN4040_BAM_BAM-T.AT2")
+    blocks = tmp_path / "b.csv"
+    blocks.write_text("id,height_m,width_m,mu\nTOMB,1.1,0.2,0.65\nCOL,2.0,0.5,0.7\n")
+    hazard = tmp_path / "hz.csv"
+    hazard.write_text("# site hazard\npga_g,annual_rate\n0.05,2e-2\n0.2,2e-3\n0.8,5e-5\n1.6,4e-6\n")
+    args = ["fragility", "--records", str(records), "--blocks", str(blocks), "--im", "pga",
+            "--levels", "0.1g,0.3g,0.6g", "--hazard", str(hazard), "--samples", "0", "--bootstrap", "20", "-q"]
+    assert main([*args, "--out", str(tmp_path / "a")]) == 0
+    first = open_results(tmp_path / "a" / "fragility.nc")
+    assert main([*args, "--out", str(tmp_path / "a"), "-v"]) == 0     # resumed: nothing new to compute
+    again = open_results(tmp_path / "a" / "fragility.nc")
+    assert main([*args, "--out", str(tmp_path / "d"), "--scheduler", "local", "-n", "2"]) == 0
+    dask = open_results(tmp_path / "d" / "fragility.nc")
+    for other in (again, dask):
+        for name in ("fraction_overturned", "median", "beta", "annual_rate_overturn", "beta_im"):
+            np.testing.assert_array_equal(first[name].values, other[name].values, err_msg=name)
+    assert np.all(first["annual_rate_overturn"].values >= 0)
+    rates = [float(x) for x in first["annual_rate_overturn"].values]
+    html = (tmp_path / "a" / "fragility.html").read_text()
+    assert "by annual rate of overturning" in html
+    lines = (tmp_path / "a" / "assets.csv").read_text().splitlines()
+    assert lines[0].startswith("rank,block,median") and len(lines) == 3
+    ranked = [float(line.split(",")[ASSET_RATE]) for line in lines[1:]]
+    assert ranked == sorted(rates, reverse=True)
+
+
+ASSET_RATE = 9      # column of annual_rate_overturn in assets.csv
+
+
+def test_hazard_curve_objects_are_plain():
+    c = HazardCurve("pga", np.array([1.0, 2.0]), np.array([1e-2, 1e-3]), "x")
+    assert annual_rate(c, math.inf, math.nan) == 0.0        # nothing overturns: no rate
+    assert dataclasses.is_dataclass(c)
