@@ -86,7 +86,7 @@ def timed_run(args: list[str]) -> dict:
     """Run ``screen`` in a fresh process; wall time and peak RSS (largest process, tree total)."""
     import psutil
 
-    cmd = [sys.executable, "-m", "pipeline", *args, "-q", "--tolerate-failures"]
+    cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     ps = psutil.Process(proc.pid)

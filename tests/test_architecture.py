@@ -15,7 +15,10 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.screening", "pipeline.c
 
 @pytest.mark.parametrize("library", ["pipeline.rocking.planner", "pipeline.rocking.orientation",
                                      "pipeline.rocking.reference", "pipeline.records.loader", "pipeline.pulses",
-                                     "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks"])
+                                     "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
+                                     "pipeline.rocking.batch", "pipeline.records.intensity",
+                                     "pipeline.uncertainty.scenes", "pipeline.uncertainty.fragility",
+                                     "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
