@@ -35,12 +35,17 @@ EXIT_LOCKED = 75          # sysexits EX_TEMPFAIL: another run holds the output; 
 EXIT_INTERRUPTED = 130
 
 
-def _add_run_arguments(p: argparse.ArgumentParser) -> None:
+def _add_inputs(p: argparse.ArgumentParser, *, out: Path, out_help: str) -> None:
+    """--records, --blocks, --out, --config, --inventory (screen, screen fragility)."""
     p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
     p.add_argument("--blocks", required=True, type=Path, help="inventory CSV (id,height_m,width_m,...)")
-    p.add_argument("--out", type=Path, default=Path("results"), help="output directory (default: results/)")
+    p.add_argument("--out", type=Path, default=out, help=out_help)
     p.add_argument("--config", type=Path, help="TOML configuration (default: built-in, as configs/screen.toml)")
     p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
+
+
+def _add_execution(p: argparse.ArgumentParser) -> None:
+    """-n, --scheduler, --fidelity and the [uncertainty] overrides --samples, --seed."""
     ex = p.add_argument_group("execution")
     ex.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
                     help="worker processes on this machine (default: the cores available to this process, or "
@@ -53,13 +58,19 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
                     help="criterion (the paper's criterion alone: fast, NOT conservative) | full (default: "
                          "the exact at-rest certificate, then the simulator for every scene that moves) | "
                          "reference (full at tight tolerances); 'screen bench' measures the cost and error of each")
-    ex.add_argument("--force", action="store_true",
-                    help="recompute every record and block (default: only what is new or changed)")
-    un = p.add_argument_group("uncertainty (config [uncertainty]; README, 'Robust verdicts')")
+    un = p.add_argument_group("uncertainty (config [uncertainty]; README, 'Judges every verdict under declared "
+                              "uncertainty')")
     un.add_argument("--samples", type=int, metavar="N",
                     help="largest number of samples per scene for p_overturn (default 40; 0: nominal verdicts "
                          "only, no probability)")
     un.add_argument("--seed", type=int, metavar="S", help="seed of the common random numbers (default 20261123)")
+
+
+def _add_run_arguments(p: argparse.ArgumentParser) -> None:
+    _add_inputs(p, out=Path("results"), out_help="output directory (default: results/)")
+    _add_execution(p)
+    p.add_argument("--force", action="store_true",
+                   help="recompute every record and block (default: only what is new or changed)")
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
     _add_output_options(p)
@@ -350,25 +361,16 @@ def fragility_parser() -> argparse.ArgumentParser:
                                 description="Multiple-stripe analysis: every record scaled to each IM level, every "
                                             "block judged; lognormal fragility fits, the IMs that predict "
                                             "overturning, and with --hazard the annual rate of overturning.")
-    p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
-    p.add_argument("--blocks", required=True, type=Path, help="inventory CSV")
+    _add_inputs(p, out=Path("results/fragility"), out_help="output directory (default results/fragility/; a run "
+                "into it again resumes and reuses what was computed)")
     p.add_argument("--im", required=True, choices=SCALABLE,
                    help="IM the records are scaled to: " + ", ".join(f"{k} [{IMS[k][0]}]" for k in SCALABLE))
     p.add_argument("--levels", required=True,
                    help="increasing IM levels, comma-separated, in the IM's SI unit (a g suffix for accelerations: "
                         "0.1g,0.2g)")
     p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (README)")
-    p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
-    p.add_argument("--out", type=Path, default=Path("results/fragility"), help="output directory "
-                   "(default results/fragility/; a run into it again resumes and reuses what was computed)")
-    p.add_argument("--config", type=Path, help="TOML configuration")
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
-    p.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
-                   help=f"worker processes (default: the available cores, or ${WORKERS_ENV})")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask: 'local' or tcp://HOST:PORT")
-    p.add_argument("--samples", type=int, metavar="N", help="samples per scene for p_overturn (0: nominal verdicts)")
-    p.add_argument("--seed", type=int, metavar="S", help="seed of the common random numbers")
-    p.add_argument("--fidelity", choices=FIDELITY_TIERS, help="as for screen")
+    _add_execution(p)
     _add_output_options(p)
     return p
 

@@ -23,9 +23,10 @@ largest max |theta| / alpha, then the largest velocity ratio of the paper's crit
   (g + a_v <= 0) before any overturning;
 * ``p_overturn_governing``: the fraction of the samples that overturn at factor 1 on the
   governing record (its scene's ``p_overturn``);
-* ``overturn_scale_median`` (with ``uncertainty.margin_samples`` > 0): the median, over that
-  many samples of the block and the record's amplitude (common random numbers), of the
-  simulated margin on the governing record; each sample costs a whole margin scan;
+* ``overturn_scale_median`` (with ``uncertainty.margin_samples`` > 0; off by default): the
+  median, over that many samples of the block and the record's amplitude (common random
+  numbers), of the simulated margin on the governing record, as a factor on the nominal record;
+  each sample costs a whole margin scan (off too with ``samples = 0``);
 * theta(t) / alpha of the governing scene for the assets at risk, for the report.
 
 References
@@ -157,7 +158,7 @@ def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, set
     """The simulated margin of the first ``unc.margin_samples`` samples of block ``j`` (common random
     numbers), as factors on the *nominal* record: the sampled block's scan on the record scaled by the
     sample's amplitude factor, times that factor. Returns the margins and the scenes simulated."""
-    n = unc.margin_samples
+    n = unc.margin_samples if unc.samples > 0 else 0       # --samples 0: nominal results only
     if n <= 0:
         return np.zeros(0), 0
     sb = sample_block(common_normals(unc.seed, n), height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),

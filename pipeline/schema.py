@@ -240,7 +240,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "overturn_scale_median": (("block",), "1", "median over uncertainty.margin_samples samples (block and "
                               "amplitude, common random numbers) of the simulated margin on the governing record",
                               {"comment": "as a factor on the nominal record; NaN: not computed "
-                                          "(uncertainty.margin_samples = 0) or no sample in the rocking model"}),
+                                          "(uncertainty.margin_samples = 0 or samples = 0) or no sample in the "
+                                          "rocking model"}),
     "overturns_below_nominal": (("block",), None, "the governing scene stands, yet a smaller factor on the "
                                 "record overturns the block (margin below 1)",
                                 {**TRISTATE,

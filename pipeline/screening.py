@@ -66,6 +66,10 @@ class RecordResult:
     block_ids: tuple = ()
     #: inventory digests of those blocks (what they were computed with)
     block_digests: tuple = ()
+    #: a failure caused by the record's content under this configuration (a RockscreenError: format, units,
+    #: no horizontal, ...): the same files fail the same way, so it is kept in the scene cache; a crash
+    #: or a lost worker is not, and is retried
+    deterministic: bool = False
 
     @property
     def ok(self) -> bool:
@@ -316,7 +320,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
     except RockscreenError as exc:
-        return RecordResult(source.record_id, f"failed: {exc}", files)
+        return RecordResult(source.record_id, f"failed: {exc}", files, deterministic=True)
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
         log.exception("unexpected error on record %s", source.record_id)
         return RecordResult(source.record_id, f"failed: unexpected {type(exc).__name__}: {exc}", files)

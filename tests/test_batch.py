@@ -455,3 +455,25 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     assert "1 screened, 5 reused" in summary_line(capsys)
     assert "unreadable scene cache entry" in caplog.text
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
+
+
+def test_a_content_failure_is_reported_again_without_screening(make_records, blocks_csv, tmp_path, caplog,
+                                                               monkeypatch):
+    """A record that fails on its content (vertical only) fails again from the cache, with its reason, and no
+    task runs."""
+    from pipeline.run import batch
+
+    records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2",
+                           "cosmos/us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c")
+    out = tmp_path / "out"
+    assert screen(records, blocks_csv, out) == EXIT_OK
+    first = open_results(out / "screening.nc")
+    caplog.clear()
+    calls = []
+    real = batch._task
+    monkeypatch.setattr(batch, "_task", lambda item, ctx: calls.append(item) or real(item, ctx))
+    assert screen(records, blocks_csv, out) == EXIT_OK
+    assert calls == []                                          # nothing was screened again
+    assert "vertical component only" in caplog.text
+    assert "files unchanged since the run that found it" in caplog.text
+    assert_same_results(first, open_results(out / "screening.nc"))

@@ -224,7 +224,10 @@ def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tm
     records = make_records("peer-at2/RSN1176_KOCAELI_YPT060.AT2", "peer-at2/RSN1176_KOCAELI_YPT150.AT2",
                            "peer-at2/RSN1176_KOCAELI_YPT-UP.AT2")
     out = tmp_path / "out"
-    assert main(["--records", str(records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    cfg = tmp_path / "margins.toml"
+    cfg.write_text("[uncertainty]\nmargin_samples = 5\n")           # the default run plus sampled margins
+    assert main(["--records", str(records), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+                 "--config", str(cfg)]) == 0
     ds = open_results(out / "screening.nc")
     assert check(ds) == []
     p, lo, hi = (ds[n].values for n in ("p_overturn", "p_overturn_low", "p_overturn_high"))
@@ -236,6 +239,17 @@ def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tm
     rest = ds["physics"].values == 0
     assert np.all(ds["overturn"].values[rest] == 0)
     assert ds.attrs["uncertainty_samples"] == UncertaintyConfig().samples
+    # per asset: p on the governing record, and the median of the sampled margins
+    rec_index = {r: i for i, r in enumerate(ds["record"].values.tolist())}
+    for j, gov in enumerate(ds["governing_record"].values.tolist()):
+        if gov:
+            i = rec_index[gov]
+            assert ds["p_overturn_governing"].values[j] == pytest.approx(ds["p_overturn"].values[i, j], nan_ok=True)
+    margin, median = ds["overturn_scale_simulated"].values, ds["overturn_scale_median"].values
+    finite = np.isfinite(margin) & np.isfinite(median)
+    assert finite.any()
+    # the sampled margins scatter around the nominal one by the declared spreads, not by orders of magnitude
+    assert np.all((median[finite] > 0.5 * margin[finite]) & (median[finite] < 2.0 * margin[finite]))
     with open(out / "assets.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     ps = [float(r["p_overturn"]) for r in rows]

@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 from html import escape
 
 import numpy as np
-from matplotlib.ticker import MaxNLocator
 
 #: plot area width [px] and the margins around it
 WIDTH, LEFT, RIGHT = 720, 62, 12
@@ -71,6 +70,8 @@ def panels_svg(panels: list[Panel], dt_s: float, *, title: str, ylabel: str, xla
     share_y : bool
         One y range for all panels (the pulse and its residual on the original's scale).
     """
+    from matplotlib.ticker import MaxNLocator  # imported when a figure is drawn, not with the report
+
     n = max(p.y.size for p in panels)
     t_end = max((n - 1) * dt_s, dt_s)
     height = TOP + len(panels) * PANEL_H + (len(panels) - 1) * GAP + BOTTOM

@@ -10,7 +10,10 @@ cache (:mod:`pipeline.run.cache`) as soon as its task returns, so a run that is
 interrupted or killed loses nothing it computed, and the next run into the
 same output computes only:
 
-* records that are new, whose files changed, or that failed last time;
+* records that are new, whose files changed, or whose last failure was not caused by their
+  content (a crash, a lost worker); a record that failed on its content (format, units, no
+  horizontal: a :class:`~pipeline.errors.RockscreenError`) fails again from the cache, with
+  the same reason, until its files or the run key change;
 * every record, when the configuration, the package version, the declared
   units or the StationXML changed (the run key);
 * for unchanged records, only the blocks that are new or whose inventory
@@ -100,6 +103,9 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
                                              {"files": ";".join(Path(f).name for f in src.files)}))
             continue
         entry = None if (cache is None or force) else cache.load(src.record_id, content)
+        if entry is not None and not entry.ok:            # the same files failed the same way last time
+            out.failures.append(entry)
+            continue
         have = {} if entry is None else dict(zip(entry.block_ids, entry.block_digests))
         missing = tuple(b for b in inventory.ids if have.get(b) != digests[b])
         if entry is not None:
@@ -214,7 +220,11 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     if progress is not None:
         stream = progress(stream, len(the_plan.tasks))
     computed_records = computed_scenes = 0
-    for (source, block_ids, _), res in stream:
+    for rec_failure in the_plan.failures:
+        if rec_failure.deterministic:
+            log.warning("record %s %s (files unchanged since the run that found it)", rec_failure.record_id,
+                        rec_failure.status)
+    for (source, block_ids, content), res in stream:
         if isinstance(res, TaskLost):
             res = RecordResult(source.record_id, f"failed: {res}",
                                {"files": ";".join(Path(f).name for f in source.files)})
@@ -222,6 +232,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
             log.warning("record %s %s", res.record_id, res.status)
             results.pop(res.record_id, None)
             failed.append(res)
+            if cache is not None and res.deterministic:
+                cache.save_failure(res, content)
             continue
         res = merge(results.get(res.record_id), res)
         if cache is not None:

@@ -151,6 +151,8 @@ class SceneCache(_NpzStore):
         z = self._read(self.path(record_id, content_sha256))
         if z is None:
             return None
+        if "failed_status" in z:
+            return RecordResult(record_id, str(z["failed_status"]), {"files": str(z["files"])}, deterministic=True)
         try:
             return RecordResult.from_arrays(z)
         except (KeyError, ValueError) as exc:
@@ -161,6 +163,12 @@ class SceneCache(_NpzStore):
     def save(self, result: RecordResult) -> None:
         """Write one record's result atomically; a failure is logged, never raised."""
         self._write(self.path(result.record_id, result.values["content_sha256"]), result.to_arrays())
+
+    def save_failure(self, result: RecordResult, content_sha256: str) -> None:
+        """Keep a deterministic failure (:attr:`RecordResult.deterministic`) of these files under this run key:
+        the next run reports it again without reading the record."""
+        self._write(self.path(result.record_id, content_sha256),
+                    {"failed_status": np.array(result.status), "files": np.array(result.values.get("files", ""))})
 
     def margins(self) -> "MarginCache":
         """The margin cache of the same output and run key."""

@@ -77,6 +77,7 @@ class ProcessExecutor:
             raise UsageError(f"-n {n_workers}: the number of worker processes must be >= 1")
         self.n_workers = n_workers
         self._pool: ProcessPoolExecutor | None = None
+        self._entered = False
 
     def _new_pool(self) -> ProcessPoolExecutor:
         # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
@@ -89,19 +90,24 @@ class ProcessExecutor:
         # forkserver reads the environment when it starts; a value the user set is kept.
         for name in THREAD_VARIABLES:
             os.environ.setdefault(name, "1")
-        self._pool = self._new_pool()
+        self._entered = True
         return self
 
     def __exit__(self, exc_type, *exc):
         if self._pool is not None:
             self._pool.shutdown(wait=exc_type is None, cancel_futures=True)
         self._pool = None
+        self._entered = False
 
     def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
-        if self._pool is None:
+        if not self._entered:
             raise RuntimeError("ProcessExecutor.map_unordered outside its 'with' block")
-        pool: ProcessPoolExecutor = self._pool
         pending = deque(items)
+        if not pending:
+            return
+        if self._pool is None:          # started at the first work: a run with nothing to compute starts none
+            self._pool = self._new_pool()
+        pool: ProcessPoolExecutor = self._pool
         suspects: deque = deque()       # tasks in flight when a worker died: each is re-run alone
         deaths: dict[int, int] = {}
         in_flight: dict = {}

@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import math
 from enum import IntEnum
+from statistics import NormalDist
 
 import numpy as np
-from scipy.stats import norm
 
 
 class Robustness(IntEnum):
@@ -61,7 +61,7 @@ def wilson_interval(k, n, *, confidence: float = 0.90) -> tuple[np.ndarray, np.n
     """
     k = np.asarray(k, dtype=float)
     n = np.asarray(n, dtype=float)
-    z = float(norm.ppf(0.5 + confidence / 2.0))
+    z = NormalDist().inv_cdf(0.5 + confidence / 2.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         centre = (k + z * z / 2.0) / (n + z * z)
         half = z * np.sqrt(k * (n - k) / n + z * z / 4.0) / (n + z * z)

@@ -37,5 +37,6 @@ class UncertaintyConfig:
     #: Confidence of the two-sided Wilson interval on p_overturn [-].
     confidence: float = 0.90
     #: Samples whose margin scan is run on each block's governing record (``overturn_scale_median``);
-    #: 0: off. Each costs a whole margin scan (about 50 simulations) per block [-].
+    #: 0 (the default) or ``samples`` = 0: off. Each costs a whole margin scan per block: about 50
+    #: simulations, up to 230 for a block that stands up to ``simulation.margin_max_factor`` [-].
     margin_samples: int = 0
