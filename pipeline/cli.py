@@ -166,6 +166,11 @@ def _print_summary(summary: dict, out: Path) -> None:
           file=sys.stderr)
     print("scenes by orientation: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_orientation"].items())
           + f"; rocking planes integrated: {s['planes_simulated']}", file=sys.stderr)
+    if any(s.get("scenes_by_robustness", {}).values()):
+        print("under the declared uncertainty ([uncertainty]): " + ", ".join(
+            f"{k} {v}" for k, v in s["scenes_by_robustness"].items())
+            + f"; sampled planes integrated: {s['sampled_simulations']} (sensitive: the verdict can flip; "
+            "p_overturn in screening.nc)", file=sys.stderr)
     if s["scenes_by_response"].get("free_flight"):
         print(f"free flight: {s['scenes_by_response']['free_flight']} scene(s) where the ground's g + a_v reached 0 "
               "before any overturning have no verdict (response free_flight)", file=sys.stderr)

@@ -213,7 +213,7 @@ def test_probabilities_identical_serial_and_dask(make_records, blocks_csv, tmp_p
             np.testing.assert_array_equal(results["serial"][n].values, results[other][n].values, err_msg=n)
 
 
-def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tmp_path):
+def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tmp_path, capsys):
     """The default command samples every scene; screening.nc, assets.csv and the report carry p_overturn."""
     import csv
 
@@ -257,3 +257,10 @@ def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tm
     assert all(r["robustness"] in ("robust_stand", "sensitive", "robust_overturn") for r in rows)
     html = (out / "report.html").read_text()
     assert "Sensitive</b> means" in html and "p overturn (90 % interval)" in html
+    # the closing summary counts the robustness classes (a re-run: everything from the cache)
+    capsys.readouterr()
+    assert main(["--records", str(records), "--blocks", str(blocks_csv), "--out", str(out),
+                 "--config", str(cfg)]) == 0
+    line = next(x for x in capsys.readouterr().err.splitlines() if x.startswith("under the declared uncertainty"))
+    counts = {m.name: int((ds["robustness"].values == m.value).sum()) for m in Robustness}
+    assert all(f"{k} {v}" in line for k, v in counts.items())

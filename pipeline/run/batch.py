@@ -40,6 +40,7 @@ from ..records.loader import RecordSource, Scan, read_declared_units, scan_direc
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
 from ..store import pulse_series_dataset
+from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
 from .executors import SerialExecutor, TaskLost
 
@@ -269,6 +270,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
         "scenes_by_orientation": {k: int(np.sum(ds["orientation"].values == v)) for k, v in ORIENTATION.items()},
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
+        "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
+        "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
         "wall_time_s": time.perf_counter() - t0,
     }
