@@ -49,12 +49,16 @@ lint: $(VENV)/.installed-lint
 	$(BIN)/ruff check .
 	$(BIN)/mypy
 
-# Benchmarks print measured ratios (never timed tests); each takes about a minute on 2 cores
+# Benchmarks print measured ratios (never timed tests); about 20 minutes in all on 2 cores
+# (bench_scale.py with 1000 records or 1000 blocks, or with sampling, takes much longer: run it by hand)
 bench: $(VENV)/.installed-test
 	$(BIN)/python benchmarks/bench_pulses.py
 	$(BIN)/python benchmarks/bench_rocking.py --limit 60
 	$(BIN)/python benchmarks/criterion_vs_reference.py
 	$(BIN)/screen bench --records records --blocks configs/blocks.csv --out results/bench --tiers-only
+	$(BIN)/python benchmarks/bench_whole.py
+	$(BIN)/python benchmarks/bench_scale.py --records 10,100 --blocks 10,100 --samples 0
+	$(BIN)/python benchmarks/bench_fragility.py
 
 test-fast: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 -m "not slow" $(PYTEST_ARGS)

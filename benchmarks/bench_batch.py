@@ -58,14 +58,21 @@ def make_records(dest: Path, n_records: int) -> int:
             lines[0] = f"{lines[0]} (benchmark copy {k})"
             f.write_text("\n".join(lines))
     sources = scan(dest, config=cfg)[0]
-    # trim the last copy so that exactly n_records are scanned
+    # trim so that exactly n_records are scanned: the last copy's records first, then (for fewer records
+    # than are bundled) bundled records by id, keeping the vertical-only file that fails on purpose
     extra = len(sources) - n_records
     if extra > 0:
-        last = sorted((s for s in sources if f"copy-{k}" in s.files[0]), key=lambda s: s.record_id)[:extra]
-        for s in last:
+        def order(s):
+            copy = next((int(p.split("-")[1]) for p in Path(s.files[0]).relative_to(dest).parts
+                         if p.startswith("copy-")), 0)
+            return (-copy, "1000hyfh" in s.record_id, s.record_id)
+        for s in sorted(sources, key=order)[:extra]:
             for f in s.files:
                 Path(f).unlink()
-    return len(scan(dest, config=cfg)[0])
+    n = len(scan(dest, config=cfg)[0])
+    if n != n_records:
+        raise SystemExit(f"made {n} records, expected {n_records}")
+    return n
 
 
 def make_blocks(path: Path, n_blocks: int, seed: int = 20261122) -> None:

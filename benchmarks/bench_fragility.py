@@ -7,7 +7,7 @@ prints wall time, scaled scenes (records x levels x blocks) and scenes per secon
 run's time over the base run's. Records are the bundled AT2 records (retitled copies when more
 are needed, as in bench_batch.py); blocks are drawn as in bench_batch.py.
 
-Run: python benchmarks/bench_fragility.py [--records 8] [--blocks 8] [--levels 4] [--samples 20]
+Run: python benchmarks/bench_fragility.py [--records 16] [--blocks 16] [--levels 6] [--samples 20]
 """
 
 from __future__ import annotations
@@ -38,9 +38,9 @@ def run(records: Path, blocks: Path, levels: int, samples: int, out: Path) -> fl
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", type=int, default=8)
-    ap.add_argument("--blocks", type=int, default=8)
-    ap.add_argument("--levels", type=int, default=4)
+    ap.add_argument("--records", type=int, default=16)
+    ap.add_argument("--blocks", type=int, default=16)
+    ap.add_argument("--levels", type=int, default=6)
     ap.add_argument("--samples", type=int, default=20)
     a = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="bench-fragility-") as tmp:
