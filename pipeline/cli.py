@@ -325,8 +325,12 @@ def report_parser() -> argparse.ArgumentParser:
 def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
     from .report.html import build_report
+    from .store import STATE_DIR
 
-    html, assets = build_report(args.results, args.out, all_figures=args.all_figures)
+    # the figures `screen` drew into this output are reused (kept by content; a changed figure is drawn again)
+    cache = Path(args.results).parent / STATE_DIR / "figures"
+    html, assets = build_report(args.results, args.out, all_figures=args.all_figures,
+                                figure_cache=cache if cache.is_dir() else None)
     print(f"wrote {html} and {assets}", file=sys.stderr)
     return EXIT_OK
 

@@ -320,3 +320,15 @@ def test_svg_figures_are_well_formed_and_escaped():
     theta[2000:] = np.nan
     root = ET.fromstring(figures.theta_figure(theta, 0.01, title="x"))
     assert "overturns" in "".join(root.itertext())
+
+
+def test_report_subcommand_reuses_the_figures_screen_drew(screened, tmp_path, monkeypatch):
+    from pipeline.report import figures
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("screen report drew a figure that screen had drawn already")
+
+    for name in ("pulse_figure", "theta_figure", "scenes_chart"):
+        monkeypatch.setattr(figures, name, refuse)
+    assert main(["report", str(screened / "screening.nc"), "--out", str(tmp_path / "again")]) == 0
+    assert (tmp_path / "again" / "report.html").read_text() == (screened / "report.html").read_text()
