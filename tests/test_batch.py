@@ -271,7 +271,11 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
     old_entries = set(cache.glob("*.npz"))
     cmd = [sys.executable, "-m", "pipeline", "--samples", "0", "--records", str(recs), "--blocks", str(blocks_csv),
            "--out", str(out), "--config", str(cfg), "--tolerate-failures"]
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    # Ctrl-C reaches a command started from a terminal; a child inherits an *ignored* SIGINT from its parent
+    # (a background job, possibly a test worker: one CI run saw the command finish untouched), so the
+    # child's disposition is set explicitly
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while len(set(cache.glob("*.npz")) - old_entries) < 2 and time.monotonic() < deadline:
         time.sleep(0.02)
