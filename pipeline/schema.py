@@ -395,8 +395,8 @@ INFER: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
 
 #: ``fragility.nc`` (``screen fragility``): stripes, fits, IM ranking and the hazard integral.
 FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
-    "block": (("block",), None, "block (asset) identifier from the inventory", {}),
-    "record": (("record",), None, "record identifier", {}),
+    "block": SCHEMA["block"],
+    "record": SCHEMA["record"],
     "im_level": (("im_level",), IM_UNITS, "level of the intensity measure each stripe's records are scaled to", {}),
     "im": (("im",), None, "intensity measure compared (pga, pgv, pgv_pga, sa, arias, ap, tp, velocity_ratio)", {}),
     "fraction_overturned": (("block", "im_level"), "1", "mean over the stripe's records of the overturn outcome "

@@ -244,14 +244,16 @@ def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, gr
 
 
 def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
-                       scan: bool = True) -> dict:
+                       scan: bool = True, params: list[dict] | None = None) -> dict:
     """Plan and simulate the blocks in ``mask`` (default all) against one record, each in its worst plane.
 
     ``scan=False`` simulates every block in ``directions`` only (the pulse axis for a blank
-    azimuth): what ``screen bench`` compares the orientation scan with.
+    azimuth): what ``screen bench`` compares the orientation scan with. ``params``: the
+    inventory's :meth:`~pipeline.blocks.Inventory.scene_params`, when the caller simulates the
+    same inventory many times (``screen fragility``).
     """
     inv, cfg = ctx.inventory, ctx.config
-    params = inv.scene_params(g_ms2=cfg.records.g_ms2)
+    params = inv.scene_params(g_ms2=cfg.records.g_ms2) if params is None else params
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS + PROBABILITY_VARS}
     unc = cfg.uncertainty
@@ -260,6 +262,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
     grid = plane_grid(step)
     planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
+    base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     mask = np.ones(nb, dtype=bool) if mask is None else mask
     for j in np.flatnonzero(mask):
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
@@ -275,10 +278,9 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
                "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
         prob = NOT_EVALUATED
-        if z is not None:
-            given = code != ORIENTATION["scanned"] and code != ORIENTATION["scanned_relative"]
-            m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s,
-                       planes_deg=None if given else azimuths)
+        if base is not None and z is not None:
+            given = not scanned
+            m = base if given or base.single else dataclasses.replace(base, planes_deg=np.asarray(azimuths))
             prob = scene_probability(m, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
                                      mu=float(inv.mu[j]), restitution=float(inv.restitution[j]),
                                      azimuth_deg=azimuths[0] if given else math.nan, settings=unc,

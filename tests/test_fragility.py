@@ -9,7 +9,6 @@ numerical integration of the fitted curve over the hazard curve on a dense grid;
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -198,7 +197,9 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
 ASSET_RATE = 9      # column of annual_rate_overturn in assets.csv
 
 
-def test_hazard_curve_objects_are_plain():
-    c = HazardCurve("pga", np.array([1.0, 2.0]), np.array([1e-2, 1e-3]), "x")
-    assert annual_rate(c, math.inf, math.nan) == 0.0        # nothing overturns: no rate
-    assert dataclasses.is_dataclass(c)
+def test_degenerate_fits_give_the_closed_form_rates():
+    """Nothing overturns: no rate. Everything overturns at every level: the rate of exceeding the curve's
+    first level (the integral of |d lambda| from there, tail included)."""
+    c = HazardCurve("pga", np.array([1.0, 2.0, 4.0]), np.array([1e-2, 1e-3, 1e-4]), "x")
+    assert annual_rate(c, math.inf, math.nan) == 0.0
+    assert annual_rate(c, 0.0, math.nan) == pytest.approx(1e-2, rel=1e-12)

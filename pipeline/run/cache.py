@@ -126,7 +126,18 @@ class _NpzStore:
         return n
 
 
-class SceneCache(_NpzStore):
+class RecordStore(_NpzStore):
+    """One ``.npz`` entry per record, keyed by the record's id and content under a run key."""
+
+    def __init__(self, directory: Path, run: str):
+        super().__init__(directory)
+        self.run = run
+
+    def path(self, record_id: str, content_sha256: str) -> Path:
+        return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
+
+
+class SceneCache(RecordStore):
     """Per-record result files under ``OUT/.rockscreen/cache``.
 
     Parameters
@@ -140,11 +151,7 @@ class SceneCache(_NpzStore):
     what = "scene cache"
 
     def __init__(self, out_dir: str | Path, run: str):
-        super().__init__(scene_cache_dir(out_dir))
-        self.run = run
-
-    def path(self, record_id: str, content_sha256: str) -> Path:
-        return self.dir / f"{record_key(record_id, content_sha256, self.run)}.npz"
+        super().__init__(scene_cache_dir(out_dir), run)
 
     def load(self, record_id: str, content_sha256: str) -> RecordResult | None:
         """The cached result of a record, or None (missing, unreadable, or not of the schema's layout)."""

@@ -37,7 +37,7 @@ from ..schema import FRAGILITY, apply_schema
 from ..screening import Context, _simulation_values, pulses_and_directions
 from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
 from ..uncertainty.hazard import HazardCurve, annual_rate, probability_in
-from .cache import ENTRY_FORMAT, _NpzStore, record_key, run_key
+from .cache import ENTRY_FORMAT, RecordStore, run_key
 
 log = logging.getLogger(__name__)
 
@@ -109,11 +109,12 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
     prob = np.full((len(levels), nb), np.nan)
     simulate = base.config.fidelity.tier != "criterion"
     geo = base.inventory.geometry(g_ms2=g)
+    params = base.inventory.scene_params(g_ms2=g)            # once: Sa gives every block its own factor
     for j in range(len(levels)):
         for f in np.unique(factors[j][np.isfinite(factors[j])]):
             sel = factors[j] == f
             if simulate:
-                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel)
+                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel, params=params)
                 verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
                 prob[j, sel] = sim["p_overturn"][sel]
             else:
@@ -141,17 +142,13 @@ def fragility_task(item: tuple, ctx: FragilityContext) -> dict:
         return {"error": f"unexpected {type(exc).__name__}: {exc}"}
 
 
-class FragilityCache(_NpzStore):
+class FragilityCache(RecordStore):
     """Per-record fragility results under ``OUT/.rockscreen/fragility`` (resumable runs)."""
 
     what = "fragility cache"
 
     def __init__(self, out_dir: Path, key: str):
-        super().__init__(Path(out_dir) / ".rockscreen" / "fragility")
-        self.key = key
-
-    def path(self, record_id: str, content: str) -> Path:
-        return self.dir / f"{record_key(record_id, content, self.key)}.npz"
+        super().__init__(Path(out_dir) / ".rockscreen" / "fragility", key)
 
     def load(self, record_id: str, content: str) -> dict | None:
         z = self._read(self.path(record_id, content))
@@ -174,14 +171,6 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
                           "levels": [float(x) for x in levels], "blocks": list(inventory.digests()),
                           "entry_format": ENTRY_FORMAT}, sort_keys=True)
     return hashlib.sha256(payload.encode()).hexdigest()
-
-
-@dataclass
-class FragilityOutcome:
-    """The stripes of a run and what it cost."""
-
-    dataset: xr.Dataset
-    counts: dict
 
 
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
@@ -336,14 +325,13 @@ def stripe_warnings(ds: xr.Dataset) -> list[str]:
     """Why records or stripes are missing: records that could not be scaled, stripes with no verdict."""
     out = []
     f = ds["scale_factor"].values
+    why = " (no pulse was extracted)" if ds.attrs["im"] in ("ap", "velocity_ratio") else ""
     for i, rid in enumerate(ds["record"].values.tolist()):
         bad = ~np.isfinite(f[i, 0, :])
         if bad.any():
             out.append(f"record {rid}: its {ds.attrs['im']} is zero or undefined for {int(bad.sum())} block(s) "
                        f"(e.g. {ds['block'].values[np.flatnonzero(bad)[0]]}): it cannot be scaled to a level and is "
-                       "left out of their stripes" + (" (no pulse was extracted)" if ds.attrs["im"] in ("ap", "tp",
-                                                                                               "velocity_ratio")
-                                                      else ""))
+                       f"left out of their stripes{why}")
     n = ds["n_records"].values
     for j, block in enumerate(ds["block"].values.tolist()):
         empty = np.flatnonzero(n[j] == 0)

@@ -242,8 +242,10 @@ def im_dispersion(im_values: np.ndarray, outcomes: np.ndarray, covariate: np.nda
 
 
 def fragility_curve(x, theta: float, beta: float) -> np.ndarray:
-    """Phi(ln(x / theta) / beta) [-]."""
+    """Phi(ln(x / theta) / beta) [-]; without a finite beta: 0 for theta = inf (nothing overturns), 1 for
+    theta = 0 (everything overturns), NaN otherwise (no fit)."""
     x = np.asarray(x, dtype=float)
-    if not np.isfinite(beta):
-        return np.where(np.isinf(theta) & (theta > 0), 0.0, np.where(theta == 0, 1.0, np.nan)) * np.ones_like(x)
-    return ndtr(np.log(x / theta) / beta)
+    if np.isfinite(beta):
+        return ndtr(np.log(x / theta) / beta)
+    value = 0.0 if theta == np.inf else 1.0 if theta == 0 else np.nan
+    return np.full_like(x, value)
