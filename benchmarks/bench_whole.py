@@ -8,7 +8,9 @@ are one recording under two names and are screened once).
   processing, pulse extraction and classification, the criterion tier for one block,
   writing, report), with the parity configuration (``configs/shahi_baker_2014.toml``),
   into an empty output directory, with the default executor; then the same command
-  again into the same output (a re-run with nothing new).
+  again into the same output (a re-run with nothing new: the up-to-date check answers);
+  then once more after a file that is not a record was added to the records directory
+  (the full path, every record reused from the scene cache).
 * the port: a fresh process that reads each pair's AT2 files with a plain parser,
   integrates them to velocity and runs the straightforward port of the MATLAB classifier
   (``bench_pulses.naive_classify``: the transform at every scale of both components,
@@ -120,12 +122,16 @@ def main() -> None:
         t_port = wall([sys.executable, str(port), str(ROOT / "benchmarks"), str(listing)])
         t_screen = wall([*screen, "--out", str(tmp / "out")])
         t_rerun = wall([*screen, "--out", str(tmp / "out")])
+        (tmp / "records" / "notes.txt").write_text("not a record: the directory changed, no record did\n")
+        t_reuse = wall([*screen, "--out", str(tmp / "out")])
         shutil.rmtree(tmp / "warm")
     print(f"{len(pairs)} two-component records (parity configuration, criterion tier, one block)")
     print(f"straightforward port of the classifier (read, integrate, classify): {t_port:6.1f} s")
     print(f"screen, whole process (first run into an empty output):             {t_screen:6.1f} s")
-    print(f"screen again, nothing new:                                          {t_rerun:6.1f} s")
-    print(f"port / screen: {t_port / t_screen:.1f}x   re-run / first run: {100 * t_rerun / t_screen:.0f} %")
+    print(f"screen again, nothing new (up-to-date check):                       {t_rerun:6.1f} s")
+    print(f"screen again, a non-record file added (full path, all reused):      {t_reuse:6.1f} s")
+    print(f"port / screen: {t_port / t_screen:.1f}x   re-run / first run: {100 * t_rerun / t_screen:.0f} % "
+          f"(full path with everything reused: {100 * t_reuse / t_screen:.0f} %)")
 
 
 if __name__ == "__main__":

@@ -153,7 +153,7 @@ def _progress_lines(items, total=None):
             last = now
 
 
-def _print_summary(summary: dict, out: Path) -> None:
+def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     s = summary
     print(f"records: {s['records_ok']} ok ({s['records_screened']} screened, {s['records_reused']} reused"
           + (f", {s['records_vanished']} kept from the last run: files gone" if s["records_vanished"] else "")
@@ -182,19 +182,29 @@ def _print_summary(summary: dict, out: Path) -> None:
               "is the global attribute files_not_records of screening.nc", file=sys.stderr)
     for kept, dup in s.get("duplicates", []):
         print(f"duplicate: {dup} holds the same bytes as {kept}; screened once, as {kept}", file=sys.stderr)
-    print(f"wrote {out}", file=sys.stderr)
+    if wrote:
+        print(f"wrote {out}", file=sys.stderr)
 
 
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     """The main job: screen records against blocks and write results (incrementally)."""
-    from .run import RunInterrupted, ScreenRequest, screen
+    from .run import uptodate
 
     config, inventory = _config_and_inventory(args)
-    request = ScreenRequest(records_dir=_records_dir(args.records), blocks_csv=args.blocks, inventory=inventory,
+    records_dir = _records_dir(args.records)
+    key = uptodate.fingerprint(records_dir=records_dir, blocks_csv=args.blocks, config_sha256=config.digest(),
+                               stationxml=args.inventory, out_dir=args.out)
+    last = None if args.force else uptodate.up_to_date(args.out, key)
+    if last is not None:
+        return _report_up_to_date(args, last, config)
+
+    from .run import RunInterrupted, ScreenRequest, screen
+
+    request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,
                             n_workers=args.num_processes if args.num_processes is not None else default_workers(),
                             scheduler=args.scheduler, force=args.force,
-                            command=list(argv))
+                            command=list(argv), key=key)
     try:
         result = screen(request, progress=_progress(args.quiet))
     except RunInterrupted as exc:
@@ -202,18 +212,37 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         return EXIT_INTERRUPTED
     if config.fidelity.tier == "criterion":
         log.warning("fidelity 'criterion' is not conservative: %s", CRITERION_MEASURED_MISSES)
-    if args.quiet:
-        return EXIT_RECORD_FAILURES if result.records_failed and not args.tolerate_failures else EXIT_OK
-    _print_summary(result.counts, result.screening_path)
-    m = result.margins
+    if not args.quiet:
+        _print_summary(result.counts, result.screening_path)
+        _print_margins(result.margins)
+        print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
+    return EXIT_RECORD_FAILURES if result.records_failed and not args.tolerate_failures else EXIT_OK
+
+
+def _print_margins(m: dict) -> None:
     print(f"margins: {m['computed']} scanned, {m['reused']} reused ({m['simulations']} scaled scenes behind them); "
           f"{m['wall_time_s']:.1f} s"
           + (f"; records no longer readable for margins: {', '.join(m['unavailable'])}" if m["unavailable"] else ""),
           file=sys.stderr)
-    print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
-    if result.records_failed and not args.tolerate_failures:
-        return EXIT_RECORD_FAILURES
-    return EXIT_OK
+
+
+def _report_up_to_date(args: argparse.Namespace, last: dict, config) -> int:
+    """A run with nothing new: say so, repeat the last run's summary, exit as it would have."""
+    counts = last["counts"]
+    if not args.quiet:
+        print(f"up to date: the records ({last['key']['records_files']} files), the inventory, the configuration "
+              f"and rockscreen are unchanged since the run that finished {last['finished_utc']}, and its outputs "
+              f"in {args.out} are intact (checked by SHA-256); nothing was recomputed or rewritten. "
+              "--force recomputes.", file=sys.stderr)
+    if config.fidelity.tier == "criterion":
+        log.warning("fidelity 'criterion' is not conservative: %s", CRITERION_MEASURED_MISSES)
+    for record_id, status in last.get("failures", []):
+        log.warning("record %s %s (files unchanged since the run that found it)", record_id, status)
+    if not args.quiet:
+        print("that run's summary:", file=sys.stderr)
+        _print_summary(counts, Path(args.out) / "screening.nc", wrote=False)
+        _print_margins(last["margins"])
+    return EXIT_RECORD_FAILURES if counts.get("records_failed") and not args.tolerate_failures else EXIT_OK
 
 
 def chart_parser() -> argparse.ArgumentParser:

@@ -72,11 +72,54 @@ def summary_line(capsys) -> str:
     return next(line for line in capsys.readouterr().err.splitlines() if line.startswith("records:"))
 
 
+def output_bytes(out: Path) -> dict:
+    return {name: (out / name).read_bytes() for name in ("screening.nc", "pulses.nc", "histories.nc", "report.html",
+                                                          "assets.csv")}
+
+
+def test_rerun_with_nothing_new_skips_everything_and_says_so(few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    before = output_bytes(out)
+    capsys.readouterr()
+    os.utime(few_records / "knet" / "test.knet")             # touched, same content: still nothing new
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    err = capsys.readouterr().err
+    assert "up to date:" in err and "nothing was recomputed or rewritten" in err
+    assert "6 screened, 0 reused" in err                     # the summary of the run that made the outputs
+    assert output_bytes(out) == before
+
+
+@pytest.mark.parametrize("change", ["record", "inventory", "samples", "output", "force"])
+def test_any_change_takes_the_full_path(change, few_records, blocks_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    extra: list = []
+    blocks = blocks_csv
+    if change == "record":
+        (few_records / "notes.txt").write_text("a note beside the records\n")   # any byte under --records
+    elif change == "inventory":
+        blocks = tmp_path / "blocks.csv"
+        blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
+    elif change == "samples":
+        extra = ["--samples", "1"]
+    elif change == "output":
+        (out / "assets.csv").write_text("edited by hand\n")
+    else:
+        extra = ["--force"]
+    capsys.readouterr()
+    assert screen(few_records, blocks, out, *extra) == EXIT_OK
+    err = capsys.readouterr().err
+    assert "up to date:" not in err and "wrote" in err
+    assert (out / "assets.csv").read_text() != "edited by hand\n"
+
+
 def test_rerun_reuses_everything_and_changes_nothing(few_records, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     first = open_results(out / "screening.nc")
     assert "6 screened, 0 reused" in summary_line(capsys)
+    (few_records / "notes.txt").write_text("not a record\n")  # the directory changed: the full path, all reused
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     err = capsys.readouterr().err
     assert "0 screened, 6 reused" in err
@@ -414,6 +457,8 @@ def test_same_name_in_two_directories_stays_two_records(make_records, blocks_csv
     (root / "copy" / "RSN77_SFERN_PUL164.AT2").write_text("\n".join([lines[0] + " (copy)"] + lines[1:]))
     out = tmp_path / "out"
     for expected in ("2 screened, 0 reused", "0 screened, 2 reused"):
+        if "0 screened" in expected:
+            (root / "notes.txt").write_text("not a record\n")    # the directory changed: the full path
         assert screen(root, blocks_csv, out) == EXIT_OK
         assert expected in summary_line(capsys)
         ds = open_results(out / "screening.nc")
@@ -454,6 +499,7 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     entry = sorted((out / ".rockscreen" / "cache").glob("*.npz"))[0]
     entry.write_bytes(b"PK\x03\x04 truncated")
+    (few_records / "notes.txt").write_text("not a record\n")  # the directory changed: the full path
     capsys.readouterr()
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     assert "1 screened, 5 reused" in summary_line(capsys)
@@ -476,6 +522,7 @@ def test_a_content_failure_is_reported_again_without_screening(make_records, blo
     calls = []
     real = batch._task
     monkeypatch.setattr(batch, "_task", lambda item, ctx: calls.append(item) or real(item, ctx))
+    (records / "notes.txt").write_text("not a record\n")      # the directory changed: the full path
     assert screen(records, blocks_csv, out) == EXIT_OK
     assert calls == []                                          # nothing was screened again
     assert "vertical component only" in caplog.text

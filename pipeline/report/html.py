@@ -233,11 +233,19 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
                  cache: FigureCache | None = None) -> list[dict]:
     """One row per record; the velocity figure for pulse-like records (every record with ``all_figures``)."""
     cache = cache or FigureCache(None)
-    series = {}
+    where = {}
     if pulses is not None:
-        for k, (rid, rows_k) in enumerate(ragged_rows(pulses, "record_id").items()):
-            series[rid] = (pulses["velocity"].values[rows_k].astype(float),
-                           pulses["pulse"].values[rows_k].astype(float), float(pulses["dt"].values[k]))
+        dts = pulses["dt"].values
+        where = {rid: (rows_k, float(dts[k])) for k, (rid, rows_k) in enumerate(ragged_rows(pulses,
+                                                                                             "record_id").items())}
+
+    def series(rid: str) -> tuple[np.ndarray, np.ndarray, float]:
+        """One record's velocity and pulse, read from the file when its figure is drawn (``pulses`` may be
+        opened lazily: the report then holds one record's series at a time)."""
+        rows_k, dt = where[rid]
+        return (np.asarray(pulses["velocity"][rows_k].values, dtype=float),
+                np.asarray(pulses["pulse"][rows_k].values, dtype=float), dt)
+
     rows = []
     for i, rid in enumerate(ds["record"].values.tolist()):
         def val(name, i=i):
@@ -249,8 +257,8 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
                "pi": float(val("pulse_indicator")),
                "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
                "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}
-        if rid in series and (all_figures or is_pulse == 1):
-            v, p, dt = series[rid]
+        if rid in where and (all_figures or is_pulse == 1):
+            v, p, dt = series(rid)
             row["figure"] = _data_uri(cache.get("pulse", lambda v=v, p=p, dt=dt, rid=rid: figures.pulse_figure(
                 v, p, dt, title=rid), v, p, np.array([dt]), title=rid))
         rows.append(row)
@@ -292,7 +300,8 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     out_dir = Path(out_dir) if out_dir is not None else results_path.parent
     out_dir.mkdir(parents=True, exist_ok=True)
     pulses_path = results_path.parent / "pulses.nc"
-    pulses = open_results(pulses_path) if pulses_path.is_file() else None
+    # opened lazily (closed below): only the series of the records that get a figure are read
+    pulses = xr.open_dataset(pulses_path, engine="netcdf4") if pulses_path.is_file() else None
     cache = FigureCache(Path(figure_cache) if figure_cache is not None else None)
     assets = asset_rows(ds)
     histories = _histories(results_path.parent / "histories.nc")
@@ -331,9 +340,14 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
+    try:
+        records = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
+    finally:
+        if pulses is not None:
+            pulses.close()
     html = env.get_template("report.html.j2").render(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
-        records=_record_rows(ds, pulses, all_figures=all_figures, cache=cache), chart=chart)
+        records=records, chart=chart)
     cache.prune()
     html_path = write_text_atomic(out_dir / "report.html", html)
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")

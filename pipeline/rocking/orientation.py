@@ -84,6 +84,7 @@ class Planes:
         self._along: dict[float, np.ndarray] = {}
         self._ratio: dict[float, float] = {}
         self._vector_ratio: float | None = None
+        self._orders: dict[tuple, tuple[list[float], np.ndarray]] = {}
 
     @staticmethod
     def key(azimuth_deg: float) -> float:
@@ -105,6 +106,15 @@ class Planes:
         if k not in self._ratio:
             self._ratio[k] = demand_ratio(self.along(azimuth_deg), self.vertical, g_ms2=self.g)
         return self._ratio[k]
+
+    def by_demand(self, keys: tuple) -> tuple[list[float], np.ndarray]:
+        """The planes ``keys`` sorted by decreasing demand ratio (ties in the given order), with their
+        ratios; computed once per record and list of planes (every scanned block of a record shares it)."""
+        if keys not in self._orders:
+            ratios = np.array([self.ratio(k) for k in keys])
+            order = np.argsort(-ratios, kind="stable")
+            self._orders[keys] = ([keys[i] for i in order], ratios[order])
+        return self._orders[keys]
 
     def vector_ratio(self) -> float:
         """max_t |a_vec(t)| / (g + a_v(t)): no plane's demand ratio exceeds it (exact certificate; computed
@@ -154,18 +164,20 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
         When no plane overturns, the planes within ``refine_span_deg`` of the worst one are also
         simulated every ``refine_deg`` (0: no refinement).
     """
-    keys = list(dict.fromkeys(Planes.key(a) for a in azimuths_deg))
+    keys = tuple(dict.fromkeys(Planes.key(a) for a in azimuths_deg))
     first = keys[0]
     thr = motion_threshold(alpha, mu)
     if len(keys) > 1 and not planes.vector_ratio() > thr:
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
     state = PlaneResult(REST_SCENE, first, 0)
 
-    def scan(candidates) -> bool:
+    def scan(candidates: tuple) -> bool:
         """Simulate the candidates that move the block, strongest demand first; True at the first overturn."""
         nonlocal state
-        for k in sorted((k for k in candidates if planes.ratio(k) > thr), key=lambda k: -planes.ratio(k)):
-            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=planes.ratio(k), p=p, alpha=alpha,
+        ordered, ratios = planes.by_demand(candidates)
+        moving = int(np.count_nonzero(ratios > thr))        # sorted by decreasing ratio: a prefix moves
+        for k, ratio in zip(ordered[:moving], ratios[:moving].tolist()):
+            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, p=p, alpha=alpha,
                                 e=e, R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
             n = state.planes_simulated + 1
             state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
@@ -179,5 +191,5 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
     if refine_deg > 0 and refine_span_deg > refine_deg and state.scene.theta_max > 0:
         m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
         extra = dict.fromkeys(Planes.key(state.azimuth_deg + j * refine_deg) for j in range(-m + 1, m) if j)
-        scan([k for k in extra if k not in keys])
+        scan(tuple(k for k in extra if k not in keys))
     return state

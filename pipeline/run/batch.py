@@ -39,7 +39,7 @@ from ..errors import RockscreenError
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
-from ..store import pulse_series_dataset
+from ..store import PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
 from .executors import SerialExecutor, TaskLost
@@ -127,6 +127,38 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
     return out
 
 
+def _shed_series(res: RecordResult, shed: dict) -> None:
+    """Drop a cached result's pulse series from memory, keeping their length and interval."""
+    if res.series and "velocity" in res.series:
+        shed[res.record_id] = (int(np.size(res.series["velocity"])), float(res.series["dt"]))
+        res.series = {}
+
+
+def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | None) -> PulseSeries:
+    """The run's pulses, fetched per record from memory or, for shed series, from the scene cache."""
+    rows, in_memory, content = [], {}, {}
+    for r in results:
+        if r.record_id in shed:
+            rows.append((r.record_id, *shed[r.record_id]))
+            content[r.record_id] = r.values["content_sha256"]
+        elif r.series and "velocity" in r.series:
+            rows.append((r.record_id, int(np.size(r.series["velocity"])), float(r.series["dt"])))
+            in_memory[r.record_id] = r.series
+
+    def fetch(record_id: str) -> dict:
+        if record_id in in_memory:
+            return in_memory[record_id]
+        got = cache.series(record_id, content[record_id]) if cache is not None else None
+        if got is None:       # the cache entry vanished or broke since it was written during this run
+            n = shed[record_id][0]
+            log.warning("record %s: its pulse series could not be read back from the scene cache; written as "
+                        "NaN in pulses.nc (run again with --force to recompute them)", record_id)
+            return {"velocity": np.full(n, np.nan), "pulse": np.full(n, np.nan)}
+        return got
+
+    return PulseSeries(rows, fetch)
+
+
 @dataclass
 class BatchOutcome:
     """What the screening stage hands to the next stages.
@@ -135,8 +167,9 @@ class BatchOutcome:
     ----------
     results : xarray.Dataset
         The screening results (``screening.nc`` before margins).
-    pulses : xarray.Dataset
-        The extracted pulses as a CF ragged array (``pulses.nc``).
+    pulses : PulseSeries
+        The extracted pulses (``pulses.nc``), fetched per record when written (:meth:`PulseSeries.write`)
+        or all at once (:meth:`PulseSeries.dataset`).
     counts : dict
         Plain counts and wall time for the closing summary.
     cache : SceneCache or None
@@ -148,7 +181,7 @@ class BatchOutcome:
     """
 
     results: xr.Dataset
-    pulses: xr.Dataset
+    pulses: PulseSeries
     counts: dict
     cache: SceneCache | None
     sources: dict[str, RecordSource]
@@ -215,6 +248,11 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         log.warning("record %s: its files are no longer in %s and its results were computed under another "
                     "configuration; it is left out of the new results", rid, records_dir)
     results: dict[str, RecordResult] = dict(the_plan.cached)
+    # the pulse series are the part of a result that grows with a record's length: once a result is in the
+    # scene cache, its series are dropped from memory and read back one record at a time by the writer
+    shed: dict[str, tuple[int, float]] = {}
+    for res in results.values():
+        _shed_series(res, shed)
     failed = [failure_result(f) for f in scan_failures] + the_plan.failures
     executor = executor or SerialExecutor()
     stream = executor.map_unordered(_task, the_plan.tasks, ctx)
@@ -237,8 +275,10 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
                 cache.save_failure(res, content)
             continue
         res = merge(results.get(res.record_id), res)
-        if cache is not None:
-            cache.save(res)
+        if cache is not None and cache.save(res):
+            _shed_series(res, shed)
+        else:
+            shed.pop(res.record_id, None)
         results[res.record_id] = res
         computed_records += 1
         computed_scenes += len(block_ids)
@@ -255,7 +295,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     ds.attrs["files_not_records"] = "\n".join(f"{path}: {reason}" for path, reason in found.not_records)
     ds.attrs["duplicate_records"] = "\n".join(f"{dup} = {kept} ({', '.join(Path(f).name for f in files)})"
                                               for kept, dup, files in found.duplicates)
-    pulses = pulse_series_dataset(sorted(everything, key=lambda r: r.record_id))
+    pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), shed, cache)
     phys, resp = ds["physics"].values, ds["response"].values
     counts = {
         "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,

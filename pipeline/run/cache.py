@@ -94,8 +94,9 @@ class _NpzStore:
             log.warning("%s: unreadable %s entry (%s); it is computed again", path, self.what, exc)
             return None
 
-    def _write(self, path: Path, arrays: dict) -> None:
-        """Write atomically; a failure is logged once, never raised (the run goes on in memory)."""
+    def _write(self, path: Path, arrays: dict) -> bool:
+        """Write atomically; True when written. A failure is logged once, never raised (the run goes on
+        in memory)."""
         self.used.add(path.name)
 
         def write(tmp: str) -> None:
@@ -110,6 +111,8 @@ class _NpzStore:
                 cause = exc.__cause__
                 log.warning("%s: cannot save the %s (%s); results are kept in memory until the final write",
                             self.dir, self.what, getattr(cause, "strerror", None) or cause or exc)
+            return False
+        return True
 
     def prune(self) -> int:
         """Delete entries not used by this run (other configurations, changed records); returns the count."""
@@ -167,9 +170,16 @@ class SceneCache(RecordStore):
                         self.dir, self.what, record_id, exc)
             return None
 
-    def save(self, result: RecordResult) -> None:
-        """Write one record's result atomically; a failure is logged, never raised."""
-        self._write(self.path(result.record_id, result.values["content_sha256"]), result.to_arrays())
+    def save(self, result: RecordResult) -> bool:
+        """Write one record's result atomically; True when written (a failure is logged, never raised)."""
+        return self._write(self.path(result.record_id, result.values["content_sha256"]), result.to_arrays())
+
+    def series(self, record_id: str, content_sha256: str) -> dict | None:
+        """The pulse series of a saved record (``velocity``, ``pulse`` [m s-1]), or None."""
+        z = self._read(self.path(record_id, content_sha256))
+        if z is None or "s.velocity" not in z:
+            return None
+        return {"velocity": z["s.velocity"], "pulse": z["s.pulse"]}
 
     def save_failure(self, result: RecordResult, content_sha256: str) -> None:
         """Keep a deterministic failure (:attr:`RecordResult.deterministic`) of these files under this run key:

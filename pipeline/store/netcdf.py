@@ -5,8 +5,9 @@ Variable attributes come from :mod:`pipeline.schema`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Hashable
+from typing import Callable, Hashable
 
 import numpy as np
 import xarray as xr
@@ -92,6 +93,66 @@ def pulse_series_dataset(results) -> xr.Dataset:
     """
     rows = [{"id": r.record_id, **r.series} for r in results if r.series]
     return ragged_dataset("record_id", "record", rows, PULSE_SERIES)
+
+
+@dataclass
+class PulseSeries:
+    """The extracted pulses of a run, held as row descriptions and fetched one record at a time.
+
+    ``rows`` is ``[(record_id, npts, dt_s), ...]`` in file order; ``fetch(record_id)`` returns that
+    record's ``{"velocity": ..., "pulse": ...}`` [m s-1] (from memory or from the scene cache), so
+    that writing ``pulses.nc`` holds one record's series at a time, whatever the number of records.
+    """
+
+    rows: list[tuple[str, int, float]]
+    fetch: Callable[[str], dict]
+    attrs: dict = field(default_factory=dict)
+
+    def dataset(self) -> xr.Dataset:
+        """The whole CF ragged array in memory (:func:`ragged_dataset`), for API users and tests."""
+        rows = [{"id": rid, "dt": dt, **self.fetch(rid)} for rid, _, dt in self.rows]
+        ds = ragged_dataset("record_id", "record", rows, PULSE_SERIES)
+        ds.attrs.update(self.attrs)
+        return ds
+
+    def write(self, path: str | Path) -> Path:
+        """Write ``pulses.nc`` atomically, record by record (the same variables, attributes and encoding as
+        :func:`write_atomic` of :meth:`dataset`; tested equal)."""
+        return replace_atomically(path, self._write)
+
+    def _write(self, tmp: str) -> None:
+        import netCDF4
+
+        sizes = np.array([n for _, n, _ in self.rows], dtype="i4")
+        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
+            nc.createDimension("station", len(self.rows))
+            nc.createDimension("sample", int(sizes.sum()))
+            v = nc.createVariable("row_size", "i4", ("station",), fill_value=False)
+            v.setncatts({"sample_dimension": "sample", "long_name": "samples per record"})
+            v[:] = sizes
+            v = nc.createVariable("dt", "f8", ("station",), zlib=True, complevel=4, shuffle=True, fill_value=np.nan)
+            v.setncatts({"units": "s", "long_name": "sampling interval"})
+            v[:] = np.array([dt for _, _, dt in self.rows], dtype=float)
+            v = nc.createVariable("record_id", str, ("station",))
+            v.setncatts({"cf_role": "timeseries_id", "long_name": "record"})
+            for k, (rid, _, _) in enumerate(self.rows):
+                v[k] = rid
+            series = {}
+            for name, attrs in PULSE_SERIES.items():
+                series[name] = nc.createVariable(name, "f4", ("sample",), zlib=True, complevel=4, shuffle=True,
+                                                 fill_value=np.float32(np.nan))
+                series[name].setncatts({**attrs, "coordinates": "time"})
+            time = nc.createVariable("time", "f8", ("sample",), zlib=True, complevel=4, shuffle=True,
+                                     fill_value=np.nan)
+            time.setncatts({"units": "s", "long_name": "time since the first sample of the series", "axis": "T"})
+            start = 0
+            for rid, n, dt in self.rows:
+                values = self.fetch(rid)
+                for name, var in series.items():
+                    var[start:start + n] = np.asarray(values[name]).astype("f4")
+                time[start:start + n] = np.arange(n) * float(dt)
+                start += n
+            nc.setncatts({"Conventions": "CF-1.11", "featureType": "timeSeries", **self.attrs})
 
 
 def open_results(path: str | Path) -> xr.Dataset:

@@ -30,6 +30,7 @@ from ..report.html import build_report
 from ..store import STATE_DIR, OutputLock, remove_stale_temporaries, write_atomic
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
+from . import uptodate
 from .executors import make_executor
 
 log = logging.getLogger(__name__)
@@ -61,6 +62,10 @@ class ScreenRequest:
         Recompute every record and block.
     command : list of str
         The command line, for the lock and the provenance.
+    key : dict, optional
+        The inputs' digests (:func:`pipeline.run.uptodate.fingerprint`), taken before the run
+        started; a complete run records them in the output's manifest, so that the next run with
+        nothing new can skip everything. None: no manifest is written.
     """
 
     records_dir: Path
@@ -73,6 +78,7 @@ class ScreenRequest:
     scheduler: str | None = None
     force: bool = False
     command: list[str] = field(default_factory=list)
+    key: dict | None = None
 
 
 @dataclass
@@ -154,6 +160,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                 log.warning("took over the lock of a run that died (pid %s, started %s)",
                             lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
             remove_stale_temporaries(out_dir)
+            uptodate.invalidate(out_dir)        # the outputs may change from here on
             with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
                 log.debug("prepare: %d record(s), %d unreadable, %d not records, %d duplicate(s); executor %s",
                           len(found.sources), len(found.failures), len(found.not_records), len(found.duplicates),
@@ -170,6 +177,11 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
             log.debug("write: %s", path)
             report, assets = report_stage(path, figure_cache=out_dir / STATE_DIR / "figures")
             log.debug("report: %s, %s", report, assets)
+            if request.key is not None:
+                status = results["status"].values
+                failed = [(str(r), str(st)) for r, st in zip(results["record"].values, status) if st != "ok"]
+                uptodate.write_manifest(out_dir, request.key, counts=outcome.counts, margins=margins,
+                                        failures=failed)
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
@@ -216,9 +228,9 @@ def write_stage(outcome: BatchOutcome, results: xr.Dataset, histories: xr.Datase
                 attrs: dict, *, margin_cache=None) -> Path:
     """Stage 4: ``pulses.nc``, ``histories.nc``, then ``screening.nc`` last, each atomically; prune the caches."""
     results.attrs.update(attrs)
-    for side in (outcome.pulses, histories):
-        side.attrs["rockscreen_run_key"] = results.attrs["rockscreen_run_key"]
-    write_atomic(outcome.pulses, out_dir / "pulses.nc")
+    histories.attrs["rockscreen_run_key"] = outcome.pulses.attrs["rockscreen_run_key"] = \
+        results.attrs["rockscreen_run_key"]
+    outcome.pulses.write(out_dir / "pulses.nc")                # record by record: one record's series in memory
     write_atomic(histories, out_dir / "histories.nc")
     path = write_atomic(results, out_dir / "screening.nc")      # the main file last
     if outcome.cache is not None:
