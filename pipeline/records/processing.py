@@ -67,6 +67,6 @@ def integrate(acc: np.ndarray, dt_s: float, *, method: str) -> np.ndarray:
     """
     if method == "rectangle":
         return np.cumsum(acc, axis=-1) * dt_s
-    from scipy.integrate import cumulative_trapezoid      # here: scipy.integrate costs 0.8 s to import
+    from scipy.integrate import cumulative_trapezoid  # here: scipy.integrate costs 0.8 s to import
 
     return cumulative_trapezoid(acc, dx=dt_s, axis=-1, initial=0.0)

@@ -243,6 +243,7 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
         """One record's velocity and pulse, read from the file when its figure is drawn (``pulses`` may be
         opened lazily: the report then holds one record's series at a time)."""
         rows_k, dt = where[rid]
+        assert pulses is not None                      # where is empty without pulses
         return (np.asarray(pulses["velocity"][rows_k].values, dtype=float),
                 np.asarray(pulses["pulse"][rows_k].values, dtype=float), dt)
 

@@ -28,9 +28,9 @@ from ..records.loader import files_sha256, read_declared_units, scan_directory, 
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
 from ..store import STATE_DIR, OutputLock, remove_stale_temporaries, write_atomic
+from . import uptodate
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
-from . import uptodate
 from .executors import make_executor
 
 log = logging.getLogger(__name__)

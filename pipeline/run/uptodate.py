@@ -115,7 +115,7 @@ def output_digests(out_dir: Path) -> dict[str, str] | None:
 
 
 def write_manifest(out_dir: Path, key: dict, *, counts: dict, margins: dict,
-                   failures: list[tuple[str, str]] = ()) -> Path | None:
+                   failures: list[tuple[str, str]] | None = None) -> Path | None:
     """Record a complete run: its input key, its outputs' digests, its closing counts and its failed
     records (id, status), so that a run that skips everything can still name them.
 
@@ -130,7 +130,7 @@ def write_manifest(out_dir: Path, key: dict, *, counts: dict, margins: dict,
         path.unlink(missing_ok=True)
         return None
     doc = {"key": key, "outputs": digests, "finished_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-           "counts": counts, "margins": margins, "failures": [list(f) for f in failures]}
+           "counts": counts, "margins": margins, "failures": [list(f) for f in failures or []]}
     return write_text_atomic(path, json.dumps(doc, default=str, indent=1))
 
 
