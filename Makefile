@@ -58,6 +58,7 @@ bench: $(VENV)/.installed-test
 	$(BIN)/screen bench --records records --blocks configs/blocks.csv --out results/bench --tiers-only
 	$(BIN)/python benchmarks/bench_whole.py
 	$(BIN)/python benchmarks/bench_scale.py --records 10,100 --blocks 10,100 --samples 0
+	$(BIN)/python benchmarks/bench_scale.py --records 300,1000 --blocks 10 --samples 0   # memory against records
 	$(BIN)/python benchmarks/bench_fragility.py
 
 test-fast: $(VENV)/.installed-test

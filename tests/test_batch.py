@@ -90,6 +90,22 @@ def test_rerun_with_nothing_new_skips_everything_and_says_so(few_records, blocks
     assert output_bytes(out) == before
 
 
+def test_up_to_date_run_names_the_failed_records_and_exits_as_the_full_run(make_records, blocks_csv, tmp_path,
+                                                                            capsys, caplog):
+    records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2",
+                           "cosmos/us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c")
+    out = tmp_path / "out"
+    args = ["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
+    assert main(args) == 1                                     # one record failed: exit 1
+    caplog.clear()
+    capsys.readouterr()
+    assert main(args) == 1                                     # the same exit, from the manifest
+    assert "up to date:" in capsys.readouterr().err
+    assert "us1000hyfh" in caplog.text and "vertical component only" in caplog.text
+    assert main([*args, "--tolerate-failures", "-q"]) == EXIT_OK
+    assert "up to date:" not in capsys.readouterr().err       # -q: warnings and errors only
+
+
 @pytest.mark.parametrize("change", ["record", "inventory", "samples", "output", "force"])
 def test_any_change_takes_the_full_path(change, few_records, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
