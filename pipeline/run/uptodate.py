@@ -68,7 +68,11 @@ def tree_sha256(root: str | Path, *, exclude: Path | None = None) -> tuple[str, 
             p = Path(dirpath) / name
             if not p.is_file():
                 continue
-            h.update(str(p.relative_to(root)).encode() + b"\0" + file_sha256(p).encode() + b"\n")
+            try:
+                digest = file_sha256(p)
+            except OSError as exc:      # unreadable: the full path reports it; here it is part of the key
+                digest = f"unreadable ({exc.errno})"
+            h.update(str(p.relative_to(root)).encode() + b"\0" + digest.encode() + b"\n")
             n += 1
     return h.hexdigest(), n
 
