@@ -3,7 +3,9 @@
 ``screen --records DIR --blocks inventory.csv [--out DIR]`` screens every
 record against every block and writes ``OUT/screening.nc`` and
 ``OUT/pulses.nc``. Running it again into the same ``--out`` computes only
-what is new or changed (:mod:`pipeline.run`); ``-n N`` uses N local
+what is new or changed (:mod:`pipeline.run`), and nothing at all when the inputs, the
+configuration, the code and the outputs are as the last run left them
+(:mod:`pipeline.run.uptodate`); ``-n N`` uses N local
 processes and ``--scheduler`` a Dask cluster (:mod:`pipeline.run.executors`).
 This module only parses arguments, calls the run layer or the libraries, and prints.
 
@@ -70,7 +72,8 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     _add_inputs(p, out=Path("results"), out_help="output directory (default: results/)")
     _add_execution(p)
     p.add_argument("--force", action="store_true",
-                   help="recompute every record and block (default: only what is new or changed)")
+                   help="recompute every record and block (default: only what is new or changed; when nothing "
+                        "is, the run is skipped after checking the digests of inputs, code and outputs)")
     p.add_argument("--tolerate-failures", action="store_true",
                    help="exit 0 even when some records failed (their reasons stay in status)")
     _add_output_options(p)
