@@ -523,6 +523,33 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
+def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(few_records, blocks_csv, tmp_path,
+                                                                                 monkeypatch):
+    """A record already in the cache (its pulse series shed from memory) that fails when screened for a new
+    block: the run completes, the record is failed, and pulses.nc has no row for it."""
+    from pipeline.run import batch
+    from pipeline.screening import RecordResult
+
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    inv2 = tmp_path / "inventory-plus.csv"
+    inv2.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
+    real = batch._task
+
+    def crash_one(item, ctx):
+        source = item[0]
+        if source.record_id == "test":
+            return RecordResult(source.record_id, "failed: unexpected RuntimeError: boom", {"files": "test.knet"})
+        return real(item, ctx)
+
+    monkeypatch.setattr(batch, "_task", crash_one)
+    assert screen(few_records, inv2, out) == EXIT_OK
+    ds = open_results(out / "screening.nc")
+    assert str(ds.status.sel(record="test").values).startswith("failed: unexpected RuntimeError")
+    pulses = open_results(out / "pulses.nc")
+    assert "test" not in pulses.record_id.values.tolist() and pulses.sizes["station"] == 5
+
+
 def test_a_content_failure_is_reported_again_without_screening(make_records, blocks_csv, tmp_path, caplog,
                                                                monkeypatch):
     """A record that fails on its content (vertical only) fails again from the cache, with its reason, and no

@@ -138,6 +138,8 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
     """The run's pulses, fetched per record from memory or, for shed series, from the scene cache."""
     rows, in_memory, content = [], {}, {}
     for r in results:
+        if not r.ok:
+            continue
         if r.record_id in shed:
             rows.append((r.record_id, *shed[r.record_id]))
             content[r.record_id] = r.values["content_sha256"]
@@ -270,6 +272,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         if not res.ok:
             log.warning("record %s %s", res.record_id, res.status)
             results.pop(res.record_id, None)
+            shed.pop(res.record_id, None)
             failed.append(res)
             if cache is not None and res.deterministic:
                 cache.save_failure(res, content)
