@@ -1,4 +1,4 @@
-"""Physical constants and unit factors, named once for the whole package."""
+"""Physical constants, unit factors and fixed names, named once for the whole package."""
 
 #: Standard acceleration of gravity [m s-2] (CGPM 1901; also UDUNITS ``standard_free_fall``).
 G = 9.80665
@@ -9,3 +9,6 @@ M_TO_CM = 100.0
 
 #: The gravity value the Shahi & Baker (2014) MATLAB code uses [m s-2] (981 cm/s^2).
 G_MATLAB = 9.81
+
+#: Sub-directory of an output directory holding the run state (lock, caches, manifest).
+STATE_DIR = ".rockscreen"

@@ -31,6 +31,8 @@ import time
 from importlib import metadata
 from pathlib import Path
 
+from ..constants import STATE_DIR
+
 #: The files a complete run writes into the output directory, checked by content.
 OUTPUTS = ("screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv")
 #: Manifest file, inside the output's state directory.
@@ -39,7 +41,6 @@ MANIFEST = "manifest.json"
 LIBRARIES = ("obspy", "numpy", "scipy", "PyWavelets", "xarray", "netCDF4", "numba", "matplotlib", "jinja2")
 MANIFEST_FORMAT = 1
 _CHUNK = 1 << 20
-STATE_DIR = ".rockscreen"          # as pipeline.store.STATE_DIR (not imported: keeps this module light)
 
 
 def file_sha256(path: str | Path) -> str:

@@ -11,10 +11,8 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
+from ..constants import STATE_DIR
 from ..errors import OutputError
-
-#: Sub-directory of an output directory holding the run state (lock, scene and margin caches).
-STATE_DIR = ".rockscreen"
 
 
 def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
