@@ -77,17 +77,48 @@ def output_bytes(out: Path) -> dict:
                                                           "assets.csv")}
 
 
-def test_rerun_with_nothing_new_skips_everything_and_says_so(few_records, blocks_csv, tmp_path, capsys):
+@pytest.fixture
+def one_record(make_records):
+    """One short record (the up-to-date check does not depend on how many there are)."""
+    return make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+
+
+def test_rerun_with_nothing_new_skips_everything_and_says_so(one_record, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
-    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    assert screen(one_record, blocks_csv, out) == EXIT_OK
     before = output_bytes(out)
     capsys.readouterr()
-    os.utime(few_records / "knet" / "test.knet")             # touched, same content: still nothing new
-    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    os.utime(next(one_record.rglob("*.AT2")))                 # touched, same content: still nothing new
+    assert screen(one_record, blocks_csv, out) == EXIT_OK
     err = capsys.readouterr().err
     assert "up to date:" in err and "nothing was recomputed or rewritten" in err
-    assert "6 screened, 0 reused" in err                     # the summary of the run that made the outputs
+    assert "1 screened, 0 reused" in err                     # the summary of the run that made the outputs
     assert output_bytes(out) == before
+
+
+def test_any_change_takes_the_full_path(one_record, blocks_csv, tmp_path, capsys):
+    """Each change in turn (a file beside the records, the inventory, --samples, an output edited by hand,
+    --force) makes the next run take the full path; the same run again is up to date."""
+    out = tmp_path / "out"
+    assert screen(one_record, blocks_csv, out) == EXIT_OK
+    blocks = tmp_path / "blocks.csv"
+    blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
+    notes = one_record / "notes.txt"
+    changes = [("record", lambda: notes.write_text("a note beside the records\n"), blocks_csv, []),
+               ("inventory", lambda: None, blocks, []),
+               ("samples", lambda: None, blocks, ["--samples", "1"]),
+               ("output", lambda: (out / "assets.csv").write_text("edited by hand\n"), blocks, ["--samples", "1"]),
+               ("force", lambda: None, blocks, ["--samples", "1", "--force"])]
+    for name, change, inventory, extra in changes:
+        change()
+        capsys.readouterr()
+        assert screen(one_record, inventory, out, *extra) == EXIT_OK
+        err = capsys.readouterr().err
+        assert "up to date:" not in err and "wrote" in err, name
+        assert (out / "assets.csv").read_text() != "edited by hand\n", name
+        if name != "force":
+            assert screen(one_record, inventory, out, *extra) == EXIT_OK
+            assert "up to date:" in capsys.readouterr().err, name
 
 
 def test_up_to_date_run_names_the_failed_records_and_exits_as_the_full_run(make_records, blocks_csv, tmp_path,
@@ -104,30 +135,6 @@ def test_up_to_date_run_names_the_failed_records_and_exits_as_the_full_run(make_
     assert "us1000hyfh" in caplog.text and "vertical component only" in caplog.text
     assert main([*args, "--tolerate-failures", "-q"]) == EXIT_OK
     assert "up to date:" not in capsys.readouterr().err       # -q: warnings and errors only
-
-
-@pytest.mark.parametrize("change", ["record", "inventory", "samples", "output", "force"])
-def test_any_change_takes_the_full_path(change, few_records, blocks_csv, tmp_path, capsys):
-    out = tmp_path / "out"
-    assert screen(few_records, blocks_csv, out) == EXIT_OK
-    extra: list = []
-    blocks = blocks_csv
-    if change == "record":
-        (few_records / "notes.txt").write_text("a note beside the records\n")   # any byte under --records
-    elif change == "inventory":
-        blocks = tmp_path / "blocks.csv"
-        blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
-    elif change == "samples":
-        extra = ["--samples", "1"]
-    elif change == "output":
-        (out / "assets.csv").write_text("edited by hand\n")
-    else:
-        extra = ["--force"]
-    capsys.readouterr()
-    assert screen(few_records, blocks, out, *extra) == EXIT_OK
-    err = capsys.readouterr().err
-    assert "up to date:" not in err and "wrote" in err
-    assert (out / "assets.csv").read_text() != "edited by hand\n"
 
 
 def test_rerun_reuses_everything_and_changes_nothing(few_records, blocks_csv, tmp_path, capsys):
@@ -523,13 +530,14 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
-def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(few_records, blocks_csv, tmp_path,
+def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(make_records, blocks_csv, tmp_path,
                                                                                  monkeypatch):
     """A record already in the cache (its pulse series shed from memory) that fails when screened for a new
     block: the run completes, the record is failed, and pulses.nc has no row for it."""
     from pipeline.run import batch
     from pipeline.screening import RecordResult
 
+    few_records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     inv2 = tmp_path / "inventory-plus.csv"
@@ -547,7 +555,7 @@ def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(fe
     ds = open_results(out / "screening.nc")
     assert str(ds.status.sel(record="test").values).startswith("failed: unexpected RuntimeError")
     pulses = open_results(out / "pulses.nc")
-    assert "test" not in pulses.record_id.values.tolist() and pulses.sizes["station"] == 5
+    assert pulses.record_id.values.tolist() == ["RSN77_SFERN_PUL164"]
 
 
 def test_a_content_failure_is_reported_again_without_screening(make_records, blocks_csv, tmp_path, caplog,
