@@ -219,7 +219,12 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         _print_summary(result.counts, result.screening_path)
         _print_margins(result.margins)
         print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
-    return EXIT_RECORD_FAILURES if result.records_failed and not args.tolerate_failures else EXIT_OK
+    return _run_exit(result.records_failed, args)
+
+
+def _run_exit(records_failed: int, args: argparse.Namespace) -> int:
+    """1 when records failed (unless --tolerate-failures), else 0: the same for a run and an up-to-date one."""
+    return EXIT_RECORD_FAILURES if records_failed and not args.tolerate_failures else EXIT_OK
 
 
 def _print_margins(m: dict) -> None:
@@ -245,7 +250,7 @@ def _report_up_to_date(args: argparse.Namespace, last: dict, config) -> int:
         print("that run's summary:", file=sys.stderr)
         _print_summary(counts, Path(args.out) / "screening.nc", wrote=False)
         _print_margins(last["margins"])
-    return EXIT_RECORD_FAILURES if counts.get("records_failed") and not args.tolerate_failures else EXIT_OK
+    return _run_exit(int(counts.get("records_failed", 0)), args)
 
 
 def chart_parser() -> argparse.ArgumentParser:

@@ -45,7 +45,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
-from ..criteria import ALPHA_MAX_ROCKING
+from ..criteria import rocking_applicable
 from .settings import SimulationConfig
 from .simulate import RockResult, rock, slide
 
@@ -99,7 +99,7 @@ def demand_ratio(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, g_ms2: float 
 
 def rocks(alpha: float, mu: float) -> bool:
     """True when the block tips before it slides and the pure-rocking model applies."""
-    return mu > math.tan(alpha) and alpha < ALPHA_MAX_ROCKING      # as criteria.rocking_applicable, on a float
+    return mu > math.tan(alpha) and bool(rocking_applicable(alpha))
 
 
 def motion_threshold(alpha: float, mu: float) -> float:

@@ -29,7 +29,7 @@ import xarray as xr
 from .. import criteria
 from ..blocks import Inventory
 from ..config import Config
-from ..constants import G
+from ..constants import STATE_DIR, G
 from ..errors import RockscreenError, UsageError
 from ..records.intensity import arias_intensity, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
@@ -148,7 +148,7 @@ class FragilityCache(RecordStore):
     what = "fragility cache"
 
     def __init__(self, out_dir: Path, key: str):
-        super().__init__(Path(out_dir) / ".rockscreen" / "fragility", key)
+        super().__init__(Path(out_dir) / STATE_DIR / "fragility", key)
 
     def load(self, record_id: str, content: str) -> dict | None:
         z = self._read(self.path(record_id, content))

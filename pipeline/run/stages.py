@@ -110,9 +110,8 @@ class RunInterrupted(RockscreenError, KeyboardInterrupt):
 
 def package_versions() -> str:
     """Versions of rockscreen and the libraries its results depend on, as JSON."""
-    names = ("rockscreen", "obspy", "numpy", "scipy", "PyWavelets", "xarray", "netCDF4", "numba")
     out = {}
-    for n in names:
+    for n in ("rockscreen", *uptodate.LIBRARIES):
         try:
             out[n] = metadata.version(n)
         except metadata.PackageNotFoundError:

@@ -37,7 +37,7 @@ from ..constants import STATE_DIR
 OUTPUTS = ("screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv")
 #: Manifest file, inside the output's state directory.
 MANIFEST = "manifest.json"
-#: Libraries whose versions are part of the key (as in the results' provenance).
+#: Libraries whose versions are part of the key and of the results' provenance (``package_versions``).
 LIBRARIES = ("obspy", "numpy", "scipy", "PyWavelets", "xarray", "netCDF4", "numba", "matplotlib", "jinja2")
 MANIFEST_FORMAT = 1
 _CHUNK = 1 << 20

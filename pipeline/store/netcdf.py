@@ -39,6 +39,19 @@ def write_atomic(ds: xr.Dataset, path: str | Path) -> Path:
     return replace_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds)))
 
 
+#: Global attributes of a CF contiguous ragged array of time series.
+RAGGED_GLOBAL = {"Conventions": "CF-1.11", "featureType": "timeSeries"}
+#: Attributes of the sampling interval and of the time coordinate of a ragged array.
+RAGGED_DT = {"units": "s", "long_name": "sampling interval"}
+RAGGED_TIME = {"units": "s", "long_name": "time since the first sample of the series", "axis": "T"}
+
+
+def _ragged_station_attrs(id_long_name: str) -> tuple[dict, dict]:
+    """Attributes of ``row_size`` and of the series id variable of a ragged array."""
+    return ({"sample_dimension": "sample", "long_name": f"samples per {id_long_name}"},
+            {"cf_role": "timeseries_id", "long_name": id_long_name})
+
+
 def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: dict[str, dict],
                    station: dict[str, dict] | None = None) -> xr.Dataset:
     """Time series of different lengths as a CF contiguous ragged array (featureType timeSeries).
@@ -60,11 +73,10 @@ def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: di
     """
     first = next(iter(series))
     ids = np.array([r["id"] for r in rows], dtype=str)   # unicode: an empty object array cannot be written
-    data = {"row_size": (("station",), np.array([np.size(r[first]) for r in rows], dtype="i4"),
-                         {"sample_dimension": "sample", "long_name": f"samples per {id_long_name}"}),
-            "dt": (("station",), np.array([r["dt"] for r in rows], dtype=float),
-                   {"units": "s", "long_name": "sampling interval"}),
-            id_name: (("station",), ids, {"cf_role": "timeseries_id", "long_name": id_long_name})}
+    size_attrs, id_attrs = _ragged_station_attrs(id_long_name)
+    data = {"row_size": (("station",), np.array([np.size(r[first]) for r in rows], dtype="i4"), size_attrs),
+            "dt": (("station",), np.array([r["dt"] for r in rows], dtype=float), RAGGED_DT),
+            id_name: (("station",), ids, id_attrs)}
     for name, attrs in (station or {}).items():
         data[name] = (("station",), np.array([r[name] for r in rows], dtype=str), attrs)
     for name, attrs in series.items():
@@ -73,9 +85,7 @@ def ragged_dataset(id_name: str, id_long_name: str, rows: list[dict], series: di
     # the time of each sample from the start of its series (record start times are often unknown: AT2 files)
     time = (np.concatenate([np.arange(np.size(r[first])) * float(r["dt"]) for r in rows]) if rows
             else np.zeros(0))
-    coords = {"time": (("sample",), time, {"units": "s", "long_name": "time since the first sample of the series",
-                                           "axis": "T"})}
-    return xr.Dataset(data, coords=coords, attrs={"Conventions": "CF-1.11", "featureType": "timeSeries"})
+    return xr.Dataset(data, coords={"time": (("sample",), time, RAGGED_TIME)}, attrs=dict(RAGGED_GLOBAL))
 
 
 def ragged_rows(ds: xr.Dataset, id_name: str) -> dict[str, slice]:
@@ -85,19 +95,11 @@ def ragged_rows(ds: xr.Dataset, id_name: str) -> dict[str, slice]:
     return {sid: slice(int(e - n), int(e)) for sid, n, e in zip(ds[id_name].values.tolist(), sizes, ends)}
 
 
-def pulse_series_dataset(results) -> xr.Dataset:
-    """Extracted pulses of all records as a CF contiguous ragged array (:func:`ragged_dataset`).
-
-    Variables on dimension ``sample``: ``velocity`` and ``pulse`` [m s-1] along each record's
-    chosen pulse orientation; ``row_size`` gives each record's number of samples.
-    """
-    rows = [{"id": r.record_id, **r.series} for r in results if r.series]
-    return ragged_dataset("record_id", "record", rows, PULSE_SERIES)
-
-
 @dataclass
 class PulseSeries:
-    """The extracted pulses of a run, held as row descriptions and fetched one record at a time.
+    """The extracted pulses of a run (``pulses.nc``), held as row descriptions and fetched one record at a
+    time: a CF contiguous ragged array with ``velocity`` and ``pulse`` [m s-1] along each record's chosen
+    pulse orientation on dimension ``sample``, and ``row_size`` samples per record.
 
     ``rows`` is ``[(record_id, npts, dt_s), ...]`` in file order; ``fetch(record_id)`` returns that
     record's ``{"velocity": ..., "pulse": ...}`` [m s-1] (from memory or from the scene cache), so
@@ -124,27 +126,29 @@ class PulseSeries:
         import netCDF4
 
         sizes = np.array([n for _, n, _ in self.rows], dtype="i4")
+        size_attrs, id_attrs = _ragged_station_attrs("record")
+
+        def floats(nc, name: str, dtype: str, dim: str, attrs: dict):
+            """A float variable with the encoding xarray gives it through _encoding(): zlib 4, NaN fill."""
+            v = nc.createVariable(name, dtype, (dim,), zlib=True, complevel=4, shuffle=True,
+                                  fill_value=np.dtype(dtype).type(np.nan))
+            v.setncatts(attrs)
+            return v
+
         with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
             nc.createDimension("station", len(self.rows))
             nc.createDimension("sample", int(sizes.sum()))
             v = nc.createVariable("row_size", "i4", ("station",), fill_value=False)
-            v.setncatts({"sample_dimension": "sample", "long_name": "samples per record"})
+            v.setncatts(size_attrs)
             v[:] = sizes
-            v = nc.createVariable("dt", "f8", ("station",), zlib=True, complevel=4, shuffle=True, fill_value=np.nan)
-            v.setncatts({"units": "s", "long_name": "sampling interval"})
-            v[:] = np.array([dt for _, _, dt in self.rows], dtype=float)
+            floats(nc, "dt", "f8", "station", RAGGED_DT)[:] = np.array([dt for _, _, dt in self.rows], dtype=float)
             v = nc.createVariable("record_id", str, ("station",))
-            v.setncatts({"cf_role": "timeseries_id", "long_name": "record"})
+            v.setncatts(id_attrs)
             for k, (rid, _, _) in enumerate(self.rows):
                 v[k] = rid
-            series = {}
-            for name, attrs in PULSE_SERIES.items():
-                series[name] = nc.createVariable(name, "f4", ("sample",), zlib=True, complevel=4, shuffle=True,
-                                                 fill_value=np.float32(np.nan))
-                series[name].setncatts({**attrs, "coordinates": "time"})
-            time = nc.createVariable("time", "f8", ("sample",), zlib=True, complevel=4, shuffle=True,
-                                     fill_value=np.nan)
-            time.setncatts({"units": "s", "long_name": "time since the first sample of the series", "axis": "T"})
+            series = {name: floats(nc, name, "f4", "sample", {**attrs, "coordinates": "time"})
+                      for name, attrs in PULSE_SERIES.items()}
+            time = floats(nc, "time", "f8", "sample", RAGGED_TIME)
             start = 0
             for rid, n, dt in self.rows:
                 values = self.fetch(rid)
@@ -152,7 +156,7 @@ class PulseSeries:
                     var[start:start + n] = np.asarray(values[name]).astype("f4")
                 time[start:start + n] = np.arange(n) * float(dt)
                 start += n
-            nc.setncatts({"Conventions": "CF-1.11", "featureType": "timeSeries", **self.attrs})
+            nc.setncatts({**RAGGED_GLOBAL, **self.attrs})
 
 
 def open_results(path: str | Path) -> xr.Dataset:
