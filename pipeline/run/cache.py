@@ -81,7 +81,9 @@ class _NpzStore:
         self.used: set[str] = set()
         self.write_errors = 0
 
-    def _read(self, path: Path) -> dict | None:
+    def _read(self, path: Path, keys: tuple[str, ...] | None = None) -> dict | None:
+        """The entry's arrays (only ``keys``, those of them it has, when given: an npz member is read when
+        asked for), or None when it is missing, unreadable or of another format."""
         self.used.add(path.name)
         if not path.is_file():
             return None
@@ -89,7 +91,7 @@ class _NpzStore:
             with np.load(path, allow_pickle=False) as z:
                 if int(z["entry_format"]) != ENTRY_FORMAT:
                     return None
-                return {k: z[k] for k in z.files}
+                return {k: z[k] for k in (z.files if keys is None else [k for k in keys if k in z.files])}
         except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
             log.warning("%s: unreadable %s entry (%s); it is computed again", path, self.what, exc)
             return None
@@ -176,8 +178,8 @@ class SceneCache(RecordStore):
 
     def series(self, record_id: str, content_sha256: str) -> dict | None:
         """The pulse series of a saved record (``velocity``, ``pulse`` [m s-1]), or None."""
-        z = self._read(self.path(record_id, content_sha256))
-        if z is None or "s.velocity" not in z:
+        z = self._read(self.path(record_id, content_sha256), ("s.velocity", "s.pulse"))
+        if z is None or len(z) < 2:
             return None
         return {"velocity": z["s.velocity"], "pulse": z["s.pulse"]}
 
