@@ -48,8 +48,11 @@ def main() -> None:
         blocks = {n: tmp / f"blocks-{n}.csv" for n in n_blocks}
         for n, p in blocks.items():
             make_blocks(p, n)
-        timed_run(["--records", str(recs[n_records[0]]), "--blocks", str(blocks[n_blocks[0]]),
-                   "--out", str(tmp / "warm"), *extra])                  # numba and import caches
+        make_records(tmp / "records-warm", 2)
+        make_blocks(tmp / "blocks-warm.csv", 2)
+        # numba's and the imports' caches, on two records x two blocks (not a full run of the first row)
+        timed_run(["--records", str(tmp / "records-warm"), "--blocks", str(tmp / "blocks-warm.csv"),
+                   "--out", str(tmp / "warm"), *extra])
         print(f"{'records':>7s} {'blocks':>6s} {'wall s':>7s} {'screen s':>8s} {'margins s':>9s} {'rest s':>6s} "
               f"{'records/s':>9s} {'scenes/s':>9s} {'peak MB (largest / total)':>26s}")
         for nr in n_records:

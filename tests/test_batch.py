@@ -453,6 +453,7 @@ def test_default_uses_the_available_cores_with_results_identical_to_serial(make_
     assert screen(root, blocks_csv, tmp_path / "bad") == 2
 
 
+@pytest.mark.slow
 def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     items, ctx = tasks
     with SerialExecutor() as ex:

@@ -131,3 +131,21 @@ def test_at2_non_numeric_sample_names_line(tmp_path, records_dir):
     bad.write_text("\n".join(text) + "\n")
     with pytest.raises(RecordFormatError, match=r"line 10: 'abc' is not a number"):
         at2._read_at2(str(bad))
+
+
+@pytest.mark.parametrize("lines, expected", [
+    (["  1.5D-03  2.0d+01", "-3E2 4"], [1.5e-3, 20.0, -300.0, 4.0]),      # Fortran D exponents, either case
+    (["0.1 0.2", "", "   0.3"], [0.1, 0.2, 0.3]),                            # blank lines carry nothing
+])
+def test_free_format_numbers_parse_as_python_floats(lines, expected):
+    from pipeline.records._text import parse_free_floats
+
+    got = parse_free_floats(lines, name="x.AT2", first_line_no=5)
+    assert got.tolist() == expected              # exact: the same correctly rounded floats as float()
+
+
+def test_free_format_bad_token_names_its_line_after_a_d_exponent():
+    from pipeline.records._text import parse_free_floats
+
+    with pytest.raises(RecordFormatError, match=r"x\.AT2, line 6: '1\.0x' is not a number"):
+        parse_free_floats(["1.0D0 2.0", "1.0x 3.0"], name="x.AT2", first_line_no=5)

@@ -189,6 +189,7 @@ def test_cli_overrides_are_checked():
         Config().with_uncertainty(samples=-3)
 
 
+@pytest.mark.slow
 def test_probabilities_identical_serial_and_dask(make_records, blocks_csv, tmp_path):
     """The same seed gives the same p_overturn serial, on processes and on Dask."""
     pytest.importorskip("distributed")

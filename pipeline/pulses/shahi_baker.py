@@ -132,19 +132,25 @@ def wavelet_on_grid(coef: float, scale: int, position: int, n: int) -> np.ndarra
     ``wavefun(db4, 4)`` on x in [0, 7] is stretched by the scale and
     interpolated linearly onto the sample grid, zero outside its support.
     """
-    _, psi, x = _wavefun4()
-    t = (x - np.median(x)) * scale + position  # in samples
-    lo, hi = max(0, int(math.ceil(t[0]))), min(n - 1, int(math.floor(t[-1])))
-    out = np.zeros(n)
+    return _add_wavelet(np.zeros(n), coef, scale, position)
+
+
+def _add_wavelet(out: np.ndarray, coef: float, scale: int, position: int) -> np.ndarray:
+    """``out`` plus :func:`wavelet_on_grid` (in place, on the wavelet's support only); returns ``out``."""
+    psi, x, centre = _wavefun4()
+    t = (x - centre) * scale + position  # in samples
+    lo, hi = max(0, int(math.ceil(t[0]))), min(out.size - 1, int(math.floor(t[-1])))
     if hi >= lo:
         grid = np.arange(lo, hi + 1, dtype=float)
-        out[lo:hi + 1] = np.interp(grid, t, coef * psi / math.sqrt(scale))
+        out[lo:hi + 1] += np.interp(grid, t, coef * psi / math.sqrt(scale))
     return out
 
 
 @lru_cache(maxsize=1)
-def _wavefun4():
-    return pywt.Wavelet("db4").wavefun(level=4)
+def _wavefun4() -> tuple[np.ndarray, np.ndarray, float]:
+    """db4's wavelet function at level 4: (psi, x, median of x), computed once."""
+    _, psi, x = pywt.Wavelet("db4").wavefun(level=4)
+    return psi, x, float(np.median(x))
 
 
 def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
@@ -188,7 +194,7 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
         pos, coef = lo + k, float(c[k])
         if i == 0:
             centre = pos  # MATLAB overwrites col(1): later windows centre on this
-        pulse = pulse + wavelet_on_grid(coef, scale, pos, n)
+        _add_wavelet(pulse, coef, scale, pos)
         positions.append(pos)
         coefs.append(coef)
     return scale, pulse, positions, coefs
@@ -278,28 +284,35 @@ def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, in
     """(row, column) of the largest (ca C1 + sa C2)^2, ties in MATLAB's column-major order.
 
     Exact and cheap for many orientations: the projection of a point never
-    exceeds its amplitude C1^2 + C2^2. The points are sorted once by
-    amplitude; for an orientation, the best of the first k points is the
-    maximum over the whole transform as soon as it beats the amplitude of
-    point k, so only the head of the list is searched (k grows 4x until then).
+    exceeds its amplitude C1^2 + C2^2. For a head of k points (the k largest
+    amplitudes, found by partial selection, not a full sort), the best
+    projection in the head is the maximum over the whole transform as soon as
+    it beats the largest amplitude outside the head; otherwise k grows 4x.
+    Heads are built once per transform and size (every orientation shares them).
     """
     c = result.coeffs
     assert c is not None                                 # set by classify
-    n_rows = c.shape[1]
+    n_rows, n_cols = c.shape[1], c.shape[2]
     if result._strongest is None:
-        amp = (c[0] ** 2 + c[1] ** 2).ravel()
-        order = np.argsort(amp, kind="stable")[::-1]
-        rows, cols = np.divmod(order, c.shape[2])
-        result._strongest = (c[0].ravel()[order], c[1].ravel()[order], cols * n_rows + rows, amp[order])
-    c1, c2, f_index, amp = result._strongest
+        result._strongest = ((c[0] ** 2 + c[1] ** 2).ravel(), {})
+    amp, heads = result._strongest
     k = 1024
     while True:
-        proj = (ca * c1[:k] + sa * c2[:k]) ** 2
+        if k not in heads:
+            if k < amp.size:
+                part = np.argpartition(-amp, k)               # [:k] the k largest, [k] the largest of the rest
+                head, bound = part[:k], float(amp[part[k]])
+            else:
+                head, bound = np.arange(amp.size), -math.inf
+            rows, cols = np.divmod(head, n_cols)
+            heads[k] = (c[0].ravel()[head], c[1].ravel()[head], cols * n_rows + rows, bound)
+        c1, c2, f_index, bound = heads[k]
+        proj = (ca * c1 + sa * c2) ** 2
         best = float(np.max(proj))
-        if k >= amp.size or best > amp[k] * (1.0 + 1e-12):   # margin: rounding of the projection
+        if bound == -math.inf or best > bound * (1.0 + 1e-12):   # margin: rounding of the projection
             break
         k *= 4
-    flat = int(np.min(f_index[:k][proj == best]))
+    flat = int(np.min(f_index[proj == best]))
     return flat % n_rows, flat // n_rows
 
 

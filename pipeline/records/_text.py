@@ -83,6 +83,14 @@ def parse_free_floats(lines: list[str], *, name: str, first_line_no: int) -> np.
     first_line_no : int
         1-based line number of ``lines[0]`` in the file, for messages.
     """
+    text = " ".join(lines)
+    if "D" in text or "d" in text:                       # Fortran double-precision exponents
+        text = text.replace("D", "E").replace("d", "e")
+    tokens = text.split()
+    try:                                                 # one C-level pass; the loop below only names a bad line
+        return np.fromiter(map(float, tokens), dtype=float, count=len(tokens))
+    except ValueError:
+        pass
     values: list[float] = []
     for k, line in enumerate(lines):
         for token in line.split():
