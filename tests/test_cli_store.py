@@ -182,6 +182,29 @@ def test_pulses_written_record_by_record_equal_the_dataset_written_whole(make_re
     for name in ("velocity", "pulse", "time"):
         assert streamed[name].encoding["zlib"] == written[name].encoding["zlib"]
         assert streamed[name].encoding["dtype"] == written[name].encoding["dtype"]
+        assert streamed[name].encoding["chunksizes"] == written[name].encoding["chunksizes"]
+
+
+@pytest.mark.parametrize("chunk", [997, 2048])
+def test_pulses_in_chunks_smaller_than_a_record_read_back_exactly(make_records, blocks_csv, config, tmp_path,
+                                                                  monkeypatch, chunk):
+    """The per-sample variables are written in chunks of RAGGED_CHUNK samples (not one chunk of the whole
+    variable, which the HDF5 cache would hold until the file closes); chunks that cut records anywhere,
+    written record by record through a small cache, read back equal to the series in memory."""
+    from pipeline.blocks import read_inventory
+    from pipeline.run.batch import run
+    from pipeline.store import netcdf
+
+    monkeypatch.setattr(netcdf, "RAGGED_CHUNK", chunk)
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "peer-at2/RSN1063_NORTHR_RRS228.AT2")
+    inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
+    whole = run(root, inventory, config).pulses.dataset()
+    cached = run(root, inventory, config, out_dir=tmp_path / "out").pulses
+    streamed = open_results(cached.write(tmp_path / "streamed.nc"))
+    assert streamed.sizes["sample"] > 2 * chunk
+    for name in ("velocity", "pulse", "time"):
+        assert streamed[name].encoding["chunksizes"] == (chunk,)
+        np.testing.assert_array_equal(streamed[name].values, whole[name].values.astype(streamed[name].dtype))
 
 
 def test_run_layer_equals_the_stages_called_one_by_one(make_records, blocks_csv, config, tmp_path):

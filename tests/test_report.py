@@ -287,6 +287,44 @@ def test_unchanged_figures_are_not_drawn_again(screened, tmp_path, monkeypatch):
     assert first.read_text() == second.read_text()
 
 
+def test_record_figures_are_drawn_one_at_a_time_as_the_page_is_written(screened, tmp_path, monkeypatch):
+    """The record rows come first and cost no drawing; each velocity figure is read, drawn and written only when
+    the page being streamed to its file reaches it (so the report holds one record's figure at a time), and the
+    page links and holds exactly one figure per pulse-like record."""
+    import xarray as xr
+
+    from pipeline.report import figures
+    from pipeline.report.html import FigureCache, _record_rows, build_report
+
+    ds = open_results(screened / "screening.nc")
+    pulses = xr.open_dataset(screened / "pulses.nc", engine="netcdf4")
+    try:
+        cache = FigureCache(None)
+        rows, stream = _record_rows(ds, pulses, cache=cache)
+        expected = [r["record"] for r in rows if r["has_figure"]]
+        assert expected == [str(r) for r in ds["record"].values[ds["is_pulse"].values == 1]]
+        assert cache.drawn == 0
+        first = next(stream)
+        assert cache.drawn == 1 and first[0]["record"] == expected[0] and first[1].startswith("data:image/")
+        assert [row["record"] for row, _ in stream] == expected[1:] and cache.drawn == len(expected)
+    finally:
+        pulses.close()
+
+    sizes: list[int] = []
+    draw = figures.pulse_figure
+
+    def watched(*args, **kwargs):                     # the page on disk grows between two figures
+        sizes.append(sum(p.stat().st_size for p in tmp_path.glob("page/.report.html.*.tmp")))
+        return draw(*args, **kwargs)
+
+    monkeypatch.setattr(figures, "pulse_figure", watched)
+    page, _ = build_report(screened / "screening.nc", tmp_path / "page")
+    html = page.read_text()
+    assert len(sizes) == len(expected) >= 2 and sizes[-1] > sizes[0] > 0
+    anchors = re.findall(r'<figure id="(record-\d+)"><img class="figure" alt="velocity pulse', html)
+    assert len(anchors) == len(expected) and all(f'href="#{a}"' in html for a in anchors)
+
+
 @pytest.mark.parametrize("n", [50, 1441, 20000])
 def test_svg_trace_keeps_every_peak(n):
     """The min-max reduction keeps the global extremes and bounds every sample by its column."""

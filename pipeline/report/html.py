@@ -28,6 +28,7 @@ import hashlib
 import logging
 import math
 from collections import Counter
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -38,7 +39,7 @@ from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..schema import INVENTORY_PREFIX
-from ..store import open_results, ragged_rows, write_bytes_atomic, write_csv_atomic, write_text_atomic
+from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
 from . import figures
 
@@ -230,8 +231,14 @@ def _data_uri(image: bytes) -> str:
 
 
 def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool = False,
-                 cache: FigureCache | None = None) -> list[dict]:
-    """One row per record; the velocity figure for pulse-like records (every record with ``all_figures``)."""
+                 cache: FigureCache | None = None) -> tuple[list[dict], Iterator[tuple[dict, str]]]:
+    """One row per record, and the velocity figures of the pulse-like records (of every record with
+    ``all_figures``) as a lazy stream of ``(row, data URI)``.
+
+    A figure is read, drawn (or taken from ``cache``) and encoded only when the stream reaches it, so a
+    report streamed to its file (:func:`build_report`) holds one record's series and figure at a time,
+    whatever the number of records; ``pulses`` must stay open until the stream is consumed.
+    """
     cache = cache or FigureCache(None)
     where = {}
     if pulses is not None:
@@ -253,17 +260,22 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
             return ds[name].values[i] if name in ds else np.nan
 
         is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
-        row = {"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
-               "pgv_cms": M_TO_CM * float(val("pgv")), "tp_s": float(val("pulse_period")),
-               "pi": float(val("pulse_indicator")),
-               "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
-               "azimuth_deg": float(val("pulse_azimuth")), "figure": None, "anchor": f"record-{i + 1}"}
-        if rid in where and (all_figures or is_pulse == 1):
-            v, p, dt = series(rid)
-            row["figure"] = _data_uri(cache.get("pulse", lambda v=v, p=p, dt=dt, rid=rid: figures.pulse_figure(
-                v, p, dt, title=rid), v, p, np.array([dt]), title=rid))
-        rows.append(row)
-    return rows
+        rows.append({"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
+                     "pgv_cms": M_TO_CM * float(val("pgv")), "tp_s": float(val("pulse_period")),
+                     "pi": float(val("pulse_indicator")),
+                     "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
+                     "azimuth_deg": float(val("pulse_azimuth")), "anchor": f"record-{i + 1}",
+                     "has_figure": rid in where and (all_figures or is_pulse == 1)})
+
+    def figures_stream() -> Iterator[tuple[dict, str]]:
+        for row in rows:
+            if row["has_figure"]:
+                rid = row["record"]
+                v, p, dt = series(rid)
+                yield row, _data_uri(cache.get("pulse", lambda v=v, p=p, dt=dt, rid=rid: figures.pulse_figure(
+                    v, p, dt, title=rid), v, p, np.array([dt]), title=rid))
+
+    return rows, figures_stream()
 
 
 def _histories(path: Path) -> dict:
@@ -341,16 +353,17 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
-    try:
-        records = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
+    records, record_figures = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
+    stream = env.get_template("report.html.j2").stream(
+        title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
+        records=records, record_figures=record_figures, chart=chart)
+    try:        # streamed to the file: the record figures are drawn and written one at a time
+        html_path = replace_atomically(out_dir / "report.html",
+                                       lambda tmp: stream.dump(tmp, encoding="utf-8"))
     finally:
         if pulses is not None:
             pulses.close()
-    html = env.get_template("report.html.j2").render(
-        title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
-        records=records, chart=chart)
     cache.prune()
-    html_path = write_text_atomic(out_dir / "report.html", html)
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
 
 

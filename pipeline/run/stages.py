@@ -174,18 +174,19 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                 log.debug("margins: %s", margins)
             path = write_stage(outcome, results, histories, out_dir, provenance(request), margin_cache=margin_cache)
             log.debug("write: %s", path)
+            counts = outcome.counts
+            failed = [(str(r), str(st)) for r, st in zip(results["record"].values, results["status"].values)
+                      if st != "ok"]
+            del outcome, results, histories     # written: the report reads the files, not these
             report, assets = report_stage(path, figure_cache=out_dir / STATE_DIR / "figures")
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
-                status = results["status"].values
-                failed = [(str(r), str(st)) for r, st in zip(results["record"].values, status) if st != "ok"]
-                uptodate.write_manifest(out_dir, request.key, counts=outcome.counts, margins=margins,
-                                        failures=failed)
+                uptodate.write_manifest(out_dir, request.key, counts=counts, margins=margins, failures=failed)
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
         raise RunInterrupted(kept, cache_dir, out_dir) from None
-    return ScreenResult(path, report, assets, outcome.counts, margins)
+    return ScreenResult(path, report, assets, counts, margins)
 
 
 def prepare(request: ScreenRequest) -> tuple:

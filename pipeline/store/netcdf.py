@@ -16,12 +16,27 @@ from ..errors import ResultsError
 from ..schema import PULSE_SERIES
 from .atomic import replace_atomically
 
+#: Samples per chunk of a ragged array's per-sample variables. Left to itself, netCDF-C makes one chunk of a
+#: whole 1-D variable, which the HDF5 chunk cache then holds uncompressed until the file is closed (memory
+#: that grows with the records) and which must be decompressed whole to read one record's series.
+RAGGED_CHUNK = 2**16
+#: Bytes of HDF5 chunk cache per variable while a ragged array is written: a few chunks, so that written
+#: chunks are compressed and leave memory as the writing goes on.
+RAGGED_WRITE_CACHE = 4 * RAGGED_CHUNK * 8
+
+
+def _sample_chunks(n_samples: int) -> tuple[int] | None:
+    """Chunk shape of a per-sample variable of ``n_samples`` (None: an empty dimension, left contiguous)."""
+    return (min(RAGGED_CHUNK, n_samples),) if n_samples > 0 else None
+
 
 def _encoding(ds: xr.Dataset) -> dict:
     enc: dict[Hashable, dict] = {}
     for name, var in ds.variables.items():
         if var.dtype.kind == "f":
             enc[name] = {"zlib": True, "complevel": 4, "_FillValue": np.nan}
+            if var.dims == ("sample",) and _sample_chunks(var.size):
+                enc[name]["chunksizes"] = _sample_chunks(var.size)
         elif var.dtype.kind in "OU":
             enc[name] = {"dtype": str}
     return enc
@@ -129,9 +144,13 @@ class PulseSeries:
         size_attrs, id_attrs = _ragged_station_attrs("record")
 
         def floats(nc, name: str, dtype: str, dim: str, attrs: dict):
-            """A float variable with the encoding xarray gives it through _encoding(): zlib 4, NaN fill."""
+            """A float variable with the encoding xarray gives it through _encoding(): zlib 4, NaN fill, and
+            along ``sample`` chunks of RAGGED_CHUNK with a small write cache."""
+            chunks = _sample_chunks(int(sizes.sum())) if dim == "sample" else None
             v = nc.createVariable(name, dtype, (dim,), zlib=True, complevel=4, shuffle=True,
-                                  fill_value=np.dtype(dtype).type(np.nan))
+                                  fill_value=np.dtype(dtype).type(np.nan), chunksizes=chunks)
+            if chunks:
+                v.set_var_chunk_cache(size=RAGGED_WRITE_CACHE, nelems=61, preemption=1.0)
             v.setncatts(attrs)
             return v
 
