@@ -274,7 +274,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
             keep(position[block_id], rid, value)
             if cache is not None:
                 cache.put(rid, content[rid], digest[block_id], value)
-    ds = ds.copy()
+    ds = ds.copy(deep=False)            # new per-block variables only: the records x blocks arrays are shared
     ds["governing_record"] = (("block",), governing)
     ds["overturn_scale"] = (("block",), crit_scale)
     ds["overturn_scale_simulated"] = (("block",), sim_scale)

@@ -355,13 +355,17 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
     position = {b: k for k, b in enumerate(inventory.ids)}
     nb = len(inventory)
+    # each record's blocks -> their columns (blocks no longer in the inventory are left out), once per record
+    columns = []
+    for r in results:
+        cols = np.array([position.get(b, -1) for b in r.block_ids], dtype=np.intp)
+        columns.append((cols[cols >= 0], np.flatnonzero(cols >= 0)))
     for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS:
         arr = np.full((len(results), nb), np.nan)
         for i, r in enumerate(results):
             if name in r.blocks:
-                cols = [position.get(b, -1) for b in r.block_ids]
-                keep = [k for k, c in enumerate(cols) if c >= 0]
-                arr[i, [cols[k] for k in keep]] = np.asarray(r.blocks[name], dtype=float)[keep]
+                to, keep = columns[i]
+                arr[i, to] = np.asarray(r.blocks[name], dtype=float)[keep]
         data_vars[name] = (("record", "block"), arr)
     for name, (dims, arr) in list(data_vars.items()):
         dtype = INTEGER_DTYPES.get(name) or ("i1" if "flag_values" in SCHEMA.get(name, (0, 0, 0, {}))[3] else None)

@@ -580,3 +580,40 @@ def test_a_content_failure_is_reported_again_without_screening(make_records, blo
     assert "vertical component only" in caplog.text
     assert "files unchanged since the run that found it" in caplog.text
     assert_same_results(first, open_results(out / "screening.nc"))
+
+
+def test_results_held_by_a_run_share_the_inventorys_block_keys(blocks_csv, config):
+    """Results arriving from workers or the scene cache bring their own copies of the block ids and digests
+    (about 180 KB per record at 1000 blocks); the run replaces them by the inventory's own, equal strings."""
+    from pipeline.run.batch import _SharedKeys
+    from pipeline.screening import RecordResult
+
+    inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
+    share = _SharedKeys(inventory)
+    ids, digests = list(inventory.ids), list(inventory.digests())
+
+    def copied(keys):                                  # equal strings, other objects (as after unpickling)
+        return tuple("".join(list(k)) for k in keys)
+
+    whole = share(RecordResult("A", "ok", block_ids=copied(ids), block_digests=copied(digests)))
+    assert whole.block_ids is share.ids and whole.block_digests is share.digests
+    assert list(whole.block_ids) == ids and list(whole.block_digests) == digests
+    part = share(RecordResult("B", "ok", block_ids=copied(ids[1:3]) + ("gone",),
+                              block_digests=copied(digests[1:3]) + ("x" * 64,)))
+    assert part.block_ids == (ids[1], ids[2], "gone") and part.block_digests[:2] == (digests[1], digests[2])
+    assert all(a is b for a, b in zip(part.block_ids[:2], share.ids[1:3]))
+    assert all(a is b for a, b in zip(part.block_digests[:2], share.digests[1:3]))
+
+
+def test_the_plan_reads_only_the_keys_of_the_previous_results(one_record, blocks_csv, tmp_path):
+    """The previous screening.nc is read for its record status, content and block digests only, not its
+    records x blocks arrays."""
+    from pipeline.run.batch import PLAN_VARIABLES
+
+    assert main(["--samples", "0", "--records", str(one_record), "--blocks", str(blocks_csv),
+                 "--out", str(tmp_path), "-q"]) == EXIT_OK
+    small = open_results(tmp_path / "screening.nc", variables=PLAN_VARIABLES + ("not_there",))
+    whole = open_results(tmp_path / "screening.nc")
+    assert set(small.data_vars) == set(PLAN_VARIABLES) and "theta_max" in whole
+    for name in PLAN_VARIABLES:
+        xr.testing.assert_identical(small[name], whole[name])

@@ -53,6 +53,30 @@ def _task(item: tuple, ctx: Context) -> RecordResult:
     return screen_record(source, ctx, block_ids, content)
 
 
+class _SharedKeys:
+    """One copy of the inventory's block ids and digests for all the results a run holds.
+
+    Every result carries the ids and digests of its blocks (1000 blocks: about 180 KB of strings per
+    record, as much as its per-scene values), and results that arrive from a worker or from the scene
+    cache bring their own copies. Equal tuples are replaced by the inventory's own, and other strings by
+    the inventory's equal ones, so holding many records costs their values only.
+    """
+
+    def __init__(self, inventory: Inventory):
+        self.ids, self.digests = tuple(inventory.ids), tuple(inventory.digests())
+        self.strings = {s: s for s in self.ids + self.digests}
+
+    def __call__(self, res: RecordResult) -> RecordResult:
+        res.block_ids = self._share(tuple(res.block_ids), self.ids)
+        res.block_digests = self._share(tuple(res.block_digests), self.digests)
+        return res
+
+    def _share(self, keys: tuple, whole: tuple) -> tuple:
+        if keys == whole:
+            return whole
+        return tuple(self.strings.get(k, k) for k in keys)
+
+
 @dataclass
 class Plan:
     """What a run computes and what it reuses."""
@@ -63,6 +87,11 @@ class Plan:
     vanished: list = field(default_factory=list)       # record ids kept from the last run
     dropped: list = field(default_factory=list)        # vanished record ids that could not be kept
     blocks_changed: int = 0                            # blocks new or changed since the last run
+    keys: _SharedKeys | None = None                    # the inventory's block ids and digests, shared
+
+
+#: What the plan reads of the previous results (not their records x blocks arrays).
+PLAN_VARIABLES = ("status", "content_sha256", "block_sha256")
 
 
 def _previous_block_digests(previous: xr.Dataset | None) -> dict:
@@ -90,7 +119,8 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
     unreadable : tuple of str
         Ids of records present but unreadable at the scan: they fail, they have not vanished.
     """
-    out = Plan()
+    keys = _SharedKeys(inventory)
+    out = Plan(keys=keys)
     digests = dict(zip(inventory.ids, inventory.digests()))
     old_digests = _previous_block_digests(previous)
     out.blocks_changed = sum(old_digests.get(b) != d for b, d in digests.items()) if old_digests else len(digests)
@@ -104,6 +134,8 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
                                              {"files": ";".join(Path(f).name for f in src.files)}))
             continue
         entry = None if (cache is None or force) else cache.load(src.record_id, content)
+        if entry is not None:
+            entry = keys(entry)
         if entry is not None and not entry.ok:            # the same files failed the same way last time
             out.failures.append(entry)
             continue
@@ -123,7 +155,7 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
                 out.dropped.append(str(rid))
             else:
                 out.vanished.append(str(rid))
-                out.cached[str(rid)] = entry
+                out.cached[str(rid)] = keys(entry)
     return out
 
 
@@ -237,7 +269,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     previous = None
     if out_dir is not None and (Path(out_dir) / "screening.nc").is_file():
         try:
-            previous = open_results(Path(out_dir) / "screening.nc")
+            previous = open_results(Path(out_dir) / "screening.nc", variables=PLAN_VARIABLES)
         except Exception as exc:   # a damaged earlier file must not stop the run; it is replaced
             log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced",
                         out_dir, exc)
@@ -249,6 +281,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     for rid in the_plan.dropped:
         log.warning("record %s: its files are no longer in %s and its results were computed under another "
                     "configuration; it is left out of the new results", rid, records_dir)
+    share = the_plan.keys or _SharedKeys(inventory)
     results: dict[str, RecordResult] = dict(the_plan.cached)
     # the pulse series are the part of a result that grows with a record's length: once a result is in the
     # scene cache, its series are dropped from memory and read back one record at a time by the writer
@@ -277,7 +310,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
             if cache is not None and res.deterministic:
                 cache.save_failure(res, content)
             continue
-        res = merge(results.get(res.record_id), res)
+        res = share(merge(results.get(res.record_id), res))
         if cache is not None and cache.save(res):
             _shed_series(res, shed)
         else:

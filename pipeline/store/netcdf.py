@@ -178,8 +178,9 @@ class PulseSeries:
             nc.setncatts({**RAGGED_GLOBAL, **self.attrs})
 
 
-def open_results(path: str | Path) -> xr.Dataset:
-    """Open a results file fully into memory (the file is closed on return).
+def open_results(path: str | Path, *, variables: tuple[str, ...] | None = None) -> xr.Dataset:
+    """Open a results file into memory (the file is closed on return): all of it, or only ``variables``
+    (those of them the file has) and their coordinates.
 
     Raises
     ------
@@ -192,6 +193,8 @@ def open_results(path: str | Path) -> xr.Dataset:
                            "first, which writes DIR/screening.nc")
     try:
         with xr.open_dataset(path, engine="netcdf4") as ds:
+            if variables is not None:
+                ds = ds[[v for v in variables if v in ds.data_vars]]
             return ds.load()
     except (OSError, ValueError) as exc:
         raise ResultsError(f"{path}: not a readable netCDF results file ({exc})") from exc
