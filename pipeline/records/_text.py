@@ -89,19 +89,18 @@ def parse_free_floats(lines: list[str], *, name: str, first_line_no: int) -> np.
     tokens = text.split()
     try:                                                 # one C-level pass; the loop below only names a bad line
         return np.fromiter(map(float, tokens), dtype=float, count=len(tokens))
-    except ValueError:
-        pass
-    values: list[float] = []
+    except ValueError as exc:
+        error = exc
     for k, line in enumerate(lines):
         for token in line.split():
             try:
-                values.append(float(token.replace("D", "E").replace("d", "e")))
+                float(token.replace("D", "E").replace("d", "e"))
             except ValueError:
                 raise RecordFormatError(
                     f"{name}, line {first_line_no + k}: {token!r} is not a number; "
                     "expected numeric samples. The file is corrupt or not in this format."
                 ) from None
-    return np.asarray(values, dtype=float)
+    raise RecordFormatError(f"{name}: {error}; expected numeric samples") from error
 
 
 def parse_fixed_floats(

@@ -81,13 +81,13 @@ class _SharedKeys:
 class Plan:
     """What a run computes and what it reuses."""
 
+    keys: _SharedKeys                                  # the inventory's block ids and digests, shared
     tasks: list = field(default_factory=list)          # (RecordSource, block ids or None, content digest)
     cached: dict = field(default_factory=dict)         # record id -> cached RecordResult
     failures: list = field(default_factory=list)       # RecordResult of records that cannot be read
     vanished: list = field(default_factory=list)       # record ids kept from the last run
     dropped: list = field(default_factory=list)        # vanished record ids that could not be kept
     blocks_changed: int = 0                            # blocks new or changed since the last run
-    keys: _SharedKeys | None = None                    # the inventory's block ids and digests, shared
 
 
 #: What the plan reads of the previous results (not their records x blocks arrays).
@@ -281,7 +281,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     for rid in the_plan.dropped:
         log.warning("record %s: its files are no longer in %s and its results were computed under another "
                     "configuration; it is left out of the new results", rid, records_dir)
-    share = the_plan.keys or _SharedKeys(inventory)
+    share = the_plan.keys
     results: dict[str, RecordResult] = dict(the_plan.cached)
     # the pulse series are the part of a result that grows with a record's length: once a result is in the
     # scene cache, its series are dropped from memory and read back one record at a time by the writer

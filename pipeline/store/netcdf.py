@@ -35,8 +35,8 @@ def _encoding(ds: xr.Dataset) -> dict:
     for name, var in ds.variables.items():
         if var.dtype.kind == "f":
             enc[name] = {"zlib": True, "complevel": 4, "_FillValue": np.nan}
-            if var.dims == ("sample",) and _sample_chunks(var.size):
-                enc[name]["chunksizes"] = _sample_chunks(var.size)
+            if var.dims == ("sample",) and (chunks := _sample_chunks(var.size)):
+                enc[name]["chunksizes"] = chunks
         elif var.dtype.kind in "OU":
             enc[name] = {"dtype": str}
     return enc
