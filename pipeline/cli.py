@@ -183,6 +183,11 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
                                                                              else "")
         print(f"not records: {len(s['not_records'])} of {s['files_seen']} files ({names}); the list with reasons "
               "is the global attribute files_not_records of screening.nc", file=sys.stderr)
+    if s.get("units_toml"):
+        print(f"units: records failed because nothing states their units. Paste these lines into "
+              f"{Path(s['records_dir']) / 'units.toml'} (if it has a [files] line already, only the lines after "
+              "it), check each unit against the data provider, and run again:\n[files]\n"
+              + "\n".join(s["units_toml"]), file=sys.stderr)
     for kept, dup in s.get("duplicates", []):
         print(f"duplicate: {dup} holds the same bytes as {kept}; screened once, as {kept}", file=sys.stderr)
     if wrote:

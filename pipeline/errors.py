@@ -41,6 +41,24 @@ class UnitsError(RockscreenError, ValueError):
     """The physical units of a record cannot be determined or converted."""
 
 
+class UndeclaredUnitsError(UnitsError):
+    """Nothing states a file's units (no header, no response, no declaration): it needs a ``units.toml`` entry.
+
+    Attributes
+    ----------
+    path : str
+        The file.
+    suggested : str
+        The unit the file's peak reads as most plausibly (see :func:`pipeline.records.units.plausible_units`).
+    readings : str
+        What the peak reads as in each plausible unit, for the user to check.
+    """
+
+    def __init__(self, message: str, *, path: str, suggested: str, readings: str):
+        super().__init__(message)
+        self.path, self.suggested, self.readings = path, suggested, readings
+
+
 class RecordGroupingError(RockscreenError, ValueError):
     """Components of one station recording do not fit together."""
 

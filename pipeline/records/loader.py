@@ -28,13 +28,13 @@ import numpy as np
 import obspy
 
 from ..constants import CM_TO_M
-from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UnitsError
+from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UndeclaredUnitsError, UnitsError
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
-from .units import canonical_units, declared_units_for, to_ms2
+from .units import advice, canonical_units, declared_units_for, to_ms2
 
 log = logging.getLogger(__name__)
 
@@ -120,6 +120,11 @@ def read_declared_units(root: Path, config: ReaderSettings) -> dict[str, str]:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except tomllib.TOMLDecodeError as exc:
             raise UnitsError(f"{path}: not valid TOML ({exc})") from exc
+        stray = [k for k, v in data.items() if k != "files"]
+        if stray:
+            raise UnitsError(f"{path}: {', '.join(repr(k) for k in stray)} outside the [files] table, where it "
+                             "would be ignored; put every declaration on a line after the line [files], e.g.\n"
+                             "[files]\n\"sac/*.sac\" = \"g\"")
         for pattern, unit in data.get("files", {}).items():
             declared[pattern] = canonical_units(str(unit), where=f"{path} [files] {pattern!r}")
     return declared
@@ -392,17 +397,26 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
     declared = read_declared_units(root, config) if declared is None else declared
     notes: list[str] = []
     traces = []
+    undeclared: list[UndeclaredUnitsError] = []     # every file of the record that needs a declaration, at once
     for f in source.files:
         path = Path(f)
         for tr in _read(path, fmt=source.format_of(f) or detect_format(path)):
             if tr.stats.npts < 2:
                 raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
                                         "sample(s); the file is truncated or has no data. Re-download it")
-            unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
-                               g_ms2=config.records.g_ms2, inventory=inventory)
+            try:
+                unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
+                                   g_ms2=config.records.g_ms2, inventory=inventory)
+            except UndeclaredUnitsError as exc:
+                if not any(e.path == exc.path for e in undeclared):
+                    undeclared.append(exc)
+                continue
             tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
             tr.stats.rockscreen_file = str(path)
             traces.append(tr)
+    if undeclared:
+        names = ", ".join(Path(e.path).name for e in undeclared[1:])
+        raise UnitsError(str(undeclared[0]) + (f" (and {names})" if names else "") + advice(root, undeclared))
     found = [(orientation_of(tr, inventory), tr) for tr in traces]
     unknown = [tr.stats.channel for o, tr in found if o is None]
     if len(unknown) == 2 and all(o is None or o.vertical for o, _ in found):

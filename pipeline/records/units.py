@@ -20,12 +20,14 @@ Anything else is a :class:`~pipeline.errors.UnitsError` for that file.
 from __future__ import annotations
 
 import fnmatch
+import os
+import re
 from pathlib import Path
 
 import numpy as np
 
 from ..constants import CM_TO_M
-from ..errors import UnitsError
+from ..errors import UndeclaredUnitsError, UnitsError
 
 #: Factors to m s-2 for units that do not depend on the configured g.
 FACTORS_TO_MS2 = {"m/s**2": 1.0, "cm/s**2": CM_TO_M, "gal": CM_TO_M, "mm/s**2": 1e-3}
@@ -35,6 +37,13 @@ G_MULTIPLES = {"g": 1.0, "mg": 1e-3}
 ALIASES = {"m/s^2": "m/s**2", "m/s2": "m/s**2", "m s-2": "m/s**2", "cm/s^2": "cm/s**2",
            "cm/s2": "cm/s**2", "cm s-2": "cm/s**2", "gal": "gal", "g": "g", "mg": "mg",
            "mm/s^2": "mm/s**2", "mm s-2": "mm/s**2"}
+#: Units tried, in this order, when a file's units must be declared: the first in which its peak is a plausible
+#: ground acceleration is suggested (strong-motion files in g and in cm s-2 are the common cases).
+SUGGESTION_ORDER = ("g", "cm/s**2", "m/s**2")
+#: Peak ground accelerations a record can plausibly have [g]: from a weak distant record to the largest recorded.
+PLAUSIBLE_PGA_G = (1e-4, 5.0)
+#: The table of ``units.toml`` that holds the declarations.
+UNITS_TABLE = "[files]"
 SAC_IDEP = {5: "IUNKN (unknown)", 6: "IDISP (nm)", 7: "IVEL (nm/s)", 8: "IACC (nm/s**2)", 50: "IVOLTS"}
 
 
@@ -70,9 +79,60 @@ def declared_units_for(path: Path, root: Path, declarations: dict[str, str]) -> 
     except ValueError:
         rel = path.name
     for pattern, unit in declarations.items():
-        if fnmatch.fnmatch(rel, pattern) or fnmatch.fnmatch(path.name, pattern):
+        if matches(pattern, rel):
             return unit
     return None
+
+
+def advice(root: Path, errors: list[UndeclaredUnitsError], *, every_file: list[str] | None = None) -> str:
+    """The lines to paste into ``root/units.toml`` for files whose units must be declared.
+
+    Parameters
+    ----------
+    root : Path
+        The records directory.
+    errors : list of UndeclaredUnitsError
+        One per file that needs a declaration.
+    every_file : list of str, optional
+        Relative paths of the files a glob may match (default: the files in the errors' folders).
+    """
+    def rel(p: str) -> str:
+        try:
+            return Path(p).resolve().relative_to(Path(root).resolve()).as_posix()
+        except ValueError:
+            return Path(p).name
+
+    failing = {rel(e.path): e.suggested for e in errors if e.suggested}
+    unknown = [e for e in errors if not e.suggested]
+    text = ""
+    if failing:
+        if every_file is None:
+            folders = {Path(root) / f.rpartition("/")[0] for f in failing}
+            every_file = [rel(str(p)) for d in folders if d.is_dir() for p in d.iterdir() if p.is_file()]
+        readings = {rel(e.path): e.readings for e in errors if e.suggested}
+        lines = suggest_declarations(failing, every_file)
+        text += (f"\n  paste these lines into {Path(root) / 'units.toml'} (the {UNITS_TABLE} line once; the unit is "
+                 "the one that makes the peak a plausible ground acceleration, so check it):\n"
+                 + UNITS_TABLE + "\n" + "\n".join(lines)
+                 + "".join(f"\n# {r}: peak reads as {readings[r]}" for r in sorted(readings)))
+    for e in unknown:
+        text += (f"\n  {rel(e.path)}: no unit makes its peak a plausible ground acceleration (raw counts?): give "
+                 "the StationXML response instead")
+    return text
+
+
+def combined_declarations(root: Path, messages: list[str]) -> list[str]:
+    """The ``units.toml`` lines for every file that the failure ``messages`` of a run ask to declare, merged
+    into as few globs as match exactly those files (``[]`` when none asks)."""
+    asked = [d for text in messages for d in parse_declarations(text)]
+    if not asked:
+        return []
+    every = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames[:] = [d for d in dirnames if not d.startswith(".")]
+        every += [(Path(dirpath) / n).relative_to(root).as_posix() for n in filenames if not n.startswith(".")]
+    failing = {rel: unit for pattern, unit in asked for rel in every if matches(pattern, rel)}
+    return suggest_declarations(failing, every)
 
 
 def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=None) -> str:
@@ -110,17 +170,114 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
         return _remove_response(trace, path=path, inventory=inventory)
     if fmt == "SAC":
         idep = int(stats.sac.get("idep", 5)) if "sac" in stats else 5
-        raise UnitsError(
-            f"{path}: SAC header idep={SAC_IDEP.get(idep, idep)} does not reliably give the "
-            "units (producers write IACC for data in g or cm/s**2). Declare them in units.toml "
-            f"in the records directory, e.g.  \"{path.name}\" = \"g\""
-        )
-    raise UnitsError(
-        f"{path}: the units of this {fmt} file cannot be determined (raw counts with no "
-        "StationXML response, or units not stated). Put the StationXML file in the records "
-        "directory or pass --inventory; or declare the units in units.toml, e.g. "
-        f"\"{path.name}\" = \"cm/s**2\""
-    )
+        why = (f"SAC header idep={SAC_IDEP.get(idep, idep)} does not reliably give the units (producers write "
+               "IACC for data in g or cm/s**2);")
+    else:
+        why = (f"the units of this {fmt} file cannot be determined (raw counts with no StationXML response, or "
+               "units not stated); put the StationXML file in the records directory or pass --inventory, or")
+    readings = plausible_units(trace.data, g_ms2=g_ms2)
+    suggested = readings[0][0] if readings else ""
+    reading_text = "; ".join(f"{pga_g:.3g} g if in {unit}" for unit, pga_g in readings)
+    raise UndeclaredUnitsError(f"{path}: {why} declare them in units.toml", path=str(path), suggested=suggested,
+                               readings=reading_text)
+
+
+def plausible_units(data, *, g_ms2: float) -> list[tuple[str, float]]:
+    """The units in which a file's peak is a plausible ground acceleration, most likely first.
+
+    Parameters
+    ----------
+    data : array_like
+        The file's samples as stored (the mean is removed first: raw files carry offsets).
+    g_ms2 : float
+        The value of g [m s-2].
+
+    Returns
+    -------
+    list of (str, float)
+        ``(unit, peak ground acceleration [g])`` for each unit of :data:`SUGGESTION_ORDER` that puts the peak
+        within :data:`PLAUSIBLE_PGA_G`; empty when none does (counts, for example).
+    """
+    x = np.asarray(data, dtype=float)
+    x = x[np.isfinite(x)]
+    if x.size == 0:
+        return []
+    peak = float(np.max(np.abs(x - x.mean())))
+    out = []
+    for unit in SUGGESTION_ORDER:
+        pga_g = peak * factor_to_ms2(unit, g_ms2=g_ms2) / g_ms2
+        if PLAUSIBLE_PGA_G[0] <= pga_g <= PLAUSIBLE_PGA_G[1]:
+            out.append((unit, pga_g))
+    return out
+
+
+def common_glob(names: list[str]) -> str:
+    """One glob for several file names: their common prefix, ``*`` (or ``?`` for one differing character),
+    their common suffix. A single name is returned as it is."""
+    names = sorted(set(names))
+    if len(names) == 1:
+        return names[0]
+    prefix = os.path.commonprefix(names)
+    suffix = os.path.commonprefix([n[len(prefix):][::-1] for n in names])[::-1]
+    middles = {n[len(prefix):len(n) - len(suffix)] for n in names}
+    return prefix + ("?" if all(len(m) == 1 for m in middles) else "*") + suffix
+
+
+def declaration_line(pattern: str, unit: str) -> str:
+    """One ``units.toml`` line under :data:`UNITS_TABLE`."""
+    return f'"{pattern}" = "{unit}"'
+
+
+_DECLARATION = re.compile(r'^"(?P<pattern>[^"]+)" = "(?P<unit>[^"]+)"')
+
+
+def parse_declarations(text: str) -> list[tuple[str, str]]:
+    """The ``(pattern, unit)`` declarations suggested in an error message (the lines after :data:`UNITS_TABLE`)."""
+    out, inside = [], False
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped == UNITS_TABLE:
+            inside = True
+        elif inside and (m := _DECLARATION.match(stripped)):
+            out.append((m["pattern"], m["unit"]))
+    return out
+
+
+def matches(pattern: str, rel: str) -> bool:
+    """True when a ``units.toml`` pattern applies to the file at ``rel`` (relative path, or its name)."""
+    return fnmatch.fnmatch(rel, pattern) or fnmatch.fnmatch(rel.rsplit("/", 1)[-1], pattern)
+
+
+def suggest_declarations(failing: dict[str, str], every_file: list[str]) -> list[str]:
+    """``units.toml`` patterns for files that need a declaration, as few as possible.
+
+    Parameters
+    ----------
+    failing : dict
+        Relative path -> suggested unit, of the files that need one.
+    every_file : list of str
+        Relative paths of every file in the records directory: a glob is used only when it matches no file
+        outside ``failing`` with another unit (a declaration on a file that states its own units is an error).
+
+    Returns
+    -------
+    list of str
+        ``"pattern" = "unit"`` lines.
+    """
+    groups: dict[tuple[str, str, str], list[str]] = {}
+    for rel, unit in sorted(failing.items()):
+        folder, _, name = rel.rpartition("/")
+        groups.setdefault((folder, unit, Path(name).suffix), []).append(rel)
+    lines = []
+    for (folder, unit, _), rels in groups.items():
+        names = [r.rpartition("/")[2] for r in rels]
+        pattern = (folder + "/" if folder else "") + common_glob(names)
+        covered = {r for r in every_file if matches(pattern, r)}
+        if covered == set(rels):
+            lines.append(declaration_line(pattern, unit))
+        else:
+            lines += [declaration_line(r, unit) for r in rels]
+    return lines
 
 
 def describes(inventory, trace) -> bool:

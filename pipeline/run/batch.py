@@ -37,6 +37,7 @@ from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
+from ..records.units import combined_declarations
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
 from ..store import PulseSeries
@@ -348,6 +349,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
+        "units_toml": combined_declarations(records_dir, [f.status for f in failed]),
+        "records_dir": str(records_dir),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
         "wall_time_s": time.perf_counter() - t0,
     }
