@@ -37,6 +37,18 @@ OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "site", "notes")
 ASSET_COLUMNS = ("value", "location", "floor", "owner", "category")
 #: Plausible block sizes [m]: from a small figurine to a tall obelisk or rock pillar.
 SIZE_RANGE_M = (0.01, 100.0)
+#: Heights above this are accepted but warned about: taller than the free-standing objects screened
+#: (columns, obelisks, precarious rock pillars); often centimetres typed as metres [m].
+PLAUSIBLE_HEIGHT_M = 30.0
+#: Friction coefficients above this are accepted but warned about: above the static friction measured for
+#: stone, wood, steel or concrete contacts (about 0.3-1.0) [-].
+PLAUSIBLE_MU = 1.5
+#: Slenderness beyond which a rectangular block cannot rock: Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0
+#: at alpha = asin(sqrt(2/3)) = 54.7 deg [rad]; such a block slides or stands.
+ROCKING_LIMIT_ALPHA = math.asin(math.sqrt(2.0 / 3.0))
+#: Aspect ratios height/width above this are warned about (alpha below 1.4 deg): more slender than the
+#: objects screened (a needle, or a width typed in the wrong unit) [-].
+PLAUSIBLE_ASPECT = 40.0
 
 
 @dataclass(frozen=True)
@@ -263,6 +275,27 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
     return header, records()
 
 
+def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float) -> list[str]:
+    """Warnings for values a real free-standing object does not have (a unit typed wrong, a typo)."""
+    out = []
+    if height_m > PLAUSIBLE_HEIGHT_M:
+        out.append(f"{where} ({block_id}): height_m {height_m:g} m is above {PLAUSIBLE_HEIGHT_M:g} m (centimetres "
+                   "typed as metres?)")
+    if mu > PLAUSIBLE_MU:
+        out.append(f"{where} ({block_id}): mu {mu:g} is above {PLAUSIBLE_MU:g}, more than the static friction "
+                   "measured for stone, wood, steel or concrete (about 0.3-1.0)")
+    alpha = math.atan2(width_m / 2.0, height_m / 2.0)
+    if alpha > ROCKING_LIMIT_ALPHA:
+        out.append(f"{where} ({block_id}): width_m/height_m {width_m / height_m:.3g} gives slenderness "
+                   f"{math.degrees(alpha):.1f} deg, above {math.degrees(ROCKING_LIMIT_ALPHA):.1f} deg: it cannot "
+                   "rock, only slide or stand, and is screened for sliding (if height and width are swapped, fix "
+                   "the row)")
+    elif height_m / width_m > PLAUSIBLE_ASPECT:
+        out.append(f"{where} ({block_id}): height_m/width_m {height_m / width_m:.3g} is above "
+                   f"{PLAUSIBLE_ASPECT:g} (a width in the wrong unit?)")
+    return out
+
+
 def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
     """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
 
@@ -292,6 +325,7 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
                     list(REQUIRED + OPTIONAL), list(ASSET_COLUMNS))
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras)}
     seen: dict[str, int] = {}
+    implausible: list[str] = []
     lo, hi = SIZE_RANGE_M
     size_rule = f"a size in metres between {lo:g} and {hi:g} (full height, full base width)"
 
@@ -332,6 +366,10 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
             where, "restitution", e, "a velocity restitution ratio in (0, 1]", lambda x: 0 < x <= 1, math.nan))
         for c in ("name", "site", "notes") + tuple(extras):
             rows[c].append(rec.get(c, ""))
+        implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
+    if implausible:
+        log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
+                    len(implausible), "\n  ".join(implausible))
     if errors:
         raise InventoryError(f"{path}: {len(errors)} problem(s):\n  " + "\n  ".join(errors))
     if not rows["id"]:

@@ -564,6 +564,11 @@ def main(argv: list[str] | None = None) -> int:
     except RockscreenError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except OSError as exc:      # a path the command cannot create, read or write (outside the checked inputs)
+        where = exc.filename if exc.filename is not None else "a file"
+        print(f"error: cannot use {where}: {exc.strerror or exc}. Check that the path is right, its parent "
+              "directory exists, and you may write there; earlier results are intact.", file=sys.stderr)
+        return EXIT_OUTPUT
     except KeyboardInterrupt:
         print("interrupted: no results were written for this run; earlier results are intact.",
               file=sys.stderr)

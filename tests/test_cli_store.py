@@ -279,3 +279,16 @@ def test_a_folder_without_records_exits_2_and_leaves_nothing(tmp_path, blocks_cs
     err = capsys.readouterr().err
     assert "no strong-motion record found" in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_report_into_an_output_it_cannot_create_exits_3_without_a_traceback(make_records, blocks_csv, tmp_path,
+                                                                              capsys):
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "out"),
+                 "--samples", "0", "--fidelity", "criterion"]) == 0
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    capsys.readouterr()
+    assert main(["report", str(tmp_path / "out" / "screening.nc"), "--out", str(blocker / "report")]) == 3
+    err = capsys.readouterr().err
+    assert "error: cannot use" in err and "Traceback" not in err and str(blocker) in err

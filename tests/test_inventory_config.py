@@ -118,3 +118,24 @@ def test_config_file_errors(tmp_path):
     bad.write_text("[records\n")
     with pytest.raises(ConfigError, match="not valid TOML"):
         load_config(bad)
+
+
+@pytest.mark.parametrize("row, expected", [
+    ("vase,80,0.3,0.5", r"line 2 \(vase\): height_m 80 m is above 30 m"),
+    ("b,1,0.3,5", r"line 2 \(b\): mu 5 is above 1.5"),
+    ("c,0.3,1,0.5", r"line 2 \(c\): width_m/height_m 3.33 gives slenderness 73.3 deg.*cannot rock"),
+    ("d,2,0.04,0.5", r"line 2 \(d\): height_m/width_m 50 is above 40"),
+])
+def test_implausible_values_are_screened_with_a_warning_naming_line_and_value(tmp_path, caplog, row, expected):
+    path = tmp_path / "inv.csv"
+    path.write_text("id,height_m,width_m,mu\n" + row + "\n")
+    inv = read_inventory(path, default_mu=0.5)
+    assert len(inv) == 1
+    assert any(__import__("re").search(expected, r.getMessage()) for r in caplog.records), caplog.text
+
+
+def test_plausible_values_give_no_warning(tmp_path, caplog):
+    path = tmp_path / "inv.csv"
+    path.write_text("id,height_m,width_m,mu\nstatue,1.8,0.5,0.6\ncolumn,12,1.4,0.7\n")
+    read_inventory(path, default_mu=0.5)
+    assert "outside what real objects have" not in caplog.text
