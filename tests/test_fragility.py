@@ -10,6 +10,7 @@ numerical integration of the fitted curve over the hazard curve on a dense grid;
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -172,7 +173,10 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     blocks = tmp_path / "b.csv"
     blocks.write_text("id,height_m,width_m,mu\nTOMB,1.1,0.2,0.65\nCOL,2.0,0.5,0.7\n")
     hazard = tmp_path / "hz.csv"
-    hazard.write_text("# site hazard\npga_g,annual_rate\n0.05,2e-2\n0.2,2e-3\n0.8,5e-5\n1.6,4e-6\n")
+    hazard.write_text("# Hazard at the museum, mean, 2026 model\npga_g,annual_rate\n0.05,2e-2\n0.2,2e-3\n0.8,5e-5\n"
+                      "1.6,4e-6\n")
+    (tmp_path / "a").mkdir()
+    (tmp_path / "a" / "assets.csv").write_text("screen's own table\n")   # screen fragility into screen's output
     args = ["fragility", "--records", str(records), "--blocks", str(blocks), "--im", "pga",
             "--levels", "0.1g,0.3g,0.6g", "--hazard", str(hazard), "--samples", "0", "--bootstrap", "20", "-q"]
     assert main([*args, "--out", str(tmp_path / "a")]) == 0
@@ -188,13 +192,27 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     rates = [float(x) for x in first["annual_rate_overturn"].values]
     html = (tmp_path / "a" / "fragility.html").read_text()
     assert "by annual rate of overturning" in html
-    lines = (tmp_path / "a" / "assets.csv").read_text().splitlines()
-    assert lines[0].startswith("rank,block,median") and len(lines) == 3
+    assert "which its file titles &ldquo;Hazard at the museum, mean, 2026 model&rdquo;" in html
+    assert "labelled synthetic" not in html and "site's hazard curve" not in html
+    import re
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", html, flags=re.S)
+    assert not [c for c in cells if re.match(r"-1 \(|.*\(\)|.*\bnan\b", c)], cells
+    assert (tmp_path / "a" / "assets.csv").read_text() == "screen's own table\n"
+    lines = (tmp_path / "a" / "fragility_assets.csv").read_text().splitlines()
+    assert lines[0].startswith("rank,block,im,im_units,median") and len(lines) == 3
+    assert lines[1].split(",")[2:4] == ["pga", "m s-2"]
     ranked = [float(line.split(",")[ASSET_RATE]) for line in lines[1:]]
     assert ranked == sorted(rates, reverse=True)
 
 
-ASSET_RATE = 9      # column of annual_rate_overturn in assets.csv
+ASSET_RATE = 11     # column of annual_rate_overturn in fragility_assets.csv
+
+
+def test_a_hazard_curve_labelled_synthetic_says_so_on_the_page(tmp_path):
+    from pipeline.uncertainty.hazard import read_hazard
+
+    curve = read_hazard(Path(__file__).resolve().parents[1] / "configs" / "hazard-example.csv", im="pga")
+    assert curve.synthetic and curve.title.startswith("SYNTHETIC hazard curve") and curve.units == "g"
 
 
 def test_degenerate_fits_give_the_closed_form_rates():

@@ -1,4 +1,7 @@
-"""The fragility report: ``OUT/fragility.html`` and ``OUT/assets.csv`` of ``screen fragility``.
+"""The fragility report: ``OUT/fragility.html`` and ``OUT/fragility_assets.csv`` of ``screen fragility``.
+
+``fragility_assets.csv`` has its own name, so ``screen fragility --out`` into the output of ``screen`` leaves
+that run's ``assets.csv`` as it was.
 
 Assets are ranked by their annual rate of overturning when a hazard curve was given, else
 by the fitted median (the most fragile first). Each asset whose stripes hold an overturning
@@ -25,7 +28,11 @@ from .mpl import new_figure
 
 #: Fragility figures drawn, riskiest assets first (every number stays in fragility.nc and assets.csv).
 MAX_FIGURES = 40
-ASSET_COLUMNS = ("rank", "block", "median", "median_low", "median_high", "beta", "beta_low", "beta_high",
+#: The per-asset table's file name (not ``assets.csv``, which is ``screen``'s).
+ASSETS_CSV = "fragility_assets.csv"
+#: Columns of fragility_assets.csv: ``im`` names the IM and ``im_units`` the unit of median, median_low and
+#: median_high; beta is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
+ASSET_COLUMNS = ("rank", "block", "im", "im_units", "median", "median_low", "median_high", "beta", "beta_low", "beta_high",
                  "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
                  "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
@@ -84,7 +91,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
         best = int(order[0])
         vr = ims.index("velocity_ratio")
         rows.append({
-            "block": block, "j": j,
+            "block": block, "j": j, "im": ds.attrs["im"], "im_units": ds.attrs["im_units"],
             **{k: float(ds[k].values[j]) for k in ("median", "median_low", "median_high", "beta", "beta_low",
                                                     "beta_high")},
             "fit_status": STATUS_NAMES[int(ds["fit_status"].values[j])],
@@ -104,7 +111,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
 
 def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardCurve | None = None
                            ) -> tuple[Path, Path]:
-    """Write ``fragility.html`` and ``assets.csv`` into ``out_dir``."""
+    """Write ``fragility.html`` and :data:`ASSETS_CSV` into ``out_dir``."""
     from jinja2 import Environment, PackageLoader, select_autoescape
 
     from .html import _num
@@ -129,4 +136,4 @@ def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardCurve
         wins={im: int(np.sum(ds["im_rank"].values[:, k] == 1)) for k, im in enumerate(ims)})
     html_path = write_text_atomic(out_dir / "fragility.html", html)
     table = [{c: r[c] for c in ASSET_COLUMNS} for r in rows]
-    return html_path, write_csv_atomic(out_dir / "assets.csv", ASSET_COLUMNS, table)
+    return html_path, write_csv_atomic(out_dir / ASSETS_CSV, ASSET_COLUMNS, table)

@@ -10,7 +10,7 @@ increasing, and their annual rates of exceedance, decreasing. Accepted units (co
 
 Lines starting with ``#`` are comments (OpenQuake's metadata line is one).
 
-Rate of overturning (fragility-and-uncertainty.md section 6):
+Rate of overturning (Cornell & Krawinkler 2000; Baker 2015, eq. 1):
 lambda_C = integral P(C | im) |d lambda / d im| d im, with the curve interpolated log-log
 between its points (lambda = lambda_k (im / im_k)^-s_k on each segment, integrated by 32-point
 Gauss-Legendre in ln im), nothing below the first point, and P(C | im_max) lambda(im_max) for
@@ -46,12 +46,18 @@ GAUSS = np.polynomial.legendre.leggauss(32)
 
 @dataclass(frozen=True)
 class HazardCurve:
-    """IM levels [SI] and their annual rates of exceedance [1/yr]."""
+    """IM levels [SI] and their annual rates of exceedance [1/yr], with what the file says it is."""
 
     im: str
     levels: np.ndarray
     rates: np.ndarray
     path: str
+    #: the file's own title: its comment lines before the header, joined ("" when it has none)
+    title: str = ""
+    #: True when the file labels itself synthetic (the word appears in its comments): not a real site's hazard
+    synthetic: bool = False
+    #: the unit the file gives its levels in (the suffix of its first column, e.g. ``g``)
+    units: str = ""
 
 
 def read_hazard(path: str | Path, *, im: str) -> HazardCurve:
@@ -107,7 +113,11 @@ def read_hazard(path: str | Path, *, im: str) -> HazardCurve:
         rates.append(rt)
     if len(levels) < 2:
         raise HazardError(f"{path}: {len(levels)} point(s); a hazard curve needs at least 2")
-    return HazardCurve(im, np.array(levels), np.array(rates), str(path))
+    comments = [ln.strip().lstrip("#").strip() for ln in text.splitlines()[:head_no - 1]
+                if ln.lstrip().startswith("#")]
+    title = " ".join(c for c in comments if c)
+    return HazardCurve(im, np.array(levels), np.array(rates), str(path), title=title,
+                       synthetic="synthetic" in title.lower(), units=cols[0][len(im) + 1:])
 
 
 def annual_rate(curve: HazardCurve, theta: float, beta: float) -> float:
