@@ -138,11 +138,13 @@ def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = 
     return ds
 
 
-def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is_pulse=None) -> xr.Dataset:
+def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is_pulse=None,
+                 overturn_simulated=None) -> xr.Dataset:
     """Recorded pulses as points on a chart (dimension ``record``).
 
-    The verdicts are recomputed for the chart's block and form. Records
-    without a pulse are dropped.
+    The criterion's verdicts are recomputed for the chart's block and form; ``overturn_simulated`` (1, 0,
+    or -1 for no verdict, per record) is the nonlinear simulation's verdict for the same block on the whole
+    record, carried as given (-1 when not given). Records without a pulse are dropped.
     """
     a = np.abs(np.asarray(ap_ms2, dtype=float))
     keep = np.isfinite(a) & np.isfinite(np.asarray(tp_s, dtype=float))
@@ -150,6 +152,8 @@ def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is
     a, tp = a[keep], np.asarray(tp_s, dtype=float)[keep]
     b, dv = np.asarray(beta, dtype=float)[keep], np.abs(np.asarray(dv_ms, dtype=float))[keep]
     pulse_like = (np.full(a.shape, -1) if is_pulse is None else np.asarray(is_pulse)[keep]).astype("i1")
+    simulated = (np.full(a.shape, -1) if overturn_simulated is None
+                 else np.asarray(overturn_simulated)[keep]).astype("i1")
     at = chart.attrs
     geom = geometry(at["height"], at["width"], g_ms2=at["g"])
     scene = criteria.evaluate(a, tp, b, dv, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=at["mu"],
@@ -166,6 +170,7 @@ def chart_points(chart: xr.Dataset, *, record_ids, ap_ms2, tp_s, beta, dv_ms, is
             "record_normalized_duration": ("record", scene["normalized_duration"]),
             "record_overturn_criterion": ("record", scene["overturn_criterion"]),
             "record_is_pulse": ("record", pulse_like),
+            "record_overturn_simulated": ("record", simulated),
         },
         coords={"record": ("record", ids)},
     )
@@ -179,9 +184,12 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
     direction is used; otherwise the record's strongest pulse axis.
     """
     ok = results["status"].values == "ok"
+    simulated = None
     if block_id is not None and "block" in results.dims and block_id in list(results["block"].values):
         sel = results.sel(block=block_id)
         names = ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")
+        verdict = "overturn" if "overturn" in sel else "overturn_simulated"
+        simulated = sel[verdict].values[ok] if verdict in sel else None
     else:
         sel = results
         names = ("pulse_ap", "pulse_tp", "pulse_beta", "pulse_dv")
@@ -192,7 +200,7 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
     cols = [sel[n].values[ok] for n in names]
     is_pulse = sel["is_pulse"].values[ok] if "is_pulse" in sel else None
     return chart_points(chart, record_ids=results["record"].values[ok], ap_ms2=cols[0], tp_s=cols[1],
-                        beta=cols[2], dv_ms=cols[3], is_pulse=is_pulse)
+                        beta=cols[2], dv_ms=cols[3], is_pulse=is_pulse, overturn_simulated=simulated)
 
 
 def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, settings=None,

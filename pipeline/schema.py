@@ -366,6 +366,8 @@ CHART: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                   TRISTATE),
     "record_is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
                         PULSE_CLASS),
+    "record_overturn_simulated": (("record",), None, "overturning of this block by the nonlinear simulation of "
+                                  "the whole record (-1: no verdict or not simulated)", TRISTATE),
 }
 
 _INFER_DIMS = ("observation", "azimuth", "duration", "acceleration")

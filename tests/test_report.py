@@ -42,6 +42,19 @@ def screened(tmp_path_factory, records_dir, blocks_csv):
     return out
 
 
+@pytest.fixture(scope="module")
+def screened_sampled(tmp_path_factory, records_dir, blocks_csv):
+    """The same records screened by the default (probabilistic) run, with its report."""
+    root = tmp_path_factory.mktemp("recs_sampled")
+    for rel in RECORDS:
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(records_dir / rel, root / rel)
+    shutil.copy(records_dir / "units.toml", root)
+    out = tmp_path_factory.mktemp("out_sampled")
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    return out
+
+
 @pytest.mark.parametrize("height, width, period", [(2.0, 0.4, 1.0), (1.0, 0.11, 0.5), (4.0, 1.0, 2.0)])
 def test_margin_of_an_idealized_pulse_matches_the_amplitude_scan_and_eq27(height, width, period):
     """The factor scan on a half-sine 'record' against the chart's independent amplitude scan of the same
@@ -113,8 +126,8 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
         rows = list(csv.DictReader(fh))
     n_blocks = sum(1 for line in blocks_csv.read_text().splitlines()[1:] if line.strip())
     assert len(rows) == n_blocks and [int(r["rank"]) for r in rows] == list(range(1, n_blocks + 1))
-    # ranked by the number of records that overturn the asset, then by the simulated margin (NaN last)
-    key = [(-int(r["records_overturning"]), float(r["overturn_scale_simulated"])) for r in rows]
+    # ranked by the number of stations that overturn the asset, then by the simulated margin (NaN last)
+    key = [(-int(r["stations_overturning"]), float(r["overturn_scale_simulated"])) for r in rows]
     for (n1, m1), (n2, m2) in zip(key, key[1:]):
         assert n1 < n2 or (n1 == n2 and (math.isnan(m2) or m1 <= m2))
     # the count is the records whose verdict is "overturns", recounted from screening.nc
@@ -165,7 +178,11 @@ def _chromium() -> str | None:
 
 
 @pytest.mark.browser
-def test_report_in_headless_chromium(screened, tmp_path, blocks_csv):
+@pytest.mark.parametrize("run", ["nominal", "default"])
+def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
+    """The page in a real browser, for a --samples 0 run and for the default (sampled) run, whose table has
+    more columns: every figure renders, every link has its target, the page fits a 1400 px window."""
+    screened = request.getfixturevalue("screened" if run == "nominal" else "screened_sampled")
     browser = _chromium()
     if browser is None:
         message = ("CHROMIUM IS NOT INSTALLED: the report was NOT tested in a browser. Install Debian's "
@@ -370,3 +387,51 @@ def test_report_subcommand_reuses_the_figures_screen_drew(screened, tmp_path, mo
         monkeypatch.setattr(figures, name, refuse)
     assert main(["report", str(screened / "screening.nc"), "--out", str(tmp_path / "again")]) == 0
     assert (tmp_path / "again" / "report.html").read_text() == (screened / "report.html").read_text()
+
+
+@pytest.mark.parametrize("kw, start, words", [
+    (dict(p_max=0.97, p_record="R1", sim_scale=0.8), "restrain or anchor", ["p = 0.97 under R1", "x0.80"]),
+    (dict(p_max=0.3, p_record="R2", sim_scale=0.95, overturned=True), "restrain, or relocate",
+     ["p = 0.30 under R2", "overturns under G x0.95"]),
+    (dict(p_max=0.02, p_record="R3", sim_scale=math.inf), "no action", ["p = 0.02 under R3", "scan limit"]),
+    (dict(sim_scale=0.9, overturned=False), "restrain or anchor", ["not monotonic"]),
+    (dict(sim_scale=1.3), "restrain, or relocate", ["scaled by 1.30"]),
+])
+def test_recommendation_weighs_probability_and_margin_and_says_why(kw, start, words):
+    from pipeline.report.html import recommendation
+    text = recommendation(crit_overturns=False, response=0, governing="G", stations=(2, 9), **kw)
+    assert text.startswith(start + ":"), text
+    assert all(w in text for w in words) and "2 of 9 stations" in text, text
+
+
+def test_one_station_in_several_files_is_grouped_and_counted_once(records_dir, blocks_csv, tmp_path):
+    """Rinaldi (NGA-West2 pair, 2005 NGA file, rotated FN ASCII), Sylmar Olive View (pair, FN) and Lucerne (260,
+    FN) are each one recording; El Centro Arrays #4, #6, #7 and Sylmar Converter Station are other stations."""
+    from pipeline.report.html import recording_groups
+
+    rels = ["peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+            "peer-at2/NGA_no_1063_RRS228.AT2", "fn-ascii/rinaldi_fn.dat",
+            "peer-at2/RSN1086_NORTHR_SYL090.AT2", "peer-at2/RSN1086_NORTHR_SYL360.AT2", "fn-ascii/sylmar_fn.dat",
+            "peer-at2/RSN879_LANDERS_LCN260.AT2", "fn-ascii/lucerne_fn.dat",
+            "pulse-reference/example1.AT2", "pulse-reference/example2.AT2",
+            "peer-at2/RSN181_IMPVALL.H_H-E06140.AT2", "peer-at2/RSN181_IMPVALL.H_H-E06230.AT2",
+            "peer-at2/RSN182_IMPVALL.H_H-E07140.AT2", "peer-at2/RSN182_IMPVALL.H_H-E07230.AT2",
+            "peer-at2/RSN1084_NORTHR_SCS052.AT2", "peer-at2/RSN1084_NORTHR_SCS142.AT2"]
+    root = tmp_path / "recs"
+    for rel in rels:
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(records_dir / rel, root / rel)
+    shutil.copy(records_dir / "units.toml", root)
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "--samples", "0",
+                 "--fidelity", "criterion", "-q"]) == 0
+    ds = open_results(out / "screening.nc")
+    pulses = open_results(out / "pulses.nc")
+    groups = {g.records for g in recording_groups(ds, pulses)}
+    assert groups == {("RSN1063_NORTHR_RRS", "NGA_no_1063_RRS228", "rinaldi_fn"),
+                      ("RSN1086_NORTHR_SYL", "sylmar_fn"), ("RSN879_LANDERS_LCN260", "lucerne_fn")}
+    with open(out / "assets.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {int(r["stations_screened"]) for r in rows} == {11 - 4}
+    html = (out / "report.html").read_text()
+    assert "records screened (7 stations)" in html and 'id="same-recordings"' in html

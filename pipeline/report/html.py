@@ -8,17 +8,21 @@ the page loads nothing from the network. Tables sort on a click (a few
 lines of inline script); the same script marks every figure that rendered
 (``data-rendered``) and shows a visible warning for any that did not.
 
-Recommendation rule (per asset, on its governing record; thresholds here):
+Recommendation rule (per asset; thresholds here). It weighs the probability of overturning under the
+declared uncertainty (the largest over the records, when the run sampled) and the simulated margin on the
+governing record, and says why in words:
 
-* simulated margin <= 1: "restrain or anchor" (it overturns under the record, or under the
-  record scaled down: a window of overturning below the nominal amplitude, flagged
-  ``overturns_below_nominal``);
-* free flight on the governing record (g + a_v <= 0 before any overturning): "no verdict";
-* simulated margin <= :data:`RELOCATE_BELOW_SCALE`, or the criterion says it
-  overturns: "restrain, or relocate" (little margin, or the heuristic flags it);
-* the governing scene slides (or the pure-rocking friction demand exceeds mu):
-  "limit sliding";
+* p >= :data:`P_ANCHOR`, or (without sampling) a simulated margin <= 1: "restrain or anchor" (a margin <= 1
+  for an asset that stands under its governing record means the record scaled down overturns it: a window
+  of overturning below the nominal amplitude, flagged ``overturns_below_nominal``);
+* free flight on the governing record (g + a_v <= 0 before any overturning) and no probability: "no verdict";
+* p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
+  :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
+* the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
 * otherwise "no action".
+
+Records that are one station recording in other formats or processings
+(:func:`pipeline.records.duplicates.same_recordings`) are counted once, as stations, and listed.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ import xarray as xr
 from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
+from ..records.duplicates import RecordingGroup, same_recordings
 from ..rocking.planner import PHYSICS, RESPONSE
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
@@ -47,6 +52,11 @@ log = logging.getLogger(__name__)
 
 #: A simulated margin below this factor calls for restraint or relocation [-].
 RELOCATE_BELOW_SCALE = 1.5
+#: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
+P_ANCHOR = 0.5
+#: A probability at or above this (the robust-stand bound of the default [uncertainty]) calls for restraint or
+#: relocation [-].
+P_RELOCATE = 0.1
 #: theta(t)/alpha figures drawn, riskiest assets first (all histories stay in histories.nc).
 MAX_HISTORY_FIGURES = 60
 #: Responses that call for limiting sliding.
@@ -59,57 +69,104 @@ ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 #: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
 #: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene, except
 #: p_overturn, its interval and robustness, which are those of the record with the largest p_overturn
-#: (``p_record``). Extra inventory columns follow, as given.
+#: (``p_record``). ``stations_*`` count the records of one station recording in several files once (``records_*``
+#: count files). Extra inventory columns follow, as given.
 ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
                  "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record", "robustness",
-                 "records_p_half", "records_sensitive", "records_overturning", "records_screened", "governing_record",
+                 "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
+                 "records_overturning", "records_screened", "governing_record",
                  "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
                  "records_overturning_ids")
 
 
-def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True) -> str:
-    """The action for one asset (see the module docstring for the rule)."""
-    if np.isfinite(sim_scale) and sim_scale <= 1.0:
-        if overturned:
-            return "restrain or anchor: overturns under the governing record"
-        return (f"restrain or anchor: stands under the governing record but overturns under it x{sim_scale:.2f} "
-                "(overturning is not monotonic in amplitude)")
-    if response == RESPONSE["free_flight"]:
+def _margin_words(sim_scale: float, governing: str) -> str:
+    """The simulated margin on the governing record, in words."""
+    if not np.isfinite(sim_scale):
+        return f"stands under {governing} scaled up to the scan limit" if np.isinf(sim_scale) else "no margin"
+    if sim_scale <= 1.0:
+        return f"overturns under {governing} x{sim_scale:.2f}"
+    return f"overturns only with {governing} scaled by {sim_scale:.2f}"
+
+
+def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
+                   p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
+                   stations: tuple[int, int] | None = None) -> str:
+    """The action for one asset and why, in words (see the module docstring for the rule).
+
+    Parameters
+    ----------
+    sim_scale : float
+        Simulated margin on the governing record: the smallest factor that overturns the asset [-].
+    crit_overturns : bool
+        The paper's criterion says the governing record overturns it.
+    response : int
+        Simulated response code of the governing scene.
+    overturned : bool
+        The governing scene overturns (nominal).
+    p_max : float
+        The largest probability of overturning over the records (NaN without sampling) [-].
+    p_record : str
+        The record ``p_max`` is for.
+    governing : str
+        The governing record (the margin's record).
+    stations : tuple of int, optional
+        (stations whose record overturns the asset, stations screened).
+    """
+    sampled = np.isfinite(p_max)
+    why = [f"p = {p_max:.2f} under {p_record}"] if sampled else []
+    why.append(_margin_words(sim_scale, governing))
+    if stations is not None:
+        why.append(f"{stations[0]} of {stations[1]} stations overturn it")
+    small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
+    if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
+        if not sampled and not overturned:
+            why.append("it stands under the record itself: overturning is not monotonic in amplitude")
+        return "restrain or anchor: " + "; ".join(why)
+    if response == RESPONSE["free_flight"] and not sampled:
         return "no verdict: free flight (the ground's g + a_v reached 0 before any overturning)"
-    if (np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE) or crit_overturns:
-        why = (f"overturns with the record x{sim_scale:.2f}" if np.isfinite(sim_scale)
-               and sim_scale <= RELOCATE_BELOW_SCALE else "the paper's criterion predicts overturning")
-        return f"restrain, or relocate: {why}"
+    if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
+        if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
+            why.append("the paper's criterion predicts overturning")
+        return "restrain, or relocate: " + "; ".join(why)
     if response in SLIDING_RESPONSES:
-        return "limit sliding (friction pads or a restraint)"
-    return "no action"
+        return "limit sliding (friction pads or a restraint): it slides under " + governing
+    return "no action: " + "; ".join(why)
 
 
-def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int) -> dict:
+def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:
     """A block's probabilities of overturning: the largest over the records (with its interval, record and
-    robustness class), the records with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
+    robustness class; the governing record when it reaches the largest, so that the two read together), the
+    stations with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
     empty = {"p_overturn": np.nan, "p_overturn_low": np.nan, "p_overturn_high": np.nan, "p_record": "",
-             "robustness": "", "records_p_half": 0, "records_sensitive": 0}
+             "robustness": "", "stations_p_half": 0, "records_sensitive": 0}
     if "p_overturn" not in ds:
         return empty
     p = np.where(ok, ds["p_overturn"].values[:, j], np.nan)
     if not np.isfinite(p).any():
         return empty
     i = int(np.nanargmax(p))
+    if governing is not None and p[governing] == p[i]:
+        i = governing
     robust = ds["robustness"].values[:, j]
     return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
             "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": str(ds["record"].values[i]),
-            "robustness": ROBUSTNESS_NAMES[int(robust[i])], "records_p_half": int(np.sum(p >= 0.5)),
+            "robustness": ROBUSTNESS_NAMES[int(robust[i])],
+            "stations_p_half": len(set(stations[ok & (np.nan_to_num(p) >= 0.5)].tolist())),
             "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive)))}
 
 
-def asset_rows(ds: xr.Dataset) -> list[dict]:
+def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> list[dict]:
     """One row per block, ranked by risk: the largest probability of overturning over the records, then the
-    number of records with p_overturn >= 0.5, then the most records that overturn it (nominal), the
-    smallest simulated margin, the criterion's margin and the largest rotation."""
+    number of stations with p_overturn >= 0.5, then the most stations that overturn it (nominal), the
+    smallest simulated margin, the criterion's margin and the largest rotation.
+
+    ``station_of`` maps a record to the record that stands for its station recording (records of one
+    recording in several files count once); a record not in it is a station of its own.
+    """
     rows = []
+    stations = np.array([(station_of or {}).get(r, r) for r in ds["record"].values.tolist()], dtype=object)
     rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
     ok = ds["status"].values == "ok"
     verdict = ds["overturn"].values if "overturn" in ds else ds["overturn_simulated"].values
@@ -128,6 +185,9 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
         sim = int(at("overturn_simulated", -1))
         response = int(at("response", -1))
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
+        stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
+        n_stations = len(set(stations[ok].tolist()))
+        probabilities = _probabilities(ds, ok, j, stations, i)
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
             "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
@@ -137,6 +197,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
             "frequency_parameter": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
             "records_overturning": len(overturning), "records_screened": int(ok.sum()),
+            "stations_overturning": stations_over, "stations_screened": n_stations,
             "records_overturning_ids": ";".join(overturning),
             "governing_record": gov, "governing_azimuth": float(at("governing_azimuth")),
             "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
@@ -148,13 +209,15 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "overturn_scale_median": float(ds["overturn_scale_median"].values[j]) if "overturn_scale_median" in ds
             else np.nan,
             "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
-                                             overturned=sim == 1),
+                                             overturned=sim == 1, p_max=probabilities["p_overturn"],
+                                             p_record=probabilities["p_record"], governing=gov or "the records",
+                                             stations=(stations_over, n_stations)),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
-            **_probabilities(ds, ok, j),
+            **probabilities,
         })
 
     def risk(r: dict) -> tuple:
-        return (-np.nan_to_num(r["p_overturn"], nan=-1.0), -r["records_p_half"], -r["records_overturning"],
+        return (-np.nan_to_num(r["p_overturn"], nan=-1.0), -r["stations_p_half"], -r["stations_overturning"],
                 np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
                 np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r["theta_max"], nan=-1.0))
 
@@ -278,6 +341,19 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
     return rows, figures_stream()
 
 
+def recording_groups(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[RecordingGroup]:
+    """The records of ``ds`` that are one station recording in several files (from the velocities in
+    ``pulses.nc``; none without it). The record with the most components stands for its group."""
+    if pulses is None:
+        return []
+    ok = dict(zip(ds["record"].values.tolist(), (ds["status"].values == "ok").tolist()))
+    dts = pulses["dt"].values
+    series = {rid: (np.asarray(pulses["velocity"][rows].values, dtype=float), float(dts[k]))
+              for k, (rid, rows) in enumerate(ragged_rows(pulses, "record_id").items()) if ok.get(rid)}
+    n_comp = dict(zip(ds["record"].values.tolist(), (ds["n_horizontal"].values + ds["has_vertical"].values).tolist()))
+    return same_recordings(series, preference={r: (-int(n_comp.get(r, 0)),) for r in series})
+
+
 def _histories(path: Path) -> dict:
     if not path.is_file():
         return {}
@@ -316,7 +392,9 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     # opened lazily (closed below): only the series of the records that get a figure are read
     pulses = xr.open_dataset(pulses_path, engine="netcdf4") if pulses_path.is_file() else None
     cache = FigureCache(Path(figure_cache) if figure_cache is not None else None)
-    assets = asset_rows(ds)
+    groups = recording_groups(ds, pulses)
+    station_of = {r: grp.kept for grp in groups for r in grp.records}
+    assets = asset_rows(ds, station_of=station_of)
     histories = _histories(results_path.parent / "histories.nc")
     drawn = 0
     for r in assets:                       # in risk order: the riskiest assets get the figures
@@ -335,6 +413,11 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     sampled = "samples_drawn" in ds and bool(np.any(ds["samples_drawn"].values[ok] > 0))
     summary = {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
+        "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),
+        "same_recordings": groups,
+        "pulse_like_stations": len({station_of.get(r, r) for r in ds["record"].values[
+            ok & (ds["is_pulse"].values == 1)].tolist()}) if "is_pulse" in ds else 0,
+        "fragility": _fragility_summary(out_dir),
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
         "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
         "blocks": ds.sizes["block"],
@@ -365,6 +448,19 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
             pulses.close()
     cache.prune()
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
+
+
+def _fragility_summary(out_dir: Path) -> dict | None:
+    """What ``screen fragility`` wrote into the same output, for the report's banner (None when nothing)."""
+    path = out_dir / "fragility.nc"
+    if not (out_dir / "fragility.html").is_file() or not path.is_file():
+        return None
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as f:
+            return {"hazard": str(f.attrs.get("hazard_curve", "")), "title": str(f.attrs.get("hazard_title", "")),
+                    "synthetic": bool(int(f.attrs.get("hazard_synthetic", 0))), "im": str(f.attrs.get("im", ""))}
+    except (OSError, ValueError):
+        return None
 
 
 def _num(x, digits: int = 3) -> str:

@@ -66,22 +66,47 @@ def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | No
     axn.set_ylabel("a_p / a_uplift")
 
     if "record" in chart.dims and chart.sizes["record"]:
-        over = chart["record_overturn_criterion"].values == 1
-        pulse_like = chart["record_is_pulse"].values == 1
-        for sel, marker, label in ((pulse_like, "o", "pulse-like record"), (~pulse_like, "^", "non-pulse record")):
-            for hit, colour in ((over, "tab:red"), (~over, "tab:green")):
-                m = sel & hit
-                if not np.any(m):
-                    continue
-                lab = f"{label}, {'overturns' if colour == 'tab:red' else 'safe'} by the criterion"
-                ax.scatter(chart["record_period"].values[m], chart["record_ap"].values[m] / g, marker=marker,
-                           c=colour, edgecolors="k", linewidths=0.5, s=28, zorder=5, label=lab)
-                axn.scatter(chart["record_normalized_duration"].values[m],
-                            chart["record_normalized_acceleration"].values[m], marker=marker, c=colour,
-                            edgecolors="k", linewidths=0.5, s=28, zorder=5)
+        _record_points(chart, ax, axn, g)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.14), ncol=2, frameon=False)
     axn.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.14), ncol=2, frameon=False)
     for a in (ax, axn):
         a.grid(True, which="both", alpha=0.3)
     fig.suptitle(title or at.get("title", "stability chart"), fontsize=10)
     return save_figure(fig, path, dpi=120)
+
+
+#: Colour and words of a record point by the simulation's verdict (1, 0, -1).
+SIMULATED_STYLE = {1: ("tab:red", "overturns (simulation)"), 0: ("tab:green", "stands (simulation)"),
+                   -1: ("0.7", "no simulated verdict")}
+
+
+def _record_points(chart, ax, axn, g: float) -> None:
+    """The records' pulses, coloured by the nonlinear simulation's verdict (the truth) when the chart has it;
+    a black cross marks each record where the paper's criterion says otherwise. A chart without simulated
+    verdicts colours by the criterion and says so in the legend."""
+    over = chart["record_overturn_criterion"].values == 1
+    sim = (chart["record_overturn_simulated"].values if "record_overturn_simulated" in chart
+           else np.full(over.shape, -1))
+    simulated = bool(np.any(sim >= 0))
+    pulse_like = chart["record_is_pulse"].values == 1
+    x_abs, y_abs = chart["record_period"].values, chart["record_ap"].values / g
+    x_n, y_n = chart["record_normalized_duration"].values, chart["record_normalized_acceleration"].values
+    for sel, marker, label in ((pulse_like, "o", "pulse-like record"), (~pulse_like, "^", "non-pulse record")):
+        if simulated:
+            groups = [(sim == v, *SIMULATED_STYLE[v]) for v in (1, 0, -1)]
+        else:
+            groups = [(over, "tab:red", "overturns by the criterion (not simulated)"),
+                      (~over, "tab:green", "safe by the criterion (not simulated)")]
+        for hit, colour, words in groups:
+            m = sel & hit
+            if not np.any(m):
+                continue
+            ax.scatter(x_abs[m], y_abs[m], marker=marker, c=colour, edgecolors="k", linewidths=0.5, s=28, zorder=5,
+                       label=f"{label}, {words}")
+            axn.scatter(x_n[m], y_n[m], marker=marker, c=colour, edgecolors="k", linewidths=0.5, s=28, zorder=5)
+    if simulated:
+        wrong = (sim >= 0) & ((sim == 1) != over)
+        if np.any(wrong):
+            ax.scatter(x_abs[wrong], y_abs[wrong], marker="x", c="k", s=40, zorder=6,
+                       label=f"the criterion says otherwise ({int(wrong.sum())})")
+            axn.scatter(x_n[wrong], y_n[wrong], marker="x", c="k", s=40, zorder=6)

@@ -395,7 +395,9 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
                          "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),
                          "inventory_file": str(request.blocks_csv),
                          "records_failed": "\n".join(f"{r}: {why}" for r, why in failures),
-                         "hazard_curve": request.hazard.path if request.hazard is not None else ""})
+                         "hazard_curve": request.hazard.path if request.hazard is not None else "",
+                         "hazard_title": request.hazard.title if request.hazard is not None else "",
+                         "hazard_synthetic": int(request.hazard.synthetic) if request.hazard is not None else 0})
         nc = write_atomic(ds, out_dir / "fragility.nc")
         html, csv_path = build_fragility_report(ds, out_dir, hazard=request.hazard)
     return {**counts, "scenes": int(ds.sizes["record"] * ds.sizes["im_level"] * ds.sizes["block"]),
