@@ -3,7 +3,7 @@
 Compares the criterion's threshold for each pulse (largest lobe = a half-sine
 of duration pi / w_p, with uplift: max(1, w_p / (2 p)) in units of alpha g,
 linear model) with the minimum overturning amplitudes of an independent
-event-driven solver (rocking-dynamics.md, computed CSV; alpha = 0.25,
+event-driven solver (tests/data/rocking-pulse-minimum-overturning-computed.csv; alpha = 0.25,
 e = 0.9, linear rows) and with the Makris & Roussos (2000) closed form.
 A ratio below 1 is a false alarm margin (the rule flags pulses that are
 safe), above 1 a miss.

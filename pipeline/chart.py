@@ -29,7 +29,7 @@ import xarray as xr
 from . import criteria
 from .blocks import check_friction, geometry
 from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
-from .constants import G
+from .constants import REFERENCE_PAPER, G
 from .errors import ParameterError, ResultsError
 from .schema import CHART, apply_schema
 
@@ -133,7 +133,7 @@ def stability_chart(height_m: float, width_m: float, *, mu: float, pulse: str = 
         "transition_period_comment": "Eq. 9: 2 / (p beta), pi / p for a half-sine [s]",
         "transition_period_form": t_bar_form,
         "transition_period_form_comment": f"intersection of the {form} Eq. 5 curve with the Eq. 1 line [s]",
-        "references": "reference paper Eqs. 1-9; Makris & Roussos (2000) eq. 27; Housner (1963) eq. 9",
+        "references": f"{REFERENCE_PAPER}, Eqs. 1-9; Makris & Roussos (2000) eq. 27; Housner (1963) eq. 9",
     })
     return ds
 

@@ -427,7 +427,8 @@ def fragility_parser() -> argparse.ArgumentParser:
 
 
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
-    """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html, fragility_assets.csv."""
+    """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
+    fragility_assets.csv."""
     from .run.fragility import FragilityRequest, fragility, parse_levels
     from .uncertainty.hazard import read_hazard
 

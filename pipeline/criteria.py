@@ -11,8 +11,8 @@ direction:
   small-angle alpha g / p;
 * the paper's sliding line a_p <= mu g (mu / alpha in units of alpha g).
 
-The criterion is a first-order heuristic (rocking-dynamics.md sections 0 and
-2.4): it raises false alarms for single lobes and can miss trains of pulses.
+The criterion is a first-order heuristic: it raises false alarms for single lobes and can miss trains of
+pulses (measured in docs/validation.md against the simulator and Makris & Roussos 2000, eq. 27).
 The simulator is the truth it is measured against.
 
 A block with Housner restitution e = 1 - 1.5 sin^2(alpha) <= 0
@@ -21,8 +21,10 @@ given a rocking verdict (flag value -1), only the rock-or-slide onset test.
 
 References
 ----------
-Reference paper: an energy-based critical pulse model for the stability of
-rocking blocks, Eqs. (1)-(9) (../shared/papers/000_d93111b78a095782.txt).
+The reference paper: "Rocking Blocks Stability under Critical Pulses from Near-Fault Earthquakes Using a
+Novel Energy Based Approach", Applied Sciences (MDPI), Eqs. (1)-(9).
+Makris, N. & Roussos, Y. (2000). Rocking response of rigid blocks under near-source ground motions.
+Geotechnique 50(3), 243-262.
 Housner, G. W. (1963). BSSA 53(2), 403-417.
 Zhang, J. & Makris, N. (2001). J. Eng. Mech. 127(5), 473-483, eq. 7.
 Shenton, H. W. (1996). J. Eng. Mech. 122(7), 690-693.
@@ -104,7 +106,8 @@ def critical_velocity(R_m, alpha, *, g_ms2: float = G, form: str = "exact"):
     Notes
     -----
     The exact form equals the nonlinear impulse limit (2 g / p) sin(alpha/2) /
-    cos(alpha) of rocking-dynamics.md section 1.7 (a test checks the identity).
+    cos(alpha): the velocity step whose kinetic energy after the impact-like uplift (Housner 1963, angular
+    momentum about the corner) equals the potential barrier (a test checks the identity).
     """
     R = np.asarray(R_m, dtype=float)
     alpha = np.asarray(alpha, dtype=float)

@@ -22,7 +22,8 @@ other, and the largest subset that holds at some grid point.
 
 References
 ----------
-Reference paper (../shared/papers/000_d93111b78a095782.txt): "the approach could be used in
+The reference paper, "Rocking Blocks Stability under Critical Pulses from Near-Fault Earthquakes Using a
+Novel Energy Based Approach", Applied Sciences (MDPI): "the approach could be used in
 archaeoseismology to identify the characteristics of the dominant pulse content of past
 earthquakes based on their impacts on various historical and heritage structures".
 """

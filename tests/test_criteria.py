@@ -22,7 +22,7 @@ from pipeline.closed_forms import (
 from pipeline.constants import G
 from pipeline.errors import BlockParameterError
 
-# rocking-dynamics.md section 2.2: eq. 27 solved numerically, with Housner's and the impulse rule's values
+# Makris & Roussos (2000) eq. 27 solved numerically, with Housner's and the impulse rule's values
 MR_TABLE = [  # w_p/p, eq. 27, Housner sqrt(1 + (w/p)^2), impulse rule w/(2p)
     (0.5, 1.109, 1.118, 0.25), (1, 1.322, 1.414, 0.5), (1.5, 1.558, 1.803, 0.75), (2, 1.801, 2.236, 1.0),
     (3, 2.294, 3.162, 1.5), (4, 2.791, 4.123, 2.0), (5, 3.289, 5.099, 2.5), (6, 3.788, 6.083, 3.0),
@@ -60,7 +60,7 @@ def test_makris_roussos_agrees_with_brent_root_finding_over_eight_decades():
 
 
 def test_makris_roussos_fig2_benchmark():
-    # M&R Fig. 2: b = 0.2 m, h = 0.6 m, w_p = 2 pi; eq. 27 gives 0.55459 g (rocking-dynamics.md section 6.6)
+    # M&R Fig. 2: b = 0.2 m, h = 0.6 m, w_p = 2 pi; eq. 27 gives 0.55459 g (Makris & Roussos 2000, Fig. 2)
     geom = geometry(1.2, 0.4, g_ms2=9.81)
     a_min_g = makris_roussos_halfsine(2 * math.pi / geom.p) * geom.alpha
     assert float(a_min_g) == pytest.approx(0.55459, abs=2e-5)
@@ -76,7 +76,7 @@ def test_housner_rectangle_both_forms(nu):
 
 @pytest.mark.parametrize("nu, factor", [(1.1, 2.64), (1.5, 1.65), (2, 1.39), (3, 1.22), (5, 1.12), (10, 1.05)])
 def test_rectangle_false_alarm_factor(nu, factor):
-    # rocking-dynamics.md section 2.4: a t_p must be (g alpha / p) nu ln(nu / (nu - 1)); the rule takes factor 1
+    # the impulse rule (Makris & Roussos 2000): a t_p must be (g alpha / p) nu ln(nu / (nu - 1)); the rule takes factor 1
     assert nu * housner_rectangle_duration(nu) == pytest.approx(factor, abs=6e-3)
 
 
@@ -113,7 +113,7 @@ def test_paper_transition_periods(height, paper_T, g):
 def test_exact_critical_velocity_is_nonlinear_impulse_limit(alpha):
     R = 1.7
     p = math.sqrt(3 * G / (4 * R))
-    impulse = (2 * G / p) * math.sin(alpha / 2) / math.cos(alpha)      # rocking-dynamics.md section 1.7
+    impulse = (2 * G / p) * math.sin(alpha / 2) / math.cos(alpha)      # Housner (1963) energy balance
     assert float(criteria.critical_velocity(R, alpha)) == pytest.approx(impulse, rel=1e-12)
     small = float(criteria.critical_velocity(R, alpha, form="small_angle"))
     assert small == pytest.approx(alpha * G / p, rel=1e-12)
@@ -232,7 +232,7 @@ def _computed_rows():
 
 
 def test_criterion_false_alarms_and_misses_against_computed_minima():
-    """rocking-dynamics.md section 2.4: the rule is a heuristic. Half-sine and one-cosine: false alarms
+    """Makris & Roussos (2000), eq. 27 against the rule: it is a heuristic. Half-sine and one-cosine: false alarms
     (rule below the true minimum). One-sine at w_p/p = 3-4: misses (rule 7-12 % above the minimum)."""
     misses, alarms = [], []
     for r in _computed_rows():

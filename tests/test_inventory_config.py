@@ -78,7 +78,7 @@ def test_blank_optional_fields_take_defaults(tmp_path):
 
 
 def test_geometry_closed_forms():
-    # h = 1, b = 0.2: the rocking-dynamics.md section 3 block, whose numbers use g = 9.81
+    # h = 1, b = 0.2: a worked-example block whose published numbers use g = 9.81
     g = geometry(2.0, 0.4, g_ms2=9.81)
     assert g.alpha == pytest.approx(0.197396, abs=1e-6)
     assert g.p == pytest.approx(2.686005, abs=1e-6)

@@ -1,4 +1,4 @@
-"""The rocking simulator against published benchmarks and closed forms (rocking-dynamics.md section 6)."""
+"""The rocking simulator against published benchmarks and closed forms (Housner 1963; Makris & Roussos 2000; Zhang & Makris 2001)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import PHYSICS, plan
 from pipeline.rocking.simulate import rock, slide
 
-G81 = 9.81      # the benchmarks of rocking-dynamics.md use g = 9.81
+G81 = 9.81      # the published benchmarks use g = 9.81
 
 
 def block(height, width):

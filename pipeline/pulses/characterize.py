@@ -11,7 +11,8 @@ linear (triangular) and 2/3 for a parabolic pulse (the paper's Eq. 8).
 
 References
 ----------
-Reference paper (../shared/papers/000_d93111b78a095782.txt), Eqs. (5)-(9):
+The reference paper, "Rocking Blocks Stability under Critical Pulses from Near-Fault Earthquakes Using a
+Novel Energy Based Approach", Applied Sciences (MDPI), Eqs. (5)-(9):
 v = beta t_p a_p = integral of a(t) over the pulse.
 """
 

@@ -3,7 +3,7 @@
 ``pywt.cwt`` accepts only continuous wavelets and rejects ``db4``, but the
 Shahi & Baker (2014) classifier is calibrated on MATLAB's legacy
 ``cwt(x, scales, 'db4')``. That transform is rebuilt here from its
-definition (../shared/reference/pulse-identification.md section 2.2):
+definition (the legacy MATLAB ``cwt`` that the published code of Shahi & Baker 2014 calls):
 
 * Psi = running integral of the db4 wavelet function sampled by
   ``pywt.Wavelet('db4').wavefun(level=10)`` on x in [0, 7], step h = 2^-10;
@@ -147,7 +147,7 @@ def cwt_point(signal: np.ndarray, scale: int, column: int) -> float:
 
 
 def scales_for(dt_s: float, *, tp_min_s: float = 0.25, tp_max_s: float = 15.0, n_scales: int = 50) -> np.ndarray:
-    """The 51 integer scales searched (pulse-identification.md section 2.3).
+    """The 51 integer scales searched (the scale grid of the published code of Shahi & Baker 2014).
 
     ``s_min = floor(TpMin/1.4/dt)``, ``step = ceil((TpMax/1.4/dt - s_min)/50)``,
     scales ``s_min : step : s_min + 50 step``.

@@ -1,7 +1,8 @@
 """Velocity-pulse extraction and classification (Shahi & Baker 2014; Baker 2007).
 
-The algorithm follows the authors' published MATLAB code, step by step, as
-described in ../shared/reference/pulse-identification.md (sections 2.1-2.8):
+The algorithm follows the authors' published MATLAB code, step by step (Shahi, S. K. & Baker, J. W.
+(2014), An efficient algorithm to identify strong-velocity pulses in multicomponent ground motions,
+BSSA 104(5), 2456-2466):
 five candidate pulses from the largest combined wavelet energy of the two
 horizontals, each extracted as the sum of ten db4 wavelets at one refined
 scale, classified by the pulse indicator PI and the late-arrival rule.

@@ -11,7 +11,8 @@
 
 References
 ----------
-Reference paper (../shared/papers/000_d93111b78a095782.txt), Fig. 4 and Eq. 7.
+The reference paper, "Rocking Blocks Stability under Critical Pulses from Near-Fault Earthquakes Using a
+Novel Energy Based Approach", Applied Sciences (MDPI), Fig. 4 and Eq. 7.
 """
 
 from __future__ import annotations

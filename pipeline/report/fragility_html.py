@@ -32,8 +32,8 @@ MAX_FIGURES = 40
 ASSETS_CSV = "fragility_assets.csv"
 #: Columns of fragility_assets.csv: ``im`` names the IM and ``im_units`` the unit of median, median_low and
 #: median_high; beta is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
-ASSET_COLUMNS = ("rank", "block", "im", "im_units", "median", "median_low", "median_high", "beta", "beta_low", "beta_high",
-                 "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
+ASSET_COLUMNS = ("rank", "block", "im", "im_units", "median", "median_low", "median_high", "beta", "beta_low",
+                 "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
                  "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
 

@@ -4,7 +4,8 @@ One source, two paths: the functions are compiled with numba when it is
 installed (``njit``) and run as plain Python otherwise, or under
 ``NUMBA_DISABLE_JIT=1`` (the tests run both and compare).
 
-Rocking scheme (rocking-dynamics.md section 5):
+Rocking scheme (Housner 1963; Dormand & Prince 1980, J. Comput. Appl. Math. 6(1), for the Runge-Kutta pair;
+Hairer, Norsett & Wanner 1993, Solving ODEs I, section II.6, for dense output and event location):
 
 * the pivot side ``s`` (+1 about O, -1 about O') is discrete state, never
   ``sgn(theta)`` inside the right-hand side;
@@ -224,7 +225,8 @@ def free_outcome(theta, omega, p2, alpha, e, linear):
     overturns or settles: 0 or 1). Energy is conserved between impacts and
     multiplied by e^2 (kinetic part at theta = 0) at each: a block that does
     not escape on its current outward swing, or on the first swing after the
-    next impact, never escapes (rocking-dynamics.md section 1.5).
+    next impact, never escapes (Housner 1963: energy is lost only at impacts, none is added after the
+    record).
     """
     E, E_top, E_pivot = free_motion_energy(theta, omega, p2, alpha, linear)
     outward = theta * omega > 0.0 or (theta == 0.0 and omega != 0.0)

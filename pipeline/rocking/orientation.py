@@ -26,7 +26,8 @@ between two grid planes can be missed.
 
 References
 ----------
-rockscreen reference notes, fragility-and-uncertainty.md section 1 (orientation).
+docs/validation.md (the orientation scan against dense scans); Zhang, J. & Makris, N. (2001),
+J. Eng. Mech. 127(5), 473-483, for the rocking plane of a block under two horizontal components.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Used as the reference the compiled kernel is benchmarked and tested against
 (``benchmarks/bench_rocking.py``, ``tests/test_rocking_reference.py``). It
-follows rocking-dynamics.md section 5 with scipy's machinery: one
+follows the same event-driven formulation (Housner 1963) with scipy's machinery: one
 ``solve_ivp`` call (DOP853) per smooth segment between events, the ground
 acceleration interpolated linearly (``max_step`` = the sampling interval so
 that no step spans more than one kink), terminal events for the impact

@@ -363,7 +363,8 @@ class FragilityRequest:
 
 
 def fragility(request: FragilityRequest, *, progress=None) -> dict:
-    """Run the stripes (resumable), fit, integrate the hazard, write fragility.nc, fragility.html and fragility_assets.csv.
+    """Run the stripes (resumable), fit, integrate the hazard, write fragility.nc, fragility.html and
+    fragility_assets.csv.
 
     Returns
     -------

@@ -22,6 +22,7 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
+from ..constants import REFERENCE_PAPER
 from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError, UsageError
 from ..margins import add_margins
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
@@ -130,8 +131,7 @@ def provenance(request: ScreenRequest) -> dict:
         "inventory_file": str(request.blocks_csv),
         "inventory_sha256": hashlib.sha256(Path(request.blocks_csv).read_bytes()).hexdigest(),
         "records_directory": str(request.records_dir),
-        "references": "Housner (1963) BSSA 53(2); Shahi & Baker (2014) BSSA 104(5); "
-                      "reference paper: energy-based critical pulse model for rocking blocks",
+        "references": f"{REFERENCE_PAPER}; Housner (1963) BSSA 53(2); Shahi & Baker (2014) BSSA 104(5)",
     }
 
 

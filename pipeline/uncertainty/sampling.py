@@ -14,7 +14,8 @@ restitution is clipped to [0, 1].
 
 References
 ----------
-fragility-and-uncertainty.md section 3 (lognormal amplitude factor, median or mean of 1).
+FEMA P-58-1 (2012). Seismic Performance Assessment of Buildings, Volume 1: Methodology (uncertainties
+as lognormal factors about a median, here 1).
 Housner (1963) BSSA 53(2), eq. 5: e = 1 - 1.5 sin^2(alpha).
 """
 
