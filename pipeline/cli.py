@@ -60,8 +60,8 @@ def _add_execution(p: argparse.ArgumentParser) -> None:
                     help="criterion (the paper's criterion alone: fast, NOT conservative) | full (default: "
                          "the exact at-rest certificate, then the simulator for every scene that moves) | "
                          "reference (full at tight tolerances); 'screen bench' measures the cost and error of each")
-    un = p.add_argument_group("uncertainty (config [uncertainty]; README, 'Judges every verdict under declared "
-                              "uncertainty')")
+    un = p.add_argument_group("uncertainty (config [uncertainty]; docs/user-guide.md, 'Judges every verdict "
+                              "under declared uncertainty')")
     un.add_argument("--samples", type=int, metavar="N",
                     help="largest number of samples per scene for p_overturn (default 40; 0: nominal verdicts "
                          "only, no probability)")
@@ -419,7 +419,7 @@ def fragility_parser() -> argparse.ArgumentParser:
     p.add_argument("--levels", required=True,
                    help="increasing IM levels, comma-separated, in the IM's SI unit (a g suffix for accelerations: "
                         "0.1g,0.2g)")
-    p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (README)")
+    p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (docs/user-guide.md)")
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
     _add_execution(p)
     _add_output_options(p)

@@ -76,7 +76,7 @@ def test_housner_rectangle_both_forms(nu):
 
 @pytest.mark.parametrize("nu, factor", [(1.1, 2.64), (1.5, 1.65), (2, 1.39), (3, 1.22), (5, 1.12), (10, 1.05)])
 def test_rectangle_false_alarm_factor(nu, factor):
-    # the impulse rule (Makris & Roussos 2000): a t_p must be (g alpha / p) nu ln(nu / (nu - 1)); the rule takes factor 1
+    # impulse rule (Makris & Roussos 2000): a t_p must be (g alpha / p) nu ln(nu / (nu - 1)); the rule takes factor 1
     assert nu * housner_rectangle_duration(nu) == pytest.approx(factor, abs=6e-3)
 
 

@@ -1,4 +1,5 @@
-"""The rocking simulator against published benchmarks and closed forms (Housner 1963; Makris & Roussos 2000; Zhang & Makris 2001)."""
+"""The rocking simulator against published benchmarks and closed forms (Housner 1963; Makris & Roussos 2000;
+Zhang & Makris 2001)."""
 
 from __future__ import annotations
 

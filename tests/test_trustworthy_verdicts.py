@@ -173,7 +173,8 @@ def test_a_block_overturned_before_the_flight_keeps_its_verdict():
 
 
 def test_a_standing_scene_can_have_a_margin_below_one():
-    # WSH20 (a public MATLAB rocking study, wshwwl.github.com 2020/02/rock; its critical 0.315034 g): p = 2, alpha = 15 deg, a_p cos(pi t) for 2 s. 0.3151 g
+    # WSH20 (a public MATLAB rocking study, 2020; its critical 0.315034 g): p = 2, alpha = 15 deg,
+    # a_p cos(pi t) for 2 s. 0.3151 g
     # overturns and 0.33 g stands: on the 0.33 g record the upward scan finds the smaller factor
     alpha, p = math.radians(15.0), 2.0
     R = 3 * G / (4 * p * p)

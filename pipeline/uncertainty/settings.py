@@ -2,7 +2,7 @@
 
 Every spread is the coefficient of variation of a lognormal factor whose *median* is 1, so
 the nominal block and record are the median sample (ln X ~ N(0, s^2), s = sqrt(ln(1 + cov^2))).
-The defaults are declared, not measured; the README says where each comes from.
+The defaults are declared, not measured; docs/user-guide.md says where each comes from.
 """
 
 from __future__ import annotations
