@@ -91,6 +91,40 @@ class ResultsError(RockscreenError, ValueError):
     """A results file given as input is missing or not a rockscreen netCDF file."""
 
 
+class TaskFailure(RockscreenError, RuntimeError):
+    """A task of a batch that could not produce its result: returned in place of the result, never raised, so
+    one bad record never stops the batch. Every task (screening, margins, fragility) and every executor
+    (a worker lost) reports failure with this one value.
+
+    Attributes
+    ----------
+    reason : str
+        What went wrong, for the record's status and the log.
+    deterministic : bool
+        The record's content causes it (format, units, ...): the same files fail the same way again, so the
+        failure may be cached. A crash or a lost worker is not, and is retried.
+    """
+
+    def __init__(self, reason: str, *, deterministic: bool = False):
+        super().__init__(reason)
+        self.reason, self.deterministic = reason, deterministic
+
+    @classmethod
+    def from_exception(cls, exc: BaseException) -> "TaskFailure":
+        """The failure for an exception caught in a task: deterministic for a RockscreenError (the content),
+        not for anything else (a bug or an unforeseen corruption, named by its type)."""
+        if isinstance(exc, RockscreenError):
+            return cls(str(exc), deterministic=True)
+        return cls(f"unexpected {type(exc).__name__}: {exc}")
+
+    def __reduce__(self):                     # picklable across processes with its keyword argument
+        return (_task_failure, (self.reason, self.deterministic))
+
+
+def _task_failure(reason: str, deterministic: bool) -> TaskFailure:
+    return TaskFailure(reason, deterministic=deterministic)
+
+
 class OutputError(RockscreenError, OSError):
     """Results cannot be written (unwritable directory, disk full, ...)."""
 

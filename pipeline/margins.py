@@ -44,7 +44,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .errors import RockscreenError
+from .errors import RockscreenError, TaskFailure
 from .records.loader import RecordSource
 from .rocking.planner import rocks, simulate_scene
 from .schema import HISTORY_SERIES, apply_schema
@@ -175,18 +175,19 @@ def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, set
     return out, runs
 
 
-def margin_task(item: tuple, ctx: Context) -> dict:
+def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
     """One record and the blocks it governs: their margins and, for those at risk, theta(t)/alpha.
 
     ``item`` is ``(source, [(block_id, direction_deg, overturned, want_history), ...])``.
-    Returns ``{block_id: (scale, runs, history or None, dt_s, sampled margins)}``, or ``{"error": reason}``.
+    Returns ``{block_id: (scale, runs, history or None, dt_s, sampled margins)}``, or a
+    :class:`~pipeline.errors.TaskFailure` when the record cannot be loaded again.
     """
     source, blocks = item
     cfg = ctx.config
     try:
         rec = ctx.load(source)
     except RockscreenError as exc:
-        return {"error": str(exc)}
+        return TaskFailure.from_exception(exc)
     inv = ctx.inventory
     params = inv.scene_params(g_ms2=cfg.records.g_ms2)
     index = {b: k for k, b in enumerate(inv.ids)}
@@ -264,9 +265,8 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
     position = {b: k for k, b in enumerate(block_ids)}
     for (source, _), result in executor.map_unordered(margin_task, tasks, ctx):
-        if isinstance(result, Exception) or "error" in result:
-            log.warning("record %s: no margins (%s)", source.record_id,
-                        result if isinstance(result, Exception) else result["error"])
+        if isinstance(result, TaskFailure):
+            log.warning("record %s: no margins (%s)", source.record_id, result.reason)
             unavailable.append(source.record_id)
             continue
         rid = source.record_id

@@ -24,7 +24,7 @@ from .blocks import Inventory
 from .closed_forms import PULSE_BETA
 from .config import Config
 from .constants import CM_TO_M
-from .errors import PulseError, RockscreenError
+from .errors import PulseError, RockscreenError, TaskFailure
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
@@ -308,7 +308,6 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         index = {b: k for k, b in enumerate(inv.ids)}
         inv = inv.take([index[b] for b in block_ids])
     task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory)
-    files = {"files": ";".join(Path(f).name for f in source.files)}
     try:
         content = source.digest() if content_sha256 is None else content_sha256
         rec = ctx.load(source)
@@ -321,11 +320,16 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         block_values.update(_simulation_values(rec, directions, task_ctx, mask))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
-    except RockscreenError as exc:
-        return RecordResult(source.record_id, f"failed: {exc}", files, deterministic=True)
-    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
-        log.exception("unexpected error on record %s", source.record_id)
-        return RecordResult(source.record_id, f"failed: unexpected {type(exc).__name__}: {exc}", files)
+    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
+        if not isinstance(exc, RockscreenError):
+            log.exception("unexpected error on record %s", source.record_id)
+        return failed_result(source, TaskFailure.from_exception(exc))
+
+
+def failed_result(source: RecordSource, failure: TaskFailure) -> RecordResult:
+    """A task's failure (its content, a crash, a lost worker) as the record's row in the results."""
+    return RecordResult(source.record_id, f"failed: {failure.reason}",
+                        {"files": ";".join(Path(f).name for f in source.files)}, deterministic=failure.deterministic)
 
 
 def failure_result(f: Failure) -> RecordResult:

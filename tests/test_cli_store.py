@@ -292,3 +292,17 @@ def test_report_into_an_output_it_cannot_create_exits_3_without_a_traceback(make
     assert main(["report", str(tmp_path / "out" / "screening.nc"), "--out", str(blocker / "report")]) == 3
     err = capsys.readouterr().err
     assert "error: cannot use" in err and "Traceback" not in err and str(blocker) in err
+
+
+def test_a_block_named_error_gets_its_margins(make_records, tmp_path, caplog):
+    """Tasks report failure with one value (TaskFailure), never a key of their result: a block whose id is
+    'error' was once taken for a failed margin task."""
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    blocks = tmp_path / "b.csv"
+    blocks.write_text("id,height_m,width_m,mu\nerror,1.0,0.2,0.7\nother,1.2,0.3,0.7\n")
+    assert main(["--records", str(root), "--blocks", str(blocks), "--out", str(tmp_path / "out"),
+                 "--samples", "0", "-q"]) == 0
+    ds = open_results(tmp_path / "out" / "screening.nc")
+    margins = dict(zip(ds.block.values.tolist(), ds.overturn_scale_simulated.values.tolist()))
+    assert np.isfinite(margins["error"]) and np.isfinite(margins["other"]), margins
+    assert "no margins" not in caplog.text

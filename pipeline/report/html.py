@@ -350,7 +350,11 @@ def recording_groups(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[Recordin
     dts = pulses["dt"].values
     series = {rid: (np.asarray(pulses["velocity"][rows].values, dtype=float), float(dts[k]))
               for k, (rid, rows) in enumerate(ragged_rows(pulses, "record_id").items()) if ok.get(rid)}
-    n_comp = dict(zip(ds["record"].values.tolist(), (ds["n_horizontal"].values + ds["has_vertical"].values).tolist()))
+    if not series:
+        return []
+    counts = [np.nan_to_num(ds[v].values.astype(float)) if v in ds else np.zeros(ds.sizes["record"])
+              for v in ("n_horizontal", "has_vertical")]
+    n_comp = dict(zip(ds["record"].values.tolist(), (counts[0] + counts[1]).tolist()))
     return same_recordings(series, preference={r: (-int(n_comp.get(r, 0)),) for r in series})
 
 

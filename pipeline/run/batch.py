@@ -35,15 +35,15 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
-from ..errors import RockscreenError
+from ..errors import RockscreenError, TaskFailure
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
 from ..records.units import combined_declarations
 from ..rocking.planner import PHYSICS, RESPONSE
-from ..screening import ORIENTATION, Context, RecordResult, assemble, failure_result, screen_record
+from ..screening import ORIENTATION, Context, RecordResult, assemble, failed_result, failure_result, screen_record
 from ..store import PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
-from .executors import SerialExecutor, TaskLost
+from .executors import SerialExecutor
 
 log = logging.getLogger(__name__)
 
@@ -300,9 +300,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
             log.warning("record %s %s (files unchanged since the run that found it)", rec_failure.record_id,
                         rec_failure.status)
     for (source, block_ids, content), res in stream:
-        if isinstance(res, TaskLost):
-            res = RecordResult(source.record_id, f"failed: {res}",
-                               {"files": ";".join(Path(f).name for f in source.files)})
+        if isinstance(res, TaskFailure):                  # the executor lost the worker
+            res = failed_result(source, res)
         if not res.ok:
             log.warning("record %s %s", res.record_id, res.status)
             results.pop(res.record_id, None)

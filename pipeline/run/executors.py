@@ -30,7 +30,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator
 
-from ..errors import DependencyError, RockscreenError, SchedulerError, UsageError
+from ..errors import DependencyError, SchedulerError, TaskFailure, UsageError
 
 log = logging.getLogger(__name__)
 
@@ -40,8 +40,11 @@ MAX_TASK_ATTEMPTS = 3
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
-class TaskLost(RockscreenError, RuntimeError):
-    """A task whose worker died on every attempt."""
+class TaskLost(TaskFailure):
+    """A task whose worker died on every attempt (never deterministic: a later run retries it)."""
+
+    def __reduce__(self):
+        return (TaskLost, (self.reason,))
 
 
 class SerialExecutor:

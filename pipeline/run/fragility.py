@@ -30,7 +30,7 @@ from .. import criteria
 from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR, G
-from ..errors import RockscreenError, UsageError
+from ..errors import RockscreenError, TaskFailure, UsageError
 from ..records.intensity import arias_intensity, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..schema import FRAGILITY, apply_schema
@@ -127,19 +127,18 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
             **{f"im.{k}": v for k, v in ims.items()}}
 
 
-def fragility_task(item: tuple, ctx: FragilityContext) -> dict:
-    """Executor task: load one record by path and :func:`judge_record` it; failures come back as
-    ``{"error": reason}``, never raised."""
+def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
+    """Executor task: load one record by path and :func:`judge_record` it; a failure comes back as a
+    :class:`~pipeline.errors.TaskFailure`, never raised."""
     source, content = item
     try:
         out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels)
         out.update(record_id=source.record_id, content=content)
         return out
-    except RockscreenError as exc:
-        return {"error": str(exc)}
-    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch
-        log.exception("unexpected error on record %s", source.record_id)
-        return {"error": f"unexpected {type(exc).__name__}: {exc}"}
+    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
+        if not isinstance(exc, RockscreenError):
+            log.exception("unexpected error on record %s", source.record_id)
+        return TaskFailure.from_exception(exc)
 
 
 class FragilityCache(RecordStore):
@@ -208,8 +207,8 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     if progress is not None:
         stream = progress(stream, len(todo))
     for (src, _), res in stream:
-        if isinstance(res, Exception) or "error" in res:
-            failures.append((src.record_id, str(res) if isinstance(res, Exception) else res["error"]))
+        if isinstance(res, TaskFailure):
+            failures.append((src.record_id, res.reason))
             continue
         if cache is not None:
             cache.save(res)
