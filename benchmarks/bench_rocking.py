@@ -21,7 +21,7 @@ import numpy as np
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.planner import PHYSICS, plan
+from pipeline.rocking.planner import Physics, plan
 from pipeline.rocking.reference import rock_reference
 from pipeline.rocking.simulate import rock
 
@@ -41,7 +41,7 @@ def main() -> None:
         ah = rec.horizontal_ms2[0]
         for j in range(len(inv)):
             alpha, p, e = float(geo.alpha[j]), float(geo.p[j]), max(float(geo.e_housner[j]), 0.0)
-            if plan(ah, None, alpha=alpha, mu=float(inv.mu[j])) != PHYSICS["rocking"]:
+            if plan(ah, None, alpha=alpha, mu=float(inv.mu[j])) != Physics.rocking:
                 continue
             t0 = time.perf_counter()
             res = rock(ah, rec.dt_s, p=p, alpha=alpha, e=e, R_m=float(geo.R[j]), settings=cfg.simulation)

@@ -58,7 +58,6 @@ class Onset(IntEnum):
     slide_rock = 3
 
 
-ONSET = {m.name: m.value for m in Onset}
 
 
 def _form(form: str) -> str:
@@ -168,7 +167,7 @@ def onset_friction_demand(accel_ms2, alpha, *, g_ms2: float = G):
 
 
 def onset_mode(ap_ms2, alpha, mu, *, g_ms2: float = G, demand=None) -> np.ndarray:
-    """Mode at the onset of motion under a pulse of peak ``ap_ms2`` (codes of :data:`ONSET`).
+    """Mode at the onset of motion under a pulse of peak ``ap_ms2`` (codes of :class:`Onset`).
 
     * rest: the pulse neither lifts (a_p < g tan alpha) nor slides (a_p <= mu g) the block;
     * slide: mu <= tan(alpha) and a_p > mu g, so the block slides before it can tip;
@@ -190,8 +189,8 @@ def onset_mode(ap_ms2, alpha, mu, *, g_ms2: float = G, demand=None) -> np.ndarra
     lifts = a >= g_ms2 * tan_a
     code = np.where(
         rocks_first,
-        np.where(lifts, np.where(demand <= mu, ONSET["rock"], ONSET["slide_rock"]), ONSET["rest"]),
-        np.where(a > mu * g_ms2, ONSET["slide"], ONSET["rest"]),
+        np.where(lifts, np.where(demand <= mu, Onset.rock, Onset.slide_rock), Onset.rest),
+        np.where(a > mu * g_ms2, Onset.slide, Onset.rest),
     )
     return np.where(np.isnan(a), -1, code).astype("i1")
 

@@ -214,7 +214,6 @@ PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustne
                     "samples_overturned", "samples_free_flight", "sample_simulations")
 
 #: How the rocking plane of a scene was chosen (the ``orientation`` flag).
-ORIENTATION = {m.name: m.value for m in Orientation}
 
 
 def simulation_mask(inventory: Inventory, config: Config) -> np.ndarray:
@@ -228,7 +227,8 @@ def simulation_mask(inventory: Inventory, config: Config) -> np.ndarray:
 
 def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, grid_deg: np.ndarray
                  ) -> tuple[int, list[float]]:
-    """The orientation code (:data:`ORIENTATION`) of a scene and the planes it is simulated in.
+    """The orientation code (:class:`~pipeline.rocking.orientation.Orientation`) of a scene and the planes it is
+    simulated in.
 
     A block with a given azimuth on a record of known azimuth: its own plane. A blank azimuth,
     or a record whose absolute azimuth is unknown (the pair's relative orientation is known):
@@ -236,10 +236,10 @@ def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, gr
     single horizontal: the one plane recorded.
     """
     if rec.single_component:
-        return ORIENTATION["single_component"], [direction_deg]
+        return Orientation.single_component, [direction_deg]
     if rec.azimuth_known and not np.isnan(block_azimuth_deg):
-        return ORIENTATION["given"], [direction_deg]
-    code = ORIENTATION["scanned"] if rec.azimuth_known else ORIENTATION["scanned_relative"]
+        return Orientation.given, [direction_deg]
+    code = Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative
     return code, [direction_deg, *grid_deg.tolist()]
 
 
@@ -268,7 +268,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
         if not scan:
             azimuths = azimuths[:1]
-        scanned = code in (ORIENTATION["scanned"], ORIENTATION["scanned_relative"])
+        scanned = code in (Orientation.scanned, Orientation.scanned_relative)
         res = worst_plane(planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
                           refine_deg=refine, **params[j])
         sc = res.scene

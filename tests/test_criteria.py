@@ -174,7 +174,7 @@ def test_zhang_makris_eq7_reduces_to_tan_alpha_at_uplift():
 ])
 def test_onset_modes(ap_g, alpha, mu, expected):
     code = criteria.onset_mode(ap_g * G, alpha, mu)
-    assert int(code) == criteria.ONSET[expected]
+    assert int(code) == criteria.Onset[expected]
 
 
 def test_squat_block_gets_no_rocking_verdict():
@@ -185,10 +185,10 @@ def test_squat_block_gets_no_rocking_verdict():
     assert np.all(geom.e_housner[1:] < 0)
     out = criteria.evaluate(4.0, 2.0, 0.6, 36.0, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=0.5)
     assert list(out["overturn_criterion"]) == [1, -1, -1]
-    assert list(out["onset"]) == [criteria.ONSET["rock"], criteria.ONSET["rest"], criteria.ONSET["rest"]]
+    assert list(out["onset"]) == [criteria.Onset.rock, criteria.Onset.rest, criteria.Onset.rest]
     assert np.isnan(out["criterion_scale"][1:]).all() and np.isnan(out["closed_form_ratio"][1:]).all()
     out = criteria.evaluate(9.0, 2.0, 0.6, 36.0, R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=0.5)
-    assert list(out["onset"][1:]) == [criteria.ONSET["slide"]] * 2     # left to the sliding physics
+    assert list(out["onset"][1:]) == [criteria.Onset.slide] * 2     # left to the sliding physics
 
 
 def test_evaluate_matches_hand_formula_and_scale():

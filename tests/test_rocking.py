@@ -11,7 +11,7 @@ import pytest
 from pipeline.blocks import geometry
 from pipeline.closed_forms import housner_rectangle_duration, makris_roussos_halfsine
 from pipeline.rocking.excitation import pulse
-from pipeline.rocking.planner import PHYSICS, plan
+from pipeline.rocking.planner import Physics, plan
 from pipeline.rocking.simulate import rock, slide
 
 G81 = 9.81      # the published benchmarks use g = 9.81
@@ -170,15 +170,15 @@ def test_uplift_threshold_with_and_without_vertical():
     up = 0.06 * G81 * np.ones_like(t)                                           # ground accelerating upward
     assert rock(1.03 * thr * shape, 0.005, av_ms2=up, **b).n_uplifts == 0       # (g + a_v) tan(alpha) not reached
     assert rock(1.03 * thr * shape, 0.005, av_ms2=-up, **b).n_uplifts >= 1
-    assert plan(1.03 * thr * shape, up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["none"]
-    assert plan(1.03 * thr * shape, -up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["rocking_vertical"]
+    assert plan(1.03 * thr * shape, up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == Physics.none
+    assert plan(1.03 * thr * shape, -up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == Physics.rocking_vertical
     # the vertical is simulated whenever the record has one, unless the approximation is asked for
-    assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == PHYSICS["rocking_vertical"]
+    assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81) == Physics.rocking_vertical
     assert plan(1.03 * thr * shape, 0.01 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81,
-                vertical_fraction=0.05) == PHYSICS["rocking"]
+                vertical_fraction=0.05) == Physics.rocking
     # ... but never from the decision that nothing moves: 0.99 g tan(alpha) lifts once a_v < -1 % g
     assert plan(0.99 * thr * shape, -0.3 * up, alpha=b["alpha"], mu=0.6, g_ms2=G81,
-                vertical_fraction=0.05) != PHYSICS["none"]
+                vertical_fraction=0.05) != Physics.none
 
 
 def test_friction_demand_of_the_locomotive_case():

@@ -13,11 +13,11 @@ from pipeline.blocks import read_inventory
 from pipeline.constants import G
 from pipeline.margins import overturn_scale_simulated
 from pipeline.records.loader import read_declared_units, scan
-from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
-from pipeline.rocking.planner import PHYSICS, RESPONSE, plan, simulate_scene
+from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
+from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
 from pipeline.rocking.reference import rock_reference
 from pipeline.rocking.simulate import slide
-from pipeline.screening import ORIENTATION, Context, screen_record
+from pipeline.screening import Context, screen_record
 
 #: Near-field two-component records with known azimuths (Northridge, Kocaeli, Chi-Chi, Duzce, Imperial Valley).
 NEAR_FIELD = ("RSN1063_NORTHR_RRS", "RSN1086_NORTHR_SYL", "RSN1176_KOCAELI_YPT", "RSN1505_CHICHI_TCU068",
@@ -65,8 +65,8 @@ def test_blank_azimuth_is_never_safer_than_any_explicit_5_degree_plane(explicit_
         for g in range(len(GEOMETRIES)):
             blank = ids.index(f"G{g}-blank")
             explicit = [ids.index(f"G{g}-{az:03d}") for az in range(0, 180, 5)]
-            assert b["orientation"][blank] == ORIENTATION["scanned"]
-            assert all(b["orientation"][j] == ORIENTATION["given"] for j in explicit)
+            assert b["orientation"][blank] == Orientation.scanned
+            assert all(b["orientation"][j] == Orientation.given for j in explicit)
             over = b["overturn_simulated"][explicit] == 1
             if over.any():
                 assert b["overturn_simulated"][blank] == 1, (res.record_id, GEOMETRIES[g])
@@ -116,7 +116,7 @@ def test_worst_plane_of_a_synthetic_oblique_pulse():
     assert res.scene.overturned and abs(res.azimuth_deg - 30.0) <= 25.0
     # the plane at 120 deg sees nothing: a block given that plane is proven at rest without integration
     at_rest = worst_plane(planes, [120.0], dt, mu=0.7, **blk)
-    assert at_rest.planes_simulated == 0 and at_rest.scene.physics == PHYSICS["none"]
+    assert at_rest.planes_simulated == 0 and at_rest.scene.physics == Physics.none
 
 
 @pytest.mark.parametrize("height_m", [0.8, 1.6, 3.0])
@@ -131,13 +131,13 @@ def test_a_small_vertical_under_a_plateau_is_never_planned_away(height_m):
     av = 0.049 * G * np.sin(2 * math.pi * 0.75 * t)
     # no fraction of g decides that the scene stays still, not even the approximation's
     for fraction in (0.0, 0.05):
-        assert plan(ah, av, alpha=blk["alpha"], mu=0.6, vertical_fraction=fraction) != PHYSICS["none"]
+        assert plan(ah, av, alpha=blk["alpha"], mu=0.6, vertical_fraction=fraction) != Physics.none
     sc = simulate_scene(ah, av, dt, mu=0.6, **blk)
     ref = rock_reference(ah, dt, av=av, **{k: v for k, v in blk.items() if k != "R_m"})   # solve_ivp, independent
-    assert sc.physics == PHYSICS["rocking_vertical"]
+    assert sc.physics == Physics.rocking_vertical
     assert sc.overturned and ref["overturned"]
     # without the vertical nothing moves at all
-    assert plan(ah, None, alpha=blk["alpha"], mu=0.6) == PHYSICS["none"]
+    assert plan(ah, None, alpha=blk["alpha"], mu=0.6) == Physics.none
 
 
 def test_free_flight_is_not_a_verdict():
@@ -150,13 +150,13 @@ def test_free_flight_is_not_a_verdict():
     ah = 0.01 * G * np.sin(2 * math.pi * 5 * t + 0.3)
     t_flight = (math.pi + math.asin(1 / 1.2)) / (2 * math.pi * 5)
     sc = simulate_scene(ah, av, dt, mu=0.6, **blk)
-    assert sc.response == RESPONSE["free_flight"] and sc.verdict == -1 and not sc.overturned
+    assert sc.response == Response.free_flight and sc.verdict == -1 and not sc.overturned
     assert sc.free_flight == 1
     assert sc.t_flight == pytest.approx(t_flight, abs=dt / 10)     # the sine against its linear interpolant
     # a block that slides (mu < tan alpha) under the same vertical and no horizontal at all: no slip,
     # and no slide verdict either
     sc = simulate_scene(np.zeros_like(t), av, dt, mu=0.03, **blk)
-    assert sc.response == RESPONSE["free_flight"] and sc.sliding_max_m == 0.0
+    assert sc.response == Response.free_flight and sc.sliding_max_m == 0.0
     # the Coulomb kernel with zero horizontal input never slips (it used to, with friction of the wrong sign)
     for scale in (0.9, 1.2):
         assert slide(np.zeros_like(t), dt, mu=0.3, av_ms2=scale / 1.2 * av).sliding_max_m == 0.0
@@ -201,7 +201,7 @@ def test_extreme_slenderness_stays_finite(width_ratio, records_dir, config):
     blk["e"] = max(blk["e"], 0.0)
     res = worst_plane(Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2), [0.0], rec.dt_s,
                       mu=0.6, **blk)
-    assert np.isfinite(res.scene.theta_max) and res.scene.response in RESPONSE.values()
+    assert np.isfinite(res.scene.theta_max) and res.scene.response in set(Response)
 
 
 @pytest.mark.parametrize("azimuth", ["400", "-10", "nan"])

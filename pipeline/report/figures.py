@@ -22,14 +22,14 @@ import io
 import numpy as np
 
 from ..constants import M_TO_CM
-from ..rocking.planner import RESPONSE
+from ..rocking.planner import Response
 from .mpl import new_figure
 from .svg import Panel, panels_svg
 
 #: Colour and label of each simulated response code (store.SCHEMA "response").
-RESPONSE_STYLE = {RESPONSE["overturn"]: ("tab:red", "overturn"), RESPONSE["slide_rock"]: ("tab:orange", "slide + rock"),
-                  RESPONSE["rock"]: ("tab:blue", "rock"), RESPONSE["slide"]: ("tab:green", "slide"),
-                  RESPONSE["rest"]: ("0.6", "rest"), RESPONSE["free_flight"]: ("tab:purple", "free flight"),
+RESPONSE_STYLE = {Response.overturn: ("tab:red", "overturn"), Response.slide_rock: ("tab:orange", "slide + rock"),
+                  Response.rock: ("tab:blue", "rock"), Response.slide: ("tab:green", "slide"),
+                  Response.rest: ("0.6", "rest"), Response.free_flight: ("tab:purple", "free flight"),
                   -1: ("0.85", "not simulated")}
 
 

@@ -42,7 +42,7 @@ from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, same_recordings
-from ..rocking.planner import PHYSICS, RESPONSE
+from ..rocking.planner import Physics, Response
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
@@ -60,9 +60,9 @@ P_RELOCATE = 0.1
 #: theta(t)/alpha figures drawn, riskiest assets first (all histories stay in histories.nc).
 MAX_HISTORY_FIGURES = 60
 #: Responses that call for limiting sliding.
-SLIDING_RESPONSES = {RESPONSE["slide"], RESPONSE["slide_rock"]}
-RESPONSE_NAMES = {-1: "not simulated", **{code: name for name, code in RESPONSE.items()}}
-PHYSICS_NAMES = {-1: "not simulated", **{code: name for name, code in PHYSICS.items()}}
+SLIDING_RESPONSES = {Response.slide, Response.slide_rock}
+RESPONSE_NAMES = {-1: "not simulated", **{m.value: m.name for m in Response}}
+PHYSICS_NAMES = {-1: "not simulated", **{m.value: m.name for m in Physics}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 
@@ -124,7 +124,7 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         if not sampled and not overturned:
             why.append("it stands under the record itself: overturning is not monotonic in amplitude")
         return "restrain or anchor: " + "; ".join(why)
-    if response == RESPONSE["free_flight"] and not sampled:
+    if response == Response.free_flight and not sampled:
         return "no verdict: free flight (the ground's g + a_v reached 0 before any overturning)"
     if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
         if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
@@ -429,9 +429,9 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
-        "free_flight": int(np.sum(resp[ok] == RESPONSE["free_flight"])),
+        "free_flight": int(np.sum(resp[ok] == Response.free_flight)),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
-            np.any(resp[ok] == RESPONSE["free_flight"], axis=1)]],
+            np.any(resp[ok] == Response.free_flight, axis=1)]],
         "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
         "sampled": sampled,
         "sensitive_scenes": int(np.sum(ds["robustness"].values[ok] == Robustness.sensitive)) if sampled else 0,

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..constants import G
 from ..records.record import project
-from .planner import RESPONSE, REST_SCENE, Scene, demand_ratio, motion_threshold, simulate_scene
+from .planner import REST_SCENE, Response, Scene, demand_ratio, motion_threshold, simulate_scene
 from .settings import SimulationConfig
 from .simulate import FiniteSeries, finite_series
 
@@ -139,7 +139,7 @@ class PlaneResult:
 def _worse(a: Scene, b: Scene) -> bool:
     """True when scene ``a`` is worse than ``b`` (overturn, free flight, then rotation, then sliding)."""
     def rank(s: Scene) -> tuple:
-        return (s.overturned, s.response == RESPONSE["free_flight"], s.theta_max,
+        return (s.overturned, s.response == Response.free_flight, s.theta_max,
                 0.0 if math.isnan(s.sliding_max_m) else s.sliding_max_m)
     return rank(a) > rank(b)
 

@@ -78,8 +78,6 @@ class FreeFlight(IntEnum):
     block_liftoff = 2       # f_z <= 0 while rocking: flagged, the verdict kept
 
 
-PHYSICS = {m.name: m.value for m in Physics}
-RESPONSE = {m.name: m.value for m in Response}
 
 
 def demand_ratio(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, g_ms2: float = G) -> float:
@@ -124,7 +122,7 @@ def uses_vertical(av_ms2: np.ndarray | None, *, g_ms2: float, vertical_fraction:
 
 def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: float, g_ms2: float = G,
          vertical_fraction: float = SimulationConfig.vertical_fraction, ratio: float | None = None) -> int:
-    """Physics code (:data:`PHYSICS`) for one scene.
+    """Physics code (:class:`Physics`) for one scene.
 
     ``none`` only where the block provably neither lifts nor slips at any sample, with the
     vertical included whenever the record has one. ``ratio`` is the scene's
@@ -133,11 +131,11 @@ def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: flo
     if ratio is None:
         ratio = demand_ratio(ah_ms2, av_ms2, g_ms2=g_ms2)
     if not ratio > motion_threshold(alpha, mu):
-        return PHYSICS["none"]
+        return Physics.none
     if not rocks(alpha, mu):
-        return PHYSICS["sliding"]
+        return Physics.sliding
     use_v = uses_vertical(av_ms2, g_ms2=g_ms2, vertical_fraction=vertical_fraction)
-    return PHYSICS["rocking_vertical"] if use_v else PHYSICS["rocking"]
+    return Physics.rocking_vertical if use_v else Physics.rocking
 
 
 @dataclass(frozen=True)
@@ -168,10 +166,10 @@ class Scene:
         """1 overturns, 0 stands, -1 undetermined (free flight before any overturning)."""
         if self.overturned:
             return 1
-        return -1 if self.response == RESPONSE["free_flight"] else 0
+        return -1 if self.response == Response.free_flight else 0
 
 
-REST_SCENE = Scene(PHYSICS["none"], RESPONSE["rest"], False, 0.0, 0, math.nan, 0.0, 0.0, 0, False, 0)
+REST_SCENE = Scene(Physics.none, Response.rest, False, 0.0, 0, math.nan, 0.0, 0.0, 0, False, 0)
 
 
 def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
@@ -200,17 +198,17 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
     if physics is None:
         physics = plan(ah_ms2, av_ms2, alpha=alpha, mu=mu, g_ms2=g_ms2,
                        vertical_fraction=settings.vertical_fraction, ratio=ratio)
-    if physics == PHYSICS["none"]:
+    if physics == Physics.none:
         return REST_SCENE
     use_v = uses_vertical(av_ms2, g_ms2=g_ms2, vertical_fraction=settings.vertical_fraction)
-    if physics == PHYSICS["sliding"]:
+    if physics == Physics.sliding:
         res = slide(ah_ms2, dt_s, mu=mu, av_ms2=av_ms2 if use_v else None, g_ms2=g_ms2)
         if res.free_flight:
-            return Scene(physics, RESPONSE["free_flight"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
+            return Scene(physics, Response.free_flight, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                          1, False, -1, res.t_flight_s)
-        return Scene(physics, RESPONSE["slide"], False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
+        return Scene(physics, Response.slide, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                      0, False, -1)
-    av = av_ms2 if physics == PHYSICS["rocking_vertical"] else None
+    av = av_ms2 if physics == Physics.rocking_vertical else None
     rr = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
               history=history)
     return _rocking_scene(physics, rr, alpha=alpha, mu=mu, history=history)
@@ -221,13 +219,13 @@ def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, hi
     exceeded = res.friction_demand > mu
     flight = res.free_flight and not res.overturned
     if res.overturned:
-        response = RESPONSE["overturn"]
+        response = Response.overturn
     elif flight:
-        response = RESPONSE["free_flight"]
+        response = Response.free_flight
     elif exceeded:
-        response = RESPONSE["slide_rock"]
+        response = Response.slide_rock
     else:
-        response = RESPONSE["rock"]
+        response = Response.rock
     theta = res.theta / alpha if history and res.theta is not None else None
     return Scene(physics, response, res.overturned, res.theta_max, res.n_impacts, res.t_overturn,
                  res.friction_demand, math.nan, 1 if flight else (2 if res.liftoff else 0), res.chatter,

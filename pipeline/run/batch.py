@@ -38,8 +38,9 @@ from ..config import Config
 from ..errors import RockscreenError, TaskFailure
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
 from ..records.units import combined_declarations
-from ..rocking.planner import PHYSICS, RESPONSE
-from ..screening import ORIENTATION, Context, RecordResult, assemble, failed_result, failure_result, screen_record
+from ..rocking.orientation import Orientation
+from ..rocking.planner import Physics, Response
+from ..screening import Context, RecordResult, assemble, failed_result, failure_result, screen_record
 from ..store import PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
@@ -341,10 +342,10 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates],
         "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
-                              **{k: int(np.sum(phys == v)) for k, v in PHYSICS.items()}},
+                              **{m.name: int(np.sum(phys == m)) for m in Physics}},
         "fidelity": config.fidelity.tier,
-        "scenes_by_response": {k: int(np.sum(resp == v)) for k, v in RESPONSE.items()},
-        "scenes_by_orientation": {k: int(np.sum(ds["orientation"].values == v)) for k, v in ORIENTATION.items()},
+        "scenes_by_response": {m.name: int(np.sum(resp == m)) for m in Response},
+        "scenes_by_orientation": {m.name: int(np.sum(ds["orientation"].values == m)) for m in Orientation},
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
