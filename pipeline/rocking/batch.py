@@ -26,7 +26,8 @@ import math
 
 import numpy as np
 
-from .kernel import STATUS_FREE_FLIGHT, jit, rock, slide
+from .kernel import STATUS_FREE_FLIGHT, RockingBlock, RockingOutput, RockingState, jit, rock, slide
+from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 
 
 @jit
@@ -48,8 +49,8 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
 
 
 @jit
-def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, alpha_max, vertical_fraction,
-                    rtol, atol, rest_ratio, max_step_p, max_events, verdict_out, planes_out):
+def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, control,
+                    verdict_out, planes_out):
     """Verdicts of the samples of one scene.
 
     Parameters
@@ -64,11 +65,10 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         Projection weights of each sample's candidate planes: a = c h1 + s h2.
     eps, p, alpha, e, R, mu : ndarray, shape (n_samples,)
         Amplitude factor and block of each sample.
-    g, alpha_max, vertical_fraction : float
-        Gravity [m s-2], the slenderness limit of pure rocking [rad], and the planner's
-        vertical approximation (0: the vertical is always simulated).
-    rtol, atol, rest_ratio, max_step_p, max_events
-        The simulator's settings (:class:`~.settings.SimulationConfig`).
+    g, vertical_fraction : float
+        Gravity [m s-2] and the planner's vertical approximation (0: the vertical is always simulated).
+    control : StepControl
+        The simulator's step control (:func:`~.simulate.step_control`).
     verdict_out, planes_out : ndarray (int64)
         Filled with each sample's verdict (1, 0, -1) and planes integrated.
     """
@@ -80,12 +80,12 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
     av_s = np.empty(n if has_v else 0)
     none = np.zeros(0)
     ratios = np.empty(n_p)
-    theta_out = np.zeros(0)                  # no theta history, no impact log
-    impacts_out = np.zeros((0, 3))
+    no_output = RockingOutput(np.zeros(0), np.zeros((0, 3)))      # no theta history, no impact log
+    at_rest = RockingState(0.0, 0.0)
     for k in range(n_s):
         for i in range(av_s.size):
             av_s[i] = eps[k] * av[i]
-        thr = min(math.tan(alpha[k]), mu[k])
+        thr = motion_threshold_compiled(alpha[k], mu[k])
         verdict_out[k] = 0
         planes_out[k] = 0
         if n_p > 1:                          # the horizontal vector bounds every plane's demand
@@ -112,8 +112,8 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
             peak = 0.0
             for i in range(n):
                 peak = max(peak, abs(av_s[i]))
-            use_v = vertical_fraction <= 0.0 or peak > vertical_fraction * g or peak >= g
-        rocks = mu[k] > math.tan(alpha[k]) and alpha[k] < alpha_max
+            use_v = vertical_kept_compiled(peak, g, vertical_fraction)
+        rocks = rocks_compiled(alpha[k], mu[k])
         flight = False
         for jj in range(n_p):
             j = order[jj]
@@ -127,12 +127,12 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
                 if not math.isnan(res_s[4]):
                     flight = True
                 continue
-            res = rock(a, av_s if use_v else none, dt, t_end, p[k], alpha[k], e[k], g, R[k], False, rtol, atol,
-                       rest_ratio, max_step_p, max_events, 0.0, 0.0, True, theta_out, impacts_out)
-            if res[0]:
+            res = rock(a, av_s if use_v else none, dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False),
+                       control, at_rest, True, no_output)
+            if res.overturned:
                 verdict_out[k] = 1
                 break
-            if res[5] & STATUS_FREE_FLIGHT:
+            if res.status & STATUS_FREE_FLIGHT:
                 flight = True
         if verdict_out[k] == 0 and flight:
             verdict_out[k] = -1

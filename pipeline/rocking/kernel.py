@@ -38,6 +38,7 @@ embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1), 19-26.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -64,6 +65,22 @@ STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion l
 
 # modes
 REST, ROCK, OVERTURNED = 0, 1, 2
+
+# Step-size control of the Runge-Kutta pair (Hairer, Norsett & Wanner 1993, section II.4), named once
+SAFETY = 0.9                    # safety factor on the step the error estimate asks for
+ERROR_EXPONENT = -0.2           # -1 / (q + 1), q = 4 the order of the embedded error estimate
+MIN_FACTOR = 0.2                # after an accepted step the next is at least this fraction of it
+MAX_FACTOR = 5.0                # ... and at most this multiple of it
+MIN_FACTOR_REJECTED = 0.1       # a rejected step shrinks at most to this fraction
+MIN_STEP_S = 1e-14              # smallest step [s]: a step this small is accepted (STATUS_STEP_UNDERFLOW)
+FIRST_STEP_FRACTION = 0.1       # first step, as a fraction of min(largest step, dt)
+UPLIFT_STEP_FRACTION = 0.01     # first step after an uplift from rest, the same way
+MIN_STEP_AFTER_IMPACT_P = 1e-6  # smallest step kept across an impact, as a fraction of 1/p
+NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the step length
+NEWTON_TOL_ALPHA = 1e-13        # |theta| accepted as the impact, as a fraction of alpha
+SAMPLE_INDEX_TOL = 1e-9         # rounding allowance when t / dt falls on a sample [-]
+TAIL_TIME_TOL_S = 1e-9          # the record has ended within this of its last sample [s]
+HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step that ends within this of it [s]
 
 # Dormand & Prince (1980) RK5(4)7M coefficients
 C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
@@ -253,9 +270,147 @@ def _peak_from_energy(E, p2, alpha, linear):
     return alpha - math.acos(min(max(E / p2, -1.0), 1.0))
 
 
+class RockingBlock(NamedTuple):
+    """The block as the rocking kernel sees it (a numba namedtuple).
+
+    Attributes
+    ----------
+    p : float
+        Frequency parameter [rad s-1].
+    alpha : float
+        Slenderness [rad].
+    e : float
+        Restitution, the angular-velocity ratio across an impact [-].
+    g : float
+        Gravity [m s-2].
+    R : float
+        Corner distance [m].
+    linear : bool
+        Linearised equation of motion (cross-checks against closed forms).
+    """
+
+    p: float
+    alpha: float
+    e: float
+    g: float
+    R: float
+    linear: bool
+
+
+class StepControl(NamedTuple):
+    """The integration settings the kernel takes (from :class:`~.settings.SimulationConfig`).
+
+    Attributes
+    ----------
+    rtol, atol : float
+        Relative tolerance, and absolute tolerance as a fraction of alpha (theta) and p alpha (omega).
+    rest_ratio : float
+        A rebound below ``rest_ratio * p * alpha`` ends the impact cascade.
+    max_step_p : float
+        Largest step as a fraction of 1/p.
+    max_events : int
+        Cap on impacts plus uplifts (chatter guard).
+    """
+
+    rtol: float
+    atol: float
+    rest_ratio: float
+    max_step_p: float
+    max_events: int
+
+
+class RockingState(NamedTuple):
+    """Rotation [rad] and angular velocity [rad s-1] (both 0: at rest)."""
+
+    theta: float
+    omega: float
+
+
+class RockingOutput(NamedTuple):
+    """Arrays the kernel fills, empty to skip: theta at t = k dt, and (t, omega before, omega after) of the
+    first impacts (shape (m, 3))."""
+
+    theta: np.ndarray
+    impacts: np.ndarray
+
+
+class RockingOutcome(NamedTuple):
+    """What :func:`rock` returns.
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn : float
+        Time of overturning [s] (NaN when it stands).
+    theta_max : float
+        Largest |theta| [rad].
+    n_impacts, n_uplifts : int
+        Impacts, and uplifts from rest.
+    friction_max : float
+        Largest friction demand |f_x| / f_z while |theta| < alpha [-].
+    status : int
+        ``STATUS_*`` bits.
+    t_stop, theta_end, omega_end : float
+        Where the integration stopped [s], and the state there.
+    mode_end : int
+        ``REST``, ``ROCK`` or ``OVERTURNED`` there.
+    t_first_impact : float
+        Time of the first impact [s] (NaN without one).
+    """
+
+    overturned: bool
+    t_overturn: float
+    theta_max: float
+    n_impacts: int
+    friction_max: float
+    status: int
+    t_stop: float
+    theta_end: float
+    omega_end: float
+    mode_end: int
+    n_uplifts: int
+    t_first_impact: float
+
+
 @jit
-def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, max_step_p, max_events,
-         theta0, omega0, tail_energy, theta_out, impacts_out):
+def _fill_hermite(theta_out, out_k, dt, t_start, h, th0, om0, th1, om1, t_stop):
+    """theta at the samples k dt <= t_stop of a step from t_start of length h, from its cubic Hermite
+    interpolant (0 for a step of length 0); returns the next sample to fill."""
+    while out_k < theta_out.shape[0] and out_k * dt <= t_stop + HISTORY_TIME_TOL_S:
+        theta_out[out_k] = _hermite(th0, om0, th1, om1, h, (out_k * dt - t_start) / h) if h > 0 else 0.0
+        out_k += 1
+    return out_k
+
+
+@jit
+def _locate_impact(t, th, om, hh, x, t0, a0, sa, v0, sv, s, p2, alpha, g, linear):
+    """The impact inside an accepted step: Newton iterations on the step length, from the Hermite estimate
+    ``x`` (a fraction of ``hh``), so that theta(t + h*) = 0 on the Runge-Kutta solution itself.
+    Returns (h*, theta, omega) there."""
+    hs = x * hh
+    ths, oms = th, om
+    for _ in range(NEWTON_ITERATIONS):
+        ths, oms, _et, _eo, _acc = _dopri_step(t, th, om, hs, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
+        if oms == 0.0 or abs(ths) <= NEWTON_TOL_ALPHA * alpha:
+            break
+        hs = min(max(hs - ths / oms, 0.0), hh)
+    return hs, ths, oms
+
+
+@jit
+def _contact_demand(th1, om1, acc1, s, alpha, R, a_end, v_end, g):
+    """Friction and normal force per unit mass at the pivot of a rocking block (Zhang & Makris 2001,
+    eqs. 16-20): returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0, undefined)."""
+    phi = alpha * s - th1
+    fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
+    fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
+    if fz <= 0.0:
+        return 0.0, True
+    return abs(fx) / fz, False
+
+
+@jit
+def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     """Integrate rocking under a sampled ground motion.
 
     Parameters
@@ -267,48 +422,36 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
         Sampling interval [s].
     t_end : float
         End of the simulation [s] (>= the record's end to see it all).
-    p, alpha, e, g, R : float
-        Frequency parameter [rad s-1], slenderness [rad], restitution
-        (angular-velocity ratio) [-], gravity [m s-2], corner distance [m].
-    linear : bool
-        Linearised equation of motion (cross-checks against closed forms).
-    rtol, atol : float
-        Relative tolerance and absolute tolerance as a fraction of alpha
-        (theta) and p alpha (omega).
-    rest_ratio : float
-        Rebound below ``rest_ratio * p * alpha`` ends the impact cascade.
-    max_step_p : float
-        Largest step as a fraction of 1/p.
-    max_events : int
-        Cap on impacts plus uplifts (chatter guard).
-    theta0, omega0 : float
-        Initial state [rad], [rad s-1] (both 0: at rest).
+    block : RockingBlock
+        The block.
+    control : StepControl
+        Tolerances and step limits.
+    start : RockingState
+        Initial state (both 0: at rest).
     tail_energy : bool
         After the record, decide by :func:`free_outcome` instead of integrating.
-    theta_out : ndarray
-        Filled with theta at t = k dt for k < len (pass an empty array to skip).
-    impacts_out : ndarray, shape (m, 3)
-        Filled with (t, omega before, omega after) of the first m impacts.
+    out : RockingOutput
+        Arrays to fill (theta at the samples, the impact log); empty arrays skip them.
 
     Returns
     -------
-    tuple
-        (overturned, t_overturn, theta_max, n_impacts, friction_max, status,
-        t_stop, theta_end, omega_end, mode_end, n_uplifts, t_first_impact)
+    RockingOutcome
     """
+    p, alpha, e, g, R, linear = block.p, block.alpha, block.e, block.g, block.R, block.linear
+    theta_out, impacts_out = out.theta, out.impacts
     n = ah.shape[0]
     has_v = av.shape[0] == n
     p2 = p * p
     thr = alpha if linear else math.tan(alpha)
     t_rec = (n - 1) * dt
-    atol_t = atol * alpha
-    atol_o = atol * alpha * p
-    h_max = max_step_p / p
-    rest_omega = rest_ratio * p * alpha
+    atol_t = control.atol * alpha
+    atol_o = control.atol * alpha * p
+    h_max = control.max_step_p / p
+    rest_omega = control.rest_ratio * p * alpha
     n_out = theta_out.shape[0]
     m_out = impacts_out.shape[0]
 
-    th, om = theta0, omega0
+    th, om = start.theta, start.omega
     mode = REST
     s = 1.0
     if th != 0.0 or om != 0.0:
@@ -324,14 +467,14 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
     overturned = False
     t_over = math.nan
     t_first = math.nan
-    h = min(h_max, dt) * 0.1
+    h = min(h_max, dt) * FIRST_STEP_FRACTION
     out_k = 0
     if n_out > 0:
         theta_out[0] = th
         out_k = 1
 
     while t < t_end:
-        k = int(t / dt + 1e-9)
+        k = int(t / dt + SAMPLE_INDEX_TOL)
         t0 = k * dt
         t1 = min(t0 + dt, t_end)
         if t1 <= t:                       # rounding at a sample boundary
@@ -387,25 +530,25 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
                 mode = ROCK
                 n_up += 1
                 n_events += 1
-                h = min(h_max, dt) * 0.01
-            while out_k < n_out and out_k * dt <= t + 1e-12:
+                h = min(h_max, dt) * UPLIFT_STEP_FRACTION
+            while out_k < n_out and out_k * dt <= t + HISTORY_TIME_TOL_S:
                 theta_out[out_k] = 0.0
                 out_k += 1
             continue
 
         # rocking: one adaptive step inside the sample interval
         hh = min(h, h_max, t1 - t)
-        if hh <= 1e-14:
+        if hh <= MIN_STEP_S:
             hh = t1 - t
         th1, om1, et, eo, acc1 = _dopri_step(t, th, om, hh, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-        sc_t = atol_t + rtol * max(abs(th), abs(th1))
-        sc_o = atol_o + rtol * max(abs(om), abs(om1))
+        sc_t = atol_t + control.rtol * max(abs(th), abs(th1))
+        sc_o = atol_o + control.rtol * max(abs(om), abs(om1))
         err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
-        if err > 1.0 and hh > 1e-14:
-            h = hh * max(0.1, 0.9 * err ** -0.2)
-            if h < 1e-14:
+        if err > 1.0 and hh > MIN_STEP_S:
+            h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
+            if h < MIN_STEP_S:
                 status |= STATUS_STEP_UNDERFLOW
-                h = 1e-14
+                h = MIN_STEP_S
             continue
         if has_v and g + v0 + sv * (t + hh - t0) <= 0.0:
             # contact lost during the step (g + a_v <= 0): the contact model holds no further
@@ -421,21 +564,12 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
         elif s * om < 0.0 and s * om1 > 0.0:
             x = _first_crossing(th, om, th1, om1, hh, s)
         if x >= 0.0:
-            # impact: Newton on the step length so that theta(t + h*) = 0 on the RK solution
-            hs = x * hh
-            ths, oms = th, om
-            for _ in range(8):
-                ths, oms, _et, _eo, _acc = _dopri_step(t, th, om, hs, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-                if oms == 0.0 or abs(ths) <= 1e-13 * alpha:
-                    break
-                hs = min(max(hs - ths / oms, 0.0), hh)
+            hs, ths, oms = _locate_impact(t, th, om, hh, x, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
             theta_max = max(theta_max, abs(th), abs(ths))
             if s * om > 0.0 and s * oms < 0.0:
                 theta_max = max(theta_max, _hermite_peak(th, om, ths, oms, hs))
             t = t + hs
-            while out_k < n_out and out_k * dt <= t + 1e-12:
-                theta_out[out_k] = _hermite(th, om, ths, oms, hs, (out_k * dt - (t - hs)) / hs) if hs > 0 else 0.0
-                out_k += 1
+            out_k = _fill_hermite(theta_out, out_k, dt, t - hs, hs, th, om, ths, oms, t)
             om_after = e * oms                                   # Housner: omega ratio e, energy ratio e^2
             if n_imp < m_out:
                 impacts_out[n_imp, 0] = t
@@ -446,12 +580,12 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
             n_imp += 1
             n_events += 1
             th, om, s = 0.0, om_after, -s
-            if abs(om) < rest_omega or n_events >= max_events:
-                if n_events >= max_events:
+            if abs(om) < rest_omega or n_events >= control.max_events:
+                if n_events >= control.max_events:
                     status |= STATUS_CHATTER
                 om = 0.0
                 mode = REST
-            h = max(hh, 1e-6 / p)         # the new pivot's motion is smooth: keep the step size
+            h = max(hh, MIN_STEP_AFTER_IMPACT_P / p)    # the new pivot's motion is smooth: keep the step size
             continue
         if abs(th1) >= HALF_PI:
             frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), 1e-300)
@@ -464,26 +598,22 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
         if om * om1 < 0.0:
             theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
         theta_max = max(theta_max, abs(th1))
-        # friction and lift-off demand at the step end (Z&M eqs. 16-20), while the block can still
-        # come back (|theta| < alpha): past the saddle it falls whether or not the base slides
+        # friction and lift-off demand at the step end, while the block can still come back
+        # (|theta| < alpha): past the saddle it falls whether or not the base slides
         if abs(th1) < alpha:
-            phi = alpha * s - th1
-            a_end = a0 + sa * (t + hh - t0)
-            v_end = v0 + sv * (t + hh - t0)
-            fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
-            fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
-            if fz <= 0.0:
+            demand, lifted = _contact_demand(th1, om1, acc1, s, alpha, R, a0 + sa * (t + hh - t0),
+                                             v0 + sv * (t + hh - t0), g)
+            if lifted:
                 status |= STATUS_LIFTOFF
             else:
-                fric_max = max(fric_max, abs(fx) / fz)
-        while out_k < n_out and out_k * dt <= t + hh + 1e-12:
-            theta_out[out_k] = _hermite(th, om, th1, om1, hh, (out_k * dt - t) / hh)
-            out_k += 1
+                fric_max = max(fric_max, demand)
+        out_k = _fill_hermite(theta_out, out_k, dt, t, hh, th, om, th1, om1, t + hh)
         t = t + hh
         th, om = th1, om1
-        h = hh * min(5.0, max(0.2, 0.9 * err ** -0.2)) if err > 0 else hh * 5.0
+        h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
 
-    if not overturned and mode == ROCK and tail_energy and t >= t_rec - 1e-9 and not status & STATUS_FREE_FLIGHT:
+    if not overturned and mode == ROCK and tail_energy and t >= t_rec - TAIL_TIME_TOL_S \
+            and not status & STATUS_FREE_FLIGHT:
         over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
         theta_max = max(theta_max, peak)
         if over:
@@ -491,7 +621,7 @@ def rock(ah, av, dt, t_end, p, alpha, e, g, R, linear, rtol, atol, rest_ratio, m
             t_over = t
             mode = OVERTURNED
             n_imp += extra                 # the impact on the way, before the escaping swing
-    return (overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first)
+    return RockingOutcome(overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first)
 
 
 @jit

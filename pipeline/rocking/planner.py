@@ -45,7 +45,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
-from ..criteria import rocking_applicable
+from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
 from .simulate import RockResult, rock, slide
 
@@ -95,16 +95,6 @@ def demand_ratio(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, g_ms2: float 
     return float(np.max(ah / gv))
 
 
-def rocks(alpha: float, mu: float) -> bool:
-    """True when the block tips before it slides and the pure-rocking model applies."""
-    return mu > math.tan(alpha) and bool(rocking_applicable(alpha))
-
-
-def motion_threshold(alpha: float, mu: float) -> float:
-    """Demand ratio above which the block lifts or slips from rest: min(tan(alpha), mu) [-]."""
-    return min(math.tan(alpha), mu)
-
-
 def uses_vertical(av_ms2: np.ndarray | None, *, g_ms2: float, vertical_fraction: float) -> bool:
     """True when the simulation includes the vertical component.
 
@@ -116,8 +106,7 @@ def uses_vertical(av_ms2: np.ndarray | None, *, g_ms2: float, vertical_fraction:
         return False
     if vertical_fraction <= 0.0:            # the default: no pass over the samples
         return True
-    peak = float(np.max(np.abs(av_ms2)))
-    return peak > vertical_fraction * g_ms2 or peak >= g_ms2
+    return vertical_kept(float(np.max(np.abs(av_ms2))), g_ms2, vertical_fraction)
 
 
 def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: float, g_ms2: float = G,

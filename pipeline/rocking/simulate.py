@@ -194,15 +194,20 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     t_end = t_rec if t_end_s is None else float(t_end_s)
     theta_out = np.full(int(math.floor(t_end / dt_s + 1e-9)) + 1, np.nan) if history else kernel.empty_theta()
     impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
-    out = kernel.rock(ah, av, float(dt_s), t_end, float(p), float(alpha), float(e), float(g_ms2), float(R_m),
-                      bool(linear), settings.rtol, settings.atol, settings.rest_ratio, settings.max_step_p,
-                      int(settings.max_events), float(theta0), float(omega0), tail == "energy", theta_out,
-                      impacts_out)
-    overturned, t_over, theta_max, n_imp, fric, status, t_stop, th, om, mode, n_up, t_first = out
-    return RockResult(bool(overturned), float(t_over), float(theta_max) / alpha, int(n_imp), float(fric), int(status),
-                      float(t_stop), float(th), float(om), int(mode), int(n_up), float(t_first),
-                      theta_out if history else None,
-                      impacts_out[: min(log_impacts, int(n_imp))] if log_impacts else None)
+    o = kernel.rock(ah, av, float(dt_s), t_end,
+                    kernel.RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear)),
+                    step_control(settings), kernel.RockingState(float(theta0), float(omega0)), tail == "energy",
+                    kernel.RockingOutput(theta_out, impacts_out))
+    return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max) / alpha, int(o.n_impacts),
+                      float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
+                      int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
+                      impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None)
+
+
+def step_control(settings: SimulationConfig) -> kernel.StepControl:
+    """The kernel's step control from the simulator's settings."""
+    return kernel.StepControl(float(settings.rtol), float(settings.atol), float(settings.rest_ratio),
+                              float(settings.max_step_p), int(settings.max_events))
 
 
 def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> SlideResult:

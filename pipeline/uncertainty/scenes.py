@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
-from ..criteria import ALPHA_MAX_ROCKING
 from ..rocking.batch import sample_verdicts
 from ..rocking.settings import SimulationConfig
+from ..rocking.simulate import step_control
 from .robust import classify, final_class, wilson_interval
 from .sampling import sample_block
 from .settings import UncertaintyConfig
@@ -118,8 +118,7 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
         s = simulation
         sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                         np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                        float(g_ms2), ALPHA_MAX_ROCKING, float(s.vertical_fraction), s.rtol, s.atol, s.rest_ratio,
-                        s.max_step_p, int(s.max_events), verdicts[sl], planes[sl])
+                        float(g_ms2), float(s.vertical_fraction), step_control(s), verdicts[sl], planes[sl])
         done += len(rows)
         v = verdicts[:done]
         k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
