@@ -256,7 +256,7 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
 def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
     """Margin scans on each block's worst simulated scene (in its governing plane), for several steps, against
     the finest."""
-    params = inventory.scene_params(g_ms2=config.records.g_ms2)
+    rocking_blocks = inventory.rocking_blocks(g_ms2=config.records.g_ms2)
     theta = np.nan_to_num(ref["theta_max"], nan=-1.0)
     worst = np.argmax(np.where(ref["overturn_simulated"] == 1, np.inf, theta), axis=0)
     steps = (0.04, 0.02, 0.01, 0.005)
@@ -270,7 +270,7 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
             plane = ref["governing_azimuth"][i, j]
             plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
             out.append(overturn_scale_simulated(rec.along(plane), rec.vertical_ms2,
-                                                rec.dt_s, settings=settings, **params[j])[0])
+                                                rec.dt_s, settings=settings, block=rocking_blocks[j])[0])
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)
     finest = margins[min(steps)]
     rows = []

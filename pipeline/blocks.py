@@ -27,6 +27,7 @@ import numpy as np
 
 from .constants import G
 from .errors import BlockParameterError, InventoryError
+from .rocking.block import Block
 
 log = logging.getLogger(__name__)
 
@@ -162,16 +163,13 @@ class Inventory:
         """Angular-velocity restitution per block: the inventory's value, else Housner's."""
         return np.where(np.isnan(self.restitution), geom.e_housner, self.restitution)
 
-    def scene_params(self, *, g_ms2: float = G) -> list[dict]:
-        """Per block, the block's keyword arguments of the simulator (``simulate_scene``, ``rock``).
-
-        ``p`` [rad s-1], ``alpha`` [rad], ``e`` (effective restitution, clipped at 0 for blocks
-        too squat to rock), ``R_m`` [m], ``mu`` [-], ``g_ms2``.
-        """
+    def rocking_blocks(self, *, g_ms2: float = G) -> list[Block]:
+        """Every block as the simulator takes it (:class:`~pipeline.rocking.block.Block`): the effective
+        restitution is clipped at 0 for blocks too squat to rock."""
         geom = self.geometry(g_ms2=g_ms2)
         e = np.maximum(self.effective_restitution(geom), 0.0)
-        return [{"p": float(geom.p[j]), "alpha": float(geom.alpha[j]), "e": float(e[j]), "R_m": float(geom.R[j]),
-                 "mu": float(self.mu[j]), "g_ms2": g_ms2} for j in range(len(self))]
+        return [Block(float(geom.p[j]), float(geom.alpha[j]), float(e[j]), float(geom.R[j]), float(self.mu[j]),
+                      g_ms2) for j in range(len(self))]
 
     def take(self, indices) -> "Inventory":
         """The sub-inventory of the blocks at ``indices`` (in that order)."""

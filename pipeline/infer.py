@@ -142,13 +142,12 @@ def criterion_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
 
 def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config) -> tuple[np.ndarray, int]:
     """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs."""
-    params = inv.scene_params(g_ms2=config.records.g_ms2)
+    rocking_blocks = inv.rocking_blocks(g_ms2=config.records.g_ms2)
     felt = _felt(inv, azimuths)
     out = np.zeros((len(inv), azimuths.size, tp.size, ap.size), dtype=bool)
     runs = 0
     settings = config.simulation_settings()
     for j in range(len(inv)):
-        kw = dict(params[j], settings=settings)
         memo: dict[tuple, bool] = {}
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
@@ -158,7 +157,8 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
                     amp = float(a * felt[j, q])
                     key = (k, round(amp, 12))
                     if key not in memo:
-                        memo[key] = simulate_scene(amp * unit, None, dt, **kw).overturned
+                        memo[key] = simulate_scene(amp * unit, None, dt, block=rocking_blocks[j],
+                                                   settings=settings).overturned
                         runs += 1
                     out[j, q, k, m] = memo[key]
     return out, runs

@@ -46,6 +46,7 @@ import xarray as xr
 
 from .errors import RockscreenError, TaskFailure
 from .records.loader import RecordSource
+from .rocking.block import Block
 from .rocking.planner import rocks, simulate_scene
 from .schema import HISTORY_SERIES, apply_schema
 from .screening import Context
@@ -82,8 +83,7 @@ def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     return has & (sim | crit)
 
 
-def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: float, alpha: float, e: float,
-                             R_m: float, mu: float, g_ms2: float, settings,
+def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: Block, settings,
                              overturns_at_one: bool | None = None) -> tuple[float, int]:
     """Smallest factor on the record under which the block overturns (upward scan).
 
@@ -93,9 +93,8 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
         Horizontal acceleration along the block's direction and vertical (or None) [m s-2].
     dt_s : float
         Sampling interval [s].
-    p, alpha, e, R_m, mu : float
-        Block frequency parameter [rad s-1], slenderness [rad], restitution [-], corner distance [m],
-        friction [-].
+    block : Block
+        The block.
     settings : SimulationConfig
         ``margin_step`` and ``margin_max_factor``, and the integration settings.
     overturns_at_one : bool, optional
@@ -111,13 +110,13 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
     runs : int
         Scenes simulated.
     """
-    if not rocks(alpha, mu):
+    if not rocks(block.alpha, block.mu):
         return math.nan, 0
-    tan_a = math.tan(alpha)
+    tan_a = math.tan(block.alpha)
     lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
     if not np.any(lift > 0):
         return math.inf, 0
-    f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
+    f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
 
     def factors():
         """The scan: from the lifting factor up to 1 (exclusive), then 1 itself, then up to the limit."""
@@ -138,18 +137,15 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, p: floa
         else:
             runs += 1
             av = None if av_ms2 is None else factor * av_ms2
-            v = simulate_scene(factor * ah_ms2, av, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
-                               settings=settings).verdict
+            v = simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
         if v != 0:                      # overturns; or free flight: no verdict at or above this factor
             return (factor if v == 1 else math.nan), runs
     return math.inf, runs
 
 
-def theta_history(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
-                  g_ms2: float, settings) -> np.ndarray | None:
+def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:
     """theta(t) / alpha at every sample of the scene, or None where nothing rocks."""
-    sc = simulate_scene(ah_ms2, av_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, mu=mu, g_ms2=g_ms2,
-                        settings=settings, history=True)
+    sc = simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=True)
     return sc.theta_over_alpha
 
 
@@ -168,9 +164,8 @@ def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, set
     for k in range(n):
         eps = float(sb.amplitude[k])
         av = None if av_ms2 is None else eps * av_ms2
-        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, p=float(sb.p[k]), alpha=float(sb.alpha[k]),
-                                            e=float(sb.e[k]), R_m=float(sb.R_m[k]), mu=float(sb.mu[k]),
-                                            g_ms2=g_ms2, settings=settings)
+        block = Block(float(sb.p[k]), float(sb.alpha[k]), float(sb.e[k]), float(sb.R_m[k]), float(sb.mu[k]), g_ms2)
+        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, block=block, settings=settings)
         out[k], runs = scale * eps, runs + r
     return out, runs
 
@@ -189,16 +184,19 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
     except RockscreenError as exc:
         return TaskFailure.from_exception(exc)
     inv = ctx.inventory
-    params = inv.scene_params(g_ms2=cfg.records.g_ms2)
+    rocking_blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2)
+    settings = cfg.simulation_settings()
     index = {b: k for k, b in enumerate(inv.ids)}
     out = {}
     for block_id, direction, overturned, want_history in blocks:
         ah = rec.along(float(direction))
-        kw = dict(params[index[block_id]], settings=cfg.simulation_settings())
-        scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, overturns_at_one=overturned, **kw)
-        history = theta_history(ah, rec.vertical_ms2, rec.dt_s, **kw) if want_history else None
+        block = rocking_blocks[index[block_id]]
+        scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings,
+                                               overturns_at_one=overturned)
+        history = theta_history(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings) \
+            if want_history else None
         sampled, more = sampled_margins(ah, rec.vertical_ms2, rec.dt_s, j=index[block_id], inv=inv,
-                                        settings=kw["settings"], unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
+                                        settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
         out[block_id] = (scale, runs + more, history, rec.dt_s, sampled)
     return out
 

@@ -28,6 +28,7 @@ from .errors import PulseError, RockscreenError, TaskFailure
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
+from .rocking.block import Block
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 from .uncertainty.sampling import common_normals
@@ -244,16 +245,16 @@ def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, gr
 
 
 def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
-                       scan: bool = True, params: list[dict] | None = None) -> dict:
+                       scan: bool = True, blocks: list[Block] | None = None) -> dict:
     """Plan and simulate the blocks in ``mask`` (default all) against one record, each in its worst plane.
 
     ``scan=False`` simulates every block in ``directions`` only (the pulse axis for a blank
-    azimuth): what ``screen bench`` compares the orientation scan with. ``params``: the
-    inventory's :meth:`~pipeline.blocks.Inventory.scene_params`, when the caller simulates the
+    azimuth): what ``screen bench`` compares the orientation scan with. ``blocks``: the
+    inventory's :meth:`~pipeline.blocks.Inventory.rocking_blocks`, when the caller simulates the
     same inventory many times (``screen fragility``).
     """
     inv, cfg = ctx.inventory, ctx.config
-    params = inv.scene_params(g_ms2=cfg.records.g_ms2) if params is None else params
+    blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2) if blocks is None else blocks
     nb = len(inv)
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS + PROBABILITY_VARS}
     unc = cfg.uncertainty
@@ -270,7 +271,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
             azimuths = azimuths[:1]
         scanned = code in (Orientation.scanned, Orientation.scanned_relative)
         res = worst_plane(planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
-                          refine_deg=refine, **params[j])
+                          refine_deg=refine, block=blocks[j])
         sc = res.scene
         row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": sc.verdict,
                "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,

@@ -15,6 +15,7 @@ from pipeline.constants import G
 from pipeline.criteria import critical_acceleration
 from pipeline.errors import InventoryError
 from pipeline.infer import infer, read_observations, summarize
+from pipeline.rocking.block import Block
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import simulate_scene
 
@@ -41,8 +42,9 @@ def _simulated_outcomes(inv, ap, tp, settings):
     """Which blocks a finely sampled half-sine (1000 samples per period) topples."""
     unit, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=2 * tp, samples_per_period=1000)
     geo = inv.geometry()
-    return [simulate_scene(ap * unit, None, dt, p=float(geo.p[j]), alpha=float(geo.alpha[j]),
-                           e=float(geo.e_housner[j]), R_m=float(geo.R[j]), mu=float(inv.mu[j]), g_ms2=G,
+    return [simulate_scene(ap * unit, None, dt, block=Block(float(geo.p[j]), float(geo.alpha[j]),
+                                                            float(geo.e_housner[j]), float(geo.R[j]),
+                                                            float(inv.mu[j]), G),
                            settings=settings).overturned for j in range(len(inv))]
 
 

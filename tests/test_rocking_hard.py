@@ -17,6 +17,7 @@ from pipeline.closed_forms import housner_rectangle_duration
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking import kernel
+from pipeline.rocking.block import Block
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import simulate_scene
 from pipeline.rocking.reference import rock_reference
@@ -125,10 +126,10 @@ def test_convergence_on_the_bundled_records(real_records, blocks_csv):
         for j in range(len(inv)):
             kw = dict(p=float(geo.p[j]), alpha=float(geo.alpha[j]), e=max(float(geo.e_housner[j]), 0.0),
                       R_m=float(geo.R[j]), mu=float(inv.mu[j]))
-            a = simulate_scene(rec.horizontal_ms2[0], rec.vertical_ms2, rec.dt_s, settings=cfg, **kw)
+            a = simulate_scene(rec.horizontal_ms2[0], rec.vertical_ms2, rec.dt_s, settings=cfg, block=Block(**kw))
             if a.physics < 2:
                 continue
-            b = simulate_scene(rec.horizontal_ms2[0], rec.vertical_ms2, rec.dt_s, settings=tight, **kw)
+            b = simulate_scene(rec.horizontal_ms2[0], rec.vertical_ms2, rec.dt_s, settings=tight, block=Block(**kw))
             n += 1
             assert a.overturned == b.overturned, (rec.record_id, inv.ids[j])
             if not a.overturned:

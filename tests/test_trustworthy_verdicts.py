@@ -13,6 +13,7 @@ from pipeline.blocks import read_inventory
 from pipeline.constants import G
 from pipeline.margins import overturn_scale_simulated
 from pipeline.records.loader import read_declared_units, scan
+from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
 from pipeline.rocking.reference import rock_reference
@@ -112,10 +113,10 @@ def test_worst_plane_of_a_synthetic_oblique_pulse():
     h = np.vstack([pulse * math.cos(az), pulse * math.sin(az)])       # N and E components
     planes = Planes(h, 0.0, None)
     assert planes.vector_ratio() == pytest.approx(np.max(np.abs(pulse)) / G)
-    res = worst_plane(planes, [90.0, *plane_grid(5.0)], dt, mu=0.7, **blk)
+    res = worst_plane(planes, [90.0, *plane_grid(5.0)], dt, block=Block(mu=0.7, **blk))
     assert res.scene.overturned and abs(res.azimuth_deg - 30.0) <= 25.0
     # the plane at 120 deg sees nothing: a block given that plane is proven at rest without integration
-    at_rest = worst_plane(planes, [120.0], dt, mu=0.7, **blk)
+    at_rest = worst_plane(planes, [120.0], dt, block=Block(mu=0.7, **blk))
     assert at_rest.planes_simulated == 0 and at_rest.scene.physics == Physics.none
 
 
@@ -132,7 +133,7 @@ def test_a_small_vertical_under_a_plateau_is_never_planned_away(height_m):
     # no fraction of g decides that the scene stays still, not even the approximation's
     for fraction in (0.0, 0.05):
         assert plan(ah, av, alpha=blk["alpha"], mu=0.6, vertical_fraction=fraction) != Physics.none
-    sc = simulate_scene(ah, av, dt, mu=0.6, **blk)
+    sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk))
     ref = rock_reference(ah, dt, av=av, **{k: v for k, v in blk.items() if k != "R_m"})   # solve_ivp, independent
     assert sc.physics == Physics.rocking_vertical
     assert sc.overturned and ref["overturned"]
@@ -149,13 +150,13 @@ def test_free_flight_is_not_a_verdict():
     av = 1.2 * G * np.sin(2 * math.pi * 5 * t)
     ah = 0.01 * G * np.sin(2 * math.pi * 5 * t + 0.3)
     t_flight = (math.pi + math.asin(1 / 1.2)) / (2 * math.pi * 5)
-    sc = simulate_scene(ah, av, dt, mu=0.6, **blk)
+    sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk))
     assert sc.response == Response.free_flight and sc.verdict == -1 and not sc.overturned
     assert sc.free_flight == 1
     assert sc.t_flight == pytest.approx(t_flight, abs=dt / 10)     # the sine against its linear interpolant
     # a block that slides (mu < tan alpha) under the same vertical and no horizontal at all: no slip,
     # and no slide verdict either
-    sc = simulate_scene(np.zeros_like(t), av, dt, mu=0.03, **blk)
+    sc = simulate_scene(np.zeros_like(t), av, dt, block=Block(mu=0.03, **blk))
     assert sc.response == Response.free_flight and sc.sliding_max_m == 0.0
     # the Coulomb kernel with zero horizontal input never slips (it used to, with friction of the wrong sign)
     for scale in (0.9, 1.2):
@@ -168,7 +169,7 @@ def test_a_block_overturned_before_the_flight_keeps_its_verdict():
     t = np.arange(0, 6, dt)
     ah = np.where(t < 2.0, 4.0 * G * math.tan(blk["alpha"]) * np.sin(2 * math.pi * 0.5 * t), 0.0)
     av = np.where(t > 4.0, -1.5 * G * np.sin(math.pi * (t - 4.0)) ** 2, 0.0)
-    sc = simulate_scene(ah, av, dt, mu=0.7, **blk)
+    sc = simulate_scene(ah, av, dt, block=Block(mu=0.7, **blk))
     assert sc.overturned and sc.t_overturn < 4.0 and sc.verdict == 1
 
 
@@ -185,10 +186,10 @@ def test_a_standing_scene_can_have_a_margin_below_one():
     from pipeline.config import SimulationConfig
 
     settings = SimulationConfig(margin_step=0.002)
-    assert simulate_scene(ah, None, dt, settings=settings, **kw).verdict == 0
-    scale, runs = overturn_scale_simulated(ah, None, dt, settings=settings, **kw)
+    assert simulate_scene(ah, None, dt, settings=settings, block=Block(**kw)).verdict == 0
+    scale, runs = overturn_scale_simulated(ah, None, dt, settings=settings, block=Block(**kw))
     assert scale < 1.0 and runs > 1
-    assert simulate_scene(scale * ah, None, dt, settings=settings, **kw).overturned
+    assert simulate_scene(scale * ah, None, dt, settings=settings, block=Block(**kw)).overturned
 
 
 @pytest.mark.parametrize("width_ratio", [1e-4, 0.01, 1.40, 1.4142])
@@ -200,7 +201,7 @@ def test_extreme_slenderness_stays_finite(width_ratio, records_dir, config):
     blk = _block(1.0, width_ratio)
     blk["e"] = max(blk["e"], 0.0)
     res = worst_plane(Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2), [0.0], rec.dt_s,
-                      mu=0.6, **blk)
+                      block=Block(mu=0.6, **blk))
     assert np.isfinite(res.scene.theta_max) and res.scene.response in set(Response)
 
 

@@ -18,6 +18,7 @@ from scipy.stats import norm
 from pipeline.blocks import geometry
 from pipeline.config import Config, config_from_dict
 from pipeline.errors import ConfigError
+from pipeline.rocking.block import Block
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.reference import rock_reference
@@ -136,8 +137,8 @@ def test_unit_factors_reproduce_the_nominal_orientation_scan(records_dir, config
         grid = [0.0, *plane_grid(5.0).tolist()]
         for height, width in ((1.1, 0.2), (2.0, 0.5), (3.0, 0.3)):
             geo = geometry(height, width, g_ms2=G)
-            nominal = worst_plane(planes, grid, rec.dt_s, p=float(geo.p), alpha=float(geo.alpha),
-                                  e=float(geo.e_housner), R_m=float(geo.R), mu=0.7, g_ms2=G)
+            nominal = worst_plane(planes, grid, rec.dt_s, block=Block(float(geo.p), float(geo.alpha),
+                                                                     float(geo.e_housner), float(geo.R), 0.7, G))
             m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s, planes_deg=grid)
             prob = scene_probability(m, common_normals(1, 5), height_m=height, width_m=width, mu=0.7,
                                      restitution=math.nan, azimuth_deg=math.nan, settings=zero, g_ms2=G)

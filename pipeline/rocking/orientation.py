@@ -40,6 +40,7 @@ import numpy as np
 
 from ..constants import G
 from ..records.record import project
+from .block import Block
 from .planner import REST_SCENE, Response, Scene, demand_ratio, motion_threshold, simulate_scene
 from .settings import SimulationConfig
 from .simulate import FiniteSeries, finite_series
@@ -144,9 +145,9 @@ def _worse(a: Scene, b: Scene) -> bool:
     return rank(a) > rank(b)
 
 
-def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: float, e: float, R_m: float,
-                mu: float, g_ms2: float = G, settings: SimulationConfig = SimulationConfig(),
-                refine_span_deg: float = 0.0, refine_deg: float = 0.0) -> PlaneResult:
+def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
+                settings: SimulationConfig = SimulationConfig(), refine_span_deg: float = 0.0,
+                refine_deg: float = 0.0) -> PlaneResult:
     """Simulate a block in each plane of ``azimuths_deg`` that moves and return the worst.
 
     Parameters
@@ -157,8 +158,8 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
         Planes to test [deg]; the first is reported when the block rests in every plane.
     dt_s : float
         Sampling interval [s].
-    p, alpha, e, R_m, mu, g_ms2 : float
-        The block (:meth:`pipeline.blocks.Inventory.scene_params`).
+    block : Block
+        The block (:meth:`pipeline.blocks.Inventory.rocking_blocks`).
     settings : SimulationConfig
         Integration settings.
     refine_span_deg, refine_deg : float
@@ -167,7 +168,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
     """
     keys = tuple(dict.fromkeys(Planes.key(a) for a in azimuths_deg))
     first = keys[0]
-    thr = motion_threshold(alpha, mu)
+    thr = motion_threshold(block.alpha, block.mu)
     if len(keys) > 1 and not planes.vector_ratio() > thr:
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
     state = PlaneResult(REST_SCENE, first, 0)
@@ -178,8 +179,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, p: float, alpha: f
         ordered, ratios = planes.by_demand(candidates)
         moving = int(np.count_nonzero(ratios > thr))        # sorted by decreasing ratio: a prefix moves
         for k, ratio in zip(ordered[:moving], ratios[:moving].tolist()):
-            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, p=p, alpha=alpha,
-                                e=e, R_m=R_m, mu=mu, g_ms2=g_ms2, settings=settings)
+            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, block=block, settings=settings)
             n = state.planes_simulated + 1
             state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
                 PlaneResult(state.scene, state.azimuth_deg, n)

@@ -45,6 +45,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
+from .block import Block
 from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
 from .simulate import RockResult, rock, slide
@@ -161,8 +162,7 @@ class Scene:
 REST_SCENE = Scene(Physics.none, Response.rest, False, 0.0, 0, math.nan, 0.0, 0.0, 0, False, 0)
 
 
-def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, mu: float,
-                   g_ms2: float = G, settings: SimulationConfig = SimulationConfig(),
+def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: SimulationConfig = SimulationConfig(),
                    physics: int | None = None, ratio: float | None = None, history: bool = False) -> Scene:
     """Plan and run one scene.
 
@@ -174,9 +174,10 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
         Vertical ground acceleration, up positive [m s-2].
     dt_s : float
         Sampling interval [s].
-    p, alpha, e, R_m, mu : float
-        Block frequency parameter [rad s-1], slenderness [rad], restitution [-],
-        corner distance [m], friction [-].
+    block : Block
+        The block.
+    settings : SimulationConfig
+        Integration settings.
     physics : int, optional
         Force a physics code instead of planning (benchmarks, reference runs).
     ratio : float, optional
@@ -184,6 +185,7 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, p: float, alpha: float, e: fl
     history : bool
         Keep theta(t)/alpha at every sample (rocking scenes).
     """
+    p, alpha, e, R_m, mu, g_ms2 = block
     if physics is None:
         physics = plan(ah_ms2, av_ms2, alpha=alpha, mu=mu, g_ms2=g_ms2,
                        vertical_fraction=settings.vertical_fraction, ratio=ratio)

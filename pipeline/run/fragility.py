@@ -109,12 +109,12 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
     prob = np.full((len(levels), nb), np.nan)
     simulate = base.config.fidelity.tier != "criterion"
     geo = base.inventory.geometry(g_ms2=g)
-    params = base.inventory.scene_params(g_ms2=g)            # once: Sa gives every block its own factor
+    rocking_blocks = base.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
     for j in range(len(levels)):
         for f in np.unique(factors[j][np.isfinite(factors[j])]):
             sel = factors[j] == f
             if simulate:
-                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel, params=params)
+                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel, blocks=rocking_blocks)
                 verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
                 prob[j, sel] = sim["p_overturn"][sel]
             else:
