@@ -21,6 +21,7 @@ from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
 from ._text import check_samples, parse_free_floats, peek_lines, read_lines, source_name
+from .common import COMMON, common_fields
 
 _NEW_HEADER = re.compile(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([-+\d.Ee]+)", re.I)
 _OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+\d.Ee]+)\s+NPTS\s*,\s*DT", re.I)
@@ -116,6 +117,7 @@ def _read_at2(filename, headonly: bool = False, **kwargs) -> Stream:
         "starttime": UTCDateTime(0),
         "npts": npts,
         "at2": header,
+        COMMON: common_fields(time_known=False, recording=header.station_line.lower()),
         "physical_units": units,
         "processing_level": "corrected",
     }

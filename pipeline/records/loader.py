@@ -29,6 +29,7 @@ import obspy
 
 from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UndeclaredUnitsError, UnitsError
+from .common import COMMON, annotate
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
@@ -41,8 +42,6 @@ log = logging.getLogger(__name__)
 #: Files in a records directory that are metadata, not records.
 SIDE_FILES = {"units.toml"}
 SIDE_SUFFIXES = {".xml"}
-#: Formats whose start time is not stored in the file.
-TIMELESS_FORMATS = {"PEER_AT2", "NF_ASCII"}
 
 
 @dataclass(frozen=True)
@@ -182,6 +181,8 @@ def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obsp
         for w in caught:
             if "end of file" in str(w.message).lower():
                 raise RecordFormatError(f"{path}: truncated ({w.message}); re-download the file")
+        for tr in st:
+            annotate(tr)
         return st
     except RockscreenError:
         raise
@@ -197,13 +198,13 @@ def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obsp
 
 
 def _group_key(tr, path: Path) -> tuple:
-    fmt = tr.stats._format
-    if fmt == "PEER_AT2":
-        return ("AT2", str(path.parent), tr.stats.at2.station_line.lower())
+    info = tr.stats[COMMON]
+    if info.recording:
+        return ("HEADER", str(path.parent), info.recording)
     cha = tr.stats.channel
     knet_like = re.fullmatch(r"(NS|EW|UD)([12]?)", cha)
     seed_like = not knet_like and len(cha) == 3 and cha[:2].isalpha()
-    if fmt in TIMELESS_FORMATS or not (seed_like or knet_like):
+    if info.standalone or not (seed_like or knet_like):
         return ("FILE", str(path))
     band = cha[:2] if seed_like or knet_like is None else knet_like.group(2)
     return ("SEED", tr.stats.network, tr.stats.station, tr.stats.location, band)
@@ -348,8 +349,7 @@ def _align(traces, *, max_mismatch: int, notes: list[str]) -> None:
             f"components have different sampling intervals ({detail}); resample them to one "
             "interval before screening"
         )
-    timed = all(t.stats._format not in TIMELESS_FORMATS and t.stats.get(
-        t.stats._format.lower(), {}).get("time_known", True) for t in traces)
+    timed = all(t.stats[COMMON].time_known for t in traces)
     lengths = [t.stats.npts for t in traces]
     if timed and len(traces) > 1:
         start = max(t.stats.starttime for t in traces)

@@ -18,6 +18,7 @@ from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
 from ._text import check_samples, parse_free_floats, peek_lines, read_lines, source_name
+from .common import COMMON, common_fields
 
 _LINE2 = re.compile(r"^%\s*(\d+)\s+([-+\d.Ee]+)")
 
@@ -46,7 +47,8 @@ def _read_nfascii(filename, headonly: bool = False, **kwargs) -> Stream:
     header = AttribDict(description=lines[0][1:].strip(), time_known=False, component=component)
     stats = {"network": "", "station": tokens[0][:16] if tokens else "", "location": "",
              "channel": component, "delta": dt, "starttime": UTCDateTime(0), "npts": npts,
-             "nfascii": header, "physical_units": None, "processing_level": "corrected"}
+             "nfascii": header, COMMON: common_fields(time_known=False, standalone=True),
+             "physical_units": None, "processing_level": "corrected"}
     if headonly:
         return Stream([Trace(header=stats)])
     data = parse_free_floats(lines[2:], name=name, first_line_no=3)

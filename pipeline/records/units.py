@@ -28,6 +28,7 @@ import numpy as np
 
 from ..constants import CM_TO_M
 from ..errors import UndeclaredUnitsError, UnitsError
+from .common import COMMON
 
 #: Factors to m s-2 for units that do not depend on the configured g.
 FACTORS_TO_MS2 = {"m/s**2": 1.0, "cm/s**2": CM_TO_M, "gal": CM_TO_M, "mm/s**2": 1e-3}
@@ -44,7 +45,6 @@ SUGGESTION_ORDER = ("g", "cm/s**2", "m/s**2")
 PLAUSIBLE_PGA_G = (1e-4, 5.0)
 #: The table of ``units.toml`` that holds the declarations.
 UNITS_TABLE = "[files]"
-SAC_IDEP = {5: "IUNKN (unknown)", 6: "IDISP (nm)", 7: "IVEL (nm/s)", 8: "IACC (nm/s**2)", 50: "IVOLTS"}
 
 
 def canonical_units(text: str, *, where: str) -> str:
@@ -145,6 +145,7 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
     """
     stats = trace.stats
     fmt = getattr(stats, "_format", "?")
+    info = stats[COMMON]
     stated = stats.get("physical_units")
     if stated == "counts":
         stated = None
@@ -161,17 +162,15 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
         factor = factor_to_ms2(declared, g_ms2=g_ms2)
         trace.data = np.asarray(trace.data, dtype=float) * factor
         return f"units: {declared} (declared in units.toml) x {factor:g} -> m/s**2"
-    if fmt == "KNET":
+    if info.calib_to_ms2:
         if not stats.calib or stats.calib == 1.0:
             raise UnitsError(f"{path}: K-NET file without a Scale Factor; cannot convert counts")
         trace.data = np.asarray(trace.data, dtype=float) * stats.calib
         return f"units: counts x calib {stats.calib:.6e} (Scale Factor, gal->m/s**2) -> m/s**2"
     if inventory is not None and describes(inventory, trace):
         return _remove_response(trace, path=path, inventory=inventory)
-    if fmt == "SAC":
-        idep = int(stats.sac.get("idep", 5)) if "sac" in stats else 5
-        why = (f"SAC header idep={SAC_IDEP.get(idep, idep)} does not reliably give the units (producers write "
-               "IACC for data in g or cm/s**2);")
+    if info.units_unstated:
+        why = info.units_unstated
     else:
         why = (f"the units of this {fmt} file cannot be determined (raw counts with no StationXML response, or "
                "units not stated); put the StationXML file in the records directory or pass --inventory, or")
