@@ -44,9 +44,9 @@ PLAUSIBLE_HEIGHT_M = 30.0
 #: Friction coefficients above this are accepted but warned about: above the static friction measured for
 #: stone, wood, steel or concrete contacts (about 0.3-1.0) [-].
 PLAUSIBLE_MU = 1.5
-#: Slenderness beyond which a rectangular block cannot rock: Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0
-#: at alpha = asin(sqrt(2/3)) = 54.7 deg [rad]; such a block slides or stands.
-ROCKING_LIMIT_ALPHA = math.asin(math.sqrt(2.0 / 3.0))
+#: Slenderness at which Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0 [rad] (54.7 deg): a block at or
+#: beyond it cannot rock, only slide or stand.
+ALPHA_MAX_ROCKING = math.asin(math.sqrt(2.0 / 3.0))
 #: Aspect ratios height/width above this are warned about (alpha below 1.4 deg): more slender than the
 #: objects screened (a needle, or a width typed in the wrong unit) [-].
 PLAUSIBLE_ASPECT = 40.0
@@ -283,9 +283,9 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
         out.append(f"{where} ({block_id}): mu {mu:g} is above {PLAUSIBLE_MU:g}, more than the static friction "
                    "measured for stone, wood, steel or concrete (about 0.3-1.0)")
     alpha = math.atan2(width_m / 2.0, height_m / 2.0)
-    if alpha > ROCKING_LIMIT_ALPHA:
+    if alpha > ALPHA_MAX_ROCKING:
         out.append(f"{where} ({block_id}): width_m/height_m {width_m / height_m:.3g} gives slenderness "
-                   f"{math.degrees(alpha):.1f} deg, above {math.degrees(ROCKING_LIMIT_ALPHA):.1f} deg: it cannot "
+                   f"{math.degrees(alpha):.1f} deg, above {math.degrees(ALPHA_MAX_ROCKING):.1f} deg: it cannot "
                    "rock, only slide or stand, and is screened for sliding (if height and width are swapped, fix "
                    "the row)")
     elif height_m / width_m > PLAUSIBLE_ASPECT:

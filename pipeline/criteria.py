@@ -32,12 +32,11 @@ Shenton, H. W. (1996). J. Eng. Mech. 122(7), 690-693.
 
 from __future__ import annotations
 
-import math
 from enum import IntEnum
 
 import numpy as np
 
-from .blocks import check_friction
+from .blocks import ALPHA_MAX_ROCKING, check_friction
 from .closed_forms import makris_roussos_halfsine
 from .constants import G
 from .errors import ParameterError
@@ -45,8 +44,6 @@ from .errors import ParameterError
 #: Forms of Eqs. 1 and 4: "exact" (g tan(alpha), exact critical velocity) or "small_angle".
 FORMS = ("exact", "small_angle")
 
-#: Slenderness at which Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0 [rad] (54.7 deg).
-ALPHA_MAX_ROCKING = math.asin(math.sqrt(2.0 / 3.0))
 
 #: Onset modes (flag values of ``onset``).
 class Onset(IntEnum):

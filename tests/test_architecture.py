@@ -18,7 +18,9 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.screening", "pipeline.c
                                      "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
                                      "pipeline.rocking.batch", "pipeline.records.intensity",
                                      "pipeline.uncertainty.scenes", "pipeline.uncertainty.fragility",
-                                     "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling"])
+                                     "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling",
+                                     "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates",
+                                     "pipeline.records.common"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"

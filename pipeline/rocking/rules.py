@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..criteria import ALPHA_MAX_ROCKING
+from ..blocks import ALPHA_MAX_ROCKING
 from .kernel import jit
 
 
@@ -27,7 +27,7 @@ def motion_threshold(alpha: float, mu: float) -> float:
 
 def rocks(alpha: float, mu: float) -> bool:
     """True when the block tips before it slides (mu > tan alpha) and pure rocking applies (alpha below
-    :data:`~pipeline.criteria.ALPHA_MAX_ROCKING`)."""
+    :data:`~pipeline.blocks.ALPHA_MAX_ROCKING`)."""
     return mu > math.tan(alpha) and alpha < ALPHA_MAX_ROCKING
 
 
