@@ -8,10 +8,12 @@ with the same kernels and the same decisions, but without Python between samples
 2. the exact at-rest certificate: where the demand ratio max |a| / (g + a_v) of every
    candidate plane stays at or below min(tan alpha, mu), the sample rests (no integration);
    for several planes the horizontal vector's peak bounds every plane's demand first;
-3. the planes that move, strongest demand first: Coulomb sliding where mu <= tan alpha (or
-   the sampled block is too squat to rock), else rocking (with the vertical unless the
+3. a sampled block that cannot rock (mu <= tan alpha, or too squat) cannot overturn: it is not
+   integrated, and its verdict is free flight where a plane moves it and the ground's g + a_v reaches 0
+   at some sample (exactly what the Coulomb integration of that plane would find), else 0;
+4. otherwise the planes that move, strongest demand first, by rocking (with the vertical unless the
    ``vertical_fraction`` approximation drops it); the first plane that overturns decides;
-4. verdict 1 (overturns in some plane), -1 (free flight in some plane and no overturn:
+5. verdict 1 (overturns in some plane), -1 (free flight in some plane and no overturn:
    undetermined), else 0.
 
 The orientation refinement of the nominal scan (1-degree planes around the worst standing
@@ -26,7 +28,7 @@ import math
 
 import numpy as np
 
-from .kernel import STATUS_FREE_FLIGHT, RockingBlock, RockingOutput, RockingState, jit, rock, slide
+from .kernel import STATUS_FREE_FLIGHT, RockingBlock, RockingOutput, RockingState, jit, rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 
 
@@ -114,6 +116,16 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
                 peak = max(peak, abs(av_s[i]))
             use_v = vertical_kept_compiled(peak, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
+        if not rocks:
+            # a sample that cannot rock cannot overturn: nothing is integrated. Its verdict is what the Coulomb
+            # integration of every moving plane would give: free flight (-1) when a plane moves it and the
+            # ground's g + a_v reaches 0 at some sample (where that integration stops), else 0
+            if ratios[order[0]] > thr and use_v:
+                for i in range(n):
+                    if g + av_s[i] <= 0.0:
+                        verdict_out[k] = -1
+                        break
+            continue
         flight = False
         for jj in range(n_p):
             j = order[jj]
@@ -122,11 +134,6 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
             for i in range(n):
                 a[i] = eps[k] * (cosines[k, j] * h1[i] + sines[k, j] * h2[i])
             planes_out[k] += 1
-            if not rocks:
-                res_s = slide(a, av_s if use_v else none, dt, mu[k], g)
-                if not math.isnan(res_s[4]):
-                    flight = True
-                continue
             res = rock(a, av_s if use_v else none, dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False),
                        control, at_rest, True, no_output)
             if res.overturned:
