@@ -109,6 +109,9 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
     azimuth = np.full((len(scenes), nb), np.nan)
     prob = np.full((len(scenes), nb), np.nan)
     robust = np.full((len(scenes), nb), np.nan)
+    flight = np.zeros((len(scenes), nb))
+    exceeded = np.zeros((len(scenes), nb))
+    sampled = np.zeros((len(scenes), nb))
     t = 0.0
     for i, s in enumerate(scenes):
         t0 = time.perf_counter()
@@ -121,8 +124,12 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
         azimuth[i] = sim["governing_azimuth"]
         prob[i] = sim["p_overturn"]
         robust[i] = sim["robustness"]
+        flight[i] = np.nan_to_num(sim["free_flight"])
+        exceeded[i] = np.nan_to_num(sim["friction_exceeded"])
+        sampled[i] = np.nan_to_num(sim["sample_simulations"])
     return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes,
-            "governing_azimuth": azimuth, "p_overturn": prob, "robustness": robust}, t
+            "governing_azimuth": azimuth, "p_overturn": prob, "robustness": robust, "free_flight": flight,
+            "friction_exceeded": exceeded, "sample_simulations": sampled}, t
 
 
 def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_pulse: np.ndarray) -> dict:
@@ -143,8 +150,10 @@ def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_p
 
 
 def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path,
-              settings_sweep: bool = True) -> list[dict]:
+              settings_sweep: bool = True, progress=None) -> list[dict]:
     """Run every tier (and the settings sweep) and write bench.csv, bench.md and bench.png.
+
+    ``progress``, when given, is called with a line before each measurement (each takes seconds to minutes).
 
     Returns
     -------
@@ -153,16 +162,26 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     """
     records_dir, out_dir = Path(records_dir), Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    t_start = time.perf_counter()
+
+    def say(what: str) -> None:
+        if progress is not None:
+            progress(f"bench: {what} ({time.perf_counter() - t_start:.0f} s)")
+
     sampled = config if config.uncertainty.samples > 0 else Config().with_tier(config.fidelity.tier)
     config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
+    say("reading the records and extracting their pulses")
     scenes, t_common = _load(records_dir, inventory, config)
     is_pulse = np.array([s.is_pulse for s in scenes])
     n_scenes = len(scenes) * len(inventory)
+    say(f"the criterion on {n_scenes} scenes")
     crit, t_crit = _criterion(scenes, inventory, config)
+    say("the reference tier")
     ref, t_ref = _simulate(scenes, inventory, config.with_tier("reference"))
     rows = [{"section": "common", "setting": "load records and extract pulses", "value": "",
              "time_s": t_common, "time_per_scene_us": 1e6 * t_common / n_scenes, "scenes": n_scenes}]
     for tier in FIDELITY_TIERS:
+        say(f"tier {tier}")
         cfg = config.with_tier(tier)
         sim, t_sim = (ref, t_ref) if tier == "reference" else _simulate(scenes, inventory, cfg)
         simulated = sim["overturn_simulated"] >= 0
@@ -173,19 +192,20 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
                      "planes_simulated": int(sim.get("planes_simulated", np.zeros(1)).sum()),
                      "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
     if settings_sweep:
-        rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes)
-        rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes)
+        rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say)
+        rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
     _write(rows, out_dir)
     return rows
 
 
-def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[dict]:
+def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> list[dict]:
     rows = []
     sweeps = {"rtol": (1e-4, 1e-5, 1e-6, 1e-7, 1e-9), "rest_ratio": (1e-3, 1e-4, 1e-5, 1e-6, 1e-8),
               "max_step_p": (0.2, 0.1, 0.05, 0.02)}
     full = config.with_tier("full")
     for name, values in sweeps.items():
         for v in values:
+            say(f"simulation setting {name} = {v:g}")
             cfg = dataclasses.replace(full, simulation=dataclasses.replace(full.simulation, **{name: v}))
             sim, t = _simulate(scenes, inventory, cfg)
             default = getattr(config.simulation, name) == v
@@ -200,6 +220,7 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
                  ("pulse axis only (no scan)", "", {}, False),
                  ("vertical_fraction (approximation)", 0.05, {"vertical_fraction": 0.05}, True)]
     for label, value, change, scanned in variants:
+        say(f"{label} {value}")
         cfg = dataclasses.replace(full, simulation=dataclasses.replace(full.simulation, **change))
         sim, t = _simulate(scenes, inventory, cfg, scan=scanned)
         default = bool(change) and all(getattr(config.simulation, k) == x for k, x in change.items())
@@ -209,6 +230,7 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
                      "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()),
                      "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
                      **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+    say("margin scan steps")
     rows += _margin_sweep(scenes, inventory, full, ref)
     return rows
 
@@ -217,7 +239,11 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes) -> list[
 CONVERGENCE_SAMPLES = (10, 20, 40, 80)
 
 
-def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
+#: Bands on the nominal max theta/alpha measured as a sampling shortcut (issue of where to spend samples).
+SAMPLE_BANDS = (0.0, 0.05, 0.1, 0.2, 0.5)
+
+
+def _uncertainty_rows(scenes, inventory, config, n_scenes, say) -> list[dict]:
     """The probabilistic run's cost against the nominal one, and p_overturn against the number of samples.
 
     Rows ``uncertainty`` / ``nominal`` and ``samples (the configuration)``: time of the full tier
@@ -227,7 +253,9 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
     class differs from the largest N's.
     """
     full = config.with_tier("full")
+    say("nominal verdicts (samples = 0)")
     _, t_nominal = _simulate(scenes, inventory, full.with_uncertainty(samples=0))
+    say(f"sampled verdicts (samples = {full.uncertainty.samples})")
     prob, t_prob = _simulate(scenes, inventory, full)
     u = full.uncertainty
     rows = [{"section": "uncertainty", "setting": "nominal (samples = 0)", "value": 0, "time_s": t_nominal,
@@ -235,8 +263,10 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
             {"section": "uncertainty", "setting": f"samples (batch {u.batch}, sequential stop)", "value": u.samples,
              "time_s": t_prob, "time_per_scene_us": 1e6 * t_prob / n_scenes, "scenes": n_scenes,
              "scenes_simulated": int(np.isfinite(prob["p_overturn"]).sum())}]
+    rows += _band_rows(prob, u.robust_below, n_scenes)
     runs = {}
     for n in CONVERGENCE_SAMPLES:
+        say(f"convergence: {n} samples per scene")
         cfg = dataclasses.replace(full, uncertainty=dataclasses.replace(u, samples=n, batch=n))
         runs[n] = _simulate(scenes, inventory, cfg)
     best = runs[CONVERGENCE_SAMPLES[-1]][0]
@@ -250,6 +280,29 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes) -> list[dict]:
                                                                      .sum()),
                      "theta_error_max": float(d.max()) if d.size else np.nan,
                      "theta_error_median": float(np.median(d)) if d.size else np.nan})
+    return rows
+
+
+def _band_rows(prob: dict, robust_below: float, n_scenes: int) -> list[dict]:
+    """What a band on the nominal max theta/alpha would leave out, measured against sampling every scene.
+
+    A scene would go unsampled when its nominal scene stands with no flag (no free flight, friction not
+    exceeded) and its max theta/alpha is below the band. ``misses``: those scenes whose sampled
+    p_overturn is at least ``robust_below``; ``planes_simulated``: the sampled planes they cost;
+    ``theta_error_max`` (as in the convergence rows, a probability here): the largest p among them.
+    """
+    theta = np.nan_to_num(prob["theta_max"], nan=0.0)
+    flagged = (prob["overturn_simulated"] == 1) | (prob["free_flight"] != 0) | (prob["friction_exceeded"] == 1)
+    p = np.nan_to_num(prob["p_overturn"], nan=0.0)
+    cost = np.maximum(prob["sample_simulations"], 0)
+    rows = []
+    for band in SAMPLE_BANDS:
+        below = ~flagged & ((theta <= 0.0) if band == 0.0 else (theta < band))
+        rows.append({"section": "sample band", "setting": "nominal max theta/alpha below which a standing, unflagged "
+                     "scene is not sampled (0: never lifted)", "value": band, "time_s": np.nan,
+                     "time_per_scene_us": np.nan, "scenes": n_scenes, "scenes_simulated": int((~below).sum()),
+                     "planes_simulated": int(cost[below].sum()), "misses": int((below & (p >= robust_below)).sum()),
+                     "theta_error_max": float(p[below].max()) if below.any() else np.nan})
     return rows
 
 

@@ -208,6 +208,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
 
     from .run import RunInterrupted, ScreenRequest, screen
 
+    if config.fidelity.tier != "criterion":
+        _compile_simulator(args)
+
     request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,
                             n_workers=args.num_processes if args.num_processes is not None else default_workers(),
@@ -225,6 +228,18 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         _print_margins(result.margins)
         print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
     return _run_exit(result.records_failed, args)
+
+
+def _say(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def _compile_simulator(args: argparse.Namespace) -> None:
+    """Compile the simulator in this process before the workers start (announced when it takes a while: the
+    first run of an install)."""
+    from .rocking.warmup import compile_kernels
+
+    compile_kernels(announce=None if getattr(args, "quiet", False) else _say)
 
 
 def _run_exit(records_failed: int, args: argparse.Namespace) -> int:
@@ -397,8 +412,9 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     from .bench import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
+    _compile_simulator(args)
     rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
-                     settings_sweep=not args.tiers_only)
+                     settings_sweep=not args.tiers_only, progress=None if args.quiet else _say)
     print(markdown(rows), end="")
     print(f"wrote {args.out / 'bench.csv'}, {args.out / 'bench.md'} and {args.out / 'bench.png'}", file=sys.stderr)
     return EXIT_OK
@@ -440,6 +456,8 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     n = default_workers() if args.num_processes is None else args.num_processes
     if n < 1:
         raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    if config.fidelity.tier != "criterion":
+        _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
                                hazard, n, args.scheduler, args.bootstrap, ("screen", *argv), args.inventory)
     out = fragility(request, progress=_progress(args.quiet))

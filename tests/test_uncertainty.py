@@ -86,6 +86,28 @@ def test_amplitude_uncertainty_matches_the_lognormal_closed_form(halfsine_thresh
     assert prob.low < expected < prob.high
 
 
+@pytest.mark.parametrize("samples, p_halfwidth", [(40, 0.1), (120, 0.1), (40, 0.5)])
+def test_a_sensitive_scene_is_sampled_to_the_stated_precision(halfsine_threshold, samples, p_halfwidth):
+    """At the threshold amplitude (closed form p = 0.5) the scene is sensitive: it is sampled until half its
+    90 % Wilson interval is at most p_halfwidth or the samples run out (at p = 0.5 that takes about 65);
+    p_halfwidth = 0.5 stops as soon as the class is decided, as the rule did before the target."""
+    ah, dt = _halfsine(halfsine_threshold)
+    cfg = dataclasses.replace(AMPLITUDE_ONLY, samples=samples, batch=5, p_halfwidth=p_halfwidth)
+    prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(cfg.seed, cfg.samples),
+                             height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan,
+                             settings=cfg, g_ms2=G)
+    assert prob.robustness == Robustness.sensitive
+    half = (prob.high - prob.low) / 2
+    if p_halfwidth >= 0.5:
+        assert prob.drawn < 40                              # stopped once sensitive was decided
+    elif prob.drawn < samples:
+        assert half <= p_halfwidth                          # stopped on the precision target
+        assert prob.drawn >= 55                             # which at p near 0.5 needs about 65 samples
+    else:
+        assert samples == 40 and half > p_halfwidth        # the samples ran out first
+    assert prob.low < 0.5 < prob.high
+
+
 def test_record_below_uplift_gives_zero_without_integration():
     """Every sample below the uplift threshold: p = 0 exactly, nothing integrated."""
     _, alpha, _, _ = _block()

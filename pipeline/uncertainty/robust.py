@@ -9,9 +9,11 @@ class:
 * ``sensitive``: neither (the verdict can go either way under the declared uncertainty).
 
 Sequential rule: samples are drawn in batches; after each batch the interval is recomputed
-and sampling stops as soon as the interval lies wholly below ``robust_below``, wholly above
-``robust_above``, or wholly between the two (``sensitive`` is then decided), or when the
-largest number of samples is reached. Stopping on the data changes the interval's coverage;
+and sampling stops as soon as the interval lies wholly below ``robust_below`` or wholly above
+``robust_above``; or wholly between the two (``sensitive`` is then decided) and at most
+``2 p_halfwidth`` wide, so that a sensitive scene's p is estimated to a stated precision
+(:func:`pipeline.uncertainty.scenes.scene_probability`); or when the largest number of samples is
+reached. Stopping on the data changes the interval's coverage;
 ``tests/test_properties_uncertainty.py`` measures the rule's error rates on Bernoulli streams
 of known p.
 

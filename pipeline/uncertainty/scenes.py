@@ -22,7 +22,7 @@ from ..constants import G
 from ..rocking.batch import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
-from .robust import classify, final_class, wilson_interval
+from .robust import Robustness, classify, final_class, wilson_interval
 from .sampling import sample_block
 from .settings import UncertaintyConfig
 
@@ -80,7 +80,8 @@ def motion(horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.nda
 def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m: float, mu: float,
                       restitution: float, azimuth_deg: float, settings: UncertaintyConfig,
                       simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G) -> Probability:
-    """Sample one scene until its robustness class is decided or ``z`` is used up.
+    """Sample one scene until its robustness class is decided (a sensitive one to ``settings.p_halfwidth``) or
+    ``z`` is used up.
 
     Parameters
     ----------
@@ -126,7 +127,8 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
         low, high = float(lo), float(hi)
         if n == 0:                    # every sample so far in free flight: no verdict to estimate p from
             break
-        if classify(low, high, below=settings.robust_below, above=settings.robust_above) is not None:
+        decided = classify(low, high, below=settings.robust_below, above=settings.robust_above)
+        if decided is not None and (decided != Robustness.sensitive or (high - low) / 2.0 <= settings.p_halfwidth):
             break
     v = verdicts[:done]
     k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))

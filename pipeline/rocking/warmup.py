@@ -1,0 +1,66 @@
+"""Compile the simulator once, in one process, before any worker needs it.
+
+numba compiles the kernels on their first call and keeps them on disk (``cache=True``), so only the first run
+of an install pays for it. :func:`compile_kernels` makes that first call on a tiny scene, in the calling
+process, so that the workers of a run load the compiled kernels instead of each compiling them, and so that
+the caller can say what is happening.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from ..constants import G
+from .batch import sample_verdicts
+from .kernel import HAVE_NUMBA
+from .settings import SimulationConfig
+from .simulate import rock, slide, step_control
+
+#: Seconds after which a compilation still running is announced (shorter ones stay silent).
+ANNOUNCE_AFTER_S = 1.0
+
+
+def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
+    """Call every compiled kernel once on a tiny scene; return the seconds it took.
+
+    Parameters
+    ----------
+    announce : callable, optional
+        Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` (numba is
+        compiling: the first run of an install), and again with the time it took.
+    """
+    t0 = time.perf_counter()
+    if not HAVE_NUMBA:
+        return 0.0
+    said = threading.Event()
+
+    def tell() -> None:
+        said.set()
+        if announce is not None:
+            announce("compiling the simulator (numba, once per install; later runs load it from disk) ...")
+
+    timer = threading.Timer(ANNOUNCE_AFTER_S, tell)
+    timer.daemon = True
+    timer.start()
+    try:
+        t = np.linspace(0.0, 2.0, 201)
+        a = 3.0 * np.sin(2.0 * np.pi * t)
+        rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
+        rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
+        slide(a, 0.01, mu=0.3, av_ms2=0.1 * a)
+        one = np.ones(1)
+        out = np.zeros(1, dtype=np.int64)
+        for vertical in (np.zeros(0), 0.1 * a):
+            sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), one, 2.0 * one,
+                            0.2 * one, 0.9 * one, one, 0.7 * one, G, 0.0, step_control(SimulationConfig()), out,
+                            out.copy())
+    finally:
+        timer.cancel()
+    elapsed = time.perf_counter() - t0
+    if said.is_set() and announce is not None:
+        announce(f"compiled the simulator in {elapsed:.0f} s")
+    return elapsed
