@@ -176,12 +176,27 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)
-    "p_overturn": (("record", "block"), "1", "probability of overturning under the declared uncertainty: fraction "
-                   "of the samples with a verdict that overturn",
+    "p_overturn": (("record", "block"), "1", "probability of overturning under the declared uncertainty, in the "
+                   "worst orientation of the block: fraction of the samples with a verdict that overturn",
                    {"comment": "samples: lognormal factors (median 1) on the record's amplitude, restitution, "
                                "friction, height and width, normal scatter of a given azimuth (the file's "
-                               "uncertainty_* attributes); common random numbers across records and blocks. "
-                               "NaN: not sampled (samples = 0, criterion tier) or no sample had a verdict"}),
+                               "uncertainty_* attributes); common random numbers across records and blocks. A "
+                               "blank azimuth: the plane (p_overturn_azimuth) with the largest fraction on one "
+                               "set of draws, its probability estimated on independent draws. NaN: not sampled "
+                               "(samples = 0, criterion tier) or no sample had a verdict"}),
+    "p_overturn_azimuth": (("record", "block"), "degree", "rocking plane p_overturn is for (clockwise from north; "
+                           "the given azimuth, or the worst orientation of a blank one)",
+                           {"comment": "NaN: not sampled; relative to the first component on a record of unknown "
+                                       "absolute azimuth"}),
+    "p_overturn_random_orientation": (("record", "block"), "1", "probability of overturning of a block whose "
+                                      "orientation is unknown (uniform on [0, 180) deg): the average over the "
+                                      "scan's grid of planes",
+                                      {"comment": "equal to p_overturn for a given azimuth or one recorded "
+                                                  "horizontal"}),
+    "p_overturn_random_orientation_low": (("record", "block"), "1", "lower bound of the two-sided Wilson interval "
+                                          "on p_overturn_random_orientation (on the per-draw fractions)", {}),
+    "p_overturn_random_orientation_high": (("record", "block"), "1", "upper bound of the two-sided Wilson "
+                                           "interval on p_overturn_random_orientation", {}),
     "p_overturn_low": (("record", "block"), "1", "lower bound of the two-sided Wilson interval on p_overturn",
                        {"comment": "confidence: [uncertainty] confidence (default 0.90)"}),
     "p_overturn_high": (("record", "block"), "1", "upper bound of the two-sided Wilson interval on p_overturn",

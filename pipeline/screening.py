@@ -32,7 +32,7 @@ from .rocking.block import Block
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 from .uncertainty.sampling import common_normals
-from .uncertainty.scenes import NOT_EVALUATED, motion, scene_probability
+from .uncertainty.scenes import NOT_EVALUATED_ORIENTATION, motion, one_plane, orientation_probability, scene_probability
 
 log = logging.getLogger(__name__)
 
@@ -212,7 +212,9 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
 
 #: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
 PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
-                    "samples_overturned", "samples_free_flight", "sample_simulations")
+                    "samples_overturned", "samples_free_flight", "sample_simulations", "p_overturn_azimuth",
+                    "p_overturn_random_orientation", "p_overturn_random_orientation_low",
+                    "p_overturn_random_orientation_high")
 
 #: How the rocking plane of a scene was chosen (the ``orientation`` flag).
 
@@ -278,18 +280,28 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
                "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
-        prob = NOT_EVALUATED
+        orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None:
-            given = not scanned
-            m = base if given or base.single else dataclasses.replace(base, planes_deg=np.asarray(azimuths))
-            prob = scene_probability(m, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
-                                     mu=float(inv.mu[j]), restitution=float(inv.restitution[j]),
-                                     azimuth_deg=azimuths[0] if given else math.nan, settings=unc,
-                                     simulation=settings, g_ms2=cfg.records.g_ms2)
+            block = dict(height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
+                         restitution=float(inv.restitution[j]))
+            if scanned and not base.single:        # the block's orientation is unknown: per orientation
+                orient = orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(azimuths)), z,
+                                                 grid_deg=grid, prefer_deg=res.azimuth_deg, settings=unc,
+                                                 simulation=settings, g_ms2=cfg.records.g_ms2, **block)
+            else:
+                given = not scanned
+                orient = one_plane(scene_probability(base, z, azimuth_deg=azimuths[0] if given else math.nan,
+                                                     settings=unc, simulation=settings, g_ms2=cfg.records.g_ms2,
+                                                     **block), azimuths[0])
+        prob = orient.worst
         row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
                     "robustness": prob.robustness, "samples_drawn": prob.drawn,
                     "samples_overturned": prob.overturned, "samples_free_flight": prob.free_flight,
-                    "sample_simulations": prob.simulations})
+                    "sample_simulations": orient.simulations if prob.drawn else 0,
+                    "p_overturn_azimuth": orient.worst_azimuth_deg,
+                    "p_overturn_random_orientation": orient.random,
+                    "p_overturn_random_orientation_low": orient.random_low,
+                    "p_overturn_random_orientation_high": orient.random_high})
         for n, v in row.items():
             out[n][j] = v
     return out

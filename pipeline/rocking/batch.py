@@ -51,6 +51,71 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
 
 
 @jit
+def _vertical_kept(av_s, g, vertical_fraction):
+    """Whether a sample keeps its (scaled) vertical ``av_s`` (empty: none), by the planner's rule."""
+    if av_s.size == 0:
+        return False
+    peak = 0.0
+    for i in range(av_s.size):
+        peak = max(peak, abs(av_s[i]))
+    return vertical_kept_compiled(peak, g, vertical_fraction)
+
+
+@jit
+def _flight_at_some_sample(av_s, g):
+    """True where the ground's g + a_v reaches 0 at some sample (``av_s`` empty: never)."""
+    for i in range(av_s.size):
+        if g + av_s[i] <= 0.0:
+            return True
+    return False
+
+
+@jit
+def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, control,
+                          outcome_out, planes_out):
+    """Every sample's outcome in every candidate plane: what a block of each orientation would do.
+
+    The same inputs as :func:`sample_verdicts`, and the same decisions per plane (the exact at-rest
+    certificate, no integration for a block that cannot rock, rocking otherwise), but no plane is skipped
+    once another overturns: ``outcome_out[k, j]`` is 1 (overturns), 0 (stands) or -1 (free flight before
+    any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
+    """
+    n = h1.size
+    n_s, n_p = cosines.shape
+    has_v = av.size == n
+    t_end = (n - 1) * dt
+    a = np.empty(n)
+    av_s = np.empty(n if has_v else 0)
+    none = np.zeros(0)
+    no_output = RockingOutput(np.zeros(0), np.zeros((0, 3)))
+    at_rest = RockingState(0.0, 0.0)
+    for k in range(n_s):
+        for i in range(av_s.size):
+            av_s[i] = eps[k] * av[i]
+        thr = motion_threshold_compiled(alpha[k], mu[k])
+        use_v = _vertical_kept(av_s, g, vertical_fraction)
+        rocks = rocks_compiled(alpha[k], mu[k])
+        flight = use_v and _flight_at_some_sample(av_s, g)
+        planes_out[k] = 0
+        for j in range(n_p):
+            outcome_out[k, j] = 0
+            if not _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g) > thr:
+                continue                                   # proven at rest in this plane
+            if not rocks:
+                outcome_out[k, j] = -1 if flight else 0
+                continue
+            for i in range(n):
+                a[i] = eps[k] * (cosines[k, j] * h1[i] + sines[k, j] * h2[i])
+            planes_out[k] += 1
+            res = rock(a, av_s if use_v else none, dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False),
+                       control, at_rest, True, no_output)
+            if res.overturned:
+                outcome_out[k, j] = 1
+            elif res.status & STATUS_FREE_FLIGHT:
+                outcome_out[k, j] = -1
+
+
+@jit
 def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, control,
                     verdict_out, planes_out):
     """Verdicts of the samples of one scene.
@@ -109,22 +174,14 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         for j in range(n_p):
             ratios[j] = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g)
         order = np.argsort(-ratios, kind="mergesort")
-        use_v = False
-        if has_v:
-            peak = 0.0
-            for i in range(n):
-                peak = max(peak, abs(av_s[i]))
-            use_v = vertical_kept_compiled(peak, g, vertical_fraction)
+        use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         if not rocks:
             # a sample that cannot rock cannot overturn: nothing is integrated. Its verdict is what the Coulomb
             # integration of every moving plane would give: free flight (-1) when a plane moves it and the
             # ground's g + a_v reaches 0 at some sample (where that integration stops), else 0
-            if ratios[order[0]] > thr and use_v:
-                for i in range(n):
-                    if g + av_s[i] <= 0.0:
-                        verdict_out[k] = -1
-                        break
+            if ratios[order[0]] > thr and use_v and _flight_at_some_sample(av_s, g):
+                verdict_out[k] = -1
             continue
         flight = False
         for jj in range(n_p):
