@@ -437,6 +437,9 @@ def fragility_parser() -> argparse.ArgumentParser:
                         "0.1g,0.2g)")
     p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (docs/user-guide.md)")
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
+    p.add_argument("--orientation", choices=("random", "worst"), default="random",
+                   help="for a block of blank azimuth, fit the probability of a block of unknown orientation "
+                        "(random, the default: its risk) or in its worst orientation (worst: conservative)")
     _add_execution(p)
     _add_output_options(p)
     return p
@@ -459,7 +462,8 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     if config.fidelity.tier != "criterion":
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
-                               hazard, n, args.scheduler, args.bootstrap, ("screen", *argv), args.inventory)
+                               hazard, n, args.scheduler, args.bootstrap, ("screen", *argv), args.inventory,
+                               args.orientation)
     out = fragility(request, progress=_progress(args.quiet))
     for w in out["warnings"]:
         log.warning("%s", w)

@@ -199,13 +199,13 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     assert not [c for c in cells if re.match(r"-1 \(|.*\(\)|.*\bnan\b", c)], cells
     assert (tmp_path / "a" / "assets.csv").read_text() == "screen's own table\n"
     lines = (tmp_path / "a" / "fragility_assets.csv").read_text().splitlines()
-    assert lines[0].startswith("rank,block,im,im_units,median") and len(lines) == 3
+    assert lines[0].startswith("rank,block,im,im_units,orientation,median") and len(lines) == 3
     assert lines[1].split(",")[2:4] == ["pga", "m s-2"]
     ranked = [float(line.split(",")[ASSET_RATE]) for line in lines[1:]]
     assert ranked == sorted(rates, reverse=True)
 
 
-ASSET_RATE = 11     # column of annual_rate_overturn in fragility_assets.csv
+ASSET_RATE = 12     # column of annual_rate_overturn in fragility_assets.csv
 
 
 def test_a_hazard_curve_labelled_synthetic_says_so_on_the_page(tmp_path):

@@ -31,9 +31,10 @@ MAX_FIGURES = 40
 #: The per-asset table's file name (not ``assets.csv``, which is ``screen``'s).
 ASSETS_CSV = "fragility_assets.csv"
 #: Columns of fragility_assets.csv: ``im`` names the IM and ``im_units`` the unit of median, median_low and
-#: median_high; beta is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
-ASSET_COLUMNS = ("rank", "block", "im", "im_units", "median", "median_low", "median_high", "beta", "beta_low",
-                 "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
+#: median_high; ``orientation`` the probability fitted for a blank azimuth (random or worst orientation); beta
+#: is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
+ASSET_COLUMNS = ("rank", "block", "im", "im_units", "orientation", "median", "median_low", "median_high", "beta",
+                 "beta_low", "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
                  "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
 
@@ -92,6 +93,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
         vr = ims.index("velocity_ratio")
         rows.append({
             "block": block, "j": j, "im": ds.attrs["im"], "im_units": ds.attrs["im_units"],
+            "orientation": ds.attrs.get("orientation", "random"),
             **{k: float(ds[k].values[j]) for k in ("median", "median_low", "median_high", "beta", "beta_low",
                                                     "beta_high")},
             "fit_status": STATUS_NAMES[int(ds["fit_status"].values[j])],

@@ -96,8 +96,9 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
     Returns
     -------
     dict
-        ``verdict`` (levels, blocks) int8 (1, 0, -1 no verdict or not scalable), ``p`` (levels, blocks),
-        ``factor`` (levels, blocks) and ``im.<name>`` (blocks) for every IM of :data:`IMS`.
+        ``verdict`` (levels, blocks) int8 (1, 0, -1 no verdict or not scalable), ``p`` (levels, blocks: the
+        worst orientation), ``p_random`` (levels, blocks: an unknown orientation), ``factor`` (levels, blocks)
+        and ``im.<name>`` (blocks) for every IM of :data:`IMS`.
     """
     _, blocks, _, directions = pulses_and_directions(rec, base)
     g = base.config.records.g_ms2
@@ -107,6 +108,7 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
     nb = len(base.inventory)
     verdict = np.full((len(levels), nb), -1, dtype="i1")
     prob = np.full((len(levels), nb), np.nan)
+    prob_random = np.full((len(levels), nb), np.nan)
     simulate = base.config.fidelity.tier != "criterion"
     geo = base.inventory.geometry(g_ms2=g)
     rocking_blocks = base.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
@@ -117,13 +119,14 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
                 sim = _simulation_values(rec.scaled(float(f)), directions, base, sel, blocks=rocking_blocks)
                 verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
                 prob[j, sel] = sim["p_overturn"][sel]
+                prob_random[j, sel] = sim["p_overturn_random_orientation"][sel]
             else:
                 crit = criteria.evaluate(f * ims["ap"], ims["tp"], blocks.get("block_pulse_beta", np.nan),
                                          f * np.asarray(blocks.get("block_pulse_dv", np.nan)), R_m=geo.R,
                                          alpha=geo.alpha, p=geo.p, mu=base.inventory.mu, g_ms2=g,
                                          form=base.config.criteria.form)
                 verdict[j, sel] = np.asarray(crit["overturn_criterion"])[sel]
-    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "factor": factors,
+    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random, "factor": factors,
             **{f"im.{k}": v for k, v in ims.items()}}
 
 
@@ -220,14 +223,28 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
                                "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
 
 
+#: ``--orientation``: the probability a sampled stripe is fitted on, for a block of blank azimuth.
+ORIENTATIONS = {"random": ("p_random", "p_overturn_random_orientation (a block of unknown orientation)"),
+                "worst": ("p", "p_overturn (the worst orientation: conservative)")}
+
+
 def assemble_fragility(results: list[dict], inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
-                       hazard: HazardCurve | None = None, bootstrap: int = 200) -> xr.Dataset:
-    """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates."""
+                       hazard: HazardCurve | None = None, bootstrap: int = 200,
+                       orientation: str = "random") -> xr.Dataset:
+    """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates.
+
+    ``orientation`` (:data:`ORIENTATIONS`): with sampling, each scaled scene's outcome is its probability for a
+    block of unknown orientation (the default: the risk of such a block) or in its worst orientation; a block
+    with a given azimuth has one probability, the same in both.
+    """
+    if orientation not in ORIENTATIONS:
+        raise UsageError(f"--orientation {orientation!r}: expected one of {sorted(ORIENTATIONS)}")
+    key, measure = ORIENTATIONS[orientation]
     levels = np.asarray(levels, dtype=float)
     nb, nl = len(inventory), len(levels)
     sampled = config.uncertainty.samples > 0 and config.fidelity.tier != "criterion"
     verdict = np.stack([r["verdict"] for r in results]) if results else np.full((0, nl, nb), -1)
-    prob = np.stack([r["p"] for r in results]) if results else np.full((0, nl, nb), np.nan)
+    prob = np.stack([r[key] for r in results]) if results else np.full((0, nl, nb), np.nan)
     factor = np.stack([r["factor"] for r in results]) if results else np.full((0, nl, nb), np.nan)
     # the outcome of a scene: p_overturn when sampled, else the nominal verdict (NaN: no verdict)
     outcome = prob if sampled else np.where(verdict >= 0, verdict.astype(float), np.nan)
@@ -280,7 +297,8 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         "im": np.array(names, dtype=object)})
     ds.attrs.update({"im": im, "im_units": IMS[im][0], "im_long_name": IM_NAMES[im],
                      "im_units_by_im": json.dumps({k: v[0] for k, v in IMS.items()}),
-                     "outcome_measure": "p_overturn" if sampled else "nominal verdict",
+                     "outcome_measure": measure if sampled else "nominal verdict",
+                     "orientation": orientation,
                      "bootstrap_draws": bootstrap, "Conventions": "CF-1.11",
                      "title": "rockscreen fragility: multiple-stripe analysis"})
     return apply_schema(ds, FRAGILITY)
@@ -359,6 +377,8 @@ class FragilityRequest:
     command: tuple = ()
     #: StationXML for records in counts (``--inventory``; else ``*.xml`` in the records directory)
     stationxml: Path | None = None
+    #: the probability fitted for a block of blank azimuth (:data:`ORIENTATIONS`)
+    orientation: str = "random"
 
 
 def fragility(request: FragilityRequest, *, progress=None) -> dict:
@@ -389,7 +409,8 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
             raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
                              + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
         ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=request.levels,
-                                hazard=request.hazard, bootstrap=request.bootstrap)
+                                hazard=request.hazard, bootstrap=request.bootstrap,
+                                orientation=request.orientation)
         ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} "
                                     f"{' '.join(request.command)}",
                          "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),

@@ -232,7 +232,7 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
             break
     fractions = _grid_fractions(outcomes[:done], on_grid)
     mean = float(fractions.mean()) if fractions.size else math.nan
-    worst_deg = _worst_plane(outcomes[:done], planes_deg, prefer_deg, grid_step_deg=_grid_step(grid_deg))
+    worst_deg = _worst_plane(outcomes[:done], planes_deg, prefer_deg)
     if math.isnan(worst_deg):
         return NOT_EVALUATED_ORIENTATION
     z2 = common_normals(settings.seed + ESTIMATION_SEED_OFFSET, n_max)
@@ -265,18 +265,10 @@ def _grid_fractions(outcomes: np.ndarray, on_grid: np.ndarray) -> np.ndarray:
     return over[has] / judged[has]
 
 
-def _grid_step(grid_deg: np.ndarray) -> float:
-    """The spacing of a uniform grid of planes [deg] (180 for a single plane)."""
-    g = np.sort(np.asarray(grid_deg, dtype=float) % 180.0)
-    return float(np.min(np.diff(g))) if g.size > 1 else 180.0
-
-
-def _worst_plane(outcomes: np.ndarray, planes_deg: np.ndarray, prefer_deg: float, *,
-                 grid_step_deg: float = 180.0) -> float:
-    """The plane with the largest fraction of draws overturning; on a tie, the one whose neighbours (planes
-    within one grid step) overturn most, since the probability varies smoothly with the orientation and the
-    middle of a plateau is the likeliest maximum; then ``prefer_deg``, then the first. NaN when no plane has a
-    draw with a verdict."""
+def _worst_plane(outcomes: np.ndarray, planes_deg: np.ndarray, prefer_deg: float) -> float:
+    """The plane with the largest fraction of draws overturning; on a tie, the one farthest from any plane with
+    a smaller fraction (the probability varies smoothly with the orientation, so the middle of a plateau is
+    the likeliest maximum); then ``prefer_deg``, then the first. NaN when no plane has a draw with a verdict."""
     judged = (outcomes >= 0).sum(axis=0)
     over = (outcomes == 1).sum(axis=0)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -284,11 +276,11 @@ def _worst_plane(outcomes: np.ndarray, planes_deg: np.ndarray, prefer_deg: float
     if not np.isfinite(frac).any():
         return math.nan
     best = np.flatnonzero(frac == np.nanmax(frac))
-    if best.size > 1:
-        gap = np.abs((planes_deg[:, None] - planes_deg[None, :] + 90.0) % 180.0 - 90.0)
-        near = gap <= grid_step_deg * (1.0 + 1e-9)
-        smooth = np.array([np.nanmean(np.where(near[b], frac, np.nan)) for b in best])
-        best = best[np.isclose(smooth, smooth.max())]
+    lower = np.flatnonzero(~(frac == np.nanmax(frac)))
+    if best.size > 1 and lower.size:
+        gap = np.abs((planes_deg[best][:, None] - planes_deg[lower][None, :] + 90.0) % 180.0 - 90.0)
+        depth = gap.min(axis=1)                       # angular distance to the plateau's edge [deg]
+        best = best[np.isclose(depth, depth.max())]
     if np.isfinite(prefer_deg):
         preferred = best[np.isclose(planes_deg[best] % 180.0, prefer_deg % 180.0)]
         if preferred.size:
