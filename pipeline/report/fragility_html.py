@@ -34,8 +34,8 @@ ASSETS_CSV = "fragility_assets.csv"
 #: median_high; ``orientation`` the probability fitted for a blank azimuth (random or worst orientation); beta
 #: is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
 ASSET_COLUMNS = ("rank", "block", "im", "im_units", "orientation", "median", "median_low", "median_high", "beta",
-                 "beta_low", "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im", "best_im_beta",
-                 "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
+                 "beta_low", "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im",
+                 "best_im_beta", "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
 
 
