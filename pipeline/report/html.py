@@ -42,6 +42,7 @@ from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, same_recordings
+from ..rocking.orientation import Orientation
 from ..rocking.planner import Physics, Response
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
@@ -68,11 +69,13 @@ ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 
 #: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
 #: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene, except
-#: p_overturn, its interval and robustness, which are those of the record with the largest p_overturn
-#: (``p_record``). ``stations_*`` count the records of one station recording in several files once (``records_*``
-#: count files). Extra inventory columns follow, as given.
+#: p_overturn (the worst orientation), its interval, p_overturn_azimuth (the plane it is for [deg]),
+#: p_overturn_random_orientation (an unknown orientation) and robustness, which are those of the record with the
+#: largest p_overturn (``p_record``). ``stations_*`` count the records of one station recording in several files
+#: once (``records_*`` count files). Extra inventory columns follow, as given.
 ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
-                 "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record", "robustness",
+                 "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record",
+                 "p_overturn_azimuth", "p_overturn_random_orientation", "robustness",
                  "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
                  "records_overturning", "records_screened", "governing_record",
                  "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
@@ -92,7 +95,7 @@ def _margin_words(sim_scale: float, governing: str) -> str:
 
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
-                   stations: tuple[int, int] | None = None) -> str:
+                   stations: tuple[int, int] | None = None, p_words: str = "") -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -109,13 +112,15 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         The largest probability of overturning over the records (NaN without sampling) [-].
     p_record : str
         The record ``p_max`` is for.
+    p_words : str
+        ``p_max`` in words, when the caller has more to say (its orientation); default "p = .. under ..".
     governing : str
         The governing record (the margin's record).
     stations : tuple of int, optional
         (stations whose record overturns the asset, stations screened).
     """
     sampled = np.isfinite(p_max)
-    why = [f"p = {p_max:.2f} under {p_record}"] if sampled else []
+    why = [p_words or f"p = {p_max:.2f} under {p_record}"] if sampled else []
     why.append(_margin_words(sim_scale, governing))
     if stations is not None:
         why.append(f"{stations[0]} of {stations[1]} stations overturn it")
@@ -140,7 +145,8 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
     robustness class; the governing record when it reaches the largest, so that the two read together), the
     stations with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
     empty = {"p_overturn": np.nan, "p_overturn_low": np.nan, "p_overturn_high": np.nan, "p_record": "",
-             "robustness": "", "stations_p_half": 0, "records_sensitive": 0}
+             "robustness": "", "stations_p_half": 0, "records_sensitive": 0, "p_overturn_azimuth": np.nan,
+             "p_overturn_random_orientation": np.nan, "orientation_unknown": False, "p_words": ""}
     if "p_overturn" not in ds:
         return empty
     p = np.where(ok, ds["p_overturn"].values[:, j], np.nan)
@@ -150,11 +156,21 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
     if governing is not None and p[governing] == p[i]:
         i = governing
     robust = ds["robustness"].values[:, j]
+    azimuth = float(ds["p_overturn_azimuth"].values[i, j]) if "p_overturn_azimuth" in ds else math.nan
+    random = float(ds["p_overturn_random_orientation"].values[i, j]) if "p_overturn_random_orientation" in ds \
+        else math.nan
+    unknown = int(ds["orientation"].values[i, j]) in (Orientation.scanned, Orientation.scanned_relative)
+    record = str(ds["record"].values[i])
+    words = f"p = {p[i]:.2f} under {record}"
+    if unknown and np.isfinite(azimuth):
+        words += f" if it faces {azimuth:.0f} deg (orientation unknown: {random:.2f})"
     return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
-            "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": str(ds["record"].values[i]),
+            "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": record,
             "robustness": ROBUSTNESS_NAMES[int(robust[i])],
             "stations_p_half": len(set(stations[ok & (np.nan_to_num(p) >= 0.5)].tolist())),
-            "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive)))}
+            "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive))),
+            "p_overturn_azimuth": azimuth, "p_overturn_random_orientation": random, "orientation_unknown": unknown,
+            "p_words": words}
 
 
 def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> list[dict]:
@@ -211,7 +227,8 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
             "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
                                              overturned=sim == 1, p_max=probabilities["p_overturn"],
                                              p_record=probabilities["p_record"], governing=gov or "the records",
-                                             stations=(stations_over, n_stations)),
+                                             stations=(stations_over, n_stations),
+                                             p_words=probabilities["p_words"]),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })
