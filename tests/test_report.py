@@ -30,30 +30,28 @@ RECORDS = ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318
            "peer-at2/RSN1086_NORTHR_SYL090.AT2", "peer-at2/RSN1086_NORTHR_SYL360.AT2")
 
 
-@pytest.fixture(scope="module")
-def screened(tmp_path_factory, records_dir, blocks_csv):
-    """One screening of five real records against the sample inventory, with its report."""
+def _screen(tmp_path_factory, records_dir, blocks_csv, *options: str):
+    """Screen RECORDS against the sample inventory with ``options``; the output directory with its report."""
     root = tmp_path_factory.mktemp("recs")
     for rel in RECORDS:
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(records_dir / rel, root / rel)
     shutil.copy(records_dir / "units.toml", root)
     out = tmp_path_factory.mktemp("out")
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main([*options, "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     return out
+
+
+@pytest.fixture(scope="module")
+def screened(tmp_path_factory, records_dir, blocks_csv):
+    """One screening of the real records with nominal verdicts, with its report."""
+    return _screen(tmp_path_factory, records_dir, blocks_csv, "--samples", "0")
 
 
 @pytest.fixture(scope="module")
 def screened_sampled(tmp_path_factory, records_dir, blocks_csv):
     """The same records screened by the default (probabilistic) run, with its report."""
-    root = tmp_path_factory.mktemp("recs_sampled")
-    for rel in RECORDS:
-        (root / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy(records_dir / rel, root / rel)
-    shutil.copy(records_dir / "units.toml", root)
-    out = tmp_path_factory.mktemp("out_sampled")
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
-    return out
+    return _screen(tmp_path_factory, records_dir, blocks_csv)
 
 
 @pytest.mark.parametrize("height, width, period", [(2.0, 0.4, 1.0), (1.0, 0.11, 0.5), (4.0, 1.0, 2.0)])

@@ -51,6 +51,17 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
 
 
 @jit
+def _workspace(h1, av, dt):
+    """What both sample kernels set up once per call: the record's length, whether it has a vertical, its end
+    time, buffers for a plane's projection and a sample's scaled vertical, an empty vertical, no theta history
+    nor impact log, and the state at rest."""
+    n = h1.size
+    has_v = av.size == n
+    return (n, has_v, (n - 1) * dt, np.empty(n), np.empty(n if has_v else 0), np.zeros(0),
+            RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0))
+
+
+@jit
 def _vertical_kept(av_s, g, vertical_fraction):
     """Whether a sample keeps its (scaled) vertical ``av_s`` (empty: none), by the planner's rule."""
     if av_s.size == 0:
@@ -80,15 +91,8 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
     once another overturns: ``outcome_out[k, j]`` is 1 (overturns), 0 (stands) or -1 (free flight before
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
-    n = h1.size
+    n, has_v, t_end, a, av_s, none, no_output, at_rest = _workspace(h1, av, dt)
     n_s, n_p = cosines.shape
-    has_v = av.size == n
-    t_end = (n - 1) * dt
-    a = np.empty(n)
-    av_s = np.empty(n if has_v else 0)
-    none = np.zeros(0)
-    no_output = RockingOutput(np.zeros(0), np.zeros((0, 3)))
-    at_rest = RockingState(0.0, 0.0)
     for k in range(n_s):
         for i in range(av_s.size):
             av_s[i] = eps[k] * av[i]
@@ -139,16 +143,9 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
     verdict_out, planes_out : ndarray (int64)
         Filled with each sample's verdict (1, 0, -1) and planes integrated.
     """
-    n = h1.size
+    n, has_v, t_end, a, av_s, none, no_output, at_rest = _workspace(h1, av, dt)
     n_s, n_p = cosines.shape
-    has_v = av.size == n
-    t_end = (n - 1) * dt
-    a = np.empty(n)
-    av_s = np.empty(n if has_v else 0)
-    none = np.zeros(0)
     ratios = np.empty(n_p)
-    no_output = RockingOutput(np.zeros(0), np.zeros((0, 3)))      # no theta history, no impact log
-    at_rest = RockingState(0.0, 0.0)
     for k in range(n_s):
         for i in range(av_s.size):
             av_s[i] = eps[k] * av[i]

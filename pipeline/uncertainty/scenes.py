@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from statistics import NormalDist
 
@@ -25,8 +26,17 @@ from ..rocking.batch import sample_plane_outcomes, sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, wilson_interval
-from .sampling import common_normals, sample_block
+from .sampling import SampledBlock, common_normals, sample_block
 from .settings import UncertaintyConfig
+
+
+def _batches(z: np.ndarray, batch: int, **block) -> Iterator[tuple[slice, SampledBlock]]:
+    """The draws of ``z`` in batches of ``batch``: each batch's rows and its sampled blocks."""
+    done = 0
+    while done < len(z):
+        rows = z[done: done + max(1, batch)]
+        yield slice(done, done + len(rows)), sample_block(rows, **block)
+        done += len(rows)
 
 
 @dataclass(frozen=True)
@@ -107,22 +117,20 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
     planes = np.zeros(n_max, dtype=np.int64)
     done = 0
     low = high = math.nan
-    while done < n_max:
-        rows = z[done: done + max(1, settings.batch)]
-        sb = sample_block(rows, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
-                          azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2)
+    for sl, sb in _batches(z, settings.batch, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
+                           azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2):
+        n_rows = sl.stop - sl.start
         if m.single:
-            phi = np.zeros((len(rows), 1))
+            phi = np.zeros((n_rows, 1))
         elif m.planes_deg is None:
             phi = np.deg2rad(sb.azimuth_deg - m.azimuth0_deg)[:, None]
         else:
-            phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (len(rows), m.planes_deg.size))
-        sl = slice(done, done + len(rows))
+            phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (n_rows, m.planes_deg.size))
         s = simulation
         sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                         np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
                         float(g_ms2), float(s.vertical_fraction), step_control(s), verdicts[sl], planes[sl])
-        done += len(rows)
+        done = sl.stop
         v = verdicts[:done]
         k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
         lo, hi = wilson_interval(k, n, confidence=settings.confidence)
@@ -213,17 +221,14 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
     planes = np.zeros(n_max, dtype=np.int64)
     done = 0
     low = high = math.nan
-    while done < n_max:
-        rows = z[done: done + max(1, settings.batch)]
-        sb = sample_block(rows, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
-                          azimuth_deg=math.nan, settings=settings, g_ms2=g_ms2)
-        phi = np.broadcast_to(np.deg2rad(planes_deg - m.azimuth0_deg), (len(rows), planes_deg.size))
-        sl = slice(done, done + len(rows))
+    for sl, sb in _batches(z, settings.batch, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
+                           azimuth_deg=math.nan, settings=settings, g_ms2=g_ms2):
+        phi = np.broadcast_to(np.deg2rad(planes_deg - m.azimuth0_deg), (sl.stop - sl.start, planes_deg.size))
         s = simulation
         sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                               np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
                               float(g_ms2), float(s.vertical_fraction), step_control(s), outcomes[sl], planes[sl])
-        done += len(rows)
+        done = sl.stop
         fractions = _grid_fractions(outcomes[:done], on_grid)
         if fractions.size == 0:       # no draw has a verdict in any grid plane (free flight)
             break
