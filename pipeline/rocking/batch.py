@@ -62,6 +62,18 @@ def _workspace(h1, av, dt):
 
 
 @jit
+def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output):
+    """Rock a sample in the plane of weights (c, s), the record scaled by ``eps`` (projected into ``a``):
+    1 overturns, 0 stands, -1 free flight before any overturning."""
+    for i in range(a.size):
+        a[i] = eps * (c * h1[i] + s * h2[i])
+    res = rock(a, av_s, dt, t_end, block, control, at_rest, True, no_output)
+    if res.overturned:
+        return 1
+    return -1 if res.status & STATUS_FREE_FLIGHT else 0
+
+
+@jit
 def _vertical_kept(av_s, g, vertical_fraction):
     """Whether a sample keeps its (scaled) vertical ``av_s`` (empty: none), by the planner's rule."""
     if av_s.size == 0:
@@ -108,15 +120,10 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
             if not rocks:
                 outcome_out[k, j] = -1 if flight else 0
                 continue
-            for i in range(n):
-                a[i] = eps[k] * (cosines[k, j] * h1[i] + sines[k, j] * h2[i])
             planes_out[k] += 1
-            res = rock(a, av_s if use_v else none, dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False),
-                       control, at_rest, True, no_output)
-            if res.overturned:
-                outcome_out[k, j] = 1
-            elif res.status & STATUS_FREE_FLIGHT:
-                outcome_out[k, j] = -1
+            outcome_out[k, j] = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none,
+                                            dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False), control,
+                                            at_rest, no_output)
 
 
 @jit
@@ -185,15 +192,13 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
             j = order[jj]
             if not ratios[j] > thr:
                 break
-            for i in range(n):
-                a[i] = eps[k] * (cosines[k, j] * h1[i] + sines[k, j] * h2[i])
             planes_out[k] += 1
-            res = rock(a, av_s if use_v else none, dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False),
-                       control, at_rest, True, no_output)
-            if res.overturned:
+            outcome = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none, dt, t_end,
+                                  RockingBlock(p[k], alpha[k], e[k], g, R[k], False), control, at_rest, no_output)
+            if outcome == 1:
                 verdict_out[k] = 1
                 break
-            if res.status & STATUS_FREE_FLIGHT:
+            if outcome == -1:
                 flight = True
         if verdict_out[k] == 0 and flight:
             verdict_out[k] = -1
