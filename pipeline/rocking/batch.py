@@ -28,8 +28,9 @@ import math
 
 import numpy as np
 
-from .kernel import STATUS_FREE_FLIGHT, RockingBlock, RockingOutput, RockingState, jit, rock
+from .kernel import STATUS_FREE_FLIGHT, jit, rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
+from .structures import RockingBlock, RockingOutput, RockingState
 
 
 @jit

@@ -1,4 +1,4 @@
-"""Event-driven kernels: rocking (Housner, nonlinear or linearised) and Coulomb sliding.
+"""Event-driven rocking kernel (Housner, nonlinear or linearised); Coulomb sliding is in :mod:`.sliding`.
 
 One source, two paths: the functions are compiled with numba when it is
 installed (``njit``) and run as plain Python otherwise, or under
@@ -38,9 +38,10 @@ embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1), 19-26.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
+
+from .structures import RockingOutcome
 
 try:  # numba is optional: the same source runs as Python without it
     from numba import njit as _njit
@@ -268,108 +269,6 @@ def _peak_from_energy(E, p2, alpha, linear):
     if linear:
         return alpha - math.sqrt(max(-2.0 * E / p2, 0.0))
     return alpha - math.acos(min(max(E / p2, -1.0), 1.0))
-
-
-class RockingBlock(NamedTuple):
-    """The block as the rocking kernel sees it (a numba namedtuple).
-
-    Attributes
-    ----------
-    p : float
-        Frequency parameter [rad s-1].
-    alpha : float
-        Slenderness [rad].
-    e : float
-        Restitution, the angular-velocity ratio across an impact [-].
-    g : float
-        Gravity [m s-2].
-    R : float
-        Corner distance [m].
-    linear : bool
-        Linearised equation of motion (cross-checks against closed forms).
-    """
-
-    p: float
-    alpha: float
-    e: float
-    g: float
-    R: float
-    linear: bool
-
-
-class StepControl(NamedTuple):
-    """The integration settings the kernel takes (from :class:`~.settings.SimulationConfig`).
-
-    Attributes
-    ----------
-    rtol, atol : float
-        Relative tolerance, and absolute tolerance as a fraction of alpha (theta) and p alpha (omega).
-    rest_ratio : float
-        A rebound below ``rest_ratio * p * alpha`` ends the impact cascade.
-    max_step_p : float
-        Largest step as a fraction of 1/p.
-    max_events : int
-        Cap on impacts plus uplifts (chatter guard).
-    """
-
-    rtol: float
-    atol: float
-    rest_ratio: float
-    max_step_p: float
-    max_events: int
-
-
-class RockingState(NamedTuple):
-    """Rotation [rad] and angular velocity [rad s-1] (both 0: at rest)."""
-
-    theta: float
-    omega: float
-
-
-class RockingOutput(NamedTuple):
-    """Arrays the kernel fills, empty to skip: theta at t = k dt, and (t, omega before, omega after) of the
-    first impacts (shape (m, 3))."""
-
-    theta: np.ndarray
-    impacts: np.ndarray
-
-
-class RockingOutcome(NamedTuple):
-    """What :func:`rock` returns.
-
-    Attributes
-    ----------
-    overturned : bool
-    t_overturn : float
-        Time of overturning [s] (NaN when it stands).
-    theta_max : float
-        Largest |theta| [rad].
-    n_impacts, n_uplifts : int
-        Impacts, and uplifts from rest.
-    friction_max : float
-        Largest friction demand |f_x| / f_z while |theta| < alpha [-].
-    status : int
-        ``STATUS_*`` bits.
-    t_stop, theta_end, omega_end : float
-        Where the integration stopped [s], and the state there.
-    mode_end : int
-        ``REST``, ``ROCK`` or ``OVERTURNED`` there.
-    t_first_impact : float
-        Time of the first impact [s] (NaN without one).
-    """
-
-    overturned: bool
-    t_overturn: float
-    theta_max: float
-    n_impacts: int
-    friction_max: float
-    status: int
-    t_stop: float
-    theta_end: float
-    omega_end: float
-    mode_end: int
-    n_uplifts: int
-    t_first_impact: float
 
 
 @jit
@@ -622,119 +521,6 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             mode = OVERTURNED
             n_imp += extra                 # the impact on the way, before the escaping swing
     return RockingOutcome(overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first)
-
-
-@jit
-def slide(ah, av, dt, mu, g):
-    """Coulomb stick-slip of a block on a moving base, integrated exactly per sample.
-
-    Relative displacement u (block minus ground): while slipping in direction
-    d = sign(u'), u'' = -a_h - d mu (g + a_v); sticking while
-    |a_h| <= mu (g + a_v). The ground acceleration is linear between samples,
-    so u' is quadratic and u cubic in time, and slip ends at the exact root of u'.
-
-    Returns
-    -------
-    tuple
-        (peak |u| [m], final u [m], number of slip episodes, time slipping [s],
-        time the ground's g + a_v reached 0 [s] (NaN: never; the integration stops there))
-    """
-    n = ah.shape[0]
-    has_v = av.shape[0] == n
-    u, v = 0.0, 0.0
-    slipping = False
-    d = 0.0
-    u_max = 0.0
-    n_slips = 0
-    t_slip = 0.0
-    t_flight = math.nan
-    for k in range(n - 1):
-        a0, a1 = ah[k], ah[k + 1]
-        v0 = av[k] if has_v else 0.0
-        v1 = av[k + 1] if has_v else 0.0
-        if g + v0 <= 0.0 or g + v1 <= 0.0:
-            # the ground falls faster than gravity: no normal force, no friction, and the Coulomb
-            # model holds no further (the caller reports the scene as free flight)
-            t_flight = (k + _flight_fraction(v0, v1, g)) * dt
-            break
-        x = 0.0                                   # position in the sample, in [0, dt]
-        guard = 0
-        while x < dt and guard < 64:
-            guard += 1
-            ka = (a1 - a0) / dt
-            kv = (v1 - v0) / dt
-            ax = a0 + ka * x
-            vx = v0 + kv * x
-            if not slipping:
-                f = _exceed_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
-                if f < 0.0:
-                    x = dt
-                    break
-                x = x + f * (dt - x)
-                ax = a0 + ka * x
-                if ax == 0.0:                     # no horizontal force: nothing to slip (g + a_v > 0 here)
-                    x = dt
-                    break
-                d = -1.0 if ax > 0.0 else 1.0     # friction opposes the relative motion, u'' = -a_h - d mu N
-                slipping = True
-                n_slips += 1
-                v = 0.0
-                continue
-            # slipping: v(tau) = v + c0 tau + c1 tau^2 / 2, tau from x
-            c0 = -ax - d * mu * (g + vx)
-            c1 = -ka - d * mu * kv
-            rem = dt - x
-            tau = _first_stop(v, c0, c1, rem, d)
-            if tau < 0.0:
-                u = u + v * rem + c0 * rem * rem / 2 + c1 * rem ** 3 / 6
-                v = v + c0 * rem + c1 * rem * rem / 2
-                t_slip += rem
-                u_max = max(u_max, abs(u))
-                x = dt
-                break
-            u = u + v * tau + c0 * tau * tau / 2 + c1 * tau ** 3 / 6
-            v = 0.0
-            t_slip += tau
-            u_max = max(u_max, abs(u))
-            x = x + tau
-            ax = a0 + ka * x
-            vx = v0 + kv * x
-            if abs(ax) > mu * (g + vx):
-                d = -1.0 if ax > 0.0 else 1.0     # slips back the other way at once
-                n_slips += 1
-            else:
-                slipping = False
-    return u_max, u, n_slips, t_slip, t_flight
-
-
-@jit
-def _first_stop(v, c0, c1, rem, d):
-    """First tau in (0, rem] where d * v(tau) reaches 0, v(tau) = v + c0 tau + c1 tau^2 / 2; -1 if none."""
-    # d * v(tau) starts >= 0 and we look for its first return to 0
-    A = 0.5 * c1 * d
-    B = c0 * d
-    C = v * d
-    tiny = 1e-15
-    best = -1.0
-    if abs(A) < 1e-300:
-        if B < 0.0:
-            r = -C / B
-            if r > tiny and r <= rem:
-                best = r
-        return best
-    disc = B * B - 4 * A * C
-    if disc < 0.0:
-        return -1.0
-    sq = math.sqrt(disc)
-    q = -0.5 * (B + math.copysign(sq, B))
-    r1 = q / A
-    r2 = C / q if q != 0.0 else r1
-    for r in (r1, r2):
-        if r > tiny and r <= rem and (best < 0.0 or r < best):
-            # must be a crossing downward (d * v decreasing) or a touch
-            if 2 * A * r + B <= 0.0:
-                best = r
-    return best
 
 
 def empty_theta() -> np.ndarray:

@@ -13,8 +13,9 @@ import numpy as np
 
 from ..constants import G
 from ..errors import ParameterError
-from . import kernel
+from . import kernel, sliding
 from .settings import SimulationConfig
+from .structures import RockingBlock, RockingOutput, RockingState, StepControl
 
 
 @dataclass(frozen=True)
@@ -195,18 +196,18 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     theta_out = np.full(int(math.floor(t_end / dt_s + 1e-9)) + 1, np.nan) if history else kernel.empty_theta()
     impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
     o = kernel.rock(ah, av, float(dt_s), t_end,
-                    kernel.RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear)),
-                    step_control(settings), kernel.RockingState(float(theta0), float(omega0)), tail == "energy",
-                    kernel.RockingOutput(theta_out, impacts_out))
+                    RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear)),
+                    step_control(settings), RockingState(float(theta0), float(omega0)), tail == "energy",
+                    RockingOutput(theta_out, impacts_out))
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
                       impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None)
 
 
-def step_control(settings: SimulationConfig) -> kernel.StepControl:
+def step_control(settings: SimulationConfig) -> StepControl:
     """The kernel's step control from the simulator's settings."""
-    return kernel.StepControl(float(settings.rtol), float(settings.atol), float(settings.rest_ratio),
+    return StepControl(float(settings.rtol), float(settings.atol), float(settings.rest_ratio),
                               float(settings.max_step_p), int(settings.max_events))
 
 
@@ -229,5 +230,5 @@ def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> S
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
-    u_max, u_end, n_slips, t_slip, t_flight = kernel.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
+    u_max, u_end, n_slips, t_slip, t_flight = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
     return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight))
