@@ -11,6 +11,8 @@ are one recording under two names and are screened once).
   again into the same output (a re-run with nothing new: the up-to-date check answers);
   then once more after a file that is not a record was added to the records directory
   (the full path, every record reused from the scene cache).
+* ``screen`` with its defaults (the command a user runs without options: the full tier, sampled
+  verdicts, the sample inventory ``configs/blocks.csv``), into an empty output;
 * the port: a fresh process that reads each pair's AT2 files with a plain parser,
   integrates them to velocity and runs the straightforward port of the MATLAB classifier
   (``bench_pulses.naive_classify``: the transform at every scale of both components,
@@ -124,6 +126,10 @@ def main() -> None:
         t_rerun = wall([*screen, "--out", str(tmp / "out")])
         (tmp / "records" / "notes.txt").write_text("not a record: the directory changed, no record did\n")
         t_reuse = wall([*screen, "--out", str(tmp / "out")])
+        default = [sys.executable, "-m", "pipeline", "--records", str(tmp / "records"), "--blocks",
+                   str(ROOT / "configs" / "blocks.csv"), "-q", "--tolerate-failures"]
+        t_default = wall([*default, "--out", str(tmp / "default")])
+        t_nominal = wall([*default, "--samples", "0", "--out", str(tmp / "nominal")])
         shutil.rmtree(tmp / "warm")
     print(f"{len(pairs)} two-component records (parity configuration, criterion tier, one block)")
     print(f"straightforward port of the classifier (read, integrate, classify): {t_port:6.1f} s")
@@ -132,6 +138,10 @@ def main() -> None:
     print(f"screen again, a non-record file added (full path, all reused):      {t_reuse:6.1f} s")
     print(f"port / screen: {t_port / t_screen:.1f}x   re-run / first run: {100 * t_rerun / t_screen:.0f} % "
           f"(full path with everything reused: {100 * t_reuse / t_screen:.0f} %)")
+    print(f"screen with its defaults (full tier, sampled, configs/blocks.csv):  {t_default:6.1f} s   "
+          f"port / default: {t_port / t_default:.1f}x")
+    print(f"screen --samples 0 (full tier, nominal, configs/blocks.csv):        {t_nominal:6.1f} s   "
+          f"default / nominal: {t_default / t_nominal:.1f}x")
 
 
 if __name__ == "__main__":
