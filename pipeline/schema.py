@@ -56,6 +56,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     # per record
     "status": (("record",), None, "screening status: 'ok' or the reason the record failed", {}),
     "files": (("record",), None, "source files of the record, ';'-separated", {}),
+    "record_label": (("record",), None, "station and earthquake as the record's files name them", {}),
     "formats": (("record",), None, "obspy format names of the source files", {}),
     "notes": (("record",), None, "notes on the record (trimming, orientation, flags)", {}),
     "processing_history": (("record",), None, "ordered processing history of the record, newline-separated", {}),

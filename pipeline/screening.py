@@ -115,6 +115,7 @@ class RecordResult:
 def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
     values = {
         "files": ";".join(Path(f).name for f in rec.files),
+        "record_label": rec.label,
         "formats": ";".join(rec.formats),
         "notes": "; ".join(rec.notes),
         "processing_history": "\n".join(rec.history),

@@ -149,3 +149,18 @@ def test_free_format_bad_token_names_its_line_after_a_d_exponent():
 
     with pytest.raises(RecordFormatError, match=r"x\.AT2, line 6: '1\.0x' is not a number"):
         parse_free_floats(["1.0D0 2.0", "1.0x 3.0"], name="x.AT2", first_line_no=5)
+
+
+@pytest.mark.parametrize("files, label", [
+    (("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2"),
+     "Northridge-01, 1/17/1994, Rinaldi Receiving Sta"),
+    (("pulse-reference/example1.AT2", "pulse-reference/example2.AT2"),
+     "IMPERIAL VALLEY 10/15/79 2316, El Centro Array #4"),
+    (("fn-ascii/sylmar_fn.dat",), "sylm n Northridge,17 Jan 94,04:31PST; Sylmar, Olive View FF"),
+    (("knet/test.knet",), "BO.AKT013 1996-08-10"),
+    (("dmg/CICLC.v1",), "CI.CLC 2019-07-06"),
+])
+def test_a_record_carries_the_station_and_earthquake_its_files_name(make_records, config, files, label):
+    """Records are known by their file names ('example', 'test'); the report also shows what the files say."""
+    root = make_records(*files)
+    assert load_record(scan(root, config=config)[0][0], root=root, config=config).label == label

@@ -117,7 +117,7 @@ def _read_at2(filename, headonly: bool = False, **kwargs) -> Stream:
         "starttime": UTCDateTime(0),
         "npts": npts,
         "at2": header,
-        COMMON: common_fields(time_known=False, recording=header.station_line.lower()),
+        COMMON: common_fields(time_known=False, recording=header.station_line.lower(), label=header.station_line),
         "physical_units": units,
         "processing_level": "corrected",
     }

@@ -30,7 +30,7 @@ from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
 from ._text import check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
-from .common import COMMON, common_fields
+from .common import COMMON, codes_label, common_fields
 
 _FIRST_LINE = re.compile(r"\(Format v(\d+\.\d+) with (\d+) text lines\)", re.I)
 _BLOCK_HEAD = re.compile(
@@ -158,7 +158,9 @@ def _read_cosmos(filename, headonly: bool = False, **kwargs) -> Stream:
             "starttime": start or UTCDateTime(0),
             "npts": npts,
             "cosmos": header,
-            COMMON: common_fields(time_known=start is not None),
+            COMMON: common_fields(time_known=start is not None,
+                                  label=codes_label(net if net not in ("--",) else "",
+                                                    sta or (code.group(1).split("-")[-1] if code else ""), start)),
             "physical_units": units,
             "processing_level": "uncorrected" if text[0].lower().startswith(("uncorrected", "raw")) else "corrected",
         }

@@ -28,7 +28,7 @@ from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
 from ._text import check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
-from .common import COMMON, common_fields
+from .common import COMMON, codes_label, common_fields
 
 _V1_DATA = re.compile(
     r"^\s*(\d+)\s+Accelerogram points at\s+([\d.]+)\s*pts/sec in units of\s+([^.\s]+)\.?"
@@ -137,7 +137,9 @@ def _read_dmg(filename, headonly: bool = False, **kwargs) -> Stream:
             "starttime": start or UTCDateTime(0),
             "npts": npts,
             "dmg": header,
-            COMMON: common_fields(time_known=start is not None),
+            COMMON: common_fields(time_known=start is not None,
+                                  label=codes_label(scnl.group(2) if scnl else "", scnl.group(3) if scnl else sta,
+                                                    start)),
             "physical_units": _UNITS.get(unit_word.lower()),
             "processing_level": level,
         }

@@ -515,6 +515,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
         history=history,
         header_peaks_ms2=peaks,
         velocity_ms=integrate(hz, dt, method=method),
+        label=next((tr.stats[COMMON].label for tr in ordered if tr.stats[COMMON].label), ""),
     )
 
 

@@ -47,7 +47,8 @@ def _read_nfascii(filename, headonly: bool = False, **kwargs) -> Stream:
     header = AttribDict(description=lines[0][1:].strip(), time_known=False, component=component)
     stats = {"network": "", "station": tokens[0][:16] if tokens else "", "location": "",
              "channel": component, "delta": dt, "starttime": UTCDateTime(0), "npts": npts,
-             "nfascii": header, COMMON: common_fields(time_known=False, standalone=True),
+             "nfascii": header,
+             COMMON: common_fields(time_known=False, standalone=True, label=" ".join(header.description.split())),
              "physical_units": None, "processing_level": "corrected"}
     if headonly:
         return Stream([Trace(header=stats)])

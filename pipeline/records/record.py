@@ -54,6 +54,8 @@ class Record:
         Peak acceleration stated in a file header, by component code [m s-2].
     velocity_ms : ndarray, shape (n_h, npts)
         Horizontal ground velocity [m s-1] from the configured integration step.
+    label : str
+        The station and earthquake as the files name them ("" when they name neither).
     """
 
     record_id: str
@@ -70,6 +72,8 @@ class Record:
     history: list[str] = field(default_factory=list)
     header_peaks_ms2: dict[str, float] = field(default_factory=dict)
     velocity_ms: np.ndarray | None = None
+    #: the station and earthquake as the files name them ("" when they name neither)
+    label: str = ""
 
     @property
     def npts(self) -> int:

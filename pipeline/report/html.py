@@ -340,7 +340,9 @@ def _record_rows(ds: xr.Dataset, pulses: xr.Dataset | None, *, all_figures: bool
             return ds[name].values[i] if name in ds else np.nan
 
         is_pulse = int(val("is_pulse")) if np.isfinite(float(val("is_pulse"))) else -1
-        rows.append({"record": rid, "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
+        label = str(ds["record_label"].values[i]) if "record_label" in ds else ""
+        rows.append({"record": rid, "label": "" if label == "nan" else label,
+                     "status": str(ds["status"].values[i]), "pga_g": float(val("pga")) / G,
                      "pgv_cms": M_TO_CM * float(val("pgv")), "tp_s": float(val("pulse_period")),
                      "pi": float(val("pulse_indicator")),
                      "pulse": {1: "pulse-like", 0: "non-pulse"}.get(is_pulse, "n/a"),
