@@ -174,12 +174,12 @@ class Config:
 #: Float keys for which 0 is a valid value (it switches an approximation or a refinement off).
 ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation_refine_deg"),
                 *(("uncertainty", k) for k in ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov",
-                                               "azimuth_sd_deg"))}
+                                               "azimuth_sd_deg", "orientation_step_deg"))}
 #: Float keys limited to a range.
 RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0),
           ("uncertainty", "azimuth_sd_deg"): (0.0, 45.0), ("uncertainty", "confidence"): (0.5, 0.999),
           ("uncertainty", "robust_below"): (0.001, 0.5), ("uncertainty", "robust_above"): (0.5, 0.999),
-          ("uncertainty", "p_halfwidth"): (0.001, 1.0)}
+          ("uncertainty", "p_halfwidth"): (0.001, 1.0), ("uncertainty", "orientation_step_deg"): (0.0, 45.0)}
 #: Spreads (coefficients of variation): valid in [0, 1); a cov of 1 or more is not a measurement uncertainty.
 COV_KEYS = ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov")
 #: Largest number of samples per scene.

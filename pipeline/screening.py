@@ -286,8 +286,13 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
             block = dict(height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
                          restitution=float(inv.restitution[j]))
             if scanned and not base.single:        # the block's orientation is unknown: per orientation
-                orient = orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(azimuths)), z,
-                                                 grid_deg=grid, prefer_deg=res.azimuth_deg, settings=unc,
+                sample_grid, candidates = grid, list(azimuths)
+                if unc.orientation_step_deg > 0:           # a coarser grid for the samples, with the pulse axis
+                    sample_grid = plane_grid(unc.orientation_step_deg)          # and the nominal worst plane
+                    candidates = list(dict.fromkeys([float(azimuths[0]), float(res.azimuth_deg) % 180.0,
+                                                     *sample_grid.tolist()]))
+                orient = orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z,
+                                                 grid_deg=sample_grid, prefer_deg=res.azimuth_deg, settings=unc,
                                                  simulation=settings, g_ms2=cfg.records.g_ms2, **block)
             else:
                 given = not scanned
