@@ -239,7 +239,7 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> 
 CONVERGENCE_SAMPLES = (10, 20, 40, 80)
 
 
-#: Bands on the nominal max theta/alpha measured as a sampling shortcut (issue of where to spend samples).
+#: Bands on the nominal max theta/alpha measured as a sampling shortcut: scenes below one would go unsampled.
 SAMPLE_BANDS = (0.0, 0.05, 0.1, 0.2, 0.5)
 
 

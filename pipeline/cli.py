@@ -128,13 +128,13 @@ def _add_output_options(p: argparse.ArgumentParser) -> None:
 
 
 #: Seconds between progress lines when stderr is not a terminal (scheduled runs, logs).
-PROGRESS_LINE_S = 30.0
+#: Longest silence of the plain progress lines [s]: a line is printed at least this often while tasks run.
+PROGRESS_LINE_S = 2.0
 
 
 def _progress(quiet: bool):
     """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal; otherwise a progress
-    line at every tenth of the work, and for a task finishing :data:`PROGRESS_LINE_S` seconds or more
-    after the previous line."""
+    line at every tenth of the work, and whenever :data:`PROGRESS_LINE_S` seconds pass without one."""
     if quiet:
         return None
     if sys.stderr.isatty():
@@ -146,14 +146,38 @@ def _progress(quiet: bool):
 
 
 def _progress_lines(items, total=None):
-    t0 = last = time.monotonic()
+    """Yield ``items``, printing progress lines (from a watcher thread while a task takes long)."""
+    import threading
+
+    t0 = time.monotonic()
+    state = {"done": 0, "last": t0}
+    lock = threading.Lock()
+    stop = threading.Event()
+
+    def line() -> None:
+        with lock:
+            now = time.monotonic()
+            print(f"progress: {state['done']}/{total} records screened, {now - t0:.0f} s", file=sys.stderr,
+                  flush=True)
+            state["last"] = now
+
+    def watch() -> None:
+        while not stop.wait(PROGRESS_LINE_S / 4):
+            if time.monotonic() - state["last"] >= PROGRESS_LINE_S:
+                line()
+
     step = max(1, (total or 0) // 10)
-    for k, item in enumerate(items, 1):
-        yield item
-        now = time.monotonic()
-        if total and (k % step == 0 or k == total or now - last >= PROGRESS_LINE_S):
-            print(f"progress: {k}/{total} records screened, {now - t0:.0f} s", file=sys.stderr, flush=True)
-            last = now
+    watcher = threading.Thread(target=watch, daemon=True) if total else None
+    if watcher is not None:
+        watcher.start()
+    try:
+        for k, item in enumerate(items, 1):
+            yield item
+            state["done"] = k
+            if total and (k % step == 0 or k == total):
+                line()
+    finally:
+        stop.set()
 
 
 def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
@@ -439,7 +463,8 @@ def fragility_parser() -> argparse.ArgumentParser:
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
     p.add_argument("--orientation", choices=("random", "worst"), default="random",
                    help="for a block of blank azimuth, fit the probability of a block of unknown orientation "
-                        "(random, the default: its risk) or in its worst orientation (worst: conservative)")
+                        "(random, the default: its risk) or in the orientation found worst on the scan's grid "
+                        "(worst)")
     _add_execution(p)
     _add_output_options(p)
     return p

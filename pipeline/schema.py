@@ -178,15 +178,17 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)
     "p_overturn": (("record", "block"), "1", "probability of overturning under the declared uncertainty, in the "
-                   "worst orientation of the block: fraction of the samples with a verdict that overturn",
+                   "orientation found worst: fraction of the samples with a verdict that overturn",
                    {"comment": "samples: lognormal factors (median 1) on the record's amplitude, restitution, "
                                "friction, height and width, normal scatter of a given azimuth (the file's "
                                "uncertainty_* attributes); common random numbers across records and blocks. A "
-                               "blank azimuth: the plane (p_overturn_azimuth) with the largest fraction on one "
-                               "set of draws, its probability estimated on independent draws. NaN: not sampled "
+                               "blank azimuth: the plane of the scan's grid or the pulse axis (p_overturn_azimuth) "
+                               "with the largest fraction on one set of draws, its probability estimated on "
+                               "independent draws; a narrower window of worse orientations between grid planes, "
+                               "or a tie broken on too few draws, can be missed. NaN: not sampled "
                                "(samples = 0, criterion tier) or no sample had a verdict"}),
     "p_overturn_azimuth": (("record", "block"), "degree", "rocking plane p_overturn is for (clockwise from north; "
-                           "the given azimuth, or the worst orientation of a blank one)",
+                           "the given azimuth, or the orientation found worst for a blank one)",
                            {"comment": "NaN: not sampled; relative to the first component on a record of unknown "
                                        "absolute azimuth"}),
     "p_overturn_random_orientation": (("record", "block"), "1", "probability of overturning of a block whose "

@@ -22,7 +22,7 @@ import xarray as xr
 from . import __version__, criteria
 from .blocks import Inventory
 from .closed_forms import PULSE_BETA
-from .config import Config
+from .config import Config, SimulationConfig
 from .constants import CM_TO_M
 from .errors import PulseError, RockscreenError, TaskFailure
 from .pulses import analyze
@@ -32,7 +32,16 @@ from .rocking.block import Block
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 from .uncertainty.sampling import common_normals
-from .uncertainty.scenes import NOT_EVALUATED_ORIENTATION, motion, one_plane, orientation_probability, scene_probability
+from .uncertainty.scenes import (
+    NOT_EVALUATED_ORIENTATION,
+    OrientationProbability,
+    SceneMotion,
+    estimation_normals,
+    motion,
+    one_plane,
+    orientation_probability,
+    scene_probability,
+)
 
 log = logging.getLogger(__name__)
 
@@ -262,6 +271,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS + PROBABILITY_VARS}
     unc = cfg.uncertainty
     z = common_normals(unc.seed, unc.samples) if scan and unc.samples > 0 else None
+    z_estimate = estimation_normals(unc, unc.samples) if z is not None else None
     settings = cfg.simulation_settings()
     step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
     grid = plane_grid(step)
@@ -282,28 +292,14 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
                "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
         orient = NOT_EVALUATED_ORIENTATION
-        if base is not None and z is not None:
-            block = dict(height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
-                         restitution=float(inv.restitution[j]))
-            if scanned and not base.single:        # the block's orientation is unknown: per orientation
-                sample_grid, candidates = grid, list(azimuths)
-                if unc.orientation_step_deg > 0:           # a coarser grid for the samples, with the pulse axis
-                    sample_grid = plane_grid(unc.orientation_step_deg)          # and the nominal worst plane
-                    candidates = list(dict.fromkeys([float(azimuths[0]), float(res.azimuth_deg) % 180.0,
-                                                     *sample_grid.tolist()]))
-                orient = orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z,
-                                                 grid_deg=sample_grid, prefer_deg=res.azimuth_deg, settings=unc,
-                                                 simulation=settings, g_ms2=cfg.records.g_ms2, **block)
-            else:
-                given = not scanned
-                orient = one_plane(scene_probability(base, z, azimuth_deg=azimuths[0] if given else math.nan,
-                                                     settings=unc, simulation=settings, g_ms2=cfg.records.g_ms2,
-                                                     **block), azimuths[0])
+        if base is not None and z is not None and z_estimate is not None:
+            orient = _orientation_probability(base, z, z_estimate, inv, int(j), scanned=scanned, azimuths=azimuths,
+                                              governing_deg=res.azimuth_deg, grid=grid, cfg=cfg, settings=settings)
         prob = orient.worst
         row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
                     "robustness": prob.robustness, "samples_drawn": prob.drawn,
                     "samples_overturned": prob.overturned, "samples_free_flight": prob.free_flight,
-                    "sample_simulations": orient.simulations if prob.drawn else 0,
+                    "sample_simulations": orient.simulations,
                     "p_overturn_azimuth": orient.worst_azimuth_deg,
                     "p_overturn_random_orientation": orient.random,
                     "p_overturn_random_orientation_low": orient.random_low,
@@ -311,6 +307,30 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
         for n, v in row.items():
             out[n][j] = v
     return out
+
+
+def _orientation_probability(base: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, inv: Inventory, j: int, *,
+                             scanned: bool, azimuths: list[float], governing_deg: float, grid: np.ndarray,
+                             cfg: Config, settings: SimulationConfig) -> OrientationProbability:
+    """Block ``j``'s probabilities of overturning under the declared uncertainty: per orientation when its
+    rocking plane is unknown (scanned on a two-component record), else in its one plane."""
+    unc = cfg.uncertainty
+    if not scanned or base.single:
+        prob = scene_probability(base, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
+                                 mu=float(inv.mu[j]), restitution=float(inv.restitution[j]),
+                                 azimuth_deg=math.nan if scanned else azimuths[0], settings=unc,
+                                 simulation=settings, g_ms2=cfg.records.g_ms2)
+        return one_plane(prob, azimuths[0])
+    sample_grid, candidates = grid, list(azimuths)
+    if unc.orientation_step_deg > 0:        # a coarser grid for the samples, with the pulse axis and the nominal
+        sample_grid = plane_grid(unc.orientation_step_deg)                                       # worst plane
+        candidates = list(dict.fromkeys([float(azimuths[0]), float(governing_deg) % 180.0, *sample_grid.tolist()]))
+    return orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z,
+                                   grid_deg=sample_grid, height_m=float(inv.height_m[j]),
+                                   width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
+                                   restitution=float(inv.restitution[j]), prefer_deg=governing_deg, settings=unc,
+                                   simulation=settings, g_ms2=cfg.records.g_ms2,
+                                   z_estimate=z_estimate)
 
 
 def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sha256: str | None = None
@@ -340,9 +360,14 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
-        if not isinstance(exc, RockscreenError):
-            log.exception("unexpected error on record %s", source.record_id)
-        return failed_result(source, TaskFailure.from_exception(exc))
+        return failed_result(source, task_failure(exc, source.record_id))
+
+
+def task_failure(exc: Exception, record_id: str) -> TaskFailure:
+    """The failure a task returns for an exception it caught, the traceback of an unexpected one logged."""
+    if not isinstance(exc, RockscreenError):
+        log.exception("unexpected error on record %s", record_id)
+    return TaskFailure.from_exception(exc)
 
 
 def failed_result(source: RecordSource, failure: TaskFailure) -> RecordResult:

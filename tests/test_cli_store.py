@@ -306,3 +306,21 @@ def test_a_block_named_error_gets_its_margins(make_records, tmp_path, caplog):
     margins = dict(zip(ds.block.values.tolist(), ds.overturn_scale_simulated.values.tolist()))
     assert np.isfinite(margins["error"]) and np.isfinite(margins["other"]), margins
     assert "no margins" not in caplog.text
+
+
+def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
+    """A record that takes longer than PROGRESS_LINE_S is not waited for in silence."""
+    import time
+
+    from pipeline import cli
+
+    monkeypatch.setattr(cli, "PROGRESS_LINE_S", 0.2)
+
+    def slow():
+        yield 1
+        time.sleep(1.0)              # the second task takes five times the line interval
+        yield 2
+
+    assert list(cli._progress_lines(slow(), total=20)) == [1, 2]
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("progress: 1/20")]
+    assert len(lines) >= 3, lines

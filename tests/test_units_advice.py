@@ -55,7 +55,7 @@ def test_a_record_names_every_file_that_needs_a_declaration(make_records, config
     assert '[files]\n"sac/20190706031952.CJ.T001230.HN?.sac" = "g"' in text
 
 
-def test_pasted_advice_makes_every_record_but_the_vertical_only_one_load(tmp_path, records_dir, blocks_csv):
+def test_pasted_advice_makes_every_record_but_the_vertical_only_one_load(tmp_path, records_dir, blocks_csv, config):
     """The bundled records are byte copies of ../shared/records with a units.toml added: without it, the run
     prints lines; pasted as they are into units.toml, only the vertical-only COSMOS file still fails. The real
     units (SOURCES.md) are g for the CSN SAC files and cm/s**2 for the near-fault ASCII files."""
@@ -77,10 +77,5 @@ def test_pasted_advice_makes_every_record_but_the_vertical_only_one_load(tmp_pat
     failed = [ln for ln in second.splitlines() if " failed: " in ln]
     assert len(failed) == 1 and "BNZ" in failed[0] and "vertical component only" in failed[0], second
     assert "units" not in "\n".join(failed)
-    assert read_declared_units(root, _config()) == {"fn-ascii/*_fn.dat": "cm/s**2",
-                                                   "sac/20190706031952.CJ.T001230.HN?.sac": "g"}
-
-
-def _config():
-    from pipeline.config import Config
-    return Config()
+    assert read_declared_units(root, config) == {"fn-ascii/*_fn.dat": "cm/s**2",
+                                                 "sac/20190706031952.CJ.T001230.HN?.sac": "g"}

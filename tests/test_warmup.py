@@ -13,5 +13,6 @@ def test_a_long_compilation_is_announced_and_a_quick_one_is_silent(monkeypatch):
     said.clear()
     elapsed = warmup.compile_kernels(announce=said.append)
     assert elapsed >= 0.0
-    assert len(said) == 2 and said[0].startswith("compiling the simulator") and said[1].startswith("compiled")
-    assert len(quick) in (0, 2)                           # 2 only when this run compiled (a fresh install)
+    assert said[0].startswith("compiling the simulator") and said[-1].startswith("compiled the simulator in")
+    # a fresh install compiles here: announced, with lines while it goes on; else nothing is said
+    assert not quick or (quick[0].startswith("compiling") and quick[-1].startswith("compiled"))

@@ -7,17 +7,18 @@ same recording when their ground accelerations along the pulse orientation, low-
 :data:`LOWPASS_HZ`, match: the largest normalized cross-correlation over time shifts (and sign) is at least
 :data:`SAME_RECORDING_CORRELATION`.
 
-Why acceleration, low-passed: velocities are dominated by one pulse, and the pulses of unrelated near-fault
-records correlate up to 0.87 (El Centro Array #6 against Friuli's Tolmezzo, measured on the bundled records),
-while acceleration above a few hertz differs between processings of one recording (0.24 for the two Lucerne
-files). Low-passed at 2 Hz, the same recordings in other formats or processings correlate 0.91-0.99 and
-different stations at most 0.74 (El Centro Arrays #4 and #6, 4 km apart); ``docs/validation.md`` lists
-the values.
+Why acceleration, low-passed: velocities are dominated by one pulse, and the velocities of different
+stations correlate up to 0.87 (El Centro Array #6 against Array #4; 0.85 against Sturno, Irpinia, another
+earthquake; measured on the bundled records), while acceleration above a few hertz differs between
+processings of one recording (0.24 for the two Lucerne files). Low-passed at 2 Hz, the same recordings in
+other formats or processings correlate 0.91-0.99 and different stations at most 0.74 (El Centro Arrays #4
+and #6); ``docs/validation.md`` lists the values.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
@@ -43,7 +44,8 @@ class RecordingGroup:
     records : tuple of str
         Every record of the group, ``kept`` first.
     correlation : float
-        The smallest correlation that joined a record to the group [-].
+        The smallest correlation that joined a record to the group [-] (pairs already in one group are not
+        compared again).
     """
 
     kept: str
@@ -62,8 +64,13 @@ def compared_series(velocity_ms: np.ndarray, dt_s: float) -> np.ndarray:
     a = np.diff(vr) / COMPARE_DT_S
     if a.size <= 27:                          # too short for the filter's padding: nothing to compare
         return np.zeros(0)
-    sos = butter(4, LOWPASS_HZ, fs=1.0 / COMPARE_DT_S, output="sos")
-    return sosfiltfilt(sos, a - a.mean())
+    return sosfiltfilt(_lowpass(), a - a.mean())
+
+
+@lru_cache(maxsize=1)
+def _lowpass() -> np.ndarray:
+    """The 4-pole Butterworth low-pass at :data:`LOWPASS_HZ` for series at :data:`COMPARE_DT_S` (made once)."""
+    return butter(4, LOWPASS_HZ, fs=1.0 / COMPARE_DT_S, output="sos")
 
 
 def correlation(a: np.ndarray, b: np.ndarray) -> float:
@@ -97,8 +104,15 @@ def same_recordings(series: dict[str, tuple[np.ndarray, float]], *,
     list of RecordingGroup
         The groups of two or more records, sorted by their kept record.
     """
-    ids = sorted(series)
-    x = {rid: compared_series(*series[rid]) for rid in ids}
+    return group_compared({rid: compared_series(*v) for rid, v in series.items()}, threshold=threshold,
+                          preference=preference)
+
+
+def group_compared(x: dict[str, np.ndarray], *, threshold: float = SAME_RECORDING_CORRELATION,
+                   preference: dict[str, tuple] | None = None) -> list[RecordingGroup]:
+    """:func:`same_recordings` on series already made by :func:`compared_series` (record id -> series), so that
+    a caller reading many records holds only these short series, not the records' velocities."""
+    ids = sorted(x)
     peak = {rid: float(np.max(np.abs(x[rid]))) if x[rid].size else 0.0 for rid in ids}
     parent = {rid: rid for rid in ids}
     joined: dict[str, float] = {}
@@ -113,11 +127,12 @@ def same_recordings(series: dict[str, tuple[np.ndarray, float]], *,
         for b in ids[i + 1:]:
             if peak[a] == 0.0 or peak[b] == 0.0 or max(peak[a], peak[b]) > PEAK_RATIO_LIMIT * min(peak[a], peak[b]):
                 continue
+            ra, rb = root(a), root(b)
+            if ra == rb:                      # already one recording through other records
+                continue
             c = correlation(x[a], x[b])
             if c >= threshold:
-                ra, rb = root(a), root(b)
-                if ra != rb:
-                    parent[max(ra, rb)] = min(ra, rb)
+                parent[max(ra, rb)] = min(ra, rb)
                 joined[b] = min(joined.get(b, 1.0), c)
                 joined[a] = min(joined.get(a, 1.0), c)
     members: dict[str, list[str]] = {}

@@ -35,7 +35,7 @@ from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
-from .units import advice, canonical_units, declared_units_for, to_ms2
+from .units import UNITS_TABLE, advice, canonical_units, combined_declarations, declared_units_for, to_ms2
 
 log = logging.getLogger(__name__)
 
@@ -119,7 +119,7 @@ def read_declared_units(root: Path, config: ReaderSettings) -> dict[str, str]:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except tomllib.TOMLDecodeError as exc:
             raise UnitsError(f"{path}: not valid TOML ({exc})") from exc
-        stray = [k for k, v in data.items() if k != "files"]
+        stray = [k for k in data if k != "files"]
         if stray:
             raise UnitsError(f"{path}: {', '.join(repr(k) for k in stray)} outside the [files] table, where it "
                              "would be ignored; put every declaration on a line after the line [files], e.g.\n"
@@ -150,6 +150,15 @@ def read_inventory(root: Path, extra: str | Path | None = None):
             continue
         inventory = inv if inventory is None else inventory + inv
     return inventory
+
+
+def units_toml_lines(root: str | Path, messages: list[str]) -> list[str]:
+    """The ``units.toml`` lines a run's failure ``messages`` ask for, merged into globs that match exactly the
+    files needing them among the records directory's files (:func:`~.units.combined_declarations`)."""
+    if not any(UNITS_TABLE in m for m in messages):
+        return []
+    root = Path(root)
+    return combined_declarations(messages, [p.relative_to(root).as_posix() for p in _record_files(root)])
 
 
 def _record_files(root: Path) -> list[Path]:

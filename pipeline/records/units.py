@@ -84,8 +84,9 @@ def declared_units_for(path: Path, root: Path, declarations: dict[str, str]) -> 
     return None
 
 
-def advice(root: Path, errors: list[UndeclaredUnitsError], *, every_file: list[str] | None = None) -> str:
-    """The lines to paste into ``root/units.toml`` for files whose units must be declared.
+def advice(root: Path, errors: list[UndeclaredUnitsError]) -> str:
+    """The lines to paste into ``root/units.toml`` for files whose units must be declared (one record's files:
+    a glob is checked against the files of their folders).
 
     Parameters
     ----------
@@ -93,8 +94,6 @@ def advice(root: Path, errors: list[UndeclaredUnitsError], *, every_file: list[s
         The records directory.
     errors : list of UndeclaredUnitsError
         One per file that needs a declaration.
-    every_file : list of str, optional
-        Relative paths of the files a glob may match (default: the files in the errors' folders).
     """
     def rel(p: str) -> str:
         try:
@@ -106,9 +105,8 @@ def advice(root: Path, errors: list[UndeclaredUnitsError], *, every_file: list[s
     unknown = [e for e in errors if not e.suggested]
     text = ""
     if failing:
-        if every_file is None:
-            folders = {Path(root) / f.rpartition("/")[0] for f in failing}
-            every_file = [rel(str(p)) for d in folders if d.is_dir() for p in d.iterdir() if p.is_file()]
+        folders = {Path(root) / f.rpartition("/")[0] for f in failing}
+        every_file = [rel(str(p)) for d in folders if d.is_dir() for p in d.iterdir() if p.is_file()]
         readings = {rel(e.path): e.readings for e in errors if e.suggested}
         lines = suggest_declarations(failing, every_file)
         text += (f"\n  paste these lines into {Path(root) / 'units.toml'} (the {UNITS_TABLE} line once; the unit is "
@@ -121,18 +119,22 @@ def advice(root: Path, errors: list[UndeclaredUnitsError], *, every_file: list[s
     return text
 
 
-def combined_declarations(root: Path, messages: list[str]) -> list[str]:
+def combined_declarations(messages: list[str], every_file: list[str]) -> list[str]:
     """The ``units.toml`` lines for every file that the failure ``messages`` of a run ask to declare, merged
-    into as few globs as match exactly those files (``[]`` when none asks)."""
+    into as few globs as match exactly those files (``[]`` when none asks).
+
+    Parameters
+    ----------
+    messages : list of str
+        The failed records' statuses (the lines :func:`advice` wrote into them).
+    every_file : list of str
+        Relative paths of the files of the records directory.
+    """
     asked = [d for text in messages for d in parse_declarations(text)]
     if not asked:
         return []
-    every = []
-    for dirpath, dirnames, filenames in os.walk(root):
-        dirnames[:] = [d for d in dirnames if not d.startswith(".")]
-        every += [(Path(dirpath) / n).relative_to(root).as_posix() for n in filenames if not n.startswith(".")]
-    failing = {rel: unit for pattern, unit in asked for rel in every if matches(pattern, rel)}
-    return suggest_declarations(failing, every)
+    failing = {rel: unit for pattern, unit in asked for rel in every_file if matches(pattern, rel)}
+    return suggest_declarations(failing, every_file)
 
 
 def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=None) -> str:
@@ -255,8 +257,9 @@ def suggest_declarations(failing: dict[str, str], every_file: list[str]) -> list
     failing : dict
         Relative path -> suggested unit, of the files that need one.
     every_file : list of str
-        Relative paths of every file in the records directory: a glob is used only when it matches no file
-        outside ``failing`` with another unit (a declaration on a file that states its own units is an error).
+        Relative paths of the files a glob could match: a glob is used only when it matches exactly the
+        failing files of its folder and unit (a declaration on a file that states its own units is an error),
+        else the files are listed one by one.
 
     Returns
     -------

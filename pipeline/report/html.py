@@ -41,7 +41,7 @@ import xarray as xr
 from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
-from ..records.duplicates import RecordingGroup, same_recordings
+from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..rocking.orientation import Orientation
 from ..rocking.planner import Physics, Response
 from ..schema import INVENTORY_PREFIX
@@ -367,14 +367,14 @@ def recording_groups(ds: xr.Dataset, pulses: xr.Dataset | None) -> list[Recordin
         return []
     ok = dict(zip(ds["record"].values.tolist(), (ds["status"].values == "ok").tolist()))
     dts = pulses["dt"].values
-    series = {rid: (np.asarray(pulses["velocity"][rows].values, dtype=float), float(dts[k]))
-              for k, (rid, rows) in enumerate(ragged_rows(pulses, "record_id").items()) if ok.get(rid)}
-    if not series:
+    compared = {rid: compared_series(np.asarray(pulses["velocity"][rows].values, dtype=float), float(dts[k]))
+                for k, (rid, rows) in enumerate(ragged_rows(pulses, "record_id").items()) if ok.get(rid)}
+    if not compared:
         return []
     counts = [np.nan_to_num(ds[v].values.astype(float)) if v in ds else np.zeros(ds.sizes["record"])
               for v in ("n_horizontal", "has_vertical")]
     n_comp = dict(zip(ds["record"].values.tolist(), (counts[0] + counts[1]).tolist()))
-    return same_recordings(series, preference={r: (-int(n_comp.get(r, 0)),) for r in series})
+    return group_compared(compared, preference={r: (-int(n_comp.get(r, 0)),) for r in compared})
 
 
 def _histories(path: Path) -> dict:

@@ -25,6 +25,7 @@ whenever the nominal verdict was decided on the grid (tested).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -51,15 +52,26 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
     return r
 
 
+class Workspace(NamedTuple):
+    """What both sample kernels set up once per call (a numba namedtuple)."""
+
+    n: int                      # samples of the record
+    has_v: bool                 # the record has a vertical
+    t_end: float                # its end [s]
+    a: np.ndarray               # buffer for a plane's projection [m s-2]
+    av_s: np.ndarray            # buffer for a sample's scaled vertical [m s-2] (empty without one)
+    none: np.ndarray            # an empty vertical
+    no_output: RockingOutput    # no theta history, no impact log
+    at_rest: RockingState       # the state at rest
+
+
 @jit
 def _workspace(h1, av, dt):
-    """What both sample kernels set up once per call: the record's length, whether it has a vertical, its end
-    time, buffers for a plane's projection and a sample's scaled vertical, an empty vertical, no theta history
-    nor impact log, and the state at rest."""
+    """The :class:`Workspace` of a record ``h1`` (and vertical ``av``) sampled at ``dt``."""
     n = h1.size
     has_v = av.size == n
-    return (n, has_v, (n - 1) * dt, np.empty(n), np.empty(n if has_v else 0), np.zeros(0),
-            RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0))
+    return Workspace(n, has_v, (n - 1) * dt, np.empty(n), np.empty(n if has_v else 0), np.zeros(0),
+                     RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0))
 
 
 @jit
@@ -104,7 +116,9 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
     once another overturns: ``outcome_out[k, j]`` is 1 (overturns), 0 (stands) or -1 (free flight before
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
-    n, has_v, t_end, a, av_s, none, no_output, at_rest = _workspace(h1, av, dt)
+    w = _workspace(h1, av, dt)
+    has_v, t_end, a, av_s, none = w.has_v, w.t_end, w.a, w.av_s, w.none
+    no_output, at_rest = w.no_output, w.at_rest
     n_s, n_p = cosines.shape
     for k in range(n_s):
         for i in range(av_s.size):
@@ -151,7 +165,9 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
     verdict_out, planes_out : ndarray (int64)
         Filled with each sample's verdict (1, 0, -1) and planes integrated.
     """
-    n, has_v, t_end, a, av_s, none, no_output, at_rest = _workspace(h1, av, dt)
+    w = _workspace(h1, av, dt)
+    n, has_v, t_end, a, av_s, none = w.n, w.has_v, w.t_end, w.a, w.av_s, w.none
+    no_output, at_rest = w.no_output, w.at_rest
     n_s, n_p = cosines.shape
     ratios = np.empty(n_p)
     for k in range(n_s):

@@ -15,13 +15,15 @@ from collections.abc import Callable
 import numpy as np
 
 from ..constants import G
-from .batch import sample_verdicts
+from .batch import sample_plane_outcomes, sample_verdicts
 from .kernel import HAVE_NUMBA
 from .settings import SimulationConfig
 from .simulate import rock, slide, step_control
 
-#: Seconds after which a compilation still running is announced (shorter ones stay silent).
+#: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
+#: lines while it goes on.
 ANNOUNCE_AFTER_S = 1.0
+REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
@@ -31,20 +33,25 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
     ----------
     announce : callable, optional
         Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` (numba is
-        compiling: the first run of an install), and again with the time it took.
+        compiling: the first run of an install), every :data:`REPEAT_S` while it goes on, and with the time
+        it took.
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
         return 0.0
-    said = threading.Event()
+    said, done = threading.Event(), threading.Event()
 
     def tell() -> None:
+        if done.wait(ANNOUNCE_AFTER_S):
+            return
         said.set()
-        if announce is not None:
-            announce("compiling the simulator (numba, once per install; later runs load it from disk) ...")
+        if announce is None:
+            return
+        announce("compiling the simulator (numba, once per install; later runs load it from disk) ...")
+        while not done.wait(REPEAT_S):
+            announce(f"compiling the simulator ... {time.perf_counter() - t0:.0f} s")
 
-    timer = threading.Timer(ANNOUNCE_AFTER_S, tell)
-    timer.daemon = True
+    timer = threading.Thread(target=tell, daemon=True)
     timer.start()
     try:
         t = np.linspace(0.0, 2.0, 201)
@@ -54,12 +61,16 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
         slide(a, 0.01, mu=0.3, av_ms2=0.1 * a)
         one = np.ones(1)
         out = np.zeros(1, dtype=np.int64)
+        control = step_control(SimulationConfig())
         for vertical in (np.zeros(0), 0.1 * a):
-            sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), one, 2.0 * one,
-                            0.2 * one, 0.9 * one, one, 0.7 * one, G, 0.0, step_control(SimulationConfig()), out,
-                            out.copy())
+            block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu
+            sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
+                            control, out, out.copy())
+            sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
+                                  0.0, control, np.zeros((1, 2), dtype=np.int8), out.copy())
     finally:
-        timer.cancel()
+        done.set()
+        timer.join()
     elapsed = time.perf_counter() - t0
     if said.is_set() and announce is not None:
         announce(f"compiled the simulator in {elapsed:.0f} s")

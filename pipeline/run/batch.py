@@ -36,8 +36,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError, TaskFailure
-from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory
-from ..records.units import combined_declarations
+from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
 from ..rocking.planner import Physics, Response
 from ..screening import Context, RecordResult, assemble, failed_result, failure_result, screen_record
@@ -349,7 +348,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
-        "units_toml": combined_declarations(records_dir, [f.status for f in failed]),
+        "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
         "records_dir": str(records_dir),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
         "wall_time_s": time.perf_counter() - t0,

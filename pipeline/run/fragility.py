@@ -30,11 +30,11 @@ from .. import criteria
 from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR, G
-from ..errors import RockscreenError, TaskFailure, UsageError
+from ..errors import TaskFailure, UsageError
 from ..records.intensity import arias_intensity, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..schema import FRAGILITY, apply_schema
-from ..screening import Context, _simulation_values, pulses_and_directions
+from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
 from ..uncertainty.hazard import HazardCurve, annual_rate, probability_in
 from .cache import ENTRY_FORMAT, RecordStore, run_key
@@ -139,9 +139,7 @@ def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
         out.update(record_id=source.record_id, content=content)
         return out
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
-        if not isinstance(exc, RockscreenError):
-            log.exception("unexpected error on record %s", source.record_id)
-        return TaskFailure.from_exception(exc)
+        return task_failure(exc, source.record_id)
 
 
 class FragilityCache(RecordStore):
@@ -225,7 +223,7 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
 
 #: ``--orientation``: the probability a sampled stripe is fitted on, for a block of blank azimuth.
 ORIENTATIONS = {"random": ("p_random", "p_overturn_random_orientation (a block of unknown orientation)"),
-                "worst": ("p", "p_overturn (the worst orientation: conservative)")}
+                "worst": ("p", "p_overturn (the orientation found worst on the scan's grid)")}
 
 
 def assemble_fragility(results: list[dict], inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,

@@ -162,10 +162,11 @@ TIE_DRAWS = 15
 class OrientationProbability:
     """A scene's probability of overturning per orientation of the block.
 
-    ``worst`` is the probability in the worst orientation (its robustness class is the scene's), estimated on
-    draws independent of those that chose it; ``random`` the probability for a block whose orientation is
-    unknown (uniform on [0, 180) deg): the average over the scan's grid of planes, with a Wilson interval on
-    the per-draw fractions. For a given rocking plane or one recorded horizontal both are that plane's.
+    ``worst`` is the probability in the orientation found worst among the candidate planes (its robustness class
+    is the scene's), estimated on draws independent of those that chose it; ``random`` the probability for a
+    block whose orientation is unknown (uniform on [0, 180) deg): the average over the grid of planes, with the
+    interval of :func:`average_interval`. For a given rocking plane or one recorded horizontal both are that
+    plane's.
     """
 
     worst: Probability
@@ -191,7 +192,7 @@ def one_plane(prob: Probability, azimuth_deg: float) -> OrientationProbability:
 def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarray, height_m: float,
                             width_m: float, mu: float, restitution: float, prefer_deg: float,
                             settings: UncertaintyConfig, simulation: SimulationConfig = SimulationConfig(),
-                            g_ms2: float = G) -> OrientationProbability:
+                            g_ms2: float = G, z_estimate: np.ndarray | None = None) -> OrientationProbability:
     """P(overturn) per orientation of a block whose rocking plane is unknown.
 
     Stage 1: draws of ``z`` in batches, each simulated in every plane of ``m.planes_deg`` (the same draws for
@@ -216,6 +217,9 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
         The nominal governing plane [deg], chosen on a tie.
     settings, simulation, g_ms2
         As for :func:`scene_probability`.
+    z_estimate : ndarray, optional
+        The independent draws of stage 2, when the caller made them once for many scenes (default:
+        :func:`estimation_normals` of ``settings``).
     """
     n_max = len(z)
     planes_deg = np.asarray(m.planes_deg, dtype=float)
@@ -225,32 +229,39 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
     outcomes = np.zeros((n_max, planes_deg.size), dtype=np.int8)
     planes = np.zeros(n_max, dtype=np.int64)
     done = 0
-    low = high = math.nan
+    mean = low = high = math.nan
+    control = step_control(simulation)
+    cosines, sines = np.cos(np.deg2rad(planes_deg - m.azimuth0_deg)), np.sin(np.deg2rad(planes_deg - m.azimuth0_deg))
     for sl, sb in _batches(z, settings.batch, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
                            azimuth_deg=math.nan, settings=settings, g_ms2=g_ms2):
-        phi = np.broadcast_to(np.deg2rad(planes_deg - m.azimuth0_deg), (sl.stop - sl.start, planes_deg.size))
-        s = simulation
-        sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
-                              np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                              float(g_ms2), float(s.vertical_fraction), step_control(s), outcomes[sl], planes[sl])
+        shape = (sl.stop - sl.start, planes_deg.size)
+        sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.broadcast_to(cosines, shape)),
+                              np.ascontiguousarray(np.broadcast_to(sines, shape)), sb.amplitude, sb.p, sb.alpha, sb.e,
+                              sb.R_m, sb.mu, float(g_ms2), float(simulation.vertical_fraction), control,
+                              outcomes[sl], planes[sl])
         done = sl.stop
         fractions = _grid_fractions(outcomes[:done], on_grid)
         if fractions.size == 0:       # no draw has a verdict in any grid plane (free flight)
+            mean = low = high = math.nan
             break
         mean, low, high = average_interval(fractions, confidence=settings.confidence)
         if done >= SELECTION_BATCHES * settings.batch and (high - low) / 2.0 <= settings.p_halfwidth \
-                and (done >= TIE_DRAWS or _top_is_unique(outcomes[:done])):
+                and (done >= TIE_DRAWS or _top_is_unique(_plane_fractions(outcomes[:done]))):
             break
-    fractions = _grid_fractions(outcomes[:done], on_grid)
-    mean = float(fractions.mean()) if fractions.size else math.nan
-    worst_deg = _worst_plane(outcomes[:done], planes_deg, prefer_deg)
+    worst_deg = _worst_plane(_plane_fractions(outcomes[:done]), planes_deg, prefer_deg)
     if math.isnan(worst_deg):
         return NOT_EVALUATED_ORIENTATION
-    z2 = common_normals(settings.seed + ESTIMATION_SEED_OFFSET, n_max)
+    z2 = estimation_normals(settings, n_max) if z_estimate is None else z_estimate
     worst = scene_probability(dataclasses.replace(m, planes_deg=np.array([worst_deg])), z2, height_m=height_m,
                               width_m=width_m, mu=mu, restitution=restitution, azimuth_deg=math.nan,
                               settings=settings, simulation=simulation, g_ms2=g_ms2)
     return OrientationProbability(worst, worst_deg, mean, low, high, int(planes[:done].sum()) + worst.simulations)
+
+
+def estimation_normals(settings: UncertaintyConfig, samples: int) -> np.ndarray:
+    """The common random numbers of the draws that estimate a chosen orientation's probability: independent of
+    the selection draws (seed + :data:`ESTIMATION_SEED_OFFSET`)."""
+    return common_normals(settings.seed + ESTIMATION_SEED_OFFSET, samples)
 
 
 def average_interval(fractions: np.ndarray, *, confidence: float) -> tuple[float, float, float]:
@@ -276,22 +287,23 @@ def _grid_fractions(outcomes: np.ndarray, on_grid: np.ndarray) -> np.ndarray:
     return over[has] / judged[has]
 
 
-def _top_is_unique(outcomes: np.ndarray) -> bool:
-    """True when one plane alone has the largest fraction of draws overturning."""
+def _plane_fractions(outcomes: np.ndarray) -> np.ndarray:
+    """Per plane, the fraction of the draws with a verdict that overturn (NaN for a plane without one)."""
     judged = (outcomes >= 0).sum(axis=0)
-    frac = (outcomes == 1).sum(axis=0) / np.maximum(judged, 1)
-    frac = np.where(judged > 0, frac, -1.0)
-    return int(np.sum(frac == frac.max())) == 1
+    return np.where(judged > 0, (outcomes == 1).sum(axis=0) / np.maximum(judged, 1), np.nan)
 
 
-def _worst_plane(outcomes: np.ndarray, planes_deg: np.ndarray, prefer_deg: float) -> float:
-    """The plane with the largest fraction of draws overturning; on a tie, the one farthest from any plane with
-    a smaller fraction (the probability varies smoothly with the orientation, so the middle of a plateau is
-    the likeliest maximum); then ``prefer_deg``, then the first. NaN when no plane has a draw with a verdict."""
-    judged = (outcomes >= 0).sum(axis=0)
-    over = (outcomes == 1).sum(axis=0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        frac = np.where(judged > 0, over / np.maximum(judged, 1), np.nan)
+def _top_is_unique(frac: np.ndarray) -> bool:
+    """True when one plane alone has the largest fraction (``frac`` of :func:`_plane_fractions`)."""
+    return bool(np.isfinite(frac).any()) and int(np.sum(frac == np.nanmax(frac))) == 1
+
+
+def _worst_plane(frac: np.ndarray, planes_deg: np.ndarray, prefer_deg: float) -> float:
+    """The plane with the largest fraction of draws overturning (``frac`` of :func:`_plane_fractions`); on a
+    tie, the one farthest from any plane with a smaller fraction (the probability varies smoothly with the
+    orientation, so the middle of a plateau is taken as the best guess of its maximum); then ``prefer_deg``,
+    then the first.
+    NaN when no plane has a draw with a verdict."""
     if not np.isfinite(frac).any():
         return math.nan
     best = np.flatnonzero(frac == np.nanmax(frac))
