@@ -46,6 +46,7 @@ from .margins import overturn_scale_simulated
 from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
 from .records.record import Record
+from .rocking.planner import Physics
 from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
 from .store import write_csv_atomic, write_text_atomic
 
@@ -112,6 +113,7 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
     flight = np.zeros((len(scenes), nb))
     exceeded = np.zeros((len(scenes), nb))
     sampled = np.zeros((len(scenes), nb))
+    physics = np.full((len(scenes), nb), np.nan)
     t = 0.0
     for i, s in enumerate(scenes):
         t0 = time.perf_counter()
@@ -127,7 +129,8 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
         flight[i] = np.nan_to_num(sim["free_flight"])
         exceeded[i] = np.nan_to_num(sim["friction_exceeded"])
         sampled[i] = np.nan_to_num(sim["sample_simulations"])
-    return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes,
+        physics[i] = sim["physics"]
+    return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes, "physics": physics,
             "governing_azimuth": azimuth, "p_overturn": prob, "robustness": robust, "free_flight": flight,
             "friction_exceeded": exceeded, "sample_simulations": sampled}, t
 
@@ -230,8 +233,40 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> 
                      "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()),
                      "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
                      **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+    say("the general contact model against pure rocking and flags")
+    rows += _contact_rows(scenes, inventory, full, n_scenes)
     say("margin scan steps")
     rows += _margin_sweep(scenes, inventory, full, ref)
+    return rows
+
+
+def _contact_rows(scenes, inventory, config, n_scenes) -> list[dict]:
+    """What the general contact model costs and changes: the whole simulation with it and without it (pure
+    rocking with flags, free flight without a verdict), the scenes that need it, and their cost per scene."""
+    off = dataclasses.replace(config, simulation=dataclasses.replace(config.simulation, contact_model=False))
+    rows = []
+    runs = {}
+    for label, cfg in (("contact_model = false: pure rocking with flags, free flight without a verdict", off),
+                       ("contact_model = true (default): the general model where pure rocking stops holding",
+                        config)):
+        sim, t = _simulate(scenes, inventory, cfg)
+        runs[cfg.simulation.contact_model] = (sim, t)
+        general = int(np.sum(sim["physics"] == Physics.general))
+        rows.append({"section": "contact model", "setting": label, "value": int(cfg.simulation.contact_model),
+                     "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes, "scenes": n_scenes,
+                     "scenes_simulated": general, "planes_simulated": int(sim["planes_simulated"].sum())})
+    (on, t_on), (flagged, t_off) = runs[True], runs[False]
+    general = on["physics"] == Physics.general
+    before, after = flagged["overturn_simulated"][general], on["overturn_simulated"][general]
+    for what, sel in (("verdicts given where free flight had none", before == -1),
+                      ("verdicts changed from overturn to stand", (before == 1) & (after == 0)),
+                      ("verdicts changed from stand to overturn", (before == 0) & (after == 1))):
+        rows.append({"section": "contact model", "setting": what, "value": int(np.sum(sel)),
+                     "scenes": int(np.sum(general))})
+    per_scene = (t_on - t_off) / max(int(np.sum(general)), 1)
+    rows.append({"section": "contact model", "setting": "extra time per scene that needs the general model",
+                 "value": "", "time_s": per_scene, "time_per_scene_us": 1e6 * per_scene,
+                 "scenes": int(np.sum(general))})
     return rows
 
 
@@ -359,8 +394,8 @@ def markdown(rows: list[dict]) -> str:
               if "false_alarms" in r else "")
         err = (f"{fmt(r.get('theta_error_max', ''))} / {fmt(r.get('theta_error_median', ''))}"
                if "theta_error_max" in r else "")
-        lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r['time_s'])} | "
-                     f"{fmt(r['time_per_scene_us'])} | {r.get('scenes_simulated', '')} | "
+        lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r.get('time_s'))} | "
+                     f"{fmt(r.get('time_per_scene_us'))} | {r.get('scenes_simulated', '')} | "
                      f"{r.get('planes_simulated', '')} | {mp} | {fa} | {err} |")
     return "\n".join(lines) + "\n"
 

@@ -3,7 +3,7 @@
 A block is a free-standing rectangular rigid body of full height ``height_m``
 and full base width ``width_m`` in its rocking plane (Housner 1963 notation:
 half-height h, half-width b). Required columns: ``id,height_m,width_m``;
-optional: ``name,mu,azimuth_deg,restitution,site,notes``. A blank ``mu``
+optional: ``name,mu,azimuth_deg,restitution,base_margin_m,site,notes``. A blank ``mu``
 takes ``blocks.default_mu`` from the configuration; a blank ``azimuth_deg``
 (the rocking direction, deg clockwise from north, an axis) means "worst
 orientation"; a blank ``restitution`` means Housner's value.
@@ -32,7 +32,7 @@ from .rocking.block import Block
 log = logging.getLogger(__name__)
 
 REQUIRED = ("id", "height_m", "width_m")
-OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "site", "notes")
+OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "site", "notes")
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
 #: assets.csv and the report. Any other extra column is kept too, with a warning (a typo is likely).
 ASSET_COLUMNS = ("value", "location", "floor", "owner", "category")
@@ -151,6 +151,13 @@ class Inventory:
     source: str
     #: extra inventory columns (asset value, location, floor, ...), column -> one string per block
     extra: dict = field(default_factory=dict)
+    #: free distance from the block's footprint to the edge of what it stands on, in its rocking plane [m]
+    #: (NaN: no edge given); empty: none given for any block
+    base_margin_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def base_margins(self) -> np.ndarray:
+        """:attr:`base_margin_m` aligned with the blocks (NaN where none is given) [m]."""
+        return self.base_margin_m if self.base_margin_m.size == len(self) else np.full(len(self), np.nan)
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -178,7 +185,8 @@ class Inventory:
         return Inventory(ids=pick(self.ids), names=pick(self.names), sites=pick(self.sites),
                          notes=pick(self.notes), height_m=self.height_m[k], width_m=self.width_m[k],
                          mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
-                         source=self.source, extra={c: pick(v) for c, v in self.extra.items()})
+                         source=self.source, extra={c: pick(v) for c, v in self.extra.items()},
+                         base_margin_m=self.base_margins()[k])
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -362,6 +370,10 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         e = rec.get("restitution", "")
         rows["restitution"].append(math.nan if not e else cell(
             where, "restitution", e, "a velocity restitution ratio in (0, 1]", lambda x: 0 < x <= 1, math.nan))
+        margin = rec.get("base_margin_m", "")
+        rows["base_margin_m"].append(math.nan if not margin else cell(
+            where, "base_margin_m", margin, "a distance >= 0 m from the block to the edge of its base (blank: none)",
+            lambda x: x >= 0, math.nan))
         for c in ("name", "site", "notes") + tuple(extras):
             rows[c].append(rec.get(c, ""))
         implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
@@ -378,5 +390,5 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         height_m=np.array(rows["height_m"]), width_m=np.array(rows["width_m"]),
         mu=np.array(rows["mu"]), azimuth_deg=np.array(rows["azimuth_deg"]),
         restitution=np.array(rows["restitution"]), source=str(path),
-        extra={c: tuple(rows[c]) for c in extras},
+        extra={c: tuple(rows[c]) for c in extras}, base_margin_m=np.array(rows["base_margin_m"], dtype=float),
     )

@@ -198,9 +198,20 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())
             + f"; sampled planes integrated: {s['sampled_simulations']} (sensitive: the verdict can flip; "
             "p_overturn in screening.nc)", file=sys.stderr)
+    general = s.get("general_scenes", {})
+    if general.get("total"):
+        print(f"contact model: {general['total']} scene(s) left pure rocking or sliding and were decided by the "
+              f"general contact model: slide-rock in {general['slide_rock']}, free flight in "
+              f"{general['ground_flight'] + general['block_liftoff']} (the ground's g + a_v reached 0 in "
+              f"{general['ground_flight']}, the block lifted itself off in {general['block_liftoff']}); physics "
+              "general, the modes in contact_modes", file=sys.stderr)
+    if s.get("slides_off_base"):
+        print(f"sliding: {s['slides_off_base']} scene(s) where the block slides farther than its base_margin_m, off "
+              "its base (slides_off_base in screening.nc)", file=sys.stderr)
     if s["scenes_by_response"].get("free_flight"):
         print(f"free flight: {s['scenes_by_response']['free_flight']} scene(s) where the ground's g + a_v reached 0 "
-              "before any overturning have no verdict (response free_flight)", file=sys.stderr)
+              "before any overturning have no verdict (response free_flight; simulation.contact_model is off)",
+              file=sys.stderr)
 
     if s.get("not_records"):
         names = ", ".join(Path(p).name for p, _ in s["not_records"][:5]) + (", ..." if len(s["not_records"]) > 5

@@ -19,7 +19,7 @@ import xarray as xr
 
 from .criteria import Onset
 from .rocking.orientation import Orientation
-from .rocking.planner import FreeFlight, Physics, Response
+from .rocking.planner import ContactMode, FreeFlight, Physics, Response
 from .uncertainty.fragility import FitStatus
 from .uncertainty.robust import Robustness
 
@@ -134,22 +134,31 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "overturn": (("record", "block"), None, "overturning verdict at the run's fidelity: the simulation's where it "
                  "ran, else the criterion's", {**TRISTATE,
                                                "comment": "not_evaluated also where the ground's g + a_v reached 0 "
-                                                          "before any overturning (response free_flight)"}),
+                                                          "before any overturning and the contact model was off "
+                                                          "(response free_flight)"}),
     "verdict_source": (("record", "block"), None, "model behind the verdict 'overturn'",
                        flags(VerdictSource, missing="none")),
     # the simulator per (record, block) scene (pipeline.rocking)
     "physics": (("record", "block"), None, "physics simulated for the scene (scene planner)",
                 {**flags(Physics),
-                 "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included)"}),
+                 "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included); "
+                            "general: pure rocking (or sliding) stopped holding and the general contact model "
+                            "(slide, slide-rock, free flight, impacts) decided the verdict"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
-                  "comment": "slide_rock: the friction demand of pure rocking exceeded mu; the pure-rocking "
-                             "result is not to be trusted. free_flight: the ground's g + a_v reached 0 before "
-                             "any overturning; the contact model stops there and gives no verdict"}),
+                  "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "
+                             "off, the friction demand of pure rocking exceeded mu and the pure-rocking verdict "
+                             "is kept. free_flight: only with the contact model off: the ground's g + a_v "
+                             "reached 0 before any overturning, no verdict"}),
+    "contact_modes": (("record", "block"), None, "contact modes the scene went through",
+                      {"flag_masks": np.array([m.value for m in ContactMode], dtype="i1"),
+                       "flag_meanings": " ".join(m.name for m in ContactMode),
+                       "comment": "0: at rest throughout"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,
                             "comment": "scenes proven at rest are false without integration; not_evaluated: "
-                                       "not simulated, or free flight before any overturning"}),
+                                       "not simulated, or free flight before any overturning with "
+                                       "simulation.contact_model off"}),
     "theta_max": (("record", "block"), "1", "peak rotation over alpha, max |theta| / alpha", {}),
     "n_impacts": (("record", "block"), "1", "impacts during the record (and the one before an escape after it)",
                   {}),
@@ -158,12 +167,17 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "friction_demand": (("record", "block"), "1", "peak |f_x / f_z| along the rocking trajectory", {}),
     "friction_exceeded": (("record", "block"), None, "friction demand of pure rocking exceeded mu",
                           TRISTATE),
-    "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground", {}),
+    "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground",
+                    {"comment": "sliding scenes: the Coulomb slip; general scenes: the net slip of the base (the "
+                                "contact point's slip in slide and slide-rock, the base's travel in flight)"}),
     "free_flight": (("record", "block"), None, "loss of contact with the base",
                     {**flags(FreeFlight),
-                     "comment": "ground_flight: the ground's g + a_v reached 0 (the simulation stopped there); "
-                                "block_liftoff: the rocking block's own contact force f_z reached 0 (flagged, "
-                                "the rigid-contact result is kept)"}),
+                     "comment": "ground_flight: the ground's g + a_v reached 0; block_liftoff: the block's own "
+                                "contact force reached 0. Both are simulated by the general contact model "
+                                "(physics general); with simulation.contact_model off, ground flight stops the "
+                                "simulation and a lift-off is only flagged"}),
+    "slides_off_base": (("record", "block"), None, "the block's net slip exceeds its base margin (it slides off)",
+                        {**TRISTATE, "comment": "not_evaluated: no base_margin_m in the inventory, or not simulated"}),
     "time_free_flight": (("record", "block"), "s", "time the ground's g + a_v reached 0 (free flight)", {}),
     "governing_azimuth": (("record", "block"), "degree",
                           "azimuth of the rocking plane whose result is reported, clockwise from north, modulo 180",
@@ -235,6 +249,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "mu": (("block",), "1", "friction coefficient between block and base", {}),
     "block_sha256": (("block",), None, "SHA-256 of the block's inventory entry (what its results depend on)",
                      {}),
+    "base_margin": (("block",), "m", "free distance from the block's footprint to the edge of its base", {}),
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),

@@ -213,12 +213,13 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
 #: Integer variables that are counts rather than flags (-1: not evaluated).
 INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
                   "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
-                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4"}
+                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4",
+                  "contact_modes": "i1"}
 
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
-                   "governing_azimuth", "orientation", "planes_simulated")
+                   "governing_azimuth", "orientation", "planes_simulated", "contact_modes")
 
 #: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
 PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
@@ -290,7 +291,8 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
                "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
-               "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated}
+               "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated,
+               "contact_modes": sc.contact_modes}
         orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None and z_estimate is not None:
             orient = _orientation_probability(base, z, z_estimate, inv, int(j), scanned=scanned, azimuths=azimuths,
@@ -433,6 +435,10 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
     simulated = data_vars["response"][1] >= 0
     data_vars["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
                                                           scenes["overturn_criterion"]).astype("i1"))
+    margin = inventory.base_margins()
+    slid = np.nan_to_num(data_vars["sliding_max"][1], nan=0.0) > margin[None, :]
+    data_vars["slides_off_base"] = (("record", "block"), np.where(
+        simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
     data_vars["verdict_source"] = (("record", "block"), np.where(
         simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
     data_vars.update({
@@ -450,6 +456,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         "mu": (("block",), inventory.mu),
         "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
         "block_azimuth": (("block",), inventory.azimuth_deg),
+        "base_margin": (("block",), inventory.base_margins()),
         "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
         "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
         "transition_period": (("block",), criteria.transition_period(geom.p, PULSE_BETA["half-sine"])),

@@ -3,6 +3,7 @@ honest margins (issue 15)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import shutil
 
@@ -17,6 +18,7 @@ from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
 from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
 from pipeline.screening import Context, screen_record
 
@@ -141,7 +143,11 @@ def test_a_small_vertical_under_a_plateau_is_never_planned_away(height_m):
     assert plan(ah, None, alpha=blk["alpha"], mu=0.6) == Physics.none
 
 
-def test_free_flight_is_not_a_verdict():
+#: The simulator without the general contact model: free flight stops the kernels (no verdict).
+NO_CONTACT_MODEL = dataclasses.replace(SimulationConfig(), contact_model=False)
+
+
+def test_free_flight_is_not_a_verdict_without_the_contact_model_and_is_simulated_with_it():
     # h = 0.23 m, b/h = 0.05 under 1.2 g of vertical at 5 Hz and 0.01 g of horizontal: the ground falls
     # faster than gravity at t_f = (pi + asin(1/1.2)) / (2 pi 5) (closed form), before anything else happens
     blk = _block(0.23, 0.05)
@@ -150,14 +156,21 @@ def test_free_flight_is_not_a_verdict():
     av = 1.2 * G * np.sin(2 * math.pi * 5 * t)
     ah = 0.01 * G * np.sin(2 * math.pi * 5 * t + 0.3)
     t_flight = (math.pi + math.asin(1 / 1.2)) / (2 * math.pi * 5)
-    sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk))
+    sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk), settings=NO_CONTACT_MODEL)
     assert sc.response == Response.free_flight and sc.verdict == -1 and not sc.overturned
     assert sc.free_flight == 1
     assert sc.t_flight == pytest.approx(t_flight, abs=dt / 10)     # the sine against its linear interpolant
+    # with the general contact model (the default) the block flies, lands and gets a verdict
+    sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk))
+    assert sc.physics == Physics.general and sc.verdict in (0, 1) and sc.free_flight == 1
+    assert sc.t_flight == pytest.approx(t_flight, abs=dt / 10)
     # a block that slides (mu < tan alpha) under the same vertical and no horizontal at all: no slip,
-    # and no slide verdict either
-    sc = simulate_scene(np.zeros_like(t), av, dt, block=Block(mu=0.03, **blk))
+    # and no slide verdict without the contact model; with it, it flies flat, lands flat and stands
+    sc = simulate_scene(np.zeros_like(t), av, dt, block=Block(mu=0.03, **blk), settings=NO_CONTACT_MODEL)
     assert sc.response == Response.free_flight and sc.sliding_max_m == 0.0
+    sc = simulate_scene(np.zeros_like(t), av, dt, block=Block(mu=0.03, **blk))
+    assert sc.physics == Physics.general and sc.verdict == 0 and sc.sliding_max_m <= 1e-12
+    assert sc.theta_max == 0.0
     # the Coulomb kernel with zero horizontal input never slips (it used to, with friction of the wrong sign)
     for scale in (0.9, 1.2):
         assert slide(np.zeros_like(t), dt, mu=0.3, av_ms2=scale / 1.2 * av).sliding_max_m == 0.0

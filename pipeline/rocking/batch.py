@@ -29,6 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .contact import ContactBlock
+from .handoff import continue_rocking, from_rest, hand_off
 from .kernel import STATUS_FREE_FLIGHT, jit, rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 from .structures import RockingBlock, RockingOutput, RockingState
@@ -71,19 +73,38 @@ def _workspace(h1, av, dt):
     n = h1.size
     has_v = av.size == n
     return Workspace(n, has_v, (n - 1) * dt, np.empty(n), np.empty(n if has_v else 0), np.zeros(0),
-                     RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0))
+                     RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0, 0.0))
 
 
 @jit
-def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output):
+def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, mu, contact_model):
     """Rock a sample in the plane of weights (c, s), the record scaled by ``eps`` (projected into ``a``):
-    1 overturns, 0 stands, -1 free flight before any overturning."""
+    1 overturns, 0 stands, -1 free flight before any overturning (without the contact model). With the
+    contact model, the general model continues where pure rocking stops (:mod:`.handoff`)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
+    if contact_model:
+        block = RockingBlock(block.p, block.alpha, block.e, block.g, block.R, block.linear, mu)
     res = rock(a, av_s, dt, t_end, block, control, at_rest, True, no_output)
     if res.overturned:
         return 1
+    if contact_model:
+        why = hand_off(res)
+        if why.friction or why.liftoff or why.ground_flight:
+            cb = ContactBlock(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
+            return 1 if continue_rocking(res, a, av_s, dt, block, control, cb, True).overturned else 0
+        return 0
     return -1 if res.status & STATUS_FREE_FLIGHT else 0
+
+
+@jit
+def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control):
+    """A sample that cannot rock, in a plane that moves it while the ground reaches free flight: the general
+    contact model from rest (1 overturns, 0 stands)."""
+    for i in range(a.size):
+        a[i] = eps * (c * h1[i] + s * h2[i])
+    cb = ContactBlock(p, alpha, e, R, mu, g, control.rest_ratio)
+    return 1 if from_rest(a, av_s, dt, cb, True).overturned else 0
 
 
 @jit
@@ -107,8 +128,8 @@ def _flight_at_some_sample(av_s, g):
 
 
 @jit
-def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, control,
-                          outcome_out, planes_out):
+def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction,
+                          contact_model, control, outcome_out, planes_out):
     """Every sample's outcome in every candidate plane: what a block of each orientation would do.
 
     The same inputs as :func:`sample_verdicts`, and the same decisions per plane (the exact at-rest
@@ -133,17 +154,22 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
             if not _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g) > thr:
                 continue                                   # proven at rest in this plane
             if not rocks:
-                outcome_out[k, j] = -1 if flight else 0
+                if flight and contact_model:
+                    planes_out[k] += 1
+                    outcome_out[k, j] = _slide_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, dt, p[k],
+                                                     alpha[k], e[k], R[k], mu[k], g, control)
+                else:
+                    outcome_out[k, j] = -1 if flight else 0
                 continue
             planes_out[k] += 1
             outcome_out[k, j] = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none,
-                                            dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False), control,
-                                            at_rest, no_output)
+                                            dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False, math.inf),
+                                            control, at_rest, no_output, mu[k], contact_model)
 
 
 @jit
-def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, control,
-                    verdict_out, planes_out):
+def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, contact_model,
+                    control, verdict_out, planes_out):
     """Verdicts of the samples of one scene.
 
     Parameters
@@ -160,6 +186,9 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         Amplitude factor and block of each sample.
     g, vertical_fraction : float
         Gravity [m s-2] and the planner's vertical approximation (0: the vertical is always simulated).
+    contact_model : bool
+        Continue with the general contact model where pure rocking stops holding (the planner's
+        ``contact_model`` setting); without it, free flight gives -1 (no verdict).
     control : StepControl
         The simulator's step control (:func:`~.simulate.step_control`).
     verdict_out, planes_out : ndarray (int64)
@@ -198,11 +227,23 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         if not rocks:
-            # a sample that cannot rock cannot overturn: nothing is integrated. Its verdict is what the Coulomb
-            # integration of every moving plane would give: free flight (-1) when a plane moves it and the
-            # ground's g + a_v reaches 0 at some sample (where that integration stops), else 0
+            # a sample that cannot rock cannot overturn while it slides: nothing is integrated, and its verdict
+            # is 0, as the Coulomb integration of every moving plane gives. Where a plane moves it and the
+            # ground's g + a_v reaches 0 at some sample, that integration stops: free flight (-1) without
+            # the contact model, else the general model decides, plane by plane, strongest demand first
             if ratios[order[0]] > thr and use_v and _flight_at_some_sample(av_s, g):
-                verdict_out[k] = -1
+                if not contact_model:
+                    verdict_out[k] = -1
+                    continue
+                for jj in range(n_p):
+                    j = order[jj]
+                    if not ratios[j] > thr:
+                        break
+                    planes_out[k] += 1
+                    if _slide_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, dt, p[k], alpha[k], e[k],
+                                    R[k], mu[k], g, control) == 1:
+                        verdict_out[k] = 1
+                        break
             continue
         flight = False
         for jj in range(n_p):
@@ -211,7 +252,8 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
                 break
             planes_out[k] += 1
             outcome = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none, dt, t_end,
-                                  RockingBlock(p[k], alpha[k], e[k], g, R[k], False), control, at_rest, no_output)
+                                  RockingBlock(p[k], alpha[k], e[k], g, R[k], False, math.inf), control, at_rest,
+                                  no_output, mu[k], contact_model)
             if outcome == 1:
                 verdict_out[k] = 1
                 break

@@ -62,7 +62,9 @@ HALF_PI = 0.5 * math.pi
 STATUS_CHATTER = 1        # event cap reached: forced to rest
 STATUS_FREE_FLIGHT = 2    # the ground's g + a_v reached 0: contact lost, the contact model stopped there
 STATUS_STEP_UNDERFLOW = 4  # step size fell below 1e-14 s: accepted anyway
-STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion lifts it): flagged, not stopped
+STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion lifts it): flagged; stopped when
+                          # the block's stop_mu is finite
+STATUS_FRICTION = 16      # the friction demand exceeded the block's stop_mu: stopped there
 
 # modes
 REST, ROCK, OVERTURNED = 0, 1, 2
@@ -326,7 +328,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     control : StepControl
         Tolerances and step limits.
     start : RockingState
-        Initial state (both 0: at rest).
+        Initial state (both 0: at rest) and its time (the theta history, when asked for, starts at t = 0).
     tail_energy : bool
         After the record, decide by :func:`free_outcome` instead of integrating.
     out : RockingOutput
@@ -337,6 +339,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     RockingOutcome
     """
     p, alpha, e, g, R, linear = block.p, block.alpha, block.e, block.g, block.R, block.linear
+    # (block.stop_mu: stop at a friction exceedance or a lift-off, for the general contact model)
     theta_out, impacts_out = out.theta, out.impacts
     n = ah.shape[0]
     has_v = av.shape[0] == n
@@ -356,7 +359,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     if th != 0.0 or om != 0.0:
         mode = ROCK
         s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
-    t = 0.0
+    t = start.t
     theta_max = abs(th)
     n_imp = 0
     n_up = 0
@@ -368,6 +371,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     t_first = math.nan
     h = min(h_max, dt) * FIRST_STEP_FRACTION
     out_k = 0
+    handed_off = False
     if n_out > 0:
         theta_out[0] = th
         out_k = 1
@@ -450,8 +454,13 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
                 h = MIN_STEP_S
             continue
         if has_v and g + v0 + sv * (t + hh - t0) <= 0.0:
-            # contact lost during the step (g + a_v <= 0): the contact model holds no further
-            t = t + _flight_fraction(v0 + sv * (t - t0), v0 + sv * (t + hh - t0), g) * hh
+            # contact lost during the step (g + a_v <= 0): the contact model holds no further; the state is
+            # carried to that instant
+            hf = _flight_fraction(v0 + sv * (t - t0), v0 + sv * (t + hh - t0), g) * hh
+            if hf > 0.0:
+                th, om, _et, _eo, _acc = _dopri_step(t, th, om, hf, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
+                theta_max = max(theta_max, abs(th))
+            t = t + hf
             status |= STATUS_FREE_FLIGHT
             break
         # accepted: events inside the step
@@ -494,9 +503,6 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             mode = OVERTURNED
             t = t_over
             break
-        if om * om1 < 0.0:
-            theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
-        theta_max = max(theta_max, abs(th1))
         # friction and lift-off demand at the step end, while the block can still come back
         # (|theta| < alpha): past the saddle it falls whether or not the base slides
         if abs(th1) < alpha:
@@ -506,13 +512,23 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
                 status |= STATUS_LIFTOFF
             else:
                 fric_max = max(fric_max, demand)
+            if lifted and block.stop_mu < math.inf or not lifted and demand > block.stop_mu:
+                # pure rocking stops holding inside this step: stop at its start, the last state where it held
+                # (the general contact model continues from there and locates the event itself)
+                if not lifted:
+                    status |= STATUS_FRICTION
+                handed_off = True
+                break
+        if om * om1 < 0.0:
+            theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
+        theta_max = max(theta_max, abs(th1))
         out_k = _fill_hermite(theta_out, out_k, dt, t, hh, th, om, th1, om1, t + hh)
         t = t + hh
         th, om = th1, om1
         h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
 
     if not overturned and mode == ROCK and tail_energy and t >= t_rec - TAIL_TIME_TOL_S \
-            and not status & STATUS_FREE_FLIGHT:
+            and not status & STATUS_FREE_FLIGHT and not handed_off:
         over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
         theta_max = max(theta_max, peak)
         if over:
@@ -520,7 +536,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             t_over = t
             mode = OVERTURNED
             n_imp += extra                 # the impact on the way, before the escaping swing
-    return RockingOutcome(overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first)
+    return RockingOutcome(overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first, s)
 
 
 def empty_theta() -> np.ndarray:

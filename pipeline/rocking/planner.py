@@ -19,14 +19,23 @@ ratio's peak over an interval lies at a sample, and the test is exact:
   (never from the decision above); ``screen bench`` measures the verdicts it
   changes.
 
-Free flight: where g + a_v <= 0 the block leaves its base and neither the
-rocking equation nor Coulomb friction holds. The kernels stop there; a scene
-that had not overturned before gets the response ``free_flight`` and no
-verdict (-1), never an overturn or a slide.
+* **general**: where pure rocking stops holding, the general contact model
+  (:mod:`.contact`: slide, slide-rock and free flight, with impacts) continues the
+  scene from the state the rocking kernel stopped in (:mod:`.handoff`): the pivot's
+  friction demand |f_x/f_z| exceeded mu, the pivot lifted off (f_z <= 0), or the
+  ground fell faster than gravity (g + a_v <= 0). A sliding scene that meets free
+  flight is simulated by the general model from rest. ``physics`` is then
+  ``general``: the verdict rests on it. Pure-rocking scenes are the kernel's
+  results, unchanged.
 
-Responses: rest, slide, rock, slide_rock (rocking whose friction demand
-|f_x/f_z| exceeded mu somewhere: the pure-rocking result is then not to be
-trusted), overturn, free_flight.
+With ``contact_model = false`` (what ``screen bench`` compares with), the kernels
+stop at free flight (response ``free_flight``, no verdict) and a friction
+exceedance is only flagged (response ``slide_rock``, the pure-rocking verdict).
+
+Responses: rest, slide, rock, slide_rock (slide-rock occurred; without the
+contact model: the pure-rocking friction demand exceeded mu), overturn,
+free_flight (only without the contact model). Which modes a general scene went
+through is in ``contact_modes``.
 
 References
 ----------
@@ -45,10 +54,11 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
+from . import contact
 from .block import Block
 from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
-from .simulate import RockResult, rock, slide
+from .simulate import ContactResult, RockResult, continued, from_rest, rock, slide
 
 
 class Physics(IntEnum):
@@ -58,6 +68,7 @@ class Physics(IntEnum):
     sliding = 1
     rocking = 2
     rocking_vertical = 3
+    general = 4           # pure rocking continued by the general contact model (slide, slide-rock, flight)
 
 
 class Response(IntEnum):
@@ -75,8 +86,17 @@ class FreeFlight(IntEnum):
     """Loss of contact with the base."""
 
     none = 0
-    ground_flight = 1       # the ground's g + a_v reached 0: the simulation stopped there
-    block_liftoff = 2       # f_z <= 0 while rocking: flagged, the verdict kept
+    ground_flight = 1       # the ground's g + a_v reached 0 (without the contact model: the simulation stopped)
+    block_liftoff = 2       # f_z <= 0 while rocking (without the contact model: flagged, the verdict kept)
+
+
+class ContactMode(IntEnum):
+    """Bits of ``contact_modes``: the modes a scene went through."""
+
+    slide = 1
+    rock = 2
+    slide_rock = 4
+    free_flight = 8
 
 
 
@@ -150,10 +170,13 @@ class Scene:
     t_flight: float = math.nan
     #: theta(t) / alpha at every sample when asked for (rocking scenes), else None.
     theta_over_alpha: np.ndarray | None = None
+    #: :class:`ContactMode` bits of the modes the scene went through (0 at rest).
+    contact_modes: int = 0
 
     @property
     def verdict(self) -> int:
-        """1 overturns, 0 stands, -1 undetermined (free flight before any overturning)."""
+        """1 overturns, 0 stands, -1 undetermined (free flight before any overturning, without the contact
+        model)."""
         if self.overturned:
             return 1
         return -1 if self.response == Response.free_flight else 0
@@ -194,15 +217,50 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
     use_v = uses_vertical(av_ms2, g_ms2=g_ms2, vertical_fraction=settings.vertical_fraction)
     if physics == Physics.sliding:
         res = slide(ah_ms2, dt_s, mu=mu, av_ms2=av_ms2 if use_v else None, g_ms2=g_ms2)
+        if res.free_flight and settings.contact_model:
+            return general_scene(from_rest(ah_ms2, av_ms2 if use_v else None, dt_s, block=block, settings=settings),
+                                 alpha=alpha, friction_demand=math.nan, friction_exceeded=-1)
         if res.free_flight:
             return Scene(physics, Response.free_flight, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                         1, False, -1, res.t_flight_s)
+                         1, False, -1, res.t_flight_s, contact_modes=ContactMode.slide)
         return Scene(physics, Response.slide, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                     0, False, -1)
+                     0, False, -1, contact_modes=ContactMode.slide)
     av = av_ms2 if physics == Physics.rocking_vertical else None
     rr = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
-              history=history)
+              history=history, stop_mu=mu if settings.contact_model else math.inf)
+    if settings.contact_model:
+        cont = continued(ah_ms2, av, dt_s, rr, block=block, settings=settings)
+        if cont is not None:
+            return general_scene(cont, alpha=alpha, friction_demand=rr.friction_demand,
+                                 friction_exceeded=int(rr.friction_demand > mu), rocking=rr)
     return _rocking_scene(physics, rr, alpha=alpha, mu=mu, history=history)
+
+
+def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, friction_exceeded: int,
+                  rocking: RockResult | None = None) -> Scene:
+    """A scene decided by the general contact model (``co``), after the pure rocking ``rocking`` when it
+    came first. ``free_flight`` says which loss of contact happened first: the ground's, else the block's own."""
+    modes = co.modes | (ContactMode.rock if rocking is not None else 0)
+    if co.overturned:
+        response = Response.overturn
+    elif modes & ContactMode.slide_rock:
+        response = Response.slide_rock
+    elif modes & ContactMode.rock:
+        response = Response.rock
+    elif modes & ContactMode.slide:
+        response = Response.slide
+    else:
+        response = Response.rest
+    flight = FreeFlight.none
+    if co.status & contact.STATUS_GROUND_FLIGHT:
+        flight = FreeFlight.ground_flight
+    elif co.status & contact.STATUS_LIFTOFF:
+        flight = FreeFlight.block_liftoff
+    theta_max = max(co.theta_max_rad / alpha, rocking.theta_max if rocking is not None else 0.0)
+    n_impacts = co.n_impacts + (rocking.n_impacts if rocking is not None else 0)
+    return Scene(Physics.general, response, co.overturned, theta_max, n_impacts, co.t_overturn, friction_demand,
+                 co.slip_max_m, flight, False, friction_exceeded,
+                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan, contact_modes=modes)
 
 
 def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, history: bool) -> Scene:
@@ -220,5 +278,5 @@ def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, hi
     theta = res.theta / alpha if history and res.theta is not None else None
     return Scene(physics, response, res.overturned, res.theta_max, res.n_impacts, res.t_overturn,
                  res.friction_demand, math.nan, 1 if flight else (2 if res.liftoff else 0), res.chatter,
-                 int(exceeded), res.t_stop if flight else math.nan, theta)
+                 int(exceeded), res.t_stop if flight else math.nan, theta, contact_modes=ContactMode.rock)
 

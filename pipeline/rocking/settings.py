@@ -26,6 +26,11 @@ class SimulationConfig:
     #: approximation that drops a vertical whose peak stays at or below this fraction of g from the
     #: simulation (never from the at-rest decision); ``screen bench`` measures its effect [-].
     vertical_fraction: float = 0.0
+    #: True (default): where pure rocking stops holding (the pivot's friction demand exceeds mu, the
+    #: pivot lifts off, the ground falls faster than gravity) the general contact model (slide, slide-rock,
+    #: free flight) continues the scene and decides its verdict. False: the pure-rocking verdict is kept
+    #: and flagged (slide_rock), and free flight has no verdict (what ``screen bench`` compares with).
+    contact_model: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
     orientation_step_deg: float = 5.0

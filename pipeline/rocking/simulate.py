@@ -1,4 +1,4 @@
-"""Simulation of one scene (a ground motion and a block): rocking or sliding.
+"""Simulation of one scene (a ground motion and a block): rocking, sliding, or the general contact model.
 
 Thin, validated wrappers around the kernels of :mod:`pipeline.rocking.kernel`,
 returning plain dataclasses.
@@ -13,9 +13,10 @@ import numpy as np
 
 from ..constants import G
 from ..errors import ParameterError
-from . import kernel, sliding
+from . import handoff, kernel, sliding
+from .contact import ContactBlock
 from .settings import SimulationConfig
-from .structures import RockingBlock, RockingOutput, RockingState, StepControl
+from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,8 @@ class RockResult:
     t_first_impact: float
     theta: np.ndarray | None = None
     impacts: np.ndarray | None = None
+    #: pivot side where it stopped (+1 tipping towards +x, -1 towards -x)
+    pivot_end: float = 1.0
 
     @property
     def free_flight(self) -> bool:
@@ -145,7 +148,7 @@ def _positive(**values) -> None:
 def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, av_ms2=None, g_ms2: float = G,
          settings: SimulationConfig = SimulationConfig(), linear: bool = False, t_end_s: float | None = None,
          tail: str = "energy", theta0: float = 0.0, omega0: float = 0.0, history: bool = False,
-         log_impacts: int = 0) -> RockResult:
+         log_impacts: int = 0, stop_mu: float = math.inf) -> RockResult:
     """Rocking response of a rectangular block to a sampled ground acceleration.
 
     Parameters
@@ -176,6 +179,9 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
         Return theta at every sample time up to t_end_s.
     log_impacts : int
         Log the first ``log_impacts`` impacts.
+    stop_mu : float
+        Stop where the friction demand exceeds ``stop_mu`` or the pivot lifts off, for the general
+        contact model to continue (default ``inf``: pure rocking throughout, the demand recorded).
 
     Raises
     ------
@@ -196,13 +202,14 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     theta_out = np.full(int(math.floor(t_end / dt_s + 1e-9)) + 1, np.nan) if history else kernel.empty_theta()
     impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
     o = kernel.rock(ah, av, float(dt_s), t_end,
-                    RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear)),
-                    step_control(settings), RockingState(float(theta0), float(omega0)), tail == "energy",
+                    RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear),
+                                 float(stop_mu)),
+                    step_control(settings), RockingState(float(theta0), float(omega0), 0.0), tail == "energy",
                     RockingOutput(theta_out, impacts_out))
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
-                      impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None)
+                      impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None, float(o.pivot_end))
 
 
 def step_control(settings: SimulationConfig) -> StepControl:
@@ -232,3 +239,73 @@ def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> S
     _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
     u_max, u_end, n_slips, t_slip, t_flight = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
     return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight))
+
+
+@dataclass(frozen=True)
+class ContactResult:
+    """Outcome of the general contact model (:mod:`.contact`).
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn : float
+        Time of overturning [s] (NaN: it stands).
+    theta_max_rad : float
+        Largest |theta| over the part the model simulated [rad].
+    n_impacts : int
+        Impacts in that part.
+    slip_max_m, slip_end_m : float
+        Largest and final net slip of the base [m] (:class:`.contact.ContactOutcome`).
+    modes : int
+        Bits of the modes that occurred (:class:`.planner.ContactMode`).
+    status : int
+        ``contact.STATUS_*`` bits.
+    """
+
+    overturned: bool
+    t_overturn: float
+    theta_max_rad: float
+    n_impacts: int
+    slip_max_m: float
+    slip_end_m: float
+    modes: int
+    status: int
+
+
+def contact_block(block, settings: SimulationConfig) -> ContactBlock:
+    """The contact model's block from a :class:`~.block.Block`."""
+    return ContactBlock(float(block.p), float(block.alpha), float(block.e), float(block.R_m), float(block.mu),
+                        float(block.g_ms2), float(settings.rest_ratio))
+
+
+def _contact_result(o) -> ContactResult:
+    return ContactResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max), int(o.n_impacts),
+                         float(o.slip_max), float(o.slip_end), int(o.modes), int(o.status))
+
+
+def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
+              settings: SimulationConfig = SimulationConfig()) -> ContactResult | None:
+    """The rest of the scene from where the pure rocking ``rr`` (run with ``stop_mu = mu``) stopped: the general
+    contact model, handing back to the kernel where pure rocking holds again (:func:`.handoff.continue_rocking`);
+    None when ``rr`` did not stop short (overturned, or stood on a sticking pivot to the end)."""
+    outcome = RockingOutcome(rr.overturned, rr.t_overturn, rr.theta_max * block.alpha, rr.n_impacts,
+                             rr.friction_demand, rr.status, rr.t_stop, rr.theta_end, rr.omega_end, rr.mode_end,
+                             rr.n_uplifts, rr.t_first_impact, rr.pivot_end)
+    why = handoff.hand_off(outcome)
+    if not (why.friction or why.liftoff or why.ground_flight):
+        return None
+    ah = _series("horizontal acceleration", ah_ms2)
+    av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
+    kernel_block = RockingBlock(float(block.p), float(block.alpha), float(block.e), float(block.g_ms2),
+                                float(block.R_m), False, float(block.mu))
+    return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block, step_control(settings),
+                                                    contact_block(block, settings), True))
+
+
+def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig()
+              ) -> ContactResult:
+    """The general contact model over the whole record, from rest."""
+    ah = _series("horizontal acceleration", ah_ms2)
+    av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
+    _positive(dt_s=dt_s)
+    return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True))

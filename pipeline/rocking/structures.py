@@ -27,6 +27,10 @@ class RockingBlock(NamedTuple):
         Corner distance [m].
     linear : bool
         Linearised equation of motion (cross-checks against closed forms).
+    stop_mu : float
+        Stop where the pivot's friction demand exceeds this, or where the block's own motion lifts the
+        pivot (f_z <= 0), so that the general contact model (:mod:`.contact`) continues from there
+        (``inf``: never stop; the demand is only recorded and a lift-off only flagged).
     """
 
     p: float
@@ -35,6 +39,7 @@ class RockingBlock(NamedTuple):
     g: float
     R: float
     linear: bool
+    stop_mu: float
 
 
 class StepControl(NamedTuple):
@@ -60,10 +65,12 @@ class StepControl(NamedTuple):
 
 
 class RockingState(NamedTuple):
-    """Rotation [rad] and angular velocity [rad s-1] (both 0: at rest)."""
+    """Where the kernel starts: rotation [rad] and angular velocity [rad s-1] (both 0: at rest), at time
+    ``t`` [s] (0: the record's start; later when the kernel takes over from the general contact model)."""
 
     theta: float
     omega: float
+    t: float
 
 
 class RockingOutput(NamedTuple):
@@ -91,11 +98,15 @@ class RockingOutcome(NamedTuple):
     status : int
         ``STATUS_*`` bits.
     t_stop, theta_end, omega_end : float
-        Where the integration stopped [s], and the state there.
+        Where the integration stopped [s], and the state there: at the instant the ground's g + a_v
+        reached 0, or, when the block's ``stop_mu`` stopped it, at the start of the step in which the friction
+        demand exceeded it or the pivot lifted off (the last state where pure rocking held).
     mode_end : int
         ``REST``, ``ROCK`` or ``OVERTURNED`` there.
     t_first_impact : float
         Time of the first impact [s] (NaN without one).
+    pivot_end : float
+        The pivot side there (+1 tipping towards +x, -1 towards -x) [-].
     """
 
     overturned: bool
@@ -110,3 +121,4 @@ class RockingOutcome(NamedTuple):
     mode_end: int
     n_uplifts: int
     t_first_impact: float
+    pivot_end: float

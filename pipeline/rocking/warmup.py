@@ -65,9 +65,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
         for vertical in (np.zeros(0), 0.1 * a):
             block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu
             sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
-                            control, out, out.copy())
+                            True, control, out, out.copy())
             sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
-                                  0.0, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+                                  0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
     finally:
         done.set()
         timer.join()

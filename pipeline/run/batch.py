@@ -38,7 +38,7 @@ from ..config import Config
 from ..errors import RockscreenError, TaskFailure
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
-from ..rocking.planner import Physics, Response
+from ..rocking.planner import ContactMode, FreeFlight, Physics, Response
 from ..screening import Context, RecordResult, assemble, failed_result, failure_result, screen_record
 from ..store import PulseSeries
 from ..uncertainty.robust import Robustness
@@ -192,6 +192,16 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
         return got
 
     return PulseSeries(rows, fetch)
+
+
+def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
+    """Scenes the general contact model decided, by why pure rocking (or sliding) stopped holding."""
+    general = ds["physics"].values == Physics.general
+    flight, modes = ds["free_flight"].values, ds["contact_modes"].values
+    return {"total": int(np.sum(general)),
+            "slide_rock": int(np.sum(general & (modes >= 0) & (modes & ContactMode.slide_rock > 0))),
+            "ground_flight": int(np.sum(general & (flight == FreeFlight.ground_flight))),
+            "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
 @dataclass
@@ -348,6 +358,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
+        "general_scenes": _general_reasons(ds),
+        "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
         "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
         "records_dir": str(records_dir),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",

@@ -129,7 +129,8 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
         s = simulation
         sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                         np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                        float(g_ms2), float(s.vertical_fraction), step_control(s), verdicts[sl], planes[sl])
+                        float(g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s), verdicts[sl],
+                        planes[sl])
         done = sl.stop
         v = verdicts[:done]
         k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
@@ -237,8 +238,8 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
         shape = (sl.stop - sl.start, planes_deg.size)
         sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.broadcast_to(cosines, shape)),
                               np.ascontiguousarray(np.broadcast_to(sines, shape)), sb.amplitude, sb.p, sb.alpha, sb.e,
-                              sb.R_m, sb.mu, float(g_ms2), float(simulation.vertical_fraction), control,
-                              outcomes[sl], planes[sl])
+                              sb.R_m, sb.mu, float(g_ms2), float(simulation.vertical_fraction),
+                              bool(simulation.contact_model), control, outcomes[sl], planes[sl])
         done = sl.stop
         fractions = _grid_fractions(outcomes[:done], on_grid)
         if fractions.size == 0:       # no draw has a verdict in any grid plane (free flight)

@@ -1,0 +1,563 @@
+"""A planar rigid block on a moving base with every contact mode: rest, slide, rock, slide-rock, free flight.
+
+The pure-rocking kernel (:mod:`.kernel`) is exact while the pivot sticks and the block stays on its base.
+Where it stops (the friction demand exceeds mu, the block's own motion lifts its pivot, or the ground
+falls faster than gravity), this model continues from the state it stopped in. It is compiled with numba
+when installed, as :mod:`.kernel`.
+
+Model (Shenton & Jones 1991; Zhang & Makris 2001). A rectangular block of half-width b, half-height h,
+unit mass and centroidal inertia J = R^2 / 3 moves in its rocking plane, in the frame of the ground
+(the ground's acceleration a_h, a_v enters as the inertial force -a_h and the apparent gravity
+G = g + a_v). Its state is the centre of mass (x, y), the rotation theta (positive tipping towards +x,
+as in :mod:`.kernel`) and their rates (u, v, w). A base corner c (+1 at +x, -1 at -x) sits at
+(x + r_x, y + r_y) with r_x = c b cos(theta) - h sin(theta), r_y = -c b sin(theta) - h cos(theta).
+
+Modes and their equations (per unit mass):
+
+* **rest**: nothing moves.
+* **slide** (flat on the base, slipping in direction sigma): x'' = -a_h - sigma mu G
+  (Shenton & Jones 1991). A block with mu > tan(alpha) cannot slide flat: the friction at its base
+  tips it, and it slide-rocks about its leading corner instead.
+* **rock** about corner c (the pivot sticks): theta'' = -p^2 [(G/g) sin(c alpha - theta) + (a_h/g)
+  cos(c alpha - theta)] (Housner 1963; Yim, Chopra & Penzien 1980 for G).
+* **slide-rock** about corner c, the corner slipping in direction sigma: the normal force
+  N = (G + r_y w^2) / (1 + r_x (r_x + sigma mu r_y) / J), friction -sigma mu N,
+  J theta'' = -N (r_x + sigma mu r_y), x'' = -a_h - sigma mu N, y'' = -G + N
+  (Zhang & Makris 2001, the slide-rock mode; here from the corner's contact constraint y_c'' = 0).
+* **free flight**: x'' = -a_h, y'' = -G, theta'' = 0.
+
+Transitions: rest -> rock or slide where |a_h| > min(tan alpha, mu) G; rock -> slide-rock where the pivot's
+friction demand |f_x| / f_z exceeds mu (Zhang & Makris 2001, eqs. 16-20), in the direction that opposes
+the required force; slide-rock -> rock where the corner's slip velocity reaches 0 and sticking needs no
+more than mu (else the slip reverses); any contact mode -> free flight where the normal force reaches 0;
+slide -> rest where the slip velocity reaches 0 and |a_h| <= mu G. At rock onset from rest the mode is
+slide-rock when the onset already needs more than mu (Shenton 1996; Zhang & Makris 2001, eq. 7).
+
+Impact law (a corner meets the base: theta reaching 0 while rocking, or a corner landing from flight).
+The impact is instantaneous at that corner (Housner 1963): the corner does not rebound (its normal
+velocity is 0 after the impact) and the other corner is released; the tangential impulse P_t sticks the
+corner when it needs no more than mu times the normal impulse P_n, else the corner slips with
+P_t = -sigma mu P_n (Coulomb's law for impulses, as in Shenton & Jones 1991). For a sticking impact at
+theta = 0 this conserves the angular momentum about the corner and gives Housner's ratio
+w+ / w- = 1 - 1.5 sin^2(alpha) (tested). The rotation rate after the impact is then multiplied by
+e / e_Housner, so that a sticking rocking impact has exactly the block's restitution e, as in pure
+rocking. A rebound slower than ``rest_ratio * p * alpha`` at theta = 0 ends in rest (or flat sliding).
+
+Integration: the classical fourth-order Runge-Kutta method on steps that never cross a sample (the
+ground is linear between samples), of at most dt / STEPS_PER_SAMPLE and MAX_STEP_P / p; events are
+located by bisection on the step length. After the record, the ground is still: the motion is followed
+until the block rests, overturns, or rocks on a sticking pivot, whose fate the energy of free rocking
+decides as in :mod:`.kernel`.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes.
+Earthquake Eng. Struct. Dyn. 8(6), 565-587.
+Shenton, H. W. & Jones, N. P. (1991). Base excitation of rigid bodies. I: Formulation.
+J. Eng. Mech. 117(10), 2286-2306.
+Shenton, H. W. (1996). Criteria for initiation of slide, rock, and slide-rock rigid-body modes.
+J. Eng. Mech. 122(7), 690-693.
+Zhang, J. & Makris, N. (2001). Rocking response of free-standing blocks under cycloidal pulses.
+J. Eng. Mech. 127(5), 473-483.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from .kernel import HALF_PI, _exceed_fraction, _flight_fraction, free_outcome, jit
+
+# modes
+REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = 0, 1, 2, 3, 4, 5
+
+# bits of ContactOutcome.modes: which modes occurred
+MODE_SLIDE, MODE_ROCK, MODE_SLIDE_ROCK, MODE_FLIGHT = 1, 2, 4, 8
+
+# bits of ContactOutcome.status
+STATUS_PAINLEVE = 1        # slide-rock with no consistent normal force (Painleve): the corner was made to stick
+STATUS_EVENT_CAP = 2       # MAX_EVENTS transitions: the block was put to rest (chatter guard)
+STATUS_TAIL_CAP = 4        # the motion after the record outlasted MAX_TAIL_PERIODS: stopped, standing
+STATUS_GROUND_FLIGHT = 8   # free flight began where the ground's g + a_v reached 0
+STATUS_LIFTOFF = 16        # free flight began where the block's own motion took the contact force to 0
+
+# Step and event control, named once
+STEPS_PER_SAMPLE = 2          # Runge-Kutta steps per sample interval, at least
+MAX_STEP_P = 0.02             # largest step as a fraction of 1/p
+BISECTIONS = 48               # bisections locating an event inside a step
+MAX_EVENTS = 20000            # cap on transitions and impacts
+MAX_TAIL_PERIODS = 200.0      # motion followed after the record, in units of 2 pi / p
+PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
+FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat
+
+
+class ContactBlock(NamedTuple):
+    """The block as the contact model sees it (a numba namedtuple).
+
+    Attributes
+    ----------
+    p : float
+        Frequency parameter sqrt(3 g / (4 R)) [rad s-1].
+    alpha : float
+        Slenderness [rad].
+    e : float
+        Restitution of a sticking rocking impact (angular-velocity ratio) [-].
+    R : float
+        Corner distance [m].
+    mu : float
+        Friction coefficient [-].
+    g : float
+        Gravity [m s-2].
+    rest_ratio : float
+        A rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-].
+    """
+
+    p: float
+    alpha: float
+    e: float
+    R: float
+    mu: float
+    g: float
+    rest_ratio: float
+
+
+class ContactState(NamedTuple):
+    """Where the model starts (or stopped).
+
+    Attributes
+    ----------
+    t : float
+        Time [s].
+    mode : int
+        REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED.
+    corner : float
+        The contact corner in rock and slide-rock (+1 at +x, -1 at -x) [-].
+    sigma : float
+        The slip direction in slide and slide-rock (+1, -1) [-].
+    x, y, theta : float
+        Centre of mass relative to its place at the start, flat on the base (y = 0 at rest) [m], and
+        rotation [rad]. A base corner is at height y + h + r_y.
+    u, v, w : float
+        Their rates [m s-1], [m s-1], [rad s-1].
+    slip : float
+        Net slip of the base so far [m] (:class:`ContactOutcome`).
+    """
+
+    t: float
+    mode: int
+    corner: float
+    sigma: float
+    x: float
+    y: float
+    theta: float
+    u: float
+    v: float
+    w: float
+    slip: float
+
+
+class ContactOutcome(NamedTuple):
+    """What :func:`move` returns.
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn : float
+        Time |theta| reached pi/2, or the record's end when free rocking after it escapes [s] (NaN: stands).
+    theta_max : float
+        Largest |theta| [rad].
+    n_impacts : int
+        Impacts (corners meeting the base).
+    slip_max : float
+        Largest |net slip| of the base: the contact point's slip in slide and slide-rock, plus the base's
+        horizontal travel in flight [m].
+    slip_end : float
+        Net slip at the end [m].
+    modes : int
+        ``MODE_*`` bits of the modes that occurred.
+    status : int
+        ``STATUS_*`` bits.
+    end : ContactState
+        The state at the end.
+    """
+
+    overturned: bool
+    t_overturn: float
+    theta_max: float
+    n_impacts: int
+    slip_max: float
+    slip_end: float
+    modes: int
+    status: int
+    end: ContactState
+
+
+@jit
+def corner_offsets(theta, c, b, h):
+    """Offset (r_x, r_y) of base corner ``c`` from the centre of mass at rotation ``theta`` [m]."""
+    ct, st = math.cos(theta), math.sin(theta)
+    return c * b * ct - h * st, -c * b * st - h * ct
+
+
+@jit
+def accelerations(mode, c, sigma, theta, w, a, G, blk):
+    """(x'', y'', theta'', N, F_x) of the mode at a state: accelerations [m s-2, rad s-2] and the contact
+    force per unit mass, normal and tangential [m s-2] (the module's equations)."""
+    alpha, g, mu = blk.alpha, blk.g, blk.mu
+    b, h = blk.R * math.sin(alpha), blk.R * math.cos(alpha)
+    J = blk.R * blk.R / 3.0
+    if mode == FLIGHT:
+        return -a, -G, 0.0, 0.0, 0.0
+    if mode == SLIDE:
+        return -a - sigma * mu * G, 0.0, 0.0, G, -sigma * mu * G
+    if mode == REST or mode == OVERTURNED:
+        return 0.0, 0.0, 0.0, G, a
+    rx, ry = corner_offsets(theta, c, b, h)
+    if mode == ROCK:
+        phi = alpha * c - theta
+        aw = -blk.p * blk.p * ((G / g) * math.sin(phi) + (a / g) * math.cos(phi))
+        ax = rx * w * w - ry * aw
+        ay = rx * aw + ry * w * w
+        return ax, ay, aw, ay + G, ax + a
+    den = 1.0 + rx * (rx + sigma * mu * ry) / J
+    N = (G + ry * w * w) / max(den, PAINLEVE_MIN)
+    aw = -N * (rx + sigma * mu * ry) / J
+    return -a - sigma * mu * N, -G + N, aw, N, -sigma * mu * N
+
+
+@jit
+def _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk):
+    """One classical Runge-Kutta step of length ``hh`` from t; the ground is a0 + sa (t - t0), G likewise."""
+    g = blk.g
+    ax1, ay1, aw1, _n, _f = accelerations(mode, c, sigma, th, w, a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
+    tm = t + 0.5 * hh
+    am, gm = a0 + sa * (tm - t0), g + v0 + sv * (tm - t0)
+    u2, v2, w2 = u + 0.5 * hh * ax1, v + 0.5 * hh * ay1, w + 0.5 * hh * aw1
+    ax2, ay2, aw2, _n, _f = accelerations(mode, c, sigma, th + 0.5 * hh * w, w2, am, gm, blk)
+    u3, v3, w3 = u + 0.5 * hh * ax2, v + 0.5 * hh * ay2, w + 0.5 * hh * aw2
+    ax3, ay3, aw3, _n, _f = accelerations(mode, c, sigma, th + 0.5 * hh * w2, w3, am, gm, blk)
+    u4, v4, w4 = u + hh * ax3, v + hh * ay3, w + hh * aw3
+    te = t + hh
+    ax4, ay4, aw4, _n, _f = accelerations(mode, c, sigma, th + hh * w3, w4, a0 + sa * (te - t0),
+                                          g + v0 + sv * (te - t0), blk)
+    x1 = x + hh / 6.0 * (u + 2.0 * u2 + 2.0 * u3 + u4)
+    y1 = y + hh / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+    th1 = th + hh / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4)
+    u1 = u + hh / 6.0 * (ax1 + 2.0 * ax2 + 2.0 * ax3 + ax4)
+    v1 = v + hh / 6.0 * (ay1 + 2.0 * ay2 + 2.0 * ay3 + ay4)
+    w1 = w + hh / 6.0 * (aw1 + 2.0 * aw2 + 2.0 * aw3 + aw4)
+    return x1, y1, th1, u1, v1, w1
+
+
+@jit
+def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
+    """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
+    the lowest corner below the base in flight); the smallest of the mode's indicators."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    if mode == FLIGHT:
+        return y + h + min(corner_offsets(th, 1.0, b, h)[1], corner_offsets(th, -1.0, b, h)[1])
+    if mode == SLIDE:
+        return min(sigma * u, G)
+    _ax, _ay, _aw, N, F = accelerations(mode, c, sigma, th, w, a, G, blk)
+    ev = min(c * th, N)
+    if mode == ROCK:
+        ev = min(ev, blk.mu * N - abs(F))
+    else:
+        rx, ry = corner_offsets(th, c, b, h)
+        ev = min(ev, sigma * (u + ry * w))
+    return ev
+
+
+@jit
+def housner_restitution(alpha):
+    """Housner's angular-velocity ratio of a sticking rocking impact of a rectangular block,
+    1 - 1.5 sin^2(alpha) [-] (Housner 1963)."""
+    return 1.0 - 1.5 * math.sin(alpha) ** 2
+
+
+@jit
+def impact(k, th, u, v, w, blk):
+    """Velocities just after corner ``k`` meets the base, and whether it sticks (the module's impact law).
+
+    Returns (u, v, w, sticks); the velocities are returned unchanged with ``sticks`` False when the
+    corner is not approaching the base.
+    """
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    J = blk.R * blk.R / 3.0
+    mu = blk.mu
+    rx, ry = corner_offsets(th, k, b, h)
+    vt, vn = u + ry * w, v - rx * w
+    if vn >= 0.0:
+        return u, v, w, False
+    m11, m12, m22 = 1.0 + ry * ry / J, -rx * ry / J, 1.0 + rx * rx / J
+    det = m11 * m22 - m12 * m12
+    pt = (-vt * m22 + vn * m12) / det
+    pn = (-vn * m11 + vt * m12) / det
+    sticks = pn > 0.0 and abs(pt) <= mu * pn
+    if not sticks:
+        sig = 1.0 if vt > 0.0 else (-1.0 if vt < 0.0 else (-1.0 if pt > 0.0 else 1.0))
+        pn = -vn / max(1.0 + rx * (rx + sig * mu * ry) / J, PAINLEVE_MIN)
+        pt = -sig * mu * pn
+    w1 = w + (ry * pt - rx * pn) / J
+    eh = housner_restitution(blk.alpha)
+    if eh > 0.0:
+        w1 = w1 * blk.e / eh
+    if sticks:
+        return -ry * w1, rx * w1, w1, True
+    return u + pt, rx * w1, w1, False
+
+
+@jit
+def _onset(a, G, blk):
+    """Mode, corner and slip direction at the start of motion from rest under ground acceleration a and
+    apparent gravity G (Shenton 1996): slide when the block cannot tip first, else rock about the corner
+    away from a, or slide-rock when rocking would already need more friction than mu."""
+    if G <= 0.0:
+        return FLIGHT, 1.0, 1.0
+    sgn = 1.0 if a > 0.0 else -1.0
+    if not (blk.mu > math.tan(blk.alpha) and housner_restitution(blk.alpha) > 0.0):
+        return SLIDE, 1.0, -sgn
+    c = -sgn
+    _ax, _ay, _aw, N, F = accelerations(ROCK, c, 1.0, 0.0, 0.0, a, G, blk)
+    if N > 0.0 and abs(F) > blk.mu * N:
+        return SLIDE_ROCK, c, -1.0 if F > 0.0 else 1.0
+    return ROCK, c, 1.0
+
+
+@jit
+def _mode_bit(mode):
+    if mode == SLIDE:
+        return MODE_SLIDE
+    if mode == ROCK:
+        return MODE_ROCK
+    if mode == SLIDE_ROCK:
+        return MODE_SLIDE_ROCK
+    if mode == FLIGHT:
+        return MODE_FLIGHT
+    return 0
+
+
+@jit
+def _constrain(mode, c, x, y, th, u, v, w, xc, blk):
+    """The state put back on the mode's constraints: the pivot at ``xc`` on the base in rock, the corner on
+    the base in slide-rock (no normal velocity), flat on the base in rest and slide."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    if mode == REST or mode == SLIDE:
+        return x, 0.0, 0.0, (0.0 if mode == REST else u), 0.0, 0.0
+    if mode == ROCK or mode == SLIDE_ROCK:
+        rx, ry = corner_offsets(th, c, b, h)
+        if mode == ROCK:
+            return xc - rx, -h - ry, th, -ry * w, rx * w, w
+        return x, -h - ry, th, u, rx * w, w
+    return x, y, th, u, v, w
+
+
+@jit
+def _slip_point(mode, c, x, th, blk):
+    """Horizontal position of the base point whose travel counts as slip in this mode [m]: the contact
+    corner in slide-rock, the base's middle otherwise."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    if mode == SLIDE_ROCK:
+        return x + corner_offsets(th, c, b, h)[0]
+    return x - h * math.sin(th)
+
+
+@jit
+def _after_impact(k, x, y, th, u, v, w, blk):
+    """Mode, corner, slip direction and state after corner ``k`` meets the base (the impact law); a rebound
+    too slow at theta = 0 ends flat (rest, or slide when the base still moves)."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    rest_w = blk.rest_ratio * blk.p * blk.alpha
+    flat = abs(th) <= FLAT_ANGLE_ALPHA * blk.alpha
+    if flat and abs(w) < rest_w:
+        # a flat landing (or a dying rebound): plastic normal impact, Coulomb tangential impulse on the base
+        dv = max(-v, 0.0)
+        speed = max(abs(u) - blk.mu * dv, 0.0)
+        u1 = math.copysign(speed, u) if speed > 0.0 else 0.0
+        return (SLIDE if u1 != 0.0 else REST), 1.0, (1.0 if u1 > 0.0 else -1.0), x, 0.0, 0.0, u1, 0.0, 0.0
+    u1, v1, w1, sticks = impact(k, th, u, v, w, blk)
+    if flat:
+        th = 0.0
+        if abs(w1) < rest_w or k * w1 <= 0.0:
+            return REST, 1.0, 1.0, x, 0.0, 0.0, 0.0, 0.0, 0.0
+    rx, ry = corner_offsets(th, k, b, h)
+    y = -h - ry
+    if sticks:
+        return ROCK, k, 1.0, x, y, th, u1, v1, w1
+    vt = u1 + ry * w1
+    return SLIDE_ROCK, k, (1.0 if vt > 0.0 else -1.0), x, y, th, u1, v1, w1
+
+
+@jit
+def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
+    """Follow the block from ``start`` under the ground motion, in whatever modes it takes.
+
+    Parameters
+    ----------
+    ah, av : ndarray
+        Horizontal and vertical ground acceleration at t = k dt [m s-2] (``av`` empty: no vertical).
+    dt : float
+        Sampling interval [s].
+    blk : ContactBlock
+        The block.
+    start : ContactState
+        Where to start (a rest state at t = 0 for a whole simulation; where the pure-rocking kernel
+        stopped, to continue it).
+    tail_energy : bool
+        After the record, decide a block rocking on a sticking pivot by the energy of free rocking
+        (:func:`.kernel.free_outcome`) instead of following it.
+    t_stop : float
+        Stop there, whatever the block is doing [s] (default: follow it to its end).
+    hand_back : bool
+        Stop where the block is back at rest or rocking on a sticking pivot, at least one sample interval
+        after ``start`` (the pure-rocking kernel, exact and cheaper there, takes over: :mod:`.handoff`).
+
+    Returns
+    -------
+    ContactOutcome
+    """
+    n = ah.shape[0]
+    has_v = av.shape[0] == n
+    g, alpha, p = blk.g, blk.alpha, blk.p
+    t_rec = (n - 1) * dt
+    h_max = min(dt / STEPS_PER_SAMPLE, MAX_STEP_P / p)
+    t_cap = t_rec + MAX_TAIL_PERIODS * 2.0 * math.pi / p
+    thr = min(math.tan(alpha), blk.mu)
+    t, mode, c, sigma = start.t, start.mode, start.corner, start.sigma
+    x, y, th, u, v, w = start.x, start.y, start.theta, start.u, start.v, start.w
+    b, h = blk.R * math.sin(alpha), blk.R * math.cos(alpha)
+    xc = x + corner_offsets(th, c, b, h)[0]
+    theta_max = abs(th)
+    n_imp = 0
+    slip = start.slip
+    slip_max = abs(slip)
+    t_first = start.t
+    modes = _mode_bit(mode)
+    status = 0
+    events = 0
+    overturned = False
+    t_over = math.nan
+    while mode != OVERTURNED and t < t_stop:
+        if t >= t_cap:
+            status |= STATUS_TAIL_CAP
+            break
+        if events >= MAX_EVENTS:
+            status |= STATUS_EVENT_CAP
+            break
+        k = int(t / dt + 1e-9)
+        if k < n - 1:
+            t0 = k * dt
+            t1 = t0 + dt
+            if t1 <= t:
+                k += 1
+                t0, t1 = k * dt, (k + 1) * dt
+        if k < n - 1:
+            a0, a1 = ah[k], ah[k + 1]
+            v0 = av[k] if has_v else 0.0
+            v1 = av[k + 1] if has_v else 0.0
+        else:                                        # after the record: the ground is still
+            t0, t1 = t, t + h_max
+            a0 = a1 = v0 = v1 = 0.0
+            if mode == REST:
+                break
+            if mode == ROCK and tail_energy:
+                over, peak, extra = free_outcome(th, w, p * p, alpha, blk.e, False)
+                theta_max = max(theta_max, peak)
+                if over:
+                    overturned, t_over, mode = True, t, OVERTURNED
+                    n_imp += extra
+                break
+        sa, sv = (a1 - a0) / (t1 - t0), (v1 - v0) / (t1 - t0)
+        if mode == REST:
+            aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
+            xf = _flight_fraction(vv0, v1, g)
+            xm = _exceed_fraction(aa0, a1, vv0, v1, g, thr)
+            if xf < 0.0 and xm < 0.0:
+                t = min(t1, t_stop)
+                continue
+            frac = xf if (xf >= 0.0 and (xm < 0.0 or xf <= xm)) else xm
+            if t + frac * (t1 - t) > t_stop:
+                t = t_stop
+                break
+            t = t + frac * (t1 - t)
+            mode, c, sigma = _onset(a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
+            if mode == FLIGHT:
+                status |= STATUS_GROUND_FLIGHT
+            modes |= _mode_bit(mode)
+            xc = x + corner_offsets(0.0, c, b, h)[0]
+            events += 1
+            continue
+        hh = min(h_max, t1 - t, t_stop - t)
+        x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
+        te = t + hh
+        ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, a0 + sa * (te - t0), g + v0 + sv * (te - t0), blk)
+        if ev < 0.0:
+            lo, hi = 0.0, hh
+            for _ in range(BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                xm_, ym_, thm, um, vm, wm = _rk4(mode, c, sigma, x, y, th, u, v, w, t, mid, t0, a0, sa, v0, sv, blk)
+                tm = t + mid
+                if _event(mode, c, sigma, xm_, ym_, thm, um, vm, wm, a0 + sa * (tm - t0), g + v0 + sv * (tm - t0),
+                          blk) < 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            hh = hi
+            te = t + hh
+            x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
+        if abs(th1) >= HALF_PI:
+            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), 1e-300)
+            overturned, t_over, mode, theta_max = True, t + frac * hh, OVERTURNED, HALF_PI
+            t = t_over
+            break
+        if mode != ROCK:
+            slip += _slip_point(mode, c, x1, th1, blk) - _slip_point(mode, c, x, th, blk)
+            slip_max = max(slip_max, abs(slip))
+        x, y, th, u, v, w = _constrain(mode, c, x1, y1, th1, u1, v1s, w1, xc, blk)
+        theta_max = max(theta_max, abs(th))
+        t = te
+        if ev >= 0.0:
+            continue
+        events += 1
+        aa, gg = a0 + sa * (t - t0), g + v0 + sv * (t - t0)
+        mode, c, sigma, x, y, th, u, v, w, hit = _transition(mode, c, sigma, x, y, th, u, v, w, aa, gg, blk)
+        if mode == FLIGHT:
+            status |= STATUS_GROUND_FLIGHT if gg <= 0.0 else STATUS_LIFTOFF
+        n_imp += hit
+        xc = x + corner_offsets(th, c, b, h)[0]
+        modes |= _mode_bit(mode)
+        if hand_back and (mode == ROCK or mode == REST) and t >= t_first + dt:
+            break
+    return ContactOutcome(overturned, t_over, theta_max, n_imp, slip_max, slip, modes, status,
+                          ContactState(t, mode, c, sigma, x, y, th, u, v, w, slip))
+
+
+@jit
+def _transition(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
+    """The mode after an event of ``mode`` at this state: (mode, corner, sigma, x, y, theta, u, v, w,
+    impacts)."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    if mode == FLIGHT:
+        k = 1.0 if corner_offsets(th, 1.0, b, h)[1] < corner_offsets(th, -1.0, b, h)[1] else -1.0
+        m, c1, s1, x, y, th, u, v, w = _after_impact(k, x, y, th, u, v, w, blk)
+        return m, c1, s1, x, y, th, u, v, w, 1
+    if mode == SLIDE:
+        if G <= 0.0:
+            return FLIGHT, c, sigma, x, y, th, u, v, w, 0
+        if abs(a) <= blk.mu * G:
+            return REST, c, sigma, x, y, th, 0.0, v, w, 0
+        return SLIDE, c, -sigma, x, y, th, 0.0, v, w, 0
+    _ax, _ay, _aw, N, F = accelerations(mode, c, sigma, th, w, a, G, blk)
+    if c * th <= 0.0:                               # the other corner meets the base
+        m, c1, s1, x, y, th, u, v, w = _after_impact(-c, x, y, 0.0, u, v, w, blk)
+        return m, c1, s1, x, y, th, u, v, w, 1
+    if N <= 0.0:
+        return FLIGHT, c, sigma, x, y, th, u, v, w, 0
+    if mode == ROCK:                                 # the pivot needs more friction than mu: it slips
+        return SLIDE_ROCK, c, (-1.0 if F > 0.0 else 1.0), x, y, th, u, v, w, 0
+    # slide-rock: the corner's slip stopped; it sticks when sticking needs no more than mu
+    _ax, _ay, _aw, Nr, Fr = accelerations(ROCK, c, 1.0, th, w, a, G, blk)
+    if Nr > 0.0 and abs(Fr) <= blk.mu * Nr:
+        return ROCK, c, 1.0, x, y, th, u, v, w, 0
+    return SLIDE_ROCK, c, -sigma, x, y, th, u, v, w, 0

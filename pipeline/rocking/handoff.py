@@ -1,0 +1,116 @@
+"""Each part of a scene by the cheapest model that is exact for it: pure rocking, or the general contact model.
+
+The pure-rocking kernel (:mod:`.kernel`) runs with ``stop_mu = mu``: it stops at the start of the step
+in which the pivot's friction demand exceeds mu or the pivot lifts off, or at the instant the ground
+falls faster than gravity. The general contact model (:mod:`.contact`) continues from that state (time,
+rotation, rate, pivot), in whatever modes the block then takes, locating the event itself; the scene is
+not restarted. Where the block is back on a sticking pivot or at rest (at least one sample interval
+later), the kernel takes over again from that state, and so on to the end. A scene that never leaves
+pure rocking is the kernel's result, unchanged.
+
+A block that cannot rock (mu <= tan alpha, or too squat) slides; where the ground reaches free flight the
+Coulomb sliding kernel stops, and the general model simulates the scene from rest instead (its slide
+mode integrates the same Coulomb law: the ground is linear between samples, the slip cubic in time,
+and the fourth-order Runge-Kutta step exact for it).
+
+References
+----------
+Zhang, J. & Makris, N. (2001). Rocking response of free-standing blocks under cycloidal pulses.
+J. Eng. Mech. 127(5), 473-483 (eqs. 16-20: the pivot's friction demand).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from . import contact
+from .contact import ContactBlock, ContactOutcome, ContactState
+from .kernel import OVERTURNED, REST, STATUS_FREE_FLIGHT, STATUS_FRICTION, STATUS_LIFTOFF, jit, rock
+from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
+
+#: Cap on the alternations between the two models in one scene (each needs at least a sample interval of
+#: general motion; the cap is a guard, flagged as contact.STATUS_EVENT_CAP).
+MAX_SEGMENTS = 100000
+
+
+class HandOff(NamedTuple):
+    """Why pure rocking stopped (a numba namedtuple): each flag, or none of them."""
+
+    friction: bool       # the friction demand exceeded mu
+    liftoff: bool        # the pivot lifted off (f_z <= 0)
+    ground_flight: bool  # the ground's g + a_v reached 0
+
+
+@jit
+def hand_off(o: RockingOutcome) -> HandOff:
+    """Why the kernel's outcome ``o`` (run with a finite ``stop_mu``) stopped short, if it did."""
+    if o.overturned or o.mode_end == OVERTURNED:
+        return HandOff(False, False, False)
+    flight = bool(o.status & STATUS_FREE_FLIGHT)
+    friction = bool(o.status & STATUS_FRICTION)
+    return HandOff(friction, bool(o.status & STATUS_LIFTOFF) and not (friction or flight), flight)
+
+
+@jit
+def _stopped_short(o: RockingOutcome) -> bool:
+    why = hand_off(o)
+    return why.friction or why.liftoff or why.ground_flight
+
+
+@jit
+def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactState:
+    """The general model's state where the kernel stopped: rocking on the kernel's pivot (the pivot where it
+    started) at the start of the step in which pure rocking stopped holding, so that the general model
+    locates the friction exceedance or the lift-off itself; free flight from the instant the ground's
+    g + a_v reached 0 (from rest, or rocking). ``slip``: the net slip of the base so far [m]."""
+    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    t, th, w, c = o.t_stop, o.theta_end, o.omega_end, o.pivot_end
+    if o.mode_end == REST:
+        return ContactState(t, contact.FLIGHT, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, slip)
+    rx, ry = contact.corner_offsets(th, c, b, h)
+    mode = contact.FLIGHT if o.status & STATUS_FREE_FLIGHT else contact.ROCK
+    return ContactState(t, mode, c, 1.0, c * b - rx, -h - ry, th, -ry * w, rx * w, w, slip)
+
+
+@jit
+def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, control: StepControl,
+                     blk: ContactBlock, tail_energy: bool) -> ContactOutcome:
+    """The scene from where the kernel's outcome ``first`` stopped short to its end, alternating the general
+    model (where pure rocking does not hold) and the kernel (where it does). ``rblk`` is the kernel's block with
+    ``stop_mu = mu``. The outcome's counts (impacts, theta_max, modes) cover that part of the scene."""
+    t_end = (ah.shape[0] - 1) * dt
+    no_output = RockingOutput(ah[:0], ah[:0].reshape((0, 3)))
+    o = first
+    slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, 0
+    for _ in range(MAX_SEGMENTS):
+        if o.status & STATUS_FREE_FLIGHT:
+            status |= contact.STATUS_GROUND_FLIGHT
+        g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True)
+        theta_max = max(theta_max, g.theta_max)
+        n_imp += g.n_impacts
+        slip, slip_max = g.slip_end, max(slip_max, g.slip_max)
+        modes |= g.modes
+        status |= g.status
+        end = g.end
+        if g.overturned or not (end.mode == contact.ROCK or end.mode == contact.REST):
+            return ContactOutcome(g.overturned, g.t_overturn, theta_max, n_imp, slip_max, slip, modes, status, end)
+        theta = end.theta if end.mode == contact.ROCK else 0.0
+        omega = end.w if end.mode == contact.ROCK else 0.0
+        o = rock(ah, av, dt, t_end, rblk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
+        theta_max = max(theta_max, o.theta_max)
+        n_imp += o.n_impacts
+        modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
+        if not _stopped_short(o):
+            return ContactOutcome(o.overturned, o.t_overturn, theta_max, n_imp, slip_max, slip, modes, status,
+                                  ContactState(o.t_stop, contact.OVERTURNED if o.overturned else contact.ROCK,
+                                               o.pivot_end, 1.0, 0.0, 0.0, o.theta_end, 0.0, 0.0, o.omega_end, slip))
+    return ContactOutcome(False, math.nan, theta_max, n_imp, slip_max, slip, modes,
+                          status | contact.STATUS_EVENT_CAP, start_state(o, blk, slip))
+
+
+@jit
+def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool) -> ContactOutcome:
+    """The general model from rest at t = 0 (a sliding scene that meets free flight)."""
+    at_rest = ContactState(0.0, contact.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False)
