@@ -36,24 +36,35 @@ KNOWN_DISAGREEMENTS = {
 PURE_ROCKING_DRAWN = 36
 
 
-def test_bullet_reproduces_the_half_sine_threshold():
-    """The peer's calibration: a 2 m x 0.3 m block under a half-sine at omega/p = 3 stands at 0.97 and overturns
-    at 1.03 times the threshold amplitude found by the rocking kernel."""
-    pybullet()
+#: Sampling [s] and duration [s] of the half-sine cases (a 2 m x 0.3 m block at omega/p = 3).
+DT_S, DURATION_S = 0.002, 8.0
+
+
+def half_sine_threshold(av_ms2: np.ndarray | None):
+    """The half-sine case's time axis, its pulse as a function of amplitude, and the rocking kernel's threshold
+    amplitude [m s-2] (upward scan in steps of 0.25 % of g tan alpha) with the vertical ``av_ms2``."""
     b, h = 0.15, 1.0
     R, alpha = math.hypot(b, h), math.atan(b / h)
     p = math.sqrt(3 * G / (4 * R))
     e = 1 - 1.5 * math.sin(alpha) ** 2
-    w, dt = 3 * p, 0.002
-    t = np.arange(0.0, 8.0, dt)
+    w = 3 * p
+    t = np.arange(0.0, DURATION_S, DT_S)
 
     def pulse(amplitude):
         return np.where(t < math.pi / w, amplitude * np.sin(w * t), 0.0)
 
-    levels = np.arange(1.0, 3.0, 0.0025) * G * math.tan(alpha)
-    threshold = next(A for A in levels if rock(pulse(A), dt, p=p, alpha=alpha, e=e, R_m=R).overturned)
-    assert not bullet_overturns(pulse(0.97 * threshold), None, dt, height_m=2.0, width_m=0.3, mu=10.0)[0]
-    assert bullet_overturns(pulse(1.03 * threshold), None, dt, height_m=2.0, width_m=0.3, mu=10.0)[0]
+    levels = np.arange(1.0, 4.0, 0.0025) * G * math.tan(alpha)
+    return pulse, next(A for A in levels if rock(pulse(A), DT_S, p=p, alpha=alpha, e=e, R_m=R,
+                                                 av_ms2=av_ms2).overturned)
+
+
+def test_bullet_reproduces_the_half_sine_threshold():
+    """The peer's calibration: a 2 m x 0.3 m block under a half-sine at omega/p = 3 stands at 0.97 and overturns
+    at 1.03 times the threshold amplitude found by the rocking kernel."""
+    pybullet()
+    pulse, threshold = half_sine_threshold(None)
+    assert not bullet_overturns(pulse(0.97 * threshold), None, DT_S, height_m=2.0, width_m=0.3, mu=10.0)[0]
+    assert bullet_overturns(pulse(1.03 * threshold), None, DT_S, height_m=2.0, width_m=0.3, mu=10.0)[0]
 
 
 @pytest.mark.slow
@@ -105,21 +116,11 @@ def test_bullet_with_a_vertical_brackets_the_kernels_threshold(vertical):
     """The peer under a vertical ground motion: a half-sine at omega/p = 3 on a 2 m x 0.3 m block, with a constant
     -0.2 g or a harmonic vertical; Bullet stands at 0.95 and overturns at 1.05 times the rocking kernel's threshold
     amplitude (measured: within 1 % for the constant vertical, between 1 % and 5 % above it for the harmonic
-    ones, the direction of the three disagreements, which all have a vertical)."""
+    ones, the direction of the four disagreements, which all have a vertical)."""
     pybullet()
-    b, h = 0.15, 1.0
-    R, alpha = math.hypot(b, h), math.atan(b / h)
-    p = math.sqrt(3 * G / (4 * R))
-    e = 1 - 1.5 * math.sin(alpha) ** 2
-    w, dt = 3 * p, 0.002
-    t = np.arange(0.0, 8.0, dt)
+    t = np.arange(0.0, DURATION_S, DT_S)
     av = {"constant": np.full(t.size, -0.2 * G), "harmonic 5 Hz": 0.3 * G * np.sin(2 * np.pi * 5 * t),
           "harmonic 8 Hz": 0.5 * G * np.sin(2 * np.pi * 8 * t + 0.3)}[vertical]
-
-    def pulse(amplitude):
-        return np.where(t < math.pi / w, amplitude * np.sin(w * t), 0.0)
-
-    levels = np.arange(1.0, 4.0, 0.0025) * G * math.tan(alpha)
-    threshold = next(A for A in levels if rock(pulse(A), dt, p=p, alpha=alpha, e=e, R_m=R, av_ms2=av).overturned)
-    assert not bullet_overturns(pulse(0.95 * threshold), av, dt, height_m=2.0, width_m=0.3, mu=10.0)[0]
-    assert bullet_overturns(pulse(1.05 * threshold), av, dt, height_m=2.0, width_m=0.3, mu=10.0)[0]
+    pulse, threshold = half_sine_threshold(av)
+    assert not bullet_overturns(pulse(0.95 * threshold), av, DT_S, height_m=2.0, width_m=0.3, mu=10.0)[0]
+    assert bullet_overturns(pulse(1.05 * threshold), av, DT_S, height_m=2.0, width_m=0.3, mu=10.0)[0]
