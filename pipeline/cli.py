@@ -458,6 +458,7 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
 def fragility_parser() -> argparse.ArgumentParser:
     """Parser of ``screen fragility``."""
     from .run.fragility import IMS, SCALABLE
+    from .uncertainty.hazard import Component
 
     p = argparse.ArgumentParser(prog="screen fragility",
                                 description="Multiple-stripe analysis: every record scaled to each IM level, every "
@@ -468,9 +469,23 @@ def fragility_parser() -> argparse.ArgumentParser:
     p.add_argument("--im", required=True, choices=SCALABLE,
                    help="IM the records are scaled to: " + ", ".join(f"{k} [{IMS[k][0]}]" for k in SCALABLE))
     p.add_argument("--levels", required=True,
-                   help="increasing IM levels, comma-separated, in the IM's SI unit (a g suffix for accelerations: "
-                        "0.1g,0.2g)")
-    p.add_argument("--hazard", type=Path, help="hazard curve CSV: <im>_<unit>,annual_rate (docs/user-guide.md)")
+                   help="increasing IM levels, comma-separated, in the IM's SI unit; a unit suffix (g, gal, cms2, "
+                        "ms2 for accelerations; cms, ms for velocities) on any level applies to all and must be "
+                        "the same on every level that has one: 0.1,0.2,0.3g is 0.1 g, 0.2 g, 0.3 g")
+    p.add_argument("--hazard", type=Path, action="append",
+                   help="hazard curve as exported: OpenQuake hazard_curve-*.csv, the USGS hazard service's JSON, or "
+                        "a CSV <im>_<unit>[_<component>],annual_rate; repeat for Sa at several periods (each "
+                        "block uses the nearest) (docs/user-guide.md)")
+    p.add_argument("--hazard-site", help="OpenQuake file of several sites: the custom_site_id to use")
+    p.add_argument("--hazard-lonlat", help="OpenQuake file of several sites: LON,LAT; the nearest site is used")
+    p.add_argument("--hazard-component", choices=[c.value for c in Component],
+                   help="the horizontal component definition of the hazard curve, where the file does not say "
+                        "(OpenQuake curves are taken as rotd50 unless stated)")
+    p.add_argument("--im-component", choices=[c.value for c in Component],
+                   help="the component definition the fragility is fitted on (default: the hazard's, else rotd100, "
+                        "the peak of the horizontal vector)")
+    p.add_argument("--hazard-scale", type=float,
+                   help="a stated conversion when --im-component differs from the hazard's: hazard levels x FACTOR")
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
     p.add_argument("--orientation", choices=("random", "worst"), default="random",
                    help="for a block of blank azimuth, fit the probability of a block of unknown orientation "
@@ -484,22 +499,21 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    from .run.fragility import FragilityRequest, fragility, parse_levels
-    from .uncertainty.hazard import read_hazard
+    from .run.fragility import FragilityRequest, fragility, levels_unit, parse_levels
 
     config, inventory = _config_and_inventory(args)
     levels = parse_levels(args.levels, args.im)
     if args.bootstrap < 0:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
-    hazard = read_hazard(args.hazard, im=args.im) if args.hazard is not None else None
+    hazard, component = _hazard_and_component(args)
     n = default_workers() if args.num_processes is None else args.num_processes
     if n < 1:
         raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
     if config.fidelity.tier != "criterion":
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
-                               hazard, n, args.scheduler, args.bootstrap, ("screen", *argv), args.inventory,
-                               args.orientation)
+                               hazard, component, levels_unit(args.levels, args.im), n, args.scheduler,
+                               args.bootstrap, ("screen", *argv), args.inventory, args.orientation)
     out = fragility(request, progress=_progress(args.quiet))
     for w in out["warnings"]:
         log.warning("%s", w)
@@ -510,6 +524,30 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
               f"{out['records_failed']} failed; {out['scenes']} scaled scenes; {out['wall_time_s']:.1f} s\n"
               f"wrote {', '.join(str(p) for p in out['paths'])}", file=sys.stderr)
     return EXIT_RECORD_FAILURES if out["failures"] else EXIT_OK
+
+
+def _hazard_and_component(args: argparse.Namespace):
+    """The hazard curves of ``--hazard`` (bound to the fit) and the component definition the fit uses."""
+    from .uncertainty.hazard import Component, hazard_set
+    from .uncertainty.hazard_files import read_hazard
+
+    lonlat = None
+    if args.hazard_lonlat:
+        try:
+            lon, lat = (float(x) for x in args.hazard_lonlat.split(","))
+        except ValueError:
+            raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees, e.g. "
+                             "12.5,41.9") from None
+        lonlat = (lon, lat)
+    stated = Component(args.hazard_component) if args.hazard_component else None
+    curves = [read_hazard(path, im=args.im, site=args.hazard_site, lonlat=lonlat, component=stated)
+              for path in (args.hazard or [])]
+    fit = Component(args.im_component) if args.im_component else (
+        curves[0].component if curves and curves[0].component is not None else Component.rotd100)
+    if args.hazard_scale is not None and not (args.hazard_scale > 0):
+        raise UsageError(f"--hazard-scale {args.hazard_scale}: must be a positive factor")
+    hazard = hazard_set(curves, im=args.im, fit_component=fit, scale=args.hazard_scale) if curves else None
+    return hazard, fit
 
 
 def infer_parser() -> argparse.ArgumentParser:

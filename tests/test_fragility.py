@@ -27,7 +27,8 @@ from pipeline.rocking.reference import rock_reference
 from pipeline.run.fragility import assemble_fragility, judge_record, parse_levels, stripe_warnings
 from pipeline.screening import Context
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes
-from pipeline.uncertainty.hazard import HazardCurve, annual_rate, read_hazard
+from pipeline.uncertainty.hazard import HazardCurve, annual_rate
+from pipeline.uncertainty.hazard_files import read_hazard
 
 G = 9.80665
 PERIODS = np.geomspace(0.3, 3.0, 16)
@@ -124,21 +125,28 @@ def test_im_ranking_and_sufficiency_are_reported(suite):
 
 @pytest.mark.parametrize("text, im, message", [
     ("0.2,0.1", "pga", "does not increase"), ("0.1,-0.2", "pga", "positive"), ("0.1,x", "pga", "not a number"),
-    ("0.1g", "pgv", "only for accelerations"), ("0.1", "tp", "not scalable"),
+    ("0.1g", "pgv", "unit 'g' is not one pgv takes"), ("0.1", "tp", "not scalable"),
 ])
 def test_bad_levels_are_usage_errors(text, im, message):
     with pytest.raises(UsageError, match=message):
         parse_levels(text, im)
 
 
-def test_levels_accept_a_g_suffix():
-    np.testing.assert_allclose(parse_levels("0.1g, 2.0", "pga"), [0.1 * G, 2.0])
+def test_a_unit_suffix_applies_to_every_level():
+    np.testing.assert_allclose(parse_levels("0.1g, 2.0", "pga"), [0.1 * G, 2.0 * G])
+    np.testing.assert_allclose(parse_levels("0.1,0.2,0.3g", "pga"), [0.1 * G, 0.2 * G, 0.3 * G])
+    np.testing.assert_allclose(parse_levels("10,20cms", "pgv"), [0.1, 0.2])
+    np.testing.assert_allclose(parse_levels("0.5,1.5", "pga"), [0.5, 1.5])
+    with pytest.raises(UsageError, match="several units"):
+        parse_levels("0.1g,20gal", "pga")
 
 
 @pytest.mark.parametrize("body, message", [
     ("pga_g\n0.1\n", "header"), ("pgv_g,annual_rate\n0.1,1e-2\n", "header"),
-    ("pga_g,annual_rate\n0.1,1e-2\n0.2,2e-2\n", "line 3: annual_rate = 2e-2 does not decrease"),
+    ("pga_g,annual_rate\n0.1,1e-2\n0.2,2e-2\n", "line 3: annual_rate = 2e-2 increases"),
     ("pga_g,annual_rate\n0.1,1e-2\n-0.2,1e-3\n", "line 3: pga_g = '-0.2'; expected a positive number"),
+    ("pga_g,annual_rate\n0.1,-1e-2\n", "line 2: annual_rate = '-1e-2'; expected a number >= 0"),
+    ("pga_g,annual_rate\n0.1,1e-2\n0.2,0\n", "1 usable point(s)"),
     ("pga_g,annual_rate\n0.1,1e-2\n0.05,1e-3\n", "does not increase"),
     ("pga_g,annual_rate\n0.1,abc\n", "line 2: annual_rate = 'abc' is not a number"),
 ])
@@ -199,8 +207,13 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     assert not [c for c in cells if re.match(r"-1 \(|.*\(\)|.*\bnan\b", c)], cells
     assert (tmp_path / "a" / "assets.csv").read_text() == "screen's own table\n"
     lines = (tmp_path / "a" / "fragility_assets.csv").read_text().splitlines()
-    assert lines[0].startswith("rank,block,im,im_units,orientation,median") and len(lines) == 3
-    assert lines[1].split(",")[2:4] == ["pga", "m s-2"]
+    assert lines[0].startswith("rank,block,im,im_component,orientation,median_pga_g,median_low_pga_g") \
+        and len(lines) == 3
+    assert lines[1].split(",")[2:4] == ["pga", "rotd100"]
+    median_g = float(lines[1].split(",")[5])
+    block = lines[1].split(",")[1]
+    j = [str(b) for b in first["block"].values].index(block)
+    assert median_g == pytest.approx(float(first["median"].values[j]) / G, rel=1e-9)
     ranked = [float(line.split(",")[ASSET_RATE]) for line in lines[1:]]
     assert ranked == sorted(rates, reverse=True)
 
@@ -209,7 +222,6 @@ ASSET_RATE = 12     # column of annual_rate_overturn in fragility_assets.csv
 
 
 def test_a_hazard_curve_labelled_synthetic_says_so_on_the_page(tmp_path):
-    from pipeline.uncertainty.hazard import read_hazard
 
     curve = read_hazard(Path(__file__).resolve().parents[1] / "configs" / "hazard-example.csv", im="pga")
     assert curve.synthetic and curve.title.startswith("SYNTHETIC hazard curve") and curve.units == "g"

@@ -1,10 +1,14 @@
-"""Intensity measures of a record: PGA, PGV, PGV/PGA, Arias intensity, Sa(T).
+"""Intensity measures of a record: PGA, PGV, PGV/PGA, Arias intensity, Sa(T), per horizontal component definition.
 
-Horizontal measures are taken on the horizontal *vector* where the record has two
-components (the largest over every orientation, as the screening's ``pga``): PGA and PGV
-are the vector peaks, Sa(T) is omega^2 times the peak of the vector displacement of an
-isotropic oscillator (RotD100), and the Arias intensity sums both components. Scaling a
-record by f scales PGA, PGV and Sa by f and the Arias intensity by f^2.
+By default horizontal measures are taken on the horizontal *vector* where the record has two
+components (the largest over every orientation, as the screening's ``pga``): PGA and PGV are the
+vector peaks, Sa(T) is omega^2 times the peak of the vector displacement of an isotropic oscillator
+(RotD100). :func:`peak_by_component` and :func:`spectral_acceleration` also give the other definitions
+hazard models and loss tools use (Boore 2010): RotD50, the median over the directions 0-179 deg (every
+degree) of the peak of the motion projected on each; the geometric mean and the larger of the two
+recorded components' peaks. A single horizontal gives its own peak for every definition. The Arias
+intensity sums both components. Scaling a record by f scales PGA, PGV and Sa by f and the Arias
+intensity by f^2.
 
 Sa is computed exactly for ground acceleration linear between samples: the oscillator's
 state is advanced by the matrix exponential of the augmented system (state, input, input
@@ -28,6 +32,9 @@ import numpy as np
 from scipy.linalg import expm
 
 from ..constants import G
+
+#: Directions of the RotD measures, every degree in [0, 180) [deg] (Boore 2010 uses 1-degree steps).
+ROTD_ANGLES_DEG = np.arange(180.0)
 
 try:  # the same source runs as Python without numba
     from numba import njit as _njit
@@ -80,9 +87,53 @@ def _peak_displacement(h1, h2, dt, phi, g1, g2):
     return math.sqrt(peak)
 
 
+def peak_by_component(horizontal: np.ndarray, component: str = "rotd100") -> float:
+    """Peak of one or two horizontal series under a component definition (the module's list).
+
+    Parameters
+    ----------
+    horizontal : ndarray, shape (n_h, npts)
+        One or two horizontals (acceleration, velocity or oscillator displacement), the second 90 deg from
+        the first.
+    component : {"rotd100", "rotd50", "geomean", "larger"}
+        The definition.
+    """
+    h = np.atleast_2d(np.asarray(horizontal, dtype=float))
+    if h.shape[0] == 1:
+        return float(np.max(np.abs(h[0])))
+    if component == "rotd100":
+        return float(np.max(np.hypot(h[0], h[1])))
+    if component == "rotd50":
+        theta = np.radians(ROTD_ANGLES_DEG)
+        peaks = np.max(np.abs(np.cos(theta)[:, None] * h[0][None, :] + np.sin(theta)[:, None] * h[1][None, :]),
+                       axis=1)
+        return float(np.median(peaks))
+    p1, p2 = float(np.max(np.abs(h[0]))), float(np.max(np.abs(h[1])))
+    if component == "geomean":
+        return math.sqrt(p1 * p2)
+    if component == "larger":
+        return max(p1, p2)
+    raise ValueError(f"component {component!r}: expected rotd100, rotd50, geomean or larger")
+
+
+@_jit
+def _displacements(h, dt, phi, g1, g2):
+    """Displacement history of the oscillator under one horizontal [m]."""
+    u = np.zeros(h.size)
+    u1 = v1 = 0.0
+    for k in range(h.size - 1):
+        r = (h[k + 1] - h[k]) / dt
+        nu = phi[0, 0] * u1 + phi[0, 1] * v1 + g1[0] * h[k] + g2[0] * r
+        v1 = phi[1, 0] * u1 + phi[1, 1] * v1 + g1[1] * h[k] + g2[1] * r
+        u1 = nu
+        u[k + 1] = u1
+    return u
+
+
 def spectral_acceleration(horizontal_ms2: np.ndarray, dt_s: float, period_s: float, *,
-                          damping: float = DAMPING) -> float:
-    """Pseudo-spectral acceleration Sa(T) = w^2 max |u| of the horizontal vector (RotD100) [m s-2].
+                          damping: float = DAMPING, component: str = "rotd100") -> float:
+    """Pseudo-spectral acceleration Sa(T) = w^2 max |u| under a component definition [m s-2] (default the
+    horizontal vector, RotD100; the others from the two oscillators' displacement histories).
 
     Parameters
     ----------
@@ -94,11 +145,16 @@ def spectral_acceleration(horizontal_ms2: np.ndarray, dt_s: float, period_s: flo
         Oscillator period [s], > 0.
     damping : float
         Damping ratio [-].
+    component : {"rotd100", "rotd50", "geomean", "larger"}
+        The horizontal component definition (:func:`peak_by_component`).
     """
     h = np.atleast_2d(np.asarray(horizontal_ms2, dtype=float))
     phi, g1, g2 = oscillator_matrices(period_s, dt_s, damping)
-    h2 = np.ascontiguousarray(h[1]) if h.shape[0] > 1 else np.zeros(0)
     w = 2.0 * math.pi / period_s
+    if component != "rotd100":
+        u = np.array([_displacements(np.ascontiguousarray(c), float(dt_s), phi, g1, g2) for c in h])
+        return w * w * peak_by_component(u, component)
+    h2 = np.ascontiguousarray(h[1]) if h.shape[0] > 1 else np.zeros(0)
     return w * w * float(_peak_displacement(np.ascontiguousarray(h[0]), h2, float(dt_s), phi, g1, g2))
 
 

@@ -22,7 +22,7 @@ import xarray as xr
 
 from ..store import write_csv_atomic, write_text_atomic
 from ..uncertainty.fragility import FitStatus, fragility_curve
-from ..uncertainty.hazard import HazardCurve, integrand_segments
+from ..uncertainty.hazard import HazardSet, integrand_segments
 from ..uncertainty.robust import wilson_interval
 from .mpl import new_figure
 
@@ -33,10 +33,21 @@ ASSETS_CSV = "fragility_assets.csv"
 #: Columns of fragility_assets.csv: ``im`` names the IM and ``im_units`` the unit of median, median_low and
 #: median_high; ``orientation`` the probability fitted for a blank azimuth (random or worst orientation); beta
 #: is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
-ASSET_COLUMNS = ("rank", "block", "im", "im_units", "orientation", "median", "median_low", "median_high", "beta",
-                 "beta_low", "beta_high", "fit_status", "annual_rate_overturn", "p_overturn_50yr", "best_im",
-                 "best_im_beta", "velocity_ratio_rank", "velocity_ratio_beta", "im_ranking")
+#: Columns of fragility_assets.csv; ``{im}`` and ``{unit}`` are the fit's IM and the unit of ``--levels``
+#: (``median_pga_g``), so that every number's unit is in its column's name.
+ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation", "median_{im}_{unit}",
+                 "median_low_{im}_{unit}", "median_high_{im}_{unit}", "beta", "beta_low", "beta_high", "fit_status",
+                 "annual_rate_overturn_per_yr", "p_overturn_50yr", "best_im", "best_im_beta", "velocity_ratio_rank",
+                 "velocity_ratio_beta", "im_ranking")
+
+
+def asset_columns(ds: xr.Dataset) -> tuple[str, ...]:
+    """:data:`ASSET_COLUMNS` for this fit."""
+    return tuple(c.format(im=ds.attrs["im"], unit=ds.attrs.get("im_display_unit", "si")) for c in ASSET_COLUMNS)
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
+#: How the page writes the units of ``--levels``.
+UNIT_WORDS = {"g": "g", "gal": "gal", "cms2": "cm s-2", "ms2": "m s-2", "cms": "cm s-1", "ms": "m s-1", "s": "s",
+              "1": "-"}
 
 
 def _png(fig) -> str:
@@ -45,7 +56,7 @@ def _png(fig) -> str:
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def curve_figure(ds: xr.Dataset, j: int, hazard: HazardCurve | None) -> str:
+def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
     """The fitted curve with the stripe fractions and their intervals (and the hazard integrand)."""
     levels = ds["im_level"].values
     units = ds.attrs["im_units"]
@@ -72,7 +83,9 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardCurve | None) -> str:
     ax.legend(fontsize=7, loc="upper left")
     ax.set_title(str(ds["block"].values[j]), fontsize=9)
     if hazard is not None:
-        im, dens, _ = integrand_segments(hazard, theta, beta)
+        period = float(ds["hazard_period"].values[j]) if "hazard_period" in ds else math.nan
+        curve = next((c for c in hazard.curves if c.period_s == period), hazard.curves[0])
+        im, dens, _ = integrand_segments(curve, theta, beta)
         axes[1].plot(im, dens * im, color="k")
         axes[1].set_xscale("log")
         axes[1].set_xlabel(f"{ds.attrs['im']} [{units}]")
@@ -85,6 +98,7 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardCurve | None) -> str:
 def asset_rows(ds: xr.Dataset) -> list[dict]:
     """One row per block, riskiest first."""
     ims = ds["im"].values.tolist()
+    unit, factor = ds.attrs.get("im_display_unit", "si"), float(ds.attrs.get("im_display_factor", 1.0))
     rows = []
     for j, block in enumerate(ds["block"].values.tolist()):
         beta_im, rank = ds["beta_im"].values[j], ds["im_rank"].values[j]
@@ -96,6 +110,12 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "orientation": ds.attrs.get("orientation", "random"),
             **{k: float(ds[k].values[j]) for k in ("median", "median_low", "median_high", "beta", "beta_low",
                                                     "beta_high")},
+            "im_component": ds.attrs.get("im_component", ""),
+            **{f"{k}_{ds.attrs['im']}_{unit}": float(ds[k].values[j]) / factor
+               for k in ("median", "median_low", "median_high")},
+            **{f"{k}_shown": float(ds[k].values[j]) / factor for k in ("median", "median_low", "median_high")},
+            "annual_rate_overturn_per_yr": float(ds["annual_rate_overturn"].values[j])
+            if "annual_rate_overturn" in ds else math.nan,
             "fit_status": STATUS_NAMES[int(ds["fit_status"].values[j])],
             "annual_rate_overturn": float(ds["annual_rate_overturn"].values[j]) if "annual_rate_overturn" in ds
             else math.nan,
@@ -111,7 +131,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
     return rows
 
 
-def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardCurve | None = None
+def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardSet | None = None
                            ) -> tuple[Path, Path]:
     """Write ``fragility.html`` and :data:`ASSETS_CSV` into ``out_dir``."""
     from jinja2 import Environment, PackageLoader, select_autoescape
@@ -131,11 +151,14 @@ def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardCurve
     ims = ds["im"].values.tolist()
     html = env.get_template("fragility.html.j2").render(
         attrs=ds.attrs, assets=rows, hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
+        levels_shown=(ds["im_level"].values / float(ds.attrs.get("im_display_factor", 1.0))).tolist(),
+        unit_shown=UNIT_WORDS.get(ds.attrs.get("im_display_unit", ""), ds.attrs.get("im_units", "")),
         n_records=ds.sizes["record"], drawn=drawn, at_risk=sum(r["at_risk"] for r in rows),
         mean_beta={im: float(np.nanmedian(np.where(np.isfinite(ds["beta_im"].values[:, k]),
                                                    ds["beta_im"].values[:, k], np.nan)))
                    if np.isfinite(ds["beta_im"].values[:, k]).any() else math.nan for k, im in enumerate(ims)},
         wins={im: int(np.sum(ds["im_rank"].values[:, k] == 1)) for k, im in enumerate(ims)})
     html_path = write_text_atomic(out_dir / "fragility.html", html)
-    table = [{c: r[c] for c in ASSET_COLUMNS} for r in rows]
-    return html_path, write_csv_atomic(out_dir / ASSETS_CSV, ASSET_COLUMNS, table)
+    columns = asset_columns(ds)
+    table = [{c: r[c] for c in columns} for r in rows]
+    return html_path, write_csv_atomic(out_dir / ASSETS_CSV, columns, table)

@@ -19,6 +19,7 @@ import hashlib
 import json
 import logging
 import math
+import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,12 +32,12 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR, G
 from ..errors import TaskFailure, UsageError
-from ..records.intensity import arias_intensity, spectral_acceleration
+from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..schema import FRAGILITY, apply_schema
 from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
-from ..uncertainty.hazard import HazardCurve, annual_rate, probability_in
+from ..uncertainty.hazard import Component, HazardSet, annual_rate, probability_in
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 
 log = logging.getLogger(__name__)
@@ -50,6 +51,8 @@ IM_NAMES = {"pga": "peak ground acceleration (horizontal vector)", "pgv": "peak 
             "arias": "Arias intensity (both horizontals)", "ap": "pulse peak acceleration a_p along the block",
             "tp": "pulse lobe duration t_p along the block",
             "velocity_ratio": "the paper's pulse measure |dv| / v_crit (Eqs. 4-5)"}
+#: IMs measured under a horizontal component definition.
+COMPONENT_IMS = ("pga", "pgv", "sa")
 #: IMs a record can be scaled to (those that grow with the factor).
 SCALABLE = tuple(k for k, (_, power) in IMS.items() if power > 0)
 
@@ -61,15 +64,23 @@ class FragilityContext:
     base: Context
     im: str
     levels: tuple
+    component: Component = Component.rotd100
 
 
-def record_ims(rec, blocks: dict, inventory: Inventory, *, g_ms2: float) -> dict[str, np.ndarray]:
-    """Every IM of the unscaled record, per block (shape (n_blocks,))."""
+def record_ims(rec, blocks: dict, inventory: Inventory, *, g_ms2: float, component: Component = Component.rotd100
+               ) -> dict[str, np.ndarray]:
+    """Every IM of the unscaled record, per block (shape (n_blocks,)); PGA, PGV and Sa under the horizontal
+    component definition ``component`` (:func:`~pipeline.records.intensity.peak_by_component`)."""
     nb = len(inventory)
     geo = inventory.geometry(g_ms2=g_ms2)
-    pga, pgv = rec.pga_ms2(), rec.pgv_ms()
+    if component is Component.rotd100:                 # the vector peaks, as the screening's pga and pgv
+        pga, pgv = rec.pga_ms2(), rec.pgv_ms()
+    else:
+        pga = peak_by_component(rec.horizontal_ms2, component.value)
+        pgv = peak_by_component(rec.velocity_ms, component.value)
     periods = 2.0 * math.pi / geo.p
-    sa_of = {T: spectral_acceleration(rec.horizontal_ms2, rec.dt_s, float(T)) for T in np.unique(periods)}
+    sa_of = {T: spectral_acceleration(rec.horizontal_ms2, rec.dt_s, float(T), component=component.value)
+             for T in np.unique(periods)}
     dv = np.abs(blocks.get("block_pulse_dv", np.full(nb, np.nan)))
     v_crit = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
     return {"pga": np.full(nb, pga), "pgv": np.full(nb, pgv), "pgv_pga": np.full(nb, pgv / pga if pga > 0 else np.nan),
@@ -90,7 +101,7 @@ def scale_factors(im_values: np.ndarray, levels: np.ndarray, im: str) -> np.ndar
     return np.where(np.isfinite(f) & (f > 0), f, np.nan)
 
 
-def judge_record(rec, base: Context, im: str, levels) -> dict:
+def judge_record(rec, base: Context, im: str, levels, component: Component = Component.rotd100) -> dict:
     """One loaded record at every level against every block: outcomes, p_overturn, factors and IMs.
 
     Returns
@@ -102,7 +113,7 @@ def judge_record(rec, base: Context, im: str, levels) -> dict:
     """
     _, blocks, _, directions = pulses_and_directions(rec, base)
     g = base.config.records.g_ms2
-    ims = record_ims(rec, blocks, base.inventory, g_ms2=g)
+    ims = record_ims(rec, blocks, base.inventory, g_ms2=g, component=component)
     levels = np.asarray(levels, dtype=float)
     factors = scale_factors(ims[im], levels, im)
     nb = len(base.inventory)
@@ -135,7 +146,7 @@ def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
     :class:`~pipeline.errors.TaskFailure`, never raised."""
     source, content = item
     try:
-        out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels)
+        out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels, ctx.component)
         out.update(record_id=source.record_id, content=content)
         return out
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
@@ -164,10 +175,11 @@ class FragilityCache(RecordStore):
 
 
 def fragility_key(config: Config, inventory: Inventory, im: str, levels, declared: dict,
-                  stationxml_sha256: str = "") -> str:
+                  stationxml_sha256: str = "", component: Component = Component.rotd100) -> str:
     """Everything besides a record that its fragility results depend on."""
     payload = json.dumps({"run": run_key(config.to_dict(), declared_units=declared,
                                          station_inventory_sha256=stationxml_sha256), "im": im,
+                          "component": component.value,
                           "levels": [float(x) for x in levels], "blocks": list(inventory.digests()),
                           "entry_format": ENTRY_FORMAT}, sort_keys=True)
     return hashlib.sha256(payload.encode()).hexdigest()
@@ -175,7 +187,8 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
-                stationxml_sha256: str = "") -> tuple[list[dict], list[tuple], dict]:
+                stationxml_sha256: str = "", component: Component = Component.rotd100
+                ) -> tuple[list[dict], list[tuple], dict]:
     """Scale every record to every level and judge every block (cached per record under ``out_dir``).
 
     ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
@@ -192,9 +205,9 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     found = scan_directory(records_dir, config=config)
     declared = read_declared_units(records_dir, config)
     base = Context(str(records_dir), config, inventory, declared, station_inventory)
-    ctx = FragilityContext(base, im, tuple(float(x) for x in levels))
-    cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256)) \
-        if out_dir is not None else None
+    ctx = FragilityContext(base, im, tuple(float(x) for x in levels), component)
+    cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256,
+                                                  component)) if out_dir is not None else None
     results, todo, failures = [], [], [(f.record_id, f.reason) for f in found.failures]
     for src in found.sources:
         content = src.digest()
@@ -227,8 +240,9 @@ ORIENTATIONS = {"random": ("p_random", "p_overturn_random_orientation (a block o
 
 
 def assemble_fragility(results: list[dict], inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
-                       hazard: HazardCurve | None = None, bootstrap: int = 200,
-                       orientation: str = "random") -> xr.Dataset:
+                       hazard: HazardSet | None = None, bootstrap: int = 200,
+                       orientation: str = "random", component: Component = Component.rotd100,
+                       level_unit: tuple[str, float] | None = None) -> xr.Dataset:
     """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates.
 
     ``orientation`` (:data:`ORIENTATIONS`): with sampling, each scaled scene's outcome is its probability for a
@@ -286,14 +300,23 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),
     }
     if hazard is not None:
-        rate = np.array([annual_rate(hazard, float(fit.theta[j]), float(fit.beta[j])) for j in range(nb)])
+        periods = 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p
+        chosen = [hazard.for_block(float(T) if im == "sa" else math.nan) for T in periods]
+        rate = np.array([annual_rate(c, float(fit.theta[j]), float(fit.beta[j])) for j, (c, _) in enumerate(chosen)])
         data["annual_rate_overturn"] = (("block",), rate)
         data["p_overturn_50yr"] = (("block",), np.array([probability_in(r, 50.0) for r in rate]))
+        if im == "sa":
+            data["hazard_period"] = (("block",), np.array([c.period_s for c, _ in chosen]))
+            data["hazard_period_ratio"] = (("block",), np.array([r for _, r in chosen]))
     ds = xr.Dataset(data, coords={
         "block": np.array(inventory.ids, dtype=object), "im_level": levels,
         "record": np.array([str(r["record_id"]) for r in results], dtype=object),
         "im": np.array(names, dtype=object)})
     ds.attrs.update({"im": im, "im_units": IMS[im][0], "im_long_name": IM_NAMES[im],
+                     "im_component": component.value if im in COMPONENT_IMS else "",
+                     "im_display_unit": (level_unit or (SI_LABEL[IMS[im][0]], 1.0))[0],
+                     "im_display_factor": (level_unit or (SI_LABEL[IMS[im][0]], 1.0))[1],
+                     "hazard_notes": "\n".join(n for c in (hazard.curves if hazard else ()) for n in c.notes),
                      "im_units_by_im": json.dumps({k: v[0] for k, v in IMS.items()}),
                      "outcome_measure": measure if sampled else "nominal verdict",
                      "orientation": orientation,
@@ -302,31 +325,66 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     return apply_schema(ds, FRAGILITY)
 
 
-def parse_levels(text: str, im: str) -> np.ndarray:
-    """``--levels`` in the IM's SI unit, a ``g`` suffix accepted for accelerations.
+#: Unit suffixes ``--levels`` accepts, per SI unit of the IM: suffix -> factor to SI.
+LEVEL_UNITS = {"m s-2": {"g": G, "gal": 0.01, "cms2": 0.01, "ms2": 1.0}, "m s-1": {"cms": 0.01, "ms": 1.0}}
+#: The suffix meaning the SI unit itself, per SI unit (the unit labels of the outputs' column names).
+SI_LABEL = {"m s-2": "ms2", "m s-1": "ms", "s": "s", "1": "1"}
+
+
+def levels_unit(text: str, im: str) -> tuple[str, float]:
+    """The unit ``--levels`` is given in: (label, factor to SI). A suffix on any level applies to every level;
+    levels with different suffixes are an error.
 
     Raises
     ------
     UsageError
-        For an unknown IM, a value that is not a number, not positive or not increasing.
+        For an unknown IM, a suffix the IM's unit does not take, or two different suffixes.
     """
     if im not in SCALABLE:
         raise UsageError(f"--im {im!r}: unknown or not scalable; valid: {', '.join(SCALABLE)}")
     unit = IMS[im][0]
+    units = LEVEL_UNITS.get(unit, {})
+    found = set()
+    for k, raw in enumerate(text.split(","), 1):
+        m = re.fullmatch(r"\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z][A-Za-z0-9]*)?\s*", raw)
+        suffix = (m.group(1) or "").lower() if m else ""         # no number: parse_levels says so
+        if suffix:
+            if suffix not in units:
+                hint = f"one of {', '.join(units)}" if units else "none (give the number alone)"
+                raise UsageError(f"--levels: value {k} {raw.strip()!r}: unit {suffix!r} is not one {im} takes "
+                                 f"({unit}); suffixes: {hint}")
+            found.add(suffix)
+    if len(found) > 1:
+        raise UsageError(f"--levels {text!r}: several units ({', '.join(sorted(found))}); a unit suffix applies to "
+                         "every level, so give one (0.1,0.2,0.3g is 0.1 g, 0.2 g, 0.3 g)")
+    if found:
+        suffix = found.pop()
+        return suffix, units[suffix]
+    return SI_LABEL[unit], 1.0
+
+
+def parse_levels(text: str, im: str) -> np.ndarray:
+    """``--levels`` in the IM's SI unit. A unit suffix on any level (g, gal, cms2, ms2 for accelerations; cms,
+    ms for velocities) applies to every level (:func:`levels_unit`).
+
+    Raises
+    ------
+    UsageError
+        For an unknown IM or unit, several units, a value that is not a number, not positive or not
+        increasing.
+    """
+    label, factor = levels_unit(text, im)
+    unit = IMS[im][0]
     out: list[float] = []
     for k, raw in enumerate(text.split(","), 1):
         s = raw.strip()
-        factor = 1.0
-        if s.lower().endswith("g"):
-            if unit != "m s-2":
-                raise UsageError(f"--levels: value {k} {s!r}: a 'g' suffix is only for accelerations; {im} is in "
-                                 f"{unit}")
-            s, factor = s[:-1], G
+        if label != SI_LABEL[unit] or s.lower().endswith(label):
+            s = s[:-len(label)] if s.lower().endswith(label) else s
         try:
             v = float(s) * factor
         except ValueError:
             raise UsageError(f"--levels: value {k} {raw.strip()!r} is not a number; give {im} in {unit}"
-                             + (" (or with a g suffix)" if unit == "m s-2" else "")) from None
+                             + (" (or with a unit suffix)" if unit in LEVEL_UNITS else "")) from None
         if not (math.isfinite(v) and v > 0):
             raise UsageError(f"--levels: value {k} {raw.strip()!r} must be a positive number")
         if out and v <= out[-1]:
@@ -368,7 +426,11 @@ class FragilityRequest:
     im: str
     levels: np.ndarray
     out_dir: Path
-    hazard: HazardCurve | None = None
+    hazard: HazardSet | None = None
+    #: the horizontal component definition of PGA, PGV and Sa the fit uses
+    component: Component = Component.rotd100
+    #: the unit ``--levels`` was given in (label, factor to SI): the outputs' medians are in it
+    level_unit: tuple[str, float] | None = None
     n_workers: int = 1
     scheduler: str | None = None
     bootstrap: int = 200
@@ -402,13 +464,15 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
                                                     im=request.im, levels=request.levels, executor=executor,
                                                     out_dir=out_dir, progress=progress, station_inventory=station,
                                                     stationxml_sha256=files_sha256(stationxml_paths(
-                                                        request.records_dir, request.stationxml)))
+                                                        request.records_dir, request.stationxml)),
+                                                    component=request.component)
         if not results:
             raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
                              + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
         ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=request.levels,
                                 hazard=request.hazard, bootstrap=request.bootstrap,
-                                orientation=request.orientation)
+                                orientation=request.orientation, component=request.component,
+                                level_unit=request.level_unit)
         ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} "
                                     f"{' '.join(request.command)}",
                          "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),

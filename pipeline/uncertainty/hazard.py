@@ -1,20 +1,18 @@
 """A site's hazard curve and the mean annual rate of overturning.
 
-The hazard curve is a CSV of two columns, ``<im>_<unit>,annual_rate`` (as OpenQuake's
-``hazard_curve-*.csv`` or the USGS hazard tool give them, reduced to one IM): the IM levels,
-increasing, and their annual rates of exceedance, decreasing. Accepted units (converted to SI):
+The curve is read by :mod:`.hazard_files` (OpenQuake CSV, USGS JSON, a plain CSV). Accepted units of a
+plain CSV (converted to SI):
 
 * accelerations (pga, sa, ap): ``g``, ``ms2`` (m s-2), ``cms2`` or ``gal`` (cm s-2);
 * velocities (pgv): ``ms`` (m s-1), ``cms`` (cm s-1);
 * Arias intensity (arias): ``ms`` (m s-1).
 
-Lines starting with ``#`` are comments (OpenQuake's metadata line is one).
-
 Rate of overturning (Cornell & Krawinkler 2000; Baker 2015, eq. 1):
 lambda_C = integral P(C | im) |d lambda / d im| d im, with the curve interpolated log-log
 between its points (lambda = lambda_k (im / im_k)^-s_k on each segment, integrated by 32-point
-Gauss-Legendre in ln im), nothing below the first point, and P(C | im_max) lambda(im_max) for
-the tail above the last. The probability in t years (Poisson): 1 - exp(-lambda_C t).
+Gauss-Legendre in ln im; a flat segment, s_k = 0, adds nothing), nothing below the first point, and
+P(C | im_max) lambda(im_max) for the tail above the last. The probability in t years (Poisson):
+1 - exp(-lambda_C t).
 
 References
 ----------
@@ -24,10 +22,10 @@ assessment. PEER Center News 3(2). Baker (2015), Earthquake Spectra 31(1), eq. 1
 
 from __future__ import annotations
 
-import csv
+import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
+from enum import Enum
 
 import numpy as np
 
@@ -44,6 +42,15 @@ IM_KIND = {"pga": "acceleration", "sa": "acceleration", "ap": "acceleration", "p
 GAUSS = np.polynomial.legendre.leggauss(32)
 
 
+class Component(Enum):
+    """How an IM combines the two horizontal components (Boore 2010)."""
+
+    rotd100 = "rotd100"      # the largest over all horizontal directions (the peak of the horizontal vector for PGA)
+    rotd50 = "rotd50"        # the median over all horizontal directions
+    geomean = "geomean"      # the geometric mean of the two recorded components
+    larger = "larger"        # the larger of the two recorded components
+
+
 @dataclass(frozen=True)
 class HazardCurve:
     """IM levels [SI] and their annual rates of exceedance [1/yr], with what the file says it is."""
@@ -52,72 +59,28 @@ class HazardCurve:
     levels: np.ndarray
     rates: np.ndarray
     path: str
-    #: the file's own title: its comment lines before the header, joined ("" when it has none)
+    #: the file's own title (a plain CSV's comment lines before the header, joined; a description otherwise)
     title: str = ""
     #: True when the file labels itself synthetic (the word appears in its comments): not a real site's hazard
     synthetic: bool = False
-    #: the unit the file gives its levels in (the suffix of its first column, e.g. ``g``)
+    #: the unit the file gives its levels in (e.g. ``g``)
     units: str = ""
+    #: the horizontal component definition of the curve (None: the file does not say)
+    component: Component | None = None
+    #: True when the file or the user states ``component``; False when it is the format's usual one
+    component_stated: bool = False
+    #: Sa's period [s] (NaN for other IMs, or a plain CSV that does not give it)
+    period_s: float = math.nan
+    #: the site of a file of several (OpenQuake)
+    site: str = ""
+    #: ``openquake``, ``usgs`` or ``csv``
+    source_format: str = "csv"
+    #: what was done to the numbers (probabilities converted, saturated levels dropped, the curve ended at 0)
+    notes: tuple = ()
 
-
-def read_hazard(path: str | Path, *, im: str) -> HazardCurve:
-    """Read and check a hazard curve for the IM ``im``.
-
-    Raises
-    ------
-    HazardError
-        For a missing file, a header that is not ``<im>_<unit>,annual_rate`` for this IM and a
-        known unit, a value that is not a positive number, levels not increasing or rates not
-        decreasing; each names the file, the line and the value.
-    """
-    path = Path(path)
-    kind = IM_KIND.get(im)
-    if kind is None:
-        raise HazardError(f"{path}: a hazard curve for IM {im!r} is not supported; supported: {sorted(IM_KIND)}")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise HazardError(f"{path}: cannot read the hazard curve ({exc.strerror or exc})") from exc
-    lines = [(k, ln) for k, ln in enumerate(text.splitlines(), 1) if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
-        raise HazardError(f"{path}: empty hazard curve; expected a header '{im}_<unit>,annual_rate' and rows")
-    head_no, head = lines[0]
-    cols = [c.strip().lower() for c in next(csv.reader([head]))]
-    units = UNITS[kind]
-    expected = f"'{im}_<unit>,annual_rate' with <unit> one of {sorted(units)}"
-    if len(cols) < 2 or cols[1] != "annual_rate" or not cols[0].startswith(im + "_") or \
-            cols[0][len(im) + 1:] not in units:
-        raise HazardError(f"{path}, line {head_no}: header {head.strip()!r}; expected {expected}")
-    factor = units[cols[0][len(im) + 1:]]
-    levels: list[float] = []
-    rates: list[float] = []
-    for no, line in lines[1:]:
-        row = next(csv.reader([line]))
-        if len(row) < 2:
-            raise HazardError(f"{path}, line {no}: {line.strip()!r}; expected two values: level,annual_rate")
-        for name, value in zip(cols[:2], row[:2]):
-            try:
-                v = float(value)
-            except ValueError:
-                raise HazardError(f"{path}, line {no}: {name} = {value.strip()!r} is not a number") from None
-            if not (math.isfinite(v) and v > 0):
-                raise HazardError(f"{path}, line {no}: {name} = {value.strip()!r}; expected a positive number")
-        lv, rt = float(row[0]) * factor, float(row[1])
-        if levels and lv <= levels[-1]:
-            raise HazardError(f"{path}, line {no}: {cols[0]} = {row[0].strip()} does not increase; the levels "
-                              "must increase down the file")
-        if rates and rt >= rates[-1]:
-            raise HazardError(f"{path}, line {no}: annual_rate = {row[1].strip()} does not decrease; rates of "
-                              "exceedance must decrease as the level increases")
-        levels.append(lv)
-        rates.append(rt)
-    if len(levels) < 2:
-        raise HazardError(f"{path}: {len(levels)} point(s); a hazard curve needs at least 2")
-    comments = [ln.strip().lstrip("#").strip() for ln in text.splitlines()[:head_no - 1]
-                if ln.lstrip().startswith("#")]
-    title = " ".join(c for c in comments if c)
-    return HazardCurve(im, np.array(levels), np.array(rates), str(path), title=title,
-                       synthetic="synthetic" in title.lower(), units=cols[0][len(im) + 1:])
+    def with_component(self, component: Component, *, stated: bool) -> "HazardCurve":
+        """The same curve with its component definition given."""
+        return dataclasses.replace(self, component=component, component_stated=stated)
 
 
 def annual_rate(curve: HazardCurve, theta: float, beta: float) -> float:
@@ -157,3 +120,104 @@ def integrand_segments(curve: HazardCurve, theta: float, beta: float
 def probability_in(rate_per_year: float, years: float = 50.0) -> float:
     """Poisson probability of at least one overturning in ``years`` [-]."""
     return float(1.0 - math.exp(-rate_per_year * years)) if np.isfinite(rate_per_year) else math.nan
+
+
+@dataclass(frozen=True)
+class HazardSet:
+    """The hazard curves a fragility run integrates against: one, or Sa at several periods.
+
+    A block is integrated against the curve of the period nearest (in log period) to its own
+    Sa period; ``for_block`` says which and how far off it is.
+    """
+
+    curves: tuple
+
+    @property
+    def path(self) -> str:
+        return "; ".join(c.path for c in self.curves)
+
+    @property
+    def title(self) -> str:
+        return "; ".join(c.title for c in self.curves if c.title)
+
+    @property
+    def synthetic(self) -> bool:
+        return any(c.synthetic for c in self.curves)
+
+    @property
+    def component(self) -> Component | None:
+        return self.curves[0].component
+
+    @property
+    def units(self) -> str:
+        return self.curves[0].units
+
+    @property
+    def notes(self) -> tuple:
+        return tuple(n for c in self.curves for n in c.notes)
+
+    def for_block(self, period_s: float) -> tuple[HazardCurve, float]:
+        """The curve for a block whose Sa period is ``period_s`` [s], and the ratio of the curve's period to it
+        (1 for an IM other than Sa, or the only curve)."""
+        if len(self.curves) == 1 or not math.isfinite(period_s):
+            c = self.curves[0]
+            return c, (c.period_s / period_s if math.isfinite(c.period_s) and math.isfinite(period_s) else 1.0)
+        gaps = [abs(math.log(c.period_s / period_s)) for c in self.curves]
+        c = self.curves[int(np.argmin(gaps))]
+        return c, c.period_s / period_s
+
+
+def hazard_set(curves, *, im: str, fit_component: Component, scale: float | None = None) -> HazardSet:
+    """Check hazard curves against a fragility fit and bind them into a :class:`HazardSet`.
+
+    Parameters
+    ----------
+    curves : sequence of HazardCurve
+        One curve, or Sa curves at several periods.
+    im : str
+        The fit's IM.
+    fit_component : Component
+        The horizontal component definition the fragility is fitted on.
+    scale : float, optional
+        The user's conversion from the hazard's component to the fit's: hazard levels are multiplied by it.
+
+    Raises
+    ------
+    HazardError
+        For curves of another IM, several curves for an IM other than Sa, Sa curves without a period or two of
+        the same period, and a curve whose component differs from the fit's with no conversion given.
+    """
+    curves = list(curves)
+    for c in curves:
+        if c.im != im:
+            raise HazardError(f"{c.path}: a {c.im} curve for a fragility on {im}")
+    if len(curves) > 1 and im != "sa":
+        raise HazardError(f"{len(curves)} hazard curves for {im}: give one (several are for Sa at several periods)")
+    if im == "sa":
+        missing = [c.path for c in curves if not math.isfinite(c.period_s)]
+        if missing:
+            raise HazardError(f"{missing[0]}: an Sa curve without its period; name it in the header "
+                              "(sa(1.0)_g,annual_rate) or give OpenQuake's or the USGS file as exported")
+        periods = [c.period_s for c in curves]
+        if len(set(periods)) < len(periods):
+            raise HazardError(f"two Sa curves of the same period ({sorted(periods)} s): give one per period")
+    out = []
+    for c in curves:
+        notes = list(c.notes)
+        if c.component is None:
+            notes.append(f"the file does not state its component definition: taken as the fit's, "
+                         f"{fit_component.value}")
+            c = c.with_component(fit_component, stated=False)
+        elif c.component != fit_component:
+            if scale is None:
+                raise HazardError(
+                    f"{c.path}: the hazard is {c.component.value}"
+                    f"{'' if c.component_stated else ' (the format usual one)'}, the fragility is fitted on "
+                    f"{fit_component.value}; fit on the hazard's definition (leave out --im-component), state the "
+                    "hazard's definition (--hazard-component) or the conversion (--hazard-scale FACTOR: hazard "
+                    f"{c.component.value} x FACTOR = {fit_component.value})")
+            notes.append(f"levels converted from {c.component.value} to {fit_component.value} by the stated "
+                         f"factor {scale:g}")
+            c = dataclasses.replace(c.with_component(fit_component, stated=True), levels=c.levels * scale)
+        out.append(dataclasses.replace(c, notes=tuple(notes)))
+    return HazardSet(tuple(sorted(out, key=lambda c: c.period_s if math.isfinite(c.period_s) else 0.0)))
