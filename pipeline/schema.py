@@ -463,4 +463,8 @@ FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "annual_rate_overturn": (("block",), "yr-1", "mean annual rate of overturning: integral of the fragility over "
                              "the site's hazard curve", {}),
     "p_overturn_50yr": (("block",), "1", "probability of overturning in 50 years (Poisson)", {}),
+    "block_period": (("block",), "s", "the block's Sa period 2 pi / p", {}),
+    "hazard_period": (("block",), "s", "period of the Sa hazard curve the block is integrated against", {}),
+    "hazard_period_ratio": (("block",), "1", "that curve's period over the block's own Sa period",
+                            {"comment": "1 where a curve of the block's own period was given"}),
 }

@@ -45,7 +45,8 @@ def test_an_openquake_export_gives_the_rate_of_its_hand_converted_curve(openquak
     np.testing.assert_allclose(curve.levels, levels, rtol=1e-12)
     np.testing.assert_allclose(curve.rates, rates, rtol=1e-9)      # log(1 - poe) loses digits for a tiny poe
     plain = tmp_path / "plain.csv"
-    plain.write_text("pga_g_rotd50,annual_rate\n" + "\n".join(f"{a / G!r},{r!r}" for a, r in zip(levels, rates)))
+    plain.write_text("pga_g_rotd50,annual_rate\n"
+                     + "\n".join(f"{float(a / G)!r},{float(r)!r}" for a, r in zip(levels, rates)))
     expected = annual_rate(read_hazard(plain, im="pga"), THETA_MS2, BETA)
     assert annual_rate(curve, THETA_MS2, BETA) == pytest.approx(expected, rel=1e-9)
     assert curve.component == Component.rotd50 and not curve.component_stated

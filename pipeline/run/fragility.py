@@ -297,6 +297,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         "outcome": (("record", "im_level", "block"), verdict.astype("i1")),
         "p_overturn": (("record", "im_level", "block"), prob),
         "beta_im": (("block", "im"), beta_im), "median_im": (("block", "im"), median_im),
+        "block_period": (("block",), 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p),
         "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),
     }
     if hazard is not None:
@@ -453,6 +454,7 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
     from ..records.loader import files_sha256, read_inventory, stationxml_paths
     from ..report.fragility_html import build_fragility_report
     from ..store import OutputLock, write_atomic
+    from ..store.exports import write_exports
     from .cache import ensure_writable
     from .executors import make_executor
 
@@ -483,5 +485,6 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
                          "hazard_synthetic": int(request.hazard.synthetic) if request.hazard is not None else 0})
         nc = write_atomic(ds, out_dir / "fragility.nc")
         html, csv_path = build_fragility_report(ds, out_dir, hazard=request.hazard)
+        exports = write_exports(ds, out_dir)
     return {**counts, "scenes": int(ds.sizes["record"] * ds.sizes["im_level"] * ds.sizes["block"]),
-            "failures": failures, "warnings": stripe_warnings(ds), "paths": (nc, html, csv_path)}
+            "failures": failures, "warnings": stripe_warnings(ds), "paths": (nc, html, csv_path, *exports)}

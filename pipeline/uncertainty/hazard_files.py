@@ -137,7 +137,8 @@ def _finish(path: Path, im: str, levels, rates, *, notes: list[str], **kw) -> Ha
                           f"({rates[k - 1]:.4g}); rates of exceedance cannot increase with the level")
     zero = np.flatnonzero(rates == 0)
     if zero.size:
-        notes.append(f"the rate reaches 0 at {levels[zero[0]]:.4g} (SI): the curve ends there "
+        unit = "m s-2" if IM_KIND[im] == "acceleration" else "m s-1"
+        notes.append(f"the rate reaches 0 at {levels[zero[0]]:.4g} {unit}: the curve ends there "
                      f"({levels.size - zero[0]} level(s) of rate 0)")
         levels, rates = levels[:zero[0]], rates[:zero[0]]
     flat = int(np.sum(np.diff(rates) == 0))
@@ -163,7 +164,8 @@ def _plain(path: Path, text: str, *, im: str) -> HazardCurve:
     if len(cols) < 2 or cols[1] != "annual_rate" or not m:
         raise HazardError(f"{path}, line {head_no}: header {head.strip()!r}; expected {expected}")
     factor = units[m.group(2)]
-    levels, rates = [], []
+    levels: list[float] = []
+    rates: list[float] = []
     for no, line in lines[1:]:
         row = next(csv.reader([line]))
         if len(row) < 2:
@@ -288,11 +290,11 @@ def _usgs(path: Path, text: str, *, im: str, period_s) -> HazardCurve:
     except json.JSONDecodeError as exc:
         raise HazardError(f"{path}: not valid JSON ({exc}); expected the USGS hazard service's response") from None
     resp = doc.get("response") if isinstance(doc, dict) else None
-    curves = []                      # (imt name, xs, ys)
+    curves: list[tuple[str, list, list]] = []                   # (imt name, xs, ys)
     if isinstance(resp, dict) and "hazardCurves" in resp:
         for hc in resp["hazardCurves"]:
             imt = hc.get("imt", {})
-            name = imt.get("value") if isinstance(imt, dict) else str(imt)
+            name = str(imt.get("value", "")) if isinstance(imt, dict) else str(imt)
             total = [d for d in hc.get("data", []) if str(d.get("component", "")).lower() == "total"]
             if total:
                 curves.append((name, total[0]["values"]["xs"], total[0]["values"]["ys"]))
@@ -300,7 +302,7 @@ def _usgs(path: Path, text: str, *, im: str, period_s) -> HazardCurve:
         for r in resp:
             md = r.get("metadata", {})
             imt = md.get("imt", {})
-            name = imt.get("value") if isinstance(imt, dict) else str(imt)
+            name = str(imt.get("value", "")) if isinstance(imt, dict) else str(imt)
             total = [d for d in r.get("data", []) if str(d.get("component", "")).lower() == "total"]
             if total:
                 curves.append((name, md["xvalues"], total[0]["yvalues"]))
