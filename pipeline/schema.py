@@ -76,8 +76,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "azimuth_known": (("record",), None, "absolute azimuth of the horizontals is known",
                       TRISTATE),
     "processing_level": (("record",), None, "delivery level: corrected or uncorrected", {}),
-    "pga": (("record",), "m s-2", "peak ground acceleration, peak of the horizontal vector", {}),
-    "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector", {}),
+    "pga": (("record",), "m s-2", "peak ground acceleration, peak of the horizontal vector (RotD100)", {}),
+    "pgv": (("record",), "m s-1", "peak ground velocity, peak of the horizontal vector (RotD100)", {}),
     # pulses (Shahi & Baker 2014), per record, at the chosen candidate's orientation
     "is_pulse": (("record",), None, "record is pulse-like (Shahi & Baker 2014)",
                  PULSE_CLASS),

@@ -212,7 +212,8 @@ def hazard_set(curves, *, im: str, fit_component: Component, scale: float | None
             if scale is None:
                 raise HazardError(
                     f"{c.path}: the hazard is {c.component.value}"
-                    f"{'' if c.component_stated else ' (the usual definition of its format)'}, the fragility is fitted on "
+                    f"{'' if c.component_stated else ' (the usual definition of its format)'}, "
+                    f"the fragility is fitted on "
                     f"{fit_component.value}; fit on the hazard's definition (leave out --im-component), state the "
                     "hazard's definition (--hazard-component) or the conversion (--hazard-scale FACTOR: hazard "
                     f"{c.component.value} x FACTOR = {fit_component.value})")
