@@ -65,9 +65,12 @@ J. Eng. Mech. 127(5), 473-483.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 from .kernel import HALF_PI, _exceed_fraction, _flight_fraction, free_outcome, jit
+from .structures import ContactBlock, ContactOutcome, ContactState
+
+__all__ = ["ContactBlock", "ContactOutcome", "ContactState", "move", "impact", "accelerations", "corner_offsets",
+           "housner_restitution"]
 
 # modes
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = 0, 1, 2, 3, 4, 5
@@ -90,107 +93,6 @@ MAX_EVENTS = 20000            # cap on transitions and impacts
 MAX_TAIL_PERIODS = 200.0      # motion followed after the record, in units of 2 pi / p
 PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
 FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat
-
-
-class ContactBlock(NamedTuple):
-    """The block as the contact model sees it (a numba namedtuple).
-
-    Attributes
-    ----------
-    p : float
-        Frequency parameter sqrt(3 g / (4 R)) [rad s-1].
-    alpha : float
-        Slenderness [rad].
-    e : float
-        Restitution of a sticking rocking impact (angular-velocity ratio) [-].
-    R : float
-        Corner distance [m].
-    mu : float
-        Friction coefficient [-].
-    g : float
-        Gravity [m s-2].
-    rest_ratio : float
-        A rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-].
-    """
-
-    p: float
-    alpha: float
-    e: float
-    R: float
-    mu: float
-    g: float
-    rest_ratio: float
-
-
-class ContactState(NamedTuple):
-    """Where the model starts (or stopped).
-
-    Attributes
-    ----------
-    t : float
-        Time [s].
-    mode : int
-        REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED.
-    corner : float
-        The contact corner in rock and slide-rock (+1 at +x, -1 at -x) [-].
-    sigma : float
-        The slip direction in slide and slide-rock (+1, -1) [-].
-    x, y, theta : float
-        Centre of mass relative to its place at the start, flat on the base (y = 0 at rest) [m], and
-        rotation [rad]. A base corner is at height y + h + r_y.
-    u, v, w : float
-        Their rates [m s-1], [m s-1], [rad s-1].
-    slip : float
-        Net slip of the base so far [m] (:class:`ContactOutcome`).
-    """
-
-    t: float
-    mode: int
-    corner: float
-    sigma: float
-    x: float
-    y: float
-    theta: float
-    u: float
-    v: float
-    w: float
-    slip: float
-
-
-class ContactOutcome(NamedTuple):
-    """What :func:`move` returns.
-
-    Attributes
-    ----------
-    overturned : bool
-    t_overturn : float
-        Time |theta| reached pi/2, or the record's end when free rocking after it escapes [s] (NaN: stands).
-    theta_max : float
-        Largest |theta| [rad].
-    n_impacts : int
-        Impacts (corners meeting the base).
-    slip_max : float
-        Largest |net slip| of the base: the contact point's slip in slide and slide-rock, plus the base's
-        horizontal travel in flight [m].
-    slip_end : float
-        Net slip at the end [m].
-    modes : int
-        ``MODE_*`` bits of the modes that occurred.
-    status : int
-        ``STATUS_*`` bits.
-    end : ContactState
-        The state at the end.
-    """
-
-    overturned: bool
-    t_overturn: float
-    theta_max: float
-    n_impacts: int
-    slip_max: float
-    slip_end: float
-    modes: int
-    status: int
-    end: ContactState
 
 
 @jit

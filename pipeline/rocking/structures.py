@@ -1,6 +1,7 @@
-"""The named structures the rocking kernel takes and returns (numba namedtuples).
+"""The named structures the rocking kernel and the general contact model take and return (numba namedtuples).
 
-:mod:`.kernel` integrates; these say what goes in and what comes out, by name rather than by position.
+:mod:`.kernel` and :mod:`.contact` integrate; these say what goes in and what comes out, by name rather than
+by position.
 """
 
 from __future__ import annotations
@@ -122,3 +123,104 @@ class RockingOutcome(NamedTuple):
     n_uplifts: int
     t_first_impact: float
     pivot_end: float
+
+
+class ContactBlock(NamedTuple):
+    """The block as the contact model sees it (a numba namedtuple).
+
+    Attributes
+    ----------
+    p : float
+        Frequency parameter sqrt(3 g / (4 R)) [rad s-1].
+    alpha : float
+        Slenderness [rad].
+    e : float
+        Restitution of a sticking rocking impact (angular-velocity ratio) [-].
+    R : float
+        Corner distance [m].
+    mu : float
+        Friction coefficient [-].
+    g : float
+        Gravity [m s-2].
+    rest_ratio : float
+        A rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-].
+    """
+
+    p: float
+    alpha: float
+    e: float
+    R: float
+    mu: float
+    g: float
+    rest_ratio: float
+
+
+class ContactState(NamedTuple):
+    """Where the model starts (or stopped).
+
+    Attributes
+    ----------
+    t : float
+        Time [s].
+    mode : int
+        REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED (:mod:`.contact`).
+    corner : float
+        The contact corner in rock and slide-rock (+1 at +x, -1 at -x) [-].
+    sigma : float
+        The slip direction in slide and slide-rock (+1, -1) [-].
+    x, y, theta : float
+        Centre of mass relative to its place at the start, flat on the base (y = 0 at rest) [m], and
+        rotation [rad]. A base corner is at height y + h + r_y.
+    u, v, w : float
+        Their rates [m s-1], [m s-1], [rad s-1].
+    slip : float
+        Net slip of the base so far [m] (:class:`ContactOutcome`).
+    """
+
+    t: float
+    mode: int
+    corner: float
+    sigma: float
+    x: float
+    y: float
+    theta: float
+    u: float
+    v: float
+    w: float
+    slip: float
+
+
+class ContactOutcome(NamedTuple):
+    """What :func:`move` returns.
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn : float
+        Time |theta| reached pi/2, or the record's end when free rocking after it escapes [s] (NaN: stands).
+    theta_max : float
+        Largest |theta| [rad].
+    n_impacts : int
+        Impacts (corners meeting the base).
+    slip_max : float
+        Largest |net slip| of the base: the contact point's slip in slide and slide-rock, plus the base's
+        horizontal travel in flight [m].
+    slip_end : float
+        Net slip at the end [m].
+    modes : int
+        ``MODE_*`` bits of the modes that occurred (:mod:`.contact`).
+    status : int
+        ``STATUS_*`` bits.
+    end : ContactState
+        The state at the end.
+    """
+
+    overturned: bool
+    t_overturn: float
+    theta_max: float
+    n_impacts: int
+    slip_max: float
+    slip_end: float
+    modes: int
+    status: int
+    end: ContactState
