@@ -21,7 +21,7 @@ import xarray as xr
 from scipy.stats import norm
 
 from pipeline.constants import G
-from pipeline.store.exports import lognormal_moments, openquake_nrml, pelicun_csv, pelicun_id
+from pipeline.store.exports import ids_csv, lognormal_moments, openquake_nrml, pelicun_csv, pelicun_id
 
 NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
 
@@ -110,3 +110,12 @@ def test_pelicun_reads_the_damage_model_as_the_fitted_lognormal(tmp_path):
                                                              float(p[("LS1", "Theta_1")])]))
         demand_g = theta_g * np.array([0.5, 1.0, 2.0])
         np.testing.assert_allclose(rv.cdf(demand_g * G), norm.cdf(np.log(demand_g / theta_g) / beta), atol=1e-9)
+
+
+def test_the_id_map_says_what_the_curves_are_on():
+    ds = fits("pga", component="rotd50")
+    ds.attrs["orientation"] = "worst"
+    rows = list(csv.DictReader(io.StringIO(ids_csv(ds))))
+    assert rows[0] == {"block_id": "STAT-01", "openquake_taxonomy": "STAT-01", "pelicun_component": "RS.STAT_01",
+                       "im": "pga", "im_component": "rotd50", "orientation": "worst"}
+    assert "worst orientation" in openquake_nrml(ds)

@@ -89,7 +89,8 @@ def openquake_nrml(ds: xr.Dataset) -> str:
              '<nrml xmlns="http://openquake.org/xmlns/nrml/0.5" xmlns:gml="http://www.opengis.net/gml">',
              '  <fragilityModel id="rockscreen" assetCategory="contents" lossCategory="structural">',
              "    <description>" + _text(f"Overturning of free-standing blocks, rockscreen multiple-stripe fits on "
-                                         f"{im} ({component}, {unit})") + "</description>",
+                                         f"{im} ({component}, {unit}); blocks of unknown orientation: "
+                                         f"{ds.attrs.get('orientation', 'random')} orientation") + "</description>",
              "    <limitStates>overturned</limitStates>"]
     for block, theta, beta, period in fitted:
         m = lognormal_moments(theta * factor, beta)
@@ -129,11 +130,12 @@ def pelicun_id(block: str) -> str:
 
 def ids_csv(ds: xr.Dataset) -> str:
     """Each block's OpenQuake taxonomy (its fragility function's id, for the exposure model) and pelicun
-    component ID, with the IM and component definition the curves are on."""
+    component ID, with the IM and component definition the curves are on, and the probability fitted for a
+    block of blank azimuth (``random`` orientation or the ``worst``)."""
     fitted, _ = _curves(ds)
-    im, component = ds.attrs["im"], ds.attrs.get("im_component", "")
-    return ("block_id,openquake_taxonomy,pelicun_component,im,im_component\n"
-            + "".join(f"{b},{b},{pelicun_id(b)},{im},{component}\n" for b, *_ in fitted))
+    im, component, orientation = ds.attrs["im"], ds.attrs.get("im_component", ""), ds.attrs.get("orientation", "")
+    return ("block_id,openquake_taxonomy,pelicun_component,im,im_component,orientation\n"
+            + "".join(f"{b},{b},{pelicun_id(b)},{im},{component},{orientation}\n" for b, *_ in fitted))
 
 
 def write_exports(ds: xr.Dataset, out_dir: Path) -> list[Path]:
