@@ -20,7 +20,9 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.screening", "pipeline.c
                                      "pipeline.uncertainty.scenes", "pipeline.uncertainty.fragility",
                                      "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling",
                                      "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates",
-                                     "pipeline.records.common"])
+                                     "pipeline.records.common", "pipeline.rocking.contact", "pipeline.rocking.handoff",
+                                     "pipeline.uncertainty.hazard_files", "pipeline.floors.model",
+                                     "pipeline.floors.motion"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
