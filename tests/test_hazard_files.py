@@ -180,3 +180,18 @@ def test_a_circular_motion_has_the_same_peak_in_every_direction():
     t = np.linspace(0.0, 10.0, 20001)
     h = np.vstack([np.cos(2 * np.pi * t), np.sin(2 * np.pi * t)])
     assert peak_by_component(h, "rotd50") == pytest.approx(peak_by_component(h, "rotd100"), rel=1e-4)
+
+
+def test_a_block_far_from_the_nearest_sa_period_is_warned_of():
+    import xarray as xr
+
+    from pipeline.run.fragility import stripe_warnings
+    ds = xr.Dataset({"scale_factor": (("record", "im_level", "block"), np.ones((1, 2, 2))),
+                     "n_records": (("block", "im_level"), np.ones((2, 2), dtype=int)),
+                     "block_period": (("block",), np.array([1.0, 2.0])),
+                     "hazard_period": (("block",), np.array([1.0, 1.0])),
+                     "hazard_period_ratio": (("block",), np.array([1.0, 0.5]))},
+                    coords={"block": ["NEAR", "FAR"], "record": ["r"], "im_level": [1.0, 2.0]},
+                    attrs={"im": "sa", "im_units": "m s-2"})
+    warnings = stripe_warnings(ds)
+    assert len(warnings) == 1 and warnings[0].startswith("block FAR: its Sa period is 2 s") and "0.50" in warnings[0]

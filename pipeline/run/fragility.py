@@ -413,7 +413,18 @@ def stripe_warnings(ds: xr.Dataset) -> list[str]:
             lv = ", ".join(f"{x:g}" for x in ds["im_level"].values[empty])
             out.append(f"block {block}: no record has a verdict at level(s) {lv} {ds.attrs['im_units']} (every "
                        "record unscalable or in free flight there); those stripes are empty")
+    if "hazard_period_ratio" in ds:
+        for j, block in enumerate(ds["block"].values.tolist()):
+            ratio = float(ds["hazard_period_ratio"].values[j])
+            if abs(math.log(ratio)) > math.log(PERIOD_GAP_WARN):
+                out.append(f"block {block}: its Sa period is {float(ds['block_period'].values[j]):.3g} s; the "
+                           f"nearest hazard curve is for {float(ds['hazard_period'].values[j]):.3g} s (ratio "
+                           f"{ratio:.2f}); give a curve nearer its period for a closer rate")
     return out
+
+
+#: A block integrated against an Sa curve whose period differs from its own by more than this factor is warned of.
+PERIOD_GAP_WARN = 1.25
 
 
 @dataclass(frozen=True)
