@@ -32,7 +32,8 @@ from .rocking.block import Block
 log = logging.getLogger(__name__)
 
 REQUIRED = ("id", "height_m", "width_m")
-OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "site", "notes")
+OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "building", "floor_height_m", "site",
+            "notes")
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
 #: assets.csv and the report. Any other extra column is kept too, with a warning (a typo is likely).
 ASSET_COLUMNS = ("value", "location", "floor", "owner", "category")
@@ -154,10 +155,22 @@ class Inventory:
     #: free distance from the block's footprint to the edge of what it stands on, in its rocking plane [m]
     #: (NaN: no edge given); empty: none given for any block
     base_margin_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the building each block stands in ("" on the ground); empty: none for any block
+    building: tuple = ()
+    #: height of its floor above the building's base [m] (NaN: not given); empty: none for any block
+    floor_height_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def base_margins(self) -> np.ndarray:
         """:attr:`base_margin_m` aligned with the blocks (NaN where none is given) [m]."""
         return self.base_margin_m if self.base_margin_m.size == len(self) else np.full(len(self), np.nan)
+
+    def buildings(self) -> tuple:
+        """:attr:`building` aligned with the blocks ("" where none is given)."""
+        return self.building if len(self.building) == len(self) else ("",) * len(self)
+
+    def floor_heights(self) -> np.ndarray:
+        """:attr:`floor_height_m` aligned with the blocks (NaN where none is given) [m]."""
+        return self.floor_height_m if self.floor_height_m.size == len(self) else np.full(len(self), np.nan)
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -186,7 +199,8 @@ class Inventory:
                          notes=pick(self.notes), height_m=self.height_m[k], width_m=self.width_m[k],
                          mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
                          source=self.source, extra={c: pick(v) for c, v in self.extra.items()},
-                         base_margin_m=self.base_margins()[k])
+                         base_margin_m=self.base_margins()[k], building=pick(self.buildings()),
+                         floor_height_m=self.floor_heights()[k])
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -211,6 +225,8 @@ class Inventory:
         out = []
         for j, bid in enumerate(self.ids):
             fields = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j], self.restitution[j])
+            if self.buildings()[j]:             # a block in a building: its floor enters the computation
+                fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
         return tuple(out)
 
@@ -374,6 +390,11 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         rows["base_margin_m"].append(math.nan if not margin else cell(
             where, "base_margin_m", margin, "a distance >= 0 m from the block to the edge of its base (blank: none)",
             lambda x: x >= 0, math.nan))
+        rows["building"].append(rec.get("building", ""))
+        fh = rec.get("floor_height_m", "")
+        rows["floor_height_m"].append(math.nan if not fh else cell(
+            where, "floor_height_m", fh, "a height in metres >= 0 above the building's base (blank: from floor)",
+            lambda x: x >= 0, math.nan))
         for c in ("name", "site", "notes") + tuple(extras):
             rows[c].append(rec.get(c, ""))
         implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
@@ -391,4 +412,5 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
         mu=np.array(rows["mu"]), azimuth_deg=np.array(rows["azimuth_deg"]),
         restitution=np.array(rows["restitution"]), source=str(path),
         extra={c: tuple(rows[c]) for c in extras}, base_margin_m=np.array(rows["base_margin_m"], dtype=float),
+        building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
     )

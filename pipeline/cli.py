@@ -44,6 +44,10 @@ def _add_inputs(p: argparse.ArgumentParser, *, out: Path, out_help: str) -> None
     p.add_argument("--out", type=Path, default=out, help=out_help)
     p.add_argument("--config", type=Path, help="TOML configuration (default: built-in, as configs/screen.toml)")
     p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
+    p.add_argument("--buildings", type=Path,
+                   help="buildings CSV id,period_s,damping,stiffness_ratio,height_m[,n_stories]: blocks whose "
+                        "'building' column names one are screened on their floor's motion (the continuous "
+                        "shear-flexural model of Miranda & Taghavi 2005)")
 
 
 def _add_execution(p: argparse.ArgumentParser) -> None:
@@ -229,6 +233,15 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
         print(f"wrote {out}", file=sys.stderr)
 
 
+def _buildings(args: argparse.Namespace, inventory) -> dict:
+    """The buildings of ``--buildings``, checked against the inventory's placements (errors list every block)."""
+    from .floors.buildings import place_blocks, read_buildings
+
+    buildings = read_buildings(args.buildings) if getattr(args, "buildings", None) is not None else {}
+    place_blocks(inventory, buildings)
+    return buildings
+
+
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     """The main job: screen records against blocks and write results (incrementally)."""
     from .run import uptodate
@@ -236,7 +249,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     config, inventory = _config_and_inventory(args)
     records_dir = _records_dir(args.records)
     key = uptodate.fingerprint(records_dir=records_dir, blocks_csv=args.blocks, config_sha256=config.digest(),
-                               stationxml=args.inventory, out_dir=args.out)
+                               stationxml=args.inventory, out_dir=args.out, buildings_csv=args.buildings)
     last = None if args.force else uptodate.up_to_date(args.out, key)
     if last is not None:
         return _report_up_to_date(args, last, config)
@@ -250,7 +263,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                             config=config, out_dir=args.out, stationxml=args.inventory,
                             n_workers=args.num_processes if args.num_processes is not None else default_workers(),
                             scheduler=args.scheduler, force=args.force,
-                            command=list(argv), key=key)
+                            command=list(argv), key=key, buildings=_buildings(args, inventory))
     try:
         result = screen(request, progress=_progress(args.quiet))
     except RunInterrupted as exc:
@@ -502,6 +515,9 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     from .run.fragility import FragilityRequest, fragility, levels_unit, parse_levels
 
     config, inventory = _config_and_inventory(args)
+    if args.buildings is not None or any(inventory.buildings()):
+        raise UsageError("screen fragility does not yet screen blocks on floors (--buildings, the inventory's "
+                         "'building' column): run it on an inventory of blocks on the ground")
     levels = parse_levels(args.levels, args.im)
     if args.bootstrap < 0:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")

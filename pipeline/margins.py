@@ -45,11 +45,12 @@ import numpy as np
 import xarray as xr
 
 from .errors import RockscreenError, TaskFailure
+from .floors.buildings import place_blocks
 from .records.loader import RecordSource
 from .rocking.block import Block
 from .rocking.planner import rocks, simulate_scene
 from .schema import HISTORY_SERIES, apply_schema
-from .screening import Context
+from .screening import Context, floor_record
 from .uncertainty.sampling import common_normals, sample_block
 
 log = logging.getLogger(__name__)
@@ -187,11 +188,21 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
     rocking_blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2)
     settings = cfg.simulation_settings()
     index = {b: k for k, b in enumerate(inv.ids)}
+    placements = place_blocks(inv, ctx.buildings) if any(inv.buildings()) else None
+    floors: dict = {}                                   # a block on a floor is scanned on that floor's motion
     out = {}
     for block_id, direction, overturned, want_history in blocks:
-        ah = rec.along(float(direction))
+        on = rec
+        if placements is not None and placements[index[block_id]].building is not None \
+                and placements[index[block_id]].height_m > 0:
+            p = placements[index[block_id]]
+            key = (p.building.building_id, p.height_m)
+            if key not in floors:
+                floors[key] = floor_record(rec, p.building, p.height_m)
+            on = floors[key]
+        ah = on.along(float(direction))
         block = rocking_blocks[index[block_id]]
-        scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings,
+        scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
                                                overturns_at_one=overturned)
         history = theta_history(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings) \
             if want_history else None

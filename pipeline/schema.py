@@ -176,6 +176,10 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                 "contact force reached 0. Both are simulated by the general contact model "
                                 "(physics general); with simulation.contact_model off, ground flight stops the "
                                 "simulation and a lift-off is only flagged"}),
+    "floor_pga": (("record", "block"), "m s-2", "peak acceleration of the floor the block stands on, horizontal "
+                  "vector (NaN on the ground)", {}),
+    "floor_pgv": (("record", "block"), "m s-1", "peak velocity of the floor the block stands on, horizontal vector "
+                  "(NaN on the ground)", {}),
     "slides_off_base": (("record", "block"), None, "the block's net slip exceeds its base margin (it slides off)",
                         {**TRISTATE, "comment": "not_evaluated: no base_margin_m in the inventory, or not simulated"}),
     "time_free_flight": (("record", "block"), "s", "time the ground's g + a_v reached 0 (free flight)", {}),
@@ -250,6 +254,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_sha256": (("block",), None, "SHA-256 of the block's inventory entry (what its results depend on)",
                      {}),
     "base_margin": (("block",), "m", "free distance from the block's footprint to the edge of its base", {}),
+    "building": (("block",), None, "the building the block stands in (empty: on the ground)", {}),
+    "floor_height": (("block",), "m", "height of its floor above the building's base (NaN: on the ground)", {}),
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),

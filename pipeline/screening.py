@@ -25,6 +25,8 @@ from .closed_forms import PULSE_BETA
 from .config import Config, SimulationConfig
 from .constants import CM_TO_M
 from .errors import PulseError, RockscreenError, TaskFailure
+from .floors.buildings import floor_groups, place_blocks
+from .floors.motion import floor_filter, floor_response
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
@@ -55,6 +57,8 @@ class Context:
     inventory: Inventory
     declared_units: dict
     station_inventory: object = None
+    #: building id -> :class:`~pipeline.floors.motion.Building`, for blocks on a floor
+    buildings: dict = field(default_factory=dict)
 
     def load(self, source: RecordSource) -> Record:
         """Read, convert and process one record (:func:`pipeline.records.loader.load_record`)."""
@@ -221,6 +225,9 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
                    "governing_azimuth", "orientation", "planes_simulated", "contact_modes")
 
+#: Per (record, block) variables of the floor a block stands on (NaN on the ground).
+FLOOR_VARS = ("floor_pga", "floor_pgv")
+
 #: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
 PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
                     "samples_overturned", "samples_free_flight", "sample_simulations", "p_overturn_azimuth",
@@ -348,7 +355,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
     if block_ids is not None:
         index = {b: k for k, b in enumerate(inv.ids)}
         inv = inv.take([index[b] for b in block_ids])
-    task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory)
+    task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory, ctx.buildings)
     try:
         content = source.digest() if content_sha256 is None else content_sha256
         rec = ctx.load(source)
@@ -358,11 +365,49 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         pulse_values, block_values, series, directions = pulses_and_directions(rec, task_ctx)
         values.update(pulse_values)
         mask = simulation_mask(inv, ctx.config)
-        block_values.update(_simulation_values(rec, directions, task_ctx, mask))
+        groups = floor_groups(place_blocks(inv, ctx.buildings)) if any(inv.buildings()) else {(): np.arange(len(inv))}
+        ground = groups.get((), np.zeros(0, dtype=int))
+        on_ground = np.zeros(len(inv), dtype=bool)
+        on_ground[ground] = True
+        block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
+        block_values.update(_floor_values(rec, task_ctx, groups, mask, block_values))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
         return failed_result(source, task_failure(exc, source.record_id))
+
+
+def floor_record(rec: Record, building, height_m: float) -> Record:
+    """The motion on the floor at ``height_m`` of ``building``: both horizontals (and their velocities) through
+    the building's modes (:mod:`pipeline.floors.motion`); the vertical unchanged."""
+    flt = floor_filter(building, height_m)
+    acc, vel = floor_response(rec.horizontal_ms2, rec.dt_s, flt, rec.velocity_ms)
+    return dataclasses.replace(rec, horizontal_ms2=acc, velocity_ms=vel, notes=[
+        *rec.notes, f"floor at {height_m:g} m of building {building.building_id} ({flt.periods_s.size} modes, "
+                    f"{flt.mass_share:.1%} of the mass)"])
+
+
+def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, block_values: dict) -> dict:
+    """Pulses and simulation of the blocks on each floor, on that floor's motion; the floor's peaks."""
+    nb = len(ctx.inventory)
+    out = {n: np.asarray(block_values.get(n, np.full(nb, np.nan)), dtype=float).copy()
+           for n in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS}
+    out.update({n: np.full(nb, np.nan) for n in FLOOR_VARS})
+    buildings = ctx.buildings
+    for key, idx in groups.items():
+        if not key:
+            continue
+        frec = floor_record(rec, buildings[key[0]], key[1])
+        sub = Context(ctx.root, ctx.config, ctx.inventory.take(idx), ctx.declared_units, ctx.station_inventory,
+                      buildings)
+        _, blocks, _, directions = pulses_and_directions(frec, sub)
+        blocks.update(_simulation_values(frec, directions, sub, mask[idx]))
+        for n, v in blocks.items():
+            if n in out:
+                out[n][idx] = v
+        out["floor_pga"][idx] = frec.pga_ms2()
+        out["floor_pgv"][idx] = frec.pgv_ms()
+    return out
 
 
 def task_failure(exc: Exception, record_id: str) -> TaskFailure:
@@ -384,7 +429,7 @@ def failure_result(f: Failure) -> RecordResult:
 
 
 def assemble(results: list[RecordResult], inventory: Inventory, config: Config, *,
-             attrs: dict | None = None) -> xr.Dataset:
+             attrs: dict | None = None, placements: list | None = None) -> xr.Dataset:
     """Build the results Dataset (dimensions ``record``, ``block``, ``component``)."""
     results = sorted(results, key=lambda r: r.record_id)
     rids = [r.record_id for r in results]
@@ -410,7 +455,7 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
     for r in results:
         cols = np.array([position.get(b, -1) for b in r.block_ids], dtype=np.intp)
         columns.append((cols[cols >= 0], np.flatnonzero(cols >= 0)))
-    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS:
+    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS + FLOOR_VARS:
         arr = np.full((len(results), nb), np.nan)
         for i, r in enumerate(results):
             if name in r.blocks:
@@ -457,6 +502,10 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
         "block_azimuth": (("block",), inventory.azimuth_deg),
         "base_margin": (("block",), inventory.base_margins()),
+        "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
+                                           for p in placements] if placements else [""] * nb, dtype=object)),
+        "floor_height": (("block",), np.array([p.height_m if p.building is not None else np.nan
+                                               for p in placements] if placements else [np.nan] * nb)),
         "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
         "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
         "transition_period": (("block",), criteria.transition_period(geom.p, PULSE_BETA["half-sine"])),

@@ -106,3 +106,94 @@ def test_a_tall_shear_building_of_lumped_masses_tends_to_the_continuous_shear_mo
     roof = floor_motion(ground, dt, floor_filter(Building("shear", 1.0, 0.05, 1000.0, 120.0), 120.0))[0]
     assert np.max(np.abs(roof - roof_discrete)) < 0.05 * np.max(np.abs(roof_discrete))
     assert np.max(np.abs(roof)) > 2.0 * np.max(np.abs(ground))        # the roof amplifies (3.1x measured)
+
+
+@pytest.fixture(scope="module")
+def rinaldi_dir(tmp_path_factory, records_dir):
+    import shutil
+    root = tmp_path_factory.mktemp("rinaldi")
+    (root / "fn-ascii").mkdir()
+    shutil.copy(records_dir / "fn-ascii" / "rinaldi_fn.dat", root / "fn-ascii" / "rinaldi_fn.dat")
+    (root / "units.toml").write_text((records_dir / "units.toml").read_text())
+    return root
+
+
+def museum_inventory(tmp_path, rows):
+    from pipeline.blocks import read_inventory
+    csv = tmp_path / "blocks.csv"
+    csv.write_text("id,height_m,width_m,mu,building,floor,floor_height_m\n" + "\n".join(rows) + "\n")
+    return read_inventory(csv, default_mu=0.6)
+
+
+MUSEUM = Building("MUSEUM", 0.6, 0.05, 3.0, 21.0, 6)
+
+
+def test_a_block_on_the_ground_floor_is_screened_exactly_as_on_the_ground(tmp_path, rinaldi_dir, config):
+    """Similitude: z = 0 is the ground (phi_i(0) = 0), so every per-scene value is identical, bit for bit."""
+    import dataclasses
+
+    from pipeline.records.loader import read_declared_units, scan
+    from pipeline.screening import PROBABILITY_VARS, PULSE_BLOCK_VARS, SIMULATION_VARS, Context, screen_record
+
+    inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,,,", "B,1.5,0.3,0.6,MUSEUM,0,", "C,1.5,0.3,0.6,MUSEUM,,0"])
+    cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=3))
+    src = scan(rinaldi_dir, config=cfg)[0][0]
+    res = screen_record(src, Context(str(rinaldi_dir), cfg, inv, read_declared_units(rinaldi_dir, cfg), None,
+                                     {"MUSEUM": MUSEUM}))
+    assert res.ok, res.status
+    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS:
+        v = np.asarray(res.blocks[name], dtype=float)
+        np.testing.assert_array_equal(v[1:], [v[0], v[0]], err_msg=name)
+
+
+def test_the_top_floor_amplifies_and_its_velocity_is_the_integral_of_its_acceleration(rinaldi_dir, config):
+    """The floor's velocity comes from the same oscillator states as its acceleration: its derivative matches
+    the floor acceleration (to the central difference's error), and the top floor amplifies the ground."""
+    from pipeline.records.loader import iter_records
+    from pipeline.screening import floor_record
+
+    rec = next(iter_records(rinaldi_dir, config=config))
+    top = floor_record(rec, MUSEUM, 17.5)
+    acc, vel = top.horizontal_ms2[0], top.velocity_ms[0]
+    deriv = (vel[2:] - vel[:-2]) / (2 * rec.dt_s)
+    assert np.max(np.abs(deriv - acc[1:-1])) < 0.02 * np.max(np.abs(acc))
+    assert top.pga_ms2() > 1.5 * rec.pga_ms2()
+    assert top.vertical_ms2 is rec.vertical_ms2                     # the vertical passes unchanged
+
+
+def test_placements_name_every_problem(tmp_path):
+    from pipeline.errors import InventoryError
+    from pipeline.floors.buildings import place_blocks
+
+    inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,LIBRARY,2,", "B,1.5,0.3,0.6,MUSEUM,,30",
+                                      "C,1.5,0.3,0.6,MUSEUM,,", "D,1.5,0.3,0.6,MUSEUM,6,"])
+    with pytest.raises(InventoryError) as err:
+        place_blocks(inv, {"MUSEUM": MUSEUM})
+    text = str(err.value)
+    assert "block A: building 'LIBRARY' is not in the buildings file; buildings: MUSEUM" in text
+    assert "block B: floor at 30 m is outside building 'MUSEUM'" in text
+    assert "block C: in building 'MUSEUM' but no floor_height_m" in text
+    placed = place_blocks(museum_inventory(tmp_path, ["D,1.5,0.3,0.6,MUSEUM,6,"]), {"MUSEUM": MUSEUM})
+    assert placed[0].height_m == pytest.approx(21.0)
+
+
+def test_bad_buildings_files_name_the_line_and_column(tmp_path):
+    from pipeline.errors import InventoryError
+    from pipeline.floors.buildings import read_buildings
+
+    path = tmp_path / "buildings.csv"
+    path.write_text("id,period_s,damping,stiffness_ratio,height_m,n_stories\nM,0.6,0.05,3,21,6\nL,-1,0.05,3,21,\n"
+                    "K,0.5,1.5,3,21,2.5\n")
+    with pytest.raises(InventoryError) as err:
+        read_buildings(path)
+    text = str(err.value)
+    assert "line 3, column 'period_s'" in text and "line 4, column 'damping'" in text
+    assert "line 4, column 'n_stories'" in text
+
+
+def test_fragility_refuses_blocks_on_floors_rather_than_ignoring_them(tmp_path, records_dir):
+    from pipeline.cli import main
+    blocks = tmp_path / "blocks.csv"
+    blocks.write_text("id,height_m,width_m,building,floor_height_m\nS,1.5,0.3,MUSEUM,17.5\n")
+    assert main(["fragility", "--records", str(records_dir), "--blocks", str(blocks), "--im", "pga",
+                 "--levels", "0.1,0.2g", "--out", str(tmp_path / "f"), "-q"]) == 2

@@ -46,6 +46,8 @@ class Building(NamedTuple):
         Lateral-stiffness ratio alpha of the shear-flexural model [-] (0 flexure; large: shear).
     height_m : float
         Height H [m].
+    n_stories : int
+        Storeys (0: not given), for blocks placed by floor number.
     """
 
     building_id: str
@@ -53,6 +55,7 @@ class Building(NamedTuple):
     damping: float
     stiffness_ratio: float
     height_m: float
+    n_stories: int = 0
 
 
 class FloorFilter(NamedTuple):
@@ -103,34 +106,56 @@ def floor_filter(building: Building, height_m: float, *, model: Modes | None = N
 
 
 @jit
-def _relative_acceleration(a, dt, phi, g1, g2, omega, zeta):
-    """u'' of the oscillator under ground acceleration ``a`` (linear between samples), exact per step."""
-    out = np.empty(a.size)
+def _relative_response(a, dt, phi, g1, g2, omega, zeta, acc, vel):
+    """u'' and u' of the oscillator under ground acceleration ``a`` (linear between samples), exact per step,
+    into ``acc`` and ``vel``."""
     u = v = 0.0
-    out[0] = -a[0]
+    acc[0] = -a[0]
+    vel[0] = 0.0
     for k in range(a.size - 1):
         r = (a[k + 1] - a[k]) / dt
         nu = phi[0, 0] * u + phi[0, 1] * v + g1[0] * a[k] + g2[0] * r
         v = phi[1, 0] * u + phi[1, 1] * v + g1[1] * a[k] + g2[1] * r
         u = nu
-        out[k + 1] = -a[k + 1] - 2.0 * zeta * omega * v - omega * omega * u
-    return out
+        acc[k + 1] = -a[k + 1] - 2.0 * zeta * omega * v - omega * omega * u
+        vel[k + 1] = v
+
+
+def relative_response(ground_ms2: np.ndarray, dt_s: float, period_s: float, damping: float
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """u''(t) [m s-2] and u'(t) [m s-1] of a damped oscillator of period ``period_s`` under the ground
+    acceleration."""
+    a = np.ascontiguousarray(ground_ms2, dtype=float)
+    phi, g1, g2 = oscillator_matrices(period_s, dt_s, damping)
+    acc, vel = np.empty(a.size), np.empty(a.size)
+    _relative_response(a, float(dt_s), phi, g1, g2, 2.0 * math.pi / period_s, float(damping), acc, vel)
+    return acc, vel
 
 
 def relative_acceleration(ground_ms2: np.ndarray, dt_s: float, period_s: float, damping: float) -> np.ndarray:
     """u''(t) of a damped oscillator of period ``period_s`` under the ground acceleration [m s-2]."""
-    phi, g1, g2 = oscillator_matrices(period_s, dt_s, damping)
-    return _relative_acceleration(np.ascontiguousarray(ground_ms2, dtype=float), float(dt_s), phi, g1, g2,
-                                  2.0 * math.pi / period_s, float(damping))
+    return relative_response(ground_ms2, dt_s, period_s, damping)[0]
 
 
-def floor_motion(horizontal_ms2: np.ndarray, dt_s: float, flt: FloorFilter) -> np.ndarray:
-    """The floor's total acceleration for each horizontal of the ground record [m s-2], shape as the input."""
+def floor_response(horizontal_ms2: np.ndarray, dt_s: float, flt: FloorFilter,
+                   velocity_ms: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+    """The floor's total acceleration [m s-2] and, given the ground velocity, total velocity [m s-1] for each
+    horizontal (shape as the input): the ground's plus sum_i Gamma_i phi_i(x) times the mode's relative
+    response, from the same oscillator states (nothing is integrated twice)."""
     h = np.atleast_2d(np.asarray(horizontal_ms2, dtype=float))
-    out = h.copy()
+    acc = h.copy()
+    vel = None if velocity_ms is None else np.atleast_2d(np.asarray(velocity_ms, dtype=float)).copy()
     for T, w in zip(flt.periods_s, flt.weights):
         if w == 0.0:
             continue
         for c in range(h.shape[0]):
-            out[c] += w * relative_acceleration(h[c], dt_s, float(T), flt.damping)
-    return out
+            ra, rv = relative_response(h[c], dt_s, float(T), flt.damping)
+            acc[c] += w * ra
+            if vel is not None:
+                vel[c] += w * rv
+    return acc, vel
+
+
+def floor_motion(horizontal_ms2: np.ndarray, dt_s: float, flt: FloorFilter) -> np.ndarray:
+    """The floor's total acceleration for each horizontal of the ground record [m s-2], shape as the input."""
+    return floor_response(horizontal_ms2, dt_s, flt)[0]

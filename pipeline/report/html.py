@@ -81,7 +81,7 @@ ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu",
                  "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
-                 "records_overturning_ids")
+                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio")
 
 
 def _margin_words(sim_scale: float, governing: str) -> str:
@@ -138,6 +138,18 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if response in SLIDING_RESPONSES:
         return "limit sliding (friction pads or a restraint): it slides under " + governing
     return "no action: " + "; ".join(why)
+
+
+def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
+    """A block's building, floor height [m] and its floor's peak acceleration over the ground's under the governing
+    record (empty and NaN on the ground)."""
+    building = str(ds["building"].values[j]) if "building" in ds else ""
+    ratio = math.nan
+    if building and i is not None and "floor_pga" in ds:
+        ratio = float(ds["floor_pga"].values[i, j]) / float(ds["pga"].values[i])
+    return {"building": building,
+            "floor_height_m": float(ds["floor_height"].values[j]) if "floor_height" in ds else math.nan,
+            "floor_pga_ratio": ratio}
 
 
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:
@@ -207,6 +219,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
             "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
+            **_floor(ds, i, j),
             "height": float(ds["height"].values[j]), "width": float(ds["width"].values[j]),
             "corner_distance": float(ds["corner_distance"].values[j]),
             "slenderness": float(ds["slenderness"].values[j]),

@@ -36,6 +36,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError, TaskFailure
+from ..floors.buildings import place_blocks
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response
@@ -235,7 +236,8 @@ class BatchOutcome:
 
 def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path | None = None,
         executor=None, force: bool = False, station_inventory=None, declared_units: dict | None = None,
-        stationxml_sha256: str = "", progress=None, scanned: Scan | None = None) -> BatchOutcome:
+        stationxml_sha256: str = "", progress=None, scanned: Scan | None = None,
+        buildings: dict | None = None) -> BatchOutcome:
     """Screen every record under ``records_dir`` against ``inventory``.
 
     Parameters
@@ -257,6 +259,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         ``progress(iterable, total)`` wrapping the stream of finished tasks.
     scanned : Scan, optional
         The directory's scan when the caller has it (:func:`~pipeline.records.loader.scan_directory`).
+    buildings : dict, optional
+        Building id -> :class:`~pipeline.floors.motion.Building`, for blocks on a floor.
 
     Returns
     -------
@@ -274,8 +278,10 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         log.warning("record %s (%s) holds the same bytes as %s: screened once, as %s", dup,
                     ", ".join(Path(f).name for f in files), kept, kept)
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
-    ctx = Context(str(records_dir), config, inventory, declared, station_inventory)
-    key = run_key(config.to_dict(), declared_units=declared, station_inventory_sha256=stationxml_sha256)
+    placements = place_blocks(inventory, buildings or {})        # checked before any record is read
+    ctx = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}))
+    key = run_key(config.to_dict(), declared_units=declared, station_inventory_sha256=stationxml_sha256,
+                  buildings=buildings)
     cache = SceneCache(out_dir, key) if out_dir is not None else None
     previous = None
     if out_dir is not None and (Path(out_dir) / "screening.nc").is_file():
@@ -336,7 +342,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     for res in failed:
         res.values["source_present"] = 1
     everything = list(results.values()) + failed
-    ds = assemble(everything, inventory, config)
+    ds = assemble(everything, inventory, config, placements=placements)
     ds.attrs["rockscreen_run_key"] = key
     ds.attrs["files_not_records"] = "\n".join(f"{path}: {reason}" for path, reason in found.not_records)
     ds.attrs["duplicate_records"] = "\n".join(f"{dup} = {kept} ({', '.join(Path(f).name for f in files)})"

@@ -39,7 +39,8 @@ log = logging.getLogger(__name__)
 ENTRY_FORMAT = 5
 
 
-def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "") -> str:
+def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "",
+            buildings: dict | None = None) -> str:
     """SHA-256 over everything, besides a record and a block, that changes results.
 
     Parameters
@@ -50,10 +51,14 @@ def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256
         File pattern -> declared units (``units.toml`` and the configuration).
     station_inventory_sha256 : str
         Digest of the StationXML files used for records in counts.
+    buildings : dict, optional
+        The buildings blocks stand in (``--buildings``); none leaves the key as it was without them.
     """
-    payload = json.dumps({"config": config_dict, "version": __version__, "entry_format": ENTRY_FORMAT,
-                          "declared_units": declared_units, "stationxml": station_inventory_sha256},
-                         sort_keys=True, default=str)
+    content = {"config": config_dict, "version": __version__, "entry_format": ENTRY_FORMAT,
+               "declared_units": declared_units, "stationxml": station_inventory_sha256}
+    if buildings:
+        content["buildings"] = {k: list(v) for k, v in sorted(buildings.items())}
+    payload = json.dumps(content, sort_keys=True, default=str)
     return hashlib.sha256(payload.encode()).hexdigest()
 
 

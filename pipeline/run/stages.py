@@ -80,6 +80,8 @@ class ScreenRequest:
     force: bool = False
     command: list[str] = field(default_factory=list)
     key: dict | None = None
+    #: the buildings blocks stand in (``--buildings``), by id
+    buildings: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -167,7 +169,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                 outcome = run(request.records_dir, request.inventory, request.config, out_dir=out_dir,
                               executor=executor, force=request.force, station_inventory=station_inventory,
                               declared_units=declared, stationxml_sha256=stationxml_sha, progress=progress,
-                              scanned=found)
+                              scanned=found, buildings=request.buildings)
                 margin_cache = outcome.cache.margins() if outcome.cache is not None else None
                 log.debug("screen: %s", {k: v for k, v in outcome.counts.items() if isinstance(v, (int, float))})
                 results, histories, margins = margins_stage(outcome, executor, cache=margin_cache)

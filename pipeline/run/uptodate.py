@@ -94,14 +94,15 @@ def code_fingerprint() -> str:
 
 
 def fingerprint(*, records_dir: Path, blocks_csv: Path, config_sha256: str, stationxml: Path | None,
-                out_dir: Path) -> dict:
+                out_dir: Path, buildings_csv: Path | None = None) -> dict:
     """Digests of everything the outputs depend on (see the module docstring)."""
     records, n_files = tree_sha256(records_dir, exclude=out_dir)
     return {"format": MANIFEST_FORMAT, "records_dir": str(Path(records_dir).resolve()),
             "records_sha256": records, "records_files": n_files,
             "inventory_sha256": file_sha256(blocks_csv), "config_sha256": config_sha256,
             "stationxml_sha256": file_sha256(stationxml) if stationxml is not None else "",
-            "code_sha256": code_fingerprint()}
+            "code_sha256": code_fingerprint(),
+            **({"buildings_sha256": file_sha256(buildings_csv)} if buildings_csv is not None else {})}
 
 
 def _manifest_path(out_dir: Path) -> Path:
