@@ -224,7 +224,8 @@ class Inventory:
         """
         out = []
         for j, bid in enumerate(self.ids):
-            fields = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j], self.restitution[j])
+            fields: tuple = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j],
+                             self.restitution[j])
             if self.buildings()[j]:             # a block in a building: its floor enters the computation
                 fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())

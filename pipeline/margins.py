@@ -193,12 +193,12 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
     out = {}
     for block_id, direction, overturned, want_history in blocks:
         on = rec
-        if placements is not None and placements[index[block_id]].building is not None \
-                and placements[index[block_id]].height_m > 0:
-            p = placements[index[block_id]]
-            key = (p.building.building_id, p.height_m)
+        building = placements[index[block_id]].building if placements is not None else None
+        if building is not None and placements is not None and placements[index[block_id]].height_m > 0:
+            z = placements[index[block_id]].height_m
+            key = (building.building_id, z)
             if key not in floors:
-                floors[key] = floor_record(rec, p.building, p.height_m)
+                floors[key] = floor_record(rec, building, z)
             on = floors[key]
         ah = on.along(float(direction))
         block = rocking_blocks[index[block_id]]
