@@ -515,9 +515,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     from .run.fragility import FragilityRequest, fragility, levels_unit, parse_levels
 
     config, inventory = _config_and_inventory(args)
-    if args.buildings is not None or any(inventory.buildings()):
-        raise UsageError("screen fragility does not yet screen blocks on floors (--buildings, the inventory's "
-                         "'building' column): run it on an inventory of blocks on the ground")
+    buildings = _buildings(args, inventory)
     levels = parse_levels(args.levels, args.im)
     if args.bootstrap < 0:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
@@ -528,8 +526,9 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     if config.fidelity.tier != "criterion":
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
-                               hazard, component, levels_unit(args.levels, args.im), n, args.scheduler,
-                               args.bootstrap, ("screen", *argv), args.inventory, args.orientation)
+                               hazard=hazard, component=component, level_unit=levels_unit(args.levels, args.im),
+                               buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
+                               command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
     out = fragility(request, progress=_progress(args.quiet))
     for w in out["warnings"]:
         log.warning("%s", w)

@@ -191,9 +191,23 @@ def test_bad_buildings_files_name_the_line_and_column(tmp_path):
     assert "line 4, column 'n_stories'" in text
 
 
-def test_fragility_refuses_blocks_on_floors_rather_than_ignoring_them(tmp_path, records_dir):
-    from pipeline.cli import main
-    blocks = tmp_path / "blocks.csv"
-    blocks.write_text("id,height_m,width_m,building,floor_height_m\nS,1.5,0.3,MUSEUM,17.5\n")
-    assert main(["fragility", "--records", str(records_dir), "--blocks", str(blocks), "--im", "pga",
-                 "--levels", "0.1,0.2g", "--out", str(tmp_path / "f"), "-q"]) == 2
+def test_fragility_on_a_floor_is_against_the_ground_im(tmp_path, rinaldi_dir, config):
+    """The stripes scale the ground record; a block on the ground floor gets the fit of the same block on the
+    ground, and the same block on the top floor overturns at a lower ground level."""
+    import dataclasses
+
+    from pipeline.run.executors import SerialExecutor
+    from pipeline.run.fragility import run_stripes
+
+    inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,,,", "B,1.5,0.3,0.6,MUSEUM,0,", "T,1.5,0.3,0.6,MUSEUM,,17.5"])
+    cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))
+    levels = np.array([0.05, 0.1, 0.2, 0.4, 0.8]) * 9.80665
+    with SerialExecutor() as ex:
+        results, failures, _ = run_stripes(rinaldi_dir, inv, cfg, im="pga", levels=levels, executor=ex,
+                                           buildings={"MUSEUM": MUSEUM})
+    assert not failures and len(results) == 1
+    verdict = results[0]["verdict"]
+    np.testing.assert_array_equal(verdict[:, 1], verdict[:, 0])
+    np.testing.assert_array_equal(results[0]["factor"][:, 2], results[0]["factor"][:, 0])   # the ground IM
+    first = [int(np.argmax(verdict[:, k] == 1)) if np.any(verdict[:, k] == 1) else len(levels) for k in (0, 2)]
+    assert first[1] <= first[0]

@@ -15,6 +15,7 @@ of every stripe of that block, and the run says so.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import logging
@@ -32,10 +33,11 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR, G
 from ..errors import TaskFailure, UsageError
+from ..floors.buildings import floor_groups, place_blocks
 from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..schema import FRAGILITY, apply_schema
-from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
+from ..screening import Context, _simulation_values, floor_record, pulses_and_directions, task_failure
 from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, probability_in
 from .cache import ENTRY_FORMAT, RecordStore, run_key
@@ -120,25 +122,49 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
     verdict = np.full((len(levels), nb), -1, dtype="i1")
     prob = np.full((len(levels), nb), np.nan)
     prob_random = np.full((len(levels), nb), np.nan)
-    simulate = base.config.fidelity.tier != "criterion"
-    geo = base.inventory.geometry(g_ms2=g)
-    rocking_blocks = base.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
-    for j in range(len(levels)):
+    if any(base.inventory.buildings()):
+        # blocks on floors: each floor's blocks are judged on that floor's motion, scaled by the factor that
+        # brings the *ground* record to the level (the filter is linear: the floor of the scaled ground is the
+        # scaled floor), so the fragility stays a function of the ground IM the hazard gives
+        for key, idx in floor_groups(place_blocks(base.inventory, base.buildings)).items():
+            sub = dataclasses.replace(base, inventory=base.inventory.take(idx))
+            grec = floor_record(rec, base.buildings[key[0]], key[1]) if key else rec
+            _, gblocks, _, gdirections = pulses_and_directions(grec, sub)
+            part = _judge_levels(grec, sub, gblocks, gdirections, factors[:, idx])
+            verdict[:, idx], prob[:, idx], prob_random[:, idx] = part
+    else:
+        verdict, prob, prob_random = _judge_levels(rec, base, blocks, directions, factors)
+    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random, "factor": factors,
+            **{f"im.{k}": v for k, v in ims.items()}}
+
+
+def _judge_levels(rec, ctx: Context, blocks: dict, directions: np.ndarray, factors: np.ndarray):
+    """Verdicts and probabilities (levels, blocks) of the blocks of ``ctx`` on ``rec`` scaled by ``factors``."""
+    g = ctx.config.records.g_ms2
+    nl, nb = factors.shape
+    verdict = np.full((nl, nb), -1, dtype="i1")
+    prob = np.full((nl, nb), np.nan)
+    prob_random = np.full((nl, nb), np.nan)
+    simulate = ctx.config.fidelity.tier != "criterion"
+    geo = ctx.inventory.geometry(g_ms2=g)
+    rocking_blocks = ctx.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
+    ap = np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float)
+    tp = np.asarray(blocks.get("block_pulse_tp", np.full(nb, np.nan)), dtype=float)
+    for j in range(nl):
         for f in np.unique(factors[j][np.isfinite(factors[j])]):
             sel = factors[j] == f
             if simulate:
-                sim = _simulation_values(rec.scaled(float(f)), directions, base, sel, blocks=rocking_blocks)
+                sim = _simulation_values(rec.scaled(float(f)), directions, ctx, sel, blocks=rocking_blocks)
                 verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
                 prob[j, sel] = sim["p_overturn"][sel]
                 prob_random[j, sel] = sim["p_overturn_random_orientation"][sel]
             else:
-                crit = criteria.evaluate(f * ims["ap"], ims["tp"], blocks.get("block_pulse_beta", np.nan),
+                crit = criteria.evaluate(f * ap, tp, blocks.get("block_pulse_beta", np.nan),
                                          f * np.asarray(blocks.get("block_pulse_dv", np.nan)), R_m=geo.R,
-                                         alpha=geo.alpha, p=geo.p, mu=base.inventory.mu, g_ms2=g,
-                                         form=base.config.criteria.form)
+                                         alpha=geo.alpha, p=geo.p, mu=ctx.inventory.mu, g_ms2=g,
+                                         form=ctx.config.criteria.form)
                 verdict[j, sel] = np.asarray(crit["overturn_criterion"])[sel]
-    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random, "factor": factors,
-            **{f"im.{k}": v for k, v in ims.items()}}
+    return verdict, prob, prob_random
 
 
 def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
@@ -175,10 +201,11 @@ class FragilityCache(RecordStore):
 
 
 def fragility_key(config: Config, inventory: Inventory, im: str, levels, declared: dict,
-                  stationxml_sha256: str = "", component: Component = Component.rotd100) -> str:
+                  stationxml_sha256: str = "", component: Component = Component.rotd100,
+                  buildings: dict | None = None) -> str:
     """Everything besides a record that its fragility results depend on."""
     payload = json.dumps({"run": run_key(config.to_dict(), declared_units=declared,
-                                         station_inventory_sha256=stationxml_sha256), "im": im,
+                                         station_inventory_sha256=stationxml_sha256, buildings=buildings), "im": im,
                           "component": component.value,
                           "levels": [float(x) for x in levels], "blocks": list(inventory.digests()),
                           "entry_format": ENTRY_FORMAT}, sort_keys=True)
@@ -187,8 +214,8 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
-                stationxml_sha256: str = "", component: Component = Component.rotd100
-                ) -> tuple[list[dict], list[tuple], dict]:
+                stationxml_sha256: str = "", component: Component = Component.rotd100,
+                buildings: dict | None = None) -> tuple[list[dict], list[tuple], dict]:
     """Scale every record to every level and judge every block (cached per record under ``out_dir``).
 
     ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
@@ -204,10 +231,10 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     t0 = time.perf_counter()
     found = scan_directory(records_dir, config=config)
     declared = read_declared_units(records_dir, config)
-    base = Context(str(records_dir), config, inventory, declared, station_inventory)
+    base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}))
     ctx = FragilityContext(base, im, tuple(float(x) for x in levels), component)
     cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256,
-                                                  component)) if out_dir is not None else None
+                                                  component, buildings)) if out_dir is not None else None
     results, todo, failures = [], [], [(f.record_id, f.reason) for f in found.failures]
     for src in found.sources:
         content = src.digest()
@@ -443,6 +470,8 @@ class FragilityRequest:
     component: Component = Component.rotd100
     #: the unit ``--levels`` was given in (label, factor to SI): the outputs' medians are in it
     level_unit: tuple[str, float] | None = None
+    #: the buildings blocks stand in (``--buildings``), by id
+    buildings: dict = dataclasses.field(default_factory=dict)
     n_workers: int = 1
     scheduler: str | None = None
     bootstrap: int = 200
@@ -478,7 +507,7 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
                                                     out_dir=out_dir, progress=progress, station_inventory=station,
                                                     stationxml_sha256=files_sha256(stationxml_paths(
                                                         request.records_dir, request.stationxml)),
-                                                    component=request.component)
+                                                    component=request.component, buildings=request.buildings)
         if not results:
             raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
                              + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
