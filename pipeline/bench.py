@@ -42,12 +42,13 @@ from . import criteria
 from .blocks import Inventory
 from .config import FIDELITY_TIERS, Config
 from .errors import RockscreenError, UsageError
+from .floors.motion import Building
 from .margins import overturn_scale_simulated
 from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
 from .records.record import Record
 from .rocking.planner import Physics
-from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
+from .screening import Context, _simulation_values, floor_record, pulses_and_directions, simulation_mask
 from .store import write_csv_atomic, write_text_atomic
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",
@@ -235,9 +236,27 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> 
                      **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
     say("the general contact model against pure rocking and flags")
     rows += _contact_rows(scenes, inventory, full, n_scenes)
+    say("the floor filter of a building")
+    rows += _floor_rows(scenes)
     say("margin scan steps")
     rows += _margin_sweep(scenes, inventory, full, ref)
     return rows
+
+
+#: The building the floor-filter row measures: a 6-storey museum (T1 0.6 s, 5 % damping, alpha 3, 21 m).
+BENCH_BUILDING = Building("bench-museum", 0.6, 0.05, 3.0, 21.0, 6)
+
+
+def _floor_rows(scenes) -> list[dict]:
+    """What a floor costs: the floor motion (both horizontals and their velocities) of the top floor of
+    :data:`BENCH_BUILDING` under every record, computed once per record and floor and shared by its blocks."""
+    t0 = time.perf_counter()
+    for s in scenes:
+        floor_record(s.record, BENCH_BUILDING, BENCH_BUILDING.height_m * 5 / 6)
+    t = time.perf_counter() - t0
+    return [{"section": "floors", "setting": "floor motion of one floor per record (6-storey museum, top floor)",
+             "value": len(scenes), "time_s": t, "time_per_scene_us": 1e6 * t / max(len(scenes), 1),
+             "scenes": len(scenes)}]
 
 
 def _contact_rows(scenes, inventory, config, n_scenes) -> list[dict]:
