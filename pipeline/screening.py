@@ -370,7 +370,8 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         on_ground = np.zeros(len(inv), dtype=bool)
         on_ground[ground] = True
         block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
-        block_values.update(_floor_values(rec, task_ctx, groups, mask, block_values))
+        if len(groups) > 1 or () not in groups:          # some blocks stand on an upper floor
+            block_values.update(_floor_values(rec, task_ctx, groups, mask, block_values))
         return RecordResult(source.record_id, "ok", values, comps, block_values, series,
                             block_ids=inv.ids, block_digests=inv.digests())
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either

@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .contact import ContactBlock
-from .handoff import continue_rocking, from_rest, hand_off
+from .handoff import continue_rocking, from_rest, stopped_short
 from .kernel import STATUS_FREE_FLIGHT, jit, rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 from .structures import RockingBlock, RockingOutput, RockingState
@@ -89,8 +89,7 @@ def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, 
     if res.overturned:
         return 1
     if contact_model:
-        why = hand_off(res)
-        if why.friction or why.liftoff or why.ground_flight:
+        if stopped_short(res):
             cb = ContactBlock(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
             return 1 if continue_rocking(res, a, av_s, dt, block, control, cb, True).overturned else 0
         return 0

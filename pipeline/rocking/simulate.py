@@ -291,8 +291,7 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
     outcome = RockingOutcome(rr.overturned, rr.t_overturn, rr.theta_max * block.alpha, rr.n_impacts,
                              rr.friction_demand, rr.status, rr.t_stop, rr.theta_end, rr.omega_end, rr.mode_end,
                              rr.n_uplifts, rr.t_first_impact, rr.pivot_end)
-    why = handoff.hand_off(outcome)
-    if not (why.friction or why.liftoff or why.ground_flight):
+    if not handoff.stopped_short(outcome):
         return None
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)

@@ -128,8 +128,12 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
         # scaled floor), so the fragility stays a function of the ground IM the hazard gives
         for key, idx in floor_groups(place_blocks(base.inventory, base.buildings)).items():
             sub = dataclasses.replace(base, inventory=base.inventory.take(idx))
-            grec = floor_record(rec, base.buildings[key[0]], key[1]) if key else rec
-            _, gblocks, _, gdirections = pulses_and_directions(grec, sub)
+            if key:
+                grec = floor_record(rec, base.buildings[key[0]], key[1])
+                _, gblocks, _, gdirections = pulses_and_directions(grec, sub)
+            else:                                  # the ground's blocks: the pulses already extracted above
+                grec, gdirections = rec, directions[idx]
+                gblocks = {n: np.asarray(v)[idx] for n, v in blocks.items()}
             part = _judge_levels(grec, sub, gblocks, gdirections, factors[:, idx])
             verdict[:, idx], prob[:, idx], prob_random[:, idx] = part
     else:
