@@ -1,6 +1,6 @@
 """A planar rigid block on a moving base with every contact mode: rest, slide, rock, slide-rock, free flight.
 
-The pure-rocking kernel (:mod:`.kernel`) is exact while the pivot sticks and the block stays on its base.
+Pure rocking (:mod:`.kernel`) is the right model while the pivot sticks and the block stays on its base.
 Where it stops (the friction demand exceeds mu, the block's own motion lifts its pivot, or the ground
 falls faster than gravity), this model continues from the state it stopped in. It is compiled with numba
 when installed, as :mod:`.kernel`.
@@ -313,7 +313,8 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
         Stop there, whatever the block is doing [s] (default: follow it to its end).
     hand_back : bool
         Stop where the block is back at rest or rocking on a sticking pivot, at least one sample interval
-        after ``start`` (the pure-rocking kernel, exact and cheaper there, takes over: :mod:`.handoff`).
+        after ``start`` (the pure-rocking kernel, whose model holds there and which is cheaper, takes over:
+        :mod:`.handoff`).
 
     Returns
     -------

@@ -1,4 +1,4 @@
-"""Each part of a scene by the cheapest model that is exact for it: pure rocking, or the general contact model.
+"""Each part of a scene by the cheapest model that holds for it: pure rocking, or the general contact model.
 
 The pure-rocking kernel (:mod:`.kernel`) runs with ``stop_mu = mu``: it stops at the start of the step
 in which the pivot's friction demand exceeds mu or the pivot lifts off, or at the instant the ground
