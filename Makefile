@@ -7,7 +7,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo test test-slow lint browser bench clean
+.PHONY: demo test test-slow lint browser peers bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -34,7 +34,7 @@ test: $(VENV)/.installed-test browser
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
 # figures quoted to users); CI runs them after make test
-test-slow: $(VENV)/.installed-test
+test-slow: $(VENV)/.installed-test peers
 	$(BIN)/python -m pytest -n 2 -m slow $(PYTEST_ARGS)
 
 # The report is tested in headless Chromium (Debian's package). Installed when missing and possible
@@ -48,6 +48,19 @@ browser:
 	  else \
 	    echo "WARNING: chromium is missing and cannot be installed here (needs root and apt-get);" \
 	         "the browser test will be skipped"; \
+	  fi; }
+
+# openseespy (the building peer of the floor-motion tests) needs the system's BLAS and LAPACK: installed when
+# missing and possible (root with apt-get); otherwise that test is skipped with a loud reason.
+peers:
+	@ldconfig -p 2>/dev/null | grep -q 'libblas\.so\.3' && ldconfig -p 2>/dev/null | grep -q 'liblapack\.so\.3' || { \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	    echo "installing Debian's libblas3 and liblapack3 for openseespy (apt-get)"; \
+	    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3; } \
+	      >/dev/null 2>&1 || echo "WARNING: could not install libblas3 and liblapack3; the OpenSees test will be skipped"; \
+	  else \
+	    echo "WARNING: libblas.so.3 or liblapack.so.3 is missing and cannot be installed here (needs root and" \
+	         "apt-get); the OpenSees building test will be skipped"; \
 	  fi; }
 
 # ruff (pyflakes, pycodestyle, isort, bugbear, numpy rules) and mypy, configured in pyproject.toml

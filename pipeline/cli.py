@@ -209,6 +209,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               f"{general['ground_flight'] + general['block_liftoff']} (the ground's g + a_v reached 0 in "
               f"{general['ground_flight']}, the block lifted itself off in {general['block_liftoff']}); physics "
               "general, the modes in contact_modes", file=sys.stderr)
+    for line in filter(None, s.get("buildings", "").split("\n")):
+        print(f"building {line} (floor motion: Miranda & Taghavi 2005)", file=sys.stderr)
     if s.get("slides_off_base"):
         print(f"sliding: {s['slides_off_base']} scene(s) where the block slides farther than its base_margin_m, off "
               "its base (slides_off_base in screening.nc)", file=sys.stderr)

@@ -334,6 +334,22 @@ PULSE_SERIES = {
     "velocity": {"units": "m s-1", "long_name": "ground velocity along the chosen pulse orientation"},
     "pulse": {"units": "m s-1", "long_name": "extracted velocity pulse (sum of 10 db4 wavelets)"},
 }
+#: Group ``floors`` of ``pulses.nc``: one series per (record, floor blocks stand on), the floor's motion by the
+#: building's modes; per-sample variables, then per-series ones.
+FLOOR_PULSE_SERIES = {
+    "velocity": {"units": "m s-1", "long_name": "floor velocity along the floor motion's chosen pulse orientation"},
+    "pulse": {"units": "m s-1", "long_name": "extracted velocity pulse of the floor motion (sum of 10 db4 wavelets)"},
+}
+FLOOR_PULSE_STATION: dict[str, dict] = {
+    "record_id": {"long_name": "ground record"},
+    "building": {"long_name": "building id (--buildings)"},
+    "floor_height": {"units": "m", "long_name": "height of the floor above the building's base"},
+    "is_pulse": {"long_name": "floor motion is pulse-like (Shahi & Baker 2014)", **PULSE_CLASS},
+    "pulse_indicator": {"units": "1", "long_name": "pulse indicator PI of the floor motion's chosen candidate"},
+    "pulse_period": {"units": "s", "long_name": "pulse period Tp of the floor motion"},
+    "pulse_azimuth": {"units": "degree", "long_name": "axis of the floor motion's chosen pulse, clockwise from north, "
+                      "modulo 180"},
+}
 #: Per-sample variables of ``histories.nc`` (one series per block at risk).
 HISTORY_SERIES = {
     "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",

@@ -76,6 +76,9 @@ class RecordResult:
     components: dict = field(default_factory=dict)
     blocks: dict = field(default_factory=dict)
     series: dict = field(default_factory=dict)
+    #: the pulse series of each floor blocks stand on, by (building id, floor height [m]): ``velocity``,
+    #: ``pulse`` [m s-1], ``dt`` [s] and the floor's record-level pulse values (:data:`FLOOR_PULSE_VALUES`)
+    floor_series: dict = field(default_factory=dict)
     #: ids of the blocks the arrays in ``blocks`` are aligned with
     block_ids: tuple = ()
     #: inventory digests of those blocks (what they were computed with)
@@ -91,12 +94,16 @@ class RecordResult:
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """Plain arrays for the scene cache (``v.`` record values, ``c.`` components, ``b.`` block
-        columns, ``s.`` pulse series); read back by :meth:`from_arrays`."""
+        columns, ``s.`` pulse series, ``f.<building>@<height>.`` a floor's pulse series); read back by
+        :meth:`from_arrays`."""
         arrays = {"record_id": np.array(self.record_id), "block_ids": np.array(self.block_ids, dtype=str),
                   "block_digests": np.array(self.block_digests, dtype=str)}
         for kind, table in (("v", self.values), ("c", self.components), ("b", self.blocks), ("s", self.series)):
             for name, value in table.items():
                 arrays[f"{kind}.{name}"] = np.asarray(value)
+        for (building, height_m), table in self.floor_series.items():
+            for name, value in table.items():
+                arrays[f"f.{building}@{height_m!r}.{name}"] = np.asarray(value)
         return arrays
 
     @classmethod
@@ -119,6 +126,11 @@ class RecordResult:
                 raise ValueError(f"{key!r} is not a {dims[kind]} variable of the schema")
             if kind in tables:
                 tables[kind][name] = arr.item() if arr.ndim == 0 else (arr.tolist() if kind == "c" else arr)
+            elif kind == "f":
+                where, _, field_name = name.rpartition(".")
+                building, _, height = where.rpartition("@")
+                res.floor_series.setdefault((building, float(height)), {})[field_name] = (
+                    arr.item() if arr.ndim == 0 else arr)
         missing = set(SIMULATION_VARS) - set(res.blocks)          # pulse columns are absent without a pulse
         if missing:
             raise ValueError(f"block columns {sorted(missing)} missing")
@@ -227,6 +239,8 @@ SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_
 
 #: Per (record, block) variables of the floor a block stands on (NaN on the ground).
 FLOOR_VARS = ("floor_pga", "floor_pgv")
+#: Record-level pulse values kept with each floor's pulse series (``pulses.nc``, group ``floors``).
+FLOOR_PULSE_VALUES = ("is_pulse", "pulse_indicator", "pulse_period", "pulse_azimuth")
 
 #: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
 PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
@@ -370,9 +384,11 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         on_ground = np.zeros(len(inv), dtype=bool)
         on_ground[ground] = True
         block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
+        floors: dict = {}
         if len(groups) > 1 or () not in groups:          # some blocks stand on an upper floor
-            block_values.update(_floor_values(rec, task_ctx, groups, mask, block_values))
-        return RecordResult(source.record_id, "ok", values, comps, block_values, series,
+            floor_blocks, floors = _floor_values(rec, task_ctx, groups, mask, block_values)
+            block_values.update(floor_blocks)
+        return RecordResult(source.record_id, "ok", values, comps, block_values, series, floors,
                             block_ids=inv.ids, block_digests=inv.digests())
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
         return failed_result(source, task_failure(exc, source.record_id))
@@ -388,12 +404,15 @@ def floor_record(rec: Record, building, height_m: float) -> Record:
                     f"{flt.mass_share:.1%} of the mass)"])
 
 
-def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, block_values: dict) -> dict:
-    """Pulses and simulation of the blocks on each floor, on that floor's motion; the floor's peaks."""
+def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, block_values: dict
+                  ) -> tuple[dict, dict]:
+    """Pulses and simulation of the blocks on each floor, on that floor's motion, and the floor's peaks; and
+    each floor's pulse series with its record-level pulse values (none for a floor without a pulse)."""
     nb = len(ctx.inventory)
     out = {n: np.asarray(block_values.get(n, np.full(nb, np.nan)), dtype=float).copy()
            for n in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS}
     out.update({n: np.full(nb, np.nan) for n in FLOOR_VARS})
+    floors: dict = {}
     buildings = ctx.buildings
     for key, idx in groups.items():
         if not key:
@@ -401,14 +420,16 @@ def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, blo
         frec = floor_record(rec, buildings[key[0]], key[1])
         sub = Context(ctx.root, ctx.config, ctx.inventory.take(idx), ctx.declared_units, ctx.station_inventory,
                       buildings)
-        _, blocks, _, directions = pulses_and_directions(frec, sub)
+        values, blocks, series, directions = pulses_and_directions(frec, sub)
+        if series:
+            floors[key] = {**series, **{n: float(values[n]) for n in FLOOR_PULSE_VALUES}}
         blocks.update(_simulation_values(frec, directions, sub, mask[idx]))
         for n, v in blocks.items():
             if n in out:
                 out[n][idx] = v
         out["floor_pga"][idx] = frec.pga_ms2()
         out["floor_pgv"][idx] = frec.pgv_ms()
-    return out
+    return out, floors
 
 
 def task_failure(exc: Exception, record_id: str) -> TaskFailure:

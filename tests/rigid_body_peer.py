@@ -9,10 +9,9 @@ rebound). Calibrated on the half-sine threshold of a 2 m x 0.3 m block at omega/
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
-import pytest
+from peers import missing_peer
 
 #: Bullet's fixed step [s]: 1/2000 s is not converged on long chaotic records, 1/4000 s is where the verdicts
 #: on the bundled scenes stop changing (1/8000 and 1/16000 s give the same, measured on the disagreements).
@@ -28,10 +27,7 @@ def pybullet():
     except ImportError:
         message = ("pybullet is not installed: the comparison with an independent rigid-body engine is SKIPPED "
                    "(pip install pybullet, or the project's test extras)")
-        if os.environ.get("ROCKSCREEN_REQUIRE_PEERS") == "1":
-            pytest.fail(message)
-        print(f"\n*** {message} ***")
-        pytest.skip(message)
+        missing_peer(message)
     return pb
 
 

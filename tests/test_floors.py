@@ -211,3 +211,85 @@ def test_fragility_on_a_floor_is_against_the_ground_im(tmp_path, rinaldi_dir, co
     np.testing.assert_array_equal(results[0]["factor"][:, 2], results[0]["factor"][:, 0])   # the ground IM
     first = [int(np.argmax(verdict[:, k] == 1)) if np.any(verdict[:, k] == 1) else len(levels) for k in (0, 2)]
     assert first[1] <= first[0]
+
+
+def test_pulses_nc_holds_each_floors_pulses_apart_from_the_grounds(tmp_path, rinaldi_dir, config):
+    """Group ``floors`` of pulses.nc: one series per (record, floor in use), the pulse of that floor's motion
+    (extracted again here from :func:`floor_record`), written from the scene cache identical to the series in
+    memory; the ground's group is the ground-only run's, untouched by the floors."""
+    import dataclasses
+
+    import xarray as xr
+
+    from pipeline.pulses import analyze
+    from pipeline.records.loader import iter_records
+    from pipeline.run.batch import run
+    from pipeline.screening import floor_record
+    from pipeline.store import FLOOR_GROUP, open_results, write_atomic
+
+    cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))
+    rows = ["G,1.5,0.3,0.6,,,", "T,1.5,0.3,0.6,MUSEUM,,17.5", "U,1.2,0.3,0.6,MUSEUM,,17.5", "M,1.5,0.3,0.6,MUSEUM,3,"]
+    inv = museum_inventory(tmp_path, rows)
+    buildings = {"MUSEUM": MUSEUM}
+    memory = run(rinaldi_dir, inv, cfg, buildings=buildings).pulses
+    cached = run(rinaldi_dir, inv, cfg, buildings=buildings, out_dir=tmp_path / "out").pulses
+    path = cached.write(tmp_path / "pulses.nc")
+    with xr.open_dataset(path, group=FLOOR_GROUP) as f:
+        floors = f.load()
+    assert floors.series_id.values.tolist() == ["rinaldi_fn MUSEUM@10.5 m", "rinaldi_fn MUSEUM@17.5 m"]
+    xr.testing.assert_identical(floors, open_results(write_atomic(memory.floor_dataset(), tmp_path / "f.nc")))
+    rec = next(iter_records(rinaldi_dir, config=cfg))
+    for k, z in enumerate((10.5, 17.5)):
+        pulse = analyze(floor_record(rec, MUSEUM, z), method=cfg.pulses.method, tp_min_s=cfg.pulses.tp_min_s,
+                        tp_max_s=cfg.pulses.tp_max_s)
+        sl = slice(int(floors.row_size.values[:k].sum()), int(floors.row_size.values[:k + 1].sum()))
+        np.testing.assert_allclose(floors.pulse.values[sl], pulse.result.best.pulse_cms / 100, rtol=1e-6, atol=1e-7)
+        assert floors.pulse_period.values[k] == pytest.approx(pulse.result.tp_s, rel=1e-12)
+        assert floors.floor_height.values[k] == z
+    ground_only = run(rinaldi_dir, museum_inventory(tmp_path, rows[:1]), cfg).pulses
+    xr.testing.assert_identical(open_results(path), open_results(write_atomic(ground_only.dataset(),
+                                                                              tmp_path / "g.nc")))
+
+
+def test_the_report_shows_each_upper_floor_assets_floor_motion(tmp_path, rinaldi_dir):
+    """One floor figure per (governing record, floor) of the assets on upper floors, linked from each of them;
+    none for the assets on the ground or the ground floor, whose motion is the ground's."""
+    import re
+
+    from pipeline.cli import main
+
+    (tmp_path / "b.csv").write_text("id,period_s,damping,stiffness_ratio,height_m,n_stories\nMUSEUM,0.6,0.05,3,21,6\n")
+    inv = tmp_path / "blocks.csv"
+    inv.write_text("id,height_m,width_m,mu,building,floor,floor_height_m\nG,1.5,0.3,0.6,MUSEUM,0,\n"
+                   "T,1.5,0.3,0.6,MUSEUM,5,\nU,1.2,0.3,0.6,MUSEUM,,17.5\nM,1.5,0.3,0.6,MUSEUM,3,\n")
+    out = tmp_path / "out"
+    assert main(["--records", str(rinaldi_dir), "--blocks", str(inv), "--buildings", str(tmp_path / "b.csv"),
+                 "--out", str(out), "--samples", "0", "-q"]) == 0
+    html = (out / "report.html").read_text()
+    captions = re.findall(r"<figcaption>MUSEUM, floor at ([\d.]+) m, under rinaldi_fn: ([^<]*)</figcaption>", html)
+    assert sorted((z, sorted(blocks.split(", "))) for z, blocks in captions) == [("10.5", ["M"]), ("17.5", ["T", "U"])]
+    assert html.count("the floor's motion</a>") == 3
+
+
+def test_a_block_added_on_a_new_floor_keeps_the_other_floors_pulses(tmp_path, rinaldi_dir, config):
+    """A second run into the same output with one block added on another floor screens only that block; the
+    floors of the first run keep their series (read back from the scene cache), so pulses.nc equals a fresh
+    run's."""
+    import dataclasses
+
+    import xarray as xr
+
+    from pipeline.run.batch import run
+    from pipeline.store import FLOOR_GROUP
+
+    cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))
+    rows = ["T,1.5,0.3,0.6,MUSEUM,,17.5", "M,1.5,0.3,0.6,MUSEUM,3,"]
+    buildings, out = {"MUSEUM": MUSEUM}, tmp_path / "out"
+    run(rinaldi_dir, museum_inventory(tmp_path, rows[:1]), cfg, buildings=buildings, out_dir=out)
+    second = run(rinaldi_dir, museum_inventory(tmp_path, rows), cfg, buildings=buildings, out_dir=out)
+    assert second.counts["scenes_computed"] == 1
+    fresh = run(rinaldi_dir, museum_inventory(tmp_path, rows), cfg, buildings=buildings)
+    with xr.open_dataset(second.pulses.write(tmp_path / "second.nc"), group=FLOOR_GROUP) as f:
+        written = f.load()
+    assert written.sizes["station"] == 2 and not np.isnan(written.velocity.values).any()
+    xr.testing.assert_identical(written, fresh.pulses.floor_dataset())

@@ -159,3 +159,14 @@ def floor_response(horizontal_ms2: np.ndarray, dt_s: float, flt: FloorFilter,
 def floor_motion(horizontal_ms2: np.ndarray, dt_s: float, flt: FloorFilter) -> np.ndarray:
     """The floor's total acceleration for each horizontal of the ground record [m s-2], shape as the input."""
     return floor_response(horizontal_ms2, dt_s, flt)[0]
+
+
+def describe(building: Building) -> str:
+    """One line on a building and the modes its floors are filtered by: how many, their share of the mass
+    and their periods [s]."""
+    m = modes(building.stiffness_ratio)
+    periods = ", ".join(f"{building.period_s / r:.3g}" for r in m.period_ratio)
+    storeys = f", {building.n_stories} storeys" if building.n_stories else ""
+    return (f"{building.building_id}: T1 {building.period_s:g} s, damping {building.damping:g}, stiffness ratio "
+            f"{building.stiffness_ratio:g}, H {building.height_m:g} m{storeys}; {m.gamma.size} modes reach "
+            f"{float(np.sum(m.mass_share)):.1%} of the mass, periods {periods} s")

@@ -97,3 +97,13 @@ def pulse_figure(velocity_ms: np.ndarray, pulse_ms: np.ndarray, dt_s: float, *, 
     v, p = M_TO_CM * np.asarray(velocity_ms, dtype=float), M_TO_CM * np.asarray(pulse_ms, dtype=float)
     panels = [Panel(v, "original ground motion"), Panel(p, "extracted pulse"), Panel(v - p, "residual ground motion")]
     return panels_svg(panels, dt_s, title=title, ylabel="velocity [cm/s]")
+
+
+def floor_figure(ground_ms: np.ndarray, floor_ms: np.ndarray, floor_pulse_ms: np.ndarray, dt_s: float, *,
+                 title: str) -> bytes:
+    """SVG of a floor's motion beside the ground's [cm/s]: the ground velocity along its pulse orientation,
+    the floor's velocity along the floor motion's pulse orientation, and the pulse extracted from the floor
+    (one shared scale, so the floor's amplification reads off the panels)."""
+    g, f, p = (M_TO_CM * np.asarray(a, dtype=float) for a in (ground_ms, floor_ms, floor_pulse_ms))
+    panels = [Panel(g, "ground velocity"), Panel(f, "floor velocity"), Panel(p, "pulse extracted from the floor")]
+    return panels_svg(panels, dt_s, title=title, ylabel="velocity [cm/s]")

@@ -48,6 +48,7 @@ from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
 from . import figures
+from .floor_figures import floor_figures
 
 log = logging.getLogger(__name__)
 
@@ -473,9 +474,10 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
     records, record_figures = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
+    floors = floor_figures(assets, pulses_path, lambda *a, **k: _data_uri(cache.get(*a, **k)))
     stream = env.get_template("report.html.j2").stream(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
-        records=records, record_figures=record_figures, chart=chart)
+        records=records, record_figures=record_figures, chart=chart, floor_figures=floors)
     try:        # streamed to the file: the record figures are drawn and written one at a time
         html_path = replace_atomically(out_dir / "report.html",
                                        lambda tmp: stream.dump(tmp, encoding="utf-8"))

@@ -36,12 +36,21 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError, TaskFailure
-from ..floors.buildings import place_blocks
+from ..floors.buildings import floor_groups, place_blocks
+from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response
-from ..screening import Context, RecordResult, assemble, failed_result, failure_result, screen_record
-from ..store import PulseSeries
+from ..screening import (
+    FLOOR_PULSE_VALUES,
+    Context,
+    RecordResult,
+    assemble,
+    failed_result,
+    failure_result,
+    screen_record,
+)
+from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
 from .executors import SerialExecutor
@@ -162,15 +171,40 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
 
 
 def _shed_series(res: RecordResult, shed: dict) -> None:
-    """Drop a cached result's pulse series from memory, keeping their length and interval."""
+    """Drop a cached result's pulse series (the ground's and its floors') from memory, keeping their length and
+    interval and the floors' pulse values."""
     if res.series and "velocity" in res.series:
         shed[res.record_id] = (int(np.size(res.series["velocity"])), float(res.series["dt"]))
         res.series = {}
+    for table in res.floor_series.values():
+        if "velocity" in table:
+            table["npts"] = int(np.size(table.pop("velocity")))
+            table.pop("pulse", None)
 
 
-def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | None) -> PulseSeries:
-    """The run's pulses, fetched per record from memory or, for shed series, from the scene cache."""
-    rows, in_memory, content = [], {}, {}
+def _restore_floor_series(res: RecordResult | None, cache: SceneCache | None) -> None:
+    """Read back from the scene cache the floor series :func:`_shed_series` dropped from ``res``, before a task
+    that screened only some blocks is merged into it (its other floors' series are saved again with it)."""
+    shed_floors = tuple(key for key, table in (res.floor_series.items() if res is not None else ())
+                        if "velocity" not in table)
+    if not shed_floors or cache is None:
+        return
+    assert res is not None
+    got = cache.series(res.record_id, res.values["content_sha256"], shed_floors)
+    for key in shed_floors:
+        if got is None:                    # the entry vanished: that floor's series are computed again next run
+            del res.floor_series[key]
+        else:
+            res.floor_series[key].pop("npts", None)
+            res.floor_series[key].update(got["floors"][key])
+
+
+def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | None,
+                  floors_in_use: frozenset = frozenset()) -> PulseSeries:
+    """The run's pulses, fetched per record from memory or, for shed series, from the scene cache: the
+    ground's, and those of the floors in ``floors_in_use`` ((building id, height [m]) of the inventory's
+    blocks; a floor's series computed for blocks no longer there is left out)."""
+    rows, floor_rows, in_memory, content = [], [], {}, {}
     for r in results:
         if not r.ok:
             continue
@@ -180,19 +214,32 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
         elif r.series and "velocity" in r.series:
             rows.append((r.record_id, int(np.size(r.series["velocity"])), float(r.series["dt"])))
             in_memory[r.record_id] = r.series
+        else:
+            continue
+        floor_rows += [FloorRow(r.record_id, b, z, int(table.get("npts", np.size(table.get("velocity")))),
+                                float(table["dt"]), {n: table[n] for n in FLOOR_PULSE_VALUES})
+                       for (b, z), table in sorted(r.floor_series.items()) if (b, z) in floors_in_use]
+        if r.record_id in in_memory:
+            in_memory[r.record_id] = {**r.series, "floors": {key: r.floor_series[key] for key in r.floor_series
+                                                            if key in floors_in_use}}
+    floors_of: dict[str, list] = {}
+    for fr in floor_rows:
+        floors_of.setdefault(fr.record_id, []).append((fr.building, fr.height_m))
 
     def fetch(record_id: str) -> dict:
         if record_id in in_memory:
             return in_memory[record_id]
-        got = cache.series(record_id, content[record_id]) if cache is not None else None
+        wanted = tuple(floors_of.get(record_id, ()))
+        got = cache.series(record_id, content[record_id], wanted) if cache is not None else None
         if got is None:       # the cache entry vanished or broke since it was written during this run
             n = shed[record_id][0]
             log.warning("record %s: its pulse series could not be read back from the scene cache; written as "
                         "NaN in pulses.nc (run again with --force to recompute them)", record_id)
-            return {"velocity": np.full(n, np.nan), "pulse": np.full(n, np.nan)}
+            nan = {"velocity": np.full(n, np.nan), "pulse": np.full(n, np.nan)}
+            return {**nan, "floors": {key: nan for key in wanted}}
         return got
 
-    return PulseSeries(rows, fetch)
+    return PulseSeries(rows, fetch, floor_rows=floor_rows)
 
 
 def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
@@ -326,6 +373,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
             if cache is not None and res.deterministic:
                 cache.save_failure(res, content)
             continue
+        _restore_floor_series(results.get(res.record_id), cache)
         res = share(merge(results.get(res.record_id), res))
         if cache is not None and cache.save(res):
             _shed_series(res, shed)
@@ -344,10 +392,13 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     everything = list(results.values()) + failed
     ds = assemble(everything, inventory, config, placements=placements)
     ds.attrs["rockscreen_run_key"] = key
+    if buildings:
+        ds.attrs["buildings"] = "\n".join(describe(b) for _, b in sorted(buildings.items()))
     ds.attrs["files_not_records"] = "\n".join(f"{path}: {reason}" for path, reason in found.not_records)
     ds.attrs["duplicate_records"] = "\n".join(f"{dup} = {kept} ({', '.join(Path(f).name for f in files)})"
                                               for kept, dup, files in found.duplicates)
-    pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), shed, cache)
+    in_use = frozenset(key for key in floor_groups(placements) if key)
+    pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), shed, cache, in_use)
     phys, resp = ds["physics"].values, ds["response"].values
     counts = {
         "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
@@ -366,6 +417,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
         "general_scenes": _general_reasons(ds),
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
+        "buildings": ds.attrs.get("buildings", ""),
         "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
         "records_dir": str(records_dir),
         "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",

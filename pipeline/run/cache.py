@@ -36,7 +36,7 @@ from ..store import STATE_DIR, replace_atomically
 log = logging.getLogger(__name__)
 
 #: Bump when the entry layout changes: older entries are then ignored.
-ENTRY_FORMAT = 5
+ENTRY_FORMAT = 6
 
 
 def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "",
@@ -181,12 +181,17 @@ class SceneCache(RecordStore):
         """Write one record's result atomically; True when written (a failure is logged, never raised)."""
         return self._write(self.path(result.record_id, result.values["content_sha256"]), result.to_arrays())
 
-    def series(self, record_id: str, content_sha256: str) -> dict | None:
-        """The pulse series of a saved record (``velocity``, ``pulse`` [m s-1]), or None."""
-        z = self._read(self.path(record_id, content_sha256), ("s.velocity", "s.pulse"))
-        if z is None or len(z) < 2:
+    def series(self, record_id: str, content_sha256: str, floors: tuple = ()) -> dict | None:
+        """The pulse series of a saved record (``velocity``, ``pulse`` [m s-1]) and, under ``"floors"``, those
+        of the ``floors`` asked for (``(building, height_m)`` -> ``{"velocity", "pulse"}``); None when the
+        entry or any of them is missing."""
+        names = ("velocity", "pulse")
+        keys = {(b, z, n): f"f.{b}@{z!r}.{n}" for b, z in floors for n in names}
+        got = self._read(self.path(record_id, content_sha256), ("s.velocity", "s.pulse", *keys.values()))
+        if got is None or len(got) < 2 + len(keys):
             return None
-        return {"velocity": z["s.velocity"], "pulse": z["s.pulse"]}
+        return {"velocity": got["s.velocity"], "pulse": got["s.pulse"],
+                "floors": {(b, z): {n: got[keys[b, z, n]] for n in names} for b, z in floors}}
 
     def save_failure(self, result: RecordResult, content_sha256: str) -> None:
         """Keep a deterministic failure (:attr:`RecordResult.deterministic`) of these files under this run key:
@@ -249,6 +254,7 @@ def merge(old, new):
                                     np.asarray(old.blocks[name], dtype=float)[keep_old]])
               for name in new.blocks}
     new.block_ids, new.block_digests, new.blocks = tuple(ids), tuple(digests), blocks
+    new.floor_series = {**old.floor_series, **new.floor_series}
     return new
 
 

@@ -14,9 +14,10 @@ from .atomic import (
     write_text_atomic,
 )
 from .lock import OutputLock
-from .netcdf import PulseSeries, open_results, ragged_dataset, ragged_rows, write_atomic
+from .netcdf import FLOOR_GROUP, FloorRow, PulseSeries, open_results, ragged_dataset, ragged_rows, write_atomic
 
-__all__ = ["COMPONENTS", "FLAG3", "SCHEMA", "STATE_DIR", "OutputLock", "PulseSeries", "apply_schema",
+__all__ = ["COMPONENTS", "FLAG3", "FLOOR_GROUP", "SCHEMA", "STATE_DIR", "FloorRow", "OutputLock", "PulseSeries",
+           "apply_schema",
            "default_file_mode",
            "open_results", "ragged_dataset", "ragged_rows", "remove_stale_temporaries",
            "replace_atomically", "write_atomic", "write_bytes_atomic", "write_csv_atomic", "write_text_atomic"]
