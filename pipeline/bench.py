@@ -43,12 +43,13 @@ from .blocks import Inventory
 from .config import FIDELITY_TIERS, Config
 from .errors import RockscreenError, UsageError
 from .floors.motion import Building
+from .floors.standing import floor_record
 from .margins import overturn_scale_simulated
 from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
 from .records.record import Record
 from .rocking.planner import Physics
-from .screening import Context, _simulation_values, floor_record, pulses_and_directions, simulation_mask
+from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
 from .store import write_csv_atomic, write_text_atomic
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",

@@ -253,7 +253,8 @@ def parse_number(value: str, *, where: str, column: str, rule: str, ok) -> float
     return x
 
 
-def read_csv_table(path: Path, *, what: str, expected_header: str, problems: list[str] | None = None):
+def read_csv_table(path: Path, *, what: str, expected_header: str, problems: list[str] | None = None,
+                   required: tuple[str, ...] = ()):
     """Header and rows of a small CSV table, for the readers of user tables.
 
     Returns
@@ -267,8 +268,9 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
     Raises
     ------
     InventoryError
-        File missing, not UTF-8, empty, or (while iterating) a row whose field count differs
-        from the header's. With ``problems``, such rows are reported there and skipped instead.
+        File missing, not UTF-8, empty, a header without the ``required`` columns or with a column
+        twice, or (while iterating) a row whose field count differs from the header's. With
+        ``problems``, such rows are reported there and skipped instead.
     """
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -281,6 +283,12 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
         header = [c.strip() for c in next(reader)]
     except StopIteration:
         raise InventoryError(f"{path}: empty file; expected a header line {expected_header!r}") from None
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}; expected {expected_header!r}")
+    dupes = {c for c in header if header.count(c) > 1}
+    if required and dupes:
+        raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
 
     def records():
         for row in reader:
@@ -333,13 +341,7 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
     path = Path(path)
     errors: list[str] = []
     header, records = read_csv_table(path, what="inventory", expected_header="id,height_m,width_m,...",
-                                     problems=errors)
-    missing = [c for c in REQUIRED if c not in header]
-    if missing:
-        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}")
-    dupes = {c for c in header if header.count(c) > 1}
-    if dupes:
-        raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
+                                     problems=errors, required=REQUIRED)
     extras = [c for c in header if c not in REQUIRED + OPTIONAL]
     unknown = [c for c in extras if c not in ASSET_COLUMNS]
     if unknown:

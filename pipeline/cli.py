@@ -173,6 +173,7 @@ def _progress_lines(items, total=None):
     step = max(1, (total or 0) // 10)
     watcher = threading.Thread(target=watch, daemon=True) if total else None
     if watcher is not None:
+        line()                                   # at once: the run has started and how much it has to do
         watcher.start()
     try:
         for k, item in enumerate(items, 1):

@@ -46,11 +46,12 @@ import xarray as xr
 
 from .errors import RockscreenError, TaskFailure
 from .floors.buildings import place_blocks
+from .floors.standing import FloorMotions
 from .records.loader import RecordSource
 from .rocking.block import Block
 from .rocking.planner import rocks, simulate_scene
 from .schema import HISTORY_SERIES, apply_schema
-from .screening import Context, floor_record
+from .screening import Context
 from .uncertainty.sampling import common_normals, sample_block
 
 log = logging.getLogger(__name__)
@@ -188,27 +189,19 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
     rocking_blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2)
     settings = cfg.simulation_settings()
     index = {b: k for k, b in enumerate(inv.ids)}
-    placements = place_blocks(inv, ctx.buildings) if any(inv.buildings()) else None
-    floors: dict = {}                                   # a block on a floor is scanned on that floor's motion
+    motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))   # a block on a floor: that floor's motion
     out = {}
     for block_id, direction, overturned, want_history in blocks:
-        on = rec
-        building = placements[index[block_id]].building if placements is not None else None
-        if building is not None and placements is not None and placements[index[block_id]].height_m > 0:
-            z = placements[index[block_id]].height_m
-            key = (building.building_id, z)
-            if key not in floors:
-                floors[key] = floor_record(rec, building, z)
-            on = floors[key]
+        on = motions.of_block(index[block_id])
         ah = on.along(float(direction))
         block = rocking_blocks[index[block_id]]
         scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
                                                overturns_at_one=overturned)
-        history = theta_history(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings) \
+        history = theta_history(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings) \
             if want_history else None
-        sampled, more = sampled_margins(ah, rec.vertical_ms2, rec.dt_s, j=index[block_id], inv=inv,
+        sampled, more = sampled_margins(ah, on.vertical_ms2, on.dt_s, j=index[block_id], inv=inv,
                                         settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
-        out[block_id] = (scale, runs + more, history, rec.dt_s, sampled)
+        out[block_id] = (scale, runs + more, history, on.dt_s, sampled)
     return out
 
 

@@ -25,8 +25,8 @@ from .closed_forms import PULSE_BETA
 from .config import Config, SimulationConfig
 from .constants import CM_TO_M
 from .errors import PulseError, RockscreenError, TaskFailure
-from .floors.buildings import floor_groups, place_blocks
-from .floors.motion import floor_filter, floor_response
+from .floors.buildings import place_blocks
+from .floors.standing import FloorMotions
 from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
@@ -379,14 +379,12 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         pulse_values, block_values, series, directions = pulses_and_directions(rec, task_ctx)
         values.update(pulse_values)
         mask = simulation_mask(inv, ctx.config)
-        groups = floor_groups(place_blocks(inv, ctx.buildings)) if any(inv.buildings()) else {(): np.arange(len(inv))}
-        ground = groups.get((), np.zeros(0, dtype=int))
-        on_ground = np.zeros(len(inv), dtype=bool)
-        on_ground[ground] = True
+        motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))
+        on_ground = np.isin(np.arange(len(inv)), motions.groups.get((), []))
         block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
         floors: dict = {}
-        if len(groups) > 1 or () not in groups:          # some blocks stand on an upper floor
-            floor_blocks, floors = _floor_values(rec, task_ctx, groups, mask, block_values)
+        if motions.upper_floors:
+            floor_blocks, floors = _floor_values(motions, task_ctx, mask, block_values)
             block_values.update(floor_blocks)
         return RecordResult(source.record_id, "ok", values, comps, block_values, series, floors,
                             block_ids=inv.ids, block_digests=inv.digests())
@@ -394,17 +392,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         return failed_result(source, task_failure(exc, source.record_id))
 
 
-def floor_record(rec: Record, building, height_m: float) -> Record:
-    """The motion on the floor at ``height_m`` of ``building``: both horizontals (and their velocities) through
-    the building's modes (:mod:`pipeline.floors.motion`); the vertical unchanged."""
-    flt = floor_filter(building, height_m)
-    acc, vel = floor_response(rec.horizontal_ms2, rec.dt_s, flt, rec.velocity_ms)
-    return dataclasses.replace(rec, horizontal_ms2=acc, velocity_ms=vel, notes=[
-        *rec.notes, f"floor at {height_m:g} m of building {building.building_id} ({flt.periods_s.size} modes, "
-                    f"{flt.mass_share:.1%} of the mass)"])
-
-
-def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, block_values: dict
+def _floor_values(motions: FloorMotions, ctx: Context, mask: np.ndarray, block_values: dict
                   ) -> tuple[dict, dict]:
     """Pulses and simulation of the blocks on each floor, on that floor's motion, and the floor's peaks; and
     each floor's pulse series with its record-level pulse values (none for a floor without a pulse)."""
@@ -413,13 +401,9 @@ def _floor_values(rec: Record, ctx: Context, groups: dict, mask: np.ndarray, blo
            for n in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS}
     out.update({n: np.full(nb, np.nan) for n in FLOOR_VARS})
     floors: dict = {}
-    buildings = ctx.buildings
-    for key, idx in groups.items():
-        if not key:
-            continue
-        frec = floor_record(rec, buildings[key[0]], key[1])
-        sub = Context(ctx.root, ctx.config, ctx.inventory.take(idx), ctx.declared_units, ctx.station_inventory,
-                      buildings)
+    for key, idx in motions.upper_floors.items():
+        frec = motions.record(key)
+        sub = dataclasses.replace(ctx, inventory=ctx.inventory.take(idx))
         values, blocks, series, directions = pulses_and_directions(frec, sub)
         if series:
             floors[key] = {**series, **{n: float(values[n]) for n in FLOOR_PULSE_VALUES}}

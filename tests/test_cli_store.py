@@ -309,7 +309,8 @@ def test_a_block_named_error_gets_its_margins(make_records, tmp_path, caplog):
 
 
 def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
-    """A record that takes longer than PROGRESS_LINE_S is not waited for in silence."""
+    """The run says at once what it has to do, and a record that takes longer than PROGRESS_LINE_S is not waited
+    for in silence."""
     import time
 
     from pipeline import cli
@@ -322,5 +323,7 @@ def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
         yield 2
 
     assert list(cli._progress_lines(slow(), total=20)) == [1, 2]
-    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("progress: 1/20")]
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("progress: 0/20 records screened"), err       # at once, before the first task ends
+    lines = [ln for ln in err if ln.startswith("progress: 1/20")]
     assert len(lines) >= 3, lines

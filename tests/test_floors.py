@@ -149,8 +149,8 @@ def test_a_block_on_the_ground_floor_is_screened_exactly_as_on_the_ground(tmp_pa
 def test_the_top_floor_amplifies_and_its_velocity_is_the_integral_of_its_acceleration(rinaldi_dir, config):
     """The floor's velocity comes from the same oscillator states as its acceleration: its derivative matches
     the floor acceleration (to the central difference's error), and the top floor amplifies the ground."""
+    from pipeline.floors.standing import floor_record
     from pipeline.records.loader import iter_records
-    from pipeline.screening import floor_record
 
     rec = next(iter_records(rinaldi_dir, config=config))
     top = floor_record(rec, MUSEUM, 17.5)
@@ -189,6 +189,11 @@ def test_bad_buildings_files_name_the_line_and_column(tmp_path):
     text = str(err.value)
     assert "line 3, column 'period_s'" in text and "line 4, column 'damping'" in text
     assert "line 4, column 'n_stories'" in text
+    for header, message in (("id,period_s,damping,height_m", r"line 1: missing required column.*'stiffness_ratio'"),
+                            ("id,period_s,damping,stiffness_ratio,height_m,height_m", "appear more than once")):
+        path.write_text(header + "\n")
+        with pytest.raises(InventoryError, match=message):
+            read_buildings(path)
 
 
 def test_fragility_on_a_floor_is_against_the_ground_im(tmp_path, rinaldi_dir, config):
@@ -221,10 +226,10 @@ def test_pulses_nc_holds_each_floors_pulses_apart_from_the_grounds(tmp_path, rin
 
     import xarray as xr
 
+    from pipeline.floors.standing import floor_record
     from pipeline.pulses import analyze
     from pipeline.records.loader import iter_records
     from pipeline.run.batch import run
-    from pipeline.screening import floor_record
     from pipeline.store import FLOOR_GROUP, open_results, write_atomic
 
     cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))

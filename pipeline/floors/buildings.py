@@ -34,12 +34,8 @@ def read_buildings(path: str | Path) -> dict[str, Building]:
     """
     path = Path(path)
     errors: list[str] = []
-    header, records = read_csv_table(path, what="buildings", expected_header=",".join(REQUIRED),
-                                     problems=errors)
-    missing = [c for c in REQUIRED if c not in header]
-    if missing:
-        raise InventoryError(f"{path}, line 1: missing column(s) {missing}; expected {','.join(REQUIRED)}"
-                             f"[,n_stories]")
+    _, records = read_csv_table(path, what="buildings", expected_header=",".join(REQUIRED) + "[,n_stories]",
+                                problems=errors, required=REQUIRED)
     rules = {"period_s": ("a fundamental period in seconds, > 0 (about 0.1 s per storey)", lambda x: x > 0),
              "damping": ("a damping ratio in [0, 1), e.g. 0.05", lambda x: 0 <= x < 1),
              "stiffness_ratio": ("a lateral-stiffness ratio alpha >= 0 (0-2 walls, 1.5-6 dual systems, 5-20 "
@@ -66,9 +62,9 @@ def read_buildings(path: str | Path) -> dict[str, Building]:
             except InventoryError as exc:
                 errors.append(str(exc))
                 values[col] = math.nan
+        stories = values["n_stories"]
         out[bid] = Building(bid, values["period_s"], values["damping"], values["stiffness_ratio"],
-                            values["height_m"], int(values["n_stories"]) if values["n_stories"] == values[
-                                "n_stories"] else 0)
+                            values["height_m"], 0 if math.isnan(stories) else int(stories))
     if errors:
         raise InventoryError(f"{path}: {len(errors)} problem(s):\n  " + "\n  ".join(errors))
     if not out:

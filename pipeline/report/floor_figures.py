@@ -19,24 +19,25 @@ def _series(ds: xr.Dataset, id_name: str) -> dict[str, tuple[slice, float]]:
     return {sid: (rows, float(dts[k])) for k, (sid, rows) in enumerate(ragged_rows(ds, id_name).items())}
 
 
-def floor_figures(assets: list[dict], pulses_path: Path, draw) -> list[dict]:
+def floor_figures(assets: list[dict], ground: xr.Dataset | None, pulses_path: Path, draw) -> list[dict]:
     """Set ``floor_anchor`` on each asset row on an upper floor whose floor motion under its governing record is
     in ``pulses_path`` ("" otherwise), and return the figures, one per (record, building, floor height):
     ``{"anchor", "record", "building", "floor_height_m", "blocks", "uri"}``.
 
-    ``draw(kind, make, *arrays, title)`` turns a drawing into a data URI (the report's figure cache).
+    ``ground`` is the file's ground group, already open (the report's); ``draw(kind, make, *arrays, title)``
+    turns a drawing into a data URI (the report's figure cache).
     """
     for r in assets:
         r["floor_anchor"] = ""
     on_floors = [r for r in assets if r.get("building") and r.get("floor_height_m", 0) > 0]
-    if not on_floors or not pulses_path.is_file():
+    if not on_floors or ground is None:
         return []
     try:
         floors = xr.open_dataset(pulses_path, engine="netcdf4", group=FLOOR_GROUP)
     except OSError:                       # a run without blocks on floors, or an older file
         return []
     out: dict[tuple, dict] = {}
-    with floors, xr.open_dataset(pulses_path, engine="netcdf4") as ground:
+    with floors:
         where_floor = {(str(rid), str(b), float(z)): sid for rid, b, z, sid in zip(
             floors["record_id"].values, floors["building"].values, floors["floor_height"].values,
             floors["series_id"].values)}

@@ -474,7 +474,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
     records, record_figures = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
-    floors = floor_figures(assets, pulses_path, lambda *a, **k: _data_uri(cache.get(*a, **k)))
+    floors = floor_figures(assets, pulses, pulses_path, lambda *a, **k: _data_uri(cache.get(*a, **k)))
     stream = env.get_template("report.html.j2").stream(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
         records=records, record_figures=record_figures, chart=chart, floor_figures=floors)

@@ -7,7 +7,7 @@ returning plain dataclasses.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -67,6 +67,8 @@ class RockResult:
     impacts: np.ndarray | None = None
     #: pivot side where it stopped (+1 tipping towards +x, -1 towards -x)
     pivot_end: float = 1.0
+    #: the kernel's own outcome (theta_max in radians), from which :func:`continued` goes on
+    outcome: RockingOutcome | None = field(default=None, compare=False, repr=False)
 
     @property
     def free_flight(self) -> bool:
@@ -209,13 +211,14 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
-                      impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None, float(o.pivot_end))
+                      impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None, float(o.pivot_end),
+                      o)
 
 
 def step_control(settings: SimulationConfig) -> StepControl:
     """The kernel's step control from the simulator's settings."""
     return StepControl(float(settings.rtol), float(settings.atol), float(settings.rest_ratio),
-                              float(settings.max_step_p), int(settings.max_events))
+                       float(settings.max_step_p), int(settings.max_events))
 
 
 def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> SlideResult:
@@ -288,10 +291,8 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
     """The rest of the scene from where the pure rocking ``rr`` (run with ``stop_mu = mu``) stopped: the general
     contact model, handing back to the kernel where pure rocking holds again (:func:`.handoff.continue_rocking`);
     None when ``rr`` did not stop short (overturned, or stood on a sticking pivot to the end)."""
-    outcome = RockingOutcome(rr.overturned, rr.t_overturn, rr.theta_max * block.alpha, rr.n_impacts,
-                             rr.friction_demand, rr.status, rr.t_stop, rr.theta_end, rr.omega_end, rr.mode_end,
-                             rr.n_uplifts, rr.t_first_impact, rr.pivot_end)
-    if not handoff.stopped_short(outcome):
+    outcome = rr.outcome
+    if outcome is None or not handoff.stopped_short(outcome):
         return None
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)

@@ -204,7 +204,10 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
     """The run's pulses, fetched per record from memory or, for shed series, from the scene cache: the
     ground's, and those of the floors in ``floors_in_use`` ((building id, height [m]) of the inventory's
     blocks; a floor's series computed for blocks no longer there is left out)."""
-    rows, floor_rows, in_memory, content = [], [], {}, {}
+    rows: list[tuple[str, int, float]] = []
+    in_memory: dict[str, dict] = {}
+    content: dict[str, str] = {}
+    floors_of: dict[str, list[FloorRow]] = {}
     for r in results:
         if not r.ok:
             continue
@@ -213,33 +216,34 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
             content[r.record_id] = r.values["content_sha256"]
         elif r.series and "velocity" in r.series:
             rows.append((r.record_id, int(np.size(r.series["velocity"])), float(r.series["dt"])))
-            in_memory[r.record_id] = r.series
         else:
             continue
-        floor_rows += [FloorRow(r.record_id, b, z, int(table.get("npts", np.size(table.get("velocity")))),
-                                float(table["dt"]), {n: table[n] for n in FLOOR_PULSE_VALUES})
-                       for (b, z), table in sorted(r.floor_series.items()) if (b, z) in floors_in_use]
-        if r.record_id in in_memory:
-            in_memory[r.record_id] = {**r.series, "floors": {key: r.floor_series[key] for key in r.floor_series
-                                                            if key in floors_in_use}}
-    floors_of: dict[str, list] = {}
-    for fr in floor_rows:
-        floors_of.setdefault(fr.record_id, []).append((fr.building, fr.height_m))
+        floors = [FloorRow(r.record_id, b, z, int(table.get("npts", np.size(table.get("velocity")))),
+                           float(table["dt"]), {n: table[n] for n in FLOOR_PULSE_VALUES})
+                  for (b, z), table in sorted(r.floor_series.items()) if (b, z) in floors_in_use]
+        floors_of[r.record_id] = floors
+        if r.record_id not in shed:
+            in_memory[r.record_id] = {**r.series, "floors": {(f.building, f.height_m): r.floor_series[
+                f.building, f.height_m] for f in floors}}
 
     def fetch(record_id: str) -> dict:
         if record_id in in_memory:
             return in_memory[record_id]
-        wanted = tuple(floors_of.get(record_id, ()))
-        got = cache.series(record_id, content[record_id], wanted) if cache is not None else None
+        wanted = floors_of[record_id]
+        keys = tuple((f.building, f.height_m) for f in wanted)
+        got = cache.series(record_id, content[record_id], keys) if cache is not None else None
         if got is None:       # the cache entry vanished or broke since it was written during this run
-            n = shed[record_id][0]
             log.warning("record %s: its pulse series could not be read back from the scene cache; written as "
                         "NaN in pulses.nc (run again with --force to recompute them)", record_id)
-            nan = {"velocity": np.full(n, np.nan), "pulse": np.full(n, np.nan)}
-            return {**nan, "floors": {key: nan for key in wanted}}
+            return {**_nan_series(shed[record_id][0]),
+                    "floors": {(f.building, f.height_m): _nan_series(f.npts) for f in wanted}}
         return got
 
-    return PulseSeries(rows, fetch, floor_rows=floor_rows)
+    return PulseSeries(rows, fetch, floor_rows=[f for floors in floors_of.values() for f in floors])
+
+
+def _nan_series(n: int) -> dict:
+    return {"velocity": np.full(n, np.nan), "pulse": np.full(n, np.nan)}
 
 
 def _general_reasons(ds: xr.Dataset) -> dict[str, int]:

@@ -33,11 +33,12 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR, G
 from ..errors import TaskFailure, UsageError
-from ..floors.buildings import floor_groups, place_blocks
+from ..floors.buildings import place_blocks
+from ..floors.standing import FloorMotions
 from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..schema import FRAGILITY, apply_schema
-from ..screening import Context, _simulation_values, floor_record, pulses_and_directions, task_failure
+from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, probability_in
 from .cache import ENTRY_FORMAT, RecordStore, run_key
@@ -122,22 +123,18 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
     verdict = np.full((len(levels), nb), -1, dtype="i1")
     prob = np.full((len(levels), nb), np.nan)
     prob_random = np.full((len(levels), nb), np.nan)
-    if any(base.inventory.buildings()):
-        # blocks on floors: each floor's blocks are judged on that floor's motion, scaled by the factor that
-        # brings the *ground* record to the level (the filter is linear: the floor of the scaled ground is the
-        # scaled floor), so the fragility stays a function of the ground IM the hazard gives
-        for key, idx in floor_groups(place_blocks(base.inventory, base.buildings)).items():
-            sub = dataclasses.replace(base, inventory=base.inventory.take(idx))
-            if key:
-                grec = floor_record(rec, base.buildings[key[0]], key[1])
-                _, gblocks, _, gdirections = pulses_and_directions(grec, sub)
-            else:                                  # the ground's blocks: the pulses already extracted above
-                grec, gdirections = rec, directions[idx]
-                gblocks = {n: np.asarray(v)[idx] for n, v in blocks.items()}
-            part = _judge_levels(grec, sub, gblocks, gdirections, factors[:, idx])
-            verdict[:, idx], prob[:, idx], prob_random[:, idx] = part
-    else:
-        verdict, prob, prob_random = _judge_levels(rec, base, blocks, directions, factors)
+    # blocks on floors: each floor's blocks are judged on that floor's motion, scaled by the factor that brings
+    # the *ground* record to the level (the filter is linear: the floor of the scaled ground is the scaled
+    # floor), so the fragility stays a function of the ground IM the hazard gives
+    motions = FloorMotions(rec, place_blocks(base.inventory, base.buildings))
+    for key, idx in motions.groups.items():
+        sub = dataclasses.replace(base, inventory=base.inventory.take(idx))
+        if key:
+            _, gblocks, _, gdirections = pulses_and_directions(motions.record(key), sub)
+        else:                                      # the ground's blocks: the pulses already extracted above
+            gdirections, gblocks = directions[idx], {n: np.asarray(v)[idx] for n, v in blocks.items()}
+        part = _judge_levels(motions.record(key), sub, gblocks, gdirections, factors[:, idx])
+        verdict[:, idx], prob[:, idx], prob_random[:, idx] = part
     return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random, "factor": factors,
             **{f"im.{k}": v for k, v in ims.items()}}
 
