@@ -210,6 +210,12 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               f"{general['ground_flight'] + general['block_liftoff']} (the ground's g + a_v reached 0 in "
               f"{general['ground_flight']}, the block lifted itself off in {general['block_liftoff']}); physics "
               "general, the modes in contact_modes", file=sys.stderr)
+    guarded = s.get("guarded_scenes", [])
+    if guarded:
+        print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
+              "screening.nc; tie_hold: held at rest at a tie, stalled or step_cap: ended with the verdict of the "
+              "state reached): " + "; ".join(guarded[:10]) + ("; ..." if len(guarded) > 10 else ""),
+              file=sys.stderr)
     for line in filter(None, s.get("buildings", "").split("\n")):
         print(f"building {line} (floor motion: Miranda & Taghavi 2005)", file=sys.stderr)
     if s.get("slides_off_base"):

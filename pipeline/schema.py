@@ -19,7 +19,7 @@ import xarray as xr
 
 from .criteria import Onset
 from .rocking.orientation import Orientation
-from .rocking.planner import ContactMode, FreeFlight, Physics, Response
+from .rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
 from .uncertainty.fragility import FitStatus
 from .uncertainty.robust import Robustness
 
@@ -154,6 +154,16 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                       {"flag_masks": np.array([m.value for m in ContactMode], dtype="i1"),
                        "flag_meanings": " ".join(m.name for m in ContactMode),
                        "comment": "0: at rest throughout"}),
+    "simulation_guard": (("record", "block"), None, "guards of the simulator the scene met",
+                         {"flag_masks": np.array([m.value for m in Guard], dtype="i1"),
+                          "flag_meanings": " ".join(m.name for m in Guard),
+                          "comment": "0: none. Every loop of the simulator advances time or counts against a cap; "
+                                     "a scene that meets one says so here. event_cap: impacts and uplifts reached "
+                                     "simulation.max_events; tie_hold: many events at one instant on a flat block "
+                                     "(a tie between two models), held at rest to the next sample; stalled, "
+                                     "step_cap: ended there, the verdict from the state reached (the energy of its "
+                                     "free rocking); tail_cap: motion after the record followed to its cap. "
+                                     "The orientation scan ORs the planes simulated"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,
                             "comment": "scenes proven at rest are false without integration; not_evaluated: "

@@ -230,12 +230,12 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
 INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
                   "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
                   "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4",
-                  "contact_modes": "i1"}
+                  "contact_modes": "i1", "simulation_guard": "i1"}
 
 #: Per (record, block) variables of the simulator.
 SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
                    "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
-                   "governing_azimuth", "orientation", "planes_simulated", "contact_modes")
+                   "governing_azimuth", "orientation", "planes_simulated", "contact_modes", "simulation_guard")
 
 #: Per (record, block) variables of the floor a block stands on (NaN on the ground).
 FLOOR_VARS = ("floor_pga", "floor_pgv")
@@ -313,7 +313,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
                "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
                "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated,
-               "contact_modes": sc.contact_modes}
+               "contact_modes": sc.contact_modes, "simulation_guard": sc.guard}
         orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None and z_estimate is not None:
             orient = _orientation_probability(base, z, z_estimate, inv, int(j), scanned=scanned, azimuths=azimuths,

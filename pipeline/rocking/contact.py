@@ -67,6 +67,7 @@ from __future__ import annotations
 import math
 
 from .kernel import HALF_PI, _exceed_fraction, _flight_fraction, free_outcome, jit
+from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 
 __all__ = ["ContactBlock", "ContactOutcome", "ContactState", "move", "impact", "accelerations", "corner_offsets",
@@ -80,10 +81,15 @@ MODE_SLIDE, MODE_ROCK, MODE_SLIDE_ROCK, MODE_FLIGHT = 1, 2, 4, 8
 
 # bits of ContactOutcome.status
 STATUS_PAINLEVE = 1        # slide-rock with no consistent normal force (Painleve): the corner was made to stick
-STATUS_EVENT_CAP = 2       # MAX_EVENTS transitions: the block was put to rest (chatter guard)
+STATUS_EVENT_CAP = 2       # MAX_EVENTS transitions: ended there, the verdict from the state reached (chatter guard)
 STATUS_TAIL_CAP = 4        # the motion after the record outlasted MAX_TAIL_PERIODS: stopped, standing
 STATUS_GROUND_FLIGHT = 8   # free flight began where the ground's g + a_v reached 0
 STATUS_LIFTOFF = 16        # free flight began where the block's own motion took the contact force to 0
+STATUS_TIE_HOLD = 32       # tie rule 6 (rules): events in a row at one instant, flat: held at rest to the next sample
+STATUS_STALLED = 64        # tie rule 6 while not flat: ended there, the verdict from the state reached
+STATUS_STEP_CAP = 128      # the step budget ran out: ended there, the verdict from the state reached
+#: The status bits that end a scene before its end (the verdict is then the state's: :func:`state_verdict`)
+STATUS_ENDED = STATUS_EVENT_CAP | STATUS_STALLED | STATUS_STEP_CAP
 
 # Step and event control, named once
 STEPS_PER_SAMPLE = 2          # Runge-Kutta steps per sample interval, at least
@@ -93,6 +99,8 @@ MAX_EVENTS = 20000            # cap on transitions and impacts
 MAX_TAIL_PERIODS = 200.0      # motion followed after the record, in units of 2 pi / p
 PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
 FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat
+MAX_STEPS_PER_SAMPLE = 1000   # step budget: step attempts per sample of the record (with the tail's steps), plus
+MAX_STEPS_FIXED = 100000      # ... this many; the cap ends the scene (STATUS_STEP_CAP)
 
 
 @jit
@@ -218,7 +226,7 @@ def _onset(a, G, blk):
     if G <= 0.0:
         return FLIGHT, 1.0, 1.0
     sgn = 1.0 if a > 0.0 else -1.0
-    if not (blk.mu > math.tan(blk.alpha) and housner_restitution(blk.alpha) > 0.0):
+    if not rocks_compiled(blk.alpha, blk.mu):       # tie rules 1 and 5 (rules), as the planner
         return SLIDE, 1.0, -sgn
     c = -sgn
     _ax, _ay, _aw, N, F = accelerations(ROCK, c, 1.0, 0.0, 0.0, a, G, blk)
@@ -341,12 +349,19 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
     events = 0
     overturned = False
     t_over = math.nan
+    max_steps = MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED
+    n_steps = 0
+    t_event = -math.inf               # time of the last event, and events in a row there (tie rule 6)
+    n_same = 0
     while mode != OVERTURNED and t < t_stop:
         if t >= t_cap:
             status |= STATUS_TAIL_CAP
             break
         if events >= MAX_EVENTS:
             status |= STATUS_EVENT_CAP
+            break
+        if n_steps >= max_steps:
+            status |= STATUS_STEP_CAP
             break
         k = int(t / dt + 1e-9)
         if k < n - 1:
@@ -383,7 +398,15 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
             if t + frac * (t1 - t) > t_stop:
                 t = t_stop
                 break
-            t = t + frac * (t1 - t)
+            t_on = t + frac * (t1 - t)
+            n_same = n_same + 1 if t_on - t_event < min_advance_compiled(t_on) else 0
+            t_event = t_on
+            if n_same > MAX_EVENTS_AT_ONE_INSTANT:
+                status |= STATUS_TIE_HOLD             # tie rule 6: held at rest to the next sample
+                n_same = 0
+                t = min(t1, t_stop)
+                continue
+            t = t_on
             mode, c, sigma = _onset(a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
             if mode == FLIGHT:
                 status |= STATUS_GROUND_FLIGHT
@@ -392,6 +415,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
             events += 1
             continue
         hh = min(h_max, t1 - t, t_stop - t)
+        n_steps += 1
         x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
         te = t + hh
         ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, a0 + sa * (te - t0), g + v0 + sv * (te - t0), blk)
@@ -423,6 +447,17 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
         if ev >= 0.0:
             continue
         events += 1
+        n_same = n_same + 1 if t - t_event < min_advance_compiled(t) else 0
+        t_event = t
+        if n_same > MAX_EVENTS_AT_ONE_INSTANT:
+            if abs(th) > FLAT_ANGLE_ALPHA * alpha:
+                status |= STATUS_STALLED              # tie rule 6 while not flat: ended, the state's verdict
+                break
+            status |= STATUS_TIE_HOLD                 # tie rule 6, flat: held at rest to the next sample
+            n_same = 0
+            mode, th, y, u, v, w = REST, 0.0, 0.0, 0.0, 0.0, 0.0
+            t = min(t1, t_stop)
+            continue
         aa, gg = a0 + sa * (t - t0), g + v0 + sv * (t - t0)
         mode, c, sigma, x, y, th, u, v, w, hit = _transition(mode, c, sigma, x, y, th, u, v, w, aa, gg, blk)
         if mode == FLIGHT:
@@ -432,8 +467,24 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
         modes |= _mode_bit(mode)
         if hand_back and (mode == ROCK or mode == REST) and t >= t_first + dt:
             break
+    if status & STATUS_ENDED and not overturned:
+        overturned, peak = state_verdict(mode, th, w, blk)
+        theta_max = max(theta_max, peak)
+        if overturned:
+            t_over, mode = t, OVERTURNED
     return ContactOutcome(overturned, t_over, theta_max, n_imp, slip_max, slip, modes, status,
                           ContactState(t, mode, c, sigma, x, y, th, u, v, w, slip))
+
+
+@jit
+def state_verdict(mode, th, w, blk):
+    """The verdict of a scene ended early (a cap, tie rule 6) from the state it reached: (overturns, peak
+    |theta| still to come [rad]). A block on a corner (rock, slide-rock, flight) is judged by the energy of its
+    free rocking from there (:func:`.kernel.free_outcome`: as if the ground stopped); a flat one stands."""
+    if (mode == ROCK or mode == SLIDE_ROCK or mode == FLIGHT) and th != 0.0:
+        over, peak, _extra = free_outcome(th, w, blk.p * blk.p, blk.alpha, blk.e, False)
+        return over, peak
+    return False, abs(th)
 
 
 @jit

@@ -27,11 +27,22 @@ from typing import NamedTuple
 
 from . import contact
 from .contact import ContactBlock, ContactOutcome, ContactState
-from .kernel import OVERTURNED, REST, STATUS_FREE_FLIGHT, STATUS_FRICTION, STATUS_LIFTOFF, jit, rock
+from .kernel import (
+    OVERTURNED,
+    REST,
+    STATUS_CHATTER,
+    STATUS_FREE_FLIGHT,
+    STATUS_FRICTION,
+    STATUS_LIFTOFF,
+    STATUS_STEP_CAP,
+    STATUS_TIE_HOLD,
+    jit,
+    rock,
+)
 from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 #: Cap on the alternations between the two models in one scene (each needs at least a sample interval of
-#: general motion; the cap is a guard, flagged as contact.STATUS_EVENT_CAP).
+#: general motion, or ends the scene at a cap; the cap is a guard, flagged as contact.STATUS_EVENT_CAP).
 MAX_SEGMENTS = 100000
 
 
@@ -61,6 +72,20 @@ def stopped_short(o: RockingOutcome) -> bool:
 
 
 @jit
+def kernel_guards(status: int) -> int:
+    """The contact model's ``STATUS_*`` bits for the guards the kernel's ``status`` met (chatter cap, tie rule 6,
+    step budget), so that a scene's flags say what happened in either model."""
+    out = 0
+    if status & STATUS_CHATTER:
+        out |= contact.STATUS_EVENT_CAP
+    if status & STATUS_TIE_HOLD:
+        out |= contact.STATUS_TIE_HOLD
+    if status & STATUS_STEP_CAP:
+        out |= contact.STATUS_STEP_CAP
+    return out
+
+
+@jit
 def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactState:
     """The general model's state where the kernel stopped: rocking on the kernel's pivot (the pivot where it
     started) at the start of the step in which pure rocking stopped holding, so that the general model
@@ -84,7 +109,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
     t_end = (ah.shape[0] - 1) * dt
     no_output = RockingOutput(ah[:0], ah[:0].reshape((0, 3)))
     o = first
-    slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, 0
+    slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, kernel_guards(first.status)
     for _ in range(MAX_SEGMENTS):
         if o.status & STATUS_FREE_FLIGHT:
             status |= contact.STATUS_GROUND_FLIGHT
@@ -95,13 +120,16 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         modes |= g.modes
         status |= g.status
         end = g.end
-        if g.overturned or not (end.mode == contact.ROCK or end.mode == contact.REST):
+        if g.overturned or g.status & contact.STATUS_ENDED or not (end.mode == contact.ROCK
+                                                                  or end.mode == contact.REST):
+            # overturned, ended at a cap (the state's verdict), or still in motion at the end
             return ContactOutcome(g.overturned, g.t_overturn, theta_max, n_imp, slip_max, slip, modes, status, end)
         theta = end.theta if end.mode == contact.ROCK else 0.0
         omega = end.w if end.mode == contact.ROCK else 0.0
         o = rock(ah, av, dt, t_end, rblk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
         theta_max = max(theta_max, o.theta_max)
         n_imp += o.n_impacts
+        status |= kernel_guards(o.status)
         modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
         if not stopped_short(o):
             return ContactOutcome(o.overturned, o.t_overturn, theta_max, n_imp, slip_max, slip, modes, status,

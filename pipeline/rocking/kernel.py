@@ -41,30 +41,21 @@ import math
 
 import numpy as np
 
+from .compiled import HAVE_NUMBA, jit  # noqa: F401  (re-exported: the kernels' decorator)
+from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled, rocks_compiled  # noqa: F401
 from .structures import RockingOutcome
-
-try:  # numba is optional: the same source runs as Python without it
-    from numba import njit as _njit
-
-    def jit(f):
-        return _njit(cache=True, nogil=True)(f)
-
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover - exercised by the no-numba install
-    def jit(f):
-        return f
-
-    HAVE_NUMBA = False
 
 HALF_PI = 0.5 * math.pi
 
 # status bits of the rocking kernel
 STATUS_CHATTER = 1        # event cap reached: forced to rest
 STATUS_FREE_FLIGHT = 2    # the ground's g + a_v reached 0: contact lost, the contact model stopped there
-STATUS_STEP_UNDERFLOW = 4  # step size fell below 1e-14 s: accepted anyway
+STATUS_STEP_UNDERFLOW = 4  # step size fell below the smallest step that advances time (rules.min_advance): accepted
 STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion lifts it): flagged; stopped when
                           # the block's stop_mu is finite
 STATUS_FRICTION = 16      # the friction demand exceeded the block's stop_mu: stopped there
+STATUS_TIE_HOLD = 32      # tie rule 6 (rules): events in a row at one instant; held at rest to the next sample
+STATUS_STEP_CAP = 64      # the step budget (MAX_STEPS_PER_SAMPLE) ran out: ended, the verdict from the state reached
 
 # modes
 REST, ROCK, OVERTURNED = 0, 1, 2
@@ -75,7 +66,11 @@ ERROR_EXPONENT = -0.2           # -1 / (q + 1), q = 4 the order of the embedded 
 MIN_FACTOR = 0.2                # after an accepted step the next is at least this fraction of it
 MAX_FACTOR = 5.0                # ... and at most this multiple of it
 MIN_FACTOR_REJECTED = 0.1       # a rejected step shrinks at most to this fraction
-MIN_STEP_S = 1e-14              # smallest step [s]: a step this small is accepted (STATUS_STEP_UNDERFLOW)
+MIN_STEP_S = 1e-14              # smallest step [s] near t = 0; rules.min_advance(t) later: a step this small
+                                # is accepted (STATUS_STEP_UNDERFLOW), so every accepted step advances time
+MAX_STEPS_PER_SAMPLE = 1000     # step budget of a scene: this many step attempts per sample of the record, plus
+MAX_STEPS_FIXED = 100000        # ... this many (the cap ends the scene, STATUS_STEP_CAP; never met on the bundled
+                                # records, whose busiest scene takes a few steps per sample)
 FIRST_STEP_FRACTION = 0.1       # first step, as a fraction of min(largest step, dt)
 UPLIFT_STEP_FRACTION = 0.01     # first step after an uplift from rest, the same way
 MIN_STEP_AFTER_IMPACT_P = 1e-6  # smallest step kept across an impact, as a fraction of 1/p
@@ -372,6 +367,11 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     h = min(h_max, dt) * FIRST_STEP_FRACTION
     out_k = 0
     handed_off = False
+    capped = False
+    max_steps = MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED
+    n_steps = 0
+    t_event = -math.inf               # time of the last event (uplift or impact), and events in a row there
+    n_same = 0
     if n_out > 0:
         theta_out[0] = th
         out_k = 1
@@ -426,7 +426,19 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             if x < 0.0:
                 t = t1
             else:
-                t = t + x * (t1 - t)
+                t_up = t + x * (t1 - t)
+                n_same = n_same + 1 if t_up - t_event < min_advance_compiled(t_up) else 0
+                t_event = t_up
+                if n_same > MAX_EVENTS_AT_ONE_INSTANT:
+                    # tie rule 6: uplift and fall back at one instant without end: held at rest to the next sample
+                    status |= STATUS_TIE_HOLD
+                    n_same = 0
+                    t = t1
+                    while out_k < n_out and out_k * dt <= t + HISTORY_TIME_TOL_S:
+                        theta_out[out_k] = 0.0
+                        out_k += 1
+                    continue
+                t = t_up
                 a_now = a0 + sa * (t - t0)
                 s = -1.0 if a_now > 0.0 else 1.0
                 th, om = 0.0, 0.0
@@ -440,18 +452,24 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             continue
 
         # rocking: one adaptive step inside the sample interval
+        n_steps += 1
+        if n_steps > max_steps:
+            status |= STATUS_STEP_CAP
+            capped = True
+            break
+        min_step = max(MIN_STEP_S, min_advance_compiled(t))
         hh = min(h, h_max, t1 - t)
-        if hh <= MIN_STEP_S:
+        if hh <= min_step:
             hh = t1 - t
         th1, om1, et, eo, acc1 = _dopri_step(t, th, om, hh, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
         sc_t = atol_t + control.rtol * max(abs(th), abs(th1))
         sc_o = atol_o + control.rtol * max(abs(om), abs(om1))
         err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
-        if err > 1.0 and hh > MIN_STEP_S:
+        if err > 1.0 and hh > min_step:
             h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
-            if h < MIN_STEP_S:
+            if h < min_step:
                 status |= STATUS_STEP_UNDERFLOW
-                h = MIN_STEP_S
+                h = min_step
             continue
         if has_v and g + v0 + sv * (t + hh - t0) <= 0.0:
             # contact lost during the step (g + a_v <= 0): the contact model holds no further; the state is
@@ -488,11 +506,20 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             n_imp += 1
             n_events += 1
             th, om, s = 0.0, om_after, -s
+            n_same = n_same + 1 if t - t_event < min_advance_compiled(t) else 0
+            t_event = t
             if abs(om) < rest_omega or n_events >= control.max_events:
                 if n_events >= control.max_events:
                     status |= STATUS_CHATTER
                 om = 0.0
                 mode = REST
+            if n_same > MAX_EVENTS_AT_ONE_INSTANT:
+                # tie rule 6: impacts without time advancing: held at rest (theta = 0 here) to the next sample
+                status |= STATUS_TIE_HOLD
+                n_same = 0
+                om = 0.0
+                mode = REST
+                t = t1
             h = max(hh, MIN_STEP_AFTER_IMPACT_P / p)    # the new pivot's motion is smooth: keep the step size
             continue
         if abs(th1) >= HALF_PI:
@@ -527,8 +554,9 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
         th, om = th1, om1
         h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
 
-    if not overturned and mode == ROCK and tail_energy and t >= t_rec - TAIL_TIME_TOL_S \
-            and not status & STATUS_FREE_FLIGHT and not handed_off:
+    if not overturned and mode == ROCK and (capped or tail_energy and t >= t_rec - TAIL_TIME_TOL_S
+                                            and not status & STATUS_FREE_FLIGHT and not handed_off):
+        # after the record (or where the step budget ended the scene): the energy of the free motion decides
         over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
         theta_max = max(theta_max, peak)
         if over:

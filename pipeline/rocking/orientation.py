@@ -33,7 +33,7 @@ J. Eng. Mech. 127(5), 473-483, for the rocking plane of a block under two horizo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import IntEnum
 
 import numpy as np
@@ -172,14 +172,16 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
     if len(keys) > 1 and not planes.vector_ratio() > thr:
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
     state = PlaneResult(REST_SCENE, first, 0)
+    guard = 0                                               # the guards met in any plane (Guard bits)
 
     def scan(candidates: tuple) -> bool:
         """Simulate the candidates that move the block, strongest demand first; True at the first overturn."""
-        nonlocal state
+        nonlocal state, guard
         ordered, ratios = planes.by_demand(candidates)
         moving = int(np.count_nonzero(ratios > thr))        # sorted by decreasing ratio: a prefix moves
         for k, ratio in zip(ordered[:moving], ratios[:moving].tolist()):
             sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, block=block, settings=settings)
+            guard |= sc.guard
             n = state.planes_simulated + 1
             state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
                 PlaneResult(state.scene, state.azimuth_deg, n)
@@ -187,10 +189,10 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
                 return True
         return False
 
-    if scan(keys):
-        return state
-    if refine_deg > 0 and refine_span_deg > refine_deg and state.scene.theta_max > 0:
+    if not scan(keys) and refine_deg > 0 and refine_span_deg > refine_deg and state.scene.theta_max > 0:
         m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
         extra = dict.fromkeys(Planes.key(state.azimuth_deg + j * refine_deg) for j in range(-m + 1, m) if j)
         scan(tuple(k for k in extra if k not in keys))
+    if guard != state.scene.guard:
+        state = PlaneResult(replace(state.scene, guard=guard), state.azimuth_deg, state.planes_simulated)
     return state

@@ -54,7 +54,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
-from . import contact
+from . import contact, kernel
 from .block import Block
 from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
@@ -97,6 +97,38 @@ class ContactMode(IntEnum):
     rock = 2
     slide_rock = 4
     free_flight = 8
+
+
+class Guard(IntEnum):
+    """Bits of ``simulation_guard``: the guards a scene met (0: none; none is met on the bundled records).
+
+    Every loop of the simulator either advances time or counts against one of these caps, so a scene always
+    ends; where one is met, the scene says so here instead of hanging or guessing in silence.
+    """
+
+    event_cap = 1         # impacts and uplifts reached max_events (pure rocking: forced to rest each time after;
+                          # general model: ended there with the verdict of the state reached)
+    tie_hold = 2          # tie rule 6 (rules): events in a row at one instant on a flat block: held at rest to
+                          # the next sample
+    stalled = 4           # tie rule 6 on a block off its base: ended there with the verdict of the state reached
+    step_cap = 8          # the step budget ran out: ended there with the verdict of the state reached
+    tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
+
+
+def kernel_guard(status: int) -> int:
+    """:class:`Guard` bits of the rocking kernel's ``status``."""
+    return ((Guard.event_cap if status & kernel.STATUS_CHATTER else 0)
+            | (Guard.tie_hold if status & kernel.STATUS_TIE_HOLD else 0)
+            | (Guard.step_cap if status & kernel.STATUS_STEP_CAP else 0))
+
+
+def contact_guard(status: int) -> int:
+    """:class:`Guard` bits of the general contact model's ``status``."""
+    return ((Guard.event_cap if status & contact.STATUS_EVENT_CAP else 0)
+            | (Guard.tie_hold if status & contact.STATUS_TIE_HOLD else 0)
+            | (Guard.stalled if status & contact.STATUS_STALLED else 0)
+            | (Guard.step_cap if status & contact.STATUS_STEP_CAP else 0)
+            | (Guard.tail_cap if status & contact.STATUS_TAIL_CAP else 0))
 
 
 
@@ -172,6 +204,8 @@ class Scene:
     theta_over_alpha: np.ndarray | None = None
     #: :class:`ContactMode` bits of the modes the scene went through (0 at rest).
     contact_modes: int = 0
+    #: :class:`Guard` bits of the simulator's guards the scene met (0: none).
+    guard: int = 0
 
     @property
     def verdict(self) -> int:
@@ -224,7 +258,7 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
             return Scene(physics, Response.free_flight, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                          1, False, -1, res.t_flight_s, contact_modes=ContactMode.slide)
         return Scene(physics, Response.slide, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                     0, False, -1, contact_modes=ContactMode.slide)
+                     0, False, -1, contact_modes=ContactMode.slide, guard=Guard.step_cap if res.capped_samples else 0)
     av = av_ms2 if physics == Physics.rocking_vertical else None
     rr = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
               history=history, stop_mu=mu if settings.contact_model else math.inf)
@@ -258,9 +292,11 @@ def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, fr
         flight = FreeFlight.block_liftoff
     theta_max = max(co.theta_max_rad / alpha, rocking.theta_max if rocking is not None else 0.0)
     n_impacts = co.n_impacts + (rocking.n_impacts if rocking is not None else 0)
+    guard = contact_guard(co.status) | (kernel_guard(rocking.status) if rocking is not None else 0)
     return Scene(Physics.general, response, co.overturned, theta_max, n_impacts, co.t_overturn, friction_demand,
-                 co.slip_max_m, flight, False, friction_exceeded,
-                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan, contact_modes=modes)
+                 co.slip_max_m, flight, guard & Guard.event_cap > 0, friction_exceeded,
+                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan, contact_modes=modes,
+                 guard=guard)
 
 
 def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, history: bool) -> Scene:
@@ -278,5 +314,6 @@ def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, hi
     theta = res.theta / alpha if history and res.theta is not None else None
     return Scene(physics, response, res.overturned, res.theta_max, res.n_impacts, res.t_overturn,
                  res.friction_demand, math.nan, 1 if flight else (2 if res.liftoff else 0), res.chatter,
-                 int(exceeded), res.t_stop if flight else math.nan, theta, contact_modes=ContactMode.rock)
+                 int(exceeded), res.t_stop if flight else math.nan, theta, contact_modes=ContactMode.rock,
+                 guard=kernel_guard(res.status))
 

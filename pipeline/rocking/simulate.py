@@ -99,6 +99,8 @@ class SlideResult:
     time_slipping_s: float
     #: time the ground's g + a_v reached 0 [s], NaN when it never did
     t_flight_s: float
+    #: samples whose search for slip starts and stops reached :data:`.sliding.MAX_STOPS_PER_SAMPLE` (0: none)
+    capped_samples: int = 0
 
     @property
     def free_flight(self) -> bool:
@@ -240,8 +242,8 @@ def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> S
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
-    u_max, u_end, n_slips, t_slip, t_flight = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
-    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight))
+    u_max, u_end, n_slips, t_slip, t_flight, capped = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
+    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight), int(capped))
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,10 @@ import math
 
 from .kernel import _exceed_fraction, _flight_fraction, jit
 
+#: Slip starts and stops located in one sample interval, at most (the slip velocity is quadratic in time there,
+#: so a physical interval holds a handful; the cap ends the interval's search, counted in ``capped``)
+MAX_STOPS_PER_SAMPLE = 64
+
 
 @jit
 def slide(ah, av, dt, mu, g):
@@ -23,11 +27,16 @@ def slide(ah, av, dt, mu, g):
     |a_h| <= mu (g + a_v). The ground acceleration is linear between samples,
     so u' is quadratic and u cubic in time, and slip ends at the exact root of u'.
 
+    Progress: every pass of the inner loop advances within the sample or counts against
+    :data:`MAX_STOPS_PER_SAMPLE`; a sample that reaches the cap is counted in ``capped`` and the slip state is
+    carried to the next sample unchanged (never met on the bundled records).
+
     Returns
     -------
     tuple
         (peak |u| [m], final u [m], number of slip episodes, time slipping [s],
-        time the ground's g + a_v reached 0 [s] (NaN: never; the integration stops there))
+        time the ground's g + a_v reached 0 [s] (NaN: never; the integration stops there),
+        samples whose search reached MAX_STOPS_PER_SAMPLE)
     """
     n = ah.shape[0]
     has_v = av.shape[0] == n
@@ -38,6 +47,7 @@ def slide(ah, av, dt, mu, g):
     n_slips = 0
     t_slip = 0.0
     t_flight = math.nan
+    capped = 0
     for k in range(n - 1):
         a0, a1 = ah[k], ah[k + 1]
         v0 = av[k] if has_v else 0.0
@@ -49,8 +59,11 @@ def slide(ah, av, dt, mu, g):
             break
         x = 0.0                                   # position in the sample, in [0, dt]
         guard = 0
-        while x < dt and guard < 64:
+        while x < dt:
             guard += 1
+            if guard > MAX_STOPS_PER_SAMPLE:
+                capped += 1
+                break
             ka = (a1 - a0) / dt
             kv = (v1 - v0) / dt
             ax = a0 + ka * x
@@ -94,7 +107,7 @@ def slide(ah, av, dt, mu, g):
                 n_slips += 1
             else:
                 slipping = False
-    return u_max, u, n_slips, t_slip, t_flight
+    return u_max, u, n_slips, t_slip, t_flight, capped
 
 
 @jit

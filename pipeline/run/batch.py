@@ -40,7 +40,7 @@ from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
-from ..rocking.planner import ContactMode, FreeFlight, Physics, Response
+from ..rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
 from ..screening import (
     FLOOR_PULSE_VALUES,
     Context,
@@ -256,6 +256,17 @@ def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
             "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
+def guarded_scenes(ds: xr.Dataset) -> list[str]:
+    """The scenes that met a guard of the simulator (``simulation_guard``), one line each: record, block and
+    the guards' names."""
+    guard = ds["simulation_guard"].values
+    lines = []
+    for i, j in zip(*np.nonzero(guard > 0)):
+        names = ", ".join(g.name for g in Guard if int(guard[i, j]) & g)
+        lines.append(f"{ds['record'].values[i]} x {ds['block'].values[j]}: {names}")
+    return lines
+
+
 @dataclass
 class BatchOutcome:
     """What the screening stage hands to the next stages.
@@ -420,6 +431,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
         "general_scenes": _general_reasons(ds),
+        "guarded_scenes": guarded_scenes(ds),
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
         "buildings": ds.attrs.get("buildings", ""),
         "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),

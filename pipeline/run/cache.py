@@ -36,7 +36,7 @@ from ..store import STATE_DIR, replace_atomically
 log = logging.getLogger(__name__)
 
 #: Bump when the entry layout changes: older entries are then ignored.
-ENTRY_FORMAT = 6
+ENTRY_FORMAT = 7
 
 
 def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "",
