@@ -161,6 +161,13 @@ def _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk):
 
 
 @jit
+def _contact_kept(force):
+    """Event indicator of a contact force (apparent gravity or normal force): negative where it is <= 0, so that
+    contact is lost where the force reaches 0 exactly (tie rule 3 of :mod:`.rules`)."""
+    return force if force > 0.0 else -1.0
+
+
+@jit
 def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
     the lowest corner below the base in flight); the smallest of the mode's indicators."""
@@ -168,9 +175,9 @@ def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     if mode == FLIGHT:
         return y + h + min(corner_offsets(th, 1.0, b, h)[1], corner_offsets(th, -1.0, b, h)[1])
     if mode == SLIDE:
-        return min(sigma * u, G)
+        return min(sigma * u, _contact_kept(G))
     _ax, _ay, _aw, N, F = accelerations(mode, c, sigma, th, w, a, G, blk)
-    ev = min(c * th, N)
+    ev = min(c * th, _contact_kept(N))
     if mode == ROCK:
         ev = min(ev, blk.mu * N - abs(F))
     else:
@@ -412,6 +419,14 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
                 status |= STATUS_GROUND_FLIGHT
             modes |= _mode_bit(mode)
             xc = x + corner_offsets(0.0, c, b, h)[0]
+            events += 1
+            continue
+        if mode != FLIGHT and g + v0 + sv * (t - t0) <= 0.0:
+            # the ground's g + a_v is at 0 at this instant (a sample exactly at -g): contact is lost here (tie
+            # rule 3), whatever the step ends seeing
+            mode = FLIGHT
+            status |= STATUS_GROUND_FLIGHT
+            modes |= MODE_FLIGHT
             events += 1
             continue
         hh = min(h_max, t1 - t, t_stop - t)

@@ -42,7 +42,7 @@ import math
 import numpy as np
 
 from .compiled import HAVE_NUMBA, jit  # noqa: F401  (re-exported: the kernels' decorator)
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled, rocks_compiled  # noqa: F401
+from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled
 from .structures import RockingOutcome
 
 HALF_PI = 0.5 * math.pi
