@@ -142,15 +142,34 @@ def _progress(quiet: bool):
     if quiet:
         return None
     if sys.stderr.isatty():
-        from tqdm import tqdm
-
-        return lambda it, total=None: tqdm(it, total=total, desc="records", unit="rec", file=sys.stderr,
-                                           leave=False)
+        return _progress_bar
     return _progress_lines
 
 
-def _progress_lines(items, total=None):
-    """Yield ``items``, printing progress lines (from a watcher thread while a task takes long)."""
+def _progress_bar(items, total=None, running=None):
+    """Yield ``items`` under a tqdm bar whose postfix names the records running long and their scenes."""
+    import threading
+
+    from tqdm import tqdm
+
+    bar = tqdm(items, total=total, desc="records", unit="rec", file=sys.stderr, leave=False)
+    stop = threading.Event()
+
+    def watch() -> None:
+        while not stop.wait(PROGRESS_LINE_S):
+            bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
+
+    threading.Thread(target=watch, daemon=True).start()
+    try:
+        yield from bar
+    finally:
+        stop.set()
+        bar.close()
+
+
+def _progress_lines(items, total=None, running=None):
+    """Yield ``items``, printing progress lines (from a watcher thread while a task takes long); ``running()``
+    names the records that have run long and the scene each is on."""
     import threading
 
     t0 = time.monotonic()
@@ -161,8 +180,9 @@ def _progress_lines(items, total=None):
     def line() -> None:
         with lock:
             now = time.monotonic()
-            print(f"progress: {state['done']}/{total} records screened, {now - t0:.0f} s", file=sys.stderr,
-                  flush=True)
+            busy = running() if running is not None else []
+            print(f"progress: {state['done']}/{total} records screened, {now - t0:.0f} s"
+                  + (f"; running long: {'; '.join(busy)}" if busy else ""), file=sys.stderr, flush=True)
             state["last"] = now
 
     def watch() -> None:

@@ -32,6 +32,8 @@ from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
 from .rocking.block import Block
 from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
+from .rocking.planner import ContactMode, Guard, Physics
+from .scene_progress import SceneProgress
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 from .uncertainty.sampling import common_normals
 from .uncertainty.scenes import (
@@ -59,6 +61,8 @@ class Context:
     station_inventory: object = None
     #: building id -> :class:`~pipeline.floors.motion.Building`, for blocks on a floor
     buildings: dict = field(default_factory=dict)
+    #: which record and scene the task is on (:mod:`pipeline.scene_progress`)
+    progress: SceneProgress = field(default_factory=SceneProgress)
 
     def load(self, source: RecordSource) -> Record:
         """Read, convert and process one record (:func:`pipeline.records.loader.load_record`)."""
@@ -301,6 +305,8 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     mask = np.ones(nb, dtype=bool) if mask is None else mask
     for j in np.flatnonzero(mask):
+        ctx.progress.scene(str(inv.ids[j]))
+        t_scene = time.perf_counter()
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
         if not scan:
             azimuths = azimuths[:1]
@@ -329,7 +335,17 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                     "p_overturn_random_orientation_high": orient.random_high})
         for n, v in row.items():
             out[n][j] = v
+        ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
+                                detail=_scene_detail(sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
     return out
+
+
+def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
+    """What a slow scene was doing: its physics, the modes it went through, the guards it met, its planes."""
+    modes = ", ".join(m.name for m in ContactMode if sc.contact_modes & m) or "none"
+    guards = ", ".join(g.name for g in Guard if sc.guard & g) or "none"
+    return (f"physics {Physics(sc.physics).name}, contact modes {modes}, guards {guards}; {planes} plane(s) "
+            f"integrated (governing plane {azimuth_deg:.0f} deg), {max(sampled, 0)} sampled plane(s)")
 
 
 def _orientation_probability(base: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, inv: Inventory, j: int, *,
@@ -369,7 +385,8 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
     if block_ids is not None:
         index = {b: k for k, b in enumerate(inv.ids)}
         inv = inv.take([index[b] for b in block_ids])
-    task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory, ctx.buildings)
+    task_ctx = Context(ctx.root, ctx.config, inv, ctx.declared_units, ctx.station_inventory, ctx.buildings,
+                       ctx.progress)
     try:
         content = source.digest() if content_sha256 is None else content_sha256
         rec = ctx.load(source)
@@ -379,6 +396,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         pulse_values, block_values, series, directions = pulses_and_directions(rec, task_ctx)
         values.update(pulse_values)
         mask = simulation_mask(inv, ctx.config)
+        ctx.progress.record(source.record_id, int(np.count_nonzero(mask)))
         motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))
         on_ground = np.isin(np.arange(len(inv)), motions.groups.get((), []))
         block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
@@ -390,6 +408,8 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
                             block_ids=inv.ids, block_digests=inv.digests())
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
         return failed_result(source, task_failure(exc, source.record_id))
+    finally:
+        ctx.progress.finished()
 
 
 def _floor_values(motions: FloorMotions, ctx: Context, mask: np.ndarray, block_values: dict

@@ -13,9 +13,8 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
+from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_ties, run_scene, sampled_verdict, verdict
 
-from boundary_scenes import (ALPHA_MAX, G, SCENE_BUDGET_S, block, motions, mu_ties, run_scene, sampled_verdict,
-                             verdict)
 from pipeline.cli import main
 from pipeline.errors import ParameterError
 from pipeline.rocking import contact, handoff, kernel, rules
@@ -205,8 +204,8 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
     monkeypatch.setattr(kernel, "MAX_STEPS_PER_SAMPLE", 0)
     monkeypatch.setattr(kernel, "MAX_STEPS_FIXED", 5)
     rock_py = kernel.rock.py_func if hasattr(kernel.rock, "py_func") else kernel.rock
-    from pipeline.rocking.simulate import step_control
     from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.simulate import step_control
     from pipeline.rocking.structures import RockingBlock, RockingOutput, RockingState
 
     a = np.full(400, 0.5 * G)

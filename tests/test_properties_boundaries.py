@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_ties, run_scene, sampled_verdict
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from boundary_scenes import ALPHA_MAX, G, SCENE_BUDGET_S, block, motions, mu_ties, run_scene, sampled_verdict
 from pipeline.rocking import rules
 from pipeline.rocking.planner import FreeFlight
 

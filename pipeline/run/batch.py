@@ -26,6 +26,8 @@ flagged ``source_present = 0``.
 from __future__ import annotations
 
 import logging
+import shutil
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,6 +52,7 @@ from ..screening import (
     failure_result,
     screen_record,
 )
+from ..scene_progress import SceneProgress, running
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
@@ -256,6 +259,14 @@ def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
             "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
+def _removing(stream, directory: str):
+    """``stream``, removing ``directory`` once it is exhausted or abandoned."""
+    try:
+        yield from stream
+    finally:
+        shutil.rmtree(directory, ignore_errors=True)
+
+
 def guarded_scenes(ds: xr.Dataset) -> list[str]:
     """The scenes that met a guard of the simulator (``simulation_guard``), one line each: record, block and
     the guards' names."""
@@ -369,9 +380,11 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         _shed_series(res, shed)
     failed = [failure_result(f) for f in scan_failures] + the_plan.failures
     executor = executor or SerialExecutor()
-    stream = executor.map_unordered(_task, the_plan.tasks, ctx)
+    scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
+    ctx.progress = SceneProgress(scenes_dir)
+    stream = _removing(executor.map_unordered(_task, the_plan.tasks, ctx), scenes_dir)
     if progress is not None:
-        stream = progress(stream, len(the_plan.tasks))
+        stream = progress(stream, len(the_plan.tasks), running=lambda: running(scenes_dir))
     computed_records = computed_scenes = 0
     for rec_failure in the_plan.failures:
         if rec_failure.deterministic:

@@ -1,0 +1,45 @@
+"""The per-scene budget a user can see: the record and scene a worker is on, and slow scenes named."""
+
+from __future__ import annotations
+
+import logging
+import pickle
+import time
+
+from pipeline import scene_progress
+from pipeline.scene_progress import SceneProgress, running
+
+
+def test_a_long_record_is_named_with_its_scenes_and_the_scene_running(tmp_path, monkeypatch):
+    monkeypatch.setattr(scene_progress, "DETAIL_AFTER_S", 0.0)
+    prog = pickle.loads(pickle.dumps(SceneProgress(str(tmp_path))))      # as a worker receives it
+    prog.record("RSN1063_NORTHR_RRS", 14)
+    prog.scene("TRAF-01")
+    prog.scene_done(block_id="TRAF-01", seconds=0.1, detail="")
+    prog.scene("COL-1")
+    time.sleep(3 * scene_progress.FLUSH_S)
+    (line,) = running(tmp_path)
+    assert line.startswith("RSN1063_NORTHR_RRS: 1/14 scenes, block COL-1 running for ")
+    prog.finished()
+    assert running(tmp_path) == []
+
+
+def test_a_record_not_yet_long_is_not_detailed(tmp_path):
+    prog = SceneProgress(str(tmp_path))
+    prog.record("R", 3)
+    prog.scene("B")
+    time.sleep(3 * scene_progress.FLUSH_S)
+    assert running(tmp_path) == []                 # under DETAIL_AFTER_S
+
+
+def test_a_scene_far_slower_than_its_neighbours_is_named_in_the_log(monkeypatch, caplog):
+    monkeypatch.setattr(scene_progress, "SLOW_SCENE_S", 1.0)
+    prog = SceneProgress()
+    prog.record("R", 5)
+    for b in ("A", "B", "C"):
+        prog.scene_done(block_id=b, seconds=0.01, detail="")
+    with caplog.at_level(logging.WARNING):
+        prog.scene_done(block_id="D", seconds=0.5, detail="fast enough")
+        prog.scene_done(block_id="E", seconds=2.0, detail="physics general, contact modes rock, slide_rock")
+    (rec,) = [r for r in caplog.records if "slow scene" in r.getMessage()]
+    assert "record R, block E took 2.0 s" in rec.getMessage() and "slide_rock" in rec.getMessage()
