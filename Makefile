@@ -73,6 +73,7 @@ lint: $(VENV)/.installed-lint
 bench: $(VENV)/.installed-test
 	$(BIN)/python benchmarks/bench_pulses.py
 	$(BIN)/python benchmarks/bench_rocking.py --limit 60
+	$(BIN)/python benchmarks/bench_boundaries.py
 	$(BIN)/python benchmarks/criterion_vs_reference.py
 	$(BIN)/screen bench --records records --blocks configs/blocks.csv --out results/bench --tiers-only
 	$(BIN)/python benchmarks/bench_whole.py

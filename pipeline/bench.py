@@ -49,6 +49,7 @@ from .records.loader import read_declared_units, scan
 from .records.loader import read_inventory as read_station_inventory
 from .records.record import Record
 from .rocking.planner import Physics
+from .scene_progress import SceneProgress
 from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
 from .store import write_csv_atomic, write_text_atomic
 
@@ -100,11 +101,22 @@ def _criterion(scenes: list[_Scene], inventory: Inventory, config: Config) -> tu
     return out["overturn_criterion"], time.perf_counter() - t0
 
 
-def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, scan: bool = True
-              ) -> tuple[dict, float]:
+class _SceneTimes(SceneProgress):
+    """A progress reporter that keeps each scene's wall-clock time (the bench's worst-scene rows)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.times: list[tuple[float, str]] = []
+
+    def scene_done(self, *, block_id: str, seconds: float, detail: str) -> None:
+        self.times.append((seconds, f"{self._state.get('record', '?')} x {block_id}"))
+
+
+def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, scan: bool = True,
+              times: _SceneTimes | None = None) -> tuple[dict, float]:
     """Simulate what the tier of ``config`` asks for; verdicts, theta_max and planes integrated per scene,
-    and the time."""
-    ctx = Context("", config, inventory, {})
+    and the time (each scene's in ``times``, when given)."""
+    ctx = Context("", config, inventory, {}, progress=times if times is not None else SceneProgress())
     nb = len(inventory)
     verdict = np.full((len(scenes), nb), -1, dtype=int)
     theta = np.full((len(scenes), nb), np.nan)
@@ -118,6 +130,7 @@ def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, sca
     physics = np.full((len(scenes), nb), np.nan)
     t = 0.0
     for i, s in enumerate(scenes):
+        ctx.progress.record(s.record.record_id, nb)
         t0 = time.perf_counter()
         mask = simulation_mask(inventory, config)
         sim = _simulation_values(s.record, s.directions, ctx, mask, scan=scan)
@@ -196,10 +209,36 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
                      "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
                      "planes_simulated": int(sim.get("planes_simulated", np.zeros(1)).sum()),
                      "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
+    say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
+    rows += _worst_scene_rows(scenes, inventory, config)
     if settings_sweep:
         rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say)
         rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
     _write(rows, out_dir)
+    return rows
+
+
+def _worst_scene_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
+    """The slowest scenes of the full tier (nominal), on the records as they are and on a boundary set: every
+    block with its friction set to tan(alpha) exactly (the tie of :mod:`pipeline.rocking.rules`, rule 1), so that
+    a slow pathological scene shows as a number."""
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    sets = (("records x inventory", inventory),
+            ("boundary set: records x inventory with mu = tan(alpha)",
+             dataclasses.replace(inventory, mu=np.tan(geom.alpha))))
+    rows = []
+    for label, inv in sets:
+        times = _SceneTimes()
+        _simulate(scenes, inv, config.with_tier("full"), times=times)
+        ordered = sorted(times.times, reverse=True)
+        seconds = np.array([t for t, _ in ordered])
+        for rank, (t, which) in enumerate(ordered[:3], 1):
+            rows.append({"section": "worst scenes", "setting": f"{label}: slowest #{rank} ({which})",
+                         "value": f"{t / max(float(np.median(seconds)), 1e-9):.0f}x the median", "time_s": t,
+                         "time_per_scene_us": 1e6 * t, "scenes": len(seconds)})
+        rows.append({"section": "worst scenes", "setting": f"{label}: median scene", "value": "",
+                     "time_s": float(np.median(seconds)), "time_per_scene_us": 1e6 * float(np.median(seconds)),
+                     "scenes": len(seconds)})
     return rows
 
 

@@ -54,7 +54,8 @@ class SceneProgress:
         return {"directory": self.directory}
 
     def __setstate__(self, state):
-        self.__init__(state["directory"])
+        self.directory = state["directory"]
+        self._state, self._times, self._lock, self._changed = {}, [], None, False
 
     def record(self, record_id: str, n_scenes: int) -> None:
         """A record's screening starts, with ``n_scenes`` scenes (blocks) to simulate."""

@@ -13,8 +13,7 @@ import time
 
 import numpy as np
 import pytest
-
-from boundary_scenes import ALPHA_MAX, G, SCENE_BUDGET_S, block, motions, mu_ties, run_scene, sampled_verdict
+from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_ties, run_scene, sampled_verdict
 
 pytestmark = pytest.mark.slow
 

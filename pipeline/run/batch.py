@@ -43,6 +43,7 @@ from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
+from ..scene_progress import SceneProgress, running
 from ..screening import (
     FLOOR_PULSE_VALUES,
     Context,
@@ -52,7 +53,6 @@ from ..screening import (
     failure_result,
     screen_record,
 )
-from ..scene_progress import SceneProgress, running
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
