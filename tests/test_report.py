@@ -434,3 +434,23 @@ def test_one_station_in_several_files_is_grouped_and_counted_once(records_dir, b
     assert {int(r["stations_screened"]) for r in rows} == {11 - 4}
     html = (out / "report.html").read_text()
     assert "records screened (7 stations)" in html and 'id="same-recordings"' in html
+
+
+def test_a_scene_that_met_a_guard_is_named_on_the_page(screened, tmp_path):
+    """A guard planted in screening.nc (a tie held at rest) is listed on the page by record and block."""
+    import xarray as xr
+
+    from pipeline.rocking.planner import Guard
+    from pipeline.store import write_atomic
+
+    ds = xr.load_dataset(screened / "screening.nc")
+    assert int(ds["simulation_guard"].max()) == 0                 # none on the real records
+    ds["simulation_guard"].values[0, 1] = Guard.tie_hold | Guard.step_cap
+    planted = tmp_path / "screening.nc"
+    write_atomic(ds, planted)
+    for name in ("pulses.nc", "histories.nc"):
+        shutil.copy(screened / name, tmp_path / name)
+    out = tmp_path / "report"
+    assert main(["report", str(planted), "--out", str(out)]) == 0
+    page = (out / "report.html").read_text()
+    assert f"<code>{ds['record'].values[0]}</code> &times; {ds['block'].values[1]}: tie_hold, step_cap" in page

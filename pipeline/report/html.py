@@ -43,7 +43,7 @@ from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..rocking.orientation import Orientation
-from ..rocking.planner import Physics, Response
+from ..rocking.planner import Physics, Response, guard_names
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
@@ -465,6 +465,9 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "free_flight": int(np.sum(resp[ok] == Response.free_flight)),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == Response.free_flight, axis=1)]],
+        "guarded": [(str(ds["record"].values[i]), str(ds["block"].values[j]), guard_names(g[i, j]))
+                    for g in ([ds["simulation_guard"].values] if "simulation_guard" in ds else [])
+                    for i, j in zip(*np.nonzero(g > 0))],
         "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
         "sampled": sampled,
         "sensitive_scenes": int(np.sum(ds["robustness"].values[ok] == Robustness.sensitive)) if sampled else 0,

@@ -115,6 +115,11 @@ class Guard(IntEnum):
     tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
 
 
+def guard_names(bits: int) -> str:
+    """The names of the :class:`Guard` bits set in ``bits``, comma-separated (empty for none)."""
+    return ", ".join(g.name for g in Guard if int(bits) & g)
+
+
 def kernel_guard(status: int) -> int:
     """:class:`Guard` bits of the rocking kernel's ``status``."""
     return ((Guard.event_cap if status & kernel.STATUS_CHATTER else 0)

@@ -42,7 +42,7 @@ from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..rocking.orientation import Orientation
-from ..rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
+from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guard_names
 from ..scene_progress import SceneProgress, running
 from ..screening import (
     FLOOR_PULSE_VALUES,
@@ -273,8 +273,7 @@ def guarded_scenes(ds: xr.Dataset) -> list[str]:
     guard = ds["simulation_guard"].values
     lines = []
     for i, j in zip(*np.nonzero(guard > 0)):
-        names = ", ".join(g.name for g in Guard if int(guard[i, j]) & g)
-        lines.append(f"{ds['record'].values[i]} x {ds['block'].values[j]}: {names}")
+        lines.append(f"{ds['record'].values[i]} x {ds['block'].values[j]}: {guard_names(guard[i, j])}")
     return lines
 
 
