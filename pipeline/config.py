@@ -179,7 +179,8 @@ ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation
 RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0),
           ("uncertainty", "azimuth_sd_deg"): (0.0, 45.0), ("uncertainty", "confidence"): (0.5, 0.999),
           ("uncertainty", "robust_below"): (0.001, 0.5), ("uncertainty", "robust_above"): (0.5, 0.999),
-          ("uncertainty", "p_halfwidth"): (0.001, 1.0), ("uncertainty", "orientation_step_deg"): (0.0, 45.0)}
+          ("uncertainty", "p_halfwidth"): (0.001, 1.0), ("uncertainty", "orientation_step_deg"): (0.0, 45.0),
+          ("uncertainty", "orientation_average_halfwidth"): (0.001, 0.5)}
 #: Spreads (coefficients of variation): valid in [0, 1); a cov of 1 or more is not a measurement uncertainty.
 COV_KEYS = ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov")
 #: Largest number of samples per scene.
@@ -198,6 +199,9 @@ def _check_uncertainty(u: UncertaintyConfig, where: str) -> None:
                           f"[0, {MAX_SAMPLES}] (0: nominal verdicts only)")
     if u.batch < 1:
         raise ConfigError(f"{where}: [uncertainty] batch = {u.batch!r}: expected a positive integer")
+    if not 1 <= u.orientation_average_samples <= MAX_SAMPLES:
+        raise ConfigError(f"{where}: [uncertainty] orientation_average_samples = {u.orientation_average_samples!r}: "
+                          f"expected an integer in [1, {MAX_SAMPLES}]")
 
 #: Keys whose string values are limited to a set.
 CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {

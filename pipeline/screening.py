@@ -31,21 +31,20 @@ from .pulses import analyze
 from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
 from .rocking.block import Block
-from .rocking.orientation import Orientation, Planes, plane_grid, worst_plane
+from .rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from .rocking.planner import ContactMode, Guard, Physics
 from .scene_progress import SceneProgress
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
-from .uncertainty.sampling import common_normals
-from .uncertainty.scenes import (
+from .uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
-    SceneMotion,
+    average_normals,
     estimation_normals,
-    motion,
     one_plane,
     orientation_probability,
-    scene_probability,
 )
+from .uncertainty.sampling import common_normals
+from .uncertainty.scenes import SceneMotion, motion, scene_probability
 
 log = logging.getLogger(__name__)
 
@@ -298,6 +297,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     unc = cfg.uncertainty
     z = common_normals(unc.seed, unc.samples) if scan and unc.samples > 0 else None
     z_estimate = estimation_normals(unc, unc.samples) if z is not None else None
+    z_average = average_normals(unc) if z is not None else None
     settings = cfg.simulation_settings()
     step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
     grid = plane_grid(step)
@@ -322,8 +322,9 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
                "contact_modes": sc.contact_modes, "simulation_guard": sc.guard}
         orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None and z_estimate is not None:
-            orient = _orientation_probability(base, z, z_estimate, inv, int(j), scanned=scanned, azimuths=azimuths,
-                                              governing_deg=res.azimuth_deg, grid=grid, cfg=cfg, settings=settings)
+            orient = _orientation_probability(base, (z, z_estimate, z_average), inv, int(j), scanned=scanned,
+                                              azimuths=azimuths, nominal=res, ranked=_ranked(res, planes, azimuths),
+                                              grid=grid, cfg=cfg, settings=settings)
         prob = orient.worst
         row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
                     "robustness": prob.robustness, "samples_drawn": prob.drawn,
@@ -348,11 +349,22 @@ def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
             f"integrated (governing plane {azimuth_deg:.0f} deg), {max(sampled, 0)} sampled plane(s)")
 
 
-def _orientation_probability(base: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, inv: Inventory, j: int, *,
-                             scanned: bool, azimuths: list[float], governing_deg: float, grid: np.ndarray,
+def _ranked(res: PlaneResult, planes: Planes, azimuths: list[float]) -> list[float]:
+    """The planes of a scene by decreasing nominal peak rotation (the planes integrated), then the others by
+    decreasing demand ratio."""
+    moved = [az for az, _theta, _over in sorted(res.responses, key=lambda r: -r[1])]
+    rest, _ = planes.by_demand(tuple(dict.fromkeys(Planes.key(a) for a in azimuths)))
+    return list(dict.fromkeys([*moved, *rest]))
+
+
+def _orientation_probability(base: SceneMotion, draws: tuple, inv: Inventory, j: int, *, scanned: bool,
+                             azimuths: list[float], nominal: PlaneResult, ranked: list[float], grid: np.ndarray,
                              cfg: Config, settings: SimulationConfig) -> OrientationProbability:
     """Block ``j``'s probabilities of overturning under the declared uncertainty: per orientation when its
-    rocking plane is unknown (scanned on a two-component record), else in its one plane."""
+    rocking plane is unknown (scanned on a two-component record), else in its one plane. ``draws``: the
+    selection draws, the independent estimation draws and the random orientation's draws."""
+    z, z_estimate, z_average = draws
+    governing_deg = nominal.azimuth_deg
     unc = cfg.uncertainty
     if not scanned or base.single:
         prob = scene_probability(base, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
@@ -368,8 +380,9 @@ def _orientation_probability(base: SceneMotion, z: np.ndarray, z_estimate: np.nd
                                    grid_deg=sample_grid, height_m=float(inv.height_m[j]),
                                    width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
                                    restitution=float(inv.restitution[j]), prefer_deg=governing_deg, settings=unc,
-                                   simulation=settings, g_ms2=cfg.records.g_ms2,
-                                   z_estimate=z_estimate)
+                                   simulation=settings, g_ms2=cfg.records.g_ms2, z_estimate=z_estimate,
+                                   z_average=z_average, nominal_overturned=bool(nominal.scene.overturned),
+                                   ranked_deg=ranked)
 
 
 def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sha256: str | None = None

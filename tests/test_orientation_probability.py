@@ -25,7 +25,8 @@ from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.reference import rock_reference
 from pipeline.uncertainty.sampling import common_normals
-from pipeline.uncertainty.scenes import motion, orientation_probability, scene_probability
+from pipeline.uncertainty.orientations import orientation_probability
+from pipeline.uncertainty.scenes import motion, scene_probability
 from pipeline.uncertainty.settings import UncertaintyConfig
 
 G = 9.80665
@@ -91,10 +92,15 @@ def test_worst_orientation_is_the_polarization_plane_with_the_lognormal_probabil
 
 
 def test_average_over_orientations_tends_to_the_arccos_closed_form(threshold):
+    """One grid plane per draw, cycling permutations of the grid: after whole cycles (3 x 36 draws) of a nearly
+    deterministic scene, the fraction is the grid's exactly; its interval covers the continuous value."""
     k = 1.2
-    out = _orientation(k, threshold, _settings(0.001, 100))
+    settings = dataclasses.replace(_settings(0.001, 100), orientation_average_samples=108,
+                                   orientation_average_halfwidth=0.001)
+    out = _orientation(k, threshold, settings)
     continuous = 2 / math.pi * math.acos(1 / k)                                        # 0.373
     assert out.random == pytest.approx(13 / 36, abs=1e-12)    # planes within 33.6 deg of the polarization
+    assert out.random_low <= continuous <= out.random_high
     assert abs(out.random - continuous) < 1 / 36               # the grid resolves it to one step
     assert out.worst.p == 1.0 and out.worst_azimuth_deg == pytest.approx(POLARIZATION_DEG)
 
@@ -117,3 +123,50 @@ def test_worst_is_at_most_some_plane_and_the_average_at_most_the_worst_on_a_real
     assert out.worst.p <= some.p + (out.worst.high - out.worst.low) / 2
     assert out.random <= out.worst.p + (out.worst.high - out.worst.low) / 2
     assert out.random < some.p
+
+
+def test_each_cycle_of_the_random_orientation_draws_every_grid_plane_once():
+    from pipeline.uncertainty.orientations import plane_order
+
+    order = plane_order(36, 120)
+    for c in range(3):
+        assert sorted(order[36 * c: 36 * (c + 1)].tolist()) == list(range(36))
+    assert np.array_equal(order, plane_order(36, 120))           # the same for every scene
+    assert not np.array_equal(order[:36], np.arange(36))         # a permutation, not the grid's order
+
+
+@pytest.mark.parametrize("governing_deg", [30.0, 60.0, 120.0])
+def test_the_worst_orientation_is_never_below_the_governing_planes_own_estimate(threshold, governing_deg):
+    """Step 5: where the nominal overturned, the governing plane's estimate on the independent draws bounds the
+    worst orientation's p from below, whichever plane the selection chose."""
+    from pipeline.uncertainty.orientations import estimation_normals
+
+    settings = dataclasses.replace(_settings(0.05, 40), batch=5)
+    h, dt = _polarized(1.03 * threshold)
+    grid = plane_grid(5.0)
+    m = motion(h, 0.0, None, dt, planes_deg=grid)
+    z = common_normals(settings.seed, settings.samples)
+    block = dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+    out = orientation_probability(m, z, grid_deg=grid, prefer_deg=governing_deg, settings=settings, g_ms2=G,
+                                  nominal_overturned=True, **block)
+    own = scene_probability(dataclasses.replace(m, planes_deg=np.array([governing_deg])),
+                            estimation_normals(settings, settings.samples), azimuth_deg=math.nan, settings=settings,
+                            g_ms2=G, **block)
+    assert out.worst.p >= own.p
+    assert out.worst_azimuth_deg == pytest.approx(POLARIZATION_DEG, abs=5.0) or out.worst.p == own.p
+
+
+def test_a_standing_nominal_races_only_its_candidates(threshold):
+    """Where the nominal stands, the candidates are the governing plane and the three planes of largest nominal
+    rotation: the selection simulates those planes only, and the chosen plane is one of them."""
+    settings = dataclasses.replace(_settings(0.05, 40), batch=5)
+    h, dt = _polarized(1.03 * threshold)
+    grid = plane_grid(5.0)
+    m = motion(h, 0.0, None, dt, planes_deg=grid)
+    z = common_normals(settings.seed, settings.samples)
+    block = dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+    ranked = [25.0, 35.0, 20.0, 40.0, 30.0]
+    out = orientation_probability(m, z, grid_deg=grid, prefer_deg=45.0, settings=settings, g_ms2=G,
+                                  nominal_overturned=False, ranked_deg=ranked, **block)
+    assert out.worst_azimuth_deg in (45.0, 25.0, 35.0, 20.0)
+    assert out.worst_azimuth_deg in (25.0, 35.0)                  # the nearest the polarization among them

@@ -107,6 +107,28 @@ def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control)
 
 
 @jit
+def judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, c, s, eps, av_s, dt, t_end, p, alpha, e, R,
+                mu, g, control, at_rest, no_output):
+    """One sample in one plane of weights (c, s), written once for both sample kernels: the exact at-rest
+    certificate (its demand ``ratio`` not above ``thr``), no integration for a block that cannot rock (``rocks``
+    False: it stands, or its verdict is free flight where ``flight``; with the contact model the general model
+    decides that case), rocking otherwise (continued by the general model where it stops holding).
+
+    Returns (outcome, integrated): 1 overturns, 0 stands, -1 free flight before any overturning (no verdict);
+    whether a plane was integrated. ``av_s``: the vertical the simulation keeps (empty: none); ``flight``: the
+    kept vertical reaches g + a_v <= 0 at some sample.
+    """
+    if not ratio > thr:
+        return 0, False                                  # proven at rest in this plane
+    if not rocks:
+        if flight and contact_model:
+            return _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control), True
+        return (-1 if flight else 0), False
+    return _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, RockingBlock(p, alpha, e, g, R, False, math.inf),
+                       control, at_rest, no_output, mu, contact_model), True
+
+
+@jit
 def _vertical_kept(av_s, g, vertical_fraction):
     """Whether a sample keeps its (scaled) vertical ``av_s`` (empty: none), by the planner's rule."""
     if av_s.size == 0:
@@ -149,21 +171,12 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
         flight = use_v and _flight_at_some_sample(av_s, g)
         planes_out[k] = 0
         for j in range(n_p):
-            outcome_out[k, j] = 0
-            if not _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g) > thr:
-                continue                                   # proven at rest in this plane
-            if not rocks:
-                if flight and contact_model:
-                    planes_out[k] += 1
-                    outcome_out[k, j] = _slide_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, dt, p[k],
-                                                     alpha[k], e[k], R[k], mu[k], g, control)
-                else:
-                    outcome_out[k, j] = -1 if flight else 0
-                continue
-            planes_out[k] += 1
-            outcome_out[k, j] = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none,
-                                            dt, t_end, RockingBlock(p[k], alpha[k], e[k], g, R[k], False, math.inf),
-                                            control, at_rest, no_output, mu[k], contact_model)
+            ratio = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g)
+            outcome, integrated = judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, cosines[k, j],
+                                              sines[k, j], eps[k], av_s if use_v else none, dt, t_end, p[k],
+                                              alpha[k], e[k], R[k], mu[k], g, control, at_rest, no_output)
+            outcome_out[k, j] = outcome
+            planes_out[k] += integrated
 
 
 @jit
@@ -225,38 +238,22 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         order = np.argsort(-ratios, kind="mergesort")
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
-        if not rocks:
-            # a sample that cannot rock cannot overturn while it slides: nothing is integrated, and its verdict
-            # is 0, as the Coulomb integration of every moving plane gives. Where a plane moves it and the
-            # ground's g + a_v reaches 0 at some sample, that integration stops: free flight (-1) without
-            # the contact model, else the general model decides, plane by plane, strongest demand first
-            if ratios[order[0]] > thr and use_v and _flight_at_some_sample(av_s, g):
-                if not contact_model:
-                    verdict_out[k] = -1
-                    continue
-                for jj in range(n_p):
-                    j = order[jj]
-                    if not ratios[j] > thr:
-                        break
-                    planes_out[k] += 1
-                    if _slide_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, dt, p[k], alpha[k], e[k],
-                                    R[k], mu[k], g, control) == 1:
-                        verdict_out[k] = 1
-                        break
-            continue
-        flight = False
+        flight = use_v and _flight_at_some_sample(av_s, g)
+        # the planes that move, strongest demand first; the first that overturns decides (a sample that cannot
+        # rock is integrated only where the contact model takes a free flight: judge_plane)
+        seen_flight = False
         for jj in range(n_p):
             j = order[jj]
             if not ratios[j] > thr:
                 break
-            planes_out[k] += 1
-            outcome = _rock_plane(a, h1, h2, cosines[k, j], sines[k, j], eps[k], av_s if use_v else none, dt, t_end,
-                                  RockingBlock(p[k], alpha[k], e[k], g, R[k], False, math.inf), control, at_rest,
-                                  no_output, mu[k], contact_model)
+            outcome, integrated = judge_plane(ratios[j], thr, rocks, flight, contact_model, a, h1, h2, cosines[k, j],
+                                              sines[k, j], eps[k], av_s if use_v else none, dt, t_end, p[k],
+                                              alpha[k], e[k], R[k], mu[k], g, control, at_rest, no_output)
+            planes_out[k] += integrated
             if outcome == 1:
                 verdict_out[k] = 1
                 break
             if outcome == -1:
-                flight = True
-        if verdict_out[k] == 0 and flight:
+                seen_flight = True
+        if verdict_out[k] == 0 and seen_flight:
             verdict_out[k] = -1

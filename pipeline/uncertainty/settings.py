@@ -45,6 +45,13 @@ class UncertaintyConfig:
     #: (``simulation.orientation_step_deg``). 10 deg took 16.3 s against 26.2 s on the bundled records and
     #: lowered the worst orientation's p by more than 0.1 in 4 of 188 scenes (docs/validation.md).
     orientation_step_deg: float = 0.0
+    #: A block of unknown orientation: the probability for a uniformly random orientation is estimated on draws
+    #: of one grid plane each (random permutations of the grid, the same for every scene), until half its 90 %
+    #: Wilson interval is at most ``orientation_average_halfwidth`` or this many draws are in [-].
+    orientation_average_samples: int = 120
+    #: ... the precision target of that average [-] (0.10 gave rare errors of 0.28; 0.07 none over 0.2,
+    #: docs/validation.md).
+    orientation_average_halfwidth: float = 0.07
     #: Samples whose margin scan is run on each block's governing record (``overturn_scale_median``);
     #: 0 (the default) or ``samples`` = 0: off. Each costs a whole margin scan per block: about 50
     #: simulations, up to 230 for a block that stands up to ``simulation.margin_max_factor`` [-].
