@@ -24,8 +24,8 @@ from pipeline.blocks import geometry
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.reference import rock_reference
-from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.orientations import orientation_probability
+from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.scenes import motion, scene_probability
 from pipeline.uncertainty.settings import UncertaintyConfig
 
