@@ -1,0 +1,101 @@
+"""What the probabilistic default costs against nominal verdicts, on an inventory unlike the bundled one.
+
+Builds a records directory of RECORDS two-component records from the bundled ones (the records' own files, no
+synthetic motion) and an inventory of BLOCKS random blocks (seeded: heights 0.3-25 m log-uniform, slenderness
+3-40 deg, mu 0.3-0.9, a third with a blank azimuth), then times the whole ``screen`` command, with its default
+executor, once with ``--samples 0`` and once with the defaults, into fresh outputs (``--force``). Prints the two
+wall times and their ratio, and where the sampled planes go: per class of scene and per orientation, against
+the minimum the sequential rule needs (25 draws in one plane certify robust_stand or robust_overturn at 90 %).
+
+Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Draws in one plane that certify a robust class when every draw agrees (90 % Wilson): n z^2 / (n + z^2) ...
+MIN_ROBUST_DRAWS = 25
+
+
+def _records(dest: Path, n: int) -> int:
+    from pipeline.config import Config
+    from pipeline.records.loader import scan
+
+    sources, _ = scan(ROOT / "records", config=Config())
+    picked = 0
+    for src in sources:
+        if picked >= n:
+            break
+        # two or three files (two horizontals), units stated in the files themselves (no StationXML, no glob)
+        if len(src.files) < 2 or any(Path(f).suffix.lower() in (".mseed", ".sac") for f in src.files):
+            continue
+        sub = dest / f"r{picked:02d}"
+        sub.mkdir(parents=True)
+        for f in src.files:
+            shutil.copy(f, sub / Path(f).name)
+        picked += 1
+    shutil.copy(ROOT / "records" / "units.toml", dest / "units.toml")
+    return picked
+
+
+def _inventory(path: Path, n: int, seed: int = 7) -> None:
+    rng = np.random.default_rng(seed)
+    lines = ["id,height_m,width_m,mu,azimuth_deg"]
+    for k in range(n):
+        h = float(np.exp(rng.uniform(np.log(0.3), np.log(25.0))))
+        alpha = np.radians(rng.uniform(3.0, 40.0))
+        w = h * np.tan(alpha)                    # full width: tan(alpha) = width / height
+        az = "" if k % 3 == 0 else f"{rng.uniform(0, 180):.0f}"
+        lines.append(f"B{k:03d},{h:.3f},{w:.3f},{rng.uniform(0.3, 0.9):.2f},{az}")
+    path.write_text("\n".join(lines) + "\n")
+
+
+def _run(records: Path, blocks: Path, out: Path, *options: str) -> float:
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "pipeline.cli", "--records", str(records), "--blocks", str(blocks),
+                    "--out", str(out), "--force", "--tolerate-failures", "-q", *options], check=True)
+    return time.perf_counter() - t0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--records", type=int, default=20)
+    ap.add_argument("--blocks", type=int, default=200)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        n_rec = _records(root / "records", args.records)
+        _inventory(root / "blocks.csv", args.blocks)
+        nominal = _run(root / "records", root / "blocks.csv", root / "nominal", "--samples", "0")
+        default = _run(root / "records", root / "blocks.csv", root / "default")
+        ds = xr.open_dataset(root / "default" / "screening.nc")
+        sims, rob, orient = ds["sample_simulations"].values, ds["robustness"].values, ds["orientation"].values
+        moving = ds["physics"].values > 0
+    print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
+          f"{default / nominal:.2f}x")
+    print(f"moving scenes {int(moving.sum())} of {moving.size}; sampled planes {int(sims[sims > 0].sum())}, "
+          f"{sims[moving].clip(0).mean():.1f} per moving scene against {MIN_ROBUST_DRAWS} for a robust class in one "
+          "plane")
+    names = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn"}
+    for code, name in names.items():
+        sel = (rob == code) & (sims > 0)
+        print(f"  {name}: {int(sel.sum())} scenes, {int(sims[sel].sum())} planes, "
+              f"{sims[sel].mean() if sel.any() else 0:.1f} per scene")
+    for code, name in {0: "given azimuth", 1: "scanned", 2: "scanned (relative azimuths)", 3: "one horizontal"}.items():
+        sel = (orient == code) & (sims > 0)
+        print(f"  {name}: {int(sel.sum())} scenes, {int(sims[sel].sum())} planes")
+
+
+if __name__ == "__main__":
+    main()
