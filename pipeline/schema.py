@@ -493,8 +493,17 @@ FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                       "outcome still depends on the pulse period given the IM)", {}),
     "im_rank": (("block", "im"), "1", "rank of the IM by beta_im (1: most efficient; -1: no fit)", {}),
     "annual_rate_overturn": (("block",), "yr-1", "mean annual rate of overturning: integral of the fragility over "
-                             "the site's hazard curve", {}),
+                             "the site's hazard curve",
+                             {"comment": "NaN for a block that can rock but overturned at no level tested (raise the "
+                                         "levels; annual_rate_overturn_upper bounds it); 0 only for a block that "
+                                         "cannot rock. Read with fit_status: not_bounded and extrapolated medians "
+                                         "lie outside the levels tested"}),
     "p_overturn_50yr": (("block",), "1", "probability of overturning in 50 years (Poisson)", {}),
+    "annual_rate_overturn_upper": (("block",), "yr-1", "upper bound of the rate of overturning: the fragility "
+                                   "below the top level tested and overturning certain above it",
+                                   {"comment": "the conservative reading of levels never tested; for a block that "
+                                               "overturned at no level, the hazard's rate of exceeding the top level"}),
+    "p_overturn_50yr_upper": (("block",), "1", "upper bound of the probability of overturning in 50 years", {}),
     "block_period": (("block",), "s", "the block's Sa period 2 pi / p", {}),
     "hazard_period": (("block",), "s", "period of the Sa hazard curve the block is integrated against", {}),
     "hazard_period_ratio": (("block",), "1", "that curve's period over the block's own Sa period",

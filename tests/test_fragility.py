@@ -233,3 +233,75 @@ def test_degenerate_fits_give_the_closed_form_rates():
     c = HazardCurve("pga", np.array([1.0, 2.0, 4.0]), np.array([1e-2, 1e-3, 1e-4]), "x")
     assert annual_rate(c, math.inf, math.nan) == 0.0
     assert annual_rate(c, 0.0, math.nan) == pytest.approx(1e-2, rel=1e-12)
+
+
+@pytest.mark.parametrize("counts", [[0, 0, 0.1], [0, 0, 0, 14]])
+def test_stripes_that_do_not_bracket_half_are_not_bounded(counts):
+    """The issue's two cases: 0 / 0 / 0.003 (STAT-02 on PGA) and 0 / 0 / 0 / 0.4 (CAB-03 on PGV) of 35 records: a
+    median beyond the levels is never labelled ok."""
+    lv = np.geomspace(0.1, 0.4, len(counts))
+    fit = fit_stripes(lv, np.array(counts, dtype=float), np.full(len(counts), 35.0))
+    assert FitStatus(int(fit.status)) == FitStatus.not_bounded
+    assert float(fit.theta) > lv.max()
+
+
+def test_a_bracketed_median_within_the_levels_is_ok_and_one_outside_is_extrapolated():
+    lv = np.array([1.0, 2.0, 4.0])
+    n = np.full(3, 100.0)
+    assert FitStatus(int(fit_stripes(lv, np.array([10.0, 50.0, 90.0]), n).status)) == FitStatus.ok
+    # 5 %, 5 % and 51 %: the stripes bracket one half (barely), but the fitted median lies above the top level
+    out = fit_stripes(lv, np.array([5.0, 5.0, 51.0]), n)
+    assert float(out.theta) > lv.max() and FitStatus(int(out.status)) == FitStatus.extrapolated
+
+
+def test_the_interval_of_a_median_beyond_the_levels_is_open():
+    from pipeline.uncertainty.fragility import bootstrap_stripes, open_interval
+
+    lv = np.array([0.1, 0.2, 0.4])
+    outcomes = np.zeros((35, 3))
+    outcomes[0, 2] = 1.0                                  # one record of 35 overturns, at the top level only
+    theta_ci, _ = bootstrap_stripes(lv, outcomes, draws=200, seed=1)
+    assert theta_ci[1] == math.inf                        # many resamples hold no overturning at all
+    assert open_interval(lv, np.array([0, 0, 1 / 35]), np.array([0.5, 0.7]))[1] == math.inf
+    assert open_interval(lv, np.array([0.6, 0.8, 1.0]), np.array([0.05, 0.09]))[0] == 0.0
+
+
+def test_nothing_overturned_gives_no_rate_but_the_hazards_rate_above_the_top_level():
+    """The issue's TRAF-01 case: a block that can rock and overturned at no level gets no rate (never 0), and an
+    upper bound equal to the hazard's rate of exceeding the top level (log-log interpolation, closed form)."""
+    from pipeline.uncertainty.hazard import annual_rate_upper, exceedance_rate
+
+    c = HazardCurve("pga", np.array([1.0, 2.0, 4.0]), np.array([1e-2, 1e-3, 1e-4]), "x")
+    top = 3.0
+    closed = 1e-3 * (top / 2.0) ** (math.log(1e-4 / 1e-3) / math.log(2.0))
+    assert exceedance_rate(c, top) == pytest.approx(closed, rel=1e-12)
+    assert annual_rate_upper(c, math.inf, math.nan, top) == pytest.approx(closed, rel=1e-12)
+    # for a finite fit the bound is the fit's rate below the top level plus the rate above it: >= the rate
+    assert annual_rate_upper(c, 2.5, 0.4, top) >= annual_rate(c, 2.5, 0.4)
+    assert annual_rate_upper(c, 2.5, 0.4, 10.0) == pytest.approx(annual_rate(c, 2.5, 0.4) + 0.0, rel=0.2)
+
+
+def test_the_fragility_run_never_reports_a_rate_of_zero_for_a_block_that_can_rock(tmp_path):
+    """Planted: one block that rocks and one that cannot (it slides), both with no overturning at any level."""
+    from pipeline.store.exports import left_out, openquake_nrml
+
+    from pipeline.blocks import read_inventory
+
+    csv = tmp_path / "inv.csv"
+    csv.write_text("id,height_m,width_m,mu\nROCKS,2.0,0.3,2.0\nSLIDES,1.0,0.8,0.3\n")
+    inv = read_inventory(csv, default_mu=0.6)
+    cfg = Config().with_uncertainty(samples=0)
+    ctx = Context("", cfg, inv, {})
+    levels = np.array([0.01, 0.02])                        # far below any uplift: nothing overturns
+    results = [judge_record(_record(k, T), ctx, "pga", levels) for k, T in enumerate(PERIODS[:4])]
+    curve = HazardCurve("pga", np.array([0.005, 0.05, 0.5]), np.array([1e-1, 1e-2, 1e-4]), "x")
+    from pipeline.uncertainty.hazard import HazardSet, exceedance_rate
+    ds = assemble_fragility(results, inv, cfg, im="pga", levels=levels, bootstrap=0, hazard=HazardSet((curve,)))
+    status = [FitStatus(int(s)) for s in ds["fit_status"].values]
+    assert status == [FitStatus.none_overturn, FitStatus.none_overturn]
+    rate, upper = ds["annual_rate_overturn"].values, ds["annual_rate_overturn_upper"].values
+    assert math.isnan(rate[0]) and upper[0] == pytest.approx(exceedance_rate(curve, 0.02), rel=1e-12)
+    assert rate[1] == 0.0 and upper[1] == 0.0              # cannot rock: cannot overturn at any level
+    ds.attrs.setdefault("im_component", "rotd100")
+    assert "ROCKS: nothing overturns at any level tested (raise the levels)" in left_out(ds)
+    assert "no curve for ROCKS: nothing overturns" in openquake_nrml(ds)

@@ -37,7 +37,8 @@ ASSETS_CSV = "fragility_assets.csv"
 #: (``median_pga_g``), so that every number's unit is in its column's name.
 ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation", "median_{im}_{unit}",
                  "median_low_{im}_{unit}", "median_high_{im}_{unit}", "beta", "beta_low", "beta_high", "fit_status",
-                 "annual_rate_overturn_per_yr", "p_overturn_50yr", "best_im", "best_im_beta", "velocity_ratio_rank",
+                 "annual_rate_overturn_per_yr", "p_overturn_50yr", "annual_rate_overturn_upper_per_yr",
+                 "p_overturn_50yr_upper", "best_im", "best_im_beta", "velocity_ratio_rank",
                  "velocity_ratio_beta", "im_ranking")
 
 
@@ -120,12 +121,18 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "annual_rate_overturn": float(ds["annual_rate_overturn"].values[j]) if "annual_rate_overturn" in ds
             else math.nan,
             "p_overturn_50yr": float(ds["p_overturn_50yr"].values[j]) if "p_overturn_50yr" in ds else math.nan,
+            "annual_rate_overturn_upper_per_yr": float(ds["annual_rate_overturn_upper"].values[j])
+            if "annual_rate_overturn_upper" in ds else math.nan,
+            "p_overturn_50yr_upper": float(ds["p_overturn_50yr_upper"].values[j])
+            if "p_overturn_50yr_upper" in ds else math.nan,
             "best_im": ims[best] if np.isfinite(beta_im[best]) else "", "best_im_beta": float(beta_im[best]),
             "velocity_ratio_rank": int(rank[vr]), "velocity_ratio_beta": float(beta_im[vr]),
             "im_ranking": ";".join(f"{ims[k]}={beta_im[k]:.3g}" for k in order if np.isfinite(beta_im[k])),
             "at_risk": int(ds["fit_status"].values[j]) != FitStatus.none_overturn,
         })
-    rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"], nan=-1.0), r["median"]))
+    # by the rate, or where none could be computed (nothing overturned up to the top level) by its upper bound
+    rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"] if np.isfinite(r["annual_rate_overturn"])
+                                            else r["annual_rate_overturn_upper_per_yr"], nan=-1.0), r["median"]))
     for k, r in enumerate(rows, 1):
         r["rank"] = k
     return rows

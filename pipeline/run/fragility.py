@@ -37,10 +37,11 @@ from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
+from ..rocking.rules import rocks
 from ..schema import FRAGILITY, apply_schema
 from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
-from ..uncertainty.fragility import bootstrap_stripes, fit_stripes, im_dispersion
-from ..uncertainty.hazard import Component, HazardSet, annual_rate, probability_in
+from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
+from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 
 log = logging.getLogger(__name__)
@@ -297,6 +298,8 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     for j in range(nb):
         th_ci[j], be_ci[j] = bootstrap_stripes(levels, outcome[:, :, j], draws=bootstrap,
                                                seed=config.uncertainty.seed + j)
+        if fit.status[j] == FitStatus.not_bounded:     # the median lies beyond the levels: its interval is open
+            th_ci[j] = open_interval(levels, frac[:, j], th_ci[j])
     # IM efficiency and sufficiency: the same outcomes against every IM of the scaled records
     names = list(IMS)
     beta_im = np.full((nb, len(names)), np.nan)
@@ -331,9 +334,11 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     if hazard is not None:
         periods = 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p
         chosen = [hazard.for_block(float(T) if im == "sa" else math.nan) for T in periods]
-        rate = np.array([annual_rate(c, float(fit.theta[j]), float(fit.beta[j])) for j, (c, _) in enumerate(chosen)])
+        rate, upper = _rates(chosen, fit, inventory, config, levels)
         data["annual_rate_overturn"] = (("block",), rate)
         data["p_overturn_50yr"] = (("block",), np.array([probability_in(r, 50.0) for r in rate]))
+        data["annual_rate_overturn_upper"] = (("block",), upper)
+        data["p_overturn_50yr_upper"] = (("block",), np.array([probability_in(r, 50.0) for r in upper]))
         if im == "sa":
             data["hazard_period"] = (("block",), np.array([c.period_s for c, _ in chosen]))
             data["hazard_period_ratio"] = (("block",), np.array([r for _, r in chosen]))
@@ -352,6 +357,25 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
                      "bootstrap_draws": bootstrap, "Conventions": "CF-1.11",
                      "title": "rockscreen fragility: multiple-stripe analysis"})
     return apply_schema(ds, FRAGILITY)
+
+
+def _rates(chosen: list, fit, inventory: Inventory, config: Config, levels: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Each block's annual rate of overturning, and its upper bound for levels never tested (overturning certain
+    above the top level). A block that can rock but overturned at no level has no rate (NaN: raise the levels),
+    only the bound, the hazard's rate of exceeding the top level; one that cannot rock (it slides) has 0."""
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    top = float(np.max(levels))
+    rate, upper = np.full(len(chosen), np.nan), np.full(len(chosen), np.nan)
+    for j, (curve, _) in enumerate(chosen):
+        theta, beta = float(fit.theta[j]), float(fit.beta[j])
+        can_rock = rocks(float(geom.alpha[j]), float(inventory.mu[j]))
+        if fit.status[j] == FitStatus.none_overturn and not can_rock:
+            rate[j] = upper[j] = 0.0
+            continue
+        rate[j] = math.nan if fit.status[j] == FitStatus.none_overturn else annual_rate(curve, theta, beta)
+        upper[j] = annual_rate_upper(curve, theta, beta, top)
+    return rate, upper
 
 
 #: Unit suffixes ``--levels`` accepts, per SI unit of the IM: suffix -> factor to SI.
@@ -495,7 +519,7 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
     from ..records.loader import files_sha256, read_inventory, stationxml_paths
     from ..report.fragility_html import build_fragility_report
     from ..store import OutputLock, write_atomic
-    from ..store.exports import write_exports
+    from ..store.exports import left_out, write_exports
     from .cache import ensure_writable
     from .executors import make_executor
 
@@ -528,4 +552,5 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
         html, csv_path = build_fragility_report(ds, out_dir, hazard=request.hazard)
         exports = write_exports(ds, out_dir)
     return {**counts, "scenes": int(ds.sizes["record"] * ds.sizes["im_level"] * ds.sizes["block"]),
-            "failures": failures, "warnings": stripe_warnings(ds), "paths": (nc, html, csv_path, *exports)}
+            "failures": failures, "paths": (nc, html, csv_path, *exports),
+            "warnings": stripe_warnings(ds) + [f"exports leave out {x}" for x in (left_out(ds) if exports else [])]}

@@ -36,6 +36,7 @@ import numpy as np
 import xarray as xr
 
 from ..constants import G
+from ..uncertainty.fragility import FitStatus
 from .atomic import write_text_atomic
 
 #: rockscreen IM -> (OpenQuake IMT, pelicun demand type, factor from SI to the tools' unit, OpenQuake unit,
@@ -61,17 +62,35 @@ def lognormal_moments(theta: float, beta: float) -> LognormalMoments:
     return LognormalMoments(mean, mean * math.sqrt(math.expm1(beta * beta)))
 
 
+#: Why a block's curve is left out of the exports, by fit status (the statuses not listed are exported)
+LEFT_OUT = {FitStatus.none_overturn: "nothing overturns at any level tested (raise the levels)",
+            FitStatus.all_overturn: "everything overturns at every level tested (lower the levels)",
+            FitStatus.not_bounded: "the stripes do not bracket 50 %: the median lies beyond the levels tested "
+                                   "(widen the levels)",
+            FitStatus.extrapolated: "the median lies outside the levels tested (widen the levels)"}
+
+
 def _curves(ds: xr.Dataset):
-    """(block, theta [SI], beta, period [s]) of every block with a fit, and the blocks without one."""
+    """(block, theta [SI], beta, period [s]) of every block whose median lies within the levels tested (fit status
+    ok or separated), and (block, why) of the others, which are left out."""
     periods = ds["block_period"].values if "block_period" in ds else np.full(ds.sizes["block"], math.nan)
+    status = ds["fit_status"].values if "fit_status" in ds else np.zeros(ds.sizes["block"], dtype=int)
     fitted, unfitted = [], []
     for j, block in enumerate(ds["block"].values.tolist()):
         theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
-        if math.isfinite(theta) and theta > 0 and math.isfinite(beta) and beta > 0:
+        why = LEFT_OUT.get(FitStatus(int(status[j]))) if int(status[j]) in set(LEFT_OUT) else None
+        if why is None and not (math.isfinite(theta) and theta > 0 and math.isfinite(beta) and beta > 0):
+            why = "no finite fit"
+        if why is None:
             fitted.append((str(block), theta, beta, float(periods[j])))
         else:
-            unfitted.append(str(block))
+            unfitted.append((str(block), why))
     return fitted, unfitted
+
+
+def left_out(ds: xr.Dataset) -> list[str]:
+    """One line per block the exports leave out, with why."""
+    return [f"{block}: {why}" for block, why in _curves(ds)[1]]
 
 
 def supports(im: str) -> bool:
@@ -101,8 +120,8 @@ def openquake_nrml(ds: xr.Dataset) -> str:
                   f'      <params ls="overturned" mean="{m.mean:.9E}" stddev="{m.stddev:.9E}"/>',
                   "    </fragilityFunction>"]
     lines += ["  </fragilityModel>", "</nrml>", ""]
-    if unfitted:
-        lines.insert(2, f"<!-- no curve (nothing overturns at any level): {', '.join(unfitted)} -->")
+    for block, why in reversed(unfitted):
+        lines.insert(2, "<!-- " + _text(f"no curve for {block}: {why}").replace("--", "- -") + " -->")
     return "\n".join(lines)
 
 

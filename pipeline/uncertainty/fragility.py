@@ -15,7 +15,14 @@ Fit status:
 * ``all_overturn``: every record overturns at every level (theta below the smallest: 0);
 * ``separated``: every stripe is all 0 or all 1, zeros below ones; the likelihood grows
   without bound as beta -> 0: theta is reported as the geometric mean of the last all-0 and
-  the first all-1 level, and beta at its floor :data:`BETA_FLOOR`.
+  the first all-1 level, and beta at its floor :data:`BETA_FLOOR`;
+* ``not_bounded``: some record overturns, but the stripes do not bracket 50 % (every stripe's
+  fraction is below one half, or every one above): the median lies beyond the tested levels and the
+  fit extrapolates the lognormal shape to find it; its interval is open on that side
+  (:func:`open_interval`);
+* ``extrapolated``: the stripes bracket 50 %, yet the fitted median lies outside the tested levels.
+
+Only ``ok`` and ``separated`` medians are within the levels tested.
 
 Intensity-measure efficiency: the same outcomes fitted against another IM's values (one point
 per record and level); a smaller beta means less record-to-record dispersion (Luco & Cornell
@@ -61,6 +68,8 @@ class FitStatus(IntEnum):
     none_overturn = 1
     all_overturn = 2
     separated = 3
+    not_bounded = 4
+    extrapolated = 5
 
 
 def probit_irls(X: np.ndarray, y: np.ndarray, n: np.ndarray, *, iterations: int = 60,
@@ -153,6 +162,12 @@ def fit_stripes(levels: np.ndarray, overturned: np.ndarray, trials: np.ndarray) 
         theta = np.exp(-a / b)
         theta_sep = np.sqrt(last0 * first1)
     status = np.full(z.shape[:-1], FitStatus.ok, dtype="i1")
+    below = np.all(np.isnan(frac) | (frac < 0.5), axis=-1)
+    above = np.all(np.isnan(frac) | (frac > 0.5), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        outside = ~((np.exp(-a / b) >= levels.min()) & (np.exp(-a / b) <= levels.max()))
+    status = np.where(outside, FitStatus.extrapolated, status)
+    status = np.where(below | above, FitStatus.not_bounded, status)
     status = np.where(separated, FitStatus.separated, status)
     status = np.where(none, FitStatus.none_overturn, status)
     status = np.where(every, FitStatus.all_overturn, status)
@@ -161,9 +176,25 @@ def fit_stripes(levels: np.ndarray, overturned: np.ndarray, trials: np.ndarray) 
     return Fit(theta=theta, beta=beta, status=status.astype("i1"))
 
 
+def open_interval(levels: np.ndarray, fractions: np.ndarray, theta_interval: np.ndarray) -> np.ndarray:
+    """The median's interval of a ``not_bounded`` fit, open on the side the stripes do not bound: above the
+    levels (every fraction below one half) the upper bound is +inf, below them the lower bound is 0; the other
+    bound is the bootstrap's (``theta_interval``)."""
+    frac = np.asarray(fractions, dtype=float)
+    low, high = float(theta_interval[0]), float(theta_interval[1])
+    if np.all(np.isnan(frac) | (frac < 0.5)):
+        high = math.inf
+    if np.all(np.isnan(frac) | (frac > 0.5)):
+        low = 0.0
+    return np.array([low, high])
+
+
 def bootstrap_stripes(levels: np.ndarray, outcomes: np.ndarray, *, draws: int, seed: int,
                       confidence: float = 0.90) -> tuple[np.ndarray, np.ndarray]:
     """Percentile intervals of theta and beta by resampling *records* (Baker 2015).
+
+    Replicates in which no record overturns (theta = +inf) or every record does (theta = 0) are kept in the
+    median's percentiles, so that the interval can be open; replicates without a fit are left out.
 
     Parameters
     ----------
@@ -192,9 +223,17 @@ def bootstrap_stripes(levels: np.ndarray, outcomes: np.ndarray, *, draws: int, s
     fit = fit_stripes(levels, z, n)
     q = [(1 - confidence) / 2 * 100, (1 + confidence) / 2 * 100]
     out = []
-    for v in (fit.theta, fit.beta):
-        good = v[np.isfinite(v)]
-        out.append(np.percentile(good, q) if good.size >= draws / 2 else np.full(2, np.nan))
+    for v, keep in ((fit.theta, ~np.isnan(fit.theta)), (fit.beta, np.isfinite(fit.beta))):
+        good = np.sort(v[keep])
+        if good.size < draws / 2:
+            out.append(np.full(2, np.nan))
+            continue
+        if np.all(np.isfinite(good)):
+            out.append(np.percentile(good, q))
+            continue
+        # percentiles by rank (np.percentile cannot interpolate next to an infinite replicate)
+        idx = np.clip(np.round(np.array(q) / 100 * (good.size - 1)).astype(int), 0, good.size - 1)
+        out.append(good[idx].astype(float))
     return out[0], out[1]
 
 

@@ -117,6 +117,26 @@ def integrand_segments(curve: HazardCurve, theta: float, beta: float
     return np.concatenate(ims), np.concatenate(dens), np.array(parts)
 
 
+def exceedance_rate(curve: HazardCurve, im: float) -> float:
+    """lambda(im), the curve interpolated log-log [1/yr]: the first point's rate below it, the last point's above
+    it (an upper bound: the curve says nothing beyond its last point but that the rate is lower)."""
+    lv, rt = np.log(curve.levels), np.log(curve.rates)
+    return float(np.exp(np.interp(math.log(im), lv, rt, left=rt[0], right=rt[-1])))
+
+
+def annual_rate_upper(curve: HazardCurve, theta: float, beta: float, top: float) -> float:
+    """An upper bound of the rate of overturning for a fragility fitted only up to the level ``top`` [SI]: the
+    fragility below ``top`` (0 where nothing overturned: theta = inf), and overturning certain at and above it,
+    the conservative reading of levels never tested [1/yr]. Equal to ``lambda(top)`` when nothing overturned.
+    """
+    below = dataclasses.replace(curve, levels=np.append(curve.levels[curve.levels < top], top),
+                                rates=np.append(curve.rates[curve.levels < top], exceedance_rate(curve, top)))
+    if below.levels.size < 2:
+        return exceedance_rate(curve, top)
+    parts = integrand_segments(below, theta, beta)[2]
+    return float(np.sum(parts[:-1])) + exceedance_rate(curve, top)   # the segments below top, then certain above
+
+
 def probability_in(rate_per_year: float, years: float = 50.0) -> float:
     """Poisson probability of at least one overturning in ``years`` [-]."""
     return float(1.0 - math.exp(-rate_per_year * years)) if np.isfinite(rate_per_year) else math.nan
