@@ -283,9 +283,8 @@ def test_nothing_overturned_gives_no_rate_but_the_hazards_rate_above_the_top_lev
 
 def test_the_fragility_run_never_reports_a_rate_of_zero_for_a_block_that_can_rock(tmp_path):
     """Planted: one block that rocks and one that cannot (it slides), both with no overturning at any level."""
-    from pipeline.store.exports import left_out, openquake_nrml
-
     from pipeline.blocks import read_inventory
+    from pipeline.store.exports import left_out, openquake_nrml
 
     csv = tmp_path / "inv.csv"
     csv.write_text("id,height_m,width_m,mu\nROCKS,2.0,0.3,2.0\nSLIDES,1.0,0.8,0.3\n")
