@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -327,3 +328,47 @@ def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
     assert err[0].startswith("progress: 0/20 records screened"), err       # at once, before the first task ends
     lines = [ln for ln in err if ln.startswith("progress: 1/20")]
     assert len(lines) >= 3, lines
+
+
+@pytest.mark.parametrize("failing", ["screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv"])
+def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(make_records, blocks_csv, tmp_path,
+                                                                             monkeypatch, failing):
+    """The output set is staged, then published together: failing the write of each file in turn, and its
+    publication, leaves every previous file as it was (exit 3)."""
+    from pipeline.store import atomic, netcdf
+    from pipeline.report import html
+
+    root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+                        "peer-at2/RSN1063_NORTHR_RRS-UP.AT2")
+    out = tmp_path / "out"
+    args = ["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]
+    assert main(args) == 0
+    names = ("screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv")
+    before = {n: hashlib.sha256((out / n).read_bytes()).hexdigest() for n in names}
+    real = atomic.replace_atomically
+
+    def failing_write(path, write):
+        if Path(path).name == failing:
+            raise OutputError(f"{path}: planted failure")
+        return real(path, write)
+
+    for module in (atomic, netcdf, html):
+        monkeypatch.setattr(module, "replace_atomically", failing_write)
+    assert main([*args, "--force"]) == 3
+    assert {n: hashlib.sha256((out / n).read_bytes()).hexdigest() for n in names} == before
+    monkeypatch.undo()
+    # the publication itself failing half-way (a rename refused) restores the previous set too
+    real_replace = atomic.os.replace
+    calls = {"n": 0}
+
+    def refuse_third(src, dst):
+        if Path(dst).parent == out:
+            calls["n"] += 1
+            if calls["n"] == 3:
+                raise OSError(13, "planted refusal", str(dst))
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(atomic.os, "replace", refuse_third)
+    assert main([*args, "--force"]) == 3
+    monkeypatch.undo()
+    assert {n: hashlib.sha256((out / n).read_bytes()).hexdigest() for n in names} == before

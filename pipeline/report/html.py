@@ -401,8 +401,12 @@ def _histories(path: Path) -> dict:
 
 
 def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
-                 all_figures: bool = False, figure_cache: str | Path | None = None) -> tuple[Path, Path]:
+                 all_figures: bool = False, figure_cache: str | Path | None = None,
+                 home: str | Path | None = None) -> tuple[Path, Path]:
     """Write ``report.html`` and ``assets.csv`` next to ``results_path`` (or in ``out_dir``).
+
+    ``home``: the directory the page will be read in, when it is written elsewhere first (a staged output set);
+    the fragility page it links to is looked for there (default: ``out_dir``).
 
     Velocity figures are drawn for the pulse-like records, or for every record with
     ``all_figures``; theta(t) figures for the assets at risk (at most
@@ -454,7 +458,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "same_recordings": groups,
         "pulse_like_stations": len({station_of.get(r, r) for r in ds["record"].values[
             ok & (ds["is_pulse"].values == 1)].tolist()}) if "is_pulse" in ds else 0,
-        "fragility": _fragility_summary(out_dir),
+        "fragility": _fragility_summary(Path(home) if home is not None else out_dir),
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
         "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
         "blocks": ds.sizes["block"],

@@ -28,7 +28,7 @@ from ..margins import add_margins
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
-from ..store import STATE_DIR, OutputLock, remove_stale_temporaries, write_atomic
+from ..store import STATE_DIR, OutputLock, publish, remove_stale_temporaries, staging_dir, write_atomic
 from . import uptodate
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
@@ -174,13 +174,16 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                 log.debug("screen: %s", {k: v for k, v in outcome.counts.items() if isinstance(v, (int, float))})
                 results, histories, margins = margins_stage(outcome, executor, cache=margin_cache)
                 log.debug("margins: %s", margins)
-            path = write_stage(outcome, results, histories, out_dir, provenance(request), margin_cache=margin_cache)
-            log.debug("write: %s", path)
+            # the output set is staged, then published together: a failed write leaves the previous set intact
+            stage = staging_dir(out_dir)
+            staged = write_stage(outcome, results, histories, stage, provenance(request), margin_cache=margin_cache)
+            log.debug("write: %s", staged)
             counts = outcome.counts
             failed = [(str(r), str(st)) for r, st in zip(results["record"].values, results["status"].values)
                       if st != "ok"]
             del outcome, results, histories     # written: the report reads the files, not these
-            report, assets = report_stage(path, figure_cache=out_dir / STATE_DIR / "figures")
+            report_stage(staged, figure_cache=out_dir / STATE_DIR / "figures", home=out_dir)
+            path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET)
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
                 uptodate.write_manifest(out_dir, request.key, counts=counts, margins=margins, failures=failed)
@@ -242,7 +245,13 @@ def write_stage(outcome: BatchOutcome, results: xr.Dataset, histories: xr.Datase
     return path
 
 
-def report_stage(screening_path: Path, *, figure_cache: Path | None = None) -> tuple[Path, Path]:
-    """Stage 5: ``report.html`` and ``assets.csv`` from the results files alone; figures unchanged since the
-    last run are taken from ``figure_cache``."""
-    return build_report(screening_path, figure_cache=figure_cache)
+def report_stage(screening_path: Path, *, figure_cache: Path | None = None, home: Path | None = None
+                 ) -> tuple[Path, Path]:
+    """Stage 5: ``report.html`` and ``assets.csv`` from the results files alone, beside them; figures unchanged
+    since the last run are taken from ``figure_cache``; ``home``: the directory the page will be read in (what
+    else it links to is looked for there)."""
+    return build_report(screening_path, figure_cache=figure_cache, home=home)
+
+
+#: The files a screening writes, replaced together (:func:`pipeline.store.publish`), the main file first
+OUTPUT_SET = uptodate.OUTPUTS

@@ -7,8 +7,10 @@ from ..schema import COMPONENTS, FLAG3, SCHEMA, apply_schema
 from .atomic import (
     STATE_DIR,
     default_file_mode,
+    publish,
     remove_stale_temporaries,
     replace_atomically,
+    staging_dir,
     write_bytes_atomic,
     write_csv_atomic,
     write_text_atomic,
@@ -18,6 +20,6 @@ from .netcdf import FLOOR_GROUP, FloorRow, PulseSeries, open_results, ragged_dat
 
 __all__ = ["COMPONENTS", "FLAG3", "FLOOR_GROUP", "SCHEMA", "STATE_DIR", "FloorRow", "OutputLock", "PulseSeries",
            "apply_schema",
-           "default_file_mode",
+           "default_file_mode", "publish", "staging_dir",
            "open_results", "ragged_dataset", "ragged_rows", "remove_stale_temporaries",
            "replace_atomically", "write_atomic", "write_bytes_atomic", "write_csv_atomic", "write_text_atomic"]

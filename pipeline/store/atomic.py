@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable
@@ -76,6 +77,59 @@ def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
             w.writerows(rows)
 
     return replace_atomically(path, write)
+
+
+#: Where a run stages its output set before publishing it (inside the output's state directory)
+STAGING = "staging"
+
+
+def staging_dir(out_dir: str | Path) -> Path:
+    """An empty staging directory for ``out_dir``'s next output set (same file system: the swap is renames)."""
+    stage = Path(out_dir) / STATE_DIR / STAGING
+    shutil.rmtree(stage, ignore_errors=True)
+    try:
+        stage.mkdir(parents=True)
+    except OSError as exc:
+        raise OutputError(f"{stage}: cannot stage results here ({exc.strerror or exc}); choose another --out "
+                          "directory or fix its permissions") from exc
+    return stage
+
+
+def publish(stage: str | Path, out_dir: str | Path, names) -> list[Path]:
+    """Replace the files ``names`` of ``out_dir`` by those staged in ``stage``, together or not at all.
+
+    The previous files are first moved aside (into ``stage/previous``), then each staged file is renamed into
+    place; if any rename fails, the new files placed so far are removed and the previous ones put back, so that
+    the output set stays the previous one, byte for byte.
+
+    Raises
+    ------
+    OutputError
+        When a rename fails (after the previous set is restored).
+    """
+    stage, out = Path(stage), Path(out_dir)
+    previous = stage / "previous"
+    previous.mkdir(exist_ok=True)
+    aside: list[str] = []
+    placed: list[str] = []
+    try:
+        for name in names:
+            if (out / name).exists():
+                os.replace(out / name, previous / name)
+                aside.append(name)
+        for name in names:
+            os.replace(stage / name, out / name)
+            placed.append(name)
+    except OSError as exc:
+        for name in placed:
+            _remove_quietly(out / name)
+        for name in aside:
+            os.replace(previous / name, out / name)
+        raise OutputError(f"{out}: replacing the results failed at {exc.filename or name} "
+                          f"({exc.strerror or exc}); the previous results are intact. Free disk space or fix the "
+                          "directory's permissions") from exc
+    shutil.rmtree(stage, ignore_errors=True)
+    return [out / name for name in names]
 
 
 def remove_stale_temporaries(out_dir: str | Path) -> int:
