@@ -454,3 +454,26 @@ def test_a_scene_that_met_a_guard_is_named_on_the_page(screened, tmp_path):
     assert main(["report", str(planted), "--out", str(out)]) == 0
     page = (out / "report.html").read_text()
     assert f"<code>{ds['record'].values[0]}</code> &times; {ds['block'].values[1]}: tie_hold, step_cap" in page
+
+
+def test_markup_in_a_record_file_name_or_an_inventory_name_reaches_the_page_escaped(records_dir, tmp_path):
+    """Record ids come from file names and names from the inventory, neither controlled by the user: a name
+    holding markup is shown as text, never as markup."""
+    root = tmp_path / "recs"
+    root.mkdir()
+    evil = "<img src=x onerror=alert(1)>"
+    for suffix in ("228", "318"):            # two copies of one recording: the 'same recording' list shows both
+        shutil.copy(records_dir / f"peer-at2/RSN1063_NORTHR_RRS{suffix}.AT2", root / f"{evil}{suffix}.AT2")
+    lines = (records_dir / "peer-at2/RSN1086_NORTHR_SYL090.AT2").read_text().splitlines(keepends=True)
+    (root / "<b>plain<b>.AT2").write_text("".join(lines))
+    (root / "copy").mkdir()
+    (root / "copy" / "<i>again<i>.AT2").write_text("".join([lines[0].rstrip() + " (copy)\n", *lines[1:]]))
+    inv = tmp_path / "inv.csv"
+    inv.write_text(f'id,name,height_m,width_m,mu\nB1,"<script>alert(2)</script>",1.0,0.2,0.6\n')
+    out = tmp_path / "out"
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) in (0, 1)
+    page = (out / "report.html").read_text()
+    assert "<script>alert(2)" not in page and "&lt;script&gt;alert(2)" in page
+    assert "<img src=x" not in page and "<b>plain<b>" not in page
+    assert "&lt;b&gt;plain&lt;b&gt;" in page
+    assert 'id="same-recordings"' in page and "<i>again<i>" not in page   # the list of one recording's files
