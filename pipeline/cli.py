@@ -335,7 +335,8 @@ def _report_up_to_date(args: argparse.Namespace, last: dict, config) -> int:
     """A run with nothing new: say so, repeat the last run's summary, exit as it would have."""
     counts = last["counts"]
     if not args.quiet:
-        print(f"up to date: the records ({last['key']['records_files']} files), the inventory, the configuration "
+        n_files = counts.get("files_seen", last["key"]["records_files"])   # counted as the run's summary counts
+        print(f"up to date: the records ({n_files} files), the inventory, the configuration "
               f"and rockscreen are unchanged since the run that finished {last['finished_utc']}, and its outputs "
               f"in {args.out} are intact (checked by SHA-256); nothing was recomputed or rewritten. "
               "--force recomputes.", file=sys.stderr)

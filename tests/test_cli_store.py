@@ -372,3 +372,27 @@ def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(mak
     assert main([*args, "--force"]) == 3
     monkeypatch.undo()
     assert {n: hashlib.sha256((out / n).read_bytes()).hexdigest() for n in names} == before
+
+
+def test_the_up_to_date_message_counts_files_as_the_summary_does(make_records, blocks_csv, tmp_path, capsys):
+    import re
+
+    root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
+    (root / "notes.txt").write_text("field notes, not a record\n")
+    out = tmp_path / "out"
+    args = ["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]
+    assert main(args) == 0
+    summary = capsys.readouterr().err
+    seen = int(re.search(r"not records: \d+ of (\d+) files", summary).group(1))
+    assert main(args) == 0
+    again = capsys.readouterr().err
+    assert f"up to date: the records ({seen} files)" in again
+
+
+def test_the_interrupt_message_tells_the_truth_under_force(tmp_path):
+    from pipeline.run.stages import RunInterrupted
+
+    plain = str(RunInterrupted(3, tmp_path / "cache", tmp_path))
+    forced = str(RunInterrupted(3, tmp_path / "cache", tmp_path, forced=True))
+    assert "Run the same command again to finish" in plain
+    assert "without --force" in forced and "with --force every record is screened again" in forced

@@ -104,11 +104,13 @@ class ScreenResult:
 class RunInterrupted(RockscreenError, KeyboardInterrupt):
     """Ctrl-C during a run: what was computed is kept in the scene cache."""
 
-    def __init__(self, kept: int, cache_dir: Path, out_dir: Path):
+    def __init__(self, kept: int, cache_dir: Path, out_dir: Path, *, forced: bool = False):
         self.kept, self.cache_dir, self.out_dir = kept, cache_dir, out_dir
+        again = ("Run the same command without --force to finish from them (with --force every record is "
+                 "screened again)" if forced else "Run the same command again to finish")
         super().__init__(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will "
-                         f"not be screened again; {out_dir / 'screening.nc'} still holds the previous complete "
-                         "results, if any. Run the same command again to finish.")
+                         f"not be screened again by a run without --force; {out_dir / 'screening.nc'} still holds "
+                         f"the previous complete results, if any. {again}.")
 
 
 def package_versions() -> str:
@@ -190,7 +192,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
-        raise RunInterrupted(kept, cache_dir, out_dir) from None
+        raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force) from None
     return ScreenResult(path, report, assets, counts, margins)
 
 
