@@ -335,8 +335,8 @@ def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(mak
                                                                              monkeypatch, failing):
     """The output set is staged, then published together: failing the write of each file in turn, and its
     publication, leaves every previous file as it was (exit 3)."""
-    from pipeline.store import atomic, netcdf
     from pipeline.report import html
+    from pipeline.store import atomic, netcdf
 
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
                         "peer-at2/RSN1063_NORTHR_RRS-UP.AT2")

@@ -469,7 +469,7 @@ def test_markup_in_a_record_file_name_or_an_inventory_name_reaches_the_page_esca
     (root / "copy").mkdir()
     (root / "copy" / "<i>again<i>.AT2").write_text("".join([lines[0].rstrip() + " (copy)\n", *lines[1:]]))
     inv = tmp_path / "inv.csv"
-    inv.write_text(f'id,name,height_m,width_m,mu\nB1,"<script>alert(2)</script>",1.0,0.2,0.6\n')
+    inv.write_text('id,name,height_m,width_m,mu\nB1,"<script>alert(2)</script>",1.0,0.2,0.6\n')
     out = tmp_path / "out"
     assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) in (0, 1)
     page = (out / "report.html").read_text()
