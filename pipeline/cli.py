@@ -78,9 +78,13 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", action="store_true",
                    help="recompute every record and block (default: only what is new or changed; when nothing "
                         "is, the run is skipped after checking the digests of inputs, code and outputs)")
-    p.add_argument("--tolerate-failures", action="store_true",
-                   help="exit 0 even when some records failed (their reasons stay in status)")
+    _add_tolerate(p)
     _add_output_options(p)
+
+
+def _add_tolerate(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--tolerate-failures", action="store_true",
+                   help="exit 0 even when some records failed (each is still reported, with its reason)")
 
 
 #: Environment variable giving the default of ``-n`` (scheduled runs sharing a machine set it).
@@ -535,6 +539,7 @@ def fragility_parser() -> argparse.ArgumentParser:
                         "(random, the default: its risk) or in the orientation found worst on the scan's grid "
                         "(worst)")
     _add_execution(p)
+    _add_tolerate(p)
     _add_output_options(p)
     return p
 
@@ -568,7 +573,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
         print(f"fragility: {out['records_computed']} record(s) computed, {out['records_reused']} reused, "
               f"{out['records_failed']} failed; {out['scenes']} scaled scenes; {out['wall_time_s']:.1f} s\n"
               f"wrote {', '.join(str(p) for p in out['paths'])}", file=sys.stderr)
-    return EXIT_RECORD_FAILURES if out["failures"] else EXIT_OK
+    return _run_exit(len(out["failures"]), args)
 
 
 def _hazard_and_component(args: argparse.Namespace):
