@@ -225,9 +225,11 @@ def hazard_set(curves, *, im: str, fit_component: Component, scale: float | None
     for c in curves:
         notes = list(c.notes)
         if c.component is None:
-            notes.append(f"the file does not state its component definition: taken as the fit's, "
-                         f"{fit_component.value}")
-            c = c.with_component(fit_component, stated=False)
+            # a curve of unknown definition is never taken as one: RotD100 and RotD50 differ by 10-25 % in level
+            raise HazardError(
+                f"{c.path}: the hazard curve does not state its horizontal component definition (RotD50, RotD100, "
+                "geometric mean, larger component), and its format has no usual one; state it in the header "
+                f"({c.im}_<unit>_rotd50,annual_rate) or with --hazard-component")
         elif c.component != fit_component:
             if scale is None:
                 raise HazardError(
