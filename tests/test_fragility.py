@@ -181,8 +181,8 @@ def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     blocks = tmp_path / "b.csv"
     blocks.write_text("id,height_m,width_m,mu\nTOMB,1.1,0.2,0.65\nCOL,2.0,0.5,0.7\n")
     hazard = tmp_path / "hz.csv"
-    hazard.write_text("# Hazard at the museum, mean, 2026 model\npga_g_rotd100,annual_rate\n0.05,2e-2\n0.2,2e-3\n0.8,5e-5\n"
-                      "1.6,4e-6\n")
+    hazard.write_text("# Hazard at the museum, mean, 2026 model\npga_g_rotd100,annual_rate\n0.05,2e-2\n0.2,2e-3\n"
+                      "0.8,5e-5\n1.6,4e-6\n")
     (tmp_path / "a").mkdir()
     (tmp_path / "a" / "assets.csv").write_text("screen's own table\n")   # screen fragility into screen's output
     args = ["fragility", "--records", str(records), "--blocks", str(blocks), "--im", "pga",
