@@ -477,3 +477,28 @@ def test_markup_in_a_record_file_name_or_an_inventory_name_reaches_the_page_esca
     assert "<img src=x" not in page and "<b>plain<b>" not in page
     assert "&lt;b&gt;plain&lt;b&gt;" in page
     assert 'id="same-recordings"' in page and "<i>again<i>" not in page   # the list of one recording's files
+
+
+def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, records_dir, tmp_path):
+    """``screen fragility`` writes to OUT/fragility/ by default: the main report finds it there and links it; the
+    fragility page's figures are in the unit of the levels, with the tested levels as ticks."""
+    import re
+
+    out = tmp_path / "out"
+    shutil.copytree(screened, out)
+    root = tmp_path / "recs"
+    for rel in RECORDS[:2]:
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(records_dir / rel, root / rel)
+    shutil.copy(records_dir / "units.toml", root)
+    blocks = tmp_path / "b.csv"
+    blocks.write_text("id,height_m,width_m,mu\nCOL,1.0,0.11,0.5\n")
+    assert main(["fragility", "--records", str(root), "--blocks", str(blocks), "--im", "pga", "--levels",
+                 "0.1,0.2,0.4g", "--samples", "0", "--bootstrap", "0", "--out", str(out / "fragility"), "-q",
+                 "--tolerate-failures"]) == 0
+    assert main(["report", str(out / "screening.nc")]) == 0
+    page = (out / "report.html").read_text()
+    assert '<a href="fragility/fragility.html">' in page
+    frag = (out / "fragility" / "fragility.html").read_text()
+    assert "the fraction of records overturning at each level" in frag and "beta [-] of each IM" in frag
+    assert not re.search(r"<figcaption>COL: pga=", frag)

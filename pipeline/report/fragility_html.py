@@ -58,9 +58,13 @@ def _png(fig) -> str:
 
 
 def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
-    """The fitted curve with the stripe fractions and their intervals (and the hazard integrand)."""
-    levels = ds["im_level"].values
-    units = ds.attrs["im_units"]
+    """The fitted curve with the stripe fractions and their intervals (and the hazard integrand), in the unit the
+    levels were given in (the table's), ticks at the levels."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+    shown = float(ds.attrs.get("im_display_factor", 1.0))
+    units = UNIT_WORDS.get(ds.attrs.get("im_display_unit", ""), ds.attrs["im_units"])
+    levels = ds["im_level"].values / shown
     fig = new_figure(figsize=(9.0 if hazard is not None else 5.0, 3.4))
     fig.subplots_adjust(left=0.09, right=0.98, top=0.88, bottom=0.16, wspace=0.28)
     axes = fig.subplots(1, 2 if hazard is not None else 1, squeeze=False)[0]
@@ -71,12 +75,15 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
     ok = n > 0
     ax.errorbar(levels[ok], frac[ok], yerr=[frac[ok] - lo[ok], hi[ok] - frac[ok]], fmt="o", color="k", ms=4,
                 capsize=2, label="stripes (90 % interval)")
-    theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
+    theta, beta = float(ds["median"].values[j]) / shown, float(ds["beta"].values[j])
     x = np.geomspace(levels[0] / 2, levels[-1] * 2, 200)
     if np.isfinite(theta) and theta > 0 and np.isfinite(beta):
         ax.plot(x, fragility_curve(x, theta, beta), color="tab:red",
                 label=f"lognormal: median {theta:.3g} {units}, beta {beta:.2f}")
     ax.set_xscale("log")
+    ax.xaxis.set_major_locator(FixedLocator(levels))           # the tested levels, labelled plainly
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.3g}"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_ylim(-0.03, 1.03)
     ax.set_xlabel(f"{ds.attrs['im']} [{units}]")
     ax.set_ylabel("P(overturn)")
@@ -86,9 +93,11 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
     if hazard is not None:
         period = float(ds["hazard_period"].values[j]) if "hazard_period" in ds else math.nan
         curve = next((c for c in hazard.curves if c.period_s == period), hazard.curves[0])
-        im, dens, _ = integrand_segments(curve, theta, beta)
-        axes[1].plot(im, dens * im, color="k")
+        im, dens, _ = integrand_segments(curve, theta * shown, beta)
+        axes[1].plot(im / shown, dens * im, color="k")
         axes[1].set_xscale("log")
+        axes[1].xaxis.set_minor_formatter(NullFormatter())
+        axes[1].xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.3g}"))
         axes[1].set_xlabel(f"{ds.attrs['im']} [{units}]")
         axes[1].set_ylabel("P(C|im) |d lambda / d ln im| [1/yr]")
         axes[1].set_title("which shaking levels drive the rate", fontsize=9)

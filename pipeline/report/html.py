@@ -495,17 +495,26 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     return html_path, write_assets_csv(assets, out_dir / "assets.csv")
 
 
+#: Where the report looks for what ``screen fragility`` wrote, relative to its own directory: the same output, or
+#: the fragility command's default ``fragility/`` inside it
+FRAGILITY_PLACES = (".", "fragility")
+
+
 def _fragility_summary(out_dir: Path) -> dict | None:
-    """What ``screen fragility`` wrote into the same output, for the report's banner (None when nothing)."""
-    path = out_dir / "fragility.nc"
-    if not (out_dir / "fragility.html").is_file() or not path.is_file():
-        return None
-    try:
-        with xr.open_dataset(path, engine="netcdf4") as f:
-            return {"hazard": str(f.attrs.get("hazard_curve", "")), "title": str(f.attrs.get("hazard_title", "")),
-                    "synthetic": bool(int(f.attrs.get("hazard_synthetic", 0))), "im": str(f.attrs.get("im", ""))}
-    except (OSError, ValueError):
-        return None
+    """What ``screen fragility`` wrote into the same output (or its ``fragility/``), for the report's banner and
+    link (None when nothing)."""
+    for place in FRAGILITY_PLACES:
+        path = out_dir / place / "fragility.nc"
+        if not (out_dir / place / "fragility.html").is_file() or not path.is_file():
+            continue
+        try:
+            with xr.open_dataset(path, engine="netcdf4") as f:
+                return {"hazard": str(f.attrs.get("hazard_curve", "")), "title": str(f.attrs.get("hazard_title", "")),
+                        "synthetic": bool(int(f.attrs.get("hazard_synthetic", 0))), "im": str(f.attrs.get("im", "")),
+                        "href": "fragility.html" if place == "." else f"{place}/fragility.html"}
+        except (OSError, ValueError):
+            continue
+    return None
 
 
 def _num(x, digits: int = 3) -> str:
