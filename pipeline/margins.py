@@ -75,14 +75,28 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
     return out
 
 
+#: Histories are kept for a block whose largest probability of overturning over the records reaches this (the
+#: report's threshold for 'restrain, or relocate', :data:`pipeline.report.html.P_RELOCATE`; tested equal) [-] ...
+HISTORY_P = 0.1
+#: ... or whose simulated margin on its governing record is at most this (the report's
+#: :data:`pipeline.report.html.RELOCATE_BELOW_SCALE`) [-]
+HISTORY_SCALE = 1.5
+
+
 def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
-    """Blocks whose governing scene overturns by the simulation or by the criterion."""
+    """Blocks whose governing scene overturns by the simulation or by the criterion, or whose largest probability
+    of overturning reaches :data:`HISTORY_P` (every asset the report marks at risk gets a history; one whose
+    margin is small is added by the margin task, which finds it)."""
     cols = np.arange(ds.sizes["block"])
     has = rec_index >= 0
     r = np.where(has, rec_index, 0)
     sim = ds["overturn_simulated"].values[r, cols] == 1
     crit = ds["overturn_criterion"].values[r, cols] == 1
-    return has & (sim | crit)
+    likely = np.zeros(ds.sizes["block"], dtype=bool)
+    if "p_overturn" in ds:
+        ok = (ds["status"].values == "ok")[:, None] if "status" in ds else True
+        likely = np.any(np.where(ok, np.nan_to_num(ds["p_overturn"].values, nan=0.0), 0.0) >= HISTORY_P, axis=0)
+    return has & (sim | crit | likely)
 
 
 def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: Block, settings,
@@ -198,7 +212,7 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
         scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
                                                overturns_at_one=overturned)
         history = theta_history(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings) \
-            if want_history else None
+            if want_history or scale <= HISTORY_SCALE else None
         sampled, more = sampled_margins(ah, on.vertical_ms2, on.dt_s, j=index[block_id], inv=inv,
                                         settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
         out[block_id] = (scale, runs + more, history, on.dt_s, sampled)

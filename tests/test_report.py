@@ -502,3 +502,18 @@ def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, re
     frag = (out / "fragility" / "fragility.html").read_text()
     assert "the fraction of records overturning at each level" in frag and "beta [-] of each IM" in frag
     assert not re.search(r"<figcaption>COL: pga=", frag)
+
+
+def test_the_history_thresholds_are_the_reports_at_risk_thresholds():
+    from pipeline import margins
+    from pipeline.report import html
+
+    assert margins.HISTORY_P == html.P_RELOCATE and margins.HISTORY_SCALE == html.RELOCATE_BELOW_SCALE
+
+
+def test_factor_words_keep_the_side_of_one():
+    from pipeline.report.html import factor_words
+
+    assert factor_words(0.996) == "0.996" and factor_words(1.004) == "1.004" and factor_words(0.24) == "0.24"
+    assert factor_words(0.99999) == "0.99999" or float(factor_words(0.99999)) < 1.0
+    assert factor_words(1.0) == "1.00"

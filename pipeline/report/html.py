@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from markupsafe import Markup, escape
 
 from .. import __version__
 from ..constants import M_TO_CM, G
@@ -85,18 +86,27 @@ ASSET_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu",
                  "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio")
 
 
+def factor_words(x: float) -> str:
+    """A factor on a record to the precision that keeps its side of 1 (0.996 is '0.996', never '1.00')."""
+    for digits in (2, 3, 4, 6):
+        text = f"{x:.{digits}f}"
+        if x == 1.0 or (float(text) < 1.0) == (x < 1.0) and float(text) != 1.0:
+            return text
+    return repr(x)
+
+
 def _margin_words(sim_scale: float, governing: str) -> str:
     """The simulated margin on the governing record, in words."""
     if not np.isfinite(sim_scale):
         return f"stands under {governing} scaled up to the scan limit" if np.isinf(sim_scale) else "no margin"
     if sim_scale <= 1.0:
-        return f"overturns under {governing} x{sim_scale:.2f}"
-    return f"overturns only with {governing} scaled by {sim_scale:.2f}"
+        return f"overturns under {governing} x{factor_words(sim_scale)}"
+    return f"overturns only with {governing} scaled by {factor_words(sim_scale)}"
 
 
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
-                   stations: tuple[int, int] | None = None, p_words: str = "") -> str:
+                   stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -115,6 +125,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         The record ``p_max`` is for.
     p_words : str
         ``p_max`` in words, when the caller has more to say (its orientation); default "p = .. under ..".
+    slide_m : float
+        How far the governing scene slides [m] (NaN: unknown).
     governing : str
         The governing record (the margin's record).
     stations : tuple of int, optional
@@ -137,7 +149,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
             why.append("the paper's criterion predicts overturning")
         return "restrain, or relocate: " + "; ".join(why)
     if response in SLIDING_RESPONSES:
-        return "limit sliding (friction pads or a restraint): it slides under " + governing
+        far = f" {slide_m:.2g} m" if np.isfinite(slide_m) else ""
+        return f"limit sliding (friction pads or a restraint): it slides{far} under {governing}"
     return "no action: " + "; ".join(why)
 
 
@@ -172,11 +185,19 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
     azimuth = float(ds["p_overturn_azimuth"].values[i, j]) if "p_overturn_azimuth" in ds else math.nan
     random = float(ds["p_overturn_random_orientation"].values[i, j]) if "p_overturn_random_orientation" in ds \
         else math.nan
-    unknown = int(ds["orientation"].values[i, j]) in (Orientation.scanned, Orientation.scanned_relative)
+    orientation = int(ds["orientation"].values[i, j])
+    unknown = orientation in (Orientation.scanned, Orientation.scanned_relative)
     record = str(ds["record"].values[i])
     words = f"p = {p[i]:.2f} under {record}"
+    given = "block_azimuth" in ds and np.isfinite(float(ds["block_azimuth"].values[j]))
     if unknown and np.isfinite(azimuth):
-        words += f" if it faces {azimuth:.0f} deg (orientation unknown: {random:.2f})"
+        if orientation == Orientation.scanned_relative:
+            # the record's sensors have no known azimuth: a plane is known only relative to its first component
+            words += (f" if it faces {azimuth:.0f} deg from the record's first component (its sensors' azimuth is "
+                      f"unknown, so {'the given azimuth cannot be used and ' if given else ''}every orientation is "
+                      f"scanned; orientation unknown: {random:.2f})")
+        else:
+            words += f" if it faces {azimuth:.0f} deg (orientation unknown: {random:.2f})"
     return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
             "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": record,
             "robustness": ROBUSTNESS_NAMES[int(robust[i])],
@@ -213,6 +234,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         crit = int(at("overturn_criterion", -1))
         sim = int(at("overturn_simulated", -1))
         response = int(at("response", -1))
+        slide = float(at("sliding_max"))
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
         stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
         n_stations = len(set(stations[ok].tolist()))
@@ -230,7 +252,9 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
             "stations_overturning": stations_over, "stations_screened": n_stations,
             "records_overturning_ids": ";".join(overturning),
             "governing_record": gov, "governing_azimuth": float(at("governing_azimuth")),
-            "verdict_criterion": VERDICT[crit], "verdict_simulation": VERDICT[sim],
+            "verdict_criterion": VERDICT[crit],
+            "verdict_simulation": VERDICT[sim] + (f" (slides {slide:.2g} m)" if response in SLIDING_RESPONSES
+                                                  and np.isfinite(slide) and slide > 0 else ""),
             "theta_max": float(at("theta_max")), "response": RESPONSE_NAMES[response],
             "physics": PHYSICS_NAMES[int(at("physics", -1))],
             "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
@@ -242,7 +266,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
                                              overturned=sim == 1, p_max=probabilities["p_overturn"],
                                              p_record=probabilities["p_record"], governing=gov or "the records",
                                              stations=(stations_over, n_stations),
-                                             p_words=probabilities["p_words"]),
+                                             p_words=probabilities["p_words"], slide_m=slide),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })
@@ -480,6 +504,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
+    env.filters["breakable"] = breakable
     records, record_figures = _record_rows(ds, pulses, all_figures=all_figures, cache=cache)
     floors = floor_figures(assets, pulses, pulses_path, lambda *a, **k: _data_uri(cache.get(*a, **k)))
     stream = env.get_template("report.html.j2").stream(
@@ -498,6 +523,12 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
 #: Where the report looks for what ``screen fragility`` wrote, relative to its own directory: the same output, or
 #: the fragility command's default ``fragility/`` inside it
 FRAGILITY_PLACES = (".", "fragility")
+
+
+def breakable(text) -> Markup:
+    """``text`` escaped, with a line-break opportunity after each underscore, so that a long record id wraps
+    between its parts rather than inside a name."""
+    return Markup(str(escape(str(text))).replace("_", "_<wbr>"))
 
 
 def _fragility_summary(out_dir: Path) -> dict | None:

@@ -66,6 +66,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .kernel import HALF_PI, _exceed_fraction, _flight_fraction, free_outcome, jit
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
@@ -307,7 +309,7 @@ def _after_impact(k, x, y, th, u, v, w, blk):
 
 
 @jit
-def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
+def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, theta_out=None):
     """Follow the block from ``start`` under the ground motion, in whatever modes it takes.
 
     Parameters
@@ -330,6 +332,9 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
         Stop where the block is back at rest or rocking on a sticking pivot, at least one sample interval
         after ``start`` (the pure-rocking kernel, whose model holds there and which is cheaper, takes over:
         :mod:`.handoff`).
+    theta_out : ndarray, optional
+        theta [rad] at the samples k dt from ``start`` on, filled as the block moves (linear within a step, whose
+        length is at most half a sample interval); samples not reached are left as they were.
 
     Returns
     -------
@@ -360,6 +365,8 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
     n_steps = 0
     t_event = -math.inf               # time of the last event, and events in a row there (tie rule 6)
     n_same = 0
+    hist = theta_out if theta_out is not None else np.empty(0)
+    out_k = int(math.ceil(t / dt - 1e-9)) if hist.shape[0] > 0 else 0    # the next sample of the history
     while mode != OVERTURNED and t < t_stop:
         if t >= t_cap:
             status |= STATUS_TAIL_CAP
@@ -400,6 +407,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
             xm = _exceed_fraction(aa0, a1, vv0, v1, g, thr)
             if xf < 0.0 and xm < 0.0:
                 t = min(t1, t_stop)
+                out_k = _fill_linear(hist, out_k, dt, t, 0.0, t, 0.0)
                 continue
             frac = xf if (xf >= 0.0 and (xm < 0.0 or xf <= xm)) else xm
             if t + frac * (t1 - t) > t_stop:
@@ -414,6 +422,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
                 t = min(t1, t_stop)
                 continue
             t = t_on
+            out_k = _fill_linear(hist, out_k, dt, t, 0.0, t, 0.0)
             mode, c, sigma = _onset(a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
             if mode == FLIGHT:
                 status |= STATUS_GROUND_FLIGHT
@@ -456,8 +465,10 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
         if mode != ROCK:
             slip += _slip_point(mode, c, x1, th1, blk) - _slip_point(mode, c, x, th, blk)
             slip_max = max(slip_max, abs(slip))
+        th_before = th
         x, y, th, u, v, w = _constrain(mode, c, x1, y1, th1, u1, v1s, w1, xc, blk)
         theta_max = max(theta_max, abs(th))
+        out_k = _fill_linear(hist, out_k, dt, t, th_before, te, th)
         t = te
         if ev >= 0.0:
             continue
@@ -489,6 +500,15 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False):
             t_over, mode = t, OVERTURNED
     return ContactOutcome(overturned, t_over, theta_max, n_imp, slip_max, slip, modes, status,
                           ContactState(t, mode, c, sigma, x, y, th, u, v, w, slip))
+
+
+@jit
+def _fill_linear(hist, out_k, dt, t0, th0, t1, th1):
+    """theta at the samples k dt <= t1 not filled yet, linear between (t0, th0) and (t1, th1); the next sample."""
+    while out_k < hist.shape[0] and out_k * dt <= t1 + 1e-12:
+        hist[out_k] = th1 if t1 <= t0 else th0 + (th1 - th0) * (out_k * dt - t0) / (t1 - t0)
+        out_k += 1
+    return out_k
 
 
 @jit

@@ -102,18 +102,20 @@ def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactSta
 
 @jit
 def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, control: StepControl,
-                     blk: ContactBlock, tail_energy: bool) -> ContactOutcome:
+                     blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
     """The scene from where the kernel's outcome ``first`` stopped short to its end, alternating the general
     model (where pure rocking does not hold) and the kernel (where it does). ``rblk`` is the kernel's block with
-    ``stop_mu = mu``. The outcome's counts (impacts, theta_max, modes) cover that part of the scene."""
+    ``stop_mu = mu``. The outcome's counts (impacts, theta_max, modes) cover that part of the scene.
+    ``theta_out``: the scene's theta history [rad] at the samples, filled on from where ``first`` stopped."""
     t_end = (ah.shape[0] - 1) * dt
-    no_output = RockingOutput(ah[:0], ah[:0].reshape((0, 3)))
+    hist = theta_out if theta_out is not None else ah[:0]
+    no_output = RockingOutput(hist, ah[:0].reshape((0, 3)))
     o = first
     slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, kernel_guards(first.status)
     for _ in range(MAX_SEGMENTS):
         if o.status & STATUS_FREE_FLIGHT:
             status |= contact.STATUS_GROUND_FLIGHT
-        g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True)
+        g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True, hist)
         theta_max = max(theta_max, g.theta_max)
         n_imp += g.n_impacts
         slip, slip_max = g.slip_end, max(slip_max, g.slip_max)
@@ -140,7 +142,9 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
 
 
 @jit
-def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool) -> ContactOutcome:
-    """The general model from rest at t = 0 (a sliding scene that meets free flight)."""
+def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
+    """The general model from rest at t = 0 (a sliding scene that meets free flight); ``theta_out``: its theta
+    history at the samples [rad]."""
     at_rest = ContactState(0.0, contact.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False)
+    hist = theta_out if theta_out is not None else ah[:0]
+    return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False, hist)

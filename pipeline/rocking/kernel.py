@@ -373,8 +373,11 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     t_event = -math.inf               # time of the last event (uplift or impact), and events in a row there
     n_same = 0
     if n_out > 0:
-        theta_out[0] = th
-        out_k = 1
+        # the history from the start's sample on (a restart mid-record leaves the earlier samples as they are)
+        out_k = max(int(math.ceil(start.t / dt - SAMPLE_INDEX_TOL)), 0)
+        if out_k == 0:
+            theta_out[0] = th
+            out_k = 1
 
     while t < t_end:
         k = int(t / dt + SAMPLE_INDEX_TOL)

@@ -257,8 +257,10 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
     if physics == Physics.sliding:
         res = slide(ah_ms2, dt_s, mu=mu, av_ms2=av_ms2 if use_v else None, g_ms2=g_ms2)
         if res.free_flight and settings.contact_model:
-            return general_scene(from_rest(ah_ms2, av_ms2 if use_v else None, dt_s, block=block, settings=settings),
-                                 alpha=alpha, friction_demand=math.nan, friction_exceeded=-1)
+            theta = np.full(np.asarray(ah_ms2).size, np.nan) if history else None
+            return general_scene(from_rest(ah_ms2, av_ms2 if use_v else None, dt_s, block=block, settings=settings,
+                                           theta_out=theta),
+                                 alpha=alpha, friction_demand=math.nan, friction_exceeded=-1, theta=theta)
         if res.free_flight:
             return Scene(physics, Response.free_flight, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
                          1, False, -1, res.t_flight_s, contact_modes=ContactMode.slide)
@@ -271,14 +273,15 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
         cont = continued(ah_ms2, av, dt_s, rr, block=block, settings=settings)
         if cont is not None:
             return general_scene(cont, alpha=alpha, friction_demand=rr.friction_demand,
-                                 friction_exceeded=int(rr.friction_demand > mu), rocking=rr)
+                                 friction_exceeded=int(rr.friction_demand > mu), rocking=rr, theta=rr.theta)
     return _rocking_scene(physics, rr, alpha=alpha, mu=mu, history=history)
 
 
 def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, friction_exceeded: int,
-                  rocking: RockResult | None = None) -> Scene:
+                  rocking: RockResult | None = None, theta: np.ndarray | None = None) -> Scene:
     """A scene decided by the general contact model (``co``), after the pure rocking ``rocking`` when it
-    came first. ``free_flight`` says which loss of contact happened first: the ground's, else the block's own."""
+    came first. ``free_flight`` says which loss of contact happened first: the ground's, else the block's own.
+    ``theta``: the scene's theta history [rad] at the samples (kept as theta / alpha), when asked for."""
     modes = co.modes | (ContactMode.rock if rocking is not None else 0)
     if co.overturned:
         response = Response.overturn
@@ -300,8 +303,8 @@ def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, fr
     guard = contact_guard(co.status) | (kernel_guard(rocking.status) if rocking is not None else 0)
     return Scene(Physics.general, response, co.overturned, theta_max, n_impacts, co.t_overturn, friction_demand,
                  co.slip_max_m, flight, guard & Guard.event_cap > 0, friction_exceeded,
-                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan, contact_modes=modes,
-                 guard=guard)
+                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan,
+                 None if theta is None else theta / alpha, contact_modes=modes, guard=guard)
 
 
 def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, history: bool) -> Scene:

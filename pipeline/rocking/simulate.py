@@ -292,7 +292,8 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
               settings: SimulationConfig = SimulationConfig()) -> ContactResult | None:
     """The rest of the scene from where the pure rocking ``rr`` (run with ``stop_mu = mu``) stopped: the general
     contact model, handing back to the kernel where pure rocking holds again (:func:`.handoff.continue_rocking`);
-    None when ``rr`` did not stop short (overturned, or stood on a sticking pivot to the end)."""
+    None when ``rr`` did not stop short (overturned, or stood on a sticking pivot to the end). When ``rr`` kept a
+    history (``rr.theta``), it is filled on to the scene's end, in place."""
     outcome = rr.outcome
     if outcome is None or not handoff.stopped_short(outcome):
         return None
@@ -300,14 +301,22 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     kernel_block = RockingBlock(float(block.p), float(block.alpha), float(block.e), float(block.g_ms2),
                                 float(block.R_m), False, float(block.mu))
+    if rr.theta is not None:
+        return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block,
+                                                        step_control(settings), contact_block(block, settings), True,
+                                                        rr.theta))
     return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block, step_control(settings),
                                                     contact_block(block, settings), True))
 
 
-def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig()
-              ) -> ContactResult:
-    """The general contact model over the whole record, from rest."""
+def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig(),
+              theta_out: np.ndarray | None = None) -> ContactResult:
+    """The general contact model over the whole record, from rest; ``theta_out``: filled with theta [rad] at
+    every sample, when given."""
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s)
+    if theta_out is not None:
+        return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True,
+                                                 theta_out))
     return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True))
