@@ -81,7 +81,7 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
         ax.plot(x, fragility_curve(x, theta, beta), color="tab:red",
                 label=f"lognormal: median {theta:.3g} {units}, beta {beta:.2f}")
     ax.set_xscale("log")
-    ax.xaxis.set_major_locator(FixedLocator(levels))           # the tested levels, labelled plainly
+    ax.xaxis.set_major_locator(FixedLocator(levels.tolist()))  # the tested levels, labelled plainly
     ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.3g}"))
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_ylim(-0.03, 1.03)
