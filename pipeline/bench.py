@@ -33,6 +33,7 @@ representative sample, not a whole archive.
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from pathlib import Path
 
@@ -181,10 +182,21 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     records_dir, out_dir = Path(records_dir), Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     t_start = time.perf_counter()
+    rows: list[dict] = []
+    pace = {"runs_left": FULL_RUNS_AFTER_TIERS if settings_sweep else 2, "per_run_s": math.nan}
 
     def say(what: str) -> None:
-        if progress is not None:
-            progress(f"bench: {what} ({time.perf_counter() - t_start:.0f} s)")
+        """Announce the next measurement, with an estimate of the time left once the full tier was timed, and
+        write the rows measured so far (an interrupted bench keeps its finished sections)."""
+        if rows:
+            _write(rows, out_dir)
+        if progress is None:
+            return
+        left = ""
+        if math.isfinite(pace["per_run_s"]):
+            left = f"; about {pace['runs_left'] * pace['per_run_s']:.0f} s left (estimated)"
+            pace["runs_left"] = max(pace["runs_left"] - 1, 0)
+        progress(f"bench: {what} ({time.perf_counter() - t_start:.0f} s{left})")
 
     sampled = config if config.uncertainty.samples > 0 else Config().with_tier(config.fidelity.tier)
     config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
@@ -196,12 +208,14 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     crit, t_crit = _criterion(scenes, inventory, config)
     say("the reference tier")
     ref, t_ref = _simulate(scenes, inventory, config.with_tier("reference"))
-    rows = [{"section": "common", "setting": "load records and extract pulses", "value": "",
-             "time_s": t_common, "time_per_scene_us": 1e6 * t_common / n_scenes, "scenes": n_scenes}]
+    rows.append({"section": "common", "setting": "load records and extract pulses", "value": "",
+                 "time_s": t_common, "time_per_scene_us": 1e6 * t_common / n_scenes, "scenes": n_scenes})
     for tier in FIDELITY_TIERS:
         say(f"tier {tier}")
         cfg = config.with_tier(tier)
         sim, t_sim = (ref, t_ref) if tier == "reference" else _simulate(scenes, inventory, cfg)
+        if tier == "full":
+            pace["per_run_s"] = t_sim + t_common
         simulated = sim["overturn_simulated"] >= 0
         verdict = np.where(simulated, sim["overturn_simulated"], crit)
         t = t_crit + t_sim
@@ -209,13 +223,20 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
                      "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
                      "planes_simulated": int(sim.get("planes_simulated", np.zeros(1)).sum()),
                      "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
-    say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
-    rows += _worst_scene_rows(scenes, inventory, config)
-    if settings_sweep:
-        rows += _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say)
-        rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
-    _write(rows, out_dir)
+    try:
+        say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
+        rows += _worst_scene_rows(scenes, inventory, config)
+        if settings_sweep:
+            _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, rows)
+            rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
+    finally:                     # every finished section is written, also when interrupted
+        _write(rows, out_dir)
     return rows
+
+
+#: Runs of about one full tier's cost after the tiers (worst scenes 2, the settings sweep 14 + 7, the contact
+#: model 2, floors, margins and sampling about 6): the basis of the bench's estimate of the time left
+FULL_RUNS_AFTER_TIERS = 31
 
 
 def _worst_scene_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
@@ -242,8 +263,9 @@ def _worst_scene_rows(scenes, inventory: Inventory, config: Config) -> list[dict
     return rows
 
 
-def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> list[dict]:
-    rows = []
+def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, rows: list[dict]) -> None:
+    """The simulation settings, orientation variants, contact model, floors and margin steps, appended to ``rows``
+    as each is measured."""
     sweeps = {"rtol": (1e-4, 1e-5, 1e-6, 1e-7, 1e-9), "rest_ratio": (1e-3, 1e-4, 1e-5, 1e-6, 1e-8),
               "max_step_p": (0.2, 0.1, 0.05, 0.02)}
     full = config.with_tier("full")
@@ -280,7 +302,6 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say) -> 
     rows += _floor_rows(scenes)
     say("margin scan steps")
     rows += _margin_sweep(scenes, inventory, full, ref)
-    return rows
 
 
 #: The building the floor-filter row measures: a 6-storey museum (T1 0.6 s, 5 % damping, alpha 3, 21 m).

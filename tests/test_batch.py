@@ -617,3 +617,22 @@ def test_the_plan_reads_only_the_keys_of_the_previous_results(one_record, blocks
     assert set(small.data_vars) == set(PLAN_VARIABLES) and "theta_max" in whole
     for name in PLAN_VARIABLES:
         xr.testing.assert_identical(small[name], whole[name])
+
+
+def test_a_units_toml_line_recomputes_only_the_records_it_names(make_records, blocks_csv, tmp_path, capsys):
+    import re
+
+    records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "fn-ascii/rinaldi_fn.dat")
+    out = tmp_path / "out"
+    args = ["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
+    assert main(args) == 0
+    capsys.readouterr()
+    units = records / "units.toml"
+    units.write_text(units.read_text() + '"nothing/*.dat" = "g"\n')        # names no file: nothing recomputed
+    assert main(args) == 0
+    m = re.search(r"records: (\d+) ok \((\d+) screened, (\d+) reused", capsys.readouterr().err)
+    assert m and (m.group(2), m.group(3)) == ("0", "2")
+    units.write_text(units.read_text().replace('"fn-ascii/*_fn.dat" = "cm/s**2"', '"fn-ascii/*_fn.dat" = "mm/s**2"'))
+    assert main(args) == 0
+    m = re.search(r"records: (\d+) ok \((\d+) screened, (\d+) reused", capsys.readouterr().err)
+    assert m and (m.group(2), m.group(3)) == ("1", "1")                    # the file it names, alone

@@ -25,6 +25,7 @@ flagged ``source_present = 0``.
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import shutil
 import tempfile
@@ -41,6 +42,7 @@ from ..errors import RockscreenError, TaskFailure
 from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
+from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guard_names
 from ..scene_progress import SceneProgress, running
@@ -114,8 +116,19 @@ def _previous_block_digests(previous: xr.Dataset | None) -> dict:
     return dict(zip(previous["block"].values.tolist(), previous["block_sha256"].values.tolist()))
 
 
+def record_content(src: RecordSource, *, root: Path | None = None, declared: dict | None = None) -> str:
+    """A record's content digest: its files' names and bytes, and the units ``declared`` (``units.toml`` and the
+    configuration) for each of them, so that a declaration recomputes only the records whose files it names."""
+    content = src.digest()
+    if not declared or root is None:
+        return content
+    units = ";".join(f"{Path(f).name}={declared_units_for(Path(f), root, declared) or ''}" for f in src.files)
+    return hashlib.sha256(f"{content}\n{units}".encode()).hexdigest()
+
+
 def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache | None,
-         previous: xr.Dataset | None = None, force: bool = False, unreadable: tuple = ()) -> Plan:
+         previous: xr.Dataset | None = None, force: bool = False, unreadable: tuple = (),
+         root: Path | None = None, declared: dict | None = None) -> Plan:
     """Decide, per record, whether to reuse its cached result, complete it, or screen it.
 
     Parameters
@@ -132,6 +145,8 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
         Recompute everything, ignoring the cache.
     unreadable : tuple of str
         Ids of records present but unreadable at the scan: they fail, they have not vanished.
+    root, declared : Path, dict
+        The records directory and its declared units (:func:`record_content`).
     """
     keys = _SharedKeys(inventory)
     out = Plan(keys=keys)
@@ -142,7 +157,7 @@ def plan(sources: list[RecordSource], inventory: Inventory, *, cache: SceneCache
     for src in sources:
         seen.add(src.record_id)
         try:
-            content = src.digest()
+            content = record_content(src, root=root, declared=declared)
         except RockscreenError as exc:
             out.failures.append(RecordResult(src.record_id, f"failed: {exc}",
                                              {"files": ";".join(Path(f).name for f in src.files)}))
@@ -352,7 +367,9 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
     placements = place_blocks(inventory, buildings or {})        # checked before any record is read
     ctx = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}))
-    key = run_key(config.to_dict(), declared_units=declared, station_inventory_sha256=stationxml_sha256,
+    # the declared units are in each record's content digest (record_content), not in the run's key: a units.toml
+    # line recomputes only the records whose files it names
+    key = run_key(config.to_dict(), declared_units={}, station_inventory_sha256=stationxml_sha256,
                   buildings=buildings)
     cache = SceneCache(out_dir, key) if out_dir is not None else None
     previous = None
@@ -363,7 +380,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
             log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced",
                         out_dir, exc)
     the_plan = plan(sources, inventory, cache=cache, previous=previous, force=force,
-                    unreadable=tuple(f.record_id for f in scan_failures))
+                    unreadable=tuple(f.record_id for f in scan_failures), root=Path(records_dir), declared=declared)
     for rid in the_plan.vanished:
         log.warning("record %s: its files are no longer in %s; its last results are kept (source_present = 0)",
                     rid, records_dir)
