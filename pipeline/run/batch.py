@@ -274,7 +274,7 @@ def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
             "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
-def _removing(stream, directory: str):
+def removing(stream, directory: str):
     """``stream``, removing ``directory`` once it is exhausted or abandoned."""
     try:
         yield from stream
@@ -398,7 +398,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     executor = executor or SerialExecutor()
     scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
     ctx.progress = SceneProgress(scenes_dir)
-    stream = _removing(executor.map_unordered(_task, the_plan.tasks, ctx), scenes_dir)
+    stream = removing(executor.map_unordered(_task, the_plan.tasks, ctx), scenes_dir)
     if progress is not None:
         stream = progress(stream, len(the_plan.tasks), running=lambda: running(scenes_dir))
     computed_records = computed_scenes = 0

@@ -21,6 +21,7 @@ import json
 import logging
 import math
 import re
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,10 +39,12 @@ from ..floors.standing import FloorMotions
 from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
 from ..records.loader import read_declared_units, scan_directory
 from ..rocking.rules import rocks
+from ..scene_progress import SceneProgress, running
 from ..schema import FRAGILITY, apply_schema
 from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
+from .batch import record_content, removing
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 
 log = logging.getLogger(__name__)
@@ -174,11 +177,14 @@ def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
     :class:`~pipeline.errors.TaskFailure`, never raised."""
     source, content = item
     try:
+        ctx.base.progress.record(source.record_id, len(ctx.levels) * len(ctx.base.inventory))
         out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels, ctx.component)
         out.update(record_id=source.record_id, content=content)
         return out
     except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
         return task_failure(exc, source.record_id)
+    finally:
+        ctx.base.progress.finished()
 
 
 class FragilityCache(RecordStore):
@@ -206,7 +212,8 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
                   stationxml_sha256: str = "", component: Component = Component.rotd100,
                   buildings: dict | None = None) -> str:
     """Everything besides a record that its fragility results depend on."""
-    payload = json.dumps({"run": run_key(config.to_dict(), declared_units=declared,
+    # the declared units are in each record's content digest (batch.record_content), not in this key
+    payload = json.dumps({"run": run_key(config.to_dict(), declared_units={},
                                          station_inventory_sha256=stationxml_sha256, buildings=buildings), "im": im,
                           "component": component.value,
                           "levels": [float(x) for x in levels], "blocks": list(inventory.digests()),
@@ -233,22 +240,24 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     t0 = time.perf_counter()
     found = scan_directory(records_dir, config=config)
     declared = read_declared_units(records_dir, config)
-    base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}))
+    scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
+    base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}),
+                   SceneProgress(scenes_dir))
     ctx = FragilityContext(base, im, tuple(float(x) for x in levels), component)
     cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256,
                                                   component, buildings)) if out_dir is not None else None
     results, todo, failures = [], [], [(f.record_id, f.reason) for f in found.failures]
     for src in found.sources:
-        content = src.digest()
+        content = record_content(src, root=Path(records_dir), declared=declared)
         hit = cache.load(src.record_id, content) if cache is not None else None
         if hit is not None:
             results.append(hit)
         else:
             todo.append((src, content))
     reused = len(results)
-    stream = executor.map_unordered(fragility_task, todo, ctx)
+    stream = removing(executor.map_unordered(fragility_task, todo, ctx), scenes_dir)
     if progress is not None:
-        stream = progress(stream, len(todo))
+        stream = progress(stream, len(todo), running=lambda: running(scenes_dir))
     for (src, _), res in stream:
         if isinstance(res, TaskFailure):
             failures.append((src.record_id, res.reason))
