@@ -327,11 +327,12 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
     return out
 
 
-def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
+def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None = None) -> Inventory:
     """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
 
     Columns: :data:`REQUIRED`, :data:`OPTIONAL`, and any extra ones (kept as given; those not in
-    :data:`ASSET_COLUMNS` also warn).
+    :data:`ASSET_COLUMNS` also warn). ``default_mu`` fills a blank ``mu``; ``warn_for``: warn about implausible
+    values of that block alone (a command about one block; default: every block).
 
     Raises
     ------
@@ -400,7 +401,8 @@ def read_inventory(path: str | Path, *, default_mu: float) -> Inventory:
             lambda x: x >= 0, math.nan))
         for c in ("name", "site", "notes") + tuple(extras):
             rows[c].append(rec.get(c, ""))
-        implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
+        if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
+            implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
     if implausible:
         log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
                     len(implausible), "\n  ".join(implausible))

@@ -139,3 +139,18 @@ def test_plausible_values_give_no_warning(tmp_path, caplog):
     path.write_text("id,height_m,width_m,mu\nstatue,1.8,0.5,0.6\ncolumn,12,1.4,0.7\n")
     read_inventory(path, default_mu=0.5)
     assert "outside what real objects have" not in caplog.text
+
+
+def test_a_command_about_one_block_warns_about_that_block_alone(tmp_path, caplog):
+    import logging
+
+    from pipeline.blocks import read_inventory
+
+    inv = tmp_path / "inv.csv"
+    inv.write_text("id,height_m,width_m,mu\nOK,1.0,0.2,0.6\nCRATE,0.6,1.2,0.25\n")
+    with caplog.at_level(logging.WARNING):
+        read_inventory(inv, default_mu=0.6, warn_for="OK")
+    assert "CRATE" not in caplog.text
+    with caplog.at_level(logging.WARNING):
+        read_inventory(inv, default_mu=0.6)
+    assert "CRATE" in caplog.text
