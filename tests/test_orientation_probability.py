@@ -135,18 +135,24 @@ def test_each_cycle_of_the_random_orientation_draws_every_grid_plane_once():
     assert not np.array_equal(order[:36], np.arange(36))         # a permutation, not the grid's order
 
 
+def _scene_at(k: float, threshold: float):
+    """The polarized half-sine at k times the threshold, in batches of 5 draws: settings, motion, draws, grid,
+    block."""
+    settings = dataclasses.replace(_settings(0.05, 40), batch=5)
+    h, dt = _polarized(k * threshold)
+    grid = plane_grid(5.0)
+    m = motion(h, 0.0, None, dt, planes_deg=grid)
+    z = common_normals(settings.seed, settings.samples)
+    return settings, m, z, grid, dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+
+
 @pytest.mark.parametrize("governing_deg", [30.0, 60.0, 120.0])
 def test_the_worst_orientation_is_never_below_the_governing_planes_own_estimate(threshold, governing_deg):
     """Step 5: where the nominal overturned, the governing plane's estimate on the independent draws bounds the
     worst orientation's p from below, whichever plane the selection chose."""
     from pipeline.uncertainty.orientations import estimation_normals
 
-    settings = dataclasses.replace(_settings(0.05, 40), batch=5)
-    h, dt = _polarized(1.03 * threshold)
-    grid = plane_grid(5.0)
-    m = motion(h, 0.0, None, dt, planes_deg=grid)
-    z = common_normals(settings.seed, settings.samples)
-    block = dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+    settings, m, z, grid, block = _scene_at(1.03, threshold)
     out = orientation_probability(m, z, grid_deg=grid, prefer_deg=governing_deg, settings=settings, g_ms2=G,
                                   nominal_overturned=True, **block)
     own = scene_probability(dataclasses.replace(m, planes_deg=np.array([governing_deg])),
@@ -159,12 +165,7 @@ def test_the_worst_orientation_is_never_below_the_governing_planes_own_estimate(
 def test_a_standing_nominal_races_only_its_candidates(threshold):
     """Where the nominal stands, the candidates are the governing plane and the three planes of largest nominal
     rotation: the selection simulates those planes only, and the chosen plane is one of them."""
-    settings = dataclasses.replace(_settings(0.05, 40), batch=5)
-    h, dt = _polarized(1.03 * threshold)
-    grid = plane_grid(5.0)
-    m = motion(h, 0.0, None, dt, planes_deg=grid)
-    z = common_normals(settings.seed, settings.samples)
-    block = dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+    settings, m, z, grid, block = _scene_at(1.03, threshold)
     ranked = [25.0, 35.0, 20.0, 40.0, 30.0]
     out = orientation_probability(m, z, grid_deg=grid, prefer_deg=45.0, settings=settings, g_ms2=G,
                                   nominal_overturned=False, ranked_deg=ranked, **block)
