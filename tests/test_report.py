@@ -212,6 +212,10 @@ def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
     table = html.split('id="asset-table"')[1].split("</table>")[0]
     assert table.count('class="asset-row') == n_blocks
     assert 'data-dead-links="0"' in html
+    # every asset marked at risk (restrain or anchor; restrain, or relocate) has its rocking history on the page
+    rows = re.findall(r'<tr class="asset-row ([^"]*)">.*?<b>([^<]+)</b>', table, re.S)
+    at_risk = [block for cls, block in rows if cls.strip() in ("overturns", "restrain")]
+    assert at_risk and all(f'id="asset-{block}"' in html for block in at_risk), at_risk
     # the page and the asset table fit a 1400 px laptop window
     wide = subprocess.run([*common, "--window-size=1400,1000", "--dump-dom", page], capture_output=True, text=True,
                           timeout=120, env=env)
