@@ -516,7 +516,10 @@ def fragility_parser() -> argparse.ArgumentParser:
     p.add_argument("--im", required=True, choices=SCALABLE,
                    help="IM the records are scaled to: " + ", ".join(f"{k} [{IMS[k][0]}]" for k in SCALABLE))
     p.add_argument("--levels", required=True,
-                   help="increasing IM levels, comma-separated, in the IM's SI unit; a unit suffix (g, gal, cms2, "
+                   help="'auto': a ladder from the blocks' own capacities (uplift acceleration, or critical velocity "
+                        "for pgv), doubled level by level and extended until every block that can rock has "
+                        "stripes below 10 %% and above 90 %% overturning; or increasing IM levels, comma-separated, "
+                        "in the IM's SI unit; a unit suffix (g, gal, cms2, "
                         "ms2 for accelerations; cms, ms for velocities) on any level applies to all and must be "
                         "the same on every level that has one: 0.1,0.2,0.3g is 0.1 g, 0.2 g, 0.3 g")
     p.add_argument("--hazard", type=Path, action="append",
@@ -547,11 +550,12 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    from .run.fragility import FragilityRequest, fragility, levels_unit, parse_levels
+    from .run.fragility import FragilityRequest, auto_unit, fragility, levels_unit, parse_levels
 
     config, inventory = _config_and_inventory(args)
     buildings = _buildings(args, inventory)
-    levels = parse_levels(args.levels, args.im)
+    auto = args.levels.strip().lower() == "auto"
+    levels = None if auto else parse_levels(args.levels, args.im)
     if args.bootstrap < 0:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
     hazard, component = _hazard_and_component(args)
@@ -561,7 +565,8 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     if config.fidelity.tier != "criterion":
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
-                               hazard=hazard, component=component, level_unit=levels_unit(args.levels, args.im),
+                               hazard=hazard, component=component,
+                               level_unit=auto_unit(args.im) if auto else levels_unit(args.levels, args.im),
                                buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
                                command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
     out = fragility(request, progress=_progress(args.quiet))

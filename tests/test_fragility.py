@@ -304,3 +304,40 @@ def test_the_fragility_run_never_reports_a_rate_of_zero_for_a_block_that_can_roc
     ds.attrs.setdefault("im_component", "rotd100")
     assert "ROCKS: nothing overturns at any level tested (raise the levels)" in left_out(ds)
     assert "no curve for ROCKS: nothing overturns" in openquake_nrml(ds)
+
+
+def test_levels_auto_start_at_the_uplift_and_extend_until_every_block_brackets():
+    """--levels auto on the 16 half-sine records: the ladder starts at the block's uplift acceleration g tan(alpha)
+    (closed form), doubles, and is extended until the stripes go from at most 10 % to at least 90 % overturning;
+    the stripes are the same as a run given those levels."""
+    from pipeline.run.fragility import AUTO_BRACKET, auto_stripes, capacities
+
+    inv = Inventory.single(**BLOCK, block_id="B")
+    cfg = Config().with_uncertainty(samples=0)
+    ctx = Context("", cfg, inv, {})
+    recs = [_record(k, T) for k, T in enumerate(PERIODS)]
+    alpha = math.atan2(BLOCK["width_m"], BLOCK["height_m"])
+    assert float(capacities(inv, "pga", g_ms2=G)[0]) == pytest.approx(G * math.tan(alpha), rel=1e-12)
+
+    def run(levels):
+        return [judge_record(r, ctx, "pga", levels) for r in recs], [], {"records_computed": len(recs),
+                                                                         "records_reused": 0, "records_failed": 0,
+                                                                         "wall_time_s": 0.0}
+
+    levels, results, _, _ = auto_stripes(run, inv, cfg, "pga")
+    assert levels[0] == pytest.approx(G * math.tan(alpha), rel=1e-12) and np.all(np.diff(levels) > 0)
+    np.testing.assert_allclose(levels[1:] / levels[:-1], 2.0)
+    frac = np.mean(np.stack([r["verdict"] for r in results]) == 1, axis=0)[:, 0]
+    assert frac[0] <= AUTO_BRACKET[0] and frac[-1] >= AUTO_BRACKET[1]
+    again = [judge_record(r, ctx, "pga", levels) for r in recs]
+    assert all(np.array_equal(a["verdict"], b["verdict"]) for a, b in zip(again, results))
+
+
+def test_levels_auto_refuses_an_inventory_that_cannot_rock_and_an_im_without_a_capacity():
+    from pipeline.run.fragility import auto_ladder, capacities
+
+    inv = Inventory.single(height_m=0.5, width_m=2.0, mu=0.3, block_id="SLAB")
+    with pytest.raises(UsageError, match="no block of the inventory can rock"):
+        auto_ladder(capacities(inv, "pga", g_ms2=G))
+    with pytest.raises(UsageError, match="arias has no capacity"):
+        capacities(inv, "arias", g_ms2=G)

@@ -224,8 +224,9 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
                 stationxml_sha256: str = "", component: Component = Component.rotd100,
-                buildings: dict | None = None) -> tuple[list[dict], list[tuple], dict]:
-    """Scale every record to every level and judge every block (cached per record under ``out_dir``).
+                buildings: dict | None = None, prune: bool = True) -> tuple[list[dict], list[tuple], dict]:
+    """Scale every record to every level and judge every block (cached per record under ``out_dir``; ``prune``:
+    drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep).
 
     ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
 
@@ -265,11 +266,109 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
         if cache is not None:
             cache.save(res)
         results.append(res)
-    if cache is not None:
+    if cache is not None and prune:
         cache.prune()
     results.sort(key=lambda r: str(r["record_id"]))
     return results, failures, {"records_computed": len(results) - reused, "records_reused": reused,
                                "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
+
+
+#: IMs ``--levels auto`` can start from the blocks' capacities: the uplift acceleration g min(tan alpha, mu) for
+#: accelerations, the critical velocity of the reference paper's Eq. (4) for PGV, 1 for the velocity ratio
+AUTO_IMS = ("pga", "sa", "ap", "pgv", "velocity_ratio")
+#: ``--levels auto``: the ladder's step (each level twice the one below), its rounds of extension at most, and
+#: its levels at most
+AUTO_STEP, AUTO_ROUNDS, AUTO_MAX_LEVELS = 2.0, 4, 10
+#: ... the fractions every block that can rock must reach at the ladder's two ends
+AUTO_BRACKET = (0.1, 0.9)
+
+
+def capacities(inventory: Inventory, im: str, *, g_ms2: float) -> np.ndarray:
+    """Each block's capacity in the IM's SI unit, where its stripes start (NaN for a block that cannot rock)."""
+    geo = inventory.geometry(g_ms2=g_ms2)
+    can = np.array([rocks(float(a), float(m)) for a, m in zip(geo.alpha, inventory.mu)])
+    if im in ("pga", "sa", "ap"):
+        c = g_ms2 * np.minimum(np.tan(geo.alpha), inventory.mu)             # uplift (Housner 1963)
+    elif im == "pgv":
+        c = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
+    elif im == "velocity_ratio":
+        c = np.ones(len(inventory))
+    else:
+        raise UsageError(f"--levels auto: {im} has no capacity to start from; auto takes {', '.join(AUTO_IMS)}; "
+                         "give the levels")
+    return np.where(can, np.asarray(c, dtype=float), np.nan)
+
+
+def auto_ladder(cap: np.ndarray) -> np.ndarray:
+    """The first ladder of ``--levels auto``: from the smallest capacity up by :data:`AUTO_STEP` to at least 4 times
+    the largest [IM units]."""
+    finite = cap[np.isfinite(cap)]
+    if finite.size == 0:
+        raise UsageError("--levels auto: no block of the inventory can rock (each slides or is too squat); "
+                         "nothing can overturn, give the levels to fit anyway")
+    n = int(math.ceil(math.log(4.0 * finite.max() / finite.min()) / math.log(AUTO_STEP) - 1e-9)) + 1
+    return finite.min() * AUTO_STEP ** np.arange(min(max(n, 3), AUTO_MAX_LEVELS))
+
+
+def extension(levels: np.ndarray, results: list[dict], cap: np.ndarray) -> list[float]:
+    """The levels to add so that every block that can rock brackets :data:`AUTO_BRACKET`: one step above the top
+    where some block's top fraction is below 0.9, one below the bottom where some bottom fraction is above 0.1."""
+    if not results:
+        return []
+    order = np.argsort(levels)
+    v = np.stack([r["verdict"] for r in results]).astype(float)[:, order, :]        # (records, levels, blocks)
+    v = np.where(v >= 0, v, np.nan)
+    with np.errstate(invalid="ignore"):
+        frac = np.nanmean(v, axis=0)                                                 # (levels, blocks)
+    rock = np.isfinite(cap)
+    low, high = AUTO_BRACKET
+    add = []
+    if np.any(rock & ~(np.nan_to_num(frac[-1], nan=0.0) >= high)):
+        add.append(float(levels[order[-1]] * AUTO_STEP))
+    if np.any(rock & ~(np.nan_to_num(frac[0], nan=1.0) <= low)):
+        add.append(float(levels[order[0]] / AUTO_STEP))
+    return add
+
+
+def merge_rounds(earlier: list[dict], later: list[dict]) -> list[dict]:
+    """Per record, the stripes of two rounds of ``--levels auto`` side by side (a record missing from either
+    round is left out: it failed there)."""
+    by_id = {str(r["record_id"]): r for r in later}
+    out = []
+    for r in earlier:
+        s = by_id.get(str(r["record_id"]))
+        if s is None:
+            continue
+        merged = dict(r)
+        for k in ("verdict", "p", "p_random", "factor"):
+            merged[k] = np.concatenate([r[k], s[k]], axis=0)
+        out.append(merged)
+    return out
+
+
+def auto_stripes(run, inventory: Inventory, config: Config, im: str) -> tuple[np.ndarray, list, list, dict]:
+    """``--levels auto``: the ladder of :func:`auto_ladder`, extended round by round (:func:`extension`) until
+    every block that can rock brackets 0.1 and 0.9, or :data:`AUTO_ROUNDS` rounds, or :data:`AUTO_MAX_LEVELS`
+    levels. ``run(levels)`` runs the stripes of new levels. Returns the levels (increasing), the results (their
+    stripes in that order), the failures and the counts."""
+    cap = capacities(inventory, im, g_ms2=config.records.g_ms2)
+    levels = auto_ladder(cap)
+    results, failures, counts = run(levels)
+    for _ in range(AUTO_ROUNDS):
+        add = [x for x in extension(levels, results, cap) if levels.size < AUTO_MAX_LEVELS]
+        if not add:
+            break
+        more, more_failures, more_counts = run(np.array(sorted(add)))
+        results = merge_rounds(results, more)
+        failures = list(dict.fromkeys([*failures, *more_failures]))
+        counts = dict(counts, wall_time_s=counts["wall_time_s"] + more_counts["wall_time_s"],
+                      records_failed=len(failures))
+        levels = np.concatenate([levels, np.array(sorted(add))])
+    order = np.argsort(levels)
+    for r in results:
+        for k in ("verdict", "p", "p_random", "factor"):
+            r[k] = np.asarray(r[k])[order]
+    return levels[order], results, failures, counts
 
 
 #: ``--orientation``: the probability a sampled stripe is fitted on, for a block of blank azimuth.
@@ -425,6 +524,16 @@ def levels_unit(text: str, im: str) -> tuple[str, float]:
     return SI_LABEL[unit], 1.0
 
 
+def auto_unit(im: str) -> tuple[str, float]:
+    """The unit the outputs of ``--levels auto`` are shown in: g for accelerations, cm/s for velocities, else SI."""
+    unit = IMS[im][0]
+    if unit == "m s-2":
+        return "g", G
+    if unit == "m s-1":
+        return "cms", 0.01
+    return SI_LABEL[unit], 1.0
+
+
 def parse_levels(text: str, im: str) -> np.ndarray:
     """``--levels`` in the IM's SI unit. A unit suffix on any level (g, gal, cms2, ms2 for accelerations; cms,
     ms for velocities) applies to every level (:func:`levels_unit`).
@@ -497,7 +606,8 @@ class FragilityRequest:
     inventory: Inventory
     config: Config
     im: str
-    levels: np.ndarray
+    #: the IM levels [SI]; None: ``--levels auto`` (:func:`auto_stripes`)
+    levels: np.ndarray | None
     out_dir: Path
     hazard: HazardSet | None = None
     #: the horizontal component definition of PGA, PGV and Sa the fit uses
@@ -534,18 +644,25 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
 
     out_dir = ensure_writable(request.out_dir)
     station = read_inventory(request.records_dir, request.stationxml)
+    levels = request.levels
     with OutputLock(out_dir, command=" ".join(request.command)):
         with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
-            results, failures, counts = run_stripes(request.records_dir, request.inventory, request.config,
-                                                    im=request.im, levels=request.levels, executor=executor,
-                                                    out_dir=out_dir, progress=progress, station_inventory=station,
-                                                    stationxml_sha256=files_sha256(stationxml_paths(
-                                                        request.records_dir, request.stationxml)),
-                                                    component=request.component, buildings=request.buildings)
+            def run(lv: np.ndarray, prune: bool = True):
+                return run_stripes(request.records_dir, request.inventory, request.config, im=request.im, levels=lv,
+                                   executor=executor, out_dir=out_dir, progress=progress, station_inventory=station,
+                                   stationxml_sha256=files_sha256(stationxml_paths(request.records_dir,
+                                                                                   request.stationxml)),
+                                   component=request.component, buildings=request.buildings, prune=prune)
+
+            if levels is None:                         # --levels auto
+                levels, results, failures, counts = auto_stripes(lambda lv: run(lv, prune=False), request.inventory,
+                                                                 request.config, request.im)
+            else:
+                results, failures, counts = run(levels)
         if not results:
             raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
                              + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
-        ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=request.levels,
+        ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=levels,
                                 hazard=request.hazard, bootstrap=request.bootstrap,
                                 orientation=request.orientation, component=request.component,
                                 level_unit=request.level_unit)
