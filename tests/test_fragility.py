@@ -341,3 +341,22 @@ def test_levels_auto_refuses_an_inventory_that_cannot_rock_and_an_im_without_a_c
         auto_ladder(capacities(inv, "pga", g_ms2=G))
     with pytest.raises(UsageError, match="arias has no capacity"):
         capacities(inv, "arias", g_ms2=G)
+
+
+def test_a_change_of_component_definition_says_why_every_scene_is_new(tmp_path, caplog):
+    import logging
+    import types
+
+    import xarray as xr
+
+    from pipeline.run.fragility import _say_why_all_is_new
+    from pipeline.uncertainty.hazard import Component
+
+    xr.Dataset(attrs={"im": "pga", "im_component": "rotd100"}).to_netcdf(tmp_path / "fragility.nc")
+    with caplog.at_level(logging.WARNING):
+        _say_why_all_is_new(tmp_path, types.SimpleNamespace(im="pga", component=Component.rotd50))
+    assert "fitted pga as rotd100, this one as rotd50" in caplog.text and "--im-component rotd100" in caplog.text
+    caplog.clear()
+    with caplog.at_level(logging.WARNING):
+        _say_why_all_is_new(tmp_path, types.SimpleNamespace(im="pga", component=Component.rotd100))
+    assert caplog.text == ""

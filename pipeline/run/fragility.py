@@ -626,6 +626,24 @@ class FragilityRequest:
     orientation: str = "random"
 
 
+def _say_why_all_is_new(out_dir: Path, request: FragilityRequest) -> None:
+    """Warn when the last fragility run into ``out_dir`` fitted the same IM under another component definition:
+    the records are scaled to the levels under the new one, so no scaled scene of the last run can be reused."""
+    path = out_dir / "fragility.nc"
+    if not path.is_file():
+        return
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as last:
+            im, component = str(last.attrs.get("im", "")), str(last.attrs.get("im_component", ""))
+    except (OSError, ValueError):
+        return
+    if im == request.im and component and request.im in COMPONENT_IMS and component != request.component.value:
+        log.warning("the last run fitted %s as %s, this one as %s (the hazard's definition, or --im-component): "
+                    "the records are scaled to the levels under %s, so every scaled scene is simulated again (to "
+                    "reuse the last run's, fit on %s: --im-component %s, with --hazard-scale converting the hazard)",
+                    im, component, request.component.value, request.component.value, component, component)
+
+
 def fragility(request: FragilityRequest, *, progress=None) -> dict:
     """Run the stripes (resumable), fit, integrate the hazard, write fragility.nc, fragility.html and
     fragility_assets.csv.
@@ -645,6 +663,7 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
     out_dir = ensure_writable(request.out_dir)
     station = read_inventory(request.records_dir, request.stationxml)
     levels = request.levels
+    _say_why_all_is_new(out_dir, request)
     with OutputLock(out_dir, command=" ".join(request.command)):
         with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
             def run(lv: np.ndarray, prune: bool = True):
