@@ -569,7 +569,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
                                level_unit=auto_unit(args.im) if auto else levels_unit(args.levels, args.im),
                                buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
                                command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
-    out = fragility(request, progress=_progress(args.quiet))
+    out = fragility(request, progress=_progress(args.quiet), say=None if args.quiet else _say)
     for w in out["warnings"]:
         log.warning("%s", w)
     for rid, why in out["failures"]:

@@ -346,18 +346,25 @@ def merge_rounds(earlier: list[dict], later: list[dict]) -> list[dict]:
     return out
 
 
-def auto_stripes(run, inventory: Inventory, config: Config, im: str) -> tuple[np.ndarray, list, list, dict]:
+def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
+                 ) -> tuple[np.ndarray, list, list, dict]:
     """``--levels auto``: the ladder of :func:`auto_ladder`, extended round by round (:func:`extension`) until
     every block that can rock brackets 0.1 and 0.9, or :data:`AUTO_ROUNDS` rounds, or :data:`AUTO_MAX_LEVELS`
-    levels. ``run(levels)`` runs the stripes of new levels. Returns the levels (increasing), the results (their
-    stripes in that order), the failures and the counts."""
+    levels. ``run(levels)`` runs the stripes of new levels; ``say(line)`` announces each round. Returns the levels
+    (increasing), the results (their stripes in that order), the failures and the counts."""
     cap = capacities(inventory, im, g_ms2=config.records.g_ms2)
     levels = auto_ladder(cap)
+    shown, factor = auto_unit(im)
+    if say is not None:
+        say(f"levels auto: {', '.join(f'{x / factor:.3g}' for x in levels)} {shown}, from the blocks' capacities")
     results, failures, counts = run(levels)
-    for _ in range(AUTO_ROUNDS):
+    for k in range(AUTO_ROUNDS):
         add = [x for x in extension(levels, results, cap) if levels.size < AUTO_MAX_LEVELS]
         if not add:
             break
+        if say is not None:
+            say(f"levels auto, round {k + 2}: adding {', '.join(f'{x / factor:.3g}' for x in sorted(add))} {shown}, "
+                "where some block's stripes do not yet reach 10 % or 90 % overturning")
         more, more_failures, more_counts = run(np.array(sorted(add)))
         results = merge_rounds(results, more)
         failures = list(dict.fromkeys([*failures, *more_failures]))
@@ -366,8 +373,8 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str) -> tuple[np
         levels = np.concatenate([levels, np.array(sorted(add))])
     order = np.argsort(levels)
     for r in results:
-        for k in ("verdict", "p", "p_random", "factor"):
-            r[k] = np.asarray(r[k])[order]
+        for name in ("verdict", "p", "p_random", "factor"):
+            r[name] = np.asarray(r[name])[order]
     return levels[order], results, failures, counts
 
 
@@ -644,7 +651,7 @@ def _say_why_all_is_new(out_dir: Path, request: FragilityRequest) -> None:
                     im, component, request.component.value, request.component.value, component, component)
 
 
-def fragility(request: FragilityRequest, *, progress=None) -> dict:
+def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     """Run the stripes (resumable), fit, integrate the hazard, write fragility.nc, fragility.html and
     fragility_assets.csv.
 
@@ -675,7 +682,7 @@ def fragility(request: FragilityRequest, *, progress=None) -> dict:
 
             if levels is None:                         # --levels auto
                 levels, results, failures, counts = auto_stripes(lambda lv: run(lv, prune=False), request.inventory,
-                                                                 request.config, request.im)
+                                                                 request.config, request.im, say=say)
             else:
                 results, failures, counts = run(levels)
         if not results:
