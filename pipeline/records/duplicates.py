@@ -21,7 +21,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 #: Normalized cross-correlation of two velocity series at or above which they are one recording [-].
 SAME_RECORDING_CORRELATION = 0.85
@@ -64,12 +63,16 @@ def compared_series(velocity_ms: np.ndarray, dt_s: float) -> np.ndarray:
     a = np.diff(vr) / COMPARE_DT_S
     if a.size <= 27:                          # too short for the filter's padding: nothing to compare
         return np.zeros(0)
+    from scipy.signal import sosfiltfilt  # imported where used: scipy.signal costs 0.4 s to import
+
     return sosfiltfilt(_lowpass(), a - a.mean())
 
 
 @lru_cache(maxsize=1)
 def _lowpass() -> np.ndarray:
     """The 4-pole Butterworth low-pass at :data:`LOWPASS_HZ` for series at :data:`COMPARE_DT_S` (made once)."""
+    from scipy.signal import butter
+
     return butter(4, LOWPASS_HZ, fs=1.0 / COMPARE_DT_S, output="sos")
 
 
