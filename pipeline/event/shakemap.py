@@ -1,0 +1,216 @@
+"""A ShakeMap grid (``grid.xml``, ShakeMap 3.5 and 4) read into SI medians and log standard deviations, and the
+shaking at a site by bilinear interpolation of ln IM.
+
+The grid's values are medians (exp of the mean of ln IM); its STD fields are standard deviations of the natural
+log, so they do not depend on the unit. Unit strings are read, never assumed: ShakeMap 3.5 writes ``pctg`` (percent
+of g) and ``cms`` (cm/s), ShakeMap 4 ``%g`` and ``cm/s``; a log field says ``ln(pctg)`` or ``ln(g)``.
+
+References
+----------
+Worden, C. B., Thompson, E. M., Hearne, M. & Wald, D. J. (2020). ShakeMap Manual Online: technical manual, user's
+guide, and software guide. U.S. Geological Survey (the grid.xml format, the medians, the uncertainty fields).
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..constants import G
+from ..errors import RockscreenError
+
+#: The grid's namespace
+NAMESPACE = "{http://earthquake.usgs.gov/eqcenter/shakemap}"
+#: Unit string -> factor to SI, for the median fields (accelerations to m s-2, velocities to m s-1)
+MEDIAN_UNITS = {"pctg": 0.01 * G, "%g": 0.01 * G, "g": G, "cms": 0.01, "cm/s": 0.01, "ms": 1.0, "m/s": 1.0}
+#: Unit strings of a log standard deviation (the same number in any unit of the IM)
+LOG_UNITS = ("ln(pctg)", "ln(%g)", "ln(g)", "ln(cms)", "ln(cm/s)", "ln(m/s)", "ln(ms)")
+#: ShakeMap's IM fields rockscreen reads, and the STD field of each
+IM_FIELDS = {"PGA": "STDPGA", "PGV": "STDPGV", "PSA03": "STDPSA03", "PSA10": "STDPSA10", "PSA30": "STDPSA30"}
+#: The period of each PSA field [s]
+PSA_PERIODS = {"PSA03": 0.3, "PSA10": 1.0, "PSA30": 3.0}
+#: A median below this fraction of its unit is taken as this, so that its log is finite [-]
+FLOOR = 1e-6
+
+
+class ShakeMapError(RockscreenError, ValueError):
+    """A ShakeMap file that cannot be read as a grid (the message names the file and what is wrong)."""
+
+
+@dataclass(frozen=True)
+class ShakeMapGrid:
+    """A ShakeMap grid: its event, the nodes and each field.
+
+    Attributes
+    ----------
+    event_id, version : str
+        The event id and ShakeMap version (``shakemap_version``).
+    event : dict
+        The ``event`` element's attributes (magnitude, depth, lat, lon, event_timestamp, event_description).
+    attrs : dict
+        The root element's attributes (map_status, shakemap_event_type, process_timestamp, ...).
+    lon, lat : ndarray
+        The nodes' longitudes (increasing) and latitudes (increasing) [deg].
+    medians : dict
+        IM name (``PGA``, ``PGV``, ``PSA03``, ...) -> median at the nodes, shape (nlat, nlon), SI [m s-2, m s-1].
+    log_sd : dict
+        IM name -> standard deviation of ln IM at the nodes, shape (nlat, nlon) [-], where the grid has it.
+    units : dict
+        Field name -> the unit string the file gives.
+    """
+
+    event_id: str
+    version: str
+    event: dict
+    attrs: dict
+    lon: np.ndarray
+    lat: np.ndarray
+    medians: dict
+    log_sd: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+
+    def contains(self, lon: float, lat: float) -> bool:
+        """True when (lon, lat) lies within the grid's nodes."""
+        return bool(self.lon[0] <= lon <= self.lon[-1] and self.lat[0] <= lat <= self.lat[-1])
+
+
+def read_grid(path: str | Path, *, uncertainty: str | Path | None = None) -> ShakeMapGrid:
+    """Read a ShakeMap ``grid.xml`` (and, optionally, its ``uncertainty.xml``, whose STD fields are taken where the
+    grid has none).
+
+    Raises
+    ------
+    ShakeMapError
+        For a file that is not a ShakeMap grid, a unit it does not know, or data that do not fill a grid.
+    """
+    grid = _read(Path(path))
+    if uncertainty is not None:
+        extra = _read(Path(uncertainty))
+        if extra.lon.shape != grid.lon.shape or extra.lat.shape != grid.lat.shape \
+                or not (np.allclose(extra.lon, grid.lon) and np.allclose(extra.lat, grid.lat)):
+            raise ShakeMapError(f"{uncertainty}: its nodes are not those of {path}; give the uncertainty.xml of the "
+                                "same ShakeMap run")
+        log_sd = {**extra.log_sd, **grid.log_sd}
+        grid = ShakeMapGrid(grid.event_id, grid.version, grid.event, grid.attrs, grid.lon, grid.lat, grid.medians,
+                            log_sd, {**extra.units, **grid.units})
+    return grid
+
+
+def _read(path: Path) -> ShakeMapGrid:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ShakeMapError(f"{path}: cannot read it ({exc.strerror or exc})") from exc
+    head, sep, rest = text.partition("<grid_data>")
+    if not sep or "shakemap_grid" not in head:
+        raise ShakeMapError(f"{path}: not a ShakeMap grid.xml (no shakemap_grid element with grid_data); give the "
+                            "grid.xml of a ShakeMap event")
+    data, _, _ = rest.partition("</grid_data>")
+    root = ET.fromstring(head + "</shakemap_grid>")
+    fields = sorted(((int(f.get("index", "0")), f.get("name", ""), f.get("units", ""))
+                     for f in root.iter(f"{NAMESPACE}grid_field")), key=lambda x: x[0])
+    names = [name.upper() for _, name, _ in fields]
+    if names[:2] != ["LON", "LAT"]:
+        raise ShakeMapError(f"{path}: the first two grid fields are {names[:2]}, expected LON and LAT")
+    values = np.array(data.split(), dtype=float)
+    if values.size == 0 or values.size % len(fields):
+        raise ShakeMapError(f"{path}: grid_data holds {values.size} numbers, not a whole number of rows of "
+                            f"{len(fields)} fields")
+    table = values.reshape(-1, len(fields))
+    lon, lat = np.unique(np.round(table[:, 0], 6)), np.unique(np.round(table[:, 1], 6))
+    if lon.size * lat.size != table.shape[0]:
+        raise ShakeMapError(f"{path}: {table.shape[0]} rows do not fill a grid of {lon.size} longitudes x "
+                            f"{lat.size} latitudes")
+    ilon = np.searchsorted(lon, np.round(table[:, 0], 6))
+    ilat = np.searchsorted(lat, np.round(table[:, 1], 6))
+    medians, log_sd, units = {}, {}, {}
+    for k, (_, name, unit) in enumerate(fields[2:], start=2):
+        key, unit_l = name.upper(), unit.strip()
+        node = np.full((lat.size, lon.size), np.nan)
+        node[ilat, ilon] = table[:, k]
+        units[key] = unit_l
+        if key in IM_FIELDS:
+            if unit_l.lower() not in MEDIAN_UNITS:
+                raise ShakeMapError(f"{path}: field {name} has unit {unit!r}; expected one of {sorted(MEDIAN_UNITS)}")
+            medians[key] = node * MEDIAN_UNITS[unit_l.lower()]
+        elif key in IM_FIELDS.values():
+            if unit_l.lower() not in LOG_UNITS:
+                raise ShakeMapError(f"{path}: field {name} has unit {unit!r}; a standard deviation of ln IM is "
+                                    f"expected ({', '.join(LOG_UNITS)})")
+            log_sd[next(im for im, sd in IM_FIELDS.items() if sd == key)] = node
+    return ShakeMapGrid(str(root.get("event_id", "")), str(root.get("shakemap_version", "")),
+                        dict(next(root.iter(f"{NAMESPACE}event"), ET.Element("event")).attrib), dict(root.attrib),
+                        lon, lat, medians, log_sd, units)
+
+
+@dataclass(frozen=True)
+class SiteShaking:
+    """The shaking at a site: its median [SI] and the standard deviation of ln IM (NaN: the grid has none)."""
+
+    median: float
+    log_sd: float
+
+
+def _bilinear(values: np.ndarray, lon_axis: np.ndarray, lat_axis: np.ndarray, lon: float, lat: float) -> float:
+    i = int(np.clip(np.searchsorted(lon_axis, lon) - 1, 0, lon_axis.size - 2)) if lon_axis.size > 1 else 0
+    j = int(np.clip(np.searchsorted(lat_axis, lat) - 1, 0, lat_axis.size - 2)) if lat_axis.size > 1 else 0
+    if lon_axis.size == 1 or lat_axis.size == 1:
+        return float(values[j, i])
+    u = (lon - lon_axis[i]) / (lon_axis[i + 1] - lon_axis[i])
+    v = (lat - lat_axis[j]) / (lat_axis[j + 1] - lat_axis[j])
+    return float((1 - u) * (1 - v) * values[j, i] + u * (1 - v) * values[j, i + 1]
+                 + (1 - u) * v * values[j + 1, i] + u * v * values[j + 1, i + 1])
+
+
+def site_shaking(grid: ShakeMapGrid, im: str, lon: float, lat: float, *, site: str = "") -> SiteShaking:
+    """The median of ``im`` at (lon, lat) by bilinear interpolation of ln IM between the four surrounding nodes
+    (a median below :data:`FLOOR` of its unit counts as that), and its log standard deviation likewise (linear).
+
+    Raises
+    ------
+    ShakeMapError
+        For a site outside the grid (named by ``site``) or an IM the grid does not have.
+    """
+    if im not in grid.medians:
+        raise ShakeMapError(f"ShakeMap {grid.event_id}: no {im} field; it has {sorted(grid.medians)}")
+    if not grid.contains(lon, lat):
+        raise ShakeMapError(f"{site or 'the site'} at lon {lon}, lat {lat} is outside ShakeMap {grid.event_id}'s "
+                            f"grid (lon {grid.lon[0]:.4f} to {grid.lon[-1]:.4f}, lat {grid.lat[0]:.4f} to "
+                            f"{grid.lat[-1]:.4f}); check the asset's coordinates")
+    unit = MEDIAN_UNITS[grid.units[im].lower()]
+    ln = np.log(np.maximum(grid.medians[im], FLOOR * unit))
+    median = math.exp(_bilinear(ln, grid.lon, grid.lat, lon, lat))
+    sd = grid.log_sd.get(im)
+    return SiteShaking(median, _bilinear(sd, grid.lon, grid.lat, lon, lat) if sd is not None else math.nan)
+
+
+def p_overturn_event(median: float, log_sd: float, theta: float, beta: float, *, k_sigma: float = 0.0) -> float:
+    """P(overturn | the event) at a site: Phi(ln(m e^(k sigma) / theta) / sqrt(beta^2 + sigma^2)) for a lognormal
+    fragility (median ``theta``, dispersion ``beta``) and a lognormal IM at the site (median ``median``, log
+    standard deviation ``log_sd``); ``k_sigma`` > 0 takes the shaking at its median times exp(k sigma), as
+    regulators ask for. sigma = 0 is the fragility at the median shaking."""
+    sigma = 0.0 if not math.isfinite(log_sd) else log_sd
+    if not (theta > 0 and math.isfinite(beta) and beta >= 0):
+        return math.nan
+    spread = math.sqrt(beta * beta + sigma * sigma)
+    shaking = median * math.exp(k_sigma * sigma)
+    if spread == 0.0:
+        return 1.0 if shaking >= theta else 0.0
+    return 0.5 * math.erfc(-math.log(shaking / theta) / (spread * math.sqrt(2.0)))
+
+
+def field_for(im: str, period_s: float = math.nan) -> str:
+    """The ShakeMap field of a fragility's IM: PGA and PGV; for Sa, the PSA period nearest (in log period) to
+    ``period_s``."""
+    if im == "pga":
+        return "PGA"
+    if im == "pgv":
+        return "PGV"
+    if im == "sa" and math.isfinite(period_s) and period_s > 0:
+        return min(PSA_PERIODS, key=lambda f: abs(math.log(PSA_PERIODS[f] / period_s)))
+    raise ShakeMapError(f"a fragility on {im} cannot be read from a ShakeMap (it gives PGA, PGV and PSA at 0.3, 1 "
+                        "and 3 s); fit the fragility on pga, pgv or sa")
