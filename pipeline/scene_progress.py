@@ -100,6 +100,8 @@ class SceneProgress:
         path = Path(self.directory) / f"{os.getpid()}.json"
         while True:
             time.sleep(FLUSH_S)
+            if not path.parent.is_dir():     # the run that owned the directory has ended: so does this thread
+                return
             assert self._lock is not None
             with self._lock:
                 if not self._changed:

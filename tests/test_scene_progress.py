@@ -43,3 +43,18 @@ def test_a_scene_far_slower_than_its_neighbours_is_named_in_the_log(monkeypatch,
         prog.scene_done(block_id="E", seconds=2.0, detail="physics general, contact modes rock, slide_rock")
     (rec,) = [r for r in caplog.records if "slow scene" in r.getMessage()]
     assert "record R, block E took 2.0 s" in rec.getMessage() and "slide_rock" in rec.getMessage()
+
+
+def test_the_writer_thread_ends_with_the_run_that_owned_its_directory(tmp_path):
+    import shutil
+    import threading
+
+    d = tmp_path / "scenes"
+    d.mkdir()
+    before = threading.active_count()
+    prog = SceneProgress(str(d))
+    prog.record("R", 1)
+    assert threading.active_count() == before + 1
+    shutil.rmtree(d)
+    time.sleep(3 * scene_progress.FLUSH_S)
+    assert threading.active_count() == before
