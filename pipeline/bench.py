@@ -109,7 +109,7 @@ class _SceneTimes(SceneProgress):
         super().__init__()
         self.times: list[tuple[float, str]] = []
 
-    def scene_done(self, *, block_id: str, seconds: float, detail: str) -> None:
+    def scene_done(self, *, block_id: str, seconds: float, detail) -> None:
         self.times.append((seconds, f"{self._state.get('record', '?')} x {block_id}"))
 
 

@@ -75,17 +75,16 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
     return out
 
 
-#: Histories are kept for a block whose largest probability of overturning over the records reaches this (the
-#: report's threshold for 'restrain, or relocate', :data:`pipeline.report.html.P_RELOCATE`; tested equal) [-] ...
-HISTORY_P = 0.1
-#: ... or whose simulated margin on its governing record is at most this (the report's
-#: :data:`pipeline.report.html.RELOCATE_BELOW_SCALE`) [-]
-HISTORY_SCALE = 1.5
+#: An asset is at risk ('restrain, or relocate' in the report, and it gets a history) when its largest probability
+#: of overturning over the records reaches this [-] ...
+P_RELOCATE = 0.1
+#: ... or its simulated margin on its governing record is at most this [-]
+RELOCATE_BELOW_SCALE = 1.5
 
 
 def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     """Blocks whose governing scene overturns by the simulation or by the criterion, or whose largest probability
-    of overturning reaches :data:`HISTORY_P` (every asset the report marks at risk gets a history; one whose
+    of overturning reaches :data:`P_RELOCATE` (every asset the report marks at risk gets a history; one whose
     margin is small is added by the margin task, which finds it)."""
     cols = np.arange(ds.sizes["block"])
     has = rec_index >= 0
@@ -95,7 +94,7 @@ def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     likely = np.zeros(ds.sizes["block"], dtype=bool)
     if "p_overturn" in ds:
         ok = (ds["status"].values == "ok")[:, None] if "status" in ds else True
-        likely = np.any(np.where(ok, np.nan_to_num(ds["p_overturn"].values, nan=0.0), 0.0) >= HISTORY_P, axis=0)
+        likely = np.any(np.where(ok, np.nan_to_num(ds["p_overturn"].values, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
     return has & (sim | crit | likely)
 
 
@@ -212,7 +211,7 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
         scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
                                                overturns_at_one=overturned)
         history = theta_history(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings) \
-            if want_history or scale <= HISTORY_SCALE else None
+            if want_history or scale <= RELOCATE_BELOW_SCALE else None
         sampled, more = sampled_margins(ah, on.vertical_ms2, on.dt_s, j=index[block_id], inv=inv,
                                         settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
         out[block_id] = (scale, runs + more, history, on.dt_s, sampled)

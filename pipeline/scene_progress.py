@@ -66,13 +66,14 @@ class SceneProgress:
         """A scene (the record and ``block_id``, in every plane it needs, with its samples) starts."""
         self._set(block=block_id, scene_started=time.time())
 
-    def scene_done(self, *, block_id: str, seconds: float, detail: str) -> None:
-        """A scene ended after ``seconds``; named in the log when far slower than the record's others."""
+    def scene_done(self, *, block_id: str, seconds: float, detail) -> None:
+        """A scene ended after ``seconds``; named in the log, with ``detail()`` (what the scene was doing, made only
+        then), when far slower than the record's others."""
         others = self._times
         if seconds >= SLOW_SCENE_S and (len(others) < 3 or seconds >= SLOW_FACTOR * statistics.median(others)):
             median = f"{statistics.median(others):.2f} s" if others else "none yet"
             log.warning("slow scene: record %s, block %s took %.1f s (median of the record's other scenes: %s); %s",
-                        self._state.get("record", "?"), block_id, seconds, median, detail)
+                        self._state.get("record", "?"), block_id, seconds, median, detail())
         self._times.append(seconds)
         self._set(done=self._state.get("done", 0) + 1, block="")
 

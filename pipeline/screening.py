@@ -32,7 +32,7 @@ from .records.loader import Failure, RecordSource, load_record
 from .records.record import Record
 from .rocking.block import Block
 from .rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
-from .rocking.planner import ContactMode, Guard, Physics
+from .rocking.planner import ContactMode, Physics, guard_names
 from .scene_progress import SceneProgress
 from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
 from .uncertainty.orientations import (
@@ -323,8 +323,8 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
         orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None and z_estimate is not None:
             orient = _orientation_probability(base, (z, z_estimate, z_average), inv, int(j), scanned=scanned,
-                                              azimuths=azimuths, nominal=res, ranked=_ranked(res, planes, azimuths),
-                                              grid=grid, cfg=cfg, settings=settings)
+                                              azimuths=azimuths, nominal=res, planes=planes, grid=grid, cfg=cfg,
+                                              settings=settings)
         prob = orient.worst
         row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
                     "robustness": prob.robustness, "samples_drawn": prob.drawn,
@@ -337,14 +337,15 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
         for n, v in row.items():
             out[n][j] = v
         ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                detail=_scene_detail(sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
+                                detail=lambda sc=sc, res=res, orient=orient: _scene_detail(
+                                    sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
     return out
 
 
 def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
     """What a slow scene was doing: its physics, the modes it went through, the guards it met, its planes."""
     modes = ", ".join(m.name for m in ContactMode if sc.contact_modes & m) or "none"
-    guards = ", ".join(g.name for g in Guard if sc.guard & g) or "none"
+    guards = guard_names(sc.guard) or "none"
     return (f"physics {Physics(sc.physics).name}, contact modes {modes}, guards {guards}; {planes} plane(s) "
             f"integrated (governing plane {azimuth_deg:.0f} deg), {max(sampled, 0)} sampled plane(s)")
 
@@ -352,13 +353,13 @@ def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
 def _ranked(res: PlaneResult, planes: Planes, azimuths: list[float]) -> list[float]:
     """The planes of a scene by decreasing nominal peak rotation (the planes integrated), then the others by
     decreasing demand ratio."""
-    moved = [az for az, _theta, _over in sorted(res.responses, key=lambda r: -r[1])]
+    moved = [az for az, _theta in sorted(res.responses, key=lambda r: -r[1])]
     rest, _ = planes.by_demand(tuple(dict.fromkeys(Planes.key(a) for a in azimuths)))
     return list(dict.fromkeys([*moved, *rest]))
 
 
 def _orientation_probability(base: SceneMotion, draws: tuple, inv: Inventory, j: int, *, scanned: bool,
-                             azimuths: list[float], nominal: PlaneResult, ranked: list[float], grid: np.ndarray,
+                             azimuths: list[float], nominal: PlaneResult, planes: Planes, grid: np.ndarray,
                              cfg: Config, settings: SimulationConfig) -> OrientationProbability:
     """Block ``j``'s probabilities of overturning under the declared uncertainty: per orientation when its
     rocking plane is unknown (scanned on a two-component record), else in its one plane. ``draws``: the
@@ -382,7 +383,7 @@ def _orientation_probability(base: SceneMotion, draws: tuple, inv: Inventory, j:
                                    restitution=float(inv.restitution[j]), prefer_deg=governing_deg, settings=unc,
                                    simulation=settings, g_ms2=cfg.records.g_ms2, z_estimate=z_estimate,
                                    z_average=z_average, nominal_overturned=bool(nominal.scene.overturned),
-                                   ranked_deg=ranked)
+                                   ranked_deg=_ranked(nominal, planes, azimuths))
 
 
 def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sha256: str | None = None

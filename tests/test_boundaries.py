@@ -191,12 +191,33 @@ def test_steps_advance_a_clock_far_beyond_128_s():
         assert t + rules.min_advance(t) > t
 
 
-def test_the_handoff_ends_where_the_contact_model_met_a_cap():
-    """A general-model segment that ends at a cap ends the scene (never handed back to the kernel to start
-    again at the same instant)."""
-    assert contact.STATUS_ENDED & contact.STATUS_EVENT_CAP and contact.STATUS_ENDED & contact.STATUS_STALLED
-    assert handoff.kernel_guards(kernel.STATUS_TIE_HOLD | kernel.STATUS_STEP_CAP) == (contact.STATUS_TIE_HOLD
-                                                                                      | contact.STATUS_STEP_CAP)
+def test_the_handoff_ends_where_the_contact_model_met_a_cap(rinaldi, monkeypatch):
+    """A general-model segment that ends at a cap ends the scene: the plain-Python handoff, with a contact model
+    allowed one event, calls it once and returns the cap (before the fix it handed the scene back to the kernel,
+    which stopped at once, up to 100,000 times)."""
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.simulate import contact_block, step_control
+    from pipeline.rocking.structures import RockingBlock
+
+    blk = transformer(0.51)
+    planes = Planes(rinaldi.horizontal_ms2, rinaldi.azimuths_deg[0], rinaldi.vertical_ms2, g_ms2=G)
+    ah, av = np.asarray(planes.along(40.0)), np.asarray(rinaldi.vertical_ms2)
+    first = rock(ah, rinaldi.dt_s, p=blk.p, alpha=blk.alpha, e=blk.e, R_m=blk.R_m, av_ms2=av, stop_mu=blk.mu).outcome
+    assert handoff.stopped_short(first)                   # the friction demand stops pure rocking: a handoff
+    calls = []
+    move_py = contact.move.py_func
+
+    def counted(*args):
+        calls.append(args[4].t)
+        return move_py(*args)
+
+    monkeypatch.setattr(contact, "move", counted)
+    monkeypatch.setattr(contact, "MAX_EVENTS", 1)
+    out = handoff.continue_rocking.py_func(first, ah, av, rinaldi.dt_s,
+                                           RockingBlock(blk.p, blk.alpha, blk.e, G, blk.R_m, False, blk.mu),
+                                           step_control(SimulationConfig()), contact_block(blk, SimulationConfig()),
+                                           True)
+    assert out.status & contact.STATUS_EVENT_CAP and len(calls) == 1
 
 
 def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypatch):
@@ -213,7 +234,9 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
                 step_control(SimulationConfig()), RockingState(0.0, 0.0, 0.0), True,
                 RockingOutput(np.zeros(0), np.zeros((0, 3))))
     assert o.status & kernel.STATUS_STEP_CAP and o.t_stop < 3.99
-    assert o.overturned in (True, False)
+    # a few steps after the uplift the block is barely tilted and slow: its free rocking from there cannot reach
+    # the saddle (Housner 1963: energy is only lost after the record), so the state's verdict is to stand
+    assert 0.0 < abs(o.theta_end) < 0.01 * 0.2 and not o.overturned and o.theta_max < 0.2
 
 
 @pytest.mark.parametrize("n", [0, 1])
@@ -236,5 +259,12 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     assert not out.overturned or n == 2
 
 
-def test_guard_names_are_flags():
-    assert [g.value for g in Guard] == [1, 2, 4, 8, 16]
+def test_each_guard_is_its_own_bit_and_the_file_decodes_it():
+    from pipeline.rocking.planner import guard_names
+    from pipeline.schema import SCHEMA
+
+    values = [int(g) for g in Guard]
+    assert all(v & (v - 1) == 0 for v in values) and len(set(values)) == len(values)    # distinct powers of two
+    attrs = SCHEMA["simulation_guard"][3]
+    assert attrs["flag_masks"].tolist() == values and attrs["flag_meanings"].split() == [g.name for g in Guard]
+    assert guard_names(Guard.tie_hold | Guard.step_cap) == "tie_hold, step_cap"

@@ -508,11 +508,18 @@ def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, re
     assert not re.search(r"<figcaption>COL: pga=", frag)
 
 
-def test_the_history_thresholds_are_the_reports_at_risk_thresholds():
-    from pipeline import margins
-    from pipeline.report import html
+def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():
+    """A block that stands nominally under its governing record, whose probability reaches P_RELOCATE under some
+    record, is at risk (the report says 'restrain, or relocate'); one whose probability stays below is not."""
+    import xarray as xr
 
-    assert margins.HISTORY_P == html.P_RELOCATE and margins.HISTORY_SCALE == html.RELOCATE_BELOW_SCALE
+    from pipeline.margins import P_RELOCATE, at_risk
+
+    ds = xr.Dataset({"overturn_simulated": (("record", "block"), [[0, 0], [0, 0]]),
+                     "overturn_criterion": (("record", "block"), [[0, 0], [0, 0]]),
+                     "p_overturn": (("record", "block"), [[0.0, 0.0], [P_RELOCATE, 0.9 * P_RELOCATE]]),
+                     "status": (("record",), ["ok", "ok"])})
+    assert at_risk(ds, np.array([0, 0])).tolist() == [True, False]
 
 
 def test_factor_words_keep_the_side_of_one():

@@ -15,7 +15,7 @@ def test_a_long_record_is_named_with_its_scenes_and_the_scene_running(tmp_path, 
     prog = pickle.loads(pickle.dumps(SceneProgress(str(tmp_path))))      # as a worker receives it
     prog.record("RSN1063_NORTHR_RRS", 14)
     prog.scene("TRAF-01")
-    prog.scene_done(block_id="TRAF-01", seconds=0.1, detail="")
+    prog.scene_done(block_id="TRAF-01", seconds=0.1, detail=lambda: "")
     prog.scene("COL-1")
     time.sleep(3 * scene_progress.FLUSH_S)
     (line,) = running(tmp_path)
@@ -37,10 +37,10 @@ def test_a_scene_far_slower_than_its_neighbours_is_named_in_the_log(monkeypatch,
     prog = SceneProgress()
     prog.record("R", 5)
     for b in ("A", "B", "C"):
-        prog.scene_done(block_id=b, seconds=0.01, detail="")
+        prog.scene_done(block_id=b, seconds=0.01, detail=lambda: "")
     with caplog.at_level(logging.WARNING):
-        prog.scene_done(block_id="D", seconds=0.5, detail="fast enough")
-        prog.scene_done(block_id="E", seconds=2.0, detail="physics general, contact modes rock, slide_rock")
+        prog.scene_done(block_id="D", seconds=0.5, detail=lambda: "fast enough")
+        prog.scene_done(block_id="E", seconds=2.0, detail=lambda: "physics general, contact modes rock, slide_rock")
     (rec,) = [r for r in caplog.records if "slow scene" in r.getMessage()]
     assert "record R, block E took 2.0 s" in rec.getMessage() and "slide_rock" in rec.getMessage()
 

@@ -42,9 +42,10 @@ from markupsafe import Markup, escape
 from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
+from ..margins import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..rocking.orientation import Orientation
-from ..rocking.planner import Physics, Response, guard_names
+from ..rocking.planner import Physics, Response, guarded_scenes
 from ..schema import INVENTORY_PREFIX
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
@@ -53,13 +54,11 @@ from .floor_figures import floor_figures
 
 log = logging.getLogger(__name__)
 
-#: A simulated margin below this factor calls for restraint or relocation [-].
-RELOCATE_BELOW_SCALE = 1.5
 #: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
 P_ANCHOR = 0.5
-#: A probability at or above this (the robust-stand bound of the default [uncertainty]) calls for restraint or
-#: relocation [-].
-P_RELOCATE = 0.1
+# P_RELOCATE (a probability at or above it, the robust-stand bound of the default [uncertainty]) and
+# RELOCATE_BELOW_SCALE (a simulated margin at or below it) call for restraint or relocation; they are the margins
+# stage's, which keeps a history for every such asset
 #: theta(t)/alpha figures drawn, riskiest assets first (all histories stay in histories.nc).
 MAX_HISTORY_FIGURES = 60
 #: Responses that call for limiting sliding.
@@ -493,9 +492,8 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "free_flight": int(np.sum(resp[ok] == Response.free_flight)),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == Response.free_flight, axis=1)]],
-        "guarded": [(str(ds["record"].values[i]), str(ds["block"].values[j]), guard_names(g[i, j]))
-                    for g in ([ds["simulation_guard"].values] if "simulation_guard" in ds else [])
-                    for i, j in zip(*np.nonzero(g > 0))],
+        "guarded": guarded_scenes(ds["simulation_guard"].values, ds["record"].values, ds["block"].values)
+        if "simulation_guard" in ds else [],
         "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
         "sampled": sampled,
         "sensitive_scenes": int(np.sum(ds["robustness"].values[ok] == Robustness.sensitive)) if sampled else 0,

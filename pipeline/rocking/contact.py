@@ -68,8 +68,8 @@ import math
 
 import numpy as np
 
-from .kernel import HALF_PI, _exceed_fraction, _flight_fraction, free_outcome, jit
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled, rocks_compiled
+from .kernel import HALF_PI, HISTORY_TIME_TOL_S, SAMPLE_INDEX_TOL, _exceed_fraction, _flight_fraction, free_outcome, jit
+from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 
 __all__ = ["ContactBlock", "ContactOutcome", "ContactState", "move", "impact", "accelerations", "corner_offsets",
@@ -366,7 +366,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
     t_event = -math.inf               # time of the last event, and events in a row there (tie rule 6)
     n_same = 0
     hist = theta_out if theta_out is not None else np.empty(0)
-    out_k = int(math.ceil(t / dt - 1e-9)) if hist.shape[0] > 0 else 0    # the next sample of the history
+    out_k = int(math.ceil(t / dt - SAMPLE_INDEX_TOL)) if hist.shape[0] > 0 else 0    # the history's next sample
     while mode != OVERTURNED and t < t_stop:
         if t >= t_cap:
             status |= STATUS_TAIL_CAP
@@ -377,7 +377,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         if n_steps >= max_steps:
             status |= STATUS_STEP_CAP
             break
-        k = int(t / dt + 1e-9)
+        k = int(t / dt + SAMPLE_INDEX_TOL)
         if k < n - 1:
             t0 = k * dt
             t1 = t0 + dt
@@ -414,7 +414,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
                 t = t_stop
                 break
             t_on = t + frac * (t1 - t)
-            n_same = n_same + 1 if t_on - t_event < min_advance_compiled(t_on) else 0
+            n_same = events_at_instant_compiled(t_on, t_event, n_same)
             t_event = t_on
             if n_same > MAX_EVENTS_AT_ONE_INSTANT:
                 status |= STATUS_TIE_HOLD             # tie rule 6: held at rest to the next sample
@@ -473,7 +473,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         if ev >= 0.0:
             continue
         events += 1
-        n_same = n_same + 1 if t - t_event < min_advance_compiled(t) else 0
+        n_same = events_at_instant_compiled(t, t_event, n_same)
         t_event = t
         if n_same > MAX_EVENTS_AT_ONE_INSTANT:
             if abs(th) > FLAT_ANGLE_ALPHA * alpha:
@@ -505,7 +505,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
 @jit
 def _fill_linear(hist, out_k, dt, t0, th0, t1, th1):
     """theta at the samples k dt <= t1 not filled yet, linear between (t0, th0) and (t1, th1); the next sample."""
-    while out_k < hist.shape[0] and out_k * dt <= t1 + 1e-12:
+    while out_k < hist.shape[0] and out_k * dt <= t1 + HISTORY_TIME_TOL_S:
         hist[out_k] = th1 if t1 <= t0 else th0 + (th1 - th0) * (out_k * dt - t0) / (t1 - t0)
         out_k += 1
     return out_k

@@ -42,7 +42,7 @@ import math
 import numpy as np
 
 from .compiled import HAVE_NUMBA, jit  # noqa: F401  (re-exported: the kernels' decorator)
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, min_advance_compiled
+from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from .structures import RockingOutcome
 
 HALF_PI = 0.5 * math.pi
@@ -426,21 +426,18 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
                 t = t + xf * (t1 - t)
                 status |= STATUS_FREE_FLIGHT
                 break
-            if x < 0.0:
-                t = t1
-            else:
+            if x >= 0.0:
                 t_up = t + x * (t1 - t)
-                n_same = n_same + 1 if t_up - t_event < min_advance_compiled(t_up) else 0
+                n_same = events_at_instant_compiled(t_up, t_event, n_same)
                 t_event = t_up
                 if n_same > MAX_EVENTS_AT_ONE_INSTANT:
                     # tie rule 6: uplift and fall back at one instant without end: held at rest to the next sample
                     status |= STATUS_TIE_HOLD
                     n_same = 0
-                    t = t1
-                    while out_k < n_out and out_k * dt <= t + HISTORY_TIME_TOL_S:
-                        theta_out[out_k] = 0.0
-                        out_k += 1
-                    continue
+                    x = -1.0
+            if x < 0.0:
+                t = t1
+            else:
                 t = t_up
                 a_now = a0 + sa * (t - t0)
                 s = -1.0 if a_now > 0.0 else 1.0
@@ -509,7 +506,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             n_imp += 1
             n_events += 1
             th, om, s = 0.0, om_after, -s
-            n_same = n_same + 1 if t - t_event < min_advance_compiled(t) else 0
+            n_same = events_at_instant_compiled(t, t_event, n_same)
             t_event = t
             if abs(om) < rest_omega or n_events >= control.max_events:
                 if n_events >= control.max_events:

@@ -135,8 +135,8 @@ class PlaneResult:
     azimuth_deg: float
     #: planes integrated (0: proven at rest in every plane)
     planes_simulated: int
-    #: each plane integrated, as (azimuth [deg], theta_max / alpha, overturned), in the order simulated (the
-    #: scan stops at the first plane that overturns; the planes proven at rest are not listed)
+    #: each plane integrated, as (azimuth [deg], theta_max / alpha), in the order simulated (the scan stops at the
+    #: first plane that overturns; the planes proven at rest are not listed)
     responses: tuple = ()
 
 
@@ -176,7 +176,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
         return PlaneResult(REST_SCENE, first, 0)            # no plane can lift or slip the block
     state = PlaneResult(REST_SCENE, first, 0)
     guard = 0                                               # the guards met in any plane (Guard bits)
-    responses: list[tuple[float, float, bool]] = []
+    responses: list[tuple[float, float]] = []
 
     def scan(candidates: tuple) -> bool:
         """Simulate the candidates that move the block, strongest demand first; True at the first overturn."""
@@ -186,7 +186,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
         for k, ratio in zip(ordered[:moving], ratios[:moving].tolist()):
             sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, block=block, settings=settings)
             guard |= sc.guard
-            responses.append((k, float(sc.theta_max), bool(sc.overturned)))
+            responses.append((k, float(sc.theta_max)))
             n = state.planes_simulated + 1
             state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
                 PlaneResult(state.scene, state.azimuth_deg, n)

@@ -54,7 +54,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
-from . import contact, kernel
+from . import contact, handoff
 from .block import Block
 from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
@@ -120,11 +120,15 @@ def guard_names(bits: int) -> str:
     return ", ".join(g.name for g in Guard if int(bits) & g)
 
 
+def guarded_scenes(guard: np.ndarray, records, blocks) -> list[tuple[str, str, str]]:
+    """(record, block, guard names) of every scene whose ``simulation_guard`` (records x blocks) is set."""
+    return [(str(records[i]), str(blocks[j]), guard_names(guard[i, j])) for i, j in zip(*np.nonzero(guard > 0))]
+
+
 def kernel_guard(status: int) -> int:
-    """:class:`Guard` bits of the rocking kernel's ``status``."""
-    return ((Guard.event_cap if status & kernel.STATUS_CHATTER else 0)
-            | (Guard.tie_hold if status & kernel.STATUS_TIE_HOLD else 0)
-            | (Guard.step_cap if status & kernel.STATUS_STEP_CAP else 0))
+    """:class:`Guard` bits of the rocking kernel's ``status`` (through the contact model's bits for the same
+    guards, :func:`.handoff.kernel_guards`)."""
+    return contact_guard(handoff.kernel_guards(status))
 
 
 def contact_guard(status: int) -> int:
@@ -300,7 +304,7 @@ def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, fr
         flight = FreeFlight.block_liftoff
     theta_max = max(co.theta_max_rad / alpha, rocking.theta_max if rocking is not None else 0.0)
     n_impacts = co.n_impacts + (rocking.n_impacts if rocking is not None else 0)
-    guard = contact_guard(co.status) | (kernel_guard(rocking.status) if rocking is not None else 0)
+    guard = contact_guard(co.status)           # the continuation's status holds the first pure-rocking part's guards
     return Scene(Physics.general, response, co.overturned, theta_max, n_impacts, co.t_overturn, friction_demand,
                  co.slip_max_m, flight, guard & Guard.event_cap > 0, friction_exceeded,
                  rocking.t_stop if rocking is not None and rocking.free_flight else math.nan,

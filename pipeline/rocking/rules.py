@@ -84,3 +84,10 @@ motion_threshold_compiled = jit(motion_threshold)
 rocks_compiled = jit(rocks)
 vertical_kept_compiled = jit(vertical_kept)
 min_advance_compiled = jit(min_advance)
+
+
+@jit
+def events_at_instant_compiled(t: float, t_event: float, n_same: int) -> int:
+    """Events in a row at one instant after an event at ``t``, the previous one at ``t_event`` (tie rule 6): one
+    more when time has not advanced by :func:`min_advance` since, else 0 (for the compiled kernels)."""
+    return n_same + 1 if t - t_event < min_advance_compiled(t) else 0

@@ -301,12 +301,8 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     kernel_block = RockingBlock(float(block.p), float(block.alpha), float(block.e), float(block.g_ms2),
                                 float(block.R_m), False, float(block.mu))
-    if rr.theta is not None:
-        return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block,
-                                                        step_control(settings), contact_block(block, settings), True,
-                                                        rr.theta))
     return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block, step_control(settings),
-                                                    contact_block(block, settings), True))
+                                                    contact_block(block, settings), True, rr.theta))
 
 
 def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig(),
@@ -316,7 +312,4 @@ def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig 
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s)
-    if theta_out is not None:
-        return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True,
-                                                 theta_out))
-    return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True))
+    return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True, theta_out))

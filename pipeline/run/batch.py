@@ -44,7 +44,7 @@ from ..floors.motion import describe
 from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
-from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guard_names
+from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
 from ..scene_progress import SceneProgress, running
 from ..screening import (
     FLOOR_PULSE_VALUES,
@@ -282,16 +282,6 @@ def removing(stream, directory: str):
         shutil.rmtree(directory, ignore_errors=True)
 
 
-def guarded_scenes(ds: xr.Dataset) -> list[str]:
-    """The scenes that met a guard of the simulator (``simulation_guard``), one line each: record, block and
-    the guards' names."""
-    guard = ds["simulation_guard"].values
-    lines = []
-    for i, j in zip(*np.nonzero(guard > 0)):
-        lines.append(f"{ds['record'].values[i]} x {ds['block'].values[j]}: {guard_names(guard[i, j])}")
-    return lines
-
-
 @dataclass
 class BatchOutcome:
     """What the screening stage hands to the next stages.
@@ -460,7 +450,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
         "general_scenes": _general_reasons(ds),
-        "guarded_scenes": guarded_scenes(ds),
+        "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
+            ds["simulation_guard"].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
         "buildings": ds.attrs.get("buildings", ""),
         "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),

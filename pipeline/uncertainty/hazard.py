@@ -225,7 +225,7 @@ def hazard_set(curves, *, im: str, fit_component: Component, scale: float | None
     for c in curves:
         notes = list(c.notes)
         if c.component is None:
-            # a curve of unknown definition is never taken as one: RotD100 and RotD50 differ by 10-25 % in level
+            # a curve of unknown definition is not taken as one: RotD100 exceeds RotD50 by a record-dependent factor
             raise HazardError(
                 f"{c.path}: the hazard curve does not state its horizontal component definition (RotD50, RotD100, "
                 "geometric mean, larger component), and its format has no usual one; state it in the header "

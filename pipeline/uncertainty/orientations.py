@@ -141,16 +141,15 @@ class _Cells:
         rows = np.asarray([r for r in rows if np.any(self.outcome[r, cols] == NOT_SIMULATED)], dtype=int)
         if rows.size == 0 or cols.size == 0:
             return
-        self.outcome[np.ix_(rows, cols)] = self._simulate(rows, np.broadcast_to(self.planes_deg[cols],
-                                                                                (rows.size, cols.size)))
-
-    def _simulate(self, rows: np.ndarray, planes_deg: np.ndarray) -> np.ndarray:
-        """Outcomes of draws ``rows``, each in its own row of planes ``planes_deg`` (shape (rows, planes))."""
-        return simulate_cells(self.m, self.z[rows], planes_deg, self.blk, self)
+        outcome, integrated = simulate_cells(self.m, self.z[rows],
+                                             np.broadcast_to(self.planes_deg[cols], (rows.size, cols.size)), self.blk)
+        self.outcome[np.ix_(rows, cols)] = outcome
+        self.simulations += integrated
 
 
-def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _Block, counter=None) -> np.ndarray:
-    """Outcomes (1, 0, -1) of each draw of ``z`` in each plane of its row of ``planes_deg`` [deg]."""
+def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _Block) -> tuple[np.ndarray, int]:
+    """Outcomes (1, 0, -1) of each draw of ``z`` in each plane of its row of ``planes_deg`` [deg], and the planes
+    integrated."""
     sb = sample_block(z, height_m=blk.height_m, width_m=blk.width_m, mu=blk.mu, restitution=blk.restitution,
                       azimuth_deg=math.nan, settings=blk.settings, g_ms2=blk.g_ms2)
     phi = np.deg2rad(np.asarray(planes_deg, dtype=float) - m.azimuth0_deg)
@@ -161,9 +160,7 @@ def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _
                           np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
                           float(blk.g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s), out,
                           planes)
-    if counter is not None:
-        counter.simulations += int(planes.sum())
-    return out
+    return out, int(planes.sum())
 
 
 def _fractions(outcome: np.ndarray) -> np.ndarray:
@@ -295,9 +292,9 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
         rows = np.arange(drawn, min(drawn + batch, n_max))
         todo = rows[outcome[rows] == NOT_SIMULATED]
         if todo.size:
-            counter = _Counter()
-            outcome[todo] = simulate_cells(m, z_average[todo], grid[order[todo]][:, None], blk, counter)[:, 0]
-            sims += counter.simulations
+            drawn_cells, integrated = simulate_cells(m, z_average[todo], grid[order[todo]][:, None], blk)
+            outcome[todo] = drawn_cells[:, 0]
+            sims += integrated
         drawn = int(rows[-1]) + 1
         v = outcome[:drawn]
         k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
@@ -308,10 +305,6 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
         if drawn >= SELECTION_BATCHES * batch and (high - low) / 2.0 <= u.orientation_average_halfwidth:
             break
     return mean, low, high, sims
-
-
-class _Counter:
-    simulations = 0
 
 
 def plane_order(n_planes: int, n_draws: int) -> np.ndarray:
