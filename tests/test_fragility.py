@@ -360,3 +360,17 @@ def test_a_change_of_component_definition_says_why_every_scene_is_new(tmp_path, 
     with caplog.at_level(logging.WARNING):
         _say_why_all_is_new(tmp_path, types.SimpleNamespace(im="pga", component=Component.rotd100))
     assert caplog.text == ""
+
+
+def test_levels_auto_brackets_the_outcome_the_fit_uses():
+    """With sampling, the fit uses each scaled scene's probability: the ladder is extended on it, not on the
+    nominal verdicts (planted: verdicts that bracket, probabilities that do not reach 0.9 at the top)."""
+    from pipeline.run.fragility import extension
+
+    levels = np.array([1.0, 2.0, 4.0])
+    cap = np.array([1.0])
+    verdict = np.array([[[0], [1], [1]]] * 5, dtype="i1")                   # 5 records: 0, 1, 1 over the levels
+    p = np.array([[[0.0], [0.5], [0.6]]] * 5)
+    results = [{"verdict": v, "p_random": q} for v, q in zip(verdict, p)]
+    assert extension(levels, results, cap) == []
+    assert extension(levels, results, cap, outcome="p_random") == [8.0]

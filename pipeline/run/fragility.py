@@ -310,14 +310,15 @@ def auto_ladder(cap: np.ndarray) -> np.ndarray:
     return finite.min() * AUTO_STEP ** np.arange(min(max(n, 3), AUTO_MAX_LEVELS))
 
 
-def extension(levels: np.ndarray, results: list[dict], cap: np.ndarray) -> list[float]:
+def extension(levels: np.ndarray, results: list[dict], cap: np.ndarray, *, outcome: str = "verdict") -> list[float]:
     """The levels to add so that every block that can rock brackets :data:`AUTO_BRACKET`: one step above the top
-    where some block's top fraction is below 0.9, one below the bottom where some bottom fraction is above 0.1."""
+    where some block's top fraction is below 0.9, one below the bottom where some bottom fraction is above 0.1.
+    ``outcome``: the result the fit uses (``verdict``, nominal; or a sampled probability, :data:`ORIENTATIONS`)."""
     if not results:
         return []
     order = np.argsort(levels)
-    v = np.stack([r["verdict"] for r in results]).astype(float)[:, order, :]        # (records, levels, blocks)
-    v = np.where(v >= 0, v, np.nan)
+    v = np.stack([r[outcome] for r in results]).astype(float)[:, order, :]          # (records, levels, blocks)
+    v = np.where(v >= 0, v, np.nan)                                                  # -1 (no verdict) and NaN out
     with np.errstate(invalid="ignore"):
         frac = np.nanmean(v, axis=0)                                                 # (levels, blocks)
     rock = np.isfinite(cap)
@@ -346,11 +347,12 @@ def merge_rounds(earlier: list[dict], later: list[dict]) -> list[dict]:
     return out
 
 
-def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
+def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None, outcome: str = "verdict"
                  ) -> tuple[np.ndarray, list, list, dict]:
     """``--levels auto``: the ladder of :func:`auto_ladder`, extended round by round (:func:`extension`) until
     every block that can rock brackets 0.1 and 0.9, or :data:`AUTO_ROUNDS` rounds, or :data:`AUTO_MAX_LEVELS`
-    levels. ``run(levels)`` runs the stripes of new levels; ``say(line)`` announces each round. Returns the levels
+    levels. ``run(levels)`` runs the stripes of new levels; ``say(line)`` announces each round; ``outcome``: the
+    result the fit uses (:func:`extension`). Returns the levels
     (increasing), the results (their stripes in that order), the failures and the counts."""
     cap = capacities(inventory, im, g_ms2=config.records.g_ms2)
     levels = auto_ladder(cap)
@@ -359,7 +361,7 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
         say(f"levels auto: {', '.join(f'{x / factor:.3g}' for x in levels)} {shown}, from the blocks' capacities")
     results, failures, counts = run(levels)
     for k in range(AUTO_ROUNDS):
-        add = [x for x in extension(levels, results, cap) if levels.size < AUTO_MAX_LEVELS]
+        add = [x for x in extension(levels, results, cap, outcome=outcome) if levels.size < AUTO_MAX_LEVELS]
         if not add:
             break
         if say is not None:
@@ -376,6 +378,11 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
         for name in ("verdict", "p", "p_random", "factor"):
             r[name] = np.asarray(r[name])[order]
     return levels[order], results, failures, counts
+
+
+def fits_probabilities(config: Config) -> bool:
+    """True when the stripes' outcomes are sampled probabilities (else nominal verdicts)."""
+    return config.uncertainty.samples > 0 and config.fidelity.tier != "criterion"
 
 
 #: ``--orientation``: the probability a sampled stripe is fitted on, for a block of blank azimuth.
@@ -398,7 +405,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     key, measure = ORIENTATIONS[orientation]
     levels = np.asarray(levels, dtype=float)
     nb, nl = len(inventory), len(levels)
-    sampled = config.uncertainty.samples > 0 and config.fidelity.tier != "criterion"
+    sampled = fits_probabilities(config)
     verdict = np.stack([r["verdict"] for r in results]) if results else np.full((0, nl, nb), -1)
     prob = np.stack([r[key] for r in results]) if results else np.full((0, nl, nb), np.nan)
     factor = np.stack([r["factor"] for r in results]) if results else np.full((0, nl, nb), np.nan)
@@ -681,8 +688,9 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                                    component=request.component, buildings=request.buildings, prune=prune)
 
             if levels is None:                         # --levels auto
-                levels, results, failures, counts = auto_stripes(lambda lv: run(lv, prune=False), request.inventory,
-                                                                 request.config, request.im, say=say)
+                levels, results, failures, counts = auto_stripes(
+                    lambda lv: run(lv, prune=False), request.inventory, request.config, request.im, say=say,
+                    outcome=ORIENTATIONS[request.orientation][0] if fits_probabilities(request.config) else "verdict")
             else:
                 results, failures, counts = run(levels)
         if not results:
