@@ -262,8 +262,8 @@ def test_the_interval_of_a_median_beyond_the_levels_is_open():
     outcomes[0, 2] = 1.0                                  # one record of 35 overturns, at the top level only
     theta_ci, _ = bootstrap_stripes(lv, outcomes, draws=200, seed=1)
     assert theta_ci[1] == math.inf                        # many resamples hold no overturning at all
-    assert open_interval(lv, np.array([0, 0, 1 / 35]), np.array([0.5, 0.7]))[1] == math.inf
-    assert open_interval(lv, np.array([0.6, 0.8, 1.0]), np.array([0.05, 0.09]))[0] == 0.0
+    assert open_interval(np.array([0, 0, 1 / 35]), np.array([0.5, 0.7]))[1] == math.inf
+    assert open_interval(np.array([0.6, 0.8, 1.0]), np.array([0.05, 0.09]))[0] == 0.0
 
 
 def test_nothing_overturned_gives_no_rate_but_the_hazards_rate_above_the_top_level():

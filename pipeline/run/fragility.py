@@ -421,7 +421,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         th_ci[j], be_ci[j] = bootstrap_stripes(levels, outcome[:, :, j], draws=bootstrap,
                                                seed=config.uncertainty.seed + j)
         if fit.status[j] == FitStatus.not_bounded:     # the median lies beyond the levels: its interval is open
-            th_ci[j] = open_interval(levels, frac[:, j], th_ci[j])
+            th_ci[j] = open_interval(frac[:, j], th_ci[j])
     # IM efficiency and sufficiency: the same outcomes against every IM of the scaled records
     names = list(IMS)
     beta_im = np.full((nb, len(names)), np.nan)

@@ -78,7 +78,7 @@ def _curves(ds: xr.Dataset):
     fitted, unfitted = [], []
     for j, block in enumerate(ds["block"].values.tolist()):
         theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
-        why = LEFT_OUT.get(FitStatus(int(status[j]))) if int(status[j]) in set(LEFT_OUT) else None
+        why = LEFT_OUT.get(FitStatus(int(status[j])))
         if why is None and not (math.isfinite(theta) and theta > 0 and math.isfinite(beta) and beta > 0):
             why = "no finite fit"
         if why is None:

@@ -176,7 +176,7 @@ def fit_stripes(levels: np.ndarray, overturned: np.ndarray, trials: np.ndarray) 
     return Fit(theta=theta, beta=beta, status=status.astype("i1"))
 
 
-def open_interval(levels: np.ndarray, fractions: np.ndarray, theta_interval: np.ndarray) -> np.ndarray:
+def open_interval(fractions: np.ndarray, theta_interval: np.ndarray) -> np.ndarray:
     """The median's interval of a ``not_bounded`` fit, open on the side the stripes do not bound: above the
     levels (every fraction below one half) the upper bound is +inf, below them the lower bound is 0; the other
     bound is the bootstrap's (``theta_interval``)."""
