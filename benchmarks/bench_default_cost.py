@@ -7,7 +7,10 @@ executor, once with ``--samples 0`` and once with the defaults, into fresh outpu
 wall times and their ratio, and where the sampled planes go: per class of scene and per orientation, against
 the minimum the sequential rule needs (25 draws in one plane certify robust_stand or robust_overturn at 90 %).
 
-Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200]``.
+``--bundled`` times the bundled records x configs/blocks.csv instead; ``--repeat K`` runs each command K times,
+alternating, and reports the medians.
+
+Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1]``.
 """
 
 from __future__ import annotations
@@ -72,18 +75,31 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--records", type=int, default=20)
     ap.add_argument("--blocks", type=int, default=200)
+    ap.add_argument("--bundled", action="store_true", help="the bundled records x configs/blocks.csv")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each command (alternating); medians reported")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
-        n_rec = _records(root / "records", args.records)
-        _inventory(root / "blocks.csv", args.blocks)
-        nominal = _run(root / "records", root / "blocks.csv", root / "nominal", "--samples", "0")
-        default = _run(root / "records", root / "blocks.csv", root / "default")
+        if args.bundled:
+            records, blocks = ROOT / "records", ROOT / "configs" / "blocks.csv"
+            n_rec = 0
+        else:
+            records, blocks = root / "records", root / "blocks.csv"
+            n_rec = _records(records, args.records)
+            _inventory(blocks, args.blocks)
+        times: dict[str, list[float]] = {"nominal": [], "default": []}
+        for _ in range(max(1, args.repeat)):
+            times["nominal"].append(_run(records, blocks, root / "nominal", "--samples", "0"))
+            times["default"].append(_run(records, blocks, root / "default"))
+        nominal, default = (float(np.median(times[k])) for k in ("nominal", "default"))
         ds = xr.open_dataset(root / "default" / "screening.nc")
+        if args.bundled:
+            n_rec, args.blocks = ds.sizes["record"], ds.sizes["block"]
         sims, rob, orient = ds["sample_simulations"].values, ds["robustness"].values, ds["orientation"].values
         moving = ds["physics"].values > 0
     print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
-          f"{default / nominal:.2f}x")
+          f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
+          f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")
     print(f"moving scenes {int(moving.sum())} of {moving.size}; sampled planes {int(sims[sims > 0].sum())}, "
           f"{sims[moving].clip(0).mean():.1f} per moving scene against {MIN_ROBUST_DRAWS} for a robust class in one "
           "plane")

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import os
 import shutil
 import tempfile
 import time
@@ -274,6 +275,21 @@ def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
             "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
+def largest_first(tasks: list[tuple]) -> list[tuple]:
+    """The tasks by decreasing size of their records' files: the longest records start first, so that no worker
+    is left with a long record while the others idle (measured on the bundled records with 2 workers: the nominal
+    run 10.2 s in scan order, 7.7-8.1 s largest first)."""
+    def size(task: tuple) -> int:
+        total = 0
+        for f in task[0].files:
+            try:
+                total += os.path.getsize(f)
+            except OSError:                   # vanished since the scan: the task reports it
+                pass
+        return total
+    return sorted(tasks, key=size, reverse=True)
+
+
 def removing(stream, directory: str):
     """``stream``, removing ``directory`` once it is exhausted or abandoned."""
     try:
@@ -388,7 +404,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     executor = executor or SerialExecutor()
     scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
     ctx.progress = SceneProgress(scenes_dir)
-    stream = removing(executor.map_unordered(_task, the_plan.tasks, ctx), scenes_dir)
+    stream = removing(executor.map_unordered(_task, largest_first(the_plan.tasks), ctx), scenes_dir)
     if progress is not None:
         stream = progress(stream, len(the_plan.tasks), running=lambda: running(scenes_dir))
     computed_records = computed_scenes = 0
