@@ -237,8 +237,8 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
     if whole:                                                  # step 2
         by_azimuth = np.argsort(planes_deg % 180.0, kind="stable")
         coarse = by_azimuth[::PILOT_STRIDE]
-        gov = cells.index(governing_deg) if gov_known else -1
-        cand = np.array(sorted(set(coarse.tolist()) | ({gov} if gov >= 0 else set())), dtype=int)
+        gov_column = cells.index(governing_deg) if gov_known else -1
+        cand = np.array(sorted(set(coarse.tolist()) | ({gov_column} if gov_column >= 0 else set())), dtype=int)
     else:
         first = [governing_deg] if gov_known else []
         picks = list(dict.fromkeys(cells.index(a) for a in [*first, *ranked_deg] if cells.index(a) >= 0))
