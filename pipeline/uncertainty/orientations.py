@@ -8,8 +8,9 @@ Samples are spent only where they decide something.
    of any selection (:func:`estimation_normals`). If that is ``robust_overturn`` it is the answer: a worse plane
    can only be higher.
 2. Otherwise the candidates are the governing plane and the three planes with the largest nominal peak
-   rotation (every plane where the nominal overturned, since most planes then overturn nominally and their
-   peak rotation cannot tell them apart).
+   rotation; where the nominal overturned (most planes then overturn nominally, and their peak rotation cannot
+   tell them apart), every :data:`PILOT_STRIDE`-th plane in azimuth order and the governing plane, the chosen
+   plane's neighbours being simulated on the race's draws at the end (:func:`_refine`).
 3. A pilot of one batch of draws in every candidate (common random numbers: the same draws in every plane).
    The leader, the plane with the largest fraction overturning, is estimated on the independent draws; it is the
    answer when that decides ``robust_overturn``, or ``robust_stand`` with no overturning in any pilot cell.
