@@ -7,7 +7,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo test test-slow lint browser peers bench clean
+.PHONY: demo event-demo test test-slow lint browser peers bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -28,6 +28,14 @@ demo: $(VENV)/.installed
 	$(BIN)/screen --records records --blocks configs/blocks.csv --out results --tolerate-failures
 	$(BIN)/screen chart --block COL-1 --blocks configs/blocks.csv --results results/screening.nc \
 	    --out results/chart-COL-1.nc
+
+# After an earthquake: fragilities of the example inventory from the bundled records (on PGV, the component
+# ShakeMap reports), then the scenario ShakeMap -> results/event/event.html, inspection.csv, event.nc
+event-demo: $(VENV)/.installed
+	$(BIN)/screen fragility --records records --blocks examples/event/blocks.csv --im pgv --im-component larger \
+	    --levels auto --out results/event-fragility --tolerate-failures
+	$(BIN)/screen event --shakemap examples/event/903_m6p09_se-scenario-grid.xml.gz \
+	    --blocks examples/event/blocks.csv --fragility results/event-fragility --out results/event
 
 test: $(VENV)/.installed-test browser
 	$(BIN)/python -m pytest -n 2 -m "not slow" $(PYTEST_ARGS)
@@ -80,6 +88,7 @@ bench: $(VENV)/.installed-test
 	$(BIN)/python benchmarks/bench_scale.py --records 10,100 --blocks 10,100 --samples 0
 	$(BIN)/python benchmarks/bench_scale.py --records 300,1000 --blocks 10 --samples 0   # memory against records
 	$(BIN)/python benchmarks/bench_fragility.py
+	$(BIN)/python benchmarks/bench_event.py
 
 clean:
 	rm -rf $(VENV) results .pytest_cache .hypothesis

@@ -35,8 +35,9 @@ REQUIRED = ("id", "height_m", "width_m")
 OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "building", "floor_height_m", "site",
             "notes")
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
-#: assets.csv and the report. Any other extra column is kept too, with a warning (a typo is likely).
-ASSET_COLUMNS = ("value", "location", "floor", "owner", "category")
+#: assets.csv and the report; ``lon`` and ``lat`` [decimal degrees] locate an asset for ``screen event``. Any other
+#: extra column is kept too, with a warning (a typo is likely).
+ASSET_COLUMNS = ("value", "location", "floor", "owner", "category", "lon", "lat")
 #: Plausible block sizes [m]: from a small figurine to a tall obelisk or rock pillar.
 SIZE_RANGE_M = (0.01, 100.0)
 #: Heights above this are accepted but warned about: taller than the free-standing objects screened

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import os
 import shlex
 import sys
@@ -654,15 +655,75 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     return EXIT_OK
 
 
+def event_parser() -> argparse.ArgumentParser:
+    """Parser of ``screen event``."""
+    p = argparse.ArgumentParser(prog="screen event",
+                                description="After an earthquake: every asset's probability of overturning from the "
+                                            "event's ShakeMap and the fragilities of 'screen fragility', ranked into "
+                                            "an inspection list (event.nc, inspection.csv, event.html, "
+                                            "shakecast-facilities.xml).")
+    p.add_argument("--shakemap", type=Path, required=True,
+                   help="the event's ShakeMap grid.xml (ShakeMap 3.5 or 4; .xml.gz read as is)")
+    p.add_argument("--uncertainty", type=Path, default=None,
+                   help="its uncertainty.xml, for the STD fields grid.xml lacks (default: the grid's own, else "
+                        "[event] default_log_sd, said in the output)")
+    p.add_argument("--blocks", type=Path, required=True,
+                   help="inventory CSV; the assets' locations from its lon and lat columns [decimal degrees]")
+    p.add_argument("--sites", type=Path, default=None,
+                   help="CSV site,lon,lat: the location of the assets whose row has no lon and lat, by their site")
+    p.add_argument("--fragility", type=Path, required=True,
+                   help="the --out directory of a 'screen fragility' run on the same inventory (its fragility.nc)")
+    p.add_argument("--out", type=Path, default=Path("results/event"),
+                   help="output directory (default results/event/); a newer ShakeMap version of the same event "
+                        "replaces its results, an older one is refused")
+    p.add_argument("--k-sigma", type=float, default=0.0, metavar="K",
+                   help="take the shaking at its median x exp(K sigma) (default 0: the median)")
+    p.add_argument("--shakemap-scale", type=float, default=None, metavar="F",
+                   help="a stated conversion when the ShakeMap's component ([event] shakemap_component) differs "
+                        "from the fragility's: ShakeMap values x F")
+    p.add_argument("--config", type=Path, default=None, help="TOML configuration ([event]: levels, default sigma)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no summary")
+    return p
+
+
+def cmd_event(args: argparse.Namespace, argv: list[str]) -> int:
+    """``screen event``: the inspection list of one ShakeMap."""
+    from .event.assets import Level
+    from .run.event import EventRequest, screen_event
+
+    config, inventory = _config_and_inventory(args)
+    if args.shakemap_scale is not None and not args.shakemap_scale > 0:
+        raise UsageError(f"--shakemap-scale {args.shakemap_scale}: must be a positive factor")
+    if not math.isfinite(args.k_sigma):
+        raise UsageError(f"--k-sigma {args.k_sigma}: must be a finite number")
+    out = screen_event(EventRequest(args.shakemap, inventory, args.fragility, args.out, config,
+                                    uncertainty=args.uncertainty, sites=args.sites, k_sigma=args.k_sigma,
+                                    shakemap_scale=args.shakemap_scale, command=("screen", "event", *argv[1:])))
+    for w in out.warnings:
+        log.warning("%s", w)
+    if not args.quiet:
+        ds = out.dataset
+        counts = ", ".join(f"{int((ds['level'].values == lv).sum())} {lv.name}"
+                           for lv in sorted(Level, key=lambda m: -m.value))
+        print(f"event {ds.attrs['event_id']} ShakeMap v{ds.attrs['shakemap_version']}: {ds.sizes['block']} assets "
+              f"({counts}); {out.seconds:.1f} s", file=sys.stderr)
+        if out.replaced_version:
+            print(f"replaced version {out.replaced_version}: {len(out.changed)} asset(s) changed level"
+                  + "".join(f"\n  {b}: {was} -> {now}" for b, was, now in out.changed[:20]), file=sys.stderr)
+        print(f"wrote {', '.join(str(p) for p in out.paths)}", file=sys.stderr)
+    return 0
+
+
 SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
                "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer),
-               "fragility": (fragility_parser, cmd_fragility)}
+               "fragility": (fragility_parser, cmd_fragility), "event": (event_parser, cmd_event)}
 SUBCOMMAND_HELP = {
     "chart": "stability chart of one block (the paper's Figs. 2a and 4), records as points, --simulate",
     "report": "rebuild report.html and assets.csv from a screening.nc",
     "bench": "what accuracy costs: every fidelity tier and setting against the reference, measured",
     "infer": "archaeoseismology: the pulses consistent with which blocks toppled and which stood",
     "fragility": "fragility curves by multiple-stripe analysis, the IMs that predict overturning, hazard",
+    "event": "after an earthquake: P(overturn) per asset from the ShakeMap, an inspection list and map",
 }
 
 

@@ -112,6 +112,27 @@ class InferConfig:
 
 
 @dataclass(frozen=True)
+class EventConfig:
+    """``screen event``: inspection levels, the shaking's uncertainty where the ShakeMap has none, its component."""
+
+    #: Smallest P(overturn | event) of the inspection level low [-].
+    level_low: float = 0.05
+    #: ... of the level medium [-].
+    level_medium: float = 0.2
+    #: ... of the level high [-].
+    level_high: float = 0.5
+    #: Standard deviation of ln IM where the ShakeMap gives none (neither STD field nor uncertainty.xml): a typical
+    #: total sigma of a ground-motion model for PGA and PGV, 0.6-0.7 (e.g. Abrahamson et al. 2014) [-].
+    default_log_sd: float = 0.65
+    #: The horizontal component the ShakeMap reports (rotd100, rotd50, geomean, larger): ShakeMap's default is the
+    #: larger of the two horizontals ("greater of two"; Worden et al. 2020); a map made otherwise says so in its
+    #: info file, and this is then changed to match.
+    shakemap_component: str = "larger"
+    #: Fragility curves drawn on the event page, highest priority first (every number stays in event.nc) [-].
+    page_curves: int = 60
+
+
+@dataclass(frozen=True)
 class Config:
     """The whole configuration."""
 
@@ -124,6 +145,7 @@ class Config:
     fidelity: FidelityConfig = field(default_factory=FidelityConfig)
     infer: InferConfig = field(default_factory=InferConfig)
     uncertainty: UncertaintyConfig = field(default_factory=UncertaintyConfig)
+    event: EventConfig = field(default_factory=EventConfig)
 
     def simulation_settings(self) -> SimulationConfig:
         """The integration settings of the fidelity tier (tight ones for ``reference``)."""
@@ -174,13 +196,16 @@ class Config:
 #: Float keys for which 0 is a valid value (it switches an approximation or a refinement off).
 ZERO_ALLOWED = {("simulation", "vertical_fraction"), ("simulation", "orientation_refine_deg"),
                 *(("uncertainty", k) for k in ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov",
-                                               "azimuth_sd_deg", "orientation_step_deg"))}
+                                               "azimuth_sd_deg", "orientation_step_deg")),
+                ("event", "default_log_sd"), ("event", "level_low")}
 #: Float keys limited to a range.
 RANGES = {("simulation", "orientation_step_deg"): (0.1, 90.0), ("simulation", "orientation_refine_deg"): (0.0, 90.0),
           ("uncertainty", "azimuth_sd_deg"): (0.0, 45.0), ("uncertainty", "confidence"): (0.5, 0.999),
           ("uncertainty", "robust_below"): (0.001, 0.5), ("uncertainty", "robust_above"): (0.5, 0.999),
           ("uncertainty", "p_halfwidth"): (0.001, 1.0), ("uncertainty", "orientation_step_deg"): (0.0, 45.0),
-          ("uncertainty", "orientation_average_halfwidth"): (0.001, 0.5)}
+          ("uncertainty", "orientation_average_halfwidth"): (0.001, 0.5),
+          **{("event", k): (0.0, 1.0) for k in ("level_low", "level_medium", "level_high")},
+          ("event", "default_log_sd"): (0.0, 3.0)}
 #: Spreads (coefficients of variation): valid in [0, 1); a cov of 1 or more is not a measurement uncertainty.
 COV_KEYS = ("amplitude_cov", "restitution_cov", "friction_cov", "size_cov")
 #: Largest number of samples per scene.
@@ -208,6 +233,7 @@ CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {
     ("pulses",): {"method": ("shahi_baker_2014", "baker_2007")},
     ("criteria",): {"form": FORMS},
     ("fidelity",): {"tier": FIDELITY_TIERS},
+    ("event",): {"shakemap_component": ("rotd100", "rotd50", "geomean", "larger")},
 }
 
 
@@ -299,6 +325,10 @@ def config_from_dict(data: dict, *, where: str = "<config>") -> Config:
                 raise ConfigError(f"{where}: [{name}] {k} = {v!r}; valid: {list(choices[k])}")
         kwargs[name] = dataclasses.replace(current, **values)
     _check_uncertainty(kwargs["uncertainty"], where)
+    ev = kwargs["event"]
+    if not ev.level_low < ev.level_medium < ev.level_high:
+        raise ConfigError(f"{where}: [event] level_low {ev.level_low}, level_medium {ev.level_medium} and "
+                          f"level_high {ev.level_high} must increase (each is the smallest probability of its level)")
     return Config(**kwargs)
 
 

@@ -18,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from .criteria import Onset
+from .event.assets import Basis, Level
 from .rocking.orientation import Orientation
 from .rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
 from .uncertainty.fragility import FitStatus
@@ -508,4 +509,43 @@ FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "hazard_period": (("block",), "s", "period of the Sa hazard curve the block is integrated against", {}),
     "hazard_period_ratio": (("block",), "1", "that curve's period over the block's own Sa period",
                             {"comment": "1 where a curve of the block's own period was given"}),
+}
+
+
+#: ``event.nc`` (``screen event``): each asset's probability of overturning in one earthquake, from the event's
+#: ShakeMap and the assets' fragilities. Dimension ``block`` as in screening.nc.
+EVENT: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    "block": SCHEMA["block"],
+    "p_overturn_event": (("block",), "1", "probability of overturning in the event: the fragility convolved with "
+                         "the lognormal shaking at the site, Phi(ln(m e^(k sigma) / theta) / sqrt(beta^2 + sigma^2))",
+                         {"comment": "NaN where the fragility did not bound its median (basis bounds_only): read "
+                                     "p_overturn_event_low and _high"}),
+    "p_overturn_event_low": (("block",), "1", "lower bound of that probability (the bootstrap interval of the "
+                             "fragility's median; 0 where nothing overturned at any level tested)", {}),
+    "p_overturn_event_high": (("block",), "1", "upper bound of that probability (overturning certain above the "
+                              "top level tested where nothing overturned)", {}),
+    "basis": (("block",), None, "what the probability rests on", flags(Basis, missing=None)),
+    "level": (("block",), None, "inspection level (thresholds: global attributes level_low, level_medium, "
+              "level_high)", flags(Level, missing=None)),
+    "level_previous": (("block",), None, "the level in the previous version of the same event's ShakeMap run into "
+                       "this output", flags(Level, missing="not_evaluated")),
+    "priority": (("block",), "1", "rank in the inspection list (1: first): by p_overturn_event, or its upper bound "
+                 "where it is not given", {}),
+    "shaking_median": (("block",), IM_UNITS, "median of the ShakeMap field at the site (bilinear in ln IM)", {}),
+    "shaking_log_sd": (("block",), "1", "standard deviation of ln IM at the site", {}),
+    "log_sd_source": (("block",), None, "where that standard deviation comes from",
+                      {"flag_values": np.array([0, 1, 2], dtype="i1"),
+                       "flag_meanings": "shakemap_grid uncertainty_file configured_default"}),
+    "shakemap_field": (("block",), None, "the ShakeMap field read (PGA, PGV, PSA03, PSA10, PSA30)", {}),
+    "shakemap_period": (("block",), "s", "period of that PSA field (NaN: PGA or PGV)", {}),
+    "block_period": (("block",), "s", "the block's Sa period 2 pi / p, the fragility's own for Sa", {}),
+    "fragility_median": (("block",), IM_UNITS, "median theta of the block's fragility (fragility.nc)", {}),
+    "fragility_beta": (("block",), "1", "dispersion beta of the block's fragility", {}),
+    "fit_status": (("block",), None, "how the fragility's fit ended", flags(FitStatus, missing=None)),
+    "lon": (("block",), "degrees_east", "longitude of the asset", {"standard_name": "longitude"}),
+    "lat": (("block",), "degrees_north", "latitude of the asset", {"standard_name": "latitude"}),
+    "epicentral_distance": (("block",), "km", "distance from the asset to the epicentre (great circle)", {}),
+    "most_efficient_im": (("block",), None, "the ShakeMap IM (pga, pgv, sa) whose fit of the block's outcomes has "
+                          "the smallest dispersion in the fragility run (fragility.nc beta_im)", {}),
+    "most_efficient_beta": (("block",), "1", "that dispersion", {}),
 }

@@ -13,6 +13,8 @@ guide, and software guide. U.S. Geological Survey (the grid.xml format, the medi
 
 from __future__ import annotations
 
+import dataclasses
+import gzip
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -22,6 +24,7 @@ import numpy as np
 
 from ..constants import G
 from ..errors import RockscreenError
+from .assets import convolved
 
 #: The grid's namespace
 NAMESPACE = "{http://earthquake.usgs.gov/eqcenter/shakemap}"
@@ -72,6 +75,9 @@ class ShakeMapGrid:
     medians: dict
     log_sd: dict = field(default_factory=dict)
     units: dict = field(default_factory=dict)
+    #: IM name -> where its log standard deviation came from: "grid" (an STD field of grid.xml) or "uncertainty"
+    #: (the uncertainty.xml given)
+    log_sd_source: dict = field(default_factory=dict)
 
     def contains(self, lon: float, lat: float) -> bool:
         """True when (lon, lat) lies within the grid's nodes."""
@@ -88,6 +94,7 @@ def read_grid(path: str | Path, *, uncertainty: str | Path | None = None) -> Sha
         For a file that is not a ShakeMap grid, a unit it does not know, or data that do not fill a grid.
     """
     grid = _read(Path(path))
+    grid = dataclasses.replace(grid, log_sd_source={im: "grid" for im in grid.log_sd})
     if uncertainty is not None:
         extra = _read(Path(uncertainty))
         if extra.lon.shape != grid.lon.shape or extra.lat.shape != grid.lat.shape \
@@ -96,15 +103,19 @@ def read_grid(path: str | Path, *, uncertainty: str | Path | None = None) -> Sha
                                 "same ShakeMap run")
         log_sd = {**extra.log_sd, **grid.log_sd}
         grid = ShakeMapGrid(grid.event_id, grid.version, grid.event, grid.attrs, grid.lon, grid.lat, grid.medians,
-                            log_sd, {**extra.units, **grid.units})
+                            log_sd, {**extra.units, **grid.units},
+                            {**{im: "uncertainty" for im in extra.log_sd}, **grid.log_sd_source})
     return grid
 
 
 def _read(path: Path) -> ShakeMapGrid:
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ShakeMapError(f"{path}: cannot read it ({exc.strerror or exc})") from exc
+        if path.suffix.lower() == ".gz":                  # a grid.xml compressed as it is (gzip)
+            text = gzip.decompress(path.read_bytes()).decode("utf-8")
+        else:
+            text = path.read_text(encoding="utf-8")
+    except (OSError, EOFError, gzip.BadGzipFile) as exc:
+        raise ShakeMapError(f"{path}: cannot read it ({getattr(exc, 'strerror', None) or exc})") from exc
     head, sep, rest = text.partition("<grid_data>")
     if not sep or "shakemap_grid" not in head:
         raise ShakeMapError(f"{path}: not a ShakeMap grid.xml (no shakemap_grid element with grid_data); give the "
@@ -155,52 +166,82 @@ class SiteShaking:
     log_sd: float
 
 
-def _bilinear(values: np.ndarray, lon_axis: np.ndarray, lat_axis: np.ndarray, lon: float, lat: float) -> float:
-    i = int(np.clip(np.searchsorted(lon_axis, lon) - 1, 0, lon_axis.size - 2)) if lon_axis.size > 1 else 0
-    j = int(np.clip(np.searchsorted(lat_axis, lat) - 1, 0, lat_axis.size - 2)) if lat_axis.size > 1 else 0
-    if lon_axis.size == 1 or lat_axis.size == 1:
-        return float(values[j, i])
-    u = (lon - lon_axis[i]) / (lon_axis[i + 1] - lon_axis[i])
-    v = (lat - lat_axis[j]) / (lat_axis[j + 1] - lat_axis[j])
-    return float((1 - u) * (1 - v) * values[j, i] + u * (1 - v) * values[j, i + 1]
-                 + (1 - u) * v * values[j + 1, i] + u * v * values[j + 1, i + 1])
+def bilinear(values: np.ndarray, lon_axis: np.ndarray, lat_axis: np.ndarray, lon, lat) -> np.ndarray:
+    """Bilinear interpolation of ``values`` (shape (nlat, nlon)) at the points (``lon``, ``lat``), which lie within
+    the axes (a one-node axis takes its node)."""
+    lon, lat = np.asarray(lon, dtype=float), np.asarray(lat, dtype=float)
+
+    def cell(axis: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if axis.size == 1:
+            return np.zeros(x.shape, dtype=int), np.zeros(x.shape)
+        i = np.clip(np.searchsorted(axis, x) - 1, 0, axis.size - 2)
+        return i, (x - axis[i]) / (axis[i + 1] - axis[i])
+
+    i, u = cell(lon_axis, lon)
+    j, v = cell(lat_axis, lat)
+    i1 = np.minimum(i + 1, lon_axis.size - 1)
+    j1 = np.minimum(j + 1, lat_axis.size - 1)
+    return ((1 - u) * (1 - v) * values[j, i] + u * (1 - v) * values[j, i1]
+            + (1 - u) * v * values[j1, i] + u * v * values[j1, i1])
+
+
+@dataclass(frozen=True)
+class SitesShaking:
+    """The shaking at many sites: medians [SI] and standard deviations of ln IM (NaN where the grid has none)."""
+
+    median: np.ndarray
+    log_sd: np.ndarray
+
+
+def sites_shaking(grid: ShakeMapGrid, im: str, lon, lat, *, names=None) -> SitesShaking:
+    """The median of ``im`` at each site by bilinear interpolation of ln IM between the four surrounding nodes (a
+    median below :data:`FLOOR` of its unit counts as that), and its log standard deviation likewise (linear).
+
+    Raises
+    ------
+    ShakeMapError
+        For sites outside the grid (named from ``names``, with their coordinates) or an IM the grid does not have.
+    """
+    if im not in grid.medians:
+        raise ShakeMapError(f"ShakeMap {grid.event_id}: no {im} field; it has {sorted(grid.medians)}")
+    lon, lat = np.atleast_1d(np.asarray(lon, dtype=float)), np.atleast_1d(np.asarray(lat, dtype=float))
+    outside = ~((grid.lon[0] <= lon) & (lon <= grid.lon[-1]) & (grid.lat[0] <= lat) & (lat <= grid.lat[-1]))
+    if outside.any():
+        labels = list(names) if names is not None else [f"site {k}" for k in range(lon.size)]
+        bad = [f"{labels[k]} (lon {lon[k]}, lat {lat[k]})" for k in np.flatnonzero(outside)]
+        raise ShakeMapError(f"{len(bad)} site(s) outside ShakeMap {grid.event_id}'s grid (lon {grid.lon[0]:.4f} to "
+                            f"{grid.lon[-1]:.4f}, lat {grid.lat[0]:.4f} to {grid.lat[-1]:.4f}): "
+                            f"{', '.join(bad[:10])}{' ...' if len(bad) > 10 else ''}; check the assets' coordinates")
+    unit = MEDIAN_UNITS[grid.units[im].lower()]
+    ln = np.log(np.maximum(grid.medians[im], FLOOR * unit))
+    median = np.exp(bilinear(ln, grid.lon, grid.lat, lon, lat))
+    sd = grid.log_sd.get(im)
+    log_sd = bilinear(sd, grid.lon, grid.lat, lon, lat) if sd is not None else np.full(lon.shape, math.nan)
+    return SitesShaking(median, log_sd)
 
 
 def site_shaking(grid: ShakeMapGrid, im: str, lon: float, lat: float, *, site: str = "") -> SiteShaking:
-    """The median of ``im`` at (lon, lat) by bilinear interpolation of ln IM between the four surrounding nodes
-    (a median below :data:`FLOOR` of its unit counts as that), and its log standard deviation likewise (linear).
+    """The shaking at one site (:func:`sites_shaking`).
 
     Raises
     ------
     ShakeMapError
         For a site outside the grid (named by ``site``) or an IM the grid does not have.
     """
-    if im not in grid.medians:
-        raise ShakeMapError(f"ShakeMap {grid.event_id}: no {im} field; it has {sorted(grid.medians)}")
-    if not grid.contains(lon, lat):
-        raise ShakeMapError(f"{site or 'the site'} at lon {lon}, lat {lat} is outside ShakeMap {grid.event_id}'s "
-                            f"grid (lon {grid.lon[0]:.4f} to {grid.lon[-1]:.4f}, lat {grid.lat[0]:.4f} to "
-                            f"{grid.lat[-1]:.4f}); check the asset's coordinates")
-    unit = MEDIAN_UNITS[grid.units[im].lower()]
-    ln = np.log(np.maximum(grid.medians[im], FLOOR * unit))
-    median = math.exp(_bilinear(ln, grid.lon, grid.lat, lon, lat))
-    sd = grid.log_sd.get(im)
-    return SiteShaking(median, _bilinear(sd, grid.lon, grid.lat, lon, lat) if sd is not None else math.nan)
+    out = sites_shaking(grid, im, [lon], [lat], names=[site or "the site"])
+    return SiteShaking(float(out.median[0]), float(out.log_sd[0]))
 
 
 def p_overturn_event(median: float, log_sd: float, theta: float, beta: float, *, k_sigma: float = 0.0) -> float:
     """P(overturn | the event) at a site: Phi(ln(m e^(k sigma) / theta) / sqrt(beta^2 + sigma^2)) for a lognormal
     fragility (median ``theta``, dispersion ``beta``) and a lognormal IM at the site (median ``median``, log
-    standard deviation ``log_sd``); ``k_sigma`` > 0 takes the shaking at its median times exp(k sigma), as
-    regulators ask for. sigma = 0 is the fragility at the median shaking."""
-    sigma = 0.0 if not math.isfinite(log_sd) else log_sd
+    standard deviation ``log_sd``, NaN taken as 0); ``k_sigma`` > 0 takes the shaking at its median times
+    exp(k sigma), as regulators ask for. sigma = 0 is the fragility at the median shaking. NaN for a fragility
+    that is not one (theta <= 0 or NaN, beta < 0 or NaN)."""
     if not (theta > 0 and math.isfinite(beta) and beta >= 0):
         return math.nan
-    spread = math.sqrt(beta * beta + sigma * sigma)
-    shaking = median * math.exp(k_sigma * sigma)
-    if spread == 0.0:
-        return 1.0 if shaking >= theta else 0.0
-    return 0.5 * math.erfc(-math.log(shaking / theta) / (spread * math.sqrt(2.0)))
+    return float(convolved(np.array([median]), np.array([log_sd]), np.array([theta]), np.array([beta]),
+                           k_sigma=k_sigma)[0])
 
 
 def field_for(im: str, period_s: float = math.nan) -> str:

@@ -1,0 +1,179 @@
+"""The event page of ``screen event``: ``OUT/event.html``.
+
+It opens with the inspection list (highest priority first) and a map: the ShakeMap field the assets' fragilities
+read, drawn from the grid itself (no map tiles, nothing fetched from the network), the assets coloured by their
+inspection level, and the epicentre. Each asset's probability links to its fragility curve with the site's
+shaking marked on it (drawn as SVG, at most ``curves`` of them, highest priority first; every number stays in
+event.nc and inspection.csv).
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+from html import escape
+
+import numpy as np
+import xarray as xr
+from scipy.special import ndtr
+
+from ..blocks import Inventory
+from ..event.assets import Basis, Level
+from ..event.shakemap import ShakeMapGrid
+from ..uncertainty.fragility import FitStatus
+from .figures import png_bytes
+from .mpl import new_figure
+
+#: Colour of each inspection level (map markers, table cells)
+LEVEL_COLOURS = {Level.high: "#d7301f", Level.medium: "#fc8d59", Level.low: "#fdd49e", Level.none: "#bdbdbd"}
+#: Rows of the inspection list on the page (the whole list is inspection.csv)
+PAGE_ROWS = 500
+#: Assets named on the map, highest priority first
+MAP_LABELS = 8
+#: How the page writes a shaking in SI: unit -> (label, factor from SI)
+PAGE_UNITS = {"m s-2": ("g", 1.0 / 9.80665), "m s-1": ("cm/s", 100.0)}
+#: Fragility curve panel, SVG [px]
+CURVE_W, CURVE_H, CURVE_PAD = 360, 190, 42
+
+
+def _unit(ds: xr.Dataset) -> tuple[str, float]:
+    return PAGE_UNITS.get(ds.attrs["im_units"], (ds.attrs["im_units"], 1.0))
+
+
+def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]) -> bytes:
+    """The map: the field most assets read, on a log colour scale, the assets by level, the epicentre."""
+    from matplotlib.colors import LogNorm
+
+    fields = ds["shakemap_field"].values.astype(str)
+    field = max(set(fields.tolist()), key=fields.tolist().count)
+    label, factor = _unit(ds)
+    lon, lat = ds["lon"].values, ds["lat"].values
+    epi = (float(ds.attrs["epicentre_lon"]), float(ds.attrs["epicentre_lat"]))
+    xs = np.append(lon, epi[0] if math.isfinite(epi[0]) else lon[0])
+    ys = np.append(lat, epi[1] if math.isfinite(epi[1]) else lat[0])
+    pad_x, pad_y = max(np.ptp(xs) * 0.15, 0.1), max(np.ptp(ys) * 0.15, 0.1)
+    x0, x1 = max(xs.min() - pad_x, grid.lon[0]), min(xs.max() + pad_x, grid.lon[-1])
+    y0, y1 = max(ys.min() - pad_y, grid.lat[0]), min(ys.max() + pad_y, grid.lat[-1])
+    ix = (grid.lon >= x0) & (grid.lon <= x1)
+    iy = (grid.lat >= y0) & (grid.lat <= y1)
+    values = grid.medians[field][np.ix_(iy, ix)] * factor
+    fig = new_figure(figsize=(8.0, 6.2), layout="constrained")
+    ax = fig.add_subplot()
+    positive = values[values > 0]
+    norm = LogNorm(vmin=max(positive.min(), positive.max() / 1e3), vmax=positive.max()) if positive.size else None
+    mesh = ax.pcolormesh(grid.lon[ix], grid.lat[iy], np.where(values > 0, values, np.nan), shading="nearest",
+                         cmap="viridis", norm=norm, rasterized=True)
+    fig.colorbar(mesh, ax=ax, label=f"ShakeMap {field} median [{label}]", shrink=0.85)
+    lv = ds["level"].values.astype(int)
+    for level in sorted(Level, key=lambda m: m.value):
+        at = lv == level
+        if at.any():
+            ax.scatter(lon[at], lat[at], s=36 + 12 * level.value, c=LEVEL_COLOURS[level], edgecolors="black",
+                       linewidths=0.6, label=f"{level.name} ({int(at.sum())})", zorder=3 + level.value)
+    for k in order[:MAP_LABELS]:
+        ax.annotate(inv.ids[k], (lon[k], lat[k]), xytext=(4, 4), textcoords="offset points", fontsize=8,
+                    color="white", path_effects=_outline())
+    if math.isfinite(epi[0]):
+        ax.scatter([epi[0]], [epi[1]], marker="*", s=260, c="white", edgecolors="black", zorder=10,
+                   label="epicentre")
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect(1.0 / max(math.cos(math.radians(0.5 * (y0 + y1))), 0.1))
+    ax.set_xlabel("longitude [deg]")
+    ax.set_ylabel("latitude [deg]")
+    ax.legend(loc="upper right", fontsize=8, title="inspection level", title_fontsize=8, framealpha=0.85)
+    ax.set_title(f"{ds.attrs['event_description'] or ds.attrs['event_id']}: ShakeMap v{ds.attrs['shakemap_version']}"
+                 f" {field}", fontsize=10)
+    return png_bytes(fig)
+
+
+def _outline():
+    from matplotlib import patheffects
+
+    return [patheffects.withStroke(linewidth=2, foreground="black")]
+
+
+def curve_svg(ds: xr.Dataset, k: int) -> str:
+    """The asset's fragility curve P(overturn | IM) with the site's median shaking and its +-1 sigma marked."""
+    label, factor = _unit(ds)
+    theta, beta = float(ds["fragility_median"].values[k]), float(ds["fragility_beta"].values[k])
+    m, s = float(ds["shaking_median"].values[k]), float(ds["shaking_log_sd"].values[k])
+    centre = theta if math.isfinite(theta) and theta > 0 else m
+    lo, hi = min(centre, m) / 8.0, max(centre, m) * 8.0
+    x = np.geomspace(lo, hi, 120)
+    w, h, pad = CURVE_W, CURVE_H, CURVE_PAD
+
+    def px(v: float) -> float:
+        return pad + (w - pad - 10) * math.log(v / lo) / math.log(hi / lo)
+
+    def py(p: float) -> float:
+        return h - pad + (pad + 10 - h) * p
+
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" class="curve">',
+             f'<rect x="{pad}" y="10" width="{w - pad - 10}" height="{h - pad - 10}" fill="none" stroke="#999"/>']
+    if m > 0 and math.isfinite(s) and s > 0:
+        a, b = px(max(m * math.exp(-s), lo)), px(min(m * math.exp(s), hi))
+        parts.append(f'<rect x="{a:.1f}" y="10" width="{b - a:.1f}" height="{h - pad - 10}" fill="#9ecae1" '
+                     'fill-opacity="0.45"/>')
+    if math.isfinite(theta) and theta > 0 and math.isfinite(beta):
+        p = ndtr(np.log(x / theta) / beta) if beta > 0 else (x >= theta).astype(float)
+        pts = " ".join(f"{px(v):.1f},{py(q):.1f}" for v, q in zip(x, p))
+        parts.append(f'<polyline points="{pts}" fill="none" stroke="#d7301f" stroke-width="2"/>')
+    if m > 0:
+        parts.append(f'<line x1="{px(m):.1f}" x2="{px(m):.1f}" y1="10" y2="{h - pad}" stroke="#08519c" '
+                     'stroke-width="2"/>')
+    for p in (0.0, 0.5, 1.0):
+        parts.append(f'<text x="{pad - 4}" y="{py(p) + 4:.1f}" font-size="10" text-anchor="end">{p:g}</text>')
+    for v in (lo, math.sqrt(lo * hi), hi):
+        parts.append(f'<text x="{px(v):.1f}" y="{h - pad + 14}" font-size="10" text-anchor="middle">'
+                     f'{v * factor:.3g}</text>')
+    parts.append(f'<text x="{pad + (w - pad) / 2:.0f}" y="{h - 8}" font-size="11" text-anchor="middle">'
+                 f'{escape(str(ds["shakemap_field"].values[k]))} [{escape(label)}] (blue: the site, median and '
+                 '+-1 sigma)</text>')
+    parts.append(f'<text x="12" y="{h / 2:.0f}" font-size="11" transform="rotate(-90 12 {h / 2:.0f})" '
+                 'text-anchor="middle">P(overturn)</text></svg>')
+    return "".join(parts)
+
+
+def _p_text(ds: xr.Dataset, k: int) -> str:
+    p = float(ds["p_overturn_event"].values[k])
+    lo, hi = float(ds["p_overturn_event_low"].values[k]), float(ds["p_overturn_event_high"].values[k])
+    if math.isfinite(p):
+        return f"{p:.2f}" if p >= 0.005 or p == 0 else "< 0.01"
+    return f"{lo:.2f}-{hi:.2f}" if math.isfinite(lo) and math.isfinite(hi) else "no fit"
+
+
+def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int], changed: list, *,
+               curves: int) -> str:
+    """The page's HTML (the module's contents)."""
+    from jinja2 import Environment, PackageLoader, select_autoescape
+
+    label, factor = _unit(ds)
+    drawn = set(order[:max(curves, 0)])
+    v = {name: ds[name].values for name in ds.data_vars}
+    rows = []
+    for k in order[:PAGE_ROWS]:
+        level = Level(int(v["level"][k]))
+        prev = int(v["level_previous"][k])
+        rows.append({
+            "priority": int(v["priority"][k]), "id": inv.ids[k], "name": inv.names[k], "site": inv.sites[k],
+            "level": level.name, "colour": LEVEL_COLOURS[level], "p": _p_text(ds, k),
+            "bounds": f"{float(v['p_overturn_event_low'][k]):.2f}-{float(v['p_overturn_event_high'][k]):.2f}",
+            "basis": Basis(int(v["basis"][k])).name.replace("_", " "), "field": str(v["shakemap_field"][k]),
+            "shaking": f"{float(v['shaking_median'][k]) * factor:.3g}",
+            "sigma": f"{float(v['shaking_log_sd'][k]):.2f}",
+            "sigma_source": ("grid", "uncertainty.xml", "default")[int(v["log_sd_source"][k])],
+            "median": f"{float(v['fragility_median'][k]) * factor:.3g}", "beta": f"{float(v['fragility_beta'][k]):.2f}",
+            "status": FitStatus(int(v["fit_status"][k])).name.replace("_", " "),
+            "distance": f"{float(v['epicentral_distance'][k]):.1f}",
+            "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn})
+    counts = {lv.name: int(np.sum(ds["level"].values == lv)) for lv in sorted(Level, key=lambda m: -m.value)}
+    env = Environment(loader=PackageLoader("pipeline.report", "templates"),
+                      autoescape=select_autoescape(["html", "j2"]))
+    return env.get_template("event.html.j2").render(
+        a=ds.attrs, rows=rows, n_assets=len(order), more=max(len(order) - PAGE_ROWS, 0), counts=counts,
+        colours={lv.name: c for lv, c in LEVEL_COLOURS.items()}, unit=label, changed=changed,
+        map_png="data:image/png;base64," + base64.b64encode(map_png(ds, grid, inv, order)).decode("ascii"),
+        curves=[{"id": inv.ids[k], "name": inv.names[k], "p": _p_text(ds, k), "svg": curve_svg(ds, k)}
+                for k in order if k in drawn],
+        warnings=[w for w in ds.attrs.get("warnings", "").split("\n") if w])
