@@ -681,6 +681,14 @@ def event_parser() -> argparse.ArgumentParser:
     p.add_argument("--shakemap-scale", type=float, default=None, metavar="F",
                    help="a stated conversion when the ShakeMap's component ([event] shakemap_component) differs "
                         "from the fragility's: ShakeMap values x F")
+    p.add_argument("--records", type=Path, default=None,
+                   help="the event's station records: an asset within [event] station_radius_km of a station (its "
+                        "coordinates from the files or the StationXML) is also screened on that record, into "
+                        "OUT/records/; the larger probability governs")
+    p.add_argument("--inventory", type=Path, default=None, metavar="STATIONXML",
+                   help="StationXML for --records in counts or without coordinates (default: *.xml in --records)")
+    p.add_argument("-n", "--num-processes", type=int, default=None,
+                   help="worker processes that screen --records (default: the cores)")
     p.add_argument("--config", type=Path, default=None, help="TOML configuration ([event]: levels, default sigma)")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary")
     return p
@@ -696,9 +704,17 @@ def cmd_event(args: argparse.Namespace, argv: list[str]) -> int:
         raise UsageError(f"--shakemap-scale {args.shakemap_scale}: must be a positive factor")
     if not math.isfinite(args.k_sigma):
         raise UsageError(f"--k-sigma {args.k_sigma}: must be a finite number")
+    n = default_workers() if args.num_processes is None else args.num_processes
+    if n < 1:
+        raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    if args.records is not None:
+        _records_dir(args.records)
+        _compile_simulator(args)
     out = screen_event(EventRequest(args.shakemap, inventory, args.fragility, args.out, config,
                                     uncertainty=args.uncertainty, sites=args.sites, k_sigma=args.k_sigma,
-                                    shakemap_scale=args.shakemap_scale, command=("screen", "event", *argv[1:])))
+                                    shakemap_scale=args.shakemap_scale, records=args.records,
+                                    stationxml=args.inventory, n_workers=n,
+                                    command=("screen", "event", *argv[1:])), progress=_progress(args.quiet))
     for w in out.warnings:
         log.warning("%s", w)
     if not args.quiet:

@@ -130,6 +130,8 @@ class EventConfig:
     shakemap_component: str = "larger"
     #: Fragility curves drawn on the event page, highest priority first (every number stays in event.nc) [-].
     page_curves: int = 60
+    #: ``--records``: an asset within this distance of a station is also screened on that station's record [km].
+    station_radius_km: float = 2.0
 
 
 @dataclass(frozen=True)

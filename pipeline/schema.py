@@ -529,8 +529,8 @@ EVENT: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
               "level_high)", flags(Level, missing=None)),
     "level_previous": (("block",), None, "the level in the previous version of the same event's ShakeMap run into "
                        "this output", flags(Level, missing="not_evaluated")),
-    "priority": (("block",), "1", "rank in the inspection list (1: first): by p_overturn_event, or its upper bound "
-                 "where it is not given", {}),
+    "priority": (("block",), "1", "rank in the inspection list (1: first): by the governing probability "
+                 "(governed_by), the ShakeMap's taken at its upper bound where it is not given", {}),
     "shaking_median": (("block",), IM_UNITS, "median of the ShakeMap field at the site (bilinear in ln IM)", {}),
     "shaking_log_sd": (("block",), "1", "standard deviation of ln IM at the site", {}),
     "log_sd_source": (("block",), None, "where that standard deviation comes from",
@@ -548,4 +548,12 @@ EVENT: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "most_efficient_im": (("block",), None, "the ShakeMap IM (pga, pgv, sa) whose fit of the block's outcomes has "
                           "the smallest dispersion in the fragility run (fragility.nc beta_im)", {}),
     "most_efficient_beta": (("block",), "1", "that dispersion", {}),
+    "station_record": (("block",), None, "the event's record of the nearest station within station_radius_km "
+                       "(screen event --records; empty: none)", {}),
+    "station_distance": (("block",), "km", "distance from the asset to that station", {}),
+    "p_overturn_record": (("block",), "1", "probability of overturning under that record, screened directly "
+                          "(OUT/records/screening.nc)", {}),
+    "governed_by": (("block",), None, "which probability sets the level and priority: the larger of the ShakeMap's "
+                    "and the record's", {"flag_values": np.array([0, 1], dtype="i1"),
+                                         "flag_meanings": "shakemap record"}),
 }

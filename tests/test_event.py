@@ -334,3 +334,45 @@ def test_event_nc_follows_the_schema_and_names_a_more_efficient_im(shakemaps, tm
     with xr.open_dataset(tmp_path / "out" / "event.nc") as written:
         assert schema.check(written, schema.EVENT) == []
         assert set(written.data_vars) <= set(schema.EVENT)
+
+
+def _grid_around(src: Path, dest: Path, lon0: float, lat0: float, pga_pctg: float) -> Path:
+    """A grid.xml with the header of a real ShakeMap 3.5 file and a uniform 0.5 deg square of nodes around
+    (lon0, lat0): the input of a test whose stations lie elsewhere than the bundled grids."""
+    head = src.read_text().split("<grid_data>")[0]
+    lons, lats = np.round(lon0 + np.arange(-3, 4) * 0.1, 4), np.round(lat0 + np.arange(-3, 4) * 0.1, 4)
+    rows = [f"{x:.4f} {y:.4f} {pga_pctg} 20.0 6.0 {pga_pctg * 2} {pga_pctg} {pga_pctg / 4}"
+            for y in lats[::-1] for x in lons]
+    dest.write_text(head + "<grid_data>\n" + "\n".join(rows) + "\n</grid_data>\n</shakemap_grid>\n")
+    return dest
+
+
+def test_the_events_records_screen_the_assets_near_their_station(shakemaps, records_dir, tmp_path):
+    """An asset 1 km from the station of a bundled DMG record (its coordinates from the file's header) is screened
+    on that record; one 50 km away is not. The larger probability governs the level."""
+    records = tmp_path / "records"
+    records.mkdir()
+    shutil.copy(records_dir / "dmg" / "CICLC.v1", records / "CICLC.v1")            # Station Id. CLC 35.816N, 117.598W
+    shutil.copy(records_dir / "peer-at2" / "RSN77_SFERN_PUL164.AT2", records / "RSN77_SFERN_PUL164.AT2")
+    grid = _grid_around(shakemaps / SCENARIO, tmp_path / "grid.xml", -117.6, 35.8, 2.0)   # weak: 2 %g
+    near_lat = 35.816 + 1.0 / 111.195                                                       # 1 km north
+    inv = _inventory(tmp_path / "b.csv", [("NEAR", 0.5, 0.055, 0.5, "", "s", -117.598, near_lat),
+                                          ("FAR", 0.5, 0.055, 0.5, "", "s", -117.598 + 0.25, 35.816 - 0.25)])
+    frag = _fragility(tmp_path / "frag", ["NEAR", "FAR"], median_g=[0.3, 0.3], beta=[0.4, 0.4])
+    out = screen_event(_request(tmp_path, grid, inv, frag, records=records))
+    ds = out.dataset
+    assert list(ds.station_record.values) == ["CICLC", ""]
+    assert float(ds.station_distance.values[0]) == pytest.approx(1.0, abs=0.01)
+    assert any("RSN77_SFERN_PUL164" in w and "carry no coordinates" in w for w in out.warnings)
+    with xr.open_dataset(tmp_path / "out" / "records" / "screening.nc") as sc:
+        assert list(sc.block.values) == ["NEAR"]                              # only the asset near a station
+        i = list(sc.record.values).index("CICLC")
+        assert float(ds.p_overturn_record.values[0]) == float(sc.p_overturn.values[i, 0])
+    p_map, p_rec = float(ds.p_overturn_event.values[0]), float(ds.p_overturn_record.values[0])
+    assert int(ds.governed_by.values[0]) == int(p_rec > p_map)
+    # the column model at 2 %g from the map hardly moves, but under the M 7.1 Ridgecrest record 1 km away it
+    # overturns: the record governs, and the level follows it
+    assert p_map < 0.01 and p_rec > 0.9 and int(ds.governed_by.values[0]) == 1
+    assert int(ds.level.values[0]) == Level.high and int(ds.priority.values[0]) == 1
+    assert math.isnan(float(ds.p_overturn_record.values[1])) and int(ds.governed_by.values[1]) == 0
+    assert "station_record" in (tmp_path / "out" / "inspection.csv").read_text().splitlines()[0]

@@ -30,6 +30,7 @@ import obspy
 from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UndeclaredUnitsError, UnitsError
 from .common import COMMON, annotate
+from .coordinates import station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
@@ -525,6 +526,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
         header_peaks_ms2=peaks,
         velocity_ms=integrate(hz, dt, method=method),
         label=next((tr.stats[COMMON].label for tr in ordered if tr.stats[COMMON].label), ""),
+        station=station_location(ordered, inventory),
     )
 
 

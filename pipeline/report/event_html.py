@@ -166,7 +166,10 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
             "median": f"{float(v['fragility_median'][k]) * factor:.3g}", "beta": f"{float(v['fragility_beta'][k]):.2f}",
             "status": FitStatus(int(v["fit_status"][k])).name.replace("_", " "),
             "distance": f"{float(v['epicentral_distance'][k]):.1f}",
-            "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn})
+            "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn,
+            "record": str(v["station_record"][k]), "record_km": f"{float(v['station_distance'][k]):.2f}",
+            "p_record": f"{float(v['p_overturn_record'][k]):.2f}" if math.isfinite(v["p_overturn_record"][k]) else "",
+            "governs": "record" if v["governed_by"][k] else "shakemap"})
     counts = {lv.name: int(np.sum(ds["level"].values == lv)) for lv in sorted(Level, key=lambda m: -m.value)}
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
@@ -176,4 +179,5 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
         map_png="data:image/png;base64," + base64.b64encode(map_png(ds, grid, inv, order)).decode("ascii"),
         curves=[{"id": inv.ids[k], "name": inv.names[k], "p": _p_text(ds, k), "svg": curve_svg(ds, k)}
                 for k in order if k in drawn],
-        warnings=[w for w in ds.attrs.get("warnings", "").split("\n") if w])
+        warnings=[w for w in ds.attrs.get("warnings", "").split("\n") if w],
+        with_records=bool(ds.attrs.get("records_directory")))

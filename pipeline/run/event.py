@@ -22,7 +22,7 @@ import xarray as xr
 from ..blocks import ALPHA_MAX_ROCKING, Inventory
 from ..config import Config
 from ..errors import OutputError, RockscreenError
-from ..event.assets import Basis, Fragilities, Level, event_risk
+from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
 from ..schema import EVENT, apply_schema
@@ -39,7 +39,8 @@ EARTH_RADIUS_KM = 6371.0
 INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "p_overturn_event",
                       "p_overturn_event_low", "p_overturn_event_high", "basis", "shakemap_field",
                       "shaking_median_{unit}", "shaking_log_sd", "log_sd_source", "fragility_median_{unit}",
-                      "fragility_beta", "fit_status", "epicentral_distance_km", "level_previous", "level_changed")
+                      "fragility_beta", "fit_status", "epicentral_distance_km", "station_record",
+                      "station_distance_km", "p_overturn_record", "governed_by", "level_previous", "level_changed")
 #: How a shaking unit is written in column names and on the page: SI unit -> (label, factor from SI)
 DISPLAY_UNITS = {"m s-2": ("g", 1.0 / 9.80665), "m s-1": ("cm_s", 100.0)}
 LOG_SD_SOURCES = ("grid", "uncertainty", "default")
@@ -63,6 +64,10 @@ class EventRequest:
     k_sigma: float = 0.0
     #: factor from the ShakeMap's component to the fragility's (None: they must be the same)
     shakemap_scale: float | None = None
+    #: the event's station records (None: none), their StationXML, and the workers that screen them
+    records: Path | None = None
+    stationxml: Path | None = None
+    n_workers: int = 1
     command: tuple = ()
 
 
@@ -257,7 +262,7 @@ def previous_levels(out_dir: Path, grid: ShakeMapGrid) -> tuple[dict, str]:
     return levels, old_version
 
 
-def screen_event(req: EventRequest) -> EventResult:
+def screen_event(req: EventRequest, *, progress=None) -> EventResult:
     """Run ``screen event`` (the module's steps) and publish its outputs together.
 
     Raises
@@ -278,10 +283,10 @@ def screen_event(req: EventRequest) -> EventResult:
     except OSError as exc:
         raise OutputError(f"{out_dir}: cannot create the output directory ({exc.strerror or exc})") from exc
     with OutputLock(out_dir, command=" ".join(req.command)):
-        return _run(req, grid, frag, im, out_dir, t0)
+        return _run(req, grid, frag, im, out_dir, t0, progress)
 
 
-def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_dir: Path, t0: float
+def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_dir: Path, t0: float, progress
          ) -> EventResult:
     cfg = req.config
     old_levels, old_version = previous_levels(out_dir, grid)
@@ -299,7 +304,16 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
                         "probabilities")
     thresholds = (cfg.event.level_low, cfg.event.level_medium, cfg.event.level_high)
     risk = event_risk(shaking["median"], shaking["log_sd"], frags, thresholds=thresholds, k_sigma=req.k_sigma)
-    order = sorted(range(len(inv)), key=lambda k: (-np.nan_to_num(risk.p_rank[k], nan=2.0), inv.ids[k]))
+    near = None
+    if req.records is not None:
+        from .event_records import near_records
+
+        near = near_records(req.records, inv, lon, lat, config=cfg, out_dir=out_dir, n_workers=req.n_workers,
+                            stationxml=req.stationxml, progress=progress, command=req.command)
+        warnings += near.notes
+    rank, record_governs = governing(risk.p_rank, near)
+    level = levels(rank, thresholds)
+    order = sorted(range(len(inv)), key=lambda k: (-np.nan_to_num(rank[k], nan=2.0), inv.ids[k]))
     priority = np.empty(len(inv), dtype=np.int32)
     priority[order] = np.arange(1, len(inv) + 1)
     previous = np.array([old_levels.get(b, -1) for b in inv.ids], dtype=np.int8)
@@ -307,7 +321,7 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
     ds = xr.Dataset({
         "p_overturn_event": (("block",), risk.p), "p_overturn_event_low": (("block",), risk.p_low),
         "p_overturn_event_high": (("block",), risk.p_high), "basis": (("block",), risk.basis),
-        "level": (("block",), risk.level), "level_previous": (("block",), previous),
+        "level": (("block",), level), "level_previous": (("block",), previous),
         "priority": (("block",), priority), "shaking_median": (("block",), shaking["median"]),
         "shaking_log_sd": (("block",), shaking["log_sd"]), "log_sd_source": (("block",), shaking["source"]),
         "shakemap_field": (("block",), shaking["field"].astype(str)),
@@ -316,6 +330,10 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
         "fit_status": (("block",), frags.status.astype(np.int8)), "lon": (("block",), lon),
         "lat": (("block",), lat), "epicentral_distance": (("block",), distance_km(lon, lat, epi_lon, epi_lat)),
         "most_efficient_im": (("block",), best.astype(str)), "most_efficient_beta": (("block",), best_beta),
+        "station_record": (("block",), (near.record if near else np.full(len(inv), "", dtype=object)).astype(str)),
+        "station_distance": (("block",), near.distance_km if near else np.full(len(inv), math.nan)),
+        "p_overturn_record": (("block",), near.p if near else np.full(len(inv), math.nan)),
+        "governed_by": (("block",), record_governs.astype(np.int8)),
     }, coords={"block": np.array(inv.ids, dtype=object)})
     ds.attrs.update({
         "title": "rockscreen event screening: P(overturn | event) per asset", "Conventions": "CF-1.11",
@@ -331,12 +349,24 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
         "level_medium": thresholds[1], "level_high": thresholds[2], "shakemap": str(req.shakemap),
         "uncertainty_file": str(req.uncertainty or ""), "fragility": str(Path(req.fragility_dir) / "fragility.nc"),
         "previous_version": old_version, "command": " ".join(req.command),
+        "records_directory": str(req.records or ""),
+        "station_radius_km": cfg.event.station_radius_km if req.records is not None else math.nan,
         "warnings": "\n".join(warnings)})
     ds = apply_schema(ds, EVENT)
-    changed = [(inv.ids[k], Level(int(previous[k])).name, Level(int(risk.level[k])).name)
-               for k in order if previous[k] >= 0 and previous[k] != risk.level[k]]
+    changed = [(inv.ids[k], Level(int(previous[k])).name, Level(int(level[k])).name)
+               for k in order if previous[k] >= 0 and previous[k] != level[k]]
     paths = _publish(ds, grid, inv, req, order, changed)
     return EventResult(paths, ds, warnings, changed, old_version, time.perf_counter() - t0)
+
+
+def governing(p_shakemap: np.ndarray, near) -> tuple[np.ndarray, np.ndarray]:
+    """The probability that ranks each asset, and whether its station's record governs: the larger of the
+    ShakeMap's (or its upper bound where it is not given) and the record's, so that the list is never less
+    cautious than either."""
+    if near is None:
+        return p_shakemap, np.zeros(p_shakemap.shape, dtype=bool)
+    record = np.isfinite(near.p) & ~(near.p <= np.nan_to_num(p_shakemap, nan=-1.0))
+    return np.where(record, near.p, p_shakemap), record
 
 
 def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[tuple[str, ...], list[dict]]:
@@ -355,6 +385,8 @@ def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[t
             _num(v["shaking_median"] * factor, 4), _num(v["shaking_log_sd"]),
             LOG_SD_SOURCES[int(v["log_sd_source"])], _num(v["fragility_median"] * factor, 4),
             _num(v["fragility_beta"]), FitStatus(int(v["fit_status"])).name, _num(v["epicentral_distance"], 1),
+            str(v["station_record"]), _num(v["station_distance"], 2), _num(v["p_overturn_record"]),
+            "record" if v["governed_by"] else "shakemap",
             Level(prev).name if prev >= 0 else "", "yes" if 0 <= prev != int(v["level"]) else ""))))
     return columns, rows
 
