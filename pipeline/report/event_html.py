@@ -139,7 +139,7 @@ def _p_text(ds: xr.Dataset, k: int) -> str:
     p = float(ds["p_overturn_event"].values[k])
     lo, hi = float(ds["p_overturn_event_low"].values[k]), float(ds["p_overturn_event_high"].values[k])
     if math.isfinite(p):
-        return f"{p:.2f}" if p >= 0.005 or p == 0 else "< 0.01"
+        return f"{p:.2f}" if p >= 0.005 or p == 0 else "<0.01"
     return f"{lo:.2f}-{hi:.2f}" if math.isfinite(lo) and math.isfinite(hi) else "no fit"
 
 
