@@ -16,7 +16,6 @@ earthquakes. BSSA 53(2), 403-417.
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import logging
 import math
@@ -26,8 +25,10 @@ from pathlib import Path
 import numpy as np
 
 from .constants import G
-from .errors import BlockParameterError, InventoryError
+from .errors import InventoryError
 from .rocking.block import Block
+from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
+from .tables import parse_number, read_csv_table
 
 log = logging.getLogger(__name__)
 
@@ -46,91 +47,9 @@ PLAUSIBLE_HEIGHT_M = 30.0
 #: Friction coefficients above this are accepted but warned about: above the static friction measured for
 #: stone, wood, steel or concrete contacts (about 0.3-1.0) [-].
 PLAUSIBLE_MU = 1.5
-#: Slenderness at which Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0 [rad] (54.7 deg): a block at or
-#: beyond it cannot rock, only slide or stand.
-ALPHA_MAX_ROCKING = math.asin(math.sqrt(2.0 / 3.0))
 #: Aspect ratios height/width above this are warned about (alpha below 1.4 deg): more slender than the
 #: objects screened (a needle, or a width typed in the wrong unit) [-].
 PLAUSIBLE_ASPECT = 40.0
-
-
-@dataclass(frozen=True)
-class Geometry:
-    """Rocking geometry of one or many blocks (arrays broadcast together).
-
-    Attributes
-    ----------
-    h : ndarray
-        Half-height, height of the centre of mass [m].
-    b : ndarray
-        Half-width [m].
-    R : ndarray
-        Distance from a base corner to the centre of mass, sqrt(b^2 + h^2) [m].
-    alpha : ndarray
-        Slenderness angle atan(b/h) [rad].
-    p : ndarray
-        Frequency parameter sqrt(3 g / (4 R)) of a rectangular block [rad s-1].
-    e_housner : ndarray
-        Housner coefficient of restitution, the angular-velocity ratio across an
-        impact, 1 - 1.5 sin^2(alpha) [-] (its square is the energy ratio).
-    """
-
-    h: np.ndarray
-    b: np.ndarray
-    R: np.ndarray
-    alpha: np.ndarray
-    p: np.ndarray
-    e_housner: np.ndarray
-
-
-def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
-    """Return the rocking geometry of rectangular blocks.
-
-    Parameters
-    ----------
-    height_m : float or array_like
-        Full height 2h [m], > 0.
-    width_m : float or array_like
-        Full base width 2b in the rocking plane [m], > 0.
-    g_ms2 : float
-        Gravity [m s-2].
-
-    Raises
-    ------
-    BlockParameterError
-        If a size is not a positive finite number.
-
-    References
-    ----------
-    Housner (1963) eqs. 1-5: I0 = (4/3) m R^2, p^2 = 3g/(4R), e = 1 - 1.5 sin^2(alpha).
-    """
-    height = np.asarray(height_m, dtype=float)
-    width = np.asarray(width_m, dtype=float)
-    for name, v in (("height_m", height), ("width_m", width)):
-        if not np.all(np.isfinite(v)) or np.any(v <= 0):
-            raise BlockParameterError(f"{name} = {v.tolist()!r}: must be a positive, finite size in metres")
-    h, b = height / 2.0, width / 2.0
-    R = np.hypot(b, h)
-    alpha = np.arctan2(b, h)
-    p = np.sqrt(3.0 * g_ms2 / (4.0 * R))          # rectangle: p^2 = m g R / I0
-    e = 1.0 - 1.5 * np.sin(alpha) ** 2             # Housner (1963) eq. 5, velocity ratio
-    return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
-
-
-def check_friction(mu) -> np.ndarray:
-    """Validate friction coefficients: finite and > 0.
-
-    Raises
-    ------
-    BlockParameterError
-        Naming the value and the valid range.
-    """
-    mu = np.asarray(mu, dtype=float)
-    bad = ~(np.isfinite(mu) & (mu > 0))
-    if np.any(bad):
-        raise BlockParameterError(f"mu = {mu[bad].tolist()[:3]}: the friction coefficient must be a finite "
-                                  "number > 0 (typical 0.3-0.8)")
-    return mu
 
 
 @dataclass(frozen=True)
@@ -241,70 +160,6 @@ class Inventory:
         return cls(ids=(block_id,), names=("",), sites=("",), notes=("",), height_m=np.array([height_m]),
                    width_m=np.array([width_m]), mu=np.array([mu]), azimuth_deg=np.array([azimuth_deg]),
                    restitution=np.array([math.nan]), source="<command line>")
-
-
-def parse_number(value: str, *, where: str, column: str, rule: str, ok) -> float:
-    """A finite number from a CSV cell, or an :class:`InventoryError` naming ``where`` and ``column``."""
-    try:
-        x = float(value)
-    except ValueError:
-        raise InventoryError(f"{where}, column {column!r}: {value!r} is not a number; expected {rule}") from None
-    if not math.isfinite(x) or not ok(x):
-        raise InventoryError(f"{where}, column {column!r}: {value!r} is out of range; expected {rule}")
-    return x
-
-
-def read_csv_table(path: Path, *, what: str, expected_header: str, problems: list[str] | None = None,
-                   required: tuple[str, ...] = ()):
-    """Header and rows of a small CSV table, for the readers of user tables.
-
-    Returns
-    -------
-    header : list of str
-        Stripped column names of line 1.
-    records : iterator of (line, where, dict)
-        Per non-blank row: its line number, ``"<path>, line <n>"`` for messages, and
-        column -> stripped cell.
-
-    Raises
-    ------
-    InventoryError
-        File missing, not UTF-8, empty, a header without the ``required`` columns or with a column
-        twice, or (while iterating) a row whose field count differs from the header's. With
-        ``problems``, such rows are reported there and skipped instead.
-    """
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InventoryError(f"{path}: {what} file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InventoryError(f"{path}: cannot be read as UTF-8 text ({exc})") from exc
-    reader = csv.reader(text.splitlines())
-    try:
-        header = [c.strip() for c in next(reader)]
-    except StopIteration:
-        raise InventoryError(f"{path}: empty file; expected a header line {expected_header!r}") from None
-    missing = [c for c in required if c not in header]
-    if missing:
-        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}; expected {expected_header!r}")
-    dupes = {c for c in header if header.count(c) > 1}
-    if required and dupes:
-        raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
-
-    def records():
-        for row in reader:
-            if not any(cell.strip() for cell in row):
-                continue
-            where = f"{path}, line {reader.line_num}"
-            if len(row) != len(header):
-                message = f"{where}: {len(row)} fields, expected {len(header)} as in the header"
-                if problems is None:
-                    raise InventoryError(message)
-                problems.append(message)
-                continue
-            yield reader.line_num, where, {c: row[i].strip() for i, c in enumerate(header)}
-
-    return header, records()
 
 
 def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float) -> list[str]:

@@ -27,10 +27,10 @@ import numpy as np
 import xarray as xr
 
 from . import criteria
-from .blocks import check_friction, geometry
 from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
 from .constants import REFERENCE_PAPER, G
 from .errors import ParameterError, ResultsError
+from .rocking.geometry import check_friction, geometry
 from .schema import CHART, apply_schema
 
 #: Default period grid, as multiples of the paper's transition period.

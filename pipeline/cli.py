@@ -92,6 +92,13 @@ def _add_tolerate(p: argparse.ArgumentParser) -> None:
 WORKERS_ENV = "ROCKSCREEN_NUM_PROCESSES"
 
 
+def _workers(args: argparse.Namespace) -> int:
+    """``-n``, or its default (:func:`default_workers`), checked."""
+    from .run.executors import checked_workers
+
+    return checked_workers(default_workers() if args.num_processes is None else args.num_processes)
+
+
 def default_workers() -> int:
     """The default ``-n``: ``$ROCKSCREEN_NUM_PROCESSES``, else the cores this process may run on."""
     value = os.environ.get(WORKERS_ENV, "").strip()
@@ -295,7 +302,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
 
     request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,
-                            n_workers=args.num_processes if args.num_processes is not None else default_workers(),
+                            n_workers=_workers(args),
                             scheduler=args.scheduler, force=args.force,
                             command=list(argv), key=key, buildings=_buildings(args, inventory))
     try:
@@ -560,9 +567,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     if args.bootstrap < 0:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
     hazard, component = _hazard_and_component(args)
-    n = default_workers() if args.num_processes is None else args.num_processes
-    if n < 1:
-        raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    n = _workers(args)
     if config.fidelity.tier != "criterion":
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
@@ -704,9 +709,7 @@ def cmd_event(args: argparse.Namespace, argv: list[str]) -> int:
         raise UsageError(f"--shakemap-scale {args.shakemap_scale}: must be a positive factor")
     if not math.isfinite(args.k_sigma):
         raise UsageError(f"--k-sigma {args.k_sigma}: must be a finite number")
-    n = default_workers() if args.num_processes is None else args.num_processes
-    if n < 1:
-        raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    n = _workers(args)
     if args.records is not None:
         _records_dir(args.records)
         _compile_simulator(args)

@@ -36,10 +36,10 @@ from enum import IntEnum
 
 import numpy as np
 
-from .blocks import ALPHA_MAX_ROCKING, check_friction
 from .closed_forms import makris_roussos_halfsine
 from .constants import G
 from .errors import ParameterError
+from .rocking.geometry import ALPHA_MAX_ROCKING, check_friction
 
 #: Forms of Eqs. 1 and 4: "exact" (g tan(alpha), exact critical velocity) or "small_angle".
 FORMS = ("exact", "small_angle")

@@ -39,13 +39,14 @@ import numpy as np
 import xarray as xr
 
 from . import criteria
-from .blocks import Inventory, parse_number, read_csv_table
+from .blocks import Inventory
 from .closed_forms import PULSE_BETA
 from .config import Config
 from .errors import InventoryError
 from .rocking.excitation import pulse
 from .rocking.planner import simulate_scene
 from .schema import INFER, apply_schema
+from .tables import parse_number, read_csv_table
 
 OUTCOMES = ("toppled", "standing")
 #: Shapes an inference can assume (half pulses, as in the paper).

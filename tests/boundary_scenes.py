@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pipeline.rocking import rules
-from pipeline.rocking.batch import sample_verdicts
 from pipeline.rocking.block import Block
 from pipeline.rocking.planner import Scene, simulate_scene
+from pipeline.rocking.sampled import sample_verdicts
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
 

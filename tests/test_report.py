@@ -401,7 +401,7 @@ def test_report_subcommand_reuses_the_figures_screen_drew(screened, tmp_path, mo
     (dict(sim_scale=1.3), "restrain, or relocate", ["scaled by 1.30"]),
 ])
 def test_recommendation_weighs_probability_and_margin_and_says_why(kw, start, words):
-    from pipeline.report.html import recommendation
+    from pipeline.risk import recommendation
     text = recommendation(crit_overturns=False, response=0, governing="G", stations=(2, 9), **kw)
     assert text.startswith(start + ":"), text
     assert all(w in text for w in words) and "2 of 9 stations" in text, text
@@ -523,7 +523,7 @@ def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():
 
 
 def test_factor_words_keep_the_side_of_one():
-    from pipeline.report.html import factor_words
+    from pipeline.risk import factor_words
 
     assert factor_words(0.996) == "0.996" and factor_words(1.004) == "1.004" and factor_words(0.24) == "0.24"
     assert factor_words(0.99999) == "0.99999" or float(factor_words(0.99999)) < 1.0

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import NamedTuple
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from ..blocks import Inventory, parse_number, read_csv_table
 from ..errors import InventoryError
+from ..tables import parse_number, read_csv_table
 from .motion import Building
 
 #: Columns of buildings.csv.
@@ -79,7 +79,24 @@ class Placement(NamedTuple):
     height_m: float
 
 
-def place_blocks(inventory: Inventory, buildings: dict[str, Building]) -> list[Placement]:
+class Placed(Protocol):
+    """What placing blocks reads of an inventory (:class:`pipeline.blocks.Inventory` is one)."""
+
+    @property
+    def ids(self) -> tuple: ...
+
+    @property
+    def source(self) -> str: ...
+
+    @property
+    def extra(self) -> dict: ...
+
+    def buildings(self) -> tuple: ...
+
+    def floor_heights(self) -> np.ndarray: ...
+
+
+def place_blocks(inventory: Placed, buildings: dict[str, Building]) -> list[Placement]:
     """Each block's building and floor height (the module's rules).
 
     Raises
@@ -89,7 +106,7 @@ def place_blocks(inventory: Inventory, buildings: dict[str, Building]) -> list[P
         ``floor`` number (or a ``floor`` number and no ``n_stories``), or a floor above the roof; all at once.
     """
     errors: list[str] = []
-    floors = inventory.extra.get("floor", ("",) * len(inventory))
+    floors: tuple = inventory.extra.get("floor", ("",) * len(inventory.ids))
     out = []
     for j, bid in enumerate(inventory.ids):
         name = inventory.buildings()[j]
@@ -104,6 +121,7 @@ def place_blocks(inventory: Inventory, buildings: dict[str, Building]) -> list[P
             continue
         z = float(inventory.floor_heights()[j])
         if math.isnan(z):
+            level: int | None
             try:
                 level = int(str(floors[j]).strip())
             except ValueError:

@@ -26,9 +26,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..compiled import jit
 from ..errors import ParameterError
 from ..records.intensity import oscillator_matrices
-from ..rocking.kernel import jit
 from .model import Modes, modes
 
 

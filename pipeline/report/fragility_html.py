@@ -35,7 +35,7 @@ ASSETS_CSV = "fragility_assets.csv"
 #: is dimensionless, annual_rate_overturn in 1/yr, p_overturn_50yr a probability.
 #: Columns of fragility_assets.csv; ``{im}`` and ``{unit}`` are the fit's IM and the unit of ``--levels``
 #: (``median_pga_g``), so that every number's unit is in its column's name.
-ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation", "median_{im}_{unit}",
+FRAGILITY_ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation", "median_{im}_{unit}",
                  "median_low_{im}_{unit}", "median_high_{im}_{unit}", "beta", "beta_low", "beta_high", "fit_status",
                  "annual_rate_overturn_per_yr", "p_overturn_50yr", "annual_rate_overturn_upper_per_yr",
                  "p_overturn_50yr_upper", "best_im", "best_im_beta", "velocity_ratio_rank",
@@ -43,8 +43,9 @@ ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation", "median_{
 
 
 def asset_columns(ds: xr.Dataset) -> tuple[str, ...]:
-    """:data:`ASSET_COLUMNS` for this fit."""
-    return tuple(c.format(im=ds.attrs["im"], unit=ds.attrs.get("im_display_unit", "si")) for c in ASSET_COLUMNS)
+    """:data:`FRAGILITY_ASSET_COLUMNS` for this fit."""
+    unit = ds.attrs.get("im_display_unit", "si")
+    return tuple(c.format(im=ds.attrs["im"], unit=unit) for c in FRAGILITY_ASSET_COLUMNS)
 STATUS_NAMES = {m.value: m.name for m in FitStatus}
 #: How the page writes the units of ``--levels``.
 UNIT_WORDS = {"g": "g", "gal": "gal", "cms2": "cm s-2", "ms2": "m s-2", "cms": "cm s-1", "ms": "m s-1", "s": "s",

@@ -8,7 +8,7 @@ import numpy as np
 import xarray as xr
 
 from .. import criteria
-from ..blocks import geometry
+from ..rocking.geometry import geometry
 from .mpl import new_figure, save_figure
 
 

@@ -68,7 +68,8 @@ import math
 
 import numpy as np
 
-from .kernel import HALF_PI, HISTORY_TIME_TOL_S, SAMPLE_INDEX_TOL, _exceed_fraction, _flight_fraction, free_outcome, jit
+from ..compiled import jit
+from .kernel import HALF_PI, HISTORY_TIME_TOL_S, SAMPLE_INDEX_TOL, _exceed_fraction, _flight_fraction, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 

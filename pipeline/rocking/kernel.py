@@ -41,7 +41,7 @@ import math
 
 import numpy as np
 
-from .compiled import HAVE_NUMBA, jit  # noqa: F401  (re-exported: the kernels' decorator)
+from ..compiled import HAVE_NUMBA, jit  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.HAVE_NUMBA)
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from .structures import RockingOutcome
 

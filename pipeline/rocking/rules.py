@@ -42,8 +42,8 @@ from __future__ import annotations
 
 import math
 
-from ..blocks import ALPHA_MAX_ROCKING
-from .compiled import jit
+from ..compiled import jit
+from .geometry import ALPHA_MAX_ROCKING
 
 #: Relative tolerance of the tie mu = tan(alpha) (rule 1) [-].
 TIE_RTOL = 1e-9
@@ -63,7 +63,7 @@ def motion_threshold(alpha: float, mu: float) -> float:
 
 def rocks(alpha: float, mu: float) -> bool:
     """True when the block tips before it slides (mu > tan alpha, beyond the tie of rule 1) and pure rocking
-    applies (alpha below :data:`~pipeline.blocks.ALPHA_MAX_ROCKING`, rule 5)."""
+    applies (alpha below :data:`~pipeline.rocking.geometry.ALPHA_MAX_ROCKING`, rule 5)."""
     return mu > math.tan(alpha) * (1.0 + TIE_RTOL) and alpha < ALPHA_MAX_ROCKING
 
 

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 
-from .kernel import _exceed_fraction, _flight_fraction, jit
+from ..compiled import jit
+from .kernel import _exceed_fraction, _flight_fraction
 
 #: Slip starts and stops located in one sample interval, at most (the slip velocity is quadratic in time there,
 #: so a physical interval holds a handful; the cap ends the interval's search, counted in ``capped``)

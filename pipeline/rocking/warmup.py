@@ -14,9 +14,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..compiled import HAVE_NUMBA
 from ..constants import G
-from .batch import sample_plane_outcomes, sample_verdicts
-from .kernel import HAVE_NUMBA
+from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
 from .simulate import rock, slide, step_control
 

@@ -19,12 +19,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..blocks import ALPHA_MAX_ROCKING, Inventory
+from ..blocks import Inventory
 from ..config import Config
 from ..errors import OutputError, RockscreenError
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
+from ..rocking.geometry import ALPHA_MAX_ROCKING
 from ..schema import EVENT, apply_schema
 from ..store import OutputLock, publish, staging_dir, write_atomic
 from ..uncertainty.fragility import FitStatus

@@ -76,9 +76,7 @@ class ProcessExecutor:
     name = "processes"
 
     def __init__(self, n_workers: int):
-        if n_workers < 1:
-            raise UsageError(f"-n {n_workers}: the number of worker processes must be >= 1")
-        self.n_workers = n_workers
+        self.n_workers = checked_workers(n_workers)
         self._pool: ProcessPoolExecutor | None = None
         self._entered = False
 
@@ -154,6 +152,19 @@ class ProcessExecutor:
                     suspects.extend(lost)
             if not in_flight:
                 alone = False
+
+
+def checked_workers(n: int) -> int:
+    """``-n``: a number of worker processes, at least 1.
+
+    Raises
+    ------
+    UsageError
+        Naming the value.
+    """
+    if n < 1:
+        raise UsageError(f"-n {n}: the number of worker processes must be >= 1")
+    return n
 
 
 def _ignore_sigint() -> None:

@@ -23,7 +23,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..constants import REFERENCE_PAPER
-from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError, UsageError
+from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
 from ..margins import add_margins
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
@@ -32,7 +32,7 @@ from ..store import STATE_DIR, OutputLock, publish, remove_stale_temporaries, st
 from . import uptodate
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
-from .executors import make_executor
+from .executors import checked_workers, make_executor
 
 log = logging.getLogger(__name__)
 
@@ -153,8 +153,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     OutputError, OutputLockedError, RockscreenError
         Unwritable output, another run holding the lock, bad input.
     """
-    if request.n_workers < 1:
-        raise UsageError(f"-n {request.n_workers}: the number of worker processes must be >= 1")
+    checked_workers(request.n_workers)
     station_inventory, stationxml_sha, declared, found, out_dir = prepare(request)
     started = time.time()
     try:

@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
-from ..rocking.batch import sample_plane_outcomes
+from ..rocking.sampled import sample_plane_outcomes
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, wilson_interval

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..blocks import geometry
 from ..constants import G
+from ..rocking.geometry import geometry
 from .settings import UncertaintyConfig
 
 #: Columns of the common random numbers.

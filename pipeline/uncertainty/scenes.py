@@ -1,7 +1,7 @@
 """The probability of overturning of one scene under the declared uncertainty.
 
 Samples are drawn in batches (:attr:`UncertaintyConfig.batch`) and judged by one compiled
-call per batch (:func:`pipeline.rocking.batch.sample_verdicts`); after each batch the Wilson
+call per batch (:func:`pipeline.rocking.sampled.sample_verdicts`); after each batch the Wilson
 interval is tested and sampling stops once it decides the robustness class
 (:mod:`.robust`). Samples proven at rest by the exact certificate are not integrated.
 
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
-from ..rocking.batch import sample_verdicts
+from ..rocking.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, wilson_interval

@@ -1,0 +1,268 @@
+"""Asset risk: one row per asset from the screening results, ranked, with the action it calls for and why
+(``assets.csv``, and the table of the report).
+
+Recommendation rule (per asset; thresholds here). It weighs the probability of overturning under the
+declared uncertainty (the largest over the records, when the run sampled) and the simulated margin on the
+governing record, and says why in words:
+
+* p >= :data:`P_ANCHOR`, or (without sampling) a simulated margin <= 1: "restrain or anchor" (a margin <= 1
+  for an asset that stands under its governing record means the record scaled down overturns it: a window
+  of overturning below the nominal amplitude, flagged ``overturns_below_nominal``);
+* free flight on the governing record (g + a_v <= 0 before any overturning) and no probability: "no verdict";
+* p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
+  :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
+* the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
+* otherwise "no action".
+
+References
+----------
+The reference paper, "Rocking Blocks Stability under Critical Pulses from Near-Fault Earthquakes Using a Novel
+Energy Based Approach", Applied Sciences (MDPI) (the criterion the rule weighs beside the simulation).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .margins import P_RELOCATE, RELOCATE_BELOW_SCALE
+from .rocking.orientation import Orientation
+from .rocking.planner import Physics, Response
+from .schema import INVENTORY_PREFIX
+from .store import write_csv_atomic
+from .uncertainty.robust import Robustness
+
+#: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
+P_ANCHOR = 0.5
+# P_RELOCATE (a probability at or above it, the robust-stand bound of the default [uncertainty]) and
+# RELOCATE_BELOW_SCALE (a simulated margin at or below it) call for restraint or relocation; they are the margins
+# stage's, which keeps a history for every such asset
+#: Responses that call for limiting sliding.
+SLIDING_RESPONSES = {Response.slide, Response.slide_rock}
+RESPONSE_NAMES = {-1: "not simulated", **{m.value: m.name for m in Response}}
+PHYSICS_NAMES = {-1: "not simulated", **{m.value: m.name for m in Physics}}
+VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
+ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
+
+#: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
+#: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene, except
+#: p_overturn (the worst orientation), its interval, p_overturn_azimuth (the plane it is for [deg]),
+#: p_overturn_random_orientation (an unknown orientation) and robustness, which are those of the record with the
+#: largest p_overturn (``p_record``). ``stations_*`` count the records of one station recording in several files
+#: once (``records_*`` count files). Extra inventory columns follow, as given.
+ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
+                 "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record",
+                 "p_overturn_azimuth", "p_overturn_random_orientation", "robustness",
+                 "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
+                 "records_overturning", "records_screened", "governing_record",
+                 "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
+                 "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
+                 "overturn_scale_median", "recommendation",
+                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio")
+
+
+def factor_words(x: float) -> str:
+    """A factor on a record to the precision that keeps its side of 1 (0.996 is '0.996', never '1.00')."""
+    for digits in (2, 3, 4, 6):
+        text = f"{x:.{digits}f}"
+        if x == 1.0 or (float(text) < 1.0) == (x < 1.0) and float(text) != 1.0:
+            return text
+    return repr(x)
+
+
+def _margin_words(sim_scale: float, governing: str) -> str:
+    """The simulated margin on the governing record, in words."""
+    if not np.isfinite(sim_scale):
+        return f"stands under {governing} scaled up to the scan limit" if np.isinf(sim_scale) else "no margin"
+    if sim_scale <= 1.0:
+        return f"overturns under {governing} x{factor_words(sim_scale)}"
+    return f"overturns only with {governing} scaled by {factor_words(sim_scale)}"
+
+
+def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
+                   p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
+                   stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan) -> str:
+    """The action for one asset and why, in words (see the module docstring for the rule).
+
+    Parameters
+    ----------
+    sim_scale : float
+        Simulated margin on the governing record: the smallest factor that overturns the asset [-].
+    crit_overturns : bool
+        The paper's criterion says the governing record overturns it.
+    response : int
+        Simulated response code of the governing scene.
+    overturned : bool
+        The governing scene overturns (nominal).
+    p_max : float
+        The largest probability of overturning over the records (NaN without sampling) [-].
+    p_record : str
+        The record ``p_max`` is for.
+    p_words : str
+        ``p_max`` in words, when the caller has more to say (its orientation); default "p = .. under ..".
+    slide_m : float
+        How far the governing scene slides [m] (NaN: unknown).
+    governing : str
+        The governing record (the margin's record).
+    stations : tuple of int, optional
+        (stations whose record overturns the asset, stations screened).
+    """
+    sampled = np.isfinite(p_max)
+    why = [p_words or f"p = {p_max:.2f} under {p_record}"] if sampled else []
+    why.append(_margin_words(sim_scale, governing))
+    if stations is not None:
+        why.append(f"{stations[0]} of {stations[1]} stations overturn it")
+    small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
+    if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
+        if not sampled and not overturned:
+            why.append("it stands under the record itself: overturning is not monotonic in amplitude")
+        return "restrain or anchor: " + "; ".join(why)
+    if response == Response.free_flight and not sampled:
+        return "no verdict: free flight (the ground's g + a_v reached 0 before any overturning)"
+    if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
+        if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
+            why.append("the paper's criterion predicts overturning")
+        return "restrain, or relocate: " + "; ".join(why)
+    if response in SLIDING_RESPONSES:
+        far = f" {slide_m:.2g} m" if np.isfinite(slide_m) else ""
+        return f"limit sliding (friction pads or a restraint): it slides{far} under {governing}"
+    return "no action: " + "; ".join(why)
+
+
+def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
+    """A block's building, floor height [m] and its floor's peak acceleration over the ground's under the governing
+    record (empty and NaN on the ground)."""
+    building = str(ds["building"].values[j]) if "building" in ds else ""
+    ratio = math.nan
+    if building and i is not None and "floor_pga" in ds:
+        ratio = float(ds["floor_pga"].values[i, j]) / float(ds["pga"].values[i])
+    return {"building": building,
+            "floor_height_m": float(ds["floor_height"].values[j]) if "floor_height" in ds else math.nan,
+            "floor_pga_ratio": ratio}
+
+
+def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:
+    """A block's probabilities of overturning: the largest over the records (with its interval, record and
+    robustness class; the governing record when it reaches the largest, so that the two read together), the
+    stations with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
+    empty = {"p_overturn": np.nan, "p_overturn_low": np.nan, "p_overturn_high": np.nan, "p_record": "",
+             "robustness": "", "stations_p_half": 0, "records_sensitive": 0, "p_overturn_azimuth": np.nan,
+             "p_overturn_random_orientation": np.nan, "orientation_unknown": False, "p_words": ""}
+    if "p_overturn" not in ds:
+        return empty
+    p = np.where(ok, ds["p_overturn"].values[:, j], np.nan)
+    if not np.isfinite(p).any():
+        return empty
+    i = int(np.nanargmax(p))
+    if governing is not None and p[governing] == p[i]:
+        i = governing
+    robust = ds["robustness"].values[:, j]
+    azimuth = float(ds["p_overturn_azimuth"].values[i, j]) if "p_overturn_azimuth" in ds else math.nan
+    random = float(ds["p_overturn_random_orientation"].values[i, j]) if "p_overturn_random_orientation" in ds \
+        else math.nan
+    orientation = int(ds["orientation"].values[i, j])
+    unknown = orientation in (Orientation.scanned, Orientation.scanned_relative)
+    record = str(ds["record"].values[i])
+    words = f"p = {p[i]:.2f} under {record}"
+    given = "block_azimuth" in ds and np.isfinite(float(ds["block_azimuth"].values[j]))
+    if unknown and np.isfinite(azimuth):
+        if orientation == Orientation.scanned_relative:
+            # the record's sensors have no known azimuth: a plane is known only relative to its first component
+            words += (f" if it faces {azimuth:.0f} deg from the record's first component (its sensors' azimuth is "
+                      f"unknown, so {'the given azimuth cannot be used and ' if given else ''}every orientation is "
+                      f"scanned; orientation unknown: {random:.2f})")
+        else:
+            words += f" if it faces {azimuth:.0f} deg (orientation unknown: {random:.2f})"
+    return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
+            "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": record,
+            "robustness": ROBUSTNESS_NAMES[int(robust[i])],
+            "stations_p_half": len(set(stations[ok & (np.nan_to_num(p) >= 0.5)].tolist())),
+            "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive))),
+            "p_overturn_azimuth": azimuth, "p_overturn_random_orientation": random, "orientation_unknown": unknown,
+            "p_words": words}
+
+
+def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> list[dict]:
+    """One row per block, ranked by risk: the largest probability of overturning over the records, then the
+    number of stations with p_overturn >= 0.5, then the most stations that overturn it (nominal), the
+    smallest simulated margin, the criterion's margin and the largest rotation.
+
+    ``station_of`` maps a record to the record that stands for its station recording (records of one
+    recording in several files count once); a record not in it is a station of its own.
+    """
+    rows = []
+    stations = np.array([(station_of or {}).get(r, r) for r in ds["record"].values.tolist()], dtype=object)
+    rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
+    ok = ds["status"].values == "ok"
+    verdict = ds["overturn"].values if "overturn" in ds else ds["overturn_simulated"].values
+    record_ids = ds["record"].values
+    extra = [str(n) for n in ds.data_vars if str(n).startswith(INVENTORY_PREFIX)]
+    for j, block in enumerate(ds["block"].values.tolist()):
+        gov = str(ds["governing_record"].values[j]) if "governing_record" in ds else ""
+        i = rec_pos.get(gov)
+
+        def at(name, default=np.nan, i=i, j=j):
+            return ds[name].values[i, j] if i is not None else default
+
+        sim_scale = float(ds["overturn_scale_simulated"].values[j])
+        crit_scale = float(ds["overturn_scale"].values[j])
+        crit = int(at("overturn_criterion", -1))
+        sim = int(at("overturn_simulated", -1))
+        response = int(at("response", -1))
+        slide = float(at("sliding_max"))
+        overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
+        stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
+        n_stations = len(set(stations[ok].tolist()))
+        probabilities = _probabilities(ds, ok, j, stations, i)
+        below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
+        rows.append({
+            "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
+            **_floor(ds, i, j),
+            "height": float(ds["height"].values[j]), "width": float(ds["width"].values[j]),
+            "corner_distance": float(ds["corner_distance"].values[j]),
+            "slenderness": float(ds["slenderness"].values[j]),
+            "alpha_deg": math.degrees(float(ds["slenderness"].values[j])),
+            "frequency_parameter": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
+            "records_overturning": len(overturning), "records_screened": int(ok.sum()),
+            "stations_overturning": stations_over, "stations_screened": n_stations,
+            "records_overturning_ids": ";".join(overturning),
+            "governing_record": gov, "governing_azimuth": float(at("governing_azimuth")),
+            "verdict_criterion": VERDICT[crit],
+            "verdict_simulation": VERDICT[sim] + (f" (slides {slide:.2g} m)" if response in SLIDING_RESPONSES
+                                                  and np.isfinite(slide) and slide > 0 else ""),
+            "theta_max": float(at("theta_max")), "response": RESPONSE_NAMES[response],
+            "physics": PHYSICS_NAMES[int(at("physics", -1))],
+            "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
+            "p_overturn_governing": float(ds["p_overturn_governing"].values[j]) if "p_overturn_governing" in ds
+            else np.nan,
+            "overturn_scale_median": float(ds["overturn_scale_median"].values[j]) if "overturn_scale_median" in ds
+            else np.nan,
+            "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
+                                             overturned=sim == 1, p_max=probabilities["p_overturn"],
+                                             p_record=probabilities["p_record"], governing=gov or "the records",
+                                             stations=(stations_over, n_stations),
+                                             p_words=probabilities["p_words"], slide_m=slide),
+            "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
+            **probabilities,
+        })
+
+    def risk(r: dict) -> tuple:
+        return (-np.nan_to_num(r["p_overturn"], nan=-1.0), -r["stations_p_half"], -r["stations_overturning"],
+                np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
+                np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r["theta_max"], nan=-1.0))
+
+    rows.sort(key=risk)
+    for k, r in enumerate(rows, 1):
+        r["rank"] = k
+    return rows
+
+
+def write_assets_csv(rows: list[dict], path: Path) -> Path:
+    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit'), then the extra
+    inventory columns as given, atomically."""
+    extra = list(rows[0]["inventory"]) if rows else []
+    table = [{**{c: r[c] for c in ASSETS_CSV_COLUMNS}, **r["inventory"]} for r in rows]
+    return write_csv_atomic(path, ASSETS_CSV_COLUMNS + tuple(extra), table)

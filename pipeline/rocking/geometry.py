@@ -1,0 +1,101 @@
+"""Rigid-block geometry in Housner's notation: half-height h, half-width b, R, the slenderness alpha, the frequency
+parameter p and the restitution, from a block's full height and width; and the slenderness beyond which a block
+cannot rock.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import G
+from ..errors import BlockParameterError
+
+#: Slenderness at which Housner's restitution 1 - 1.5 sin^2(alpha) reaches 0 [rad] (54.7 deg): a block at or
+#: beyond it cannot rock, only slide or stand.
+ALPHA_MAX_ROCKING = math.asin(math.sqrt(2.0 / 3.0))
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Rocking geometry of one or many blocks (arrays broadcast together).
+
+    Attributes
+    ----------
+    h : ndarray
+        Half-height, height of the centre of mass [m].
+    b : ndarray
+        Half-width [m].
+    R : ndarray
+        Distance from a base corner to the centre of mass, sqrt(b^2 + h^2) [m].
+    alpha : ndarray
+        Slenderness angle atan(b/h) [rad].
+    p : ndarray
+        Frequency parameter sqrt(3 g / (4 R)) of a rectangular block [rad s-1].
+    e_housner : ndarray
+        Housner coefficient of restitution, the angular-velocity ratio across an
+        impact, 1 - 1.5 sin^2(alpha) [-] (its square is the energy ratio).
+    """
+
+    h: np.ndarray
+    b: np.ndarray
+    R: np.ndarray
+    alpha: np.ndarray
+    p: np.ndarray
+    e_housner: np.ndarray
+
+
+def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
+    """Return the rocking geometry of rectangular blocks.
+
+    Parameters
+    ----------
+    height_m : float or array_like
+        Full height 2h [m], > 0.
+    width_m : float or array_like
+        Full base width 2b in the rocking plane [m], > 0.
+    g_ms2 : float
+        Gravity [m s-2].
+
+    Raises
+    ------
+    BlockParameterError
+        If a size is not a positive finite number.
+
+    References
+    ----------
+    Housner (1963) eqs. 1-5: I0 = (4/3) m R^2, p^2 = 3g/(4R), e = 1 - 1.5 sin^2(alpha).
+    """
+    height = np.asarray(height_m, dtype=float)
+    width = np.asarray(width_m, dtype=float)
+    for name, v in (("height_m", height), ("width_m", width)):
+        if not np.all(np.isfinite(v)) or np.any(v <= 0):
+            raise BlockParameterError(f"{name} = {v.tolist()!r}: must be a positive, finite size in metres")
+    h, b = height / 2.0, width / 2.0
+    R = np.hypot(b, h)
+    alpha = np.arctan2(b, h)
+    p = np.sqrt(3.0 * g_ms2 / (4.0 * R))          # rectangle: p^2 = m g R / I0
+    e = 1.0 - 1.5 * np.sin(alpha) ** 2             # Housner (1963) eq. 5, velocity ratio
+    return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
+
+
+def check_friction(mu) -> np.ndarray:
+    """Validate friction coefficients: finite and > 0.
+
+    Raises
+    ------
+    BlockParameterError
+        Naming the value and the valid range.
+    """
+    mu = np.asarray(mu, dtype=float)
+    bad = ~(np.isfinite(mu) & (mu > 0))
+    if np.any(bad):
+        raise BlockParameterError(f"mu = {mu[bad].tolist()[:3]}: the friction coefficient must be a finite "
+                                  "number > 0 (typical 0.3-0.8)")
+    return mu
