@@ -69,6 +69,27 @@ import math
 import numpy as np
 
 from ..compiled import jit
+from .codes import (  # noqa: F401  (read by the hand-off and the planner as contact.*)
+    FLIGHT,
+    MODE_FLIGHT,
+    MODE_ROCK,
+    MODE_SLIDE,
+    MODE_SLIDE_ROCK,
+    OVERTURNED,
+    REST,
+    ROCK,
+    SLIDE,
+    SLIDE_ROCK,
+    STATUS_ENDED,
+    STATUS_EVENT_CAP,
+    STATUS_GROUND_FLIGHT,
+    STATUS_LIFTOFF,
+    STATUS_PAINLEVE,
+    STATUS_STALLED,
+    STATUS_STEP_CAP,
+    STATUS_TAIL_CAP,
+    STATUS_TIE_HOLD,
+)
 from .kernel import HALF_PI, HISTORY_TIME_TOL_S, SAMPLE_INDEX_TOL, _exceed_fraction, _flight_fraction, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
@@ -76,23 +97,7 @@ from .structures import ContactBlock, ContactOutcome, ContactState
 __all__ = ["ContactBlock", "ContactOutcome", "ContactState", "move", "impact", "accelerations", "corner_offsets",
            "housner_restitution"]
 
-# modes
-REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = 0, 1, 2, 3, 4, 5
-
-# bits of ContactOutcome.modes: which modes occurred
-MODE_SLIDE, MODE_ROCK, MODE_SLIDE_ROCK, MODE_FLIGHT = 1, 2, 4, 8
-
-# bits of ContactOutcome.status
-STATUS_PAINLEVE = 1        # slide-rock with no consistent normal force (Painleve): the corner was made to stick
-STATUS_EVENT_CAP = 2       # MAX_EVENTS transitions: ended there, the verdict from the state reached (chatter guard)
-STATUS_TAIL_CAP = 4        # the motion after the record outlasted MAX_TAIL_PERIODS: stopped, standing
-STATUS_GROUND_FLIGHT = 8   # free flight began where the ground's g + a_v reached 0
-STATUS_LIFTOFF = 16        # free flight began where the block's own motion took the contact force to 0
-STATUS_TIE_HOLD = 32       # tie rule 6 (rules): events in a row at one instant, flat: held at rest to the next sample
-STATUS_STALLED = 64        # tie rule 6 while not flat: ended there, the verdict from the state reached
-STATUS_STEP_CAP = 128      # the step budget ran out: ended there, the verdict from the state reached
-#: The status bits that end a scene before its end (the verdict is then the state's: :func:`state_verdict`)
-STATUS_ENDED = STATUS_EVENT_CAP | STATUS_STALLED | STATUS_STEP_CAP
+# modes, mode bits and status bits: the simulator's one vocabulary (codes.py)
 
 # Step and event control, named once
 STEPS_PER_SAMPLE = 2          # Runge-Kutta steps per sample interval, at least

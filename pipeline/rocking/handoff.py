@@ -25,24 +25,28 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from ..compiled import jit
 from . import contact
-from .contact import ContactBlock, ContactOutcome, ContactState
-from .kernel import (
+from .codes import (
+    FLIGHT,
     OVERTURNED,
     REST,
+    ROCK,
     STATUS_CHATTER,
-    STATUS_FREE_FLIGHT,
+    STATUS_ENDED,
+    STATUS_EVENT_CAP,
     STATUS_FRICTION,
+    STATUS_GROUND_FLIGHT,
     STATUS_LIFTOFF,
     STATUS_STEP_CAP,
     STATUS_TIE_HOLD,
-    jit,
-    rock,
 )
+from .contact import ContactBlock, ContactOutcome, ContactState
+from .kernel import rock
 from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 #: Cap on the alternations between the two models in one scene (each needs at least a sample interval of
-#: general motion, or ends the scene at a cap; the cap is a guard, flagged as contact.STATUS_EVENT_CAP).
+#: general motion, or ends the scene at a cap; the cap is a guard, flagged as STATUS_EVENT_CAP).
 MAX_SEGMENTS = 100000
 
 
@@ -59,7 +63,7 @@ def hand_off(o: RockingOutcome) -> HandOff:
     """Why the kernel's outcome ``o`` (run with a finite ``stop_mu``) stopped short, if it did."""
     if o.overturned or o.mode_end == OVERTURNED:
         return HandOff(False, False, False)
-    flight = bool(o.status & STATUS_FREE_FLIGHT)
+    flight = bool(o.status & STATUS_GROUND_FLIGHT)
     friction = bool(o.status & STATUS_FRICTION)
     return HandOff(friction, bool(o.status & STATUS_LIFTOFF) and not (friction or flight), flight)
 
@@ -73,16 +77,10 @@ def stopped_short(o: RockingOutcome) -> bool:
 
 @jit
 def kernel_guards(status: int) -> int:
-    """The contact model's ``STATUS_*`` bits for the guards the kernel's ``status`` met (chatter cap, tie rule 6,
-    step budget), so that a scene's flags say what happened in either model."""
-    out = 0
-    if status & STATUS_CHATTER:
-        out |= contact.STATUS_EVENT_CAP
-    if status & STATUS_TIE_HOLD:
-        out |= contact.STATUS_TIE_HOLD
-    if status & STATUS_STEP_CAP:
-        out |= contact.STATUS_STEP_CAP
-    return out
+    """The guard bits of the kernel's ``status`` as the contact model sets them, so that a scene's flags say what
+    happened in either model: the kernel's chatter cap counts as the event cap; tie rule 6 and the step budget
+    are the same bits in both (codes.py)."""
+    return (STATUS_EVENT_CAP if status & STATUS_CHATTER else 0) | (status & (STATUS_TIE_HOLD | STATUS_STEP_CAP))
 
 
 @jit
@@ -94,9 +92,9 @@ def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactSta
     b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
     t, th, w, c = o.t_stop, o.theta_end, o.omega_end, o.pivot_end
     if o.mode_end == REST:
-        return ContactState(t, contact.FLIGHT, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, slip)
+        return ContactState(t, FLIGHT, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, slip)
     rx, ry = contact.corner_offsets(th, c, b, h)
-    mode = contact.FLIGHT if o.status & STATUS_FREE_FLIGHT else contact.ROCK
+    mode = FLIGHT if o.status & STATUS_GROUND_FLIGHT else ROCK
     return ContactState(t, mode, c, 1.0, c * b - rx, -h - ry, th, -ry * w, rx * w, w, slip)
 
 
@@ -113,8 +111,8 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
     o = first
     slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, kernel_guards(first.status)
     for _ in range(MAX_SEGMENTS):
-        if o.status & STATUS_FREE_FLIGHT:
-            status |= contact.STATUS_GROUND_FLIGHT
+        if o.status & STATUS_GROUND_FLIGHT:
+            status |= STATUS_GROUND_FLIGHT
         g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True, hist)
         theta_max = max(theta_max, g.theta_max)
         n_imp += g.n_impacts
@@ -122,12 +120,12 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         modes |= g.modes
         status |= g.status
         end = g.end
-        if g.overturned or g.status & contact.STATUS_ENDED or not (end.mode == contact.ROCK
-                                                                  or end.mode == contact.REST):
+        if g.overturned or g.status & STATUS_ENDED or not (end.mode == ROCK
+                                                                  or end.mode == REST):
             # overturned, ended at a cap (the state's verdict), or still in motion at the end
             return ContactOutcome(g.overturned, g.t_overturn, theta_max, n_imp, slip_max, slip, modes, status, end)
-        theta = end.theta if end.mode == contact.ROCK else 0.0
-        omega = end.w if end.mode == contact.ROCK else 0.0
+        theta = end.theta if end.mode == ROCK else 0.0
+        omega = end.w if end.mode == ROCK else 0.0
         o = rock(ah, av, dt, t_end, rblk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
         theta_max = max(theta_max, o.theta_max)
         n_imp += o.n_impacts
@@ -135,16 +133,16 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
         if not stopped_short(o):
             return ContactOutcome(o.overturned, o.t_overturn, theta_max, n_imp, slip_max, slip, modes, status,
-                                  ContactState(o.t_stop, contact.OVERTURNED if o.overturned else contact.ROCK,
+                                  ContactState(o.t_stop, OVERTURNED if o.overturned else ROCK,
                                                o.pivot_end, 1.0, 0.0, 0.0, o.theta_end, 0.0, 0.0, o.omega_end, slip))
     return ContactOutcome(False, math.nan, theta_max, n_imp, slip_max, slip, modes,
-                          status | contact.STATUS_EVENT_CAP, start_state(o, blk, slip))
+                          status | STATUS_EVENT_CAP, start_state(o, blk, slip))
 
 
 @jit
 def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
     """The general model from rest at t = 0 (a sliding scene that meets free flight); ``theta_out``: its theta
     history at the samples [rad]."""
-    at_rest = ContactState(0.0, contact.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    at_rest = ContactState(0.0, REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     hist = theta_out if theta_out is not None else ah[:0]
     return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False, hist)

@@ -42,23 +42,23 @@ import math
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, jit  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.HAVE_NUMBA)
+from .codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
+    OVERTURNED,
+    REST,
+    ROCK,
+    STATUS_CHATTER,
+    STATUS_FRICTION,
+    STATUS_GROUND_FLIGHT,
+    STATUS_LIFTOFF,
+    STATUS_STEP_CAP,
+    STATUS_STEP_UNDERFLOW,
+    STATUS_TIE_HOLD,
+)
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from .structures import RockingOutcome
 
 HALF_PI = 0.5 * math.pi
 
-# status bits of the rocking kernel
-STATUS_CHATTER = 1        # event cap reached: forced to rest
-STATUS_FREE_FLIGHT = 2    # the ground's g + a_v reached 0: contact lost, the contact model stopped there
-STATUS_STEP_UNDERFLOW = 4  # step size fell below the smallest step that advances time (rules.min_advance): accepted
-STATUS_LIFTOFF = 8        # f_z <= 0 met while rocking (the block's own motion lifts it): flagged; stopped when
-                          # the block's stop_mu is finite
-STATUS_FRICTION = 16      # the friction demand exceeded the block's stop_mu: stopped there
-STATUS_TIE_HOLD = 32      # tie rule 6 (rules): events in a row at one instant; held at rest to the next sample
-STATUS_STEP_CAP = 64      # the step budget (MAX_STEPS_PER_SAMPLE) ran out: ended, the verdict from the state reached
-
-# modes
-REST, ROCK, OVERTURNED = 0, 1, 2
 
 # Step-size control of the Runge-Kutta pair (Hairer, Norsett & Wanner 1993, section II.4), named once
 SAFETY = 0.9                    # safety factor on the step the error estimate asks for
@@ -424,7 +424,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             if xf >= 0.0 and (x < 0.0 or x >= xf):
                 # the ground falls faster than gravity before the block lifts: contact is lost
                 t = t + xf * (t1 - t)
-                status |= STATUS_FREE_FLIGHT
+                status |= STATUS_GROUND_FLIGHT
                 break
             if x >= 0.0:
                 t_up = t + x * (t1 - t)
@@ -479,7 +479,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
                 th, om, _et, _eo, _acc = _dopri_step(t, th, om, hf, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
                 theta_max = max(theta_max, abs(th))
             t = t + hf
-            status |= STATUS_FREE_FLIGHT
+            status |= STATUS_GROUND_FLIGHT
             break
         # accepted: events inside the step
         x = -1.0
@@ -555,7 +555,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
         h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
 
     if not overturned and mode == ROCK and (capped or tail_energy and t >= t_rec - TAIL_TIME_TOL_S
-                                            and not status & STATUS_FREE_FLIGHT and not handed_off):
+                                            and not status & STATUS_GROUND_FLIGHT and not handed_off):
         # after the record (or where the step budget ended the scene): the energy of the free motion decides
         over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
         theta_max = max(theta_max, peak)

@@ -54,8 +54,18 @@ from enum import IntEnum
 import numpy as np
 
 from ..constants import G
-from . import contact, handoff
+from . import handoff
 from .block import Block
+from .codes import (
+    STATUS_EVENT_CAP,
+    STATUS_GROUND_FLIGHT,
+    STATUS_LIFTOFF,
+    STATUS_STALLED,
+    STATUS_STEP_CAP,
+    STATUS_TAIL_CAP,
+    STATUS_TIE_HOLD,
+    ContactMode,
+)
 from .rules import motion_threshold, rocks, vertical_kept
 from .settings import SimulationConfig
 from .simulate import ContactResult, RockResult, continued, from_rest, rock, slide
@@ -88,15 +98,6 @@ class FreeFlight(IntEnum):
     none = 0
     ground_flight = 1       # the ground's g + a_v reached 0 (without the contact model: the simulation stopped)
     block_liftoff = 2       # f_z <= 0 while rocking (without the contact model: flagged, the verdict kept)
-
-
-class ContactMode(IntEnum):
-    """Bits of ``contact_modes``: the modes a scene went through."""
-
-    slide = 1
-    rock = 2
-    slide_rock = 4
-    free_flight = 8
 
 
 class Guard(IntEnum):
@@ -133,11 +134,11 @@ def kernel_guard(status: int) -> int:
 
 def contact_guard(status: int) -> int:
     """:class:`Guard` bits of the general contact model's ``status``."""
-    return ((Guard.event_cap if status & contact.STATUS_EVENT_CAP else 0)
-            | (Guard.tie_hold if status & contact.STATUS_TIE_HOLD else 0)
-            | (Guard.stalled if status & contact.STATUS_STALLED else 0)
-            | (Guard.step_cap if status & contact.STATUS_STEP_CAP else 0)
-            | (Guard.tail_cap if status & contact.STATUS_TAIL_CAP else 0))
+    return ((Guard.event_cap if status & STATUS_EVENT_CAP else 0)
+            | (Guard.tie_hold if status & STATUS_TIE_HOLD else 0)
+            | (Guard.stalled if status & STATUS_STALLED else 0)
+            | (Guard.step_cap if status & STATUS_STEP_CAP else 0)
+            | (Guard.tail_cap if status & STATUS_TAIL_CAP else 0))
 
 
 
@@ -298,9 +299,9 @@ def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, fr
     else:
         response = Response.rest
     flight = FreeFlight.none
-    if co.status & contact.STATUS_GROUND_FLIGHT:
+    if co.status & STATUS_GROUND_FLIGHT:
         flight = FreeFlight.ground_flight
-    elif co.status & contact.STATUS_LIFTOFF:
+    elif co.status & STATUS_LIFTOFF:
         flight = FreeFlight.block_liftoff
     theta_max = max(co.theta_max_rad / alpha, rocking.theta_max if rocking is not None else 0.0)
     n_impacts = co.n_impacts + (rocking.n_impacts if rocking is not None else 0)

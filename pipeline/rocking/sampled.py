@@ -29,9 +29,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..compiled import jit
+from .codes import STATUS_GROUND_FLIGHT
 from .contact import ContactBlock
 from .handoff import continue_rocking, from_rest, stopped_short
-from .kernel import STATUS_FREE_FLIGHT, jit, rock
+from .kernel import rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 from .structures import RockingBlock, RockingOutput, RockingState
 
@@ -93,7 +95,7 @@ def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, 
             cb = ContactBlock(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
             return 1 if continue_rocking(res, a, av_s, dt, block, control, cb, True).overturned else 0
         return 0
-    return -1 if res.status & STATUS_FREE_FLIGHT else 0
+    return -1 if res.status & STATUS_GROUND_FLIGHT else 0
 
 
 @jit

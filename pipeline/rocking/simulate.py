@@ -73,7 +73,7 @@ class RockResult:
     @property
     def free_flight(self) -> bool:
         """The ground's g + a_v reached 0 before the block overturned: the simulation stopped there."""
-        return bool(self.status & kernel.STATUS_FREE_FLIGHT)
+        return bool(self.status & kernel.STATUS_GROUND_FLIGHT)
 
     @property
     def liftoff(self) -> bool:
