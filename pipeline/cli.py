@@ -499,7 +499,7 @@ def bench_parser() -> argparse.ArgumentParser:
 
 def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen bench``: what accuracy costs in time."""
-    from .bench import markdown, run_bench
+    from .accuracy import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
     _compile_simulator(args)
@@ -512,7 +512,7 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
 
 def fragility_parser() -> argparse.ArgumentParser:
     """Parser of ``screen fragility``."""
-    from .run.fragility import IMS, SCALABLE
+    from .records.intensity import IMS, SCALABLE
     from .uncertainty.hazard import Component
 
     p = argparse.ArgumentParser(prog="screen fragility",
@@ -558,7 +558,9 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    from .run.fragility import FragilityRequest, auto_unit, fragility, levels_unit, parse_levels
+    from .levels import levels_unit, parse_levels
+    from .records.intensity import display_unit
+    from .run.fragility import FragilityRequest, fragility
 
     config, inventory = _config_and_inventory(args)
     buildings = _buildings(args, inventory)
@@ -572,7 +574,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
         _compile_simulator(args)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
                                hazard=hazard, component=component,
-                               level_unit=auto_unit(args.im) if auto else levels_unit(args.levels, args.im),
+                               level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),
                                buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
                                command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
     out = fragility(request, progress=_progress(args.quiet), say=None if args.quiet else _say)

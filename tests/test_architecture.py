@@ -9,7 +9,7 @@ import pytest
 
 #: Application modules no library may load.
 APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.screening", "pipeline.config", "pipeline.report",
-               "pipeline.store", "pipeline.schema", "pipeline.margins", "pipeline.bench", "pipeline.chart",
+               "pipeline.store", "pipeline.schema", "pipeline.margins", "pipeline.accuracy", "pipeline.chart",
                "pipeline.infer")
 
 

@@ -7,7 +7,7 @@ import csv
 import numpy as np
 import pytest
 
-from pipeline.bench import run_bench
+from pipeline.accuracy import run_bench
 from pipeline.blocks import read_inventory
 from pipeline.cli import main
 from pipeline.config import FIDELITY_TIERS, Config

@@ -21,10 +21,11 @@ from scipy.stats import binom, norm
 from pipeline.blocks import Inventory
 from pipeline.config import Config
 from pipeline.errors import HazardError, UsageError
+from pipeline.levels import parse_levels
 from pipeline.records.record import Record
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.reference import rock_reference
-from pipeline.run.fragility import assemble_fragility, judge_record, parse_levels, stripe_warnings
+from pipeline.run.fragility import assemble_fragility, judge_record, stripe_warnings
 from pipeline.screening import Context
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes
 from pipeline.uncertainty.hazard import HazardCurve, annual_rate

@@ -31,19 +31,28 @@ import math
 import numpy as np
 from scipy.linalg import expm
 
+from ..compiled import jit
 from ..constants import G
 
 #: Directions of the RotD measures, every degree in [0, 180) [deg] (Boore 2010 uses 1-degree steps).
 ROTD_ANGLES_DEG = np.arange(180.0)
 
-try:  # the same source runs as Python without numba
-    from numba import njit as _njit
-
-    def _jit(f):
-        return _njit(cache=True, nogil=True)(f)
-except ImportError:  # pragma: no cover
-    def _jit(f):
-        return f
+#: Every IM the tool computes: (SI unit, how it grows with a factor f on the record: the exponent of f). pga, pgv,
+#: pgv_pga, sa and arias are the record's; ap, tp and velocity_ratio are its pulse's, along each block.
+IMS = {"pga": ("m s-2", 1), "pgv": ("m s-1", 1), "pgv_pga": ("s", 0), "sa": ("m s-2", 1), "arias": ("m s-1", 2),
+       "ap": ("m s-2", 1), "tp": ("s", 0), "velocity_ratio": ("1", 1)}
+#: Long names of the IMs.
+IM_NAMES = {"pga": "peak ground acceleration (horizontal vector)", "pgv": "peak ground velocity (horizontal vector)",
+            "pgv_pga": "PGV / PGA", "sa": "Sa(2 pi / p, 5 %), horizontal vector (RotD100), at the block's period",
+            "arias": "Arias intensity (both horizontals)", "ap": "pulse peak acceleration a_p along the block",
+            "tp": "pulse lobe duration t_p along the block",
+            "velocity_ratio": "the paper's pulse measure |dv| / v_crit (Eqs. 4-5)"}
+#: IMs measured under a horizontal component definition.
+COMPONENT_IMS = ("pga", "pgv", "sa")
+#: IMs a record can be scaled to (those that grow with the factor).
+SCALABLE = tuple(k for k, (_, power) in IMS.items() if power > 0)
+#: How an SI unit is written in column names and file labels.
+SI_LABEL = {"m s-2": "ms2", "m s-1": "ms", "s": "s", "1": "1"}
 
 #: Damping ratio of the response spectrum [-].
 DAMPING = 0.05
@@ -64,7 +73,7 @@ def oscillator_matrices(period_s: float, dt_s: float, damping: float = DAMPING) 
     return e[:2, :2].copy(), e[:2, 2].copy(), e[:2, 3].copy()
 
 
-@_jit
+@jit
 def _peak_displacement(h1, h2, dt, phi, g1, g2):
     """Peak of |(u1, u2)| of the oscillator under both horizontals (h2 empty: one component)."""
     two = h2.size == h1.size
@@ -116,7 +125,7 @@ def peak_by_component(horizontal: np.ndarray, component: str = "rotd100") -> flo
     raise ValueError(f"component {component!r}: expected rotd100, rotd50, geomean or larger")
 
 
-@_jit
+@jit
 def _displacements(h, dt, phi, g1, g2):
     """Displacement history of the oscillator under one horizontal [m]."""
     u = np.zeros(h.size)
@@ -162,3 +171,44 @@ def arias_intensity(horizontal_ms2: np.ndarray, dt_s: float, *, g_ms2: float = G
     """Arias intensity pi / (2 g) integral a^2 dt, summed over the horizontals [m s-1]."""
     h = np.atleast_2d(np.asarray(horizontal_ms2, dtype=float))
     return float(math.pi / (2.0 * g_ms2) * sum(np.trapezoid(c * c, dx=dt_s) for c in h))
+
+
+def scale_factors(im_values: np.ndarray, levels: np.ndarray, im: str) -> np.ndarray:
+    """Factor on the record that brings its IM to each level, shape (levels, blocks); NaN where the IM is
+    zero or undefined (the record cannot be scaled). An IM that grows as f^k is brought to a level L by
+    f = (L / IM)^(1/k) (:data:`IMS`)."""
+    power = IMS[im][1]
+    x = np.asarray(im_values, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = (np.asarray(levels, dtype=float)[:, None] / x[None, :]) ** (1.0 / power)
+    return np.where(np.isfinite(f) & (f > 0), f, np.nan)
+
+
+def display_unit(im: str) -> tuple[str, float]:
+    """The unit an IM's levels are shown in when the user gave none: (label, factor to SI): g for accelerations,
+    cm/s (``cms``) for velocities, else the SI unit."""
+    unit = IMS[im][0]
+    if unit == "m s-2":
+        return "g", G
+    if unit == "m s-1":
+        return "cms", 0.01
+    return SI_LABEL[unit], 1.0
+
+
+def record_measures(rec, periods_s: np.ndarray, *, component: str = "rotd100", g_ms2: float = G
+                    ) -> dict[str, np.ndarray]:
+    """A record's own IMs, one value per period of ``periods_s`` [s] (one per block): PGA and PGV under the
+    horizontal ``component`` definition (RotD100: the vector peaks, as the screening's ``pga`` and ``pgv``),
+    PGV / PGA, Sa(T) at each period and the Arias intensity (SI units, :data:`IMS`)."""
+    periods = np.asarray(periods_s, dtype=float)
+    n = periods.size
+    if component == "rotd100":
+        pga, pgv = rec.pga_ms2(), rec.pgv_ms()
+    else:
+        pga = peak_by_component(rec.horizontal_ms2, component)
+        pgv = peak_by_component(rec.velocity_ms, component)
+    sa_of = {T: spectral_acceleration(rec.horizontal_ms2, rec.dt_s, float(T), component=component)
+             for T in np.unique(periods)}
+    return {"pga": np.full(n, pga), "pgv": np.full(n, pgv), "pgv_pga": np.full(n, pgv / pga if pga > 0 else np.nan),
+            "sa": np.array([sa_of[T] for T in periods]),
+            "arias": np.full(n, arias_intensity(rec.horizontal_ms2, rec.dt_s, g_ms2=g_ms2))}

@@ -90,7 +90,15 @@ from .codes import (  # noqa: F401  (read by the hand-off and the planner as con
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
-from .kernel import HALF_PI, HISTORY_TIME_TOL_S, SAMPLE_INDEX_TOL, _exceed_fraction, _flight_fraction, free_outcome
+from .kernel import (
+    HALF_PI,
+    HISTORY_TIME_TOL_S,
+    SAMPLE_INDEX_TOL,
+    TINY,
+    _exceed_fraction,
+    _flight_fraction,
+    free_outcome,
+)
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 
@@ -464,7 +472,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
             te = t + hh
             x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
         if abs(th1) >= HALF_PI:
-            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), 1e-300)
+            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
             overturned, t_over, mode, theta_max = True, t + frac * hh, OVERTURNED, HALF_PI
             t = t_over
             break

@@ -79,6 +79,10 @@ NEWTON_TOL_ALPHA = 1e-13        # |theta| accepted as the impact, as a fraction 
 SAMPLE_INDEX_TOL = 1e-9         # rounding allowance when t / dt falls on a sample [-]
 TAIL_TIME_TOL_S = 1e-9          # the record has ended within this of its last sample [s]
 HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step that ends within this of it [s]
+CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
+CROSSING_BISECTIONS = 50        # ... then bisected this many times (2^-50 of the probe's span)
+PEAK_BISECTIONS = 40            # bisections locating the turning point of theta inside a step
+TINY = 1e-300                   # guards a division by a difference of |theta| that can be 0
 
 # Dormand & Prince (1980) RK5(4)7M coefficients
 C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
@@ -149,14 +153,13 @@ def _hermite(th0, om0, th1, om1, h, x):
 @jit
 def _first_crossing(th0, om0, th1, om1, h, s):
     """Fraction of the step where s*theta first drops below 0 on the Hermite cubic, or -1."""
-    n = 16
     prev = 0.0
-    for i in range(1, n + 1):
-        x = i / n
+    for i in range(1, CROSSING_PROBES + 1):
+        x = i / CROSSING_PROBES
         v = s * _hermite(th0, om0, th1, om1, h, x)
         if v < 0.0:
             lo, hi = prev, x
-            for _ in range(50):
+            for _ in range(CROSSING_BISECTIONS):
                 mid = 0.5 * (lo + hi)
                 if s * _hermite(th0, om0, th1, om1, h, mid) < 0.0:
                     hi = mid
@@ -180,7 +183,7 @@ def _hermite_peak(th0, om0, th1, om1, h):
     best = max(abs(th0), abs(th1))
     lo, hi = 0.0, 1.0
     # the cubic's rate keeps the sign of omega0 until the turning point: bisection on it
-    for _ in range(40):
+    for _ in range(PEAK_BISECTIONS):
         mid = 0.5 * (lo + hi)
         if _hermite_rate(th0, om0, th1, om1, h, mid) * om0 > 0:
             lo = mid
@@ -523,7 +526,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
             h = max(hh, MIN_STEP_AFTER_IMPACT_P / p)    # the new pivot's motion is smooth: keep the step size
             continue
         if abs(th1) >= HALF_PI:
-            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), 1e-300)
+            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
             t_over = t + frac * hh
             overturned = True
             theta_max = HALF_PI

@@ -45,6 +45,10 @@ from .planner import REST_SCENE, Response, Scene, demand_ratio, motion_threshold
 from .settings import SimulationConfig
 from .simulate import FiniteSeries, finite_series
 
+#: Rounding allowance on angles of the orientation grid [deg] (the grid ends short of 180 deg; a span that is a
+#: whole number of refinement steps is that many)
+GRID_TOL_DEG = 1e-9
+
 
 class Orientation(IntEnum):
     """How the rocking plane of a scene was chosen."""
@@ -57,7 +61,7 @@ class Orientation(IntEnum):
 
 def plane_grid(step_deg: float) -> np.ndarray:
     """Azimuths of the scanned planes, ``k * step_deg`` in [0, 180) [deg]."""
-    return np.arange(0.0, 180.0 - 1e-9, step_deg)
+    return np.arange(0.0, 180.0 - GRID_TOL_DEG, step_deg)
 
 
 class Planes:
@@ -195,7 +199,7 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
         return False
 
     if not scan(keys) and refine_deg > 0 and refine_span_deg > refine_deg and state.scene.theta_max > 0:
-        m = int(math.ceil(refine_span_deg / refine_deg - 1e-9))
+        m = int(math.ceil(refine_span_deg / refine_deg - GRID_TOL_DEG))
         extra = dict.fromkeys(Planes.key(state.azimuth_deg + j * refine_deg) for j in range(-m + 1, m) if j)
         scan(tuple(k for k in extra if k not in keys))
     scene = replace(state.scene, guard=guard) if guard != state.scene.guard else state.scene

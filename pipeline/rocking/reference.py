@@ -22,6 +22,10 @@ from scipy.integrate import solve_ivp
 
 from ..constants import G
 
+#: Rounding allowance when t / dt falls on a sample [-] (the reference keeps its own: it shares no code with the
+#: kernels it checks)
+SAMPLE_INDEX_TOL = 1e-9
+
 
 def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_ratio=1e-6, linear=False, av=None):
     """Rocking of a block under a sampled ground motion (horizontal, and optionally vertical).
@@ -66,7 +70,7 @@ def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_rati
         if abs(ground(t)) > (g + vertical(t)) * thr:
             t_up = t
         else:
-            k0 = int(math.floor(t / dt + 1e-9)) + 1
+            k0 = int(math.floor(t / dt + SAMPLE_INDEX_TOL)) + 1
             idx = np.flatnonzero(excess[k0:] > 0)
             if idx.size == 0:
                 break

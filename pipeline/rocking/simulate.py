@@ -203,7 +203,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
         raise ParameterError(f"tail = {tail!r}: expected 'energy' or 'integrate'")
     t_rec = (ah.size - 1) * dt_s
     t_end = t_rec if t_end_s is None else float(t_end_s)
-    theta_out = np.full(int(math.floor(t_end / dt_s + 1e-9)) + 1, np.nan) if history else kernel.empty_theta()
+    n_out = int(math.floor(t_end / dt_s + kernel.SAMPLE_INDEX_TOL)) + 1
+    theta_out = np.full(n_out, np.nan) if history else kernel.empty_theta()
     impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
     o = kernel.rock(ah, av, float(dt_s), t_end,
                     RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear),

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from ..compiled import jit
-from .kernel import _exceed_fraction, _flight_fraction
+from .kernel import TINY, _exceed_fraction, _flight_fraction
 
 #: Slip starts and stops located in one sample interval, at most (the slip velocity is quadratic in time there,
 #: so a physical interval holds a handful; the cap ends the interval's search, counted in ``capped``)
@@ -120,7 +120,7 @@ def _first_stop(v, c0, c1, rem, d):
     C = v * d
     tiny = 1e-15
     best = -1.0
-    if abs(A) < 1e-300:
+    if abs(A) < TINY:
         if B < 0.0:
             r = -C / B
             if r > tiny and r <= rem:

@@ -20,7 +20,6 @@ import hashlib
 import json
 import logging
 import math
-import re
 import tempfile
 import time
 from dataclasses import dataclass
@@ -32,11 +31,19 @@ import xarray as xr
 from .. import criteria
 from ..blocks import Inventory
 from ..config import Config
-from ..constants import STATE_DIR, G
+from ..constants import STATE_DIR
 from ..errors import TaskFailure, UsageError
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
-from ..records.intensity import arias_intensity, peak_by_component, spectral_acceleration
+from ..records.intensity import (
+    COMPONENT_IMS,
+    IM_NAMES,
+    IMS,
+    SI_LABEL,
+    display_unit,
+    record_measures,
+    scale_factors,
+)
 from ..records.loader import read_declared_units, scan_directory
 from ..rocking.rules import rocks
 from ..scene_progress import SceneProgress, running
@@ -48,21 +55,6 @@ from .batch import record_content, removing
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 
 log = logging.getLogger(__name__)
-
-#: Every IM the tool computes: (SI unit, how it grows with the factor f on the record: exponent of f).
-IMS = {"pga": ("m s-2", 1), "pgv": ("m s-1", 1), "pgv_pga": ("s", 0), "sa": ("m s-2", 1), "arias": ("m s-1", 2),
-       "ap": ("m s-2", 1), "tp": ("s", 0), "velocity_ratio": ("1", 1)}
-#: Long names of the IMs.
-IM_NAMES = {"pga": "peak ground acceleration (horizontal vector)", "pgv": "peak ground velocity (horizontal vector)",
-            "pgv_pga": "PGV / PGA", "sa": "Sa(2 pi / p, 5 %), horizontal vector (RotD100), at the block's period",
-            "arias": "Arias intensity (both horizontals)", "ap": "pulse peak acceleration a_p along the block",
-            "tp": "pulse lobe duration t_p along the block",
-            "velocity_ratio": "the paper's pulse measure |dv| / v_crit (Eqs. 4-5)"}
-#: IMs measured under a horizontal component definition.
-COMPONENT_IMS = ("pga", "pgv", "sa")
-#: IMs a record can be scaled to (those that grow with the factor).
-SCALABLE = tuple(k for k, (_, power) in IMS.items() if power > 0)
-
 
 @dataclass(frozen=True)
 class FragilityContext:
@@ -76,36 +68,17 @@ class FragilityContext:
 
 def record_ims(rec, blocks: dict, inventory: Inventory, *, g_ms2: float, component: Component = Component.rotd100
                ) -> dict[str, np.ndarray]:
-    """Every IM of the unscaled record, per block (shape (n_blocks,)); PGA, PGV and Sa under the horizontal
-    component definition ``component`` (:func:`~pipeline.records.intensity.peak_by_component`)."""
+    """Every IM of the unscaled record, per block (shape (n_blocks,)): the record's own
+    (:func:`~pipeline.records.intensity.record_measures`, at each block's Sa period) and its pulse's along each
+    block (``blocks``: the screening's ``block_pulse_*`` values)."""
     nb = len(inventory)
     geo = inventory.geometry(g_ms2=g_ms2)
-    if component is Component.rotd100:                 # the vector peaks, as the screening's pga and pgv
-        pga, pgv = rec.pga_ms2(), rec.pgv_ms()
-    else:
-        pga = peak_by_component(rec.horizontal_ms2, component.value)
-        pgv = peak_by_component(rec.velocity_ms, component.value)
-    periods = 2.0 * math.pi / geo.p
-    sa_of = {T: spectral_acceleration(rec.horizontal_ms2, rec.dt_s, float(T), component=component.value)
-             for T in np.unique(periods)}
+    out = record_measures(rec, 2.0 * math.pi / geo.p, component=component.value, g_ms2=g_ms2)
     dv = np.abs(blocks.get("block_pulse_dv", np.full(nb, np.nan)))
     v_crit = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
-    return {"pga": np.full(nb, pga), "pgv": np.full(nb, pgv), "pgv_pga": np.full(nb, pgv / pga if pga > 0 else np.nan),
-            "sa": np.array([sa_of[T] for T in periods]),
-            "arias": np.full(nb, arias_intensity(rec.horizontal_ms2, rec.dt_s, g_ms2=g_ms2)),
-            "ap": np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float),
+    return {**out, "ap": np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float),
             "tp": np.asarray(blocks.get("block_pulse_tp", np.full(nb, np.nan)), dtype=float),
             "velocity_ratio": dv / v_crit}
-
-
-def scale_factors(im_values: np.ndarray, levels: np.ndarray, im: str) -> np.ndarray:
-    """Factor on the record that brings its IM to each level, shape (levels, blocks); NaN where the IM is
-    zero or undefined (the record cannot be scaled)."""
-    power = IMS[im][1]
-    x = np.asarray(im_values, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f = (np.asarray(levels, dtype=float)[:, None] / x[None, :]) ** (1.0 / power)
-    return np.where(np.isfinite(f) & (f > 0), f, np.nan)
 
 
 def judge_record(rec, base: Context, im: str, levels, component: Component = Component.rotd100) -> dict:
@@ -356,7 +329,7 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
     (increasing), the results (their stripes in that order), the failures and the counts."""
     cap = capacities(inventory, im, g_ms2=config.records.g_ms2)
     levels = auto_ladder(cap)
-    shown, factor = auto_unit(im)
+    shown, factor = display_unit(im)
     if say is not None:
         say(f"levels auto: {', '.join(f'{x / factor:.3g}' for x in levels)} {shown}, from the blocks' capacities")
     results, failures, counts = run(levels)
@@ -498,85 +471,6 @@ def _rates(chosen: list, fit, inventory: Inventory, config: Config, levels: np.n
         rate[j] = math.nan if fit.status[j] == FitStatus.none_overturn else annual_rate(curve, theta, beta)
         upper[j] = annual_rate_upper(curve, theta, beta, top)
     return rate, upper
-
-
-#: Unit suffixes ``--levels`` accepts, per SI unit of the IM: suffix -> factor to SI.
-LEVEL_UNITS = {"m s-2": {"g": G, "gal": 0.01, "cms2": 0.01, "ms2": 1.0}, "m s-1": {"cms": 0.01, "ms": 1.0}}
-#: The suffix meaning the SI unit itself, per SI unit (the unit labels of the outputs' column names).
-SI_LABEL = {"m s-2": "ms2", "m s-1": "ms", "s": "s", "1": "1"}
-
-
-def levels_unit(text: str, im: str) -> tuple[str, float]:
-    """The unit ``--levels`` is given in: (label, factor to SI). A suffix on any level applies to every level;
-    levels with different suffixes are an error.
-
-    Raises
-    ------
-    UsageError
-        For an unknown IM, a suffix the IM's unit does not take, or two different suffixes.
-    """
-    if im not in SCALABLE:
-        raise UsageError(f"--im {im!r}: unknown or not scalable; valid: {', '.join(SCALABLE)}")
-    unit = IMS[im][0]
-    units = LEVEL_UNITS.get(unit, {})
-    found = set()
-    for k, raw in enumerate(text.split(","), 1):
-        m = re.fullmatch(r"\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z][A-Za-z0-9]*)?\s*", raw)
-        suffix = (m.group(1) or "").lower() if m else ""         # no number: parse_levels says so
-        if suffix:
-            if suffix not in units:
-                hint = f"one of {', '.join(units)}" if units else "none (give the number alone)"
-                raise UsageError(f"--levels: value {k} {raw.strip()!r}: unit {suffix!r} is not one {im} takes "
-                                 f"({unit}); suffixes: {hint}")
-            found.add(suffix)
-    if len(found) > 1:
-        raise UsageError(f"--levels {text!r}: several units ({', '.join(sorted(found))}); a unit suffix applies to "
-                         "every level, so give one (0.1,0.2,0.3g is 0.1 g, 0.2 g, 0.3 g)")
-    if found:
-        suffix = found.pop()
-        return suffix, units[suffix]
-    return SI_LABEL[unit], 1.0
-
-
-def auto_unit(im: str) -> tuple[str, float]:
-    """The unit the outputs of ``--levels auto`` are shown in: g for accelerations, cm/s for velocities, else SI."""
-    unit = IMS[im][0]
-    if unit == "m s-2":
-        return "g", G
-    if unit == "m s-1":
-        return "cms", 0.01
-    return SI_LABEL[unit], 1.0
-
-
-def parse_levels(text: str, im: str) -> np.ndarray:
-    """``--levels`` in the IM's SI unit. A unit suffix on any level (g, gal, cms2, ms2 for accelerations; cms,
-    ms for velocities) applies to every level (:func:`levels_unit`).
-
-    Raises
-    ------
-    UsageError
-        For an unknown IM or unit, several units, a value that is not a number, not positive or not
-        increasing.
-    """
-    label, factor = levels_unit(text, im)
-    unit = IMS[im][0]
-    out: list[float] = []
-    for k, raw in enumerate(text.split(","), 1):
-        s = raw.strip()
-        if label != SI_LABEL[unit] or s.lower().endswith(label):
-            s = s[:-len(label)] if s.lower().endswith(label) else s
-        try:
-            v = float(s) * factor
-        except ValueError:
-            raise UsageError(f"--levels: value {k} {raw.strip()!r} is not a number; give {im} in {unit}"
-                             + (" (or with a unit suffix)" if unit in LEVEL_UNITS else "")) from None
-        if not (math.isfinite(v) and v > 0):
-            raise UsageError(f"--levels: value {k} {raw.strip()!r} must be a positive number")
-        if out and v <= out[-1]:
-            raise UsageError(f"--levels: value {k} {raw.strip()!r} does not increase; give the levels in "
-                             "increasing order")
-        out.append(v)
-    return np.array(out)
 
 
 def stripe_warnings(ds: xr.Dataset) -> list[str]:
