@@ -18,10 +18,11 @@ from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_tie
 from pipeline.cli import main
 from pipeline.errors import ParameterError
 from pipeline.rocking import contact, handoff, kernel, rules
+from pipeline.rocking.contact import contact_block_of
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
 from pipeline.rocking.simulate import rock, slide
-from pipeline.rocking.structures import ContactBlock, ContactState
+from pipeline.rocking.structures import ContactState
 
 TRANSFORMER = (3.0, 1.5, 0.5)          # height, width [m], mu: mu = tan(alpha) to one rounding
 
@@ -87,9 +88,9 @@ def test_tie_rule_1_mu_at_tan_alpha_slides_and_beyond_the_tolerance_rocks(alpha_
     assert rules.rocks(alpha, ties["above"])
     # the compiled twin and the contact model's onset say the same
     assert rules.rocks_compiled(alpha, ties["tie_up"]) is False
-    blk = ContactBlock(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
+    blk = contact_block_of(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
     assert contact._onset(0.9 * G, G, blk)[0] == contact.SLIDE
-    blk = ContactBlock(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
+    blk = contact_block_of(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
     assert contact._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (contact.ROCK, contact.SLIDE_ROCK)
 
 
@@ -139,7 +140,7 @@ def test_tie_rule_2_exactly_at_the_threshold_rests_and_one_double_above_moves(al
 def test_tie_rule_2_the_sliding_kernel_and_the_general_model_agree_at_the_threshold():
     a = np.full(200, 0.3 * G)
     assert slide(a, 0.01, mu=0.3, g_ms2=G).sliding_max_m == 0.0
-    cb = ContactBlock(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
+    cb = contact_block_of(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
     out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert out.slip_max == 0.0 and out.modes == 0
 
@@ -254,7 +255,7 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     m = type("M", (), {"ah": a, "av": None, "dt": 0.01})()
     for mu in (0.1, 2.0):
         assert sampled_verdict(m, block(1.0, 0.2, mu)) in (0, 1)
-    cb = ContactBlock(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
+    cb = contact_block_of(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
     out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert not out.overturned or n == 2
 

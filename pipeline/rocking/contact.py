@@ -102,8 +102,8 @@ from .kernel import (
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 
-__all__ = ["ContactBlock", "ContactOutcome", "ContactState", "move", "impact", "accelerations", "corner_offsets",
-           "housner_restitution"]
+__all__ = ["ContactBlock", "ContactOutcome", "ContactState", "contact_block_of", "move", "impact", "accelerations",
+           "corner_offsets", "housner_restitution"]
 
 # modes, mode bits and status bits: the simulator's one vocabulary (codes.py)
 
@@ -120,6 +120,13 @@ MAX_STEPS_FIXED = 100000      # ... this many; the cap ends the scene (STATUS_ST
 
 
 @jit
+def contact_block_of(p, alpha, e, R, mu, g, rest_ratio) -> ContactBlock:
+    """The contact model's block, with its derived half-width, half-height and inertia computed once."""
+    return ContactBlock(p=p, alpha=alpha, e=e, R=R, mu=mu, g=g, rest_ratio=rest_ratio, b=R * math.sin(alpha),
+                        h=R * math.cos(alpha), J=R * R / 3.0)
+
+
+@jit
 def corner_offsets(theta, c, b, h):
     """Offset (r_x, r_y) of base corner ``c`` from the centre of mass at rotation ``theta`` [m]."""
     ct, st = math.cos(theta), math.sin(theta)
@@ -131,8 +138,8 @@ def accelerations(mode, c, sigma, theta, w, a, G, blk):
     """(x'', y'', theta'', N, F_x) of the mode at a state: accelerations [m s-2, rad s-2] and the contact
     force per unit mass, normal and tangential [m s-2] (the module's equations)."""
     alpha, g, mu = blk.alpha, blk.g, blk.mu
-    b, h = blk.R * math.sin(alpha), blk.R * math.cos(alpha)
-    J = blk.R * blk.R / 3.0
+    b, h = blk.b, blk.h
+    J = blk.J
     if mode == FLIGHT:
         return -a, -G, 0.0, 0.0, 0.0
     if mode == SLIDE:
@@ -187,7 +194,7 @@ def _contact_kept(force):
 def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
     the lowest corner below the base in flight); the smallest of the mode's indicators."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     if mode == FLIGHT:
         return y + h + min(corner_offsets(th, 1.0, b, h)[1], corner_offsets(th, -1.0, b, h)[1])
     if mode == SLIDE:
@@ -216,8 +223,8 @@ def impact(k, th, u, v, w, blk):
     Returns (u, v, w, sticks); the velocities are returned unchanged with ``sticks`` False when the
     corner is not approaching the base.
     """
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
-    J = blk.R * blk.R / 3.0
+    b, h = blk.b, blk.h
+    J = blk.J
     mu = blk.mu
     rx, ry = corner_offsets(th, k, b, h)
     vt, vn = u + ry * w, v - rx * w
@@ -275,7 +282,7 @@ def _mode_bit(mode):
 def _constrain(mode, c, x, y, th, u, v, w, xc, blk):
     """The state put back on the mode's constraints: the pivot at ``xc`` on the base in rock, the corner on
     the base in slide-rock (no normal velocity), flat on the base in rest and slide."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     if mode == REST or mode == SLIDE:
         return x, 0.0, 0.0, (0.0 if mode == REST else u), 0.0, 0.0
     if mode == ROCK or mode == SLIDE_ROCK:
@@ -290,7 +297,7 @@ def _constrain(mode, c, x, y, th, u, v, w, xc, blk):
 def _slip_point(mode, c, x, th, blk):
     """Horizontal position of the base point whose travel counts as slip in this mode [m]: the contact
     corner in slide-rock, the base's middle otherwise."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     if mode == SLIDE_ROCK:
         return x + corner_offsets(th, c, b, h)[0]
     return x - h * math.sin(th)
@@ -300,7 +307,7 @@ def _slip_point(mode, c, x, th, blk):
 def _after_impact(k, x, y, th, u, v, w, blk):
     """Mode, corner, slip direction and state after corner ``k`` meets the base (the impact law); a rebound
     too slow at theta = 0 ends flat (rest, or slide when the base still moves)."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     rest_w = blk.rest_ratio * blk.p * blk.alpha
     flat = abs(th) <= FLAT_ANGLE_ALPHA * blk.alpha
     if flat and abs(w) < rest_w:
@@ -363,7 +370,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
     thr = min(math.tan(alpha), blk.mu)
     t, mode, c, sigma = start.t, start.mode, start.corner, start.sigma
     x, y, th, u, v, w = start.x, start.y, start.theta, start.u, start.v, start.w
-    b, h = blk.R * math.sin(alpha), blk.R * math.cos(alpha)
+    b, h = blk.b, blk.h
     xc = x + corner_offsets(th, c, b, h)[0]
     theta_max = abs(th)
     n_imp = 0
@@ -512,8 +519,9 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         theta_max = max(theta_max, peak)
         if overturned:
             t_over, mode = t, OVERTURNED
-    return ContactOutcome(overturned, t_over, theta_max, n_imp, slip_max, slip, modes, status,
-                          ContactState(t, mode, c, sigma, x, y, th, u, v, w, slip))
+    end = ContactState(t=t, mode=mode, corner=c, sigma=sigma, x=x, y=y, theta=th, u=u, v=v, w=w, slip=slip)
+    return ContactOutcome(overturned=overturned, t_overturn=t_over, theta_max=theta_max, n_impacts=n_imp,
+                          slip_max=slip_max, slip_end=slip, modes=modes, status=status, end=end)
 
 
 @jit
@@ -540,7 +548,7 @@ def state_verdict(mode, th, w, blk):
 def _transition(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     """The mode after an event of ``mode`` at this state: (mode, corner, sigma, x, y, theta, u, v, w,
     impacts)."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     if mode == FLIGHT:
         k = 1.0 if corner_offsets(th, 1.0, b, h)[1] < corner_offsets(th, -1.0, b, h)[1] else -1.0
         m, c1, s1, x, y, th, u, v, w = _after_impact(k, x, y, th, u, v, w, blk)

@@ -89,13 +89,15 @@ def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactSta
     started) at the start of the step in which pure rocking stopped holding, so that the general model
     locates the friction exceedance or the lift-off itself; free flight from the instant the ground's
     g + a_v reached 0 (from rest, or rocking). ``slip``: the net slip of the base so far [m]."""
-    b, h = blk.R * math.sin(blk.alpha), blk.R * math.cos(blk.alpha)
+    b, h = blk.b, blk.h
     t, th, w, c = o.t_stop, o.theta_end, o.omega_end, o.pivot_end
     if o.mode_end == REST:
-        return ContactState(t, FLIGHT, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, slip)
+        return ContactState(t=t, mode=FLIGHT, corner=1.0, sigma=1.0, x=0.0, y=0.0, theta=0.0, u=0.0, v=0.0, w=0.0,
+                            slip=slip)
     rx, ry = contact.corner_offsets(th, c, b, h)
     mode = FLIGHT if o.status & STATUS_GROUND_FLIGHT else ROCK
-    return ContactState(t, mode, c, 1.0, c * b - rx, -h - ry, th, -ry * w, rx * w, w, slip)
+    return ContactState(t=t, mode=mode, corner=c, sigma=1.0, x=c * b - rx, y=-h - ry, theta=th, u=-ry * w, v=rx * w,
+                        w=w, slip=slip)
 
 
 @jit
@@ -132,17 +134,21 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         status |= kernel_guards(o.status)
         modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
         if not stopped_short(o):
-            return ContactOutcome(o.overturned, o.t_overturn, theta_max, n_imp, slip_max, slip, modes, status,
-                                  ContactState(o.t_stop, OVERTURNED if o.overturned else ROCK,
-                                               o.pivot_end, 1.0, 0.0, 0.0, o.theta_end, 0.0, 0.0, o.omega_end, slip))
-    return ContactOutcome(False, math.nan, theta_max, n_imp, slip_max, slip, modes,
-                          status | STATUS_EVENT_CAP, start_state(o, blk, slip))
+            end = ContactState(t=o.t_stop, mode=OVERTURNED if o.overturned else ROCK, corner=o.pivot_end, sigma=1.0,
+                               x=0.0, y=0.0, theta=o.theta_end, u=0.0, v=0.0, w=o.omega_end, slip=slip)
+            return ContactOutcome(overturned=o.overturned, t_overturn=o.t_overturn, theta_max=theta_max,
+                                  n_impacts=n_imp, slip_max=slip_max, slip_end=slip, modes=modes, status=status,
+                                  end=end)
+    return ContactOutcome(overturned=False, t_overturn=math.nan, theta_max=theta_max, n_impacts=n_imp,
+                          slip_max=slip_max, slip_end=slip, modes=modes, status=status | STATUS_EVENT_CAP,
+                          end=start_state(o, blk, slip))
 
 
 @jit
 def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
     """The general model from rest at t = 0 (a sliding scene that meets free flight); ``theta_out``: its theta
     history at the samples [rad]."""
-    at_rest = ContactState(0.0, REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    at_rest = ContactState(t=0.0, mode=REST, corner=1.0, sigma=1.0, x=0.0, y=0.0, theta=0.0, u=0.0, v=0.0, w=0.0,
+                           slip=0.0)
     hist = theta_out if theta_out is not None else ah[:0]
     return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False, hist)

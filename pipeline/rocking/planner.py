@@ -226,7 +226,9 @@ class Scene:
         return -1 if self.response == Response.free_flight else 0
 
 
-REST_SCENE = Scene(Physics.none, Response.rest, False, 0.0, 0, math.nan, 0.0, 0.0, 0, False, 0)
+REST_SCENE = Scene(physics=Physics.none, response=Response.rest, overturned=False, theta_max=0.0, n_impacts=0,
+                   t_overturn=math.nan, friction_demand=0.0, sliding_max_m=0.0, free_flight=0, chatter=False,
+                   friction_exceeded=0)
 
 
 def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: SimulationConfig = SimulationConfig(),
@@ -267,10 +269,14 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
                                            theta_out=theta),
                                  alpha=alpha, friction_demand=math.nan, friction_exceeded=-1, theta=theta)
         if res.free_flight:
-            return Scene(physics, Response.free_flight, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                         1, False, -1, res.t_flight_s, contact_modes=ContactMode.slide)
-        return Scene(physics, Response.slide, False, 0.0, 0, math.nan, math.nan, res.sliding_max_m,
-                     0, False, -1, contact_modes=ContactMode.slide, guard=Guard.step_cap if res.capped_samples else 0)
+            return Scene(physics=physics, response=Response.free_flight, overturned=False, theta_max=0.0,
+                         n_impacts=0, t_overturn=math.nan, friction_demand=math.nan, sliding_max_m=res.sliding_max_m,
+                         free_flight=FreeFlight.ground_flight, chatter=False, friction_exceeded=-1,
+                         t_flight=res.t_flight_s, contact_modes=ContactMode.slide)
+        return Scene(physics=physics, response=Response.slide, overturned=False, theta_max=0.0, n_impacts=0,
+                     t_overturn=math.nan, friction_demand=math.nan, sliding_max_m=res.sliding_max_m,
+                     free_flight=FreeFlight.none, chatter=False, friction_exceeded=-1,
+                     contact_modes=ContactMode.slide, guard=Guard.step_cap if res.capped_samples else 0)
     av = av_ms2 if physics == Physics.rocking_vertical else None
     rr = rock(ah_ms2, dt_s, p=p, alpha=alpha, e=e, R_m=R_m, av_ms2=av, g_ms2=g_ms2, settings=settings,
               history=history, stop_mu=mu if settings.contact_model else math.inf)
@@ -306,10 +312,12 @@ def general_scene(co: ContactResult, *, alpha: float, friction_demand: float, fr
     theta_max = max(co.theta_max_rad / alpha, rocking.theta_max if rocking is not None else 0.0)
     n_impacts = co.n_impacts + (rocking.n_impacts if rocking is not None else 0)
     guard = contact_guard(co.status)           # the continuation's status holds the first pure-rocking part's guards
-    return Scene(Physics.general, response, co.overturned, theta_max, n_impacts, co.t_overturn, friction_demand,
-                 co.slip_max_m, flight, guard & Guard.event_cap > 0, friction_exceeded,
-                 rocking.t_stop if rocking is not None and rocking.free_flight else math.nan,
-                 None if theta is None else theta / alpha, contact_modes=modes, guard=guard)
+    return Scene(physics=Physics.general, response=response, overturned=co.overturned, theta_max=theta_max,
+                 n_impacts=n_impacts, t_overturn=co.t_overturn, friction_demand=friction_demand,
+                 sliding_max_m=co.slip_max_m, free_flight=flight, chatter=guard & Guard.event_cap > 0,
+                 friction_exceeded=friction_exceeded,
+                 t_flight=rocking.t_stop if rocking is not None and rocking.free_flight else math.nan,
+                 theta_over_alpha=None if theta is None else theta / alpha, contact_modes=modes, guard=guard)
 
 
 def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, history: bool) -> Scene:
@@ -325,8 +333,11 @@ def _rocking_scene(physics: int, res: RockResult, *, alpha: float, mu: float, hi
     else:
         response = Response.rock
     theta = res.theta / alpha if history and res.theta is not None else None
-    return Scene(physics, response, res.overturned, res.theta_max, res.n_impacts, res.t_overturn,
-                 res.friction_demand, math.nan, 1 if flight else (2 if res.liftoff else 0), res.chatter,
-                 int(exceeded), res.t_stop if flight else math.nan, theta, contact_modes=ContactMode.rock,
-                 guard=kernel_guard(res.status))
+    free_flight = FreeFlight.ground_flight if flight else (FreeFlight.block_liftoff if res.liftoff else
+                                                          FreeFlight.none)
+    return Scene(physics=physics, response=response, overturned=res.overturned, theta_max=res.theta_max,
+                 n_impacts=res.n_impacts, t_overturn=res.t_overturn, friction_demand=res.friction_demand,
+                 sliding_max_m=math.nan, free_flight=free_flight, chatter=res.chatter,
+                 friction_exceeded=int(exceeded), t_flight=res.t_stop if flight else math.nan,
+                 theta_over_alpha=theta, contact_modes=ContactMode.rock, guard=kernel_guard(res.status))
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..compiled import jit
 from .codes import STATUS_GROUND_FLIGHT
-from .contact import ContactBlock
+from .contact import contact_block_of
 from .handoff import continue_rocking, from_rest, stopped_short
 from .kernel import rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
@@ -92,7 +92,7 @@ def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, 
         return 1
     if contact_model:
         if stopped_short(res):
-            cb = ContactBlock(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
+            cb = contact_block_of(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
             return 1 if continue_rocking(res, a, av_s, dt, block, control, cb, True).overturned else 0
         return 0
     return -1 if res.status & STATUS_GROUND_FLIGHT else 0
@@ -104,7 +104,7 @@ def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control)
     contact model from rest (1 overturns, 0 stands)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
-    cb = ContactBlock(p, alpha, e, R, mu, g, control.rest_ratio)
+    cb = contact_block_of(p, alpha, e, R, mu, g, control.rest_ratio)
     return 1 if from_rest(a, av_s, dt, cb, True).overturned else 0
 
 

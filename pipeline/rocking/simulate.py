@@ -14,7 +14,7 @@ import numpy as np
 from ..constants import G
 from ..errors import ParameterError
 from . import handoff, kernel, sliding
-from .contact import ContactBlock
+from .contact import ContactBlock, contact_block_of
 from .settings import SimulationConfig
 from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
@@ -36,13 +36,14 @@ class RockResult:
     friction_demand : float
         Largest |f_x / f_z| along the trajectory [-].
     status : int
-        Bits: 1 chatter cap; 2 free flight (the ground's g + a_v reached 0: contact lost, the
-        simulation stopped at ``t_stop``); 4 step underflow; 8 lift-off (f_z <= 0 met while
-        rocking: flagged, the simulation goes on).
+        :class:`~.codes.Status` bits: chatter (the event cap), ground_flight (the ground's g + a_v reached 0:
+        contact lost, the simulation stopped at ``t_stop``), step_underflow, liftoff (f_z <= 0 met while
+        rocking: flagged, the simulation goes on), friction (stopped where the demand exceeded ``stop_mu``),
+        tie_hold, step_cap.
     t_stop, theta_end, omega_end : float
         Where the simulation stopped [s], [rad], [rad s-1].
     mode_end : int
-        0 rest, 1 rocking, 2 overturned.
+        :class:`~.codes.Mode` there: rest, rock or overturned.
     n_uplifts : int
     t_first_impact : float
     theta : ndarray or None
@@ -280,8 +281,8 @@ class ContactResult:
 
 def contact_block(block, settings: SimulationConfig) -> ContactBlock:
     """The contact model's block from a :class:`~.block.Block`."""
-    return ContactBlock(float(block.p), float(block.alpha), float(block.e), float(block.R_m), float(block.mu),
-                        float(block.g_ms2), float(settings.rest_ratio))
+    return contact_block_of(float(block.p), float(block.alpha), float(block.e), float(block.R_m), float(block.mu),
+                            float(block.g_ms2), float(settings.rest_ratio))
 
 
 def _contact_result(o) -> ContactResult:

@@ -97,13 +97,13 @@ class RockingOutcome(NamedTuple):
     friction_max : float
         Largest friction demand |f_x| / f_z while |theta| < alpha [-].
     status : int
-        ``STATUS_*`` bits.
+        :class:`~.codes.Status` bits.
     t_stop, theta_end, omega_end : float
         Where the integration stopped [s], and the state there: at the instant the ground's g + a_v
         reached 0, or, when the block's ``stop_mu`` stopped it, at the start of the step in which the friction
         demand exceeded it or the pivot lifted off (the last state where pure rocking held).
     mode_end : int
-        ``REST``, ``ROCK`` or ``OVERTURNED`` there.
+        :class:`~.codes.Mode` there: ``REST``, ``ROCK`` or ``OVERTURNED``.
     t_first_impact : float
         Time of the first impact [s] (NaN without one).
     pivot_end : float
@@ -144,6 +144,11 @@ class ContactBlock(NamedTuple):
         Gravity [m s-2].
     rest_ratio : float
         A rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-].
+    b, h : float
+        Half-width R sin(alpha) and half-height R cos(alpha) [m], derived once
+        (:func:`pipeline.rocking.contact.contact_block_of` builds the whole block).
+    J : float
+        Centroidal inertia per unit mass of a rectangle, R^2 / 3 [m2].
     """
 
     p: float
@@ -153,6 +158,9 @@ class ContactBlock(NamedTuple):
     mu: float
     g: float
     rest_ratio: float
+    b: float
+    h: float
+    J: float
 
 
 class ContactState(NamedTuple):
@@ -210,7 +218,7 @@ class ContactOutcome(NamedTuple):
     modes : int
         ``MODE_*`` bits of the modes that occurred (:mod:`.contact`).
     status : int
-        ``STATUS_*`` bits.
+        :class:`~.codes.Status` bits.
     end : ContactState
         The state at the end.
     """
