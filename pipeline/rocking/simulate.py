@@ -266,7 +266,7 @@ class ContactResult:
     modes : int
         Bits of the modes that occurred (:class:`.planner.ContactMode`).
     status : int
-        ``contact.STATUS_*`` bits.
+        :class:`~.codes.Status` bits.
     """
 
     overturned: bool
