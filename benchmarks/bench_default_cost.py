@@ -37,17 +37,29 @@ def _records(dest: Path, n: int) -> int:
 
     sources, _ = scan(ROOT / "records", config=Config())
     picked = 0
-    for src in sources:
-        if picked >= n:
-            break
-        # two or three files (two horizontals), units stated in the files themselves (no StationXML, no glob)
-        if len(src.files) < 2 or any(Path(f).suffix.lower() in (".mseed", ".sac") for f in src.files):
-            continue
-        sub = dest / f"r{picked:02d}"
+    # two or three files (two horizontals), units stated in the files themselves (no StationXML, no glob)
+    usable = [s for s in sources if len(s.files) >= 2
+              and not any(Path(f).suffix.lower() in (".mseed", ".sac") for f in s.files)]
+    for src in usable[:n]:
+        sub = dest / f"r{picked:03d}"
         sub.mkdir(parents=True)
         for f in src.files:
             shutil.copy(f, sub / Path(f).name)
         picked += 1
+    # more than are bundled: AT2 copies, each with its own title line (the samples stay the same; a copy of
+    # identical bytes would be the same recording under another name and screened once)
+    at2 = [s for s in usable if all(Path(f).suffix.upper() == ".AT2" for f in s.files)]
+    copy = 0
+    while picked < n and at2:
+        src = at2[copy % len(at2)]
+        sub = dest / f"r{picked:03d}"
+        sub.mkdir(parents=True)
+        for f in src.files:
+            lines = Path(f).read_text().split("\n")
+            lines[0] = f"{lines[0]} (benchmark copy {copy // len(at2) + 1})"
+            (sub / Path(f).name).write_text("\n".join(lines))
+        picked += 1
+        copy += 1
     shutil.copy(ROOT / "records" / "units.toml", dest / "units.toml")
     return picked
 
