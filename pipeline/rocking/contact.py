@@ -520,7 +520,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         if overturned:
             t_over, mode = t, OVERTURNED
     end = ContactState(t=t, mode=mode, corner=c, sigma=sigma, x=x, y=y, theta=th, u=u, v=v, w=w, slip=slip)
-    return ContactOutcome(overturned=overturned, t_overturn=t_over, theta_max=theta_max, n_impacts=n_imp,
+    return ContactOutcome(overturned=overturned, t_overturn=t_over, theta_max_rad=theta_max, n_impacts=n_imp,
                           slip_max=slip_max, slip_end=slip, modes=modes, status=status, end=end)
 
 

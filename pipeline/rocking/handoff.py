@@ -116,7 +116,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         if o.status & STATUS_GROUND_FLIGHT:
             status |= STATUS_GROUND_FLIGHT
         g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True, hist)
-        theta_max = max(theta_max, g.theta_max)
+        theta_max = max(theta_max, g.theta_max_rad)
         n_imp += g.n_impacts
         slip, slip_max = g.slip_end, max(slip_max, g.slip_max)
         modes |= g.modes
@@ -125,21 +125,23 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
         if g.overturned or g.status & STATUS_ENDED or not (end.mode == ROCK
                                                                   or end.mode == REST):
             # overturned, ended at a cap (the state's verdict), or still in motion at the end
-            return ContactOutcome(g.overturned, g.t_overturn, theta_max, n_imp, slip_max, slip, modes, status, end)
+            return ContactOutcome(overturned=g.overturned, t_overturn=g.t_overturn, theta_max_rad=theta_max,
+                                  n_impacts=n_imp, slip_max=slip_max, slip_end=slip, modes=modes, status=status,
+                                  end=end)
         theta = end.theta if end.mode == ROCK else 0.0
         omega = end.w if end.mode == ROCK else 0.0
         o = rock(ah, av, dt, t_end, rblk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
-        theta_max = max(theta_max, o.theta_max)
+        theta_max = max(theta_max, o.theta_max_rad)
         n_imp += o.n_impacts
         status |= kernel_guards(o.status)
         modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
         if not stopped_short(o):
             end = ContactState(t=o.t_stop, mode=OVERTURNED if o.overturned else ROCK, corner=o.pivot_end, sigma=1.0,
                                x=0.0, y=0.0, theta=o.theta_end, u=0.0, v=0.0, w=o.omega_end, slip=slip)
-            return ContactOutcome(overturned=o.overturned, t_overturn=o.t_overturn, theta_max=theta_max,
+            return ContactOutcome(overturned=o.overturned, t_overturn=o.t_overturn, theta_max_rad=theta_max,
                                   n_impacts=n_imp, slip_max=slip_max, slip_end=slip, modes=modes, status=status,
                                   end=end)
-    return ContactOutcome(overturned=False, t_overturn=math.nan, theta_max=theta_max, n_impacts=n_imp,
+    return ContactOutcome(overturned=False, t_overturn=math.nan, theta_max_rad=theta_max, n_impacts=n_imp,
                           slip_max=slip_max, slip_end=slip, modes=modes, status=status | STATUS_EVENT_CAP,
                           end=start_state(o, blk, slip))
 

@@ -30,7 +30,8 @@ class RockResult:
         Time [s] at which |theta| reached pi/2, or at which the free motion after the
         record was found to escape (NaN if it stands).
     theta_max : float
-        Largest |theta| / alpha [-] (pi / (2 alpha) when it overturns).
+        Largest |theta| / alpha [-] (pi / (2 alpha) when it overturns); the kernel's own outcome keeps radians
+        (``theta_max_rad``).
     n_impacts : int
         Impacts simulated (during the record when the tail is decided by energy).
     friction_demand : float
@@ -212,7 +213,7 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
                                  float(stop_mu)),
                     step_control(settings), RockingState(float(theta0), float(omega0), 0.0), tail == "energy",
                     RockingOutput(theta_out, impacts_out))
-    return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max) / alpha, int(o.n_impacts),
+    return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
                       impacts_out[: min(log_impacts, int(o.n_impacts))] if log_impacts else None, float(o.pivot_end),
@@ -286,7 +287,7 @@ def contact_block(block, settings: SimulationConfig) -> ContactBlock:
 
 
 def _contact_result(o) -> ContactResult:
-    return ContactResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max), int(o.n_impacts),
+    return ContactResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad), int(o.n_impacts),
                          float(o.slip_max), float(o.slip_end), int(o.modes), int(o.status))
 
 

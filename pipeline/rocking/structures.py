@@ -90,7 +90,7 @@ class RockingOutcome(NamedTuple):
     overturned : bool
     t_overturn : float
         Time of overturning [s] (NaN when it stands).
-    theta_max : float
+    theta_max_rad : float
         Largest |theta| [rad].
     n_impacts, n_uplifts : int
         Impacts, and uplifts from rest.
@@ -112,7 +112,7 @@ class RockingOutcome(NamedTuple):
 
     overturned: bool
     t_overturn: float
-    theta_max: float
+    theta_max_rad: float
     n_impacts: int
     friction_max: float
     status: int
@@ -206,7 +206,7 @@ class ContactOutcome(NamedTuple):
     overturned : bool
     t_overturn : float
         Time |theta| reached pi/2, or the record's end when free rocking after it escapes [s] (NaN: stands).
-    theta_max : float
+    theta_max_rad : float
         Largest |theta| [rad].
     n_impacts : int
         Impacts (corners meeting the base).
@@ -225,7 +225,7 @@ class ContactOutcome(NamedTuple):
 
     overturned: bool
     t_overturn: float
-    theta_max: float
+    theta_max_rad: float
     n_impacts: int
     slip_max: float
     slip_end: float
