@@ -47,6 +47,35 @@ def flags(enum: type[IntEnum], *, missing: str | None = "not_evaluated") -> dict
     return {"flag_values": np.array(values, dtype="i1"), "flag_meanings": " ".join(names)}
 
 
+# The variable groups of screening.nc as the screening of a record fills them, and the dtypes of its counts.
+
+#: Per (record, block) variables computed in the tasks (the criterion is computed in :func:`assemble`).
+PULSE_BLOCK_VARS = ("block_pulse_azimuth", "block_pulse_ap", "block_pulse_tp", "block_pulse_beta",
+                    "block_pulse_dv", "block_record_ap")
+
+#: Integer variables that are counts rather than flags (-1: not evaluated).
+INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
+                  "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
+                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4",
+                  "contact_modes": "i1", "simulation_guard": "i1"}
+
+#: Per (record, block) variables of the simulator.
+SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
+                   "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
+                   "governing_azimuth", "orientation", "planes_simulated", "contact_modes", "simulation_guard")
+
+#: Per (record, block) variables of the floor a block stands on (NaN on the ground).
+FLOOR_VARS = ("floor_pga", "floor_pgv")
+#: Record-level pulse values kept with each floor's pulse series (``pulses.nc``, group ``floors``).
+FLOOR_PULSE_VALUES = ("is_pulse", "pulse_indicator", "pulse_period", "pulse_azimuth")
+
+#: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
+PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
+                    "samples_overturned", "samples_free_flight", "sample_simulations", "p_overturn_azimuth",
+                    "p_overturn_random_orientation", "p_overturn_random_orientation_low",
+                    "p_overturn_random_orientation_high")
+
+
 #: name -> (dims, units or None, long_name, extra attributes)
 SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     # coordinates

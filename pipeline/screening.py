@@ -34,7 +34,18 @@ from .rocking.block import Block
 from .rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from .rocking.planner import ContactMode, Physics, guard_names
 from .scene_progress import SceneProgress
-from .schema import COMPONENTS, SCHEMA, apply_schema, inventory_variable
+from .schema import (
+    COMPONENTS,
+    FLOOR_PULSE_VALUES,
+    FLOOR_VARS,
+    INTEGER_DTYPES,
+    PROBABILITY_VARS,
+    PULSE_BLOCK_VARS,
+    SCHEMA,
+    SIMULATION_VARS,
+    apply_schema,
+    inventory_variable,
+)
 from .uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
@@ -178,11 +189,6 @@ def _block_directions(rec: Record, inventory: Inventory, strongest_deg: float) -
     return np.where(np.isnan(az), strongest_deg, np.round(az) % 180.0)
 
 
-#: Per (record, block) variables computed in the tasks (the criterion is computed in :func:`assemble`).
-PULSE_BLOCK_VARS = ("block_pulse_azimuth", "block_pulse_ap", "block_pulse_tp", "block_pulse_beta",
-                    "block_pulse_dv", "block_record_ap")
-
-
 def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
     cfg = ctx.config.pulses
     nb = len(ctx.inventory)
@@ -228,28 +234,6 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
         directions = _block_directions(rec, ctx.inventory, rec.pga_azimuth_deg())
     return values, blocks, series, directions
 
-
-#: Integer variables that are counts rather than flags (-1: not evaluated).
-INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
-                  "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
-                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4",
-                  "contact_modes": "i1", "simulation_guard": "i1"}
-
-#: Per (record, block) variables of the simulator.
-SIMULATION_VARS = ("physics", "response", "overturn_simulated", "theta_max", "n_impacts", "time_overturn",
-                   "friction_demand", "friction_exceeded", "sliding_max", "free_flight", "time_free_flight",
-                   "governing_azimuth", "orientation", "planes_simulated", "contact_modes", "simulation_guard")
-
-#: Per (record, block) variables of the floor a block stands on (NaN on the ground).
-FLOOR_VARS = ("floor_pga", "floor_pgv")
-#: Record-level pulse values kept with each floor's pulse series (``pulses.nc``, group ``floors``).
-FLOOR_PULSE_VALUES = ("is_pulse", "pulse_indicator", "pulse_period", "pulse_azimuth")
-
-#: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
-PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
-                    "samples_overturned", "samples_free_flight", "sample_simulations", "p_overturn_azimuth",
-                    "p_overturn_random_orientation", "p_overturn_random_orientation_low",
-                    "p_overturn_random_orientation_high")
 
 #: How the rocking plane of a scene was chosen (the ``orientation`` flag).
 

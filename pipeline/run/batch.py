@@ -47,8 +47,8 @@ from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
 from ..scene_progress import SceneProgress, running
+from ..schema import FLOOR_PULSE_VALUES
 from ..screening import (
-    FLOOR_PULSE_VALUES,
     Context,
     RecordResult,
     assemble,
