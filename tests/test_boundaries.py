@@ -24,6 +24,9 @@ from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
 from pipeline.rocking.simulate import rock, slide
 from pipeline.rocking.structures import ContactState
 
+#: every scene here is timed against its budget: the simulator is compiled first
+pytestmark = pytest.mark.usefixtures("compiled_simulator")
+
 TRANSFORMER = (3.0, 1.5, 0.5)          # height, width [m], mu: mu = tan(alpha) to one rounding
 
 

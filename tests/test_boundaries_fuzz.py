@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_ties, run_scene, sampled_verdict
 
-pytestmark = pytest.mark.slow
+#: slow; every scene here is timed against its budget: the simulator is compiled first
+pytestmark = [pytest.mark.slow, pytest.mark.usefixtures("compiled_simulator")]
 
 SCENES = 10_000
 

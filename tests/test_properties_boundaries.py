@@ -12,12 +12,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_ties, run_scene, sampled_verdict
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pipeline.rocking import rules
 from pipeline.rocking.planner import FreeFlight
+
+#: every scene here is timed against its budget: the simulator is compiled first
+pytestmark = pytest.mark.usefixtures("compiled_simulator")
 
 heights = st.sampled_from([0.02, 0.05, 0.3, 1.0, 3.0, 12.0, 30.0]) | st.floats(0.02, 30.0)
 alphas = (st.sampled_from([math.radians(1.0), math.atan(0.5), math.radians(45.0), math.nextafter(ALPHA_MAX, 0.0),

@@ -16,6 +16,8 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
+from .block import Block
+from .planner import simulate_scene
 from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
 from .simulate import rock, slide, step_control
@@ -68,6 +70,13 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
                             True, control, out, out.copy())
             sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
                                   0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+        # the general contact model, with and without a theta history: rocking handed over where friction stops
+        # holding (mu just above tan(alpha)), and from rest where the ground falls faster than gravity under a
+        # sliding block (mu below tan(alpha))
+        falling = np.where(t < 1.0, 0.0, -1.5 * G)
+        for history in (False, True):
+            simulate_scene(a, None, 0.01, block=Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21), history=history)
+            simulate_scene(a, falling, 0.01, block=Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.15), history=history)
     finally:
         done.set()
         timer.join()
