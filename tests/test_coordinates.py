@@ -1,4 +1,4 @@
-"""Station coordinates read from the bundled records' own files (or their StationXML), against the values their
+"""Station coordinates read from the bundled records' own headers (or their StationXML), against the values their
 headers print (copied here by hand), and none where a format carries none."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from pipeline.config import Config
-from pipeline.records.loader import iter_records, read_inventory
+from pipeline.records.loader import read_inventory, scan, station_of
 
 #: record id -> (lat, lon) as the file prints it, and the header it comes from
 EXPECTED = {
@@ -22,7 +22,7 @@ EXPECTED = {
 @pytest.fixture(scope="module")
 def located(records_dir):
     inventory = read_inventory(records_dir / "mseed")
-    return {rec.record_id: rec.station for rec in iter_records(records_dir, config=Config(), inventory=inventory)}
+    return {src.record_id: station_of(src, inventory) for src in scan(records_dir, config=Config())[0]}
 
 
 @pytest.mark.parametrize("record_id", sorted(EXPECTED))

@@ -70,14 +70,13 @@ class Fragilities:
 
 @dataclass(frozen=True)
 class EventRisk:
-    """Per asset, P(overturn | event), its bounds, what it rests on, and its inspection level."""
+    """Per asset, P(overturn | event), its bounds, what it rests on, and the probability that ranks it."""
 
     p: np.ndarray
     p_low: np.ndarray
     p_high: np.ndarray
     basis: np.ndarray
-    level: np.ndarray
-    #: the probability the ranking uses: p, or p_high where p is not given
+    #: the probability the ranking and the level use: p, or p_high where p is not given
     p_rank: np.ndarray
 
 
@@ -103,9 +102,9 @@ def exceedance(median: np.ndarray, log_sd: np.ndarray, level: float, *, k_sigma:
                      k_sigma=k_sigma)
 
 
-def event_risk(median: np.ndarray, log_sd: np.ndarray, frag: Fragilities, *, thresholds: tuple[float, float, float],
-               k_sigma: float = 0.0) -> EventRisk:
-    """Each asset's probability of overturning at its site's shaking (the module's rules), and its level.
+def event_risk(median: np.ndarray, log_sd: np.ndarray, frag: Fragilities, *, k_sigma: float = 0.0) -> EventRisk:
+    """Each asset's probability of overturning at its site's shaking (the module's rules); its level is
+    :func:`levels` of ``p_rank`` (or of a larger probability the caller has, such as a station record's).
 
     Parameters
     ----------
@@ -114,8 +113,6 @@ def event_risk(median: np.ndarray, log_sd: np.ndarray, frag: Fragilities, *, thr
         choice; pass the default the caller states).
     frag : Fragilities
         The assets' fragilities.
-    thresholds : tuple of float
-        The smallest probability of the levels low, medium and high [-], increasing.
     k_sigma : float
         The shaking taken at its median times exp(k sigma) [-].
     """
@@ -139,7 +136,7 @@ def event_risk(median: np.ndarray, log_sd: np.ndarray, frag: Fragilities, *, thr
     p, p_low, p_high = (np.where(rigid, 0.0, a) for a in (p, p_low, p_high))
     basis = np.where(rigid, Basis.cannot_rock, basis)
     p_rank = np.where(np.isfinite(p), p, p_high)
-    return EventRisk(p, p_low, p_high, basis.astype(np.int8), levels(p_rank, thresholds), p_rank)
+    return EventRisk(p, p_low, p_high, basis.astype(np.int8), p_rank)
 
 
 def levels(p: np.ndarray, thresholds: tuple[float, float, float]) -> np.ndarray:

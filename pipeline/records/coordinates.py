@@ -13,7 +13,8 @@ References
 ----------
 Goldstein, P. & Snoke, A. (2005). SAC Availability for the IRIS Community (the header variables). Kinoshita, S.
 (1998). Kyoshin Net (K-NET). Seismological Research Letters 69(4), 309-332. COSMOS (2001). COSMOS Strong-Motion
-Data Format, version 1.20. Shakal, A. & Huang, M. (1985). CSMIP Standard Data Format (DMG).
+Data Format, version 1.20. Shakal, A. & Huang, M. (1985). CSMIP Standard Data Format (DMG). Sinnott, R. W. (1984).
+Virtues of the haversine. Sky and Telescope 68(2), 159 (:func:`distance_km`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,10 @@ import math
 import re
 from dataclasses import dataclass
 
+import numpy as np
+
+#: Mean radius of the Earth [km] (great-circle distances)
+EARTH_RADIUS_KM = 6371.0
 #: SAC's undefined header value
 SAC_UNDEFINED = -12345.0
 #: COSMOS text header: "Coords: 34.063  -117.785"
@@ -87,3 +92,10 @@ def station_location(traces, inventory=None) -> StationLocation | None:
             if _valid(float(c["longitude"]), float(c["latitude"])):
                 return StationLocation(float(c["longitude"]), float(c["latitude"]), "StationXML")
     return None
+
+
+def distance_km(lon: np.ndarray, lat: np.ndarray, lon0: float, lat0: float) -> np.ndarray:
+    """Great-circle distance from (lon0, lat0) [km] (haversine, a sphere of :data:`EARTH_RADIUS_KM`)."""
+    p1, p2 = np.radians(lat), math.radians(lat0)
+    a = np.sin((p2 - p1) / 2) ** 2 + np.cos(p1) * math.cos(p2) * np.sin(np.radians(lon0 - lon) / 2) ** 2
+    return 2 * EARTH_RADIUS_KM * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0)))

@@ -30,7 +30,7 @@ import obspy
 from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UndeclaredUnitsError, UnitsError
 from .common import COMMON, annotate
-from .coordinates import station_location
+from .coordinates import StationLocation, station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
 from .processing import apply_steps, integrate, integration_method
@@ -526,8 +526,20 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
         header_peaks_ms2=peaks,
         velocity_ms=integrate(hz, dt, method=method),
         label=next((tr.stats[COMMON].label for tr in ordered if tr.stats[COMMON].label), ""),
-        station=station_location(ordered, inventory),
     )
+
+
+def station_of(source: RecordSource, inventory=None) -> StationLocation | None:
+    """Where a record's station is, from its files' headers alone (no samples read, nothing processed) or the
+    StationXML ``inventory`` (:func:`~.coordinates.station_location`); None where neither says.
+
+    Raises
+    ------
+    RecordFormatError
+        For a file that cannot be read.
+    """
+    traces = [tr for f in source.files for tr in _read(Path(f), fmt=source.format_of(f), headonly=True)]
+    return station_location(traces, inventory)
 
 
 def iter_records(root: str | Path, *, config: ReaderSettings, inventory=None):

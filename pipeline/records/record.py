@@ -7,8 +7,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .coordinates import StationLocation
-
 
 def project(rows: np.ndarray, azimuth0_deg: float, azimuth_deg: float) -> np.ndarray:
     """Horizontal motion in the vertical plane of ``azimuth_deg``: a1 cos(phi - phi1) + a2 sin(phi - phi1),
@@ -58,8 +56,6 @@ class Record:
         Horizontal ground velocity [m s-1] from the configured integration step.
     label : str
         The station and earthquake as the files name them ("" when they name neither).
-    station : StationLocation or None
-        Where the station is, from the files or the StationXML (:mod:`.coordinates`); None where neither says.
     """
 
     record_id: str
@@ -78,8 +74,6 @@ class Record:
     velocity_ms: np.ndarray | None = None
     #: the station and earthquake as the files name them ("" when they name neither)
     label: str = ""
-    #: the station's longitude and latitude and where they were read (None: the files do not say)
-    station: StationLocation | None = None
 
     @property
     def npts(self) -> int:

@@ -20,8 +20,10 @@ from scipy.special import ndtr
 from ..blocks import Inventory
 from ..event.assets import Basis, Level
 from ..event.shakemap import ShakeMapGrid
+from ..records.intensity import display_unit
 from ..uncertainty.fragility import FitStatus
 from .figures import png_bytes
+from .fragility_html import UNIT_WORDS
 from .mpl import new_figure
 
 #: Colour of each inspection level (map markers, table cells)
@@ -30,22 +32,23 @@ LEVEL_COLOURS = {Level.high: "#d7301f", Level.medium: "#fc8d59", Level.low: "#fd
 PAGE_ROWS = 500
 #: Assets named on the map, highest priority first
 MAP_LABELS = 8
-#: How the page writes a shaking in SI: unit -> (label, factor from SI)
-PAGE_UNITS = {"m s-2": ("g", 1.0 / 9.80665), "m s-1": ("cm/s", 100.0)}
 #: Fragility curve panel, SVG [px]
 CURVE_W, CURVE_H, CURVE_PAD = 360, 190, 42
 
 
 def _unit(ds: xr.Dataset) -> tuple[str, float]:
-    return PAGE_UNITS.get(ds.attrs["im_units"], (ds.attrs["im_units"], 1.0))
+    """The unit the page shows the shaking in (the IM's display unit, :func:`~pipeline.records.intensity.display_unit`)
+    and the factor from SI to it."""
+    label, to_si = display_unit(ds.attrs["im"])
+    return UNIT_WORDS.get(label, label), 1.0 / to_si
 
 
 def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]) -> bytes:
     """The map: the field most assets read, on a log colour scale, the assets by level, the epicentre."""
     from matplotlib.colors import LogNorm
 
-    fields = ds["shakemap_field"].values.astype(str)
-    field = max(set(fields.tolist()), key=fields.tolist().count)
+    names, counts = np.unique(ds["shakemap_field"].values.astype(str), return_counts=True)
+    field = str(names[np.argmax(counts)])
     label, factor = _unit(ds)
     lon, lat = ds["lon"].values, ds["lat"].values
     epi = (float(ds.attrs["epicentre_lon"]), float(ds.attrs["epicentre_lat"]))
@@ -135,9 +138,9 @@ def curve_svg(ds: xr.Dataset, k: int) -> str:
     return "".join(parts)
 
 
-def _p_text(ds: xr.Dataset, k: int) -> str:
-    p = float(ds["p_overturn_event"].values[k])
-    lo, hi = float(ds["p_overturn_event_low"].values[k]), float(ds["p_overturn_event_high"].values[k])
+def _p_text(v: dict, k: int) -> str:
+    """Asset ``k``'s P for the page (``v``: event.nc's arrays): two decimals, its bounds where it is not given."""
+    p, lo, hi = (float(v[n][k]) for n in ("p_overturn_event", "p_overturn_event_low", "p_overturn_event_high"))
     if math.isfinite(p):
         return f"{p:.2f}" if p >= 0.005 or p == 0 else "<0.01"
     return f"{lo:.2f}-{hi:.2f}" if math.isfinite(lo) and math.isfinite(hi) else "no fit"
@@ -157,7 +160,7 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
         prev = int(v["level_previous"][k])
         rows.append({
             "priority": int(v["priority"][k]), "id": inv.ids[k], "name": inv.names[k], "site": inv.sites[k],
-            "level": level.name, "colour": LEVEL_COLOURS[level], "p": _p_text(ds, k),
+            "level": level.name, "colour": LEVEL_COLOURS[level], "p": _p_text(v, k),
             "bounds": f"{float(v['p_overturn_event_low'][k]):.2f}-{float(v['p_overturn_event_high'][k]):.2f}",
             "basis": Basis(int(v["basis"][k])).name.replace("_", " "), "field": str(v["shakemap_field"][k]),
             "shaking": f"{float(v['shaking_median'][k]) * factor:.3g}",
@@ -177,7 +180,7 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
         a=ds.attrs, rows=rows, n_assets=len(order), more=max(len(order) - PAGE_ROWS, 0), counts=counts,
         colours={lv.name: c for lv, c in LEVEL_COLOURS.items()}, unit=label, changed=changed,
         map_png="data:image/png;base64," + base64.b64encode(map_png(ds, grid, inv, order)).decode("ascii"),
-        curves=[{"id": inv.ids[k], "name": inv.names[k], "p": _p_text(ds, k), "svg": curve_svg(ds, k)}
-                for k in order if k in drawn],
+        curves=[{"id": inv.ids[k], "name": inv.names[k], "p": _p_text(v, k), "svg": curve_svg(ds, k)}
+                for k in order[:max(curves, 0)]],
         warnings=[w for w in ds.attrs.get("warnings", "").split("\n") if w],
         with_records=bool(ds.attrs.get("records_directory")))

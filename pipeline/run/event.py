@@ -9,8 +9,6 @@ lists the assets whose level changed; an older one never overwrites a newer.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import time
 from dataclasses import dataclass, field
@@ -25,26 +23,27 @@ from ..errors import OutputError, RockscreenError
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
+from ..records.coordinates import distance_km
+from ..records.intensity import display_unit
 from ..rocking.geometry import ALPHA_MAX_ROCKING
 from ..schema import EVENT, apply_schema
-from ..store import OutputLock, publish, staging_dir, write_atomic
+from ..store import OutputLock, publish, staging_dir, write_atomic, write_csv_atomic, write_text_atomic
+from ..tables import read_csv_table
 from ..uncertainty.fragility import FitStatus
 
 #: The files ``screen event`` writes, published together
 OUTPUTS = ("event.nc", "inspection.csv", "event.html", "shakecast-facilities.xml")
 #: The IMs of a fragility that a ShakeMap gives (as fields PGA, PGV, PSA..)
 SHAKEMAP_IMS = ("pga", "pgv", "sa")
-#: Mean radius of the Earth [km] (great-circle distances)
-EARTH_RADIUS_KM = 6371.0
 #: Columns of inspection.csv; ``{unit}`` is the unit of the shaking and the fragility median
 INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "p_overturn_event",
                       "p_overturn_event_low", "p_overturn_event_high", "basis", "shakemap_field",
                       "shaking_median_{unit}", "shaking_log_sd", "log_sd_source", "fragility_median_{unit}",
                       "fragility_beta", "fit_status", "epicentral_distance_km", "station_record",
                       "station_distance_km", "p_overturn_record", "governed_by", "level_previous", "level_changed")
-#: How a shaking unit is written in column names and on the page: SI unit -> (label, factor from SI)
-DISPLAY_UNITS = {"m s-2": ("g", 1.0 / 9.80665), "m s-1": ("cm_s", 100.0)}
 LOG_SD_SOURCES = ("grid", "uncertainty", "default")
+#: The variables of fragility.nc an event reads
+FRAGILITY_READ = ("median", "beta", "median_low", "median_high", "fit_status", "beta_im")
 
 
 class EventError(RockscreenError, ValueError):
@@ -85,7 +84,8 @@ class EventResult:
 
 
 def open_fragility(directory: Path) -> xr.Dataset:
-    """The ``fragility.nc`` of a ``screen fragility`` output directory (loaded, the file closed).
+    """The fits of the ``fragility.nc`` of a ``screen fragility`` output directory (:data:`FRAGILITY_READ`, with
+    its coordinates and attributes; loaded, the file closed).
 
     Raises
     ------
@@ -97,7 +97,8 @@ def open_fragility(directory: Path) -> xr.Dataset:
         raise EventError(f"{path}: no fragility.nc; --fragility is the --out directory of a 'screen fragility' run "
                          "on the same inventory (run it first)")
     with xr.open_dataset(path) as ds:
-        return ds.load()
+        # the fits, not the stripes (scale factors and outcomes per record, level and block: most of the file)
+        return ds[[n for n in FRAGILITY_READ if n in ds]].assign_coords(im_level=ds["im_level"]).load()
 
 
 def coordinates(inv: Inventory, sites: Path | None) -> tuple[np.ndarray, np.ndarray]:
@@ -111,13 +112,9 @@ def coordinates(inv: Inventory, sites: Path | None) -> tuple[np.ndarray, np.ndar
     """
     table: dict[str, tuple[str, str]] = {}
     if sites is not None:
-        try:
-            with open(sites, newline="", encoding="utf-8") as fh:
-                for row in csv.DictReader(fh):
-                    table[(row.get("site") or "").strip()] = ((row.get("lon") or "").strip(),
-                                                              (row.get("lat") or "").strip())
-        except OSError as exc:
-            raise EventError(f"{sites}: cannot read the sites table ({exc.strerror or exc})") from exc
+        _, rows = read_csv_table(Path(sites), what="sites", expected_header="site,lon,lat",
+                                 required=("site", "lon", "lat"))
+        table = {row["site"]: (row["lon"], row["lat"]) for _, _, row in rows}
     lons, lats = inv.extra.get("lon", ("",) * len(inv)), inv.extra.get("lat", ("",) * len(inv))
     out_lon, out_lat, errors = [], [], []
     for k, bid in enumerate(inv.ids):
@@ -222,13 +219,6 @@ def _shaking(grid: ShakeMapGrid, im: str, periods: np.ndarray, lon: np.ndarray, 
     return {"field": fields, "median": median, "log_sd": log_sd, "source": source, "period": period}, warnings
 
 
-def distance_km(lon: np.ndarray, lat: np.ndarray, lon0: float, lat0: float) -> np.ndarray:
-    """Great-circle distance from (lon0, lat0) [km] (haversine, a sphere of :data:`EARTH_RADIUS_KM`)."""
-    p1, p2 = np.radians(lat), math.radians(lat0)
-    a = np.sin((p2 - p1) / 2) ** 2 + np.cos(p1) * math.cos(p2) * np.sin(np.radians(lon0 - lon) / 2) ** 2
-    return 2 * EARTH_RADIUS_KM * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0)))
-
-
 def _version(value: str) -> tuple:
     """A ShakeMap version, comparable (numbers as numbers)."""
     try:
@@ -304,7 +294,7 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
                         "event.nc: most_efficient_im): re-fit with 'screen fragility --im' of that IM for sharper "
                         "probabilities")
     thresholds = (cfg.event.level_low, cfg.event.level_medium, cfg.event.level_high)
-    risk = event_risk(shaking["median"], shaking["log_sd"], frags, thresholds=thresholds, k_sigma=req.k_sigma)
+    risk = event_risk(shaking["median"], shaking["log_sd"], frags, k_sigma=req.k_sigma)
     near = None
     if req.records is not None:
         from .event_records import near_records
@@ -372,7 +362,8 @@ def governing(p_shakemap: np.ndarray, near) -> tuple[np.ndarray, np.ndarray]:
 
 def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[tuple[str, ...], list[dict]]:
     """inspection.csv's columns and rows, highest priority first."""
-    label, factor = DISPLAY_UNITS.get(ds.attrs["im_units"], (ds.attrs["im_units"].replace(" ", "_"), 1.0))
+    label, to_si = display_unit(ds.attrs["im"])         # g for accelerations, cms for velocities
+    factor = 1.0 / to_si
     columns = tuple(c.format(unit=label) for c in INSPECTION_COLUMNS)
     arrays = {name: ds[name].values for name in ds.data_vars}
     rows = []
@@ -381,19 +372,20 @@ def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[t
         prev = int(v["level_previous"])
         rows.append(dict(zip(columns, (
             int(v["priority"]), inv.ids[k], inv.names[k], inv.sites[k], f"{v['lon']:.5f}", f"{v['lat']:.5f}",
-            Level(int(v["level"])).name, _num(v["p_overturn_event"]), _num(v["p_overturn_event_low"]),
-            _num(v["p_overturn_event_high"]), Basis(int(v["basis"])).name, str(v["shakemap_field"]),
-            _num(v["shaking_median"] * factor, 4), _num(v["shaking_log_sd"]),
-            LOG_SD_SOURCES[int(v["log_sd_source"])], _num(v["fragility_median"] * factor, 4),
-            _num(v["fragility_beta"]), FitStatus(int(v["fit_status"])).name, _num(v["epicentral_distance"], 1),
-            str(v["station_record"]), _num(v["station_distance"], 2), _num(v["p_overturn_record"]),
+            Level(int(v["level"])).name, _value(v["p_overturn_event"]), _value(v["p_overturn_event_low"]),
+            _value(v["p_overturn_event_high"]), Basis(int(v["basis"])).name, str(v["shakemap_field"]),
+            _value(v["shaking_median"] * factor), _value(v["shaking_log_sd"]),
+            LOG_SD_SOURCES[int(v["log_sd_source"])], _value(v["fragility_median"] * factor),
+            _value(v["fragility_beta"]), FitStatus(int(v["fit_status"])).name, _value(v["epicentral_distance"]),
+            str(v["station_record"]), _value(v["station_distance"]), _value(v["p_overturn_record"]),
             "record" if v["governed_by"] else "shakemap",
             Level(prev).name if prev >= 0 else "", "yes" if 0 <= prev != int(v["level"]) else ""))))
     return columns, rows
 
 
-def _num(x: float, digits: int = 3) -> str:
-    return "" if not np.isfinite(x) else (f"{x:.{digits}f}" if abs(x) >= 10 ** -digits or x == 0 else f"{x:.3g}")
+def _value(x) -> float | str:
+    """A number for inspection.csv, unrounded; blank where it is not finite (no value, or none bounded)."""
+    return float(x) if np.isfinite(x) else ""
 
 
 def facilities(ds: xr.Dataset, inv: Inventory, cfg: Config) -> list[Facility]:
@@ -427,12 +419,8 @@ def _publish(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, req: EventReque
     stage = staging_dir(out_dir)
     write_atomic(ds, stage / "event.nc")
     columns, rows = inspection_rows(ds, inv, order)
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    (stage / "inspection.csv").write_text(buf.getvalue(), encoding="utf-8")
-    (stage / "shakecast-facilities.xml").write_text(facility_xml(facilities(ds, inv, req.config)), encoding="utf-8")
-    (stage / "event.html").write_text(event_page(ds, grid, inv, order, changed, curves=req.config.event.page_curves),
-                                      encoding="utf-8")
+    write_csv_atomic(stage / "inspection.csv", columns, rows)
+    write_text_atomic(stage / "shakecast-facilities.xml", facility_xml(facilities(ds, inv, req.config)))
+    write_text_atomic(stage / "event.html", event_page(ds, grid, inv, order, changed,
+                                                       curves=req.config.event.page_curves))
     return publish(stage, out_dir, OUTPUTS)

@@ -19,7 +19,8 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError
-from ..records.loader import load_record, read_declared_units, read_inventory, scan
+from ..records.coordinates import distance_km
+from ..records.loader import read_inventory, scan, station_of
 from .stages import ScreenRequest, screen
 
 
@@ -36,22 +37,21 @@ class NearRecords:
 
 
 def _locate(records_dir: Path, config: Config, stationxml: Path | None) -> tuple[list[tuple], list[str]]:
-    """(record id, lon, lat, where read) of every record that loads and says where its station is; notes on the
-    others."""
+    """(record id, lon, lat, where read) of every record whose headers (or StationXML) say where its station is,
+    read from the headers alone; notes on the others."""
     sources, failures = scan(records_dir, config=config)
-    declared = read_declared_units(records_dir, config)
     inventory = read_inventory(records_dir, stationxml)
     located, unlocated, notes = [], [], [f"record {f.record_id}: not used ({f.reason})" for f in failures]
     for src in sources:
         try:
-            rec = load_record(src, root=records_dir, config=config, declared=declared, inventory=inventory)
+            station = station_of(src, inventory)
         except RockscreenError as exc:
             notes.append(f"record {src.record_id}: not used ({exc})")
             continue
-        if rec.station is None:
+        if station is None:
             unlocated.append(src.record_id)
         else:
-            located.append((src.record_id, rec.station.lon, rec.station.lat, rec.station.source))
+            located.append((src.record_id, station.lon, station.lat, station.source))
     if unlocated:
         notes.append(f"{len(unlocated)} record(s) say nowhere where their station is (PEER .AT2 and near-fault ASCII "
                      f"files carry no coordinates; MiniSEED needs its StationXML): {', '.join(unlocated[:8])}"
@@ -70,8 +70,6 @@ def near_records(records_dir: Path, inv: Inventory, lon: np.ndarray, lat: np.nda
     RockscreenError
         For a records directory the main job refuses (named, with the fix).
     """
-    from .event import distance_km
-
     n = len(inv)
     out = NearRecords(np.full(n, "", dtype=object), np.full(n, math.nan), np.full(n, math.nan))
     located, out.notes = _locate(Path(records_dir), config, stationxml)

@@ -242,7 +242,7 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
         cand = np.array(sorted(set(coarse.tolist()) | ({gov_column} if gov_column >= 0 else set())), dtype=int)
     else:
         first = [governing_deg] if gov_known else []
-        picks = list(dict.fromkeys(cells.index(a) for a in [*first, *ranked_deg] if cells.index(a) >= 0))
+        picks = [c for c in dict.fromkeys(cells.index(a) for a in [*first, *ranked_deg]) if c >= 0]
         cand = np.array(picks[:NOMINAL_CANDIDATES + len(first)] or [0], dtype=int)
     n_max, batch = len(z), max(1, u.batch)
     drawn = min(batch, n_max)
