@@ -6,15 +6,50 @@ is installed, and runs as plain Python without it or under ``NUMBA_DISABLE_JIT=1
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+import numpy as np
+
 try:  # numba is a core dependency; the same source still runs as Python without it
     from numba import njit as _njit
 
     def jit(f):
         return _njit(cache=True, nogil=True)(f)
 
+    def jit_inline(f):
+        """:func:`jit`, and inlined into its compiled callers: for the step functions of a kernel's loop, which
+        are split out to be read one at a time but should cost what one loop body costs (measured: the rocking
+        kernel split into calls ran 6 % slower, inlined at par)."""
+        return _njit(cache=True, nogil=True, inline="always")(f)
+
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover - exercised by the no-numba install
     def jit(f):
         return f
 
+    jit_inline = jit
+
     HAVE_NUMBA = False
+
+
+def state_factory(dtype: np.dtype) -> Callable[[], np.ndarray]:
+    """A function that returns a new zeroed one-element array of the record ``dtype``, whose element's fields
+    are set by attribute (``state[0].t = ...``).
+
+    It holds the mutable state of a compiled loop, as a solver object's attributes do in plain Python:
+    helpers that take the array change its element in place, in compiled code (a numba ``Record``) and in
+    plain Python (a ``numpy.recarray``) alike. The caller keeps the array, not the element, so that the
+    memory outlives every reference to it.
+    """
+    def new_state():
+        return np.rec.array(np.zeros(1, dtype))
+
+    if HAVE_NUMBA:
+        from numba.extending import overload
+
+        @overload(new_state)
+        def _compiled_new_state():
+            def impl():
+                return np.zeros(1, dtype)
+            return impl
+    return new_state

@@ -90,15 +90,9 @@ from .codes import (  # noqa: F401  (read by the hand-off and the planner as con
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
-from .kernel import (
-    HALF_PI,
-    HISTORY_TIME_TOL_S,
-    SAMPLE_INDEX_TOL,
-    TINY,
-    _exceed_fraction,
-    _flight_fraction,
-    free_outcome,
-)
+from .dopri import HISTORY_TIME_TOL_S
+from .ground import exceed_fraction, flight_fraction
+from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
 from .structures import ContactBlock, ContactOutcome, ContactState
 
@@ -424,8 +418,8 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         sa, sv = (a1 - a0) / (t1 - t0), (v1 - v0) / (t1 - t0)
         if mode == REST:
             aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
-            xf = _flight_fraction(vv0, v1, g)
-            xm = _exceed_fraction(aa0, a1, vv0, v1, g, thr)
+            xf = flight_fraction(vv0, v1, g)
+            xm = exceed_fraction(aa0, a1, vv0, v1, g, thr)
             if xf < 0.0 and xm < 0.0:
                 t = min(t1, t_stop)
                 out_k = _fill_linear(hist, out_k, dt, t, 0.0, t, 0.0)

@@ -38,10 +38,11 @@ embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1), 19-26.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import HAVE_NUMBA, jit  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.HAVE_NUMBA)
+from ..compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
 from .codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
     OVERTURNED,
     REST,
@@ -54,8 +55,10 @@ from .codes import (  # noqa: F401  (the status bits and modes the kernel's call
     STATUS_STEP_UNDERFLOW,
     STATUS_TIE_HOLD,
 )
+from .dopri import HISTORY_TIME_TOL_S, dopri_step, fill_hermite, first_crossing, hermite_peak, locate_impact
+from .ground import exceed_fraction, flight_fraction
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
-from .structures import RockingOutcome
+from .structures import GroundPiece, RockingOutcome
 
 HALF_PI = 0.5 * math.pi
 
@@ -74,153 +77,67 @@ MAX_STEPS_FIXED = 100000        # ... this many (the cap ends the scene, STATUS_
 FIRST_STEP_FRACTION = 0.1       # first step, as a fraction of min(largest step, dt)
 UPLIFT_STEP_FRACTION = 0.01     # first step after an uplift from rest, the same way
 MIN_STEP_AFTER_IMPACT_P = 1e-6  # smallest step kept across an impact, as a fraction of 1/p
-NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the step length
-NEWTON_TOL_ALPHA = 1e-13        # |theta| accepted as the impact, as a fraction of alpha
 SAMPLE_INDEX_TOL = 1e-9         # rounding allowance when t / dt falls on a sample [-]
 TAIL_TIME_TOL_S = 1e-9          # the record has ended within this of its last sample [s]
-HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step that ends within this of it [s]
-CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
-CROSSING_BISECTIONS = 50        # ... then bisected this many times (2^-50 of the probe's span)
-PEAK_BISECTIONS = 40            # bisections locating the turning point of theta inside a step
 TINY = 1e-300                   # guards a division by a difference of |theta| that can be 0
 
-# Dormand & Prince (1980) RK5(4)7M coefficients
-C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
-A21 = 1 / 5
-A31, A32 = 3 / 40, 9 / 40
-A41, A42, A43 = 44 / 45, -56 / 15, 32 / 9
-A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
-A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
-B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
-E1, E3, E4, E5, E6, E7 = 71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40
+#: The kernel's state while it integrates a scene: one record, changed in place by the step functions
+#: (as a solver object's attributes are), and read once at the end into a :class:`RockingOutcome`.
+PROGRESS = np.dtype([
+    ("t", np.float64),               # time reached [s]
+    ("theta", np.float64),           # rotation [rad]
+    ("omega", np.float64),           # angular velocity [rad s-1]
+    ("pivot", np.float64),           # pivot side s: +1 about O (tipping towards +x), -1 about O'
+    ("mode", np.int64),              # REST, ROCK or OVERTURNED (codes.Mode)
+    ("h", np.float64),               # the next step the error control asks for [s]
+    ("theta_max", np.float64),       # largest |theta| so far [rad]
+    ("t_overturn", np.float64),      # [s], NaN while standing
+    ("t_first_impact", np.float64),  # [s], NaN before the first impact
+    ("friction_max", np.float64),    # largest friction demand |f_x| / f_z while |theta| < alpha [-]
+    ("n_impacts", np.int64),
+    ("n_uplifts", np.int64),
+    ("n_events", np.int64),          # impacts plus uplifts (the chatter cap, max_events, counts them)
+    ("n_steps", np.int64),           # step attempts (the step budget counts them)
+    ("status", np.int64),            # codes.Status bits
+    ("t_event", np.float64),         # time of the last event [s], and events in a row there (tie rule 6)
+    ("n_same", np.int64),
+    ("out_k", np.int64),             # the next sample of the theta history to fill
+    ("overturned", np.bool_),
+    ("handed_off", np.bool_),        # stopped where pure rocking stops holding (block.stop_mu)
+    ("capped", np.bool_),            # stopped by the step budget
+])
+new_progress = state_factory(PROGRESS)
 
 
-@jit
-def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
-    """Angular acceleration [rad s-2] of a rectangular block rocking on pivot side s.
+class StepLimits(NamedTuple):
+    """What the step control of one scene derives from its block and settings, once.
 
-    Nonlinear (M&R eqs. 1-3 with g -> g + a_v, Yim 1980):
-    theta'' = -p^2 [ (1 + a_v/g) sin(alpha s - theta) + (a_h/g) cos(alpha s - theta) ];
-    linearised (M&R eqs. 8-9): sin(x) -> x, cos(x) -> 1.
+    Attributes
+    ----------
+    p2 : float
+        p^2 [rad2 s-2].
+    thr : float
+        Uplift threshold on |a_h| / (g + a_v): tan(alpha), or alpha for the linear model [-].
+    t_rec : float
+        Time of the record's last sample [s].
+    atol_theta, atol_omega : float
+        Absolute tolerances [rad], [rad s-1].
+    h_max : float
+        Largest step [s].
+    rest_omega : float
+        A rebound slower than this ends the impact cascade [rad s-1].
+    max_steps : int
+        Step budget of the scene (step attempts).
     """
-    phi = alpha * s - theta
-    if linear:
-        return -p2 * ((1.0 + av / g) * phi + ah / g)
-    return -p2 * ((1.0 + av / g) * math.sin(phi) + (ah / g) * math.cos(phi))
 
-
-@jit
-def _dopri_step(t, th, om, h, t0, a0, sa, v0, sv, s, p2, alpha, g, linear):
-    """One Dormand-Prince step; returns theta, omega and their error estimates."""
-    k1t = om
-    k1o = rocking_accel(th, om, a0 + sa * (t - t0), v0 + sv * (t - t0), s, p2, alpha, g, linear)
-    y2t, y2o = th + h * A21 * k1t, om + h * A21 * k1o
-    tt = t + C2 * h
-    k2t, k2o = y2o, rocking_accel(y2t, y2o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y3t = th + h * (A31 * k1t + A32 * k2t)
-    y3o = om + h * (A31 * k1o + A32 * k2o)
-    tt = t + C3 * h
-    k3t, k3o = y3o, rocking_accel(y3t, y3o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y4t = th + h * (A41 * k1t + A42 * k2t + A43 * k3t)
-    y4o = om + h * (A41 * k1o + A42 * k2o + A43 * k3o)
-    tt = t + C4 * h
-    k4t, k4o = y4o, rocking_accel(y4t, y4o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y5t = th + h * (A51 * k1t + A52 * k2t + A53 * k3t + A54 * k4t)
-    y5o = om + h * (A51 * k1o + A52 * k2o + A53 * k3o + A54 * k4o)
-    tt = t + C5 * h
-    k5t, k5o = y5o, rocking_accel(y5t, y5o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y6t = th + h * (A61 * k1t + A62 * k2t + A63 * k3t + A64 * k4t + A65 * k5t)
-    y6o = om + h * (A61 * k1o + A62 * k2o + A63 * k3o + A64 * k4o + A65 * k5o)
-    tt = t + h
-    k6t, k6o = y6o, rocking_accel(y6t, y6o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    th1 = th + h * (B1 * k1t + B3 * k3t + B4 * k4t + B5 * k5t + B6 * k6t)
-    om1 = om + h * (B1 * k1o + B3 * k3o + B4 * k4o + B5 * k5o + B6 * k6o)
-    k7t, k7o = om1, rocking_accel(th1, om1, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    et = h * (E1 * k1t + E3 * k3t + E4 * k4t + E5 * k5t + E6 * k6t + E7 * k7t)
-    eo = h * (E1 * k1o + E3 * k3o + E4 * k4o + E5 * k5o + E6 * k6o + E7 * k7o)
-    return th1, om1, et, eo, k7o
-
-
-@jit
-def _hermite(th0, om0, th1, om1, h, x):
-    """Cubic Hermite interpolant of theta on a step, at fraction x in [0, 1]."""
-    x2 = x * x
-    x3 = x2 * x
-    return ((2 * x3 - 3 * x2 + 1) * th0 + (x3 - 2 * x2 + x) * h * om0
-            + (-2 * x3 + 3 * x2) * th1 + (x3 - x2) * h * om1)
-
-
-@jit
-def _first_crossing(th0, om0, th1, om1, h, s):
-    """Fraction of the step where s*theta first drops below 0 on the Hermite cubic, or -1."""
-    prev = 0.0
-    for i in range(1, CROSSING_PROBES + 1):
-        x = i / CROSSING_PROBES
-        v = s * _hermite(th0, om0, th1, om1, h, x)
-        if v < 0.0:
-            lo, hi = prev, x
-            for _ in range(CROSSING_BISECTIONS):
-                mid = 0.5 * (lo + hi)
-                if s * _hermite(th0, om0, th1, om1, h, mid) < 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            return 0.5 * (lo + hi)
-        prev = x
-    return -1.0
-
-
-@jit
-def _hermite_rate(th0, om0, th1, om1, h, x):
-    """d theta / d x of the Hermite cubic at fraction x (x = (t - t0) / h)."""
-    x2 = x * x
-    return ((6 * x2 - 6 * x) * (th0 - th1) + (3 * x2 - 4 * x + 1) * h * om0 + (3 * x2 - 2 * x) * h * om1)
-
-
-@jit
-def _hermite_peak(th0, om0, th1, om1, h):
-    """Largest |theta| of the Hermite cubic inside a step where omega changes sign."""
-    best = max(abs(th0), abs(th1))
-    lo, hi = 0.0, 1.0
-    # the cubic's rate keeps the sign of omega0 until the turning point: bisection on it
-    for _ in range(PEAK_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if _hermite_rate(th0, om0, th1, om1, h, mid) * om0 > 0:
-            lo = mid
-        else:
-            hi = mid
-    return max(best, abs(_hermite(th0, om0, th1, om1, h, 0.5 * (lo + hi))))
-
-
-@jit
-def _exceed_fraction(a0, a1, v0, v1, g, thr):
-    """First fraction x in [0, 1] where |a| > (g + v) thr on a linear piece, or -1.
-
-    Uplift from rest (thr = tan(alpha), or alpha for the linear model) and the
-    start of slip (thr = mu) are both this test.
-    """
-    best = -1.0
-    for sig in (1.0, -1.0):
-        l0 = sig * a0 - (g + v0) * thr
-        l1 = sig * a1 - (g + v1) * thr
-        if l0 > 0.0:
-            return 0.0
-        if l1 > 0.0:
-            x = -l0 / (l1 - l0)
-            if best < 0.0 or x < best:
-                best = x
-    return best
-
-
-@jit
-def _flight_fraction(v0, v1, g):
-    """First fraction x in [0, 1] where g + v <= 0 on a linear piece of the vertical, or -1."""
-    l0, l1 = g + v0, g + v1
-    if l0 <= 0.0:
-        return 0.0
-    if l1 <= 0.0:
-        return l0 / (l0 - l1)
-    return -1.0
+    p2: float
+    thr: float
+    t_rec: float
+    atol_theta: float
+    atol_omega: float
+    h_max: float
+    rest_omega: float
+    max_steps: int
 
 
 @jit
@@ -272,31 +189,6 @@ def _peak_from_energy(E, p2, alpha, linear):
 
 
 @jit
-def _fill_hermite(theta_out, out_k, dt, t_start, h, th0, om0, th1, om1, t_stop):
-    """theta at the samples k dt <= t_stop of a step from t_start of length h, from its cubic Hermite
-    interpolant (0 for a step of length 0); returns the next sample to fill."""
-    while out_k < theta_out.shape[0] and out_k * dt <= t_stop + HISTORY_TIME_TOL_S:
-        theta_out[out_k] = _hermite(th0, om0, th1, om1, h, (out_k * dt - t_start) / h) if h > 0 else 0.0
-        out_k += 1
-    return out_k
-
-
-@jit
-def _locate_impact(t, th, om, hh, x, t0, a0, sa, v0, sv, s, p2, alpha, g, linear):
-    """The impact inside an accepted step: Newton iterations on the step length, from the Hermite estimate
-    ``x`` (a fraction of ``hh``), so that theta(t + h*) = 0 on the Runge-Kutta solution itself.
-    Returns (h*, theta, omega) there."""
-    hs = x * hh
-    ths, oms = th, om
-    for _ in range(NEWTON_ITERATIONS):
-        ths, oms, _et, _eo, _acc = _dopri_step(t, th, om, hs, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-        if oms == 0.0 or abs(ths) <= NEWTON_TOL_ALPHA * alpha:
-            break
-        hs = min(max(hs - ths / oms, 0.0), hh)
-    return hs, ths, oms
-
-
-@jit
 def _contact_demand(th1, om1, acc1, s, alpha, R, a_end, v_end, g):
     """Friction and normal force per unit mass at the pivot of a rocking block (Zhang & Makris 2001,
     eqs. 16-20): returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0, undefined)."""
@@ -306,6 +198,294 @@ def _contact_demand(th1, om1, acc1, s, alpha, R, a_end, v_end, g):
     if fz <= 0.0:
         return 0.0, True
     return abs(fx) / fz, False
+
+
+@jit
+def _limits(block, control, n, dt, max_steps):
+    """The scene's :class:`StepLimits` (``n`` samples of interval ``dt`` [s])."""
+    p, alpha = block.p, block.alpha
+    return StepLimits(p2=p * p, thr=alpha if block.linear else math.tan(alpha), t_rec=(n - 1) * dt,
+                      atol_theta=control.atol * alpha, atol_omega=control.atol * alpha * p,
+                      h_max=control.max_step_p / p, rest_omega=control.rest_ratio * p * alpha, max_steps=max_steps)
+
+
+@jit
+def _begin(progress, start, dt, lim, theta_out):
+    """Set the progress record to the start: at rest, or rocking on the side theta (or omega) points to."""
+    pr = progress[0]
+    th, om = start.theta, start.omega
+    pr.t = start.t
+    pr.theta = th
+    pr.omega = om
+    pr.mode = REST
+    pr.pivot = 1.0
+    if th != 0.0 or om != 0.0:
+        pr.mode = ROCK
+        pr.pivot = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    pr.theta_max = abs(th)
+    pr.t_overturn = math.nan
+    pr.t_first_impact = math.nan
+    pr.t_event = -math.inf
+    pr.h = min(lim.h_max, dt) * FIRST_STEP_FRACTION
+    if theta_out.shape[0] > 0:
+        # the history from the start's sample on (a restart mid-record leaves the earlier samples as they are)
+        pr.out_k = max(int(math.ceil(start.t / dt - SAMPLE_INDEX_TOL)), 0)
+        if pr.out_k == 0:
+            theta_out[0] = th
+            pr.out_k = 1
+
+
+@jit_inline
+def _piece(ah, av, has_v, dt, t, t_end):
+    """The ground's linear piece holding t (the next one when t is on its end); still after the record."""
+    n = ah.shape[0]
+    k = int(t / dt + SAMPLE_INDEX_TOL)
+    t0 = k * dt
+    t1 = min(t0 + dt, t_end)
+    if t1 <= t:                       # rounding at a sample boundary
+        k += 1
+        t0 = k * dt
+        t1 = min(t0 + dt, t_end)
+    a0 = a1 = v0 = v1 = 0.0
+    if k < n - 1:
+        a0, a1 = ah[k], ah[k + 1]
+        if has_v:
+            v0, v1 = av[k], av[k + 1]
+    return GroundPiece(k=k, t0=t0, t1=t1, a0=a0, a1=a1, v0=v0, v1=v1, sa=(a1 - a0) / dt, sv=(v1 - v0) / dt)
+
+
+@jit_inline
+def _quiet_until(ah, av, has_v, k, g, thr):
+    """The last sample j >= k such that no piece between samples k and j can lift the block (linear pieces:
+    below the threshold at both ends means below it throughout)."""
+    n = ah.shape[0]
+    j = k
+    while j + 1 < n:
+        gj = g + (av[j] if has_v else 0.0)
+        gj1 = g + (av[j + 1] if has_v else 0.0)
+        if abs(ah[j]) > gj * thr or abs(ah[j + 1]) > gj1 * thr or gj <= 0.0 or gj1 <= 0.0:
+            break
+        j += 1
+    return j
+
+
+@jit_inline
+def _from_rest(ah, av, has_v, dt, t_end, pc, g, lim, progress, theta_out):
+    """Advance a block at rest: over the samples that cannot lift it, then to its uplift (rocking away from
+    a_h), to the loss of contact, or to the piece's end. Returns whether the scene goes on."""
+    pr = progress[0]
+    t, t0, t1 = pr.t, pc.t0, pc.t1
+    if pc.k >= ah.shape[0] - 1:       # nothing moves it any more
+        pr.t = t_end
+        return False
+    if t == t0 and pc.k + 1 < ah.shape[0]:
+        j = _quiet_until(ah, av, has_v, pc.k, g, lim.thr)
+        if j > pc.k:
+            while pr.out_k < theta_out.shape[0] and pr.out_k <= j:
+                theta_out[pr.out_k] = 0.0
+                pr.out_k += 1
+            pr.t = min(j * dt, t_end)
+            return True
+    aa0, vv0 = pc.a0 + pc.sa * (t - t0), pc.v0 + pc.sv * (t - t0)
+    aa1, vv1 = pc.a0 + pc.sa * (t1 - t0), pc.v0 + pc.sv * (t1 - t0)
+    xf = flight_fraction(vv0, vv1, g) if has_v else -1.0
+    x = exceed_fraction(aa0, aa1, vv0, vv1, g, lim.thr)
+    if xf >= 0.0 and (x < 0.0 or x >= xf):
+        # the ground falls faster than gravity before the block lifts: contact is lost
+        pr.t = t + xf * (t1 - t)
+        pr.status |= STATUS_GROUND_FLIGHT
+        return False
+    t_up = t1
+    if x >= 0.0:
+        t_up = t + x * (t1 - t)
+        pr.n_same = events_at_instant_compiled(t_up, pr.t_event, pr.n_same)
+        pr.t_event = t_up
+        if pr.n_same > MAX_EVENTS_AT_ONE_INSTANT:
+            # tie rule 6: uplift and fall back at one instant without end: held at rest to the next sample
+            pr.status |= STATUS_TIE_HOLD
+            pr.n_same = 0
+            x = -1.0
+    if x < 0.0:
+        pr.t = t1
+    else:
+        pr.t = t_up
+        pr.pivot = -1.0 if pc.a0 + pc.sa * (t_up - t0) > 0.0 else 1.0
+        pr.theta, pr.omega, pr.mode = 0.0, 0.0, ROCK
+        pr.n_uplifts += 1
+        pr.n_events += 1
+        pr.h = min(lim.h_max, dt) * UPLIFT_STEP_FRACTION
+    while pr.out_k < theta_out.shape[0] and pr.out_k * dt <= pr.t + HISTORY_TIME_TOL_S:
+        theta_out[pr.out_k] = 0.0
+        pr.out_k += 1
+    return True
+
+
+@jit_inline
+def _impact_fraction(th, om, th1, om1, hh, s):
+    """Fraction of an accepted step where theta first meets 0 on the pivot side, or -1 (no impact)."""
+    if s * th1 < 0.0:
+        x = first_crossing(th, om, th1, om1, hh, s)
+        return 1.0 if x < 0.0 else x
+    if s * om < 0.0 and s * om1 > 0.0:
+        return first_crossing(th, om, th1, om1, hh, s)
+    return -1.0
+
+
+@jit_inline
+def _impact(hh, x, dt, pc, block, control, lim, progress, out):
+    """The impact inside an accepted step of length ``hh``: located (:func:`.dopri.locate_impact`), logged,
+    omega multiplied by e and the pivot switched (Housner 1963); a rebound slower than ``rest_omega``, the
+    event cap or tie rule 6 ends in rest."""
+    pr = progress[0]
+    t, th, om, s = pr.t, pr.theta, pr.omega, pr.pivot
+    hs, ths, oms = locate_impact(t, th, om, hh, x, pc, s, lim.p2, block.alpha, block.g, block.linear)
+    pr.theta_max = max(pr.theta_max, abs(th), abs(ths))
+    if s * om > 0.0 and s * oms < 0.0:
+        pr.theta_max = max(pr.theta_max, hermite_peak(th, om, ths, oms, hs))
+    t = t + hs
+    pr.out_k = fill_hermite(out.theta, pr.out_k, dt, t - hs, hs, th, om, ths, oms, t)
+    om_after = block.e * oms                                   # Housner: omega ratio e, energy ratio e^2
+    if pr.n_impacts < out.impacts.shape[0]:
+        out.impacts[pr.n_impacts, 0] = t
+        out.impacts[pr.n_impacts, 1] = oms
+        out.impacts[pr.n_impacts, 2] = om_after
+    if pr.n_impacts == 0:
+        pr.t_first_impact = t
+    pr.n_impacts += 1
+    pr.n_events += 1
+    pr.t, pr.theta, pr.omega, pr.pivot = t, 0.0, om_after, -s
+    pr.n_same = events_at_instant_compiled(t, pr.t_event, pr.n_same)
+    pr.t_event = t
+    if abs(om_after) < lim.rest_omega or pr.n_events >= control.max_events:
+        if pr.n_events >= control.max_events:
+            pr.status |= STATUS_CHATTER
+        pr.omega, pr.mode = 0.0, REST
+    if pr.n_same > MAX_EVENTS_AT_ONE_INSTANT:
+        # tie rule 6: impacts without time advancing: held at rest (theta = 0 here) to the next sample
+        pr.status |= STATUS_TIE_HOLD
+        pr.n_same = 0
+        pr.omega, pr.mode, pr.t = 0.0, REST, pc.t1
+    pr.h = max(hh, MIN_STEP_AFTER_IMPACT_P / block.p)    # the new pivot's motion is smooth: keep the step size
+
+
+@jit_inline
+def _to_ground_flight(hh, pc, block, lim, progress):
+    """Contact lost during a step (g + a_v reaching 0): the state carried to that instant, where the rocking
+    model stops holding."""
+    pr = progress[0]
+    t = pr.t
+    hf = flight_fraction(pc.v0 + pc.sv * (t - pc.t0), pc.v0 + pc.sv * (t + hh - pc.t0), block.g) * hh
+    if hf > 0.0:
+        th, om, _et, _eo, _acc = dopri_step(t, pr.theta, pr.omega, hf, pc, pr.pivot, lim.p2, block.alpha, block.g,
+                                            block.linear)
+        pr.theta, pr.omega = th, om
+        pr.theta_max = max(pr.theta_max, abs(th))
+    pr.t = t + hf
+    pr.status |= STATUS_GROUND_FLIGHT
+
+
+@jit_inline
+def _pivot_holds(th1, om1, acc1, hh, pc, block, progress):
+    """Record the pivot's friction demand (or its lift-off) at the step's end; False where pure rocking stops
+    holding for this block (``block.stop_mu``), so that the general contact model continues from the step's
+    start."""
+    pr = progress[0]
+    te = pr.t + hh
+    demand, lifted = _contact_demand(th1, om1, acc1, pr.pivot, block.alpha, block.R, pc.a0 + pc.sa * (te - pc.t0),
+                                     pc.v0 + pc.sv * (te - pc.t0), block.g)
+    if lifted:
+        pr.status |= STATUS_LIFTOFF
+    else:
+        pr.friction_max = max(pr.friction_max, demand)
+    if lifted and block.stop_mu < math.inf or not lifted and demand > block.stop_mu:
+        if not lifted:
+            pr.status |= STATUS_FRICTION
+        return False
+    return True
+
+
+@jit_inline
+def _accept(hh, th1, om1, err, dt, progress, theta_out):
+    """Take an accepted step without events: the peak inside it, the history, and the next step's size."""
+    pr = progress[0]
+    t, th, om = pr.t, pr.theta, pr.omega
+    if om * om1 < 0.0:
+        pr.theta_max = max(pr.theta_max, hermite_peak(th, om, th1, om1, hh))
+    pr.theta_max = max(pr.theta_max, abs(th1))
+    pr.out_k = fill_hermite(theta_out, pr.out_k, dt, t, hh, th, om, th1, om1, t + hh)
+    pr.t, pr.theta, pr.omega = t + hh, th1, om1
+    pr.h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
+
+
+@jit_inline
+def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
+    """One adaptive step of a rocking block inside the ground piece, with its events: a rejected step
+    shrinks; an accepted one ends at an impact, at overturning (|theta| = pi/2), where contact is lost or
+    pure rocking stops holding, or goes on. Returns whether the scene goes on."""
+    pr = progress[0]
+    pr.n_steps += 1
+    if pr.n_steps > lim.max_steps:
+        pr.status |= STATUS_STEP_CAP
+        pr.capped = True
+        return False
+    t, th, om, s = pr.t, pr.theta, pr.omega, pr.pivot
+    min_step = max(MIN_STEP_S, min_advance_compiled(t))
+    hh = min(pr.h, lim.h_max, pc.t1 - t)
+    if hh <= min_step:
+        hh = pc.t1 - t
+    th1, om1, et, eo, acc1 = dopri_step(t, th, om, hh, pc, s, lim.p2, block.alpha, block.g, block.linear)
+    sc_t = lim.atol_theta + control.rtol * max(abs(th), abs(th1))
+    sc_o = lim.atol_omega + control.rtol * max(abs(om), abs(om1))
+    err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
+    if err > 1.0 and hh > min_step:
+        pr.h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
+        if pr.h < min_step:
+            pr.status |= STATUS_STEP_UNDERFLOW
+            pr.h = min_step
+        return True
+    if has_v and block.g + pc.v0 + pc.sv * (t + hh - pc.t0) <= 0.0:
+        _to_ground_flight(hh, pc, block, lim, progress)
+        return False
+    x = _impact_fraction(th, om, th1, om1, hh, s)
+    if x >= 0.0:
+        _impact(hh, x, dt, pc, block, control, lim, progress, out)
+        return True
+    if abs(th1) >= HALF_PI:
+        frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
+        pr.t_overturn = t + frac * hh
+        pr.overturned, pr.theta_max, pr.mode, pr.t = True, HALF_PI, OVERTURNED, pr.t_overturn
+        return False
+    # past the saddle (|theta| >= alpha) the block falls whether or not its base slides: no demand there
+    if abs(th1) < block.alpha and not _pivot_holds(th1, om1, acc1, hh, pc, block, progress):
+        pr.handed_off = True
+        return False
+    _accept(hh, th1, om1, err, dt, progress, out.theta)
+    return True
+
+
+@jit
+def _after_record(block, lim, tail_energy, progress):
+    """After the record (or where the step budget ended the scene): the energy of the free motion decides."""
+    pr = progress[0]
+    if pr.overturned or pr.mode != ROCK:
+        return
+    if pr.capped or (tail_energy and pr.t >= lim.t_rec - TAIL_TIME_TOL_S and not pr.status & STATUS_GROUND_FLIGHT
+                     and not pr.handed_off):
+        over, peak, extra = free_outcome(pr.theta, pr.omega, lim.p2, block.alpha, block.e, block.linear)
+        pr.theta_max = max(pr.theta_max, peak)
+        if over:
+            pr.overturned, pr.t_overturn, pr.mode = True, pr.t, OVERTURNED
+            pr.n_impacts += extra                 # the impact on the way, before the escaping swing
+
+
+@jit
+def _outcome(progress):
+    """The progress record as the kernel's :class:`RockingOutcome`."""
+    pr = progress[0]
+    return RockingOutcome(overturned=pr.overturned, t_overturn=pr.t_overturn, theta_max_rad=pr.theta_max,
+                          n_impacts=pr.n_impacts, friction_max=pr.friction_max, status=pr.status, t_stop=pr.t,
+                          theta_end=pr.theta, omega_end=pr.omega, mode_end=pr.mode, n_uplifts=pr.n_uplifts,
+                          t_first_impact=pr.t_first_impact, pivot_end=pr.pivot)
 
 
 @jit
@@ -336,238 +516,22 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
     -------
     RockingOutcome
     """
-    p, alpha, e, g, R, linear = block.p, block.alpha, block.e, block.g, block.R, block.linear
-    # (block.stop_mu: stop at a friction exceedance or a lift-off, for the general contact model)
-    theta_out, impacts_out = out.theta, out.impacts
     n = ah.shape[0]
     has_v = av.shape[0] == n
-    p2 = p * p
-    thr = alpha if linear else math.tan(alpha)
-    t_rec = (n - 1) * dt
-    atol_t = control.atol * alpha
-    atol_o = control.atol * alpha * p
-    h_max = control.max_step_p / p
-    rest_omega = control.rest_ratio * p * alpha
-    n_out = theta_out.shape[0]
-    m_out = impacts_out.shape[0]
-
-    th, om = start.theta, start.omega
-    mode = REST
-    s = 1.0
-    if th != 0.0 or om != 0.0:
-        mode = ROCK
-        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
-    t = start.t
-    theta_max = abs(th)
-    n_imp = 0
-    n_up = 0
-    n_events = 0
-    fric_max = 0.0
-    status = 0
-    overturned = False
-    t_over = math.nan
-    t_first = math.nan
-    h = min(h_max, dt) * FIRST_STEP_FRACTION
-    out_k = 0
-    handed_off = False
-    capped = False
-    max_steps = MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED
-    n_steps = 0
-    t_event = -math.inf               # time of the last event (uplift or impact), and events in a row there
-    n_same = 0
-    if n_out > 0:
-        # the history from the start's sample on (a restart mid-record leaves the earlier samples as they are)
-        out_k = max(int(math.ceil(start.t / dt - SAMPLE_INDEX_TOL)), 0)
-        if out_k == 0:
-            theta_out[0] = th
-            out_k = 1
-
-    while t < t_end:
-        k = int(t / dt + SAMPLE_INDEX_TOL)
-        t0 = k * dt
-        t1 = min(t0 + dt, t_end)
-        if t1 <= t:                       # rounding at a sample boundary
-            k += 1
-            t0 = k * dt
-            t1 = min(t0 + dt, t_end)
-        if k < n - 1:
-            a0, a1 = ah[k], ah[k + 1]
-            v0 = av[k] if has_v else 0.0
-            v1 = av[k + 1] if has_v else 0.0
-        else:
-            a0 = a1 = v0 = v1 = 0.0
-            if tail_energy and t >= t_rec:
-                break
-        sa = (a1 - a0) / dt
-        sv = (v1 - v0) / dt
-        if mode == REST:
-            if k >= n - 1:                # nothing moves it any more
-                t = t_end
-                break
-            if t == t0 and k + 1 < n:
-                # fast scan over whole sample intervals that cannot lift the block (linear pieces:
-                # below the threshold at both ends means below it throughout)
-                j = k
-                while j + 1 < n:
-                    gj = g + (av[j] if has_v else 0.0)
-                    gj1 = g + (av[j + 1] if has_v else 0.0)
-                    if abs(ah[j]) > gj * thr or abs(ah[j + 1]) > gj1 * thr or gj <= 0.0 or gj1 <= 0.0:
-                        break
-                    j += 1
-                if j > k:
-                    while out_k < n_out and out_k <= j:
-                        theta_out[out_k] = 0.0
-                        out_k += 1
-                    t = min(j * dt, t_end)
-                    continue
-            aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
-            aa1, vv1 = a0 + sa * (t1 - t0), v0 + sv * (t1 - t0)
-            xf = _flight_fraction(vv0, vv1, g) if has_v else -1.0
-            x = _exceed_fraction(aa0, aa1, vv0, vv1, g, thr)
-            if xf >= 0.0 and (x < 0.0 or x >= xf):
-                # the ground falls faster than gravity before the block lifts: contact is lost
-                t = t + xf * (t1 - t)
-                status |= STATUS_GROUND_FLIGHT
-                break
-            if x >= 0.0:
-                t_up = t + x * (t1 - t)
-                n_same = events_at_instant_compiled(t_up, t_event, n_same)
-                t_event = t_up
-                if n_same > MAX_EVENTS_AT_ONE_INSTANT:
-                    # tie rule 6: uplift and fall back at one instant without end: held at rest to the next sample
-                    status |= STATUS_TIE_HOLD
-                    n_same = 0
-                    x = -1.0
-            if x < 0.0:
-                t = t1
-            else:
-                t = t_up
-                a_now = a0 + sa * (t - t0)
-                s = -1.0 if a_now > 0.0 else 1.0
-                th, om = 0.0, 0.0
-                mode = ROCK
-                n_up += 1
-                n_events += 1
-                h = min(h_max, dt) * UPLIFT_STEP_FRACTION
-            while out_k < n_out and out_k * dt <= t + HISTORY_TIME_TOL_S:
-                theta_out[out_k] = 0.0
-                out_k += 1
-            continue
-
-        # rocking: one adaptive step inside the sample interval
-        n_steps += 1
-        if n_steps > max_steps:
-            status |= STATUS_STEP_CAP
-            capped = True
+    lim = _limits(block, control, n, dt, MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED)
+    progress = new_progress()
+    _begin(progress, start, dt, lim, out.theta)
+    while progress[0].t < t_end:
+        pc = _piece(ah, av, has_v, dt, progress[0].t, t_end)
+        if pc.k >= n - 1 and tail_energy and progress[0].t >= lim.t_rec:
             break
-        min_step = max(MIN_STEP_S, min_advance_compiled(t))
-        hh = min(h, h_max, t1 - t)
-        if hh <= min_step:
-            hh = t1 - t
-        th1, om1, et, eo, acc1 = _dopri_step(t, th, om, hh, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-        sc_t = atol_t + control.rtol * max(abs(th), abs(th1))
-        sc_o = atol_o + control.rtol * max(abs(om), abs(om1))
-        err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
-        if err > 1.0 and hh > min_step:
-            h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
-            if h < min_step:
-                status |= STATUS_STEP_UNDERFLOW
-                h = min_step
-            continue
-        if has_v and g + v0 + sv * (t + hh - t0) <= 0.0:
-            # contact lost during the step (g + a_v <= 0): the contact model holds no further; the state is
-            # carried to that instant
-            hf = _flight_fraction(v0 + sv * (t - t0), v0 + sv * (t + hh - t0), g) * hh
-            if hf > 0.0:
-                th, om, _et, _eo, _acc = _dopri_step(t, th, om, hf, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-                theta_max = max(theta_max, abs(th))
-            t = t + hf
-            status |= STATUS_GROUND_FLIGHT
-            break
-        # accepted: events inside the step
-        x = -1.0
-        if s * th1 < 0.0:
-            x = _first_crossing(th, om, th1, om1, hh, s)
-            if x < 0.0:
-                x = 1.0
-        elif s * om < 0.0 and s * om1 > 0.0:
-            x = _first_crossing(th, om, th1, om1, hh, s)
-        if x >= 0.0:
-            hs, ths, oms = _locate_impact(t, th, om, hh, x, t0, a0, sa, v0, sv, s, p2, alpha, g, linear)
-            theta_max = max(theta_max, abs(th), abs(ths))
-            if s * om > 0.0 and s * oms < 0.0:
-                theta_max = max(theta_max, _hermite_peak(th, om, ths, oms, hs))
-            t = t + hs
-            out_k = _fill_hermite(theta_out, out_k, dt, t - hs, hs, th, om, ths, oms, t)
-            om_after = e * oms                                   # Housner: omega ratio e, energy ratio e^2
-            if n_imp < m_out:
-                impacts_out[n_imp, 0] = t
-                impacts_out[n_imp, 1] = oms
-                impacts_out[n_imp, 2] = om_after
-            if n_imp == 0:
-                t_first = t
-            n_imp += 1
-            n_events += 1
-            th, om, s = 0.0, om_after, -s
-            n_same = events_at_instant_compiled(t, t_event, n_same)
-            t_event = t
-            if abs(om) < rest_omega or n_events >= control.max_events:
-                if n_events >= control.max_events:
-                    status |= STATUS_CHATTER
-                om = 0.0
-                mode = REST
-            if n_same > MAX_EVENTS_AT_ONE_INSTANT:
-                # tie rule 6: impacts without time advancing: held at rest (theta = 0 here) to the next sample
-                status |= STATUS_TIE_HOLD
-                n_same = 0
-                om = 0.0
-                mode = REST
-                t = t1
-            h = max(hh, MIN_STEP_AFTER_IMPACT_P / p)    # the new pivot's motion is smooth: keep the step size
-            continue
-        if abs(th1) >= HALF_PI:
-            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
-            t_over = t + frac * hh
-            overturned = True
-            theta_max = HALF_PI
-            mode = OVERTURNED
-            t = t_over
-            break
-        # friction and lift-off demand at the step end, while the block can still come back
-        # (|theta| < alpha): past the saddle it falls whether or not the base slides
-        if abs(th1) < alpha:
-            demand, lifted = _contact_demand(th1, om1, acc1, s, alpha, R, a0 + sa * (t + hh - t0),
-                                             v0 + sv * (t + hh - t0), g)
-            if lifted:
-                status |= STATUS_LIFTOFF
-            else:
-                fric_max = max(fric_max, demand)
-            if lifted and block.stop_mu < math.inf or not lifted and demand > block.stop_mu:
-                # pure rocking stops holding inside this step: stop at its start, the last state where it held
-                # (the general contact model continues from there and locates the event itself)
-                if not lifted:
-                    status |= STATUS_FRICTION
-                handed_off = True
+        if progress[0].mode == REST:
+            if not _from_rest(ah, av, has_v, dt, t_end, pc, block.g, lim, progress, out.theta):
                 break
-        if om * om1 < 0.0:
-            theta_max = max(theta_max, _hermite_peak(th, om, th1, om1, hh))
-        theta_max = max(theta_max, abs(th1))
-        out_k = _fill_hermite(theta_out, out_k, dt, t, hh, th, om, th1, om1, t + hh)
-        t = t + hh
-        th, om = th1, om1
-        h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
-
-    if not overturned and mode == ROCK and (capped or tail_energy and t >= t_rec - TAIL_TIME_TOL_S
-                                            and not status & STATUS_GROUND_FLIGHT and not handed_off):
-        # after the record (or where the step budget ended the scene): the energy of the free motion decides
-        over, peak, extra = free_outcome(th, om, p2, alpha, e, linear)
-        theta_max = max(theta_max, peak)
-        if over:
-            overturned = True
-            t_over = t
-            mode = OVERTURNED
-            n_imp += extra                 # the impact on the way, before the escaping swing
-    return RockingOutcome(overturned, t_over, theta_max, n_imp, fric_max, status, t, th, om, mode, n_up, t_first, s)
+        elif not _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
+            break
+    _after_record(block, lim, tail_energy, progress)
+    return _outcome(progress)
 
 
 def empty_theta() -> np.ndarray:

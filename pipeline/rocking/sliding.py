@@ -12,7 +12,8 @@ from __future__ import annotations
 import math
 
 from ..compiled import jit
-from .kernel import TINY, _exceed_fraction, _flight_fraction
+from .ground import exceed_fraction, flight_fraction
+from .kernel import TINY
 
 #: Slip starts and stops located in one sample interval, at most (the slip velocity is quadratic in time there,
 #: so a physical interval holds a handful; the cap ends the interval's search, counted in ``capped``)
@@ -56,7 +57,7 @@ def slide(ah, av, dt, mu, g):
         if g + v0 <= 0.0 or g + v1 <= 0.0:
             # the ground falls faster than gravity: no normal force, no friction, and the Coulomb
             # model holds no further (the caller reports the scene as free flight)
-            t_flight = (k + _flight_fraction(v0, v1, g)) * dt
+            t_flight = (k + flight_fraction(v0, v1, g)) * dt
             break
         x = 0.0                                   # position in the sample, in [0, dt]
         guard = 0
@@ -70,7 +71,7 @@ def slide(ah, av, dt, mu, g):
             ax = a0 + ka * x
             vx = v0 + kv * x
             if not slipping:
-                f = _exceed_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
+                f = exceed_fraction(ax, a0 + ka * dt, vx, v1, g, mu)
                 if f < 0.0:
                     x = dt
                     break

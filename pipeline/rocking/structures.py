@@ -11,6 +11,32 @@ from typing import NamedTuple
 import numpy as np
 
 
+class GroundPiece(NamedTuple):
+    """The ground motion between two instants, linear in time: a_h(t) = a0 + sa (t - t0), a_v likewise.
+
+    Attributes
+    ----------
+    k : int
+        Index of the sample at the piece's start (the record's last or later: the ground is still).
+    t0, t1 : float
+        Start and end of the piece [s].
+    a0, a1, v0, v1 : float
+        Horizontal and vertical ground acceleration at t0 and at the next sample [m s-2].
+    sa, sv : float
+        Their rates [m s-3].
+    """
+
+    k: int
+    t0: float
+    t1: float
+    a0: float
+    a1: float
+    v0: float
+    v1: float
+    sa: float
+    sv: float
+
+
 class RockingBlock(NamedTuple):
     """The block as the rocking kernel sees it (a numba namedtuple).
 
