@@ -65,10 +65,11 @@ J. Eng. Mech. 127(5), 473-483.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit
+from ..compiled import jit, jit_inline, state_factory
 from .codes import (  # noqa: F401  (read by the hand-off and the planner as contact.*)
     FLIGHT,
     MODE_FLIGHT,
@@ -94,7 +95,7 @@ from .dopri import HISTORY_TIME_TOL_S
 from .ground import exceed_fraction, flight_fraction
 from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, rocks_compiled
-from .structures import ContactBlock, ContactOutcome, ContactState
+from .structures import ContactBlock, ContactOutcome, ContactState, GroundPiece
 
 __all__ = ["ContactBlock", "ContactOutcome", "ContactState", "contact_block_of", "move", "impact", "accelerations",
            "corner_offsets", "housner_restitution"]
@@ -323,6 +324,56 @@ def _after_impact(k, x, y, th, u, v, w, blk):
     return SLIDE_ROCK, k, (1.0 if vt > 0.0 else -1.0), x, y, th, u1, v1, w1
 
 
+#: The contact model's state while it follows a scene: one record, changed in place by the step functions and
+#: read once at the end into a :class:`ContactOutcome`.
+MOTION = np.dtype([
+    ("t", np.float64),               # time reached [s]
+    ("mode", np.int64),              # codes.Mode
+    ("corner", np.float64),          # contact corner c (+1 at +x, -1 at -x)
+    ("sigma", np.float64),           # slip direction (+1, -1)
+    ("x", np.float64), ("y", np.float64), ("theta", np.float64),   # [m], [m], [rad]
+    ("u", np.float64), ("v", np.float64), ("w", np.float64),       # [m s-1], [m s-1], [rad s-1]
+    ("xc", np.float64),              # where the sticking pivot is on the base [m]
+    ("slip", np.float64),            # net slip of the base [m], and its largest |value|
+    ("slip_max", np.float64),
+    ("theta_max", np.float64),       # largest |theta| [rad]
+    ("t_start", np.float64),         # where the model took over [s] (hand_back waits a sample interval after it)
+    ("t_overturn", np.float64),      # [s], NaN while standing
+    ("n_impacts", np.int64),
+    ("modes", np.int64),             # codes.ContactMode bits of the modes that occurred
+    ("status", np.int64),            # codes.Status bits
+    ("events", np.int64),            # transitions and impacts (MAX_EVENTS caps them)
+    ("n_steps", np.int64),           # Runge-Kutta steps (the step budget caps them)
+    ("t_event", np.float64),         # time of the last event [s], and events in a row there (tie rule 6)
+    ("n_same", np.int64),
+    ("out_k", np.int64),             # the next sample of the theta history to fill
+    ("overturned", np.bool_),
+])
+new_motion = state_factory(MOTION)
+
+
+class MoveLimits(NamedTuple):
+    """What the contact model derives from its block, the record and its caps, once per scene.
+
+    Attributes
+    ----------
+    h_max : float
+        Largest step [s].
+    t_cap : float
+        The motion after the record is followed up to this time [s].
+    thr : float
+        Motion starts from rest where |a_h| > thr (g + a_v): min(tan(alpha), mu) [-].
+    max_steps, max_events : int
+        Step budget and event cap of the scene.
+    """
+
+    h_max: float
+    t_cap: float
+    thr: float
+    max_steps: int
+    max_events: int
+
+
 @jit
 def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, theta_out=None):
     """Follow the block from ``start`` under the ground motion, in whatever modes it takes.
@@ -357,165 +408,258 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
     """
     n = ah.shape[0]
     has_v = av.shape[0] == n
-    g, alpha, p = blk.g, blk.alpha, blk.p
-    t_rec = (n - 1) * dt
-    h_max = min(dt / STEPS_PER_SAMPLE, MAX_STEP_P / p)
-    t_cap = t_rec + MAX_TAIL_PERIODS * 2.0 * math.pi / p
-    thr = min(math.tan(alpha), blk.mu)
-    t, mode, c, sigma = start.t, start.mode, start.corner, start.sigma
-    x, y, th, u, v, w = start.x, start.y, start.theta, start.u, start.v, start.w
-    b, h = blk.b, blk.h
-    xc = x + corner_offsets(th, c, b, h)[0]
-    theta_max = abs(th)
-    n_imp = 0
-    slip = start.slip
-    slip_max = abs(slip)
-    t_first = start.t
-    modes = _mode_bit(mode)
-    status = 0
-    events = 0
-    overturned = False
-    t_over = math.nan
-    max_steps = MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED
-    n_steps = 0
-    t_event = -math.inf               # time of the last event, and events in a row there (tie rule 6)
-    n_same = 0
+    lim = _limits(blk, n, dt, MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED, MAX_EVENTS)
     hist = theta_out if theta_out is not None else np.empty(0)
-    out_k = int(math.ceil(t / dt - SAMPLE_INDEX_TOL)) if hist.shape[0] > 0 else 0    # the history's next sample
-    while mode != OVERTURNED and t < t_stop:
-        if t >= t_cap:
-            status |= STATUS_TAIL_CAP
+    progress = new_motion()
+    _begin(progress, start, dt, blk, hist)
+    while progress[0].mode != OVERTURNED and progress[0].t < t_stop and _within_caps(lim, progress):
+        pc = _piece(ah, av, has_v, dt, progress[0].t, lim.h_max)
+        if pc.k >= n - 1 and (progress[0].mode == REST or progress[0].mode == ROCK and tail_energy):
+            _free_rocking(blk, progress)      # after the record, at rest or rocking freely: nothing to follow
             break
-        if events >= MAX_EVENTS:
-            status |= STATUS_EVENT_CAP
+        if progress[0].mode == REST:
+            if not _from_rest(pc, t_stop, dt, blk, lim, progress, hist):
+                break
+        elif progress[0].mode != FLIGHT and blk.g + pc.v0 + pc.sv * (progress[0].t - pc.t0) <= 0.0:
+            _lose_contact(progress)
+        elif not _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
             break
-        if n_steps >= max_steps:
-            status |= STATUS_STEP_CAP
-            break
-        k = int(t / dt + SAMPLE_INDEX_TOL)
-        if k < n - 1:
-            t0 = k * dt
-            t1 = t0 + dt
-            if t1 <= t:
-                k += 1
-                t0, t1 = k * dt, (k + 1) * dt
-        if k < n - 1:
-            a0, a1 = ah[k], ah[k + 1]
-            v0 = av[k] if has_v else 0.0
-            v1 = av[k + 1] if has_v else 0.0
-        else:                                        # after the record: the ground is still
-            t0, t1 = t, t + h_max
-            a0 = a1 = v0 = v1 = 0.0
-            if mode == REST:
-                break
-            if mode == ROCK and tail_energy:
-                over, peak, extra = free_outcome(th, w, p * p, alpha, blk.e, False)
-                theta_max = max(theta_max, peak)
-                if over:
-                    overturned, t_over, mode = True, t, OVERTURNED
-                    n_imp += extra
-                break
-        sa, sv = (a1 - a0) / (t1 - t0), (v1 - v0) / (t1 - t0)
-        if mode == REST:
-            aa0, vv0 = a0 + sa * (t - t0), v0 + sv * (t - t0)
-            xf = flight_fraction(vv0, v1, g)
-            xm = exceed_fraction(aa0, a1, vv0, v1, g, thr)
-            if xf < 0.0 and xm < 0.0:
-                t = min(t1, t_stop)
-                out_k = _fill_linear(hist, out_k, dt, t, 0.0, t, 0.0)
-                continue
-            frac = xf if (xf >= 0.0 and (xm < 0.0 or xf <= xm)) else xm
-            if t + frac * (t1 - t) > t_stop:
-                t = t_stop
-                break
-            t_on = t + frac * (t1 - t)
-            n_same = events_at_instant_compiled(t_on, t_event, n_same)
-            t_event = t_on
-            if n_same > MAX_EVENTS_AT_ONE_INSTANT:
-                status |= STATUS_TIE_HOLD             # tie rule 6: held at rest to the next sample
-                n_same = 0
-                t = min(t1, t_stop)
-                continue
-            t = t_on
-            out_k = _fill_linear(hist, out_k, dt, t, 0.0, t, 0.0)
-            mode, c, sigma = _onset(a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
-            if mode == FLIGHT:
-                status |= STATUS_GROUND_FLIGHT
-            modes |= _mode_bit(mode)
-            xc = x + corner_offsets(0.0, c, b, h)[0]
-            events += 1
-            continue
-        if mode != FLIGHT and g + v0 + sv * (t - t0) <= 0.0:
-            # the ground's g + a_v is at 0 at this instant (a sample exactly at -g): contact is lost here (tie
-            # rule 3), whatever the step ends seeing
-            mode = FLIGHT
-            status |= STATUS_GROUND_FLIGHT
-            modes |= MODE_FLIGHT
-            events += 1
-            continue
-        hh = min(h_max, t1 - t, t_stop - t)
-        n_steps += 1
-        x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
+    _verdict_if_ended(blk, progress)
+    return _outcome(progress)
+
+
+@jit
+def _limits(blk, n, dt, max_steps, max_events):
+    """The scene's :class:`MoveLimits` (``n`` samples of interval ``dt`` [s])."""
+    return MoveLimits(h_max=min(dt / STEPS_PER_SAMPLE, MAX_STEP_P / blk.p),
+                      t_cap=(n - 1) * dt + MAX_TAIL_PERIODS * 2.0 * math.pi / blk.p,
+                      thr=min(math.tan(blk.alpha), blk.mu), max_steps=max_steps, max_events=max_events)
+
+
+@jit
+def _begin(progress, start, dt, blk, hist):
+    """Set the motion record to the start state."""
+    pr = progress[0]
+    pr.t, pr.mode, pr.corner, pr.sigma = start.t, start.mode, start.corner, start.sigma
+    pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w = start.x, start.y, start.theta, start.u, start.v, start.w
+    pr.xc = start.x + corner_offsets(start.theta, start.corner, blk.b, blk.h)[0]
+    pr.theta_max = abs(start.theta)
+    pr.slip = start.slip
+    pr.slip_max = abs(start.slip)
+    pr.t_start = start.t
+    pr.t_overturn = math.nan
+    pr.modes = _mode_bit(start.mode)
+    pr.t_event = -math.inf
+    pr.out_k = int(math.ceil(start.t / dt - SAMPLE_INDEX_TOL)) if hist.shape[0] > 0 else 0
+
+
+@jit_inline
+def _within_caps(lim, progress):
+    """False, with the cap's status bit set, once the scene meets its tail, event or step cap."""
+    pr = progress[0]
+    if pr.t >= lim.t_cap:
+        pr.status |= STATUS_TAIL_CAP
+        return False
+    if pr.events >= lim.max_events:
+        pr.status |= STATUS_EVENT_CAP
+        return False
+    if pr.n_steps >= lim.max_steps:
+        pr.status |= STATUS_STEP_CAP
+        return False
+    return True
+
+
+@jit_inline
+def _piece(ah, av, has_v, dt, t, h_max):
+    """The ground's linear piece holding t (the next one when t is on its end); after the record, the ground
+    is still, over a step of ``h_max``."""
+    n = ah.shape[0]
+    k = int(t / dt + SAMPLE_INDEX_TOL)
+    if k < n - 1:
+        t0 = k * dt
+        t1 = t0 + dt
+        if t1 <= t:
+            k += 1
+            t0, t1 = k * dt, (k + 1) * dt
+    a0 = a1 = v0 = v1 = 0.0
+    if k < n - 1:
+        a0, a1 = ah[k], ah[k + 1]
+        if has_v:
+            v0, v1 = av[k], av[k + 1]
+    else:
+        t0, t1 = t, t + h_max
+    return GroundPiece(k=k, t0=t0, t1=t1, a0=a0, a1=a1, v0=v0, v1=v1, sa=(a1 - a0) / (t1 - t0),
+                       sv=(v1 - v0) / (t1 - t0))
+
+
+@jit
+def _free_rocking(blk, progress):
+    """After the record, a block rocking on a sticking pivot: the energy of free rocking decides
+    (:func:`.kernel.free_outcome`)."""
+    pr = progress[0]
+    if pr.mode != ROCK:
+        return
+    over, peak, extra = free_outcome(pr.theta, pr.w, blk.p * blk.p, blk.alpha, blk.e, False)
+    pr.theta_max = max(pr.theta_max, peak)
+    if over:
+        pr.overturned, pr.t_overturn, pr.mode = True, pr.t, OVERTURNED
+        pr.n_impacts += extra
+
+
+@jit_inline
+def _from_rest(pc, t_stop, dt, blk, lim, progress, hist):
+    """Advance a block at rest to the start of motion (its mode by :func:`_onset`), to the loss of contact, or
+    to the piece's end. Returns whether the scene goes on."""
+    pr = progress[0]
+    t, t0, t1, g = pr.t, pc.t0, pc.t1, blk.g
+    aa0, vv0 = pc.a0 + pc.sa * (t - t0), pc.v0 + pc.sv * (t - t0)
+    xf = flight_fraction(vv0, pc.v1, g)
+    xm = exceed_fraction(aa0, pc.a1, vv0, pc.v1, g, lim.thr)
+    if xf < 0.0 and xm < 0.0:
+        pr.t = min(t1, t_stop)
+        pr.out_k = _fill_linear(hist, pr.out_k, dt, pr.t, 0.0, pr.t, 0.0)
+        return True
+    frac = xf if (xf >= 0.0 and (xm < 0.0 or xf <= xm)) else xm
+    if t + frac * (t1 - t) > t_stop:
+        pr.t = t_stop
+        return False
+    t_on = t + frac * (t1 - t)
+    pr.n_same = events_at_instant_compiled(t_on, pr.t_event, pr.n_same)
+    pr.t_event = t_on
+    if pr.n_same > MAX_EVENTS_AT_ONE_INSTANT:
+        pr.status |= STATUS_TIE_HOLD             # tie rule 6: held at rest to the next sample
+        pr.n_same = 0
+        pr.t = min(t1, t_stop)
+        return True
+    pr.t = t_on
+    pr.out_k = _fill_linear(hist, pr.out_k, dt, t_on, 0.0, t_on, 0.0)
+    mode, c, sigma = _onset(pc.a0 + pc.sa * (t_on - t0), g + pc.v0 + pc.sv * (t_on - t0), blk)
+    pr.mode, pr.corner, pr.sigma = mode, c, sigma
+    if mode == FLIGHT:
+        pr.status |= STATUS_GROUND_FLIGHT
+    pr.modes |= _mode_bit(mode)
+    pr.xc = pr.x + corner_offsets(0.0, c, blk.b, blk.h)[0]
+    pr.events += 1
+    return True
+
+
+@jit_inline
+def _lose_contact(progress):
+    """The ground's g + a_v is at 0 at this instant (a sample exactly at -g): contact is lost here (tie rule 3),
+    whatever the next step would see."""
+    pr = progress[0]
+    pr.mode = FLIGHT
+    pr.status |= STATUS_GROUND_FLIGHT
+    pr.modes |= MODE_FLIGHT
+    pr.events += 1
+
+
+@jit_inline
+def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, pc, blk):
+    """The length of a step from t that ends at the mode's first event inside ``hh`` (bisection on the
+    step length: the event function is negative at its end)."""
+    g, t0 = blk.g, pc.t0
+    lo, hi = 0.0, hh
+    for _ in range(BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        xm_, ym_, thm, um, vm, wm = _rk4(mode, c, sigma, x, y, th, u, v, w, t, mid, t0, pc.a0, pc.sa, pc.v0, pc.sv,
+                                         blk)
+        tm = t + mid
+        if _event(mode, c, sigma, xm_, ym_, thm, um, vm, wm, pc.a0 + pc.sa * (tm - t0), g + pc.v0 + pc.sv * (tm - t0),
+                  blk) < 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@jit_inline
+def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
+    """One Runge-Kutta step in the current mode, shortened to its first event: overturning ends the scene; the
+    state is put back on the mode's constraints, the slip and the history follow, and an event changes the mode
+    (:func:`_after_event`). Returns whether the scene goes on."""
+    pr = progress[0]
+    t, mode, c, sigma = pr.t, pr.mode, pr.corner, pr.sigma
+    x, y, th, u, v, w = pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w
+    g, t0 = blk.g, pc.t0
+    hh = min(lim.h_max, pc.t1 - t, t_stop - t)
+    pr.n_steps += 1
+    x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, pc.a0, pc.sa, pc.v0, pc.sv, blk)
+    te = t + hh
+    ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, pc.a0 + pc.sa * (te - t0), g + pc.v0 + pc.sv * (te - t0),
+                blk)
+    if ev < 0.0:
+        hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, pc, blk)
         te = t + hh
-        ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, a0 + sa * (te - t0), g + v0 + sv * (te - t0), blk)
-        if ev < 0.0:
-            lo, hi = 0.0, hh
-            for _ in range(BISECTIONS):
-                mid = 0.5 * (lo + hi)
-                xm_, ym_, thm, um, vm, wm = _rk4(mode, c, sigma, x, y, th, u, v, w, t, mid, t0, a0, sa, v0, sv, blk)
-                tm = t + mid
-                if _event(mode, c, sigma, xm_, ym_, thm, um, vm, wm, a0 + sa * (tm - t0), g + v0 + sv * (tm - t0),
-                          blk) < 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            hh = hi
-            te = t + hh
-            x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk)
-        if abs(th1) >= HALF_PI:
-            frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
-            overturned, t_over, mode, theta_max = True, t + frac * hh, OVERTURNED, HALF_PI
-            t = t_over
-            break
-        if mode != ROCK:
-            slip += _slip_point(mode, c, x1, th1, blk) - _slip_point(mode, c, x, th, blk)
-            slip_max = max(slip_max, abs(slip))
-        th_before = th
-        x, y, th, u, v, w = _constrain(mode, c, x1, y1, th1, u1, v1s, w1, xc, blk)
-        theta_max = max(theta_max, abs(th))
-        out_k = _fill_linear(hist, out_k, dt, t, th_before, te, th)
-        t = te
-        if ev >= 0.0:
-            continue
-        events += 1
-        n_same = events_at_instant_compiled(t, t_event, n_same)
-        t_event = t
-        if n_same > MAX_EVENTS_AT_ONE_INSTANT:
-            if abs(th) > FLAT_ANGLE_ALPHA * alpha:
-                status |= STATUS_STALLED              # tie rule 6 while not flat: ended, the state's verdict
-                break
-            status |= STATUS_TIE_HOLD                 # tie rule 6, flat: held at rest to the next sample
-            n_same = 0
-            mode, th, y, u, v, w = REST, 0.0, 0.0, 0.0, 0.0, 0.0
-            t = min(t1, t_stop)
-            continue
-        aa, gg = a0 + sa * (t - t0), g + v0 + sv * (t - t0)
-        mode, c, sigma, x, y, th, u, v, w, hit = _transition(mode, c, sigma, x, y, th, u, v, w, aa, gg, blk)
-        if mode == FLIGHT:
-            status |= STATUS_GROUND_FLIGHT if gg <= 0.0 else STATUS_LIFTOFF
-        n_imp += hit
-        xc = x + corner_offsets(th, c, b, h)[0]
-        modes |= _mode_bit(mode)
-        if hand_back and (mode == ROCK or mode == REST) and t >= t_first + dt:
-            break
-    if status & STATUS_ENDED and not overturned:
-        overturned, peak = state_verdict(mode, th, w, blk)
-        theta_max = max(theta_max, peak)
-        if overturned:
-            t_over, mode = t, OVERTURNED
-    end = ContactState(t=t, mode=mode, corner=c, sigma=sigma, x=x, y=y, theta=th, u=u, v=v, w=w, slip=slip)
-    return ContactOutcome(overturned=overturned, t_overturn=t_over, theta_max_rad=theta_max, n_impacts=n_imp,
-                          slip_max=slip_max, slip_end=slip, modes=modes, status=status, end=end)
+        x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, pc.a0, pc.sa, pc.v0, pc.sv, blk)
+    if abs(th1) >= HALF_PI:
+        frac = (HALF_PI - abs(th)) / max(abs(th1) - abs(th), TINY)
+        pr.overturned, pr.t_overturn, pr.mode, pr.theta_max = True, t + frac * hh, OVERTURNED, HALF_PI
+        pr.t = pr.t_overturn
+        return False
+    if mode != ROCK:
+        pr.slip += _slip_point(mode, c, x1, th1, blk) - _slip_point(mode, c, x, th, blk)
+        pr.slip_max = max(pr.slip_max, abs(pr.slip))
+    pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w = _constrain(mode, c, x1, y1, th1, u1, v1s, w1, pr.xc, blk)
+    pr.theta_max = max(pr.theta_max, abs(pr.theta))
+    pr.out_k = _fill_linear(hist, pr.out_k, dt, t, th, te, pr.theta)
+    pr.t = te
+    if ev >= 0.0:
+        return True
+    return _after_event(pc, t_stop, hand_back, dt, blk, progress)
+
+
+@jit_inline
+def _after_event(pc, t_stop, hand_back, dt, blk, progress):
+    """The mode after an event at the current state (:func:`_transition`), with tie rule 6 and the hand-back
+    to the rocking kernel. Returns whether the scene goes on."""
+    pr = progress[0]
+    t = pr.t
+    pr.events += 1
+    pr.n_same = events_at_instant_compiled(t, pr.t_event, pr.n_same)
+    pr.t_event = t
+    if pr.n_same > MAX_EVENTS_AT_ONE_INSTANT:
+        if abs(pr.theta) > FLAT_ANGLE_ALPHA * blk.alpha:
+            pr.status |= STATUS_STALLED              # tie rule 6 while not flat: ended, the state's verdict
+            return False
+        pr.status |= STATUS_TIE_HOLD                 # tie rule 6, flat: held at rest to the next sample
+        pr.n_same = 0
+        pr.mode, pr.theta, pr.y, pr.u, pr.v, pr.w = REST, 0.0, 0.0, 0.0, 0.0, 0.0
+        pr.t = min(pc.t1, t_stop)
+        return True
+    aa, gg = pc.a0 + pc.sa * (t - pc.t0), blk.g + pc.v0 + pc.sv * (t - pc.t0)
+    mode, c, sigma, x, y, th, u, v, w, hit = _transition(pr.mode, pr.corner, pr.sigma, pr.x, pr.y, pr.theta, pr.u,
+                                                         pr.v, pr.w, aa, gg, blk)
+    pr.mode, pr.corner, pr.sigma = mode, c, sigma
+    pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w = x, y, th, u, v, w
+    if mode == FLIGHT:
+        pr.status |= STATUS_GROUND_FLIGHT if gg <= 0.0 else STATUS_LIFTOFF
+    pr.n_impacts += hit
+    pr.xc = x + corner_offsets(th, c, blk.b, blk.h)[0]
+    pr.modes |= _mode_bit(mode)
+    return not (hand_back and (mode == ROCK or mode == REST) and t >= pr.t_start + dt)
+
+
+@jit
+def _verdict_if_ended(blk, progress):
+    """A scene ended early by a cap or tie rule 6 takes the verdict of the state it reached."""
+    pr = progress[0]
+    if pr.status & STATUS_ENDED and not pr.overturned:
+        over, peak = state_verdict(pr.mode, pr.theta, pr.w, blk)
+        pr.theta_max = max(pr.theta_max, peak)
+        if over:
+            pr.overturned, pr.t_overturn, pr.mode = True, pr.t, OVERTURNED
+
+
+@jit
+def _outcome(progress):
+    """The motion record as the model's :class:`ContactOutcome`."""
+    pr = progress[0]
+    end = ContactState(t=pr.t, mode=pr.mode, corner=pr.corner, sigma=pr.sigma, x=pr.x, y=pr.y, theta=pr.theta,
+                       u=pr.u, v=pr.v, w=pr.w, slip=pr.slip)
+    return ContactOutcome(overturned=pr.overturned, t_overturn=pr.t_overturn, theta_max_rad=pr.theta_max,
+                          n_impacts=pr.n_impacts, slip_max=pr.slip_max, slip_end=pr.slip, modes=pr.modes,
+                          status=pr.status, end=end)
 
 
 @jit
