@@ -48,8 +48,8 @@ def main() -> None:
             t1 = time.perf_counter()
             ref = rock_reference(ah, rec.dt_s, p=p, alpha=alpha, e=e, rtol=1e-8)
             t2 = time.perf_counter()
-            rows.append((rec.record_id, inv.ids[j], t1 - t0, t2 - t1, res.overturned, ref["overturned"],
-                         res.theta_max, ref["theta_max"], res.n_impacts, ref["n_impacts"]))
+            rows.append((rec.record_id, inv.ids[j], t1 - t0, t2 - t1, res.overturned, ref.overturned,
+                         res.theta_max, ref.theta_max_ratio, res.n_impacts, ref.n_impacts))
             if args.limit and len(rows) >= args.limit:
                 break
         if args.limit and len(rows) >= args.limit:

@@ -272,3 +272,14 @@ def test_each_guard_is_its_own_bit_and_the_file_decodes_it():
     attrs = SCHEMA["simulation_guard"][3]
     assert attrs["flag_masks"].tolist() == values and attrs["flag_meanings"].split() == [g.name for g in Guard]
     assert guard_names(Guard.tie_hold | Guard.step_cap) == "tie_hold, step_cap"
+
+
+def test_a_slip_a_rounding_started_at_the_threshold_stops_at_once():
+    """Found by the threshold property test: noise whose peak is exactly mu g started a slip a few ulps before a
+    sample, and the slip velocity left at 1.6e-33 m/s was never seen to stop (its root, 1e-33 s away, was
+    discarded as the slip's own start), so the block slid 5.66 m the wrong way under a demand at the threshold."""
+    alpha = 0.7544114883954032
+    mu = 0.5 * math.tan(alpha)
+    noise = next(m for m in motions(mu * G, ulps=0, n=400, dt=0.01, rng=np.random.default_rng(0)) if m.name == "noise")
+    assert np.max(np.abs(noise.ah)) == mu * G
+    assert slide(noise.ah, noise.dt, mu=mu, g_ms2=G).sliding_max_m < 1e-12

@@ -57,7 +57,7 @@ def suite():
     geo = inv.geometry(g_ms2=G)
     p, alpha, e = float(geo.p[0]), float(geo.alpha[0]), float(geo.e_housner[0])
     independent = np.array([[rock_reference(level * r.horizontal_ms2[0], r.dt_s, p=p, alpha=alpha, e=e,
-                                            g=G)["overturned"] for level in LEVELS] for r in recs], dtype=float)
+                                            g=G).overturned for level in LEVELS] for r in recs], dtype=float)
     ds = assemble_fragility(results, inv, cfg, im="pga", levels=LEVELS, bootstrap=100)
     return ds, independent, results
 

@@ -55,7 +55,7 @@ def threshold() -> float:
     lo, hi = G * math.tan(alpha), 20 * G * math.tan(alpha)
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if rock_reference(mid * unit, dt, p=p, alpha=alpha, e=e, g=G)["overturned"] else (mid, hi)
+        lo, hi = (lo, mid) if rock_reference(mid * unit, dt, p=p, alpha=alpha, e=e, g=G).overturned else (mid, hi)
     return hi
 
 

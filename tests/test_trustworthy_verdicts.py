@@ -138,7 +138,7 @@ def test_a_small_vertical_under_a_plateau_is_never_planned_away(height_m):
     sc = simulate_scene(ah, av, dt, block=Block(mu=0.6, **blk))
     ref = rock_reference(ah, dt, av=av, **{k: v for k, v in blk.items() if k != "R_m"})   # solve_ivp, independent
     assert sc.physics == Physics.rocking_vertical
-    assert sc.overturned and ref["overturned"]
+    assert sc.overturned and ref.overturned
     # without the vertical nothing moves at all
     assert plan(ah, None, alpha=blk["alpha"], mu=0.6) == Physics.none
 

@@ -54,7 +54,7 @@ def halfsine_threshold() -> float:
 
     def over(a):
         ah, dt = _halfsine(a)
-        return rock_reference(ah, dt, p=p, alpha=alpha, e=e, g=G)["overturned"]
+        return rock_reference(ah, dt, p=p, alpha=alpha, e=e, g=G).overturned
 
     assert not over(lo) and over(hi)
     for _ in range(40):

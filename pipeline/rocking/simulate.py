@@ -245,8 +245,10 @@ def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> S
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s, mu=mu, g_ms2=g_ms2)
-    u_max, u_end, n_slips, t_slip, t_flight, capped = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
-    return SlideResult(float(u_max), float(u_end), int(n_slips), float(t_slip), float(t_flight), int(capped))
+    out = sliding.slide(ah, av, float(dt_s), float(mu), float(g_ms2))
+    return SlideResult(sliding_max_m=float(out.u_max_m), sliding_end_m=float(out.u_end_m), n_slips=int(out.n_slips),
+                       time_slipping_s=float(out.t_slip_s), t_flight_s=float(out.t_flight_s),
+                       capped_samples=int(out.capped_samples))
 
 
 @dataclass(frozen=True)
