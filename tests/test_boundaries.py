@@ -18,7 +18,7 @@ from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_tie
 from pipeline.cli import main
 from pipeline.errors import ParameterError
 from pipeline.rocking import contact, handoff, kernel, rules
-from pipeline.rocking.contact import contact_block_of
+from pipeline.rocking.contact import rigid_block
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
 from pipeline.rocking.simulate import rock, slide
@@ -91,9 +91,9 @@ def test_tie_rule_1_mu_at_tan_alpha_slides_and_beyond_the_tolerance_rocks(alpha_
     assert rules.rocks(alpha, ties["above"])
     # the compiled twin and the contact model's onset say the same
     assert rules.rocks_compiled(alpha, ties["tie_up"]) is False
-    blk = contact_block_of(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
+    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
     assert contact._onset(0.9 * G, G, blk)[0] == contact.SLIDE
-    blk = contact_block_of(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
+    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
     assert contact._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (contact.ROCK, contact.SLIDE_ROCK)
 
 
@@ -143,7 +143,7 @@ def test_tie_rule_2_exactly_at_the_threshold_rests_and_one_double_above_moves(al
 def test_tie_rule_2_the_sliding_kernel_and_the_general_model_agree_at_the_threshold():
     a = np.full(200, 0.3 * G)
     assert slide(a, 0.01, mu=0.3, g_ms2=G).sliding_max_m == 0.0
-    cb = contact_block_of(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
+    cb = rigid_block(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
     out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert out.slip_max == 0.0 and out.modes == 0
 
@@ -201,7 +201,6 @@ def test_the_handoff_ends_where_the_contact_model_met_a_cap(rinaldi, monkeypatch
     which stopped at once, up to 100,000 times)."""
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.simulate import contact_block, step_control
-    from pipeline.rocking.structures import RockingBlock
 
     blk = transformer(0.51)
     planes = Planes(rinaldi.horizontal_ms2, rinaldi.azimuths_deg[0], rinaldi.vertical_ms2, g_ms2=G)
@@ -217,9 +216,8 @@ def test_the_handoff_ends_where_the_contact_model_met_a_cap(rinaldi, monkeypatch
 
     monkeypatch.setattr(contact, "move", counted)
     monkeypatch.setattr(contact, "MAX_EVENTS", 1)
-    out = handoff.continue_rocking.py_func(first, ah, av, rinaldi.dt_s,
-                                           RockingBlock(blk.p, blk.alpha, blk.e, G, blk.R_m, False, blk.mu),
-                                           step_control(SimulationConfig()), contact_block(blk, SimulationConfig()),
+    out = handoff.continue_rocking.py_func(first, ah, av, rinaldi.dt_s, contact_block(blk, SimulationConfig()),
+                                           step_control(SimulationConfig()),
                                            True)
     assert out.status & contact.STATUS_EVENT_CAP and len(calls) == 1
 
@@ -231,10 +229,10 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
     rock_py = kernel.rock.py_func if hasattr(kernel.rock, "py_func") else kernel.rock
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.simulate import step_control
-    from pipeline.rocking.structures import RockingBlock, RockingOutput, RockingState
+    from pipeline.rocking.structures import RockingOutput, RockingState
 
     a = np.full(400, 0.5 * G)
-    o = rock_py(a, np.zeros(0), 0.01, 3.99, RockingBlock(3.0, 0.2, 0.9, G, 1.0, False, math.inf),
+    o = rock_py(a, np.zeros(0), 0.01, 3.99, rigid_block(3.0, 0.2, 0.9, 1.0, math.inf, G, 1e-6),
                 step_control(SimulationConfig()), RockingState(0.0, 0.0, 0.0), True,
                 RockingOutput(np.zeros(0), np.zeros((0, 3))))
     assert o.status & kernel.STATUS_STEP_CAP and o.t_stop < 3.99
@@ -258,7 +256,7 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     m = type("M", (), {"ah": a, "av": None, "dt": 0.01})()
     for mu in (0.1, 2.0):
         assert sampled_verdict(m, block(1.0, 0.2, mu)) in (0, 1)
-    cb = contact_block_of(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
+    cb = rigid_block(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
     out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert not out.overturned or n == 2
 

@@ -28,7 +28,7 @@ def contact_block(height_m, width_m, mu, e=None):
     b, h = width_m / 2, height_m / 2
     R, alpha = math.hypot(b, h), math.atan(b / h)
     e = contact.housner_restitution(alpha) if e is None else e
-    return contact.contact_block_of(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6)
+    return contact.rigid_block(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6)
 
 
 def rocking_block(cb):

@@ -34,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import jit, jit_inline, state_factory
+from .block import rigid_block  # noqa: F401  (read by the tests as contact.rigid_block)
 from .codes import (  # noqa: F401  (read by the hand-off and the planner as contact.*)
     FLIGHT,
     MODE_FLIGHT,
@@ -65,7 +66,6 @@ from .contact_laws import (  # noqa: F401  (the model's laws, read by the tests 
     _slip_point,
     _transition,
     accelerations,
-    contact_block_of,
     corner_offsets,
     housner_restitution,
     impact,
@@ -75,9 +75,9 @@ from .dopri import HISTORY_TIME_TOL_S
 from .ground import exceed_fraction, flight_fraction
 from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
-from .structures import ContactBlock, ContactOutcome, ContactState, GroundPiece
+from .structures import ContactOutcome, ContactState, GroundPiece, RigidBlock
 
-__all__ = ["ContactBlock", "ContactOutcome", "ContactState", "contact_block_of", "move", "impact", "accelerations",
+__all__ = ["RigidBlock", "ContactOutcome", "ContactState", "rigid_block", "move", "impact", "accelerations",
            "corner_offsets", "housner_restitution"]
 
 # modes, mode bits and status bits: the simulator's one vocabulary (codes.py)
@@ -152,7 +152,7 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
         Horizontal and vertical ground acceleration at t = k dt [m s-2] (``av`` empty: no vertical).
     dt : float
         Sampling interval [s].
-    blk : ContactBlock
+    blk : RigidBlock
         The block.
     start : ContactState
         Where to start (a rest state at t = 0 for a whole simulation; where the pure-rocking kernel

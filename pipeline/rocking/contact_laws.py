@@ -71,17 +71,9 @@ from .codes import (
 )
 from .kernel import free_outcome
 from .rules import rocks_compiled
-from .structures import ContactBlock
 
 PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
 FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat
-
-
-@jit
-def contact_block_of(p, alpha, e, R, mu, g, rest_ratio) -> ContactBlock:
-    """The contact model's block, with its derived half-width, half-height and inertia computed once."""
-    return ContactBlock(p=p, alpha=alpha, e=e, R=R, mu=mu, g=g, rest_ratio=rest_ratio, b=R * math.sin(alpha),
-                        h=R * math.cos(alpha), J=R * R / 3.0)
 
 
 @jit

@@ -41,9 +41,9 @@ from .codes import (
     STATUS_STEP_CAP,
     STATUS_TIE_HOLD,
 )
-from .contact import ContactBlock, ContactOutcome, ContactState
+from .contact import ContactOutcome, ContactState
 from .kernel import rock
-from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
+from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 #: Cap on the alternations between the two models in one scene (each needs at least a sample interval of
 #: general motion, or ends the scene at a cap; the cap is a guard, flagged as STATUS_EVENT_CAP).
@@ -84,7 +84,7 @@ def kernel_guards(status: int) -> int:
 
 
 @jit
-def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactState:
+def start_state(o: RockingOutcome, blk: RigidBlock, slip: float) -> ContactState:
     """The general model's state where the kernel stopped: rocking on the kernel's pivot (the pivot where it
     started) at the start of the step in which pure rocking stopped holding, so that the general model
     locates the friction exceedance or the lift-off itself; free flight from the instant the ground's
@@ -101,11 +101,11 @@ def start_state(o: RockingOutcome, blk: ContactBlock, slip: float) -> ContactSta
 
 
 @jit
-def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, control: StepControl,
-                     blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
+def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control: StepControl, tail_energy: bool,
+                     theta_out=None) -> ContactOutcome:
     """The scene from where the kernel's outcome ``first`` stopped short to its end, alternating the general
-    model (where pure rocking does not hold) and the kernel (where it does). ``rblk`` is the kernel's block with
-    ``stop_mu = mu``. The outcome's counts (impacts, theta_max, modes) cover that part of the scene.
+    model (where pure rocking does not hold) and the kernel (where it does), on one block (the kernel's
+    ``stop_mu = mu``). The outcome's counts (impacts, theta_max, modes) cover that part of the scene.
     ``theta_out``: the scene's theta history [rad] at the samples, filled on from where ``first`` stopped."""
     t_end = (ah.shape[0] - 1) * dt
     hist = theta_out if theta_out is not None else ah[:0]
@@ -130,7 +130,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
                                   end=end)
         theta = end.theta if end.mode == ROCK else 0.0
         omega = end.w if end.mode == ROCK else 0.0
-        o = rock(ah, av, dt, t_end, rblk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
+        o = rock(ah, av, dt, t_end, blk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
         theta_max = max(theta_max, o.theta_max_rad)
         n_imp += o.n_impacts
         status |= kernel_guards(o.status)
@@ -147,7 +147,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, rblk: RockingBlock, cont
 
 
 @jit
-def from_rest(ah, av, dt, blk: ContactBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
+def from_rest(ah, av, dt, blk: RigidBlock, tail_energy: bool, theta_out=None) -> ContactOutcome:
     """The general model from rest at t = 0 (a sliding scene that meets free flight); ``theta_out``: its theta
     history at the samples [rad]."""
     at_rest = ContactState(t=0.0, mode=REST, corner=1.0, sigma=1.0, x=0.0, y=0.0, theta=0.0, u=0.0, v=0.0, w=0.0,

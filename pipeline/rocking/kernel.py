@@ -501,7 +501,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
         Sampling interval [s].
     t_end : float
         End of the simulation [s] (>= the record's end to see it all).
-    block : RockingBlock
+    block : RigidBlock
         The block.
     control : StepControl
         Tolerances and step limits.

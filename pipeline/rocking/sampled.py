@@ -30,12 +30,12 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import jit
+from .block import rigid_block
 from .codes import STATUS_GROUND_FLIGHT
-from .contact import contact_block_of
 from .handoff import continue_rocking, from_rest, stopped_short
 from .kernel import rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
-from .structures import RockingBlock, RockingOutput, RockingState
+from .structures import RockingOutput, RockingState
 
 
 @jit
@@ -79,21 +79,18 @@ def _workspace(h1, av, dt):
 
 
 @jit
-def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, mu, contact_model):
+def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model):
     """Rock a sample in the plane of weights (c, s), the record scaled by ``eps`` (projected into ``a``):
     1 overturns, 0 stands, -1 free flight before any overturning (without the contact model). With the
     contact model, the general model continues where pure rocking stops (:mod:`.handoff`)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
-    if contact_model:
-        block = RockingBlock(block.p, block.alpha, block.e, block.g, block.R, block.linear, mu)
     res = rock(a, av_s, dt, t_end, block, control, at_rest, True, no_output)
     if res.overturned:
         return 1
     if contact_model:
         if stopped_short(res):
-            cb = contact_block_of(block.p, block.alpha, block.e, block.R, mu, block.g, control.rest_ratio)
-            return 1 if continue_rocking(res, a, av_s, dt, block, control, cb, True).overturned else 0
+            return 1 if continue_rocking(res, a, av_s, dt, block, control, True).overturned else 0
         return 0
     return -1 if res.status & STATUS_GROUND_FLIGHT else 0
 
@@ -104,8 +101,7 @@ def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control)
     contact model from rest (1 overturns, 0 stands)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
-    cb = contact_block_of(p, alpha, e, R, mu, g, control.rest_ratio)
-    return 1 if from_rest(a, av_s, dt, cb, True).overturned else 0
+    return 1 if from_rest(a, av_s, dt, rigid_block(p, alpha, e, R, mu, g, control.rest_ratio), True).overturned else 0
 
 
 @jit
@@ -126,8 +122,8 @@ def judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, c, s, eps, 
         if flight and contact_model:
             return _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control), True
         return (-1 if flight else 0), False
-    return _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, RockingBlock(p, alpha, e, g, R, False, math.inf),
-                       control, at_rest, no_output, mu, contact_model), True
+    block = rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, False, mu if contact_model else math.inf)
+    return _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model), True
 
 
 @jit

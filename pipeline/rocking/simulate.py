@@ -14,9 +14,9 @@ import numpy as np
 from ..constants import G
 from ..errors import ParameterError
 from . import handoff, kernel, sliding
-from .contact import ContactBlock, contact_block_of
+from .block import rigid_block
 from .settings import SimulationConfig
-from .structures import RockingBlock, RockingOutcome, RockingOutput, RockingState, StepControl
+from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 
 @dataclass(frozen=True)
@@ -209,8 +209,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     theta_out = np.full(n_out, np.nan) if history else kernel.empty_theta()
     impacts_out = np.full((log_impacts, 3), np.nan) if log_impacts else kernel.empty_impacts()
     o = kernel.rock(ah, av, float(dt_s), t_end,
-                    RockingBlock(float(p), float(alpha), float(e), float(g_ms2), float(R_m), bool(linear),
-                                 float(stop_mu)),
+                    rigid_block(float(p), float(alpha), float(e), float(R_m), float(stop_mu), float(g_ms2),
+                                float(settings.rest_ratio), bool(linear), float(stop_mu)),
                     step_control(settings), RockingState(float(theta0), float(omega0), 0.0), tail == "energy",
                     RockingOutput(theta_out, impacts_out))
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad) / alpha, int(o.n_impacts),
@@ -282,10 +282,11 @@ class ContactResult:
     status: int
 
 
-def contact_block(block, settings: SimulationConfig) -> ContactBlock:
-    """The contact model's block from a :class:`~.block.Block`."""
-    return contact_block_of(float(block.p), float(block.alpha), float(block.e), float(block.R_m), float(block.mu),
-                            float(block.g_ms2), float(settings.rest_ratio))
+def contact_block(block, settings: SimulationConfig) -> RigidBlock:
+    """The compiled models' block from a :class:`~.block.Block`, the kernel stopping where the pivot's friction
+    demand exceeds the block's mu (for the general contact model to continue)."""
+    return rigid_block(float(block.p), float(block.alpha), float(block.e), float(block.R_m), float(block.mu),
+                       float(block.g_ms2), float(settings.rest_ratio), False, float(block.mu))
 
 
 def _contact_result(o) -> ContactResult:
@@ -304,10 +305,8 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
         return None
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
-    kernel_block = RockingBlock(float(block.p), float(block.alpha), float(block.e), float(block.g_ms2),
-                                float(block.R_m), False, float(block.mu))
-    return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), kernel_block, step_control(settings),
-                                                    contact_block(block, settings), True, rr.theta))
+    return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), contact_block(block, settings),
+                                                    step_control(settings), True, rr.theta))
 
 
 def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig(),

@@ -37,34 +37,50 @@ class GroundPiece(NamedTuple):
     sv: float
 
 
-class RockingBlock(NamedTuple):
-    """The block as the rocking kernel sees it (a numba namedtuple).
+class RigidBlock(NamedTuple):
+    """The block as every compiled model sees it (a numba namedtuple): the rocking kernel, the general contact
+    model, the hand-off between them and the sampled kernels. Built by :func:`rigid_block`, which derives b, h
+    and J once.
 
     Attributes
     ----------
     p : float
-        Frequency parameter [rad s-1].
+        Frequency parameter sqrt(3 g / (4 R)) [rad s-1].
     alpha : float
         Slenderness [rad].
     e : float
-        Restitution, the angular-velocity ratio across an impact [-].
-    g : float
-        Gravity [m s-2].
+        Restitution, the angular-velocity ratio across a sticking rocking impact [-].
     R : float
         Corner distance [m].
+    mu : float
+        Friction coefficient [-] (the contact model's).
+    g : float
+        Gravity [m s-2].
+    b, h : float
+        Half-width R sin(alpha) and half-height R cos(alpha) [m].
+    J : float
+        Centroidal inertia per unit mass of a rectangle, R^2 / 3 [m2].
+    rest_ratio : float
+        The contact model's rest rule: a rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-]
+        (the kernel takes its own from :class:`StepControl`).
     linear : bool
-        Linearised equation of motion (cross-checks against closed forms).
+        The rocking kernel's linearised equation of motion (cross-checks against closed forms).
     stop_mu : float
-        Stop where the pivot's friction demand exceeds this, or where the block's own motion lifts the
-        pivot (f_z <= 0), so that the general contact model (:mod:`.contact`) continues from there
-        (``inf``: never stop; the demand is only recorded and a lift-off only flagged).
+        The rocking kernel stops where the pivot's friction demand exceeds this, or where the block's own
+        motion lifts the pivot (f_z <= 0), so that the general contact model continues from there (``inf``:
+        never stop; the demand is only recorded and a lift-off only flagged).
     """
 
     p: float
     alpha: float
     e: float
-    g: float
     R: float
+    mu: float
+    g: float
+    b: float
+    h: float
+    J: float
+    rest_ratio: float
     linear: bool
     stop_mu: float
 
@@ -149,44 +165,6 @@ class RockingOutcome(NamedTuple):
     n_uplifts: int
     t_first_impact: float
     pivot_end: float
-
-
-class ContactBlock(NamedTuple):
-    """The block as the contact model sees it (a numba namedtuple).
-
-    Attributes
-    ----------
-    p : float
-        Frequency parameter sqrt(3 g / (4 R)) [rad s-1].
-    alpha : float
-        Slenderness [rad].
-    e : float
-        Restitution of a sticking rocking impact (angular-velocity ratio) [-].
-    R : float
-        Corner distance [m].
-    mu : float
-        Friction coefficient [-].
-    g : float
-        Gravity [m s-2].
-    rest_ratio : float
-        A rebound below ``rest_ratio * p * alpha`` at theta = 0 ends in rest [-].
-    b, h : float
-        Half-width R sin(alpha) and half-height R cos(alpha) [m], derived once
-        (:func:`pipeline.rocking.contact.contact_block_of` builds the whole block).
-    J : float
-        Centroidal inertia per unit mass of a rectangle, R^2 / 3 [m2].
-    """
-
-    p: float
-    alpha: float
-    e: float
-    R: float
-    mu: float
-    g: float
-    rest_ratio: float
-    b: float
-    h: float
-    J: float
 
 
 class ContactState(NamedTuple):

@@ -24,17 +24,14 @@ from ..rocking.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, wilson_interval
-from .sampling import SampledBlock, sample_block
+from .sampling import sample_block
 from .settings import UncertaintyConfig
 
 
-def _batches(z: np.ndarray, batch: int, **block) -> Iterator[tuple[slice, SampledBlock]]:
-    """The draws of ``z`` in batches of ``batch``: each batch's rows and its sampled blocks."""
-    done = 0
-    while done < len(z):
-        rows = z[done: done + max(1, batch)]
-        yield slice(done, done + len(rows)), sample_block(rows, **block)
-        done += len(rows)
+def _batches(n: int, batch: int) -> Iterator[slice]:
+    """The rows of ``n`` draws in batches of ``batch``."""
+    for start in range(0, n, max(1, batch)):
+        yield slice(start, min(start + max(1, batch), n))
 
 
 @dataclass(frozen=True)
@@ -115,8 +112,9 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
     planes = np.zeros(n_max, dtype=np.int64)
     done = 0
     low = high = math.nan
-    for sl, sb in _batches(z, settings.batch, height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
-                           azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2):
+    for sl in _batches(n_max, settings.batch):
+        sb = sample_block(z[sl], height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
+                          azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2)
         n_rows = sl.stop - sl.start
         if m.single:
             phi = np.zeros((n_rows, 1))
