@@ -580,8 +580,8 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     out = fragility(request, progress=_progress(args.quiet), say=None if args.quiet else _say)
     for w in out["warnings"]:
         log.warning("%s", w)
-    for rid, why in out["failures"]:
-        log.warning("record %s failed: %s", rid, why)
+    for f in out["failures"]:
+        log.warning("record %s failed: %s", f.record_id, f.reason)
     if not args.quiet:
         print(f"fragility: {out['records_computed']} record(s) computed, {out['records_reused']} reused, "
               f"{out['records_failed']} failed; {out['scenes']} scaled scenes; {out['wall_time_s']:.1f} s\n"

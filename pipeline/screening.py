@@ -374,10 +374,9 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
                   ) -> RecordResult:
     """Screen one record against the blocks ``block_ids`` (all when None).
 
-    Loads the record by path inside the task; failures come back as a
-    status, never raise, so one bad record never stops the batch.
-    ``content_sha256`` is the digest the caller already took of the files
-    (computed here when None).
+    Loads the record by path inside the task; a failure comes back as the record's failed row (its ``status``),
+    never raised, so one bad record never stops the batch. ``content_sha256`` is the digest the caller already
+    took of the files (computed here when None).
     """
     inv = ctx.inventory
     if block_ids is not None:
@@ -448,8 +447,9 @@ def failed_result(source: RecordSource, failure: TaskFailure) -> RecordResult:
 
 
 def failure_result(f: Failure) -> RecordResult:
-    """A file that could not be identified, as a failed record row."""
-    return RecordResult(f.record_id, f"failed: {f.reason}", {"files": ";".join(Path(p).name for p in f.files)})
+    """A record that failed (in the scan or in its task), as its failed row in the results."""
+    return RecordResult(f.record_id, f"failed: {f.reason}", {"files": ";".join(Path(p).name for p in f.files)},
+                        deterministic=f.deterministic)
 
 
 def assemble(results: list[RecordResult], inventory: Inventory, config: Config, *,

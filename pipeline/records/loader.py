@@ -97,11 +97,14 @@ def files_sha256(paths, *, byte_digests: dict[str, str] | None = None) -> str:
 
 @dataclass(frozen=True)
 class Failure:
-    """A record (or an unreadable file) that could not be screened."""
+    """A record (or an unreadable file) that could not be screened: the one failure value of a run, from the scan
+    or from a record's task (:mod:`pipeline.run.engine`). ``deterministic``: the files cause it (format, units,
+    ...), so the same files fail the same way again; a crash or a lost worker is not, and is retried."""
 
     record_id: str
     files: tuple[str, ...]
     reason: str
+    deterministic: bool = False
 
 
 def read_declared_units(root: Path, config: ReaderSettings) -> dict[str, str]:

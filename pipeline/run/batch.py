@@ -27,9 +27,6 @@ from __future__ import annotations
 
 import hashlib
 import logging
-import os
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,33 +36,27 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
-from ..errors import RockscreenError, TaskFailure
+from ..errors import RockscreenError
 from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
-from ..records.loader import RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
+from ..records.loader import Failure, RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
-from ..scene_progress import SceneProgress, running
 from ..schema import FLOOR_PULSE_VALUES
-from ..screening import (
-    Context,
-    RecordResult,
-    assemble,
-    failed_result,
-    failure_result,
-    screen_record,
-)
+from ..screening import Context, RecordResult, assemble, failure_result, screen_record
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
+from .engine import TaskRun
 from .executors import SerialExecutor
 
 log = logging.getLogger(__name__)
 
 
 def _task(item: tuple, ctx: Context) -> RecordResult:
-    """One executor task: a record, the ids of the blocks to screen it against (None: all), its digest."""
+    """One executor task: a record, the ids of the blocks to screen it against (None: all), its digest; a
+    failure is the record's failed row."""
     source, block_ids, content = item
     return screen_record(source, ctx, block_ids, content)
 
@@ -275,29 +266,6 @@ def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
             "block_liftoff": int(np.sum(general & (flight == FreeFlight.block_liftoff)))}
 
 
-def largest_first(tasks: list[tuple]) -> list[tuple]:
-    """The tasks by decreasing size of their records' files: the longest records start first, so that no worker
-    is left with a long record while the others idle (measured on the bundled records with 2 workers: the nominal
-    run 10.2 s in scan order, 7.7-8.1 s largest first)."""
-    def size(task: tuple) -> int:
-        total = 0
-        for f in task[0].files:
-            try:
-                total += os.path.getsize(f)
-            except OSError:                   # vanished since the scan: the task reports it
-                pass
-        return total
-    return sorted(tasks, key=size, reverse=True)
-
-
-def removing(stream, directory: str):
-    """``stream``, removing ``directory`` once it is exhausted or abandoned."""
-    try:
-        yield from stream
-    finally:
-        shutil.rmtree(directory, ignore_errors=True)
-
-
 @dataclass
 class BatchOutcome:
     """What the screening stage hands to the next stages.
@@ -402,19 +370,16 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         _shed_series(res, shed)
     failed = [failure_result(f) for f in scan_failures] + the_plan.failures
     executor = executor or SerialExecutor()
-    scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
-    ctx.progress = SceneProgress(scenes_dir)
-    stream = removing(executor.map_unordered(_task, largest_first(the_plan.tasks), ctx), scenes_dir)
-    if progress is not None:
-        stream = progress(stream, len(the_plan.tasks), running=lambda: running(scenes_dir))
+    tasks = TaskRun(executor, progress=progress)
+    ctx.progress = tasks.scenes
     computed_records = computed_scenes = 0
     for rec_failure in the_plan.failures:
         if rec_failure.deterministic:
             log.warning("record %s %s (files unchanged since the run that found it)", rec_failure.record_id,
                         rec_failure.status)
-    for (source, block_ids, content), res in stream:
-        if isinstance(res, TaskFailure):                  # the executor lost the worker
-            res = failed_result(source, res)
+    for (_source, block_ids, content), res in tasks.results(_task, the_plan.tasks, ctx):
+        if isinstance(res, Failure):                      # the executor lost the worker
+            res = failure_result(res)
         if not res.ok:
             log.warning("record %s %s", res.record_id, res.status)
             results.pop(res.record_id, None)

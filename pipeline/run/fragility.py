@@ -20,7 +20,6 @@ import hashlib
 import json
 import logging
 import math
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,15 +43,15 @@ from ..records.intensity import (
     record_measures,
     scale_factors,
 )
-from ..records.loader import read_declared_units, scan_directory
+from ..records.loader import Failure, read_declared_units, scan_directory
 from ..rocking.rules import rocks
-from ..scene_progress import SceneProgress, running
 from ..schema import FRAGILITY, apply_schema
 from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
-from .batch import record_content, removing
+from .batch import record_content
 from .cache import ENTRY_FORMAT, RecordStore, run_key
+from .engine import TaskRun
 
 log = logging.getLogger(__name__)
 
@@ -197,7 +196,7 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
                 stationxml_sha256: str = "", component: Component = Component.rotd100,
-                buildings: dict | None = None, prune: bool = True) -> tuple[list[dict], list[tuple], dict]:
+                buildings: dict | None = None, prune: bool = True) -> tuple[list[dict], list[Failure], dict]:
     """Scale every record to every level and judge every block (cached per record under ``out_dir``; ``prune``:
     drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep).
 
@@ -207,20 +206,22 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     -------
     results : list of dict
         Per record (sorted by id): ``verdict`` and ``p`` (levels, blocks), ``factor``, ``im.<name>``.
-    failures : list of (record id, reason)
+    failures : list of Failure
+        The records that produced no stripes (:class:`~pipeline.records.loader.Failure`: from the scan, from
+        their task, or from a lost worker).
     counts : dict
         ``records_computed``, ``records_reused``, ``wall_time_s``.
     """
     t0 = time.perf_counter()
     found = scan_directory(records_dir, config=config)
     declared = read_declared_units(records_dir, config)
-    scenes_dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")   # where workers say which scene they are on
+    tasks = TaskRun(executor, progress=progress)
     base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}),
-                   SceneProgress(scenes_dir))
+                   tasks.scenes)
     ctx = FragilityContext(base, im, tuple(float(x) for x in levels), component)
     cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256,
                                                   component, buildings)) if out_dir is not None else None
-    results, todo, failures = [], [], [(f.record_id, f.reason) for f in found.failures]
+    results, todo, failures = [], [], list(found.failures)
     for src in found.sources:
         content = record_content(src, root=Path(records_dir), declared=declared)
         hit = cache.load(src.record_id, content) if cache is not None else None
@@ -229,12 +230,9 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
         else:
             todo.append((src, content))
     reused = len(results)
-    stream = removing(executor.map_unordered(fragility_task, todo, ctx), scenes_dir)
-    if progress is not None:
-        stream = progress(stream, len(todo), running=lambda: running(scenes_dir))
-    for (src, _), res in stream:
-        if isinstance(res, TaskFailure):
-            failures.append((src.record_id, res.reason))
+    for _item, res in tasks.results(fragility_task, todo, ctx):
+        if isinstance(res, Failure):
+            failures.append(res)
             continue
         if cache is not None:
             cache.save(res)
@@ -589,7 +587,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                 results, failures, counts = run(levels)
         if not results:
             raise UsageError(f"{request.records_dir}: no record could be scaled and judged; failures: "
-                             + "; ".join(f"{r}: {why}" for r, why in failures[:5]))
+                             + "; ".join(f"{f.record_id}: {f.reason}" for f in failures[:5]))
         ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=levels,
                                 hazard=request.hazard, bootstrap=request.bootstrap,
                                 orientation=request.orientation, component=request.component,
@@ -598,7 +596,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                                     f"{' '.join(request.command)}",
                          "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),
                          "inventory_file": str(request.blocks_csv),
-                         "records_failed": "\n".join(f"{r}: {why}" for r, why in failures),
+                         "records_failed": "\n".join(f"{f.record_id}: {f.reason}" for f in failures),
                          "hazard_curve": request.hazard.path if request.hazard is not None else "",
                          "hazard_title": request.hazard.title if request.hazard is not None else "",
                          "hazard_synthetic": int(request.hazard.synthetic) if request.hazard is not None else 0})
