@@ -390,6 +390,52 @@ FLOOR_PULSE_STATION: dict[str, dict] = {
     "pulse_azimuth": {"units": "degree", "long_name": "axis of the floor motion's chosen pulse, clockwise from north, "
                       "modulo 180"},
 }
+class ResultTable(IntEnum):
+    """The tables of one record's screening result (``screening.RecordResult``), each named by the schema: a
+    variable's dimensions say which table holds it, so the scene cache writes the schema's own names."""
+
+    values = 1         # (record,): the record's scalars
+    components = 2     # (record, component)
+    blocks = 3         # (record, block): one column per block
+    series = 4         # the pulse series of pulses.nc (PULSE_SERIES)
+
+
+_TABLE_OF_DIMS = {("record",): ResultTable.values, ("record", "component"): ResultTable.components,
+                  ("record", "block"): ResultTable.blocks}
+#: A floor's series and values in a cache entry: ``floor@<building>@<height [m]>@<name>`` (building ids, from a
+#: CSV cell, may hold anything but a line break; the name and the height hold no ``@``)
+_FLOOR_KEY = re.compile(r"floor@(?P<building>.*)@(?P<height>[^@]+)@(?P<name>[^@]+)", re.DOTALL)
+
+
+def result_table(name: str) -> ResultTable:
+    """The table of a record's result that holds variable ``name``.
+
+    Raises
+    ------
+    ValueError
+        When ``name`` is neither a per-record, per-component or per-block variable of :data:`SCHEMA` nor a
+        series of :data:`PULSE_SERIES` (an entry of another layout).
+    """
+    if name in PULSE_SERIES:
+        return ResultTable.series
+    table = _TABLE_OF_DIMS.get(SCHEMA[name][0]) if name in SCHEMA else None
+    if table is None:
+        raise ValueError(f"{name!r} is not a per-record, per-component or per-block variable of the schema")
+    return table
+
+
+def floor_key(building: str, height_m: float, name: str) -> str:
+    """The cache entry's name of a floor's series or value ``name`` (:data:`FLOOR_PULSE_SERIES`,
+    :data:`FLOOR_PULSE_VALUES`, ``dt``)."""
+    return f"floor@{building}@{height_m!r}@{name}"
+
+
+def parse_floor_key(key: str) -> tuple[str, float, str] | None:
+    """(building, height [m], name) of a :func:`floor_key`, or None for any other name."""
+    m = _FLOOR_KEY.fullmatch(key)
+    return None if m is None else (m["building"], float(m["height"]), m["name"])
+
+
 #: Per-sample variables of ``histories.nc`` (one series per block at risk).
 HISTORY_SERIES = {
     "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",

@@ -43,8 +43,12 @@ from .schema import (
     PULSE_BLOCK_VARS,
     SCHEMA,
     SIMULATION_VARS,
+    ResultTable,
     apply_schema,
+    floor_key,
     inventory_variable,
+    parse_floor_key,
+    result_table,
 )
 from .uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
@@ -107,48 +111,50 @@ class RecordResult:
         return self.status == "ok"
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """Plain arrays for the scene cache (``v.`` record values, ``c.`` components, ``b.`` block
-        columns, ``s.`` pulse series, ``f.<building>@<height>.`` a floor's pulse series); read back by
-        :meth:`from_arrays`."""
+        """Plain arrays for the scene cache, each under its schema name (a floor's under
+        :func:`~pipeline.schema.floor_key`); read back by :meth:`from_arrays`."""
         arrays = {"record_id": np.array(self.record_id), "block_ids": np.array(self.block_ids, dtype=str),
                   "block_digests": np.array(self.block_digests, dtype=str)}
-        for kind, table in (("v", self.values), ("c", self.components), ("b", self.blocks), ("s", self.series)):
-            for name, value in table.items():
-                arrays[f"{kind}.{name}"] = np.asarray(value)
+        for table in (self.values, self.components, self.blocks, self.series):
+            arrays.update((name, np.asarray(value)) for name, value in table.items())
         for (building, height_m), table in self.floor_series.items():
-            for name, value in table.items():
-                arrays[f"f.{building}@{height_m!r}.{name}"] = np.asarray(value)
+            arrays.update((floor_key(building, height_m, name), np.asarray(value)) for name, value in table.items())
         return arrays
 
     @classmethod
     def from_arrays(cls, z) -> "RecordResult":
-        """The result written by :meth:`to_arrays`.
+        """The result written by :meth:`to_arrays`, each array put in its table by the schema
+        (:func:`~pipeline.schema.result_table`).
 
         Raises
         ------
         ValueError
-            When a record value or block column is not a variable of the schema with those
-            dimensions (an entry of another layout), or a simulation column is missing.
+            When an array is not a variable of the schema (an entry of another layout), or a simulation column
+            is missing.
         """
         res = cls(str(z["record_id"]), "ok", block_ids=tuple(z["block_ids"].tolist()),
                   block_digests=tuple(z["block_digests"].tolist()))
-        tables = {"v": res.values, "c": res.components, "b": res.blocks, "s": res.series}
-        dims = {"v": ("record",), "c": ("record", "component"), "b": ("record", "block")}
+        tables = {ResultTable.values: res.values, ResultTable.components: res.components,
+                  ResultTable.blocks: res.blocks, ResultTable.series: res.series}
         for key, arr in z.items():
-            kind, _, name = key.partition(".")
-            if kind in dims and (name not in SCHEMA or SCHEMA[name][0] != dims[kind]):
-                raise ValueError(f"{key!r} is not a {dims[kind]} variable of the schema")
-            if kind in tables:
-                tables[kind][name] = arr.item() if arr.ndim == 0 else (arr.tolist() if kind == "c" else arr)
-            elif kind == "f":
-                where, _, field_name = name.rpartition(".")
-                building, _, height = where.rpartition("@")
-                res.floor_series.setdefault((building, float(height)), {})[field_name] = (
-                    arr.item() if arr.ndim == 0 else arr)
+            if key in ENTRY_KEYS:
+                continue
+            floor = parse_floor_key(key)
+            if floor is not None:
+                building, height_m, name = floor
+                res.floor_series.setdefault((building, height_m), {})[name] = arr.item() if arr.ndim == 0 else arr
+                continue
+            table = result_table(key)
+            value = arr.item() if arr.ndim == 0 else (arr.tolist() if table == ResultTable.components else arr)
+            tables[table][key] = value
         missing = set(SIMULATION_VARS) - set(res.blocks)          # pulse columns are absent without a pulse
         if missing:
             raise ValueError(f"block columns {sorted(missing)} missing")
         return res
+
+
+#: The arrays of a scene-cache entry that are not results: the record, its blocks and the entry's format
+ENTRY_KEYS = frozenset({"record_id", "block_ids", "block_digests", "entry_format"})
 
 
 def _record_values(rec: Record, source: RecordSource) -> tuple[dict, dict]:
@@ -221,7 +227,7 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
         for n, v in zip(names, (lb.ap_ms2, lb.tp_s, lb.beta, lb.dv_ms, rap)):
             blocks[n][sel] = v
     assert best.velocity_cms is not None and best.pulse_cms is not None     # the chosen candidate has its series
-    series = {"velocity": best.velocity_cms * CM_TO_M, "pulse": best.pulse_cms * CM_TO_M, "dt": rec.dt_s}
+    series = {"velocity": best.velocity_cms * CM_TO_M, "pulse": best.pulse_cms * CM_TO_M}   # dt: the record's value
     return values, blocks, series
 
 
@@ -423,7 +429,7 @@ def _floor_values(motions: FloorMotions, ctx: Context, mask: np.ndarray, block_v
         sub = dataclasses.replace(ctx, inventory=ctx.inventory.take(idx))
         values, blocks, series, directions = pulses_and_directions(frec, sub)
         if series:
-            floors[key] = {**series, **{n: float(values[n]) for n in FLOOR_PULSE_VALUES}}
+            floors[key] = {**series, "dt": frec.dt_s, **{n: float(values[n]) for n in FLOOR_PULSE_VALUES}}
         blocks.update(_simulation_values(frec, directions, sub, mask[idx]))
         for n, v in blocks.items():
             if n in out:

@@ -184,7 +184,7 @@ def _shed_series(res: RecordResult, shed: dict) -> None:
     """Drop a cached result's pulse series (the ground's and its floors') from memory, keeping their length and
     interval and the floors' pulse values."""
     if res.series and "velocity" in res.series:
-        shed[res.record_id] = (int(np.size(res.series["velocity"])), float(res.series["dt"]))
+        shed[res.record_id] = (int(np.size(res.series["velocity"])), float(res.values["dt"]))
         res.series = {}
     for table in res.floor_series.values():
         if "velocity" in table:
@@ -225,7 +225,7 @@ def _pulse_series(results: list[RecordResult], shed: dict, cache: SceneCache | N
             rows.append((r.record_id, *shed[r.record_id]))
             content[r.record_id] = r.values["content_sha256"]
         elif r.series and "velocity" in r.series:
-            rows.append((r.record_id, int(np.size(r.series["velocity"])), float(r.series["dt"])))
+            rows.append((r.record_id, int(np.size(r.series["velocity"])), float(r.values["dt"])))
         else:
             continue
         floors = [FloorRow(r.record_id, b, z, int(table.get("npts", np.size(table.get("velocity")))),

@@ -30,13 +30,14 @@ import numpy as np
 
 from .. import __version__
 from ..errors import OutputError
+from ..schema import FLOOR_PULSE_SERIES, PULSE_SERIES, floor_key
 from ..screening import RecordResult
 from ..store import STATE_DIR, replace_atomically
 
 log = logging.getLogger(__name__)
 
 #: Bump when the entry layout changes: older entries are then ignored.
-ENTRY_FORMAT = 7
+ENTRY_FORMAT = 8
 
 
 def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "",
@@ -185,13 +186,13 @@ class SceneCache(RecordStore):
         """The pulse series of a saved record (``velocity``, ``pulse`` [m s-1]) and, under ``"floors"``, those
         of the ``floors`` asked for (``(building, height_m)`` -> ``{"velocity", "pulse"}``); None when the
         entry or any of them is missing."""
-        names = ("velocity", "pulse")
-        keys = {(b, z, n): f"f.{b}@{z!r}.{n}" for b, z in floors for n in names}
-        got = self._read(self.path(record_id, content_sha256), ("s.velocity", "s.pulse", *keys.values()))
-        if got is None or len(got) < 2 + len(keys):
+        names = tuple(PULSE_SERIES)
+        keys = {(b, z, n): floor_key(b, z, n) for b, z in floors for n in FLOOR_PULSE_SERIES}
+        got = self._read(self.path(record_id, content_sha256), (*names, *keys.values()))
+        if got is None or len(got) < len(names) + len(keys):
             return None
-        return {"velocity": got["s.velocity"], "pulse": got["s.pulse"],
-                "floors": {(b, z): {n: got[keys[b, z, n]] for n in names} for b, z in floors}}
+        return {**{n: got[n] for n in names},
+                "floors": {(b, z): {n: got[keys[b, z, n]] for n in FLOOR_PULSE_SERIES} for b, z in floors}}
 
     def save_failure(self, result: RecordResult, content_sha256: str) -> None:
         """Keep a deterministic failure (:attr:`RecordResult.deterministic`) of these files under this run key:
