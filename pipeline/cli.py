@@ -400,9 +400,9 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     import xarray as xr
 
     from .blocks import Inventory, read_inventory
-    from .chart import points_from_results, stability_chart
     from .config import load_config
     from .report.stability_plot import plot_stability_chart
+    from .run.chart import points_from_results, stability_chart
     from .store import write_atomic
 
     config = load_config(args.config)
@@ -423,7 +423,7 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
                             pulse=args.pulse, periods_s=args.periods, g_ms2=config.records.g_ms2,
                             form=config.criteria.form)
     if args.simulate:
-        from .chart import simulated_critical_acceleration
+        from .run.chart import simulated_critical_acceleration
 
         if args.cycles < 1:
             raise UsageError(f"--cycles {args.cycles}: must be a positive integer")
@@ -499,7 +499,7 @@ def bench_parser() -> argparse.ArgumentParser:
 
 def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen bench``: what accuracy costs in time."""
-    from .accuracy import markdown, run_bench
+    from .run.accuracy import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
     _compile_simulator(args)
@@ -615,7 +615,7 @@ def _hazard_and_component(args: argparse.Namespace):
 
 def infer_parser() -> argparse.ArgumentParser:
     """Parser of ``screen infer``."""
-    from .infer import INFER_SHAPES
+    from .run.infer import INFER_SHAPES
 
     p = argparse.ArgumentParser(prog="screen infer",
                                 description="Archaeoseismology: the pulses (a_p, t_p, orientation) consistent with "
@@ -633,8 +633,8 @@ def infer_parser() -> argparse.ArgumentParser:
 
 def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen infer``: write infer.nc and infer.png, print the bounds and any conflict."""
-    from .infer import infer, read_observations, summarize
     from .report.infer_plot import plot_inference
+    from .run.infer import infer, read_observations, summarize
     from .store import write_atomic
 
     config, inventory = _config_and_inventory(args)

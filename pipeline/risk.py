@@ -23,23 +23,23 @@ Energy Based Approach", Applied Sciences (MDPI) (the criterion the rule weighs b
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from .margins import P_RELOCATE, RELOCATE_BELOW_SCALE
 from .rocking.orientation import Orientation
 from .rocking.planner import Physics, Response
 from .schema import INVENTORY_PREFIX
-from .store import write_csv_atomic
 from .uncertainty.robust import Robustness
 
 #: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
 P_ANCHOR = 0.5
-# P_RELOCATE (a probability at or above it, the robust-stand bound of the default [uncertainty]) and
-# RELOCATE_BELOW_SCALE (a simulated margin at or below it) call for restraint or relocation; they are the margins
-# stage's, which keeps a history for every such asset
+#: An asset is at risk ('restrain, or relocate' in the report; the margins stage keeps a history for it) when its
+#: largest probability of overturning over the records reaches this [-] (the robust-stand bound of the default
+#: [uncertainty]) ...
+P_RELOCATE = 0.1
+#: ... or its simulated margin on its governing record is at most this [-]
+RELOCATE_BELOW_SCALE = 1.5
 #: Responses that call for limiting sliding.
 SLIDING_RESPONSES = {Response.slide, Response.slide_rock}
 RESPONSE_NAMES = {-1: "not simulated", **{m.value: m.name for m in Response}}
@@ -260,9 +260,9 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
     return rows
 
 
-def write_assets_csv(rows: list[dict], path: Path) -> Path:
-    """The per-asset table as CSV (numbers unrounded, inf for 'none up to the scan limit'), then the extra
-    inventory columns as given, atomically."""
+def assets_csv_table(rows: list[dict]) -> tuple[tuple[str, ...], list[dict]]:
+    """The columns and rows of ``assets.csv``: the per-asset table (numbers unrounded, inf for 'none up to the
+    scan limit'), then the extra inventory columns as given."""
     extra = list(rows[0]["inventory"]) if rows else []
-    table = [{**{c: r[c] for c in ASSETS_CSV_COLUMNS}, **r["inventory"]} for r in rows]
-    return write_csv_atomic(path, ASSETS_CSV_COLUMNS + tuple(extra), table)
+    return ASSETS_CSV_COLUMNS + tuple(extra), [{**{c: r[c] for c in ASSETS_CSV_COLUMNS}, **r["inventory"]}
+                                               for r in rows]

@@ -28,7 +28,7 @@ from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
 from pipeline.records.loader import read_declared_units, scan
 from pipeline.run.batch import _task, plan
 from pipeline.run.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
-from pipeline.screening import Context
+from pipeline.run.screening import Context
 from pipeline.store import open_results
 
 #: Provenance that differs between two runs by design.
@@ -536,7 +536,7 @@ def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(ma
     """A record already in the cache (its pulse series shed from memory) that fails when screened for a new
     block: the run completes, the record is failed, and pulses.nc has no row for it."""
     from pipeline.run import batch
-    from pipeline.screening import RecordResult
+    from pipeline.run.screening import RecordResult
 
     few_records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
     out = tmp_path / "out"
@@ -586,7 +586,7 @@ def test_results_held_by_a_run_share_the_inventorys_block_keys(blocks_csv, confi
     """Results arriving from workers or the scene cache bring their own copies of the block ids and digests
     (about 180 KB per record at 1000 blocks); the run replaces them by the inventory's own, equal strings."""
     from pipeline.run.batch import _SharedKeys
-    from pipeline.screening import RecordResult
+    from pipeline.run.screening import RecordResult
 
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
     share = _SharedKeys(inventory)

@@ -212,10 +212,10 @@ def test_run_layer_equals_the_stages_called_one_by_one(make_records, blocks_csv,
     """pipeline.run.stages orchestrates the libraries without changing a result: the same stages called by
     hand (screening, margins) give identical datasets."""
     from pipeline.blocks import read_inventory
-    from pipeline.margins import add_margins
     from pipeline.run import ScreenRequest, screen
     from pipeline.run.batch import run
     from pipeline.run.executors import SerialExecutor
+    from pipeline.run.margins import add_margins
 
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
                         "peer-at2/RSN1063_NORTHR_RRS-UP.AT2", "knet/test.knet")

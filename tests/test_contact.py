@@ -227,7 +227,7 @@ def test_a_block_that_slides_farther_than_its_base_margin_slides_off(tmp_path, r
 
     from pipeline.blocks import read_inventory
     from pipeline.records.loader import read_declared_units, scan
-    from pipeline.screening import Context, assemble, screen_record
+    from pipeline.run.screening import Context, assemble, screen_record
 
     (tmp_path / "fn-ascii").mkdir()
     shutil.copy(records_dir / "fn-ascii" / "rinaldi_fn.dat", tmp_path / "fn-ascii" / "rinaldi_fn.dat")

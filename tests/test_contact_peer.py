@@ -22,7 +22,7 @@ from pipeline.records.loader import read_inventory as read_stations
 from pipeline.records.record import project
 from pipeline.rocking.planner import Physics, simulate_scene
 from pipeline.rocking.simulate import rock
-from pipeline.screening import Context, screen_record
+from pipeline.run.screening import Context, screen_record
 
 #: (record, block): where PyBullet stands and rockscreen overturns, explained in docs/validation.md. Each is a
 #: knife-edge in rockscreen itself (the verdict flips within 5 % of the horizontal or 10 % of the vertical,

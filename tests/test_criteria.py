@@ -10,7 +10,6 @@ import pytest
 
 from pipeline import criteria
 from pipeline.blocks import Inventory, geometry
-from pipeline.chart import stability_chart
 from pipeline.closed_forms import (
     PULSE_BETA,
     housner_halfsine,
@@ -21,6 +20,7 @@ from pipeline.closed_forms import (
 )
 from pipeline.constants import G
 from pipeline.errors import BlockParameterError
+from pipeline.run.chart import stability_chart
 
 # Makris & Roussos (2000) eq. 27 solved numerically, with Housner's and the impulse rule's values
 MR_TABLE = [  # w_p/p, eq. 27, Housner sqrt(1 + (w/p)^2), impulse rule w/(2p)

@@ -7,11 +7,11 @@ import csv
 import numpy as np
 import pytest
 
-from pipeline.accuracy import run_bench
 from pipeline.blocks import read_inventory
 from pipeline.cli import main
 from pipeline.config import FIDELITY_TIERS, Config
 from pipeline.errors import ConfigError
+from pipeline.run.accuracy import run_bench
 from pipeline.store import open_results
 
 RECORDS = ("peer-at2/RSN77_SFERN_PUL164.AT2", "peer-at2/RSN6_IMPVALL.I_I-ELC180.AT2", "knet/test.knet",

@@ -133,8 +133,8 @@ def test_a_block_on_the_ground_floor_is_screened_exactly_as_on_the_ground(tmp_pa
     import dataclasses
 
     from pipeline.records.loader import read_declared_units, scan
+    from pipeline.run.screening import Context, screen_record
     from pipeline.schema import PROBABILITY_VARS, PULSE_BLOCK_VARS, SIMULATION_VARS
-    from pipeline.screening import Context, screen_record
 
     inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,,,", "B,1.5,0.3,0.6,MUSEUM,0,", "C,1.5,0.3,0.6,MUSEUM,,0"])
     cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=3))

@@ -26,7 +26,7 @@ from pipeline.records.record import Record
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.reference import rock_reference
 from pipeline.run.fragility import assemble_fragility, judge_record, stripe_warnings
-from pipeline.screening import Context
+from pipeline.run.screening import Context
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes
 from pipeline.uncertainty.hazard import HazardCurve, annual_rate
 from pipeline.uncertainty.hazard_files import read_hazard

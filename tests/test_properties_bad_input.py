@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
 from pipeline.records.loader import read_declared_units, scan
-from pipeline.screening import Context, failure_result, screen_record
+from pipeline.run.screening import Context, failure_result, screen_record
 
 RECORDS = Path(__file__).resolve().parents[1] / "records"
 BLOCKS = Path(__file__).resolve().parents[1] / "configs" / "blocks.csv"

@@ -10,7 +10,7 @@ from pipeline.constants import G
 from pipeline.errors import RecordFormatError
 from pipeline.records import at2
 from pipeline.records.loader import load_record, read_declared_units, read_inventory, scan
-from pipeline.screening import Context, screen_record
+from pipeline.run.screening import Context, screen_record
 
 FORMATS = {
     "peer-at2/RSN1063_NORTHR_RRS228.AT2": ("PEER_AT2", 1, 1991),

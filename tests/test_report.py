@@ -14,15 +14,15 @@ import numpy as np
 import pytest
 
 from pipeline.blocks import geometry
-from pipeline.chart import simulated_critical_acceleration, stability_chart
 from pipeline.cli import main
 from pipeline.closed_forms import makris_roussos_halfsine
 from pipeline.config import SimulationConfig
 from pipeline.constants import G
-from pipeline.margins import governing_records, overturn_scale_simulated
 from pipeline.rocking.block import Block
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import simulate_scene
+from pipeline.run.chart import simulated_critical_acceleration, stability_chart
+from pipeline.run.margins import governing_records, overturn_scale_simulated
 from pipeline.store import open_results
 
 RECORDS = ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
@@ -513,7 +513,8 @@ def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():
     record, is at risk (the report says 'restrain, or relocate'); one whose probability stays below is not."""
     import xarray as xr
 
-    from pipeline.margins import P_RELOCATE, at_risk
+    from pipeline.risk import P_RELOCATE
+    from pipeline.run.margins import at_risk
 
     ds = xr.Dataset({"overturn_simulated": (("record", "block"), [[0, 0], [0, 0]]),
                      "overturn_criterion": (("record", "block"), [[0, 0], [0, 0]]),

@@ -12,7 +12,6 @@ import pytest
 
 from pipeline.blocks import read_inventory
 from pipeline.constants import G
-from pipeline.margins import overturn_scale_simulated
 from pipeline.records.loader import read_declared_units, scan
 from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
@@ -20,7 +19,8 @@ from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
 from pipeline.rocking.reference import rock_reference
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
-from pipeline.screening import Context, screen_record
+from pipeline.run.margins import overturn_scale_simulated
+from pipeline.run.screening import Context, screen_record
 
 #: Near-field two-component records with known azimuths (Northridge, Kocaeli, Chi-Chi, Duzce, Imperial Valley).
 NEAR_FIELD = ("RSN1063_NORTHR_RRS", "RSN1086_NORTHR_SYL", "RSN1176_KOCAELI_YPT", "RSN1505_CHICHI_TCU068",
@@ -90,7 +90,7 @@ def test_blank_azimuth_is_never_safer_than_any_explicit_5_degree_plane(explicit_
 def test_the_scan_finds_overturnings_the_pulse_axis_misses(explicit_planes, tmp_path):
     # the old behaviour simulated a blank-azimuth block along the pulse axis only; on these records that
     # misses overturnings which the scan finds (and the scan never loses one the axis finds)
-    from pipeline.screening import _simulation_values
+    from pipeline.run.screening import _simulation_values
 
     inv, results, ctx, sources = explicit_planes
     blank = np.array([bid.endswith("blank") for bid in inv.ids])

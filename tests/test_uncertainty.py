@@ -146,7 +146,7 @@ def test_harmonic_near_its_chaotic_threshold_is_sensitive():
 def test_unit_factors_reproduce_the_nominal_orientation_scan(records_dir, config):
     """With every spread 0, each sample is the nominal block: its verdict is worst_plane's on the grid."""
     from pipeline.records.loader import scan_directory
-    from pipeline.screening import Context
+    from pipeline.run.screening import Context
 
     scanned = scan_directory(records_dir / "peer-at2", config=config)
     zero = UncertaintyConfig(samples=5, batch=5, amplitude_cov=0.0, restitution_cov=0.0, friction_cov=0.0,

@@ -32,9 +32,9 @@ from .. import __version__
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
-from ..risk import asset_rows, write_assets_csv
+from ..risk import asset_rows, assets_csv_table
 from ..rocking.planner import Response, guarded_scenes
-from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic
+from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
 from . import figures
 from .floor_figures import floor_figures
@@ -269,7 +269,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         if pulses is not None:
             pulses.close()
     cache.prune()
-    return html_path, write_assets_csv(assets, out_dir / "assets.csv")
+    return html_path, write_csv_atomic(out_dir / "assets.csv", *assets_csv_table(assets))
 
 
 #: Where the report looks for what ``screen fragility`` wrote, relative to its own directory: the same output, or

@@ -11,8 +11,8 @@ from .mpl import new_figure, save_figure
 
 
 def plot_stability_chart(chart: xr.Dataset, path: str | Path, *, title: str | None = None):
-    """Draw ``chart`` (from :func:`pipeline.chart.stability_chart`, optionally merged with
-    :func:`pipeline.chart.chart_points`) to ``path`` (format from the suffix: .png, .svg, .pdf).
+    """Draw ``chart`` (from :func:`pipeline.run.chart.stability_chart`, optionally merged with
+    :func:`pipeline.run.chart.chart_points`) to ``path`` (format from the suffix: .png, .svg, .pdf).
 
     Left: dimensional, acceleration [g] against period [s]. Right: normalized,
     a_p / a_uplift against the period over the criterion's transition period.

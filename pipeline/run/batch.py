@@ -44,12 +44,12 @@ from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
 from ..schema import FLOOR_PULSE_VALUES
-from ..screening import Context, RecordResult, assemble, failure_result, screen_record
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
 from .engine import TaskRun
 from .executors import SerialExecutor
+from .screening import Context, RecordResult, assemble, failure_result, screen_record
 
 log = logging.getLogger(__name__)
 

@@ -31,8 +31,8 @@ import numpy as np
 from .. import __version__
 from ..errors import OutputError
 from ..schema import FLOOR_PULSE_SERIES, PULSE_SERIES, floor_key
-from ..screening import RecordResult
 from ..store import STATE_DIR, replace_atomically
+from .screening import RecordResult
 
 log = logging.getLogger(__name__)
 
@@ -206,7 +206,7 @@ class SceneCache(RecordStore):
 
 
 class MarginCache(_NpzStore):
-    """Margin scans (``pipeline.margins``) per (governing record, block), under ``OUT/.rockscreen/margins``.
+    """Margin scans (``pipeline.run.margins``) per (governing record, block), under ``OUT/.rockscreen/margins``.
 
     The key hashes the record's cache key (id, content, run key) with the block's inventory
     digest: everything a margin and its history depend on.

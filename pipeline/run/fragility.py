@@ -46,12 +46,12 @@ from ..records.intensity import (
 from ..records.loader import Failure, read_declared_units, scan_directory
 from ..rocking.rules import rocks
 from ..schema import FRAGILITY, apply_schema
-from ..screening import Context, _simulation_values, pulses_and_directions, task_failure
 from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
 from .batch import record_content
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 from .engine import TaskRun
+from .screening import Context, _simulation_values, pulses_and_directions, task_failure
 
 log = logging.getLogger(__name__)
 

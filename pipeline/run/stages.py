@@ -24,7 +24,6 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import REFERENCE_PAPER
 from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
-from ..margins import add_margins
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
@@ -33,6 +32,7 @@ from . import uptodate
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
 from .executors import checked_workers, make_executor
+from .margins import add_margins
 
 log = logging.getLogger(__name__)
 

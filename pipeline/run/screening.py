@@ -19,22 +19,22 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__, criteria
-from .blocks import Inventory
-from .closed_forms import PULSE_BETA
-from .config import Config, SimulationConfig
-from .constants import CM_TO_M
-from .errors import PulseError, RockscreenError, TaskFailure
-from .floors.buildings import place_blocks
-from .floors.standing import FloorMotions
-from .pulses import analyze
-from .records.loader import Failure, RecordSource, load_record
-from .records.record import Record
-from .rocking.block import Block
-from .rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
-from .rocking.planner import ContactMode, Physics, guard_names
-from .scene_progress import SceneProgress
-from .schema import (
+from .. import __version__, criteria
+from ..blocks import Inventory
+from ..closed_forms import PULSE_BETA
+from ..config import Config, SimulationConfig
+from ..constants import CM_TO_M
+from ..errors import PulseError, RockscreenError, TaskFailure
+from ..floors.buildings import place_blocks
+from ..floors.standing import FloorMotions
+from ..pulses import analyze
+from ..records.loader import Failure, RecordSource, load_record
+from ..records.record import Record
+from ..rocking.block import Block
+from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
+from ..rocking.planner import ContactMode, Physics, guard_names
+from ..scene_progress import SceneProgress
+from ..schema import (
     COMPONENTS,
     FLOOR_PULSE_VALUES,
     FLOOR_VARS,
@@ -50,7 +50,7 @@ from .schema import (
     parse_floor_key,
     result_table,
 )
-from .uncertainty.orientations import (
+from ..uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
     average_normals,
@@ -58,8 +58,8 @@ from .uncertainty.orientations import (
     one_plane,
     orientation_probability,
 )
-from .uncertainty.sampling import common_normals
-from .uncertainty.scenes import SceneMotion, motion, scene_probability
+from ..uncertainty.sampling import common_normals
+from ..uncertainty.scenes import SceneMotion, motion, scene_probability
 
 log = logging.getLogger(__name__)
 

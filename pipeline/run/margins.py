@@ -44,15 +44,16 @@ import math
 import numpy as np
 import xarray as xr
 
-from .errors import RockscreenError, TaskFailure
-from .floors.buildings import place_blocks
-from .floors.standing import FloorMotions
-from .records.loader import RecordSource
-from .rocking.block import Block
-from .rocking.planner import rocks, simulate_scene
-from .schema import HISTORY_SERIES, apply_schema
+from ..errors import RockscreenError, TaskFailure
+from ..floors.buildings import place_blocks
+from ..floors.standing import FloorMotions
+from ..records.loader import RecordSource
+from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
+from ..rocking.block import Block
+from ..rocking.planner import rocks, simulate_scene
+from ..schema import HISTORY_SERIES, apply_schema
+from ..uncertainty.sampling import common_normals, sample_block
 from .screening import Context
-from .uncertainty.sampling import common_normals, sample_block
 
 log = logging.getLogger(__name__)
 
@@ -75,11 +76,6 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
     return out
 
 
-#: An asset is at risk ('restrain, or relocate' in the report, and it gets a history) when its largest probability
-#: of overturning over the records reaches this [-] ...
-P_RELOCATE = 0.1
-#: ... or its simulated margin on its governing record is at most this [-]
-RELOCATE_BELOW_SCALE = 1.5
 
 
 def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
@@ -312,7 +308,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
 
 def history_dataset(histories: dict) -> xr.Dataset:
     """theta(t)/alpha per block as a CF contiguous ragged array (featureType timeSeries)."""
-    from .store import ragged_dataset
+    from ..store import ragged_dataset
 
     rows = [{"id": b, "theta_over_alpha": histories[b][0], "dt": histories[b][1], "governing_record": histories[b][2]}
             for b in sorted(histories)]

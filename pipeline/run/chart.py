@@ -26,12 +26,12 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import criteria
-from .closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
-from .constants import REFERENCE_PAPER, G
-from .errors import ParameterError, ResultsError
-from .rocking.geometry import check_friction, geometry
-from .schema import CHART, apply_schema
+from .. import criteria
+from ..closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
+from ..constants import REFERENCE_PAPER, G
+from ..errors import ParameterError, ResultsError
+from ..rocking.geometry import check_friction, geometry
+from ..schema import CHART, apply_schema
 
 #: Default period grid, as multiples of the paper's transition period.
 DEFAULT_PERIOD_RANGE = (0.1, 10.0)
@@ -215,9 +215,9 @@ def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, sett
     overturns below the sliding line mu g (or ``settings.scan_max_factor``
     times the uplift acceleration).
     """
-    from .config import SimulationConfig
-    from .rocking.excitation import pulse
-    from .rocking.simulate import rock
+    from ..config import SimulationConfig
+    from ..rocking.excitation import pulse
+    from ..rocking.simulate import rock
 
     settings = settings or SimulationConfig()
     at = chart.attrs

@@ -38,15 +38,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import criteria
-from .blocks import Inventory
-from .closed_forms import PULSE_BETA
-from .config import Config
-from .errors import InventoryError
-from .rocking.excitation import pulse
-from .rocking.planner import simulate_scene
-from .schema import INFER, apply_schema
-from .tables import parse_number, read_csv_table
+from .. import criteria
+from ..blocks import Inventory
+from ..closed_forms import PULSE_BETA
+from ..config import Config
+from ..errors import InventoryError
+from ..rocking.excitation import pulse
+from ..rocking.planner import simulate_scene
+from ..schema import INFER, apply_schema
+from ..tables import parse_number, read_csv_table
 
 OUTCOMES = ("toppled", "standing")
 #: Shapes an inference can assume (half pulses, as in the paper).
@@ -211,7 +211,7 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
         A fixed grid of t_p [s] and a_p [m s-2] instead of the one fitted to the blocks
         (to compare sites or subsets on the same grid).
     """
-    from .errors import ParameterError
+    from ..errors import ParameterError
 
     if shape not in INFER_SHAPES:
         raise ParameterError(f"pulse {shape!r}: screen infer assumes one of {list(INFER_SHAPES)}")

@@ -39,20 +39,20 @@ from pathlib import Path
 
 import numpy as np
 
-from . import criteria
-from .blocks import Inventory
-from .config import FIDELITY_TIERS, Config
-from .errors import RockscreenError, UsageError
-from .floors.motion import Building
-from .floors.standing import floor_record
+from .. import criteria
+from ..blocks import Inventory
+from ..config import FIDELITY_TIERS, Config
+from ..errors import RockscreenError, UsageError
+from ..floors.motion import Building
+from ..floors.standing import floor_record
+from ..records.loader import read_declared_units, scan
+from ..records.loader import read_inventory as read_station_inventory
+from ..records.record import Record
+from ..rocking.planner import Physics
+from ..scene_progress import SceneProgress
+from ..store import write_csv_atomic, write_text_atomic
 from .margins import overturn_scale_simulated
-from .records.loader import read_declared_units, scan
-from .records.loader import read_inventory as read_station_inventory
-from .records.record import Record
-from .rocking.planner import Physics
-from .scene_progress import SceneProgress
 from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
-from .store import write_csv_atomic, write_text_atomic
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",
            "scenes",
@@ -481,7 +481,7 @@ def markdown(rows: list[dict]) -> str:
 
 
 def _plot(rows: list[dict], path: Path) -> None:
-    from .report.mpl import new_figure, save_figure
+    from ..report.mpl import new_figure, save_figure
 
     fig = new_figure(figsize=(12, 4.6), layout="constrained")
     ax, ax2 = fig.subplots(1, 2)
