@@ -460,89 +460,20 @@ def failure_result(f: Failure) -> RecordResult:
 
 def assemble(results: list[RecordResult], inventory: Inventory, config: Config, *,
              attrs: dict | None = None, placements: list | None = None) -> xr.Dataset:
-    """Build the results Dataset (dimensions ``record``, ``block``, ``component``)."""
+    """Build the results Dataset (dimensions ``record``, ``block``, ``component``): the records' tables stacked
+    by the schema, the verdicts (:func:`_verdicts`, the paper's criterion where nothing was simulated) and the
+    inventory's per-block variables."""
     results = sorted(results, key=lambda r: r.record_id)
-    rids = [r.record_id for r in results]
-    data_vars: dict[str, tuple] = {"status": (("record",), np.array([r.status for r in results], dtype=object))}
-    record_vars = [n for n, (dims, *_ ) in SCHEMA.items() if dims == ("record",) and n != "status"]
-    for name in record_vars:
-        vals = [r.values.get(name) for r in results]
-        if any(v is not None for v in vals):
-            sample = next(v for v in vals if v is not None)
-            if isinstance(sample, str):
-                arr = np.array([v if v is not None else "" for v in vals], dtype=object)
-            else:
-                arr = np.array([v if v is not None else np.nan for v in vals], dtype=float)
-            data_vars[name] = (("record",), arr)
-    for name in ("component_code", "component_azimuth", "component_pga", "component_header_pga"):
-        is_str = name == "component_code"
-        rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
-        data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
-    position = {b: k for k, b in enumerate(inventory.ids)}
-    nb = len(inventory)
-    # each record's blocks -> their columns (blocks no longer in the inventory are left out), once per record
-    columns = []
-    for r in results:
-        cols = np.array([position.get(b, -1) for b in r.block_ids], dtype=np.intp)
-        columns.append((cols[cols >= 0], np.flatnonzero(cols >= 0)))
-    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS + FLOOR_VARS:
-        arr = np.full((len(results), nb), np.nan)
-        for i, r in enumerate(results):
-            if name in r.blocks:
-                to, keep = columns[i]
-                arr[i, to] = np.asarray(r.blocks[name], dtype=float)[keep]
-        data_vars[name] = (("record", "block"), arr)
+    data_vars = {**_record_variables(results), **_block_variables(results, inventory)}
     for name, (dims, arr) in list(data_vars.items()):
         dtype = INTEGER_DTYPES.get(name) or ("i1" if "flag_values" in SCHEMA.get(name, (0, 0, 0, {}))[3] else None)
         if dtype and arr.dtype.kind == "f":                  # NaN (not evaluated) -> -1
             data_vars[name] = (dims, np.where(np.isnan(arr), -1, arr).astype(dtype))
-    g = config.records.g_ms2
-    geom = inventory.geometry(g_ms2=g)
-    e = inventory.effective_restitution(geom)
-    form = config.criteria.form
-    scenes = criteria.evaluate(
-        data_vars["block_pulse_ap"][1], data_vars["block_pulse_tp"][1], data_vars["block_pulse_beta"][1],
-        data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
-        g_ms2=g, form=form)
-    data_vars.update({name: (("record", "block"), arr) for name, arr in scenes.items()})
-    # the simulation's verdict wherever a scene was simulated (-1 for free flight: no verdict), else the
-    # criterion's (the criterion tier)
-    simulated = data_vars["response"][1] >= 0
-    data_vars["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
-                                                          scenes["overturn_criterion"]).astype("i1"))
-    margin = inventory.base_margins()
-    slid = np.nan_to_num(data_vars["sliding_max"][1], nan=0.0) > margin[None, :]
-    data_vars["slides_off_base"] = (("record", "block"), np.where(
-        simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
-    data_vars["verdict_source"] = (("record", "block"), np.where(
-        simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
-    data_vars.update({
-        **{inventory_variable(c): (("block",), np.array(v, dtype=object)) for c, v in inventory.extra.items()},
-        "block_name": (("block",), np.array(inventory.names, dtype=object)),
-        "site": (("block",), np.array(inventory.sites, dtype=object)),
-        "height": (("block",), inventory.height_m),
-        "width": (("block",), inventory.width_m),
-        "half_height": (("block",), geom.h),
-        "half_width": (("block",), geom.b),
-        "corner_distance": (("block",), geom.R),
-        "slenderness": (("block",), geom.alpha),
-        "frequency_parameter": (("block",), geom.p),
-        "restitution": (("block",), e),
-        "mu": (("block",), inventory.mu),
-        "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
-        "block_azimuth": (("block",), inventory.azimuth_deg),
-        "base_margin": (("block",), inventory.base_margins()),
-        "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
-                                           for p in placements] if placements else [""] * nb, dtype=object)),
-        "floor_height": (("block",), np.array([p.height_m if p.building is not None else np.nan
-                                               for p in placements] if placements else [np.nan] * nb)),
-        "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
-        "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
-        "transition_period": (("block",), criteria.transition_period(geom.p, PULSE_BETA["half-sine"])),
-        "rocking_applicable": (("block",), criteria.rocking_applicable(geom.alpha).astype("i1")),
-    })
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    data_vars.update(_verdicts(data_vars, inventory, geom, config))
+    data_vars.update(_inventory_variables(inventory, geom, config, placements))
     ds = xr.Dataset(data_vars, coords={
-        "record": np.array(rids, dtype=object),
+        "record": np.array([r.record_id for r in results], dtype=object),
         "block": np.array(inventory.ids, dtype=object),
         "component": np.array(COMPONENTS, dtype=object),
     })
@@ -555,3 +486,94 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         **(attrs or {}),
     })
     return ds
+
+
+def _record_variables(results: list[RecordResult]) -> dict[str, tuple]:
+    """The per-record and per-component variables of the schema, stacked over the records (strings blank and
+    numbers NaN where a record has none)."""
+    data_vars: dict[str, tuple] = {"status": (("record",), np.array([r.status for r in results], dtype=object))}
+    for name in (n for n, (dims, *_) in SCHEMA.items() if dims == ("record",) and n != "status"):
+        vals = [r.values.get(name) for r in results]
+        if any(v is not None for v in vals):
+            sample = next(v for v in vals if v is not None)
+            if isinstance(sample, str):
+                arr = np.array([v if v is not None else "" for v in vals], dtype=object)
+            else:
+                arr = np.array([v if v is not None else np.nan for v in vals], dtype=float)
+            data_vars[name] = (("record",), arr)
+    for name in (n for n, (dims, *_) in SCHEMA.items() if dims == ("record", "component")):
+        is_str = SCHEMA[name][1] is None                    # a code, not a quantity
+        rows = [r.components.get(name, [""] * 3 if is_str else [np.nan] * 3) for r in results]
+        data_vars[name] = (("record", "component"), np.array(rows, dtype=object if is_str else float))
+    return data_vars
+
+
+def _block_variables(results: list[RecordResult], inventory: Inventory) -> dict[str, tuple]:
+    """The per-scene variables, (record, block), each record's columns put under the inventory's blocks (blocks no
+    longer in the inventory are left out; NaN where a scene has no value)."""
+    position = {b: k for k, b in enumerate(inventory.ids)}
+    columns = []
+    for r in results:
+        cols = np.array([position.get(b, -1) for b in r.block_ids], dtype=np.intp)
+        columns.append((cols[cols >= 0], np.flatnonzero(cols >= 0)))
+    data_vars: dict[str, tuple] = {}
+    for name in PULSE_BLOCK_VARS + SIMULATION_VARS + PROBABILITY_VARS + FLOOR_VARS:
+        arr = np.full((len(results), len(inventory)), np.nan)
+        for i, r in enumerate(results):
+            if name in r.blocks:
+                to, keep = columns[i]
+                arr[i, to] = np.asarray(r.blocks[name], dtype=float)[keep]
+        data_vars[name] = (("record", "block"), arr)
+    return data_vars
+
+
+def _verdicts(data_vars: dict, inventory: Inventory, geom, config: Config) -> dict[str, tuple]:
+    """The paper's criterion on every scene's pulse (its variables), and each scene's verdict: the simulation's
+    wherever a scene was simulated (-1 for free flight: no verdict), else the criterion's (the criterion tier);
+    where it came from; and whether the block slid off its base."""
+    scenes = criteria.evaluate(
+        data_vars["block_pulse_ap"][1], data_vars["block_pulse_tp"][1], data_vars["block_pulse_beta"][1],
+        data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
+        g_ms2=config.records.g_ms2, form=config.criteria.form)
+    out = {name: (("record", "block"), arr) for name, arr in scenes.items()}
+    simulated = data_vars["response"][1] >= 0
+    out["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
+                                                     scenes["overturn_criterion"]).astype("i1"))
+    margin = inventory.base_margins()
+    slid = np.nan_to_num(data_vars["sliding_max"][1], nan=0.0) > margin[None, :]
+    out["slides_off_base"] = (("record", "block"), np.where(
+        simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
+    out["verdict_source"] = (("record", "block"), np.where(
+        simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
+    return out
+
+
+def _inventory_variables(inventory: Inventory, geom, config: Config, placements: list | None) -> dict[str, tuple]:
+    """The per-block variables: the inventory as given, its geometry, where each block stands, and the
+    criterion's thresholds of each block."""
+    g, form, nb = config.records.g_ms2, config.criteria.form, len(inventory)
+    return {
+        **{inventory_variable(c): (("block",), np.array(v, dtype=object)) for c, v in inventory.extra.items()},
+        "block_name": (("block",), np.array(inventory.names, dtype=object)),
+        "site": (("block",), np.array(inventory.sites, dtype=object)),
+        "height": (("block",), inventory.height_m),
+        "width": (("block",), inventory.width_m),
+        "half_height": (("block",), geom.h),
+        "half_width": (("block",), geom.b),
+        "corner_distance": (("block",), geom.R),
+        "slenderness": (("block",), geom.alpha),
+        "frequency_parameter": (("block",), geom.p),
+        "restitution": (("block",), inventory.effective_restitution(geom)),
+        "mu": (("block",), inventory.mu),
+        "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
+        "block_azimuth": (("block",), inventory.azimuth_deg),
+        "base_margin": (("block",), inventory.base_margins()),
+        "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
+                                           for p in placements] if placements else [""] * nb, dtype=object)),
+        "floor_height": (("block",), np.array([p.height_m if p.building is not None else np.nan
+                                               for p in placements] if placements else [np.nan] * nb)),
+        "uplift_acceleration": (("block",), criteria.uplift_acceleration(geom.alpha, g_ms2=g, form=form)),
+        "critical_velocity": (("block",), criteria.critical_velocity(geom.R, geom.alpha, g_ms2=g, form=form)),
+        "transition_period": (("block",), criteria.transition_period(geom.p, PULSE_BETA["half-sine"])),
+        "rocking_applicable": (("block",), criteria.rocking_applicable(geom.alpha).astype("i1")),
+    }
