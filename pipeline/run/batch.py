@@ -327,17 +327,11 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     -------
     BatchOutcome
     """
-    from ..store import open_results
-
     t0 = time.perf_counter()
     records_dir = Path(records_dir)
     found = scan_directory(records_dir, config=config) if scanned is None else scanned
     sources, scan_failures = found.sources, found.failures
-    for path, reason in found.not_records:
-        log.info("not a record: %s: %s", path, reason)
-    for kept, dup, files in found.duplicates:
-        log.warning("record %s (%s) holds the same bytes as %s: screened once, as %s", dup,
-                    ", ".join(Path(f).name for f in files), kept, kept)
+    _say_what_the_scan_found(found)
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
     placements = place_blocks(inventory, buildings or {})        # checked before any record is read
     ctx = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}))
@@ -346,21 +340,9 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     key = run_key(config.to_dict(), declared_units={}, station_inventory_sha256=stationxml_sha256,
                   buildings=buildings)
     cache = SceneCache(out_dir, key) if out_dir is not None else None
-    previous = None
-    if out_dir is not None and (Path(out_dir) / "screening.nc").is_file():
-        try:
-            previous = open_results(Path(out_dir) / "screening.nc", variables=PLAN_VARIABLES)
-        except Exception as exc:   # a damaged earlier file must not stop the run; it is replaced
-            log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced",
-                        out_dir, exc)
-    the_plan = plan(sources, inventory, cache=cache, previous=previous, force=force,
+    the_plan = plan(sources, inventory, cache=cache, previous=_previous_plan(out_dir), force=force,
                     unreadable=tuple(f.record_id for f in scan_failures), root=Path(records_dir), declared=declared)
-    for rid in the_plan.vanished:
-        log.warning("record %s: its files are no longer in %s; its last results are kept (source_present = 0)",
-                    rid, records_dir)
-    for rid in the_plan.dropped:
-        log.warning("record %s: its files are no longer in %s and its results were computed under another "
-                    "configuration; it is left out of the new results", rid, records_dir)
+    _say_what_the_plan_keeps(the_plan, records_dir)
     share = the_plan.keys
     results: dict[str, RecordResult] = dict(the_plan.cached)
     # the pulse series are the part of a result that grows with a record's length: once a result is in the
@@ -414,14 +396,61 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
                                               for kept, dup, files in found.duplicates)
     in_use = frozenset(key for key in floor_groups(placements) if key)
     pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), shed, cache, in_use)
+    counts = {**_scene_counts(ds, config),
+              "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
+              "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
+              "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
+              "files_seen": found.files_seen, "not_records": list(found.not_records),
+              "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates],
+              "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
+              "buildings": ds.attrs.get("buildings", ""),
+              "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
+              "records_dir": str(records_dir),
+              "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
+              "wall_time_s": time.perf_counter() - t0}
+    return BatchOutcome(ds, pulses, counts, cache, {s.record_id: s for s in sources}, ctx)
+
+
+def _say_what_the_scan_found(found: Scan) -> None:
+    """Log the files that are not records, and the records that hold the same bytes as another."""
+    for path, reason in found.not_records:
+        log.info("not a record: %s: %s", path, reason)
+    for kept, dup, files in found.duplicates:
+        log.warning("record %s (%s) holds the same bytes as %s: screened once, as %s", dup,
+                    ", ".join(Path(f).name for f in files), kept, kept)
+
+
+def _previous_plan(out_dir: str | Path | None) -> xr.Dataset | None:
+    """What the last run of this output directory screened (:data:`PLAN_VARIABLES`), or None (none, or a damaged
+    file, which is replaced)."""
+    from ..store import open_results
+
+    path = Path(out_dir) / "screening.nc" if out_dir is not None else None
+    if path is None or not path.is_file():
+        return None
+    try:
+        return open_results(path, variables=PLAN_VARIABLES)
+    except Exception as exc:   # a damaged earlier file must not stop the run; it is replaced
+        log.warning("%s/screening.nc: cannot read the previous results (%s); they will be replaced", out_dir, exc)
+        return None
+
+
+def _say_what_the_plan_keeps(the_plan: Plan, records_dir) -> None:
+    """Log the records whose files are gone: their results kept, or dropped under another configuration."""
+    for rid in the_plan.vanished:
+        log.warning("record %s: its files are no longer in %s; its last results are kept (source_present = 0)",
+                    rid, records_dir)
+    for rid in the_plan.dropped:
+        log.warning("record %s: its files are no longer in %s and its results were computed under another "
+                    "configuration; it is left out of the new results", rid, records_dir)
+
+
+def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
+    """The scenes of the results by physics, response, orientation and robustness class, the planes and samples
+    integrated, the scenes the general contact model decided, those that met a guard and those that slid off
+    their base: the closing summary's counts."""
     phys, resp = ds["physics"].values, ds["response"].values
-    counts = {
-        "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
-        "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
-        "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
-        "files_seen": found.files_seen, "not_records": list(found.not_records),
-        "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates],
-        "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
+    return {
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
                               **{m.name: int(np.sum(phys == m)) for m in Physics}},
         "fidelity": config.fidelity.tier,
@@ -434,10 +463,4 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds["simulation_guard"].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
-        "buildings": ds.attrs.get("buildings", ""),
-        "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
-        "records_dir": str(records_dir),
-        "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
-        "wall_time_s": time.perf_counter() - t0,
     }
-    return BatchOutcome(ds, pulses, counts, cache, {s.record_id: s for s in sources}, ctx)
