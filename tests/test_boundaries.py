@@ -17,7 +17,7 @@ from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_tie
 
 from pipeline.cli import main
 from pipeline.errors import ParameterError
-from pipeline.rocking import contact, handoff, kernel, rules
+from pipeline.rocking import codes, contact, handoff, kernel, rules
 from pipeline.rocking.contact import rigid_block
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
@@ -92,9 +92,9 @@ def test_tie_rule_1_mu_at_tan_alpha_slides_and_beyond_the_tolerance_rocks(alpha_
     # the compiled twin and the contact model's onset say the same
     assert rules.rocks_compiled(alpha, ties["tie_up"]) is False
     blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
-    assert contact._onset(0.9 * G, G, blk)[0] == contact.SLIDE
+    assert contact._onset(0.9 * G, G, blk)[0] == codes.SLIDE
     blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
-    assert contact._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (contact.ROCK, contact.SLIDE_ROCK)
+    assert contact._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (codes.ROCK, codes.SLIDE_ROCK)
 
 
 @pytest.mark.parametrize("alpha_deg", [2.0, 15.0, 26.565051177077994, 45.0])
@@ -144,7 +144,7 @@ def test_tie_rule_2_the_sliding_kernel_and_the_general_model_agree_at_the_thresh
     a = np.full(200, 0.3 * G)
     assert slide(a, 0.01, mu=0.3, g_ms2=G).sliding_max_m == 0.0
     cb = rigid_block(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
-    out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
+    out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, codes.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert out.slip_max == 0.0 and out.modes == 0
 
 
@@ -219,7 +219,7 @@ def test_the_handoff_ends_where_the_contact_model_met_a_cap(rinaldi, monkeypatch
     out = handoff.continue_rocking.py_func(first, ah, av, rinaldi.dt_s, contact_block(blk, SimulationConfig()),
                                            step_control(SimulationConfig()),
                                            True)
-    assert out.status & contact.STATUS_EVENT_CAP and len(calls) == 1
+    assert out.status & codes.STATUS_EVENT_CAP and len(calls) == 1
 
 
 def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypatch):
@@ -257,7 +257,7 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     for mu in (0.1, 2.0):
         assert sampled_verdict(m, block(1.0, 0.2, mu)) in (0, 1)
     cb = rigid_block(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
-    out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, contact.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
+    out = contact.move(a, np.zeros(0), 0.01, cb, ContactState(0.0, codes.REST, 1.0, 1.0, 0, 0, 0, 0, 0, 0, 0), True)
     assert not out.overturned or n == 2
 
 

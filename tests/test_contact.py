@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 
 from pipeline.constants import G
-from pipeline.rocking import contact
+from pipeline.rocking import codes, contact
 from pipeline.rocking.block import Block
 from pipeline.rocking.planner import ContactMode, Physics, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import from_rest, rock, slide
 
-REST = contact.ContactState(0.0, contact.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+REST = contact.ContactState(0.0, codes.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def contact_block(height_m, width_m, mu, e=None):
@@ -117,7 +117,7 @@ def test_free_flight_is_a_parabola_with_constant_spin():
     fourth-order step is exact for it)."""
     cb = contact_block(1.0, 0.4, mu=0.5)
     y0, u0, v0, w0, th0 = 0.5, 0.3, 1.0, 0.8, 0.1
-    start = contact.ContactState(0.0, contact.FLIGHT, 1.0, 1.0, 0.0, y0, th0, u0, v0, w0, 0.0)
+    start = contact.ContactState(0.0, codes.FLIGHT, 1.0, 1.0, 0.0, y0, th0, u0, v0, w0, 0.0)
     t = 0.2
     out = contact.move(np.zeros(1001), np.zeros(0), 0.001, cb, start, False, t)
     end = out.end
@@ -134,7 +134,7 @@ def test_flight_relative_to_a_moving_ground_integrates_it_exactly():
     cb = contact_block(1.0, 0.4, mu=0.5)
     dt, k = 0.001, 3.0
     ah = k * np.arange(1001) * dt                      # a_h = k t
-    start = contact.ContactState(0.0, contact.FLIGHT, 1.0, 1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    start = contact.ContactState(0.0, codes.FLIGHT, 1.0, 1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     t = 0.3
     end = contact.move(ah, np.zeros(0), dt, cb, start, False, t).end
     assert end.x == pytest.approx(-k * t ** 3 / 6, abs=1e-12)

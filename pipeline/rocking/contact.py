@@ -15,15 +15,8 @@ decides as in :mod:`.kernel`.
 
 References
 ----------
-Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
-Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes.
-Earthquake Eng. Struct. Dyn. 8(6), 565-587.
-Shenton, H. W. & Jones, N. P. (1991). Base excitation of rigid bodies. I: Formulation.
-J. Eng. Mech. 117(10), 2286-2306.
-Shenton, H. W. (1996). Criteria for initiation of slide, rock, and slide-rock rigid-body modes.
-J. Eng. Mech. 122(7), 690-693.
-Zhang, J. & Makris, N. (2001). Rocking response of free-standing blocks under cycloidal pulses.
-J. Eng. Mech. 127(5), 473-483.
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417
+(the energy of free rocking after the record). The model's own references are in :mod:`.contact_laws`.
 """
 
 from __future__ import annotations
@@ -35,22 +28,16 @@ import numpy as np
 
 from ..compiled import jit, jit_inline, state_factory
 from .block import rigid_block  # noqa: F401  (read by the tests as contact.rigid_block)
-from .codes import (  # noqa: F401  (read by the hand-off and the planner as contact.*)
+from .codes import (
     FLIGHT,
     MODE_FLIGHT,
-    MODE_ROCK,
-    MODE_SLIDE,
-    MODE_SLIDE_ROCK,
     OVERTURNED,
     REST,
     ROCK,
-    SLIDE,
-    SLIDE_ROCK,
     STATUS_ENDED,
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
     STATUS_LIFTOFF,
-    STATUS_PAINLEVE,
     STATUS_STALLED,
     STATUS_STEP_CAP,
     STATUS_TAIL_CAP,

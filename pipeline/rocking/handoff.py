@@ -29,6 +29,7 @@ from ..compiled import jit
 from . import contact
 from .codes import (
     FLIGHT,
+    MODE_ROCK,
     OVERTURNED,
     REST,
     ROCK,
@@ -134,7 +135,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
         theta_max = max(theta_max, o.theta_max_rad)
         n_imp += o.n_impacts
         status |= kernel_guards(o.status)
-        modes |= contact.MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
+        modes |= MODE_ROCK if o.n_impacts > 0 or o.n_uplifts > 0 or theta != 0.0 else 0
         if not stopped_short(o):
             end = ContactState(t=o.t_stop, mode=OVERTURNED if o.overturned else ROCK, corner=o.pivot_end, sigma=1.0,
                                x=0.0, y=0.0, theta=o.theta_end, u=0.0, v=0.0, w=o.omega_end, slip=slip)
