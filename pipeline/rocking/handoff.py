@@ -110,7 +110,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
     ``theta_out``: the scene's theta history [rad] at the samples, filled on from where ``first`` stopped."""
     t_end = (ah.shape[0] - 1) * dt
     hist = theta_out if theta_out is not None else ah[:0]
-    no_output = RockingOutput(hist, ah[:0].reshape((0, 3)))
+    no_output = RockingOutput(theta=hist, impacts=ah[:0].reshape((0, 3)))
     o = first
     slip, slip_max, theta_max, n_imp, modes, status = 0.0, 0.0, 0.0, 0, 0, kernel_guards(first.status)
     for _ in range(MAX_SEGMENTS):
@@ -131,7 +131,8 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
                                   end=end)
         theta = end.theta if end.mode == ROCK else 0.0
         omega = end.w if end.mode == ROCK else 0.0
-        o = rock(ah, av, dt, t_end, blk, control, RockingState(theta, omega, end.t), tail_energy, no_output)
+        restart = RockingState(theta=theta, omega=omega, t=end.t)
+        o = rock(ah, av, dt, t_end, blk, control, restart, tail_energy, no_output)
         theta_max = max(theta_max, o.theta_max_rad)
         n_imp += o.n_impacts
         status |= kernel_guards(o.status)

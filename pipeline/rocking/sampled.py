@@ -74,8 +74,9 @@ def _workspace(h1, av, dt):
     """The :class:`Workspace` of a record ``h1`` (and vertical ``av``) sampled at ``dt``."""
     n = h1.size
     has_v = av.size == n
-    return Workspace(n, has_v, (n - 1) * dt, np.empty(n), np.empty(n if has_v else 0), np.zeros(0),
-                     RockingOutput(np.zeros(0), np.zeros((0, 3))), RockingState(0.0, 0.0, 0.0))
+    return Workspace(n=n, has_v=has_v, t_end=(n - 1) * dt, a=np.empty(n), av_s=np.empty(n if has_v else 0),
+                     none=np.zeros(0), no_output=RockingOutput(theta=np.zeros(0), impacts=np.zeros((0, 3))),
+                     at_rest=RockingState(theta=0.0, omega=0.0, t=0.0))
 
 
 @jit

@@ -211,8 +211,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     o = kernel.rock(ah, av, float(dt_s), t_end,
                     rigid_block(float(p), float(alpha), float(e), float(R_m), float(stop_mu), float(g_ms2),
                                 float(settings.rest_ratio), bool(linear), float(stop_mu)),
-                    step_control(settings), RockingState(float(theta0), float(omega0), 0.0), tail == "energy",
-                    RockingOutput(theta_out, impacts_out))
+                    step_control(settings), RockingState(theta=float(theta0), omega=float(omega0), t=0.0),
+                    tail == "energy", RockingOutput(theta=theta_out, impacts=impacts_out))
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,
@@ -222,8 +222,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
 
 def step_control(settings: SimulationConfig) -> StepControl:
     """The kernel's step control from the simulator's settings."""
-    return StepControl(float(settings.rtol), float(settings.atol), float(settings.rest_ratio),
-                       float(settings.max_step_p), int(settings.max_events))
+    return StepControl(rtol=float(settings.rtol), atol=float(settings.atol), rest_ratio=float(settings.rest_ratio),
+                       max_step_p=float(settings.max_step_p), max_events=int(settings.max_events))
 
 
 def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> SlideResult:

@@ -83,7 +83,7 @@ def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list
             t_common += time.perf_counter() - t0
         except RockscreenError:
             continue
-        out.append(_Scene(rec, blocks, directions, int(values.get("is_pulse", -1))))
+        out.append(_Scene(record=rec, blocks=blocks, directions=directions, is_pulse=int(values.get("is_pulse", -1))))
     if not out:
         raise UsageError(f"{records_dir}: no record could be screened; nothing to benchmark")
     return out, t_common
