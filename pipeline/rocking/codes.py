@@ -22,6 +22,14 @@ class Mode(IntEnum):
     overturned = 5
 
 
+class Verdict(IntEnum):
+    """A sample's outcome in a plane, or over its planes (the sample kernels' ``verdict_out`` and ``outcome_out``)."""
+
+    no_verdict = -1       # free flight before any overturning: the contact model holds no further
+    stands = 0
+    overturns = 1
+
+
 class ContactMode(IntEnum):
     """Bits of an outcome's ``modes`` and of the output ``contact_modes``: the modes a scene went through."""
 
@@ -48,6 +56,7 @@ class Status(IntEnum):
 
 
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = (int(m) for m in Mode)
+NO_VERDICT, STANDS, OVERTURNS = (int(v) for v in Verdict)
 MODE_SLIDE, MODE_ROCK, MODE_SLIDE_ROCK, MODE_FLIGHT = (int(m) for m in ContactMode)
 STATUS_CHATTER = int(Status.chatter)
 STATUS_GROUND_FLIGHT = int(Status.ground_flight)

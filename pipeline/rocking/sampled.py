@@ -31,7 +31,7 @@ import numpy as np
 
 from ..compiled import jit
 from .block import rigid_block
-from .codes import STATUS_GROUND_FLIGHT
+from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT
 from .handoff import continue_rocking, from_rest, stopped_short
 from .kernel import rock
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
@@ -82,27 +82,28 @@ def _workspace(h1, av, dt):
 @jit
 def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model):
     """Rock a sample in the plane of weights (c, s), the record scaled by ``eps`` (projected into ``a``):
-    1 overturns, 0 stands, -1 free flight before any overturning (without the contact model). With the
+    a :class:`~.codes.Verdict`, no_verdict for free flight before any overturning (without the contact model). With the
     contact model, the general model continues where pure rocking stops (:mod:`.handoff`)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
     res = rock(a, av_s, dt, t_end, block, control, at_rest, True, no_output)
     if res.overturned:
-        return 1
+        return OVERTURNS
     if contact_model:
         if stopped_short(res):
-            return 1 if continue_rocking(res, a, av_s, dt, block, control, True).overturned else 0
-        return 0
-    return -1 if res.status & STATUS_GROUND_FLIGHT else 0
+            return OVERTURNS if continue_rocking(res, a, av_s, dt, block, control, True).overturned else STANDS
+        return STANDS
+    return NO_VERDICT if res.status & STATUS_GROUND_FLIGHT else STANDS
 
 
 @jit
 def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control):
     """A sample that cannot rock, in a plane that moves it while the ground reaches free flight: the general
-    contact model from rest (1 overturns, 0 stands)."""
+    contact model from rest (a :class:`~.codes.Verdict`, overturns or stands)."""
     for i in range(a.size):
         a[i] = eps * (c * h1[i] + s * h2[i])
-    return 1 if from_rest(a, av_s, dt, rigid_block(p, alpha, e, R, mu, g, control.rest_ratio), True).overturned else 0
+    block = rigid_block(p, alpha, e, R, mu, g, control.rest_ratio)
+    return OVERTURNS if from_rest(a, av_s, dt, block, True).overturned else STANDS
 
 
 @jit
@@ -113,16 +114,16 @@ def judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, c, s, eps, 
     False: it stands, or its verdict is free flight where ``flight``; with the contact model the general model
     decides that case), rocking otherwise (continued by the general model where it stops holding).
 
-    Returns (outcome, integrated): 1 overturns, 0 stands, -1 free flight before any overturning (no verdict);
+    Returns (outcome, integrated): a :class:`~.codes.Verdict` (no_verdict: free flight before any overturning);
     whether a plane was integrated. ``av_s``: the vertical the simulation keeps (empty: none); ``flight``: the
     kept vertical reaches g + a_v <= 0 at some sample.
     """
     if not ratio > thr:
-        return 0, False                                  # proven at rest in this plane
+        return STANDS, False                             # proven at rest in this plane
     if not rocks:
         if flight and contact_model:
             return _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control), True
-        return (-1 if flight else 0), False
+        return (NO_VERDICT if flight else STANDS), False
     block = rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, False, mu if contact_model else math.inf)
     return _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model), True
 
@@ -154,7 +155,7 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
 
     The same inputs as :func:`sample_verdicts`, and the same decisions per plane (the exact at-rest
     certificate, no integration for a block that cannot rock, rocking otherwise), but no plane is skipped
-    once another overturns: ``outcome_out[k, j]`` is 1 (overturns), 0 (stands) or -1 (free flight before
+    once another overturns: ``outcome_out[k, j]`` is a :class:`~.codes.Verdict` (no_verdict: free flight before
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
     w = _workspace(h1, av, dt)
@@ -203,7 +204,7 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
     control : StepControl
         The simulator's step control (:func:`~.simulate.step_control`).
     verdict_out, planes_out : ndarray (int64)
-        Filled with each sample's verdict (1, 0, -1) and planes integrated.
+        Filled with each sample's :class:`~.codes.Verdict` and planes integrated.
     """
     w = _workspace(h1, av, dt)
     n, has_v, t_end, a, av_s, none = w.n, w.has_v, w.t_end, w.a, w.av_s, w.none
@@ -214,7 +215,7 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         for i in range(av_s.size):
             av_s[i] = eps[k] * av[i]
         thr = motion_threshold_compiled(alpha[k], mu[k])
-        verdict_out[k] = 0
+        verdict_out[k] = STANDS
         planes_out[k] = 0
         if n_p > 1:                          # the horizontal vector bounds every plane's demand
             r = 0.0
@@ -249,10 +250,10 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
                                               sines[k, j], eps[k], av_s if use_v else none, dt, t_end, p[k],
                                               alpha[k], e[k], R[k], mu[k], g, control, at_rest, no_output)
             planes_out[k] += integrated
-            if outcome == 1:
-                verdict_out[k] = 1
+            if outcome == OVERTURNS:
+                verdict_out[k] = OVERTURNS
                 break
-            if outcome == -1:
+            if outcome == NO_VERDICT:
                 seen_flight = True
-        if verdict_out[k] == 0 and seen_flight:
-            verdict_out[k] = -1
+        if verdict_out[k] == STANDS and seen_flight:
+            verdict_out[k] = NO_VERDICT

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
+from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_plane_outcomes
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
@@ -169,8 +170,8 @@ def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _
 
 def _fractions(outcome: np.ndarray) -> np.ndarray:
     """Per column, the fraction of the simulated draws with a verdict that overturn (NaN without one)."""
-    judged = (outcome >= 0).sum(axis=0)
-    return np.where(judged > 0, (outcome == 1).sum(axis=0) / np.maximum(judged, 1), np.nan)
+    judged = (outcome >= Verdict.stands).sum(axis=0)
+    return np.where(judged > 0, (outcome == Verdict.overturns).sum(axis=0) / np.maximum(judged, 1), np.nan)
 
 
 def _worst_plane(frac: np.ndarray, planes_deg: np.ndarray, prefer_deg: float, *, plateau: bool = True) -> float:
@@ -252,7 +253,7 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
     if math.isnan(leader):
         return WorstOrientation(NOT_EVALUATED, math.nan, cells, sims + cells.simulations)
     lead = estimate(leader)
-    pilot_overturns = bool(np.any(cells.outcome[:drawn][:, cand] == 1))
+    pilot_overturns = bool(np.any(cells.outcome[:drawn][:, cand] == Verdict.overturns))
     if lead.robustness == Robustness.robust_overturn or (lead.robustness == Robustness.robust_stand
                                                         and not pilot_overturns):
         return done(lead, leader)
@@ -260,7 +261,7 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
     while True:
         outcome = cells.outcome[:drawn][:, alive]
         frac = _fractions(outcome)
-        k, n = (outcome == 1).sum(axis=0), (outcome >= 0).sum(axis=0)
+        k, n = (outcome == Verdict.overturns).sum(axis=0), (outcome >= Verdict.stands).sum(axis=0)
         low, high = wilson_interval(k, n, confidence=u.confidence)
         top = int(np.nanargmax(np.where(np.isfinite(frac), frac, -1.0)))
         keep = ~(np.nan_to_num(high, nan=1.0) < np.nan_to_num(low[top], nan=0.0))
@@ -322,7 +323,7 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
             sims += integrated
         drawn = int(rows[-1]) + 1
         v = outcome[:drawn]
-        k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
+        k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
         if n == 0:
             continue
         lo, hi = wilson_interval(k, n, confidence=u.confidence)

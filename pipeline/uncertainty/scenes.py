@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
+from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
@@ -129,7 +130,7 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
                         planes[sl])
         done = sl.stop
         v = verdicts[:done]
-        k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
+        k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
         lo, hi = wilson_interval(k, n, confidence=settings.confidence)
         low, high = float(lo), float(hi)
         if n == 0:                    # every sample so far in free flight: no verdict to estimate p from
@@ -138,7 +139,7 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
         if decided is not None and (decided != Robustness.sensitive or (high - low) / 2.0 <= settings.p_halfwidth):
             break
     v = verdicts[:done]
-    k, n = int(np.sum(v == 1)), int(np.sum(v >= 0))
+    k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
     return Probability(k / n if n else math.nan, low, high,
                        final_class(low, high, below=settings.robust_below, above=settings.robust_above),
-                       done, k, int(np.sum(v == -1)), int(planes[:done].sum()))
+                       done, k, int(np.sum(v == Verdict.no_verdict)), int(planes[:done].sum()))
