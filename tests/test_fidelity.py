@@ -123,6 +123,7 @@ def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config
     assert (tmp_path / "bench.png").read_bytes()[:4] == b"\x89PNG"
 
 
+@pytest.mark.slow
 def test_bench_settings_sweep_marks_defaults(records, blocks_csv, config, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu).take(range(4))
     rows = run_bench(records, inventory, config, out_dir=tmp_path)
