@@ -17,8 +17,8 @@ from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_tie
 
 from pipeline.cli import main
 from pipeline.errors import ParameterError
-from pipeline.rocking import codes, contact, handoff, kernel, rules
-from pipeline.rocking.contact import rigid_block
+from pipeline.rocking import codes, contact, contact_laws, handoff, kernel, rules
+from pipeline.rocking.block import rigid_block
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
 from pipeline.rocking.simulate import rock, slide
@@ -92,9 +92,9 @@ def test_tie_rule_1_mu_at_tan_alpha_slides_and_beyond_the_tolerance_rocks(alpha_
     # the compiled twin and the contact model's onset say the same
     assert rules.rocks_compiled(alpha, ties["tie_up"]) is False
     blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
-    assert contact._onset(0.9 * G, G, blk)[0] == codes.SLIDE
+    assert contact_laws._onset(0.9 * G, G, blk)[0] == codes.SLIDE
     blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
-    assert contact._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (codes.ROCK, codes.SLIDE_ROCK)
+    assert contact_laws._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (codes.ROCK, codes.SLIDE_ROCK)
 
 
 @pytest.mark.parametrize("alpha_deg", [2.0, 15.0, 26.565051177077994, 45.0])

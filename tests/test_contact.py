@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from pipeline.constants import G
-from pipeline.rocking import codes, contact
-from pipeline.rocking.block import Block
+from pipeline.rocking import codes, contact, contact_laws
+from pipeline.rocking.block import Block, rigid_block
 from pipeline.rocking.planner import ContactMode, Physics, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import from_rest, rock, slide
@@ -27,8 +27,8 @@ REST = contact.ContactState(0.0, codes.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 
 def contact_block(height_m, width_m, mu, e=None):
     b, h = width_m / 2, height_m / 2
     R, alpha = math.hypot(b, h), math.atan(b / h)
-    e = contact.housner_restitution(alpha) if e is None else e
-    return contact.rigid_block(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6)
+    e = contact_laws.housner_restitution(alpha) if e is None else e
+    return rigid_block(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6)
 
 
 def rocking_block(cb):
@@ -50,12 +50,12 @@ def test_sticking_rocking_impact_is_housners_law(aspect, restitution):
     cb = contact_block(2.0, 2.0 * aspect, mu=5.0, e=restitution)
     b, h = cb.R * math.sin(cb.alpha), cb.R * math.cos(cb.alpha)
     w = 0.7                                              # rocking about the -x corner, coming back (w > 0)
-    rx, ry = contact.corner_offsets(0.0, -1.0, b, h)
-    u1, v1, w1, sticks = contact.impact(1.0, 0.0, -ry * w, rx * w, w, cb)
+    rx, ry = contact_laws.corner_offsets(0.0, -1.0, b, h)
+    u1, v1, w1, sticks = contact_laws.impact(1.0, 0.0, -ry * w, rx * w, w, cb)
     expected = 1.0 - 1.5 * math.sin(cb.alpha) ** 2 if restitution is None else restitution
     assert sticks
     assert w1 / w == pytest.approx(expected, rel=1e-12)
-    rx1, ry1 = contact.corner_offsets(0.0, 1.0, b, h)
+    rx1, ry1 = contact_laws.corner_offsets(0.0, 1.0, b, h)
     assert u1 + ry1 * w1 == pytest.approx(0.0, abs=1e-12) and v1 - rx1 * w1 == pytest.approx(0.0, abs=1e-12)
 
 
@@ -66,11 +66,11 @@ def test_impact_that_needs_more_friction_slips_at_the_coulomb_ratio():
     cb = contact_block(1.0, 1.0, mu=0.05)
     b, h = cb.R * math.sin(cb.alpha), cb.R * math.cos(cb.alpha)
     w = 1.0
-    rx, ry = contact.corner_offsets(0.0, -1.0, b, h)
+    rx, ry = contact_laws.corner_offsets(0.0, -1.0, b, h)
     u0, v0 = -ry * w, rx * w
-    u1, v1, w1, sticks = contact.impact(1.0, 0.0, u0, v0, w, cb)
+    u1, v1, w1, sticks = contact_laws.impact(1.0, 0.0, u0, v0, w, cb)
     assert not sticks
-    rx1, ry1 = contact.corner_offsets(0.0, 1.0, b, h)
+    rx1, ry1 = contact_laws.corner_offsets(0.0, 1.0, b, h)
     assert v1 - rx1 * w1 == pytest.approx(0.0, abs=1e-12)
     assert abs(u1 - u0) == pytest.approx(cb.mu * (v1 - v0), rel=1e-12)
     assert (u1 + ry1 * w1) * (u1 - u0) < 0

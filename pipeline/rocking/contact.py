@@ -27,7 +27,6 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import jit, jit_inline, state_factory
-from .block import rigid_block  # noqa: F401  (read by the tests as contact.rigid_block)
 from .codes import (
     FLIGHT,
     MODE_FLIGHT,
@@ -43,7 +42,7 @@ from .codes import (
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
-from .contact_laws import (  # noqa: F401  (the model's laws, read by the tests and the planner as contact.*)
+from .contact_laws import (
     FLAT_ANGLE_ALPHA,
     _constrain,
     _event,
@@ -52,20 +51,16 @@ from .contact_laws import (  # noqa: F401  (the model's laws, read by the tests 
     _rk4,
     _slip_point,
     _transition,
-    accelerations,
     corner_offsets,
-    housner_restitution,
-    impact,
     state_verdict,
 )
 from .dopri import HISTORY_TIME_TOL_S
 from .ground import exceed_fraction, flight_fraction
 from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
-from .structures import ContactOutcome, ContactState, GroundPiece, RigidBlock
+from .structures import ContactOutcome, ContactState, GroundPiece
 
-__all__ = ["RigidBlock", "ContactOutcome", "ContactState", "rigid_block", "move", "impact", "accelerations",
-           "corner_offsets", "housner_restitution"]
+__all__ = ["ContactOutcome", "ContactState", "move"]
 
 # modes, mode bits and status bits: the simulator's one vocabulary (codes.py)
 

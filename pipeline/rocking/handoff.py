@@ -43,6 +43,7 @@ from .codes import (
     STATUS_TIE_HOLD,
 )
 from .contact import ContactOutcome, ContactState
+from .contact_laws import corner_offsets
 from .kernel import rock
 from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
@@ -95,7 +96,7 @@ def start_state(o: RockingOutcome, blk: RigidBlock, slip: float) -> ContactState
     if o.mode_end == REST:
         return ContactState(t=t, mode=FLIGHT, corner=1.0, sigma=1.0, x=0.0, y=0.0, theta=0.0, u=0.0, v=0.0, w=0.0,
                             slip=slip)
-    rx, ry = contact.corner_offsets(th, c, b, h)
+    rx, ry = corner_offsets(th, c, b, h)
     mode = FLIGHT if o.status & STATUS_GROUND_FLIGHT else ROCK
     return ContactState(t=t, mode=mode, corner=c, sigma=1.0, x=c * b - rx, y=-h - ry, theta=th, u=-ry * w, v=rx * w,
                         w=w, slip=slip)

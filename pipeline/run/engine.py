@@ -2,9 +2,11 @@
 
 The commands differ in what a record's task computes and in how its result is cached and assembled. They share
 the rest, which lives here: the tasks ordered with the largest records first, run on an executor, with the
-workers' scene progress shown beside the progress bar, and every failure handed back as one value, a
-:class:`~pipeline.records.loader.Failure` that names the record and its files, whether the task reported it
-(a :class:`~pipeline.errors.TaskFailure`) or the executor lost the worker.
+workers' scene progress shown beside the progress bar. A task that returns a :class:`~pipeline.errors.TaskFailure`
+(``screen fragility``'s) and a worker the executor lost both come back as one value, a
+:class:`~pipeline.records.loader.Failure` that names the record and its files. ``screen``'s task returns its
+record's failed row instead (the row goes into ``screening.nc``), built from the same value
+(:func:`~pipeline.run.screening.failed_result`).
 
 A run goes: scan the directory (:func:`~pipeline.records.loader.scan_directory`), look each record up in the
 command's cache, :meth:`TaskRun.results` for the rest, then collect (each command's own assembly).
@@ -74,8 +76,9 @@ class TaskRun:
         self.scenes = SceneProgress(self._dir)
 
     def results(self, task: Callable[[tuple, Any], Any], items: list[tuple], ctx) -> Iterator[tuple[tuple, Any]]:
-        """``(item, result)`` as the tasks finish, the largest records started first; a failure, the task's own
-        or a lost worker's, comes as a :class:`Failure` in place of the result."""
+        """``(item, result)`` as the tasks finish, the largest records started first; a
+        :class:`~pipeline.errors.TaskFailure` (the task's own or a lost worker's) comes as a :class:`Failure` in
+        place of the result."""
         stream = removing(self.executor.map_unordered(task, largest_first(items), ctx), self._dir)
         if self.progress is not None:
             stream = self.progress(stream, len(items), running=lambda: running(self._dir))

@@ -60,6 +60,7 @@ from ..uncertainty.orientations import (
 )
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion, motion, scene_probability
+from .engine import as_failure
 
 log = logging.getLogger(__name__)
 
@@ -448,8 +449,7 @@ def task_failure(exc: Exception, record_id: str) -> TaskFailure:
 
 def failed_result(source: RecordSource, failure: TaskFailure) -> RecordResult:
     """A task's failure (its content, a crash, a lost worker) as the record's row in the results."""
-    return RecordResult(source.record_id, f"failed: {failure.reason}",
-                        {"files": ";".join(Path(f).name for f in source.files)}, deterministic=failure.deterministic)
+    return failure_result(as_failure(source, failure))
 
 
 def failure_result(f: Failure) -> RecordResult:
@@ -470,8 +470,9 @@ def assemble(results: list[RecordResult], inventory: Inventory, config: Config, 
         if dtype and arr.dtype.kind == "f":                  # NaN (not evaluated) -> -1
             data_vars[name] = (dims, np.where(np.isnan(arr), -1, arr).astype(dtype))
     geom = inventory.geometry(g_ms2=config.records.g_ms2)
-    data_vars.update(_verdicts(data_vars, inventory, geom, config))
-    data_vars.update(_inventory_variables(inventory, geom, config, placements))
+    margin = inventory.base_margins()
+    data_vars.update(_verdicts(data_vars, inventory, geom, margin, config))
+    data_vars.update(_inventory_variables(inventory, geom, margin, config, placements))
     ds = xr.Dataset(data_vars, coords={
         "record": np.array([r.record_id for r in results], dtype=object),
         "block": np.array(inventory.ids, dtype=object),
@@ -527,7 +528,7 @@ def _block_variables(results: list[RecordResult], inventory: Inventory) -> dict[
     return data_vars
 
 
-def _verdicts(data_vars: dict, inventory: Inventory, geom, config: Config) -> dict[str, tuple]:
+def _verdicts(data_vars: dict, inventory: Inventory, geom, margin: np.ndarray, config: Config) -> dict[str, tuple]:
     """The paper's criterion on every scene's pulse (its variables), and each scene's verdict: the simulation's
     wherever a scene was simulated (-1 for free flight: no verdict), else the criterion's (the criterion tier);
     where it came from; and whether the block slid off its base."""
@@ -539,7 +540,6 @@ def _verdicts(data_vars: dict, inventory: Inventory, geom, config: Config) -> di
     simulated = data_vars["response"][1] >= 0
     out["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
                                                      scenes["overturn_criterion"]).astype("i1"))
-    margin = inventory.base_margins()
     slid = np.nan_to_num(data_vars["sliding_max"][1], nan=0.0) > margin[None, :]
     out["slides_off_base"] = (("record", "block"), np.where(
         simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
@@ -548,7 +548,8 @@ def _verdicts(data_vars: dict, inventory: Inventory, geom, config: Config) -> di
     return out
 
 
-def _inventory_variables(inventory: Inventory, geom, config: Config, placements: list | None) -> dict[str, tuple]:
+def _inventory_variables(inventory: Inventory, geom, margin: np.ndarray, config: Config, placements: list | None
+                         ) -> dict[str, tuple]:
     """The per-block variables: the inventory as given, its geometry, where each block stands, and the
     criterion's thresholds of each block."""
     g, form, nb = config.records.g_ms2, config.criteria.form, len(inventory)
@@ -567,7 +568,7 @@ def _inventory_variables(inventory: Inventory, geom, config: Config, placements:
         "mu": (("block",), inventory.mu),
         "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
         "block_azimuth": (("block",), inventory.azimuth_deg),
-        "base_margin": (("block",), inventory.base_margins()),
+        "base_margin": (("block",), margin),
         "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
                                            for p in placements] if placements else [""] * nb, dtype=object)),
         "floor_height": (("block",), np.array([p.height_m if p.building is not None else np.nan
