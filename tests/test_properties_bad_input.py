@@ -6,6 +6,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -49,12 +50,14 @@ def _check(statuses: dict[str, str]) -> None:
         assert "unexpected" not in status, (rid, status)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(content=st.binary(max_size=3000), suffix=st.sampled_from(SUFFIXES))
 def test_random_bytes_fail_alone(content, suffix):
     _check(_with_bad_file("junk" + suffix, content))
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(rel=st.sampled_from(REAL), fraction=st.floats(0.0, 0.999))
 @example(rel="knet/test.knet", fraction=0.008489300046130447)   # cut inside the header: a trace with no samples

@@ -55,6 +55,7 @@ def test_a_record_names_every_file_that_needs_a_declaration(make_records, config
     assert '[files]\n"sac/20190706031952.CJ.T001230.HN?.sac" = "g"' in text
 
 
+@pytest.mark.slow
 def test_pasted_advice_makes_every_record_but_the_vertical_only_one_load(tmp_path, records_dir, blocks_csv, config):
     """The bundled records are byte copies of ../shared/records with a units.toml added: without it, the run
     prints lines; pasted as they are into units.toml, only the vertical-only COSMOS file still fails. The real
