@@ -84,7 +84,8 @@ class FidelityConfig:
     ``full`` (default): the cheapest tier with no miss measured against ``reference`` (the same
     model at the default tolerances; ``screen bench``). The exact at-rest certificate (no
     uplift and no slip at any sample, vertical included) skips a scene; every other scene is
-    simulated. ``reference``: as ``full`` with the tight ``reference_*`` integration settings.
+    simulated. ``reference``: as ``full`` with the tight ``reference_*`` integration settings, and every
+    flight of an impact cascade stepped (no closed-form chatter).
     """
 
     tier: str = "full"
@@ -155,7 +156,8 @@ class Config:
             return self.simulation
         f = self.fidelity
         return dataclasses.replace(self.simulation, rtol=f.reference_rtol, atol=f.reference_atol,
-                                   rest_ratio=f.reference_rest_ratio, max_step_p=f.reference_max_step_p)
+                                   rest_ratio=f.reference_rest_ratio, max_step_p=f.reference_max_step_p,
+                                   closed_form_chatter=False)
 
     def with_tier(self, tier: str) -> "Config":
         """The same configuration at another fidelity tier.

@@ -132,7 +132,8 @@ def test_bench_settings_sweep_marks_defaults(records, blocks_csv, config, tmp_pa
             ("margin", "margin_step")} <= settings
     defaults = [r for r in rows if "(default)" in r["setting"]]
     assert sorted(r["setting"].split()[0] for r in defaults) == [
-        "contact_model", "margin_step", "max_step_p", "orientation_step_deg", "rest_ratio", "rtol"]
+        "closed_form_chatter", "contact_model", "margin_step", "max_step_p", "orientation_step_deg", "rest_ratio",
+        "rtol"]
     # a scan of step s brackets a crossing within a factor (1 + s): where overturning is monotonic near the
     # margin, the default step's margin is within about 2 s of the finest one's; most margins are
     default = [r for r in rows if r["section"] == "margin" and "(default)" in r["setting"]][0]

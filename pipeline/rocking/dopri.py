@@ -13,6 +13,8 @@ Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae
 6(1), 19-26.
 Hairer, E., Norsett, S. P. & Wanner, G. (1993). Solving Ordinary Differential Equations I, 2nd ed.,
 Springer, section II.6 (dense output, event location).
+Zhang, J. & Makris, N. (2001). Rocking response of free-standing blocks under cycloidal pulses. J. Eng. Mech.
+127(5), 473-483 (the forces at the pivot, eqs. 16-20).
 Makris, N. & Roussos, Y. (2000). Rocking response of rigid blocks under near-source ground motions.
 Geotechnique 50(3), 243-262 (the equation of motion, eqs. 1-3 and 8-9).
 Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes.
@@ -56,6 +58,20 @@ def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
     if linear:
         return -p2 * ((1.0 + av / g) * phi + ah / g)
     return -p2 * ((1.0 + av / g) * math.sin(phi) + (ah / g) * math.cos(phi))
+
+
+@jit
+def pivot_demand(th, om, acc, s, alpha, R, a_h, a_v, g):
+    """Friction and normal force per unit mass at the pivot of a rocking block (Zhang & Makris 2001,
+    eqs. 16-20) at rotation ``th``, angular velocity ``om`` and acceleration ``acc`` on pivot side ``s``, under
+    the ground's ``a_h`` and ``a_v``: returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0,
+    undefined)."""
+    phi = alpha * s - th
+    fx = a_h + R * acc * math.cos(phi) + R * om * om * math.sin(phi)
+    fz = g + a_v + R * acc * math.sin(phi) - R * om * om * math.cos(phi)
+    if fz <= 0.0:
+        return 0.0, True
+    return abs(fx) / fz, False
 
 
 @jit

@@ -43,6 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
+from .chatter import chatter
 from .codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
     OVERTURNED,
     REST,
@@ -55,7 +56,15 @@ from .codes import (  # noqa: F401  (the status bits and modes the kernel's call
     STATUS_STEP_UNDERFLOW,
     STATUS_TIE_HOLD,
 )
-from .dopri import HISTORY_TIME_TOL_S, dopri_step, fill_hermite, first_crossing, hermite_peak, locate_impact
+from .dopri import (
+    HISTORY_TIME_TOL_S,
+    dopri_step,
+    fill_hermite,
+    first_crossing,
+    hermite_peak,
+    locate_impact,
+    pivot_demand,
+)
 from .ground import exceed_fraction, flight_fraction
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from .structures import GroundPiece, RockingOutcome
@@ -186,18 +195,6 @@ def _peak_from_energy(E, p2, alpha, linear):
     if linear:
         return alpha - math.sqrt(max(-2.0 * E / p2, 0.0))
     return alpha - math.acos(min(max(E / p2, -1.0), 1.0))
-
-
-@jit
-def _contact_demand(th1, om1, acc1, s, alpha, R, a_end, v_end, g):
-    """Friction and normal force per unit mass at the pivot of a rocking block (Zhang & Makris 2001,
-    eqs. 16-20): returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0, undefined)."""
-    phi = alpha * s - th1
-    fx = a_end + R * acc1 * math.cos(phi) + R * om1 * om1 * math.sin(phi)
-    fz = g + v_end + R * acc1 * math.sin(phi) - R * om1 * om1 * math.cos(phi)
-    if fz <= 0.0:
-        return 0.0, True
-    return abs(fx) / fz, False
 
 
 @jit
@@ -365,6 +362,8 @@ def _impact(hh, x, dt, pc, block, control, lim, progress, out):
         pr.status |= STATUS_TIE_HOLD
         pr.n_same = 0
         pr.omega, pr.mode, pr.t = 0.0, REST, pc.t1
+    if pr.mode == ROCK and control.chatter:   # the cascade's small flights in closed form while they hold
+        chatter(dt, pc, block, control, lim.rest_omega, lim.p2, progress, out.theta, out.impacts)
     pr.h = max(hh, MIN_STEP_AFTER_IMPACT_P / block.p)    # the new pivot's motion is smooth: keep the step size
 
 
@@ -391,7 +390,7 @@ def _pivot_holds(th1, om1, acc1, hh, pc, block, progress):
     start."""
     pr = progress[0]
     te = pr.t + hh
-    demand, lifted = _contact_demand(th1, om1, acc1, pr.pivot, block.alpha, block.R, pc.a0 + pc.sa * (te - pc.t0),
+    demand, lifted = pivot_demand(th1, om1, acc1, pr.pivot, block.alpha, block.R, pc.a0 + pc.sa * (te - pc.t0),
                                      pc.v0 + pc.sv * (te - pc.t0), block.g)
     if lifted:
         pr.status |= STATUS_LIFTOFF

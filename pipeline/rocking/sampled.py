@@ -40,17 +40,22 @@ from .structures import RockingOutput, RockingState
 
 @jit
 def _demand(h1, h2, c, s, eps, av_s, has_v, g):
-    """max_t |eps (c h1 + s h2)| / (g + a_v) (inf where g + a_v <= 0)."""
+    """max_t |eps (c h1 + s h2)| / (g + a_v) (inf where g + a_v <= 0).
+
+    Without a vertical the peak is divided by g once: dividing by a positive constant keeps the order of
+    doubles, so the result is the same double as the largest quotient."""
     r = 0.0
+    if not has_v:
+        for i in range(h1.size):
+            a = abs(eps * (c * h1[i] + s * h2[i]))
+            if a > r:
+                r = a
+        return r / g
     for i in range(h1.size):
-        a = abs(eps * (c * h1[i] + s * h2[i]))
-        if has_v:
-            gv = g + av_s[i]
-            if gv <= 0.0:
-                return math.inf
-            a = a / gv
-        else:
-            a = a / g
+        gv = g + av_s[i]
+        if gv <= 0.0:
+            return math.inf
+        a = abs(eps * (c * h1[i] + s * h2[i])) / gv
         if a > r:
             r = a
     return r

@@ -18,6 +18,11 @@ class SimulationConfig:
     atol: float = 1e-9
     #: An impact whose rebound is below rest_ratio * p * alpha puts the block to rest [-].
     rest_ratio: float = 1e-6
+    #: True (default): the small flights of an impact cascade near rest are taken in closed form
+    #: (:mod:`pipeline.rocking.chatter`) wherever the term it drops is within ``rtol``; False: every flight is
+    #: stepped by Runge-Kutta and every impact located by Newton iterations (the ``reference`` tier does this;
+    #: ``screen bench`` measures the difference).
+    closed_form_chatter: bool = True
     #: Largest integration step as a fraction of 1/p [-].
     max_step_p: float = 0.05
     #: Cap on impacts plus uplifts per scene (chatter guard; the scene is flagged) [-].

@@ -223,7 +223,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
 def step_control(settings: SimulationConfig) -> StepControl:
     """The kernel's step control from the simulator's settings."""
     return StepControl(rtol=float(settings.rtol), atol=float(settings.atol), rest_ratio=float(settings.rest_ratio),
-                       max_step_p=float(settings.max_step_p), max_events=int(settings.max_events))
+                       max_step_p=float(settings.max_step_p), max_events=int(settings.max_events),
+                       chatter=bool(settings.closed_form_chatter))
 
 
 def slide(ah_ms2, dt_s: float, *, mu: float, av_ms2=None, g_ms2: float = G) -> SlideResult:

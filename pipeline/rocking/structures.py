@@ -98,6 +98,8 @@ class StepControl(NamedTuple):
         Largest step as a fraction of 1/p.
     max_events : int
         Cap on impacts plus uplifts (chatter guard).
+    chatter : bool
+        Take the small flights of an impact cascade in closed form where they hold (:mod:`.chatter`).
     """
 
     rtol: float
@@ -105,6 +107,7 @@ class StepControl(NamedTuple):
     rest_ratio: float
     max_step_p: float
     max_events: int
+    chatter: bool
 
 
 class RockingState(NamedTuple):

@@ -267,7 +267,7 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, row
     """The simulation settings, orientation variants, contact model, floors and margin steps, appended to ``rows``
     as each is measured."""
     sweeps = {"rtol": (1e-4, 1e-5, 1e-6, 1e-7, 1e-9), "rest_ratio": (1e-3, 1e-4, 1e-5, 1e-6, 1e-8),
-              "max_step_p": (0.2, 0.1, 0.05, 0.02)}
+              "max_step_p": (0.2, 0.1, 0.05, 0.02), "closed_form_chatter": (True, False)}
     full = config.with_tier("full")
     for name, values in sweeps.items():
         for v in values:
