@@ -67,8 +67,14 @@ def pivot_demand(th, om, acc, s, alpha, R, a_h, a_v, g):
     the ground's ``a_h`` and ``a_v``: returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0,
     undefined)."""
     phi = alpha * s - th
-    fx = a_h + R * acc * math.cos(phi) + R * om * om * math.sin(phi)
-    fz = g + a_v + R * acc * math.sin(phi) - R * om * om * math.cos(phi)
+    return pivot_demand_sc(math.sin(phi), math.cos(phi), om, acc, R, a_h, a_v, g)
+
+
+@jit
+def pivot_demand_sc(sin_phi, cos_phi, om, acc, R, a_h, a_v, g):
+    """:func:`pivot_demand` from sin and cos of phi = alpha s - theta (:func:`dopri_step` returns them)."""
+    fx = a_h + R * acc * cos_phi + R * om * om * sin_phi
+    fz = g + a_v + R * acc * sin_phi - R * om * om * cos_phi
     if fz <= 0.0:
         return 0.0, True
     return abs(fx) / fz, False
@@ -77,8 +83,9 @@ def pivot_demand(th, om, acc, s, alpha, R, a_h, a_v, g):
 @jit
 def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
     """One Dormand-Prince step of length ``h`` [s] from (t, theta, omega) on pivot side ``s`` under the ground
-    piece ``pc`` (:class:`~.structures.GroundPiece`); returns theta, omega, their error estimates and the
-    angular acceleration at the step's end."""
+    piece ``pc`` (:class:`~.structures.GroundPiece`); returns theta, omega, their error estimates, the
+    angular acceleration at the step's end, and sin and cos of alpha s - theta there (what the pivot's forces
+    need: computed once, the same doubles as :func:`rocking_accel`'s)."""
     t0, a0, sa, v0, sv = pc.t0, pc.a0, pc.sa, pc.v0, pc.sv
     k1t = om
     k1o = rocking_accel(th, om, a0 + sa * (t - t0), v0 + sv * (t - t0), s, p2, alpha, g, linear)
@@ -103,10 +110,14 @@ def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
     k6t, k6o = y6o, rocking_accel(y6t, y6o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
     th1 = th + h * (B1 * k1t + B3 * k3t + B4 * k4t + B5 * k5t + B6 * k6t)
     om1 = om + h * (B1 * k1o + B3 * k3o + B4 * k4o + B5 * k5o + B6 * k6o)
-    k7t, k7o = om1, rocking_accel(th1, om1, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
+    ah7, av7 = a0 + sa * (tt - t0), v0 + sv * (tt - t0)
+    phi7 = alpha * s - th1                          # rocking_accel at the step's end, its sin and cos kept
+    sin7, cos7 = math.sin(phi7), math.cos(phi7)
+    k7t = om1
+    k7o = -p2 * ((1.0 + av7 / g) * phi7 + ah7 / g) if linear else -p2 * ((1.0 + av7 / g) * sin7 + (ah7 / g) * cos7)
     et = h * (E1 * k1t + E3 * k3t + E4 * k4t + E5 * k5t + E6 * k6t + E7 * k7t)
     eo = h * (E1 * k1o + E3 * k3o + E4 * k4o + E5 * k5o + E6 * k6o + E7 * k7o)
-    return th1, om1, et, eo, k7o
+    return th1, om1, et, eo, k7o, sin7, cos7
 
 
 @jit
@@ -178,7 +189,7 @@ def locate_impact(t, th, om, hh, x, pc, s, p2, alpha, g, linear):
     hs = x * hh
     ths, oms = th, om
     for _ in range(NEWTON_ITERATIONS):
-        ths, oms, _et, _eo, _acc = dopri_step(t, th, om, hs, pc, s, p2, alpha, g, linear)
+        ths, oms, _et, _eo, _acc, _sin, _cos = dopri_step(t, th, om, hs, pc, s, p2, alpha, g, linear)
         if oms == 0.0 or abs(ths) <= NEWTON_TOL_ALPHA * alpha:
             break
         hs = min(max(hs - ths / oms, 0.0), hh)

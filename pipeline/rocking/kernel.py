@@ -63,7 +63,7 @@ from .dopri import (
     first_crossing,
     hermite_peak,
     locate_impact,
-    pivot_demand,
+    pivot_demand_sc,
 )
 from .ground import exceed_fraction, flight_fraction
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
@@ -375,7 +375,8 @@ def _to_ground_flight(hh, pc, block, lim, progress):
     t = pr.t
     hf = flight_fraction(pc.v0 + pc.sv * (t - pc.t0), pc.v0 + pc.sv * (t + hh - pc.t0), block.g) * hh
     if hf > 0.0:
-        th, om, _et, _eo, _acc = dopri_step(t, pr.theta, pr.omega, hf, pc, pr.pivot, lim.p2, block.alpha, block.g,
+        th, om, _et, _eo, _acc, _sin, _cos = dopri_step(t, pr.theta, pr.omega, hf, pc, pr.pivot, lim.p2, block.alpha,
+                                                        block.g,
                                             block.linear)
         pr.theta, pr.omega = th, om
         pr.theta_max = max(pr.theta_max, abs(th))
@@ -384,13 +385,13 @@ def _to_ground_flight(hh, pc, block, lim, progress):
 
 
 @jit_inline
-def _pivot_holds(th1, om1, acc1, hh, pc, block, progress):
-    """Record the pivot's friction demand (or its lift-off) at the step's end; False where pure rocking stops
-    holding for this block (``block.stop_mu``), so that the general contact model continues from the step's
-    start."""
+def _pivot_holds(sin1, cos1, om1, acc1, hh, pc, block, progress):
+    """Record the pivot's friction demand (or its lift-off) at the step's end (``sin1``, ``cos1``: of
+    alpha s - theta there); False where pure rocking stops holding for this block (``block.stop_mu``), so that
+    the general contact model continues from the step's start."""
     pr = progress[0]
     te = pr.t + hh
-    demand, lifted = pivot_demand(th1, om1, acc1, pr.pivot, block.alpha, block.R, pc.a0 + pc.sa * (te - pc.t0),
+    demand, lifted = pivot_demand_sc(sin1, cos1, om1, acc1, block.R, pc.a0 + pc.sa * (te - pc.t0),
                                      pc.v0 + pc.sv * (te - pc.t0), block.g)
     if lifted:
         pr.status |= STATUS_LIFTOFF
@@ -432,7 +433,7 @@ def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
     hh = min(pr.h, lim.h_max, pc.t1 - t)
     if hh <= min_step:
         hh = pc.t1 - t
-    th1, om1, et, eo, acc1 = dopri_step(t, th, om, hh, pc, s, lim.p2, block.alpha, block.g, block.linear)
+    th1, om1, et, eo, acc1, sin1, cos1 = dopri_step(t, th, om, hh, pc, s, lim.p2, block.alpha, block.g, block.linear)
     sc_t = lim.atol_theta + control.rtol * max(abs(th), abs(th1))
     sc_o = lim.atol_omega + control.rtol * max(abs(om), abs(om1))
     err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
@@ -455,7 +456,7 @@ def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
         pr.overturned, pr.theta_max, pr.mode, pr.t = True, HALF_PI, OVERTURNED, pr.t_overturn
         return False
     # past the saddle (|theta| >= alpha) the block falls whether or not its base slides: no demand there
-    if abs(th1) < block.alpha and not _pivot_holds(th1, om1, acc1, hh, pc, block, progress):
+    if abs(th1) < block.alpha and not _pivot_holds(sin1, cos1, om1, acc1, hh, pc, block, progress):
         pr.handed_off = True
         return False
     _accept(hh, th1, om1, err, dt, progress, out.theta)

@@ -137,8 +137,15 @@ class _Cells:
 
     def index(self, azimuth_deg: float) -> int:
         """The column of a plane, or -1."""
-        hit = np.flatnonzero(np.isclose((self.planes_deg - azimuth_deg + 90.0) % 180.0 - 90.0, 0.0, atol=1e-6))
-        return int(hit[0]) if hit.size else -1
+        return int(self.columns([azimuth_deg])[0])
+
+    def columns(self, azimuths_deg) -> np.ndarray:
+        """The column of each plane (the first of equal ones), -1 where none."""
+        az = np.asarray(azimuths_deg, dtype=float)
+        if self.planes_deg.size == 0:
+            return np.full(az.size, -1)
+        near = np.isclose((self.planes_deg[None, :] - az[:, None] + 90.0) % 180.0 - 90.0, 0.0, atol=1e-6)
+        return np.where(near.any(axis=1), near.argmax(axis=1), -1)
 
     def fill(self, rows: np.ndarray, columns: np.ndarray) -> None:
         """Simulate the cells of ``rows`` x ``columns`` not simulated yet."""
@@ -243,7 +250,7 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
         cand = np.array(sorted(set(coarse.tolist()) | ({gov_column} if gov_column >= 0 else set())), dtype=int)
     else:
         first = [governing_deg] if gov_known else []
-        picks = [c for c in dict.fromkeys(cells.index(a) for a in [*first, *ranked_deg]) if c >= 0]
+        picks = [c for c in dict.fromkeys(cells.columns([*first, *ranked_deg]).tolist()) if c >= 0]
         cand = np.array(picks[:NOMINAL_CANDIDATES + len(first)] or [0], dtype=int)
     n_max, batch = len(z), max(1, u.batch)
     drawn = min(batch, n_max)
@@ -307,7 +314,7 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
     order = plane_order(grid.size, n_max)
     outcome = np.full(n_max, NOT_SIMULATED, dtype=np.int8)
     if cells is not None:
-        columns = np.array([cells.index(a) for a in grid])
+        columns = cells.columns(grid)
         for k in range(min(n_max, len(cells.z))):
             c = columns[order[k]]
             if c >= 0 and cells.outcome[k, c] != NOT_SIMULATED:

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from enum import IntEnum
+from functools import lru_cache
 from statistics import NormalDist
 
 import numpy as np
@@ -63,7 +64,7 @@ def wilson_interval(k, n, *, confidence: float = 0.90) -> tuple[np.ndarray, np.n
     """
     k = np.asarray(k, dtype=float)
     n = np.asarray(n, dtype=float)
-    z = NormalDist().inv_cdf(0.5 + confidence / 2.0)
+    z = _normal_quantile(0.5 + confidence / 2.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         centre = (k + z * z / 2.0) / (n + z * z)
         half = z * np.sqrt(k * (n - k) / n + z * z / 4.0) / (n + z * z)
@@ -71,6 +72,12 @@ def wilson_interval(k, n, *, confidence: float = 0.90) -> tuple[np.ndarray, np.n
         low = np.where(n > 0, np.where(k <= 0, 0.0, np.clip(centre - half, 0.0, 1.0)), np.nan)
         high = np.where(n > 0, np.where(k >= n, 1.0, np.clip(centre + half, 0.0, 1.0)), np.nan)
     return low, high
+
+
+@lru_cache(maxsize=8)
+def _normal_quantile(q: float) -> float:
+    """The standard normal quantile of ``q`` (computed once per confidence)."""
+    return NormalDist().inv_cdf(q)
 
 
 def classify(low: float, high: float, *, below: float, above: float) -> int | None:
