@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from pipeline.rocking.chatter import flight
+from pipeline.rocking.chatter import flight, flight_peak
 from pipeline.rocking.reference import rock_reference
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import rock
@@ -24,10 +24,10 @@ def p_block(p, alpha, e):
     return dict(p=p, alpha=alpha, R_m=3 * G81 / (4 * p * p), e=e, g_ms2=G81)
 
 
-@pytest.mark.parametrize("w, g0, g1", [(1e-3, 2.0, 0.0), (1e-3, 2.0, 40.0), (1e-3, 2.0, -40.0),
-                                       (2e-5, 0.3, 5.0), (5e-2, 8.0, -300.0)])
-def test_flight_matches_an_integrated_flight(w, g0, g1):
-    """Return time, return speed and peak of u'' = -(g0 + g1 t) from (0, w), against solve_ivp's events."""
+@pytest.mark.parametrize("w, g0, g1, k", [(1e-3, 2.0, 0.0, 0.0), (1e-3, 2.0, 40.0, 0.0), (1e-3, 2.0, -40.0, 5.0),
+                                          (2e-5, 0.3, 5.0, 20.0), (5e-2, 8.0, -300.0, 60.0), (1e-2, 1.0, 3.0, 1e-12)])
+def test_flight_matches_an_integrated_flight(w, g0, g1, k):
+    """Return time, return speed and peak of u'' = -(g0 + g1 t) + k u from (0, w), against solve_ivp's events."""
     def returns(t, y):
         return y[0]
 
@@ -35,18 +35,19 @@ def test_flight_matches_an_integrated_flight(w, g0, g1):
         return y[1]
 
     returns.terminal, returns.direction = True, -1.0
-    sol = solve_ivp(lambda t, y: [y[1], -(g0 + g1 * t)], (0.0, 10.0), [0.0, w], method="DOP853", rtol=1e-13,
-                    atol=1e-18, events=[returns, turns], first_step=1e-9 * w / g0)
-    fl = flight(w, g0, g1)
+    sol = solve_ivp(lambda t, y: [y[1], -(g0 + g1 * t) + k * y[0]], (0.0, 10.0), [0.0, w], method="DOP853",
+                    rtol=1e-13, atol=1e-18, events=[returns, turns], first_step=1e-9 * w / g0)
+    fl = flight(w, g0, g1, k, 10.0)
     tau = float(sol.t_events[0][0])
     assert fl.tau == pytest.approx(tau, rel=1e-10)
     assert fl.w_return == pytest.approx(-float(sol.y_events[0][0][1]), rel=1e-9)
-    assert fl.u_peak == pytest.approx(float(sol.y_events[1][0][0]), rel=1e-9)
+    assert flight_peak(w, g0, g1, k, fl.tau) == pytest.approx(float(sol.y_events[1][0][0]), rel=1e-10)
+    assert flight(w, g0, g1, k, 0.5 * tau).tau < 0          # it does not return within half its time
 
 
 def test_a_flight_that_does_not_return_is_refused():
     """A deceleration that turns into a push before the block comes back: no flight."""
-    assert flight(1.0, 1.0, -1.0).tau < 0
+    assert flight(1.0, 1.0, -1.0, 0.0, 100.0).tau < 0
 
 
 def _ground_then_still(kind, n=4001, dt=0.005):

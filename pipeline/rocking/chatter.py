@@ -9,19 +9,20 @@ steps an impact, for a hundred impacts and more per cascade.
 Near theta = 0 the equation of motion on pivot side ``s`` (Makris & Roussos 2000, eqs. 1-3 and 8-9, with
 g -> g + a_v after Yim et al. 1980) reads, for u = s theta,
 
-    u'' = -G(t) + K(t) u + O(u^2),
+    u'' = -G(t) + K(t) u + (G(t) / 2) u^2 + O(u^3),
     G = p^2 [(1 + a_v/g) S + s (a_h/g) C],   K = p^2 [(1 + a_v/g) C - s (a_h/g) S]
 
-(S, C = sin alpha, cos alpha; alpha, 1 for the linearised model). G is linear in time on a linear piece of the
-ground, so without the term in u a flight that leaves theta = 0 at speed w is the cubic
-u(tau) = w tau - G0 tau^2 / 2 - G1 tau^3 / 6: its return time is the root of a quadratic and its return speed
-follows (:func:`flight`). The term in u is at most |K| u <= K_max w^2 / (2 G_min), with
-K_max = p^2 [(1 + a_v/g) C + (|a_h|/g) S]; a flight is taken in closed form only where that is at most the
-kernel's relative tolerance ``rtol`` times G_min (the O(u^2) term is smaller still), where it ends inside the
-ground piece, where G stays positive (the ground lifts neither corner), where the ground does not fall faster
-than gravity, and where the pivot's friction demand at both ends of the flight stays at or below the block's
-``stop_mu`` (the kernel checks it at the ends of its steps). Otherwise the kernel steps on from the last impact,
-exactly as without this module.
+(S, C = sin alpha, cos alpha; for the linearised model S, C = alpha, 1 and the equation is linear in u). On a
+linear piece of the ground G and K are linear in time. With K held at its value where a flight starts, the
+equation u'' = -(G0 + G1 x) + K0 u is solved in closed form (:func:`motion_at`), a flight that leaves theta = 0
+at speed w returns where u = 0 again (:func:`flight`: Newton iterations from the root of the cubic that K = 0
+gives), and the impact follows Housner's rule. What this drops is K's change over the flight and the u^2 term:
+at most (|K'| tau + G_max / 2 u_peak) u_peak, with u_peak <= w^2 / G_min while K u <= G / 2. A flight is taken
+in closed form only where that is at most the kernel's relative tolerance ``rtol`` times the smallest G of the
+flight, where the flight ends inside the ground piece, where G stays positive (the ground lifts neither corner),
+where the ground does not fall faster than gravity, and where the pivot's friction demand at both ends of the
+flight stays at or below the block's ``stop_mu`` (the kernel checks it at the ends of its steps). Otherwise the
+kernel steps on from the last impact, exactly as without this module.
 
 References
 ----------
@@ -44,33 +45,69 @@ from .codes import REST, STATUS_CHATTER
 from .dopri import HISTORY_TIME_TOL_S, pivot_demand
 from .rules import min_advance_compiled
 
+# Closed-form flights, named once
+SERIES_BELOW = 0.25           # sinh(y) - y by its Taylor series to y^9 below this |y| (the next term < 1e-16) [-]
+NEWTON_ITERATIONS = 20        # Newton iterations at most on a flight's return time
+PEAK_ITERATIONS = 2           # Newton iterations on its turning point, from the cubic's (quadratic convergence)
+CONCAVE_SHARE = 0.5           # K u stays below this share of G over a flight (u concave: one return) [-]
+
 
 class Flight(NamedTuple):
     """One flight of a cascade from theta = 0 back to theta = 0 on one pivot (a numba namedtuple)."""
 
     tau: float       # its duration [s]; -1 where no return is found
     w_return: float  # the speed it comes back with [rad s-1]
-    u_peak: float    # its largest |theta| [rad]
 
 
-NO_FLIGHT = Flight(tau=-1.0, w_return=0.0, u_peak=0.0)
+NO_FLIGHT = Flight(tau=-1.0, w_return=0.0)
 
 
 class Ground(NamedTuple):
     """What one flight needs of the ground at an instant, on one pivot (a numba namedtuple)."""
 
     restoring: float  # G [rad s-2]
-    bound: float      # K_max [s-2]
+    stiffness: float  # K [s-2]
+    half_bound: float  # a bound of the O(u^2) term's coefficient, |G| / 2 (0 for the linearised model) [rad-1 s-2]
     demand: float     # the pivot's friction demand |f_x| / f_z there [-]
     holds: bool       # the block stays on the ground and on its pivot (f_z > 0, demand <= stop_mu, g + a_v > 0)
 
 
 @jit
-def flight(w, g0, g1):
-    """The flight u(tau) = w tau - g0 tau^2 / 2 - g1 tau^3 / 6 from u = 0 at speed ``w`` > 0 under the
-    deceleration g0 + g1 tau (``g0`` > 0): its return time, return speed and peak (:data:`NO_FLIGHT` where u
-    does not come back)."""
-    a, b = g1 / 6.0, 0.5 * g0                 # u / tau = w - b tau - a tau^2 = 0
+def _sinh_minus(y):
+    """sinh(y) - y without cancellation."""
+    if abs(y) < SERIES_BELOW:
+        y2 = y * y
+        return y * y2 / 6.0 * (1.0 + y2 / 20.0 * (1.0 + y2 / 42.0 * (1.0 + y2 / 72.0)))
+    return math.sinh(y) - y
+
+
+@jit
+def motion_at(x, w, g0, g1, k):
+    """u and u' at x of u'' = -(g0 + g1 x) + k u from u = 0, u' = w (k >= 0), in closed form:
+    u = w sinh(y) / lam - g0 (cosh(y) - 1) / k - g1 (sinh(y) - y) / (k lam), y = lam x, lam = sqrt(k)
+    (the cubic w x - g0 x^2 / 2 - g1 x^3 / 6 as k -> 0, which the series keep without cancellation)."""
+    lam = math.sqrt(k)
+    y = lam * x
+    if y == 0.0:
+        return w * x - 0.5 * g0 * x * x - g1 * x * x * x / 6.0, w - g0 * x - 0.5 * g1 * x * x
+    sm = _sinh_minus(y)
+    half = 0.5 * y
+    sh_half = half + _sinh_minus(half)
+    c1 = 2.0 * sh_half * sh_half                  # cosh(y) - 1
+    sh_over = x + sm / lam                        # sinh(y) / lam
+    u = w * sh_over - g0 * c1 / k - g1 * sm / (k * lam)
+    v = w * (1.0 + c1) - g0 * sh_over - g1 * c1 / k
+    return u, v
+
+
+@jit
+def flight(w, g0, g1, k, span):
+    """The flight of u'' = -(g0 + g1 x) + k u from u = 0 at speed ``w`` > 0 (``g0`` > 0, ``k`` >= 0): its return
+    time and return speed (:data:`NO_FLIGHT` where u does not come back within ``span`` [s]). Newton
+    iterations from the return time of the cubic (k = 0), which is earlier (k u >= 0 only slows the fall); u is
+    concave where the caller takes the flight, so after the first they approach the root from its right,
+    monotonically."""
+    a, b = g1 / 6.0, 0.5 * g0                 # the cubic: u / x = w - b x - a x^2 = 0
     disc = b * b + 4.0 * a * w
     if disc < 0.0:
         return NO_FLIGHT
@@ -78,14 +115,36 @@ def flight(w, g0, g1):
     if not den > 0.0:
         return NO_FLIGHT
     tau = 2.0 * w / den
-    w_ret = 0.5 * g0 * tau + g1 * tau * tau / 3.0   # -u'(tau), with w = g0 tau / 2 + g1 tau^2 / 6
-    if not (w_ret > 0.0 and tau > 0.0):
+    if tau > span:
         return NO_FLIGHT
-    # the peak where u'(tp) = w - g0 tp - g1 tp^2 / 2 = 0 (a root exists while the deceleration stays positive)
+    u, v = motion_at(tau, w, g0, g1, k)
+    for _ in range(NEWTON_ITERATIONS):
+        if not v < 0.0:
+            return NO_FLIGHT
+        step = u / v
+        tau -= step
+        u, v = motion_at(tau, w, g0, g1, k)
+        if abs(step) <= 4.0 * 2.220446049250313e-16 * tau:
+            break
+    if not (tau > 0.0 and v < 0.0):
+        return NO_FLIGHT
+    return Flight(tau=tau, w_return=-v)
+
+
+@jit
+def flight_peak(w, g0, g1, k, tau):
+    """The largest u of the flight of :func:`flight` (its duration ``tau``): from the cubic's turning point
+    (u'(tp) = w - g0 tp - g1 tp^2 / 2 = 0), Newton iterations on u'."""
     dp = g0 * g0 + 2.0 * g1 * w
     tp = min(2.0 * w / (g0 + math.sqrt(dp)), tau) if dp >= 0.0 else 0.5 * tau
-    u_pk = w * tp - 0.5 * g0 * tp * tp - g1 * tp * tp * tp / 6.0
-    return Flight(tau=tau, w_return=w_ret, u_peak=max(u_pk, 0.0))
+    u_pk, v_pk = motion_at(tp, w, g0, g1, k)
+    for _ in range(PEAK_ITERATIONS):
+        acc = -(g0 + g1 * tp) + k * u_pk            # u'' < 0 where the flight is taken
+        if not acc < 0.0:
+            break
+        tp = min(max(tp - v_pk / acc, 0.0), tau)
+        u_pk, v_pk = motion_at(tp, w, g0, g1, k)
+    return max(u_pk, 0.0)
 
 
 @jit_inline
@@ -95,10 +154,11 @@ def _ground(t, w, s, pc, block, p2, big_s, big_c):
     v = pc.v0 + pc.sv * (t - pc.t0)
     g = block.g
     g_s = p2 * ((1.0 + v / g) * big_s + s * (a / g) * big_c)
-    k_max = p2 * ((1.0 + v / g) * big_c + abs(a) / g * big_s)
+    k_s = p2 * ((1.0 + v / g) * big_c - s * (a / g) * big_s)
+    half = 0.0 if block.linear else 0.5 * p2 * ((1.0 + abs(v) / g) * big_s + abs(a) / g * big_c)
     demand, lifted = pivot_demand(0.0, w, -s * g_s, s, block.alpha, block.R, a, v, g)
-    holds = g + v > 0.0 and g_s > 0.0 and not lifted and not demand > block.stop_mu
-    return Ground(restoring=g_s, bound=k_max, demand=demand, holds=holds)
+    holds = g + v > 0.0 and g_s > 0.0 and k_s >= 0.0 and not lifted and not demand > block.stop_mu
+    return Ground(restoring=g_s, stiffness=k_s, half_bound=half, demand=demand, holds=holds)
 
 
 @jit_inline
@@ -110,26 +170,31 @@ def chatter(dt, pc, block, control, rest_omega, p2, progress, theta_out, impacts
     pr = progress[0]
     t, s, w = pr.t, pr.pivot, abs(pr.omega)
     big_s, big_c = (block.alpha, 1.0) if block.linear else (math.sin(block.alpha), math.cos(block.alpha))
-    g1_unit = p2 * ((pc.sv / block.g) * big_s + (pc.sa / block.g) * big_c)   # G's rate on pivot +1 ...
-    g1_side = p2 * (pc.sv / block.g) * big_s                                  # ... and its part common to both
+    inv_g = 1.0 / block.g
     while True:
         start = _ground(t, w, s, pc, block, p2, big_s, big_c)
-        if not (start.holds and start.bound * w * w <= 2.0 * control.rtol * start.restoring ** 2):
+        if not start.holds:
             return
-        g1 = g1_side + s * (g1_unit - g1_side)
-        fl = flight(w, start.restoring, g1)
+        g1 = p2 * (pc.sv * inv_g * big_s + s * pc.sa * inv_g * big_c)          # G's rate on the piece
+        k1 = p2 * (pc.sv * inv_g * big_c - s * pc.sa * inv_g * big_s)          # K's rate
+        fl = flight(w, start.restoring, g1, start.stiffness, pc.t1 - t)
         te = t + fl.tau
         if fl.tau < min_advance_compiled(t) or te > pc.t1:
             return
         end = _ground(te, fl.w_return, s, pc, block, p2, big_s, big_c)
         g_min = min(start.restoring, end.restoring)
-        if not (end.holds and max(start.bound, end.bound) * w * w <= 2.0 * control.rtol * g_min * g_min):
+        u_bound = w * w / g_min                  # the peak, while K u <= G / 2 (checked here)
+        # what the closed form drops: K's change over the flight, and the O(u^2) term
+        dropped = (abs(k1) * fl.tau + max(start.half_bound, end.half_bound) * u_bound) * u_bound
+        if not (end.holds and dropped <= control.rtol * g_min
+                and max(start.stiffness, end.stiffness) * u_bound <= CONCAVE_SHARE * g_min):
             return
         pr.friction_max = max(pr.friction_max, start.demand, end.demand)
-        pr.theta_max = max(pr.theta_max, fl.u_peak)
+        if u_bound > pr.theta_max:
+            pr.theta_max = max(pr.theta_max, flight_peak(w, start.restoring, g1, start.stiffness, fl.tau))
         while pr.out_k < theta_out.shape[0] and pr.out_k * dt <= te + HISTORY_TIME_TOL_S:
-            x = max(pr.out_k * dt - t, 0.0)
-            theta_out[pr.out_k] = s * max(w * x - 0.5 * start.restoring * x * x - g1 * x * x * x / 6.0, 0.0)
+            u_k, _v = motion_at(max(pr.out_k * dt - t, 0.0), w, start.restoring, g1, start.stiffness)
+            theta_out[pr.out_k] = s * max(u_k, 0.0)
             pr.out_k += 1
         w_after = block.e * fl.w_return                 # Housner: omega ratio e at the impact
         if pr.n_impacts < impacts.shape[0]:
