@@ -2,9 +2,10 @@
 
 A rocking block coming to rest strikes the ground again and again, each rebound ``e`` times the last, so the
 impacts accumulate in a finite time (Housner 1963; in impact oscillators this is chattering, Budd & Dux 1994).
-The kernel ends the cascade where a rebound falls below ``rest_ratio * p * alpha`` (1e-6 by default). Stepping
-each small flight by Runge-Kutta steps and locating each impact by Newton iterations on them costs about ten
-steps an impact, for a hundred impacts and more per cascade.
+The kernel ends the cascade where a rebound falls below ``rest_ratio * p * alpha`` (1e-6 by default); a slender
+block (e near 1) strikes hundreds of times on the way. Stepping each small flight by Runge-Kutta steps and
+locating each impact by Newton iterations on them took a third of the sampled simulations' time on the bundled
+records: 21 s of their kernels against 13.5 s with this module (docs/validation.md).
 
 Near theta = 0 the equation of motion on pivot side ``s`` (Makris & Roussos 2000, eqs. 1-3 and 8-9, with
 g -> g + a_v after Yim et al. 1980) reads, for u = s theta,
