@@ -13,17 +13,19 @@ g -> g + a_v after Yim et al. 1980) reads, for u = s theta,
     u'' = -G(t) + K(t) u + (G(t) / 2) u^2 + O(u^3),
     G = p^2 [(1 + a_v/g) S + s (a_h/g) C],   K = p^2 [(1 + a_v/g) C - s (a_h/g) S]
 
-(S, C = sin alpha, cos alpha; for the linearised model S, C = alpha, 1 and the equation is linear in u). On a
-linear piece of the ground G and K are linear in time. With K held at its value where a flight starts, the
-equation u'' = -(G0 + G1 x) + K0 u is solved in closed form (:func:`motion_at`), a flight that leaves theta = 0
-at speed w returns where u = 0 again (:func:`flight`: Newton iterations from the root of the cubic that K = 0
-gives), and the impact follows Housner's rule. What this drops is K's change over the flight and the u^2 term:
-at most (|K'| tau + G_max / 2 u_peak) u_peak, with u_peak <= w^2 / G_min while K u <= G / 2. A flight is taken
-in closed form only where that is at most the kernel's relative tolerance ``rtol`` times the smallest G of the
-flight, where the flight ends inside the ground piece, where G stays positive (the ground lifts neither corner),
-where the ground does not fall faster than gravity, and where the pivot's friction demand at both ends of the
-flight stays at or below the block's ``stop_mu`` (the kernel checks it at the ends of its steps). Otherwise the
-kernel steps on from the last impact, exactly as without this module.
+(S, C = sin alpha, cos alpha; the linearised model has G with S, C = alpha, 1, K = p^2 (1 + a_v/g) and nothing
+beyond the term in u). On a linear piece of the ground G and K are linear in time. With K held at its value
+where a flight starts, the equation u'' = -(G0 + G1 x) + K0 u is solved in closed form (:func:`motion_at`), a
+flight that leaves theta = 0 at speed w returns where u = 0 again (:func:`flight`: Newton iterations from the
+root of the cubic that K = 0 gives), and the impact follows Housner's rule.
+
+What this drops is K's change over the flight and the u^2 term (the u^3 term is smaller still): at most
+(|K'| tau + G_max / 2 u_peak) u_peak, with u_peak <= w^2 / G_min while K u <= G / 2. A flight is taken in closed
+form only where that is at most the kernel's relative tolerance ``rtol`` times the smallest G of the flight,
+where the flight ends inside the ground piece, where G stays positive (the ground lifts neither corner), where
+the ground does not fall faster than gravity, and where the pivot's friction demand at both ends of the flight
+stays at or below the block's ``stop_mu`` (the kernel checks it at the ends of its steps). Otherwise the kernel
+steps on from the last impact, exactly as without this module.
 
 References
 ----------
@@ -149,13 +151,14 @@ def flight_peak(w, g0, g1, k, tau):
 
 
 @jit_inline
-def _ground(t, w, s, pc, block, p2, big_s, big_c):
-    """The ground of the piece ``pc`` at time t for a flight on pivot s at speed w, at theta = 0."""
+def _ground(t, w, s, pc, block, p2, big_s, big_c, k_side):
+    """The ground of the piece ``pc`` at time t for a flight on pivot s at speed w, at theta = 0 (``big_s``,
+    ``big_c``, ``k_side``: S, C and K's S, 0 for the linearised model)."""
     a = pc.a0 + pc.sa * (t - pc.t0)
     v = pc.v0 + pc.sv * (t - pc.t0)
     g = block.g
     g_s = p2 * ((1.0 + v / g) * big_s + s * (a / g) * big_c)
-    k_s = p2 * ((1.0 + v / g) * big_c - s * (a / g) * big_s)
+    k_s = p2 * ((1.0 + v / g) * big_c - s * (a / g) * k_side)
     half = 0.0 if block.linear else 0.5 * p2 * ((1.0 + abs(v) / g) * big_s + abs(a) / g * big_c)
     demand, lifted = pivot_demand(0.0, w, -s * g_s, s, block.alpha, block.R, a, v, g)
     holds = g + v > 0.0 and g_s > 0.0 and k_s >= 0.0 and not lifted and not demand > block.stop_mu
@@ -171,18 +174,19 @@ def chatter(dt, pc, block, control, rest_omega, p2, progress, theta_out, impacts
     pr = progress[0]
     t, s, w = pr.t, pr.pivot, abs(pr.omega)
     big_s, big_c = (block.alpha, 1.0) if block.linear else (math.sin(block.alpha), math.cos(block.alpha))
+    k_side = 0.0 if block.linear else big_s
     inv_g = 1.0 / block.g
     while True:
-        start = _ground(t, w, s, pc, block, p2, big_s, big_c)
+        start = _ground(t, w, s, pc, block, p2, big_s, big_c, k_side)
         if not start.holds:
             return
         g1 = p2 * (pc.sv * inv_g * big_s + s * pc.sa * inv_g * big_c)          # G's rate on the piece
-        k1 = p2 * (pc.sv * inv_g * big_c - s * pc.sa * inv_g * big_s)          # K's rate
+        k1 = p2 * (pc.sv * inv_g * big_c - s * pc.sa * inv_g * k_side)        # K's rate
         fl = flight(w, start.restoring, g1, start.stiffness, pc.t1 - t)
         te = t + fl.tau
         if fl.tau < min_advance_compiled(t) or te > pc.t1:
             return
-        end = _ground(te, fl.w_return, s, pc, block, p2, big_s, big_c)
+        end = _ground(te, fl.w_return, s, pc, block, p2, big_s, big_c, k_side)
         g_min = min(start.restoring, end.restoring)
         u_bound = w * w / g_min                  # the peak, while K u <= G / 2 (checked here)
         # what the closed form drops: K's change over the flight, and the O(u^2) term
