@@ -46,7 +46,7 @@ from typing import NamedTuple
 from ..compiled import jit, jit_inline
 from .codes import REST, STATUS_CHATTER
 from .dopri import HISTORY_TIME_TOL_S, pivot_demand
-from .rules import min_advance_compiled
+from .rules import events_at_instant_compiled, min_advance_compiled
 
 # Closed-form flights, named once
 SERIES_BELOW = 0.25           # sinh(y) - y by its Taylor series to y^9 below this |y| (the next term < 1e-16) [-]
@@ -151,16 +151,40 @@ def flight_peak(w, g0, g1, k, tau):
 
 
 @jit_inline
-def _ground(t, w, s, pc, block, p2, big_s, big_c, k_side):
+def take_impact(t, om_before, e, rest_omega, max_events, progress, impacts):
+    """Housner's impact at time t (theta = 0) as the kernel and the closed-form cascade both take it: omega
+    multiplied by e and the pivot switched (Housner 1963), logged in ``impacts`` while it has room, counted
+    against the event cap and tie rule 6's count; a rebound slower than ``rest_omega`` or the cap ends in rest."""
+    pr = progress[0]
+    om_after = e * om_before                                   # omega ratio e, energy ratio e^2
+    if pr.n_impacts < impacts.shape[0]:
+        impacts[pr.n_impacts, 0] = t
+        impacts[pr.n_impacts, 1] = om_before
+        impacts[pr.n_impacts, 2] = om_after
+    if pr.n_impacts == 0:
+        pr.t_first_impact = t
+    pr.n_impacts += 1
+    pr.n_events += 1
+    pr.t, pr.theta, pr.omega, pr.pivot = t, 0.0, om_after, -pr.pivot
+    pr.n_same = events_at_instant_compiled(t, pr.t_event, pr.n_same)
+    pr.t_event = t
+    if abs(om_after) < rest_omega or pr.n_events >= max_events:
+        if pr.n_events >= max_events:
+            pr.status |= STATUS_CHATTER
+        pr.omega, pr.mode = 0.0, REST
+
+
+@jit_inline
+def _ground(t, w, s, pc, block, p2, big_s, big_c, k_side, sin_a, cos_a):
     """The ground of the piece ``pc`` at time t for a flight on pivot s at speed w, at theta = 0 (``big_s``,
-    ``big_c``, ``k_side``: S, C and K's S, 0 for the linearised model)."""
+    ``big_c``, ``k_side``: S, C and K's S, 0 for the linearised model; ``sin_a``, ``cos_a``: of alpha)."""
     a = pc.a0 + pc.sa * (t - pc.t0)
     v = pc.v0 + pc.sv * (t - pc.t0)
     g = block.g
     g_s = p2 * ((1.0 + v / g) * big_s + s * (a / g) * big_c)
     k_s = p2 * ((1.0 + v / g) * big_c - s * (a / g) * k_side)
     half = 0.0 if block.linear else 0.5 * p2 * ((1.0 + abs(v) / g) * big_s + abs(a) / g * big_c)
-    demand, lifted = pivot_demand(0.0, w, -s * g_s, s, block.alpha, block.R, a, v, g)
+    demand, lifted = pivot_demand(s * sin_a, cos_a, w, -s * g_s, block.R, a, v, g)   # phi = alpha s
     holds = g + v > 0.0 and g_s > 0.0 and k_s >= 0.0 and not lifted and not demand > block.stop_mu
     return Ground(restoring=g_s, stiffness=k_s, half_bound=half, demand=demand, holds=holds)
 
@@ -173,11 +197,12 @@ def chatter(dt, pc, block, control, rest_omega, p2, progress, theta_out, impacts
     the kernel to go on from. Fills the theta history and the impact log as the kernel does."""
     pr = progress[0]
     t, s, w = pr.t, pr.pivot, abs(pr.omega)
-    big_s, big_c = (block.alpha, 1.0) if block.linear else (math.sin(block.alpha), math.cos(block.alpha))
+    sin_a, cos_a = math.sin(block.alpha), math.cos(block.alpha)
+    big_s, big_c = (block.alpha, 1.0) if block.linear else (sin_a, cos_a)
     k_side = 0.0 if block.linear else big_s
     inv_g = 1.0 / block.g
     while True:
-        start = _ground(t, w, s, pc, block, p2, big_s, big_c, k_side)
+        start = _ground(t, w, s, pc, block, p2, big_s, big_c, k_side, sin_a, cos_a)
         if not start.holds:
             return
         g1 = p2 * (pc.sv * inv_g * big_s + s * pc.sa * inv_g * big_c)          # G's rate on the piece
@@ -186,7 +211,7 @@ def chatter(dt, pc, block, control, rest_omega, p2, progress, theta_out, impacts
         te = t + fl.tau
         if fl.tau < min_advance_compiled(t) or te > pc.t1:
             return
-        end = _ground(te, fl.w_return, s, pc, block, p2, big_s, big_c, k_side)
+        end = _ground(te, fl.w_return, s, pc, block, p2, big_s, big_c, k_side, sin_a, cos_a)
         g_min = min(start.restoring, end.restoring)
         u_bound = w * w / g_min                  # the peak, while K u <= G / 2 (checked here)
         # what the closed form drops: K's change over the flight, and the O(u^2) term
@@ -201,18 +226,7 @@ def chatter(dt, pc, block, control, rest_omega, p2, progress, theta_out, impacts
             u_k, _v = motion_at(max(pr.out_k * dt - t, 0.0), w, start.restoring, g1, start.stiffness)
             theta_out[pr.out_k] = s * max(u_k, 0.0)
             pr.out_k += 1
-        w_after = block.e * fl.w_return                 # Housner: omega ratio e at the impact
-        if pr.n_impacts < impacts.shape[0]:
-            impacts[pr.n_impacts, 0] = te
-            impacts[pr.n_impacts, 1] = -s * fl.w_return
-            impacts[pr.n_impacts, 2] = -s * w_after
-        pr.n_impacts += 1
-        pr.n_events += 1
-        pr.t_event, pr.n_same = te, 0
-        t, s, w = te, -s, w_after
-        pr.t, pr.theta, pr.omega, pr.pivot = t, 0.0, s * w, s
-        if w < rest_omega or pr.n_events >= control.max_events:
-            if pr.n_events >= control.max_events:
-                pr.status |= STATUS_CHATTER
-            pr.omega, pr.mode = 0.0, REST
+        take_impact(te, -s * fl.w_return, block.e, rest_omega, control.max_events, progress, impacts)
+        if pr.mode == REST:
             return
+        t, s, w = pr.t, pr.pivot, abs(pr.omega)

@@ -57,22 +57,21 @@ def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
     phi = alpha * s - theta
     if linear:
         return -p2 * ((1.0 + av / g) * phi + ah / g)
-    return -p2 * ((1.0 + av / g) * math.sin(phi) + (ah / g) * math.cos(phi))
+    return accel_nonlinear(math.sin(phi), math.cos(phi), ah, av, p2, g)
 
 
 @jit
-def pivot_demand(th, om, acc, s, alpha, R, a_h, a_v, g):
+def accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g):
+    """:func:`rocking_accel` of the nonlinear model from sin and cos of phi = alpha s - theta."""
+    return -p2 * ((1.0 + av / g) * sin_phi + (ah / g) * cos_phi)
+
+
+@jit
+def pivot_demand(sin_phi, cos_phi, om, acc, R, a_h, a_v, g):
     """Friction and normal force per unit mass at the pivot of a rocking block (Zhang & Makris 2001,
-    eqs. 16-20) at rotation ``th``, angular velocity ``om`` and acceleration ``acc`` on pivot side ``s``, under
-    the ground's ``a_h`` and ``a_v``: returns (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0,
-    undefined)."""
-    phi = alpha * s - th
-    return pivot_demand_sc(math.sin(phi), math.cos(phi), om, acc, R, a_h, a_v, g)
-
-
-@jit
-def pivot_demand_sc(sin_phi, cos_phi, om, acc, R, a_h, a_v, g):
-    """:func:`pivot_demand` from sin and cos of phi = alpha s - theta (:func:`dopri_step` returns them)."""
+    eqs. 16-20), from sin and cos of phi = alpha s - theta (:func:`dopri_step` returns them at a step's end),
+    the angular velocity ``om`` and acceleration ``acc``, under the ground's ``a_h`` and ``a_v``: returns
+    (|f_x| / f_z, lifted), lifted when f_z <= 0 (the demand is then 0, undefined)."""
     fx = a_h + R * acc * cos_phi + R * om * om * sin_phi
     fz = g + a_v + R * acc * sin_phi - R * om * om * cos_phi
     if fz <= 0.0:
@@ -114,7 +113,7 @@ def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
     phi7 = alpha * s - th1                          # rocking_accel at the step's end, its sin and cos kept
     sin7, cos7 = math.sin(phi7), math.cos(phi7)
     k7t = om1
-    k7o = -p2 * ((1.0 + av7 / g) * phi7 + ah7 / g) if linear else -p2 * ((1.0 + av7 / g) * sin7 + (ah7 / g) * cos7)
+    k7o = -p2 * ((1.0 + av7 / g) * phi7 + ah7 / g) if linear else accel_nonlinear(sin7, cos7, ah7, av7, p2, g)
     et = h * (E1 * k1t + E3 * k3t + E4 * k4t + E5 * k5t + E6 * k6t + E7 * k7t)
     eo = h * (E1 * k1o + E3 * k3o + E4 * k4o + E5 * k5o + E6 * k6o + E7 * k7o)
     return th1, om1, et, eo, k7o, sin7, cos7

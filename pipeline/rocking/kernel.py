@@ -43,7 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
-from .chatter import chatter
+from .chatter import chatter, take_impact
 from .codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
     OVERTURNED,
     REST,
@@ -63,7 +63,7 @@ from .dopri import (
     first_crossing,
     hermite_peak,
     locate_impact,
-    pivot_demand_sc,
+    pivot_demand,
 )
 from .ground import exceed_fraction, flight_fraction
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
@@ -341,22 +341,7 @@ def _impact(hh, x, dt, pc, block, control, lim, progress, out):
         pr.theta_max = max(pr.theta_max, hermite_peak(th, om, ths, oms, hs))
     t = t + hs
     pr.out_k = fill_hermite(out.theta, pr.out_k, dt, t - hs, hs, th, om, ths, oms, t)
-    om_after = block.e * oms                                   # Housner: omega ratio e, energy ratio e^2
-    if pr.n_impacts < out.impacts.shape[0]:
-        out.impacts[pr.n_impacts, 0] = t
-        out.impacts[pr.n_impacts, 1] = oms
-        out.impacts[pr.n_impacts, 2] = om_after
-    if pr.n_impacts == 0:
-        pr.t_first_impact = t
-    pr.n_impacts += 1
-    pr.n_events += 1
-    pr.t, pr.theta, pr.omega, pr.pivot = t, 0.0, om_after, -s
-    pr.n_same = events_at_instant_compiled(t, pr.t_event, pr.n_same)
-    pr.t_event = t
-    if abs(om_after) < lim.rest_omega or pr.n_events >= control.max_events:
-        if pr.n_events >= control.max_events:
-            pr.status |= STATUS_CHATTER
-        pr.omega, pr.mode = 0.0, REST
+    take_impact(t, oms, block.e, lim.rest_omega, control.max_events, progress, out.impacts)
     if pr.n_same > MAX_EVENTS_AT_ONE_INSTANT:
         # tie rule 6: impacts without time advancing: held at rest (theta = 0 here) to the next sample
         pr.status |= STATUS_TIE_HOLD
@@ -375,9 +360,8 @@ def _to_ground_flight(hh, pc, block, lim, progress):
     t = pr.t
     hf = flight_fraction(pc.v0 + pc.sv * (t - pc.t0), pc.v0 + pc.sv * (t + hh - pc.t0), block.g) * hh
     if hf > 0.0:
-        th, om, _et, _eo, _acc, _sin, _cos = dopri_step(t, pr.theta, pr.omega, hf, pc, pr.pivot, lim.p2, block.alpha,
-                                                        block.g,
-                                            block.linear)
+        th, om, _et, _eo, _acc, _sin, _cos = dopri_step(t, pr.theta, pr.omega, hf, pc, pr.pivot, lim.p2,
+                                                        block.alpha, block.g, block.linear)
         pr.theta, pr.omega = th, om
         pr.theta_max = max(pr.theta_max, abs(th))
     pr.t = t + hf
@@ -391,7 +375,7 @@ def _pivot_holds(sin1, cos1, om1, acc1, hh, pc, block, progress):
     the general contact model continues from the step's start."""
     pr = progress[0]
     te = pr.t + hh
-    demand, lifted = pivot_demand_sc(sin1, cos1, om1, acc1, block.R, pc.a0 + pc.sa * (te - pc.t0),
+    demand, lifted = pivot_demand(sin1, cos1, om1, acc1, block.R, pc.a0 + pc.sa * (te - pc.t0),
                                      pc.v0 + pc.sv * (te - pc.t0), block.g)
     if lifted:
         pr.status |= STATUS_LIFTOFF
