@@ -17,6 +17,7 @@ Run: ``python benchmarks/bench_orientation_reference.py --compare base/screening
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -44,16 +45,15 @@ def _scenes(records_dir: Path, blocks_csv: Path, config: Config) -> list[tuple]:
         if rec.single_component:
             continue
         for j in blank:
-            out.append((rec.record_id, str(inv.ids[j]), rec, float(inv.height_m[j]), float(inv.width_m[j]),
-                        float(inv.mu[j]), float(inv.restitution[j])))
+            out.append((rec.record_id, str(inv.ids[j]), rec, dataclasses.replace(inv.shape(j), azimuth_deg=math.nan)))
     return out
 
 
 def _reference(args) -> tuple[str, str, np.ndarray]:
-    rid, bid, rec, h, w, mu, e, draws, config = args
+    rid, bid, rec, shape, draws, config = args
     m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s)
     u = config.uncertainty
-    blk = _Block(h, w, mu, e, u, config.simulation_settings(), config.records.g_ms2)
+    blk = _Block(shape, u, config.simulation_settings(), config.records.g_ms2)
     grid = plane_grid(config.simulation.orientation_step_deg)
     z = common_normals(u.seed, draws)
     return rid, bid, simulate_cells(m, z, np.broadcast_to(grid, (draws, grid.size)), blk)[0]

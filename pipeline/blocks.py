@@ -26,7 +26,7 @@ import numpy as np
 
 from .constants import G
 from .errors import InventoryError
-from .rocking.block import Block
+from .rocking.block import Block, BlockShape, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
 from .tables import parse_number, read_csv_table
 
@@ -100,16 +100,22 @@ class Inventory:
         return geometry(self.height_m, self.width_m, g_ms2=g_ms2)
 
     def effective_restitution(self, geom: Geometry) -> np.ndarray:
-        """Angular-velocity restitution per block: the inventory's value, else Housner's."""
+        """Angular-velocity restitution per block as reported: the inventory's value, else Housner's (negative for
+        a block too squat to rock; the simulator takes :func:`~pipeline.rocking.geometry.effective_restitution`)."""
         return np.where(np.isnan(self.restitution), geom.e_housner, self.restitution)
 
+    def shape(self, j: int) -> BlockShape:
+        """Block ``j`` as the simulator's models read it (:class:`~pipeline.rocking.block.BlockShape`)."""
+        return BlockShape(height_m=float(self.height_m[j]), width_m=float(self.width_m[j]), mu=float(self.mu[j]),
+                          restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]))
+
+    def shapes(self) -> list[BlockShape]:
+        """Every block's :class:`~pipeline.rocking.block.BlockShape`."""
+        return [self.shape(j) for j in range(len(self))]
+
     def rocking_blocks(self, *, g_ms2: float = G) -> list[Block]:
-        """Every block as the simulator takes it (:class:`~pipeline.rocking.block.Block`): the effective
-        restitution is clipped at 0 for blocks too squat to rock."""
-        geom = self.geometry(g_ms2=g_ms2)
-        e = np.maximum(self.effective_restitution(geom), 0.0)
-        return [Block(float(geom.p[j]), float(geom.alpha[j]), float(e[j]), float(geom.R[j]), float(self.mu[j]),
-                      g_ms2) for j in range(len(self))]
+        """Every block as the planar simulator takes it (:func:`pipeline.rocking.block.dynamics`)."""
+        return dynamics(self.shapes(), g_ms2=g_ms2)
 
     def take(self, indices) -> "Inventory":
         """The sub-inventory of the blocks at ``indices`` (in that order)."""

@@ -7,10 +7,14 @@ is installed, and runs as plain Python without it or under ``NUMBA_DISABLE_JIT=1
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 
+_T = TypeVar("_T")
+
 try:  # numba is a core dependency; the same source still runs as Python without it
+    from numba import literal_unroll as unroll
     from numba import njit as _njit
 
     def jit(f):
@@ -28,6 +32,11 @@ except ImportError:  # pragma: no cover - exercised by the no-numba install
         return f
 
     jit_inline = jit
+
+    def unroll(container: _T) -> _T:
+        """numba's ``literal_unroll``: a tuple of functions of different types looped over in compiled code (plain
+        Python: the tuple itself)."""
+        return container
 
     HAVE_NUMBA = False
 

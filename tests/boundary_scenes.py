@@ -35,7 +35,8 @@ ALPHA_MAX = rules.ALPHA_MAX_ROCKING
 def block(height_m: float, alpha: float, mu: float) -> Block:
     """A rectangular block of full height ``height_m`` [m] and slenderness ``alpha`` [rad] (Housner 1963)."""
     R = 0.5 * height_m / math.cos(alpha)
-    return Block(math.sqrt(3 * G / (4 * R)), alpha, max(0.0, 1.0 - 1.5 * math.sin(alpha) ** 2), R, mu, G)
+    return Block(p=math.sqrt(3 * G / (4 * R)), alpha=alpha, e=max(0.0, 1.0 - 1.5 * math.sin(alpha) ** 2), R_m=R,
+                 mu=mu, g_ms2=G)
 
 
 def mu_ties(alpha: float) -> dict[str, float]:

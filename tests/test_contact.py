@@ -32,7 +32,7 @@ def contact_block(height_m, width_m, mu, e=None):
 
 
 def rocking_block(cb):
-    return Block(cb.p, cb.alpha, cb.e, cb.R, cb.mu, cb.g)
+    return Block(p=cb.p, alpha=cb.alpha, e=cb.e, R_m=cb.R, mu=cb.mu, g_ms2=cb.g)
 
 
 def onset_friction(a_ms2, alpha):

@@ -42,9 +42,9 @@ def _simulated_outcomes(inv, ap, tp, settings):
     """Which blocks a finely sampled half-sine (1000 samples per period) topples."""
     unit, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=2 * tp, samples_per_period=1000)
     geo = inv.geometry()
-    return [simulate_scene(ap * unit, None, dt, block=Block(float(geo.p[j]), float(geo.alpha[j]),
-                                                            float(geo.e_housner[j]), float(geo.R[j]),
-                                                            float(inv.mu[j]), G),
+    return [simulate_scene(ap * unit, None, dt, block=Block(p=float(geo.p[j]), alpha=float(geo.alpha[j]),
+                                                            e=float(geo.e_housner[j]), R_m=float(geo.R[j]),
+                                                            mu=float(inv.mu[j]), g_ms2=G),
                            settings=settings).overturned for j in range(len(inv))]
 
 

@@ -21,6 +21,7 @@ import pytest
 from scipy.stats import norm
 
 from pipeline.blocks import geometry
+from pipeline.rocking.block import BlockShape
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.reference import rock_reference
@@ -75,8 +76,8 @@ def _orientation(k: float, threshold: float, settings: UncertaintyConfig):
     h, dt = _polarized(k * threshold)
     grid = plane_grid(5.0)
     m = motion(h, 0.0, None, dt, planes_deg=grid)
-    return orientation_probability(m, common_normals(settings.seed, settings.samples), grid_deg=grid,
-                                   height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan,
+    return orientation_probability(m, common_normals(settings.seed, settings.samples),
+                                   BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), grid_deg=grid,
                                    prefer_deg=math.nan, settings=settings, g_ms2=G)
 
 
@@ -116,9 +117,9 @@ def test_worst_is_at_most_some_plane_and_the_average_at_most_the_worst_on_a_real
     grid = plane_grid(5.0)
     m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s, planes_deg=grid)
     z = common_normals(settings.seed, settings.samples)
-    block = dict(height_m=20.0, width_m=2.2, mu=0.7, restitution=math.nan)
-    out = orientation_probability(m, z, grid_deg=grid, prefer_deg=math.nan, settings=settings, g_ms2=G, **block)
-    some = scene_probability(m, z, azimuth_deg=math.nan, settings=settings, g_ms2=G, **block)
+    block = BlockShape(height_m=20.0, width_m=2.2, mu=0.7)
+    out = orientation_probability(m, z, block, grid_deg=grid, prefer_deg=math.nan, settings=settings, g_ms2=G)
+    some = scene_probability(m, z, block, settings=settings, g_ms2=G)
     assert 0.0 < some.p
     assert out.worst.p <= some.p + (out.worst.high - out.worst.low) / 2
     assert out.random <= out.worst.p + (out.worst.high - out.worst.low) / 2
@@ -143,7 +144,7 @@ def _scene_at(k: float, threshold: float):
     grid = plane_grid(5.0)
     m = motion(h, 0.0, None, dt, planes_deg=grid)
     z = common_normals(settings.seed, settings.samples)
-    return settings, m, z, grid, dict(height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan)
+    return settings, m, z, grid, BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU)
 
 
 @pytest.mark.parametrize("governing_deg", [30.0, 60.0, 120.0])
@@ -153,11 +154,10 @@ def test_the_worst_orientation_is_never_below_the_governing_planes_own_estimate(
     from pipeline.uncertainty.orientations import estimation_normals
 
     settings, m, z, grid, block = _scene_at(1.03, threshold)
-    out = orientation_probability(m, z, grid_deg=grid, prefer_deg=governing_deg, settings=settings, g_ms2=G,
-                                  nominal_overturned=True, **block)
+    out = orientation_probability(m, z, block, grid_deg=grid, prefer_deg=governing_deg, settings=settings,
+                                  g_ms2=G, nominal_overturned=True)
     own = scene_probability(dataclasses.replace(m, planes_deg=np.array([governing_deg])),
-                            estimation_normals(settings, settings.samples), azimuth_deg=math.nan, settings=settings,
-                            g_ms2=G, **block)
+                            estimation_normals(settings, settings.samples), block, settings=settings, g_ms2=G)
     assert out.worst.p >= own.p
     assert out.worst_azimuth_deg == pytest.approx(POLARIZATION_DEG, abs=5.0) or out.worst.p == own.p
 
@@ -167,7 +167,7 @@ def test_a_standing_nominal_races_only_its_candidates(threshold):
     rotation: the selection simulates those planes only, and the chosen plane is one of them."""
     settings, m, z, grid, block = _scene_at(1.03, threshold)
     ranked = [25.0, 35.0, 20.0, 40.0, 30.0]
-    out = orientation_probability(m, z, grid_deg=grid, prefer_deg=45.0, settings=settings, g_ms2=G,
-                                  nominal_overturned=False, ranked_deg=ranked, **block)
+    out = orientation_probability(m, z, block, grid_deg=grid, prefer_deg=45.0, settings=settings, g_ms2=G,
+                                  nominal_overturned=False, ranked_deg=ranked)
     assert out.worst_azimuth_deg in (45.0, 25.0, 35.0, 20.0)
     assert out.worst_azimuth_deg in (25.0, 35.0)                  # the nearest the polarization among them

@@ -64,7 +64,8 @@ def test_margin_of_an_idealized_pulse_matches_the_amplitude_scan_and_eq27(height
     amplitude = 4.0 * G * math.tan(alpha)
     acc, dt = pulse("half-sine", amplitude_ms2=amplitude, period_s=period, cycles=1, samples_per_period=400)
     acc = np.concatenate([acc, np.zeros(int(8 * period / dt))])      # free motion after the pulse
-    kw = dict(block=Block(p, alpha, float(geo.e_housner), float(geo.R), 0.8, G), settings=settings)
+    kw = dict(block=Block(p=p, alpha=alpha, e=float(geo.e_housner), R_m=float(geo.R), mu=0.8, g_ms2=G),
+              settings=settings)
     scale, runs = overturn_scale_simulated(acc, None, dt, **kw)
     chart = simulated_critical_acceleration(stability_chart(height, width, mu=0.8, pulse="half-sine",
                                                             periods_s=[period]), cycles=1, settings=settings)
@@ -83,13 +84,14 @@ def test_margin_is_nan_for_blocks_that_slide_and_inf_when_nothing_lifts():
     settings = SimulationConfig()
     acc, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=1.0, cycles=1, samples_per_period=200)
     squat = geometry(0.5, 1.0)
-    scale, runs = overturn_scale_simulated(acc, None, dt, block=Block(float(squat.p), float(squat.alpha), 0.5,
-                                                                      float(squat.R), 0.3, G), settings=settings)
+    scale, runs = overturn_scale_simulated(acc, None, dt, block=Block(p=float(squat.p), alpha=float(squat.alpha), e=0.5,
+                                                                      R_m=float(squat.R), mu=0.3, g_ms2=G),
+                                           settings=settings)
     assert math.isnan(scale) and runs == 0
     slender = geometry(2.0, 0.4)
     scale, runs = overturn_scale_simulated(np.zeros(100), None, 0.01, settings=settings,
-                                           block=Block(float(slender.p), float(slender.alpha), 0.9,
-                                                       float(slender.R), 0.8, G))
+                                           block=Block(p=float(slender.p), alpha=float(slender.alpha), e=0.9,
+                                                       R_m=float(slender.R), mu=0.8, g_ms2=G))
     assert math.isinf(scale) and runs == 0
 
 

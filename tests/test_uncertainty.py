@@ -18,7 +18,7 @@ from scipy.stats import norm
 from pipeline.blocks import geometry
 from pipeline.config import Config, config_from_dict
 from pipeline.errors import ConfigError
-from pipeline.rocking.block import Block
+from pipeline.rocking.block import Block, BlockShape
 from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.reference import rock_reference
@@ -77,8 +77,8 @@ def test_amplitude_uncertainty_matches_the_lognormal_closed_form(halfsine_thresh
     """P(overturn) = Phi(ln(A / A*) / s): 0.5 at A*, Phi(1) = 0.84 at A* e^0.05 (cov 0.05)."""
     ah, dt = _halfsine(halfsine_threshold * math.exp(log_offset))
     m = motion(ah[None, :], 0.0, None, dt)
-    prob = scene_probability(m, common_normals(AMPLITUDE_ONLY.seed, AMPLITUDE_ONLY.samples), height_m=HEIGHT,
-                             width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan,
+    prob = scene_probability(m, common_normals(AMPLITUDE_ONLY.seed, AMPLITUDE_ONLY.samples), BlockShape(height_m=HEIGHT,
+                             width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan),
                              settings=AMPLITUDE_ONLY, g_ms2=G)
     assert prob.drawn == 4000
     se = math.sqrt(expected * (1 - expected) / prob.drawn)
@@ -94,7 +94,7 @@ def test_a_sensitive_scene_is_sampled_to_the_stated_precision(halfsine_threshold
     ah, dt = _halfsine(halfsine_threshold)
     cfg = dataclasses.replace(AMPLITUDE_ONLY, samples=samples, batch=5, p_halfwidth=p_halfwidth)
     prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(cfg.seed, cfg.samples),
-                             height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan,
+                             BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU),
                              settings=cfg, g_ms2=G)
     assert prob.robustness == Robustness.sensitive
     half = (prob.high - prob.low) / 2
@@ -114,7 +114,7 @@ def test_record_below_uplift_gives_zero_without_integration():
     ah, dt = _halfsine(0.5 * G * math.tan(alpha))
     cfg = UncertaintyConfig(samples=40)
     prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(cfg.seed, cfg.samples),
-                             height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan,
+                             BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU),
                              settings=cfg, g_ms2=G)
     assert prob.p == 0.0 and prob.simulations == 0
     assert prob.robustness == Robustness.robust_stand
@@ -137,7 +137,7 @@ def test_harmonic_near_its_chaotic_threshold_is_sensitive():
     ah, dt = pulse("harmonic", amplitude_ms2=grid[first], period_s=period, cycles=25, samples_per_period=200)
     cfg = UncertaintyConfig(samples=200, batch=200, seed=3)
     prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(cfg.seed, cfg.samples),
-                             height_m=HEIGHT, width_m=WIDTH, mu=MU, restitution=math.nan, azimuth_deg=math.nan,
+                             BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU),
                              settings=cfg, g_ms2=G)
     assert 0.0 < prob.p < 1.0
     assert prob.robustness == Robustness.sensitive
@@ -159,11 +159,12 @@ def test_unit_factors_reproduce_the_nominal_orientation_scan(records_dir, config
         grid = [0.0, *plane_grid(5.0).tolist()]
         for height, width in ((1.1, 0.2), (2.0, 0.5), (3.0, 0.3)):
             geo = geometry(height, width, g_ms2=G)
-            nominal = worst_plane(planes, grid, rec.dt_s, block=Block(float(geo.p), float(geo.alpha),
-                                                                     float(geo.e_housner), float(geo.R), 0.7, G))
+            nominal = worst_plane(planes, grid, rec.dt_s, block=Block(p=float(geo.p), alpha=float(geo.alpha),
+                                                                     e=float(geo.e_housner), R_m=float(geo.R),
+                                                                     mu=0.7, g_ms2=G))
             m = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s, planes_deg=grid)
-            prob = scene_probability(m, common_normals(1, 5), height_m=height, width_m=width, mu=0.7,
-                                     restitution=math.nan, azimuth_deg=math.nan, settings=zero, g_ms2=G)
+            prob = scene_probability(m, common_normals(1, 5), BlockShape(height_m=height, width_m=width, mu=0.7,
+                                     restitution=math.nan, azimuth_deg=math.nan), settings=zero, g_ms2=G)
             expected = nominal.scene.verdict
             if expected == -1:
                 assert prob.free_flight == prob.drawn
@@ -185,13 +186,13 @@ def test_impossible_samples_are_handled_not_crashed():
     from pipeline.uncertainty.sampling import sample_block
 
     cfg = UncertaintyConfig(size_cov=0.9, restitution_cov=0.9)
-    sb = sample_block(common_normals(1, 500), height_m=1.0, width_m=1.35, mu=0.6, restitution=math.nan,
-                      azimuth_deg=math.nan, settings=cfg)
+    sb = sample_block(common_normals(1, 500), BlockShape(height_m=1.0, width_m=1.35, mu=0.6, restitution=math.nan,
+                      azimuth_deg=math.nan), settings=cfg)
     assert np.all((sb.e >= 0) & (sb.e <= 1))
     assert np.any(sb.alpha > math.asin(math.sqrt(2 / 3)))
     ah, dt = pulse("half-sine", amplitude_ms2=8.0, period_s=1.0)
-    prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(1, 40), height_m=1.0,
-                             width_m=1.35, mu=0.6, restitution=math.nan, azimuth_deg=math.nan, settings=cfg)
+    prob = scene_probability(motion(ah[None, :], 0.0, None, dt), common_normals(1, 40), BlockShape(height_m=1.0,
+                             width_m=1.35, mu=0.6, restitution=math.nan, azimuth_deg=math.nan), settings=cfg)
     assert prob.drawn > 0 and 0.0 <= prob.p <= 1.0
 
 

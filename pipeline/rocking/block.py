@@ -1,17 +1,76 @@
-"""One block as the simulator takes it: a typed structure, not a dict of keyword arguments."""
+"""One block, from the inventory to the compiled kernels.
+
+A block is described once, by :class:`BlockShape`: what the inventory says of it (its size, friction,
+restitution, rocking plane, and the fields the next models read, such as its depth and its kind of shape), built
+and read by keyword only. Everything the simulator takes is derived from it in one place each:
+
+* :func:`dynamics` gives the nominal :class:`Block` (Housner's p, alpha, R and the effective restitution);
+* :func:`pipeline.uncertainty.sampling.sample_block` gives its uncertainty samples (the same derivation on the
+  sampled sizes, through :func:`~.geometry.effective_restitution`);
+* :func:`rigid_block` gives the compiled models' :class:`~.structures.RigidBlock`.
+
+A new model that needs more of a block (a depth, a measured body's pivots and inertia) adds a keyword field with
+a default to :class:`BlockShape` (the inventory fills it), and derives what it needs from it in its own module.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+"""
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
 
 from ..compiled import jit
 from ..constants import G
+from .geometry import effective_restitution, geometry
 from .structures import RigidBlock
 
 
-class Block(NamedTuple):
-    """A rigid rectangular block for the simulator (from :meth:`pipeline.blocks.Inventory.rocking_blocks`).
+class ShapeKind(IntEnum):
+    """The kind of body a block is."""
+
+    box = 0             # a rectangular block; planar models take it as infinitely deep in its rocking plane
+
+
+@dataclass(frozen=True, kw_only=True)
+class BlockShape:
+    """A block as the inventory describes it (nominal values; keyword-only).
+
+    Attributes
+    ----------
+    height_m, width_m : float
+        Full height and full base width in the rocking plane [m].
+    mu : float
+        Friction coefficient [-].
+    restitution : float
+        The declared angular-velocity restitution [-] (NaN: Housner's value).
+    azimuth_deg : float
+        Azimuth of the rocking plane [deg clockwise from north] (NaN: unknown, scanned).
+    depth_m : float
+        Base dimension perpendicular to ``width_m`` [m] (NaN: not given; the planar models take the block as
+        infinitely deep).
+    kind : ShapeKind
+        The kind of body.
+    """
+
+    height_m: float
+    width_m: float
+    mu: float
+    restitution: float = math.nan
+    azimuth_deg: float = math.nan
+    depth_m: float = math.nan
+    kind: ShapeKind = ShapeKind.box
+
+
+@dataclass(frozen=True, kw_only=True)
+class Block:
+    """A rigid block for the planar simulator (keyword-only), derived from a :class:`BlockShape` by
+    :func:`dynamics` (or given directly, for tests and idealised cases).
 
     Attributes
     ----------
@@ -35,6 +94,17 @@ class Block(NamedTuple):
     R_m: float
     mu: float
     g_ms2: float = G
+
+
+def dynamics(shapes: list[BlockShape], *, g_ms2: float = G) -> list[Block]:
+    """The nominal :class:`Block` of each shape: Housner's geometry and the effective restitution (the declared
+    value, else Housner's, clipped to [0, 1]: 0 for a block too squat to rock), computed over all shapes at once."""
+    if not shapes:
+        return []
+    geom = geometry(np.array([s.height_m for s in shapes]), np.array([s.width_m for s in shapes]), g_ms2=g_ms2)
+    e = effective_restitution(np.array([s.restitution for s in shapes]), geom.e_housner)
+    return [Block(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(e[j]), R_m=float(geom.R[j]),
+                  mu=float(s.mu), g_ms2=g_ms2) for j, s in enumerate(shapes)]
 
 
 @jit

@@ -85,6 +85,14 @@ def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
     return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
 
 
+def effective_restitution(declared, e_housner, factor=1.0) -> np.ndarray:
+    """The restitution the simulator takes: the declared value where given (NaN: Housner's ``e_housner``), times
+    ``factor`` (a sample's lognormal factor), clipped to [0, 1] (0 for a block too squat to rock, whose
+    Housner value is negative) [-]. The one derivation of the nominal block and of its samples."""
+    base = np.where(np.isnan(declared), e_housner, declared)
+    return np.clip(base * factor, 0.0, 1.0)
+
+
 def check_friction(mu) -> np.ndarray:
     """Validate friction coefficients: finite and > 0.
 

@@ -25,15 +25,14 @@ whenever the nominal verdict was decided on the grid (tested).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
 from ..compiled import jit
 from .block import rigid_block
-from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT
-from .handoff import continue_rocking, from_rest, stopped_short
-from .kernel import rock
+from .codes import NO_VERDICT, OVERTURNS, STANDS
+from .contract import PlaneSample, SampleWorkspace, SceneFacts
+from .models import judge
 from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 from .structures import RockingOutput, RockingState
 
@@ -61,76 +60,32 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
     return r
 
 
-class Workspace(NamedTuple):
-    """What both sample kernels set up once per call (a numba namedtuple)."""
-
-    n: int                      # samples of the record
-    has_v: bool                 # the record has a vertical
-    t_end: float                # its end [s]
-    a: np.ndarray               # buffer for a plane's projection [m s-2]
-    av_s: np.ndarray            # buffer for a sample's scaled vertical [m s-2] (empty without one)
-    none: np.ndarray            # an empty vertical
-    no_output: RockingOutput    # no theta history, no impact log
-    at_rest: RockingState       # the state at rest
-
-
 @jit
 def _workspace(h1, av, dt):
-    """The :class:`Workspace` of a record ``h1`` (and vertical ``av``) sampled at ``dt``."""
+    """The :class:`~.contract.SampleWorkspace` of a record ``h1`` (and vertical ``av``) sampled at ``dt``."""
     n = h1.size
     has_v = av.size == n
-    return Workspace(n=n, has_v=has_v, t_end=(n - 1) * dt, a=np.empty(n), av_s=np.empty(n if has_v else 0),
-                     none=np.zeros(0), no_output=RockingOutput(theta=np.zeros(0), impacts=np.zeros((0, 3))),
-                     at_rest=RockingState(theta=0.0, omega=0.0, t=0.0))
+    return SampleWorkspace(n=n, has_v=has_v, t_end=(n - 1) * dt, a=np.empty(n), av_s=np.empty(n if has_v else 0),
+                           none=np.zeros(0), no_output=RockingOutput(theta=np.zeros(0), impacts=np.zeros((0, 3))),
+                           at_rest=RockingState(theta=0.0, omega=0.0, t=0.0))
 
 
 @jit
-def _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model):
-    """Rock a sample in the plane of weights (c, s), the record scaled by ``eps`` (projected into ``a``):
-    a :class:`~.codes.Verdict`, no_verdict for free flight before any overturning (without the contact model). With the
-    contact model, the general model continues where pure rocking stops (:mod:`.handoff`)."""
-    for i in range(a.size):
-        a[i] = eps * (c * h1[i] + s * h2[i])
-    res = rock(a, av_s, dt, t_end, block, control, at_rest, True, no_output)
-    if res.overturned:
-        return OVERTURNS
-    if contact_model:
-        if stopped_short(res):
-            return OVERTURNS if continue_rocking(res, a, av_s, dt, block, control, True).overturned else STANDS
-        return STANDS
-    return NO_VERDICT if res.status & STATUS_GROUND_FLIGHT else STANDS
+def _sample_block(p, alpha, e, R, mu, g, control, contact_model):
+    """A sample's compiled block; the rocking kernel stops where the pivot's friction demand exceeds mu when the
+    contact model continues (else never)."""
+    return rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, False, mu if contact_model else math.inf)
 
 
 @jit
-def _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control):
-    """A sample that cannot rock, in a plane that moves it while the ground reaches free flight: the general
-    contact model from rest (a :class:`~.codes.Verdict`, overturns or stands)."""
-    for i in range(a.size):
-        a[i] = eps * (c * h1[i] + s * h2[i])
-    block = rigid_block(p, alpha, e, R, mu, g, control.rest_ratio)
-    return OVERTURNS if from_rest(a, av_s, dt, block, True).overturned else STANDS
-
-
-@jit
-def judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, c, s, eps, av_s, dt, t_end, p, alpha, e, R,
-                mu, g, control, at_rest, no_output):
-    """One sample in one plane of weights (c, s), written once for both sample kernels: the exact at-rest
-    certificate (its demand ``ratio`` not above ``thr``), no integration for a block that cannot rock (``rocks``
-    False: it stands, or its verdict is free flight where ``flight``; with the contact model the general model
-    decides that case), rocking otherwise (continued by the general model where it stops holding).
-
-    Returns (outcome, integrated): a :class:`~.codes.Verdict` (no_verdict: free flight before any overturning);
-    whether a plane was integrated. ``av_s``: the vertical the simulation keeps (empty: none); ``flight``: the
-    kept vertical reaches g + a_v <= 0 at some sample.
-    """
-    if not ratio > thr:
-        return STANDS, False                             # proven at rest in this plane
-    if not rocks:
-        if flight and contact_model:
-            return _slide_plane(a, h1, h2, c, s, eps, av_s, dt, p, alpha, e, R, mu, g, control), True
-        return (NO_VERDICT if flight else STANDS), False
-    block = rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, False, mu if contact_model else math.inf)
-    return _rock_plane(a, h1, h2, c, s, eps, av_s, dt, t_end, block, control, at_rest, no_output, contact_model), True
+def _judge(w, ratio, thr, rocks, use_v, flight, contact_model, h1, h2, c, s, eps, dt, alpha, mu, block, control):
+    """One sample in one plane of weights (c, s), by the registered model whose certificate holds first
+    (:func:`.models.judge`): ``(outcome, integrated)``, a :class:`~.codes.Verdict` and whether a plane was
+    integrated."""
+    facts = SceneFacts(ratio=ratio, threshold=thr, rocks=rocks, vertical=use_v, alpha=alpha, mu=mu)
+    x = PlaneSample(a=w.a, h1=h1, h2=h2, c=c, s=s, eps=eps, av_s=w.av_s if use_v else w.none, dt=dt, t_end=w.t_end,
+                    flight=flight, contact_model=contact_model)
+    return judge(facts, x, block, control, w)
 
 
 @jit
@@ -164,8 +119,7 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
     w = _workspace(h1, av, dt)
-    has_v, t_end, a, av_s, none = w.has_v, w.t_end, w.a, w.av_s, w.none
-    no_output, at_rest = w.no_output, w.at_rest
+    av_s = w.av_s
     n_s, n_p = cosines.shape
     for k in range(n_s):
         for i in range(av_s.size):
@@ -174,12 +128,12 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         flight = use_v and _flight_at_some_sample(av_s, g)
+        block = _sample_block(p[k], alpha[k], e[k], R[k], mu[k], g, control, contact_model)
         planes_out[k] = 0
         for j in range(n_p):
-            ratio = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g)
-            outcome, integrated = judge_plane(ratio, thr, rocks, flight, contact_model, a, h1, h2, cosines[k, j],
-                                              sines[k, j], eps[k], av_s if use_v else none, dt, t_end, p[k],
-                                              alpha[k], e[k], R[k], mu[k], g, control, at_rest, no_output)
+            ratio = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, w.has_v, g)
+            outcome, integrated = _judge(w, ratio, thr, rocks, use_v, flight, contact_model, h1, h2, cosines[k, j],
+                                         sines[k, j], eps[k], dt, alpha[k], mu[k], block, control)
             outcome_out[k, j] = outcome
             planes_out[k] += integrated
 
@@ -212,8 +166,7 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         Filled with each sample's :class:`~.codes.Verdict` and planes integrated.
     """
     w = _workspace(h1, av, dt)
-    n, has_v, t_end, a, av_s, none = w.n, w.has_v, w.t_end, w.a, w.av_s, w.none
-    no_output, at_rest = w.no_output, w.at_rest
+    n, has_v, av_s = w.n, w.has_v, w.av_s
     n_s, n_p = cosines.shape
     ratios = np.empty(n_p)
     for k in range(n_s):
@@ -244,16 +197,16 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         flight = use_v and _flight_at_some_sample(av_s, g)
+        block = _sample_block(p[k], alpha[k], e[k], R[k], mu[k], g, control, contact_model)
         # the planes that move, strongest demand first; the first that overturns decides (a sample that cannot
-        # rock is integrated only where the contact model takes a free flight: judge_plane)
+        # rock is integrated only where the contact model takes a free flight: the sliding model's twin)
         seen_flight = False
         for jj in range(n_p):
             j = order[jj]
             if not ratios[j] > thr:
                 break
-            outcome, integrated = judge_plane(ratios[j], thr, rocks, flight, contact_model, a, h1, h2, cosines[k, j],
-                                              sines[k, j], eps[k], av_s if use_v else none, dt, t_end, p[k],
-                                              alpha[k], e[k], R[k], mu[k], g, control, at_rest, no_output)
+            outcome, integrated = _judge(w, ratios[j], thr, rocks, use_v, flight, contact_model, h1, h2,
+                                         cosines[k, j], sines[k, j], eps[k], dt, alpha[k], mu[k], block, control)
             planes_out[k] += integrated
             if outcome == OVERTURNS:
                 verdict_out[k] = OVERTURNS

@@ -16,11 +16,10 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
-from .block import Block
-from .planner import simulate_scene
+from .models import MODELS
 from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
-from .simulate import rock, slide, step_control
+from .simulate import step_control
 
 #: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
 #: lines while it goes on.
@@ -56,27 +55,18 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
     timer = threading.Thread(target=tell, daemon=True)
     timer.start()
     try:
-        t = np.linspace(0.0, 2.0, 201)
-        a = 3.0 * np.sin(2.0 * np.pi * t)
-        rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
-        rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
-        slide(a, 0.01, mu=0.3, av_ms2=0.1 * a)
+        for model in MODELS:
+            model.warmup()
+        a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
         one = np.ones(1)
         out = np.zeros(1, dtype=np.int64)
         control = step_control(SimulationConfig())
         for vertical in (np.zeros(0), 0.1 * a):
-            block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu
+            block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu arrays
             sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
                             True, control, out, out.copy())
             sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
                                   0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
-        # the general contact model, with and without a theta history: rocking handed over where friction stops
-        # holding (mu just above tan(alpha)), and from rest where the ground falls faster than gravity under a
-        # sliding block (mu below tan(alpha))
-        falling = np.where(t < 1.0, 0.0, -1.5 * G)
-        for history in (False, True):
-            simulate_scene(a, None, 0.01, block=Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21), history=history)
-            simulate_scene(a, falling, 0.01, block=Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.15), history=history)
     finally:
         done.set()
         timer.join()

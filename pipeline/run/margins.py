@@ -38,6 +38,7 @@ rules out bisection.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 
@@ -168,15 +169,13 @@ def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, set
     n = unc.margin_samples if unc.samples > 0 else 0       # --samples 0: nominal results only
     if n <= 0:
         return np.zeros(0), 0
-    sb = sample_block(common_normals(unc.seed, n), height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
-                      mu=float(inv.mu[j]), restitution=float(inv.restitution[j]), azimuth_deg=math.nan,
+    sb = sample_block(common_normals(unc.seed, n), dataclasses.replace(inv.shape(j), azimuth_deg=math.nan),
                       settings=unc, g_ms2=g_ms2)
     out, runs = np.full(n, np.nan), 0
     for k in range(n):
         eps = float(sb.amplitude[k])
         av = None if av_ms2 is None else eps * av_ms2
-        block = Block(float(sb.p[k]), float(sb.alpha[k]), float(sb.e[k]), float(sb.R_m[k]), float(sb.mu[k]), g_ms2)
-        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, block=block, settings=settings)
+        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, block=sb.block(k), settings=settings)
         out[k], runs = scale * eps, runs + r
     return out, runs
 

@@ -359,19 +359,15 @@ def _orientation_probability(base: SceneMotion, draws: tuple, inv: Inventory, j:
     governing_deg = nominal.azimuth_deg
     unc = cfg.uncertainty
     if not scanned or base.single:
-        prob = scene_probability(base, z, height_m=float(inv.height_m[j]), width_m=float(inv.width_m[j]),
-                                 mu=float(inv.mu[j]), restitution=float(inv.restitution[j]),
-                                 azimuth_deg=math.nan if scanned else azimuths[0], settings=unc,
-                                 simulation=settings, g_ms2=cfg.records.g_ms2)
+        shape = dataclasses.replace(inv.shape(j), azimuth_deg=math.nan if scanned else azimuths[0])
+        prob = scene_probability(base, z, shape, settings=unc, simulation=settings, g_ms2=cfg.records.g_ms2)
         return one_plane(prob, azimuths[0])
     sample_grid, candidates = grid, list(azimuths)
     if unc.orientation_step_deg > 0:        # a coarser grid for the samples, with the pulse axis and the nominal
         sample_grid = plane_grid(unc.orientation_step_deg)                                       # worst plane
         candidates = list(dict.fromkeys([float(azimuths[0]), float(governing_deg) % 180.0, *sample_grid.tolist()]))
-    return orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z,
-                                   grid_deg=sample_grid, height_m=float(inv.height_m[j]),
-                                   width_m=float(inv.width_m[j]), mu=float(inv.mu[j]),
-                                   restitution=float(inv.restitution[j]), prefer_deg=governing_deg, settings=unc,
+    return orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z, inv.shape(j),
+                                   grid_deg=sample_grid, prefer_deg=governing_deg, settings=unc,
                                    simulation=settings, g_ms2=cfg.records.g_ms2, z_estimate=z_estimate,
                                    z_average=z_average, nominal_overturned=bool(nominal.scene.overturned),
                                    ranked_deg=_ranked(nominal, planes, azimuths))

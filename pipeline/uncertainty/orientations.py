@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
+from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_plane_outcomes
 from ..rocking.settings import SimulationConfig
@@ -117,10 +118,8 @@ def average_normals(settings: UncertaintyConfig) -> np.ndarray:
 class _Block:
     """The nominal block and what its samples are simulated with."""
 
-    height_m: float
-    width_m: float
-    mu: float
-    restitution: float
+    #: the nominal block, its azimuth blank (each plane is given by the caller)
+    shape: BlockShape
     settings: UncertaintyConfig
     simulation: SimulationConfig
     g_ms2: float
@@ -162,8 +161,7 @@ class _Cells:
 def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _Block) -> tuple[np.ndarray, int]:
     """Outcomes (1, 0, -1) of each draw of ``z`` in each plane of its row of ``planes_deg`` [deg], and the planes
     integrated."""
-    sb = sample_block(z, height_m=blk.height_m, width_m=blk.width_m, mu=blk.mu, restitution=blk.restitution,
-                      azimuth_deg=math.nan, settings=blk.settings, g_ms2=blk.g_ms2)
+    sb = sample_block(z, blk.shape, settings=blk.settings, g_ms2=blk.g_ms2)
     phi = np.deg2rad(np.asarray(planes_deg, dtype=float) - m.azimuth0_deg)
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
@@ -225,9 +223,8 @@ def worst_orientation(m: SceneMotion, z: np.ndarray, z_estimate: np.ndarray, blk
         nonlocal sims
         if az not in estimates:
             estimates[az] = scene_probability(dataclasses.replace(m, planes_deg=np.array([az])), z_estimate,
-                                              height_m=blk.height_m, width_m=blk.width_m, mu=blk.mu,
-                                              restitution=blk.restitution, azimuth_deg=math.nan, settings=u,
-                                              simulation=blk.simulation, g_ms2=blk.g_ms2)
+                                              blk.shape, settings=u, simulation=blk.simulation,
+                                              g_ms2=blk.g_ms2)
             sims += estimates[az].simulations
         return estimates[az]
 
@@ -348,12 +345,11 @@ def plane_order(n_planes: int, n_draws: int) -> np.ndarray:
     return np.concatenate([rng.permutation(n_planes) for _ in range(cycles)])[:n_draws]
 
 
-def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarray, height_m: float,
-                            width_m: float, mu: float, restitution: float, prefer_deg: float,
-                            settings: UncertaintyConfig, simulation: SimulationConfig = SimulationConfig(),
-                            g_ms2: float = G, z_estimate: np.ndarray | None = None,
-                            z_average: np.ndarray | None = None, nominal_overturned: bool = True,
-                            ranked_deg=None) -> OrientationProbability:
+def orientation_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, grid_deg: np.ndarray,
+                            prefer_deg: float, settings: UncertaintyConfig,
+                            simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G,
+                            z_estimate: np.ndarray | None = None, z_average: np.ndarray | None = None,
+                            nominal_overturned: bool = True, ranked_deg=None) -> OrientationProbability:
     """P(overturn) per orientation of a block whose rocking plane is unknown.
 
     Parameters
@@ -364,8 +360,8 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
         The selection draws (common random numbers); n is the largest number of samples.
     grid_deg : ndarray
         The uniform grid of planes on [0, 180) of the random orientation [deg].
-    height_m, width_m, mu, restitution : float
-        The nominal block (restitution NaN: Housner's).
+    shape : BlockShape
+        The nominal block (restitution NaN: Housner's; its azimuth is not read: the planes are ``m``'s).
     prefer_deg : float
         The nominal scan's governing plane [deg].
     settings, simulation, g_ms2
@@ -382,7 +378,7 @@ def orientation_probability(m: SceneMotion, z: np.ndarray, *, grid_deg: np.ndarr
     planes_deg = np.asarray(m.planes_deg, dtype=float)
     if len(z) == 0 or planes_deg.size == 0:
         return NOT_EVALUATED_ORIENTATION
-    blk = _Block(height_m, width_m, mu, restitution, settings, simulation, g_ms2)
+    blk = _Block(dataclasses.replace(shape, azimuth_deg=math.nan), settings, simulation, g_ms2)
     z2 = estimation_normals(settings, len(z)) if z_estimate is None else z_estimate
     worst = worst_orientation(m, z, z2, blk, governing_deg=prefer_deg, nominal_overturned=nominal_overturned,
                               ranked_deg=ranked_deg)

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
-from ..rocking.geometry import geometry
+from ..rocking.block import Block, BlockShape
+from ..rocking.geometry import effective_restitution, geometry
 from .settings import UncertaintyConfig
 
 #: Columns of the common random numbers.
@@ -61,34 +62,36 @@ class SampledBlock:
     mu: np.ndarray
     #: azimuth of the rocking plane [deg] (NaN for a blank azimuth)
     azimuth_deg: np.ndarray
+    #: gravity [m s-2]
+    g_ms2: float = G
+
+    def block(self, k: int) -> Block:
+        """Sample ``k`` as the planar simulator takes it."""
+        return Block(p=float(self.p[k]), alpha=float(self.alpha[k]), e=float(self.e[k]), R_m=float(self.R_m[k]),
+                     mu=float(self.mu[k]), g_ms2=self.g_ms2)
 
 
-def sample_block(z: np.ndarray, *, height_m: float, width_m: float, mu: float, restitution: float,
-                 azimuth_deg: float, settings: UncertaintyConfig, g_ms2: float = G) -> SampledBlock:
-    """The samples of one block under one record.
+def sample_block(z: np.ndarray, shape: BlockShape, *, settings: UncertaintyConfig, g_ms2: float = G) -> SampledBlock:
+    """The samples of one block under one record: the derivation of :func:`~pipeline.rocking.block.dynamics` on
+    the sampled sizes, restitution and friction.
 
     Parameters
     ----------
     z : ndarray, shape (n, 6)
         Rows of :func:`common_normals`.
-    height_m, width_m : float
-        Nominal full height and base width [m].
-    mu : float
-        Nominal friction coefficient [-].
-    restitution : float
-        The inventory's restitution, or NaN for Housner's value of each sampled block [-].
-    azimuth_deg : float
-        Given azimuth of the rocking plane [deg], NaN when blank (scanned, not sampled).
+    shape : BlockShape
+        The nominal block: its height and width [m], friction [-], restitution (NaN: Housner's value of each
+        sampled block) [-] and azimuth (NaN when blank: scanned, not sampled) [deg].
     settings : UncertaintyConfig
         The spreads.
     g_ms2 : float
         Gravity [m s-2].
     """
     c = settings
-    geom = geometry(height_m * lognormal_factor(z[:, 3], c.size_cov),
-                    width_m * lognormal_factor(z[:, 4], c.size_cov), g_ms2=g_ms2)
-    base_e = geom.e_housner if np.isnan(restitution) else np.full(len(z), restitution)
-    e = np.clip(base_e * lognormal_factor(z[:, 1], c.restitution_cov), 0.0, 1.0)
-    az = np.full(len(z), np.nan) if np.isnan(azimuth_deg) else azimuth_deg + c.azimuth_sd_deg * z[:, 5]
+    geom = geometry(shape.height_m * lognormal_factor(z[:, 3], c.size_cov),
+                    shape.width_m * lognormal_factor(z[:, 4], c.size_cov), g_ms2=g_ms2)
+    e = effective_restitution(shape.restitution, geom.e_housner, lognormal_factor(z[:, 1], c.restitution_cov))
+    az = np.full(len(z), np.nan) if np.isnan(shape.azimuth_deg) else shape.azimuth_deg + c.azimuth_sd_deg * z[:, 5]
     return SampledBlock(amplitude=lognormal_factor(z[:, 0], c.amplitude_cov), p=geom.p, alpha=geom.alpha,
-                        R_m=geom.R, e=e, mu=mu * lognormal_factor(z[:, 2], c.friction_cov), azimuth_deg=az)
+                        R_m=geom.R, e=e, mu=shape.mu * lognormal_factor(z[:, 2], c.friction_cov), azimuth_deg=az,
+                        g_ms2=g_ms2)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
+from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
@@ -85,8 +86,7 @@ def motion(horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.nda
     return SceneMotion(h[0], np.ascontiguousarray(h2), v, float(dt_s), float(azimuth0_deg), planes, single)
 
 
-def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m: float, mu: float,
-                      restitution: float, azimuth_deg: float, settings: UncertaintyConfig,
+def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, settings: UncertaintyConfig,
                       simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G) -> Probability:
     """Sample one scene until its robustness class is decided (a sensitive one to ``settings.p_halfwidth``) or
     ``z`` is used up.
@@ -97,8 +97,8 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
         The record and the candidate planes.
     z : ndarray, shape (n, 6)
         Common random numbers (:func:`~.sampling.common_normals`); n is the largest number of samples.
-    height_m, width_m, mu, restitution, azimuth_deg : float
-        The nominal block (restitution NaN: Housner's; azimuth NaN: scanned).
+    shape : BlockShape
+        The nominal block (restitution NaN: Housner's; azimuth NaN: scanned, else the given plane, sampled).
     settings : UncertaintyConfig
         Spreads, batch size and thresholds.
     simulation : SimulationConfig
@@ -114,8 +114,7 @@ def scene_probability(m: SceneMotion, z: np.ndarray, *, height_m: float, width_m
     done = 0
     low = high = math.nan
     for sl in _batches(n_max, settings.batch):
-        sb = sample_block(z[sl], height_m=height_m, width_m=width_m, mu=mu, restitution=restitution,
-                          azimuth_deg=azimuth_deg, settings=settings, g_ms2=g_ms2)
+        sb = sample_block(z[sl], shape, settings=settings, g_ms2=g_ms2)
         n_rows = sl.stop - sl.start
         if m.single:
             phi = np.zeros((n_rows, 1))
