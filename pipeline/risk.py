@@ -29,6 +29,7 @@ import xarray as xr
 
 from .rocking.orientation import Orientation
 from .rocking.planner import Physics, Response
+from .scene_table import SCENE
 from .schema import INVENTORY_PREFIX
 from .uncertainty.robust import Robustness
 
@@ -54,11 +55,12 @@ ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 #: largest p_overturn (``p_record``). ``stations_*`` count the records of one station recording in several files
 #: once (``records_*`` count files). Extra inventory columns follow, as given.
 ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
-                 "frequency_parameter", "p_overturn", "p_overturn_low", "p_overturn_high", "p_record",
-                 "p_overturn_azimuth", "p_overturn_random_orientation", "robustness",
+                 "frequency_parameter", SCENE.p_overturn, SCENE.p_overturn_low, SCENE.p_overturn_high, "p_record",
+                 SCENE.p_overturn_azimuth, SCENE.p_overturn_random_orientation, SCENE.robustness,
                  "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
                  "records_overturning", "records_screened", "governing_record",
-                 "governing_azimuth", "verdict_criterion", "verdict_simulation", "theta_max", "response", "physics",
+                 SCENE.governing_azimuth, "verdict_criterion", "verdict_simulation", SCENE.theta_max, SCENE.response,
+                 SCENE.physics,
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
                  "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio")
@@ -137,8 +139,8 @@ def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
     record (empty and NaN on the ground)."""
     building = str(ds["building"].values[j]) if "building" in ds else ""
     ratio = math.nan
-    if building and i is not None and "floor_pga" in ds:
-        ratio = float(ds["floor_pga"].values[i, j]) / float(ds["pga"].values[i])
+    if building and i is not None and SCENE.floor_pga in ds:
+        ratio = float(ds[SCENE.floor_pga].values[i, j]) / float(ds["pga"].values[i])
     return {"building": building,
             "floor_height_m": float(ds["floor_height"].values[j]) if "floor_height" in ds else math.nan,
             "floor_pga_ratio": ratio}
@@ -148,22 +150,22 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
     """A block's probabilities of overturning: the largest over the records (with its interval, record and
     robustness class; the governing record when it reaches the largest, so that the two read together), the
     stations with p >= 0.5 and the sensitive scenes. NaN / 0 without sampling."""
-    empty = {"p_overturn": np.nan, "p_overturn_low": np.nan, "p_overturn_high": np.nan, "p_record": "",
-             "robustness": "", "stations_p_half": 0, "records_sensitive": 0, "p_overturn_azimuth": np.nan,
-             "p_overturn_random_orientation": np.nan, "orientation_unknown": False, "p_words": ""}
-    if "p_overturn" not in ds:
+    empty = {SCENE.p_overturn: np.nan, SCENE.p_overturn_low: np.nan, SCENE.p_overturn_high: np.nan, "p_record": "",
+             SCENE.robustness: "", "stations_p_half": 0, "records_sensitive": 0, SCENE.p_overturn_azimuth: np.nan,
+             SCENE.p_overturn_random_orientation: np.nan, "orientation_unknown": False, "p_words": ""}
+    if SCENE.p_overturn not in ds:
         return empty
-    p = np.where(ok, ds["p_overturn"].values[:, j], np.nan)
+    p = np.where(ok, ds[SCENE.p_overturn].values[:, j], np.nan)
     if not np.isfinite(p).any():
         return empty
     i = int(np.nanargmax(p))
     if governing is not None and p[governing] == p[i]:
         i = governing
-    robust = ds["robustness"].values[:, j]
-    azimuth = float(ds["p_overturn_azimuth"].values[i, j]) if "p_overturn_azimuth" in ds else math.nan
-    random = float(ds["p_overturn_random_orientation"].values[i, j]) if "p_overturn_random_orientation" in ds \
+    robust = ds[SCENE.robustness].values[:, j]
+    azimuth = float(ds[SCENE.p_overturn_azimuth].values[i, j]) if SCENE.p_overturn_azimuth in ds else math.nan
+    random = float(ds[SCENE.p_overturn_random_orientation].values[i, j]) if SCENE.p_overturn_random_orientation in ds \
         else math.nan
-    orientation = int(ds["orientation"].values[i, j])
+    orientation = int(ds[SCENE.orientation].values[i, j])
     unknown = orientation in (Orientation.scanned, Orientation.scanned_relative)
     record = str(ds["record"].values[i])
     words = f"p = {p[i]:.2f} under {record}"
@@ -176,12 +178,13 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
                       f"scanned; orientation unknown: {random:.2f})")
         else:
             words += f" if it faces {azimuth:.0f} deg (orientation unknown: {random:.2f})"
-    return {"p_overturn": float(p[i]), "p_overturn_low": float(ds["p_overturn_low"].values[i, j]),
-            "p_overturn_high": float(ds["p_overturn_high"].values[i, j]), "p_record": record,
-            "robustness": ROBUSTNESS_NAMES[int(robust[i])],
+    return {SCENE.p_overturn: float(p[i]), SCENE.p_overturn_low: float(ds[SCENE.p_overturn_low].values[i, j]),
+            SCENE.p_overturn_high: float(ds[SCENE.p_overturn_high].values[i, j]), "p_record": record,
+            SCENE.robustness: ROBUSTNESS_NAMES[int(robust[i])],
             "stations_p_half": len(set(stations[ok & (np.nan_to_num(p) >= 0.5)].tolist())),
             "records_sensitive": int(np.sum(ok & (robust == Robustness.sensitive))),
-            "p_overturn_azimuth": azimuth, "p_overturn_random_orientation": random, "orientation_unknown": unknown,
+            SCENE.p_overturn_azimuth: azimuth, SCENE.p_overturn_random_orientation: random,
+            "orientation_unknown": unknown,
             "p_words": words}
 
 
@@ -197,7 +200,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
     stations = np.array([(station_of or {}).get(r, r) for r in ds["record"].values.tolist()], dtype=object)
     rec_pos = {r: i for i, r in enumerate(ds["record"].values.tolist())}
     ok = ds["status"].values == "ok"
-    verdict = ds["overturn"].values if "overturn" in ds else ds["overturn_simulated"].values
+    verdict = ds["overturn"].values if "overturn" in ds else ds[SCENE.overturn_simulated].values
     record_ids = ds["record"].values
     extra = [str(n) for n in ds.data_vars if str(n).startswith(INVENTORY_PREFIX)]
     for j, block in enumerate(ds["block"].values.tolist()):
@@ -210,9 +213,9 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         sim_scale = float(ds["overturn_scale_simulated"].values[j])
         crit_scale = float(ds["overturn_scale"].values[j])
         crit = int(at("overturn_criterion", -1))
-        sim = int(at("overturn_simulated", -1))
-        response = int(at("response", -1))
-        slide = float(at("sliding_max"))
+        sim = int(at(SCENE.overturn_simulated, -1))
+        response = int(at(SCENE.response, -1))
+        slide = float(at(SCENE.sliding_max))
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
         stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
         n_stations = len(set(stations[ok].tolist()))
@@ -229,19 +232,19 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
             "records_overturning": len(overturning), "records_screened": int(ok.sum()),
             "stations_overturning": stations_over, "stations_screened": n_stations,
             "records_overturning_ids": ";".join(overturning),
-            "governing_record": gov, "governing_azimuth": float(at("governing_azimuth")),
+            "governing_record": gov, SCENE.governing_azimuth: float(at(SCENE.governing_azimuth)),
             "verdict_criterion": VERDICT[crit],
             "verdict_simulation": VERDICT[sim] + (f" (slides {slide:.2g} m)" if response in SLIDING_RESPONSES
                                                   and np.isfinite(slide) and slide > 0 else ""),
-            "theta_max": float(at("theta_max")), "response": RESPONSE_NAMES[response],
-            "physics": PHYSICS_NAMES[int(at("physics", -1))],
+            SCENE.theta_max: float(at(SCENE.theta_max)), SCENE.response: RESPONSE_NAMES[response],
+            SCENE.physics: PHYSICS_NAMES[int(at(SCENE.physics, -1))],
             "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
             "p_overturn_governing": float(ds["p_overturn_governing"].values[j]) if "p_overturn_governing" in ds
             else np.nan,
             "overturn_scale_median": float(ds["overturn_scale_median"].values[j]) if "overturn_scale_median" in ds
             else np.nan,
             "recommendation": recommendation(sim_scale=sim_scale, crit_overturns=crit == 1, response=response,
-                                             overturned=sim == 1, p_max=probabilities["p_overturn"],
+                                             overturned=sim == 1, p_max=probabilities[SCENE.p_overturn],
                                              p_record=probabilities["p_record"], governing=gov or "the records",
                                              stations=(stations_over, n_stations),
                                              p_words=probabilities["p_words"], slide_m=slide),
@@ -250,9 +253,9 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         })
 
     def risk(r: dict) -> tuple:
-        return (-np.nan_to_num(r["p_overturn"], nan=-1.0), -r["stations_p_half"], -r["stations_overturning"],
+        return (-np.nan_to_num(r[SCENE.p_overturn], nan=-1.0), -r["stations_p_half"], -r["stations_overturning"],
                 np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
-                np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r["theta_max"], nan=-1.0))
+                np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r[SCENE.theta_max], nan=-1.0))
 
     rows.sort(key=risk)
     for k, r in enumerate(rows, 1):

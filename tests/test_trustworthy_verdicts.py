@@ -90,16 +90,16 @@ def test_blank_azimuth_is_never_safer_than_any_explicit_5_degree_plane(explicit_
 def test_the_scan_finds_overturnings_the_pulse_axis_misses(explicit_planes, tmp_path):
     # the old behaviour simulated a blank-azimuth block along the pulse axis only; on these records that
     # misses overturnings which the scan finds (and the scan never loses one the axis finds)
-    from pipeline.run.screening import _simulation_values
+    from pipeline.run.screening import simulate_scenes
 
     inv, results, ctx, sources = explicit_planes
     blank = np.array([bid.endswith("blank") for bid in inv.ids])
     missed_by_axis = 0
     for res, src in zip(results, sources):
         rec = ctx.load(src)
-        axis = _simulation_values(rec, res.blocks["block_pulse_azimuth"], ctx, blank, scan=False)
+        axis = simulate_scenes(rec, res.blocks["block_pulse_azimuth"], ctx, blank, scan=False)
         scanned = res.blocks["overturn_simulated"][blank]
-        along_axis = axis["overturn_simulated"][blank]
+        along_axis = axis.overturn_simulated[blank]
         assert not np.any((along_axis == 1) & (scanned != 1))
         missed_by_axis += int(np.sum((along_axis == 0) & (scanned == 1)))
     assert missed_by_axis >= 1

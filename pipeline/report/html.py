@@ -34,6 +34,7 @@ from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..risk import asset_rows, assets_csv_table
 from ..rocking.planner import Response, guarded_scenes
+from ..scene_table import SCENE
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
 from . import figures
@@ -224,11 +225,11 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
                 h[0], h[1], title=title), h[0], np.array([h[1]]), title=title))
             drawn += 1
     ok = ds["status"].values == "ok"
-    resp = ds["response"].values
+    resp = ds[SCENE.response].values
     x, y = ds["normalized_duration"].values.ravel(), ds["normalized_acceleration"].values.ravel()
     chart = _data_uri(cache.get("chart", lambda: figures.scenes_chart(x, y, resp.ravel()), x, y, resp.ravel()))
     counts = Counter(r["recommendation"].split(":")[0] for r in assets)
-    sampled = "samples_drawn" in ds and bool(np.any(ds["samples_drawn"].values[ok] > 0))
+    sampled = SCENE.samples_drawn in ds and bool(np.any(ds[SCENE.samples_drawn].values[ok] > 0))
     summary = {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
         "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),
@@ -243,14 +244,14 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
-        "free_flight": int(np.sum(resp[ok] == Response.free_flight)),
+        SCENE.free_flight: int(np.sum(resp[ok] == Response.free_flight)),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == Response.free_flight, axis=1)]],
-        "guarded": guarded_scenes(ds["simulation_guard"].values, ds["record"].values, ds["block"].values)
-        if "simulation_guard" in ds else [],
+        "guarded": guarded_scenes(ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)
+        if SCENE.simulation_guard in ds else [],
         "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
         "sampled": sampled,
-        "sensitive_scenes": int(np.sum(ds["robustness"].values[ok] == Robustness.sensitive)) if sampled else 0,
+        "sensitive_scenes": int(np.sum(ds[SCENE.robustness].values[ok] == Robustness.sensitive)) if sampled else 0,
         "uncertainty": {k[len("uncertainty_"):]: v for k, v in ds.attrs.items() if k.startswith("uncertainty_")},
     }
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),

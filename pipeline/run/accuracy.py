@@ -50,14 +50,14 @@ from ..records.loader import read_inventory as read_station_inventory
 from ..records.record import Record
 from ..rocking.planner import Physics
 from ..scene_progress import SceneProgress
+from ..scene_table import SCENE, SceneColumns
 from ..store import write_csv_atomic, write_text_atomic
 from .margins import overturn_scale_simulated
-from .screening import Context, _simulation_values, pulses_and_directions, simulation_mask
+from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
-COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated", "planes_simulated",
-           "scenes",
-           "misses", "false_alarms", "misses_pulse", "false_alarms_pulse", "misses_non_pulse",
-           "false_alarms_non_pulse", "theta_error_max", "theta_error_median")
+COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated",
+           SCENE.planes_simulated, "scenes", "misses", "false_alarms", "misses_pulse", "false_alarms_pulse",
+           "misses_non_pulse", "false_alarms_non_pulse", "theta_error_max", "theta_error_median")
 
 
 @dataclasses.dataclass
@@ -93,12 +93,13 @@ def _criterion(scenes: list[_Scene], inventory: Inventory, config: Config) -> tu
     """The criterion's verdict for every scene (records x blocks) and its time."""
     nb = len(inventory)
     arrays = {n: np.vstack([s.blocks.get(n, np.full(nb, np.nan)) for s in scenes])
-              for n in ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")}
+              for n in (SCENE.block_pulse_ap, SCENE.block_pulse_tp, SCENE.block_pulse_beta, SCENE.block_pulse_dv)}
     geom = inventory.geometry(g_ms2=config.records.g_ms2)
     t0 = time.perf_counter()
-    out = criteria.evaluate(arrays["block_pulse_ap"], arrays["block_pulse_tp"], arrays["block_pulse_beta"],
-                            arrays["block_pulse_dv"], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
-                            g_ms2=config.records.g_ms2, form=config.criteria.form)
+    out = criteria.evaluate(arrays[SCENE.block_pulse_ap], arrays[SCENE.block_pulse_tp],
+                            arrays[SCENE.block_pulse_beta], arrays[SCENE.block_pulse_dv], R_m=geom.R,
+                            alpha=geom.alpha, p=geom.p, mu=inventory.mu, g_ms2=config.records.g_ms2,
+                            form=config.criteria.form)
     return out["overturn_criterion"], time.perf_counter() - t0
 
 
@@ -114,53 +115,36 @@ class _SceneTimes(SceneProgress):
 
 
 def _simulate(scenes: list[_Scene], inventory: Inventory, config: Config, *, scan: bool = True,
-              times: _SceneTimes | None = None) -> tuple[dict, float]:
-    """Simulate what the tier of ``config`` asks for; verdicts, theta_max and planes integrated per scene,
-    and the time (each scene's in ``times``, when given)."""
+              times: _SceneTimes | None = None) -> tuple[SceneColumns, float]:
+    """Simulate what the tier of ``config`` asks for: every scene's simulated values (records x blocks; the verdict
+    -1 and the counts 0 where not simulated), and the time (each scene's in ``times``, when given)."""
     ctx = Context("", config, inventory, {}, progress=times if times is not None else SceneProgress())
-    nb = len(inventory)
-    verdict = np.full((len(scenes), nb), -1, dtype=int)
-    theta = np.full((len(scenes), nb), np.nan)
-    planes = np.zeros((len(scenes), nb))
-    azimuth = np.full((len(scenes), nb), np.nan)
-    prob = np.full((len(scenes), nb), np.nan)
-    robust = np.full((len(scenes), nb), np.nan)
-    flight = np.zeros((len(scenes), nb))
-    exceeded = np.zeros((len(scenes), nb))
-    sampled = np.zeros((len(scenes), nb))
-    physics = np.full((len(scenes), nb), np.nan)
+    tables = []
     t = 0.0
-    for i, s in enumerate(scenes):
-        ctx.progress.record(s.record.record_id, nb)
+    for s in scenes:
+        ctx.progress.record(s.record.record_id, len(inventory))
         t0 = time.perf_counter()
-        mask = simulation_mask(inventory, config)
-        sim = _simulation_values(s.record, s.directions, ctx, mask, scan=scan)
+        tables.append(simulate_scenes(s.record, s.directions, ctx, simulation_mask(inventory, config), scan=scan))
         t += time.perf_counter() - t0
-        verdict[i] = np.where(np.isnan(sim["overturn_simulated"]), -1, sim["overturn_simulated"])
-        theta[i] = sim["theta_max"]
-        planes[i] = np.nan_to_num(sim["planes_simulated"])
-        azimuth[i] = sim["governing_azimuth"]
-        prob[i] = sim["p_overturn"]
-        robust[i] = sim["robustness"]
-        flight[i] = np.nan_to_num(sim["free_flight"])
-        exceeded[i] = np.nan_to_num(sim["friction_exceeded"])
-        sampled[i] = np.nan_to_num(sim["sample_simulations"])
-        physics[i] = sim["physics"]
-    return {"overturn_simulated": verdict, "theta_max": theta, "planes_simulated": planes, "physics": physics,
-            "governing_azimuth": azimuth, "p_overturn": prob, "robustness": robust, "free_flight": flight,
-            "friction_exceeded": exceeded, "sample_simulations": sampled}, t
+    grid = SceneColumns.stack(tables)
+    grid.overturn_simulated = np.where(np.isnan(grid.overturn_simulated), -1, grid.overturn_simulated).astype(int)
+    grid.planes_simulated = np.nan_to_num(grid.planes_simulated)
+    grid.free_flight = np.nan_to_num(grid.free_flight)
+    grid.friction_exceeded = np.nan_to_num(grid.friction_exceeded)
+    grid.sample_simulations = np.nan_to_num(grid.sample_simulations)
+    return grid, t
 
 
-def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: dict, is_pulse: np.ndarray) -> dict:
+def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: SceneColumns, is_pulse: np.ndarray) -> dict:
     """Misses and false alarms against the reference (split by pulse class), theta_max error."""
-    judged = ref["overturn_simulated"] >= 0
-    ref_yes = judged & (ref["overturn_simulated"] == 1)
+    judged = ref.overturn_simulated >= 0
+    ref_yes = judged & (ref.overturn_simulated == 1)
     yes = tier_verdict == 1
     miss, alarm = ref_yes & ~yes, judged & ~ref_yes & yes
     pulse = np.broadcast_to(is_pulse[:, None] == 1, miss.shape)
     # theta error over the scenes that rock (reference theta > 0) and stand in both
-    both = np.isfinite(tier_theta) & (np.nan_to_num(ref["theta_max"]) > 0) & ~yes & judged & ~ref_yes
-    err = np.abs(tier_theta[both] - ref["theta_max"][both])
+    both = np.isfinite(tier_theta) & (np.nan_to_num(ref.theta_max) > 0) & ~yes & judged & ~ref_yes
+    err = np.abs(tier_theta[both] - ref.theta_max[both])
     return {"misses": int(miss.sum()), "false_alarms": int(alarm.sum()),
             "misses_pulse": int((miss & pulse).sum()), "false_alarms_pulse": int((alarm & pulse).sum()),
             "misses_non_pulse": int((miss & ~pulse).sum()), "false_alarms_non_pulse": int((alarm & ~pulse).sum()),
@@ -216,13 +200,13 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
         sim, t_sim = (ref, t_ref) if tier == "reference" else _simulate(scenes, inventory, cfg)
         if tier == "full":
             pace["per_run_s"] = t_sim + t_common
-        simulated = sim["overturn_simulated"] >= 0
-        verdict = np.where(simulated, sim["overturn_simulated"], crit)
+        simulated = sim.overturn_simulated >= 0
+        verdict = np.where(simulated, sim.overturn_simulated, crit)
         t = t_crit + t_sim
         rows.append({"section": "tier", "setting": "fidelity", "value": tier, "time_s": t,
                      "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
-                     "planes_simulated": int(sim.get("planes_simulated", np.zeros(1)).sum()),
-                     "scenes": n_scenes, **_agreement(verdict, sim["theta_max"], ref, is_pulse)})
+                     SCENE.planes_simulated: int(sim.planes_simulated.sum()),
+                     "scenes": n_scenes, **_agreement(verdict, sim.theta_max, ref, is_pulse)})
     try:
         say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
         rows += _worst_scene_rows(scenes, inventory, config)
@@ -277,8 +261,8 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, row
             default = getattr(config.simulation, name) == v
             rows.append({"section": "simulation", "setting": name + (" (default)" if default else ""), "value": v,
                          "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
-                         "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()), "scenes": n_scenes,
-                         **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+                         "scenes_simulated": int((sim.overturn_simulated >= 0).sum()), "scenes": n_scenes,
+                         **_agreement(sim.overturn_simulated, sim.theta_max, ref, is_pulse)})
     # the orientation scan: coarser grids, no refinement, and the pulse axis alone (no scan)
     variants: list[tuple[str, float | str, dict[str, float], bool]] = [
         ("orientation_step_deg", v, {"orientation_step_deg": v}, True) for v in (5.0, 10.0, 15.0, 30.0)]
@@ -293,9 +277,9 @@ def _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, row
         section = "vertical" if label.startswith("vertical") else "orientation"
         rows.append({"section": section, "setting": label + (" (default)" if default else ""), "value": value,
                      "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes,
-                     "scenes_simulated": int((sim["overturn_simulated"] >= 0).sum()),
-                     "planes_simulated": int(sim["planes_simulated"].sum()), "scenes": n_scenes,
-                     **_agreement(sim["overturn_simulated"], sim["theta_max"], ref, is_pulse)})
+                     "scenes_simulated": int((sim.overturn_simulated >= 0).sum()),
+                     SCENE.planes_simulated: int(sim.planes_simulated.sum()), "scenes": n_scenes,
+                     **_agreement(sim.overturn_simulated, sim.theta_max, ref, is_pulse)})
     say("the general contact model against pure rocking and flags")
     rows += _contact_rows(scenes, inventory, full, n_scenes)
     say("the floor filter of a building")
@@ -331,13 +315,13 @@ def _contact_rows(scenes, inventory, config, n_scenes) -> list[dict]:
                         config)):
         sim, t = _simulate(scenes, inventory, cfg)
         runs[cfg.simulation.contact_model] = (sim, t)
-        general = int(np.sum(sim["physics"] == Physics.general))
+        general = int(np.sum(sim.physics == Physics.general))
         rows.append({"section": "contact model", "setting": label, "value": int(cfg.simulation.contact_model),
                      "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes, "scenes": n_scenes,
-                     "scenes_simulated": general, "planes_simulated": int(sim["planes_simulated"].sum())})
+                     "scenes_simulated": general, SCENE.planes_simulated: int(sim.planes_simulated.sum())})
     (on, t_on), (flagged, t_off) = runs[True], runs[False]
-    general = on["physics"] == Physics.general
-    before, after = flagged["overturn_simulated"][general], on["overturn_simulated"][general]
+    general = on.physics == Physics.general
+    before, after = flagged.overturn_simulated[general], on.overturn_simulated[general]
     for what, sel in (("verdicts given where free flight had none", before == -1),
                       ("verdicts changed from overturn to stand", (before == 1) & (after == 0)),
                       ("verdicts changed from stand to overturn", (before == 0) & (after == 1))):
@@ -377,7 +361,7 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes, say) -> list[dict]:
              "time_per_scene_us": 1e6 * t_nominal / n_scenes, "scenes": n_scenes},
             {"section": "uncertainty", "setting": f"samples (batch {u.batch}, sequential stop)", "value": u.samples,
              "time_s": t_prob, "time_per_scene_us": 1e6 * t_prob / n_scenes, "scenes": n_scenes,
-             "scenes_simulated": int(np.isfinite(prob["p_overturn"]).sum())}]
+             "scenes_simulated": int(np.isfinite(prob.p_overturn).sum())}]
     rows += _band_rows(prob, u.robust_below, n_scenes)
     runs = {}
     for n in CONVERGENCE_SAMPLES:
@@ -387,18 +371,18 @@ def _uncertainty_rows(scenes, inventory, config, n_scenes, say) -> list[dict]:
     best = runs[CONVERGENCE_SAMPLES[-1]][0]
     for n in CONVERGENCE_SAMPLES:
         sim, t = runs[n]
-        ok = np.isfinite(sim["p_overturn"]) & np.isfinite(best["p_overturn"])
-        d = np.abs(sim["p_overturn"][ok] - best["p_overturn"][ok])
+        ok = np.isfinite(sim.p_overturn) & np.isfinite(best.p_overturn)
+        d = np.abs(sim.p_overturn[ok] - best.p_overturn[ok])
         rows.append({"section": "convergence", "setting": "samples per scene (no early stop)", "value": n,
                      "time_s": t, "time_per_scene_us": 1e6 * t / n_scenes, "scenes": n_scenes,
-                     "scenes_simulated": int(ok.sum()), "misses": int((sim["robustness"] != best["robustness"])[ok]
+                     "scenes_simulated": int(ok.sum()), "misses": int((sim.robustness != best.robustness)[ok]
                                                                      .sum()),
                      "theta_error_max": float(d.max()) if d.size else np.nan,
                      "theta_error_median": float(np.median(d)) if d.size else np.nan})
     return rows
 
 
-def _band_rows(prob: dict, robust_below: float, n_scenes: int) -> list[dict]:
+def _band_rows(prob: SceneColumns, robust_below: float, n_scenes: int) -> list[dict]:
     """What a band on the nominal max theta/alpha would leave out, measured against sampling every scene.
 
     A scene would go unsampled when its nominal scene stands with no flag (no free flight, friction not
@@ -406,17 +390,18 @@ def _band_rows(prob: dict, robust_below: float, n_scenes: int) -> list[dict]:
     p_overturn is at least ``robust_below``; ``planes_simulated``: the sampled planes they cost;
     ``theta_error_max`` (as in the convergence rows, a probability here): the largest p among them.
     """
-    theta = np.nan_to_num(prob["theta_max"], nan=0.0)
-    flagged = (prob["overturn_simulated"] == 1) | (prob["free_flight"] != 0) | (prob["friction_exceeded"] == 1)
-    p = np.nan_to_num(prob["p_overturn"], nan=0.0)
-    cost = np.maximum(prob["sample_simulations"], 0)
+    theta = np.nan_to_num(prob.theta_max, nan=0.0)
+    flagged = (prob.overturn_simulated == 1) | (prob.free_flight != 0) | (prob.friction_exceeded == 1)
+    p = np.nan_to_num(prob.p_overturn, nan=0.0)
+    cost = np.maximum(prob.sample_simulations, 0)
     rows = []
     for band in SAMPLE_BANDS:
         below = ~flagged & ((theta <= 0.0) if band == 0.0 else (theta < band))
         rows.append({"section": "sample band", "setting": "nominal max theta/alpha below which a standing, unflagged "
                      "scene is not sampled (0: never lifted)", "value": band, "time_s": np.nan,
                      "time_per_scene_us": np.nan, "scenes": n_scenes, "scenes_simulated": int((~below).sum()),
-                     "planes_simulated": int(cost[below].sum()), "misses": int((below & (p >= robust_below)).sum()),
+                     SCENE.planes_simulated: int(cost[below].sum()),
+                     "misses": int((below & (p >= robust_below)).sum()),
                      "theta_error_max": float(p[below].max()) if below.any() else np.nan})
     return rows
 
@@ -425,8 +410,8 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
     """Margin scans on each block's worst simulated scene (in its governing plane), for several steps, against
     the finest."""
     rocking_blocks = inventory.rocking_blocks(g_ms2=config.records.g_ms2)
-    theta = np.nan_to_num(ref["theta_max"], nan=-1.0)
-    worst = np.argmax(np.where(ref["overturn_simulated"] == 1, np.inf, theta), axis=0)
+    theta = np.nan_to_num(ref.theta_max, nan=-1.0)
+    worst = np.argmax(np.where(ref.overturn_simulated == 1, np.inf, theta), axis=0)
     steps = (0.04, 0.02, 0.01, 0.005)
     margins, times = {}, {}
     for step in steps:
@@ -435,7 +420,7 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
         out = []
         for j, i in enumerate(worst):
             rec = scenes[i].record
-            plane = ref["governing_azimuth"][i, j]
+            plane = ref.governing_azimuth[i, j]
             plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
             out.append(overturn_scale_simulated(rec.along(plane), rec.vertical_ms2,
                                                 rec.dt_s, settings=settings, block=rocking_blocks[j])[0])
@@ -476,7 +461,7 @@ def markdown(rows: list[dict]) -> str:
                if "theta_error_max" in r else "")
         lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r.get('time_s'))} | "
                      f"{fmt(r.get('time_per_scene_us'))} | {r.get('scenes_simulated', '')} | "
-                     f"{r.get('planes_simulated', '')} | {mp} | {fa} | {err} |")
+                     f"{r.get(SCENE.planes_simulated, '')} | {mp} | {fa} | {err} |")
     return "\n".join(lines) + "\n"
 
 

@@ -43,6 +43,7 @@ from ..records.loader import Failure, RecordSource, Scan, read_declared_units, s
 from ..records.units import declared_units_for
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
+from ..scene_table import SCENE
 from ..schema import FLOOR_PULSE_VALUES
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
@@ -258,8 +259,8 @@ def _nan_series(n: int) -> dict:
 
 def _general_reasons(ds: xr.Dataset) -> dict[str, int]:
     """Scenes the general contact model decided, by why pure rocking (or sliding) stopped holding."""
-    general = ds["physics"].values == Physics.general
-    flight, modes = ds["free_flight"].values, ds["contact_modes"].values
+    general = ds[SCENE.physics].values == Physics.general
+    flight, modes = ds[SCENE.free_flight].values, ds[SCENE.contact_modes].values
     return {"total": int(np.sum(general)),
             "slide_rock": int(np.sum(general & (modes >= 0) & (modes & ContactMode.slide_rock > 0))),
             "ground_flight": int(np.sum(general & (flight == FreeFlight.ground_flight))),
@@ -449,18 +450,18 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
     """The scenes of the results by physics, response, orientation and robustness class, the planes and samples
     integrated, the scenes the general contact model decided, those that met a guard and those that slid off
     their base: the closing summary's counts."""
-    phys, resp = ds["physics"].values, ds["response"].values
+    phys, resp = ds[SCENE.physics].values, ds[SCENE.response].values
     return {
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
                               **{m.name: int(np.sum(phys == m)) for m in Physics}},
         "fidelity": config.fidelity.tier,
         "scenes_by_response": {m.name: int(np.sum(resp == m)) for m in Response},
-        "scenes_by_orientation": {m.name: int(np.sum(ds["orientation"].values == m)) for m in Orientation},
-        "planes_simulated": int(np.sum(np.maximum(ds["planes_simulated"].values, 0))),
-        "scenes_by_robustness": {m.name: int(np.sum(ds["robustness"].values == m.value)) for m in Robustness},
-        "sampled_simulations": int(np.sum(np.maximum(ds["sample_simulations"].values, 0))),
+        "scenes_by_orientation": {m.name: int(np.sum(ds[SCENE.orientation].values == m)) for m in Orientation},
+        SCENE.planes_simulated: int(np.sum(np.maximum(ds[SCENE.planes_simulated].values, 0))),
+        "scenes_by_robustness": {m.name: int(np.sum(ds[SCENE.robustness].values == m.value)) for m in Robustness},
+        "sampled_simulations": int(np.sum(np.maximum(ds[SCENE.sample_simulations].values, 0))),
         "general_scenes": _general_reasons(ds),
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
-            ds["simulation_guard"].values, ds["record"].values, ds["block"].values)],
+            ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
     }

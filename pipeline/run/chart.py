@@ -31,6 +31,7 @@ from ..closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine,
 from ..constants import REFERENCE_PAPER, G
 from ..errors import ParameterError, ResultsError
 from ..rocking.geometry import check_friction, geometry
+from ..scene_table import SCENE
 from ..schema import CHART, apply_schema
 
 #: Default period grid, as multiples of the paper's transition period.
@@ -187,8 +188,8 @@ def points_from_results(chart: xr.Dataset, results: xr.Dataset, *, block_id: str
     simulated = None
     if block_id is not None and "block" in results.dims and block_id in list(results["block"].values):
         sel = results.sel(block=block_id)
-        names = ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv")
-        verdict = "overturn" if "overturn" in sel else "overturn_simulated"
+        names = (SCENE.block_pulse_ap, SCENE.block_pulse_tp, SCENE.block_pulse_beta, SCENE.block_pulse_dv)
+        verdict = "overturn" if "overturn" in sel else SCENE.overturn_simulated
         simulated = sel[verdict].values[ok] if verdict in sel else None
     else:
         sel = results

@@ -21,6 +21,7 @@ from ..config import Config
 from ..errors import RockscreenError
 from ..records.coordinates import distance_km
 from ..records.loader import read_inventory, scan, station_of
+from ..scene_table import SCENE
 from .stages import ScreenRequest, screen
 
 
@@ -96,9 +97,9 @@ def near_records(records_dir: Path, inv: Inventory, lon: np.ndarray, lat: np.nda
                 out.notes.append(f"asset {bid}: record {rid} has no result in {result.screening_path}")
                 continue
             i, j = records.index(rid), blocks.index(bid)
-            p = float(ds["p_overturn"].values[i, j])
+            p = float(ds[SCENE.p_overturn].values[i, j])
             if math.isnan(p):                              # --samples 0: the nominal verdict
-                verdict = int(ds["overturn_simulated"].values[i, j])
+                verdict = int(ds[SCENE.overturn_simulated].values[i, j])
                 p = float(verdict) if verdict >= 0 else math.nan
             out.p[k] = p
     return out

@@ -45,13 +45,14 @@ from ..records.intensity import (
 )
 from ..records.loader import Failure, read_declared_units, scan_directory
 from ..rocking.rules import rocks
+from ..scene_table import SCENE
 from ..schema import FRAGILITY, apply_schema
 from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
 from .batch import record_content
 from .cache import ENTRY_FORMAT, RecordStore, run_key
 from .engine import TaskRun
-from .screening import Context, _simulation_values, pulses_and_directions, task_failure
+from .screening import Context, pulses_and_directions, simulate_scenes, task_failure
 
 log = logging.getLogger(__name__)
 
@@ -73,10 +74,10 @@ def record_ims(rec, blocks: dict, inventory: Inventory, *, g_ms2: float, compone
     nb = len(inventory)
     geo = inventory.geometry(g_ms2=g_ms2)
     out = record_measures(rec, 2.0 * math.pi / geo.p, component=component.value, g_ms2=g_ms2)
-    dv = np.abs(blocks.get("block_pulse_dv", np.full(nb, np.nan)))
+    dv = np.abs(blocks.get(SCENE.block_pulse_dv, np.full(nb, np.nan)))
     v_crit = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
-    return {**out, "ap": np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float),
-            "tp": np.asarray(blocks.get("block_pulse_tp", np.full(nb, np.nan)), dtype=float),
+    return {**out, "ap": np.asarray(blocks.get(SCENE.block_pulse_ap, np.full(nb, np.nan)), dtype=float),
+            "tp": np.asarray(blocks.get(SCENE.block_pulse_tp, np.full(nb, np.nan)), dtype=float),
             "velocity_ratio": dv / v_crit}
 
 
@@ -125,19 +126,19 @@ def _judge_levels(rec, ctx: Context, blocks: dict, directions: np.ndarray, facto
     simulate = ctx.config.fidelity.tier != "criterion"
     geo = ctx.inventory.geometry(g_ms2=g)
     rocking_blocks = ctx.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
-    ap = np.asarray(blocks.get("block_pulse_ap", np.full(nb, np.nan)), dtype=float)
-    tp = np.asarray(blocks.get("block_pulse_tp", np.full(nb, np.nan)), dtype=float)
+    ap = np.asarray(blocks.get(SCENE.block_pulse_ap, np.full(nb, np.nan)), dtype=float)
+    tp = np.asarray(blocks.get(SCENE.block_pulse_tp, np.full(nb, np.nan)), dtype=float)
     for j in range(nl):
         for f in np.unique(factors[j][np.isfinite(factors[j])]):
             sel = factors[j] == f
             if simulate:
-                sim = _simulation_values(rec.scaled(float(f)), directions, ctx, sel, blocks=rocking_blocks)
-                verdict[j, sel] = np.nan_to_num(sim["overturn_simulated"][sel], nan=-1).astype("i1")
-                prob[j, sel] = sim["p_overturn"][sel]
-                prob_random[j, sel] = sim["p_overturn_random_orientation"][sel]
+                sim = simulate_scenes(rec.scaled(float(f)), directions, ctx, sel, blocks=rocking_blocks)
+                verdict[j, sel] = np.nan_to_num(sim.overturn_simulated[sel], nan=-1).astype("i1")
+                prob[j, sel] = sim.p_overturn[sel]
+                prob_random[j, sel] = sim.p_overturn_random_orientation[sel]
             else:
-                crit = criteria.evaluate(f * ap, tp, blocks.get("block_pulse_beta", np.nan),
-                                         f * np.asarray(blocks.get("block_pulse_dv", np.nan)), R_m=geo.R,
+                crit = criteria.evaluate(f * ap, tp, blocks.get(SCENE.block_pulse_beta, np.nan),
+                                         f * np.asarray(blocks.get(SCENE.block_pulse_dv, np.nan)), R_m=geo.R,
                                          alpha=geo.alpha, p=geo.p, mu=ctx.inventory.mu, g_ms2=g,
                                          form=ctx.config.criteria.form)
                 verdict[j, sel] = np.asarray(crit["overturn_criterion"])[sel]
@@ -419,7 +420,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         "beta_low": (("block",), be_ci[:, 0]), "beta_high": (("block",), be_ci[:, 1]),
         "scale_factor": (("record", "im_level", "block"), factor),
         "outcome": (("record", "im_level", "block"), verdict.astype("i1")),
-        "p_overturn": (("record", "im_level", "block"), prob),
+        SCENE.p_overturn: (("record", "im_level", "block"), prob),
         "beta_im": (("block", "im"), beta_im), "median_im": (("block", "im"), median_im),
         "block_period": (("block",), 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p),
         "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),

@@ -52,6 +52,7 @@ from ..records.loader import RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
 from ..rocking.planner import rocks, simulate_scene
+from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
 from .screening import Context
@@ -65,9 +66,9 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
     out = np.full(ds.sizes["block"], -1)
     if not ok.any():
         return out
-    sim = ds["overturn_simulated"].values == 1
+    sim = ds[SCENE.overturn_simulated].values == 1
     crit = ds["overturn_criterion"].values == 1
-    theta = np.nan_to_num(ds["theta_max"].values, nan=-1.0, posinf=1e300)
+    theta = np.nan_to_num(ds[SCENE.theta_max].values, nan=-1.0, posinf=1e300)
     energy = np.nan_to_num(ds["velocity_ratio"].values, nan=-1.0, posinf=1e300)
     rows = np.flatnonzero(ok)
     for j in range(ds.sizes["block"]):
@@ -86,12 +87,12 @@ def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     cols = np.arange(ds.sizes["block"])
     has = rec_index >= 0
     r = np.where(has, rec_index, 0)
-    sim = ds["overturn_simulated"].values[r, cols] == 1
+    sim = ds[SCENE.overturn_simulated].values[r, cols] == 1
     crit = ds["overturn_criterion"].values[r, cols] == 1
     likely = np.zeros(ds.sizes["block"], dtype=bool)
-    if "p_overturn" in ds:
+    if SCENE.p_overturn in ds:
         ok = (ds["status"].values == "ok")[:, None] if "status" in ds else True
-        likely = np.any(np.where(ok, np.nan_to_num(ds["p_overturn"].values, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
+        likely = np.any(np.where(ok, np.nan_to_num(ds[SCENE.p_overturn].values, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
     return has & (sim | crit | likely)
 
 
@@ -261,7 +262,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     simulate = ctx.config.fidelity.tier != "criterion"      # the criterion tier simulates nothing
     for j in np.flatnonzero((rec_index >= 0) & simulate).tolist():
         rid = str(record_ids[rec_index[j]])
-        direction = float(ds["governing_azimuth"].values[rec_index[j], j])
+        direction = float(ds[SCENE.governing_azimuth].values[rec_index[j], j])
         if not np.isfinite(direction):
             continue
         hit = cache.get(rid, content[rid], digest[block_ids[j]]) if cache is not None else None
@@ -269,7 +270,7 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
             keep(j, rid, hit)
             reused += 1
             continue
-        overturned = bool(ds["overturn_simulated"].values[rec_index[j], j] == 1)
+        overturned = bool(ds[SCENE.overturn_simulated].values[rec_index[j], j] == 1)
         items.setdefault(rid, []).append((block_ids[j], direction, overturned, bool(risky[j])))
     unavailable = [rid for rid in items if rid not in sources]
     tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
@@ -290,9 +291,9 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     ds["overturn_scale_simulated"] = (("block",), sim_scale)
     ds["margin_simulations"] = (("block",), runs)
     ds["overturn_scale_median"] = (("block",), median_scale)
-    p_gov = ds["p_overturn"].values[r, cols] if "p_overturn" in ds else np.full(nb, np.nan)
+    p_gov = ds[SCENE.p_overturn].values[r, cols] if SCENE.p_overturn in ds else np.full(nb, np.nan)
     ds["p_overturn_governing"] = (("block",), np.where(rec_index >= 0, p_gov, np.nan))
-    standing = np.where(rec_index >= 0, ds["overturn_simulated"].values[r, cols] == 0, False)
+    standing = np.where(rec_index >= 0, ds[SCENE.overturn_simulated].values[r, cols] == 0, False)
     below = np.where(np.isfinite(sim_scale), standing & (sim_scale < 1.0), False)
     ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(sim_scale), -1, below).astype("i1"))
     ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing "

@@ -34,6 +34,7 @@ from ..rocking.block import Block
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planner import ContactMode, Physics, guard_names
 from ..scene_progress import SceneProgress
+from ..scene_table import SCENE, SceneColumns
 from ..schema import (
     COMPONENTS,
     FLOOR_PULSE_VALUES,
@@ -216,9 +217,10 @@ def _pulse_values(rec: Record, ctx: Context) -> tuple[dict, dict, dict]:
         "pulse_method": res.method, "pulse_flags": "; ".join(flags),
     }
     directions = _block_directions(rec, ctx.inventory, pulse.azimuth_deg)
-    names = ("block_pulse_ap", "block_pulse_tp", "block_pulse_beta", "block_pulse_dv", "block_record_ap")
+    names = (SCENE.block_pulse_ap, SCENE.block_pulse_tp, SCENE.block_pulse_beta, SCENE.block_pulse_dv,
+             SCENE.block_record_ap)
     blocks = {n: np.full(nb, np.nan) for n in names}
-    blocks["block_pulse_azimuth"] = directions
+    blocks[SCENE.block_pulse_azimuth] = directions
     for d in np.unique(directions):
         sel = directions == d
         if d == pulse.azimuth_deg:
@@ -236,7 +238,7 @@ def pulses_and_directions(rec: Record, ctx: Context) -> tuple[dict, dict, dict, 
     """The record's pulse values, per-block pulse values and series (:func:`_pulse_values`), and the
     direction each block is simulated along: the pulse's, or the peak vector's when no pulse was found."""
     values, blocks, series = _pulse_values(rec, ctx)
-    directions = blocks.get("block_pulse_azimuth")
+    directions = blocks.get(SCENE.block_pulse_azimuth)
     if directions is None:
         directions = _block_directions(rec, ctx.inventory, rec.pga_azimuth_deg())
     return values, blocks, series, directions
@@ -272,8 +274,8 @@ def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, gr
     return code, [direction_deg, *grid_deg.tolist()]
 
 
-def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
-                       scan: bool = True, blocks: list[Block] | None = None) -> dict:
+def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
+                    scan: bool = True, blocks: list[Block] | None = None) -> SceneColumns:
     """Plan and simulate the blocks in ``mask`` (default all) against one record, each in its worst plane.
 
     ``scan=False`` simulates every block in ``directions`` only (the pulse axis for a blank
@@ -284,7 +286,7 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
     inv, cfg = ctx.inventory, ctx.config
     blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2) if blocks is None else blocks
     nb = len(inv)
-    out = {n: np.full(nb, np.nan) for n in SIMULATION_VARS + PROBABILITY_VARS}
+    out = SceneColumns.empty(nb)
     unc = cfg.uncertainty
     z = common_normals(unc.seed, unc.samples) if scan and unc.samples > 0 else None
     z_estimate = estimation_normals(unc, unc.samples) if z is not None else None
@@ -305,32 +307,34 @@ def _simulation_values(rec: Record, directions: np.ndarray, ctx: Context, mask: 
         res = worst_plane(planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
                           refine_deg=refine, block=blocks[j])
         sc = res.scene
-        row = {"physics": sc.physics, "response": sc.response, "overturn_simulated": sc.verdict,
-               "theta_max": sc.theta_max, "n_impacts": sc.n_impacts, "time_overturn": sc.t_overturn,
-               "friction_demand": sc.friction_demand, "friction_exceeded": sc.friction_exceeded,
-               "sliding_max": sc.sliding_max_m, "free_flight": sc.free_flight, "time_free_flight": sc.t_flight,
-               "governing_azimuth": res.azimuth_deg, "orientation": code, "planes_simulated": res.planes_simulated,
-               "contact_modes": sc.contact_modes, "simulation_guard": sc.guard}
         orient = NOT_EVALUATED_ORIENTATION
         if base is not None and z is not None and z_estimate is not None:
             orient = _orientation_probability(base, (z, z_estimate, z_average), inv, int(j), scanned=scanned,
                                               azimuths=azimuths, nominal=res, planes=planes, grid=grid, cfg=cfg,
                                               settings=settings)
-        prob = orient.worst
-        row.update({"p_overturn": prob.p, "p_overturn_low": prob.low, "p_overturn_high": prob.high,
-                    "robustness": prob.robustness, "samples_drawn": prob.drawn,
-                    "samples_overturned": prob.overturned, "samples_free_flight": prob.free_flight,
-                    "sample_simulations": orient.simulations,
-                    "p_overturn_azimuth": orient.worst_azimuth_deg,
-                    "p_overturn_random_orientation": orient.random,
-                    "p_overturn_random_orientation_low": orient.random_low,
-                    "p_overturn_random_orientation_high": orient.random_high})
-        for n, v in row.items():
-            out[n][j] = v
+        scene_values(out, int(j), res, code, orient)
         ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
                                 detail=lambda sc=sc, res=res, orient=orient: _scene_detail(
                                     sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
     return out
+
+
+def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,
+                 orient: OrientationProbability) -> None:
+    """Scene ``j`` of ``out`` from its governing plane's simulated :class:`~pipeline.rocking.scene.Scene` (``res``),
+    how its plane was chosen and its probabilities: the one place where the simulator's names become the
+    schema's."""
+    sc, prob = res.scene, orient.worst
+    out.put(j, physics=sc.physics, response=sc.response, overturn_simulated=sc.verdict, theta_max=sc.theta_max,
+            n_impacts=sc.n_impacts, time_overturn=sc.t_overturn, friction_demand=sc.friction_demand,
+            friction_exceeded=sc.friction_exceeded, sliding_max=sc.sliding_max_m, free_flight=sc.free_flight,
+            time_free_flight=sc.t_flight, governing_azimuth=res.azimuth_deg, orientation=orientation,
+            planes_simulated=res.planes_simulated, contact_modes=sc.contact_modes, simulation_guard=sc.guard,
+            p_overturn=prob.p, p_overturn_low=prob.low, p_overturn_high=prob.high, robustness=prob.robustness,
+            samples_drawn=prob.drawn, samples_overturned=prob.overturned, samples_free_flight=prob.free_flight,
+            sample_simulations=orient.simulations, p_overturn_azimuth=orient.worst_azimuth_deg,
+            p_overturn_random_orientation=orient.random, p_overturn_random_orientation_low=orient.random_low,
+            p_overturn_random_orientation_high=orient.random_high)
 
 
 def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
@@ -399,7 +403,7 @@ def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sh
         ctx.progress.record(source.record_id, int(np.count_nonzero(mask)))
         motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))
         on_ground = np.isin(np.arange(len(inv)), motions.groups.get((), []))
-        block_values.update(_simulation_values(rec, directions, task_ctx, mask & on_ground))
+        block_values.update(simulate_scenes(rec, directions, task_ctx, mask & on_ground).columns())
         floors: dict = {}
         if motions.upper_floors:
             floor_blocks, floors = _floor_values(motions, task_ctx, mask, block_values)
@@ -427,12 +431,12 @@ def _floor_values(motions: FloorMotions, ctx: Context, mask: np.ndarray, block_v
         values, blocks, series, directions = pulses_and_directions(frec, sub)
         if series:
             floors[key] = {**series, "dt": frec.dt_s, **{n: float(values[n]) for n in FLOOR_PULSE_VALUES}}
-        blocks.update(_simulation_values(frec, directions, sub, mask[idx]))
+        blocks.update(simulate_scenes(frec, directions, sub, mask[idx]).columns())
         for n, v in blocks.items():
             if n in out:
                 out[n][idx] = v
-        out["floor_pga"][idx] = frec.pga_ms2()
-        out["floor_pgv"][idx] = frec.pgv_ms()
+        out[SCENE.floor_pga][idx] = frec.pga_ms2()
+        out[SCENE.floor_pgv][idx] = frec.pgv_ms()
     return out, floors
 
 
@@ -529,14 +533,14 @@ def _verdicts(data_vars: dict, inventory: Inventory, geom, margin: np.ndarray, c
     wherever a scene was simulated (-1 for free flight: no verdict), else the criterion's (the criterion tier);
     where it came from; and whether the block slid off its base."""
     scenes = criteria.evaluate(
-        data_vars["block_pulse_ap"][1], data_vars["block_pulse_tp"][1], data_vars["block_pulse_beta"][1],
-        data_vars["block_pulse_dv"][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
+        data_vars[SCENE.block_pulse_ap][1], data_vars[SCENE.block_pulse_tp][1], data_vars[SCENE.block_pulse_beta][1],
+        data_vars[SCENE.block_pulse_dv][1], R_m=geom.R, alpha=geom.alpha, p=geom.p, mu=inventory.mu,
         g_ms2=config.records.g_ms2, form=config.criteria.form)
     out = {name: (("record", "block"), arr) for name, arr in scenes.items()}
-    simulated = data_vars["response"][1] >= 0
-    out["overturn"] = (("record", "block"), np.where(simulated, data_vars["overturn_simulated"][1],
+    simulated = data_vars[SCENE.response][1] >= 0
+    out["overturn"] = (("record", "block"), np.where(simulated, data_vars[SCENE.overturn_simulated][1],
                                                      scenes["overturn_criterion"]).astype("i1"))
-    slid = np.nan_to_num(data_vars["sliding_max"][1], nan=0.0) > margin[None, :]
+    slid = np.nan_to_num(data_vars[SCENE.sliding_max][1], nan=0.0) > margin[None, :]
     out["slides_off_base"] = (("record", "block"), np.where(
         simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
     out["verdict_source"] = (("record", "block"), np.where(

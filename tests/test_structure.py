@@ -1,0 +1,72 @@
+"""The code's structure, read from the sources: per-scene variables named once, short functions, one typed scene
+table, a model registry the planner dispatches through."""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+from pathlib import Path
+
+import pytest
+
+from pipeline import schema
+from pipeline.scene_table import SCENE, SceneColumns
+
+PIPELINE = Path(__file__).resolve().parents[1] / "pipeline"
+PER_SCENE = set(schema.PULSE_BLOCK_VARS + schema.SIMULATION_VARS + schema.PROBABILITY_VARS + schema.FLOOR_VARS)
+#: Strings equal to a per-scene variable's name that name something else, with what they name.
+HOMONYMS = {
+    ("rocking/kernel.py", "theta_max"): "a field of the rocking kernel's progress record",
+    ("rocking/kernel.py", "n_impacts"): "a field of the rocking kernel's progress record",
+    ("rocking/contact.py", "theta_max"): "a field of the contact model's motion record",
+    ("rocking/contact.py", "n_impacts"): "a field of the contact model's motion record",
+    ("uncertainty/hazard_files.py", "response"): "a key of the USGS hazard service's JSON",
+    ("store/exports.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
+    ("report/fragility_html.py", "orientation"): "fragility.nc's attribute and fragility_assets.csv's column",
+    ("run/fragility.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
+    ("run/accuracy.py", "orientation"): "a section of screen bench's table (the orientation scan's rows)",
+}
+MAX_FUNCTION_LINES = 80
+
+
+def _modules():
+    for path in sorted(PIPELINE.rglob("*.py")):
+        yield path.relative_to(PIPELINE).as_posix(), ast.parse(path.read_text())
+
+
+def test_per_scene_variables_are_named_as_strings_only_in_the_schema():
+    found = []
+    for rel, tree in _modules():
+        if rel == "schema.py":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and node.value in PER_SCENE and (rel, node.value) not in HOMONYMS:
+                found.append(f"{rel}:{node.lineno}: {node.value!r}")
+    assert found == [], "read them as SCENE.<name> or SceneColumns fields"
+
+
+def test_every_scene_name_read_in_the_package_is_a_per_scene_variable():
+    names = {node.attr for _, tree in _modules() for node in ast.walk(tree)
+             if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "SCENE"}
+    assert names and names <= PER_SCENE, sorted(names - PER_SCENE)
+    assert all(getattr(SCENE, n) == n for n in names)
+    with pytest.raises(AttributeError, match="not a per-scene variable"):
+        _ = SCENE.p_overturned
+
+
+def test_the_scene_table_has_the_schemas_per_scene_variables_in_order():
+    assert tuple(f.name for f in dataclasses.fields(SceneColumns)) == schema.SIMULATION_VARS + schema.PROBABILITY_VARS
+    for name in schema.SIMULATION_VARS + schema.PROBABILITY_VARS:
+        assert schema.SCHEMA[name][0] == ("record", "block")
+
+
+def test_the_planner_dispatches_through_the_registry_without_a_model_chain():
+    """plan() and simulate_scene() compare no Physics member: the registry's certificates choose."""
+    tree = ast.parse((PIPELINE / "rocking" / "planner.py").read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef) and node.name in ("plan", "simulate_scene"):
+            uses = {n.value.id for n in ast.walk(node)
+                    if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name)}
+            assert "Physics" not in uses, node.name
+            calls = {n.func.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)}
+            assert "choose" in calls, node.name
