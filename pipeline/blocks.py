@@ -214,16 +214,6 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras)}
     seen: dict[str, int] = {}
     implausible: list[str] = []
-    lo, hi = SIZE_RANGE_M
-    size_rule = f"a size in metres between {lo:g} and {hi:g} (full height, full base width)"
-
-    def cell(where: str, column: str, value: str, rule: str, ok, default: float) -> float:
-        try:
-            return parse_number(value, where=where, column=column, rule=rule, ok=ok)
-        except InventoryError as exc:
-            errors.append(str(exc))
-            return default
-
     for line, where, rec in records:
         try:
             bid = rec["id"]
@@ -236,33 +226,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
             errors.append(f"{where}, column 'id': duplicate id {bid!r} (first on line {seen[bid]})")
         seen.setdefault(bid, line)
         rows["id"].append(bid)
-        for c in ("height_m", "width_m"):
-            if not rec[c]:
-                errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
-                rows[c].append(1.0)
-            else:
-                rows[c].append(cell(where, c, rec[c], size_rule, lambda x: lo <= x <= hi, 1.0))
-        mu = rec.get("mu", "")
-        rows["mu"].append(default_mu if not mu else cell(where, "mu", mu, "a friction coefficient > 0 (at most 5)",
-                                                          lambda x: 0 < x <= 5, default_mu))
-        az = rec.get("azimuth_deg", "")
-        rows["azimuth_deg"].append(math.nan if not az else cell(
-            where, "azimuth_deg", az, "an azimuth in [0, 360] deg (blank = the worst rocking plane)",
-            lambda x: 0 <= x <= 360, 0.0) % 180.0)
-        e = rec.get("restitution", "")
-        rows["restitution"].append(math.nan if not e else cell(
-            where, "restitution", e, "a velocity restitution ratio in (0, 1]", lambda x: 0 < x <= 1, math.nan))
-        margin = rec.get("base_margin_m", "")
-        rows["base_margin_m"].append(math.nan if not margin else cell(
-            where, "base_margin_m", margin, "a distance >= 0 m from the block to the edge of its base (blank: none)",
-            lambda x: x >= 0, math.nan))
-        rows["building"].append(rec.get("building", ""))
-        fh = rec.get("floor_height_m", "")
-        rows["floor_height_m"].append(math.nan if not fh else cell(
-            where, "floor_height_m", fh, "a height in metres >= 0 above the building's base (blank: from floor)",
-            lambda x: x >= 0, math.nan))
-        for c in ("name", "site", "notes") + tuple(extras):
-            rows[c].append(rec.get(c, ""))
+        _read_row(rec, where, rows, errors, default_mu=default_mu, extras=extras)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
             implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
     if implausible:
@@ -281,3 +245,48 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         extra={c: tuple(rows[c]) for c in extras}, base_margin_m=np.array(rows["base_margin_m"], dtype=float),
         building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
     )
+
+
+def _cell(errors: list[str], where: str, column: str, value: str, rule: str, ok, default: float) -> float:
+    """A cell's number, or ``default`` with the problem added to ``errors``."""
+    try:
+        return parse_number(value, where=where, column=column, rule=rule, ok=ok)
+    except InventoryError as exc:
+        errors.append(str(exc))
+        return default
+
+
+def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *, default_mu: float,
+              extras: list[str]) -> None:
+    """Append a row's cells (but its id) to ``rows``, each checked against its rule; a bad cell's problem goes to
+    ``errors`` and a placeholder to ``rows``."""
+    lo, hi = SIZE_RANGE_M
+    size_rule = f"a size in metres between {lo:g} and {hi:g} (full height, full base width)"
+    for c in ("height_m", "width_m"):
+        if not rec[c]:
+            errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
+            rows[c].append(1.0)
+        else:
+            rows[c].append(_cell(errors, where, c, rec[c], size_rule, lambda x: lo <= x <= hi, 1.0))
+    mu = rec.get("mu", "")
+    rows["mu"].append(default_mu if not mu else _cell(errors, where, "mu", mu,
+                                                      "a friction coefficient > 0 (at most 5)",
+                                                      lambda x: 0 < x <= 5, default_mu))
+    az = rec.get("azimuth_deg", "")
+    rows["azimuth_deg"].append(math.nan if not az else _cell(
+        errors, where, "azimuth_deg", az, "an azimuth in [0, 360] deg (blank = the worst rocking plane)",
+        lambda x: 0 <= x <= 360, 0.0) % 180.0)
+    e = rec.get("restitution", "")
+    rows["restitution"].append(math.nan if not e else _cell(
+        errors, where, "restitution", e, "a velocity restitution ratio in (0, 1]", lambda x: 0 < x <= 1, math.nan))
+    margin = rec.get("base_margin_m", "")
+    rows["base_margin_m"].append(math.nan if not margin else _cell(
+        errors, where, "base_margin_m", margin,
+        "a distance >= 0 m from the block to the edge of its base (blank: none)", lambda x: x >= 0, math.nan))
+    rows["building"].append(rec.get("building", ""))
+    fh = rec.get("floor_height_m", "")
+    rows["floor_height_m"].append(math.nan if not fh else _cell(
+        errors, where, "floor_height_m", fh, "a height in metres >= 0 above the building's base (blank: from floor)",
+        lambda x: x >= 0, math.nan))
+    for c in ("name", "site", "notes") + tuple(extras):
+        rows[c].append(rec.get(c, ""))

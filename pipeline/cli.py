@@ -160,13 +160,14 @@ def _progress(quiet: bool):
     return _progress_lines
 
 
-def _progress_bar(items, total=None, running=None):
-    """Yield ``items`` under a tqdm bar whose postfix names the records running long and their scenes."""
+def _progress_bar(items, total=None, running=None, label: str = "records screened"):
+    """Yield ``items`` under a tqdm bar whose postfix names the records running long and their scenes (``label``:
+    what a finished item is; its first word is the bar's name)."""
     import threading
 
     from tqdm import tqdm
 
-    bar = tqdm(items, total=total, desc="records", unit="rec", file=sys.stderr, leave=False)
+    bar = tqdm(items, total=total, desc=label.split()[0], unit="rec", file=sys.stderr, leave=False)
     stop = threading.Event()
 
     def watch() -> None:
@@ -181,9 +182,9 @@ def _progress_bar(items, total=None, running=None):
         bar.close()
 
 
-def _progress_lines(items, total=None, running=None):
+def _progress_lines(items, total=None, running=None, label: str = "records screened"):
     """Yield ``items``, printing progress lines (from a watcher thread while a task takes long); ``running()``
-    names the records that have run long and the scene each is on."""
+    names the records that have run long and the scene each is on; ``label``: what a finished item is."""
     import threading
 
     t0 = time.monotonic()
@@ -195,7 +196,7 @@ def _progress_lines(items, total=None, running=None):
         with lock:
             now = time.monotonic()
             busy = running() if running is not None else []
-            print(f"progress: {state['done']}/{total} records screened, {now - t0:.0f} s"
+            print(f"progress: {state['done']}/{total} {label}, {now - t0:.0f} s"
                   + (f"; running long: {'; '.join(busy)}" if busy else ""), file=sys.stderr, flush=True)
             state["last"] = now
 

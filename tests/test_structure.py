@@ -60,6 +60,14 @@ def test_the_scene_table_has_the_schemas_per_scene_variables_in_order():
         assert schema.SCHEMA[name][0] == ("record", "block")
 
 
+def test_no_function_is_over_80_lines():
+    long = [f"{rel}:{node.lineno} {node.name} ({node.end_lineno - node.lineno + 1} lines)"
+            for rel, tree in _modules() for node in ast.walk(tree)
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+            and node.end_lineno - node.lineno + 1 > MAX_FUNCTION_LINES]
+    assert long == []
+
+
 def test_the_planner_dispatches_through_the_registry_without_a_model_chain():
     """plan() and simulate_scene() compare no Physics member: the registry's certificates choose."""
     tree = ast.parse((PIPELINE / "rocking" / "planner.py").read_text())

@@ -101,80 +101,96 @@ def _read_cosmos(filename, headonly: bool = False, **kwargs) -> Stream:
         if not lines[i].strip():
             i += 1
             continue
-        first = _FIRST_LINE.search(lines[i])
-        if not first:
-            raise RecordFormatError(
-                f"{name}, line {i + 1}: expected a COSMOS channel header "
-                f"'(Format v01.20 with 13 text lines)', found {lines[i].strip()[:60]!r}"
-            )
-        text = lines[i:i + int(first.group(2))]
-        ints, j = _read_block(lines, i + len(text), name)
-        reals, j = _read_block(lines, j, name)
-        comments = []
-        mc = _COMMENTS.match(lines[j]) if j < len(lines) else None
-        if mc:
-            comments = lines[j + 1:j + 1 + int(mc.group(1))]
-            j += 1 + int(mc.group(1))
-        md = _DATA_HEAD.match(lines[j]) if j < len(lines) else None
-        if not md:
-            raise RecordFormatError(
-                f"{name}, line {j + 1}: expected the data line '<n> acceleration pts, ... "
-                "units=..., Format=(...)'; the file is truncated or not COSMOS v01.20"
-            )
-        npts, kind = int(md.group(1)), md.group(2).lower()
-        units = _UNITS.get(md.group(3).strip().lower())
-        per_line, width = int(md.group(4)), int(md.group(5))
-        n_data_lines = -(-npts // per_line)
-        dt_ms = float(reals[62 - 1])
-        if not dt_ms > 0:
-            raise RecordFormatError(f"{name}: Real(62), the sampling interval, is {dt_ms} ms")
-        scnl = next((m.group(1) for c in comments if (m := _SCNL.search(c))), None)
-        sta, cha, net, loc = (scnl.split(".") + ["", "", "", ""])[:4] if scnl else ("", "", "", "")
-        orient = next((m for t in text if (m := _ORIENT.search(t))), None)
-        azimuth = None
-        vertical = False
-        if orient:
-            if orient.group(1) is not None:
-                azimuth = float(orient.group(1)) % 360.0
-            else:
-                vertical = True
-        code = re.search(r"Code:\s*(\S+)", text[4]) if len(text) > 4 else None
-        start = _start_time(ints, reals)
-        header = AttribDict(
-            text_header=[t.rstrip() for t in text],
-            comments=[c.rstrip() for c in comments],
-            kind=kind,
-            azimuth_deg=azimuth,
-            vertical=vertical,
-            time_known=start is not None,
-            header_peak=float(reals[64 - 1]) if reals[64 - 1] != MISSING else None,
-        )
-        stats = {
-            "network": net if net not in ("--",) else "",
-            "station": sta or (code.group(1).split("-")[-1] if code else ""),
-            "location": "" if loc in ("--", "") else loc,
-            "channel": cha or ("UP" if vertical else f"{azimuth:03.0f}" if azimuth is not None else ""),
-            "delta": dt_ms / 1000.0,
-            "starttime": start or UTCDateTime(0),
-            "npts": npts,
-            "cosmos": header,
-            COMMON: common_fields(time_known=start is not None,
-                                  label=codes_label(net if net not in ("--",) else "",
-                                                    sta or (code.group(1).split("-")[-1] if code else ""), start)),
-            "physical_units": units,
-            "processing_level": "uncorrected" if text[0].lower().startswith(("uncorrected", "raw")) else "corrected",
-        }
-        body = lines[j + 1:j + 1 + n_data_lines]
-        if kind != "acceleration":
-            pass  # velocity/displacement channels are derived products; acceleration is read
-        elif headonly:
-            traces.append(Trace(header=stats))
-        else:
-            data = parse_fixed_floats(body, width=width, count=npts, name=name, first_line_no=j + 2)
-            traces.append(Trace(data=check_samples(data, npts=npts, name=name), header=stats))
-        i = j + 1 + n_data_lines
+        trace, i = _channel(lines, i, name, headonly)
+        if trace is not None:
+            traces.append(trace)
         if i < len(lines) and lines[i].lower().startswith("end-of-data"):
             i += 1
     if not traces:
         raise RecordFormatError(f"{name}: no COSMOS acceleration channel found")
     return Stream(traces)
+
+
+def _channel(lines: list[str], i: int, name: str, headonly: bool) -> tuple[Trace | None, int]:
+    """The channel whose header starts at line ``i`` (None for a velocity or displacement channel: derived
+    products, only acceleration is read), and the line after its data."""
+    first = _FIRST_LINE.search(lines[i])
+    if not first:
+        raise RecordFormatError(
+            f"{name}, line {i + 1}: expected a COSMOS channel header "
+            f"'(Format v01.20 with 13 text lines)', found {lines[i].strip()[:60]!r}"
+        )
+    text = lines[i:i + int(first.group(2))]
+    ints, j = _read_block(lines, i + len(text), name)
+    reals, j = _read_block(lines, j, name)
+    comments = []
+    mc = _COMMENTS.match(lines[j]) if j < len(lines) else None
+    if mc:
+        comments = lines[j + 1:j + 1 + int(mc.group(1))]
+        j += 1 + int(mc.group(1))
+    md = _DATA_HEAD.match(lines[j]) if j < len(lines) else None
+    if not md:
+        raise RecordFormatError(
+            f"{name}, line {j + 1}: expected the data line '<n> acceleration pts, ... "
+            "units=..., Format=(...)'; the file is truncated or not COSMOS v01.20"
+        )
+    npts, kind = int(md.group(1)), md.group(2).lower()
+    per_line, width = int(md.group(4)), int(md.group(5))
+    n_data_lines = -(-npts // per_line)
+    dt_ms = float(reals[62 - 1])
+    if not dt_ms > 0:
+        raise RecordFormatError(f"{name}: Real(62), the sampling interval, is {dt_ms} ms")
+    stats = _channel_stats(text, ints, reals, comments, kind=kind, units=_UNITS.get(md.group(3).strip().lower()),
+                           npts=npts, dt_ms=dt_ms)
+    body = lines[j + 1:j + 1 + n_data_lines]
+    trace = None
+    if kind != "acceleration":
+        pass  # velocity/displacement channels are derived products; acceleration is read
+    elif headonly:
+        trace = Trace(header=stats)
+    else:
+        data = parse_fixed_floats(body, width=width, count=npts, name=name, first_line_no=j + 2)
+        trace = Trace(data=check_samples(data, npts=npts, name=name), header=stats)
+    return trace, j + 1 + n_data_lines
+
+
+def _channel_stats(text: list[str], ints, reals, comments: list[str], *, kind: str, units, npts: int,
+                   dt_ms: float) -> dict:
+    """A channel's obspy stats from its text header, integer and real headers and comments: the SCNL codes, the
+    orientation, the start time, the units and the delivery level (headers kept in ``stats.cosmos``)."""
+    scnl = next((m.group(1) for c in comments if (m := _SCNL.search(c))), None)
+    sta, cha, net, loc = (scnl.split(".") + ["", "", "", ""])[:4] if scnl else ("", "", "", "")
+    orient = next((m for t in text if (m := _ORIENT.search(t))), None)
+    azimuth = None
+    vertical = False
+    if orient:
+        if orient.group(1) is not None:
+            azimuth = float(orient.group(1)) % 360.0
+        else:
+            vertical = True
+    code = re.search(r"Code:\s*(\S+)", text[4]) if len(text) > 4 else None
+    start = _start_time(ints, reals)
+    header = AttribDict(
+        text_header=[t.rstrip() for t in text],
+        comments=[c.rstrip() for c in comments],
+        kind=kind,
+        azimuth_deg=azimuth,
+        vertical=vertical,
+        time_known=start is not None,
+        header_peak=float(reals[64 - 1]) if reals[64 - 1] != MISSING else None,
+    )
+    return {
+        "network": net if net not in ("--",) else "",
+        "station": sta or (code.group(1).split("-")[-1] if code else ""),
+        "location": "" if loc in ("--", "") else loc,
+        "channel": cha or ("UP" if vertical else f"{azimuth:03.0f}" if azimuth is not None else ""),
+        "delta": dt_ms / 1000.0,
+        "starttime": start or UTCDateTime(0),
+        "npts": npts,
+        "cosmos": header,
+        COMMON: common_fields(time_known=start is not None,
+                              label=codes_label(net if net not in ("--",) else "",
+                                                sta or (code.group(1).split("-")[-1] if code else ""), start)),
+        "physical_units": units,
+        "processing_level": "uncorrected" if text[0].lower().startswith(("uncorrected", "raw")) else "corrected",
+    }

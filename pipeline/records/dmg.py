@@ -22,6 +22,7 @@ format" (DMG/CSMIP V1, V2 tape formats), California Geological Survey.
 from __future__ import annotations
 
 import re
+from typing import NamedTuple
 
 from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
@@ -87,69 +88,95 @@ def _read_dmg(filename, headonly: bool = False, **kwargs) -> Stream:
     for s in starts:
         if s >= len(lines) or not lines[s].strip():
             continue
-        k = s
-        while k < len(lines) and not (_V1_DATA.match(lines[k]) or _V2_DATA.match(lines[k])):
-            if lines[k].startswith("/&"):
-                break
-            k += 1
-        if k >= len(lines) or lines[k].startswith("/&"):
-            raise RecordFormatError(
-                f"{name}, line {s + 1}: channel header without an acceleration data line "
-                "('... Accelerogram points at ...' or '... points of accel data ...'); "
-                "the file is truncated or not CSMIP/DMG"
-            )
-        text = lines[s:k]
-        m1, m2 = _V1_DATA.match(lines[k]), _V2_DATA.match(lines[k])
-        if m1:
-            npts, dt = int(m1.group(1)), 1.0 / float(m1.group(2))
-            unit_word, per_line, width = m1.group(3), int(m1.group(4)), int(m1.group(5))
-            level = "uncorrected"
-        elif m2:
-            npts, dt = int(m2.group(1)), float(m2.group(2))
-            unit_word, per_line, width = m2.group(3), int(m2.group(4)), int(m2.group(5))
-            level = "corrected"
-        chan = next((m for t in text if (m := _CHAN.match(t.strip()))), None)
-        azimuth, vertical, code = _orientation(chan.group(2) if chan else "")
-        st = next((m for t in text if (m := _START.search(t))), None)
-        start = None
-        if st:
-            mo, da, yr, hh, mi, sec = st.groups()
-            yr = int(yr) + (2000 if int(yr) < 70 else 1900) if int(yr) < 100 else int(yr)
-            start = UTCDateTime(yr, int(mo), int(da), int(hh), int(mi)) + float(sec)
-        sta = next((m.group(1) for t in text if (m := _STATION.search(t))), "")
-        scnl = next((m for t in text if (m := _SCNL.match(t.strip()))), None)
-        peak = next((m for t in text if (m := _PEAK.search(t))), None)
-        header = AttribDict(
-            text_header=[t.rstrip() for t in text],
-            channel_number=int(chan.group(1)) if chan else None,
-            azimuth_deg=azimuth,
-            vertical=vertical,
-            time_known=start is not None,
-            header_peak=float(peak.group(1)) if peak else None,
-            header_peak_units=peak.group(2) if peak else None,
-        )
-        stats = {
-            "network": scnl.group(2) if scnl else "",
-            "station": scnl.group(3) if scnl else sta,
-            "location": "",
-            "channel": code,
-            "delta": dt,
-            "starttime": start or UTCDateTime(0),
-            "npts": npts,
-            "dmg": header,
-            COMMON: common_fields(time_known=start is not None,
-                                  label=codes_label(scnl.group(2) if scnl else "", scnl.group(3) if scnl else sta,
-                                                    start)),
-            "physical_units": _UNITS.get(unit_word.lower()),
-            "processing_level": level,
-        }
+        k = _data_line(lines, s, name)
+        fmt = _data_format(lines[k])
+        stats = _channel_stats(lines[s:k], fmt)
         if headonly:
             traces.append(Trace(header=stats))
             continue
-        n_lines = -(-npts // per_line)
-        data = parse_fixed_floats(lines[k + 1:k + 1 + n_lines], width=width, count=npts,
+        n_lines = -(-fmt.npts // fmt.per_line)
+        data = parse_fixed_floats(lines[k + 1:k + 1 + n_lines], width=fmt.width, count=fmt.npts,
                                   name=name, first_line_no=k + 2)
-        traces.append(Trace(data=check_samples(data, npts=npts, name=name), header=stats))
+        traces.append(Trace(data=check_samples(data, npts=fmt.npts, name=name), header=stats))
     if not traces:
         raise RecordFormatError(f"{name}: no CSMIP/DMG channel found")
     return Stream(traces)
+
+
+class _DataFormat(NamedTuple):
+    """What a channel's acceleration data line says of its data."""
+
+    npts: int
+    dt_s: float
+    unit_word: str
+    per_line: int
+    width: int
+    level: str
+
+
+def _data_line(lines: list[str], s: int, name: str) -> int:
+    """The index of the acceleration data line of the channel whose header starts at line ``s``."""
+    k = s
+    while k < len(lines) and not (_V1_DATA.match(lines[k]) or _V2_DATA.match(lines[k])):
+        if lines[k].startswith("/&"):
+            break
+        k += 1
+    if k >= len(lines) or lines[k].startswith("/&"):
+        raise RecordFormatError(
+            f"{name}, line {s + 1}: channel header without an acceleration data line "
+            "('... Accelerogram points at ...' or '... points of accel data ...'); "
+            "the file is truncated or not CSMIP/DMG"
+        )
+    return k
+
+
+def _data_format(line: str) -> _DataFormat:
+    """The data line of a V1 (uncorrected: a sampling rate) or V2 (corrected: an interval) channel."""
+    m1 = _V1_DATA.match(line)
+    if m1:
+        return _DataFormat(int(m1.group(1)), 1.0 / float(m1.group(2)), m1.group(3), int(m1.group(4)),
+                           int(m1.group(5)), "uncorrected")
+    m2 = _V2_DATA.match(line)
+    assert m2 is not None                   # _data_line stops only at a line one of the two matches
+    return _DataFormat(int(m2.group(1)), float(m2.group(2)), m2.group(3), int(m2.group(4)), int(m2.group(5)),
+                       "corrected")
+
+
+def _channel_stats(text: list[str], fmt: _DataFormat) -> dict:
+    """A channel's obspy stats from its header text: orientation, start time, station codes and the header's
+    peak (the text kept in ``stats.dmg``)."""
+    chan = next((m for t in text if (m := _CHAN.match(t.strip()))), None)
+    azimuth, vertical, code = _orientation(chan.group(2) if chan else "")
+    st = next((m for t in text if (m := _START.search(t))), None)
+    start = None
+    if st:
+        mo, da, yr, hh, mi, sec = st.groups()
+        yr = int(yr) + (2000 if int(yr) < 70 else 1900) if int(yr) < 100 else int(yr)
+        start = UTCDateTime(yr, int(mo), int(da), int(hh), int(mi)) + float(sec)
+    sta = next((m.group(1) for t in text if (m := _STATION.search(t))), "")
+    scnl = next((m for t in text if (m := _SCNL.match(t.strip()))), None)
+    peak = next((m for t in text if (m := _PEAK.search(t))), None)
+    header = AttribDict(
+        text_header=[t.rstrip() for t in text],
+        channel_number=int(chan.group(1)) if chan else None,
+        azimuth_deg=azimuth,
+        vertical=vertical,
+        time_known=start is not None,
+        header_peak=float(peak.group(1)) if peak else None,
+        header_peak_units=peak.group(2) if peak else None,
+    )
+    return {
+        "network": scnl.group(2) if scnl else "",
+        "station": scnl.group(3) if scnl else sta,
+        "location": "",
+        "channel": code,
+        "delta": fmt.dt_s,
+        "starttime": start or UTCDateTime(0),
+        "npts": fmt.npts,
+        "dmg": header,
+        COMMON: common_fields(time_known=start is not None,
+                              label=codes_label(scnl.group(2) if scnl else "", scnl.group(3) if scnl else sta,
+                                                start)),
+        "physical_units": _UNITS.get(fmt.unit_word.lower()),
+        "processing_level": fmt.level,
+    }

@@ -409,98 +409,13 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
     root = Path(root)
     declared = read_declared_units(root, config) if declared is None else declared
     notes: list[str] = []
-    traces = []
-    undeclared: list[UndeclaredUnitsError] = []     # every file of the record that needs a declaration, at once
-    for f in source.files:
-        path = Path(f)
-        for tr in _read(path, fmt=source.format_of(f) or detect_format(path)):
-            if tr.stats.npts < 2:
-                raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
-                                        "sample(s); the file is truncated or has no data. Re-download it")
-            try:
-                unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
-                                   g_ms2=config.records.g_ms2, inventory=inventory)
-            except UndeclaredUnitsError as exc:
-                if not any(e.path == exc.path for e in undeclared):
-                    undeclared.append(exc)
-                continue
-            tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
-            tr.stats.rockscreen_file = str(path)
-            traces.append(tr)
-    if undeclared:
-        names = ", ".join(Path(e.path).name for e in undeclared[1:])
-        raise UnitsError(str(undeclared[0]) + (f" (and {names})" if names else "") + advice(root, undeclared))
-    found = [(orientation_of(tr, inventory), tr) for tr in traces]
-    unknown = [tr.stats.channel for o, tr in found if o is None]
-    if len(unknown) == 2 and all(o is None or o.vertical for o, _ in found):
-        # two horizontals with codes no convention names: an orthogonal pair of unknown absolute azimuth
-        first, second = sorted((tr for o, tr in found if o is None), key=lambda tr: tr.stats.channel)
-        found = [(o, tr) for o, tr in found if o is not None]
-        found += [(Orientation(False, None, 0), first), (Orientation(False, None, 1), second)]
-        notes.append(f"components {first.stats.channel} and {second.stats.channel}: orientation codes not "
-                     "recognised; taken as an orthogonal pair of unknown absolute azimuth "
-                     f"({first.stats.channel} first)")
-        unknown = []
-    if unknown:
-        raise RecordGroupingError(
-            f"cannot tell the orientation of component(s) {unknown} in {[Path(f).name for f in source.files]}; "
-            "expected an azimuth, N/E, 1/2, L/T, FN/FP, H1/H2 or UP/V/Z"
-        )
-    oriented = [(o, tr) for o, tr in found if o is not None]
-    verticals = [tr for o, tr in oriented if o.vertical]
-    horizontals = [(o, tr) for o, tr in oriented if not o.vertical]
-    if len(verticals) > 1 or len(horizontals) > 2:
-        raise RecordGroupingError(
-            f"{len(horizontals)} horizontal and {len(verticals)} vertical components grouped "
-            "together; one recording has at most two horizontals and one vertical"
-        )
-    if not horizontals:
-        raise RecordGroupingError("vertical component only: no horizontal motion to screen")
+    traces = _traces_in_ms2(source, root=root, config=config, declared=declared, inventory=inventory)
+    horizontals, verticals = _components(traces, source, inventory, notes)
+    horizontals, az = _horizontal_pair(horizontals, notes)
     azimuth_known = all(o.azimuth_deg is not None for o, _ in horizontals)
-    az: tuple[float, ...]
-    if len(horizontals) == 2:
-        (o1, t1), (o2, t2) = horizontals
-        if o1.azimuth_deg is not None and o2.azimuth_deg is not None:
-            diff = (o2.azimuth_deg - o1.azimuth_deg) % 360.0
-            if abs(diff - 270.0) < 1.0:
-                horizontals = [(o2, t2), (o1, t1)]
-            elif abs(diff - 90.0) >= 1.0:
-                raise RecordGroupingError(
-                    f"horizontal components at {o1.azimuth_deg:g} and {o2.azimuth_deg:g} deg are not "
-                    "orthogonal; rotate them to an orthogonal pair first"
-                )
-            first = float(horizontals[0][0].azimuth_deg or 0.0)
-            az = (first, (first + 90.0) % 360.0)
-        else:
-            if o1.pair_index is None or o2.pair_index is None or o1.pair_index == o2.pair_index:
-                raise RecordGroupingError(
-                    f"components {t1.stats.channel} and {t2.stats.channel} mix known and unknown "
-                    "azimuths; cannot form an orthogonal pair"
-                )
-            horizontals.sort(key=lambda ot: ot[0].pair_index or 0)
-            az = (0.0, 90.0)
-            notes.append("absolute azimuth unknown (relative orthogonal pair); block azimuths "
-                         "are not used: the simulator scans every rocking plane (worst plane)")
-    else:
-        o1 = horizontals[0][0]
-        az = (o1.azimuth_deg if o1.azimuth_deg is not None else 0.0,)
-        notes.append("single horizontal component")
     ordered = [tr for _, tr in horizontals] + verticals
     _align(ordered, max_mismatch=config.records.max_length_mismatch_samples, notes=notes)
-    history = []
-    for tr in ordered:
-        level = tr.stats.get("processing_level", "uncorrected")
-        steps = getattr(config.processing, level)
-        apply_steps(tr, steps)
-        history += list(tr.stats.rockscreen_history) + [
-            f"{Path(tr.stats.rockscreen_file).name} {tr.stats.channel}: {_OBJECT_ADDRESS.sub('>', p)}"
-            for p in tr.stats.get("processing", [])]
-    for tr in ordered:
-        data = np.asarray(tr.data, dtype=float)
-        if not np.all(np.isfinite(data)):
-            raise RecordFormatError(f"{tr.stats.rockscreen_file}: NaN or infinite samples after processing")
-        if not np.any(data) and tr in [t for _, t in horizontals]:
-            notes.append(f"component {tr.stats.channel} is all zero")
+    history = _processed(ordered, [tr for _, tr in horizontals], config, notes)
     hz = np.vstack([np.asarray(tr.data, dtype=float) for _, tr in horizontals])
     if not np.any(hz):
         raise RecordGroupingError(
@@ -530,6 +445,120 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
         velocity_ms=integrate(hz, dt, method=method),
         label=next((tr.stats[COMMON].label for tr in ordered if tr.stats[COMMON].label), ""),
     )
+
+
+def _traces_in_ms2(source: RecordSource, *, root: Path, config: ReaderSettings, declared: dict[str, str],
+                   inventory) -> list:
+    """Every trace of the record's files, converted to m s-2; the files whose units nothing states are reported
+    together (one :class:`UnitsError` naming each, with the lines to declare them)."""
+    traces = []
+    undeclared: list[UndeclaredUnitsError] = []     # every file of the record that needs a declaration, at once
+    for f in source.files:
+        path = Path(f)
+        for tr in _read(path, fmt=source.format_of(f) or detect_format(path)):
+            if tr.stats.npts < 2:
+                raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
+                                        "sample(s); the file is truncated or has no data. Re-download it")
+            try:
+                unit_note = to_ms2(tr, path=path, declared=declared_units_for(path, root, declared),
+                                   g_ms2=config.records.g_ms2, inventory=inventory)
+            except UndeclaredUnitsError as exc:
+                if not any(e.path == exc.path for e in undeclared):
+                    undeclared.append(exc)
+                continue
+            tr.stats.rockscreen_history = [f"{path.name} {tr.stats.channel}: {unit_note}"]
+            tr.stats.rockscreen_file = str(path)
+            traces.append(tr)
+    if undeclared:
+        names = ", ".join(Path(e.path).name for e in undeclared[1:])
+        raise UnitsError(str(undeclared[0]) + (f" (and {names})" if names else "") + advice(root, undeclared))
+    return traces
+
+
+def _components(traces: list, source: RecordSource, inventory, notes: list[str]) -> tuple[list, list]:
+    """The traces as (orientation, trace) horizontals and the vertical traces: at most two horizontals and one
+    vertical, at least one horizontal; two horizontals whose codes no convention names are an orthogonal pair of
+    unknown absolute azimuth."""
+    found = [(orientation_of(tr, inventory), tr) for tr in traces]
+    unknown = [tr.stats.channel for o, tr in found if o is None]
+    if len(unknown) == 2 and all(o is None or o.vertical for o, _ in found):
+        # two horizontals with codes no convention names: an orthogonal pair of unknown absolute azimuth
+        first, second = sorted((tr for o, tr in found if o is None), key=lambda tr: tr.stats.channel)
+        found = [(o, tr) for o, tr in found if o is not None]
+        found += [(Orientation(False, None, 0), first), (Orientation(False, None, 1), second)]
+        notes.append(f"components {first.stats.channel} and {second.stats.channel}: orientation codes not "
+                     "recognised; taken as an orthogonal pair of unknown absolute azimuth "
+                     f"({first.stats.channel} first)")
+        unknown = []
+    if unknown:
+        raise RecordGroupingError(
+            f"cannot tell the orientation of component(s) {unknown} in {[Path(f).name for f in source.files]}; "
+            "expected an azimuth, N/E, 1/2, L/T, FN/FP, H1/H2 or UP/V/Z"
+        )
+    oriented = [(o, tr) for o, tr in found if o is not None]
+    verticals = [tr for o, tr in oriented if o.vertical]
+    horizontals = [(o, tr) for o, tr in oriented if not o.vertical]
+    if len(verticals) > 1 or len(horizontals) > 2:
+        raise RecordGroupingError(
+            f"{len(horizontals)} horizontal and {len(verticals)} vertical components grouped "
+            "together; one recording has at most two horizontals and one vertical"
+        )
+    if not horizontals:
+        raise RecordGroupingError("vertical component only: no horizontal motion to screen")
+    return horizontals, verticals
+
+
+def _horizontal_pair(horizontals: list, notes: list[str]) -> tuple[list, tuple[float, ...]]:
+    """The horizontals in order (the second 90 deg clockwise of the first) and their azimuths [deg]."""
+    az: tuple[float, ...]
+    if len(horizontals) == 2:
+        (o1, t1), (o2, t2) = horizontals
+        if o1.azimuth_deg is not None and o2.azimuth_deg is not None:
+            diff = (o2.azimuth_deg - o1.azimuth_deg) % 360.0
+            if abs(diff - 270.0) < 1.0:
+                horizontals = [(o2, t2), (o1, t1)]
+            elif abs(diff - 90.0) >= 1.0:
+                raise RecordGroupingError(
+                    f"horizontal components at {o1.azimuth_deg:g} and {o2.azimuth_deg:g} deg are not "
+                    "orthogonal; rotate them to an orthogonal pair first"
+                )
+            first = float(horizontals[0][0].azimuth_deg or 0.0)
+            az = (first, (first + 90.0) % 360.0)
+        else:
+            if o1.pair_index is None or o2.pair_index is None or o1.pair_index == o2.pair_index:
+                raise RecordGroupingError(
+                    f"components {t1.stats.channel} and {t2.stats.channel} mix known and unknown "
+                    "azimuths; cannot form an orthogonal pair"
+                )
+            horizontals.sort(key=lambda ot: ot[0].pair_index or 0)
+            az = (0.0, 90.0)
+            notes.append("absolute azimuth unknown (relative orthogonal pair); block azimuths "
+                         "are not used: the simulator scans every rocking plane (worst plane)")
+    else:
+        o1 = horizontals[0][0]
+        az = (o1.azimuth_deg if o1.azimuth_deg is not None else 0.0,)
+        notes.append("single horizontal component")
+    return horizontals, az
+
+
+def _processed(ordered: list, horizontals: list, config: ReaderSettings, notes: list[str]) -> list[str]:
+    """Process every trace by its delivery level's steps; the history of the record; a horizontal all zero is
+    noted, a non-finite sample refused."""
+    history = []
+    for tr in ordered:
+        level = tr.stats.get("processing_level", "uncorrected")
+        steps = getattr(config.processing, level)
+        apply_steps(tr, steps)
+        history += list(tr.stats.rockscreen_history) + [
+            f"{Path(tr.stats.rockscreen_file).name} {tr.stats.channel}: {_OBJECT_ADDRESS.sub('>', p)}"
+            for p in tr.stats.get("processing", [])]
+    for tr in ordered:
+        data = np.asarray(tr.data, dtype=float)
+        if not np.all(np.isfinite(data)):
+            raise RecordFormatError(f"{tr.stats.rockscreen_file}: NaN or infinite samples after processing")
+        if not np.any(data) and tr in horizontals:
+            notes.append(f"component {tr.stats.channel} is all zero")
+    return history
 
 
 def station_of(source: RecordSource, inventory=None) -> StationLocation | None:

@@ -215,45 +215,12 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     station_of = {r: grp.kept for grp in groups for r in grp.records}
     assets = asset_rows(ds, station_of=station_of)
     histories = _histories(results_path.parent / "histories.nc")
-    drawn = 0
-    for r in assets:                       # in risk order: the riskiest assets get the figures
-        h = histories.get(r["block"])
-        r["figure"] = None
-        if h is not None and drawn < MAX_HISTORY_FIGURES:
-            title = f"{r['block']} under {h[2]}: theta / alpha"
-            r["figure"] = _data_uri(cache.get("theta", lambda h=h, title=title: figures.theta_figure(
-                h[0], h[1], title=title), h[0], np.array([h[1]]), title=title))
-            drawn += 1
-    ok = ds["status"].values == "ok"
+    drawn = _theta_figures(assets, histories, cache)
     resp = ds[SCENE.response].values
     x, y = ds["normalized_duration"].values.ravel(), ds["normalized_acceleration"].values.ravel()
     chart = _data_uri(cache.get("chart", lambda: figures.scenes_chart(x, y, resp.ravel()), x, y, resp.ravel()))
-    counts = Counter(r["recommendation"].split(":")[0] for r in assets)
-    sampled = SCENE.samples_drawn in ds and bool(np.any(ds[SCENE.samples_drawn].values[ok] > 0))
-    summary = {
-        "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
-        "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),
-        "same_recordings": groups,
-        "pulse_like_stations": len({station_of.get(r, r) for r in ds["record"].values[
-            ok & (ds["is_pulse"].values == 1)].tolist()}) if "is_pulse" in ds else 0,
-        "fragility": _fragility_summary(Path(home) if home is not None else out_dir),
-        "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
-        "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
-        "blocks": ds.sizes["block"],
-        "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
-        "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
-        "by_recommendation": counts.most_common(),
-        "scenes": int(ok.sum()) * ds.sizes["block"],
-        SCENE.free_flight: int(np.sum(resp[ok] == Response.free_flight)),
-        "free_flight_records": [str(r) for r in ds["record"].values[ok][
-            np.any(resp[ok] == Response.free_flight, axis=1)]],
-        "guarded": guarded_scenes(ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)
-        if SCENE.simulation_guard in ds else [],
-        "histories": len(histories), "histories_drawn": drawn, "all_figures": all_figures,
-        "sampled": sampled,
-        "sensitive_scenes": int(np.sum(ds[SCENE.robustness].values[ok] == Robustness.sensitive)) if sampled else 0,
-        "uncertainty": {k[len("uncertainty_"):]: v for k, v in ds.attrs.items() if k.startswith("uncertainty_")},
-    }
+    summary = _summary(ds, assets, groups, station_of, fragility=_fragility_summary(
+        Path(home) if home is not None else out_dir), histories=len(histories), drawn=drawn, all_figures=all_figures)
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
@@ -271,6 +238,55 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
             pulses.close()
     cache.prune()
     return html_path, write_csv_atomic(out_dir / "assets.csv", *assets_csv_table(assets))
+
+
+def _theta_figures(assets: list[dict], histories: dict, cache: FigureCache) -> int:
+    """theta(t)/alpha figures of the assets at risk, in risk order (the riskiest get them, at most
+    :data:`MAX_HISTORY_FIGURES`), as each row's ``figure``; the number drawn."""
+    drawn = 0
+    for r in assets:
+        h = histories.get(r["block"])
+        r["figure"] = None
+        if h is not None and drawn < MAX_HISTORY_FIGURES:
+            title = f"{r['block']} under {h[2]}: theta / alpha"
+            r["figure"] = _data_uri(cache.get("theta", lambda h=h, title=title: figures.theta_figure(
+                h[0], h[1], title=title), h[0], np.array([h[1]]), title=title))
+            drawn += 1
+    return drawn
+
+
+def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fragility, histories: int,
+             drawn: int, all_figures: bool) -> dict:
+    """The numbers the page's summary states: records, stations, verdicts, recommendations, free flights, guards,
+    figures and the sampling."""
+    ok = ds["status"].values == "ok"
+    resp = ds[SCENE.response].values
+    counts = Counter(r["recommendation"].split(":")[0] for r in assets)
+    sampled = SCENE.samples_drawn in ds and bool(np.any(ds[SCENE.samples_drawn].values[ok] > 0))
+    return {
+        "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
+        "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),
+        "same_recordings": groups,
+        "pulse_like_stations": len({station_of.get(r, r) for r in ds["record"].values[
+            ok & (ds["is_pulse"].values == 1)].tolist()}) if "is_pulse" in ds else 0,
+        "fragility": fragility,
+        "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
+        "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
+        "blocks": ds.sizes["block"],
+        "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
+        "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
+        "by_recommendation": counts.most_common(),
+        "scenes": int(ok.sum()) * ds.sizes["block"],
+        SCENE.free_flight: int(np.sum(resp[ok] == Response.free_flight)),
+        "free_flight_records": [str(r) for r in ds["record"].values[ok][
+            np.any(resp[ok] == Response.free_flight, axis=1)]],
+        "guarded": guarded_scenes(ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)
+        if SCENE.simulation_guard in ds else [],
+        "histories": histories, "histories_drawn": drawn, "all_figures": all_figures,
+        "sampled": sampled,
+        "sensitive_scenes": int(np.sum(ds[SCENE.robustness].values[ok] == Robustness.sensitive)) if sampled else 0,
+        "uncertainty": {k[len("uncertainty_"):]: v for k, v in ds.attrs.items() if k.startswith("uncertainty_")},
+    }
 
 
 #: Where the report looks for what ``screen fragility`` wrote, relative to its own directory: the same output, or

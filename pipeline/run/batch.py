@@ -48,7 +48,7 @@ from ..schema import FLOOR_PULSE_VALUES
 from ..store import FloorRow, PulseSeries
 from ..uncertainty.robust import Robustness
 from .cache import SceneCache, merge, run_key
-from .engine import TaskRun
+from .engine import RecordJobs
 from .executors import SerialExecutor
 from .screening import Context, RecordResult, assemble, failure_result, screen_record
 
@@ -331,7 +331,6 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     t0 = time.perf_counter()
     records_dir = Path(records_dir)
     found = scan_directory(records_dir, config=config) if scanned is None else scanned
-    sources, scan_failures = found.sources, found.failures
     _say_what_the_scan_found(found)
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
     placements = place_blocks(inventory, buildings or {})        # checked before any record is read
@@ -341,75 +340,109 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     key = run_key(config.to_dict(), declared_units={}, station_inventory_sha256=stationxml_sha256,
                   buildings=buildings)
     cache = SceneCache(out_dir, key) if out_dir is not None else None
-    the_plan = plan(sources, inventory, cache=cache, previous=_previous_plan(out_dir), force=force,
-                    unreadable=tuple(f.record_id for f in scan_failures), root=Path(records_dir), declared=declared)
+    the_plan = plan(found.sources, inventory, cache=cache, previous=_previous_plan(out_dir), force=force,
+                    unreadable=tuple(f.record_id for f in found.failures), root=Path(records_dir),
+                    declared=declared)
     _say_what_the_plan_keeps(the_plan, records_dir)
-    share = the_plan.keys
-    results: dict[str, RecordResult] = dict(the_plan.cached)
+    executor = executor or SerialExecutor()
+    got = _execute(the_plan, ctx, cache, executor, progress, found.failures)
+    for f in found.failures:
+        log.warning("record %s failed: %s", f.record_id, f.reason)
+    everything = _mark_present(got, the_plan)
+    ds = assemble(everything, inventory, config, placements=placements)
+    _run_attributes(ds, key, buildings, found)
+    in_use = frozenset(key for key in floor_groups(placements) if key)
+    pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), got.shed, cache, in_use)
+    counts = {**_scene_counts(ds, config), **_record_counts(got, the_plan, found),
+              "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
+              "buildings": ds.attrs.get("buildings", ""),
+              "units_toml": units_toml_lines(records_dir, [f.status for f in got.failed]),
+              "records_dir": str(records_dir),
+              "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
+              "wall_time_s": time.perf_counter() - t0}
+    return BatchOutcome(ds, pulses, counts, cache, {s.record_id: s for s in found.sources}, ctx)
+
+
+@dataclass
+class _Collected:
+    """The results of a run as its record jobs return them."""
+
+    results: dict[str, RecordResult]                 # record id -> the result (cached or computed)
+    shed: dict[str, tuple[int, float]]               # record id -> (length, dt) of series dropped from memory
+    failed: list[RecordResult]                       # the failed rows
+    records: int = 0                                 # records computed by this run
+    scenes: int = 0                                  # scenes computed by this run
+
+
+def _execute(the_plan: Plan, ctx: Context, cache: SceneCache | None, executor, progress,
+             scan_failures: list[Failure]) -> _Collected:
+    """Run the plan's tasks (:class:`~pipeline.run.engine.RecordJobs`) and collect every result into the cached
+    ones: each saved to the scene cache as it returns, its pulse series then dropped from memory."""
+    got = _Collected(results=dict(the_plan.cached), shed={},
+                     failed=[failure_result(f) for f in scan_failures] + the_plan.failures)
     # the pulse series are the part of a result that grows with a record's length: once a result is in the
     # scene cache, its series are dropped from memory and read back one record at a time by the writer
-    shed: dict[str, tuple[int, float]] = {}
-    for res in results.values():
-        _shed_series(res, shed)
-    failed = [failure_result(f) for f in scan_failures] + the_plan.failures
-    executor = executor or SerialExecutor()
-    tasks = TaskRun(executor, progress=progress)
-    ctx.progress = tasks.scenes
-    computed_records = computed_scenes = 0
+    for res in got.results.values():
+        _shed_series(res, got.shed)
     for rec_failure in the_plan.failures:
         if rec_failure.deterministic:
             log.warning("record %s %s (files unchanged since the run that found it)", rec_failure.record_id,
                         rec_failure.status)
-    for (_source, block_ids, content), res in tasks.results(_task, the_plan.tasks, ctx):
-        if isinstance(res, Failure):                      # the executor lost the worker
-            res = failure_result(res)
+
+    def done(job: tuple, res: RecordResult, _reused: bool) -> None:
+        _source, block_ids, content = job
         if not res.ok:
             log.warning("record %s %s", res.record_id, res.status)
-            results.pop(res.record_id, None)
-            shed.pop(res.record_id, None)
-            failed.append(res)
+            got.results.pop(res.record_id, None)
+            got.shed.pop(res.record_id, None)
+            got.failed.append(res)
             if cache is not None and res.deterministic:
                 cache.save_failure(res, content)
-            continue
-        _restore_floor_series(results.get(res.record_id), cache)
-        res = share(merge(results.get(res.record_id), res))
+            return
+        _restore_floor_series(got.results.get(res.record_id), cache)
+        res = the_plan.keys(merge(got.results.get(res.record_id), res))
         if cache is not None and cache.save(res):
-            _shed_series(res, shed)
+            _shed_series(res, got.shed)
         else:
-            shed.pop(res.record_id, None)
-        results[res.record_id] = res
-        computed_records += 1
-        computed_scenes += len(block_ids)
-    for f in scan_failures:
-        log.warning("record %s failed: %s", f.record_id, f.reason)
+            got.shed.pop(res.record_id, None)
+        got.results[res.record_id] = res
+        got.records += 1
+        got.scenes += len(block_ids)
+
+    jobs = RecordJobs(executor, progress=progress)
+    ctx.progress = jobs.scenes
+    jobs.run(_task, the_plan.tasks, ctx, done=done, failed=lambda job, f: done(job, failure_result(f), False))
+    return got
+
+
+def _mark_present(got: _Collected, the_plan: Plan) -> list[RecordResult]:
+    """Every result of the run, each marked with whether its files are still there (``source_present``)."""
     vanished = set(the_plan.vanished)
-    for rid, res in results.items():
+    for rid, res in got.results.items():
         res.values["source_present"] = 0 if rid in vanished else 1
-    for res in failed:
+    for res in got.failed:
         res.values["source_present"] = 1
-    everything = list(results.values()) + failed
-    ds = assemble(everything, inventory, config, placements=placements)
+    return list(got.results.values()) + got.failed
+
+
+def _run_attributes(ds: xr.Dataset, key: str, buildings: dict | None, found: Scan) -> None:
+    """The run's key, its buildings, the files that are not records and the duplicate records, as attributes."""
     ds.attrs["rockscreen_run_key"] = key
     if buildings:
         ds.attrs["buildings"] = "\n".join(describe(b) for _, b in sorted(buildings.items()))
     ds.attrs["files_not_records"] = "\n".join(f"{path}: {reason}" for path, reason in found.not_records)
     ds.attrs["duplicate_records"] = "\n".join(f"{dup} = {kept} ({', '.join(Path(f).name for f in files)})"
                                               for kept, dup, files in found.duplicates)
-    in_use = frozenset(key for key in floor_groups(placements) if key)
-    pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), shed, cache, in_use)
-    counts = {**_scene_counts(ds, config),
-              "records_ok": len(results), "records_failed": len(failed), "records_screened": computed_records,
-              "records_reused": len(results) - computed_records - len(vanished), "records_vanished": len(vanished),
-              "records_dropped": len(the_plan.dropped), "scenes_computed": computed_scenes,
-              "files_seen": found.files_seen, "not_records": list(found.not_records),
-              "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates],
-              "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
-              "buildings": ds.attrs.get("buildings", ""),
-              "units_toml": units_toml_lines(records_dir, [f.status for f in failed]),
-              "records_dir": str(records_dir),
-              "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
-              "wall_time_s": time.perf_counter() - t0}
-    return BatchOutcome(ds, pulses, counts, cache, {s.record_id: s for s in sources}, ctx)
+
+
+def _record_counts(got: _Collected, the_plan: Plan, found: Scan) -> dict:
+    """The records of the run's summary: ok, failed, screened now, reused, vanished, dropped; the files seen."""
+    vanished = len(the_plan.vanished)
+    return {"records_ok": len(got.results), "records_failed": len(got.failed), "records_screened": got.records,
+            "records_reused": len(got.results) - got.records - vanished, "records_vanished": vanished,
+            "records_dropped": len(the_plan.dropped), "scenes_computed": got.scenes,
+            "files_seen": found.files_seen, "not_records": list(found.not_records),
+            "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates]}
 
 
 def _say_what_the_scan_found(found: Scan) -> None:

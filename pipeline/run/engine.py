@@ -8,21 +8,28 @@ workers' scene progress shown beside the progress bar. A task that returns a :cl
 record's failed row instead (the row goes into ``screening.nc``), built from the same value
 (:func:`~pipeline.run.screening.failed_result`).
 
-A run goes: scan the directory (:func:`~pipeline.records.loader.scan_directory`), look each record up in the
-command's cache, :meth:`TaskRun.results` for the rest, then collect (each command's own assembly).
+A run goes: scan the directory once (:func:`~pipeline.records.loader.scan_directory`), then
+:meth:`RecordJobs.run`, the one record-job loop of ``screen``, ``screen fragility`` and the margins stage: each job
+looked up in the command's cache, the rest run on the executor under one failure policy (:class:`Guarded`: any
+exception a task raises comes back as a :class:`~pipeline.errors.TaskFailure`, and a lost worker as one too), every
+result handed to the command's collector as it arrives.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from typing import Any
 
-from ..errors import TaskFailure
+from ..errors import RockscreenError, TaskFailure
 from ..records.loader import Failure, RecordSource
 from ..scene_progress import SceneProgress, running
+
+log = logging.getLogger(__name__)
 
 
 def largest_first(tasks: list[tuple]) -> list[tuple]:
@@ -49,6 +56,28 @@ def removing(stream, directory: str):
         shutil.rmtree(directory, ignore_errors=True)
 
 
+def task_failure(exc: Exception, record_id: str) -> TaskFailure:
+    """The failure a task returns for an exception it caught, the traceback of an unexpected one logged."""
+    if not isinstance(exc, RockscreenError):
+        log.exception("unexpected error on record %s", record_id)
+    return TaskFailure.from_exception(exc)
+
+
+class Guarded:
+    """A record task under the one failure policy: whatever it raises (a bug or an unforeseen corruption as well as
+    a :class:`~pipeline.errors.RockscreenError`) comes back as a :class:`~pipeline.errors.TaskFailure`, so one bad
+    record never stops the batch (picklable: the executors send it to their workers)."""
+
+    def __init__(self, task: Callable[[tuple, Any], Any]):
+        self.task = task
+
+    def __call__(self, item: tuple, ctx) -> Any:
+        try:
+            return self.task(item, ctx)
+        except Exception as exc:  # noqa: BLE001 - the policy: every failure is the record's, reported
+            return task_failure(exc, item[0].record_id)
+
+
 def as_failure(source: RecordSource, failure: TaskFailure) -> Failure:
     """A task's failure (its content, a crash, a lost worker) as the record's :class:`Failure`."""
     return Failure(source.record_id, tuple(source.files), failure.reason, deterministic=failure.deterministic)
@@ -70,8 +99,8 @@ class TaskRun:
         Where the workers say which scene they are on: the tasks' context carries it.
     """
 
-    def __init__(self, executor, *, progress: Callable | None = None):
-        self.executor, self.progress = executor, progress
+    def __init__(self, executor, *, progress: Callable | None = None, label: str | None = None):
+        self.executor, self.progress, self.label = executor, progress, label
         self._dir = tempfile.mkdtemp(prefix="rockscreen-scenes-")
         self.scenes = SceneProgress(self._dir)
 
@@ -81,6 +110,68 @@ class TaskRun:
         place of the result."""
         stream = removing(self.executor.map_unordered(task, largest_first(items), ctx), self._dir)
         if self.progress is not None:
-            stream = self.progress(stream, len(items), running=lambda: running(self._dir))
+            named = {} if self.label is None else {"label": self.label}
+            stream = self.progress(stream, len(items), running=lambda: running(self._dir), **named)
         for item, res in stream:
             yield item, (as_failure(item[0], res) if isinstance(res, TaskFailure) else res)
+
+
+@dataclass
+class JobCounts:
+    """What one :meth:`RecordJobs.run` did."""
+
+    computed: int = 0             # jobs run on the executor that returned a result
+    reused: int = 0               # jobs answered by the command's cache
+    failed: int = 0               # jobs that failed (their task, or a lost worker)
+
+
+class RecordJobs:
+    """The record-job loop of every command that works record by record: one batch of jobs, run once.
+
+    Parameters
+    ----------
+    executor
+        A :mod:`pipeline.run.executors` executor, already entered.
+    progress : callable, optional
+        ``progress(iterable, total, running=..., label=...)`` wrapping the stream of finished tasks (the CLI's
+        bar).
+    label : str, optional
+        What a finished task is, for the progress line (default: the progress's own, "records screened").
+
+    Attributes
+    ----------
+    scenes : SceneProgress
+        Where the workers say which scene they are on: the tasks' context carries it.
+    """
+
+    def __init__(self, executor, *, progress: Callable | None = None, label: str | None = None):
+        self._tasks = TaskRun(executor, progress=progress, label=label)
+        self.scenes = self._tasks.scenes
+
+    def run(self, task: Callable[[tuple, Any], Any], jobs: Iterable[tuple], ctx, *,
+            done: Callable[[tuple, Any, bool], None], failed: Callable[[tuple, Failure], None],
+            cached: Callable[[tuple], Any] | None = None) -> JobCounts:
+        """Run the jobs (each a tuple whose first item is its record's
+        :class:`~pipeline.records.loader.RecordSource`), the largest records first.
+
+        ``cached(job)`` answers a job from the command's cache (None: compute it); ``done(job, result, reused)``
+        collects each result as it arrives (a cached one with ``reused`` True); ``failed(job, failure)`` each
+        :class:`~pipeline.records.loader.Failure` (the task's own, under :class:`Guarded`, or a lost worker's).
+        """
+        counts = JobCounts()
+        todo = []
+        for job in jobs:
+            hit = cached(job) if cached is not None else None
+            if hit is None:
+                todo.append(job)
+                continue
+            done(job, hit, True)
+            counts.reused += 1
+        for job, res in self._tasks.results(Guarded(task), todo, ctx):
+            if isinstance(res, Failure):
+                failed(job, res)
+                counts.failed += 1
+            else:
+                done(job, res, False)
+                counts.computed += 1
+        return counts

@@ -31,7 +31,7 @@ from .. import criteria
 from ..blocks import Inventory
 from ..config import Config
 from ..constants import STATE_DIR
-from ..errors import TaskFailure, UsageError
+from ..errors import UsageError
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..records.intensity import (
@@ -43,7 +43,7 @@ from ..records.intensity import (
     record_measures,
     scale_factors,
 )
-from ..records.loader import Failure, read_declared_units, scan_directory
+from ..records.loader import Failure, Scan, read_declared_units, scan_directory
 from ..rocking.rules import rocks
 from ..scene_table import SCENE
 from ..schema import FRAGILITY, apply_schema
@@ -51,8 +51,8 @@ from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, i
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
 from .batch import record_content
 from .cache import ENTRY_FORMAT, RecordStore, run_key
-from .engine import TaskRun
-from .screening import Context, pulses_and_directions, simulate_scenes, task_failure
+from .engine import RecordJobs
+from .screening import Context, pulses_and_directions, simulate_scenes
 
 log = logging.getLogger(__name__)
 
@@ -145,17 +145,15 @@ def _judge_levels(rec, ctx: Context, blocks: dict, directions: np.ndarray, facto
     return verdict, prob, prob_random
 
 
-def fragility_task(item: tuple, ctx: FragilityContext) -> dict | TaskFailure:
-    """Executor task: load one record by path and :func:`judge_record` it; a failure comes back as a
-    :class:`~pipeline.errors.TaskFailure`, never raised."""
+def fragility_task(item: tuple, ctx: FragilityContext) -> dict:
+    """Executor task: load one record by path and :func:`judge_record` it (run under the engine's failure policy,
+    :class:`~pipeline.run.engine.Guarded`: what it raises comes back as the record's failure)."""
     source, content = item
     try:
         ctx.base.progress.record(source.record_id, len(ctx.levels) * len(ctx.base.inventory))
         out = judge_record(ctx.base.load(source), ctx.base, ctx.im, ctx.levels, ctx.component)
         out.update(record_id=source.record_id, content=content)
         return out
-    except Exception as exc:  # a bug or an unforeseen corruption must not stop the batch either
-        return task_failure(exc, source.record_id)
     finally:
         ctx.base.progress.finished()
 
@@ -197,9 +195,11 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
                 stationxml_sha256: str = "", component: Component = Component.rotd100,
-                buildings: dict | None = None, prune: bool = True) -> tuple[list[dict], list[Failure], dict]:
+                buildings: dict | None = None, prune: bool = True, scanned: Scan | None = None
+                ) -> tuple[list[dict], list[Failure], dict]:
     """Scale every record to every level and judge every block (cached per record under ``out_dir``; ``prune``:
-    drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep).
+    drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep; ``scanned``: the
+    directory's scan, made once for all the rounds).
 
     ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
 
@@ -214,34 +214,30 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
         ``records_computed``, ``records_reused``, ``wall_time_s``.
     """
     t0 = time.perf_counter()
-    found = scan_directory(records_dir, config=config)
+    found = scan_directory(records_dir, config=config) if scanned is None else scanned
     declared = read_declared_units(records_dir, config)
-    tasks = TaskRun(executor, progress=progress)
+    jobs = RecordJobs(executor, progress=progress)
     base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}),
-                   tasks.scenes)
+                   jobs.scenes)
     ctx = FragilityContext(base, im, tuple(float(x) for x in levels), component)
     cache = FragilityCache(out_dir, fragility_key(config, inventory, im, levels, declared, stationxml_sha256,
                                                   component, buildings)) if out_dir is not None else None
-    results, todo, failures = [], [], list(found.failures)
-    for src in found.sources:
-        content = record_content(src, root=Path(records_dir), declared=declared)
-        hit = cache.load(src.record_id, content) if cache is not None else None
-        if hit is not None:
-            results.append(hit)
-        else:
-            todo.append((src, content))
-    reused = len(results)
-    for _item, res in tasks.results(fragility_task, todo, ctx):
-        if isinstance(res, Failure):
-            failures.append(res)
-            continue
-        if cache is not None:
+    results: list[dict] = []
+    failures = list(found.failures)
+
+    def done(_job: tuple, res: dict, reused: bool) -> None:
+        if cache is not None and not reused:
             cache.save(res)
         results.append(res)
+
+    counts = jobs.run(fragility_task, [(src, record_content(src, root=Path(records_dir), declared=declared))
+                                       for src in found.sources], ctx, done=done,
+                      failed=lambda _job, f: failures.append(f),
+                      cached=(lambda job: cache.load(job[0].record_id, job[1])) if cache is not None else None)
     if cache is not None and prune:
         cache.prune()
     results.sort(key=lambda r: str(r["record_id"]))
-    return results, failures, {"records_computed": len(results) - reused, "records_reused": reused,
+    return results, failures, {"records_computed": counts.computed, "records_reused": counts.reused,
                                "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
 
 
@@ -394,23 +390,8 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
                                                seed=config.uncertainty.seed + j)
         if fit.status[j] == FitStatus.not_bounded:     # the median lies beyond the levels: its interval is open
             th_ci[j] = open_interval(frac[:, j], th_ci[j])
-    # IM efficiency and sufficiency: the same outcomes against every IM of the scaled records
     names = list(IMS)
-    beta_im = np.full((nb, len(names)), np.nan)
-    median_im = np.full((nb, len(names)), np.nan)
-    suff = np.full((nb, len(names)), np.nan)
-    for j in range(nb):
-        y = outcome[:, :, j].ravel()
-        f = factor[:, :, j]
-        tp = np.repeat(np.array([r["im.tp"][j] for r in results]), nl) if results else np.zeros(0)
-        for k, name in enumerate(names):
-            base = np.array([r[f"im.{name}"][j] for r in results]) if results else np.zeros(0)
-            x = (base[:, None] * f ** IMS[name][1]).ravel() if results else np.zeros(0)
-            cov = None if name == "tp" else np.log(np.where(tp > 0, tp, np.nan))
-            median_im[j, k], beta_im[j, k], suff[j, k] = im_dispersion(x, y, cov)
-    rank = np.argsort(np.argsort(np.where(np.isnan(beta_im), np.inf, beta_im), axis=1, kind="stable"),
-                      axis=1) + 1
-    rank = np.where(np.isnan(beta_im), -1, rank)           # no fit (nothing overturns): not ranked
+    median_im, beta_im, suff, rank = _im_ranking(results, outcome, factor, names)
     data = {
         "fraction_overturned": (("block", "im_level"), frac.T),
         "n_records": (("block", "im_level"), n.T.astype("i4")),
@@ -426,16 +407,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),
     }
     if hazard is not None:
-        periods = 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p
-        chosen = [hazard.for_block(float(T) if im == "sa" else math.nan) for T in periods]
-        rate, upper = _rates(chosen, fit, inventory, config, levels)
-        data["annual_rate_overturn"] = (("block",), rate)
-        data["p_overturn_50yr"] = (("block",), np.array([probability_in(r, 50.0) for r in rate]))
-        data["annual_rate_overturn_upper"] = (("block",), upper)
-        data["p_overturn_50yr_upper"] = (("block",), np.array([probability_in(r, 50.0) for r in upper]))
-        if im == "sa":
-            data["hazard_period"] = (("block",), np.array([c.period_s for c, _ in chosen]))
-            data["hazard_period_ratio"] = (("block",), np.array([r for _, r in chosen]))
+        data.update(_hazard_variables(hazard, fit, inventory, config, levels, im=im))
     ds = xr.Dataset(data, coords={
         "block": np.array(inventory.ids, dtype=object), "im_level": levels,
         "record": np.array([str(r["record_id"]) for r in results], dtype=object),
@@ -451,6 +423,46 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
                      "bootstrap_draws": bootstrap, "Conventions": "CF-1.11",
                      "title": "rockscreen fragility: multiple-stripe analysis"})
     return apply_schema(ds, FRAGILITY)
+
+
+def _im_ranking(results: list[dict], outcome: np.ndarray, factor: np.ndarray, names: list[str]) -> tuple:
+    """IM efficiency and sufficiency: the same outcomes against every IM of the scaled records; per block and IM,
+    the median, the dispersion, the sufficiency p-value and the rank by dispersion (-1: no fit, nothing
+    overturns)."""
+    nb, nl = outcome.shape[2], outcome.shape[1]
+    beta_im = np.full((nb, len(names)), np.nan)
+    median_im = np.full((nb, len(names)), np.nan)
+    suff = np.full((nb, len(names)), np.nan)
+    for j in range(nb):
+        y = outcome[:, :, j].ravel()
+        f = factor[:, :, j]
+        tp = np.repeat(np.array([r["im.tp"][j] for r in results]), nl) if results else np.zeros(0)
+        for k, name in enumerate(names):
+            base = np.array([r[f"im.{name}"][j] for r in results]) if results else np.zeros(0)
+            x = (base[:, None] * f ** IMS[name][1]).ravel() if results else np.zeros(0)
+            cov = None if name == "tp" else np.log(np.where(tp > 0, tp, np.nan))
+            median_im[j, k], beta_im[j, k], suff[j, k] = im_dispersion(x, y, cov)
+    rank = np.argsort(np.argsort(np.where(np.isnan(beta_im), np.inf, beta_im), axis=1, kind="stable"),
+                      axis=1) + 1
+    rank = np.where(np.isnan(beta_im), -1, rank)           # no fit (nothing overturns): not ranked
+    return median_im, beta_im, suff, rank
+
+
+def _hazard_variables(hazard: HazardSet, fit, inventory: Inventory, config: Config, levels: np.ndarray, *,
+                      im: str) -> dict:
+    """The annual rates of overturning and the 50-year probabilities (and their upper bounds) from the hazard
+    curve of each block's IM (Sa at its own period, with the period taken and its ratio)."""
+    periods = 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p
+    chosen = [hazard.for_block(float(T) if im == "sa" else math.nan) for T in periods]
+    rate, upper = _rates(chosen, fit, inventory, config, levels)
+    data = {"annual_rate_overturn": (("block",), rate),
+            "p_overturn_50yr": (("block",), np.array([probability_in(r, 50.0) for r in rate])),
+            "annual_rate_overturn_upper": (("block",), upper),
+            "p_overturn_50yr_upper": (("block",), np.array([probability_in(r, 50.0) for r in upper]))}
+    if im == "sa":
+        data["hazard_period"] = (("block",), np.array([c.period_s for c, _ in chosen]))
+        data["hazard_period_ratio"] = (("block",), np.array([r for _, r in chosen]))
+    return data
 
 
 def _rates(chosen: list, fit, inventory: Inventory, config: Config, levels: np.ndarray
@@ -571,6 +583,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     station = read_inventory(request.records_dir, request.stationxml)
     levels = request.levels
     _say_why_all_is_new(out_dir, request)
+    found = scan_directory(request.records_dir, config=request.config)      # once, for every round of auto
     with OutputLock(out_dir, command=" ".join(request.command)):
         with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
             def run(lv: np.ndarray, prune: bool = True):
@@ -578,7 +591,8 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                                    executor=executor, out_dir=out_dir, progress=progress, station_inventory=station,
                                    stationxml_sha256=files_sha256(stationxml_paths(request.records_dir,
                                                                                    request.stationxml)),
-                                   component=request.component, buildings=request.buildings, prune=prune)
+                                   component=request.component, buildings=request.buildings, prune=prune,
+                                   scanned=found)
 
             if levels is None:                         # --levels auto
                 levels, results, failures, counts = auto_stripes(

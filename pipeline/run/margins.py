@@ -41,20 +41,21 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 
-from ..errors import RockscreenError, TaskFailure
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
-from ..records.loader import RecordSource
+from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
 from ..rocking.planner import rocks, simulate_scene
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
+from .engine import RecordJobs
 from .screening import Context
 
 log = logging.getLogger(__name__)
@@ -181,19 +182,17 @@ def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, set
     return out, runs
 
 
-def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
+def margin_task(item: tuple, ctx: Context) -> dict:
     """One record and the blocks it governs: their margins and, for those at risk, theta(t)/alpha.
 
     ``item`` is ``(source, [(block_id, direction_deg, overturned, want_history), ...])``.
-    Returns ``{block_id: (scale, runs, history or None, dt_s, sampled margins)}``, or a
-    :class:`~pipeline.errors.TaskFailure` when the record cannot be loaded again.
+    Returns ``{block_id: (scale, runs, history or None, dt_s, sampled margins)}``; run under the engine's
+    failure policy (:class:`~pipeline.run.engine.Guarded`): a record that cannot be loaded again comes back as
+    its failure.
     """
     source, blocks = item
     cfg = ctx.config
-    try:
-        rec = ctx.load(source)
-    except RockscreenError as exc:
-        return TaskFailure.from_exception(exc)
+    rec = ctx.load(source)
     inv = ctx.inventory
     rocking_blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2)
     settings = cfg.simulation_settings()
@@ -215,11 +214,12 @@ def margin_task(item: tuple, ctx: Context) -> dict | TaskFailure:
 
 
 def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, executor, *,
-                cache=None) -> tuple:
+                cache=None, progress=None) -> tuple:
     """Governing record, both margins and the at-risk histories of every block.
 
     With a :class:`pipeline.run.cache.MarginCache`, scans already done for the same record
-    content, block and run key are reused, and new ones are saved as they return.
+    content, block and run key are reused, and new ones are saved as they return. The records' margin tasks run
+    as the screening's do (:class:`~pipeline.run.engine.RecordJobs`), with their own progress line.
 
     Returns
     -------
@@ -234,30 +234,69 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
         files could not be loaded again).
     """
     rec_index = governing_records(ds)
-    risky = at_risk(ds, rec_index)
-    nb = ds.sizes["block"]
-    cols = np.arange(nb)
-    r = np.where(rec_index >= 0, rec_index, 0)
-    record_ids = ds["record"].values
-    governing = np.array([record_ids[i] if i >= 0 else "" for i in rec_index], dtype=object)
-    crit_scale = np.where(rec_index >= 0, ds["criterion_scale"].values[r, cols], np.nan)
-    sim_scale = np.full(nb, np.nan)
-    median_scale = np.full(nb, np.nan)
-    runs = np.full(nb, -1, dtype="i4")
-    histories: dict[str, tuple] = {}
-    items: dict[str, list] = {}
-    content = dict(zip(record_ids.tolist(), ds["content_sha256"].values.tolist())) if "content_sha256" in ds else {}
-    block_ids = ds["block"].values.tolist()
-    digest = dict(zip(block_ids, ds["block_sha256"].values.tolist()))
+    got = _Margins.empty(ds)
+    items, reused = _margin_items(ds, rec_index, got, ctx, cache)
+    unavailable = [rid for rid in items if rid not in sources]
+    tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
+    position = {b: k for k, b in enumerate(got.block_ids)}
 
-    def keep(j: int, rid: str, value: tuple) -> None:
+    def done(job: tuple, result: dict, _reused: bool) -> None:
+        rid = job[0].record_id
+        for block_id, value in result.items():
+            got.keep(position[block_id], rid, value)
+            if cache is not None:
+                cache.put(rid, got.content[rid], got.digest[block_id], value)
+
+    def failed(job: tuple, failure: Failure) -> None:
+        log.warning("record %s: no margins (%s)", failure.record_id, failure.reason)
+        unavailable.append(failure.record_id)
+
+    RecordJobs(executor, progress=progress, label="records' margins scanned").run(margin_task, tasks, ctx,
+                                                                                   done=done, failed=failed)
+    computed = sum(len(blocks) for _, blocks in tasks)
+    return apply_schema(_with_margins(ds, rec_index, got, ctx)), history_dataset(got.histories), {
+        "simulations": int(got.runs[got.runs > 0].sum()), "reused": reused, "computed": computed,
+        "unavailable": sorted(set(unavailable))}
+
+
+@dataclass
+class _Margins:
+    """The margins of every block as they are found (NaN / -1: none)."""
+
+    block_ids: list
+    content: dict          # record id -> content digest
+    digest: dict           # block id -> inventory digest
+    sim_scale: np.ndarray
+    median_scale: np.ndarray
+    runs: np.ndarray
+    histories: dict = field(default_factory=dict)
+
+    @classmethod
+    def empty(cls, ds: xr.Dataset) -> _Margins:
+        nb = ds.sizes["block"]
+        record_ids, block_ids = ds["record"].values, ds["block"].values.tolist()
+        content = dict(zip(record_ids.tolist(), ds["content_sha256"].values.tolist())) \
+            if "content_sha256" in ds else {}
+        return cls(block_ids, content, dict(zip(block_ids, ds["block_sha256"].values.tolist())),
+                   np.full(nb, np.nan), np.full(nb, np.nan), np.full(nb, -1, dtype="i4"))
+
+    def keep(self, j: int, rid: str, value: tuple) -> None:
+        """Block ``j``'s margin scan on record ``rid``: (scale, runs, history or None, dt, sampled margins)."""
         scale, n, history, dt, sampled = value
-        sim_scale[j], runs[j] = scale, n
+        self.sim_scale[j], self.runs[j] = scale, n
         finite = np.asarray(sampled)[~np.isnan(sampled)]
-        median_scale[j] = float(np.median(finite)) if finite.size else np.nan
+        self.median_scale[j] = float(np.median(finite)) if finite.size else np.nan
         if history is not None:
-            histories[block_ids[j]] = (history, dt, rid)
+            self.histories[self.block_ids[j]] = (history, dt, rid)
 
+
+def _margin_items(ds: xr.Dataset, rec_index: np.ndarray, got: _Margins, ctx: Context, cache
+                  ) -> tuple[dict[str, list], int]:
+    """The blocks to scan, by governing record: ``{record id: [(block id, direction, overturned, at risk)]}``; the
+    blocks the margin cache answers are kept at once (their number returned too)."""
+    risky = at_risk(ds, rec_index)
+    record_ids = ds["record"].values
+    items: dict[str, list] = {}
     reused = 0
     simulate = ctx.config.fidelity.tier != "criterion"      # the criterion tier simulates nothing
     for j in np.flatnonzero((rec_index >= 0) & simulate).tolist():
@@ -265,45 +304,39 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
         direction = float(ds[SCENE.governing_azimuth].values[rec_index[j], j])
         if not np.isfinite(direction):
             continue
-        hit = cache.get(rid, content[rid], digest[block_ids[j]]) if cache is not None else None
+        hit = cache.get(rid, got.content[rid], got.digest[got.block_ids[j]]) if cache is not None else None
         if hit is not None:
-            keep(j, rid, hit)
+            got.keep(j, rid, hit)
             reused += 1
             continue
         overturned = bool(ds[SCENE.overturn_simulated].values[rec_index[j], j] == 1)
-        items.setdefault(rid, []).append((block_ids[j], direction, overturned, bool(risky[j])))
-    unavailable = [rid for rid in items if rid not in sources]
-    tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
-    position = {b: k for k, b in enumerate(block_ids)}
-    for (source, _), result in executor.map_unordered(margin_task, tasks, ctx):
-        if isinstance(result, TaskFailure):
-            log.warning("record %s: no margins (%s)", source.record_id, result.reason)
-            unavailable.append(source.record_id)
-            continue
-        rid = source.record_id
-        for block_id, value in result.items():
-            keep(position[block_id], rid, value)
-            if cache is not None:
-                cache.put(rid, content[rid], digest[block_id], value)
+        items.setdefault(rid, []).append((got.block_ids[j], direction, overturned, bool(risky[j])))
+    return items, reused
+
+
+def _with_margins(ds: xr.Dataset, rec_index: np.ndarray, got: _Margins, ctx: Context) -> xr.Dataset:
+    """``ds`` with the per-block margin variables (the records x blocks arrays shared, not copied)."""
+    nb = ds.sizes["block"]
+    cols = np.arange(nb)
+    r = np.where(rec_index >= 0, rec_index, 0)
+    record_ids = ds["record"].values
     ds = ds.copy(deep=False)            # new per-block variables only: the records x blocks arrays are shared
-    ds["governing_record"] = (("block",), governing)
-    ds["overturn_scale"] = (("block",), crit_scale)
-    ds["overturn_scale_simulated"] = (("block",), sim_scale)
-    ds["margin_simulations"] = (("block",), runs)
-    ds["overturn_scale_median"] = (("block",), median_scale)
+    ds["governing_record"] = (("block",), np.array([record_ids[i] if i >= 0 else "" for i in rec_index],
+                                                   dtype=object))
+    ds["overturn_scale"] = (("block",), np.where(rec_index >= 0, ds["criterion_scale"].values[r, cols], np.nan))
+    ds["overturn_scale_simulated"] = (("block",), got.sim_scale)
+    ds["margin_simulations"] = (("block",), got.runs)
+    ds["overturn_scale_median"] = (("block",), got.median_scale)
     p_gov = ds[SCENE.p_overturn].values[r, cols] if SCENE.p_overturn in ds else np.full(nb, np.nan)
     ds["p_overturn_governing"] = (("block",), np.where(rec_index >= 0, p_gov, np.nan))
     standing = np.where(rec_index >= 0, ds[SCENE.overturn_simulated].values[r, cols] == 0, False)
-    below = np.where(np.isfinite(sim_scale), standing & (sim_scale < 1.0), False)
-    ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(sim_scale), -1, below).astype("i1"))
+    below = np.where(np.isfinite(got.sim_scale), standing & (got.sim_scale < 1.0), False)
+    ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(got.sim_scale), -1, below).astype("i1"))
     ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing "
                                    f"scene's rocking plane, x(1 + "
                                    f"{ctx.config.simulation.margin_step:g}) per step, up to "
                                    f"{ctx.config.simulation.margin_max_factor:g}; no bisection")
-    computed = sum(len(blocks) for _, blocks in tasks)
-    return apply_schema(ds), history_dataset(histories), {
-        "simulations": int(runs[runs > 0].sum()), "reused": reused, "computed": computed,
-        "unavailable": sorted(set(unavailable))}
+    return ds
 
 
 def history_dataset(histories: dict) -> xr.Dataset:

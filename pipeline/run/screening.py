@@ -24,7 +24,7 @@ from ..blocks import Inventory
 from ..closed_forms import PULSE_BETA
 from ..config import Config, SimulationConfig
 from ..constants import CM_TO_M
-from ..errors import PulseError, RockscreenError, TaskFailure
+from ..errors import PulseError, TaskFailure
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..pulses import analyze
@@ -61,7 +61,7 @@ from ..uncertainty.orientations import (
 )
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion, motion, scene_probability
-from .engine import as_failure
+from .engine import as_failure, task_failure
 
 log = logging.getLogger(__name__)
 
@@ -438,13 +438,6 @@ def _floor_values(motions: FloorMotions, ctx: Context, mask: np.ndarray, block_v
         out[SCENE.floor_pga][idx] = frec.pga_ms2()
         out[SCENE.floor_pgv][idx] = frec.pgv_ms()
     return out, floors
-
-
-def task_failure(exc: Exception, record_id: str) -> TaskFailure:
-    """The failure a task returns for an exception it caught, the traceback of an unexpected one logged."""
-    if not isinstance(exc, RockscreenError):
-        log.exception("unexpected error on record %s", record_id)
-    return TaskFailure.from_exception(exc)
 
 
 def failed_result(source: RecordSource, failure: TaskFailure) -> RecordResult:

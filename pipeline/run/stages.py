@@ -173,7 +173,8 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                               scanned=found, buildings=request.buildings)
                 margin_cache = outcome.cache.margins() if outcome.cache is not None else None
                 log.debug("screen: %s", {k: v for k, v in outcome.counts.items() if isinstance(v, (int, float))})
-                results, histories, margins = margins_stage(outcome, executor, cache=margin_cache)
+                results, histories, margins = margins_stage(outcome, executor, cache=margin_cache,
+                                                            progress=progress)
                 log.debug("margins: %s", margins)
             # the output set is staged, then published together: a failed write leaves the previous set intact
             stage = staging_dir(out_dir)
@@ -221,12 +222,13 @@ def prepare(request: ScreenRequest) -> tuple:
     return station_inventory, stationxml_sha, declared, found, ensure_writable(request.out_dir)
 
 
-def margins_stage(outcome: BatchOutcome, executor, *, cache=None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+def margins_stage(outcome: BatchOutcome, executor, *, cache=None, progress=None
+                  ) -> tuple[xr.Dataset, xr.Dataset, dict]:
     """Stage 3: governing records, margins and histories, on the run's executor (``cache``: a
-    :class:`~pipeline.run.cache.MarginCache` of earlier scans)."""
+    :class:`~pipeline.run.cache.MarginCache` of earlier scans; ``progress``: as for the screening)."""
     t0 = time.perf_counter()
     results, histories, summary = add_margins(outcome.results, outcome.sources, outcome.context, executor,
-                                              cache=cache)
+                                              cache=cache, progress=progress)
     return results, histories, dict(summary, wall_time_s=time.perf_counter() - t0)
 
 
