@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import os
 import shlex
 import sys
 import time
@@ -91,31 +90,14 @@ def _add_tolerate(p: argparse.ArgumentParser) -> None:
 
 
 #: Environment variable giving the default of ``-n`` (scheduled runs sharing a machine set it).
-WORKERS_ENV = "ROCKSCREEN_NUM_PROCESSES"
+WORKERS_ENV = "ROCKSCREEN_NUM_PROCESSES"           # named in the help; the policy is run.executors.default_workers
 
 
 def _workers(args: argparse.Namespace) -> int:
-    """``-n``, or its default (:func:`default_workers`), checked."""
-    from .run.executors import checked_workers
+    """``-n``, or its default (:func:`pipeline.run.executors.default_workers`), checked."""
+    from .run.executors import workers
 
-    return checked_workers(default_workers() if args.num_processes is None else args.num_processes)
-
-
-def default_workers() -> int:
-    """The default ``-n``: ``$ROCKSCREEN_NUM_PROCESSES``, else the cores this process may run on."""
-    value = os.environ.get(WORKERS_ENV, "").strip()
-    if value:
-        try:
-            n = int(value)
-        except ValueError:
-            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)") from None
-        if n < 1:
-            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)")
-        return n
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - not on Linux
-        return max(1, os.cpu_count() or 1)
+    return workers(args.num_processes)
 
 
 def _config_and_inventory(args: argparse.Namespace):
@@ -280,11 +262,9 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
 
 def _buildings(args: argparse.Namespace, inventory) -> dict:
     """The buildings of ``--buildings``, checked against the inventory's placements (errors list every block)."""
-    from .floors.buildings import place_blocks, read_buildings
+    from .run.stages import buildings_of
 
-    buildings = read_buildings(args.buildings) if getattr(args, "buildings", None) is not None else {}
-    place_blocks(inventory, buildings)
-    return buildings
+    return buildings_of(getattr(args, "buildings", None), inventory)
 
 
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
@@ -293,9 +273,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
 
     config, inventory = _config_and_inventory(args)
     records_dir = _records_dir(args.records)
-    key = uptodate.fingerprint(records_dir=records_dir, blocks_csv=args.blocks, config_sha256=config.digest(),
-                               stationxml=args.inventory, out_dir=args.out, buildings_csv=args.buildings)
-    last = None if args.force else uptodate.up_to_date(args.out, key)
+    key, last = uptodate.check(records_dir=records_dir, blocks_csv=args.blocks, config=config,
+                               stationxml=args.inventory, out_dir=args.out, buildings_csv=args.buildings,
+                               force=args.force)
     if last is not None:
         return _report_up_to_date(args, last, config)
 
@@ -330,9 +310,9 @@ def _say(message: str) -> None:
 def _compile_simulator(args: argparse.Namespace) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
     first run of an install)."""
-    from .rocking.warmup import compile_kernels
+    from .run.stages import compile_simulator
 
-    compile_kernels(announce=None if getattr(args, "quiet", False) else _say)
+    compile_simulator(announce=None if getattr(args, "quiet", False) else _say)
 
 
 def _run_exit(records_failed: int, args: argparse.Namespace) -> int:
@@ -401,13 +381,9 @@ def chart_parser() -> argparse.ArgumentParser:
 
 def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen chart``: write the chart's netCDF and figure."""
-    import xarray as xr
-
     from .blocks import Inventory, read_inventory
     from .config import load_config
-    from .report.stability_plot import plot_stability_chart
-    from .run.chart import points_from_results, stability_chart
-    from .store import write_atomic
+    from .run.chart import ChartRequest, write_chart
 
     config = load_config(args.config)
     if args.block is not None:
@@ -423,40 +399,13 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     else:
         raise UsageError("screen chart: give the block as --height H --width W [--mu MU], "
                               "or as --block ID --blocks inventory.csv")
-    chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
-                            pulse=args.pulse, periods_s=args.periods, g_ms2=config.records.g_ms2,
-                            form=config.criteria.form)
-    if args.simulate:
-        from .run.chart import simulated_critical_acceleration
-
-        if args.cycles < 1:
-            raise UsageError(f"--cycles {args.cycles}: must be a positive integer")
-        chart = simulated_critical_acceleration(chart, cycles=args.cycles, settings=config.simulation)
-    block_id = args.block
-    if args.records is not None:
-        from .records.loader import read_declared_units
-        from .records.loader import read_inventory as read_station_inventory
-        from .run.batch import run
-
-        results = run(_records_dir(args.records), block, config,
-                      station_inventory=read_station_inventory(args.records, args.inventory),
-                      declared_units=read_declared_units(args.records, config),
-                      progress=_progress(args.quiet)).results
-        block_id = block.ids[0]
-    elif args.results is not None:
-        from .store import open_results
-
-        results = open_results(args.results)
-    else:
-        results = None
-    if results is not None:
-        chart = xr.merge([chart, points_from_results(chart, results, block_id=block_id)],
-                         combine_attrs="override")
-    chart.attrs["history"] = f"screen {shlex.join(argv)}"
-    out = write_atomic(chart, args.out)
-    figure = plot_stability_chart(chart, args.figure or args.out.with_suffix(".png"))
-    print(f"transition period {chart.attrs['transition_period']:.3f} s (Eq. 9); wrote {out} and {figure}",
-          file=sys.stderr)
+    out, figure, transition_s = write_chart(ChartRequest(
+        config=config, block=block, block_id=args.block, pulse=args.pulse, periods_s=args.periods, out=args.out,
+        simulate=args.simulate, cycles=args.cycles,
+        records_dir=_records_dir(args.records) if args.records is not None else None, stationxml=args.inventory,
+        results=args.results, figure=args.figure, history=f"screen {shlex.join(argv)}"),
+        progress=_progress(args.quiet))
+    print(f"transition period {transition_s:.3f} s (Eq. 9); wrote {out} and {figure}", file=sys.stderr)
     return EXIT_OK
 
 
@@ -475,13 +424,9 @@ def report_parser() -> argparse.ArgumentParser:
 
 def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
-    from .report.html import build_report
-    from .store import STATE_DIR
+    from .run.stages import rebuild_report
 
-    # the figures `screen` drew into this output are reused (kept by content; a changed figure is drawn again)
-    cache = Path(args.results).parent / STATE_DIR / "figures"
-    html, assets = build_report(args.results, args.out, all_figures=args.all_figures,
-                                figure_cache=cache if cache.is_dir() else None)
+    html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures)
     print(f"wrote {html} and {assets}", file=sys.stderr)
     return EXIT_OK
 
@@ -594,9 +539,9 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
 
 
 def _hazard_and_component(args: argparse.Namespace):
-    """The hazard curves of ``--hazard`` (bound to the fit) and the component definition the fit uses."""
-    from .uncertainty.hazard import Component, hazard_set
-    from .uncertainty.hazard_files import read_hazard
+    """``--hazard`` and its options, parsed: the hazard curves (bound to the fit) and the component definition the
+    fit uses (:func:`pipeline.run.fragility.hazard_and_component`)."""
+    from .run.fragility import hazard_and_component
 
     lonlat = None
     if args.hazard_lonlat:
@@ -606,15 +551,10 @@ def _hazard_and_component(args: argparse.Namespace):
             raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees, e.g. "
                              "12.5,41.9") from None
         lonlat = (lon, lat)
-    stated = Component(args.hazard_component) if args.hazard_component else None
-    curves = [read_hazard(path, im=args.im, site=args.hazard_site, lonlat=lonlat, component=stated)
-              for path in (args.hazard or [])]
-    fit = Component(args.im_component) if args.im_component else (
-        curves[0].component if curves and curves[0].component is not None else Component.rotd100)
     if args.hazard_scale is not None and not (args.hazard_scale > 0):
         raise UsageError(f"--hazard-scale {args.hazard_scale}: must be a positive factor")
-    hazard = hazard_set(curves, im=args.im, fit_component=fit, scale=args.hazard_scale) if curves else None
-    return hazard, fit
+    return hazard_and_component(args.hazard or [], im=args.im, site=args.hazard_site, lonlat=lonlat,
+                                stated=args.hazard_component, im_component=args.im_component, scale=args.hazard_scale)
 
 
 def infer_parser() -> argparse.ArgumentParser:
@@ -637,16 +577,11 @@ def infer_parser() -> argparse.ArgumentParser:
 
 def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen infer``: write infer.nc and infer.png, print the bounds and any conflict."""
-    from .report.infer_plot import plot_inference
-    from .run.infer import infer, read_observations, summarize
-    from .store import write_atomic
+    from .run.infer import summarize, write_inference
 
     config, inventory = _config_and_inventory(args)
-    obs = read_observations(args.observed, inventory)
-    ds = infer(obs, shape=args.pulse, config=config)
-    ds.attrs["history"] = f"screen {shlex.join(argv)}"
-    out = write_atomic(ds, args.out / "infer.nc")
-    figure = plot_inference(ds, args.out / "infer.png", g_ms2=config.records.g_ms2)
+    ds, out, figure = write_inference(args.observed, inventory, shape=args.pulse, config=config, out_dir=args.out,
+                                      history=f"screen {shlex.join(argv)}")
     g = config.records.g_ms2
     for method, info in summarize(ds).items():
         if info["consistent"]:

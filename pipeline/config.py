@@ -150,6 +150,11 @@ class Config:
     uncertainty: UncertaintyConfig = field(default_factory=UncertaintyConfig)
     event: EventConfig = field(default_factory=EventConfig)
 
+    @property
+    def sampling(self) -> bool:
+        """True when a run estimates probabilities of overturning (:func:`sampling`)."""
+        return sampling(self.uncertainty.samples, self.fidelity.tier)
+
     def simulation_settings(self) -> SimulationConfig:
         """The integration settings of the fidelity tier (tight ones for ``reference``)."""
         if self.fidelity.tier != "reference":
@@ -195,6 +200,20 @@ class Config:
     def digest(self) -> str:
         """SHA-256 of the canonical JSON form."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+def sampling(samples: int, tier: str) -> bool:
+    """Whether a run estimates probabilities of overturning: samples are asked for (``[uncertainty] samples`` > 0)
+    and the fidelity tier simulates (not ``criterion``). One rule for the screening, the margins, ``screen
+    fragility`` and ``screen bench``; the report applies it to the results' attributes (:func:`sampling_of`)."""
+    return samples > 0 and tier != "criterion"
+
+
+def sampling_of(attrs: dict) -> bool:
+    """:func:`sampling` of the run that wrote a results file, from its attributes (``uncertainty_samples`` and the
+    tier in ``rockscreen_config``)."""
+    tier = json.loads(attrs.get("rockscreen_config", "{}")).get("fidelity", {}).get("tier", "full")
+    return sampling(int(attrs.get("uncertainty_samples", 0)), str(tier))
 
 
 #: Float keys for which 0 is a valid value (it switches an approximation or a refinement off).

@@ -436,7 +436,7 @@ def test_processes_results_identical_to_serial(few_records, blocks_csv, tmp_path
 
 def test_default_uses_the_available_cores_with_results_identical_to_serial(make_records, blocks_csv, tmp_path,
                                                                          fresh, capsys, monkeypatch):
-    from pipeline.cli import default_workers
+    from pipeline.run.executors import default_workers
 
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
     serial = fresh(root)                                     # -n 1 (the test default)

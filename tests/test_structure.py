@@ -78,3 +78,25 @@ def test_the_planner_dispatches_through_the_registry_without_a_model_chain():
             assert "Physics" not in uses, node.name
             calls = {n.func.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)}
             assert "choose" in calls, node.name
+
+
+#: What the CLI may import below the run layer, and why: each only to parse an option or to print.
+CLI_LIBRARY_IMPORTS = {
+    "rocking.scene": "Response: the name of a count it prints",
+    "closed_forms": "PULSE_BETA: the pulse shapes --pulse accepts",
+    "records.intensity": "IMS, SCALABLE, display_unit: the IMs --im accepts and the unit --levels is printed in",
+    "uncertainty.hazard": "Component: the component definitions --im-component accepts",
+    "event.assets": "Level: the inspection levels it counts",
+}
+#: The application modules the CLI calls (the run layer orchestrates; these read inputs or name outputs).
+CLI_APPLICATION_IMPORTS = ("run", "config", "errors", "blocks", "levels", "scene_table")
+
+
+def test_the_cli_parses_and_prints_and_leaves_the_work_to_the_run_layer():
+    imported = set()
+    for node in ast.walk(ast.parse((PIPELINE / "cli.py").read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module:
+            imported.add(node.module)
+    below = {m for m in imported if m.split(".")[0] not in CLI_APPLICATION_IMPORTS}
+    assert below <= set(CLI_LIBRARY_IMPORTS), sorted(below - set(CLI_LIBRARY_IMPORTS))
+    assert not {m for m in imported if m.split(".")[0] in ("store", "report", "floors", "pulses")}

@@ -29,6 +29,7 @@ import xarray as xr
 from markupsafe import Markup, escape
 
 from .. import __version__
+from ..config import sampling_of
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
@@ -262,7 +263,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
     ok = ds["status"].values == "ok"
     resp = ds[SCENE.response].values
     counts = Counter(r["recommendation"].split(":")[0] for r in assets)
-    sampled = SCENE.samples_drawn in ds and bool(np.any(ds[SCENE.samples_drawn].values[ok] > 0))
+    sampled = sampling_of(ds.attrs)
     return {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
         "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),

@@ -182,7 +182,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
             pace["runs_left"] = max(pace["runs_left"] - 1, 0)
         progress(f"bench: {what} ({time.perf_counter() - t_start:.0f} s{left})")
 
-    sampled = config if config.uncertainty.samples > 0 else Config().with_tier(config.fidelity.tier)
+    sampled = config if config.with_tier("full").sampling else Config().with_tier(config.fidelity.tier)
     config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
     say("reading the records and extracting their pulses")
     scenes, t_common = _load(records_dir, inventory, config)

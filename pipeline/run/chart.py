@@ -23,13 +23,18 @@ Makris & Roussos (2000) eq. 27; Housner (1963) eq. 9.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+
 import numpy as np
 import xarray as xr
 
 from .. import criteria
+from ..blocks import Inventory
 from ..closed_forms import housner_rectangle_amplitude, makris_roussos_halfsine, pulse_beta
+from ..config import Config
 from ..constants import REFERENCE_PAPER, G
-from ..errors import ParameterError, ResultsError
+from ..errors import ParameterError, ResultsError, UsageError
 from ..rocking.geometry import check_friction, geometry
 from ..scene_table import SCENE
 from ..schema import CHART, apply_schema
@@ -248,3 +253,60 @@ def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, sett
         f"steps of {settings.scan_step:g} of it, no bisection; NaN: none below {top:.4g} m s-2")
     chart.attrs["simulation_runs"] = n_runs
     return chart
+
+
+@dataclass(frozen=True)
+class ChartRequest:
+    """What ``screen chart`` draws: one block's chart for one pulse shape, and the pulses put on it.
+
+    ``records_dir`` screens those records against the block first (their pulses as points); ``results`` takes the
+    points from a ``screening.nc`` instead, those of ``block_id`` (None: every scene's); ``figure`` defaults to
+    ``out`` with ``.png``.
+    """
+
+    config: Config
+    block: Inventory
+    block_id: str | None
+    pulse: str
+    periods_s: list | None
+    out: Path
+    simulate: bool = False
+    cycles: int = 25
+    records_dir: Path | None = None
+    stationxml: Path | None = None
+    results: Path | None = None
+    figure: Path | None = None
+    history: str = ""
+
+
+def write_chart(request: ChartRequest, *, progress=None) -> tuple[Path, Path, float]:
+    """Build, write and draw a stability chart (:func:`stability_chart`, with the simulated boundary when asked
+    and the records' pulses as points); the netCDF, the figure and the block's transition period [s]."""
+    from ..records.loader import read_declared_units
+    from ..records.loader import read_inventory as read_station_inventory
+    from ..report.stability_plot import plot_stability_chart
+    from ..store import open_results, write_atomic
+    from .batch import run
+
+    config, block = request.config, request.block
+    chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
+                            pulse=request.pulse, periods_s=request.periods_s, g_ms2=config.records.g_ms2,
+                            form=config.criteria.form)
+    if request.simulate:
+        if request.cycles < 1:
+            raise UsageError(f"--cycles {request.cycles}: must be a positive integer")
+        chart = simulated_critical_acceleration(chart, cycles=request.cycles, settings=config.simulation)
+    results, block_id = None, request.block_id
+    if request.records_dir is not None:
+        block_id = str(block.ids[0])
+        results = run(request.records_dir, block, config,
+                      station_inventory=read_station_inventory(request.records_dir, request.stationxml),
+                      declared_units=read_declared_units(request.records_dir, config), progress=progress).results
+    elif request.results is not None:
+        results = open_results(request.results)
+    if results is not None:
+        chart = xr.merge([chart, points_from_results(chart, results, block_id=block_id)], combine_attrs="override")
+    chart.attrs["history"] = request.history
+    out = write_atomic(chart, request.out)
+    figure = plot_stability_chart(chart, request.figure or request.out.with_suffix(".png"))
+    return out, figure, float(chart.attrs["transition_period"])

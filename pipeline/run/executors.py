@@ -154,6 +154,38 @@ class ProcessExecutor:
                 alone = False
 
 
+#: The environment variable that sets the default number of worker processes (``-n``).
+WORKERS_ENV = "ROCKSCREEN_NUM_PROCESSES"
+
+
+def default_workers() -> int:
+    """The default ``-n``: ``$ROCKSCREEN_NUM_PROCESSES``, else the cores this process may run on.
+
+    Raises
+    ------
+    UsageError
+        For a value of the variable that is not a positive integer.
+    """
+    value = os.environ.get(WORKERS_ENV, "").strip()
+    if value:
+        try:
+            n = int(value)
+        except ValueError:
+            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)") from None
+        if n < 1:
+            raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)")
+        return n
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def workers(n: int | None) -> int:
+    """The number of worker processes of a run: ``-n`` when given, else :func:`default_workers`, checked."""
+    return checked_workers(default_workers() if n is None else n)
+
+
 def checked_workers(n: int) -> int:
     """``-n``: a number of worker processes, at least 1.
 

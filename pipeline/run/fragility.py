@@ -348,9 +348,32 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
     return levels[order], results, failures, counts
 
 
+def hazard_and_component(paths: list, *, im: str, site: str | None, lonlat: tuple[float, float] | None,
+                         stated: str | None, im_component: str | None, scale: float | None
+                         ) -> tuple[HazardSet | None, Component]:
+    """The hazard curves of ``paths`` (``--hazard``), bound to the fit, and the component definition the fit uses:
+    the one asked for (``im_component``), else the first curve's (read from the file, or ``stated`` for it), else
+    RotD100.
+
+    Raises
+    ------
+    RockscreenError
+        For a hazard file that cannot be read as a curve of ``im`` (named, with the fix).
+    """
+    from ..uncertainty.hazard import hazard_set
+    from ..uncertainty.hazard_files import read_hazard
+
+    declared = Component(stated) if stated else None
+    curves = [read_hazard(path, im=im, site=site, lonlat=lonlat, component=declared) for path in paths]
+    fit = Component(im_component) if im_component else (
+        curves[0].component if curves and curves[0].component is not None else Component.rotd100)
+    hazard = hazard_set(curves, im=im, fit_component=fit, scale=scale) if curves else None
+    return hazard, fit
+
+
 def fits_probabilities(config: Config) -> bool:
-    """True when the stripes' outcomes are sampled probabilities (else nominal verdicts)."""
-    return config.uncertainty.samples > 0 and config.fidelity.tier != "criterion"
+    """True when the stripes' outcomes are sampled probabilities (else nominal verdicts): :attr:`Config.sampling`."""
+    return config.sampling
 
 
 #: ``--orientation``: the probability a sampled stripe is fitted on, for a block of blank azimuth.

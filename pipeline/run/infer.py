@@ -264,3 +264,17 @@ def summarize(ds: xr.Dataset) -> dict:
                         azimuths_deg=sorted(set(ds["azimuth"].values[q].tolist())), grid_points=int(mask.sum()))
         out[method] = info
     return out
+
+
+def write_inference(observed_csv: Path, inventory: Inventory, *, shape: str, config: Config, out_dir: Path,
+                    history: str) -> tuple[xr.Dataset, Path, Path]:
+    """``screen infer``: the observations of ``observed_csv`` against the pulses of ``shape`` (:func:`infer`),
+    written to ``out_dir/infer.nc`` and drawn in ``out_dir/infer.png``; the dataset and both paths."""
+    from ..report.infer_plot import plot_inference
+    from ..store import write_atomic
+
+    ds = infer(read_observations(observed_csv, inventory), shape=shape, config=config)
+    ds.attrs["history"] = history
+    out = write_atomic(ds, Path(out_dir) / "infer.nc")
+    figure = plot_inference(ds, Path(out_dir) / "infer.png", g_ms2=config.records.g_ms2)
+    return ds, out, figure

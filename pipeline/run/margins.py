@@ -164,11 +164,12 @@ def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.
 
 
 def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, settings, unc,
-                    g_ms2: float) -> tuple[np.ndarray, int]:
+                    g_ms2: float, sampling: bool) -> tuple[np.ndarray, int]:
     """The simulated margin of the first ``unc.margin_samples`` samples of block ``j`` (common random
     numbers), as factors on the *nominal* record: the sampled block's scan on the record scaled by the
-    sample's amplitude factor, times that factor. Returns the margins and the scenes simulated."""
-    n = unc.margin_samples if unc.samples > 0 else 0       # --samples 0: nominal results only
+    sample's amplitude factor, times that factor (none where the run does not sample: ``sampling``,
+    :attr:`pipeline.config.Config.sampling`). Returns the margins and the scenes simulated."""
+    n = unc.margin_samples if sampling else 0       # --samples 0: nominal results only
     if n <= 0:
         return np.zeros(0), 0
     sb = sample_block(common_normals(unc.seed, n), dataclasses.replace(inv.shape(j), azimuth_deg=math.nan),
@@ -208,7 +209,8 @@ def margin_task(item: tuple, ctx: Context) -> dict:
         history = theta_history(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings) \
             if want_history or scale <= RELOCATE_BELOW_SCALE else None
         sampled, more = sampled_margins(ah, on.vertical_ms2, on.dt_s, j=index[block_id], inv=inv,
-                                        settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2)
+                                        settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2,
+                                        sampling=cfg.sampling)
         out[block_id] = (scale, runs + more, history, on.dt_s, sampled)
     return out
 

@@ -288,7 +288,7 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
     nb = len(inv)
     out = SceneColumns.empty(nb)
     unc = cfg.uncertainty
-    z = common_normals(unc.seed, unc.samples) if scan and unc.samples > 0 else None
+    z = common_normals(unc.seed, unc.samples) if scan and cfg.sampling else None
     z_estimate = estimation_normals(unc, unc.samples) if z is not None else None
     z_average = average_normals(unc) if z is not None else None
     settings = cfg.simulation_settings()

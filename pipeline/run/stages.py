@@ -124,6 +124,31 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
+def compile_simulator(*, announce=None) -> float:
+    """Compile the simulator in this process before any worker needs it (:func:`pipeline.rocking.warmup
+    .compile_kernels`; ``announce`` is told when it takes a while: the first run of an install); seconds taken."""
+    from ..rocking.warmup import compile_kernels
+
+    return compile_kernels(announce=announce)
+
+
+def buildings_of(path: Path | None, inventory: Inventory) -> dict:
+    """The buildings of a ``--buildings`` CSV (none: ``{}``), checked against the inventory's placements (the
+    errors list every block)."""
+    from ..floors.buildings import place_blocks, read_buildings
+
+    buildings = read_buildings(path) if path is not None else {}
+    place_blocks(inventory, buildings)
+    return buildings
+
+
+def rebuild_report(results_path: Path, out_dir: Path | None, *, all_figures: bool = False) -> tuple[Path, Path]:
+    """``screen report``: the asset-risk report and ``assets.csv`` from a ``screening.nc`` alone, the figures that
+    ``screen`` drew into that output reused (kept by content; a changed figure is drawn again)."""
+    cache = Path(results_path).parent / STATE_DIR / "figures"
+    return build_report(results_path, out_dir, all_figures=all_figures, figure_cache=cache if cache.is_dir() else None)
+
+
 def provenance(request: ScreenRequest) -> dict:
     """Global attributes recording how the results were made."""
     return {

@@ -140,6 +140,15 @@ def write_manifest(out_dir: Path, key: dict, *, counts: dict, margins: dict,
     return write_text_atomic(path, json.dumps(doc, default=str, indent=1))
 
 
+def check(*, records_dir: Path, blocks_csv: Path, config, stationxml: Path | None, out_dir: Path,
+          buildings_csv: Path | None = None, force: bool = False) -> tuple[dict, dict | None]:
+    """Whether a run has anything to do: its key (:func:`fingerprint`), and the last run's manifest when nothing
+    it depends on changed and its outputs are intact (None: run; always None with ``force``)."""
+    key = fingerprint(records_dir=records_dir, blocks_csv=blocks_csv, config_sha256=config.digest(),
+                      stationxml=stationxml, out_dir=out_dir, buildings_csv=buildings_csv)
+    return key, None if force else up_to_date(out_dir, key)
+
+
 def up_to_date(out_dir: Path, key: dict) -> dict | None:
     """The last run's manifest when its key equals ``key`` and every output is as it wrote it; else None.
 
