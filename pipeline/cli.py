@@ -29,8 +29,6 @@ from pathlib import Path
 from . import __version__
 from .config import CRITERION_MEASURED_MISSES, FIDELITY_TIERS
 from .errors import InventoryError, OutputError, OutputLockedError, RecordsNotFoundError, RockscreenError, UsageError
-from .rocking.scene import Response
-from .scene_table import SCENE
 
 log = logging.getLogger("pipeline")
 
@@ -214,7 +212,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
           + "; by response: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_response"].items()),
           file=sys.stderr)
     print("scenes by orientation: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_orientation"].items())
-          + f"; rocking planes integrated: {s[SCENE.planes_simulated]}", file=sys.stderr)
+          + f"; rocking planes integrated: {s['planes_integrated']}", file=sys.stderr)
     if any(s.get("scenes_by_robustness", {}).values()):
         print("under the declared uncertainty ([uncertainty]): " + ", ".join(
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())
@@ -238,7 +236,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if s.get("slides_off_base"):
         print(f"sliding: {s['slides_off_base']} scene(s) where the block slides farther than its base_margin_m, off "
               "its base (slides_off_base in screening.nc)", file=sys.stderr)
-    flights = s["scenes_by_response"].get(Response.free_flight.name)
+    flights = s.get("free_flight_scenes", 0)
     if flights:
         print(f"free flight: {flights} scene(s) where the ground's g + a_v reached 0 "
               "before any overturning have no verdict (response free_flight; simulation.contact_model is off)",

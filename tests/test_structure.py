@@ -82,7 +82,6 @@ def test_the_planner_dispatches_through_the_registry_without_a_model_chain():
 
 #: What the CLI may import below the run layer, and why: each only to parse an option or to print.
 CLI_LIBRARY_IMPORTS = {
-    "rocking.scene": "Response: the name of a count it prints",
     "closed_forms": "PULSE_BETA: the pulse shapes --pulse accepts",
     "records.intensity": "IMS, SCALABLE, display_unit: the IMs --im accepts and the unit --levels is printed in",
     "uncertainty.hazard": "Component: the component definitions --im-component accepts",
@@ -100,3 +99,14 @@ def test_the_cli_parses_and_prints_and_leaves_the_work_to_the_run_layer():
     below = {m for m in imported if m.split(".")[0] not in CLI_APPLICATION_IMPORTS}
     assert below <= set(CLI_LIBRARY_IMPORTS), sorted(below - set(CLI_LIBRARY_IMPORTS))
     assert not {m for m in imported if m.split(".")[0] in ("store", "report", "floors", "pulses")}
+
+
+def test_the_cli_loads_no_simulator_before_it_has_work():
+    """``screen --help``, usage errors and an up-to-date run answer at once: importing the CLI loads neither numba
+    nor the simulator (a fresh interpreter)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, pipeline.cli\n"
+            "print(','.join(sorted(m for m in sys.modules if m.startswith(('numba', 'pipeline.rocking.kernel')))))")
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip() == ""
