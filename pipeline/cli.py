@@ -19,10 +19,13 @@ written (earlier results intact); 75 another run holds the output;
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import math
 import shlex
+import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -703,6 +706,30 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+#: Signals a command treats as Ctrl-C (what systemd, Kubernetes and Slurm send to stop a job, and a closed terminal):
+#: the work done is kept, the output's lock released, and the exit code is 130.
+INTERRUPT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+def _raise_interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt(f"signal {signal.Signals(signum).name}")
+
+
+@contextlib.contextmanager
+def _signals_interrupt():
+    """While a command runs (in the main thread), :data:`INTERRUPT_SIGNALS` raise ``KeyboardInterrupt`` as Ctrl-C
+    does; the previous handlers are restored after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {s: signal.signal(s, _raise_interrupt) for s in INTERRUPT_SIGNALS}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``screen`` console script."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -717,12 +744,13 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s", stream=sys.stderr)
     log.setLevel(logging.DEBUG if getattr(args, "verbose", False) else logging.WARNING)
     try:
-        if sys.stderr.isatty() and not getattr(args, "quiet", False):
-            from tqdm.contrib.logging import logging_redirect_tqdm
+        with _signals_interrupt():
+            if sys.stderr.isatty() and not getattr(args, "quiet", False):
+                from tqdm.contrib.logging import logging_redirect_tqdm
 
-            with logging_redirect_tqdm():                    # warnings above the progress bar, never inside it
-                return command(args, argv)
-        return command(args, argv)
+                with logging_redirect_tqdm():                    # warnings above the progress bar, never inside it
+                    return command(args, argv)
+            return command(args, argv)
     except InventoryError as exc:
         print(f"error: {exc}\nnothing was screened or written.", file=sys.stderr)
         return EXIT_USAGE

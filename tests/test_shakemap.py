@@ -107,3 +107,43 @@ def test_the_psa_field_nearest_a_blocks_period():
     assert field_for("pga") == "PGA" and field_for("pgv") == "PGV"
     with pytest.raises(ShakeMapError, match="arias"):
         field_for("arias")
+
+
+#: A billion-laughs entity bomb and an external entity (XXE), each placed before a real grid's root element.
+ENTITY_BOMB = ('<!DOCTYPE shakemap_grid [<!ENTITY a "aaaaaaaaaa">' + "".join(
+    f'<!ENTITY {chr(98 + k)} "{("&" + chr(97 + k) + ";") * 10}">' for k in range(8)) + "]>\n")
+EXTERNAL_ENTITY = '<!DOCTYPE shakemap_grid [<!ENTITY secret SYSTEM "file:///etc/passwd">]>\n'
+
+
+@pytest.mark.parametrize("doctype", [ENTITY_BOMB, EXTERNAL_ENTITY], ids=["billion-laughs", "xxe"])
+def test_xml_entities_are_refused_by_name_not_expanded(shakemaps, tmp_path, doctype):
+    text = (shakemaps / SCENARIO).read_text()
+    start = text.index("<shakemap_grid")
+    path = tmp_path / "grid.xml"
+    path.write_text(text[:start] + doctype + text[start:].replace('event_id="', 'event_id="&secret;', 1)
+                    if "secret" in doctype else text[:start] + doctype + text[start:])
+    with pytest.raises(ShakeMapError, match="declares a DTD or XML entities.*refused"):
+        read_grid(path)
+
+
+def test_malformed_xml_is_a_named_refusal(shakemaps, tmp_path):
+    text = (shakemaps / SCENARIO).read_text()
+    path = tmp_path / "grid.xml"
+    path.write_text(text.replace("<event ", "<event <", 1))
+    with pytest.raises(ShakeMapError, match="not well-formed XML"):
+        read_grid(path)
+
+
+def test_a_decompression_bomb_is_refused_without_being_decompressed(tmp_path, monkeypatch):
+    import gzip
+
+    from pipeline.event import shakemap
+
+    monkeypatch.setattr(shakemap, "MAX_GRID_BYTES", 2**20)      # the limit, scaled down with the bomb
+    path = tmp_path / "grid.xml.gz"
+    with gzip.open(path, "wb", compresslevel=9) as fh:
+        for _ in range(8):
+            fh.write(b" " * 2**20)                                 # 8 MiB of blanks in a few kB
+    assert path.stat().st_size < 2**16
+    with pytest.raises(ShakeMapError, match="more than 1 MiB once decompressed.*refused"):
+        read_grid(path)

@@ -83,7 +83,7 @@ class ProcessExecutor:
     def _new_pool(self) -> ProcessPoolExecutor:
         # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
         return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=multiprocessing.get_context("forkserver"),
-                                   initializer=_ignore_sigint)
+                                   initializer=_ignore_interrupts)
 
     def __enter__(self):
         # One BLAS/OpenMP thread per worker, as Dask's Nanny does: N workers with a BLAS pool each
@@ -199,9 +199,12 @@ def checked_workers(n: int) -> int:
     return n
 
 
-def _ignore_sigint() -> None:
-    """Workers ignore Ctrl-C: the parent handles it, cancels the pool and keeps what was done."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+def _ignore_interrupts() -> None:
+    """Workers ignore Ctrl-C and a closed terminal's SIGHUP, which reach the whole process group: the parent handles
+    them, cancels the pool and keeps what was done. SIGTERM keeps its default: the pool terminates its workers
+    with it when one of them dies (``ProcessPoolExecutor``), and a worker that ignored it would never end."""
+    for sig in (signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, signal.SIG_IGN)
 
 
 class DaskExecutor:

@@ -68,13 +68,30 @@ def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
     return replace_atomically(path, write)
 
 
+#: The first characters with which a spreadsheet reads a cell as a formula (CSV injection; OWASP).
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def inert(value):
+    """A CSV cell a spreadsheet will not execute: text that starts like a formula (:data:`FORMULA_START`) gets a
+    leading apostrophe, as OWASP advises; numbers, also negative ones written as text, are kept as they are."""
+    if not isinstance(value, str) or not value.startswith(FORMULA_START):
+        return value
+    try:
+        float(value)
+        return value
+    except ValueError:
+        return "'" + value
+
+
 def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
-    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`)."""
+    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`); text that
+    a spreadsheet would execute as a formula is written inert (:func:`inert`)."""
     def write(tmp: str) -> None:
         with open(tmp, "w", newline="", encoding="utf-8") as fh:
             w = csv.DictWriter(fh, fieldnames=list(columns), restval="", extrasaction="ignore")
             w.writeheader()
-            w.writerows(rows)
+            w.writerows({k: inert(v) for k, v in row.items()} for row in rows)
 
     return replace_atomically(path, write)
 
