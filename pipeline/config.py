@@ -257,6 +257,7 @@ CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {
     ("criteria",): {"form": FORMS},
     ("fidelity",): {"tier": FIDELITY_TIERS},
     ("event",): {"shakemap_component": ("rotd100", "rotd50", "geomean", "larger")},
+    ("records",): {"implausible": ("fail", "warn")},
 }
 
 

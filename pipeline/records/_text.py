@@ -7,12 +7,16 @@ never raise from a format check.
 
 from __future__ import annotations
 
+import logging
+import math
 import os
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import RecordFormatError
+
+log = logging.getLogger(__name__)
 
 #: Bytes read by a format check: enough for every header we detect on.
 PEEK_BYTES = 4096
@@ -154,6 +158,28 @@ def parse_fixed_floats(
     return out
 
 
+#: Sampling intervals a reader accepts at all [s]: outside these the header holds no sampling interval (the limits
+#: of what ground motions have, narrower, are settings: :mod:`pipeline.records.plausibility`).
+READABLE_DT_S = (1e-9, 1e4)
+
+
+def check_interval(dt_s: float, *, name: str, where: str) -> float:
+    """A header's sampling interval [s], refused (naming the value) when it is not a finite number within
+    :data:`READABLE_DT_S`.
+
+    Raises
+    ------
+    RecordFormatError
+        Naming the file, the header line and the value.
+    """
+    lo, hi = READABLE_DT_S
+    if not (math.isfinite(dt_s) and lo <= dt_s <= hi):
+        raise RecordFormatError(f"{name}, {where}: sampling interval {dt_s!r} s is not one (expected a finite number "
+                                f"of seconds in [{lo:g}, {hi:g}]; records are sampled every 0.001-0.02 s); fix the "
+                                "header or re-download the file")
+    return dt_s
+
+
 def check_samples(data: np.ndarray, *, npts: int, name: str) -> np.ndarray:
     """Check the sample count against the header and reject non-finite data."""
     if data.size < npts:
@@ -161,6 +187,9 @@ def check_samples(data: np.ndarray, *, npts: int, name: str) -> np.ndarray:
             f"{name}: header says NPTS={npts} but only {data.size} values were read; "
             "the file is truncated. Re-download it."
         )
+    if data.size > npts:
+        log.warning("%s: holds %d value(s) after the NPTS=%d its header states; the first %d are read (check the "
+                    "header's NPTS if the record is longer)", name, data.size - npts, npts, npts)
     data = data[:npts]
     if npts == 0:
         raise RecordFormatError(f"{name}: header says NPTS=0; the record holds no samples")

@@ -14,17 +14,20 @@ says which); :mod:`pipeline.records.units` converts them to m s-2.
 
 from __future__ import annotations
 
+import math
 import re
 
 from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
-from ._text import check_samples, parse_free_floats, peek_lines, read_lines, source_name
+from ._text import check_interval, check_samples, parse_free_floats, peek_lines, read_lines, source_name
 from .common import COMMON, common_fields
 
 _NEW_HEADER = re.compile(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([-+\d.Ee]+)", re.I)
 _OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+\d.Ee]+)\s+NPTS\s*,\s*DT", re.I)
+#: A header whose DT is a word for no number (nan, inf): recognised as AT2, so that the reader refuses it by name.
+_NO_NUMBER_DT = re.compile(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([-+]?(?:nan|inf|infinity))\b", re.I)
 _PGA = re.compile(r"PGA\s*=\s*([-+\d.Ee]+)\s*G\b", re.I)
 _UNITS = {
     "G": "g",
@@ -38,10 +41,13 @@ _UNITS = {
 
 
 def _parse_npts_dt(line: str) -> tuple[int, float] | None:
-    m = _NEW_HEADER.search(line) or _OLD_HEADER.search(line)
+    m = _NEW_HEADER.search(line) or _OLD_HEADER.search(line) or _NO_NUMBER_DT.search(line)
     if not m:
         return None
-    return int(m.group(1)), float(m.group(2))
+    try:
+        return int(m.group(1)), float(m.group(2))
+    except ValueError:                       # not a number (a lone sign): refused by name by the reader
+        return int(m.group(1)), math.nan
 
 
 def _units_of(line3: str) -> str | None:
@@ -92,8 +98,7 @@ def _read_at2(filename, headonly: bool = False, **kwargs) -> Stream:
             "or 'npts dt NPTS, DT' header line"
         )
     npts, dt = parsed
-    if not dt > 0:
-        raise RecordFormatError(f"{name}, line 4: DT={dt} must be positive")
+    check_interval(dt, name=name, where="line 4 (DT)")
     units = _units_of(lines[2])
     fields = [f.strip() for f in lines[1].split(",")]
     component = fields[-1] if len(fields) > 1 else ""

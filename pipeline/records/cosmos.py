@@ -29,7 +29,7 @@ from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
-from ._text import check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
+from ._text import check_interval, check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
 from .common import COMMON, codes_label, common_fields
 
 _FIRST_LINE = re.compile(r"\(Format v(\d+\.\d+) with (\d+) text lines\)", re.I)
@@ -138,8 +138,7 @@ def _channel(lines: list[str], i: int, name: str, headonly: bool) -> tuple[Trace
     per_line, width = int(md.group(4)), int(md.group(5))
     n_data_lines = -(-npts // per_line)
     dt_ms = float(reals[62 - 1])
-    if not dt_ms > 0:
-        raise RecordFormatError(f"{name}: Real(62), the sampling interval, is {dt_ms} ms")
+    check_interval(dt_ms / 1000.0, name=name, where="Real(62), the sampling interval in ms")
     stats = _channel_stats(text, ints, reals, comments, kind=kind, units=_UNITS.get(md.group(3).strip().lower()),
                            npts=npts, dt_ms=dt_ms)
     body = lines[j + 1:j + 1 + n_data_lines]

@@ -21,6 +21,7 @@ format" (DMG/CSMIP V1, V2 tape formats), California Geological Survey.
 
 from __future__ import annotations
 
+import math
 import re
 from typing import NamedTuple
 
@@ -28,7 +29,7 @@ from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
-from ._text import check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
+from ._text import check_interval, check_samples, parse_fixed_floats, peek_lines, read_lines, source_name
 from .common import COMMON, codes_label, common_fields
 
 _V1_DATA = re.compile(
@@ -90,6 +91,7 @@ def _read_dmg(filename, headonly: bool = False, **kwargs) -> Stream:
             continue
         k = _data_line(lines, s, name)
         fmt = _data_format(lines[k])
+        check_interval(fmt.dt_s, name=name, where=f"line {k + 1} (the data line's sampling)")
         stats = _channel_stats(lines[s:k], fmt)
         if headonly:
             traces.append(Trace(header=stats))
@@ -134,7 +136,8 @@ def _data_format(line: str) -> _DataFormat:
     """The data line of a V1 (uncorrected: a sampling rate) or V2 (corrected: an interval) channel."""
     m1 = _V1_DATA.match(line)
     if m1:
-        return _DataFormat(int(m1.group(1)), 1.0 / float(m1.group(2)), m1.group(3), int(m1.group(4)),
+        rate = float(m1.group(2))                   # samples per second: 0 is no interval (refused by name)
+        return _DataFormat(int(m1.group(1)), 1.0 / rate if rate > 0 else math.nan, m1.group(3), int(m1.group(4)),
                            int(m1.group(5)), "uncorrected")
     m2 = _V2_DATA.match(line)
     assert m2 is not None                   # _data_line stops only at a line one of the two matches

@@ -33,6 +33,7 @@ from .common import COMMON, annotate
 from .coordinates import StationLocation, station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
+from .plausibility import check_plausible
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
@@ -410,6 +411,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
     declared = read_declared_units(root, config) if declared is None else declared
     notes: list[str] = []
     traces = _traces_in_ms2(source, root=root, config=config, declared=declared, inventory=inventory)
+    check_plausible(traces, record_id=source.record_id, records=config.records, notes=notes)   # before processing
     horizontals, verticals = _components(traces, source, inventory, notes)
     horizontals, az = _horizontal_pair(horizontals, notes)
     azimuth_known = all(o.azimuth_deg is not None for o, _ in horizontals)

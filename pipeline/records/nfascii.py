@@ -17,7 +17,7 @@ from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
-from ._text import check_samples, parse_free_floats, peek_lines, read_lines, source_name
+from ._text import check_interval, check_samples, parse_free_floats, peek_lines, read_lines, source_name
 from .common import COMMON, common_fields
 
 _LINE2 = re.compile(r"^%\s*(\d+)\s+([-+\d.Ee]+)")
@@ -38,8 +38,7 @@ def _read_nfascii(filename, headonly: bool = False, **kwargs) -> Stream:
     if not m:
         raise RecordFormatError(f"{name}, line 2: expected '%<npts> <dt>'")
     npts, dt = int(m.group(1)), float(m.group(2))
-    if not dt > 0:
-        raise RecordFormatError(f"{name}, line 2: dt={dt} must be positive")
+    check_interval(dt, name=name, where="line 2 (dt)")
     tokens = lines[0][1:].split()
     stem = Path(name).stem.lower()
     component = "FN" if stem.endswith("_fn") or (len(tokens) > 1 and tokens[1].lower() == "fn") else (

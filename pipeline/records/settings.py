@@ -30,6 +30,20 @@ class RecordsConfig:
     group_time_tolerance_s: float = 60.0
     #: Units of files that do not state them, by glob (also read from ``units.toml``).
     declared_units: dict = field(default_factory=dict)
+    #: What ground motions have (:mod:`pipeline.records.plausibility`): a record outside these fails with the
+    #: value named, or is screened with a warning when ``implausible = "warn"``. The largest peak acceleration of
+    #: a component, in g (the largest recorded are about 3-4 g; a spike of thousands of g is a unit or a data
+    #: error).
+    max_pga_g: float = 10.0
+    #: Sampling intervals accepted [s] (strong-motion records are sampled at 1-10,000 Hz).
+    min_dt_s: float = 1e-4
+    max_dt_s: float = 1.0
+    #: Longest record [s] and most samples per component: beyond these a record is not an earthquake's
+    #: strong motion, and its analysis would take memory without bound (about 1.7 kB per sample at the peak).
+    max_duration_s: float = 3600.0
+    max_samples: int = 1_000_000
+    #: ``fail`` (a record outside the limits fails, named) or ``warn`` (it is screened, with a warning and a note).
+    implausible: str = "fail"
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,69 @@
+"""Whether a record is a ground motion at all: its peak, sampling interval, duration and length against what
+strong-motion records have (the limits are ``[records]`` settings, :class:`~.settings.RecordsConfig`).
+
+A record outside them is most often a unit or data error: a spike of thousands of g, an interval typed in the
+wrong unit, a file of another kind of data. It fails with the value and the limit named and the fix, or, with
+``implausible = "warn"``, is screened with a warning and a note in its results. The check runs on the converted
+traces before any processing, so that a record of millions of samples is refused before it takes memory.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ..errors import RecordFormatError
+from .settings import RecordsConfig
+
+log = logging.getLogger(__name__)
+
+
+class ImplausibleRecordError(RecordFormatError):
+    """A record whose peak, interval, duration or length is outside what ground motions have."""
+
+
+def implausibilities(traces, *, records: RecordsConfig) -> list[str]:
+    """What is outside the limits of ``records`` in the converted traces (values in m s-2), each with its value,
+    its limit and the setting that holds it; empty when the record is plausible."""
+    out = []
+    c = records
+    for tr in traces:
+        where = f"{tr.stats.get('rockscreen_file', '?')} {tr.stats.channel}"
+        dt, n = float(tr.stats.delta), int(tr.stats.npts)
+        if not c.min_dt_s <= dt <= c.max_dt_s:
+            out.append(f"{where}: sampling interval {dt:g} s outside [{c.min_dt_s:g}, {c.max_dt_s:g}] s "
+                       "([records] min_dt_s, max_dt_s)")
+        if n > c.max_samples:
+            out.append(f"{where}: {n} samples, more than {c.max_samples} ([records] max_samples)")
+        if dt * (n - 1) > c.max_duration_s:
+            out.append(f"{where}: {dt * (n - 1):g} s long, more than {c.max_duration_s:g} s ([records] "
+                       "max_duration_s)")
+        peak_g = float(np.max(np.abs(tr.data))) / c.g_ms2 if n else 0.0
+        if peak_g > c.max_pga_g:
+            out.append(f"{where}: peak acceleration {peak_g:.4g} g, more than {c.max_pga_g:g} g ([records] "
+                       "max_pga_g)")
+    return out
+
+
+def check_plausible(traces, *, record_id: str, records: RecordsConfig, notes: list[str]) -> None:
+    """Refuse a record outside the limits (:func:`implausibilities`), or, with ``implausible = "warn"``, warn and
+    note it in ``notes``.
+
+    Raises
+    ------
+    ImplausibleRecordError
+        Naming each value outside its limit, and the fix.
+    """
+    found = implausibilities(traces, records=records)
+    if not found:
+        return
+    if records.implausible == "warn":
+        for f in found:
+            log.warning("record %s is screened although %s", record_id, f)
+            notes.append(f"implausible, screened as asked ([records] implausible = 'warn'): {f}")
+        return
+    raise ImplausibleRecordError(
+        "not what ground motions have: " + "; ".join(found) + ". Check the file's units (units.toml) and header; "
+        "if the record is right, raise the limit in the configuration, or set [records] implausible = \"warn\" to "
+        "screen it with a warning")

@@ -1,0 +1,95 @@
+"""Records outside what ground motions have fail with the value named (or are screened with a warning when asked),
+and every numeric edge of a header is a named error, never a traceback."""
+
+from __future__ import annotations
+
+import logging
+import re
+
+import numpy as np
+import pytest
+from obspy import read
+
+from pipeline.config import Config, config_from_dict
+from pipeline.errors import ConfigError, RecordFormatError
+from pipeline.records.loader import load_record, scan
+from pipeline.records.plausibility import ImplausibleRecordError
+
+PACOIMA = "peer-at2/RSN77_SFERN_PUL164.AT2"          # a real AT2 in g: NPTS= 4172, DT= .0100 SEC
+
+
+def _at2(records_dir, tmp_path, *, header: str | None = None, spike_g: float | None = None,
+         extra: int = 0):
+    """The Pacoima AT2 with its line 4 replaced (``header``), one sample set to ``spike_g`` or ``extra`` values
+    appended; its directory and its one record."""
+    lines = (records_dir / PACOIMA).read_text().splitlines()
+    if header is not None:
+        lines[3] = header
+    if spike_g is not None:
+        lines[200] = f"  {spike_g:.7E}" + lines[200][15:]
+    lines += ["  .1000000E-02"] * extra
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "pacoima.AT2").write_text("\n".join(lines) + "\n")
+    sources, failures = scan(root, config=Config())
+    return root, sources, failures
+
+
+@pytest.mark.parametrize("dt", ["nan", "inf", "1e30", "1e-30", "0", "-.01"])
+def test_a_header_interval_that_is_not_one_is_a_named_error(records_dir, tmp_path, dt):
+    root, sources, failures = _at2(records_dir, tmp_path, header=f"NPTS=   4172, DT=   {dt} SEC,")
+    # recognised as an AT2 file, and refused by name when its header is read (at the scan)
+    assert not sources and len(failures) == 1
+    assert re.search(r"line 4 \(DT\): sampling interval .* is not one", failures[0].reason)
+    with pytest.raises(RecordFormatError, match=r"line 4 \(DT\): sampling interval .* is not one"):
+        read(str(root / "pacoima.AT2"))
+
+
+def test_a_spike_of_a_million_g_fails_naming_the_peak_and_the_setting(records_dir, tmp_path):
+    root, sources, _ = _at2(records_dir, tmp_path, spike_g=1e6)
+    with pytest.raises(ImplausibleRecordError, match=r"peak acceleration 1e\+06 g, more than 10 g \(\[records\] "
+                                                     r"max_pga_g\).*units"):
+        load_record(sources[0], root=root, config=Config())
+
+
+def test_implausible_warn_screens_it_with_a_warning_and_a_note(records_dir, tmp_path, caplog):
+    root, sources, _ = _at2(records_dir, tmp_path, spike_g=1e6)
+    config = config_from_dict({"records": {"implausible": "warn"}})
+    with caplog.at_level(logging.WARNING):
+        rec = load_record(sources[0], root=root, config=config)
+    assert any("is screened although" in r.getMessage() and "max_pga_g" in r.getMessage() for r in caplog.records)
+    assert any("implausible, screened as asked" in n for n in rec.notes)
+
+
+@pytest.mark.parametrize("limits, message", [({"max_samples": 1000}, r"4172 samples, more than 1000"),
+                                             ({"max_duration_s": 30.0}, r"41.71 s long, more than 30 s"),
+                                             ({"max_dt_s": 0.005}, r"sampling interval 0.01 s outside")])
+def test_length_duration_and_interval_limits_are_settings(records_dir, tmp_path, limits, message):
+    root, sources, _ = _at2(records_dir, tmp_path)
+    assert load_record(sources[0], root=root, config=Config()).npts == 4172      # plausible by default
+    with pytest.raises(ImplausibleRecordError, match=message):
+        load_record(sources[0], root=root, config=config_from_dict({"records": limits}))
+
+
+def test_values_beyond_the_headers_npts_are_said_not_dropped_silently(records_dir, tmp_path, caplog):
+    root, sources, _ = _at2(records_dir, tmp_path, extra=7)
+    with caplog.at_level(logging.WARNING):
+        rec = load_record(sources[0], root=root, config=Config())
+    assert rec.npts == 4172
+    assert any("holds 7 value(s) after the NPTS=4172" in r.getMessage() for r in caplog.records)
+
+
+def test_the_policy_is_checked():
+    with pytest.raises(ConfigError, match="implausible"):
+        config_from_dict({"records": {"implausible": "ignore"}})
+
+
+def test_the_bundled_records_are_plausible(records_dir):
+    """Every bundled record passes the default limits (their peaks are at most 1.2 g, their intervals 0.0024-0.02
+    s, their lengths at most 32,000 samples)."""
+    from pipeline.records.plausibility import implausibilities
+
+    assert Config().records.max_pga_g >= 10 * 1.0 and np.isfinite(Config().records.max_duration_s)
+    sources, _ = scan(records_dir, config=Config())
+    assert len(sources) > 30
+    assert implausibilities([], records=Config().records) == []
