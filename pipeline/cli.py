@@ -427,7 +427,8 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
     from .run.stages import rebuild_report
 
-    html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures)
+    html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures,
+                                  command=shlex.join(["screen", *argv]))
     print(f"wrote {html} and {assets}", file=sys.stderr)
     return EXIT_OK
 

@@ -142,11 +142,21 @@ def buildings_of(path: Path | None, inventory: Inventory) -> dict:
     return buildings
 
 
-def rebuild_report(results_path: Path, out_dir: Path | None, *, all_figures: bool = False) -> tuple[Path, Path]:
+def rebuild_report(results_path: Path, out_dir: Path | None, *, all_figures: bool = False,
+                   command: str = "screen report") -> tuple[Path, Path]:
     """``screen report``: the asset-risk report and ``assets.csv`` from a ``screening.nc`` alone, the figures that
-    ``screen`` drew into that output reused (kept by content; a changed figure is drawn again)."""
+    ``screen`` drew into that output reused (kept by content; a changed figure is drawn again). It holds the
+    output's lock while it reads and writes, so that it never pairs the files of a screening under way.
+
+    Raises
+    ------
+    OutputLockedError
+        When a run is writing that output.
+    """
     cache = Path(results_path).parent / STATE_DIR / "figures"
-    return build_report(results_path, out_dir, all_figures=all_figures, figure_cache=cache if cache.is_dir() else None)
+    with OutputLock(Path(out_dir) if out_dir is not None else Path(results_path).parent, command=command):
+        return build_report(results_path, out_dir, all_figures=all_figures,
+                            figure_cache=cache if cache.is_dir() else None)
 
 
 def provenance(request: ScreenRequest) -> dict:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import socket
@@ -15,16 +16,18 @@ from .atomic import STATE_DIR
 class OutputLock:
     """An exclusive lock on an output directory, held for the length of a run.
 
-    The lock is the file ``OUT/.rockscreen/lock``, created with ``O_EXCL``
-    and holding the owner's pid, host, start time and command. A lock left by
-    a run that died on this host (its pid no longer exists) is taken over
-    with a warning; a live one raises :class:`OutputLockedError`.
+    The lock is an exclusive ``flock`` on the file ``OUT/.rockscreen/lock``, which holds the owner's pid, host, start
+    time and command. The kernel releases it when its process ends, however it ends (SIGKILL, the OOM killer), so
+    a run that died leaves no lock to take over: the next run takes the lock at once, and says so when the dead
+    run's file was left behind. Two runs can never both hold it (tested with processes racing for a lock left by
+    a dead run); a live one raises :class:`OutputLockedError`.
     """
 
     def __init__(self, out_dir: str | Path, *, command: str = ""):
         self.path = Path(out_dir) / STATE_DIR / "lock"
         self.command = command
         self.stale_owner: dict | None = None
+        self._fd: int | None = None
 
     def _owner(self) -> dict:
         try:
@@ -36,28 +39,40 @@ class OutputLock:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         info = {"pid": os.getpid(), "host": socket.gethostname(),
                 "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "command": self.command}
-        for _ in range(2):
+        for _ in range(MAX_LOCK_ATTEMPTS):
+            fd = os.open(self.path, os.O_CREAT | os.O_RDWR, 0o644)
             try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
                 owner = self._owner()
-                if owner.get("host") == info["host"] and not _pid_alive(int(owner.get("pid", -1))):
-                    self.stale_owner = owner
-                    self.path.unlink(missing_ok=True)   # the run that held it is dead: take over
-                    continue
                 raise OutputLockedError(
                     f"{self.path.parent.parent}: another run is writing this output (pid {owner.get('pid', '?')} "
                     f"on {owner.get('host', '?')}, started {owner.get('started_utc', '?')}: "
-                    f"{owner.get('command', '')!s}). Wait for it to finish or use another --out; if that run "
-                    f"is dead on another machine, delete {self.path}") from None
-            with os.fdopen(fd, "w") as fh:
-                json.dump(info, fh)
+                    f"{owner.get('command', '')!s}). Wait for it to finish or use another --out") from None
+            if not _same_file(fd, self.path):      # released and removed by its holder while we waited: again
+                os.close(fd)
+                continue
+            previous = os.read(fd, 1 << 16)
+            if previous.strip():                      # its run died without releasing it (the kernel did)
+                try:
+                    self.stale_owner = json.loads(previous)
+                except ValueError:
+                    self.stale_owner = {}
+            os.lseek(fd, 0, os.SEEK_SET)
+            os.ftruncate(fd, 0)
+            os.write(fd, json.dumps(info).encode())
+            self._fd = fd
             return self
-        raise OutputLockedError(f"{self.path}: could not take the lock; delete it if no run is active")
+        raise OutputLockedError(f"{self.path}: could not take the lock in {MAX_LOCK_ATTEMPTS} attempts (other runs "
+                                "keep taking and releasing it); try again")
 
     def release(self) -> None:
-        if self._owner().get("pid") == os.getpid():
-            self.path.unlink(missing_ok=True)
+        if self._fd is None:
+            return
+        self.path.unlink(missing_ok=True)     # removed while held: a run waiting on this file tries the new one
+        os.close(self._fd)
+        self._fd = None
 
     def __enter__(self) -> "OutputLock":
         return self.acquire()
@@ -66,13 +81,15 @@ class OutputLock:
         self.release()
 
 
-def _pid_alive(pid: int) -> bool:
-    if pid <= 0:
-        return False
+#: Attempts at the lock when its holders keep releasing it between our open and our lock.
+MAX_LOCK_ATTEMPTS = 50
+
+
+def _same_file(fd: int, path: Path) -> bool:
+    """Whether the open file ``fd`` is still the file at ``path`` (not removed or replaced since it was opened)."""
     try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
+        st = os.stat(path)
+    except FileNotFoundError:
         return False
-    except PermissionError:
-        return True
-    return True
+    own = os.fstat(fd)
+    return (own.st_dev, own.st_ino) == (st.st_dev, st.st_ino)
