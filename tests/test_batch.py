@@ -695,3 +695,51 @@ def test_a_units_toml_line_recomputes_only_the_records_it_names(make_records, bl
     assert main(args) == 0
     m = re.search(r"records: (\d+) ok \((\d+) screened, (\d+) reused", capsys.readouterr().err)
     assert m and (m.group(2), m.group(3)) == ("1", "1")                    # the file it names, alone
+
+
+# -- transient failures: a lost worker ------------------------------------------------------------------
+
+def _losing(monkeypatch, victim: str) -> None:
+    """The next runs lose the worker of ``victim`` every time (as the OOM killer would)."""
+    from pipeline.run import batch
+    from pipeline.run.screening import failed_result
+
+    real = batch._task
+
+    def task(item, ctx):
+        if item[0].record_id == victim:
+            return failed_result(item[0], TaskLost("the worker process died 3 times running this task alone"))
+        return real(item, ctx)
+
+    monkeypatch.setattr(batch, "_task", task)
+
+
+def test_a_lost_worker_never_replaces_a_good_result_of_the_same_inputs(few_records, blocks_csv, tmp_path,
+                                                                       monkeypatch, caplog):
+    out = tmp_path / "out"
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    before = open_results(out / "screening.nc")
+    victim = "RSN77_SFERN_PUL164"
+    _losing(monkeypatch, victim)
+    assert screen(few_records, blocks_csv, out, "--force") == EXIT_OK        # nothing is lost: nothing failed
+    assert f"record {victim} failed: the worker process died" in caplog.text
+    assert "the result computed earlier for the same files and configuration is kept" in caplog.text
+    after = open_results(out / "screening.nc")
+    assert after["status"].sel(record=victim).item() == "ok"
+    assert_same_results(after, before)
+
+
+def test_a_run_with_a_lost_worker_is_never_up_to_date(few_records, blocks_csv, tmp_path, monkeypatch, capsys):
+    """The first run loses a record's worker (no earlier result to keep): it fails, exit 1; the next run is not
+    'up to date' on that failure, it screens the record again."""
+    out = tmp_path / "out"
+    victim = "RSN77_SFERN_PUL164"
+    with monkeypatch.context() as m:
+        _losing(m, victim)
+        assert main(["--samples", "0", "--records", str(few_records), "--blocks", str(blocks_csv), "--out",
+                     str(out)]) == 1
+    capsys.readouterr()
+    assert screen(few_records, blocks_csv, out) == EXIT_OK
+    err = capsys.readouterr().err
+    assert "up to date" not in err and "1 screened" in err
+    assert open_results(out / "screening.nc")["status"].sel(record=victim).item() == "ok"

@@ -372,6 +372,7 @@ class _Collected:
     failed: list[RecordResult]                       # the failed rows
     records: int = 0                                 # records computed by this run
     scenes: int = 0                                  # scenes computed by this run
+    transient: int = 0                               # records failed by a crash or a lost worker (retried next run)
 
 
 def _execute(the_plan: Plan, ctx: Context, cache: SceneCache | None, executor, progress,
@@ -391,7 +392,15 @@ def _execute(the_plan: Plan, ctx: Context, cache: SceneCache | None, executor, p
 
     def done(job: tuple, res: RecordResult, _reused: bool) -> None:
         _source, block_ids, content = job
+        earlier = None if res.ok or res.deterministic else _earlier_result(cache, res.record_id, content, the_plan)
+        if earlier is not None:          # a lost worker never replaces a good result of the same inputs
+            log.warning("record %s %s; the result computed earlier for the same files and configuration is kept "
+                        "(the next run with --force tries again)", res.record_id, res.status)
+            got.results[res.record_id] = earlier
+            _shed_series(earlier, got.shed)
+            return
         if not res.ok:
+            got.transient += not res.deterministic
             log.warning("record %s %s", res.record_id, res.status)
             got.results.pop(res.record_id, None)
             got.shed.pop(res.record_id, None)
@@ -413,6 +422,18 @@ def _execute(the_plan: Plan, ctx: Context, cache: SceneCache | None, executor, p
     ctx.progress = jobs.scenes
     jobs.run(_task, the_plan.tasks, ctx, done=done, failed=lambda job, f: done(job, failure_result(f), False))
     return got
+
+
+def _earlier_result(cache: SceneCache | None, record_id: str, content: str, the_plan: Plan) -> RecordResult | None:
+    """The scene cache's good result of a record for the same files and run key, when it covers every block of the
+    inventory as it is now (a ``--force`` run overwrites it only as its own results return); else None."""
+    entry = cache.load(record_id, content) if cache is not None else None
+    if entry is None or not entry.ok:
+        return None
+    have = dict(zip(entry.block_ids, entry.block_digests))
+    if any(have.get(b) != d for b, d in zip(the_plan.keys.ids, the_plan.keys.digests)):
+        return None
+    return the_plan.keys(entry)
 
 
 def _mark_present(got: _Collected, the_plan: Plan) -> list[RecordResult]:
@@ -441,6 +462,7 @@ def _record_counts(got: _Collected, the_plan: Plan, found: Scan) -> dict:
     return {"records_ok": len(got.results), "records_failed": len(got.failed), "records_screened": got.records,
             "records_reused": len(got.results) - got.records - vanished, "records_vanished": vanished,
             "records_dropped": len(the_plan.dropped), "scenes_computed": got.scenes,
+            "records_failed_transient": got.transient,
             "files_seen": found.files_seen, "not_records": list(found.not_records),
             "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates]}
 

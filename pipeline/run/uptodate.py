@@ -152,7 +152,8 @@ def check(*, records_dir: Path, blocks_csv: Path, config, stationxml: Path | Non
 def up_to_date(out_dir: Path, key: dict) -> dict | None:
     """The last run's manifest when its key equals ``key`` and every output is as it wrote it; else None.
 
-    None also when another run holds the output's lock (the full path then reports it).
+    None also when another run holds the output's lock (the full path then reports it), and when the last run had
+    records that failed for a transient cause (a crash, a lost worker): the full path retries them.
     """
     path = _manifest_path(out_dir)
     if (Path(out_dir) / STATE_DIR / "lock").exists():
@@ -164,6 +165,8 @@ def up_to_date(out_dir: Path, key: dict) -> dict | None:
     if not isinstance(doc, dict) or doc.get("key") != key:
         return None
     if output_digests(out_dir) != doc.get("outputs"):
+        return None
+    if (doc.get("counts") or {}).get("records_failed_transient"):
         return None
     return doc
 
