@@ -743,3 +743,51 @@ def test_a_run_with_a_lost_worker_is_never_up_to_date(few_records, blocks_csv, t
     err = capsys.readouterr().err
     assert "up to date" not in err and "1 screened" in err
     assert open_results(out / "screening.nc")["status"].sel(record=victim).item() == "ok"
+
+
+def _descendants(pid: int) -> set[int]:
+    """Every process below ``pid`` (read from /proc)."""
+    children: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_bytes().rsplit(b")", 1)[1].split()
+        except OSError:
+            continue
+        children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    found, todo = set(), [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            if child not in found:
+                found.add(child)
+                todo.append(child)
+    return found
+
+
+@pytest.mark.slow
+def test_a_run_killed_with_sigkill_leaves_no_process_behind(records_dir, blocks_csv, tmp_path):
+    """SIGKILL of the main process (the OOM killer, kill -9): its workers end within seconds, and with them the
+    pool's forkserver and resource tracker, so nothing holds the caller's pipes (they were alive 11 minutes
+    later, and the caller's wait hung)."""
+    from pipeline.run.executors import process_alive
+
+    recs = tmp_path / "recs"
+    recs.mkdir()
+    for f in (records_dir / "peer-at2").iterdir():
+        if f.name.startswith(KILL_RECORDS):
+            shutil.copy(f, recs / f.name)
+    shutil.copy(records_dir / "units.toml", recs)
+    proc = subprocess.Popen([sys.executable, "-m", "pipeline", "--records", str(recs), "--blocks", str(blocks_csv),
+                             "--out", str(tmp_path / "out"), "-n", "2", "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    below: set[int] = set()
+    while len(below) < 4 and time.monotonic() < deadline:           # tracker, forkserver and two workers
+        time.sleep(0.2)
+        below = _descendants(proc.pid)
+    assert len(below) >= 4, "the pool did not start"
+    proc.kill()
+    proc.communicate(timeout=30)              # returns once no process holds the pipes: every one has ended
+    deadline = time.monotonic() + 15
+    while any(process_alive(p) for p in below) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not [p for p in below if process_alive(p)]

@@ -25,6 +25,8 @@ import logging
 import multiprocessing
 import os
 import signal
+import threading
+import time
 from collections import deque
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -83,7 +85,7 @@ class ProcessExecutor:
     def _new_pool(self) -> ProcessPoolExecutor:
         # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
         return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=multiprocessing.get_context("forkserver"),
-                                   initializer=_ignore_interrupts)
+                                   initializer=_worker_init, initargs=(os.getpid(),))
 
     def __enter__(self):
         # One BLAS/OpenMP thread per worker, as Dask's Nanny does: N workers with a BLAS pool each
@@ -199,12 +201,48 @@ def checked_workers(n: int) -> int:
     return n
 
 
-def _ignore_interrupts() -> None:
-    """Workers ignore Ctrl-C and a closed terminal's SIGHUP, which reach the whole process group: the parent handles
-    them, cancels the pool and keeps what was done. SIGTERM keeps its default: the pool terminates its workers
-    with it when one of them dies (``ProcessPoolExecutor``), and a worker that ignored it would never end."""
+#: How often a worker checks that the run that started it is still there [s]: a worker whose run was killed (SIGKILL,
+#: the OOM killer) ends within this time, and with the last worker the pool's forkserver and resource tracker,
+#: which live as long as a worker holds their pipes.
+PARENT_POLL_S = 1.0
+#: A worker's exit status when its run is gone.
+EXIT_ORPHANED = 70
+
+
+def _worker_init(parent_pid: int) -> None:
+    """Each worker of the process pool: ignore Ctrl-C and a closed terminal's SIGHUP, which reach the whole process
+    group (the parent handles them, cancels the pool and keeps what was done; SIGTERM keeps its default, which the
+    pool uses to end its workers when one of them dies), and end when the run that started it is gone."""
     for sig in (signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, signal.SIG_IGN)
+    threading.Thread(target=_end_with, args=(parent_pid,), name="rockscreen-parent-watch", daemon=True).start()
+
+
+def _end_with(parent_pid: int) -> None:
+    """End this worker at once when the process ``parent_pid`` has ended (its parent is the pool's forkserver,
+    which outlives the run, so the kernel's parent-death signal cannot serve)."""
+    while True:
+        time.sleep(PARENT_POLL_S)
+        if not process_alive(parent_pid):
+            os._exit(EXIT_ORPHANED)
+
+
+def process_alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie, ended but not yet reaped by its parent, does not)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            state = fh.read().rsplit(b")", 1)[1].split()[0]
+        return state != b"Z"
+    except FileNotFoundError:
+        return False
+    except (OSError, IndexError):           # no /proc (not Linux): ask the kernel
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return False
+        except PermissionError:
+            return True
+        return True
 
 
 class DaskExecutor:
