@@ -791,3 +791,22 @@ def test_a_run_killed_with_sigkill_leaves_no_process_behind(records_dir, blocks_
     while any(process_alive(p) for p in below) and time.monotonic() < deadline:
         time.sleep(0.2)
     assert not [p for p in below if process_alive(p)]
+
+
+def test_margins_split_into_tasks_of_a_few_blocks_give_the_same_margins(few_records, blocks_csv, tmp_path,
+                                                                       monkeypatch):
+    """The margins of a record's blocks are scanned in tasks of at most MARGIN_TASK_BLOCKS blocks (so that a large
+    inventory under few records uses every worker): one block per task gives the same results as the default."""
+    from pipeline.run import margins
+
+    whole = tmp_path / "whole"
+    assert screen(few_records, blocks_csv, whole) == EXIT_OK
+    monkeypatch.setattr(margins, "MARGIN_TASK_BLOCKS", 1)
+    split = tmp_path / "split"
+    assert screen(few_records, blocks_csv, split) == EXIT_OK
+    a, b = open_results(whole / "screening.nc"), open_results(split / "screening.nc")
+    governed = [str(r) for r in a["governing_record"].values if str(r)]
+    assert max(governed.count(r) for r in governed) >= 2        # a record's blocks were split into tasks
+    assert_same_results(a, b)
+    assert (whole / "histories.nc").read_bytes() != b"" and \
+        open_results(whole / "histories.nc").equals(open_results(split / "histories.nc"))

@@ -215,6 +215,12 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     return out
 
 
+#: The most blocks one margin task scans on its record: the blocks a record governs are split into tasks of at most
+#: this many, so that a large inventory under few records uses every worker, shows its progress, and keeps in the
+#: margin cache each task as it finishes (each task loads its record again: a few tenths of a second).
+MARGIN_TASK_BLOCKS = 32
+
+
 def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, executor, *,
                 cache=None, progress=None) -> tuple:
     """Governing record, both margins and the at-risk histories of every block.
@@ -239,7 +245,8 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
     got = _Margins.empty(ds)
     items, reused = _margin_items(ds, rec_index, got, ctx, cache)
     unavailable = [rid for rid in items if rid not in sources]
-    tasks = [(sources[rid], blocks) for rid, blocks in items.items() if rid in sources]
+    tasks = [(sources[rid], blocks[k:k + MARGIN_TASK_BLOCKS]) for rid, blocks in items.items() if rid in sources
+             for k in range(0, len(blocks), MARGIN_TASK_BLOCKS)]
     position = {b: k for k, b in enumerate(got.block_ids)}
 
     def done(job: tuple, result: dict, _reused: bool) -> None:
@@ -253,8 +260,8 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
         log.warning("record %s: no margins (%s)", failure.record_id, failure.reason)
         unavailable.append(failure.record_id)
 
-    RecordJobs(executor, progress=progress, label="records' margins scanned").run(margin_task, tasks, ctx,
-                                                                                   done=done, failed=failed)
+    RecordJobs(executor, progress=progress, label="margin tasks done").run(margin_task, tasks, ctx, done=done,
+                                                                            failed=failed)
     computed = sum(len(blocks) for _, blocks in tasks)
     return apply_schema(_with_margins(ds, rec_index, got, ctx)), history_dataset(got.histories), {
         "simulations": int(got.runs[got.runs > 0].sum()), "reused": reused, "computed": computed,
