@@ -35,12 +35,14 @@ import math
 import numpy as np
 
 from ..compiled import jit, unroll
-from .block import rigid_block
+from ..constants import G
+from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
 from .contract import SceneFacts, SceneInput, SceneModel, always, never
 from .handoff import continue_rocking, from_rest, stopped_short
 from .kernel import rock as rock_compiled
 from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene, general_scene, rocking_scene
+from .settings import SimulationConfig
 from .simulate import continued, rock, slide
 from .simulate import from_rest as general_from_rest
 
@@ -94,9 +96,7 @@ def _general_twin(facts, x, block, control, w):
 def _general_warmup() -> None:
     t = np.linspace(0.0, 2.0, 201)
     a = 3.0 * np.sin(2.0 * np.pi * t)
-    falling = np.where(t < 1.0, 0.0, -1.5 * 9.80665)
-    from .block import Block
-    from .settings import SimulationConfig
+    falling = np.where(t < 1.0, 0.0, -1.5 * G)
     blk = Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.15)
     for history in (False, True):
         _sliding(SceneInput(ah_ms2=a, av_ms2=falling, vertical_ms2=falling, dt_s=0.01, block=blk,
@@ -192,8 +192,6 @@ def _rocking_warmup() -> None:
     a = 3.0 * np.sin(2.0 * np.pi * t)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
-    from .block import Block
-    from .settings import SimulationConfig
     blk = Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21)
     for history in (False, True):
         _rocking(SceneInput(ah_ms2=a, av_ms2=None, vertical_ms2=None, dt_s=0.01, block=blk,
