@@ -79,6 +79,17 @@ def test_values_beyond_the_headers_npts_are_said_not_dropped_silently(records_di
     assert any("holds 7 value(s) after the NPTS=4172" in r.getMessage() for r in caplog.records)
 
 
+def test_zeros_after_the_data_are_padding_and_pass_without_a_word(records_dir, tmp_path, caplog):
+    lines = (records_dir / PACOIMA).read_text().splitlines() + ["  0.0000000E+00  0.0000000E+00"]
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "pacoima.AT2").write_text("\n".join(lines) + "\n")
+    sources, _ = scan(root, config=Config())
+    with caplog.at_level(logging.WARNING):
+        assert load_record(sources[0], root=root, config=Config()).npts == 4172
+    assert not any("after the NPTS" in r.getMessage() for r in caplog.records)
+
+
 def test_the_policy_is_checked():
     with pytest.raises(ConfigError, match="implausible"):
         config_from_dict({"records": {"implausible": "ignore"}})

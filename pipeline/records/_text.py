@@ -187,9 +187,9 @@ def check_samples(data: np.ndarray, *, npts: int, name: str) -> np.ndarray:
             f"{name}: header says NPTS={npts} but only {data.size} values were read; "
             "the file is truncated. Re-download it."
         )
-    if data.size > npts:
-        log.warning("%s: holds %d value(s) after the NPTS=%d its header states; the first %d are read (check the "
-                    "header's NPTS if the record is longer)", name, data.size - npts, npts, npts)
+    if data.size > npts and np.any(data[npts:] != 0):         # zeros after the data are padding (rinaldi_fn.dat)
+        log.warning("%s: holds %d value(s) after the NPTS=%d its header states, not all zero; the first %d are read "
+                    "(check the header's NPTS if the record is longer)", name, data.size - npts, npts, npts)
     data = data[:npts]
     if npts == 0:
         raise RecordFormatError(f"{name}: header says NPTS=0; the record holds no samples")
