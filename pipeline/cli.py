@@ -31,7 +31,15 @@ from pathlib import Path
 
 from . import __version__
 from .config import CRITERION_MEASURED_MISSES, FIDELITY_TIERS
-from .errors import InventoryError, OutputError, OutputLockedError, RecordsNotFoundError, RockscreenError, UsageError
+from .errors import (
+    InterruptedAfterPublishing,
+    InventoryError,
+    OutputError,
+    OutputLockedError,
+    RecordsNotFoundError,
+    RockscreenError,
+    UsageError,
+)
 
 log = logging.getLogger("pipeline")
 
@@ -755,6 +763,9 @@ def main(argv: list[str] | None = None) -> int:
     except InventoryError as exc:
         print(f"error: {exc}\nnothing was screened or written.", file=sys.stderr)
         return EXIT_USAGE
+    except InterruptedAfterPublishing as exc:
+        print(str(exc), file=sys.stderr)
+        return EXIT_INTERRUPTED
     except OutputLockedError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_LOCKED

@@ -125,6 +125,11 @@ def _task_failure(reason: str, deterministic: bool) -> TaskFailure:
     return TaskFailure(reason, deterministic=deterministic)
 
 
+class InterruptedAfterPublishing(RockscreenError, KeyboardInterrupt):
+    """Ctrl-C (or SIGTERM, SIGHUP) that arrived while a command swapped in its new output set: the set was swapped
+    whole, and the command stops there."""
+
+
 class OutputError(RockscreenError, OSError):
     """Results cannot be written (unwritable directory, disk full, ...)."""
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -424,3 +425,38 @@ def test_an_inventory_name_written_to_assets_csv_cannot_run_in_a_spreadsheet(mak
         cells = [c for row in csv.reader(fh) for c in row]
     assert '\'=HYPERLINK("http://x.example","open")' in cells and "'+cmd|' /C calc'!A0" in cells
     assert not any(c.startswith(("=", "+", "@")) for c in cells)
+
+
+@pytest.mark.parametrize("at", range(10))
+def test_a_signal_during_the_swap_of_an_output_set_never_leaves_half_a_set(tmp_path, monkeypatch, at):
+    """A real SIGINT sent at each of the ten renames of a five-file publish: the swap finishes, then the interrupt
+    is raised; the output is the whole new set (a SIGINT at the 6th rename once left no output at all)."""
+    import signal
+
+    from pipeline.store import atomic
+
+    out = tmp_path / "out"
+    out.mkdir()
+    names = ("screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv")
+    for n in names:
+        (out / n).write_text("old")
+    stage = atomic.staging_dir(out)
+    for n in names:
+        (stage / n).write_text("new")
+    real, calls = os.replace, []
+
+    def replace(src, dst):
+        if len(calls) == at:
+            os.kill(os.getpid(), signal.SIGINT)
+        calls.append(dst)
+        return real(src, dst)
+
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    published = False
+    with pytest.raises(KeyboardInterrupt):
+        with atomic.signals_held():
+            atomic.publish(stage, out, names)
+            published = True
+    monkeypatch.undo()
+    assert published and len(calls) == 10
+    assert [(out / n).read_text() for n in names] == ["new"] * 5

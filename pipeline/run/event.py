@@ -19,7 +19,7 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
-from ..errors import OutputError, RockscreenError
+from ..errors import InterruptedAfterPublishing, OutputError, RockscreenError
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
@@ -27,7 +27,7 @@ from ..records.coordinates import distance_km
 from ..records.intensity import display_unit
 from ..rocking.geometry import ALPHA_MAX_ROCKING
 from ..schema import EVENT, apply_schema
-from ..store import OutputLock, publish, staging_dir, write_atomic, write_csv_atomic, write_text_atomic
+from ..store import OutputLock, publish, signals_held, staging_dir, write_atomic, write_csv_atomic, write_text_atomic
 from ..tables import read_csv_table
 from ..uncertainty.fragility import FitStatus
 
@@ -423,4 +423,9 @@ def _publish(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, req: EventReque
     write_text_atomic(stage / "shakecast-facilities.xml", facility_xml(facilities(ds, inv, req.config)))
     write_text_atomic(stage / "event.html", event_page(ds, grid, inv, order, changed,
                                                        curves=req.config.event.page_curves))
-    return publish(stage, out_dir, OUTPUTS)
+    try:
+        with signals_held():                    # a signal during the swap is taken after it: never half a set
+            return publish(stage, out_dir, OUTPUTS)
+    except KeyboardInterrupt:
+        raise InterruptedAfterPublishing(f"interrupted after the event's results were published: {out_dir} holds "
+                                         f"them, complete ({', '.join(OUTPUTS)})") from None

@@ -27,7 +27,15 @@ from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
 from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
-from ..store import STATE_DIR, OutputLock, publish, remove_stale_temporaries, staging_dir, write_atomic
+from ..store import (
+    STATE_DIR,
+    OutputLock,
+    publish,
+    remove_stale_temporaries,
+    signals_held,
+    staging_dir,
+    write_atomic,
+)
 from . import uptodate
 from .batch import BatchOutcome, run
 from .cache import ensure_writable, scene_cache_dir
@@ -104,10 +112,14 @@ class ScreenResult:
 class RunInterrupted(RockscreenError, KeyboardInterrupt):
     """Ctrl-C during a run: what was computed is kept in the scene cache."""
 
-    def __init__(self, kept: int, cache_dir: Path, out_dir: Path, *, forced: bool = False):
+    def __init__(self, kept: int, cache_dir: Path, out_dir: Path, *, forced: bool = False, published: bool = False):
         self.kept, self.cache_dir, self.out_dir = kept, cache_dir, out_dir
         again = ("Run the same command without --force to finish from them (with --force every record is "
                  "screened again)" if forced else "Run the same command again to finish")
+        if published:
+            super().__init__(f"interrupted after this run's results were published: {out_dir} holds them, complete "
+                             "(report.html and assets.csv included).")
+            return
         super().__init__(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will "
                          f"not be screened again by a run without --force; {out_dir / 'screening.nc'} still holds "
                          f"the previous complete results, if any. {again}.")
@@ -190,7 +202,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     """
     checked_workers(request.n_workers)
     station_inventory, stationxml_sha, declared, found, out_dir = prepare(request)
-    started = time.time()
+    started, published = time.time(), False
     try:
         with OutputLock(out_dir, command=shlex.join(request.command)) as lock:
             if lock.stale_owner:
@@ -220,14 +232,16 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                       if st != "ok"]
             del outcome, results, histories     # written: the report reads the files, not these
             report_stage(staged, figure_cache=out_dir / STATE_DIR / "figures", home=out_dir)
-            path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET)
+            with signals_held():                # a signal during the swap is taken after it: never half a set
+                path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET)
+                published = True
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
                 uptodate.write_manifest(out_dir, request.key, counts=counts, margins=margins, failures=failed)
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
-        raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force) from None
+        raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force, published=published) from None
     return ScreenResult(path, report, assets, counts, margins)
 
 

@@ -10,6 +10,7 @@ from .atomic import (
     publish,
     remove_stale_temporaries,
     replace_atomically,
+    signals_held,
     staging_dir,
     write_bytes_atomic,
     write_csv_atomic,
@@ -20,6 +21,6 @@ from .netcdf import FLOOR_GROUP, FloorRow, PulseSeries, open_results, ragged_dat
 
 __all__ = ["COMPONENTS", "FLAG3", "FLOOR_GROUP", "SCHEMA", "STATE_DIR", "FloorRow", "OutputLock", "PulseSeries",
            "apply_schema",
-           "default_file_mode", "publish", "staging_dir",
+           "default_file_mode", "publish", "signals_held", "staging_dir",
            "open_results", "ragged_dataset", "ragged_rows", "remove_stale_temporaries",
            "replace_atomically", "write_atomic", "write_bytes_atomic", "write_csv_atomic", "write_text_atomic"]

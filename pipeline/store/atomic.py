@@ -5,10 +5,13 @@ A reader, or a run killed at any instant, sees the old file or the new one, neve
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import os
 import shutil
+import signal
 import tempfile
+import threading
 from pathlib import Path
 from typing import Callable
 
@@ -110,6 +113,31 @@ def staging_dir(out_dir: str | Path) -> Path:
         raise OutputError(f"{stage}: cannot stage results here ({exc.strerror or exc}); choose another --out "
                           "directory or fix its permissions") from exc
     return stage
+
+
+#: The signals a command treats as Ctrl-C (:data:`pipeline.cli.INTERRUPT_SIGNALS` and SIGINT): held while an output
+#: set is swapped, so that none of them leaves half a set.
+HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Hold Ctrl-C, SIGTERM and SIGHUP while the block runs (the renames of :func:`publish`, milliseconds): one that
+    arrives meanwhile is noted, and raised again, to the handler it would have met, when the block ends. In the
+    main thread only (Python handles signals there). SIGKILL cannot be held: a run killed mid-swap leaves the set
+    its renames reached."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = {sig: signal.signal(sig, lambda signum, frame: received.append(signum)) for sig in HELD_SIGNALS}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for signum in dict.fromkeys(received):
+            signal.raise_signal(signum)
 
 
 def publish(stage: str | Path, out_dir: str | Path, names) -> list[Path]:
