@@ -175,8 +175,8 @@ def check_interval(dt_s: float, *, name: str, where: str) -> float:
     lo, hi = READABLE_DT_S
     if not (math.isfinite(dt_s) and lo <= dt_s <= hi):
         raise RecordFormatError(f"{name}, {where}: sampling interval {dt_s!r} s is not one (expected a finite number "
-                                f"of seconds in [{lo:g}, {hi:g}]; records are sampled every 0.001-0.02 s); fix the "
-                                "header or re-download the file")
+                                f"of seconds in [{lo:g}, {hi:g}]; strong-motion records are typically sampled every "
+                                "0.001-0.02 s); fix the header or re-download the file")
     return dt_s
 
 

@@ -278,7 +278,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
-        SCENE.free_flight: int(np.sum(resp[ok] == Response.free_flight)),
+        "free_flight_scenes": int(np.sum(resp[ok] == Response.free_flight)),
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == Response.free_flight, axis=1)]],
         "guarded": guarded_scenes(ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)

@@ -19,8 +19,9 @@ class OutputLock:
     The lock is an exclusive ``flock`` on the file ``OUT/.rockscreen/lock``, which holds the owner's pid, host, start
     time and command. The kernel releases it when its process ends, however it ends (SIGKILL, the OOM killer), so
     a run that died leaves no lock to take over: the next run takes the lock at once, and says so when the dead
-    run's file was left behind. Two runs can never both hold it (tested with processes racing for a lock left by
-    a dead run); a live one raises :class:`OutputLockedError`.
+    run's file was left behind. On a local file system two runs cannot both hold it (tested with processes racing
+    for a lock left by a dead run); on a network file system that holds as far as its locking service does. A live
+    lock raises :class:`OutputLockedError`.
     """
 
     def __init__(self, out_dir: str | Path, *, command: str = ""):
