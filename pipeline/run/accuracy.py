@@ -51,7 +51,7 @@ from ..records.record import Record
 from ..rocking.planner import Physics
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
-from ..store import write_csv_atomic, write_text_atomic
+from ..store import Family, OutputLock, publish_staged, write_csv_atomic, write_text_atomic
 from .margins import overturn_scale_simulated
 from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
@@ -440,9 +440,13 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
 
 
 def _write(rows: list[dict], out_dir: Path) -> None:
-    write_csv_atomic(out_dir / "bench.csv", COLUMNS, rows)
-    write_text_atomic(out_dir / "bench.md", markdown(rows))
-    _plot(rows, out_dir / "bench.png")
+    """Publish bench.csv, bench.md and bench.png as one set (:func:`pipeline.store.publish_staged`)."""
+    def write(stage: Path) -> list[Path]:
+        return [write_csv_atomic(stage / "bench.csv", COLUMNS, rows),
+                write_text_atomic(stage / "bench.md", markdown(rows)), _plot(rows, stage / "bench.png")]
+
+    with OutputLock(out_dir, command="screen bench"):
+        publish_staged(out_dir, write, family=Family.BENCH, command="screen bench")
 
 
 def markdown(rows: list[dict]) -> str:
@@ -465,7 +469,7 @@ def markdown(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _plot(rows: list[dict], path: Path) -> None:
+def _plot(rows: list[dict], path: Path) -> Path:
     from ..report.mpl import new_figure, save_figure
 
     fig = new_figure(figsize=(12, 4.6), layout="constrained")
@@ -504,4 +508,4 @@ def _plot(rows: list[dict], path: Path) -> None:
     ax2.set_title("simulation settings (full tier)", fontsize=10)
     for a in (ax, ax2):
         a.grid(which="both", alpha=0.3)
-    save_figure(fig, path, dpi=100)
+    return save_figure(fig, path, dpi=100)

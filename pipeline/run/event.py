@@ -19,7 +19,7 @@ import xarray as xr
 
 from ..blocks import Inventory
 from ..config import Config
-from ..errors import InterruptedAfterPublishing, OutputError, RockscreenError
+from ..errors import OutputError, RockscreenError
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
@@ -27,7 +27,14 @@ from ..records.coordinates import distance_km
 from ..records.intensity import display_unit
 from ..rocking.geometry import ALPHA_MAX_ROCKING
 from ..schema import EVENT, apply_schema
-from ..store import OutputLock, publish, signals_held, staging_dir, write_atomic, write_csv_atomic, write_text_atomic
+from ..store import (
+    Family,
+    OutputLock,
+    publish_staged,
+    write_atomic,
+    write_csv_atomic,
+    write_text_atomic,
+)
 from ..tables import read_csv_table
 from ..uncertainty.fragility import FitStatus
 
@@ -416,16 +423,12 @@ def _publish(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, req: EventReque
     from ..report.event_html import event_page
 
     out_dir = Path(req.out_dir)
-    stage = staging_dir(out_dir)
-    write_atomic(ds, stage / "event.nc")
-    columns, rows = inspection_rows(ds, inv, order)
-    write_csv_atomic(stage / "inspection.csv", columns, rows)
-    write_text_atomic(stage / "shakecast-facilities.xml", facility_xml(facilities(ds, inv, req.config)))
-    write_text_atomic(stage / "event.html", event_page(ds, grid, inv, order, changed,
-                                                       curves=req.config.event.page_curves))
-    try:
-        with signals_held():                    # a signal during the swap is taken after it: never half a set
-            return publish(stage, out_dir, OUTPUTS)
-    except KeyboardInterrupt:
-        raise InterruptedAfterPublishing(f"interrupted after the event's results were published: {out_dir} holds "
-                                         f"them, complete ({', '.join(OUTPUTS)})") from None
+
+    def write(stage: Path) -> list[Path]:
+        columns, rows = inspection_rows(ds, inv, order)
+        return [write_atomic(ds, stage / "event.nc"), write_csv_atomic(stage / "inspection.csv", columns, rows),
+                write_text_atomic(stage / "event.html", event_page(ds, grid, inv, order, changed,
+                                                                   curves=req.config.event.page_curves)),
+                write_text_atomic(stage / "shakecast-facilities.xml", facility_xml(facilities(ds, inv, req.config)))]
+
+    return publish_staged(out_dir, write, family=Family.EVENT, command=" ".join(req.command))

@@ -597,7 +597,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     """
     from ..records.loader import files_sha256, read_inventory, stationxml_paths
     from ..report.fragility_html import build_fragility_report
-    from ..store import OutputLock, write_atomic
+    from ..store import Family, OutputLock, publish_staged, write_atomic
     from ..store.exports import left_out, write_exports
     from .cache import ensure_writable
     from .executors import make_executor
@@ -638,9 +638,11 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                          "hazard_curve": request.hazard.path if request.hazard is not None else "",
                          "hazard_title": request.hazard.title if request.hazard is not None else "",
                          "hazard_synthetic": int(request.hazard.synthetic) if request.hazard is not None else 0})
-        nc = write_atomic(ds, out_dir / "fragility.nc")
-        html, csv_path = build_fragility_report(ds, out_dir, hazard=request.hazard)
-        exports = write_exports(ds, out_dir)
+        nc, html, csv_path, *exports = publish_staged(       # the set is published whole, or not at all
+            out_dir, lambda stage: [write_atomic(ds, stage / "fragility.nc"),
+                                    *build_fragility_report(ds, stage, hazard=request.hazard),
+                                    *write_exports(ds, stage)],
+            family=Family.FRAGILITY, command=" ".join(request.command))
     return {**counts, "scenes": int(ds.sizes["record"] * ds.sizes["im_level"] * ds.sizes["block"]),
             "failures": failures, "paths": (nc, html, csv_path, *exports),
             "warnings": stripe_warnings(ds) + [f"exports leave out {x}" for x in (left_out(ds) if exports else [])]}

@@ -271,10 +271,12 @@ def write_inference(observed_csv: Path, inventory: Inventory, *, shape: str, con
     """``screen infer``: the observations of ``observed_csv`` against the pulses of ``shape`` (:func:`infer`),
     written to ``out_dir/infer.nc`` and drawn in ``out_dir/infer.png``; the dataset and both paths."""
     from ..report.infer_plot import plot_inference
-    from ..store import write_atomic
+    from ..store import Family, OutputLock, publish_staged, write_atomic
 
     ds = infer(read_observations(observed_csv, inventory), shape=shape, config=config)
     ds.attrs["history"] = history
-    out = write_atomic(ds, Path(out_dir) / "infer.nc")
-    figure = plot_inference(ds, Path(out_dir) / "infer.png", g_ms2=config.records.g_ms2)
+    with OutputLock(out_dir, command=history):         # the two files are published as one set
+        out, figure = publish_staged(out_dir, lambda stage: [
+            write_atomic(ds, stage / "infer.nc"), plot_inference(ds, stage / "infer.png", g_ms2=config.records.g_ms2)],
+            family=Family.INFERENCE, command=history)
     return ds, out, figure

@@ -29,7 +29,10 @@ from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
 from ..store import (
     STATE_DIR,
+    Family,
     OutputLock,
+    carry,
+    describe,
     publish,
     remove_stale_temporaries,
     signals_held,
@@ -112,7 +115,8 @@ class ScreenResult:
 class RunInterrupted(RockscreenError, KeyboardInterrupt):
     """Ctrl-C during a run: what was computed is kept in the scene cache."""
 
-    def __init__(self, kept: int, cache_dir: Path, out_dir: Path, *, forced: bool = False, published: bool = False):
+    def __init__(self, kept: int, cache_dir: Path, out_dir: Path, *, forced: bool = False, published: bool = False,
+                 previous: str = ""):
         self.kept, self.cache_dir, self.out_dir = kept, cache_dir, out_dir
         again = ("Run the same command without --force to finish from them (with --force every record is "
                  "screened again)" if forced else "Run the same command again to finish")
@@ -120,9 +124,10 @@ class RunInterrupted(RockscreenError, KeyboardInterrupt):
             super().__init__(f"interrupted after this run's results were published: {out_dir} holds them, complete "
                              "(report.html and assets.csv included).")
             return
+        held = (f"{out_dir} still shows {previous}, complete" if previous else
+                f"{out_dir} holds no earlier results")
         super().__init__(f"interrupted: {kept} record(s) screened in this run are saved in {cache_dir} and will "
-                         f"not be screened again by a run without --force; {out_dir / 'screening.nc'} still holds "
-                         f"the previous complete results, if any. {again}.")
+                         f"not be screened again by a run without --force; {held}. {again}.")
 
 
 def package_versions() -> str:
@@ -166,9 +171,15 @@ def rebuild_report(results_path: Path, out_dir: Path | None, *, all_figures: boo
         When a run is writing that output.
     """
     cache = Path(results_path).parent / STATE_DIR / "figures"
-    with OutputLock(Path(out_dir) if out_dir is not None else Path(results_path).parent, command=command):
-        return build_report(results_path, out_dir, all_figures=all_figures,
-                            figure_cache=cache if cache.is_dir() else None)
+    out = Path(out_dir) if out_dir is not None else Path(results_path).parent
+    with OutputLock(out, command=command):
+        stage = staging_dir(out, family=Family.SCREENING)
+        kept = carry(stage, out, [n for n in OUTPUT_SET if n not in REPORT_FILES])
+        build_report(results_path, stage, all_figures=all_figures, figure_cache=cache if cache.is_dir() else None,
+                     home=out)
+        with signals_held():                    # a signal during the switch is taken after it: never half a set
+            paths = publish(stage, out, [*kept, *REPORT_FILES], command=command)
+        return paths[-2], paths[-1]
 
 
 def provenance(request: ScreenRequest) -> dict:
@@ -206,8 +217,9 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     try:
         with OutputLock(out_dir, command=shlex.join(request.command)) as lock:
             if lock.stale_owner:
-                log.warning("took over the lock of a run that died (pid %s, started %s)",
-                            lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"))
+                log.warning("took over the lock of a run that died (pid %s, started %s); %s shows %s",
+                            lock.stale_owner.get("pid"), lock.stale_owner.get("started_utc"), out_dir,
+                            describe(out_dir, Family.SCREENING) or "no earlier results")
             remove_stale_temporaries(out_dir)
             uptodate.invalidate(out_dir)        # the outputs may change from here on
             with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
@@ -224,7 +236,7 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                                                             progress=progress)
                 log.debug("margins: %s", margins)
             # the output set is staged, then published together: a failed write leaves the previous set intact
-            stage = staging_dir(out_dir)
+            stage = staging_dir(out_dir, family=Family.SCREENING)
             staged = write_stage(outcome, results, histories, stage, provenance(request), margin_cache=margin_cache)
             log.debug("write: %s", staged)
             counts = outcome.counts
@@ -233,7 +245,8 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
             del outcome, results, histories     # written: the report reads the files, not these
             report_stage(staged, figure_cache=out_dir / STATE_DIR / "figures", home=out_dir)
             with signals_held():                # a signal during the swap is taken after it: never half a set
-                path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET)
+                path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET,
+                                                     command=shlex.join(["screen", *request.command]))
                 published = True
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
@@ -241,7 +254,8 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
     except KeyboardInterrupt:
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
-        raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force, published=published) from None
+        raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force, published=published,
+                             previous=describe(out_dir, Family.SCREENING)) from None
     return ScreenResult(path, report, assets, counts, margins)
 
 
@@ -307,3 +321,5 @@ def report_stage(screening_path: Path, *, figure_cache: Path | None = None, home
 
 #: The files a screening writes, replaced together (:func:`pipeline.store.publish`), the main file first
 OUTPUT_SET = uptodate.OUTPUTS
+#: The files of the set that ``screen report`` replaces (it keeps the others)
+REPORT_FILES = ("report.html", "assets.csv")

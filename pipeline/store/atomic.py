@@ -5,13 +5,9 @@ A reader, or a run killed at any instant, sees the old file or the new one, neve
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import os
-import shutil
-import signal
 import tempfile
-import threading
 from pathlib import Path
 from typing import Callable
 
@@ -99,89 +95,11 @@ def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
     return replace_atomically(path, write)
 
 
-#: Where a run stages its output set before publishing it (inside the output's state directory)
-STAGING = "staging"
-
-
-def staging_dir(out_dir: str | Path) -> Path:
-    """An empty staging directory for ``out_dir``'s next output set (same file system: the swap is renames)."""
-    stage = Path(out_dir) / STATE_DIR / STAGING
-    shutil.rmtree(stage, ignore_errors=True)
-    try:
-        stage.mkdir(parents=True)
-    except OSError as exc:
-        raise OutputError(f"{stage}: cannot stage results here ({exc.strerror or exc}); choose another --out "
-                          "directory or fix its permissions") from exc
-    return stage
-
-
-#: The signals a command treats as Ctrl-C (:data:`pipeline.cli.INTERRUPT_SIGNALS` and SIGINT): held while an output
-#: set is swapped, so that none of them leaves half a set.
-HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
-@contextlib.contextmanager
-def signals_held():
-    """Hold Ctrl-C, SIGTERM and SIGHUP while the block runs (the renames of :func:`publish`, milliseconds): one that
-    arrives meanwhile is noted, and raised again, to the handler it would have met, when the block ends. In the
-    main thread only (Python handles signals there). SIGKILL cannot be held: a run killed mid-swap leaves the set
-    its renames reached."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    received: list[int] = []
-    previous = {sig: signal.signal(sig, lambda signum, frame: received.append(signum)) for sig in HELD_SIGNALS}
-    try:
-        yield
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
-        for signum in dict.fromkeys(received):
-            signal.raise_signal(signum)
-
-
-def publish(stage: str | Path, out_dir: str | Path, names) -> list[Path]:
-    """Replace the files ``names`` of ``out_dir`` by those staged in ``stage``, together or not at all.
-
-    The previous files are first moved aside (into ``stage/previous``), then each staged file is renamed into
-    place; if any rename fails, the new files placed so far are removed and the previous ones put back, so that
-    the output set stays the previous one, byte for byte.
-
-    Raises
-    ------
-    OutputError
-        When a rename fails (after the previous set is restored).
-    """
-    stage, out = Path(stage), Path(out_dir)
-    previous = stage / "previous"
-    previous.mkdir(exist_ok=True)
-    aside: list[str] = []
-    placed: list[str] = []
-    try:
-        for name in names:
-            if (out / name).exists():
-                os.replace(out / name, previous / name)
-                aside.append(name)
-        for name in names:
-            os.replace(stage / name, out / name)
-            placed.append(name)
-    except OSError as exc:
-        for name in placed:
-            _remove_quietly(out / name)
-        for name in aside:
-            os.replace(previous / name, out / name)
-        raise OutputError(f"{out}: replacing the results failed at {exc.filename or name} "
-                          f"({exc.strerror or exc}); the previous results are intact. Free disk space or fix the "
-                          "directory's permissions") from exc
-    shutil.rmtree(stage, ignore_errors=True)
-    return [out / name for name in names]
-
-
 def remove_stale_temporaries(out_dir: str | Path) -> int:
     """Delete temporaries a killed run left in ``out_dir`` (call only while holding its lock)."""
     out = Path(out_dir)
     n = 0
-    for pattern in (".*.tmp", f"{STATE_DIR}/*/.*.tmp"):
+    for pattern in (".*.tmp", f"{STATE_DIR}/.*.tmp", f"{STATE_DIR}/*/.*.tmp"):
         for p in out.glob(pattern):
             _remove_quietly(p)
             n += 1
