@@ -7,7 +7,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo event-demo test test-slow lint browser peers bench clean
+.PHONY: demo event-demo test test-slow soak lint browser peers bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -38,12 +38,17 @@ event-demo: $(VENV)/.installed
 	    --blocks examples/event/blocks.csv --fragility results/event-fragility --out results/event
 
 test: $(VENV)/.installed-test browser
-	$(BIN)/python -m pytest -n 2 -m "not slow" $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -n 2 -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
 # figures quoted to users); CI runs them after make test
 test-slow: $(VENV)/.installed-test peers
-	$(BIN)/python -m pytest -n 2 -m slow $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -n 2 -m "slow and not soak" $(PYTEST_ARGS)
+
+# Fifty scheduled screen runs into one output, killed at random (SIGKILL, SIGTERM, a worker's SIGKILL); after
+# each the output shows one whole set, equal to an uninterrupted run's (about 5 minutes)
+soak: $(VENV)/.installed-test
+	$(BIN)/python -m pytest -m soak -s $(PYTEST_ARGS)
 
 # The report is tested in headless Chromium (Debian's package). Installed when missing and possible
 # (root with apt-get); otherwise that test is skipped with a loud reason.

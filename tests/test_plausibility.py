@@ -114,3 +114,41 @@ def test_the_bundled_records_are_plausible(records_dir):
         except RockscreenError:
             pass                                   # failing for another reason (the vertical-only file)
     assert loaded >= 35 and implausible == []
+
+
+def test_a_record_too_long_is_refused_from_its_header_before_its_samples_are_read(records_dir, tmp_path,
+                                                                                    monkeypatch):
+    """Memory stays bounded: a header announcing more samples than max_samples fails before any sample is
+    parsed (a 10-million-sample AT2 once took 816 MB before it was refused; now no more than a normal run)."""
+    from pipeline.records import _text, at2
+
+    root, sources, _ = _at2(records_dir, tmp_path)
+    config = config_from_dict({"records": {"max_samples": 4000}})
+
+    def no_parsing(*args, **kwargs):
+        raise AssertionError("the samples were parsed")
+
+    monkeypatch.setattr(at2, "parse_free_floats", no_parsing)
+    monkeypatch.setattr(_text, "parse_free_floats", no_parsing)
+    with pytest.raises(ImplausibleRecordError, match=r"4172 samples, more than 4000 \(\[records\] max_samples\)"):
+        load_record(sources[0], root=root, config=config)
+
+
+def test_a_file_larger_than_any_plausible_record_is_refused_before_it_is_read(records_dir, tmp_path, monkeypatch):
+    from pipeline.records import loader
+
+    root, sources, _ = _at2(records_dir, tmp_path)
+    size = (root / "pacoima.AT2").stat().st_size
+    config = config_from_dict({"records": {"max_samples": 100}})           # 80 x 3 x 100 = 24,000 bytes
+
+    def no_reading(*args, **kwargs):
+        raise AssertionError("the file was read")
+
+    monkeypatch.setattr(loader, "_read", no_reading)
+    with pytest.raises(ImplausibleRecordError, match=rf"{size:,} bytes, more than a file of 3 components of 100 "
+                                                     r"samples takes \(24,000 bytes; \[records\] max_samples\)"):
+        load_record(sources[0], root=root, config=config)
+    # with implausible = "warn" it is read and screened, with a warning
+    monkeypatch.undo()
+    warned = config_from_dict({"records": {"max_samples": 100, "implausible": "warn"}})
+    assert load_record(sources[0], root=root, config=warned).notes

@@ -24,6 +24,9 @@ from ..errors import RecordFormatError
 from ._text import check_interval, check_samples, parse_free_floats, peek_lines, read_lines, source_name
 from .common import COMMON, common_fields
 
+#: The lines of an AT2 header (the samples start on line 5)
+HEADER_LINES = 4
+
 _NEW_HEADER = re.compile(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([-+\d.Ee]+)", re.I)
 _OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+\d.Ee]+)\s+NPTS\s*,\s*DT", re.I)
 #: A header whose DT is a word for no number (nan, inf): recognised as AT2, so that the reader refuses it by name.
@@ -59,7 +62,7 @@ def _units_of(line3: str) -> str | None:
 
 def _is_at2(filename) -> bool:
     """Return True if ``filename`` looks like a PEER acceleration file (never raises)."""
-    lines = peek_lines(filename, 4)
+    lines = peek_lines(filename, HEADER_LINES)
     if len(lines) < 4:
         return False
     return "ACCELERATION" in lines[2].upper() and _parse_npts_dt(lines[3]) is not None
@@ -88,7 +91,7 @@ def _read_at2(filename, headonly: bool = False, **kwargs) -> Stream:
         If the header is malformed or the sample count disagrees with NPTS.
     """
     name = source_name(filename)
-    lines = read_lines(filename)
+    lines = peek_lines(filename, HEADER_LINES) if headonly else read_lines(filename)
     if len(lines) < 4:
         raise RecordFormatError(f"{name}: only {len(lines)} lines; an AT2 file has a 4-line header")
     parsed = _parse_npts_dt(lines[3])

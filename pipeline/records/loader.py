@@ -33,7 +33,7 @@ from .common import COMMON, annotate
 from .coordinates import StationLocation, station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
-from .plausibility import check_plausible
+from .plausibility import check_plausible, refuse_implausible_headers, refuse_large_files
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
@@ -410,6 +410,7 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
     root = Path(root)
     declared = read_declared_units(root, config) if declared is None else declared
     notes: list[str] = []
+    _refuse_before_reading(source, config)
     traces = _traces_in_ms2(source, root=root, config=config, declared=declared, inventory=inventory)
     check_plausible(traces, record_id=source.record_id, records=config.records, notes=notes)   # before processing
     horizontals, verticals = _components(traces, source, inventory, notes)
@@ -447,6 +448,26 @@ def load_record(source: RecordSource, *, root: str | Path, config: ReaderSetting
         velocity_ms=integrate(hz, dt, method=method),
         label=next((tr.stats[COMMON].label for tr in ordered if tr.stats[COMMON].label), ""),
     )
+
+
+def _refuse_before_reading(source: RecordSource, config: ReaderSettings) -> None:
+    """The record's file sizes, then its headers, against the plausibility limits, before any sample is read:
+    memory stays bounded for a file of millions of samples (:mod:`.plausibility`)."""
+    if config.records.implausible == "warn":
+        return
+    sizes = []
+    for f in source.files:
+        try:
+            sizes.append((f, Path(f).stat().st_size))
+        except OSError:
+            pass                                  # reported by the read
+    refuse_large_files(sizes, records=config.records)
+    headers = []
+    for f in source.files:
+        for tr in _read(Path(f), fmt=source.format_of(f) or detect_format(Path(f)), headonly=True):
+            tr.stats.rockscreen_file = str(f)
+            headers.append(tr)
+    refuse_implausible_headers(headers, records=config.records)
 
 
 def _traces_in_ms2(source: RecordSource, *, root: Path, config: ReaderSettings, declared: dict[str, str],

@@ -20,6 +20,9 @@ from ..errors import RecordFormatError
 from ._text import check_interval, check_samples, parse_free_floats, peek_lines, read_lines, source_name
 from .common import COMMON, common_fields
 
+#: The lines of a near-fault ASCII header (the samples start on line 3)
+HEADER_LINES = 2
+
 _LINE2 = re.compile(r"^%\s*(\d+)\s+([-+\d.Ee]+)")
 
 
@@ -33,7 +36,7 @@ def _is_nfascii(filename) -> bool:
 def _read_nfascii(filename, headonly: bool = False, **kwargs) -> Stream:
     """Read a ``%``-header near-fault ASCII file (one component, units unstated)."""
     name = source_name(filename)
-    lines = read_lines(filename)
+    lines = peek_lines(filename, HEADER_LINES) if headonly else read_lines(filename)
     m = _LINE2.match(lines[1]) if len(lines) > 1 else None
     if not m:
         raise RecordFormatError(f"{name}, line 2: expected '%<npts> <dt>'")
