@@ -1,0 +1,571 @@
+"""A solid cylinder rocking and rolling on the rim of its base (wobbling) under both horizontal components of the
+ground and the vertical: the 3D model of a round column, vase, tank or drum.
+
+The cylinder (radius ``a``, half-height ``h``: its centre of mass G is ``h`` above the base's centre on the axis
+``e3``) stands on a rigid ground that moves with acceleration ``(a_x, a_y, a_z)``. Its orientation is given by
+the Euler angles ``phi`` (the azimuth of the tilt: the axis leans toward ``phi``, measured from x toward y),
+``theta`` (the tilt of the axis from the vertical) and ``psi`` (the spin), ``R = R_z(phi) R_y(theta) R_z(psi)``.
+
+**Rocking and rolling on the rim** (``theta > 0``). The base touches the ground at the lowest point P of its rim,
+on the side the axis leans toward. The rim rolls without slipping (P has no velocity relative to the ground), so
+the cylinder has three degrees of freedom (theta, phi, psi); the horizontal position of G follows. With
+``r = G - P`` (a function of theta and phi alone)::
+
+    r = ((h sin theta - a cos theta) cos phi, (h sin theta - a cos theta) sin phi, h cos theta + a sin theta)
+
+the height of G is ``R cos(theta - alpha)`` (``R^2 = a^2 + h^2``, ``tan alpha = a / h``), as in the planar model.
+Newton's and Euler's equations per unit mass, in the ground's (translating) frame where gravity is
+``g_eff = (-a_x, -a_y, -g - a_z)``, with the contact force ``F`` eliminated through the no-slip condition
+``v_G = omega x r`` (so ``a_G = omega' x r + omega x r'``), give the angular acceleration::
+
+    (I_G + |r|^2 1 - r r^T) omega' = -omega x I_G omega - r x (omega x r') + r x g_eff
+
+and the Euler angles' accelerations from ``omega = phi' e_z + theta' e_n + psi' e3`` (``e_n``: the line of nodes).
+These are the equations of a rolling disk (Goldstein, Poole & Safko 2002, section 4.9; O'Reilly 1996) with the
+centre of mass off the disk's plane, as derived for rocking cylinders by Koh & Mustafa (1990) and Vassiliou et
+al. (2017). The contact force ``F = a_G - g_eff`` is checked on every accepted step: the scene is flagged when
+the base would lift off the ground (``F_z <= 0``: free flight) or slide (``|F_h| > mu F_z``).
+
+**Landing.** When theta returns to zero the base lands flat and rocks on the opposite side of its rim: the
+impact conserves the angular momentum about the new contact point (the impulse acts there; Housner 1963 for the
+planar block), so ``J' omega+ = I_G omega- + r' x (omega- x r)``. In the plane this gives the cylinder's
+Housner coefficient ``e = (I_G + h^2 - a^2) / (I_G + h^2 + a^2)``; a declared restitution scales the tilting
+part of ``omega+`` by its ratio to that value. A rebound slower than :data:`REST_RATE` (a fraction of
+``p alpha``) ends the motion: the cylinder rests until the ground lifts it again.
+
+**Rest and uplift.** At rest, the cylinder lifts on the side opposite the ground's horizontal acceleration when
+``|a_h| > (g + a_z) tan alpha``, the same in every direction (it is axisymmetric).
+
+**Overturning** is ``theta >= pi / 2`` while the ground moves (the cylinder lies on its side), as in the planar
+kernel.
+
+The equations are integrated by the Dormand-Prince 5(4) pair with error control on all six states; no step
+crosses a sample of the record (the ground acceleration is linear between samples). A cap on the steps
+(:data:`MAX_STEPS_PER_SAMPLE`) ends a run that does not advance, with the scene flagged.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+Koh, A.-S. & Mustafa, G. (1990). Free rocking of cylindrical structures. J. Eng. Mech. 116(1), 35-54.
+O'Reilly, O. M. (1996). The dynamics of rolling disks and sliding disks. Nonlinear Dynamics 10, 287-305.
+Goldstein, H., Poole, C. & Safko, J. (2002). Classical Mechanics, 3rd ed., Addison Wesley.
+Srinivasan, M. & Ruina, A. (2008). Rocking and rolling: a can that appears to rock might actually roll.
+Phys. Rev. E 78, 066609.
+Vassiliou, M. F., Burger, S., Egger, M., Bachmann, J. A., Broccardo, M. & Stojadinovic, B. (2017). The
+three-dimensional behavior of inverted pendulum cylindrical structures during earthquakes. Earthquake Eng.
+Struct. Dyn. 46(14), 2261-2280.
+Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1),
+19-26.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit
+from .dopri import (
+    A21,
+    A31,
+    A32,
+    A41,
+    A42,
+    A43,
+    A51,
+    A52,
+    A53,
+    A54,
+    A61,
+    A62,
+    A63,
+    A64,
+    A65,
+    B1,
+    B3,
+    B4,
+    B5,
+    B6,
+    C2,
+    C3,
+    C4,
+    C5,
+    E1,
+    E3,
+    E4,
+    E5,
+    E6,
+    E7,
+)
+
+HALF_PI = 0.5 * math.pi
+
+# Step control and events, named once (as scipy's _ivp names its step factors)
+SAFETY = 0.9                    # the step-size controller's safety factor
+MIN_FACTOR, MAX_FACTOR = 0.2, 5.0
+MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
+LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is taken to land flat, or starts
+REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
+EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
+
+# Phases
+REST, ROCK, OVERTURNED, FLAGGED = 0, 1, 2, 3
+# Flags (why a scene is flagged)
+FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
+
+
+class Cylinder(NamedTuple):
+    """A solid cylinder (per unit mass).
+
+    Attributes
+    ----------
+    radius_m : float
+        radius of the base a [m]
+    half_height_m : float
+        half the height h (the centre of mass's height above the base) [m]
+    mu : float
+        friction coefficient [-]
+    restitution : float
+        coefficient of restitution of the tilting rate at a landing [-] (Housner's value: :func:`housner_e`)
+    """
+
+    radius_m: float
+    half_height_m: float
+    mu: float
+    restitution: float
+
+
+class WobbleOutcome(NamedTuple):
+    """What a 3D cylinder run gives.
+
+    Attributes
+    ----------
+    overturned : bool
+    t_overturn_s : float
+        when theta reached pi/2 [s] (NaN when standing)
+    theta_max_rad : float
+        the peak tilt [rad]
+    azimuth_max_deg : float
+        the azimuth the axis leaned toward at the peak tilt [deg, from x toward y]
+    flag : int
+        FLAG_NONE, FLAG_FLIGHT (the base would leave the ground), FLAG_SLIDE (friction exceeded) or FLAG_STEPS
+    impacts : int
+        landings counted
+    theta : ndarray
+        tilt at the record's samples [rad]
+    azimuth : ndarray
+        the azimuth of the tilt at the samples [rad]
+    state_end : ndarray
+        (theta, phi, psi, theta', phi', psi') where the run ended
+    """
+
+    overturned: bool
+    t_overturn_s: float
+    theta_max_rad: float
+    azimuth_max_deg: float
+    flag: int
+    impacts: int
+    theta: np.ndarray
+    azimuth: np.ndarray
+    state_end: np.ndarray
+
+
+def housner_e(radius_m: float, half_height_m: float) -> float:
+    """Housner's coefficient of restitution of a solid cylinder rocking in a plane: angular momentum about the
+    new contact point conserved at the landing (Housner 1963, his eq. for the block, with the cylinder's
+    inertia ``I_G = a^2/4 + h^2/3`` per unit mass) [-]."""
+    a, h = radius_m, half_height_m
+    ig = a * a / 4.0 + h * h / 3.0
+    return (ig + h * h - a * a) / (ig + h * h + a * a)
+
+
+def planar_inertia(radius_m: float, half_height_m: float) -> float:
+    """The moment of inertia about a rim point for rocking in a plane, per unit mass ``I_G + R^2`` [m2]."""
+    a, h = radius_m, half_height_m
+    return a * a / 4.0 + h * h / 3.0 + a * a + h * h
+
+
+@jit
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@jit
+def _solve_sym3(m00, m01, m02, m11, m12, m22, b0, b1, b2):
+    """x with M x = b for a symmetric 3 x 3 M (Cramer's rule; M is an inertia about a point: positive
+    definite)."""
+    c00 = m11 * m22 - m12 * m12
+    c01 = m02 * m12 - m01 * m22
+    c02 = m01 * m12 - m02 * m11
+    det = m00 * c00 + m01 * c01 + m02 * c02
+    c11 = m00 * m22 - m02 * m02
+    c12 = m01 * m02 - m00 * m12
+    c22 = m00 * m11 - m01 * m01
+    return ((c00 * b0 + c01 * b1 + c02 * b2) / det, (c01 * b0 + c11 * b1 + c12 * b2) / det,
+            (c02 * b0 + c12 * b1 + c22 * b2) / det)
+
+
+@jit
+def _inertia_about(e3x, e3y, e3z, rx, ry, rz, i1, i3):
+    """The symmetric inertia about a point at ``-r`` from G, per unit mass: I_G + |r|^2 1 - r r^T, with
+    I_G = i1 1 + (i3 - i1) e3 e3^T (axisymmetric)."""
+    d = i3 - i1
+    rr = rx * rx + ry * ry + rz * rz
+    return (i1 + d * e3x * e3x + rr - rx * rx, d * e3x * e3y - rx * ry, d * e3x * e3z - rx * rz,
+            i1 + d * e3y * e3y + rr - ry * ry, d * e3y * e3z - ry * rz, i1 + d * e3z * e3z + rr - rz * rz)
+
+
+@jit
+def _frame(th, ph, a, h):
+    """Axis e3, line of nodes e_n and r = G - P (and its partial derivatives in theta and phi)."""
+    st, ct, sp, cp = math.sin(th), math.cos(th), math.sin(ph), math.cos(ph)
+    lever = h * st - a * ct                  # = R sin(theta - alpha): G's horizontal offset from P
+    up = h * ct + a * st                     # = R cos(theta - alpha): G's height
+    return st, ct, sp, cp, lever, up
+
+
+@jit
+def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
+    """d/dt of the state (theta, phi, psi, theta', phi', psi') rolling on the rim, per unit mass, under the
+    effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); also returns the contact force per unit mass
+    (F_x, F_y, F_z) = a_G - g_eff."""
+    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
+    st, ct, sp, cp, lever, up = _frame(th, ph, a, h)
+    e3x, e3y, e3z = st * cp, st * sp, ct
+    enx, eny = -sp, cp
+    # omega = phi' e_z + theta' e_n + psi' e3
+    wx = tdot * enx + sdot * e3x
+    wy = tdot * eny + sdot * e3y
+    wz = pdot + sdot * e3z
+    rx, ry, rz = lever * cp, lever * sp, up
+    # r' = r_theta theta' + r_phi phi'
+    drx = up * cp * tdot - lever * sp * pdot
+    dry = up * sp * tdot + lever * cp * pdot
+    drz = (-h * st + a * ct) * tdot
+    # I_G omega, and the gyroscopic term omega x I_G omega
+    w3 = wx * e3x + wy * e3y + wz * e3z
+    lx, ly, lz = i1 * wx + (i3 - i1) * w3 * e3x, i1 * wy + (i3 - i1) * w3 * e3y, i1 * wz + (i3 - i1) * w3 * e3z
+    gyx, gyy, gyz = _cross(wx, wy, wz, lx, ly, lz)
+    wrx, wry, wrz = _cross(wx, wy, wz, drx, dry, drz)
+    c1x, c1y, c1z = _cross(rx, ry, rz, wrx, wry, wrz)
+    c2x, c2y, c2z = _cross(rx, ry, rz, gx, gy, gz)
+    m = _inertia_about(e3x, e3y, e3z, rx, ry, rz, i1, i3)
+    alx, aly, alz = _solve_sym3(m[0], m[1], m[2], m[3], m[4], m[5],
+                                -gyx - c1x + c2x, -gyy - c1y + c2y, -gyz - c1z + c2z)
+    # omega' = phi'' e_z + theta'' e_n + psi'' e3 + b, b = theta' phi' (e_z x e_n) + psi' (phi' e_z + theta' e_n) x e3
+    fx, fy, fz = _cross(tdot * enx, tdot * eny, pdot, e3x, e3y, e3z)
+    bx = tdot * pdot * (-cp) + sdot * fx
+    by = tdot * pdot * (-sp) + sdot * fy
+    bz = sdot * fz
+    ux, uy, uz = alx - bx, aly - by, alz - bz
+    tdd = ux * enx + uy * eny
+    ux, uy = ux - tdd * enx, uy - tdd * eny
+    sdd = (ux * cp + uy * sp) / st
+    pdd = uz - sdd * ct
+    out[0], out[1], out[2], out[3], out[4], out[5] = tdot, pdot, sdot, tdd, pdd, sdd
+    # the contact force per unit mass: a_G - g_eff, a_G = omega' x r + omega x r'
+    agx, agy, agz = _cross(alx, aly, alz, rx, ry, rz)
+    return agx + wrx - gx, agy + wry - gy, agz + wrz - gz
+
+
+@jit
+def _ground(t, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g):
+    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t``, the ground's acceleration linear from ``t0`` over
+    one sample interval ``dt``."""
+    f = (t - t0) / dt
+    return -(ax0 + f * (ax1 - ax0)), -(ay0 + f * (ay1 - ay0)), -g - (az0 + f * (az1 - az0))
+
+
+@jit
+def _stage(y, k, coef, n_prev, hh, tmp):
+    for i in range(6):
+        acc = y[i]
+        for j in range(n_prev):
+            acc += hh * coef[j] * k[j, i]
+        tmp[i] = acc
+
+
+@jit
+def dopri_step(t, y, hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, a, h, i1, i3, k, tmp, y_new, err):
+    """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (``k[0]``: f at the start, FSAL): the
+    5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in ``k[6]``; returns the
+    contact force per unit mass at the end."""
+    c = np.empty(6)
+    nodes = (C2, C3, C4, C5, 1.0)
+    rows = ((A21, 0.0, 0.0, 0.0, 0.0), (A31, A32, 0.0, 0.0, 0.0), (A41, A42, A43, 0.0, 0.0),
+            (A51, A52, A53, A54, 0.0), (A61, A62, A63, A64, A65))
+    for s in range(5):
+        for j in range(5):
+            c[j] = rows[s][j]
+        _stage(y, k, c, s + 1, hh, tmp)
+        gx, gy, gz = _ground(t + nodes[s] * hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g)
+        derivatives(tmp, gx, gy, gz, a, h, i1, i3, k[s + 1])
+    for i in range(6):
+        y_new[i] = y[i] + hh * (B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i])
+    gx, gy, gz = _ground(t + hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g)
+    force = derivatives(y_new, gx, gy, gz, a, h, i1, i3, k[6])
+    for i in range(6):
+        err[i] = hh * (E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i] + E7 * k[6, i])
+    return force
+
+
+@jit
+def _landing(y, a, h, i1, i3, scale):
+    """The impact of a base landing flat (theta ~ 0): angular momentum about the new contact point conserved;
+    the new state rocks on the side the rebound tilts toward (the impulse's point found in two passes). Returns
+    the rebound's tilting rate [rad s-1]."""
+    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
+    st, ct, sp, cp, lever, up = _frame(th, ph, a, h)
+    e3x, e3y, e3z = st * cp, st * sp, ct
+    wx, wy, wz = -tdot * sp + sdot * e3x, tdot * cp + sdot * e3y, pdot + sdot * e3z
+    rx, ry, rz = lever * cp, lever * sp, up                       # r = G - P before
+    w3 = wx * e3x + wy * e3y + wz * e3z
+    lx, ly, lz = i1 * wx + (i3 - i1) * w3 * e3x, i1 * wy + (i3 - i1) * w3 * e3y, i1 * wz + (i3 - i1) * w3 * e3z
+    vx, vy, vz = _cross(wx, wy, wz, rx, ry, rz)                    # v_G before
+    new_ph = ph + math.pi
+    nx, ny, nz = 0.0, 0.0, 0.0
+    for _ in range(2):
+        # the new contact P' on the rim toward new_ph: r' = h e3 - a u(new_ph)
+        ux, uy, uz = ct * math.cos(new_ph), ct * math.sin(new_ph), -st
+        qx, qy, qz = h * e3x - a * ux, h * e3y - a * uy, h * e3z - a * uz
+        hx, hy, hz = _cross(qx, qy, qz, vx, vy, vz)
+        m = _inertia_about(e3x, e3y, e3z, qx, qy, qz, i1, i3)
+        nx, ny, nz = _solve_sym3(m[0], m[1], m[2], m[3], m[4], m[5], lx + hx, ly + hy, lz + hz)
+        if nx * nx + ny * ny > 0.0:
+            new_ph = math.atan2(-nx * scale, ny * scale)
+    nx, ny = nx * scale, ny * scale
+    rate = math.sqrt(nx * nx + ny * ny)
+    y[5] = nz                                   # the spin about the vertical, all in psi (phi' = 0)
+    y[2] = y[1] + y[2] - new_ph                 # R_z(phi + psi) kept at theta ~ 0
+    y[1] = new_ph
+    y[3] = rate
+    y[4] = 0.0
+    return rate
+
+
+@jit
+def _hermite(y0, f0, y1, f1, hh, x):
+    x2, x3 = x * x, x * x * x
+    return ((2 * x3 - 3 * x2 + 1) * y0 + (x3 - 2 * x2 + x) * hh * f0 + (-2 * x3 + 3 * x2) * y1
+            + (x3 - x2) * hh * f1)
+
+
+@jit
+def _crossing(th0, w0, th1, w1, hh, level):
+    """The fraction of a step where theta's Hermite cubic first falls to ``level`` (bisection)."""
+    lo, hi = 0.0, 1.0
+    probes = 16
+    for j in range(1, probes + 1):
+        x = j / probes
+        if _hermite(th0, w0, th1, w1, hh, x) <= level:
+            hi = x
+            lo = (j - 1) / probes
+            break
+    for _ in range(EVENT_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        if _hermite(th0, w0, th1, w1, hh, mid) <= level:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@jit
+def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end):
+    """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, restitution) on the ground motion
+    ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
+    its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
+    azimuth at theta_max [rad], flag, impacts)."""
+    n = ax.shape[0]
+    alpha = math.atan2(a, h)
+    big_r = math.hypot(a, h)
+    i1, i3 = a * a / 4.0 + h * h / 3.0, a * a / 2.0
+    p = math.sqrt(g * big_r / (i1 + big_r * big_r))
+    e_h = housner_e_jit(a, h)
+    scale = restitution / e_h if e_h > 0.0 else 0.0
+    tan_alpha = a / h
+    land = LAND_THETA_ALPHA * alpha
+    atol_angle, atol_rate = atol_alpha * alpha, atol_alpha * alpha * p
+    y = y0.copy()
+    phase = ROCK if y[0] > land else REST
+    if phase == REST:
+        y[:] = 0.0
+    k = np.zeros((7, 6))
+    tmp, y_new, err = np.empty(6), np.empty(6), np.empty(6)
+    t, t_end = 0.0, (n - 1) * dt
+    theta_max, az_max, flag, impacts = 0.0, 0.0, FLAG_NONE, 0
+    overturned, t_over = False, math.nan
+    theta_out[0], azimuth_out[0] = y[0], y[1]
+    hh_next = dt
+    steps, cap = 0, MAX_STEPS_PER_SAMPLE * n
+    fresh = True
+    while t < t_end - 1e-12 * dt:
+        i = min(int(t / dt + 1e-9), n - 2)
+        t0 = i * dt
+        t_next = t0 + dt
+        if phase == REST:
+            start = _uplift(t, t_next, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, tan_alpha)
+            if start < 0.0:
+                t = t_next
+                theta_out[i + 1], azimuth_out[i + 1] = 0.0, y[1]
+                continue
+            t = start
+            f = (t - t0) / dt
+            hx, hy = ax[i] + f * (ax[i + 1] - ax[i]), ay[i] + f * (ay[i + 1] - ay[i])
+            y[:] = 0.0
+            y[0], y[1] = 2.0 * land, math.atan2(-hy, -hx)
+            phase, fresh = ROCK, True
+            continue
+        steps += 1
+        if steps > cap:
+            flag = FLAG_STEPS
+            break
+        if fresh:
+            gx, gy, gz = _ground(t, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g)
+            derivatives(y, gx, gy, gz, a, h, i1, i3, k[0])
+            fresh = False
+        hh = min(hh_next, t_next - t)
+        force = dopri_step(t, y, hh, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, a, h, i1, i3,
+                           k, tmp, y_new, err)
+        norm = 0.0
+        for j in range(6):
+            tol = (atol_angle if j < 3 else atol_rate) + rtol * max(abs(y[j]), abs(y_new[j]))
+            norm = max(norm, abs(err[j]) / tol)
+        if not norm <= 1.0:          # rejected (NaN too)
+            hh_next = hh * max(MIN_FACTOR, SAFETY * norm ** -0.2) if norm == norm else hh * MIN_FACTOR
+            continue
+        grow = MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2)
+        if y_new[0] >= HALF_PI:                                  # overturned (theta rises through pi/2 here)
+            x = (HALF_PI - y[0]) / (y_new[0] - y[0])
+            t_over = t + x * hh
+            overturned, theta_max, az_max = True, HALF_PI, y[1] + x * (y_new[1] - y[1])
+            phase = OVERTURNED
+            break
+        if y_new[0] < land:                                      # the base lands flat inside the step
+            x = _crossing(y[0], k[0, 0], y_new[0], k[6, 0], hh, land)
+            hl = max(x * hh, 1e-15 * dt)
+            dopri_step(t, y, hl, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, a, h, i1, i3,
+                       k, tmp, y_new, err)
+            _fill(theta_out, azimuth_out, dt, t, hl, y, k, y_new, n)
+            t += hl
+            y[:] = y_new
+            impacts += 1
+            rate = _landing(y, a, h, i1, i3, scale)
+            y[0] = land
+            if rate < REST_RATE * p * alpha:
+                phase = REST
+                y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
+            fresh, hh_next = True, hh
+            continue
+        fz = force[2]
+        if fz <= 0.0:
+            flag = FLAG_FLIGHT
+        elif math.hypot(force[0], force[1]) > mu * fz:
+            flag = FLAG_SLIDE
+        _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n)
+        if y_new[0] > theta_max:
+            theta_max, az_max = y_new[0], y_new[1]
+        t += hh
+        y[:] = y_new
+        k[0, :] = k[6, :]
+        hh_next = hh * grow
+        if flag != FLAG_NONE:
+            phase = FLAGGED
+            break
+    y_end[:] = y
+    return overturned, t_over, theta_max, az_max, flag, impacts
+
+
+@jit
+def housner_e_jit(a, h):
+    ig = a * a / 4.0 + h * h / 3.0
+    return (ig + h * h - a * a) / (ig + h * h + a * a)
+
+
+@jit
+def _excess(s, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, tan_alpha):
+    """|a_h| - (g + a_z) tan alpha at ``s`` [m s-2]: positive where the ground lifts the cylinder."""
+    f = (s - t0) / dt
+    hx, hy, v = ax0 + f * (ax1 - ax0), ay0 + f * (ay1 - ay0), az0 + f * (az1 - az0)
+    return math.hypot(hx, hy) - (g + v) * tan_alpha
+
+
+@jit
+def _uplift(t, t_next, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, tan_alpha):
+    """The first instant in [t, t_next] at which |a_h| > (g + a_z) tan alpha (the ground linear between
+    samples), or -1 when none. The excess is convex in time (the norm of a linear path less a linear
+    threshold), so it is <= 0 on the whole interval when it is at both ends."""
+    if _excess(t, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, tan_alpha) > 0.0:
+        return t
+    if _excess(t_next, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, tan_alpha) <= 0.0:
+        return -1.0
+    lo, hi = t, t_next
+    for _ in range(EVENT_BISECTIONS):
+        m = 0.5 * (lo + hi)
+        if _excess(m, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, tan_alpha) > 0.0:
+            hi = m
+        else:
+            lo = m
+    return hi
+
+
+@jit
+def _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n):
+    """The samples inside (t, t + hh]: theta by the step's Hermite cubic, the azimuth linearly."""
+    j = int(t / dt + 1e-9) + 1
+    while j < n and j * dt <= t + hh + 1e-12 * dt:
+        x = (j * dt - t) / hh
+        theta_out[j] = _hermite(y[0], k[0, 0], y_new[0], k[6, 0], hh, x)
+        azimuth_out[j] = y[1] + x * (y_new[1] - y[1])
+        j += 1
+
+
+#: Default tolerances of the step control: relative, and absolute as a fraction of alpha (angles) and of
+#: p alpha (rates)
+RTOL = 1e-8
+ATOL_ALPHA = 1e-9
+
+
+def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *, g_ms2: float = 9.80665,
+                      rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA, initial=None) -> WobbleOutcome:
+    """Run a cylinder on two horizontal components and the vertical of a record (the module's model).
+
+    Parameters
+    ----------
+    ax_ms2, ay_ms2, az_ms2 : array_like
+        ground acceleration along x, y (horizontal, y 90 deg counter-clockwise of x seen from above) and up
+        [m s-2], one sample each per ``dt_s``; ``az_ms2`` may be None (no vertical)
+    dt_s : float
+        sampling interval [s]
+    cylinder : Cylinder
+    g_ms2 : float
+        gravity [m s-2]
+    rtol, atol_alpha : float
+        tolerances of the step control (relative; absolute as a fraction of alpha, and of p alpha for rates)
+    initial : array_like of 6, optional
+        (theta, phi, psi [rad], their rates [rad s-1]) at the first sample; default at rest
+
+    Returns
+    -------
+    WobbleOutcome
+        After overturning the tilt reads pi/2; after a flag (flight, sliding, the step cap) NaN.
+    """
+    ax = np.ascontiguousarray(ax_ms2, dtype=float)
+    ay = np.ascontiguousarray(ay_ms2, dtype=float)
+    az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
+    if not (ax.shape == ay.shape == az.shape) or ax.ndim != 1 or ax.size < 2:
+        raise ValueError(f"the components hold {ax.shape}, {ay.shape} and {az.shape} samples; expected three "
+                         "equal 1-D series of at least 2 samples")
+    y0 = np.zeros(6) if initial is None else np.asarray(initial, dtype=float).copy()
+    theta = np.full(ax.size, np.nan)
+    azimuth = np.full(ax.size, np.nan)
+    y_end = np.empty(6)
+    over, t_over, th_max, az_max, flag, impacts = wobble(
+        ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
+        cylinder.restitution, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
+    if over:
+        k = int(np.ceil(t_over / dt_s))
+        theta[k:], azimuth[k:] = HALF_PI, az_max
+    return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
+                         int(impacts), theta, azimuth, y_end)
