@@ -109,8 +109,6 @@ LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
 
-# Phases
-REST, ROCK, OVERTURNED, FLAGGED = 0, 1, 2, 3
 # Flags (why a scene is flagged)
 FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
 
@@ -169,6 +167,33 @@ class WobbleOutcome(NamedTuple):
     theta: np.ndarray
     azimuth: np.ndarray
     state_end: np.ndarray
+
+
+class Ground(NamedTuple):
+    """The ground's acceleration [m s-2] at samples ``dt`` [s] apart, for the compiled kernel."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    az: np.ndarray
+    dt: float
+    g: float
+
+
+class Params(NamedTuple):
+    """A cylinder's constants, derived once for the compiled kernel (per unit mass)."""
+
+    a: float            # radius [m]
+    h: float            # half-height [m]
+    i1: float           # transverse moment of inertia about G [m2]
+    i3: float           # axial moment of inertia [m2]
+    alpha: float        # slenderness atan(a / h) [rad]
+    p: float            # frequency parameter sqrt(g R / (I_G + R^2)) [rad s-1]
+    scale: float        # the declared restitution over Housner's [-]
+    mu: float           # friction [-]
+    land: float         # the tilt taken as landed [rad]
+    atol_angle: float   # absolute tolerance on angles [rad]
+    atol_rate: float    # ... on rates [rad s-1]
+    rtol: float         # relative tolerance [-]
 
 
 def housner_e(radius_m: float, half_height_m: float) -> float:
@@ -270,11 +295,12 @@ def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
 
 
 @jit
-def _ground(t, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g):
-    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t``, the ground's acceleration linear from ``t0`` over
-    one sample interval ``dt``."""
-    f = (t - t0) / dt
-    return -(ax0 + f * (ax1 - ax0)), -(ay0 + f * (ay1 - ay0)), -g - (az0 + f * (az1 - az0))
+def _ground(t, i, grd):
+    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t`` inside sample interval ``i`` (the ground linear
+    between samples)."""
+    f = (t - i * grd.dt) / grd.dt
+    return (-(grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])), -(grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])),
+            -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
 
 
 @jit
@@ -287,7 +313,7 @@ def _stage(y, k, coef, n_prev, hh, tmp):
 
 
 @jit
-def dopri_step(t, y, hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, a, h, i1, i3, k, tmp, y_new, err):
+def dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err):
     """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (``k[0]``: f at the start, FSAL): the
     5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in ``k[6]``; returns the
     contact force per unit mass at the end."""
@@ -299,14 +325,14 @@ def dopri_step(t, y, hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g, a, h, i1, i3, 
         for j in range(5):
             c[j] = rows[s][j]
         _stage(y, k, c, s + 1, hh, tmp)
-        gx, gy, gz = _ground(t + nodes[s] * hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g)
-        derivatives(tmp, gx, gy, gz, a, h, i1, i3, k[s + 1])
-    for i in range(6):
-        y_new[i] = y[i] + hh * (B1 * k[0, i] + B3 * k[2, i] + B4 * k[3, i] + B5 * k[4, i] + B6 * k[5, i])
-    gx, gy, gz = _ground(t + hh, t0, dt, ax0, ax1, ay0, ay1, az0, az1, g)
-    force = derivatives(y_new, gx, gy, gz, a, h, i1, i3, k[6])
-    for i in range(6):
-        err[i] = hh * (E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i] + E7 * k[6, i])
+        gx, gy, gz = _ground(t + nodes[s] * hh, i, grd)
+        derivatives(tmp, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, k[s + 1])
+    for q in range(6):
+        y_new[q] = y[q] + hh * (B1 * k[0, q] + B3 * k[2, q] + B4 * k[3, q] + B5 * k[4, q] + B6 * k[5, q])
+    gx, gy, gz = _ground(t + hh, i, grd)
+    force = derivatives(y_new, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, k[6])
+    for q in range(6):
+        err[q] = hh * (E1 * k[0, q] + E3 * k[2, q] + E4 * k[3, q] + E5 * k[4, q] + E6 * k[5, q] + E7 * k[6, q])
     return force
 
 
@@ -372,109 +398,128 @@ def _crossing(th0, w0, th1, w1, hh, level):
 
 
 @jit
+def _params(g, a, h, mu, restitution, rtol, atol_alpha):
+    alpha = math.atan2(a, h)
+    big_r = math.hypot(a, h)
+    i1 = a * a / 4.0 + h * h / 3.0
+    p = math.sqrt(g * big_r / (i1 + big_r * big_r))
+    e_h = housner_e_jit(a, h)
+    return Params(a, h, i1, a * a / 2.0, alpha, p, restitution / e_h if e_h > 0.0 else 0.0, mu,
+                  LAND_THETA_ALPHA * alpha, atol_alpha * alpha, atol_alpha * alpha * p, rtol)
+
+
+@jit
+def _error_norm(y, y_new, err, prm):
+    """The embedded error over the tolerance, the largest over the states (NaN stays NaN: rejected)."""
+    norm = 0.0
+    for j in range(6):
+        tol = (prm.atol_angle if j < 3 else prm.atol_rate) + prm.rtol * max(abs(y[j]), abs(y_new[j]))
+        norm = max(norm, abs(err[j]) / tol)
+    return norm
+
+
+@jit
+def _lift_off(t, i, grd, prm, y):
+    """At rest over sample interval ``i`` from ``t``: the instant the ground lifts the cylinder (the state then
+    set tilting toward the inertial force), or -1 when it stays at rest."""
+    t0 = i * grd.dt
+    start = _uplift(t, t0 + grd.dt, t0, grd.dt, grd.ax[i], grd.ax[i + 1], grd.ay[i], grd.ay[i + 1], grd.az[i],
+                    grd.az[i + 1], grd.g, prm.a / prm.h)
+    if start >= 0.0:
+        gx, gy, _ = _ground(start, i, grd)
+        y[:] = 0.0
+        y[0], y[1] = 2.0 * prm.land, math.atan2(gy, gx)
+    return start
+
+
+@jit
+def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out):
+    """The base lands flat inside the step from ``t``: the landing located on the step's cubic, the state
+    advanced to it (exact Runge-Kutta step) and the impact applied; returns the time, and whether the rebound is
+    too slow to go on (rest)."""
+    x = _crossing(y[0], k[0, 0], y_new[0], k[6, 0], hh, prm.land)
+    hl = max(x * hh, 1e-15 * grd.dt)
+    dopri_step(t, y, hl, i, grd, prm, k, tmp, y_new, err)
+    _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])
+    y[:] = y_new
+    rate = _landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
+    y[0] = prm.land
+    rests = rate < REST_RATE * prm.p * prm.alpha
+    if rests:
+        y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
+    return t + hl, rests
+
+
+@jit
+def _contact_flag(force, mu):
+    """FLAG_FLIGHT where the ground would pull the base (F_z <= 0), FLAG_SLIDE where friction cannot hold it."""
+    if force[2] <= 0.0:
+        return FLAG_FLIGHT
+    if math.hypot(force[0], force[1]) > mu * force[2]:
+        return FLAG_SLIDE
+    return FLAG_NONE
+
+
+@jit
 def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end):
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, restitution) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
     its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
     azimuth at theta_max [rad], flag, impacts)."""
+    grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, restitution, rtol, atol_alpha)
     n = ax.shape[0]
-    alpha = math.atan2(a, h)
-    big_r = math.hypot(a, h)
-    i1, i3 = a * a / 4.0 + h * h / 3.0, a * a / 2.0
-    p = math.sqrt(g * big_r / (i1 + big_r * big_r))
-    e_h = housner_e_jit(a, h)
-    scale = restitution / e_h if e_h > 0.0 else 0.0
-    tan_alpha = a / h
-    land = LAND_THETA_ALPHA * alpha
-    atol_angle, atol_rate = atol_alpha * alpha, atol_alpha * alpha * p
     y = y0.copy()
-    phase = ROCK if y[0] > land else REST
-    if phase == REST:
+    rocking = y[0] > prm.land
+    if not rocking:
         y[:] = 0.0
-    k = np.zeros((7, 6))
-    tmp, y_new, err = np.empty(6), np.empty(6), np.empty(6)
-    t, t_end = 0.0, (n - 1) * dt
-    theta_max, az_max, flag, impacts = 0.0, 0.0, FLAG_NONE, 0
-    overturned, t_over = False, math.nan
+    k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
+    t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
+    theta_max, az_max, flag, impacts, t_over = 0.0, 0.0, FLAG_NONE, 0, math.nan
     theta_out[0], azimuth_out[0] = y[0], y[1]
-    hh_next = dt
-    steps, cap = 0, MAX_STEPS_PER_SAMPLE * n
     fresh = True
-    while t < t_end - 1e-12 * dt:
+    while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
         i = min(int(t / dt + 1e-9), n - 2)
-        t0 = i * dt
-        t_next = t0 + dt
-        if phase == REST:
-            start = _uplift(t, t_next, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, tan_alpha)
+        if not rocking:
+            start = _lift_off(t, i, grd, prm, y)
             if start < 0.0:
-                t = t_next
+                t = (i + 1) * dt
                 theta_out[i + 1], azimuth_out[i + 1] = 0.0, y[1]
-                continue
-            t = start
-            f = (t - t0) / dt
-            hx, hy = ax[i] + f * (ax[i + 1] - ax[i]), ay[i] + f * (ay[i + 1] - ay[i])
-            y[:] = 0.0
-            y[0], y[1] = 2.0 * land, math.atan2(-hy, -hx)
-            phase, fresh = ROCK, True
+            else:
+                t, rocking, fresh = start, True, True
             continue
         steps += 1
-        if steps > cap:
+        if steps > MAX_STEPS_PER_SAMPLE * n:
             flag = FLAG_STEPS
             break
         if fresh:
-            gx, gy, gz = _ground(t, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g)
-            derivatives(y, gx, gy, gz, a, h, i1, i3, k[0])
+            gx, gy, gz = _ground(t, i, grd)
+            derivatives(y, gx, gy, gz, a, h, prm.i1, prm.i3, k[0])
             fresh = False
-        hh = min(hh_next, t_next - t)
-        force = dopri_step(t, y, hh, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, a, h, i1, i3,
-                           k, tmp, y_new, err)
-        norm = 0.0
-        for j in range(6):
-            tol = (atol_angle if j < 3 else atol_rate) + rtol * max(abs(y[j]), abs(y_new[j]))
-            norm = max(norm, abs(err[j]) / tol)
+        hh = min(hh_next, (i + 1) * dt - t)
+        force = dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err)
+        norm = _error_norm(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
             hh_next = hh * max(MIN_FACTOR, SAFETY * norm ** -0.2) if norm == norm else hh * MIN_FACTOR
             continue
-        grow = MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2)
         if y_new[0] >= HALF_PI:                                  # overturned (theta rises through pi/2 here)
             x = (HALF_PI - y[0]) / (y_new[0] - y[0])
-            t_over = t + x * hh
-            overturned, theta_max, az_max = True, HALF_PI, y[1] + x * (y_new[1] - y[1])
-            phase = OVERTURNED
+            t_over, theta_max, az_max = t + x * hh, HALF_PI, y[1] + x * (y_new[1] - y[1])
             break
-        if y_new[0] < land:                                      # the base lands flat inside the step
-            x = _crossing(y[0], k[0, 0], y_new[0], k[6, 0], hh, land)
-            hl = max(x * hh, 1e-15 * dt)
-            dopri_step(t, y, hl, t0, dt, ax[i], ax[i + 1], ay[i], ay[i + 1], az[i], az[i + 1], g, a, h, i1, i3,
-                       k, tmp, y_new, err)
-            _fill(theta_out, azimuth_out, dt, t, hl, y, k, y_new, n)
-            t += hl
-            y[:] = y_new
+        if y_new[0] < prm.land:                                  # the base lands flat inside the step
             impacts += 1
-            rate = _landing(y, a, h, i1, i3, scale)
-            y[0] = land
-            if rate < REST_RATE * p * alpha:
-                phase = REST
-                y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
-            fresh, hh_next = True, hh
+            t, rests = _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out)
+            rocking, fresh = not rests, True
             continue
-        fz = force[2]
-        if fz <= 0.0:
-            flag = FLAG_FLIGHT
-        elif math.hypot(force[0], force[1]) > mu * fz:
-            flag = FLAG_SLIDE
+        flag = _contact_flag(force, mu)
         _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n)
         if y_new[0] > theta_max:
             theta_max, az_max = y_new[0], y_new[1]
         t += hh
         y[:] = y_new
         k[0, :] = k[6, :]
-        hh_next = hh * grow
-        if flag != FLAG_NONE:
-            phase = FLAGGED
-            break
+        hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
     y_end[:] = y
-    return overturned, t_over, theta_max, az_max, flag, impacts
+    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts
 
 
 @jit
