@@ -26,7 +26,7 @@ import numpy as np
 
 from .constants import G
 from .errors import InventoryError
-from .rocking.block import Block, BlockShape, dynamics
+from .rocking.block import Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
 from .tables import parse_number, read_csv_table
 
@@ -34,7 +34,9 @@ log = logging.getLogger(__name__)
 
 REQUIRED = ("id", "height_m", "width_m")
 OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "building", "floor_height_m", "site",
-            "notes")
+            "notes", "shape", "depth_m")
+#: The values of the ``shape`` column (blank: box)
+SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
 #: assets.csv and the report; ``lon`` and ``lat`` [decimal degrees] locate an asset for ``screen event``. Any other
 #: extra column is kept too, with a warning (a typo is likely).
@@ -79,6 +81,22 @@ class Inventory:
     building: tuple = ()
     #: height of its floor above the building's base [m] (NaN: not given); empty: none for any block
     floor_height_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the kind of body (:class:`~pipeline.rocking.block.ShapeKind`); empty: every block a box
+    kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int8))
+    #: a box's base dimension perpendicular to ``width_m`` [m] (NaN: not given); empty: none for any block
+    depth_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def kinds(self) -> np.ndarray:
+        """:attr:`kind` aligned with the blocks (box where none is given)."""
+        return self.kind if self.kind.size == len(self) else np.full(len(self), int(ShapeKind.box), dtype=np.int8)
+
+    def depths(self) -> np.ndarray:
+        """:attr:`depth_m` aligned with the blocks (NaN where none is given) [m]."""
+        return self.depth_m if self.depth_m.size == len(self) else np.full(len(self), np.nan)
+
+    def cylinders(self) -> np.ndarray:
+        """Whether each block is a solid cylinder."""
+        return self.kinds() == int(ShapeKind.cylinder)
 
     def base_margins(self) -> np.ndarray:
         """:attr:`base_margin_m` aligned with the blocks (NaN where none is given) [m]."""
@@ -97,7 +115,7 @@ class Inventory:
 
     def geometry(self, *, g_ms2: float = G) -> Geometry:
         """Rocking geometry of every block."""
-        return geometry(self.height_m, self.width_m, g_ms2=g_ms2)
+        return geometry(self.height_m, self.width_m, g_ms2=g_ms2, cylinder=self.cylinders())
 
     def effective_restitution(self, geom: Geometry) -> np.ndarray:
         """Angular-velocity restitution per block as reported: the inventory's value, else Housner's (negative for
@@ -107,7 +125,8 @@ class Inventory:
     def shape(self, j: int) -> BlockShape:
         """Block ``j`` as the simulator's models read it (:class:`~pipeline.rocking.block.BlockShape`)."""
         return BlockShape(height_m=float(self.height_m[j]), width_m=float(self.width_m[j]), mu=float(self.mu[j]),
-                          restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]))
+                          restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]),
+                          depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])))
 
     def shapes(self) -> list[BlockShape]:
         """Every block's :class:`~pipeline.rocking.block.BlockShape`."""
@@ -126,7 +145,7 @@ class Inventory:
                          mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
                          source=self.source, extra={c: pick(v) for c, v in self.extra.items()},
                          base_margin_m=self.base_margins()[k], building=pick(self.buildings()),
-                         floor_height_m=self.floor_heights()[k])
+                         floor_height_m=self.floor_heights()[k], kind=self.kinds()[k], depth_m=self.depths()[k])
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -152,6 +171,8 @@ class Inventory:
         for j, bid in enumerate(self.ids):
             fields: tuple = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j],
                              self.restitution[j])
+            if self.kinds()[j] != ShapeKind.box or not np.isnan(self.depths()[j]):   # a shape or depth enters it
+                fields += (int(self.kinds()[j]), self.depths()[j])
             if self.buildings()[j]:             # a block in a building: its floor enters the computation
                 fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
@@ -244,6 +265,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         restitution=np.array(rows["restitution"]), source=str(path),
         extra={c: tuple(rows[c]) for c in extras}, base_margin_m=np.array(rows["base_margin_m"], dtype=float),
         building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
+        kind=np.array(rows["shape"], dtype=np.int8), depth_m=np.array(rows["depth_m"], dtype=float),
     )
 
 
@@ -283,6 +305,7 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
     rows["base_margin_m"].append(math.nan if not margin else _cell(
         errors, where, "base_margin_m", margin,
         "a distance >= 0 m from the block to the edge of its base (blank: none)", lambda x: x >= 0, math.nan))
+    _read_shape(rec, where, rows, errors)
     rows["building"].append(rec.get("building", ""))
     fh = rec.get("floor_height_m", "")
     rows["floor_height_m"].append(math.nan if not fh else _cell(
@@ -290,3 +313,21 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
         lambda x: x >= 0, math.nan))
     for c in ("name", "site", "notes") + tuple(extras):
         rows[c].append(rec.get(c, ""))
+
+
+def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str]) -> None:
+    """The ``shape`` (blank: box) and ``depth_m`` cells (a box's other base dimension; a cylinder has none)."""
+    shape = rec.get("shape", "").strip().lower()
+    if shape and shape not in SHAPES:
+        errors.append(f"{where}, column 'shape': {rec['shape']!r}; expected one of {', '.join(SHAPES)} (blank: box)")
+    kind = SHAPES.get(shape or "box", ShapeKind.box)
+    rows["shape"].append(int(kind))
+    lo, hi = SIZE_RANGE_M
+    depth = rec.get("depth_m", "")
+    if depth and kind == ShapeKind.cylinder:
+        errors.append(f"{where}, column 'depth_m': {depth!r} for a cylinder, whose base is round (width_m is its "
+                      "diameter); leave depth_m blank")
+        depth = ""
+    rows["depth_m"].append(math.nan if not depth else _cell(
+        errors, where, "depth_m", depth, f"a size in metres between {lo:g} and {hi:g} (the base dimension "
+        "perpendicular to width_m; blank: not given)", lambda x: lo <= x <= hi, math.nan))

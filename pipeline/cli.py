@@ -240,7 +240,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
               "screening.nc; tie_hold: held at rest at a tie, stalled or step_cap: ended with the verdict of the "
-              "state reached): " + "; ".join(guarded[:10]) + ("; ..." if len(guarded) > 10 else ""),
+              "state reached; model_limit: a cylinder's 3D model stopped where its base would slide or lift off, "
+              "no verdict): " + "; ".join(guarded[:10]) + ("; ..." if len(guarded) > 10 else ""),
               file=sys.stderr)
     for line in filter(None, s.get("buildings", "").split("\n")):
         print(f"building {line} (floor motion: Miranda & Taghavi 2005)", file=sys.stderr)

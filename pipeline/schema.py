@@ -173,7 +173,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                 {**flags(Physics),
                  "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included); "
                             "general: pure rocking (or sliding) stopped holding and the general contact model "
-                            "(slide, slide-rock, free flight, impacts) decided the verdict"}),
+                            "(slide, slide-rock, free flight, impacts) decided the verdict; wobbling: a cylinder "
+                            "on two horizontals, rocking and rolling on its rim in 3D (orientation axisymmetric)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "
@@ -192,7 +193,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                      "simulation.max_events; tie_hold: many events at one instant on a flat block "
                                      "(a tie between two models), held at rest to the next sample; stalled, "
                                      "step_cap: ended there, the verdict from the state reached (the energy of its "
-                                     "free rocking); tail_cap: motion after the record followed to its cap. "
+                                     "free rocking); tail_cap: motion after the record followed to its cap; "
+                                     "model_limit: a cylinder's 3D model stopped where its base would slide or "
+                                     "lift off (not modeled in 3D): no verdict. "
                                      "The orientation scan ORs the planes simulated"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,
@@ -226,12 +229,14 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "governing_azimuth": (("record", "block"), "degree",
                           "azimuth of the rocking plane whose result is reported, clockwise from north, modulo 180",
                           {"comment": "for orientation scanned_relative: relative to the record's first component "
-                                      "taken as 0 deg"}),
+                                      "taken as 0 deg; for orientation axisymmetric (a cylinder in 3D): the azimuth "
+                                      "it leant toward at its peak tilt, in [0, 360) (NaN: it never lifted)"}),
     "orientation": (("record", "block"), None, "how the rocking plane was chosen",
                     {**flags(Orientation),
                      "comment": "scanned: worst of every plane k * simulation.orientation_step_deg and the pulse "
                                 "axis that moves the block, refined around the worst standing plane; "
-                                "scanned_relative: the same on a record of unknown absolute azimuth"}),
+                                "scanned_relative: the same on a record of unknown absolute azimuth; "
+                                "axisymmetric: a cylinder on two horizontals, one 3D run (no plane)"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)

@@ -35,6 +35,7 @@ class ShapeKind(IntEnum):
     """The kind of body a block is."""
 
     box = 0             # a rectangular block; planar models take it as infinitely deep in its rocking plane
+    cylinder = 1        # a solid cylinder standing on its base (width: the diameter); 3D on two horizontals
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,7 +102,8 @@ def dynamics(shapes: list[BlockShape], *, g_ms2: float = G) -> list[Block]:
     value, else Housner's, clipped to [0, 1]: 0 for a block too squat to rock), computed over all shapes at once."""
     if not shapes:
         return []
-    geom = geometry(np.array([s.height_m for s in shapes]), np.array([s.width_m for s in shapes]), g_ms2=g_ms2)
+    geom = geometry(np.array([s.height_m for s in shapes]), np.array([s.width_m for s in shapes]), g_ms2=g_ms2,
+                    cylinder=np.array([s.kind == ShapeKind.cylinder for s in shapes]))
     e = effective_restitution(np.array([s.restitution for s in shapes]), geom.e_housner)
     return [Block(p=float(geom.p[j]), alpha=float(geom.alpha[j]), e=float(e[j]), R_m=float(geom.R[j]),
                   mu=float(s.mu), g_ms2=g_ms2) for j, s in enumerate(shapes)]
@@ -132,5 +134,7 @@ def rigid_block(p, alpha, e, R, mu, g, rest_ratio, linear=False, stop_mu=math.in
     stop_mu : float
         Where the kernel stops for the contact model (``inf``: never) [-].
     """
+    # J = I_G / m of a rectangular block, R^2 / 3: the general contact model takes it for a cylinder too (its own
+    # is a^2/4 + h^2/3), while pure rocking takes the cylinder's own p
     return RigidBlock(p=p, alpha=alpha, e=e, R=R, mu=mu, g=g, b=R * math.sin(alpha), h=R * math.cos(alpha),
                       J=R * R / 3.0, rest_ratio=rest_ratio, linear=linear, stop_mu=stop_mu)

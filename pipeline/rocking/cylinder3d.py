@@ -98,6 +98,7 @@ from .dopri import (
     E6,
     E7,
 )
+from .geometry import cylinder_p_e
 
 HALF_PI = 0.5 * math.pi
 
@@ -156,6 +157,8 @@ class WobbleOutcome(NamedTuple):
         the azimuth of the tilt at the samples [rad]
     state_end : ndarray
         (theta, phi, psi, theta', phi', psi') where the run ended
+    friction_demand : float
+        the peak |F_h| / F_z at the rim while it rocked [-]
     """
 
     overturned: bool
@@ -167,6 +170,7 @@ class WobbleOutcome(NamedTuple):
     theta: np.ndarray
     azimuth: np.ndarray
     state_end: np.ndarray
+    friction_demand: float
 
 
 class Ground(NamedTuple):
@@ -197,12 +201,9 @@ class Params(NamedTuple):
 
 
 def housner_e(radius_m: float, half_height_m: float) -> float:
-    """Housner's coefficient of restitution of a solid cylinder rocking in a plane: angular momentum about the
-    new contact point conserved at the landing (Housner 1963, his eq. for the block, with the cylinder's
-    inertia ``I_G = a^2/4 + h^2/3`` per unit mass) [-]."""
-    a, h = radius_m, half_height_m
-    ig = a * a / 4.0 + h * h / 3.0
-    return (ig + h * h - a * a) / (ig + h * h + a * a)
+    """Housner's coefficient of restitution of a solid cylinder rocking in a plane
+    (:func:`~.geometry.cylinder_p_e`) [-]."""
+    return float(cylinder_p_e(radius_m, half_height_m)[1])
 
 
 def planar_inertia(radius_m: float, half_height_m: float) -> float:
@@ -465,7 +466,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, restitution) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
     its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
-    azimuth at theta_max [rad], flag, impacts)."""
+    azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while rocking)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, restitution, rtol, atol_alpha)
     n = ax.shape[0]
     y = y0.copy()
@@ -474,7 +475,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
         y[:] = 0.0
     k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
-    theta_max, az_max, flag, impacts, t_over = 0.0, 0.0, FLAG_NONE, 0, math.nan
+    theta_max, az_max, flag, impacts, t_over, demand = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0
     theta_out[0], azimuth_out[0] = y[0], y[1]
     fresh = True
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
@@ -511,6 +512,8 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
             rocking, fresh = not rests, True
             continue
         flag = _contact_flag(force, mu)
+        if force[2] > 0.0:
+            demand = max(demand, math.hypot(force[0], force[1]) / force[2])
         _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n)
         if y_new[0] > theta_max:
             theta_max, az_max = y_new[0], y_new[1]
@@ -519,7 +522,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
         k[0, :] = k[6, :]
         hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
     y_end[:] = y
-    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts
+    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand
 
 
 @jit
@@ -606,11 +609,11 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
     y_end = np.empty(6)
-    over, t_over, th_max, az_max, flag, impacts = wobble(
+    over, t_over, th_max, az_max, flag, impacts, demand = wobble(
         ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
         cylinder.restitution, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
     if over:
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end)
+                         int(impacts), theta, azimuth, y_end, float(demand))

@@ -37,10 +37,11 @@ class Geometry:
     alpha : ndarray
         Slenderness angle atan(b/h) [rad].
     p : ndarray
-        Frequency parameter sqrt(3 g / (4 R)) of a rectangular block [rad s-1].
+        Frequency parameter sqrt(3 g / (4 R)) of a rectangular block (a cylinder's: :func:`cylinder_p_e`)
+        [rad s-1].
     e_housner : ndarray
         Housner coefficient of restitution, the angular-velocity ratio across an
-        impact, 1 - 1.5 sin^2(alpha) [-] (its square is the energy ratio).
+        impact, 1 - 1.5 sin^2(alpha) for a rectangular block [-] (its square is the energy ratio).
     """
 
     h: np.ndarray
@@ -51,8 +52,8 @@ class Geometry:
     e_housner: np.ndarray
 
 
-def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
-    """Return the rocking geometry of rectangular blocks.
+def geometry(height_m, width_m, *, g_ms2: float = G, cylinder=False) -> Geometry:
+    """Return the rocking geometry of rectangular blocks (and of solid cylinders where ``cylinder``).
 
     Parameters
     ----------
@@ -62,6 +63,9 @@ def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
         Full base width 2b in the rocking plane [m], > 0.
     g_ms2 : float
         Gravity [m s-2].
+    cylinder : bool or array_like of bool
+        Where the block is a solid cylinder rocking in a vertical plane through its axis (``width_m`` its
+        diameter): p and e from its own inertia (:func:`cylinder_p_e`).
 
     Raises
     ------
@@ -82,7 +86,22 @@ def geometry(height_m, width_m, *, g_ms2: float = G) -> Geometry:
     alpha = np.arctan2(b, h)
     p = np.sqrt(3.0 * g_ms2 / (4.0 * R))          # rectangle: p^2 = m g R / I0
     e = 1.0 - 1.5 * np.sin(alpha) ** 2             # Housner (1963) eq. 5, velocity ratio
+    cyl = np.broadcast_to(np.asarray(cylinder, dtype=bool), np.shape(R))
+    if np.any(cyl):
+        p_c, e_c = cylinder_p_e(b, h, g_ms2=g_ms2)
+        p, e = np.where(cyl, p_c, p), np.where(cyl, e_c, e)
     return Geometry(h=h, b=b, R=R, alpha=alpha, p=p, e_housner=e)
+
+
+def cylinder_p_e(radius_m, half_height_m, *, g_ms2: float = G):
+    """The frequency parameter [rad s-1] and Housner's restitution [-] of a solid cylinder (radius a, half-height h)
+    rocking in a vertical plane through its axis: I_G = m (a^2/4 + h^2/3), I_0 = I_G + m R^2, p^2 = m g R / I_0,
+    and, angular momentum about the new pivot conserved at the impact (Housner 1963, his eq. 5 derived for the
+    block), e = (I_G + m (h^2 - a^2)) / (I_G + m (h^2 + a^2))."""
+    a, h = np.asarray(radius_m, dtype=float), np.asarray(half_height_m, dtype=float)
+    i_g = a * a / 4.0 + h * h / 3.0
+    r2 = a * a + h * h
+    return np.sqrt(g_ms2 * np.sqrt(r2) / (i_g + r2)), (i_g + h * h - a * a) / (i_g + h * h + a * a)
 
 
 def effective_restitution(declared, e_housner, factor=1.0) -> np.ndarray:

@@ -200,6 +200,10 @@ def _rocking_warmup() -> None:
 
 # --- the registry -----------------------------------------------------------------------------------------------
 
+#: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder on two horizontals:
+#: :func:`pipeline.rocking.cylinder_scene.cylinder_scene`), not by this planar registry.
+THREE_D = (Physics.wobbling,)
+
 #: Every scene model, in the order the planner tries them: a scene goes to the first whose certificate holds.
 MODELS: tuple[SceneModel, ...] = (
     SceneModel(physics=Physics.none, certificate=at_rest, simulate=_rest, twin=_rest_twin, warmup=_no_warmup),

@@ -57,6 +57,7 @@ class Orientation(IntEnum):
     scanned = 1               # blank azimuth: the worst plane of the scan
     scanned_relative = 2      # the same, on a record of unknown absolute azimuth (relative orthogonal pair)
     single_component = 3      # one horizontal recorded: its plane only
+    axisymmetric = 4          # a cylinder on two horizontals: no plane, the 3D model (the azimuth: where it leant)
 
 
 def plane_grid(step_deg: float) -> np.ndarray:

@@ -37,6 +37,7 @@ class Physics(IntEnum):
     rocking = 2
     rocking_vertical = 3
     general = 4           # pure rocking continued by the general contact model (slide, slide-rock, flight)
+    wobbling = 5          # a cylinder rocking and rolling on its rim under both horizontals (rocking.cylinder3d)
 
 
 class Response(IntEnum):
@@ -72,6 +73,7 @@ class Guard(IntEnum):
     stalled = 4           # tie rule 6 on a block off its base: ended there with the verdict of the state reached
     step_cap = 8          # the step budget ran out: ended there with the verdict of the state reached
     tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
+    model_limit = 32      # the 3D model stopped where its base would slide or lift off (not modeled): no verdict
 
 
 def guard_names(bits: int) -> str:
@@ -131,7 +133,7 @@ class Scene:
         model)."""
         if self.overturned:
             return 1
-        return -1 if self.response == Response.free_flight else 0
+        return -1 if self.response == Response.free_flight or self.guard & Guard.model_limit else 0
 
 
 REST_SCENE = Scene(physics=Physics.none, response=Response.rest, overturned=False, theta_max=0.0, n_impacts=0,

@@ -51,6 +51,8 @@ from ..floors.standing import FloorMotions
 from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
+from ..rocking.cylinder3d import Cylinder
+from ..rocking.cylinder_scene import cylinder_of, run_on_record, scene_of
 from ..rocking.planner import rocks, simulate_scene
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
@@ -132,9 +134,21 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
         return math.inf, 0
     f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
 
+    def verdict_at(factor: float) -> int:
+        av = None if av_ms2 is None else factor * av_ms2
+        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
+
+    return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+
+
+def scale_scan(lift_factor: float, verdict_at, *, settings, overturns_at_one: bool | None = None
+               ) -> tuple[float, int]:
+    """The upward scan of :func:`overturn_scale_simulated`: from the factor that first lifts the block up to 1
+    (exclusive), then 1, then up to ``margin_max_factor``, in steps of ``margin_step``; ``verdict_at(factor)``
+    judges one (1 overturns, 0 stands, -1 no verdict). Returns the first factor that overturns (NaN when one has
+    no verdict first, ``inf`` when none does) and the scenes simulated."""
     def factors():
-        """The scan: from the lifting factor up to 1 (exclusive), then 1 itself, then up to the limit."""
-        x = f
+        x = lift_factor
         while x < 1.0:
             yield x
             x *= 1.0 + settings.margin_step
@@ -150,11 +164,31 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
             v = int(overturns_at_one)                   # the unscaled scene's verdict is known
         else:
             runs += 1
-            av = None if av_ms2 is None else factor * av_ms2
-            v = simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
+            v = verdict_at(factor)
         if v != 0:                      # overturns; or free flight: no verdict at or above this factor
             return (factor if v == 1 else math.nan), runs
     return math.inf, runs
+
+
+def cylinder_scale_simulated(rec, cylinder: Cylinder, *, settings, g_ms2: float,
+                             overturns_at_one: bool | None = None) -> tuple[float, int]:
+    """:func:`overturn_scale_simulated` of a cylinder on a record's two horizontals and vertical, by the 3D model
+    (:mod:`pipeline.rocking.cylinder_scene`): the lifting factor from |a_h| > (g + a_z) tan alpha in any
+    direction."""
+    h = rec.horizontal_ms2
+    tan_a = cylinder.radius_m / cylinder.half_height_m
+    v = rec.vertical_ms2 if rec.vertical_ms2 is not None else 0.0
+    lift = np.hypot(h[0], h[1]) - v * tan_a
+    if not np.any(lift > 0):
+        return math.inf, 0
+    f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))
+
+    def verdict_at(factor: float) -> int:
+        out = run_on_record(h[0], h[1], rec.vertical_ms2, rec.dt_s, cylinder, settings=settings, g_ms2=g_ms2,
+                            amplitude=factor)
+        return scene_of(out, math.atan2(cylinder.radius_m, cylinder.half_height_m)).verdict
+
+    return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 
 
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:
@@ -200,8 +234,13 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     index = {b: k for k, b in enumerate(inv.ids)}
     motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))   # a block on a floor: that floor's motion
     out = {}
+    cylinders = inv.cylinders()
     for block_id, direction, overturned, want_history in blocks:
         on = motions.of_block(index[block_id])
+        if cylinders[index[block_id]] and not on.single_component:      # the 3D model, as its scene was judged
+            out[block_id] = _cylinder_margins(on, inv.shape(index[block_id]), cfg, settings, overturned=overturned,
+                                              want_history=want_history)
+            continue
         ah = on.along(float(direction))
         block = rocking_blocks[index[block_id]]
         scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
@@ -213,6 +252,32 @@ def margin_task(item: tuple, ctx: Context) -> dict:
                                         sampling=cfg.sampling)
         out[block_id] = (scale, runs + more, history, on.dt_s, sampled)
     return out
+
+
+def _cylinder_margins(rec, shape, cfg, settings, *, overturned: bool, want_history: bool) -> tuple:
+    """A cylinder's margin task on two horizontals, by the 3D model: its scale scan, theta(t)/alpha when at risk,
+    and the sampled margins (each draw's own 3D scan, as factors on the nominal record)."""
+    g = cfg.records.g_ms2
+    c = cylinder_of(shape)
+    scale, runs = cylinder_scale_simulated(rec, c, settings=settings, g_ms2=g, overturns_at_one=overturned)
+    history = None
+    if want_history or scale <= RELOCATE_BELOW_SCALE:
+        out = run_on_record(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, c,
+                            settings=settings, g_ms2=g)
+        history = out.theta / math.atan2(c.radius_m, c.half_height_m) if out.theta_max_rad > 0 else None
+    n = cfg.uncertainty.margin_samples if cfg.sampling else 0
+    sampled = np.full(max(n, 0), np.nan)
+    if n > 0:
+        sb = sample_block(common_normals(cfg.uncertainty.seed, n), shape, settings=cfg.uncertainty, g_ms2=g)
+        for k in range(n):
+            a, h = sb.R_m[k] * math.sin(sb.alpha[k]), sb.R_m[k] * math.cos(sb.alpha[k])
+            drawn = Cylinder(radius_m=a, half_height_m=h, mu=float(sb.mu[k]), restitution=float(sb.e[k]))
+            eps = float(sb.amplitude[k])
+            scaled = dataclasses.replace(rec, horizontal_ms2=eps * rec.horizontal_ms2,
+                                         vertical_ms2=None if rec.vertical_ms2 is None else eps * rec.vertical_ms2)
+            s_k, r = cylinder_scale_simulated(scaled, drawn, settings=settings, g_ms2=g)
+            sampled[k], runs = s_k * eps, runs + r
+    return scale, runs, history, rec.dt_s, sampled
 
 
 #: The most blocks one margin task scans on its record: the blocks a record governs are split into tasks of at most

@@ -31,6 +31,7 @@ from ..pulses import analyze
 from ..records.loader import Failure, RecordSource, load_record
 from ..records.record import Record
 from ..rocking.block import Block
+from ..rocking.cylinder_scene import cylinder_scene
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planner import ContactMode, Physics, guard_names
 from ..scene_progress import SceneProgress
@@ -51,6 +52,7 @@ from ..schema import (
     parse_floor_key,
     result_table,
 )
+from ..uncertainty.cylinders import cylinder_probability
 from ..uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
@@ -297,9 +299,16 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
     planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
     base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     mask = np.ones(nb, dtype=bool) if mask is None else mask
+    cylinders = inv.cylinders()
     for j in np.flatnonzero(mask):
         ctx.progress.scene(str(inv.ids[j]))
         t_scene = time.perf_counter()
+        if cylinders[j] and not rec.single_component:           # 3D: no plane to choose (axisymmetric)
+            res, orient = _cylinder_scene(rec, base, z, inv.shape(int(j)), cfg, settings)
+            scene_values(out, int(j), res, Orientation.axisymmetric, orient)
+            ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
+                                    detail=lambda res=res: f"cylinder in 3D, leaning toward {res.azimuth_deg:.0f} deg")
+            continue
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
         if not scan:
             azimuths = azimuths[:1]
@@ -317,6 +326,19 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
                                 detail=lambda sc=sc, res=res, orient=orient: _scene_detail(
                                     sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
     return out
+
+
+def _cylinder_scene(rec: Record, base: SceneMotion | None, z, shape, cfg: Config, settings: SimulationConfig
+                    ) -> tuple[PlaneResult, OrientationProbability]:
+    """A cylinder on a record with two horizontals: the 3D model's nominal scene and its probability (one run per
+    draw, no orientation drawn)."""
+    res = cylinder_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                         float(rec.azimuths_deg[0]), shape, settings=settings, g_ms2=cfg.records.g_ms2)
+    if base is None or z is None:
+        return res, NOT_EVALUATED_ORIENTATION
+    prob = cylinder_probability(base, z, shape, settings=cfg.uncertainty, simulation=settings,
+                                g_ms2=cfg.records.g_ms2)
+    return res, one_plane(prob, res.azimuth_deg)
 
 
 def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import G
-from ..rocking.block import Block, BlockShape
+from ..rocking.block import Block, BlockShape, ShapeKind
 from ..rocking.geometry import effective_restitution, geometry
 from .settings import UncertaintyConfig
 
@@ -89,7 +89,8 @@ def sample_block(z: np.ndarray, shape: BlockShape, *, settings: UncertaintyConfi
     """
     c = settings
     geom = geometry(shape.height_m * lognormal_factor(z[:, 3], c.size_cov),
-                    shape.width_m * lognormal_factor(z[:, 4], c.size_cov), g_ms2=g_ms2)
+                    shape.width_m * lognormal_factor(z[:, 4], c.size_cov), g_ms2=g_ms2,
+                    cylinder=shape.kind == ShapeKind.cylinder)
     e = effective_restitution(shape.restitution, geom.e_housner, lognormal_factor(z[:, 1], c.restitution_cov))
     az = np.full(len(z), np.nan) if np.isnan(shape.azimuth_deg) else shape.azimuth_deg + c.azimuth_sd_deg * z[:, 5]
     return SampledBlock(amplitude=lognormal_factor(z[:, 0], c.amplitude_cov), p=geom.p, alpha=geom.alpha,

@@ -106,14 +106,7 @@ def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, setti
     g_ms2 : float
         Gravity [m s-2].
     """
-    n_max = len(z)
-    if n_max == 0:
-        return NOT_EVALUATED
-    verdicts = np.empty(n_max, dtype=np.int64)
-    planes = np.zeros(n_max, dtype=np.int64)
-    done = 0
-    low = high = math.nan
-    for sl in _batches(n_max, settings.batch):
+    def judge(sl: slice, verdicts: np.ndarray, planes: np.ndarray) -> None:
         sb = sample_block(z[sl], shape, settings=settings, g_ms2=g_ms2)
         n_rows = sl.stop - sl.start
         if m.single:
@@ -125,8 +118,24 @@ def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, setti
         s = simulation
         sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                         np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                        float(g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s), verdicts[sl],
-                        planes[sl])
+                        float(g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s),
+                        verdicts[sl], planes[sl])
+
+    return sample_until_decided(len(z), judge, settings=settings)
+
+
+def sample_until_decided(n_max: int, judge, *, settings: UncertaintyConfig) -> Probability:
+    """Judge draws in batches (``judge(rows, verdicts, simulations)`` fills the :class:`~pipeline.rocking.codes.Verdict`
+    and the simulations of the rows ``rows``) until the Wilson interval decides the robustness class (a sensitive
+    one to ``settings.p_halfwidth``) or the ``n_max`` draws are used up."""
+    if n_max == 0:
+        return NOT_EVALUATED
+    verdicts = np.empty(n_max, dtype=np.int64)
+    planes = np.zeros(n_max, dtype=np.int64)
+    done = 0
+    low = high = math.nan
+    for sl in _batches(n_max, settings.batch):
+        judge(sl, verdicts, planes)
         done = sl.stop
         v = verdicts[:done]
         k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
