@@ -224,6 +224,10 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
           file=sys.stderr)
     print("scenes by orientation: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_orientation"].items())
           + f"; rocking planes integrated: {s['planes_integrated']}", file=sys.stderr)
+    if s.get("boxes"):
+        print(f"other base axis: not checked for {s['boxes']} of {s['blocks']} blocks (boxes: judged in the plane of "
+              f"width_m; rocking about the other base axis or a corner is not modeled; {s['boxes_with_depth']} have "
+              "a depth_m)", file=sys.stderr)
     if any(s.get("scenes_by_robustness", {}).values()):
         print("under the declared uncertainty ([uncertainty]): " + ", ".join(
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())

@@ -19,6 +19,7 @@ import xarray as xr
 
 from .criteria import Onset
 from .event.assets import Basis, Level
+from .rocking.block import ShapeKind
 from .rocking.orientation import Orientation
 from .rocking.planner import ContactMode, FreeFlight, Guard, Physics, Response
 from .uncertainty.fragility import FitStatus
@@ -288,12 +289,18 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_name": (("block",), None, "block name", {}),
     "site": (("block",), None, "site or collection of the block", {}),
     "height": (("block",), "m", "full block height 2h", {}),
-    "width": (("block",), "m", "full base width 2b in the rocking plane", {}),
+    "width": (("block",), "m", "full base width 2b in the rocking plane (a cylinder's diameter)", {}),
+    "shape": (("block",), None, "kind of body",
+              {**flags(ShapeKind, missing=None),
+               "comment": "box: judged in the plane of its width (its other base axis and corners not modeled); "
+                          "cylinder: in 3D on two horizontals (orientation axisymmetric), in its plane on one"}),
+    "depth": (("block",), "m", "a box's base dimension perpendicular to its width (NaN: not given)", {}),
     "half_height": (("block",), "m", "half-height h (centre-of-mass height)", {}),
     "half_width": (("block",), "m", "half-width b", {}),
     "corner_distance": (("block",), "m", "R = sqrt(b^2 + h^2), base corner to centre of mass", {}),
     "slenderness": (("block",), "rad", "alpha = atan(b/h)", {}),
-    "frequency_parameter": (("block",), "rad s-1", "p = sqrt(3 g / (4 R))", {}),
+    "frequency_parameter": (("block",), "rad s-1", "p = sqrt(3 g / (4 R)); a cylinder's p = sqrt(g R / (I_G / m + "
+                            "R^2)), I_G / m = b^2/4 + h^2/3", {}),
     "restitution": (("block",), "1", "angular-velocity restitution across an impact (Housner where not given)", {}),
     "mu": (("block",), "1", "friction coefficient between block and base", {}),
     "block_sha256": (("block",), None, "SHA-256 of the block's inventory entry (what its results depend on)",

@@ -61,7 +61,7 @@ def el_centro_6(tmp_path_factory, records_dir):
     return root
 
 
-def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(el_centro_6, tmp_path):
+def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(el_centro_6, tmp_path, capsys):
     """The measured case: El Centro #6 x a solid cylinder 1.0 m high, 0.333 m across, mu 0.7. The planar scan of
     its 37 planes said robust_stand, p = 0.00, where a 3D rigid-body engine overturns it; in 3D its base would
     slide under the record's vertical (-0.97 g at 2.3 s), which the 3D model does not follow: no verdict, never
@@ -70,9 +70,12 @@ def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(
     from pipeline.store import open_results
 
     inv = tmp_path / "b.csv"
-    inv.write_text("id,height_m,width_m,mu,shape\nCYL,1.0,0.333,0.7,cylinder\nBOX,1.0,0.333,0.7,\n")
+    inv.write_text("id,height_m,width_m,mu,shape,depth_m\nCYL,1.0,0.333,0.7,cylinder,\nBOX,1.0,0.333,0.7,,0.5\n")
     out = tmp_path / "out"
-    assert main(["--records", str(el_centro_6), "--blocks", str(inv), "--out", str(out), "-q"]) == 0
+    assert main(["--records", str(el_centro_6), "--blocks", str(inv), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "other base axis: not checked for 1 of 2 blocks" in err and "1 have a depth_m" in err
+    assert "not checked for 1 of 2" in (out / "report.html").read_text()
     ds = open_results(out / "screening.nc")
     cyl, box = (list(ds["block"].values).index(b) for b in ("CYL", "BOX"))
     assert ds["orientation"].values[0, cyl] == Orientation.axisymmetric
@@ -83,14 +86,17 @@ def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(
     assert ds["overturn_simulated"].values[0, cyl] == -1                 # no verdict: never "stands"
     assert ds["robustness"].values[0, cyl] != Robustness.robust_stand
     assert 0.0 <= ds["governing_azimuth"].values[0, cyl] < 360.0
+    assert list(ds["shape"].values) == [ShapeKind.cylinder, ShapeKind.box]
+    assert math.isnan(ds["depth"].values[cyl]) and ds["depth"].values[box] == 0.5
 
 
-def test_without_the_vertical_the_cylinder_tilts_far_past_alpha(el_centro_6):
-    """The same scene on the two horizontals alone: the 3D cylinder rocks and rolls to 3.5 alpha before its base
-    would slide (the planar scan's worst plane reached 0.016 alpha)."""
+def test_without_the_vertical_the_cylinder_overturns(el_centro_6):
+    """The same scene on the two horizontals alone: the 3D cylinder rocks and rolls past alpha, its base would
+    slide while it falls (held: the fall kept), and it overturns at 8.7 s, where the planar scan's worst plane
+    reached 0.016 alpha."""
     from pipeline.config import Config
     from pipeline.records.loader import load_record, scan
-    from pipeline.rocking.cylinder3d import FLAG_SLIDE, Cylinder
+    from pipeline.rocking.cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder
     from pipeline.rocking.cylinder_scene import run_on_record
     from pipeline.rocking.settings import SimulationConfig
 
@@ -99,7 +105,7 @@ def test_without_the_vertical_the_cylinder_tilts_far_past_alpha(el_centro_6):
     c = Cylinder(radius_m=0.1665, half_height_m=0.5, mu=0.7, restitution=housner_e(0.1665, 0.5))
     out = run_on_record(rec.horizontal_ms2[0], rec.horizontal_ms2[1], None, rec.dt_s, c,
                         settings=SimulationConfig())
-    assert out.flag == FLAG_SLIDE and out.theta_max_rad / math.atan2(0.1665, 0.5) > 3.0
+    assert out.overturned and out.flag == FLAG_NONE and out.held == FLAG_SLIDE
     assert np.nanmax(np.abs(np.diff(np.unwrap(out.azimuth[np.isfinite(out.azimuth)])))) > 0     # it rolled
 
 
@@ -121,3 +127,22 @@ def test_a_cylinder_on_one_horizontal_rocks_in_its_plane_with_its_own_inertia(re
     ds = open_results(out / "screening.nc")
     assert ds["orientation"].values[0, 0] == Orientation.single_component
     assert ds["physics"].values[0, 0] in (Physics.rocking, Physics.rocking_vertical, Physics.general)
+
+
+@pytest.mark.parametrize("overturned, flag, held, verdict, guard", [
+    (True, 0, 0, 1, 0),
+    (False, 0, 0, 0, 0),
+    (True, 0, 1, 1, Guard.held_past_alpha),          # a fall under way, followed with the rim held: kept
+    (False, 1, 1, -1, Guard.model_limit | Guard.held_past_alpha),     # held, then it came back: no verdict
+    (False, 2, 0, -1, Guard.model_limit),            # it would slide before alpha: no verdict
+    (False, 3, 0, -1, Guard.model_limit | Guard.step_cap),     # the step cap: no verdict either
+])
+def test_what_a_3d_run_becomes_in_the_results(overturned, flag, held, verdict, guard):
+    from pipeline.rocking.cylinder3d import WobbleOutcome
+    from pipeline.rocking.cylinder_scene import scene_of
+
+    z = np.zeros(3)
+    out = WobbleOutcome(overturned, 1.0 if overturned else math.nan, 0.5, 10.0, flag, 2, z, z, np.zeros(6), 0.3,
+                        held)
+    sc = scene_of(out, 0.3)
+    assert sc.verdict == verdict and sc.guard == guard and sc.physics == Physics.wobbling

@@ -34,6 +34,7 @@ from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..risk import asset_rows, assets_csv_table
+from ..rocking.block import ShapeKind
 from ..rocking.planner import Response, guarded_scenes
 from ..scene_table import SCENE
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
@@ -274,6 +275,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
         "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
         "blocks": ds.sizes["block"],
+        "boxes": int(np.sum(ds["shape"].values == ShapeKind.box)) if "shape" in ds else ds.sizes["block"],
         "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),

@@ -39,6 +39,12 @@ part of ``omega+`` by its ratio to that value. A rebound slower than :data:`REST
 **Overturning** is ``theta >= pi / 2`` while the ground moves (the cylinder lies on its side), as in the planar
 kernel.
 
+**Where the model stops.** Sliding or lift-off of the base is not followed in 3D: before the cylinder tilts past
+alpha, the run stops there and the scene has no verdict. Past alpha, with the tilt still growing (the centre of mass
+beyond the contact, falling), the run goes on with the rim held on the ground (``held``): an overturning reached so
+is kept, flagged; if the cylinder comes back below alpha, or stands at the end, the scene has no verdict. So a
+held continuation can only confirm a fall that was under way, never make a cylinder stand.
+
 The equations are integrated by the Dormand-Prince 5(4) pair with error control on all six states; no step
 crosses a sample of the record (the ground acceleration is linear between samples). A cap on the steps
 (:data:`MAX_STEPS_PER_SAMPLE`) ends a run that does not advance, with the scene flagged.
@@ -159,6 +165,9 @@ class WobbleOutcome(NamedTuple):
         (theta, phi, psi, theta', phi', psi') where the run ended
     friction_demand : float
         the peak |F_h| / F_z at the rim while it rocked [-]
+    held : int
+        FLAG_SLIDE or FLAG_FLIGHT where the base would have slid or lifted off while the cylinder fell past alpha,
+        and the run went on with the rim held (its overturning kept, see the module); FLAG_NONE otherwise
     """
 
     overturned: bool
@@ -171,6 +180,7 @@ class WobbleOutcome(NamedTuple):
     azimuth: np.ndarray
     state_end: np.ndarray
     friction_demand: float
+    held: int
 
 
 class Ground(NamedTuple):
@@ -411,7 +421,10 @@ def _params(g, a, h, mu, restitution, rtol, atol_alpha):
 
 @jit
 def _error_norm(y, y_new, err, prm):
-    """The embedded error over the tolerance, the largest over the states (NaN stays NaN: rejected)."""
+    """The embedded error over the tolerance, the largest over the six states (NaN stays NaN: rejected). The
+    azimuth phi is held to the angles' tolerance even near the vertical, where an error in it moves the axis
+    little: it persists, and turns the rocking plane once the tilt grows (measured: weighting it by sin(theta)
+    let a motion excited in one plane leave it by 16 deg)."""
     norm = 0.0
     for j in range(6):
         tol = (prm.atol_angle if j < 3 else prm.atol_rate) + prm.rtol * max(abs(y[j]), abs(y_new[j]))
@@ -445,10 +458,35 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
     y[:] = y_new
     rate = _landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
     y[0] = prm.land
-    rests = rate < REST_RATE * prm.p * prm.alpha
+    rests = rate < REST_RATE * prm.p * prm.alpha or _cascade_ends(t + hl, i, grd, prm, rate)
     if rests:
         y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
     return t + hl, rests
+
+
+@jit
+def _cascade_ends(t, i, grd, prm, rate):
+    """Whether the impact cascade that follows a landing with tilting rate ``rate`` ends before the next sample,
+    with the ground unable to lift the cylinder until then: its flights, each decelerated at least by
+    p^2 alpha (1 - r) (r: the largest ratio |a_h| / ((g + a_z) tan alpha) over the rest of the interval, < 1; the
+    ratio is convex along the interval, so its ends bound it), last 2 w / (p^2 alpha (1 - r)) each, w shrinking by
+    e per impact: the cascade lasts at most 2 w / (p^2 alpha (1 - r) (1 - e)). Its peak tilt,
+    w^2 / (2 p^2 alpha (1 - r)), is then dropped (the closed-form end of a cascade of the planar kernel,
+    :mod:`.chatter`, bounds the same term)."""
+    e = prm.scale * housner_e_jit(prm.a, prm.h)
+    if e >= 1.0:
+        return False
+    t_next = (i + 1) * grd.dt
+    r = 0.0
+    for s in (t, t_next):
+        gx, gy, gz = _ground(s, i, grd)
+        if gz >= 0.0:                                  # g + a_z <= 0: free fall of the ground
+            return False
+        r = max(r, math.hypot(gx, gy) / (-gz * prm.a / prm.h))
+    if r >= 1.0:
+        return False
+    decel = prm.p * prm.p * prm.alpha * (1.0 - r)
+    return t + 2.0 * rate / (decel * (1.0 - e)) <= t_next
 
 
 @jit
@@ -466,7 +504,8 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, restitution) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
     its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
-    azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while rocking)."""
+    azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while rocking, and the flag
+    that was held while it fell past alpha)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, restitution, rtol, atol_alpha)
     n = ax.shape[0]
     y = y0.copy()
@@ -475,7 +514,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
         y[:] = 0.0
     k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
-    theta_max, az_max, flag, impacts, t_over, demand = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0
+    theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
     fresh = True
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
@@ -512,6 +551,10 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
             rocking, fresh = not rests, True
             continue
         flag = _contact_flag(force, mu)
+        if held != FLAG_NONE:                   # held past alpha (see the module) ...
+            flag = held if y_new[0] < prm.alpha else FLAG_NONE       # ... until it comes back: then nothing
+        elif flag != FLAG_NONE and y_new[0] > prm.alpha and y_new[3] > 0.0:
+            held, flag = flag, FLAG_NONE        # falling past alpha: followed with the rim held
         if force[2] > 0.0:
             demand = max(demand, math.hypot(force[0], force[1]) / force[2])
         _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n)
@@ -522,7 +565,9 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
         k[0, :] = k[6, :]
         hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
     y_end[:] = y
-    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand
+    if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
+        flag = held                             # held past alpha, and it did not overturn: no verdict
+    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held
 
 
 @jit
@@ -609,11 +654,11 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
     y_end = np.empty(6)
-    over, t_over, th_max, az_max, flag, impacts, demand = wobble(
+    over, t_over, th_max, az_max, flag, impacts, demand, held = wobble(
         ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
         cylinder.restitution, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
     if over:
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end, float(demand))
+                         int(impacts), theta, azimuth, y_end, float(demand), int(held))

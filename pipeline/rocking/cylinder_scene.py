@@ -7,7 +7,8 @@ of it seen from above, that is the record's second horizontal (at ``A + 90``, cl
 the model's azimuth ``phi`` leans toward the compass azimuth ``A - phi``.
 
 Where the model stops because the base would slide or lift off (not modeled in 3D), the scene has no verdict
-(``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands".
+(``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
+with the rim held past alpha (:mod:`.cylinder3d`) is kept and flagged (held_past_alpha).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import numpy as np
 from ..constants import G
 from .block import BlockShape
 from .codes import ContactMode
-from .cylinder3d import FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS, Cylinder, WobbleOutcome, simulate_cylinder
+from .cylinder3d import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, Cylinder, WobbleOutcome, simulate_cylinder
 from .geometry import cylinder_p_e, effective_restitution
 from .orientation import PlaneResult
 from .scene import FreeFlight, Guard, Physics, Response, Scene
@@ -51,7 +52,7 @@ def lean_azimuth_deg(outcome: WobbleOutcome, azimuth0_deg: float) -> float:
 def scene_of(outcome: WobbleOutcome, alpha: float, *, history: bool = False) -> Scene:
     """The :class:`~.scene.Scene` of a 3D run: theta_max as a fraction of alpha; sliding or lift-off of the base
     (the model's limits) leave no verdict."""
-    stopped = outcome.flag in (FLAG_SLIDE, FLAG_FLIGHT)
+    stopped = outcome.flag in (FLAG_SLIDE, FLAG_FLIGHT, FLAG_STEPS)
     if outcome.overturned:
         response = Response.overturn
     elif outcome.flag == FLAG_FLIGHT:
@@ -60,7 +61,8 @@ def scene_of(outcome: WobbleOutcome, alpha: float, *, history: bool = False) -> 
         response = Response.slide_rock
     else:
         response = Response.rock if outcome.theta_max_rad > 0 else Response.rest
-    guard = (Guard.model_limit if stopped else 0) | (Guard.step_cap if outcome.flag == FLAG_STEPS else 0)
+    guard = ((Guard.model_limit if stopped else 0) | (Guard.step_cap if outcome.flag == FLAG_STEPS else 0)
+             | (Guard.held_past_alpha if outcome.held != FLAG_NONE else 0))
     moved = outcome.theta_max_rad > 0
     return Scene(physics=Physics.wobbling if moved else Physics.none, response=response,
                  overturned=outcome.overturned, theta_max=outcome.theta_max_rad / alpha, n_impacts=outcome.impacts,

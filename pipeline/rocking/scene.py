@@ -73,7 +73,10 @@ class Guard(IntEnum):
     stalled = 4           # tie rule 6 on a block off its base: ended there with the verdict of the state reached
     step_cap = 8          # the step budget ran out: ended there with the verdict of the state reached
     tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
-    model_limit = 32      # the 3D model stopped where its base would slide or lift off (not modeled): no verdict
+    model_limit = 32      # the 3D model stopped where its base would slide or lift off (not modeled), or at its step
+                          # cap: no verdict
+    held_past_alpha = 64  # the 3D model's base would slide or lift off while it fell past alpha: followed with the
+                          # rim held; its overturning kept (it had no verdict otherwise)
 
 
 def guard_names(bits: int) -> str:

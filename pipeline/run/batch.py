@@ -41,6 +41,7 @@ from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
 from ..records.loader import Failure, RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..records.units import declared_units_for
+from ..rocking.block import ShapeKind
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
 from ..scene_table import SCENE
@@ -504,7 +505,7 @@ def _say_what_the_plan_keeps(the_plan: Plan, records_dir) -> None:
 def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
     """The scenes of the results by physics, response, orientation and robustness class, the planes and samples
     integrated, the scenes the general contact model decided, those that met a guard and those that slid off
-    their base: the closing summary's counts."""
+    their base, and the boxes (judged in one plane of their base): the closing summary's counts."""
     phys, resp = ds[SCENE.physics].values, ds[SCENE.response].values
     return {
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
@@ -520,4 +521,7 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
+        "boxes": int(np.sum(ds["shape"].values == ShapeKind.box)) if "shape" in ds else ds.sizes["block"],
+        "boxes_with_depth": int(np.sum((ds["shape"].values == ShapeKind.box) & np.isfinite(ds["depth"].values)))
+        if "depth" in ds else 0,
     }

@@ -574,6 +574,8 @@ def _inventory_variables(inventory: Inventory, geom, margin: np.ndarray, config:
         "site": (("block",), np.array(inventory.sites, dtype=object)),
         "height": (("block",), inventory.height_m),
         "width": (("block",), inventory.width_m),
+        "shape": (("block",), inventory.kinds().astype("i1")),
+        "depth": (("block",), inventory.depths()),
         "half_height": (("block",), geom.h),
         "half_width": (("block",), geom.b),
         "corner_distance": (("block",), geom.R),
