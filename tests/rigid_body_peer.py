@@ -31,44 +31,60 @@ def pybullet():
     return pb
 
 
+def _world(pb, step_s: float) -> int:
+    """A Bullet world with a rigid floor of friction 1 and restitution 0, stepped at ``step_s``; its client id."""
+    cid = pb.connect(pb.DIRECT)
+    pb.setPhysicsEngineParameter(fixedTimeStep=step_s, numSolverIterations=150, numSubSteps=0,
+                                 restitutionVelocityThreshold=0.0, physicsClientId=cid)
+    plane = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid), physicsClientId=cid)
+    pb.changeDynamics(plane, -1, lateralFriction=1.0, restitution=0.0, physicsClientId=cid)
+    return cid
+
+
+def _free_body(pb, body: int, mu: float, cid: int) -> None:
+    """The body's friction mu (x the floor's 1), no restitution, no rolling or spinning friction, no damping."""
+    pb.changeDynamics(body, -1, lateralFriction=mu, restitution=0.0, rollingFriction=0.0, spinningFriction=0.0,
+                      linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
+
+
+def _shake(pb, cid: int, body: int, ground: tuple, dt_s: float, *, g_ms2: float, step_s: float,
+           fallen_rad: float) -> tuple[bool, float]:
+    """Step the world under the ground's (a_x, a_y, a_v) [m s-2] (a_y, a_v None: none), linear between samples, as
+    a time-varying gravity, through the record and :data:`TAIL_S` after it: (fallen, largest tilt [rad])."""
+    n = ground[0].size
+    t_rec = (n - 1) * dt_s
+    tilt_max = 0.0
+    for i in range(int((t_rec + TAIL_S) / step_s)):
+        t = i * step_s
+        acc = [0.0, 0.0, 0.0]
+        if t < t_rec:
+            k = min(int(t / dt_s), n - 2)
+            f = t / dt_s - k
+            acc = [0.0 if x is None else x[k] + f * (x[k + 1] - x[k]) for x in ground]
+        pb.setGravity(-acc[0], -acc[1], -(g_ms2 + acc[2]), physicsClientId=cid)
+        pb.stepSimulation(physicsClientId=cid)
+        if i % 4 == 0:
+            _pos, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+            tilt = math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8])))
+            tilt_max = max(tilt_max, tilt)
+            if tilt >= fallen_rad:
+                return True, tilt_max
+    return False, tilt_max
+
+
 def bullet_overturns(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *, height_m: float, width_m: float,
                      mu: float, g_ms2: float = 9.80665, step_s: float = STEP_S) -> tuple[bool, float]:
     """(overturned, largest tilt [rad]) of a free-standing box under a ground motion, by PyBullet."""
     pb = pybullet()
-    cid = pb.connect(pb.DIRECT)
+    cid = _world(pb, step_s)
     try:
-        pb.setPhysicsEngineParameter(fixedTimeStep=step_s, numSolverIterations=150, numSubSteps=0,
-                                     restitutionVelocityThreshold=0.0, physicsClientId=cid)
-        plane = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
-                                   physicsClientId=cid)
         b, h = width_m / 2, height_m / 2
         depth = max(width_m, height_m)                 # deep: it rocks in its plane, never sideways
         box = pb.createMultiBody(1.0, pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[b, depth / 2, h],
                                                               physicsClientId=cid),
                                  basePosition=[0, 0, h], physicsClientId=cid)
-        pb.changeDynamics(plane, -1, lateralFriction=1.0, restitution=0.0, physicsClientId=cid)
-        pb.changeDynamics(box, -1, lateralFriction=mu, restitution=0.0, rollingFriction=0.0, spinningFriction=0.0,
-                          linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
-        n = ah_ms2.size
-        t_rec = (n - 1) * dt_s
-        tilt_max = 0.0
-        for i in range(int((t_rec + TAIL_S) / step_s)):
-            t = i * step_s
-            a = v = 0.0
-            if t < t_rec:
-                k = min(int(t / dt_s), n - 2)
-                f = t / dt_s - k
-                a = ah_ms2[k] + f * (ah_ms2[k + 1] - ah_ms2[k])
-                v = av_ms2[k] + f * (av_ms2[k + 1] - av_ms2[k]) if av_ms2 is not None else 0.0
-            pb.setGravity(-a, 0.0, -(g_ms2 + v), physicsClientId=cid)
-            pb.stepSimulation(physicsClientId=cid)
-            if i % 4 == 0:
-                _pos, q = pb.getBasePositionAndOrientation(box, physicsClientId=cid)
-                tilt = math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8])))
-                tilt_max = max(tilt_max, tilt)
-                if tilt >= math.pi / 2:
-                    return True, tilt_max
-        return False, tilt_max
+        _free_body(pb, box, mu, cid)
+        return _shake(pb, cid, box, (ah_ms2, None, av_ms2), dt_s, g_ms2=g_ms2, step_s=step_s, fallen_rad=math.pi / 2)
     finally:
         pb.disconnect(cid)
 
@@ -80,38 +96,14 @@ def bullet_cylinder_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np
     y 90 deg counter-clockwise of x seen from above) and the vertical, all times ``scale``, by PyBullet: the same
     setting as :func:`bullet_overturns` (time-varying gravity, restitution 0, friction mu x 1)."""
     pb = pybullet()
-    cid = pb.connect(pb.DIRECT)
+    cid = _world(pb, step_s)
     try:
-        pb.setPhysicsEngineParameter(fixedTimeStep=step_s, numSolverIterations=150, numSubSteps=0,
-                                     restitutionVelocityThreshold=0.0, physicsClientId=cid)
-        plane = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
-                                   physicsClientId=cid)
         body = pb.createMultiBody(1.0, pb.createCollisionShape(pb.GEOM_CYLINDER, radius=diameter_m / 2,
                                                                height=height_m, physicsClientId=cid),
                                   basePosition=[0, 0, height_m / 2], physicsClientId=cid)
-        pb.changeDynamics(plane, -1, lateralFriction=1.0, restitution=0.0, physicsClientId=cid)
-        pb.changeDynamics(body, -1, lateralFriction=mu, restitution=0.0, rollingFriction=0.0, spinningFriction=0.0,
-                          linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
-        n = ax_ms2.size
-        t_rec = (n - 1) * dt_s
-        tilt_max = 0.0
-        for i in range(int((t_rec + TAIL_S) / step_s)):
-            t = i * step_s
-            a = b = v = 0.0
-            if t < t_rec:
-                k = min(int(t / dt_s), n - 2)
-                f = t / dt_s - k
-                a = scale * (ax_ms2[k] + f * (ax_ms2[k + 1] - ax_ms2[k]))
-                b = scale * (ay_ms2[k] + f * (ay_ms2[k + 1] - ay_ms2[k]))
-                v = scale * (az_ms2[k] + f * (az_ms2[k + 1] - az_ms2[k])) if az_ms2 is not None else 0.0
-            pb.setGravity(-a, -b, -(g_ms2 + v), physicsClientId=cid)
-            pb.stepSimulation(physicsClientId=cid)
-            if i % 4 == 0:
-                _pos, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-                tilt = math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8])))
-                tilt_max = max(tilt_max, tilt)
-                if tilt >= math.pi / 2 - 0.05:         # on its side (the rim keeps it a little off pi/2)
-                    return True, tilt_max
-        return False, tilt_max
+        _free_body(pb, body, mu, cid)
+        scaled = tuple(None if x is None else scale * np.asarray(x) for x in (ax_ms2, ay_ms2, az_ms2))
+        # on its side: the rim keeps it a little off pi/2
+        return _shake(pb, cid, body, scaled, dt_s, g_ms2=g_ms2, step_s=step_s, fallen_rad=math.pi / 2 - 0.05)
     finally:
         pb.disconnect(cid)

@@ -103,7 +103,7 @@ def test_any_change_takes_the_full_path(one_record, blocks_csv, tmp_path, capsys
     out = tmp_path / "out"
     assert screen(one_record, blocks_csv, out) == EXIT_OK
     blocks = tmp_path / "blocks.csv"
-    blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
+    blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,,box,\n")
     notes = one_record / "notes.txt"
     changes = [("record", lambda: notes.write_text("a note beside the records\n"), blocks_csv, []),
                ("inventory", lambda: None, blocks, []),
@@ -177,7 +177,7 @@ def test_inventory_edit_rescreens_only_affected_blocks(few_records, blocks_csv, 
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     rows = blocks_csv.read_text().splitlines()
     edited = [rows[0]] + [r.replace(",0.5,90,", ",0.45,90,") if r.startswith("STAT-02") else r
-                          for r in rows[2:]] + ["NEW-1,added column drum,2.0,0.4,0.6,,,site,"]
+                          for r in rows[2:]] + ["NEW-1,added column drum,2.0,0.4,0.6,,,site,,box,"]
     inv2 = tmp_path / "inventory-edited.csv"
     inv2.write_text("\n".join(edited) + "\n")
     capsys.readouterr()
@@ -601,7 +601,7 @@ def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(ma
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     inv2 = tmp_path / "inventory-plus.csv"
-    inv2.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,\n")
+    inv2.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,,box,\n")
     real = batch._task
 
     def crash_one(item, ctx):
