@@ -16,6 +16,7 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
+from .cylinder3d import Cylinder, simulate_cylinder
 from .models import MODELS
 from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
@@ -67,6 +68,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
                             True, control, out, out.copy())
             sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
                                   0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+        # the 3D cylinder (a tiny scene that lifts it)
+        simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
     finally:
         done.set()
         timer.join()
