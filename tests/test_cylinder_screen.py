@@ -146,3 +146,22 @@ def test_what_a_3d_run_becomes_in_the_results(overturned, flag, held, verdict, g
                         held)
     sc = scene_of(out, 0.3)
     assert sc.verdict == verdict and sc.guard == guard and sc.physics == Physics.wobbling
+
+
+def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro_6, tmp_path):
+    from types import SimpleNamespace
+
+    from pipeline.config import Config
+    from pipeline.records.loader import load_record, scan
+    from pipeline.run.bench_cylinders import SECTION, cylinder_rows
+
+    cfg = Config()
+    sources, _ = scan(el_centro_6, config=cfg)
+    rec = load_record(sources[0], root=el_centro_6, config=cfg)
+    inv = _inventory(tmp_path, "id,height_m,width_m,mu,shape\nCYL,1.0,0.333,0.7,cylinder\nBOX,1.0,0.333,0.7,\n")
+    three_d, planar = cylinder_rows([SimpleNamespace(record=rec)], inv, cfg)
+    assert three_d["section"] == planar["section"] == SECTION and three_d["scenes"] == planar["scenes"] == 1
+    assert three_d["time_s"] > 0 and planar["time_s"] > 0
+    assert three_d["scenes_simulated"] == 0                  # no verdict in 3D here: left out of the comparison
+    assert planar["misses"] == planar["false_alarms"] == 0
+    assert cylinder_rows([SimpleNamespace(record=rec)], inv.take([1]), cfg) == []       # no cylinder: no rows

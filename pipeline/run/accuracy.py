@@ -52,6 +52,7 @@ from ..rocking.planner import Physics
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..store import Family, OutputLock, publish_staged, write_csv_atomic, write_text_atomic
+from .bench_cylinders import cylinder_rows
 from .margins import overturn_scale_simulated
 from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
@@ -210,6 +211,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     try:
         say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
         rows += _worst_scene_rows(scenes, inventory, config)
+        rows += cylinder_rows(scenes, inventory, config)
         if settings_sweep:
             _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, rows)
             rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
