@@ -165,3 +165,7 @@ def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro
     assert three_d["scenes_simulated"] == 0                  # no verdict in 3D here: left out of the comparison
     assert planar["misses"] == planar["false_alarms"] == 0
     assert cylinder_rows([SimpleNamespace(record=rec)], inv.take([1]), cfg) == []       # no cylinder: no rows
+    from pipeline.run.accuracy import markdown
+
+    table = markdown([three_d, planar])                       # bench.md takes rows without the pulse split
+    assert "| cylinders | planar scan of the same cylinders" in table

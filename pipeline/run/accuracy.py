@@ -462,7 +462,7 @@ def markdown(rows: list[dict]) -> str:
         mp = (f"{r['misses']} ({r['misses_pulse']} / {r['misses_non_pulse']})" if "misses_pulse" in r
               else str(r.get("misses", "")))
         fa = (f"{r['false_alarms']} ({r['false_alarms_pulse']} / {r['false_alarms_non_pulse']})"
-              if "false_alarms" in r else "")
+              if "false_alarms_pulse" in r else str(r.get("false_alarms", "")))
         err = (f"{fmt(r.get('theta_error_max', ''))} / {fmt(r.get('theta_error_median', ''))}"
                if "theta_error_max" in r else "")
         lines.append(f"| {r['section']} | {r['setting']} | {fmt(r['value'])} | {fmt(r.get('time_s'))} | "
