@@ -17,8 +17,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind, dynamics
@@ -43,7 +41,7 @@ def main(argv: list[str]) -> int:
         for label, height, width, mu in CYLINDERS:
             shape = BlockShape(height_m=height, width_m=width, mu=mu, kind=ShapeKind.cylinder)
             block = dynamics([shape])[0]
-            for first in (True, False):              # the first call of each warms up, the second is timed
+            for _warm_then_timed in (True, False):   # the first call of each warms up, the second is timed
                 t0 = time.perf_counter()
                 res3 = cylinder_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
                                       float(rec.azimuths_deg[0]), shape, settings=settings)
