@@ -524,7 +524,8 @@ def stripe_warnings(ds: xr.Dataset) -> list[str]:
         if empty.size:
             lv = ", ".join(f"{x:g}" for x in ds["im_level"].values[empty])
             out.append(f"block {block}: no record has a verdict at level(s) {lv} {ds.attrs['im_units']} (every "
-                       "record unscalable or in free flight there); those stripes are empty")
+                       "record unscalable there, in free flight, or, for a cylinder in 3D, with a base that would "
+                       "slide or lift off before it tilts past alpha); those stripes are empty")
     if "hazard_period_ratio" in ds:
         for j, block in enumerate(ds["block"].values.tolist()):
             ratio = float(ds["hazard_period_ratio"].values[j])
