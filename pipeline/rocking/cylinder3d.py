@@ -210,6 +210,12 @@ class Params(NamedTuple):
     rtol: float         # relative tolerance [-]
 
 
+def cylinder_from_corner(R_m: float, alpha: float, *, mu: float, restitution: float) -> Cylinder:
+    """The :class:`Cylinder` of radius R sin(alpha) and half-height R cos(alpha) (a sampled block's terms)."""
+    return Cylinder(radius_m=R_m * math.sin(alpha), half_height_m=R_m * math.cos(alpha), mu=mu,
+                    restitution=restitution)
+
+
 def housner_e(radius_m: float, half_height_m: float) -> float:
     """Housner's coefficient of restitution of a solid cylinder rocking in a plane
     (:func:`~.geometry.cylinder_p_e`) [-]."""
@@ -409,13 +415,12 @@ def _crossing(th0, w0, th1, w1, hh, level):
 
 
 @jit
-def _params(g, a, h, mu, restitution, rtol, atol_alpha):
+def _params(g, a, h, mu, scale, rtol, atol_alpha):
     alpha = math.atan2(a, h)
     big_r = math.hypot(a, h)
     i1 = a * a / 4.0 + h * h / 3.0
     p = math.sqrt(g * big_r / (i1 + big_r * big_r))
-    e_h = housner_e_jit(a, h)
-    return Params(a, h, i1, a * a / 2.0, alpha, p, restitution / e_h if e_h > 0.0 else 0.0, mu,
+    return Params(a, h, i1, a * a / 2.0, alpha, p, scale, mu,
                   LAND_THETA_ALPHA * alpha, atol_alpha * alpha, atol_alpha * alpha * p, rtol)
 
 
@@ -458,35 +463,10 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
     y[:] = y_new
     rate = _landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
     y[0] = prm.land
-    rests = rate < REST_RATE * prm.p * prm.alpha or _cascade_ends(t + hl, i, grd, prm, rate)
+    rests = rate < REST_RATE * prm.p * prm.alpha
     if rests:
         y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
     return t + hl, rests
-
-
-@jit
-def _cascade_ends(t, i, grd, prm, rate):
-    """Whether the impact cascade that follows a landing with tilting rate ``rate`` ends before the next sample,
-    with the ground unable to lift the cylinder until then: its flights, each decelerated at least by
-    p^2 alpha (1 - r) (r: the largest ratio |a_h| / ((g + a_z) tan alpha) over the rest of the interval, < 1; the
-    ratio is convex along the interval, so its ends bound it), last 2 w / (p^2 alpha (1 - r)) each, w shrinking by
-    e per impact: the cascade lasts at most 2 w / (p^2 alpha (1 - r) (1 - e)). Its peak tilt,
-    w^2 / (2 p^2 alpha (1 - r)), is then dropped (the closed-form end of a cascade of the planar kernel,
-    :mod:`.chatter`, bounds the same term)."""
-    e = prm.scale * housner_e_jit(prm.a, prm.h)
-    if e >= 1.0:
-        return False
-    t_next = (i + 1) * grd.dt
-    r = 0.0
-    for s in (t, t_next):
-        gx, gy, gz = _ground(s, i, grd)
-        if gz >= 0.0:                                  # g + a_z <= 0: free fall of the ground
-            return False
-        r = max(r, math.hypot(gx, gy) / (-gz * prm.a / prm.h))
-    if r >= 1.0:
-        return False
-    decel = prm.p * prm.p * prm.alpha * (1.0 - r)
-    return t + 2.0 * rate / (decel * (1.0 - e)) <= t_next
 
 
 @jit
@@ -500,13 +480,14 @@ def _contact_flag(force, mu):
 
 
 @jit
-def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end):
-    """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, restitution) on the ground motion
+def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end):
+    """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, its restitution over Housner's
+    ``scale``) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
     its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
     azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while rocking, and the flag
     that was held while it fell past alpha)."""
-    grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, restitution, rtol, atol_alpha)
+    grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, scale, rtol, atol_alpha)
     n = ax.shape[0]
     y = y0.copy()
     rocking = y[0] > prm.land
@@ -568,12 +549,6 @@ def wobble(ax, ay, az, dt, g, a, h, mu, restitution, rtol, atol_alpha, y0, theta
     if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
         flag = held                             # held past alpha, and it did not overturn: no verdict
     return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held
-
-
-@jit
-def housner_e_jit(a, h):
-    ig = a * a / 4.0 + h * h / 3.0
-    return (ig + h * h - a * a) / (ig + h * h + a * a)
 
 
 @jit
@@ -654,9 +629,10 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
     y_end = np.empty(6)
+    e_h = housner_e(cylinder.radius_m, cylinder.half_height_m)
     over, t_over, th_max, az_max, flag, impacts, demand, held = wobble(
         ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
-        cylinder.restitution, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
+        cylinder.restitution / e_h if e_h > 0.0 else 0.0, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
     if over:
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max

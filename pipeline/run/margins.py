@@ -51,7 +51,7 @@ from ..floors.standing import FloorMotions
 from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
-from ..rocking.cylinder3d import Cylinder
+from ..rocking.cylinder3d import Cylinder, cylinder_from_corner
 from ..rocking.cylinder_scene import cylinder_of, run_on_record, scene_of
 from ..rocking.planner import rocks, simulate_scene
 from ..scene_table import SCENE
@@ -270,8 +270,8 @@ def _cylinder_margins(rec, shape, cfg, settings, *, overturned: bool, want_histo
     if n > 0:
         sb = sample_block(common_normals(cfg.uncertainty.seed, n), shape, settings=cfg.uncertainty, g_ms2=g)
         for k in range(n):
-            a, h = sb.R_m[k] * math.sin(sb.alpha[k]), sb.R_m[k] * math.cos(sb.alpha[k])
-            drawn = Cylinder(radius_m=a, half_height_m=h, mu=float(sb.mu[k]), restitution=float(sb.e[k]))
+            drawn = cylinder_from_corner(float(sb.R_m[k]), float(sb.alpha[k]), mu=float(sb.mu[k]),
+                                         restitution=float(sb.e[k]))
             eps = float(sb.amplitude[k])
             scaled = dataclasses.replace(rec, horizontal_ms2=eps * rec.horizontal_ms2,
                                          vertical_ms2=None if rec.vertical_ms2 is None else eps * rec.vertical_ms2)

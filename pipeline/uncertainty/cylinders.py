@@ -7,14 +7,12 @@ apart, as a planar draw in free flight is. No orientation is drawn: the cylinder
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.cylinder3d import FLAG_FLIGHT, FLAG_SLIDE, Cylinder
+from ..rocking.cylinder3d import FLAG_FLIGHT, FLAG_SLIDE, cylinder_from_corner
 from ..rocking.cylinder_scene import run_on_record
 from ..rocking.settings import SimulationConfig
 from .sampling import sample_block
@@ -29,10 +27,10 @@ def cylinder_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, se
     def judge(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
         sb = sample_block(z[sl], shape, settings=settings, g_ms2=g_ms2)
         for r in range(sl.stop - sl.start):
-            a, h = sb.R_m[r] * math.sin(sb.alpha[r]), sb.R_m[r] * math.cos(sb.alpha[r])
-            out = run_on_record(m.h1, m.h2, m.vertical, m.dt_s,
-                                Cylinder(radius_m=a, half_height_m=h, mu=float(sb.mu[r]), restitution=float(sb.e[r])),
-                                settings=simulation, g_ms2=g_ms2, amplitude=float(sb.amplitude[r]))
+            drawn = cylinder_from_corner(float(sb.R_m[r]), float(sb.alpha[r]), mu=float(sb.mu[r]),
+                                         restitution=float(sb.e[r]))
+            out = run_on_record(m.h1, m.h2, m.vertical, m.dt_s, drawn, settings=simulation, g_ms2=g_ms2,
+                                amplitude=float(sb.amplitude[r]))
             verdicts[sl.start + r] = (Verdict.overturns if out.overturned else Verdict.no_verdict
                                       if out.flag in (FLAG_SLIDE, FLAG_FLIGHT) else Verdict.stands)
             runs[sl.start + r] = 1 if out.theta_max_rad > 0 else 0
