@@ -296,7 +296,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     from .run import RunInterrupted, ScreenRequest, screen
 
     if config.fidelity.tier != "criterion":
-        _compile_simulator(args)
+        _compile_simulator(args, inventory)
 
     request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,
@@ -321,12 +321,13 @@ def _say(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def _compile_simulator(args: argparse.Namespace) -> None:
+def _compile_simulator(args: argparse.Namespace, inventory) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
-    first run of an install)."""
+    first run of an install); the 3D cylinder's kernel too where the inventory has a cylinder."""
     from .run.stages import compile_simulator
 
-    compile_simulator(announce=None if getattr(args, "quiet", False) else _say)
+    compile_simulator(announce=None if getattr(args, "quiet", False) else _say,
+                      cylinders=bool(inventory.cylinders().any()))
 
 
 def _run_exit(records_failed: int, args: argparse.Namespace) -> int:
@@ -466,7 +467,7 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     from .run.accuracy import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
-    _compile_simulator(args)
+    _compile_simulator(args, inventory)
     rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
                      settings_sweep=not args.tiers_only, progress=None if args.quiet else _say)
     print(markdown(rows), end="")
@@ -535,7 +536,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     hazard, component = _hazard_and_component(args)
     n = _workers(args)
     if config.fidelity.tier != "criterion":
-        _compile_simulator(args)
+        _compile_simulator(args, inventory)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
                                hazard=hazard, component=component,
                                level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),
@@ -668,7 +669,7 @@ def cmd_event(args: argparse.Namespace, argv: list[str]) -> int:
     n = _workers(args)
     if args.records is not None:
         _records_dir(args.records)
-        _compile_simulator(args)
+        _compile_simulator(args, inventory)
     out = screen_event(EventRequest(args.shakemap, inventory, args.fragility, args.out, config,
                                     uncertainty=args.uncertainty, sites=args.sites, k_sigma=args.k_sigma,
                                     shakemap_scale=args.shakemap_scale, records=args.records,

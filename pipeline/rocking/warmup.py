@@ -28,7 +28,7 @@ ANNOUNCE_AFTER_S = 1.0
 REPEAT_S = 2.0
 
 
-def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
+def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True) -> float:
     """Call every compiled kernel once on a tiny scene; return the seconds it took.
 
     Parameters
@@ -37,6 +37,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
         Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` (numba is
         compiling: the first run of an install), every :data:`REPEAT_S` while it goes on, and with the time
         it took.
+    cylinders : bool
+        Compile the 3D cylinder's kernel too (about 10 s on a fresh install; a run without cylinders never uses it).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -68,8 +70,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None) -> float:
                             True, control, out, out.copy())
             sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
                                   0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
-        # the 3D cylinder (a tiny scene that lifts it)
-        simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
+        if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
+            simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7,
+                                                                restitution=0.8))
     finally:
         done.set()
         timer.join()
