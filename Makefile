@@ -37,7 +37,9 @@ event-demo: $(VENV)/.installed
 	$(BIN)/screen event --shakemap examples/event/903_m6p09_se-scenario-grid.xml.gz \
 	    --blocks examples/event/blocks.csv --fragility results/event-fragility --out results/event
 
+# the simulator is compiled (or loaded from numba's cache) once before the two test workers start, not by each
 test: $(VENV)/.installed-test browser
+	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels; compile_kernels()"
 	$(BIN)/python -m pytest -n 2 -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured

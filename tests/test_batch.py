@@ -477,6 +477,7 @@ def dask_cluster():
         yield cluster
 
 
+@pytest.mark.slow
 def test_dask_scheduler_results_identical_to_serial(few_records, blocks_csv, tmp_path, dask_cluster, fresh,
                                                     capsys):
     out = tmp_path / "out"

@@ -171,6 +171,7 @@ def test_an_unscalable_record_is_reported(suite):
     assert any("cannot be scaled" in w and "HS00" in w for w in stripe_warnings(ds2))
 
 
+@pytest.mark.slow
 def test_cli_resumes_and_is_identical_on_dask(make_records, tmp_path):
     """screen fragility end to end: a second run reuses every record; Dask gives the same numbers."""
     pytest.importorskip("distributed")
