@@ -445,6 +445,7 @@ def assert_same_record_results(a: dict, b: dict) -> None:
                                 {k: v for k, v in rb.values.items() if k not in RUN_SPECIFIC})
 
 
+@pytest.mark.slow
 def test_process_pool_survives_a_killed_worker(tasks):
     items, ctx = tasks
     with SerialExecutor() as ex:

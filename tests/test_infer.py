@@ -53,7 +53,8 @@ def _criterion_outcomes(inv, ap, tp):
     return list((ap >= critical_acceleration(tp, geo.R, geo.alpha, PULSE_BETA["half-sine"])) & (ap <= inv.mu * G))
 
 
-@pytest.mark.parametrize("i_ap, i_tp", [(14, 22), (20, 12), (9, 30)])
+@pytest.mark.parametrize("i_ap, i_tp", [pytest.param(14, 22, marks=pytest.mark.slow), (20, 12),
+                                         pytest.param(9, 30, marks=pytest.mark.slow)])
 def test_true_pulse_lies_in_the_inferred_region_which_shrinks_as_blocks_are_added(tmp_path, i_ap, i_tp):
     config = Config()
     inv = _inventory(SITE, tmp_path)
