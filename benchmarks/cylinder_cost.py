@@ -2,7 +2,7 @@
 a blank azimuth is scanned), on the bundled records with two horizontal components.
 
 For each record and each cylinder, both are timed once after a warm-up (compiled kernels loaded): the 3D run
-(:func:`pipeline.rocking.cylinder_scene.cylinder_scene`) and the planar scan
+(:func:`pipeline.rocking.solid3d.solid_scene`) and the planar scan
 (:func:`pipeline.rocking.orientation.worst_plane` over the pulse axis and the 5-degree grid, 37 planes, with the
 cylinder's own p and restitution). Prints each pair and the ratio of the totals.
 
@@ -20,8 +20,8 @@ from pathlib import Path
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind, dynamics
-from pipeline.rocking.cylinder_scene import cylinder_scene
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
+from pipeline.rocking.solid3d import solid_of, solid_scene
 
 CYLINDERS = (("vase 0.8 x 0.26", 0.8, 0.26, 0.55), ("column 2 x 0.5", 2.0, 0.5, 0.6),
              ("column 6 x 1", 6.0, 1.0, 0.7))
@@ -43,8 +43,10 @@ def main(argv: list[str]) -> int:
             block = dynamics([shape])[0]
             for _warm_then_timed in (True, False):   # the first call of each warms up, the second is timed
                 t0 = time.perf_counter()
-                res3 = cylinder_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
-                                      float(rec.azimuths_deg[0]), shape, settings=settings)
+                solid = solid_of(shape, record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
+                assert solid is not None
+                res3 = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                                   float(rec.azimuths_deg[0]), solid, settings=settings)
                 t1 = time.perf_counter()
                 resp = worst_plane(planes, [0.0, *grid.tolist()], rec.dt_s, settings=settings, block=block,
                                    refine_span_deg=settings.orientation_step_deg,

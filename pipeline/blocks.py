@@ -98,6 +98,11 @@ class Inventory:
         """Whether each block is a solid cylinder."""
         return self.kinds() == int(ShapeKind.cylinder)
 
+    def boxes_in_3d(self) -> np.ndarray:
+        """Whether each block is a box with a depth and an azimuth (simulated in 3D on two horizontals of known
+        azimuth: :func:`pipeline.rocking.solid3d.solid_of`)."""
+        return (self.kinds() == int(ShapeKind.box)) & np.isfinite(self.depths()) & np.isfinite(self.azimuth_deg)
+
     def base_margins(self) -> np.ndarray:
         """:attr:`base_margin_m` aligned with the blocks (NaN where none is given) [m]."""
         return self.base_margin_m if self.base_margin_m.size == len(self) else np.full(len(self), np.nan)

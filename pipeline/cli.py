@@ -225,9 +225,10 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     print("scenes by orientation: " + ", ".join(f"{k} {v}" for k, v in s["scenes_by_orientation"].items())
           + f"; rocking planes integrated: {s['planes_integrated']}", file=sys.stderr)
     if s.get("boxes"):
-        print(f"other base axis: not checked for {s['boxes']} of {s['blocks']} blocks (boxes: judged in the plane of "
-              f"width_m; rocking about the other base axis or a corner is not modeled; {s['boxes_with_depth']} have "
-              "a depth_m)", file=sys.stderr)
+        print(f"other base axis: not checked for {s['boxes']} of {s['blocks']} blocks (boxes without both a depth_m "
+              "and an azimuth_deg: judged in the plane of width_m; rocking about the other base axis or a corner is "
+              f"not modeled); {s.get('box_scenes_3d', 0)} scenes of boxes with both were simulated in 3D on two "
+              "horizontals (orientation given_3d)", file=sys.stderr)
     if any(s.get("scenes_by_robustness", {}).values()):
         print("under the declared uncertainty ([uncertainty]): " + ", ".join(
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())
@@ -244,7 +245,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
               "screening.nc; tie_hold: held at rest at a tie, stalled or step_cap: ended with the verdict of the "
-              "state reached; model_limit: a cylinder's 3D model stopped where its base would slide or lift off, "
+              "state reached; model_limit: a 3D model stopped where the base would slide or lift off, "
               "no verdict): " + "; ".join(guarded[:10]) + ("; ..." if len(guarded) > 10 else ""),
               file=sys.stderr)
     for line in filter(None, s.get("buildings", "").split("\n")):
@@ -323,11 +324,12 @@ def _say(message: str) -> None:
 
 def _compile_simulator(args: argparse.Namespace, inventory) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
-    first run of an install); the 3D cylinder's kernel too where the inventory has a cylinder."""
+    first run of an install); the 3D models' kernels too where the inventory has a cylinder, or a box with a depth
+    and an azimuth."""
     from .run.stages import compile_simulator
 
     compile_simulator(announce=None if getattr(args, "quiet", False) else _say,
-                      cylinders=bool(inventory.cylinders().any()))
+                      cylinders=bool(inventory.cylinders().any()), boxes=bool(inventory.boxes_in_3d().any()))
 
 
 def _run_exit(records_failed: int, args: argparse.Namespace) -> int:

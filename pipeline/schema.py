@@ -175,7 +175,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                  "comment": "none: proven at rest (no uplift and no slip at any sample, vertical included); "
                             "general: pure rocking (or sliding) stopped holding and the general contact model "
                             "(slide, slide-rock, free flight, impacts) decided the verdict; wobbling: a cylinder "
-                            "on two horizontals, rocking and rolling on its rim in 3D (orientation axisymmetric)"}),
+                            "on two horizontals, rocking and rolling on its rim in 3D (orientation axisymmetric); "
+                            "rocking3d: a box with a depth and an azimuth on two horizontals of known azimuth, on "
+                            "an edge or a corner in 3D (governing_azimuth: where it leant)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "
@@ -195,8 +197,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                      "(a tie between two models), held at rest to the next sample; stalled, "
                                      "step_cap: ended there, the verdict from the state reached (the energy of its "
                                      "free rocking); tail_cap: motion after the record followed to its cap; "
-                                     "model_limit: a cylinder's 3D model stopped where its base would slide or "
-                                     "lift off (not modeled in 3D): no verdict. "
+                                     "model_limit: a 3D model (a cylinder, a box in 3D) stopped where its base "
+                                     "would slide or lift off (not modeled in 3D): no verdict. "
                                      "The orientation scan ORs the planes simulated"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,
@@ -230,14 +232,17 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "governing_azimuth": (("record", "block"), "degree",
                           "azimuth of the rocking plane whose result is reported, clockwise from north, modulo 180",
                           {"comment": "for orientation scanned_relative: relative to the record's first component "
-                                      "taken as 0 deg; for orientation axisymmetric (a cylinder in 3D): the azimuth "
-                                      "it leant toward at its peak tilt, in [0, 360) (NaN: it never lifted)"}),
+                                      "taken as 0 deg; for orientation axisymmetric (a cylinder in 3D) and given_3d (a "
+                                      "box in 3D): the azimuth it leant toward at its peak tilt, in [0, 360) (NaN: "
+                                      "it never lifted)"}),
     "orientation": (("record", "block"), None, "how the rocking plane was chosen",
                     {**flags(Orientation),
                      "comment": "scanned: worst of every plane k * simulation.orientation_step_deg and the pulse "
                                 "axis that moves the block, refined around the worst standing plane; "
                                 "scanned_relative: the same on a record of unknown absolute azimuth; "
-                                "axisymmetric: a cylinder on two horizontals, one 3D run (no plane)"}),
+                                "axisymmetric: a cylinder on two horizontals, one 3D run (no plane); given_3d: a box "
+                                "with a depth and an azimuth on two horizontals of known azimuth, one 3D run at "
+                                "that azimuth (both horizontals and the vertical)"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)
@@ -292,7 +297,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "width": (("block",), "m", "full base width 2b in the rocking plane (a cylinder's diameter)", {}),
     "shape": (("block",), None, "kind of body",
               {**flags(ShapeKind, missing=None),
-               "comment": "box: judged in the plane of its width (its other base axis and corners not modeled); "
+               "comment": "box: in 3D on two horizontals of known azimuth where its depth and azimuth are given "
+                          "(orientation given_3d), else judged in the plane of its width (its other base axis and "
+                          "corners not modeled); "
                           "cylinder: in 3D on two horizontals (orientation axisymmetric), in its plane on one"}),
     "depth": (("block",), "m", "a box's base dimension perpendicular to its width (NaN: not given)", {}),
     "half_height": (("block",), "m", "half-height h (centre-of-mass height)", {}),

@@ -107,3 +107,22 @@ def bullet_cylinder_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np
         return _shake(pb, cid, body, scaled, dt_s, g_ms2=g_ms2, step_s=step_s, fallen_rad=math.pi / 2 - 0.05)
     finally:
         pb.disconnect(cid)
+
+
+def bullet_box_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np.ndarray | None, dt_s: float, *,
+                         width_m: float, depth_m: float, height_m: float, mu: float, g_ms2: float = 9.80665,
+                         step_s: float = STEP_S, scale: float = 1.0) -> tuple[bool, float]:
+    """(overturned, largest tilt [rad]) of a free-standing box (its width along x, its depth along y) under two
+    horizontal components (x, y: y 90 deg counter-clockwise of x seen from above) and the vertical, all times
+    ``scale``, by PyBullet: the same setting as :func:`bullet_overturns`."""
+    pb = pybullet()
+    cid = _world(pb, step_s)
+    try:
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[width_m / 2, depth_m / 2, height_m / 2],
+                                        physicsClientId=cid)
+        body = pb.createMultiBody(1.0, shape, basePosition=[0, 0, height_m / 2], physicsClientId=cid)
+        _free_body(pb, body, mu, cid)
+        scaled = tuple(None if x is None else scale * np.asarray(x) for x in (ax_ms2, ay_ms2, az_ms2))
+        return _shake(pb, cid, body, scaled, dt_s, g_ms2=g_ms2, step_s=step_s, fallen_rad=math.pi / 2)
+    finally:
+        pb.disconnect(cid)

@@ -13,7 +13,8 @@ from rigid_body_peer import STEP_S, bullet_cylinder_overturns
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind
-from pipeline.rocking.cylinder_scene import cylinder_of, run_on_record, scene_of
+from pipeline.rocking.cylinder_scene import cylinder_of, run_on_record
+from pipeline.rocking.solid3d import Solid, scene_of
 
 #: Every how many of the bundled two-component records the test takes (2: 11 of 22, about a minute; 1: all, the
 #: measurement in docs/validation.md)
@@ -40,7 +41,7 @@ def test_the_engine_never_overturns_robustly_what_the_3d_model_says_stands(recor
             c = cylinder_of(shape)
             out = run_on_record(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, c,
                                 settings=settings)
-            ours = scene_of(out, math.atan2(c.radius_m, c.half_height_m)).verdict
+            ours = scene_of(out, Solid(c, 0.0, math.atan2(c.radius_m, c.half_height_m))).verdict
             engine = _engine(rec, height, diameter, mu)
             robust = None
             if (ours == 1) != engine:                        # a disagreement: is the engine's verdict robust?

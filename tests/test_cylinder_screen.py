@@ -74,7 +74,7 @@ def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(
     out = tmp_path / "out"
     assert main(["--records", str(el_centro_6), "--blocks", str(inv), "--out", str(out)]) == 0
     err = capsys.readouterr().err
-    assert "other base axis: not checked for 1 of 2 blocks" in err and "1 have a depth_m" in err
+    assert "other base axis: not checked for 1 of 2 blocks" in err and "0 scenes of boxes with both" in err
     assert "not checked for 1 of 2" in (out / "report.html").read_text()
     ds = open_results(out / "screening.nc")
     cyl, box = (list(ds["block"].values).index(b) for b in ("CYL", "BOX"))
@@ -138,13 +138,13 @@ def test_a_cylinder_on_one_horizontal_rocks_in_its_plane_with_its_own_inertia(re
     (False, 3, 0, -1, Guard.model_limit | Guard.step_cap),     # the step cap: no verdict either
 ])
 def test_what_a_3d_run_becomes_in_the_results(overturned, flag, held, verdict, guard):
-    from pipeline.rocking.cylinder3d import WobbleOutcome
-    from pipeline.rocking.cylinder_scene import scene_of
+    from pipeline.rocking.cylinder3d import Cylinder, WobbleOutcome
+    from pipeline.rocking.solid3d import Solid, scene_of
 
     z = np.zeros(3)
     out = WobbleOutcome(overturned, 1.0 if overturned else math.nan, 0.5, 10.0, flag, 2, z, z, np.zeros(6), 0.3,
                         held)
-    sc = scene_of(out, 0.3)
+    sc = scene_of(out, Solid(Cylinder(0.25, 1.0, 0.7, 0.8), 0.0, 0.3))
     assert sc.verdict == verdict and sc.guard == guard and sc.physics == Physics.wobbling
 
 
@@ -153,18 +153,18 @@ def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro
 
     from pipeline.config import Config
     from pipeline.records.loader import load_record, scan
-    from pipeline.run.bench_cylinders import SECTION, cylinder_rows
+    from pipeline.run.bench_solids import solid_rows
 
     cfg = Config()
     sources, _ = scan(el_centro_6, config=cfg)
     rec = load_record(sources[0], root=el_centro_6, config=cfg)
     inv = _inventory(tmp_path, "id,height_m,width_m,mu,shape\nCYL,1.0,0.333,0.7,cylinder\nBOX,1.0,0.333,0.7,\n")
-    three_d, planar = cylinder_rows([SimpleNamespace(record=rec)], inv, cfg)
-    assert three_d["section"] == planar["section"] == SECTION and three_d["scenes"] == planar["scenes"] == 1
+    three_d, planar = solid_rows([SimpleNamespace(record=rec)], inv, cfg)
+    assert three_d["section"] == planar["section"] == "cylinders" and three_d["scenes"] == planar["scenes"] == 1
     assert three_d["time_s"] > 0 and planar["time_s"] > 0
     assert three_d["scenes_simulated"] == 0                  # no verdict in 3D here: left out of the comparison
     assert planar["misses"] == planar["false_alarms"] == 0
-    assert cylinder_rows([SimpleNamespace(record=rec)], inv.take([1]), cfg) == []       # no cylinder: no rows
+    assert solid_rows([SimpleNamespace(record=rec)], inv.take([1]), cfg) == []       # no 3D scene: no rows
     from pipeline.run.accuracy import markdown
 
     table = markdown([three_d, planar])                       # bench.md takes rows without the pulse split

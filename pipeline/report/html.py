@@ -35,6 +35,7 @@ from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
 from ..risk import asset_rows, assets_csv_table
 from ..rocking.block import ShapeKind
+from ..rocking.orientation import Orientation
 from ..rocking.planner import Response, guarded_scenes
 from ..scene_table import SCENE
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
@@ -275,7 +276,8 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
         "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
         "blocks": ds.sizes["block"],
-        "boxes": int(np.sum(ds["shape"].values == ShapeKind.box)) if "shape" in ds else ds.sizes["block"],
+        "boxes": planar_boxes(ds),
+        "box_scenes_3d": int(np.sum(ds[SCENE.orientation].values[ok] == Orientation.given_3d)),
         "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),
@@ -331,3 +333,13 @@ def _num(x, digits: int = 3) -> str:
     if math.isinf(x):
         return "> limit"
     return f"{x:.{digits}g}"
+
+
+def planar_boxes(ds) -> int:
+    """The boxes whose other base axis is never checked: without a depth or an azimuth (judged in the plane of their
+    width; a box with both is simulated in 3D on two horizontals of known azimuth)."""
+    if "shape" not in ds:
+        return int(ds.sizes["block"])
+    box = ds["shape"].values == ShapeKind.box
+    in_3d = np.isfinite(ds["depth"].values) & np.isfinite(ds["block_azimuth"].values)
+    return int(np.sum(box & ~in_3d))

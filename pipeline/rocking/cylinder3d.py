@@ -105,6 +105,9 @@ from .dopri import (
     E7,
 )
 from .geometry import cylinder_p_e
+from .vec3 import cross as _cross
+from .vec3 import hermite as _hermite
+from .vec3 import solve_sym3 as _solve_sym3
 
 HALF_PI = 0.5 * math.pi
 
@@ -226,26 +229,6 @@ def planar_inertia(radius_m: float, half_height_m: float) -> float:
     """The moment of inertia about a rim point for rocking in a plane, per unit mass ``I_G + R^2`` [m2]."""
     a, h = radius_m, half_height_m
     return a * a / 4.0 + h * h / 3.0 + a * a + h * h
-
-
-@jit
-def _cross(ax, ay, az, bx, by, bz):
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@jit
-def _solve_sym3(m00, m01, m02, m11, m12, m22, b0, b1, b2):
-    """x with M x = b for a symmetric 3 x 3 M (Cramer's rule; M is an inertia about a point: positive
-    definite)."""
-    c00 = m11 * m22 - m12 * m12
-    c01 = m02 * m12 - m01 * m22
-    c02 = m01 * m12 - m02 * m11
-    det = m00 * c00 + m01 * c01 + m02 * c02
-    c11 = m00 * m22 - m02 * m02
-    c12 = m01 * m02 - m00 * m12
-    c22 = m00 * m11 - m01 * m01
-    return ((c00 * b0 + c01 * b1 + c02 * b2) / det, (c01 * b0 + c11 * b1 + c12 * b2) / det,
-            (c02 * b0 + c12 * b1 + c22 * b2) / det)
 
 
 @jit
@@ -385,13 +368,6 @@ def _landing(y, a, h, i1, i3, scale):
     y[3] = rate
     y[4] = 0.0
     return rate
-
-
-@jit
-def _hermite(y0, f0, y1, f1, hh, x):
-    x2, x3 = x * x, x * x * x
-    return ((2 * x3 - 3 * x2 + 1) * y0 + (x3 - 2 * x2 + x) * hh * f0 + (-2 * x3 + 3 * x2) * y1
-            + (x3 - x2) * hh * f1)
 
 
 @jit

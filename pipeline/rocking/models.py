@@ -200,9 +200,9 @@ def _rocking_warmup() -> None:
 
 # --- the registry -----------------------------------------------------------------------------------------------
 
-#: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder on two horizontals:
-#: :func:`pipeline.rocking.cylinder_scene.cylinder_scene`), not by this planar registry.
-THREE_D = (Physics.wobbling,)
+#: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder, or a box with a depth
+#: and an azimuth, on two horizontals: :func:`pipeline.rocking.solid3d.solid_of`), not by this planar registry.
+THREE_D = (Physics.wobbling, Physics.rocking3d)
 
 #: Every scene model, in the order the planner tries them: a scene goes to the first whose certificate holds.
 MODELS: tuple[SceneModel, ...] = (

@@ -58,6 +58,7 @@ class Orientation(IntEnum):
     scanned_relative = 2      # the same, on a record of unknown absolute azimuth (relative orthogonal pair)
     single_component = 3      # one horizontal recorded: its plane only
     axisymmetric = 4          # a cylinder on two horizontals: no plane, the 3D model (the azimuth: where it leant)
+    given_3d = 5              # a box with a depth at its azimuth, on two horizontals: the 3D model (where it leant)
 
 
 def plane_grid(step_deg: float) -> np.ndarray:

@@ -38,6 +38,7 @@ class Physics(IntEnum):
     rocking_vertical = 3
     general = 4           # pure rocking continued by the general contact model (slide, slide-rock, flight)
     wobbling = 5          # a cylinder rocking and rolling on its rim under both horizontals (rocking.cylinder3d)
+    rocking3d = 6         # a box with a depth on an edge or a corner under both horizontals (rocking.box3d)
 
 
 class Response(IntEnum):

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
+from .box3d import Box, simulate_box
 from .cylinder3d import Cylinder, simulate_cylinder
 from .models import MODELS
 from .sampled import sample_plane_outcomes, sample_verdicts
@@ -28,7 +29,8 @@ ANNOUNCE_AFTER_S = 1.0
 REPEAT_S = 2.0
 
 
-def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True) -> float:
+def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True,
+                    boxes: bool = True) -> float:
     """Call every compiled kernel once on a tiny scene; return the seconds it took.
 
     Parameters
@@ -39,6 +41,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         it took.
     cylinders : bool
         Compile the 3D cylinder's kernel too (about 10 s on a fresh install; a run without cylinders never uses it).
+    boxes : bool
+        Compile the 3D box's kernel too (a run without a box that has a depth and an azimuth never uses it).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -73,6 +77,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
             simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7,
                                                                 restitution=0.8))
+        if boxes:               # the 3D box (a tiny scene that lifts it onto a corner)
+            simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
     finally:
         done.set()
         timer.join()

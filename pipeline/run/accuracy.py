@@ -52,7 +52,7 @@ from ..rocking.planner import Physics
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..store import Family, OutputLock, publish_staged, write_csv_atomic, write_text_atomic
-from .bench_cylinders import cylinder_rows
+from .bench_solids import solid_rows
 from .margins import overturn_scale_simulated
 from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
@@ -205,13 +205,13 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
         verdict = np.where(simulated, sim.overturn_simulated, crit)
         t = t_crit + t_sim
         rows.append({"section": "tier", "setting": "fidelity", "value": tier, "time_s": t,
-                     "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int(simulated.sum()),
+                     "time_per_scene_us": 1e6 * t / n_scenes, "scenes_simulated": int((sim.physics >= 0).sum()),
                      SCENE.planes_simulated: int(sim.planes_simulated.sum()),
                      "scenes": n_scenes, **_agreement(verdict, sim.theta_max, ref, is_pulse)})
     try:
         say("the slowest scenes, on the records and on the tie mu = tan(alpha)")
         rows += _worst_scene_rows(scenes, inventory, config)
-        rows += cylinder_rows(scenes, inventory, config)
+        rows += solid_rows(scenes, inventory, config)
         if settings_sweep:
             _settings_sweep(scenes, inventory, config, ref, is_pulse, n_scenes, say, rows)
             rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)

@@ -506,6 +506,8 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
     """The scenes of the results by physics, response, orientation and robustness class, the planes and samples
     integrated, the scenes the general contact model decided, those that met a guard and those that slid off
     their base, and the boxes (judged in one plane of their base): the closing summary's counts."""
+    from ..report.html import planar_boxes
+
     phys, resp = ds[SCENE.physics].values, ds[SCENE.response].values
     return {
         "scenes_by_physics": {"not simulated": int(np.sum(phys[ds["status"].values == "ok"] == -1)),
@@ -521,7 +523,9 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
-        "boxes": int(np.sum(ds["shape"].values == ShapeKind.box)) if "shape" in ds else ds.sizes["block"],
+        "boxes": planar_boxes(ds),
         "boxes_with_depth": int(np.sum((ds["shape"].values == ShapeKind.box) & np.isfinite(ds["depth"].values)))
         if "depth" in ds else 0,
+        "box_scenes_3d": int(np.sum(ds[SCENE.orientation].values == Orientation.given_3d)),
     }
+

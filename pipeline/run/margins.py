@@ -51,9 +51,8 @@ from ..floors.standing import FloorMotions
 from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
-from ..rocking.cylinder3d import Cylinder, cylinder_from_corner
-from ..rocking.cylinder_scene import cylinder_of, run_on_record, scene_of
 from ..rocking.planner import rocks, simulate_scene
+from ..rocking.solid3d import Solid, drawn, lift_factor, run, scene_of, solid_of
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
@@ -170,23 +169,19 @@ def scale_scan(lift_factor: float, verdict_at, *, settings, overturns_at_one: bo
     return math.inf, runs
 
 
-def cylinder_scale_simulated(rec, cylinder: Cylinder, *, settings, g_ms2: float,
-                             overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """:func:`overturn_scale_simulated` of a cylinder on a record's two horizontals and vertical, by the 3D model
-    (:mod:`pipeline.rocking.cylinder_scene`): the lifting factor from |a_h| > (g + a_z) tan alpha in any
-    direction."""
+def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
+                          overturns_at_one: bool | None = None) -> tuple[float, int]:
+    """:func:`overturn_scale_simulated` of a solid on a record's two horizontals and vertical, by its 3D model
+    (:mod:`pipeline.rocking.solid3d`), from the factor at which it first lifts
+    (:func:`~pipeline.rocking.solid3d.lift_factor`)."""
     h = rec.horizontal_ms2
-    tan_a = cylinder.radius_m / cylinder.half_height_m
-    v = rec.vertical_ms2 if rec.vertical_ms2 is not None else 0.0
-    lift = np.hypot(h[0], h[1]) - v * tan_a
-    if not np.any(lift > 0):
+    f = lift_factor(h[0], h[1], rec.vertical_ms2, solid, g_ms2=g_ms2)
+    if not math.isfinite(f):
         return math.inf, 0
-    f = float(np.min(g_ms2 * tan_a / lift[lift > 0]))
 
     def verdict_at(factor: float) -> int:
-        out = run_on_record(h[0], h[1], rec.vertical_ms2, rec.dt_s, cylinder, settings=settings, g_ms2=g_ms2,
-                            amplitude=factor)
-        return scene_of(out, math.atan2(cylinder.radius_m, cylinder.half_height_m)).verdict
+        out = run(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=factor)
+        return scene_of(out, solid).verdict
 
     return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 
@@ -234,12 +229,13 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     index = {b: k for k, b in enumerate(inv.ids)}
     motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))   # a block on a floor: that floor's motion
     out = {}
-    cylinders = inv.cylinders()
     for block_id, direction, overturned, want_history in blocks:
         on = motions.of_block(index[block_id])
-        if cylinders[index[block_id]] and not on.single_component:      # the 3D model, as its scene was judged
-            out[block_id] = _cylinder_margins(on, inv.shape(index[block_id]), cfg, settings, overturned=overturned,
-                                              want_history=want_history)
+        solid = None if on.single_component else solid_of(inv.shape(index[block_id]), record_azimuth_deg=float(
+            on.azimuths_deg[0]), known_azimuth=bool(on.azimuth_known))
+        if solid is not None:                                           # the 3D model, as its scene was judged
+            out[block_id] = _solid_margins(on, inv.shape(index[block_id]), solid, cfg, settings,
+                                           overturned=overturned, want_history=want_history)
             continue
         ah = on.along(float(direction))
         block = rocking_blocks[index[block_id]]
@@ -254,28 +250,28 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     return out
 
 
-def _cylinder_margins(rec, shape, cfg, settings, *, overturned: bool, want_history: bool) -> tuple:
-    """A cylinder's margin task on two horizontals, by the 3D model: its scale scan, theta(t)/alpha when at risk,
-    and the sampled margins (each draw's own 3D scan, as factors on the nominal record)."""
+def _solid_margins(rec, shape, solid: Solid, cfg, settings, *, overturned: bool, want_history: bool) -> tuple:
+    """A solid's margin task on two horizontals, by its 3D model: its scale scan, theta(t)/alpha when at risk, and
+    the sampled margins (each draw's own 3D scan, as factors on the nominal record)."""
     g = cfg.records.g_ms2
-    c = cylinder_of(shape)
-    scale, runs = cylinder_scale_simulated(rec, c, settings=settings, g_ms2=g, overturns_at_one=overturned)
+    scale, runs = solid_scale_simulated(rec, solid, settings=settings, g_ms2=g, overturns_at_one=overturned)
     history = None
     if want_history or scale <= RELOCATE_BELOW_SCALE:
-        out = run_on_record(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, c,
-                            settings=settings, g_ms2=g)
-        history = out.theta / math.atan2(c.radius_m, c.half_height_m) if out.theta_max_rad > 0 else None
+        out = run(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, solid,
+                  settings=settings, g_ms2=g)
+        history = out.theta / solid.alpha if out.theta_max_rad > 0 else None
     n = cfg.uncertainty.margin_samples if cfg.sampling else 0
     sampled = np.full(max(n, 0), np.nan)
     if n > 0:
         sb = sample_block(common_normals(cfg.uncertainty.seed, n), shape, settings=cfg.uncertainty, g_ms2=g)
         for k in range(n):
-            drawn = cylinder_from_corner(float(sb.R_m[k]), float(sb.alpha[k]), mu=float(sb.mu[k]),
-                                         restitution=float(sb.e[k]))
+            az = None if np.isnan(sb.azimuth_deg[k]) else float(sb.azimuth_deg[k])
+            body = drawn(solid, R_m=float(sb.R_m[k]), alpha=float(sb.alpha[k]), mu=float(sb.mu[k]),
+                         restitution=float(sb.e[k]), azimuth_deg=az, record_azimuth_deg=float(rec.azimuths_deg[0]))
             eps = float(sb.amplitude[k])
             scaled = dataclasses.replace(rec, horizontal_ms2=eps * rec.horizontal_ms2,
                                          vertical_ms2=None if rec.vertical_ms2 is None else eps * rec.vertical_ms2)
-            s_k, r = cylinder_scale_simulated(scaled, drawn, settings=settings, g_ms2=g)
+            s_k, r = solid_scale_simulated(scaled, body, settings=settings, g_ms2=g)
             sampled[k], runs = s_k * eps, runs + r
     return scale, runs, history, rec.dt_s, sampled
 

@@ -31,9 +31,9 @@ from ..pulses import analyze
 from ..records.loader import Failure, RecordSource, load_record
 from ..records.record import Record
 from ..rocking.block import Block
-from ..rocking.cylinder_scene import cylinder_scene
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planner import ContactMode, Physics, guard_names
+from ..rocking.solid3d import Solid, solid_of, solid_scene
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..schema import (
@@ -52,7 +52,6 @@ from ..schema import (
     parse_floor_key,
     result_table,
 )
-from ..uncertainty.cylinders import cylinder_probability
 from ..uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
@@ -63,6 +62,7 @@ from ..uncertainty.orientations import (
 )
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion, motion, scene_probability
+from ..uncertainty.solids import solid_probability
 from .engine import as_failure, task_failure
 
 log = logging.getLogger(__name__)
@@ -299,15 +299,19 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
     planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
     base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     mask = np.ones(nb, dtype=bool) if mask is None else mask
-    cylinders = inv.cylinders()
     for j in np.flatnonzero(mask):
         ctx.progress.scene(str(inv.ids[j]))
         t_scene = time.perf_counter()
-        if cylinders[j] and not rec.single_component:           # 3D: no plane to choose (axisymmetric)
-            res, orient = _cylinder_scene(rec, base, z, inv.shape(int(j)), cfg, settings)
-            scene_values(out, int(j), res, Orientation.axisymmetric, orient)
+        solid = None if rec.single_component else solid_of(inv.shape(int(j)), record_azimuth_deg=float(
+            rec.azimuths_deg[0]), known_azimuth=bool(rec.azimuth_known))
+        if solid is not None:                                   # 3D: a cylinder, or a box at its azimuth
+            res, orient = _solid_scene(rec, base, z, inv.shape(int(j)), solid, cfg, settings)
+            cylinder = solid.physics == Physics.wobbling
+            scene_values(out, int(j), res, Orientation.axisymmetric if cylinder else Orientation.given_3d, orient)
             ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                    detail=lambda res=res: f"cylinder in 3D, leaning toward {res.azimuth_deg:.0f} deg")
+                                    detail=lambda res=res, cylinder=cylinder: (
+                                        f"{'cylinder' if cylinder else 'box'} in 3D, leaning toward "
+                                        f"{res.azimuth_deg:.0f} deg"))
             continue
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
         if not scan:
@@ -328,16 +332,16 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
     return out
 
 
-def _cylinder_scene(rec: Record, base: SceneMotion | None, z, shape, cfg: Config, settings: SimulationConfig
-                    ) -> tuple[PlaneResult, OrientationProbability]:
-    """A cylinder on a record with two horizontals: the 3D model's nominal scene and its probability (one run per
-    draw, no orientation drawn)."""
-    res = cylinder_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
-                         float(rec.azimuths_deg[0]), shape, settings=settings, g_ms2=cfg.records.g_ms2)
+def _solid_scene(rec: Record, base: SceneMotion | None, z, shape, solid: Solid, cfg: Config,
+                 settings: SimulationConfig) -> tuple[PlaneResult, OrientationProbability]:
+    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solid3d`): the 3D model's nominal scene
+    and its probability (one run per draw; a box's azimuth drawn as a planar scene's is, a cylinder's none)."""
+    res = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                      float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=cfg.records.g_ms2)
     if base is None or z is None:
         return res, NOT_EVALUATED_ORIENTATION
-    prob = cylinder_probability(base, z, shape, settings=cfg.uncertainty, simulation=settings,
-                                g_ms2=cfg.records.g_ms2)
+    prob = solid_probability(base, z, shape, solid, record_azimuth_deg=float(rec.azimuths_deg[0]),
+                             settings=cfg.uncertainty, simulation=settings, g_ms2=cfg.records.g_ms2)
     return res, one_plane(prob, res.azimuth_deg)
 
 

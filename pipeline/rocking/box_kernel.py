@@ -1,0 +1,302 @@
+"""The compiled kernel of the 3D box (:mod:`.box3d` states the model, its equations and their sources): the
+equations of motion on a corner and on an edge, the Dormand-Prince step, the transitions (lift at rest, a corner
+lifting off an edge, a corner landing, a flat landing) and the run over a record.
+
+State: ``y = (q0, q1, q2, q3, omega_x, omega_y, omega_z)``, the unit quaternion (body to world) and the angular
+velocity in the world's axes. Mode: ``REST`` (flat), ``EDGE`` (on edge ``pivot``: corners ``pivot`` and
+``pivot + 1``) or ``CORNER`` (on corner ``pivot``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit
+from .dopri import (
+    A21,
+    A31,
+    A32,
+    A41,
+    A42,
+    A43,
+    A51,
+    A52,
+    A53,
+    A54,
+    A61,
+    A62,
+    A63,
+    A64,
+    A65,
+    B1,
+    B3,
+    B4,
+    B5,
+    B6,
+    C2,
+    C3,
+    C4,
+    C5,
+    E1,
+    E3,
+    E4,
+    E5,
+    E6,
+    E7,
+)  # fmt: skip
+from .vec3 import cross, shifted, solve3, solve_sym3
+
+# Modes: at rest; on a corner; on an edge; on a corner with the edge's other corner sliding on the ground (that
+# corner next, or previous, in the numbering)
+REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
+
+# Step control and events, named once (as scipy's _ivp names its step factors)
+SAFETY = 0.9                    # the step-size controller's safety factor
+MIN_FACTOR, MAX_FACTOR = 0.2, 5.0
+MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
+LAND_THETA_ALPHA = 1e-9         # a base corner within this x alpha x the base's smaller side lands [-]
+REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
+EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
+CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
+
+# Flags (why a scene is flagged), as in cylinder3d
+FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
+
+
+class BoxParams(NamedTuple):
+    """A box's constants, derived once (per unit mass)."""
+
+    bx: float           # half-width [m]
+    by: float           # half-depth [m]
+    hz: float           # half-height [m]
+    ix: float           # principal moments of inertia about G [m2]
+    iy: float
+    iz: float
+    alpha: float        # the smaller slenderness [rad]
+    p: float            # frequency parameter of the plane of the width [rad s-1]
+    scale: float        # the declared restitution over Housner's [-]
+    mu: float           # friction [-]
+    land_m: float       # a corner this high has landed [m]
+    atol_angle: float
+    atol_rate: float
+    rtol: float
+
+
+class Ground(NamedTuple):
+    """The ground's acceleration [m s-2] at samples ``dt`` [s] apart."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    az: np.ndarray
+    dt: float
+    g: float
+
+
+class BoxRun(NamedTuple):
+    """The kernel's outcome (:class:`.box3d.BoxOutcome` is the user's)."""
+
+    overturned: bool
+    t_overturn: float
+    tilt_max: float
+    azimuth_max: float
+    flag: int
+    impacts: int
+    corner_s: float
+    demand: float
+    held: int
+    steps: int          # Runge-Kutta steps tried (accepted and rejected) and transitions
+
+
+@jit
+def _params(g, bx, by, hz, mu, scale, rtol, atol_alpha):
+    alpha = min(math.atan2(bx, hz), math.atan2(by, hz))
+    r_w = math.hypot(bx, hz)
+    p = math.sqrt(0.75 * g / r_w)
+    land = LAND_THETA_ALPHA * alpha
+    return BoxParams(bx, by, hz, (by * by + hz * hz) / 3.0, (bx * bx + hz * hz) / 3.0, (bx * bx + by * by) / 3.0,
+                     alpha, p, scale, mu, land * 2.0 * min(bx, by), atol_alpha * alpha,
+                     atol_alpha * alpha * p, rtol)
+
+
+@jit
+def corner(k, prm):
+    """Base corner ``k`` (0-3, counter-clockwise from (+b_x, +b_y)) in the body's axes [m]."""
+    k = k % 4
+    return (prm.bx if k == 0 or k == 3 else -prm.bx), (prm.by if k < 2 else -prm.by), -prm.hz
+
+
+@jit
+def rotation(y):
+    """The rotation matrix of the (normalised) quaternion ``y[0:4]``, row by row."""
+    n = math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
+    q0, q1, q2, q3 = y[0] / n, y[1] / n, y[2] / n, y[3] / n
+    return (1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2),
+            2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1),
+            2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2))
+
+
+@jit
+def _apply(m, x, y, z):
+    return (m[0] * x + m[1] * y + m[2] * z, m[3] * x + m[4] * y + m[5] * z, m[6] * x + m[7] * y + m[8] * z)
+
+
+@jit
+def _inertia_g(m, prm):
+    """I_G in the world's axes, R diag(i_x, i_y, i_z) R^T, as six entries (xx, xy, xz, yy, yz, zz)."""
+    a, b, c = prm.ix, prm.iy, prm.iz
+    return (a * m[0] * m[0] + b * m[1] * m[1] + c * m[2] * m[2], a * m[0] * m[3] + b * m[1] * m[4] + c * m[2] * m[5],
+            a * m[0] * m[6] + b * m[1] * m[7] + c * m[2] * m[8], a * m[3] * m[3] + b * m[4] * m[4] + c * m[5] * m[5],
+            a * m[3] * m[6] + b * m[4] * m[7] + c * m[5] * m[8], a * m[6] * m[6] + b * m[7] * m[7] + c * m[8] * m[8])
+
+
+@jit
+def _sym_apply(s, x, y, z):
+    return (s[0] * x + s[1] * y + s[2] * z, s[1] * x + s[3] * y + s[4] * z, s[2] * x + s[4] * y + s[5] * z)
+
+
+@jit
+def lever(m, k, prm):
+    """r = G - (corner k) in the world's axes [m]."""
+    cx, cy, cz = corner(k, prm)
+    rx, ry, rz = _apply(m, cx, cy, cz)
+    return -rx, -ry, -rz
+
+
+@jit
+def edge_axis(m, j, prm):
+    """The unit direction of edge ``j`` (corner j to corner j + 1) in the world's axes, and its length [m]."""
+    ax_, ay_, az_ = corner(j, prm)
+    bx_, by_, bz_ = corner(j + 1, prm)
+    ux, uy, uz = _apply(m, bx_ - ax_, by_ - ay_, bz_ - az_)
+    n = math.sqrt(ux * ux + uy * uy + uz * uz)
+    return ux / n, uy / n, uz / n, n
+
+
+@jit
+def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
+    """d/dt of the state on a corner, an edge, or a corner with the edge's other corner sliding (the module's
+    equations) under the effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); returns the contact force per
+    unit mass (F_x, F_y, F_z) and, on an edge, the normal forces at its two corners (N_1 at ``pivot``, N_2 at
+    ``pivot + 1``); with a corner sliding, the pivot's force, its normal force and the sliding corner's."""
+    m = rotation(y)
+    rx, ry, rz = lever(m, pivot, prm)
+    ig = _inertia_g(m, prm)
+    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], rx, ry, rz)
+    wx, wy, wz = y[4], y[5], y[6]
+    lx, ly, lz = _sym_apply(ip, wx, wy, wz)
+    gyx, gyy, gyz = cross(wx, wy, wz, lx, ly, lz)
+    tx, ty, tz = cross(rx, ry, rz, gx, gy, gz)
+    n1, n2 = 0.0, 0.0
+    twist = mode == TWIST_NEXT or mode == TWIST_PREV
+    if twist:
+        # omega = s u + psi' e_z with u along the edge (the sliding corner stays on the ground): the Euler equation
+        # with the sliding corner's normal force N (frictionless slide) solved for s'', psi'' and N
+        ux, uy, uz, length = edge_axis(m, pivot if mode == TWIST_NEXT else pivot - 1, prm)
+        if mode == TWIST_PREV:
+            ux, uy, uz = -ux, -uy, -uz
+        s, wz_ = wx * ux + wy * uy + wz * uz, wz
+        a0x, a0y = -s * wz_ * uy, s * wz_ * ux                     # s psi' (e_z x u)
+        b = _sym_apply(ip, a0x, a0y, 0.0)
+        c1 = _sym_apply(ip, ux, uy, uz)
+        sdd, pdd, n2 = solve3(c1[0], ip[2], -length * uy, c1[1], ip[4], length * ux, c1[2], ip[5], 0.0,
+                              tx - gyx - b[0], ty - gyy - b[1], tz - gyz - b[2])
+        alx, aly, alz = sdd * ux + a0x, sdd * uy + a0y, sdd * uz + pdd
+    elif mode == EDGE:
+        ux, uy, uz, length = edge_axis(m, pivot, prm)
+        iu = _sym_apply(ip, ux, uy, uz)
+        sdd = (ux * tx + uy * ty + uz * tz) / (ux * iu[0] + uy * iu[1] + uz * iu[2])
+        alx, aly, alz = sdd * ux, sdd * uy, sdd * uz
+    else:
+        alx, aly, alz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], tx - gyx, ty - gyy, tz - gyz)
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    cx, cy, cz = cross(wx, wy, wz, q1, q2, q3)
+    out[0] = -0.5 * (wx * q1 + wy * q2 + wz * q3)
+    out[1], out[2], out[3] = 0.5 * (q0 * wx + cx), 0.5 * (q0 * wy + cy), 0.5 * (q0 * wz + cz)
+    out[4], out[5], out[6] = alx, aly, alz
+    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
+    ax1, ay1, az1 = cross(alx, aly, alz, rx, ry, rz)
+    ax2, ay2, az2 = cross(wx, wy, wz, vx, vy, vz)
+    fx, fy, fz = ax1 + ax2 - gx, ay1 + ay2 - gy, az1 + az2 - gz
+    if twist:
+        return fx, fy, fz - n2, fz - n2, n2      # the pivot's force, its normal force, the sliding corner's
+    if mode == EDGE:
+        mx, my, mz = _sym_apply(ip, alx, aly, alz)
+        mx, my, mz = mx + gyx - tx, my + gyy - ty, mz + gyz - tz
+        n2 = -(mx * -uy + my * ux) / length          # N_2 = -M_P . (e_z x w) / L
+        n1 = fz - n2
+    return fx, fy, fz, n1, n2
+
+
+@jit
+def _ground(t, i, grd):
+    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t`` in sample interval ``i`` (linear between samples)."""
+    f = (t - i * grd.dt) / grd.dt
+    return (-(grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])), -(grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])),
+            -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
+
+
+@jit
+def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
+    """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (``k[0]``: f at the start): the 5th-order state in
+    ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces there in ``force``."""
+    nodes = (C2, C3, C4, C5, 1.0)
+    rows = ((A21, 0.0, 0.0, 0.0, 0.0), (A31, A32, 0.0, 0.0, 0.0), (A41, A42, A43, 0.0, 0.0),
+            (A51, A52, A53, A54, 0.0), (A61, A62, A63, A64, A65))
+    for s in range(5):
+        for q in range(7):
+            acc = y[q]
+            for j in range(s + 1):
+                acc += hh * rows[s][j] * k[j, q]
+            tmp[q] = acc
+        gx, gy, gz = _ground(t + nodes[s] * hh, i, grd)
+        derivatives(tmp, gx, gy, gz, prm, mode, pivot, k[s + 1])
+    for q in range(7):
+        y_new[q] = y[q] + hh * (B1 * k[0, q] + B3 * k[2, q] + B4 * k[3, q] + B5 * k[4, q] + B6 * k[5, q])
+    gx, gy, gz = _ground(t + hh, i, grd)
+    f = derivatives(y_new, gx, gy, gz, prm, mode, pivot, k[6])
+    for q in range(5):
+        force[q] = f[q]
+    for q in range(7):
+        err[q] = hh * (E1 * k[0, q] + E3 * k[2, q] + E4 * k[3, q] + E5 * k[4, q] + E6 * k[5, q] + E7 * k[6, q])
+
+
+@jit
+def _error_norm(y, y_new, err, prm):
+    norm = 0.0
+    for j in range(7):
+        tol = (prm.atol_angle if j < 4 else prm.atol_rate) + prm.rtol * max(abs(y[j]), abs(y_new[j]))
+        norm = max(norm, abs(err[j]) / tol)
+    return norm
+
+
+@jit
+def height(m, y, k, pivot, prm):
+    """The height of base corner ``k`` above the pivot corner [m], and its rate [m s-1] (``m``: the rotation of
+    ``y``)."""
+    ax_, ay_, az_ = corner(k, prm)
+    bx_, by_, bz_ = corner(pivot, prm)
+    dx, dy, dz = _apply(m, ax_ - bx_, ay_ - by_, az_ - bz_)
+    vx, vy, vz = cross(y[4], y[5], y[6], dx, dy, dz)
+    return dz, vz
+
+
+@jit
+def tilt_of(y):
+    """The tilt of the body's axis from the vertical [rad] and the azimuth it leans toward [rad]."""
+    n = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
+    rzz = 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / n
+    rxz, ryz = 2.0 * (y[1] * y[3] + y[0] * y[2]) / n, 2.0 * (y[2] * y[3] - y[0] * y[1]) / n
+    return math.acos(max(-1.0, min(1.0, rzz))), math.atan2(ryz, rxz)
+
+
+@jit
+def flatten(y):
+    """The quaternion set to the pure turn about the vertical nearest ``y[0:4]`` (the box flat on its base);
+    returns that turn [rad]."""
+    m = rotation(y)
+    psi = math.atan2(m[3], m[0])
+    y[0], y[1], y[2], y[3] = math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)
+    return psi

@@ -1,0 +1,494 @@
+"""The 3D box's run over a record (:mod:`.box3d` states the model): rest and the lift about an edge, the steps on
+an edge or a corner, a corner lifting off an edge, a corner landing on an edge, a flat landing, overturning, and
+the flags."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..compiled import jit
+from .box_kernel import (
+    CORNER,
+    CROSSING_PROBES,
+    EDGE,
+    EVENT_BISECTIONS,
+    FLAG_FLIGHT,
+    FLAG_NONE,
+    FLAG_SLIDE,
+    FLAG_STEPS,
+    MAX_FACTOR,
+    MAX_STEPS_PER_SAMPLE,
+    MIN_FACTOR,
+    REST,
+    REST_RATE,
+    SAFETY,
+    TWIST_NEXT,
+    TWIST_PREV,
+    BoxRun,
+    Ground,
+    _apply,
+    _error_norm,
+    _ground,
+    _inertia_g,
+    _params,
+    _sym_apply,
+    corner,
+    derivatives,
+    dopri_step,
+    edge_axis,
+    flatten,
+    height,
+    lever,
+    rotation,
+    tilt_of,
+)
+from .vec3 import cross, hermite, shifted, solve_sym3
+
+UNLOADED = 1e-12                # an edge's corner pressed less than this x g [m s-2] per unit mass is unloaded
+MAX_STALLED = 10000             # passes in a row that leave the time where it was before the run ends, flagged
+TOGETHER_S = 1e-12              # two corners landing within this of each other [s] land together (a flat landing)
+
+# The outward normal of edge j in the body's axes (edge 0 at +y, 1 at -x, 2 at -y, 3 at +x)
+_NORMAL_X = (0.0, -1.0, 0.0, 1.0)
+_NORMAL_Y = (1.0, 0.0, -1.0, 0.0)
+
+
+@jit
+def _tipping(s, t0, dt, grd, i, c, sn, j, prm):
+    """-a.n - (g + a_z) b / h for edge j at time ``s`` [m s-2]: positive where the ground lifts the box about
+    it (the ground linear between samples; n the edge's outward normal, b the half-dimension across it)."""
+    f = (s - t0) / dt
+    ax = grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])
+    ay = grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])
+    az = grd.az[i] + f * (grd.az[i + 1] - grd.az[i])
+    a_n = (c * ax + sn * ay) * _NORMAL_X[j] + (-sn * ax + c * ay) * _NORMAL_Y[j]
+    b = prm.by if j % 2 == 0 else prm.bx
+    return -a_n - (grd.g + az) * b / prm.hz
+
+
+@jit
+def _slip_excess(s, t0, grd, i, mu):
+    """|a_h| - mu (g + a_z) at ``s`` [m s-2]: positive where friction cannot hold the box at rest."""
+    f = (s - t0) / grd.dt
+    ax = grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])
+    ay = grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])
+    az = grd.az[i] + f * (grd.az[i + 1] - grd.az[i])
+    return math.hypot(ax, ay) - mu * (grd.g + az)
+
+
+@jit
+def _slides_at_rest(t, i, grd, prm):
+    """The first instant in [t, the next sample] at which the box at rest would slide, or -1. The excess is
+    convex in time (the norm of a linear path less a linear threshold): <= 0 throughout when it is at both ends;
+    the exact boundary |a_h| = mu (g + a_z) holds."""
+    t0 = i * grd.dt
+    t1 = t0 + grd.dt
+    if _slip_excess(t, t0, grd, i, prm.mu) > 0.0:
+        return t
+    if _slip_excess(t1, t0, grd, i, prm.mu) <= 0.0:
+        return -1.0
+    lo, hi = t, t1
+    for _ in range(EVENT_BISECTIONS):
+        m = 0.5 * (lo + hi)
+        if _slip_excess(m, t0, grd, i, prm.mu) > 0.0:
+            hi = m
+        else:
+            lo = m
+    return hi
+
+
+@jit
+def _quiet(i, grd, ratio):
+    """Whether sample ``i`` is quiet: |a_h| <= (g + a_z) min(tan alpha_min, mu), where the box at rest neither lifts
+    about any edge (whose threshold is at least tan alpha_min) nor slides. Quiet at both ends of an interval means
+    quiet throughout (the excess is convex in time between samples)."""
+    return math.hypot(grd.ax[i], grd.ay[i]) <= (grd.g + grd.az[i]) * ratio
+
+
+@jit
+def _lift_off(t, i, grd, prm, y):
+    """At rest over sample interval ``i`` from ``t``: the instant and the edge about which the ground first lifts
+    the box (the state then set turning about it), or (-1, -1) when it stays at rest. Each edge's excess is
+    linear in time inside the interval, so its first positive instant is exact."""
+    psi = flatten(y)
+    c, sn = math.cos(psi), math.sin(psi)
+    t0 = i * grd.dt
+    t1 = t0 + grd.dt
+    best_t, best_j, best_f = -1.0, -1, 0.0
+    for j in range(4):
+        f0 = _tipping(t, t0, grd.dt, grd, i, c, sn, j, prm)
+        f1 = _tipping(t1, t0, grd.dt, grd, i, c, sn, j, prm)
+        if f0 > 0.0:
+            s = t
+        elif f1 > 0.0:
+            s = t + (t1 - t) * (-f0) / (f1 - f0)
+        else:
+            continue
+        if best_j < 0 or s < best_t or (s == best_t and f1 > best_f):
+            best_t, best_j, best_f = s, j, f1
+    if best_j >= 0:
+        y[4], y[5], y[6] = 0.0, 0.0, 0.0
+    return best_t, best_j
+
+
+@jit
+def edge_of(mode, pivot):
+    """The edge a box on an edge, or sliding on one, turns on (corners j and j + 1)."""
+    return (pivot - 1) % 4 if mode == TWIST_PREV else pivot
+
+
+@jit
+def _landing(y, k0, y_new, k6, hh, mode, pivot, prm):
+    """The fraction of the step at which a base corner first lands (an adjacent corner on a corner, the far side on
+    an edge), that corner, and the fraction at which another lands (2 when none)."""
+    best_x, best_c, next_x = 2.0, -1, 2.0
+    m0, m1 = rotation(y), rotation(y_new)
+    for off in (1, 2, 3):
+        if ((mode == CORNER and off == 2) or ((mode == EDGE or mode == TWIST_NEXT) and off == 1)
+                or (mode == TWIST_PREV and off == 3)):
+            continue
+        kc = (pivot + off) % 4
+        z0, v0 = height(m0, y, kc, pivot, prm)
+        z1, v1 = height(m1, y_new, kc, pivot, prm)
+        # a corner that is down lands where it returns to the ground: one rising from it (after a flat landing) at
+        # the ground; one that has just lifted off an edge from rest (its rise of order roundoff at first, the edge
+        # level to the integration's error) only land_m below where it started
+        level = prm.land_m if z0 >= prm.land_m else (0.0 if v0 > 0.0 else min(z0, 0.0) - prm.land_m)
+        if not (z1 < level and z1 < z0):
+            continue
+        lo, hi = 0.0, 1.0
+        for p in range(1, CROSSING_PROBES + 1):
+            if hermite(z0, v0, z1, v1, hh, p / CROSSING_PROBES) <= level:
+                lo, hi = (p - 1) / CROSSING_PROBES, p / CROSSING_PROBES
+                break
+        for _ in range(EVENT_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            if hermite(z0, v0, z1, v1, hh, mid) <= level:
+                hi = mid
+            else:
+                lo = mid
+        if hi < best_x:
+            best_x, best_c, next_x = hi, kc, best_x
+        else:
+            next_x = min(next_x, hi)
+    return best_x, best_c, next_x
+
+
+@jit
+def _corner_lands(y, pivot, kc, prm):
+    """A corner adjacent to the pivot lands: the box turns on the edge they share, its angular momentum about that
+    edge's axis conserved (the impulses act on the axis). Returns the edge."""
+    j = pivot if kc == (pivot + 1) % 4 else kc
+    m = rotation(y)
+    rx, ry, rz = lever(m, pivot, prm)
+    ig = _inertia_g(m, prm)
+    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], rx, ry, rz)
+    ux, uy, uz, _ = edge_axis(m, j, prm)
+    lx, ly, lz = _sym_apply(ip, y[4], y[5], y[6])
+    iu = _sym_apply(ip, ux, uy, uz)
+    s = (ux * lx + uy * ly + uz * lz) / (ux * iu[0] + uy * iu[1] + uz * iu[2])
+    y[4], y[5], y[6] = s * ux, s * uy, s * uz
+    return j
+
+
+@jit
+def _diagonal_landing(y, pivot, prm):
+    """Both corners adjacent to the pivot land together (the base lands flat while turning on a corner): the box
+    turns on the opposite corner with its angular momentum about that corner conserved (Housner's rule about a
+    point), scaled by the declared restitution; returns whether the rebound is too slow to go on (rest)."""
+    m = rotation(y)
+    wx, wy, wz = y[4], y[5], y[6]
+    rx, ry, rz = lever(m, pivot, prm)
+    ig = _inertia_g(m, prm)
+    gx, gy, gz = _sym_apply(ig, wx, wy, wz)
+    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
+    sx, sy, sz = lever(m, pivot + 2, prm)
+    hx, hy, hz = cross(sx, sy, sz, vx, vy, vz)
+    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], sx, sy, sz)
+    nx, ny, nz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], gx + hx, gy + hy, gz + hz)
+    flatten(y)
+    if math.hypot(nx, ny) * prm.scale < REST_RATE * prm.p * prm.alpha:
+        y[4], y[5], y[6] = 0.0, 0.0, 0.0
+        return True
+    y[4], y[5], y[6] = nx * prm.scale, ny * prm.scale, nz
+    return False
+
+
+@jit
+def _flat_landing(y, j, keep, prm):
+    """The base lands flat while turning on edge j (corner ``keep`` of it fixed, the other on the ground): the box
+    turns on the opposite edge with its angular momentum about it conserved (Housner 1963), scaled by the declared
+    restitution; returns whether the rebound is too slow to go on (rest)."""
+    m = rotation(y)
+    wx, wy, wz = y[4], y[5], y[6]
+    rx, ry, rz = lever(m, keep, prm)
+    ig = _inertia_g(m, prm)
+    gx, gy, gz = _sym_apply(ig, wx, wy, wz)
+    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
+    jn = (j + 2) % 4
+    sx, sy, sz = lever(m, jn, prm)
+    hx, hy, hz = cross(sx, sy, sz, vx, vy, vz)
+    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], sx, sy, sz)
+    ux, uy, uz, _ = edge_axis(m, jn, prm)
+    iu = _sym_apply(ip, ux, uy, uz)
+    s = prm.scale * (ux * (gx + hx) + uy * (gy + hy) + uz * (gz + hz)) / (ux * iu[0] + uy * iu[1] + uz * iu[2])
+    flatten(y)
+    if s < REST_RATE * prm.p * prm.alpha:
+        y[4], y[5], y[6] = 0.0, 0.0, 0.0
+        return True
+    ux, uy, uz, _ = edge_axis(rotation(y), jn, prm)
+    y[4], y[5], y[6] = s * ux, s * uy, s * uz
+    return False
+
+
+@jit
+def _lifts(y, t, i, grd, prm, keep, free, scratch):
+    """Whether corner ``free`` of an edge would rise with the box turning on corner ``keep`` alone (its vertical
+    acceleration there > 0). With the edge's normal force at ``free`` <= 0 this is the consistent lift; where it
+    would not rise, that corner can neither pull nor lift, and only a slip of it (a twist) resolves the contact."""
+    gx, gy, gz = _ground(t, i, grd)
+    derivatives(y, gx, gy, gz, prm, CORNER, keep, scratch)
+    m = rotation(y)
+    ax_, ay_, az_ = corner(free, prm)
+    bx_, by_, bz_ = corner(keep, prm)
+    dx, dy, dz = _apply(m, ax_ - bx_, ay_ - by_, az_ - bz_)
+    a1 = cross(scratch[4], scratch[5], scratch[6], dx, dy, dz)
+    vx, vy, vz = cross(y[4], y[5], y[6], dx, dy, dz)
+    a2 = cross(y[4], y[5], y[6], vx, vy, vz)
+    return a1[2] + a2[2] > 0.0
+
+
+@jit
+def _fill(tilt_out, azimuth_out, dt, t, hh, y, k, y_new, n, scratch):
+    """The samples inside (t, t + hh]: the quaternion by the step's Hermite cubic, then its tilt and azimuth."""
+    j = int(t / dt + 1e-9) + 1
+    while j < n and j * dt <= t + hh + 1e-12 * dt:
+        x = (j * dt - t) / hh
+        for q in range(4):
+            scratch[q] = hermite(y[q], k[0, q], y_new[q], k[6, q], hh, x)
+        tilt_out[j], azimuth_out[j] = tilt_of(scratch)
+        j += 1
+
+
+@jit
+def _past_tipping(y, mode, pivot, prm):
+    """Whether G is beyond the pivot (its horizontal offset from the pivot, across the edge on an edge, points away
+    from the base's centre), and whether it falls."""
+    m = rotation(y)
+    rx, ry, rz = lever(m, pivot, prm)
+    dx, dy = rx - prm.hz * m[2], ry - prm.hz * m[5]
+    vz = cross(y[4], y[5], y[6], rx, ry, rz)[2]
+    if mode != CORNER:
+        ux, uy, uz, _ = edge_axis(m, edge_of(mode, pivot), prm)
+        ru, du = rx * ux + ry * uy, dx * ux + dy * uy
+        rx, ry, dx, dy = rx - ru * ux, ry - ru * uy, dx - du * ux, dy - du * uy
+    return rx * dx + ry * dy < 0.0, vz < 0.0
+
+
+@jit
+def _contact_flag(force, mu):
+    if force[2] <= 0.0:
+        return FLAG_FLIGHT
+    if math.hypot(force[0], force[1]) > mu * force[2]:
+        return FLAG_SLIDE
+    return FLAG_NONE
+
+
+@jit
+def _rzz(y):
+    return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
+
+
+@jit
+def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch):
+    """Advance to the fraction ``x`` of the step (an exact Runge-Kutta step there); returns the new time."""
+    hl = max(x * hh, 1e-15 * grd.dt)
+    dopri_step(t, y, hl, i, grd, prm, mode, pivot, k, tmp, y_new, err, force)
+    _fill(tilt_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0], scratch)
+    y[:] = y_new
+    return t + hl
+
+
+@jit
+def _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out):
+    """At rest over sample interval ``i`` from ``t``: (the time reached, the mode, the pivot edge, the flag): the
+    next sample where nothing moves, the instant it lifts (EDGE), or where it would slide first (flagged)."""
+    if _quiet(i, grd, quiet_ratio) and _quiet(i + 1, grd, quiet_ratio):
+        tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0      # neither lifts nor slides in the interval (convexity)
+        return (i + 1) * grd.dt, REST, 0, FLAG_NONE
+    start, j = _lift_off(t, i, grd, prm, y)
+    slip = _slides_at_rest(t, i, grd, prm)
+    if slip >= 0.0 and (start < 0.0 or slip < start):
+        return slip, REST, 0, FLAG_SLIDE                      # it would slide before it rocks: not followed in 3D
+    if start < 0.0:
+        tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0
+        return (i + 1) * grd.dt, REST, 0, FLAG_NONE
+    return start, EDGE, j, FLAG_NONE
+
+
+@jit
+def _fresh_pass(y, t, i, grd, prm, mode, pivot, k, force0):
+    """f and the contact forces at a fresh state (after a transition); then a corner of an edge that is unloaded
+    lifts (it would rise) or slides (it can neither press nor rise), and a sliding corner that is unloaded lifts.
+    Returns (mode, pivot, whether they changed)."""
+    gx, gy, gz = _ground(t, i, grd)
+    f = derivatives(y, gx, gy, gz, prm, mode, pivot, k[0])
+    for q in range(5):
+        force0[q] = f[q]
+    if mode == EDGE and min(f[3], f[4]) <= UNLOADED * grd.g and f[2] > 0.0:
+        keep = pivot if f[4] <= f[3] else (pivot + 1) % 4
+        free = (pivot + 1) % 4 if keep == pivot else pivot
+        if _lifts(y, t, i, grd, prm, keep, free, k[1]):
+            return CORNER, keep, True
+        return (TWIST_NEXT if keep == pivot else TWIST_PREV), keep, True
+    if (mode == TWIST_NEXT or mode == TWIST_PREV) and f[4] <= 0.0 and f[2] > 0.0:
+        return CORNER, pivot, True
+    return mode, pivot, False
+
+
+@jit
+def _after_landing(y, mode, pivot, kc, together, prm):
+    """The mode and pivot after a landing (the state at the landing, impact applied)."""
+    if mode == CORNER and together:
+        rests = _diagonal_landing(y, pivot, prm)
+        return (REST if rests else CORNER), (pivot + 2) % 4
+    if mode == CORNER:
+        return EDGE, _corner_lands(y, pivot, kc, prm)
+    j = edge_of(mode, pivot)
+    rests = _flat_landing(y, j, pivot, prm)
+    return (REST if rests else EDGE), (j + 2) % 4
+
+
+@jit
+def _contact_event(y, y_new, force, force0, mode, held, prm):
+    """Where a step ends with a corner of the edge unloaded, the sliding corner unloaded, or the twist stopped:
+    the fraction of the step where it happened (located linearly) and what follows (the mode, -1 for the next
+    fresh pass to decide); (-1, mode) where nothing happened."""
+    if force[2] <= 0.0:
+        return -1.0, mode
+    if mode == EDGE and held == FLAG_NONE and min(force[3], force[4]) <= 0.0:
+        second = force[4] <= force[3]
+        n0, n1 = (force0[4], force[4]) if second else (force0[3], force[3])
+        return (min(1.0, max(0.0, n0 / (n0 - n1))) if n0 > n1 else 1.0), EDGE
+    if mode == TWIST_NEXT or mode == TWIST_PREV:
+        if force[4] <= 0.0:                                         # the sliding corner lifts
+            n0 = force0[4]
+            return (min(1.0, max(0.0, n0 / (n0 - force[4]))) if n0 > force[4] else 1.0), CORNER
+        if y[6] * y_new[6] < 0.0 and abs(y[6]) > REST_RATE * prm.p * prm.alpha:   # the twist stops: it may stick
+            return y[6] / (y[6] - y_new[6]), EDGE
+    return -1.0, mode
+
+
+@jit
+def _stick(y, mode, pivot, prm):
+    """The sliding corner sticks (its twist stopped): the box turns on the edge; returns the edge."""
+    j = edge_of(mode, pivot)
+    ux, uy, uz, _ = edge_axis(rotation(y), j, prm)
+    sp = y[4] * ux + y[5] * uy + y[6] * uz
+    y[4], y[5], y[6] = sp * ux, sp * uy, sp * uz
+    return j
+
+
+@jit
+def _contact_flags(force, mu, held, y_new, mode, pivot, prm):
+    """The flag of an accepted step and the held flag (held past the tipping point: see box3d)."""
+    flag = _contact_flag(force, mu)
+    if held == FLAG_NONE and flag == FLAG_NONE:
+        return flag, held
+    beyond, falling = _past_tipping(y_new, mode, pivot, prm)
+    if held != FLAG_NONE:
+        return (held if not beyond else FLAG_NONE), held      # until it comes back: then no verdict
+    if beyond and falling:
+        return FLAG_NONE, flag
+    return flag, held
+
+
+@jit
+def _accept(y, y_new, k, force, force0):
+    """Take an accepted step's end as the state (the quaternion normalised), f there as the next step's first."""
+    nq = math.sqrt(y_new[0] ** 2 + y_new[1] ** 2 + y_new[2] ** 2 + y_new[3] ** 2)
+    for q in range(4):
+        y_new[q] /= nq
+    y[:] = y_new
+    k[0, :] = k[6, :]
+    for q in range(5):
+        force0[q] = force[q]
+
+
+@jit
+def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode0, pivot0, tilt_out, azimuth_out,
+            y_end):
+    """Run a box on the ground motion ``ax, ay, az`` [m s-2] sampled at ``dt`` [s] from the state ``y0`` in mode
+    ``mode0`` on ``pivot0`` (REST: at rest), filling the tilt and its azimuth at the samples and the last state."""
+    grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
+    n = ax.shape[0]
+    y = y0.copy()
+    mode, pivot = mode0, pivot0
+    if mode == REST:
+        flatten(y)
+        y[4], y[5], y[6] = 0.0, 0.0, 0.0
+    k, tmp, y_new, err = np.zeros((7, 7)), np.empty(7), np.empty(7), np.empty(7)
+    force, force0, scratch = np.zeros(5), np.zeros(5), np.empty(4)
+    t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
+    tilt_max, az_max, flag, impacts, t_over, demand, held, corner_s = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, 0, 0.0
+    tilt_out[0], azimuth_out[0] = tilt_of(y)
+    quiet_ratio = min(min(bx, by) / hz, mu)
+    fresh = True
+    while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
+        i = min(int(t / dt + 1e-9), n - 2)
+        if mode == REST:
+            t, mode, pivot, flag = _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out)
+            fresh = True
+            continue
+        steps += 1
+        stalled, t_last = (stalled + 1 if t <= t_last else 0), t
+        if steps > MAX_STEPS_PER_SAMPLE * n or stalled > MAX_STALLED:
+            flag = FLAG_STEPS
+            break
+        if fresh:
+            mode, pivot, fresh = _fresh_pass(y, t, i, grd, prm, mode, pivot, k, force0)
+            if fresh:
+                continue        # the mode changed: f again
+        hh = min(hh_next, (i + 1) * dt - t)
+        dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force)
+        norm = _error_norm(y, y_new, err, prm)
+        if not norm <= 1.0:          # rejected (NaN too)
+            hh_next = hh * max(MIN_FACTOR, SAFETY * norm ** -0.2) if norm == norm else hh * MIN_FACTOR
+            continue
+        r0, r1 = _rzz(y), _rzz(y_new)
+        if r1 <= 0.0:                                                # overturned: the axis reaches the horizontal
+            t_over, tilt_max, az_max = t + r0 / (r0 - r1) * hh, 0.5 * math.pi, tilt_of(y_new)[1]
+            break
+        x, kc, x_next = _landing(y, k[0], y_new, k[6], hh, mode, pivot, prm)
+        if kc >= 0:
+            impacts += 1
+            t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+                         scratch)
+            mode, pivot = _after_landing(y, mode, pivot, kc, (x_next - x) * hh <= TOGETHER_S, prm)
+            fresh = True
+            continue
+        x, then = _contact_event(y, y_new, force, force0, mode, held, prm)
+        if x >= 0.0:
+            t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+                         scratch)
+            if then == EDGE and mode != EDGE:
+                pivot = _stick(y, mode, pivot, prm)
+            mode, fresh = then, True        # an edge's unloaded corner: the fresh pass decides lift or slide
+            continue
+        flag, held = _contact_flags(force, mu, held, y_new, mode, pivot, prm)
+        if force[2] > 0.0:
+            demand = max(demand, math.hypot(force[0], force[1]) / force[2])
+        _fill(tilt_out, azimuth_out, dt, t, hh, y, k, y_new, n, scratch)
+        tl, azl = tilt_of(y_new)
+        if tl > tilt_max:
+            tilt_max, az_max = tl, azl
+        corner_s += hh if mode == CORNER else 0.0
+        t += hh
+        _accept(y, y_new, k, force, force0)
+        hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
+    y_end[:] = y
+    if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
+        flag = held
+    return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, flag, impacts, corner_s, demand, held, steps)

@@ -1,0 +1,168 @@
+"""The 3D scenes of solids on a record's two horizontal components, one interface for the screening, the margins
+and the probabilities: a solid cylinder (:mod:`.cylinder3d`, its scene in :mod:`.cylinder_scene`) and a box with a
+depth and a known azimuth (:mod:`.box3d`).
+
+Which scenes are 3D (:func:`solid_of`): a cylinder on two horizontals; a box whose inventory row gives a depth and
+an azimuth, on two horizontals of known absolute azimuth. A box with a blank azimuth keeps the planar scan of its
+rocking planes (the worst kept), and a box without a depth the planar model (infinitely deep).
+
+Frames: the models' x is the record's first horizontal (compass azimuth ``A``) and their y is 90 deg
+counter-clockwise of it seen from above, that is the record's second horizontal (at ``A + 90``, clockwise)
+reversed. A box whose width faces compass azimuth ``B`` has its width axis at ``A - B`` in the model; a tilt toward
+the model's azimuth ``phi`` leans toward the compass azimuth ``A - phi``.
+
+Where a model stops because its base would slide or lift off (not modeled in 3D), the scene has no verdict
+(``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
+with the contact held past the tipping point is kept and flagged (held_past_alpha).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..constants import G
+from .block import BlockShape, ShapeKind
+from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
+from .codes import ContactMode
+from .cylinder3d import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, Cylinder, WobbleOutcome, cylinder_from_corner
+from .cylinder_scene import cylinder_of, run_on_record
+from .geometry import effective_restitution
+from .orientation import PlaneResult
+from .scene import FreeFlight, Guard, Physics, Response, Scene
+from .settings import SimulationConfig
+
+
+class Solid(NamedTuple):
+    """A body simulated in 3D, placed on a record.
+
+    Attributes
+    ----------
+    body : Cylinder or Box
+    azimuth_deg : float
+        the box's width axis in the model's frame [deg, from x toward y] (0 for a cylinder)
+    alpha : float
+        the slenderness its tilt is reported against (a box: the plane of its width) [rad]
+    """
+
+    body: Cylinder | Box
+    azimuth_deg: float
+    alpha: float
+
+    @property
+    def physics(self) -> Physics:
+        return Physics.wobbling if isinstance(self.body, Cylinder) else Physics.rocking3d
+
+
+def box_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Box:
+    """The 3D model's :class:`~.box3d.Box` of an inventory box with a depth: its flat landings keep the ratio of
+    the declared restitution (NaN: Housner's) to Housner's value in the plane of its width."""
+    b, h = shape.width_m / 2.0, shape.height_m / 2.0
+    e_h = housner_e_box(b, h)
+    e = float(effective_restitution(np.array(shape.restitution), e_h, restitution_factor))
+    return Box(half_width_m=b, half_depth_m=shape.depth_m / 2.0, half_height_m=h, mu=shape.mu,
+               restitution_ratio=e / e_h if e_h > 0.0 else 0.0)
+
+
+def solid_of(shape: BlockShape, *, record_azimuth_deg: float, known_azimuth: bool) -> Solid | None:
+    """The 3D body of an inventory row on a record with two horizontals (the first at compass
+    ``record_azimuth_deg``; ``known_azimuth`` False for a relative pair), or None where the scene stays planar."""
+    if shape.kind == ShapeKind.cylinder:
+        c = cylinder_of(shape)
+        return Solid(c, 0.0, math.atan2(c.radius_m, c.half_height_m))
+    if math.isnan(shape.depth_m) or math.isnan(shape.azimuth_deg) or not known_azimuth:
+        return None
+    return Solid(box_of(shape), (record_azimuth_deg - shape.azimuth_deg) % 360.0,
+                 math.atan2(shape.width_m, shape.height_m))
+
+
+def drawn(solid: Solid, *, R_m: float, alpha: float, mu: float, restitution: float,
+          azimuth_deg: float | None = None, record_azimuth_deg: float = 0.0) -> Solid:
+    """The solid of one draw of the declared uncertainty (its sampled R, alpha, friction and restitution; a box
+    keeps its depth-to-width ratio and takes the drawn compass azimuth where given)."""
+    if isinstance(solid.body, Cylinder):
+        return Solid(cylinder_from_corner(R_m, alpha, mu=mu, restitution=restitution), 0.0, alpha)
+    ratio = solid.body.half_depth_m / solid.body.half_width_m
+    box = box_from_corner(R_m, alpha, 2.0 * ratio * R_m * math.sin(alpha), mu=mu, restitution=restitution)
+    az = solid.azimuth_deg if azimuth_deg is None else (record_azimuth_deg - azimuth_deg) % 360.0
+    return Solid(box, az, alpha)
+
+
+def run(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: SimulationConfig, g_ms2: float = G,
+        amplitude: float = 1.0) -> WobbleOutcome | BoxOutcome:
+    """The solid's 3D model on a record's two horizontals (the second 90 deg clockwise of the first) and its
+    vertical (None: none), all scaled by ``amplitude``."""
+    if isinstance(solid.body, Cylinder):
+        return run_on_record(h1, h2, vertical, dt_s, solid.body, settings=settings, g_ms2=g_ms2,
+                             amplitude=amplitude)
+    av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
+    return simulate_box(amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float), av,
+                        dt_s, solid.body, azimuth_deg=solid.azimuth_deg, g_ms2=g_ms2, rtol=settings.rtol,
+                        atol_alpha=settings.atol)
+
+
+def lean_azimuth_deg(outcome: WobbleOutcome | BoxOutcome, record_azimuth_deg: float) -> float:
+    """The compass azimuth the solid leant toward at its peak tilt (or fell toward) [deg, in [0, 360)]."""
+    return (record_azimuth_deg - outcome.azimuth_max_deg) % 360.0
+
+
+def scene_of(outcome: WobbleOutcome | BoxOutcome, solid: Solid, *, history: bool = False) -> Scene:
+    """The :class:`~.scene.Scene` of a 3D run: theta_max as a fraction of the solid's alpha; sliding or lift-off of
+    the base (the models' limits) leave no verdict."""
+    stopped = outcome.flag in (FLAG_SLIDE, FLAG_FLIGHT, FLAG_STEPS)
+    if outcome.overturned:
+        response = Response.overturn
+    elif outcome.flag == FLAG_FLIGHT:
+        response = Response.free_flight
+    elif outcome.flag == FLAG_SLIDE:
+        response = Response.slide_rock
+    else:
+        response = Response.rock if outcome.theta_max_rad > 0 else Response.rest
+    guard = ((Guard.model_limit if stopped else 0) | (Guard.step_cap if outcome.flag == FLAG_STEPS else 0)
+             | (Guard.held_past_alpha if outcome.held != FLAG_NONE else 0))
+    moved = outcome.theta_max_rad > 0
+    # proven at rest (physics none) only where the model checked every interval and nothing lifted or slid
+    simulated = moved or outcome.flag != FLAG_NONE
+    return Scene(physics=solid.physics if simulated else Physics.none, response=response,
+                 overturned=outcome.overturned, theta_max=outcome.theta_max_rad / solid.alpha,
+                 n_impacts=outcome.impacts, t_overturn=outcome.t_overturn_s, friction_demand=outcome.friction_demand,
+                 sliding_max_m=0.0, free_flight=FreeFlight.block_liftoff if outcome.flag == FLAG_FLIGHT
+                 else FreeFlight.none, chatter=False, friction_exceeded=1 if outcome.flag == FLAG_SLIDE else 0,
+                 theta_over_alpha=outcome.theta / solid.alpha if history else None,
+                 contact_modes=int(ContactMode.rock) if moved else 0, guard=int(guard))
+
+
+def solid_scene(h1, h2, vertical, dt_s: float, record_azimuth_deg: float, solid: Solid, *,
+                settings: SimulationConfig = SimulationConfig(), g_ms2: float = G,
+                history: bool = False) -> PlaneResult:
+    """A solid's scene on two horizontals: one 3D run; ``azimuth_deg`` is the compass azimuth it leant toward at
+    its peak tilt, ``planes_simulated`` 1 (0 when it never lifted)."""
+    out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2)
+    sc = scene_of(out, solid, history=history)
+    return PlaneResult(sc, lean_azimuth_deg(out, record_azimuth_deg) if out.theta_max_rad > 0 else math.nan,
+                       1 if out.theta_max_rad > 0 else 0, ())
+
+
+def lift_factor(h1, h2, vertical, solid: Solid, *, g_ms2: float = G) -> float:
+    """The smallest factor on the record at which the solid at rest first lifts [-] (inf: never): a cylinder where
+    |a_h| > (g + a_z) tan alpha in any direction, a box about the first of its four base edges whose moment balance
+    fails (-a . n > (g + a_z) b_n / h, n the edge's outward normal)."""
+    x, y = np.asarray(h1, dtype=float), -np.asarray(h2, dtype=float)
+    v = np.zeros_like(x) if vertical is None or np.size(vertical) == 0 else np.asarray(vertical, dtype=float)
+    body = solid.body
+    if isinstance(body, Cylinder):
+        tan_a = body.radius_m / body.half_height_m
+        pairs = [(np.hypot(x, y), tan_a)]
+    else:
+        c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
+        along, across = c * x + s * y, -s * x + c * y
+        tw, td = body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
+        pairs = [(along, tw), (-along, tw), (across, td), (-across, td)]
+    best = math.inf
+    for push, tan_b in pairs:
+        lift = push - v * tan_b
+        if np.any(lift > 0):
+            best = min(best, float(np.min(g_ms2 * tan_b / lift[lift > 0])))
+    return best

@@ -1,0 +1,121 @@
+"""Boxes with a depth and an azimuth through the screening: simulated in 3D on two horizontals of known azimuth
+(orientation given_3d, physics rocking3d), planar elsewhere; a box far deeper than high follows its planar scene in
+its own plane (the frames checked against the planar path's own projection); the summary says how many boxes were
+not checked about their other axis; the margins and probabilities come from the same 3D model."""
+
+from __future__ import annotations
+
+import math
+import shutil
+
+import numpy as np
+import pytest
+
+from pipeline.rocking.orientation import Orientation
+from pipeline.rocking.scene import Physics
+from pipeline.uncertainty.robust import Robustness
+
+RECORD = ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")
+INVENTORY = ("id,height_m,width_m,mu,azimuth_deg,depth_m\n"
+             "DEEP,1.2,0.15,0.9,60,6.0\n"          # far deeper than high: rocks in its width's plane only
+             "DEEP-PLANAR,1.2,0.15,0.9,60,\n"      # the same without a depth: the planar model
+             "SQUARE,1.5,0.2,0.9,20,0.2\n"        # a square base at a given azimuth: 3D
+             "SQUARE-BLANK,1.5,0.2,0.9,,0.2\n")   # no azimuth: the planar scan
+
+
+@pytest.fixture(scope="module")
+def kocaeli(records_dir, tmp_path_factory):
+    root = tmp_path_factory.mktemp("kocaeli")
+    for name in RECORD:
+        shutil.copy(records_dir / "peer-at2" / name, root / name)
+    shutil.copy(records_dir / "units.toml", root / "units.toml")
+    return root
+
+
+@pytest.fixture(scope="module")
+def screened(kocaeli, tmp_path_factory):
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    tmp = tmp_path_factory.mktemp("box-screen")
+    inv = tmp / "b.csv"
+    inv.write_text(INVENTORY)
+    out = tmp / "out"
+    assert main(["--records", str(kocaeli), "--blocks", str(inv), "--out", str(out), "-q", "--samples", "24"]) == 0
+    ds = open_results(out / "screening.nc")
+    return ds, {b: k for k, b in enumerate(ds["block"].values)}, out
+
+
+def test_a_box_with_a_depth_and_an_azimuth_is_simulated_in_3d(screened):
+    ds, idx, _ = screened
+    for block, code in (("DEEP", Orientation.given_3d), ("SQUARE", Orientation.given_3d),
+                        ("DEEP-PLANAR", Orientation.given), ("SQUARE-BLANK", Orientation.scanned)):
+        assert ds["orientation"].values[0, idx[block]] == code, block
+    for block in ("DEEP", "SQUARE"):
+        assert ds["physics"].values[0, idx[block]] in (Physics.rocking3d, Physics.none)
+        assert ds["planes_simulated"].values[0, idx[block]] in (0, 1)
+        assert ds["sample_simulations"].values[0, idx[block]] > 0            # its probability drew 3D runs
+        assert 0.0 <= ds["p_overturn"].values[0, idx[block]] <= 1.0
+
+
+def test_a_box_far_deeper_than_high_follows_its_planar_scene(screened):
+    """DEEP (6 m deep, 1.2 m high) cannot tip about its other axis: its 3D scene equals the planar scene of the same
+    box without a depth in the plane of its azimuth (the record projected by the planar path), verdict and peak
+    rotation; this checks the 3D frames (the record's azimuth, the second horizontal's sense, the box's azimuth)."""
+    ds, idx, _ = screened
+    deep, planar = idx["DEEP"], idx["DEEP-PLANAR"]
+    assert ds["physics"].values[0, deep] == Physics.rocking3d
+    assert ds["overturn_simulated"].values[0, deep] == ds["overturn_simulated"].values[0, planar]
+    assert ds["theta_max"].values[0, deep] == pytest.approx(ds["theta_max"].values[0, planar], rel=1e-4)
+    # both overturn here: the factor on the record at which each first overturns (the margins' scan) is the sharper
+    # check, and the 3D box leans along its own plane
+    assert ds["overturn_scale_simulated"].values[deep] == pytest.approx(
+        ds["overturn_scale_simulated"].values[planar], rel=1e-6)
+    assert ds["governing_azimuth"].values[0, deep] % 180.0 == pytest.approx(60.0, abs=1e-6)
+
+
+def test_the_summary_counts_the_boxes_not_checked_about_their_other_axis(screened):
+    _, _, out = screened
+    page = (out / "report.html").read_text()
+    assert "not checked for 2 of 4" in page and "2 scenes, orientation given_3d" in page
+
+
+def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
+    """The simulated margin of SQUARE is the 3D model's: overturning at the margin's factor and not just below it
+    (the scan's resolution)."""
+    from pipeline.config import Config
+    from pipeline.records.loader import load_record, scan
+    from pipeline.rocking.block import BlockShape
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.solid3d import run, solid_of
+
+    ds, idx, _ = screened
+    scale = float(ds["overturn_scale_simulated"].values[idx["SQUARE"]])
+    if not math.isfinite(scale):
+        pytest.skip(f"SQUARE has no finite simulated margin on this record ({scale})")
+    sources, _ = scan(kocaeli, config=Config())
+    rec = load_record(sources[0], root=kocaeli, config=Config())
+    solid = solid_of(BlockShape(height_m=1.5, width_m=0.2, mu=0.9, azimuth_deg=20.0, depth_m=0.2),
+                     record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
+    assert solid is not None
+    h1, h2 = rec.horizontal_ms2
+    at = run(h1, h2, rec.vertical_ms2, rec.dt_s, solid, settings=SimulationConfig(), amplitude=scale)
+    assert at.overturned
+    assert ds["robustness"].values[0, idx["SQUARE"]] in [m.value for m in Robustness]
+
+
+def test_the_3d_box_is_not_used_on_one_horizontal(records_dir, tmp_path):
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    root = tmp_path / "recs"
+    (root / "fn-ascii").mkdir(parents=True)
+    shutil.copy(records_dir / "fn-ascii" / "rinaldi_fn.dat", root / "fn-ascii" / "rinaldi_fn.dat")
+    shutil.copy(records_dir / "units.toml", root / "units.toml")
+    inv = tmp_path / "b.csv"
+    inv.write_text("id,height_m,width_m,mu,azimuth_deg,depth_m\nSQUARE,1.5,0.3,0.9,20,0.3\n")
+    out = tmp_path / "out"
+    assert main(["--records", str(root), "--blocks", str(inv), "--out", str(out), "-q", "--samples", "0"]) == 0
+    ds = open_results(out / "screening.nc")
+    assert ds["orientation"].values[0, 0] == Orientation.single_component
+    assert np.all(ds["physics"].values != Physics.rocking3d)
