@@ -62,6 +62,11 @@ REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1]
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
 CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
 
+# The Dormand-Prince tableau as arrays (a compiled loop reads them as constants)
+_NODES = np.array([C2, C3, C4, C5, 1.0])
+_ROWS = np.array([[A21, 0.0, 0.0, 0.0, 0.0], [A31, A32, 0.0, 0.0, 0.0], [A41, A42, A43, 0.0, 0.0],
+                  [A51, A52, A53, A54, 0.0], [A61, A62, A63, A64, A65]])
+
 # Flags (why a scene is flagged), as in cylinder3d
 FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
 
@@ -242,16 +247,13 @@ def _ground(t, i, grd):
 def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
     """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (``k[0]``: f at the start): the 5th-order state in
     ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces there in ``force``."""
-    nodes = (C2, C3, C4, C5, 1.0)
-    rows = ((A21, 0.0, 0.0, 0.0, 0.0), (A31, A32, 0.0, 0.0, 0.0), (A41, A42, A43, 0.0, 0.0),
-            (A51, A52, A53, A54, 0.0), (A61, A62, A63, A64, A65))
     for s in range(5):
         for q in range(7):
-            acc = y[q]
+            acc = 0.0
             for j in range(s + 1):
-                acc += hh * rows[s][j] * k[j, q]
-            tmp[q] = acc
-        gx, gy, gz = _ground(t + nodes[s] * hh, i, grd)
+                acc += _ROWS[s, j] * k[j, q]
+            tmp[q] = y[q] + hh * acc
+        gx, gy, gz = _ground(t + _NODES[s] * hh, i, grd)
         derivatives(tmp, gx, gy, gz, prm, mode, pivot, k[s + 1])
     for q in range(7):
         y_new[q] = y[q] + hh * (B1 * k[0, q] + B3 * k[2, q] + B4 * k[3, q] + B5 * k[4, q] + B6 * k[5, q])

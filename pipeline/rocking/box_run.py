@@ -315,9 +315,14 @@ def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, t
 def _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out):
     """At rest over sample interval ``i`` from ``t``: (the time reached, the mode, the pivot edge, the flag): the
     next sample where nothing moves, the instant it lifts (EDGE), or where it would slide first (flagged)."""
-    if _quiet(i, grd, quiet_ratio) and _quiet(i + 1, grd, quiet_ratio):
-        tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0      # neither lifts nor slides in the interval (convexity)
-        return (i + 1) * grd.dt, REST, 0, FLAG_NONE
+    last = grd.ax.shape[0] - 1
+    j = i
+    if _quiet(j, grd, quiet_ratio):
+        while j < last and _quiet(j + 1, grd, quiet_ratio):   # neither lifts nor slides in these intervals
+            j += 1                                              # (quiet at both ends: throughout, by convexity)
+            tilt_out[j], azimuth_out[j] = 0.0, 0.0
+    if j > i:
+        return j * grd.dt, REST, 0, FLAG_NONE
     start, j = _lift_off(t, i, grd, prm, y)
     slip = _slides_at_rest(t, i, grd, prm)
     if slip >= 0.0 and (start < 0.0 or slip < start):
