@@ -12,7 +12,11 @@ governing record, and says why in words:
 * p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
   :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
 * the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
+* stations whose records have no verdict (a 3D model stopped where the base would slide or lift off): "check",
+  never "no action";
 * otherwise "no action".
+
+Every recommendation that counts the stations overturning the asset also counts those without a verdict.
 
 References
 ----------
@@ -58,6 +62,7 @@ ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", 
                  "frequency_parameter", SCENE.p_overturn, SCENE.p_overturn_low, SCENE.p_overturn_high, "p_record",
                  SCENE.p_overturn_azimuth, SCENE.p_overturn_random_orientation, SCENE.robustness,
                  "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
+                 "stations_without_verdict",
                  "records_overturning", "records_screened", "governing_record",
                  SCENE.governing_azimuth, "verdict_criterion", "verdict_simulation", SCENE.theta_max, SCENE.response,
                  SCENE.physics,
@@ -86,7 +91,8 @@ def _margin_words(sim_scale: float, governing: str) -> str:
 
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
-                   stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan) -> str:
+                   stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan,
+                   undecided: int = 0) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -111,12 +117,17 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         The governing record (the margin's record).
     stations : tuple of int, optional
         (stations whose record overturns the asset, stations screened).
+    undecided : int
+        Stations whose records all leave the asset without a verdict (the model stopped).
     """
     sampled = np.isfinite(p_max)
     why = [p_words or f"p = {p_max:.2f} under {p_record}"] if sampled else []
     why.append(_margin_words(sim_scale, governing))
     if stations is not None:
         why.append(f"{stations[0]} of {stations[1]} stations overturn it")
+        if undecided:
+            why.append(f"{undecided} of {stations[1]} stations have no verdict (the model stopped where the base "
+                       "would slide or lift off)")
     small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
@@ -131,6 +142,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if response in SLIDING_RESPONSES:
         far = f" {slide_m:.2g} m" if np.isfinite(slide_m) else ""
         return f"limit sliding (friction pads or a restraint): it slides{far} under {governing}"
+    if undecided:
+        return "check: " + "; ".join(why)
     return "no action: " + "; ".join(why)
 
 
@@ -218,6 +231,8 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         slide = float(at(SCENE.sliding_max))
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
         stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
+        decided = set(stations[ok & (verdict[:, j] >= 0)].tolist())
+        undecided = len(set(stations[ok & (verdict[:, j] < 0)].tolist()) - decided)
         n_stations = len(set(stations[ok].tolist()))
         probabilities = _probabilities(ds, ok, j, stations, i)
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
@@ -231,6 +246,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
             "frequency_parameter": float(ds["frequency_parameter"].values[j]), "mu": float(ds["mu"].values[j]),
             "records_overturning": len(overturning), "records_screened": int(ok.sum()),
             "stations_overturning": stations_over, "stations_screened": n_stations,
+            "stations_without_verdict": undecided,
             "records_overturning_ids": ";".join(overturning),
             "governing_record": gov, SCENE.governing_azimuth: float(at(SCENE.governing_azimuth)),
             "verdict_criterion": VERDICT[crit],
@@ -247,7 +263,8 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
                                              overturned=sim == 1, p_max=probabilities[SCENE.p_overturn],
                                              p_record=probabilities["p_record"], governing=gov or "the records",
                                              stations=(stations_over, n_stations),
-                                             p_words=probabilities["p_words"], slide_m=slide),
+                                             p_words=probabilities["p_words"], slide_m=slide,
+                                             undecided=undecided),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })

@@ -394,6 +394,13 @@ def test_report_subcommand_reuses_the_figures_screen_drew(screened, tmp_path, mo
     assert (tmp_path / "again" / "report.html").read_text() == (screened / "report.html").read_text()
 
 
+def test_stations_without_a_verdict_are_counted_and_never_give_no_action():
+    from pipeline.risk import recommendation
+    text = recommendation(crit_overturns=False, response=0, governing="G", stations=(0, 9), undecided=3,
+                          p_max=0.02, p_record="R3", sim_scale=math.inf)
+    assert text.startswith("check:") and "3 of 9 stations have no verdict" in text, text
+
+
 @pytest.mark.parametrize("kw, start, words", [
     (dict(p_max=0.97, p_record="R1", sim_scale=0.8), "restrain or anchor", ["p = 0.97 under R1", "x0.80"]),
     (dict(p_max=0.3, p_record="R2", sim_scale=0.95, overturned=True), "restrain, or relocate",
