@@ -72,8 +72,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .box_kernel import CORNER, EDGE, FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, REST_RATE
+from .box_kernel import CORNER, EDGE, REST_RATE
 from .box_run import run_box
+from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, ground_components
 
 __all__ = ["Box", "BoxOutcome", "FLAG_NONE", "FLAG_FLIGHT", "FLAG_SLIDE", "FLAG_STEPS", "CORNER", "EDGE",
            "REST_RATE", "simulate_box", "housner_e_box", "box_from_corner", "box_energy"]
@@ -219,12 +220,7 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
     BoxOutcome
         After overturning the tilt reads pi/2; after a flag (flight, sliding, the step cap) NaN.
     """
-    ax = np.ascontiguousarray(ax_ms2, dtype=float)
-    ay = np.ascontiguousarray(ay_ms2, dtype=float)
-    az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
-    if not (ax.shape == ay.shape == az.shape) or ax.ndim != 1 or ax.size < 2:
-        raise ValueError(f"the components hold {ax.shape}, {ay.shape} and {az.shape} samples; expected three "
-                         "equal 1-D series of at least 2 samples")
+    ax, ay, az = ground_components(ax_ms2, ay_ms2, az_ms2)
     dims = (box.half_width_m, box.half_depth_m, box.half_height_m)
     if not all(math.isfinite(v) and v > 0 for v in dims):
         raise ValueError(f"the box's half-dimensions are {dims} m; expected three positive finite lengths")

@@ -15,42 +15,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..compiled import jit
-from .dopri import (
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    B1,
-    B3,
-    B4,
-    B5,
-    B6,
-    C2,
-    C3,
-    C4,
-    C5,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-)  # fmt: skip
-from .vec3 import cross, shifted, solve3, solve_sym3
+from .dopri import TABLEAU_B, TABLEAU_E, TABLEAU_NODES, TABLEAU_ROWS
+from .vec3 import cross, error_norm, shifted, solve3, solve_sym3
 
-# Modes: at rest; on a corner; on an edge; on a corner with the edge's other corner sliding on the ground (that
-# corner next, or previous, in the numbering)
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
 
 # Step control and events, named once (as scipy's _ivp names its step factors)
@@ -62,13 +29,6 @@ REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1]
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
 CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
 
-# The Dormand-Prince tableau as arrays (a compiled loop reads them as constants)
-_NODES = np.array([C2, C3, C4, C5, 1.0])
-_ROWS = np.array([[A21, 0.0, 0.0, 0.0, 0.0], [A31, A32, 0.0, 0.0, 0.0], [A41, A42, A43, 0.0, 0.0],
-                  [A51, A52, A53, A54, 0.0], [A61, A62, A63, A64, A65]])
-
-# Flags (why a scene is flagged), as in cylinder3d
-FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
 
 
 class BoxParams(NamedTuple):
@@ -251,27 +211,30 @@ def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
         for q in range(7):
             acc = 0.0
             for j in range(s + 1):
-                acc += _ROWS[s, j] * k[j, q]
+                acc += TABLEAU_ROWS[s, j] * k[j, q]
             tmp[q] = y[q] + hh * acc
-        gx, gy, gz = _ground(t + _NODES[s] * hh, i, grd)
+        gx, gy, gz = _ground(t + TABLEAU_NODES[s] * hh, i, grd)
         derivatives(tmp, gx, gy, gz, prm, mode, pivot, k[s + 1])
     for q in range(7):
-        y_new[q] = y[q] + hh * (B1 * k[0, q] + B3 * k[2, q] + B4 * k[3, q] + B5 * k[4, q] + B6 * k[5, q])
+        acc = 0.0
+        for j in range(6):
+            acc += TABLEAU_B[j] * k[j, q]
+        y_new[q] = y[q] + hh * acc
     gx, gy, gz = _ground(t + hh, i, grd)
     f = derivatives(y_new, gx, gy, gz, prm, mode, pivot, k[6])
     for q in range(5):
         force[q] = f[q]
     for q in range(7):
-        err[q] = hh * (E1 * k[0, q] + E3 * k[2, q] + E4 * k[3, q] + E5 * k[4, q] + E6 * k[5, q] + E7 * k[6, q])
+        acc = 0.0
+        for j in range(7):
+            acc += TABLEAU_E[j] * k[j, q]
+        err[q] = hh * acc
 
 
 @jit
 def _error_norm(y, y_new, err, prm):
-    norm = 0.0
-    for j in range(7):
-        tol = (prm.atol_angle if j < 4 else prm.atol_rate) + prm.rtol * max(abs(y[j]), abs(y_new[j]))
-        norm = max(norm, abs(err[j]) / tol)
-    return norm
+    """The step's error over the tolerance: the quaternion's four components held to the angles' tolerance."""
+    return error_norm(y, y_new, err, 4, prm.atol_angle, prm.atol_rate, prm.rtol)
 
 
 @jit

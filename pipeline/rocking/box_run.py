@@ -14,10 +14,6 @@ from .box_kernel import (
     CROSSING_PROBES,
     EDGE,
     EVENT_BISECTIONS,
-    FLAG_FLIGHT,
-    FLAG_NONE,
-    FLAG_SLIDE,
-    FLAG_STEPS,
     MAX_FACTOR,
     MAX_STEPS_PER_SAMPLE,
     MIN_FACTOR,
@@ -44,7 +40,7 @@ from .box_kernel import (
     rotation,
     tilt_of,
 )
-from .vec3 import cross, hermite, shifted, solve_sym3
+from .vec3 import FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, contact_flag, cross, hermite, shifted, solve_sym3
 
 UNLOADED = 1e-12                # an edge's corner pressed less than this x g [m s-2] per unit mass is unloaded
 MAX_STALLED = 10000             # passes in a row that leave the time where it was before the run ends, flagged
@@ -56,13 +52,18 @@ _NORMAL_Y = (1.0, 0.0, -1.0, 0.0)
 
 
 @jit
+def _accel_at(s, t0, dt, grd, i):
+    """The ground's acceleration (a_x, a_y, a_z) at ``s`` in sample interval ``i`` (from ``t0``) [m s-2]."""
+    f = (s - t0) / dt
+    return (grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i]), grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i]),
+            grd.az[i] + f * (grd.az[i + 1] - grd.az[i]))
+
+
+@jit
 def _tipping(s, t0, dt, grd, i, c, sn, j, prm):
     """-a.n - (g + a_z) b / h for edge j at time ``s`` [m s-2]: positive where the ground lifts the box about
     it (the ground linear between samples; n the edge's outward normal, b the half-dimension across it)."""
-    f = (s - t0) / dt
-    ax = grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])
-    ay = grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])
-    az = grd.az[i] + f * (grd.az[i + 1] - grd.az[i])
+    ax, ay, az = _accel_at(s, t0, dt, grd, i)
     a_n = (c * ax + sn * ay) * _NORMAL_X[j] + (-sn * ax + c * ay) * _NORMAL_Y[j]
     b = prm.by if j % 2 == 0 else prm.bx
     return -a_n - (grd.g + az) * b / prm.hz
@@ -71,10 +72,7 @@ def _tipping(s, t0, dt, grd, i, c, sn, j, prm):
 @jit
 def _slip_excess(s, t0, grd, i, mu):
     """|a_h| - mu (g + a_z) at ``s`` [m s-2]: positive where friction cannot hold the box at rest."""
-    f = (s - t0) / grd.dt
-    ax = grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])
-    ay = grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])
-    az = grd.az[i] + f * (grd.az[i + 1] - grd.az[i])
+    ax, ay, az = _accel_at(s, t0, grd.dt, grd, i)
     return math.hypot(ax, ay) - mu * (grd.g + az)
 
 
@@ -288,15 +286,6 @@ def _past_tipping(y, mode, pivot, prm):
 
 
 @jit
-def _contact_flag(force, mu):
-    if force[2] <= 0.0:
-        return FLAG_FLIGHT
-    if math.hypot(force[0], force[1]) > mu * force[2]:
-        return FLAG_SLIDE
-    return FLAG_NONE
-
-
-@jit
 def _rzz(y):
     return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
 
@@ -399,7 +388,7 @@ def _stick(y, mode, pivot, prm):
 @jit
 def _contact_flags(force, mu, held, y_new, mode, pivot, prm):
     """The flag of an accepted step and the held flag (held past the tipping point: see box3d)."""
-    flag = _contact_flag(force, mu)
+    flag = contact_flag(force, mu)
     if held == FLAG_NONE and flag == FLAG_NONE:
         return flag, held
     beyond, falling = _past_tipping(y_new, mode, pivot, prm)

@@ -105,6 +105,10 @@ from .dopri import (
     E7,
 )
 from .geometry import cylinder_p_e
+from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
+from .vec3 import FLAG_NONE, FLAG_STEPS, error_norm, ground_components
+from .vec3 import FLAG_SLIDE as FLAG_SLIDE
+from .vec3 import contact_flag as _contact_flag
 from .vec3 import cross as _cross
 from .vec3 import hermite as _hermite
 from .vec3 import solve_sym3 as _solve_sym3
@@ -119,8 +123,6 @@ LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
 
-# Flags (why a scene is flagged)
-FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
 
 
 class Cylinder(NamedTuple):
@@ -406,11 +408,7 @@ def _error_norm(y, y_new, err, prm):
     azimuth phi is held to the angles' tolerance even near the vertical, where an error in it moves the axis
     little: it persists, and turns the rocking plane once the tilt grows (measured: weighting it by sin(theta)
     let a motion excited in one plane leave it by 16 deg)."""
-    norm = 0.0
-    for j in range(6):
-        tol = (prm.atol_angle if j < 3 else prm.atol_rate) + prm.rtol * max(abs(y[j]), abs(y_new[j]))
-        norm = max(norm, abs(err[j]) / tol)
-    return norm
+    return error_norm(y, y_new, err, 3, prm.atol_angle, prm.atol_rate, prm.rtol)
 
 
 @jit
@@ -443,16 +441,6 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
     if rests:
         y[0], y[3], y[4], y[5] = 0.0, 0.0, 0.0, 0.0
     return t + hl, rests
-
-
-@jit
-def _contact_flag(force, mu):
-    """FLAG_FLIGHT where the ground would pull the base (F_z <= 0), FLAG_SLIDE where friction cannot hold it."""
-    if force[2] <= 0.0:
-        return FLAG_FLIGHT
-    if math.hypot(force[0], force[1]) > mu * force[2]:
-        return FLAG_SLIDE
-    return FLAG_NONE
 
 
 @jit
@@ -595,12 +583,7 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     WobbleOutcome
         After overturning the tilt reads pi/2; after a flag (flight, sliding, the step cap) NaN.
     """
-    ax = np.ascontiguousarray(ax_ms2, dtype=float)
-    ay = np.ascontiguousarray(ay_ms2, dtype=float)
-    az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
-    if not (ax.shape == ay.shape == az.shape) or ax.ndim != 1 or ax.size < 2:
-        raise ValueError(f"the components hold {ax.shape}, {ay.shape} and {az.shape} samples; expected three "
-                         "equal 1-D series of at least 2 samples")
+    ax, ay, az = ground_components(ax_ms2, ay_ms2, az_ms2)
     y0 = np.zeros(6) if initial is None else np.asarray(initial, dtype=float).copy()
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)

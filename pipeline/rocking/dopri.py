@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..compiled import jit
 
 # Event location and dense output, named once
@@ -44,6 +46,13 @@ A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
 A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
 B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
 E1, E3, E4, E5, E6, E7 = 71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40
+#: The same tableau as arrays, for the loops of a system of several states (a compiled loop reads them as
+#: constants): the stages' nodes, their coefficients (row s: stage s + 2), the 5th-order weights and the error's.
+TABLEAU_NODES = np.array([C2, C3, C4, C5, 1.0])
+TABLEAU_ROWS = np.array([[A21, 0.0, 0.0, 0.0, 0.0], [A31, A32, 0.0, 0.0, 0.0], [A41, A42, A43, 0.0, 0.0],
+                         [A51, A52, A53, A54, 0.0], [A61, A62, A63, A64, A65]])
+TABLEAU_B = np.array([B1, 0.0, B3, B4, B5, B6, 0.0])
+TABLEAU_E = np.array([E1, 0.0, E3, E4, E5, E6, E7])
 
 
 @jit

@@ -1,10 +1,45 @@
-"""Small compiled helpers of the 3D models (:mod:`.cylinder3d`, :mod:`.box3d`): cross products, the solution of a
-symmetric 3 x 3 system (an inertia about a point), the inertia about a point by the parallel-axis theorem, and the
-cubic Hermite interpolant of a step."""
+"""What the 3D models (:mod:`.cylinder3d`, :mod:`.box3d`) share: their flags, the check of the ground components
+they take, and small compiled helpers (cross products, the solution of a 3 x 3 system, the inertia about a point by
+the parallel-axis theorem, the cubic Hermite interpolant of a step, the contact's flag)."""
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ..compiled import jit
+
+# Flags (why a 3D scene is flagged)
+FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
+
+
+def ground_components(ax_ms2, ay_ms2, az_ms2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ground's x, y and vertical acceleration as three equal contiguous float series (``az_ms2`` None: zeros).
+
+    Raises
+    ------
+    ValueError
+        Unless they are three equal 1-D series of at least 2 samples.
+    """
+    ax = np.ascontiguousarray(ax_ms2, dtype=float)
+    ay = np.ascontiguousarray(ay_ms2, dtype=float)
+    az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
+    if not (ax.shape == ay.shape == az.shape) or ax.ndim != 1 or ax.size < 2:
+        raise ValueError(f"the components hold {ax.shape}, {ay.shape} and {az.shape} samples; expected three "
+                         "equal 1-D series of at least 2 samples")
+    return ax, ay, az
+
+
+@jit
+def contact_flag(force, mu):
+    """FLAG_FLIGHT where the ground would pull the base (F_z <= 0), FLAG_SLIDE where friction cannot hold it
+    (|F_h| > mu F_z), else FLAG_NONE; ``force`` the contact force per unit mass."""
+    if force[2] <= 0.0:
+        return FLAG_FLIGHT
+    if math.hypot(force[0], force[1]) > mu * force[2]:
+        return FLAG_SLIDE
+    return FLAG_NONE
 
 
 @jit
@@ -52,3 +87,14 @@ def hermite(y0, f0, y1, f1, hh, x):
     x2, x3 = x * x, x * x * x
     return ((2 * x3 - 3 * x2 + 1) * y0 + (x3 - 2 * x2 + x) * hh * f0 + (-2 * x3 + 3 * x2) * y1
             + (x3 - x2) * hh * f1)
+
+
+@jit
+def error_norm(y, y_new, err, n_angles, atol_angle, atol_rate, rtol):
+    """The embedded error over the tolerance, the largest over the states (NaN stays NaN: rejected): the first
+    ``n_angles`` states are angles (absolute tolerance ``atol_angle``), the rest rates (``atol_rate``)."""
+    norm = 0.0
+    for j in range(y.shape[0]):
+        tol = (atol_angle if j < n_angles else atol_rate) + rtol * max(abs(y[j]), abs(y_new[j]))
+        norm = max(norm, abs(err[j]) / tol)
+    return norm

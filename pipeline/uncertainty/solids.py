@@ -13,9 +13,9 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.cylinder3d import FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS
 from ..rocking.settings import SimulationConfig
 from ..rocking.solid3d import Solid, drawn, run
+from ..rocking.vec3 import FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS
 from .sampling import sample_block
 from .scenes import Probability, SceneMotion, sample_until_decided
 from .settings import UncertaintyConfig
