@@ -38,8 +38,11 @@ u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)`` in the plane; a declared 
 to Housner's value (:attr:`Box.restitution_ratio`). When both corners next to the pivot land together (a box turning
 on a corner along its diagonal lands flat), it turns on the opposite corner with its angular momentum about that
 corner conserved, the same rule about a point; a single corner landing on an edge is not scaled. A rebound slower
-than :data:`REST_RATE` x ``p alpha`` rests. Landings are located on the step's cubic of the corner's height; a
-corner that has just lifted lands where it returns to the ground.
+than :data:`REST_RATE` x ``p alpha`` rests; more than :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` flat landings
+inside one sample interval (a cascade at the threshold of uplift, its rebounds too small to show at the samples)
+hold the box at rest to the next sample, as the planar kernel's tie rule holds a flat block (counted: ``holds``).
+Landings are located on the step's cubic of the corner's height; a corner that has just lifted lands where it
+returns to the ground.
 
 At rest the box would slide where ``|a_h| > mu (g + a_z)`` (the exact boundary holds): it is not followed in 3D,
 the run stops there, flagged.
@@ -140,6 +143,10 @@ class BoxOutcome(NamedTuple):
         the flag held while the box fell past its tipping point (see the module), FLAG_NONE otherwise
     steps : int
         the Runge-Kutta steps tried (accepted and rejected) and the transitions (what the run cost)
+    holds : int
+        cascades of flat landings held at rest to the next sample (more than
+        :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` in one sample interval: rebounds too small to show at the
+        samples, at the threshold of uplift)
     """
 
     overturned: bool
@@ -155,6 +162,7 @@ class BoxOutcome(NamedTuple):
     friction_demand: float
     held: int
     steps: int = 0
+    holds: int = 0
 
 
 def housner_e_box(half_width_m: float, half_height_m: float) -> float:
@@ -240,4 +248,4 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
         tilt[k:], azimuth[k:] = HALF_PI, r.azimuth_max
     return BoxOutcome(bool(r.overturned), float(r.t_overturn), float(r.tilt_max),
                       float(np.degrees(r.azimuth_max) % 360.0), int(r.flag), int(r.impacts), float(r.corner_s),
-                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps))
+                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds))

@@ -73,6 +73,7 @@ class BoxRun(NamedTuple):
     demand: float
     held: int
     steps: int          # Runge-Kutta steps tried (accepted and rejected) and transitions
+    holds: int          # cascades of flat landings held at rest to the next sample
 
 
 @jit

@@ -42,6 +42,7 @@ from .box_kernel import (
 )
 from .vec3 import FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, contact_flag, cross, hermite, shifted, solve_sym3
 
+MAX_FLAT_LANDINGS_PER_SAMPLE = 100   # flat landings inside one sample interval before the box is held at rest
 UNLOADED = 1e-12                # an edge's corner pressed less than this x g [m s-2] per unit mass is unloaded
 MAX_STALLED = 10000             # passes in a row that leave the time where it was before the run ends, flagged
 TOGETHER_S = 1e-12              # two corners landing within this of each other [s] land together (a flat landing)
@@ -426,6 +427,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     k, tmp, y_new, err = np.zeros((7, 7)), np.empty(7), np.empty(7), np.empty(7)
     force, force0, scratch = np.zeros(5), np.zeros(5), np.empty(4)
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
+    i_landed, landed_here, holds = -1, 0, 0
     tilt_max, az_max, flag, impacts, t_over, demand, held, corner_s = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, 0, 0.0
     tilt_out[0], azimuth_out[0] = tilt_of(y)
     quiet_ratio = min(min(bx, by) / hz, mu)
@@ -458,10 +460,18 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         x, kc, x_next = _landing(y, k[0], y_new, k[6], hh, mode, pivot, prm)
         if kc >= 0:
             impacts += 1
+            flat = mode != CORNER or (x_next - x) * hh <= TOGETHER_S
             t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
                          scratch)
             mode, pivot = _after_landing(y, mode, pivot, kc, (x_next - x) * hh <= TOGETHER_S, prm)
             fresh = True
+            i_landed, landed_here = i, (landed_here + 1 if i == i_landed and flat else (1 if flat else 0))
+            if landed_here > MAX_FLAT_LANDINGS_PER_SAMPLE and mode != REST:
+                # a cascade of flat landings at the threshold of uplift (rebounds too small to show at the
+                # samples): held at rest to the next sample, as the planar kernel's tie rule holds a flat block
+                y[4], y[5], y[6] = 0.0, 0.0, 0.0
+                mode, t, holds, landed_here = REST, (i + 1) * dt, holds + 1, 0
+                tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0
             continue
         x, then = _contact_event(y, y_new, force, force0, mode, held, prm)
         if x >= 0.0:
@@ -485,4 +495,5 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     y_end[:] = y
     if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
         flag = held
-    return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, flag, impacts, corner_s, demand, held, steps)
+    return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, flag, impacts, corner_s, demand, held, steps,
+                  holds)

@@ -122,7 +122,8 @@ def scene_of(outcome: WobbleOutcome | BoxOutcome, solid: Solid, *, history: bool
     else:
         response = Response.rock if outcome.theta_max_rad > 0 else Response.rest
     guard = ((Guard.model_limit if stopped else 0) | (Guard.step_cap if outcome.flag == FLAG_STEPS else 0)
-             | (Guard.held_past_alpha if outcome.held != FLAG_NONE else 0))
+             | (Guard.held_past_alpha if outcome.held != FLAG_NONE else 0)
+             | (Guard.tie_hold if getattr(outcome, "holds", 0) else 0))
     moved = outcome.theta_max_rad > 0
     # proven at rest (physics none) only where the model checked every interval and nothing lifted or slid
     simulated = moved or outcome.flag != FLAG_NONE
