@@ -39,7 +39,9 @@ event-demo: $(VENV)/.installed
 
 # the simulator is compiled (or loaded from numba's cache) once before the two test workers start, not by each
 test: $(VENV)/.installed-test browser
-	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels; compile_kernels()"
+	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(planar=False)" & pid=$$!; \
+	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(cylinders=False, boxes=False)" \
+	&& wait $$pid
 	$(BIN)/python -m pytest -n 2 -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured

@@ -238,6 +238,7 @@ def test_probabilities_identical_serial_and_dask(make_records, blocks_csv, tmp_p
             np.testing.assert_array_equal(results["serial"][n].values, results[other][n].values, err_msg=n)
 
 
+@pytest.mark.slow       # 33 s since five bundled boxes are judged in 3D (their sampled margins are 3D scans)
 def test_default_screen_is_probabilistic_end_to_end(make_records, blocks_csv, tmp_path, capsys):
     """The default command samples every scene; screening.nc, assets.csv and the report carry p_overturn."""
     import csv

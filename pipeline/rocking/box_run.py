@@ -413,6 +413,15 @@ def _accept(y, y_new, k, force, force0):
 
 
 @jit
+def _hold(y, i, dt, tilt_out, azimuth_out):
+    """A cascade of flat landings at the threshold of uplift (rebounds too small to show at the samples): the box
+    held at rest to the next sample, as the planar kernel's tie rule holds a flat block; returns (REST, the time)."""
+    y[4], y[5], y[6] = 0.0, 0.0, 0.0
+    tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0
+    return REST, (i + 1) * dt
+
+
+@jit
 def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode0, pivot0, tilt_out, azimuth_out,
             y_end):
     """Run a box on the ground motion ``ax, ay, az`` [m s-2] sampled at ``dt`` [s] from the state ``y0`` in mode
@@ -430,8 +439,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     i_landed, landed_here, holds = -1, 0, 0
     tilt_max, az_max, flag, impacts, t_over, demand, held, corner_s = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, 0, 0.0
     tilt_out[0], azimuth_out[0] = tilt_of(y)
-    quiet_ratio = min(min(bx, by) / hz, mu)
-    fresh = True
+    quiet_ratio, fresh = min(min(bx, by) / hz, mu), True
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
         i = min(int(t / dt + 1e-9), n - 2)
         if mode == REST:
@@ -467,11 +475,8 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             fresh = True
             i_landed, landed_here = i, (landed_here + 1 if i == i_landed and flat else (1 if flat else 0))
             if landed_here > MAX_FLAT_LANDINGS_PER_SAMPLE and mode != REST:
-                # a cascade of flat landings at the threshold of uplift (rebounds too small to show at the
-                # samples): held at rest to the next sample, as the planar kernel's tie rule holds a flat block
-                y[4], y[5], y[6] = 0.0, 0.0, 0.0
-                mode, t, holds, landed_here = REST, (i + 1) * dt, holds + 1, 0
-                tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0
+                mode, t = _hold(y, i, dt, tilt_out, azimuth_out)
+                holds, landed_here = holds + 1, 0
             continue
         x, then = _contact_event(y, y_new, force, force0, mode, held, prm)
         if x >= 0.0:

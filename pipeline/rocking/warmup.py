@@ -30,7 +30,7 @@ REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True,
-                    boxes: bool = True) -> float:
+                    boxes: bool = True, planar: bool = True) -> float:
     """Call every compiled kernel once on a tiny scene; return the seconds it took.
 
     Parameters
@@ -43,6 +43,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         Compile the 3D cylinder's kernel too (about 10 s on a fresh install; a run without cylinders never uses it).
     boxes : bool
         Compile the 3D box's kernel too (a run without a box that has a depth and an azimuth never uses it).
+    planar : bool
+        Compile the planar models' kernels (False: the 3D ones only, for a second process compiling beside a
+        first; the kernels are cached on disk one function each).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -62,18 +65,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     timer = threading.Thread(target=tell, daemon=True)
     timer.start()
     try:
-        for model in MODELS:
-            model.warmup()
         a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
-        one = np.ones(1)
-        out = np.zeros(1, dtype=np.int64)
-        control = step_control(SimulationConfig())
-        for vertical in (np.zeros(0), 0.1 * a):
-            block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu arrays
-            sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
-                            True, control, out, out.copy())
-            sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
-                                  0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+        if planar:
+            _compile_planar(a)
         if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
             simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7,
                                                                 restitution=0.8))
@@ -86,3 +80,18 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     if said.is_set() and announce is not None:
         announce(f"compiled the simulator in {elapsed:.0f} s")
     return elapsed
+
+
+def _compile_planar(a: np.ndarray) -> None:
+    """The planar models' kernels and the sampled kernels, each on a tiny scene (``a``: a ground motion)."""
+    for model in MODELS:
+        model.warmup()
+    one = np.ones(1)
+    out = np.zeros(1, dtype=np.int64)
+    control = step_control(SimulationConfig())
+    block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu arrays
+    for vertical in (np.zeros(0), 0.1 * a):
+        sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
+                        True, control, out, out.copy())
+        sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
+                              0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
