@@ -31,6 +31,11 @@ def records(tmp_path_factory, records_dir):
     return root
 
 
+#: The three screenings of the bundled records that these tests share take about 21 s (once per test worker,
+#: with five boxes judged in 3D): the tests join make test-slow (the Makefile's rule: each over 15 s)
+BY_TIER_IS_SLOW = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def by_tier(records, blocks_csv, tmp_path_factory):
     """One screening per tier of the same records."""
@@ -43,6 +48,7 @@ def by_tier(records, blocks_csv, tmp_path_factory):
     return out
 
 
+@BY_TIER_IS_SLOW
 def test_criterion_tier_simulates_nothing(by_tier):
     ds = by_tier["criterion"]
     assert (ds.physics.values == -1).all() and (ds.margin_simulations.values == -1).all()
@@ -51,6 +57,7 @@ def test_criterion_tier_simulates_nothing(by_tier):
     assert np.isnan(ds.overturn_scale_simulated.values).all()
 
 
+@BY_TIER_IS_SLOW
 def test_full_tier_integrates_nothing_only_where_the_scene_provably_rests(by_tier, records, config):
     # independent check of the at-rest certificate: the block's demand max |a| / (g + a_v) over every
     # sample, in every plane (the horizontal vector's magnitude bounds all planes), stays at or below
@@ -88,6 +95,7 @@ def test_retired_screen_tier_is_refused_with_the_reason(tmp_path):
         load_config(bad)
 
 
+@BY_TIER_IS_SLOW
 def test_full_and_reference_tiers_simulate_every_scene(by_tier):
     for tier in ("full", "reference"):
         assert (by_tier[tier].physics.values >= 0).all()
@@ -97,6 +105,7 @@ def test_full_and_reference_tiers_simulate_every_scene(by_tier):
     assert 0 < np.nanmax(diff[rocking]) < 0.05
 
 
+@BY_TIER_IS_SLOW
 def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config, by_tier, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
     rows = run_bench(records, inventory, config, out_dir=tmp_path, settings_sweep=False)

@@ -30,7 +30,7 @@ REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True,
-                    boxes: bool = True, planar: bool = True) -> float:
+                    boxes: bool = True, planar: bool = True, sampled: bool = True) -> float:
     """Call every compiled kernel once on a tiny scene; return the seconds it took.
 
     Parameters
@@ -43,9 +43,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         Compile the 3D cylinder's kernel too (about 10 s on a fresh install; a run without cylinders never uses it).
     boxes : bool
         Compile the 3D box's kernel too (a run without a box that has a depth and an azimuth never uses it).
-    planar : bool
-        Compile the planar models' kernels (False: the 3D ones only, for a second process compiling beside a
-        first; the kernels are cached on disk one function each).
+    planar, sampled : bool
+        Compile the planar models' kernels, and the sampled kernels of the probabilities (False: leave them to
+        another process compiling beside this one; the kernels are cached on disk one function each).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -67,7 +67,10 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     try:
         a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
         if planar:
-            _compile_planar(a)
+            for model in MODELS:
+                model.warmup()
+        if sampled:
+            _compile_sampled(a)
         if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
             simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7,
                                                                 restitution=0.8))
@@ -82,10 +85,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     return elapsed
 
 
-def _compile_planar(a: np.ndarray) -> None:
-    """The planar models' kernels and the sampled kernels, each on a tiny scene (``a``: a ground motion)."""
-    for model in MODELS:
-        model.warmup()
+def _compile_sampled(a: np.ndarray) -> None:
+    """The sampled kernels, each on a tiny scene (``a``: a ground motion)."""
     one = np.ones(1)
     out = np.zeros(1, dtype=np.int64)
     control = step_control(SimulationConfig())
