@@ -27,7 +27,6 @@ MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run
 LAND_THETA_ALPHA = 1e-9         # a base corner within this x alpha x the base's smaller side lands [-]
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
-CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
 
 
 

@@ -11,7 +11,6 @@ import numpy as np
 from ..compiled import jit
 from .box_kernel import (
     CORNER,
-    CROSSING_PROBES,
     EDGE,
     EVENT_BISECTIONS,
     MAX_FACTOR,
@@ -40,7 +39,17 @@ from .box_kernel import (
     rotation,
     tilt_of,
 )
-from .vec3 import FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, contact_flag, cross, hermite, shifted, solve_sym3
+from .vec3 import (
+    FLAG_NONE,
+    FLAG_SLIDE,
+    FLAG_STEPS,
+    contact_flag,
+    cross,
+    first_below,
+    hermite,
+    shifted,
+    solve_sym3,
+)
 
 MAX_FLAT_LANDINGS_PER_SAMPLE = 100   # flat landings inside one sample interval before the box is held at rest
 UNLOADED = 1e-12                # an edge's corner pressed less than this x g [m s-2] per unit mass is unloaded
@@ -157,17 +166,7 @@ def _landing(y, k0, y_new, k6, hh, mode, pivot, prm):
         level = prm.land_m if z0 >= prm.land_m else (0.0 if v0 > 0.0 else min(z0, 0.0) - prm.land_m)
         if not (z1 < level and z1 < z0):
             continue
-        lo, hi = 0.0, 1.0
-        for p in range(1, CROSSING_PROBES + 1):
-            if hermite(z0, v0, z1, v1, hh, p / CROSSING_PROBES) <= level:
-                lo, hi = (p - 1) / CROSSING_PROBES, p / CROSSING_PROBES
-                break
-        for _ in range(EVENT_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            if hermite(z0, v0, z1, v1, hh, mid) <= level:
-                hi = mid
-            else:
-                lo = mid
+        hi = first_below(z0, v0, z1, v1, hh, level)
         if hi < best_x:
             best_x, best_c, next_x = hi, kc, best_x
         else:

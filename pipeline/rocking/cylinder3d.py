@@ -106,7 +106,7 @@ from .dopri import (
 )
 from .geometry import cylinder_p_e
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
-from .vec3 import FLAG_NONE, FLAG_STEPS, error_norm, ground_components
+from .vec3 import FLAG_NONE, FLAG_STEPS, error_norm, first_below, ground_components
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
 from .vec3 import contact_flag as _contact_flag
 from .vec3 import cross as _cross
@@ -373,26 +373,6 @@ def _landing(y, a, h, i1, i3, scale):
 
 
 @jit
-def _crossing(th0, w0, th1, w1, hh, level):
-    """The fraction of a step where theta's Hermite cubic first falls to ``level`` (bisection)."""
-    lo, hi = 0.0, 1.0
-    probes = 16
-    for j in range(1, probes + 1):
-        x = j / probes
-        if _hermite(th0, w0, th1, w1, hh, x) <= level:
-            hi = x
-            lo = (j - 1) / probes
-            break
-    for _ in range(EVENT_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if _hermite(th0, w0, th1, w1, hh, mid) <= level:
-            hi = mid
-        else:
-            lo = mid
-    return hi
-
-
-@jit
 def _params(g, a, h, mu, scale, rtol, atol_alpha):
     alpha = math.atan2(a, h)
     big_r = math.hypot(a, h)
@@ -430,7 +410,7 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
     """The base lands flat inside the step from ``t``: the landing located on the step's cubic, the state
     advanced to it (exact Runge-Kutta step) and the impact applied; returns the time, and whether the rebound is
     too slow to go on (rest)."""
-    x = _crossing(y[0], k[0, 0], y_new[0], k[6, 0], hh, prm.land)
+    x = first_below(y[0], k[0, 0], y_new[0], k[6, 0], hh, prm.land)
     hl = max(x * hh, 1e-15 * grd.dt)
     dopri_step(t, y, hl, i, grd, prm, k, tmp, y_new, err)
     _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])

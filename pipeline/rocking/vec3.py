@@ -10,6 +10,10 @@ import numpy as np
 
 from ..compiled import jit
 
+# Locating a crossing inside a step, named once
+CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
+CROSSING_BISECTIONS = 60        # then bisected this many times
+
 # Flags (why a 3D scene is flagged)
 FLAG_NONE, FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS = 0, 1, 2, 3
 
@@ -98,3 +102,21 @@ def error_norm(y, y_new, err, n_angles, atol_angle, atol_rate, rtol):
         tol = (atol_angle if j < n_angles else atol_rate) + rtol * max(abs(y[j]), abs(y_new[j]))
         norm = max(norm, abs(err[j]) / tol)
     return norm
+
+
+@jit
+def first_below(y0, f0, y1, f1, hh, level):
+    """The fraction of a step where the Hermite cubic of its ends first falls to ``level``: probed at
+    :data:`CROSSING_PROBES` points, then bisected (1 where no probe is at or below it)."""
+    lo, hi = 0.0, 1.0
+    for j in range(1, CROSSING_PROBES + 1):
+        if hermite(y0, f0, y1, f1, hh, j / CROSSING_PROBES) <= level:
+            lo, hi = (j - 1) / CROSSING_PROBES, j / CROSSING_PROBES
+            break
+    for _ in range(CROSSING_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        if hermite(y0, f0, y1, f1, hh, mid) <= level:
+            hi = mid
+        else:
+            lo = mid
+    return hi
