@@ -227,8 +227,9 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if s.get("boxes"):
         print(f"other base axis: not checked for {s['boxes']} of {s['blocks']} blocks (boxes without both a depth_m "
               "and an azimuth_deg: judged in the plane of width_m; rocking about the other base axis or a corner is "
-              f"not modeled); {s.get('box_scenes_3d', 0)} scenes of boxes with both were simulated in 3D on two "
-              "horizontals (orientation given_3d)", file=sys.stderr)
+              f"not modeled); of the scenes of boxes with both on two horizontals, {s.get('box_scenes_3d', 0)} were "
+              f"simulated in 3D (orientation given_3d) and {s.get('box_scenes_certified', 0)} in the plane of the "
+              "width, the other axis certified never to lift nor slip (given_certified)", file=sys.stderr)
     if any(s.get("scenes_by_robustness", {}).values()):
         print("under the declared uncertainty ([uncertainty]): " + ", ".join(
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())

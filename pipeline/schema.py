@@ -234,7 +234,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                           {"comment": "for orientation scanned_relative: relative to the record's first component "
                                       "taken as 0 deg; for orientation axisymmetric (a cylinder in 3D) and given_3d (a "
                                       "box in 3D): the azimuth it leant toward at its peak tilt, in [0, 360) (NaN: "
-                                      "it never lifted)"}),
+                                      "it never lifted); for given_certified: the azimuth of the box's width"}),
     "orientation": (("record", "block"), None, "how the rocking plane was chosen",
                     {**flags(Orientation),
                      "comment": "scanned: worst of every plane k * simulation.orientation_step_deg and the pulse "
@@ -242,7 +242,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                 "scanned_relative: the same on a record of unknown absolute azimuth; "
                                 "axisymmetric: a cylinder on two horizontals, one 3D run (no plane); given_3d: a box "
                                 "with a depth and an azimuth on two horizontals of known azimuth, one 3D run at "
-                                "that azimuth (both horizontals and the vertical)"}),
+                                "that azimuth (both horizontals and the vertical); given_certified: the same box "
+                                "judged in the plane of its width, its other base axis certified never to lift nor "
+                                "slip under the record (then the planar scene is the 3D one)"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)
@@ -297,8 +299,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "width": (("block",), "m", "full base width 2b in the rocking plane (a cylinder's diameter)", {}),
     "shape": (("block",), None, "kind of body",
               {**flags(ShapeKind, missing=None),
-               "comment": "box: in 3D on two horizontals of known azimuth where its depth and azimuth are given "
-                          "(orientation given_3d), else judged in the plane of its width (its other base axis and "
+               "comment": "box: on two horizontals of known azimuth where its depth and azimuth are given, in "
+                          "3D (orientation given_3d) or in the plane of its width where its other axis is "
+                          "certified (given_certified), else judged in the plane of its width (its other base axis and "
                           "corners not modeled); "
                           "cylinder: in 3D on two horizontals (orientation axisymmetric), in its plane on one"}),
     "depth": (("block",), "m", "a box's base dimension perpendicular to its width (NaN: not given)", {}),
@@ -459,6 +462,11 @@ def parse_floor_key(key: str) -> tuple[str, float, str] | None:
 HISTORY_SERIES = {
     "theta_over_alpha": {"units": "1", "long_name": "rotation over slenderness, theta / alpha, governing scene",
                          "comment": "NaN after overturning"},
+    "lean_azimuth": {"units": "degree", "long_name": "compass azimuth the block leans toward, governing scene",
+                     "comment": "clockwise from north, as the record's components; kept for a solid judged on two "
+                                "horizontals (orientation axisymmetric, given_3d or given_certified); NaN at rest, "
+                                "after overturning, and for a planar scene (it leans along its plane, "
+                                "governing_azimuth)"},
 }
 
 

@@ -20,7 +20,8 @@ INVENTORY = ("id,height_m,width_m,mu,azimuth_deg,depth_m\n"
              "DEEP,1.2,0.15,0.9,60,6.0\n"          # far deeper than high: rocks in its width's plane only
              "DEEP-PLANAR,1.2,0.15,0.9,60,\n"      # the same without a depth: the planar model
              "SQUARE,1.5,0.2,0.9,20,0.2\n"        # a square base at a given azimuth: 3D
-             "SQUARE-BLANK,1.5,0.2,0.9,,0.2\n")   # no azimuth: the planar scan
+             "SQUARE-BLANK,1.5,0.2,0.9,,0.2\n"   # no azimuth: the planar scan
+             "CERTIFIED,1.4,0.35,0.9,150,4.0\n")  # rocks a little, its 4 m depth certified: the planar scene
 
 
 @pytest.fixture(scope="module")
@@ -74,10 +75,55 @@ def test_a_box_far_deeper_than_high_follows_its_planar_scene(screened):
     assert ds["governing_azimuth"].values[0, deep] % 180.0 == pytest.approx(60.0, abs=1e-6)
 
 
+def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the_3d_one(screened, kocaeli):
+    """CERTIFIED rocks (its planar scene) and its 4 m depth cannot lift: orientation given_certified, the planar
+    physics, and the 3D model's run of the same scene (a second algorithm) stays on its edges with the same peak."""
+    from pipeline.config import Config
+    from pipeline.records.loader import load_record, scan
+    from pipeline.rocking.block import BlockShape
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.solid3d import run, solid_of
+
+    ds, idx, _ = screened
+    j = idx["CERTIFIED"]
+    assert ds["orientation"].values[0, j] == Orientation.given_certified
+    assert ds["physics"].values[0, j] == Physics.rocking_vertical
+    assert 0.0 < ds["theta_max"].values[0, j] < 1.0
+    assert ds["governing_azimuth"].values[0, j] % 180.0 == pytest.approx(150.0, abs=1e-6)
+    sources, _ = scan(kocaeli, config=Config())
+    rec = load_record(sources[0], root=kocaeli, config=Config())
+    solid = solid_of(BlockShape(height_m=1.4, width_m=0.35, mu=0.9, azimuth_deg=150.0, depth_m=4.0),
+                     record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
+    assert solid is not None
+    out = run(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, solid,
+              settings=SimulationConfig())
+    assert out.corner_s == 0.0 and out.flag == 0 and not out.overturned
+    assert out.theta_max_rad / solid.alpha == pytest.approx(ds["theta_max"].values[0, j], abs=1e-4)
+
+
+def test_histories_keep_where_a_3d_scene_leans(screened):
+    """histories.nc: a 3D box's lean azimuth at its peak tilt is its governing azimuth; a planar scene's is NaN."""
+    import xarray as xr
+
+    from pipeline.store.netcdf import ragged_rows
+
+    ds, idx, out = screened
+    with xr.open_dataset(out / "histories.nc") as h:
+        rows = ragged_rows(h, "block_id")
+        for block in ("SQUARE", "DEEP-PLANAR"):
+            assert block in rows, block
+        theta, lean = (h[v].values[rows["SQUARE"]].astype(float) for v in ("theta_over_alpha", "lean_azimuth"))
+        assert np.all(np.isnan(h["lean_azimuth"].values[rows["DEEP-PLANAR"]]))
+    k = int(np.nanargmax(np.where(theta < 1.0, theta, np.nan)))      # the largest tilt before the fall
+    assert np.isfinite(lean[k]) and 0.0 <= lean[k] < 360.0
+    assert np.all(np.isnan(lean[theta == 0.0]))
+
+
 def test_the_summary_counts_the_boxes_not_checked_about_their_other_axis(screened):
     _, _, out = screened
     page = (out / "report.html").read_text()
-    assert "not checked for 2 of 4" in page and "2 scenes, orientation given_3d" in page
+    assert "not checked for 2 of 5" in page and "2 scenes, orientation given_3d" in page
+    assert "1 scenes, orientation\ngiven_certified" in page
 
 
 def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):

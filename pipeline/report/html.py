@@ -278,6 +278,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "blocks": ds.sizes["block"],
         "boxes": planar_boxes(ds),
         "box_scenes_3d": int(np.sum(ds[SCENE.orientation].values[ok] == Orientation.given_3d)),
+        "box_scenes_certified": int(np.sum(ds[SCENE.orientation].values[ok] == Orientation.given_certified)),
         "overturn_simulation": sum(r["verdict_simulation"] == "overturns" for r in assets),
         "overturn_criterion": sum(r["verdict_criterion"] == "overturns" for r in assets),
         "by_recommendation": counts.most_common(),

@@ -11,6 +11,9 @@ counter-clockwise of it seen from above, that is the record's second horizontal 
 reversed. A box whose width faces compass azimuth ``B`` has its width axis at ``A - B`` in the model; a tilt toward
 the model's azimuth ``phi`` leans toward the compass azimuth ``A - phi``.
 
+A box whose other base axis is certified never to lift nor slip under the record (:mod:`.box_planar`) is judged by
+its planar scene in the plane of its width, which is then the 3D model's scene (:func:`judge_solid`).
+
 Where a model stops because its base would slide or lift off (not modeled in 3D), the scene has no verdict
 (``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
 with the contact held past the tipping point is kept and flagged (held_past_alpha).
@@ -26,6 +29,7 @@ import numpy as np
 from ..constants import G
 from .block import BlockShape, ShapeKind
 from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
+from .box_planar import planar_box_scene
 from .codes import ContactMode
 from .cylinder3d import Cylinder, WobbleOutcome, cylinder_from_corner
 from .cylinder_scene import cylinder_of, run_on_record
@@ -104,11 +108,6 @@ def run(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: SimulationConf
                         atol_alpha=settings.atol)
 
 
-def lean_azimuth_deg(outcome: WobbleOutcome | BoxOutcome, record_azimuth_deg: float) -> float:
-    """The compass azimuth the solid leant toward at its peak tilt (or fell toward) [deg, in [0, 360)]."""
-    return (record_azimuth_deg - outcome.azimuth_max_deg) % 360.0
-
-
 def scene_of(outcome: WobbleOutcome | BoxOutcome, solid: Solid, *, history: bool = False) -> Scene:
     """The :class:`~.scene.Scene` of a 3D run: theta_max as a fraction of the solid's alpha; sliding or lift-off of
     the base (the models' limits) leave no verdict."""
@@ -136,15 +135,56 @@ def scene_of(outcome: WobbleOutcome | BoxOutcome, solid: Solid, *, history: bool
                  contact_modes=int(ContactMode.rock) if moved else 0, guard=int(guard))
 
 
+class Judged(NamedTuple):
+    """A solid's scene on two horizontals (:func:`judge_solid`).
+
+    Attributes
+    ----------
+    scene : Scene
+    lean_deg : float
+        where it leant at its peak tilt, as the models' azimuth [deg, from x toward y] (NaN: it never lifted;
+        a certified box: its width axis, the plane it rocked in)
+    certified : bool
+        a box judged in the plane of its width, its other axis certified (:mod:`.box_planar`)
+    lean_history_deg : ndarray or None
+        with ``history``: where it leans at each sample, as the models' azimuth [deg] (NaN at rest and after
+        overturning)
+    """
+
+    scene: Scene
+    lean_deg: float
+    certified: bool
+    lean_history_deg: np.ndarray | None = None
+
+
+def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: SimulationConfig = SimulationConfig(),
+          g_ms2: float = G, amplitude: float = 1.0, history: bool = False) -> Judged:
+    """A solid's scene on a record's two horizontals and vertical (all scaled by ``amplitude``): a box's planar
+    scene in the plane of its width where its other axis is certified, else the 3D model's."""
+    if isinstance(solid.body, Box):
+        cs = planar_box_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings,
+                              g_ms2=g_ms2, amplitude=amplitude, history=history)
+        if cs.other_axis.certified:
+            theta = cs.scene.theta_over_alpha
+            lean = None if theta is None else np.where(
+                theta > 0, solid.azimuth_deg, np.where(theta < 0, solid.azimuth_deg + 180.0, math.nan))
+            return Judged(cs.scene, solid.azimuth_deg if cs.scene.theta_max > 0 else math.nan, True, lean)
+    out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
+    lean = np.where(out.theta > 0, np.degrees(out.azimuth), math.nan) if history else None
+    return Judged(scene_of(out, solid, history=history), out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan,
+                  False, lean)
+
+
 def solid_scene(h1, h2, vertical, dt_s: float, record_azimuth_deg: float, solid: Solid, *,
                 settings: SimulationConfig = SimulationConfig(), g_ms2: float = G,
-                history: bool = False) -> PlaneResult:
-    """A solid's scene on two horizontals: one 3D run; ``azimuth_deg`` is the compass azimuth it leant toward at
-    its peak tilt, ``planes_simulated`` 1 (0 when it never lifted)."""
-    out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2)
-    sc = scene_of(out, solid, history=history)
-    return PlaneResult(sc, lean_azimuth_deg(out, record_azimuth_deg) if out.theta_max_rad > 0 else math.nan,
-                       1 if out.theta_max_rad > 0 else 0, ())
+                history: bool = False) -> tuple[PlaneResult, bool]:
+    """A solid's scene on two horizontals (:func:`judge_solid`) and whether it was certified planar:
+    ``azimuth_deg`` is the compass azimuth it leant toward at its peak tilt (a certified box: its width's),
+    ``planes_simulated`` 1 (0 when it never lifted)."""
+    j = judge_solid(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2, history=history)
+    moved = j.scene.theta_max > 0
+    lean = (record_azimuth_deg - j.lean_deg) % 360.0 if moved else math.nan
+    return PlaneResult(j.scene, lean, 1 if moved else 0, ()), j.certified
 
 
 def lift_factor(h1, h2, vertical, solid: Solid, *, g_ms2: float = G) -> float:

@@ -527,5 +527,6 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "boxes_with_depth": int(np.sum((ds["shape"].values == ShapeKind.box) & np.isfinite(ds["depth"].values)))
         if "depth" in ds else 0,
         "box_scenes_3d": int(np.sum(ds[SCENE.orientation].values == Orientation.given_3d)),
+        "box_scenes_certified": int(np.sum(ds[SCENE.orientation].values == Orientation.given_certified)),
     }
 

@@ -67,8 +67,8 @@ def _record(rec, inventory: Inventory, config: Config, cylinders: bool, v3: list
         if solid is None or (solid.physics == Physics.wobbling) != cylinders:
             continue
         t0 = time.perf_counter()
-        res = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
-                          float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=g)
+        res, _certified = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                                      float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=g)
         t1 = time.perf_counter()
         flat = worst_plane(planes, grid if cylinders else [float(shape.azimuth_deg)], rec.dt_s, settings=settings,
                            block=blocks[j], refine_span_deg=settings.orientation_step_deg if cylinders else 0.0,

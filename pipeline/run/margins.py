@@ -52,7 +52,7 @@ from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
 from ..rocking.planner import rocks, simulate_scene
-from ..rocking.solid3d import Solid, drawn, lift_factor, run, scene_of, solid_of
+from ..rocking.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
@@ -180,8 +180,8 @@ def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
         return math.inf, 0
 
     def verdict_at(factor: float) -> int:
-        out = run(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=factor)
-        return scene_of(out, solid).verdict
+        return judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2,
+                     amplitude=factor).scene.verdict
 
     return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 
@@ -250,16 +250,27 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     return out
 
 
+def solid_history(rec, solid: Solid, *, settings, g_ms2: float) -> np.ndarray | None:
+    """A solid's history on two horizontals (:func:`~pipeline.rocking.solid3d.judge_solid`), shape (2, n):
+    theta(t)/alpha and the compass azimuth it leans toward [deg] (NaN at rest and after overturning; a box judged in
+    the plane of its width leans along it), or None where nothing lifts."""
+    h = rec.horizontal_ms2
+    got = judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2, history=True)
+    theta, lean = got.scene.theta_over_alpha, got.lean_history_deg
+    if theta is None or lean is None or not got.scene.theta_max > 0:
+        return None
+    return np.vstack([theta, (float(rec.azimuths_deg[0]) - lean) % 360.0])
+
+
 def _solid_margins(rec, shape, solid: Solid, cfg, settings, *, overturned: bool, want_history: bool) -> tuple:
-    """A solid's margin task on two horizontals, by its 3D model: its scale scan, theta(t)/alpha when at risk, and
-    the sampled margins (each draw's own 3D scan, as factors on the nominal record)."""
+    """A solid's margin task on two horizontals, by its 3D model (a box's planar scene where its other axis is
+    certified): its scale scan, its history when at risk (:func:`solid_history`), and the sampled margins (each
+    draw's own scan, as factors on the nominal record)."""
     g = cfg.records.g_ms2
     scale, runs = solid_scale_simulated(rec, solid, settings=settings, g_ms2=g, overturns_at_one=overturned)
     history = None
     if want_history or scale <= RELOCATE_BELOW_SCALE:
-        out = run(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s, solid,
-                  settings=settings, g_ms2=g)
-        history = out.theta / solid.alpha if out.theta_max_rad > 0 else None
+        history = solid_history(rec, solid, settings=settings, g_ms2=g)
     n = cfg.uncertainty.margin_samples if cfg.sampling else 0
     sampled = np.full(max(n, 0), np.nan)
     if n > 0:
@@ -409,11 +420,19 @@ def _with_margins(ds: xr.Dataset, rec_index: np.ndarray, got: _Margins, ctx: Con
     return ds
 
 
+def _series(history: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """theta/alpha and the lean's compass azimuth of a history: a planar scene's (one row) leans in its plane, its
+    azimuth not kept (NaN); a solid's has both rows (:func:`solid_history`)."""
+    h = np.asarray(history, dtype=float)
+    return (h[0], h[1]) if h.ndim == 2 else (h, np.full(h.shape, np.nan))
+
+
 def history_dataset(histories: dict) -> xr.Dataset:
-    """theta(t)/alpha per block as a CF contiguous ragged array (featureType timeSeries)."""
+    """theta(t)/alpha per block, and the compass azimuth a solid leans toward, as a CF contiguous ragged array
+    (featureType timeSeries)."""
     from ..store import ragged_dataset
 
-    rows = [{"id": b, "theta_over_alpha": histories[b][0], "dt": histories[b][1], "governing_record": histories[b][2]}
-            for b in sorted(histories)]
+    rows = [{"id": b, "theta_over_alpha": _series(histories[b][0])[0], "lean_azimuth": _series(histories[b][0])[1],
+             "dt": histories[b][1], "governing_record": histories[b][2]} for b in sorted(histories)]
     return ragged_dataset("block_id", "block", rows, HISTORY_SERIES,
                           station={"governing_record": {"long_name": "governing record of the block"}})

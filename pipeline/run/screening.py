@@ -305,13 +305,10 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
         solid = None if rec.single_component else solid_of(inv.shape(int(j)), record_azimuth_deg=float(
             rec.azimuths_deg[0]), known_azimuth=bool(rec.azimuth_known))
         if solid is not None:                                   # 3D: a cylinder, or a box at its azimuth
-            res, orient = _solid_scene(rec, base, z, inv.shape(int(j)), solid, cfg, settings)
-            cylinder = solid.physics == Physics.wobbling
-            scene_values(out, int(j), res, Orientation.axisymmetric if cylinder else Orientation.given_3d, orient)
+            res, orient, how = _solid_scene(rec, base, z, inv.shape(int(j)), solid, cfg, settings)
+            scene_values(out, int(j), res, how, orient)
             ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                    detail=lambda res=res, cylinder=cylinder: (
-                                        f"{'cylinder' if cylinder else 'box'} in 3D, leaning toward "
-                                        f"{res.azimuth_deg:.0f} deg"))
+                                    detail=lambda res=res, how=how: _solid_detail(res, how))
             continue
         code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
         if not scan:
@@ -333,16 +330,27 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
 
 
 def _solid_scene(rec: Record, base: SceneMotion | None, z, shape, solid: Solid, cfg: Config,
-                 settings: SimulationConfig) -> tuple[PlaneResult, OrientationProbability]:
-    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solid3d`): the 3D model's nominal scene
-    and its probability (one run per draw; a box's azimuth drawn as a planar scene's is, a cylinder's none)."""
-    res = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
-                      float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=cfg.records.g_ms2)
+                 settings: SimulationConfig) -> tuple[PlaneResult, OrientationProbability, Orientation]:
+    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solid3d`): the nominal scene (a box's planar
+    scene where its other axis is certified, else the 3D model's), its probability (one judgement per draw; a box's
+    azimuth drawn as a planar scene's is, a cylinder's none) and how its orientation was chosen."""
+    res, certified = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                                 float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=cfg.records.g_ms2)
+    code = (Orientation.axisymmetric if solid.physics == Physics.wobbling
+            else Orientation.given_certified if certified else Orientation.given_3d)
     if base is None or z is None:
-        return res, NOT_EVALUATED_ORIENTATION
+        return res, NOT_EVALUATED_ORIENTATION, code
     prob = solid_probability(base, z, shape, solid, record_azimuth_deg=float(rec.azimuths_deg[0]),
                              settings=cfg.uncertainty, simulation=settings, g_ms2=cfg.records.g_ms2)
-    return res, one_plane(prob, res.azimuth_deg)
+    return res, one_plane(prob, res.azimuth_deg), code
+
+
+def _solid_detail(res: PlaneResult, code: Orientation) -> str:
+    """What a slow 3D scene was doing."""
+    if code == Orientation.given_certified:
+        return "box in the plane of its width (its other axis certified)"
+    body = "cylinder" if code == Orientation.axisymmetric else "box"
+    return f"{body} in 3D, leaning toward {res.azimuth_deg:.0f} deg"
 
 
 def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,

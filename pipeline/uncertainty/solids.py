@@ -1,9 +1,11 @@
 """The probability of overturning of a 3D scene on two horizontals (a cylinder, or a box with a depth at its
 azimuth; :mod:`pipeline.rocking.solid3d`): each draw of the declared uncertainty (amplitude, sizes, friction,
-restitution, and a box's azimuth; :func:`~.sampling.sample_block`) runs the 3D model once, with the sampling and
-stopping rule of every other scene (:func:`~.scenes.sample_until_decided`). A draw whose base would slide or lift
-off, or that reached the step cap, has no verdict and is counted apart, as a planar draw in free flight is. A
-cylinder draws no orientation: it is axisymmetric.
+restitution, and a box's azimuth; :func:`~.sampling.sample_block`) is judged once
+(:func:`~pipeline.rocking.solid3d.judge_solid`: a box's planar scene where that draw's other axis is certified,
+else the 3D model), with the sampling and stopping rule of every other scene
+(:func:`~.scenes.sample_until_decided`). A draw whose base would slide or lift off, or that reached the step cap,
+has no verdict and is counted apart, as a planar draw in free flight is. A cylinder draws no orientation: it is
+axisymmetric.
 """
 
 from __future__ import annotations
@@ -14,8 +16,7 @@ from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
 from ..rocking.settings import SimulationConfig
-from ..rocking.solid3d import Solid, drawn, run
-from ..rocking.vec3 import FLAG_FLIGHT, FLAG_SLIDE, FLAG_STEPS
+from ..rocking.solid3d import Solid, drawn, judge_solid
 from .sampling import sample_block
 from .scenes import Probability, SceneMotion, sample_until_decided
 from .settings import UncertaintyConfig
@@ -33,10 +34,10 @@ def solid_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, solid: S
             az = None if np.isnan(sb.azimuth_deg[r]) else float(sb.azimuth_deg[r])
             body = drawn(solid, R_m=float(sb.R_m[r]), alpha=float(sb.alpha[r]), mu=float(sb.mu[r]),
                          restitution=float(sb.e[r]), azimuth_deg=az, record_azimuth_deg=record_azimuth_deg)
-            out = run(m.h1, m.h2, m.vertical, m.dt_s, body, settings=simulation, g_ms2=g_ms2,
-                      amplitude=float(sb.amplitude[r]))
-            verdicts[sl.start + r] = (Verdict.overturns if out.overturned else Verdict.no_verdict
-                                      if out.flag in (FLAG_SLIDE, FLAG_FLIGHT, FLAG_STEPS) else Verdict.stands)
-            runs[sl.start + r] = 1 if out.theta_max_rad > 0 else 0
+            sc = judge_solid(m.h1, m.h2, m.vertical, m.dt_s, body, settings=simulation, g_ms2=g_ms2,
+                       amplitude=float(sb.amplitude[r])).scene
+            verdicts[sl.start + r] = (Verdict.overturns if sc.overturned else Verdict.no_verdict
+                                      if sc.verdict < 0 else Verdict.stands)
+            runs[sl.start + r] = 1 if sc.theta_max > 0 else 0
 
     return sample_until_decided(len(z), judge, settings=settings)
