@@ -58,7 +58,7 @@ def main() -> None:
                 t0 = time.perf_counter()
                 cs = planar_box_scene(h1, h2, v, dt, body.body, body.azimuth_deg, settings=st, amplitude=amp)
                 t1 = time.perf_counter()
-                if not cs.other_axis.certified:
+                if not cs.other_axis.certified or cs.scene is None:
                     continue
                 out = run(h1, h2, v, dt, body, settings=st, amplitude=amp)
                 t_3d += time.perf_counter() - t1
@@ -72,7 +72,8 @@ def main() -> None:
                 for f in (0.98, 1.02):
                     p = planar_box_scene(h1, h2, v, dt, body.body, body.azimuth_deg, settings=st, amplitude=amp * f)
                     o = run(h1, h2, v, dt, body, settings=st, amplitude=amp * f)
-                    chaos.append((p.scene.verdict, scene_of(o, body).verdict))
+                    chaos.append((p.scene.verdict if p.scene is not None else "not run",
+                                  scene_of(o, body).verdict))
                 rows.append(f"  {rec.record_id} x {inv.ids[j]} draw {r}: planar {cs.scene.verdict} (theta_max "
                             f"{cs.scene.theta_max:.3f} alpha, {cs.scene.n_impacts} impacts), 3D {v3}; x0.98 / x1.02: "
                             f"planar {chaos[0][0]} / {chaos[1][0]}, 3D {chaos[0][1]} / {chaos[1][1]}; e "

@@ -52,7 +52,7 @@ def test_where_certified_the_3d_box_stays_on_the_edges_and_follows_the_planar_sc
                                                                                      vertical):
     # the record's components: x = h1 along the width (azimuth 0), y = -h2 along the depth
     cs = planar_box_scene(along, -across, vertical, DT, box, 0.0)
-    assert cs.other_axis.certified, cs.other_axis
+    assert cs.other_axis.certified and cs.scene is not None, cs.other_axis
     assert cs.scene.theta_max > 0.05                     # it rocks: the certificate is not the trivial one at rest
     out = _three_d(box, along, across, vertical)
     assert out.corner_s == 0.0 and out.flag == 0 and not out.overturned
@@ -120,16 +120,22 @@ def test_what_is_never_certified():
     assert not other_axis_certificate(along, 0.0 * along, None, box, theta_max_rad=0.1,
                                       friction_demand=box.mu).certified         # friction saturated in its plane
     assert not other_axis_certificate(along, 0.0 * along, np.full_like(along, -G), box, **ok).certified  # flight
+    # a record that lifts the box at rest about a depth edge: nothing to certify, and no planar run
+    across = np.full(1600, 1.0001 * G * box.half_depth_m / box.half_height_m)
+    lifted = planar_box_scene(along, -across, None, DT, box, 0.0)
+    assert lifted.scene is None and not lifted.other_axis.certified
+    assert not other_axis_certificate(along, across, None, box, theta_max_rad=0.0, friction_demand=0.0).certified
     # a planar run that overturns goes to the 3D model
     strong = planar_box_scene(_pulse(1.5 * G, 0.8), np.zeros(1600), None, DT, box, 0.0)
-    assert strong.scene.overturned and not strong.other_axis.certified
+    assert strong.scene is not None and strong.scene.overturned and not strong.other_axis.certified
     # the planar model that drops a vertical (vertical_fraction > 0) is not the 3D model, which keeps it
     from pipeline.rocking.settings import SimulationConfig
 
     weak_v = 0.01 * _pulse(G, 0.3)
     dropped = planar_box_scene(along, np.zeros(1600), weak_v, DT, box, 0.0,
                                settings=SimulationConfig(vertical_fraction=0.05))
-    assert dropped.scene.physics == Physics.rocking and not dropped.other_axis.certified
+    assert dropped.scene is not None and dropped.scene.physics == Physics.rocking
+    assert not dropped.other_axis.certified
 
 
 @pytest.mark.parametrize("azimuth_deg", [0.0, 35.0, 90.0, 200.0])

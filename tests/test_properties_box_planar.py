@@ -34,9 +34,10 @@ def test_certified_means_the_3d_box_stays_on_the_edges(h, alpha_deg, d_over_w, m
     box = Box(half_width_m=w / 2, half_depth_m=d_over_w * w / 2, half_height_m=h / 2, mu=mu)
     along, across, vertical = _pulse(ax_g, tx, 0.0), _pulse(ay_g, ty, shift), _pulse(av_g, 0.3, 0.1)
     cs = planar_box_scene(along, -across, vertical, DT, box, 0.0)
-    event(f"certified {cs.other_axis.certified}, rocks {cs.scene.theta_max > 0}")
+    event(f"certified {cs.other_axis.certified}, rocks {cs.scene is not None and cs.scene.theta_max > 0}")
     if not cs.other_axis.certified:
         return
+    assert cs.scene is not None
     out = simulate_box(along, across, vertical, DT, box, azimuth_deg=0.0, rtol=1e-9, atol_alpha=1e-10)
     assert out.corner_s == 0.0 and out.flag == 0
     assert not out.overturned and not cs.scene.overturned

@@ -133,10 +133,19 @@ def other_axis_certificate(along_ms2, across_ms2, vertical_ms2, box: Box, *, the
 
 
 class CertifiedScene(NamedTuple):
-    """A box's scene in the plane of its width, and its other axis's certificate."""
+    """A box's scene in the plane of its width (None where the record lifts the box at rest about a depth edge, so
+    nothing can be certified and nothing was run), and its other axis's certificate."""
 
-    scene: Scene
+    scene: Scene | None
     other_axis: OtherAxis
+
+
+def lifts_across_at_rest(across_ms2, vertical_ms2, box: Box, *, g_ms2: float = G) -> bool:
+    """Whether the ground lifts the box at rest about an edge of its depth axis at some sample (``|a_y| h > c (g +
+    a_v)``, or g + a_v <= 0): then no bound of :func:`other_axis_certificate` can hold (its N_lb <= g + a_v and its
+    z_G bound >= h), and the planar run is not needed."""
+    gv = g_ms2 + (0.0 if vertical_ms2 is None or np.size(vertical_ms2) == 0 else np.asarray(vertical_ms2))
+    return bool(np.any(np.abs(across_ms2) * box.half_height_m > box.half_depth_m * gv) or np.any(gv <= 0.0))
 
 
 def width_components(h1, h2, azimuth_deg: float):
@@ -161,10 +170,13 @@ def planar_box_scene(h1, h2, vertical, dt_s: float, box: Box, azimuth_deg: float
                      settings: SimulationConfig = SimulationConfig(), g_ms2: float = G, amplitude: float = 1.0,
                      history: bool = False) -> CertifiedScene:
     """The planar scene of a box in the plane of its width on a record's two horizontals and vertical (all scaled by
-    ``amplitude``), and whether its other axis is certified (then the scene is the 3D model's)."""
+    ``amplitude``), and whether its other axis is certified (then the scene is the 3D model's); no scene where the
+    record lifts the box at rest about a depth edge (:func:`lifts_across_at_rest`)."""
     along, across = width_components(h1, h2, azimuth_deg)
     along, across = amplitude * along, amplitude * across
     av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
+    if lifts_across_at_rest(across, av, box, g_ms2=g_ms2):
+        return CertifiedScene(None, NOT_CERTIFIED)
     block = width_block(box, g_ms2=g_ms2)
     sc = simulate_scene(along, av, dt_s, block=block, settings=settings, history=history)
     dropped_vertical = av is not None and sc.physics == Physics.rocking      # the 3D model keeps it

@@ -164,7 +164,7 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
     if isinstance(solid.body, Box):
         cs = planar_box_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings,
                               g_ms2=g_ms2, amplitude=amplitude, history=history)
-        if cs.other_axis.certified:
+        if cs.other_axis.certified and cs.scene is not None:
             theta = cs.scene.theta_over_alpha
             lean = None if theta is None else np.where(
                 theta > 0, solid.azimuth_deg, np.where(theta < 0, solid.azimuth_deg + 180.0, math.nan))
