@@ -45,7 +45,7 @@ def main(argv: list[str]) -> int:
                 t0 = time.perf_counter()
                 solid = solid_of(shape, record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
                 assert solid is not None
-                res3 = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
+                res3, _ = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
                                    float(rec.azimuths_deg[0]), solid, settings=settings)
                 t1 = time.perf_counter()
                 resp = worst_plane(planes, [0.0, *grid.tolist()], rec.dt_s, settings=settings, block=block,

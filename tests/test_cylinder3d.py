@@ -158,3 +158,25 @@ def test_rotating_the_record_rotates_the_motion_and_changes_nothing_else(beta_de
     moving = one.theta > 1e-3 * _alpha(c)
     turn = np.angle(np.exp(1j * (two.azimuth[moving] - one.azimuth[moving] - b)))
     assert np.max(np.abs(turn)) < 1e-5
+
+
+def test_a_tilt_too_small_to_matter_with_too_little_energy_to_grow_is_set_at_rest():
+    """The settle rule (SETTLE_TILT_ALPHA): on a quiet ground, a cylinder at a tilt of 1e-4 alpha turning slowly is
+    set at rest at the end of the first sample interval (counted in holds); the same tilt with the contact running
+    round the rim fast (kinetic energy above what would raise it to 1e-3 alpha) is followed, not held; and with the
+    rule off (0) nothing is held."""
+    from pipeline.rocking.cylinder3d import SETTLE_TILT_ALPHA, Cylinder, simulate_cylinder
+
+    c = Cylinder(radius_m=0.13, half_height_m=0.4, mu=0.7, restitution=0.9)
+    alpha = math.atan2(c.radius_m, c.half_height_m)
+    n, dt = 200, 0.01
+    quiet = np.zeros(n)
+    slow = [1e-4 * alpha, 0.3, 0.0, 0.0, 1e-3, 0.0]          # theta, phi, psi, and their rates
+    held = simulate_cylinder(quiet, quiet, None, dt, c, initial=slow)
+    assert held.holds >= 1 and not held.overturned and held.theta_max_rad < SETTLE_TILT_ALPHA * alpha
+    assert np.all(held.theta[1:] == 0.0)
+    fast = [1e-4 * alpha, 0.3, 0.0, 0.0, 300.0, 0.0]          # precessing at 300 rad/s
+    followed = simulate_cylinder(quiet, quiet, None, dt, c, initial=fast)
+    assert followed.holds == 0
+    off = simulate_cylinder(quiet, quiet, None, dt, c, initial=slow, settle_tilt_alpha=0.0)
+    assert off.holds == 0

@@ -31,7 +31,10 @@ impact conserves the angular momentum about the new contact point (the impulse a
 planar block), so ``J' omega+ = I_G omega- + r' x (omega- x r)``. In the plane this gives the cylinder's
 Housner coefficient ``e = (I_G + h^2 - a^2) / (I_G + h^2 + a^2)``; a declared restitution scales the tilting
 part of ``omega+`` by its ratio to that value. A rebound slower than :data:`REST_RATE` (a fraction of
-``p alpha``) ends the motion: the cylinder rests until the ground lifts it again.
+``p alpha``) ends the motion: the cylinder rests until the ground lifts it again. So does a tilt that stayed
+below :data:`SETTLE_TILT_ALPHA` x alpha through a whole sample interval over which the ground could not lift the
+cylinder from rest (set at rest at the interval's end; counted in ``holds``, guard tie_hold): at such a tilt the
+rim's contact runs round ever faster (Euler's disk), which costs steps and decides nothing.
 
 **Rest and uplift.** At rest, the cylinder lifts on the side opposite the ground's horizontal acceleration when
 ``|a_h| > (g + a_z) tan alpha``, the same in every direction (it is axisymmetric).
@@ -122,6 +125,7 @@ MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run
 LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is taken to land flat, or starts
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
+SETTLE_TILT_ALPHA = 1e-3        # a tilt below this x alpha through a whole quiet sample interval is set at rest
 
 
 
@@ -173,6 +177,8 @@ class WobbleOutcome(NamedTuple):
     held : int
         FLAG_SLIDE or FLAG_FLIGHT where the base would have slid or lifted off while the cylinder fell past alpha,
         and the run went on with the rim held (its overturning kept, see the module); FLAG_NONE otherwise
+    holds : int
+        sample intervals at whose end a tilt below :data:`SETTLE_TILT_ALPHA` x alpha was set at rest
     """
 
     overturned: bool
@@ -186,6 +192,7 @@ class WobbleOutcome(NamedTuple):
     state_end: np.ndarray
     friction_demand: float
     held: int
+    holds: int = 0
 
 
 class Ground(NamedTuple):
@@ -424,7 +431,7 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
 
 
 @jit
-def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end):
+def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end, settle):
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, its restitution over Housner's
     ``scale``) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
@@ -442,8 +449,11 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
     fresh = True
+    holds, interval, interval_peak = 0, -1, 0.0
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
         i = min(int(t / dt + 1e-9), n - 2)
+        if i != interval:
+            interval, interval_peak = i, y[0]
         if not rocking:
             start = _lift_off(t, i, grd, prm, y)
             if start < 0.0:
@@ -489,10 +499,51 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
         y[:] = y_new
         k[0, :] = k[6, :]
         hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
+        interval_peak = max(interval_peak, y[0])
+        if abs(t - (i + 1) * dt) <= 1e-12 * dt and _settles(interval_peak, settle, y, i, grd, prm):
+            y[:] = 0.0
+            theta_out[i + 1] = 0.0
+            rocking, fresh, holds = False, True, holds + 1
     y_end[:] = y
     if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
         flag = held                             # held past alpha, and it did not overturn: no verdict
-    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held
+    return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held, holds
+
+
+@jit
+def _rise(theta, prm):
+    """How much G rises from flat to the tilt ``theta`` <= alpha [m]: R cos(alpha - theta) - h."""
+    return math.hypot(prm.a, prm.h) * math.cos(prm.alpha - theta) - prm.h
+
+
+@jit
+def _kinetic(y, prm):
+    """The kinetic energy per unit mass of the cylinder rolling on its rim, about the contact point [m2 s-2]:
+    omega^T (I_G + |r|^2 1 - r r^T) omega / 2."""
+    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
+    st, ct, sp, cp, lever, up = _frame(th, ph, prm.a, prm.h)
+    e3x, e3y, e3z = st * cp, st * sp, ct
+    wx, wy, wz = -tdot * sp + sdot * e3x, tdot * cp + sdot * e3y, pdot + sdot * e3z
+    m = _inertia_about(e3x, e3y, e3z, lever * cp, lever * sp, up, prm.i1, prm.i3)
+    return 0.5 * (m[0] * wx * wx + m[3] * wy * wy + m[5] * wz * wz
+                  + 2.0 * (m[1] * wx * wy + m[2] * wx * wz + m[4] * wy * wz))
+
+
+@jit
+def _settles(peak, settle, y, i, grd, prm):
+    """A tilt that stayed below ``settle`` x alpha (:data:`SETTLE_TILT_ALPHA`) through sample interval ``i``, over
+    which the ground could not lift the cylinder from rest (at both ends; the excess is convex in between): rolling on
+    the rim at such a tilt (the contact running round the rim ever faster as the tilt falls, as for Euler's disk),
+    with less kinetic energy (about the contact) than would raise it to that tilt, is set at rest at the interval's
+    end, as the planar kernel's tie rule holds a flat block (measured:
+    docs/validation.md)."""
+    if peak >= settle * prm.alpha or _kinetic(y, prm) > grd.g * _rise(settle * prm.alpha, prm):
+        return False
+    t0, tan_a = i * grd.dt, prm.a / prm.h
+    return (_excess(t0, t0, grd.dt, grd.ax[i], grd.ax[i + 1], grd.ay[i], grd.ay[i + 1], grd.az[i], grd.az[i + 1],
+                    grd.g, tan_a) <= 0.0
+            and _excess(t0 + grd.dt, t0, grd.dt, grd.ax[i], grd.ax[i + 1], grd.ay[i], grd.ay[i + 1], grd.az[i],
+                        grd.az[i + 1], grd.g, tan_a) <= 0.0)
 
 
 @jit
@@ -540,7 +591,8 @@ ATOL_ALPHA = 1e-9
 
 
 def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *, g_ms2: float = 9.80665,
-                      rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA, initial=None) -> WobbleOutcome:
+                      rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA, initial=None,
+                      settle_tilt_alpha: float = SETTLE_TILT_ALPHA) -> WobbleOutcome:
     """Run a cylinder on two horizontal components and the vertical of a record (the module's model).
 
     Parameters
@@ -557,6 +609,9 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
         tolerances of the step control (relative; absolute as a fraction of alpha, and of p alpha for rates)
     initial : array_like of 6, optional
         (theta, phi, psi [rad], their rates [rad s-1]) at the first sample; default at rest
+    settle_tilt_alpha : float
+        a tilt below this x alpha through a quiet sample interval is set at rest (0: never; what
+        ``benchmarks/cylinder_settle.py`` measures)
 
     Returns
     -------
@@ -569,11 +624,12 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     azimuth = np.full(ax.size, np.nan)
     y_end = np.empty(6)
     e_h = housner_e(cylinder.radius_m, cylinder.half_height_m)
-    over, t_over, th_max, az_max, flag, impacts, demand, held = wobble(
+    over, t_over, th_max, az_max, flag, impacts, demand, held, holds = wobble(
         ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
-        cylinder.restitution / e_h if e_h > 0.0 else 0.0, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end)
+        cylinder.restitution / e_h if e_h > 0.0 else 0.0, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end,
+        float(settle_tilt_alpha))
     if over:
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end, float(demand), int(held))
+                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds))

@@ -21,6 +21,7 @@ with the contact held past the tipping point is kept and flagged (held_past_alph
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import NamedTuple
 
@@ -35,7 +36,7 @@ from .cylinder3d import Cylinder, WobbleOutcome, cylinder_from_corner
 from .cylinder_scene import cylinder_of, run_on_record
 from .geometry import effective_restitution
 from .orientation import PlaneResult
-from .scene import FreeFlight, Guard, Physics, Response, Scene
+from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
 from .settings import SimulationConfig
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS
 
@@ -158,9 +159,14 @@ class Judged(NamedTuple):
 
 
 def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: SimulationConfig = SimulationConfig(),
-          g_ms2: float = G, amplitude: float = 1.0, history: bool = False) -> Judged:
-    """A solid's scene on a record's two horizontals and vertical (all scaled by ``amplitude``): a box's planar
-    scene in the plane of its width where its other axis is certified, else the 3D model's."""
+                g_ms2: float = G, amplitude: float = 1.0, history: bool = False) -> Judged:
+    """A solid's scene on a record's two horizontals and vertical (all scaled by ``amplitude``): at rest where the
+    record leaves it so (:func:`stays_at_rest`: nothing integrated), a box's planar scene in the plane of its width
+    where its other axis is certified, else the 3D model's."""
+    if stays_at_rest(h1, h2, vertical, solid, g_ms2=g_ms2, amplitude=amplitude):
+        n = np.size(h1)
+        return Judged(dataclasses.replace(REST_SCENE, theta_over_alpha=np.zeros(n) if history else None), math.nan,
+                      False, np.full(n, math.nan) if history else None)
     if isinstance(solid.body, Box):
         cs = planar_box_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings,
                               g_ms2=g_ms2, amplitude=amplitude, history=history)
@@ -187,24 +193,45 @@ def solid_scene(h1, h2, vertical, dt_s: float, record_azimuth_deg: float, solid:
     return PlaneResult(j.scene, lean, 1 if moved else 0, ()), j.certified
 
 
+def _pushes(x, y, solid: Solid) -> list[tuple[np.ndarray, float]]:
+    """The ground's push against each way the solid at rest can lift, and that way's tan of slenderness: a
+    cylinder's |a_h| and tan alpha; a box's acceleration along each base edge's inward normal and b_n / h."""
+    body = solid.body
+    if isinstance(body, Cylinder):
+        return [(np.hypot(x, y), body.radius_m / body.half_height_m)]
+    c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
+    along, across = c * x + s * y, -s * x + c * y
+    tw, td = body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
+    return [(along, tw), (-along, tw), (across, td), (-across, td)]
+
+
+def _components(h1, h2, vertical, amplitude: float = 1.0):
+    """The models' (x, y, z) ground components of a record's two horizontals and vertical, times ``amplitude``."""
+    x, y = amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float)
+    v = np.zeros_like(x) if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, float)
+    return x, y, v
+
+
 def lift_factor(h1, h2, vertical, solid: Solid, *, g_ms2: float = G) -> float:
     """The smallest factor on the record at which the solid at rest first lifts [-] (inf: never): a cylinder where
     |a_h| > (g + a_z) tan alpha in any direction, a box about the first of its four base edges whose moment balance
     fails (-a . n > (g + a_z) b_n / h, n the edge's outward normal)."""
-    x, y = np.asarray(h1, dtype=float), -np.asarray(h2, dtype=float)
-    v = np.zeros_like(x) if vertical is None or np.size(vertical) == 0 else np.asarray(vertical, dtype=float)
-    body = solid.body
-    if isinstance(body, Cylinder):
-        tan_a = body.radius_m / body.half_height_m
-        pairs = [(np.hypot(x, y), tan_a)]
-    else:
-        c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
-        along, across = c * x + s * y, -s * x + c * y
-        tw, td = body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
-        pairs = [(along, tw), (-along, tw), (across, td), (-across, td)]
+    x, y, v = _components(h1, h2, vertical)
     best = math.inf
-    for push, tan_b in pairs:
+    for push, tan_b in _pushes(x, y, solid):
         lift = push - v * tan_b
         if np.any(lift > 0):
             best = min(best, float(np.min(g_ms2 * tan_b / lift[lift > 0])))
     return best
+
+
+def stays_at_rest(h1, h2, vertical, solid: Solid, *, g_ms2: float = G, amplitude: float = 1.0) -> bool:
+    """Whether the record (times ``amplitude``) leaves the solid at rest throughout, as its 3D model would: at no
+    sample does the ground lift it (:func:`lift_factor`'s condition), slide its base (|a_h| > mu (g + a_z)) or fall
+    away (g + a_z <= 0). Exact: the ground is linear between samples and each margin is convex there, so its peak
+    is at a sample; the boundaries hold, as in the models."""
+    x, y, v = _components(h1, h2, vertical, amplitude)
+    gv = g_ms2 + v
+    if np.any(gv <= 0.0) or np.any(np.hypot(x, y) > solid.body.mu * gv):
+        return False
+    return not any(np.any(push > gv * tan_b) for push, tan_b in _pushes(x, y, solid))
