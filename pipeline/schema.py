@@ -242,7 +242,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                 "scanned_relative: the same on a record of unknown absolute azimuth; "
                                 "axisymmetric: a cylinder on two horizontals, one 3D run (no plane); given_3d: a box "
                                 "with a depth and an azimuth on two horizontals of known azimuth, one 3D run at "
-                                "that azimuth (both horizontals and the vertical); given_certified: the same box "
+                                "that azimuth (both horizontals and the vertical; for both, no run where the record "
+                                "provably leaves it at rest, planes_simulated 0); given_certified: the same box "
                                 "judged in the plane of its width, its other base axis certified never to lift nor "
                                 "slip under the record (then the planar scene is the 3D one)"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
