@@ -83,6 +83,10 @@ class BlockParameterError(ParameterError):
     """Impossible block or friction parameters (names the parameter and range)."""
 
 
+class MeshError(RockscreenError, ValueError):
+    """A scanned shape cannot be used: unreadable, not closed, or not standing on its base."""
+
+
 class PulseError(RockscreenError, ValueError):
     """Pulse extraction cannot run on this record (too short, all zero, ...)."""
 

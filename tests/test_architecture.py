@@ -23,7 +23,8 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
                                      "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates",
                                      "pipeline.records.common", "pipeline.rocking.contact", "pipeline.rocking.handoff",
                                      "pipeline.uncertainty.hazard_files", "pipeline.floors.model",
-                                     "pipeline.floors.motion"])
+                                     "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.box_planar",
+                                     "pipeline.rocking.solid3d"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
@@ -47,7 +48,7 @@ PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline
            "pipeline.records.loader", "pipeline.records.coordinates", "pipeline.uncertainty.scenes",
            "pipeline.uncertainty.orientations", "pipeline.uncertainty.fragility", "pipeline.uncertainty.sampling",
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
-           "pipeline.event.shakemap", "pipeline.event.shakecast")
+           "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan")
 
 
 @pytest.mark.parametrize("library", PHYSICS)
