@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Callable
 
 #: rockscreen's plug-ins, tried first (their tests read a few text lines).
-OWN_FORMATS = ("PEER_AT2", "COSMOS", "CSMIP_DMG", "NF_ASCII", "KNET")
+OWN_FORMATS = ("PEER_AT2", "COSMOS", "CSMIP_DMG", "NF_ASCII", "KNET", "TABLE")
 #: Never offered a file: detection would execute the file's content.
 UNSAFE_FORMATS = frozenset({"PICKLE"})
 #: File-name suffixes of strong-motion records: such a file that no reader recognises is a failed record;

@@ -1,0 +1,109 @@
+"""Plain text tables of one motion (pipeline.records.table): one column with a '#' header, two columns of time and
+acceleration (comma, tab or space), gzip or not; bad tables are refused naming the line and the fix; the bundled
+records are never taken for tables; and a table's DC offset is removed by the processing."""
+
+from __future__ import annotations
+
+import gzip
+from pathlib import Path
+
+import numpy as np
+import obspy
+import pytest
+
+from pipeline.config import Config
+from pipeline.errors import RecordFormatError
+from pipeline.records.detect import detect_format
+from pipeline.records.loader import iter_records
+from pipeline.records.table import _is_table
+
+GRANITE = Path(__file__).resolve().parents[2] / "shared" / "experiments" / "granite-pbr" / "motions"
+G = 9.80665
+
+
+def _motion(n=1200, dt=0.01):
+    t = np.arange(n) * dt
+    return t, 0.25 * np.sin(2 * np.pi * 1.5 * t) * np.exp(-((t - 5.0) / 2.0) ** 2)
+
+
+@pytest.mark.parametrize("sep", [",", "\t", "  "])
+def test_two_columns_give_the_interval_from_the_times(tmp_path, sep):
+    t, a = _motion()
+    path = tmp_path / "run.csv"
+    path.write_text("time" + sep + "acc\n" + "".join(f"{ti:.2f}{sep}{ai:.7f}\n" for ti, ai in zip(t, a)))
+    assert detect_format(path) == "TABLE"
+    tr = obspy.read(str(path), format="TABLE")[0]
+    assert tr.stats.delta == pytest.approx(0.01, rel=1e-12) and tr.stats.npts == t.size
+    assert np.allclose(tr.data, a, atol=1e-7) and tr.stats.physical_units is None
+
+
+def test_one_column_takes_the_interval_units_and_component_from_its_header(tmp_path):
+    _, a = _motion()
+    body = "# rig=A dt_s=0.01 units=cm/s**2 n=1200\n" + "".join(f"{x:.6f}\n" for x in 100 * a)
+    plain, packed = tmp_path / "a.txt", tmp_path / "b.acc.gz"
+    plain.write_text(body)
+    packed.write_bytes(gzip.compress(body.encode()))
+    for path in (plain, packed):
+        tr = obspy.read(str(path), format="TABLE")[0]
+        assert tr.stats.delta == 0.01 and tr.stats.physical_units == "cm/s**2" and tr.stats.channel == "H1"
+        assert np.allclose(tr.data, 100 * a, atol=1e-6)
+    vertical = tmp_path / "v.txt"
+    vertical.write_text("# dt_s=0.01 units=g component=UP\n" + "".join(f"{x:.6f}\n" for x in a))
+    assert obspy.read(str(vertical), format="TABLE")[0].stats.channel == "UP"
+
+
+@pytest.mark.parametrize("text,match", [
+    ("".join(f"{x}\n" for x in range(20)), r"no sampling interval; add a header line '# dt_s="),
+    ("# dt_s=0.01 n=25\n" + "".join(f"{x}\n" for x in range(20)), r"n=25 samples, the table holds 20"),
+    ("".join(f"{0.01 * k + (0.004 if k == 13 else 0):.3f},{k}\n" for k in range(20)), r"line 14: .*not evenly sampled"),
+    ("# dt_s=0.01\n" + "".join(f"{x}\n" for x in range(10)) + "1.0 2.0\n" + "".join(f"{x}\n" for x in range(5)),
+     r"line 12: .*expected 1 number"),
+    ("# dt_s=0.01 units=furlongs\n" + "".join(f"{x}\n" for x in range(20)), r"unknown acceleration unit"),
+])
+def test_bad_tables_are_refused_naming_the_line_and_the_fix(tmp_path, text, match):
+    path = tmp_path / "bad.txt"
+    path.write_text(text)
+    with pytest.raises((RecordFormatError, ValueError), match=match):
+        obspy.read(str(path), format="TABLE")
+
+
+def test_no_bundled_record_is_taken_for_a_table(records_dir):
+    for path in sorted(p for p in records_dir.rglob("*") if p.is_file() and p.name != "units.toml"):
+        assert detect_format(path) != "TABLE", path
+
+
+@pytest.mark.parametrize("text", ["a,b\n1,2\n", "# only a header\n", "x y z\n" + "1 2 3\n" * 20,
+                                  "1 2 3\n" * 20, "hello world\n" * 20])
+def test_what_is_not_a_table(tmp_path, text):
+    path = tmp_path / "x.txt"
+    path.write_text(text)
+    assert not _is_table(str(path))
+
+
+def test_a_tables_dc_offset_is_removed_by_the_processing(tmp_path):
+    _, a = _motion(n=3000)
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "offset.txt").write_text("# dt_s=0.01 units=g\n" + "".join(f"{x + 0.02:.7f}\n" for x in a))
+    rec = next(iter_records(root, config=Config()))
+    h = rec.horizontal_ms2[0]
+    assert abs(float(np.mean(h))) < 1e-3 * G                 # the 0.02 g offset is gone
+    assert np.max(np.abs(h)) == pytest.approx(0.25 * G, rel=0.05)
+
+
+@pytest.mark.skipif(not GRANITE.is_dir(), reason="the granite shake-table data (../shared/experiments) is absent")
+def test_a_shake_table_motion_reads_as_written():
+    path = GRANITE / "Test011.acc.gz"
+    tr = obspy.read(str(path))[0]
+    expected = np.loadtxt(path)
+    assert tr.stats.delta == 0.00125 and tr.stats.physical_units == "g" and tr.stats.npts == expected.size
+    assert np.array_equal(tr.data, expected)
+
+
+def test_a_tables_component_may_give_its_azimuth(tmp_path):
+    _, a = _motion(n=2000)
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "x.txt").write_text("# dt_s=0.01 units=g component=35\n" + "".join(f"{x:.6f}\n" for x in a))
+    rec = next(iter_records(root, config=Config()))
+    assert rec.single_component and rec.azimuth_known and rec.azimuths_deg == (35.0,)
