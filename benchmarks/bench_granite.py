@@ -43,15 +43,17 @@ SCANS = {"SP1": "SP1.obj", "SP2": "final_sp2_1.obj"}
 ORIENTATIONS = (("x", 0.0, 1.0), ("-x", 0.0, -1.0), ("y", 90.0, 1.0), ("-y", 90.0, -1.0))
 
 
-def body_of(scan_path: Path, azimuth_deg: float) -> TwoSided:
-    """The two-sided body of a scan in the plane at ``azimuth_deg``, its pivots at the static tipping angles."""
+def body_of(scan_path: Path, azimuth_deg: float, *, footprint_tol_m: float | None = None) -> TwoSided:
+    """The two-sided body of a scan in the plane at ``azimuth_deg``: its pivots at the static tipping angles, or
+    (``footprint_tol_m``) at the footprint's extreme points within that tolerance of the base."""
     shape = read_scan(scan_path)
-    piv = pivots(shape, azimuth_deg)
+    piv = pivots(shape, azimuth_deg, footprint_tol_m=footprint_tol_m or 0.002)
     z = shape.com_height_m
     phi = math.radians(azimuth_deg)
     n = np.array([-math.sin(phi), math.cos(phi), 0.0])
-    return TwoSided(z * math.tan(piv.tipping_plus), z * math.tan(piv.tipping_minus), z,
-                    float(n @ shape.inertia_per_mass_m2 @ n))
+    b_plus, b_minus = ((piv.b_plus_m, piv.b_minus_m) if footprint_tol_m
+                       else (z * math.tan(piv.tipping_plus), z * math.tan(piv.tipping_minus)))
+    return TwoSided(b_plus, b_minus, z, float(n @ shape.inertia_per_mass_m2 @ n))
 
 
 def motion(path: Path) -> tuple[np.ndarray, float]:
@@ -74,11 +76,15 @@ def main() -> None:
     ap.add_argument("data", type=Path)
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--limit", type=int, default=0, help="the first N tests only (0: all)")
+    ap.add_argument("--footprint-mm", type=float, default=0.0,
+                    help="pivots at the footprint's extremes within this tolerance [mm] (0: at the static tipping "
+                         "angles, the default)")
     args = ap.parse_args()
     tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
     if args.limit:
         tests = tests[:args.limit]
-    bodies = {(rock, label): body_of(args.data / "geometry" / scan, az)
+    tol = args.footprint_mm / 1000.0 or None
+    bodies = {(rock, label): body_of(args.data / "geometry" / scan, az, footprint_tol_m=tol)
               for rock, scan in SCANS.items() for label, az, _sense in ORIENTATIONS}
     for (rock, label), b in bodies.items():
         tip = [math.degrees(math.atan2(x, b.com_height_m)) for x in (b.b_plus_m, b.b_minus_m)]
@@ -107,7 +113,8 @@ def main() -> None:
         for label, _az, _s in ORIENTATIONS:
             sel = [r for r in rows if r["rock"] == rock and r["orientation"] == label]
             acc, f1 = _scores([max(r["overturn_nominal"], 0) for r in sel], [r["observed"] for r in sel])
-            print(f"  {label:>2}: accuracy {acc:.3f}, F1 {f1:.3f}, undecided {sum(r['overturn_nominal'] < 0 for r in sel)}")
+            undecided = sum(r["overturn_nominal"] < 0 for r in sel)
+            print(f"  {label:>2}: accuracy {acc:.3f}, F1 {f1:.3f}, undecided {undecided}")
         for pair in (("x", "-x"), ("y", "-y")):
             sel = {lab: [r for r in rows if r["rock"] == rock and r["orientation"] == lab] for lab in pair}
             worst = [max(a["overturn_nominal"], b["overturn_nominal"], 0) for a, b in zip(sel[pair[0]], sel[pair[1]])]

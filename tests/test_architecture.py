@@ -24,7 +24,7 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
                                      "pipeline.records.common", "pipeline.rocking.contact", "pipeline.rocking.handoff",
                                      "pipeline.uncertainty.hazard_files", "pipeline.floors.model",
                                      "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.box_planar",
-                                     "pipeline.rocking.solid3d"])
+                                     "pipeline.rocking.asymmetric", "pipeline.rocking.solid3d"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"

@@ -26,6 +26,14 @@ def _motion(n=1200, dt=0.01):
     return t, 0.25 * np.sin(2 * np.pi * 1.5 * t) * np.exp(-((t - 5.0) / 2.0) ** 2)
 
 
+def _record_of(tmp_path, header: str, values):
+    """The screening's record of a one-column table with ``header`` (read and processed)."""
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "table.txt").write_text(header + "\n" + "".join(f"{x:.7f}\n" for x in values))
+    return next(iter_records(root, config=Config()))
+
+
 @pytest.mark.parametrize("sep", [",", "\t", "  "])
 def test_two_columns_give_the_interval_from_the_times(tmp_path, sep):
     t, a = _motion()
@@ -82,10 +90,7 @@ def test_what_is_not_a_table(tmp_path, text):
 
 def test_a_tables_dc_offset_is_removed_by_the_processing(tmp_path):
     _, a = _motion(n=3000)
-    root = tmp_path / "recs"
-    root.mkdir()
-    (root / "offset.txt").write_text("# dt_s=0.01 units=g\n" + "".join(f"{x + 0.02:.7f}\n" for x in a))
-    rec = next(iter_records(root, config=Config()))
+    rec = _record_of(tmp_path, "# dt_s=0.01 units=g", a + 0.02)
     h = rec.horizontal_ms2[0]
     assert abs(float(np.mean(h))) < 1e-3 * G                 # the 0.02 g offset is gone
     assert np.max(np.abs(h)) == pytest.approx(0.25 * G, rel=0.05)
@@ -102,8 +107,5 @@ def test_a_shake_table_motion_reads_as_written():
 
 def test_a_tables_component_may_give_its_azimuth(tmp_path):
     _, a = _motion(n=2000)
-    root = tmp_path / "recs"
-    root.mkdir()
-    (root / "x.txt").write_text("# dt_s=0.01 units=g component=35\n" + "".join(f"{x:.6f}\n" for x in a))
-    rec = next(iter_records(root, config=Config()))
+    rec = _record_of(tmp_path, "# dt_s=0.01 units=g component=35", a)
     assert rec.single_component and rec.azimuth_known and rec.azimuths_deg == (35.0,)

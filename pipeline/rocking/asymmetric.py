@@ -38,6 +38,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..constants import G
+from .reference import segment_events
 
 #: Impacts after the record before the free motion is given up, flagged
 MAX_TAIL_IMPACTS = 10000
@@ -102,22 +103,6 @@ class AsymmetricOutcome(NamedTuple):
     undecided: bool
 
 
-def _events(s: float):
-    def impact(t, y, _s):
-        return y[0]
-    impact.terminal = True                       # type: ignore[attr-defined]  # solve_ivp's event protocol
-    impact.direction = -1.0 if s > 0 else 1.0    # type: ignore[attr-defined]
-
-    def fall(t, y, _s):
-        return abs(y[0]) - math.pi / 2
-    fall.terminal = True                         # type: ignore[attr-defined]
-    fall.direction = 1.0                         # type: ignore[attr-defined]
-
-    def turn(t, y, _s):                          # the turning points: the peaks, recorded only
-        return y[1]
-    return impact, fall, turn
-
-
 def rock_two_sided(ah, dt_s: float, body: TwoSided, *, av=None, g_ms2: float = G, restitution_factor: float = 1.0,
                    rtol: float = 1e-8, atol_alpha: float = 1e-10, rest_ratio: float = 1e-6,
                    tail_s: float = 600.0) -> AsymmetricOutcome:
@@ -179,7 +164,7 @@ def rock_two_sided(ah, dt_s: float, body: TwoSided, *, av=None, g_ms2: float = G
             alpha, r, inertia = geo[s]
             p = math.sqrt(g_ms2 * r / inertia)
             sol = solve_ivp(rhs, (t, t_rec + tail_s), y, method="DOP853", rtol=rtol, atol=atol_alpha * alpha_min,
-                            events=_events(s), max_step=dt_s, args=(s,))
+                            events=segment_events(s), max_step=dt_s, args=(s,))
             seg = np.concatenate([sol.y[0], sol.y_events[2][:, 0]]) if sol.t_events[2].size else sol.y[0]
             peak[1.0] = max(peak[1.0], float(np.max(seg)))
             peak[-1.0] = max(peak[-1.0], float(np.max(-seg)))

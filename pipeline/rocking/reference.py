@@ -86,7 +86,7 @@ class _Ground:
         return max((k - 1) * self.dt + (-f0 / (f1 - f0)) * self.dt, t)
 
 
-def _events(s):
+def segment_events(s):
     """solve_ivp's terminal events of a rocking segment on pivot side s: the impact (theta back to 0, the
     direction chosen by s so that the root at the segment's start is not seen again) and overturning
     (|theta| = pi/2); and the turning points (omega = 0), recorded only."""
@@ -147,7 +147,7 @@ def rock_reference(ah, dt, *, p, alpha, e, g=G, rtol=1e-8, atol=1e-10, rest_rati
         y, t = np.array([0.0, 0.0]), t_up
         while True:                                  # rocking segments between impacts, until rest
             sol = solve_ivp(ground.rhs, (t, t_rec), y, method="DOP853", rtol=rtol, atol=atol * alpha,
-                            events=_events(s), max_step=dt, args=(s,))
+                            events=segment_events(s), max_step=dt, args=(s,))
             theta_max = max(theta_max, float(np.max(np.abs(sol.y[0]))))
             if sol.t_events[2].size:
                 theta_max = max(theta_max, float(np.max(np.abs(sol.y_events[2][:, 0]))))
