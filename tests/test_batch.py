@@ -489,12 +489,14 @@ def test_dask_scheduler_results_identical_to_serial(few_records, blocks_csv, tmp
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
+@pytest.mark.slow                    # a process pool against serial (7-8 s): make test-slow
 def test_processes_results_identical_to_serial(few_records, blocks_csv, tmp_path, fresh):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out, "-n", 2) == EXIT_OK
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
+@pytest.mark.slow                    # a process pool against serial (7-8 s): make test-slow
 def test_default_uses_the_available_cores_with_results_identical_to_serial(make_records, blocks_csv, tmp_path,
                                                                          fresh, capsys, monkeypatch):
     from pipeline.run.executors import default_workers

@@ -103,6 +103,32 @@ class AsymmetricOutcome(NamedTuple):
     undecided: bool
 
 
+def _next_uplift(t, lifts, ah, av, tan_a, dt_s, g_ms2):
+    """(the first instant from ``t`` at which the ground lifts the body, the side it tilts toward), or None: the
+    crossing located between the samples, where the ground is linear."""
+    k0 = int(math.floor(t / dt_s + 1e-9))
+    idx = np.flatnonzero(lifts[k0:])
+    if idx.size == 0:
+        return None
+    k = k0 + int(idx[0])
+    s = 1.0 if ah[k] < 0 else -1.0
+    t_up = max(k * dt_s, t)
+    if k > 0 and k * dt_s > t:
+        f0 = -s * ah[k - 1] - (g_ms2 + av[k - 1]) * tan_a[s]
+        f1 = -s * ah[k] - (g_ms2 + av[k]) * tan_a[s]
+        if f0 <= 0.0 < f1:
+            t_up = max((k - 1 + (-f0 / (f1 - f0))) * dt_s, t)
+    return t_up, s
+
+
+def _swing_peak(omega, side, com_height_m, g_ms2):
+    """The peak tilt of a free swing from the flat position at ``omega`` on a side (alpha, R, I) [rad]: where the
+    kinetic energy has raised G by I omega^2 / (2 g)."""
+    alpha, r, inertia = side
+    c = (0.5 * inertia * omega * omega + g_ms2 * com_height_m) / (g_ms2 * r)
+    return alpha - math.acos(min(1.0, c))
+
+
 def rock_two_sided(ah, dt_s: float, body: TwoSided, *, av=None, g_ms2: float = G, restitution_factor: float = 1.0,
                    rtol: float = 1e-8, atol_alpha: float = 1e-10, rest_ratio: float = 1e-6,
                    tail_s: float = 600.0) -> AsymmetricOutcome:
@@ -146,19 +172,11 @@ def rock_two_sided(ah, dt_s: float, body: TwoSided, *, av=None, g_ms2: float = G
     t, n_imp = 0.0, 0
     barrier = min(g_ms2 * (geo[s][1] - body.com_height_m) for s in (1.0, -1.0))
     while t < t_rec:
-        k0 = int(math.floor(t / dt_s + 1e-9))
-        idx = np.flatnonzero(lifts[k0:])
-        if idx.size == 0:
+        up = _next_uplift(t, lifts, ah, av, tan_a, dt_s, g_ms2)
+        if up is None:
             break
-        k = k0 + int(idx[0])
-        s = 1.0 if ah[k] < 0 else -1.0
-        t_up = max(k * dt_s, t)
-        if k > 0 and k * dt_s > t:               # the crossing between the samples (the ground is linear there)
-            f0 = -s * ah[k - 1] - (g_ms2 + av[k - 1]) * tan_a[s]
-            f1 = -s * ah[k] - (g_ms2 + av[k]) * tan_a[s]
-            if f0 <= 0.0 < f1:
-                t_up = max((k - 1 + (-f0 / (f1 - f0))) * dt_s, t)
-        y, t = np.array([0.0, 0.0]), t_up
+        t, s = up
+        y = np.array([0.0, 0.0])
         tail_impacts = 0
         while True:
             alpha, r, inertia = geo[s]
@@ -181,9 +199,7 @@ def rock_two_sided(ah, dt_s: float, body: TwoSided, *, av=None, g_ms2: float = G
                 break
             if t >= t_rec:
                 if 0.5 * geo[s][2] * om * om < barrier:          # cannot overturn any more: the last swing's peak
-                    alpha_s, r_s, i_s = geo[s]
-                    c = (0.5 * i_s * om * om + g_ms2 * body.com_height_m) / (g_ms2 * r_s)
-                    peak[s] = max(peak[s], alpha_s - math.acos(min(1.0, c)))
+                    peak[s] = max(peak[s], _swing_peak(om, geo[s], body.com_height_m, g_ms2))
                     return AsymmetricOutcome(False, math.nan, peak[1.0], peak[-1.0], n_imp, False)
                 tail_impacts += 1
                 if tail_impacts > MAX_TAIL_IMPACTS:
