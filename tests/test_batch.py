@@ -97,6 +97,7 @@ def test_rerun_with_nothing_new_skips_everything_and_says_so(one_record, blocks_
     assert output_bytes(out) == before
 
 
+@pytest.mark.slow                    # 6-8 s, three screenings: make test-slow keeps make test under 5 min
 def test_any_change_takes_the_full_path(one_record, blocks_csv, tmp_path, capsys):
     """Each change in turn (a file beside the records, the inventory, --samples, an output edited by hand,
     --force) makes the next run take the full path; the same run again is up to date."""
@@ -172,6 +173,7 @@ def test_changed_and_new_records_only_are_screened(few_records, blocks_csv, tmp_
     assert_same_results(after, fresh(few_records))
 
 
+@pytest.mark.slow                    # 6-8 s, three screenings: make test-slow keeps make test under 5 min
 def test_inventory_edit_rescreens_only_affected_blocks(few_records, blocks_csv, tmp_path, capsys, fresh):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
@@ -356,6 +358,7 @@ def test_disk_full_keeps_previous_results_and_the_work_done(few_records, blocks_
     assert "0 screened, 6 reused" in summary_line(capsys)
 
 
+@pytest.mark.slow                    # 6-8 s, three screenings: make test-slow keeps make test under 5 min
 def test_cache_that_cannot_be_written_does_not_stop_the_run(few_records, blocks_csv, tmp_path, monkeypatch,
                                                             caplog, fresh):
     def disk_full(*a, **k):
