@@ -12,8 +12,6 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-import numpy as np
-
 from ..compiled import jit
 from .dopri import TABLEAU_B, TABLEAU_E, TABLEAU_NODES, TABLEAU_ROWS
 from .vec3 import cross, error_norm, shifted, solve3, solve_sym3
@@ -47,16 +45,6 @@ class BoxParams(NamedTuple):
     atol_angle: float
     atol_rate: float
     rtol: float
-
-
-class Ground(NamedTuple):
-    """The ground's acceleration [m s-2] at samples ``dt`` [s] apart."""
-
-    ax: np.ndarray
-    ay: np.ndarray
-    az: np.ndarray
-    dt: float
-    g: float
 
 
 class BoxRun(NamedTuple):

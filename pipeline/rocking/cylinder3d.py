@@ -109,7 +109,7 @@ from .dopri import (
 )
 from .geometry import cylinder_p_e
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
-from .vec3 import FLAG_NONE, FLAG_STEPS, error_norm, first_below, ground_components
+from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
 from .vec3 import contact_flag as _contact_flag
 from .vec3 import cross as _cross
@@ -193,16 +193,6 @@ class WobbleOutcome(NamedTuple):
     friction_demand: float
     held: int
     holds: int = 0
-
-
-class Ground(NamedTuple):
-    """The ground's acceleration [m s-2] at samples ``dt`` [s] apart, for the compiled kernel."""
-
-    ax: np.ndarray
-    ay: np.ndarray
-    az: np.ndarray
-    dt: float
-    g: float
 
 
 class Params(NamedTuple):

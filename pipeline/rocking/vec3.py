@@ -5,10 +5,21 @@ the parallel-axis theorem, the cubic Hermite interpolant of a step, the contact'
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ..compiled import jit
+
+
+class Ground(NamedTuple):
+    """The ground's acceleration [m s-2] at samples ``dt`` [s] apart, for the compiled 3D kernels."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    az: np.ndarray
+    dt: float
+    g: float
 
 # Locating a crossing inside a step, named once
 CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
