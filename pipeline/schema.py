@@ -245,7 +245,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                 "that azimuth (both horizontals and the vertical; for both, no run where the record "
                                 "provably leaves it at rest, planes_simulated 0); given_certified: the same box "
                                 "judged in the plane of its width, its other base axis certified never to lift nor "
-                                "slip under the record (then the planar scene is the 3D one)"}),
+                                "slip under the record (the 3D model then follows the same equation)"}),
     "planes_simulated": (("record", "block"), "1", "rocking planes integrated for the scene (-1: not simulated)",
                          {}),
     # the verdict under declared uncertainty ([uncertainty]; pipeline.uncertainty)

@@ -60,7 +60,7 @@ class Orientation(IntEnum):
     axisymmetric = 4          # a cylinder on two horizontals: no plane, the 3D model (the azimuth: where it leant)
     given_3d = 5              # a box with a depth at its azimuth, on two horizontals: the 3D model (where it leant)
     given_certified = 6       # the same box, its other base axis certified never to lift nor slip: the plane of its
-    #                           width, which is then its 3D scene (rocking.box_planar)
+    #                           width, whose equation the 3D model then follows
 
 
 def plane_grid(step_deg: float) -> np.ndarray:

@@ -12,7 +12,7 @@ reversed. A box whose width faces compass azimuth ``B`` has its width axis at ``
 the model's azimuth ``phi`` leans toward the compass azimuth ``A - phi``.
 
 A box whose other base axis is certified never to lift nor slip under the record (:mod:`.box_planar`) is judged by
-its planar scene in the plane of its width, which is then the 3D model's scene (:func:`judge_solid`).
+its planar scene in the plane of its width, whose equation the 3D model then follows (:func:`judge_solid`).
 
 Where a model stops because its base would slide or lift off (not modeled in 3D), the scene has no verdict
 (``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
