@@ -35,8 +35,9 @@ terms), so its least value over an interval is at a sample, and the check is exa
 certificate the 3D model (:mod:`.box3d`) never leaves the edges of the depth axis, never slides, and follows the
 planar equation of the width's plane, which it reduces to (tested to 1e-5 alpha on pulses); the planar run is kept.
 In long trains of impacts with a restitution near 1 the two integrations can still part (5 of 1,100 certified
-draws on the bundled records, none robust to x0.98 and x1.02: docs/validation.md). Only a planar run that stands by pure rocking (or stays at rest) without a guard is certified; an
-overturning, a hand-off to the general contact model or a flagged run go to the 3D model.
+draws on the bundled records, none robust to x0.98 and x1.02: docs/validation.md). Only a planar run that stands by
+pure rocking (or stays at rest) without a guard is certified; an overturning, a hand-off to the general contact
+model or a flagged run go to the 3D model.
 
 References
 ----------
