@@ -172,8 +172,8 @@ def planar_box_scene(h1, h2, vertical, dt_s: float, box: Box, azimuth_deg: float
                      settings: SimulationConfig = SimulationConfig(), g_ms2: float = G, amplitude: float = 1.0,
                      history: bool = False) -> CertifiedScene:
     """The planar scene of a box in the plane of its width on a record's two horizontals and vertical (all scaled by
-    ``amplitude``), and whether its other axis is certified (then the 3D model follows the same equation); no scene where the
-    record lifts the box at rest about a depth edge (:func:`lifts_across_at_rest`)."""
+    ``amplitude``), and whether its other axis is certified (then the 3D model follows the same equation); no scene
+    where the record lifts the box at rest about a depth edge (:func:`lifts_across_at_rest`)."""
     along, across = width_components(h1, h2, azimuth_deg)
     along, across = amplitude * along, amplitude * across
     av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
