@@ -44,7 +44,7 @@ event-demo: $(VENV)/.installed
 test: $(VENV)/.installed-test browser
 	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(planar=False, sampled=False)" \
 	& pid=$$!; \
-	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(cylinders=False, boxes=False)" \
+	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(cylinders=False, boxes=False, scanned=False)" \
 	&& wait $$pid
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not slow and not soak" $(PYTEST_ARGS)
 

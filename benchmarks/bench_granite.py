@@ -1,22 +1,28 @@
-"""The nominal verdicts of two scanned granite rocks against their shake-table tests.
+"""Two scanned granite rocks against their shake-table tests: rockscreen's verdicts and probabilities, scored.
 
 For every test of DATA_DIR (the layout of ``../shared/experiments/granite-pbr``: ``tests.csv``, ``motions/``,
 ``geometry/``) with a table motion: the motion read by rockscreen's table reader and processed by its uncorrected
-chain (mean and trend removed, 5 % taper, 0.05 Hz high-pass), each rock's rocking geometry from its scan
+chain (mean and trend removed, 5 % taper, 0.05 Hz high-pass); each rock's rocking geometry from its scan
 (:mod:`pipeline.shapes.scan`: SP1 from ``SP1.obj``, SP2 from ``final_sp2_1.obj``, the closed mesh of the same
-shape; settled on a flat base), and the two-sided rocking model (:mod:`pipeline.rocking.asymmetric`), nominal,
-no parameter fitted:
+shape; settled on a flat base; :mod:`pipeline.shapes.plane`); the compiled two-sided rocking model
+(:mod:`pipeline.rocking.two_sided`). Every parameter is declared, none fitted to a test:
 
-* the pivots are where each side's static tipping angle puts them (``b = z_G tan(tipping)``: the threshold of
-  quasi-static overturning, which does not depend on a footprint tolerance);
-* restitution: the impact rule's own value (angular momentum about the new pivot); friction is not modelled;
-* the orientation on the table is not recorded: the declared one is the published simulation's (the scans' x axis
-  along the shaking), in both senses (+x and -x: which way the table's positive acceleration pointed is not
-  recorded either), and the y axis is measured beside it.
+* the pivots: the footprint's extreme points within ``--footprint-mm`` (default rockscreen's 2 mm) of the base,
+  or (``--pivots tipping``) where each side's static tipping angle puts them;
+* restitution: the impact rule's own ratio; friction: not modelled (the rocks do not slide in the model);
+* the orientation on the table is not recorded: four poses are taken, the scans' x axis along the shaking (the
+  published simulation's pose) and their y axis, each in both senses (which way the table's positive
+  acceleration pointed is not recorded either). ``overturn_nominal`` is the blank-azimuth verdict (any pose
+  overturns it: the worst orientation of rockscreen's scan); ``p_overturn`` is the probability under a pose drawn
+  at random among the four and rockscreen's default uncertainty (amplitude, sizes, restitution;
+  ``--samples`` draws per pose);
+* the baselines: always "stands"; a logistic curve in ln PGA and ln(PGV/PGA) (``tests.csv``) scored by
+  leave-one-motion-out cross-validation (each motion's tests predicted by a curve fitted without them).
 
-Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``orientation``, ``overturn_nominal``, ``observed``) and
-prints, per rock and orientation, the accuracy and F1 against the observations, with the always-stands baseline.
-The data stays where it is (GPL-3 material: the project ships no copy).
+Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``overturn_nominal``, ``p_overturn``, ``observed``, the
+per-pose verdicts, ``p_logistic_lomo``), ``OUT_DIR/summary.csv`` (accuracy, F1, Brier score, log-loss per rock and
+predictor), ``OUT_DIR/reliability.png`` and ``OUT_DIR/boundary.png``. The data stays where it is (GPL-3
+material: the project ships no copy).
 
 Run: ``python benchmarks/bench_granite.py ../shared/experiments/granite-pbr --out results/granite``.
 """
@@ -27,6 +33,7 @@ import argparse
 import csv
 import math
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -35,25 +42,33 @@ import obspy
 from pipeline.constants import G
 from pipeline.records.processing import apply_steps
 from pipeline.records.settings import ProcessingConfig
-from pipeline.rocking.asymmetric import TwoSided, rock_two_sided
-from pipeline.shapes.scan import pivots, read_scan
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.simulate import step_control
+from pipeline.rocking.two_sided import rock_two_sided_compiled, two_sided_block
+from pipeline.shapes.plane import PivotRule, PlaneBody, plane_body
+from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
+from pipeline.uncertainty.sampling import common_normals
+from pipeline.uncertainty.settings import UncertaintyConfig
+from pipeline.uncertainty.two_sided import plane_draws
 
 SCANS = {"SP1": "SP1.obj", "SP2": "final_sp2_1.obj"}
 #: (label, azimuth of the shaking axis in the scan's settled frame [deg], sense of the table's +x along it)
-ORIENTATIONS = (("x", 0.0, 1.0), ("-x", 0.0, -1.0), ("y", 90.0, 1.0), ("-y", 90.0, -1.0))
+POSES = (("x", 0.0, 1.0), ("-x", 0.0, -1.0), ("y", 90.0, 1.0), ("-y", 90.0, -1.0))
+#: Probabilities are clipped to [P_CLIP, 1 - P_CLIP] in the log-loss only (a p of 0 or 1 that is wrong scores inf)
+P_CLIP = 0.01
+#: Bins of the reliability plot
+BINS = np.array([0.0, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 1.0])
 
 
-def body_of(scan_path: Path, azimuth_deg: float, *, footprint_tol_m: float | None = None) -> TwoSided:
-    """The two-sided body of a scan in the plane at ``azimuth_deg``: its pivots at the static tipping angles, or
-    (``footprint_tol_m``) at the footprint's extreme points within that tolerance of the base."""
-    shape = read_scan(scan_path)
-    piv = pivots(shape, azimuth_deg, footprint_tol_m=footprint_tol_m or 0.002)
-    z = shape.com_height_m
-    phi = math.radians(azimuth_deg)
-    n = np.array([-math.sin(phi), math.cos(phi), 0.0])
-    b_plus, b_minus = ((piv.b_plus_m, piv.b_minus_m) if footprint_tol_m
-                       else (z * math.tan(piv.tipping_plus), z * math.tan(piv.tipping_minus)))
-    return TwoSided(b_plus, b_minus, z, float(n @ shape.inertia_per_mass_m2 @ n))
+def bodies(data: Path, rule: PivotRule, tol_m: float) -> dict[tuple[str, str], PlaneBody]:
+    """Each rock's :class:`PlaneBody` in each pose (a pose of sense -1 is its plane reversed)."""
+    out = {}
+    for rock, scan in SCANS.items():
+        shape = read_scan(data / "geometry" / scan)
+        for label, az, sense in POSES:
+            pb = plane_body(shape, az, rule=rule, footprint_tol_m=tol_m)
+            out[(rock, label)] = pb if sense > 0 else pb.reversed()
+    return out
 
 
 def motion(path: Path) -> tuple[np.ndarray, float]:
@@ -64,63 +79,183 @@ def motion(path: Path) -> tuple[np.ndarray, float]:
     return np.asarray(tr.data, dtype=float), float(tr.stats.delta)
 
 
-def _scores(pred: list[int], obs: list[int]) -> tuple[float, float]:
-    p, o = np.array(pred), np.array(obs)
-    tp, fp, fn = int(np.sum((p == 1) & (o == 1))), int(np.sum((p == 1) & (o == 0))), int(np.sum((p == 0) & (o == 1)))
-    f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else 1.0
-    return float(np.mean(p == o)), f1
-
-
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("data", type=Path)
-    ap.add_argument("--out", type=Path, required=True)
-    ap.add_argument("--limit", type=int, default=0, help="the first N tests only (0: all)")
-    ap.add_argument("--footprint-mm", type=float, default=0.0,
-                    help="pivots at the footprint's extremes within this tolerance [mm] (0: at the static tipping "
-                         "angles, the default)")
-    args = ap.parse_args()
-    tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
-    if args.limit:
-        tests = tests[:args.limit]
-    tol = args.footprint_mm / 1000.0 or None
-    bodies = {(rock, label): body_of(args.data / "geometry" / scan, az, footprint_tol_m=tol)
-              for rock, scan in SCANS.items() for label, az, _sense in ORIENTATIONS}
-    for (rock, label), b in bodies.items():
-        tip = [math.degrees(math.atan2(x, b.com_height_m)) for x in (b.b_plus_m, b.b_minus_m)]
-        print(f"{rock} {label:>2}: tipping {tip[0]:.1f} / {tip[1]:.1f} deg, z_G {1e3 * b.com_height_m:.1f} mm")
-    args.out.mkdir(parents=True, exist_ok=True)
+def _one_test(job) -> list[dict]:
+    """Every rock and pose of one test: the nominal verdict and the draws."""
+    data, test, geo, samples = job
+    ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
+    control = step_control(SimulationConfig())
+    z = common_normals(UncertaintyConfig().seed, samples)
     rows = []
-    t0 = time.perf_counter()
-    for n, test in enumerate(tests, 1):
-        ah, dt = motion(args.data / "motions" / f"{test['test']}.acc.gz")
-        for rock in SCANS:
-            observed = int(test[f"{rock.lower()}_overturned"])
-            for label, _az, sense in ORIENTATIONS:
-                out = rock_two_sided(sense * ah, dt, bodies[(rock, label)], rtol=1e-7, atol_alpha=1e-9)
-                rows.append({"test": test["test"], "rock": rock, "orientation": label,
-                             "overturn_nominal": -1 if out.undecided else int(out.overturned), "observed": observed,
-                             "pga_g": f"{np.max(np.abs(ah)) / G:.4f}"})
-        if n % 10 == 0:
-            print(f"{n}/{len(tests)} tests, {time.perf_counter() - t0:.0f} s", flush=True)
-    with (args.out / "predictions.csv").open("w", newline="") as fh:
+    for rock in SCANS:
+        row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
+               "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
+               "observed": int(test[f"{rock.lower()}_overturned"])}
+        ps, undecided = [], 0
+        for label, _az, _sense in POSES:
+            pb = geo[(rock, label)]
+            out = rock_two_sided_compiled(ah, np.zeros(0), dt, two_sided_block(pb.two_sided()), control, np.zeros(0))
+            row[f"nominal_{label}"] = int(out.overturned)
+            draws = plane_draws(ah, dt, pb, z, settings=UncertaintyConfig())
+            undecided += int(draws.undecided.sum())
+            ps.append(draws.p)
+        row["overturn_nominal"] = max(row[f"nominal_{lab}"] for lab, _a, _s in POSES)
+        row["p_overturn"] = float(np.nanmean(ps))
+        row["undecided_draws"] = undecided
+        rows.append(row)
+    return rows
+
+
+def logistic_lomo(rows: list[dict]) -> np.ndarray:
+    """Leave-one-motion-out predictions of a logistic curve in ln PGA and ln(PGV/PGA) (:func:`_fit`)."""
+    x = np.column_stack([np.ones(len(rows)), np.log([r["pga_g"] for r in rows]),
+                         np.log([r["pgv_pga_s"] for r in rows])])
+    y = np.array([r["observed"] for r in rows], dtype=float)
+    motions = np.array([r["motion_id"] for r in rows])
+    p = np.empty(len(rows))
+    for m in np.unique(motions):
+        held = motions == m
+        w = _fit(x[~held], y[~held])
+        p[held] = 1.0 / (1.0 + np.exp(-x[held] @ w))
+    return p
+
+
+def _fit(x: np.ndarray, y: np.ndarray, *, ridge: float = 1e-6, iterations: int = 50) -> np.ndarray:
+    """Logistic regression by Newton's method (iteratively reweighted least squares) with a tiny ridge, so that
+    a separable training set still has a finite fit."""
+    w = np.zeros(x.shape[1])
+    for _ in range(iterations):
+        p = 1.0 / (1.0 + np.exp(-x @ w))
+        grad = x.T @ (p - y) + ridge * w
+        hess = (x * (p * (1 - p))[:, None]).T @ x + ridge * np.eye(x.shape[1])
+        step = np.linalg.solve(hess, grad)
+        w -= step
+        if np.max(np.abs(step)) < 1e-10:
+            break
+    return w
+
+
+def scores(pred: np.ndarray, p: np.ndarray, obs: np.ndarray) -> dict[str, float]:
+    """Accuracy and F1 of the verdicts; Brier score and log-loss of the probabilities."""
+    tp, fp = int(np.sum((pred == 1) & (obs == 1))), int(np.sum((pred == 1) & (obs == 0)))
+    fn = int(np.sum((pred == 0) & (obs == 1)))
+    pc = np.clip(p, P_CLIP, 1 - P_CLIP)
+    return {"accuracy": float(np.mean(pred == obs)), "f1": 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else 1.0,
+            "brier": float(np.mean((p - obs) ** 2)),
+            "log_loss": float(-np.mean(obs * np.log(pc) + (1 - obs) * np.log(1 - pc))),
+            "false_alarms": fp, "missed": fn}
+
+
+def summary(rows: list[dict]) -> list[dict]:
+    """The scores per rock of every predictor."""
+    out = []
+    for rock in SCANS:
+        sel = [r for r in rows if r["rock"] == rock]
+        obs = np.array([r["observed"] for r in sel])
+        preds = {"always_stands": (np.zeros(len(sel), int), np.zeros(len(sel))),
+                 "logistic_lomo": (np.array([r["p_logistic_lomo"] >= 0.5 for r in sel], int),
+                                   np.array([r["p_logistic_lomo"] for r in sel])),
+                 "rockscreen (worst pose; p over poses)": (np.array([r["overturn_nominal"] for r in sel]),
+                                                           np.array([r["p_overturn"] for r in sel]))}
+        for label, _a, _s in POSES:
+            v = np.array([r[f"nominal_{label}"] for r in sel])
+            preds[f"rockscreen pose {label}"] = (v, v.astype(float))
+        for name, (v, p) in preds.items():
+            out.append({"rock": rock, "predictor": name, "tests": len(sel), "overturned": int(obs.sum()),
+                        **scores(v, p, obs)})
+    return out
+
+
+def plots(rows: list[dict], out: Path) -> None:
+    """The reliability plot and the (PGA, PGV/PGA) boundary, observed against predicted."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
+    for ax, rock in zip(axes, SCANS):
+        sel = [r for r in rows if r["rock"] == rock]
+        obs = np.array([r["observed"] for r in sel])
+        for key, label, marker in (("p_overturn", "rockscreen", "o"), ("p_logistic_lomo", "logistic (LOMO)", "s")):
+            p = np.array([r[key] for r in sel])
+            idx = np.clip(np.digitize(p, BINS[1:-1]), 0, len(BINS) - 2)
+            xs, ys, ns = [], [], []
+            for b in range(len(BINS) - 1):
+                if np.any(idx == b):
+                    xs.append(p[idx == b].mean())
+                    ys.append(obs[idx == b].mean())
+                    ns.append(int(np.sum(idx == b)))
+            ax.plot(xs, ys, marker=marker, label=label)
+            for x, y, n in zip(xs, ys, ns):
+                ax.annotate(str(n), (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
+        ax.plot([0, 1], [0, 1], color="0.6", lw=0.8, ls=":", label="perfect")
+        ax.set(title=f"{rock}: reliability (tests per bin beside each point)", xlabel="predicted p of overturning",
+               ylabel="observed frequency", xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
+        ax.legend(loc="upper left", fontsize=8)
+    fig.savefig(out / "reliability.png", dpi=120)
+    plt.close(fig)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True, sharey=True)
+    for ax, rock in zip(axes, SCANS):
+        sel = [r for r in rows if r["rock"] == rock]
+        for obs_v, pred_v, color, marker, label in (
+                (1, 1, "tab:red", "o", "overturned, predicted"), (1, 0, "tab:red", "x", "overturned, missed"),
+                (0, 0, "tab:blue", "o", "stood, predicted"), (0, 1, "tab:blue", "x", "stood, false alarm")):
+            pts = [(r["pga_g"], r["pgv_pga_s"]) for r in sel if r["observed"] == obs_v
+                   and r["overturn_nominal"] == pred_v]
+            if pts:
+                a = np.array(pts)
+                face = "none" if marker == "o" and obs_v == 0 else color
+                ax.scatter(a[:, 0], a[:, 1], edgecolors=color, facecolors=face, marker=marker, s=18,
+                           label=f"{label} ({len(pts)})")
+        ax.set(xscale="log", yscale="log", title=f"{rock}: observed against rockscreen's worst pose",
+               xlabel="table PGA [g]", ylabel="PGV/PGA [s]")
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, fontsize=8)
+    fig.savefig(out / "boundary.png", dpi=120)
+    plt.close(fig)
+
+
+def _write(path: Path, rows: list[dict]) -> None:
+    with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    for rock in SCANS:
-        obs = [r["observed"] for r in rows if r["rock"] == rock and r["orientation"] == "x"]
-        print(f"{rock}: {len(obs)} tests, overturned {sum(obs)}; always stands: accuracy {1 - np.mean(obs):.3f}")
-        for label, _az, _s in ORIENTATIONS:
-            sel = [r for r in rows if r["rock"] == rock and r["orientation"] == label]
-            acc, f1 = _scores([max(r["overturn_nominal"], 0) for r in sel], [r["observed"] for r in sel])
-            undecided = sum(r["overturn_nominal"] < 0 for r in sel)
-            print(f"  {label:>2}: accuracy {acc:.3f}, F1 {f1:.3f}, undecided {undecided}")
-        for pair in (("x", "-x"), ("y", "-y")):
-            sel = {lab: [r for r in rows if r["rock"] == rock and r["orientation"] == lab] for lab in pair}
-            worst = [max(a["overturn_nominal"], b["overturn_nominal"], 0) for a, b in zip(sel[pair[0]], sel[pair[1]])]
-            acc, f1 = _scores(worst, [r["observed"] for r in sel[pair[0]]])
-            print(f"  either sense of {pair[0]}: accuracy {acc:.3f}, F1 {f1:.3f}")
-    print(f"wrote {args.out / 'predictions.csv'}; {time.perf_counter() - t0:.0f} s")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("data", type=Path)
+    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--limit", type=int, default=0, help="the first N tests only (0: all)")
+    ap.add_argument("--pivots", choices=[r.name for r in PivotRule], default=PivotRule.footprint.name)
+    ap.add_argument("--footprint-mm", type=float, default=FOOTPRINT_TOL_M * 1e3,
+                    help="the footprint's tolerance above the base [mm] (default %(default)s)")
+    ap.add_argument("--samples", type=int, default=UncertaintyConfig().samples, help="draws per pose")
+    ap.add_argument("--jobs", type=int, default=2)
+    args = ap.parse_args()
+    tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
+    tests = tests[:args.limit] if args.limit else tests
+    geo = bodies(args.data, PivotRule[args.pivots], args.footprint_mm / 1e3)
+    for (rock, label), pb in geo.items():
+        tip = [math.degrees(math.atan2(b, pb.com_height_m)) for b in (pb.b_plus_m, pb.b_minus_m)]
+        print(f"{rock} {label:>2}: alpha {tip[0]:.1f} / {tip[1]:.1f} deg, z_G {1e3 * pb.com_height_m:.1f} mm")
+    args.out.mkdir(parents=True, exist_ok=True)
+    rows: list[dict] = []
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        for n, got in enumerate(pool.map(_one_test, [(args.data, t, geo, args.samples) for t in tests]), 1):
+            rows.extend(got)
+            if n % 20 == 0 or n == len(tests):
+                print(f"{n}/{len(tests)} tests, {time.perf_counter() - t0:.0f} s", flush=True)
+    for row, p in zip(rows, logistic_lomo(rows)):
+        row["p_logistic_lomo"] = float(p)
+    _write(args.out / "predictions.csv", rows)
+    table = summary(rows)
+    _write(args.out / "summary.csv", table)
+    plots(rows, args.out)
+    for r in table:
+        print(f"{r['rock']} {r['predictor']:<40} accuracy {r['accuracy']:.3f}  F1 {r['f1']:.3f}  Brier "
+              f"{r['brier']:.3f}  log-loss {r['log_loss']:.3f}  false alarms {r['false_alarms']}  missed {r['missed']}")
+    print(f"undecided draws: {sum(r['undecided_draws'] for r in rows)}; wrote {args.out}; "
+          f"{time.perf_counter() - t0:.0f} s")
 
 
 if __name__ == "__main__":

@@ -34,7 +34,7 @@ log = logging.getLogger(__name__)
 
 REQUIRED = ("id", "height_m", "width_m")
 OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "building", "floor_height_m", "site",
-            "notes", "shape", "depth_m")
+            "notes", "shape", "depth_m", "mesh", "density_kg_m3", "mass_kg")
 #: The values of the ``shape`` column (blank: box)
 SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
@@ -85,6 +85,17 @@ class Inventory:
     kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int8))
     #: a box's base dimension perpendicular to ``width_m`` [m] (NaN: not given); empty: none for any block
     depth_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the settled scan of each block given by a mesh (:class:`~pipeline.shapes.scan.ScannedShape`, None for the
+    #: others); empty: none for any block
+    scans: tuple = ()
+
+    def scan_of(self, j: int):
+        """Block ``j``'s settled scan, or None."""
+        return self.scans[j] if len(self.scans) == len(self) else None
+
+    def scanned(self) -> np.ndarray:
+        """Whether each block is given by its scan."""
+        return self.kinds() == int(ShapeKind.scanned)
 
     def kinds(self) -> np.ndarray:
         """:attr:`kind` aligned with the blocks (box where none is given)."""
@@ -131,7 +142,7 @@ class Inventory:
         """Block ``j`` as the simulator's models read it (:class:`~pipeline.rocking.block.BlockShape`)."""
         return BlockShape(height_m=float(self.height_m[j]), width_m=float(self.width_m[j]), mu=float(self.mu[j]),
                           restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]),
-                          depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])))
+                          depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])), scan=self.scan_of(j))
 
     def shapes(self) -> list[BlockShape]:
         """Every block's :class:`~pipeline.rocking.block.BlockShape`."""
@@ -150,7 +161,8 @@ class Inventory:
                          mu=self.mu[k], azimuth_deg=self.azimuth_deg[k], restitution=self.restitution[k],
                          source=self.source, extra={c: pick(v) for c, v in self.extra.items()},
                          base_margin_m=self.base_margins()[k], building=pick(self.buildings()),
-                         floor_height_m=self.floor_heights()[k], kind=self.kinds()[k], depth_m=self.depths()[k])
+                         floor_height_m=self.floor_heights()[k], kind=self.kinds()[k], depth_m=self.depths()[k],
+                         scans=tuple(self.scan_of(int(i)) for i in k) if len(self.scans) == len(self) else ())
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -178,6 +190,9 @@ class Inventory:
                              self.restitution[j])
             if self.kinds()[j] != ShapeKind.box or not np.isnan(self.depths()[j]):   # a shape or depth enters it
                 fields += (int(self.kinds()[j]), self.depths()[j])
+            scan = self.scan_of(j)
+            if scan is not None:                # a scanned body: its mesh's content
+                fields += (hashlib.sha256(scan.vertices_m.tobytes()).hexdigest(),)
             if self.buildings()[j]:             # a block in a building: its floor enters the computation
                 fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
@@ -237,7 +252,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         log.warning("%s, line 1: column(s) %s are not inventory columns; they are kept and carried to the "
                     "results as given (valid columns: %s; asset columns: %s)", path, unknown,
                     list(REQUIRED + OPTIONAL), list(ASSET_COLUMNS))
-    rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras)}
+    rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras) + ("scan",)}
     seen: dict[str, int] = {}
     implausible: list[str] = []
     for line, where, rec in records:
@@ -253,6 +268,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         seen.setdefault(bid, line)
         rows["id"].append(bid)
         _read_row(rec, where, rows, errors, default_mu=default_mu, extras=extras)
+        _read_mesh(rec, where, path.parent, rows, errors)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
             implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
     if implausible:
@@ -271,6 +287,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         extra={c: tuple(rows[c]) for c in extras}, base_margin_m=np.array(rows["base_margin_m"], dtype=float),
         building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
         kind=np.array(rows["shape"], dtype=np.int8), depth_m=np.array(rows["depth_m"], dtype=float),
+        scans=tuple(rows["scan"]) if any(x is not None for x in rows["scan"]) else (),
     )
 
 
@@ -290,7 +307,9 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
     lo, hi = SIZE_RANGE_M
     size_rule = f"a size in metres between {lo:g} and {hi:g} (full height, full base width)"
     for c in ("height_m", "width_m"):
-        if not rec[c]:
+        if not rec[c] and rec.get("mesh", ""):
+            rows[c].append(math.nan)            # a scanned body's: its equivalent rectangle's (_read_mesh)
+        elif not rec[c]:
             errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
             rows[c].append(1.0)
         else:
@@ -336,3 +355,46 @@ def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str])
     rows["depth_m"].append(math.nan if not depth else _cell(
         errors, where, "depth_m", depth, f"a size in metres between {lo:g} and {hi:g} (the base dimension "
         "perpendicular to width_m; blank: not given)", lambda x: lo <= x <= hi, math.nan))
+
+
+def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], errors: list[str]) -> None:
+    """The ``mesh`` cell (a scan, relative to the inventory's folder) with ``density_kg_m3`` or ``mass_kg``: the
+    settled scan (:func:`pipeline.shapes.scan.read_scan`), the block's kind ``scanned``, its azimuth over 360 deg
+    (its two sides differ) and, where blank, its height and width from its equivalent rectangle."""
+    from .errors import MeshError
+    from .shapes.plane import equivalent_rectangle
+    from .shapes.scan import read_scan
+
+    mesh = rec.get("mesh", "").strip()
+    density = _cell(errors, where, "density_kg_m3", rec["density_kg_m3"], "a density in kg/m3 > 0 (blank: none)",
+                    lambda x: x > 0, math.nan) if rec.get("density_kg_m3", "") else math.nan
+    mass = _cell(errors, where, "mass_kg", rec["mass_kg"], "a mass in kg > 0 (blank: none)",
+                 lambda x: x > 0, math.nan) if rec.get("mass_kg", "") else math.nan
+    rows["density_kg_m3"].append(density)
+    rows["mass_kg"].append(mass)
+    rows["scan"].append(None)
+    if not mesh:
+        if math.isfinite(density) or math.isfinite(mass):
+            log.warning("%s: density_kg_m3 or mass_kg without a mesh is not used (it gives a scanned body's mass)",
+                        where)
+        return
+    if rec.get("shape", "").strip() or rec.get("depth_m", ""):
+        errors.append(f"{where}, column 'mesh': {mesh!r} with a shape or depth_m; a mesh gives the body's own shape: "
+                      "leave shape and depth_m blank")
+        return
+    try:
+        scan = read_scan(Path(mesh) if Path(mesh).is_absolute() else folder / mesh, density_kg_m3=density,
+                         mass_kg=mass)
+    except MeshError as exc:
+        errors.append(f"{where}, column 'mesh': {exc}")
+        return
+    rows["scan"][-1] = scan
+    rows["shape"][-1] = int(ShapeKind.scanned)
+    az = rec.get("azimuth_deg", "")
+    if az and math.isfinite(rows["azimuth_deg"][-1]):
+        rows["azimuth_deg"][-1] = parse_number(az, where=where, column="azimuth_deg", rule="",
+                                               ok=lambda x: True) % 360.0
+    height, width = equivalent_rectangle(scan)
+    for c, v in (("height_m", height), ("width_m", width)):
+        if math.isnan(rows[c][-1]):
+            rows[c][-1] = v

@@ -246,8 +246,9 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
               "screening.nc; tie_hold: held at rest at a tie, stalled or step_cap: ended with the verdict of the "
-              "state reached; model_limit: a 3D model stopped where the base would slide or lift off, "
-              "no verdict): " + "; ".join(guarded[:10]) + ("; ..." if len(guarded) > 10 else ""),
+              "state reached; model_limit: a 3D model stopped where the base would slide or lift off, or a "
+              "scanned body's model met what it does not follow, no verdict): " + "; ".join(guarded[:10])
+              + ("; ..." if len(guarded) > 10 else ""),
               file=sys.stderr)
     for line in filter(None, s.get("buildings", "").split("\n")):
         print(f"building {line} (floor motion: Miranda & Taghavi 2005)", file=sys.stderr)
@@ -257,7 +258,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     flights = s.get("free_flight_scenes", 0)
     if flights:
         print(f"free flight: {flights} scene(s) where the ground's g + a_v reached 0 "
-              "before any overturning have no verdict (response free_flight; simulation.contact_model is off)",
+              "before any overturning have no verdict (response free_flight: with simulation.contact_model off, or "
+              "a body given by its scan, whose two-sided model does not follow a flight)",
               file=sys.stderr)
 
     if s.get("not_records"):
@@ -326,11 +328,12 @@ def _say(message: str) -> None:
 def _compile_simulator(args: argparse.Namespace, inventory) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
     first run of an install); the 3D models' kernels too where the inventory has a cylinder, or a box with a depth
-    and an azimuth."""
+    and an azimuth, and the two-sided one where it has a body given by its scan."""
     from .run.stages import compile_simulator
 
     compile_simulator(announce=None if getattr(args, "quiet", False) else _say,
-                      cylinders=bool(inventory.cylinders().any()), boxes=bool(inventory.boxes_in_3d().any()))
+                      cylinders=bool(inventory.cylinders().any()), boxes=bool(inventory.boxes_in_3d().any()),
+                      scanned=bool(inventory.scanned().any()))
 
 
 def _run_exit(records_failed: int, args: argparse.Namespace) -> int:

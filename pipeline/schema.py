@@ -177,7 +177,10 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                             "(slide, slide-rock, free flight, impacts) decided the verdict; wobbling: a cylinder "
                             "on two horizontals, rocking and rolling on its rim in 3D (orientation axisymmetric); "
                             "rocking3d: a box with a depth and an azimuth on two horizontals of known azimuth, on "
-                            "an edge or a corner in 3D (governing_azimuth: where it leant)"}),
+                            "an edge or a corner in 3D (governing_azimuth: where it leant); two_sided: a body given "
+                            "by its scan (inventory mesh), rocking in a vertical plane on pivots of its own on each "
+                            "side (governing_azimuth: the record's compass direction, over 360 deg; no sliding, no "
+                            "flight)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "
@@ -198,7 +201,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                      "step_cap: ended there, the verdict from the state reached (the energy of its "
                                      "free rocking); tail_cap: motion after the record followed to its cap; "
                                      "model_limit: a 3D model (a cylinder, a box in 3D) stopped where its base "
-                                     "would slide or lift off (not modeled in 3D): no verdict. "
+                                     "would slide or lift off (not modeled in 3D), or a scanned body's two-sided "
+                                     "model met a ground flight or its caps: no verdict. "
                                      "The orientation scan ORs the planes simulated"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,

@@ -30,6 +30,12 @@ def compiled_simulator() -> float:
 
 
 @pytest.fixture(scope="session")
+def scans_dir() -> Path:
+    """The example scans shipped with the project (``examples/scans``)."""
+    return PROJECT / "examples" / "scans"
+
+
+@pytest.fixture(scope="session")
 def data_dir() -> Path:
     """Small test-only data."""
     return DATA

@@ -18,6 +18,7 @@ PER_SCENE = set(schema.PULSE_BLOCK_VARS + schema.SIMULATION_VARS + schema.PROBAB
 HOMONYMS = {
     ("rocking/kernel.py", "theta_max"): "a field of the rocking kernel's progress record",
     ("rocking/kernel.py", "n_impacts"): "a field of the rocking kernel's progress record",
+    ("rocking/two_sided.py", "n_impacts"): "a field of the two-sided kernel's progress record",
     ("rocking/contact.py", "theta_max"): "a field of the contact model's motion record",
     ("rocking/contact.py", "n_impacts"): "a field of the contact model's motion record",
     ("uncertainty/hazard_files.py", "response"): "a key of the USGS hazard service's JSON",

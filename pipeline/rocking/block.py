@@ -20,8 +20,9 @@ Housner, G. W. (1963). The behavior of inverted pendulum structures during earth
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import IntEnum
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -30,12 +31,16 @@ from ..constants import G
 from .geometry import effective_restitution, geometry
 from .structures import RigidBlock
 
+if TYPE_CHECKING:
+    from ..shapes.scan import ScannedShape
+
 
 class ShapeKind(IntEnum):
     """The kind of body a block is."""
 
     box = 0             # a rectangular block; planar models take it as infinitely deep in its rocking plane
     cylinder = 1        # a solid cylinder standing on its base (width: the diameter); 3D on two horizontals
+    scanned = 2         # a body given by its scan (inventory column ``mesh``): planar, two-sided (rocking.scanned)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -57,6 +62,9 @@ class BlockShape:
         infinitely deep).
     kind : ShapeKind
         The kind of body.
+    scan : ScannedShape or None
+        The settled scan of a ``scanned`` body (its height and width are then its equivalent rectangle's:
+        :func:`pipeline.shapes.plane.equivalent_rectangle`).
     """
 
     height_m: float
@@ -66,6 +74,7 @@ class BlockShape:
     azimuth_deg: float = math.nan
     depth_m: float = math.nan
     kind: ShapeKind = ShapeKind.box
+    scan: ScannedShape | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, kw_only=True)

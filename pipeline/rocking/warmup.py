@@ -16,12 +16,14 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
+from .asymmetric import TwoSided
 from .box3d import Box, simulate_box
 from .cylinder3d import Cylinder, simulate_cylinder
 from .models import MODELS
 from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
 from .simulate import step_control
+from .two_sided import rock_two_sided_fast
 
 #: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
 #: lines while it goes on.
@@ -30,7 +32,7 @@ REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders: bool = True,
-                    boxes: bool = True, planar: bool = True, sampled: bool = True) -> float:
+                    boxes: bool = True, planar: bool = True, sampled: bool = True, scanned: bool = True) -> float:
     """Call every compiled kernel once on a tiny scene; return the seconds it took.
 
     Parameters
@@ -46,6 +48,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     planar, sampled : bool
         Compile the planar models' kernels, and the sampled kernels of the probabilities (False: leave them to
         another process compiling beside this one; the kernels are cached on disk one function each).
+    scanned : bool
+        Compile the two-sided kernel of bodies given by their scans (:mod:`.two_sided`).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -76,6 +80,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
                                                                 restitution=0.8))
         if boxes:               # the 3D box (a tiny scene that lifts it onto a corner)
             simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
+        if scanned:             # the two-sided kernel, with and without a vertical (a scene that lifts it)
+            for vertical in (None, 0.1 * a):
+                rock_two_sided_fast(a, 0.01, TwoSided(0.05, 0.08, 0.5, 0.02), av=vertical)
     finally:
         done.set()
         timer.join()

@@ -54,6 +54,7 @@ from ..scene_table import SCENE, SceneColumns
 from ..store import Family, OutputLock, publish_staged, write_csv_atomic, write_text_atomic
 from .bench_solids import solid_rows
 from .margins import overturn_scale_simulated
+from .scanned import governing_scale
 from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated",
@@ -424,6 +425,10 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
             rec = scenes[i].record
             plane = ref.governing_azimuth[i, j]
             plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
+            if inventory.scanned()[j]:                          # a body given by its scan: two-sided
+                out.append(governing_scale(rec, inventory.shape(j), plane, settings=settings,
+                                           g_ms2=config.records.g_ms2)[0])
+                continue
             out.append(overturn_scale_simulated(rec.along(plane), rec.vertical_ms2,
                                                 rec.dt_s, settings=settings, block=rocking_blocks[j])[0])
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)

@@ -6,7 +6,8 @@ optionally, the azimuth it fell towards), find the idealized pulses
 
 * by the paper's criterion (closed form, Eqs. 1, 5, 7 and the sliding line
   a_p <= mu g): a block overturns where a_p >= max(v_crit / (beta t_p), g tan alpha);
-* by the nonlinear rocking simulation of the idealized pulse at every grid point.
+* by the nonlinear rocking simulation of the idealized pulse at every grid point (a body given by its scan: the
+  two-sided model in its weakest plane, the pulse in either sense; the criterion takes its equivalent rectangle).
 
 The pulse acts along an axis at azimuth phi. A block with a rocking plane
 (``azimuth_deg`` in the inventory) feels a_p |cos(phi - plane)|; a block free
@@ -157,12 +158,27 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
                 for q in range(azimuths.size):
                     amp = float(a * felt[j, q])
                     key = (k, round(amp, 12))
-                    if key not in memo:
+                    if key not in memo and inv.scanned()[j]:       # its weakest plane, the pulse either way
+                        memo[key] = any(_scanned_overturns(inv.shape(j), sense * amp * unit, dt, settings=settings,
+                                                           g_ms2=config.records.g_ms2) for sense in (1.0, -1.0))
+                        runs += 2
+                    elif key not in memo:
                         memo[key] = simulate_scene(amp * unit, None, dt, block=rocking_blocks[j],
                                                    settings=settings).overturned
                         runs += 1
                     out[j, q, k, m] = memo[key]
     return out, runs
+
+
+def _scanned_overturns(shape, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
+    """A body given by its scan, its weakest plane facing the pulse (:func:`pipeline.shapes.plane.weakest_plane`),
+    by the two-sided model (:mod:`pipeline.rocking.scanned`)."""
+    from ..rocking.scanned import plane_scene
+    from ..shapes.plane import plane_body, weakest_plane
+
+    body = plane_body(shape.scan, weakest_plane(shape.scan))
+    return plane_scene(ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu, settings=settings,
+                       g_ms2=g_ms2).overturned
 
 
 def _fall_ok(obs: Observations, azimuths: np.ndarray, tolerance_deg: float) -> np.ndarray:

@@ -220,6 +220,8 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     failure policy (:class:`~pipeline.run.engine.Guarded`): a record that cannot be loaded again comes back as
     its failure.
     """
+    from .scanned import scanned_margins
+
     source, blocks = item
     cfg = ctx.config
     rec = ctx.load(source)
@@ -231,6 +233,10 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     out = {}
     for block_id, direction, overturned, want_history in blocks:
         on = motions.of_block(index[block_id])
+        if inv.scanned()[index[block_id]]:                              # two-sided, in its governing plane
+            out[block_id] = scanned_margins(on, inv.shape(index[block_id]), float(direction), cfg, settings,
+                                            overturned=overturned, want_history=want_history)
+            continue
         solid = None if on.single_component else solid_of(inv.shape(index[block_id]), record_azimuth_deg=float(
             on.azimuths_deg[0]), known_azimuth=bool(on.azimuth_known))
         if solid is not None:                                           # the 3D model, as its scene was judged

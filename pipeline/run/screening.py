@@ -64,6 +64,7 @@ from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion, motion, scene_probability
 from ..uncertainty.solids import solid_probability
 from .engine import as_failure, task_failure
+from .scanned import scanned_scene
 
 log = logging.getLogger(__name__)
 
@@ -302,6 +303,14 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
     for j in np.flatnonzero(mask):
         ctx.progress.scene(str(inv.ids[j]))
         t_scene = time.perf_counter()
+        if inv.scanned()[j]:                                    # a body given by its scan: two-sided, planar
+            res, orient, how = scanned_scene(rec, base, z, inv.shape(int(j)), direction_deg=float(directions[j]),
+                                             grid_deg=grid, cfg=cfg, settings=settings)
+            scene_values(out, int(j), res, how, orient)
+            ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
+                                    detail=lambda res=res: f"scanned body, {res.planes_simulated} planes, governing "
+                                                           f"{res.azimuth_deg:.0f} deg")
+            continue
         solid = None if rec.single_component else solid_of(inv.shape(int(j)), record_azimuth_deg=float(
             rec.azimuths_deg[0]), known_azimuth=bool(rec.azimuth_known))
         if solid is not None:                                   # 3D: a cylinder, or a box at its azimuth

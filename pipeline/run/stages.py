@@ -141,13 +141,13 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
-def compile_simulator(*, announce=None, cylinders: bool = False, boxes: bool = False) -> float:
+def compile_simulator(*, announce=None, cylinders: bool = False, boxes: bool = False, scanned: bool = False) -> float:
     """Compile the simulator in this process before any worker needs it (:func:`pipeline.rocking.warmup
-    .compile_kernels`, the 3D cylinder's kernel with ``cylinders``, the 3D box's with ``boxes``; ``announce`` is told
-    when it takes a while: the first run of an install); seconds taken."""
+    .compile_kernels`, the 3D cylinder's kernel with ``cylinders``, the 3D box's with ``boxes``, the two-sided one
+    with ``scanned``; ``announce`` is told when it takes a while: the first run of an install); seconds taken."""
     from ..rocking.warmup import compile_kernels
 
-    return compile_kernels(announce=announce, cylinders=cylinders, boxes=boxes)
+    return compile_kernels(announce=announce, cylinders=cylinders, boxes=boxes, scanned=scanned)
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:

@@ -1,0 +1,129 @@
+"""A scanned body's scene on one record, as the screening stores it: its nominal scene in the worst of its planes
+(:mod:`pipeline.rocking.scanned`), its probabilities (:func:`pipeline.uncertainty.two_sided.scanned_probability`)
+and how its plane was chosen; and its margins on its governing record (:func:`scanned_margins`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..config import Config
+from ..records.record import Record
+from ..risk import RELOCATE_BELOW_SCALE
+from ..rocking.block import BlockShape
+from ..rocking.orientation import Orientation, PlaneResult
+from ..rocking.scanned import ScannedPlane, along, plane_scene, scene_planes, worst_scanned
+from ..rocking.settings import SimulationConfig
+from ..shapes.plane import plane_body, weakest_plane
+from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability
+from ..uncertainty.sampling import common_normals, lognormal_factor
+from ..uncertainty.scenes import SceneMotion
+from ..uncertainty.two_sided import scanned_probability
+
+
+def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, shape: BlockShape, *,
+                  direction_deg: float, grid_deg: np.ndarray, cfg: Config, settings: SimulationConfig
+                  ) -> tuple[PlaneResult, OrientationProbability, Orientation]:
+    """The scene of a scanned body on ``rec``: the worst of its planes, its probabilities (None ``z``: nominal
+    only) and its orientation code (given, scanned, scanned_relative or single_component)."""
+    given = rec.azimuth_known and math.isfinite(shape.azimuth_deg)
+    planes = scene_planes(shape, direction_deg=direction_deg, grid_deg=grid_deg, single_component=rec.single_component,
+                          azimuth_known=bool(rec.azimuth_known))
+    res, governing = worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape,
+                                   planes, settings=settings, g_ms2=cfg.records.g_ms2)
+    code = (Orientation.single_component if rec.single_component else Orientation.given if given
+            else Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative)
+    if base is None or z is None:
+        return res, NOT_EVALUATED_ORIENTATION, code
+    blank = code in (Orientation.scanned, Orientation.scanned_relative)
+    worst, random = scanned_probability(base, z, shape, governing=governing, planes=planes if blank else None,
+                                        settings=cfg.uncertainty, simulation=settings, g_ms2=cfg.records.g_ms2)
+    if not blank:
+        random = worst
+    return res, OrientationProbability(worst, res.azimuth_deg, random.p, random.low, random.high,
+                                       worst.simulations + (random.simulations if blank else 0)), code
+
+
+def _governing_planes(rec, shape: BlockShape, record_deg: float) -> list[ScannedPlane]:
+    """The plane(s) of a scanned scene whose record direction is ``record_deg`` (one horizontal: both senses)."""
+    assert shape.scan is not None
+    if rec.single_component:
+        weak = weakest_plane(shape.scan)
+        return [ScannedPlane(record_deg, 1.0, weak), ScannedPlane(record_deg, -1.0, weak)]
+    if rec.azimuth_known and math.isfinite(shape.azimuth_deg):
+        return [ScannedPlane(record_deg, 1.0, (shape.azimuth_deg - record_deg) % 360.0)]
+    return [ScannedPlane(record_deg, 1.0, weakest_plane(shape.scan))]
+
+
+def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: SimulationConfig, g_ms2: float,
+                  overturns_at_one: bool | None = None, amplitude: float = 1.0, width_factor: float = 1.0,
+                  height_factor: float = 1.0, restitution_scale: float = 1.0) -> tuple[float, int]:
+    """The simulated margin of a scanned scene in one plane (:func:`~.margins.scale_scan`, from the factor at which
+    the record could first lift the body toward its weaker side), for the record scaled by ``amplitude`` and the
+    body by a draw's factors."""
+    from .margins import scale_scan  # margins imports the screening, which imports this module
+
+    assert shape.scan is not None
+    body = plane_body(shape.scan, plane.body_deg)
+    two = body.two_sided(width_factor=width_factor, height_factor=height_factor)
+    ah = amplitude * along(rec.horizontal_ms2, float(rec.azimuths_deg[0]), plane)
+    av = None if rec.vertical_ms2 is None else amplitude * rec.vertical_ms2
+    tan_a = math.tan(min(two.side(1.0)[0], two.side(-1.0)[0]))
+    lift = np.abs(ah) - (av * tan_a if av is not None else 0.0)
+    if not np.any(lift > 0):
+        return math.inf, 0
+    first = float(np.min(g_ms2 * tan_a / lift[lift > 0]))
+
+    def verdict_at(factor: float) -> int:
+        return plane_scene(factor * ah, None if av is None else factor * av, rec.dt_s, body,
+                           restitution=shape.restitution, mu=shape.mu, settings=settings, g_ms2=g_ms2,
+                           width_factor=width_factor, height_factor=height_factor,
+                           restitution_scale=restitution_scale).verdict
+
+    return scale_scan(first, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+
+
+def governing_scale(rec, shape: BlockShape, record_deg: float, *, settings: SimulationConfig, g_ms2: float,
+                    overturned: bool | None = None) -> tuple[float, int, ScannedPlane]:
+    """The simulated margin of a scanned scene whose record direction is ``record_deg`` (:func:`scanned_scale`; one
+    horizontal: the smaller of its two senses): (margin, runs, the plane it is for)."""
+    planes = _governing_planes(rec, shape, record_deg)
+    runs, scale, governing = 0, math.inf, planes[0]
+    for pl in planes:
+        s, r = scanned_scale(rec, shape, pl, settings=settings, g_ms2=g_ms2,
+                             overturns_at_one=overturned if len(planes) == 1 else None)
+        runs += r
+        if s < scale or (math.isnan(s) and not math.isnan(scale)):
+            scale, governing = s, pl
+    return scale, runs, governing
+
+
+def scanned_margins(rec, shape: BlockShape, record_deg: float, cfg: Config, settings: SimulationConfig, *,
+                    overturned: bool, want_history: bool) -> tuple:
+    """A scanned body's margin task on its governing record (as :func:`~.margins.margin_task` returns it): the
+    margin in its governing plane (the smaller of the two senses of one horizontal), its history when at risk, and
+    the sampled margins (each draw's own scan, as factors on the nominal record)."""
+    assert shape.scan is not None
+    g = cfg.records.g_ms2
+    scale, runs, governing = governing_scale(rec, shape, record_deg, settings=settings, g_ms2=g,
+                                             overturned=overturned)
+    history = None
+    if want_history or scale <= RELOCATE_BELOW_SCALE:
+        sc = plane_scene(along(rec.horizontal_ms2, float(rec.azimuths_deg[0]), governing), rec.vertical_ms2, rec.dt_s,
+                         plane_body(shape.scan, governing.body_deg), restitution=shape.restitution, mu=shape.mu,
+                         settings=settings, g_ms2=g, history=True)
+        history = sc.theta_over_alpha if sc.theta_max > 0 else None
+    n = cfg.uncertainty.margin_samples if cfg.sampling else 0
+    sampled = np.full(max(n, 0), np.nan)
+    if n > 0:
+        unc = cfg.uncertainty
+        z = common_normals(unc.seed, n)
+        for k in range(n):
+            eps = float(lognormal_factor(z[k, 0], unc.amplitude_cov))
+            s_k, r = scanned_scale(rec, shape, governing, settings=settings, g_ms2=g, amplitude=eps,
+                                   width_factor=float(lognormal_factor(z[k, 4], unc.size_cov)),
+                                   height_factor=float(lognormal_factor(z[k, 3], unc.size_cov)),
+                                   restitution_scale=float(lognormal_factor(z[k, 1], unc.restitution_cov)))
+            sampled[k], runs = s_k * eps, runs + r
+    return scale, runs, history, rec.dt_s, sampled

@@ -1,0 +1,132 @@
+"""The probability of overturning of a two-sided body (a scanned rock or statue) in one rocking plane: each draw
+of the declared uncertainty (:class:`~.settings.UncertaintyConfig`: the amplitude, the height and the width,
+the restitution) is one run of the compiled two-sided model (:mod:`pipeline.rocking.two_sided`), with the same
+common random numbers (:func:`~.sampling.common_normals`) as every other scene. The friction coefficient is not
+drawn: the two-sided model does not slide (it records the friction demand).
+
+A draw the model cannot decide (the ground falling faster than gravity, the step budget, the free motion after
+the record outlasting its cap) has no verdict and is counted apart.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..constants import G
+from ..rocking.block import BlockShape
+from ..rocking.codes import Verdict
+from ..rocking.scanned import ScannedPlane, along, plane_scene
+from ..rocking.settings import SimulationConfig
+from ..shapes.plane import PlaneBody, plane_body
+from .sampling import lognormal_factor
+from .scenes import NOT_EVALUATED, Probability, SceneMotion, sample_until_decided
+from .settings import UncertaintyConfig
+
+
+class PlaneDraws(NamedTuple):
+    """The draws of one plane.
+
+    Attributes
+    ----------
+    overturned : ndarray of bool
+    undecided : ndarray of bool
+        No verdict (see the module).
+    """
+
+    overturned: np.ndarray
+    undecided: np.ndarray
+
+    @property
+    def p(self) -> float:
+        """Overturned among the draws with a verdict [-] (NaN: none has one)."""
+        n = int(np.sum(~self.undecided))
+        return float(np.sum(self.overturned & ~self.undecided) / n) if n else float("nan")
+
+
+def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneBody, z: np.ndarray, *, settings: UncertaintyConfig,
+                simulation: SimulationConfig = SimulationConfig(), av_ms2: np.ndarray | None = None,
+                restitution: float = math.nan, g_ms2: float = G) -> PlaneDraws:
+    """Run every draw of ``z`` (rows of :func:`~.sampling.common_normals`) of ``body`` under the record, in one
+    plane (:func:`pipeline.rocking.scanned.plane_scene`).
+
+    Parameters
+    ----------
+    ah_ms2 : ndarray
+        Ground acceleration along the plane's + side [m s-2].
+    dt_s : float
+        Sampling interval [s].
+    body : PlaneBody
+    z : ndarray, shape (n, 6)
+    settings : UncertaintyConfig
+        The spreads.
+    simulation : SimulationConfig
+        The simulator's tolerances.
+    av_ms2 : ndarray, optional
+        Vertical, up positive [m s-2].
+    restitution : float
+        The declared restitution (NaN: the impact rule's own) [-].
+    """
+    over, undecided = np.zeros(len(z), dtype=bool), np.zeros(len(z), dtype=bool)
+    for k in range(len(z)):
+        amp = float(lognormal_factor(z[k, 0], settings.amplitude_cov))
+        sc = plane_scene(amp * np.asarray(ah_ms2, dtype=float), None if av_ms2 is None else amp * av_ms2, dt_s, body,
+                         restitution=restitution, mu=math.inf, settings=simulation, g_ms2=g_ms2,
+                         width_factor=float(lognormal_factor(z[k, 4], settings.size_cov)),
+                         height_factor=float(lognormal_factor(z[k, 3], settings.size_cov)),
+                         restitution_scale=float(lognormal_factor(z[k, 1], settings.restitution_cov)))
+        over[k], undecided[k] = sc.overturned, sc.verdict < 0
+    return PlaneDraws(over, undecided)
+
+
+def _uniform(z: np.ndarray) -> np.ndarray:
+    """Standard normal draws mapped to uniform ones on [0, 1) (the normal distribution function)."""
+    from scipy.special import ndtr
+
+    return np.minimum(ndtr(z), np.nextafter(1.0, 0.0))
+
+
+def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, governing: ScannedPlane,
+                        planes: list[ScannedPlane] | None, settings: UncertaintyConfig,
+                        simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G
+                        ) -> tuple[Probability, Probability]:
+    """The probabilities of a scanned body's scene (:mod:`pipeline.rocking.scanned`): in its governing plane, each
+    draw's amplitude, sizes and restitution (and, for a given azimuth on two horizontals, the azimuth's scatter on
+    the record's plane, the body's plane kept); and, where its orientation is unknown (``planes``: the scanned
+    ones), each draw in one of them drawn at random (uniform, from the draw's azimuth number). Both with the
+    sampling and stopping rule of every other scene (:func:`~.scenes.sample_until_decided`). Returns (worst,
+    random); random is NOT_EVALUATED without ``planes``."""
+    scan = shape.scan
+    assert scan is not None
+    h = np.vstack([m.h1, m.h2]) if not m.single else m.h1[None, :]
+    av = m.vertical if m.vertical.size else None
+    scatter = not m.single and planes is None and math.isfinite(shape.azimuth_deg)
+
+    def judge_in(pick):
+        def judge(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
+            for k in range(sl.start, sl.stop):
+                pl = pick(k)
+                amp = float(lognormal_factor(z[k, 0], settings.amplitude_cov))
+                sc = plane_scene(amp * along(h, m.azimuth0_deg, pl), None if av is None else amp * av, m.dt_s,
+                                 plane_body(scan, pl.body_deg), restitution=shape.restitution, mu=shape.mu,
+                                 settings=simulation, g_ms2=g_ms2,
+                                 width_factor=float(lognormal_factor(z[k, 4], settings.size_cov)),
+                                 height_factor=float(lognormal_factor(z[k, 3], settings.size_cov)),
+                                 restitution_scale=float(lognormal_factor(z[k, 1], settings.restitution_cov)))
+                verdicts[k] = (Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0
+                               else Verdict.stands)
+                runs[k] = 1
+        return judge
+
+    def in_governing(k: int) -> ScannedPlane:
+        if scatter:
+            return governing._replace(record_deg=(governing.record_deg + settings.azimuth_sd_deg * z[k, 5]) % 360.0)
+        return governing
+
+    worst = sample_until_decided(len(z), judge_in(in_governing), settings=settings)
+    if planes is None:
+        return worst, NOT_EVALUATED
+    idx = (_uniform(z[:, 5]) * len(planes)).astype(int)
+    return worst, sample_until_decided(len(z), judge_in(lambda k: planes[int(idx[k])]), settings=settings)
