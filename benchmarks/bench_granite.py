@@ -20,9 +20,10 @@ shape; settled on a flat base; :mod:`pipeline.shapes.plane`); the compiled two-s
   leave-one-motion-out cross-validation (each motion's tests predicted by a curve fitted without them).
 
 Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``overturn_nominal``, ``p_overturn``, ``observed``, the
-per-pose verdicts, ``p_logistic_lomo``), ``OUT_DIR/summary.csv`` (accuracy, F1, Brier score, log-loss per rock and
-predictor), ``OUT_DIR/reliability.png`` and ``OUT_DIR/boundary.png``. The data stays where it is (GPL-3
-material: the project ships no copy).
+per-pose verdicts, ``p_logistic_lomo``, and ``why`` for each wrong verdict: below uplift at every pose, lifted but
+never overturned, or overturned by some draws only; a false alarm), ``OUT_DIR/summary.csv`` (accuracy, F1, Brier
+score, log-loss per rock and predictor), ``OUT_DIR/reliability.png`` and ``OUT_DIR/boundary.png``. The data stays
+where it is (GPL-3 material: the project ships no copy).
 
 Run: ``python benchmarks/bench_granite.py ../shared/experiments/granite-pbr --out results/granite``.
 """
@@ -101,8 +102,25 @@ def _one_test(job) -> list[dict]:
         row["overturn_nominal"] = max(row[f"nominal_{lab}"] for lab, _a, _s in POSES)
         row["p_overturn"] = float(np.nanmean(ps))
         row["undecided_draws"] = undecided
+        row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
+        row["uplift_pga_g"] = min(min(pb.b_plus_m, pb.b_minus_m) / pb.com_height_m
+                                  for (r, _lab), pb in geo.items() if r == rock)
+        row["why"] = why(row)
         rows.append(row)
     return rows
+
+
+def why(row: dict) -> str:
+    """What a wrong verdict of the worst pose is, measured: a missed overturning the table could not even lift at any
+    pose (its peak below the smallest g tan alpha: the pivots or the base's rolling are not the rock's); one it lifted
+    but no pose and no draw overturned; one only some draws overturned (a sensitive scene); a false alarm."""
+    if row["overturn_nominal"] == row["observed"]:
+        return ""
+    if row["observed"] == 0:
+        return "false alarm"
+    if row["table_pga_g"] <= row["uplift_pga_g"]:
+        return "missed: below uplift at every pose"
+    return "missed: some draws overturn" if row["p_overturn"] > 0 else "missed: lifts, no pose or draw overturns"
 
 
 def logistic_lomo(rows: list[dict]) -> np.ndarray:
@@ -190,7 +208,7 @@ def plots(rows: list[dict], out: Path) -> None:
         ax.plot([0, 1], [0, 1], color="0.6", lw=0.8, ls=":", label="perfect")
         ax.set(title=f"{rock}: reliability (tests per bin beside each point)", xlabel="predicted p of overturning",
                ylabel="observed frequency", xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
-        ax.legend(loc="upper left", fontsize=8)
+        ax.legend(loc="lower right", fontsize=8)
     fig.savefig(out / "reliability.png", dpi=120)
     plt.close(fig)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True, sharey=True)
@@ -203,11 +221,13 @@ def plots(rows: list[dict], out: Path) -> None:
                    and r["overturn_nominal"] == pred_v]
             if pts:
                 a = np.array(pts)
-                face = "none" if marker == "o" and obs_v == 0 else color
-                ax.scatter(a[:, 0], a[:, 1], edgecolors=color, facecolors=face, marker=marker, s=18,
-                           label=f"{label} ({len(pts)})")
+                if marker == "x":
+                    ax.scatter(a[:, 0], a[:, 1], c=color, marker=marker, s=18, label=f"{label} ({len(pts)})")
+                else:                           # stood: open circles, overturned: filled
+                    ax.scatter(a[:, 0], a[:, 1], edgecolors=color, facecolors="none" if obs_v == 0 else color,
+                               marker=marker, s=18, label=f"{label} ({len(pts)})")
         ax.set(xscale="log", yscale="log", title=f"{rock}: observed against rockscreen's worst pose",
-               xlabel="table PGA [g]", ylabel="PGV/PGA [s]")
+               xlabel="PGA as tests.csv gives it [g]", ylabel="PGV/PGA as tests.csv gives it [s]")
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, fontsize=8)
     fig.savefig(out / "boundary.png", dpi=120)
     plt.close(fig)
@@ -251,6 +271,12 @@ def main() -> None:
     table = summary(rows)
     _write(args.out / "summary.csv", table)
     plots(rows, args.out)
+    for rock in SCANS:
+        kinds: dict[str, int] = {}
+        for r in rows:
+            if r["rock"] == rock and r["why"]:
+                kinds[r["why"]] = kinds.get(r["why"], 0) + 1
+        print(f"{rock} wrong verdicts (worst pose): " + ", ".join(f"{k} {v}" for k, v in sorted(kinds.items())))
     for r in table:
         print(f"{r['rock']} {r['predictor']:<40} accuracy {r['accuracy']:.3f}  F1 {r['f1']:.3f}  Brier "
               f"{r['brier']:.3f}  log-loss {r['log_loss']:.3f}  false alarms {r['false_alarms']}  missed {r['missed']}")

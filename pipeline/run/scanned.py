@@ -17,9 +17,9 @@ from ..rocking.scanned import ScannedPlane, along, plane_scene, scene_planes, wo
 from ..rocking.settings import SimulationConfig
 from ..shapes.plane import plane_body, weakest_plane
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability
-from ..uncertainty.sampling import common_normals, lognormal_factor
+from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
-from ..uncertainty.two_sided import scanned_probability
+from ..uncertainty.two_sided import draw_factors, scanned_probability
 
 
 def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, shape: BlockShape, *,
@@ -120,10 +120,8 @@ def scanned_margins(rec, shape: BlockShape, record_deg: float, cfg: Config, sett
         unc = cfg.uncertainty
         z = common_normals(unc.seed, n)
         for k in range(n):
-            eps = float(lognormal_factor(z[k, 0], unc.amplitude_cov))
-            s_k, r = scanned_scale(rec, shape, governing, settings=settings, g_ms2=g, amplitude=eps,
-                                   width_factor=float(lognormal_factor(z[k, 4], unc.size_cov)),
-                                   height_factor=float(lognormal_factor(z[k, 3], unc.size_cov)),
-                                   restitution_scale=float(lognormal_factor(z[k, 1], unc.restitution_cov)))
-            sampled[k], runs = s_k * eps, runs + r
+            f = draw_factors(z[k], unc)
+            s_k, r = scanned_scale(rec, shape, governing, settings=settings, g_ms2=g, amplitude=f.amplitude,
+                                   width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution)
+            sampled[k], runs = s_k * f.amplitude, runs + r
     return scale, runs, history, rec.dt_s, sampled

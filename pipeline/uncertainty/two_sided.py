@@ -26,6 +26,33 @@ from .scenes import NOT_EVALUATED, Probability, SceneMotion, sample_until_decide
 from .settings import UncertaintyConfig
 
 
+class DrawFactors(NamedTuple):
+    """One draw's factors on a scanned scene [-]: the record's amplitude, the body's width and height, its impact
+    ratios (the same columns of the common random numbers as :func:`~.sampling.sample_block` reads)."""
+
+    amplitude: float
+    width: float
+    height: float
+    restitution: float
+
+
+def draw_factors(z_row: np.ndarray, settings: UncertaintyConfig) -> DrawFactors:
+    """The :class:`DrawFactors` of one row of :func:`~.sampling.common_normals`."""
+    return DrawFactors(amplitude=float(lognormal_factor(z_row[0], settings.amplitude_cov)),
+                       width=float(lognormal_factor(z_row[4], settings.size_cov)),
+                       height=float(lognormal_factor(z_row[3], settings.size_cov)),
+                       restitution=float(lognormal_factor(z_row[1], settings.restitution_cov)))
+
+
+def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneBody, f: DrawFactors, *,
+                restitution: float, mu: float, simulation: SimulationConfig, g_ms2: float):
+    """One draw's :class:`~pipeline.rocking.scene.Scene` (:func:`pipeline.rocking.scanned.plane_scene` under the
+    record scaled by ``f.amplitude``)."""
+    return plane_scene(f.amplitude * np.asarray(ah_ms2, dtype=float), None if av_ms2 is None else f.amplitude * av_ms2,
+                       dt_s, body, restitution=restitution, mu=mu, settings=simulation, g_ms2=g_ms2,
+                       width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution)
+
+
 class PlaneDraws(NamedTuple):
     """The draws of one plane.
 
@@ -71,12 +98,8 @@ def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneBody, z: np.ndarray,
     """
     over, undecided = np.zeros(len(z), dtype=bool), np.zeros(len(z), dtype=bool)
     for k in range(len(z)):
-        amp = float(lognormal_factor(z[k, 0], settings.amplitude_cov))
-        sc = plane_scene(amp * np.asarray(ah_ms2, dtype=float), None if av_ms2 is None else amp * av_ms2, dt_s, body,
-                         restitution=restitution, mu=math.inf, settings=simulation, g_ms2=g_ms2,
-                         width_factor=float(lognormal_factor(z[k, 4], settings.size_cov)),
-                         height_factor=float(lognormal_factor(z[k, 3], settings.size_cov)),
-                         restitution_scale=float(lognormal_factor(z[k, 1], settings.restitution_cov)))
+        sc = drawn_scene(ah_ms2, av_ms2, dt_s, body, draw_factors(z[k], settings), restitution=restitution,
+                         mu=math.inf, simulation=simulation, g_ms2=g_ms2)
         over[k], undecided[k] = sc.overturned, sc.verdict < 0
     return PlaneDraws(over, undecided)
 
@@ -108,13 +131,9 @@ def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, gov
         def judge(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
             for k in range(sl.start, sl.stop):
                 pl = pick(k)
-                amp = float(lognormal_factor(z[k, 0], settings.amplitude_cov))
-                sc = plane_scene(amp * along(h, m.azimuth0_deg, pl), None if av is None else amp * av, m.dt_s,
-                                 plane_body(scan, pl.body_deg), restitution=shape.restitution, mu=shape.mu,
-                                 settings=simulation, g_ms2=g_ms2,
-                                 width_factor=float(lognormal_factor(z[k, 4], settings.size_cov)),
-                                 height_factor=float(lognormal_factor(z[k, 3], settings.size_cov)),
-                                 restitution_scale=float(lognormal_factor(z[k, 1], settings.restitution_cov)))
+                sc = drawn_scene(along(h, m.azimuth0_deg, pl), av, m.dt_s, plane_body(scan, pl.body_deg),
+                                 draw_factors(z[k], settings), restitution=shape.restitution, mu=shape.mu,
+                                 simulation=simulation, g_ms2=g_ms2)
                 verdicts[k] = (Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0
                                else Verdict.stands)
                 runs[k] = 1
