@@ -28,7 +28,7 @@ from .constants import G
 from .errors import InventoryError
 from .rocking.block import Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
-from .tables import parse_number, read_csv_table
+from .tables import close_match, parse_number, read_csv_table
 
 log = logging.getLogger(__name__)
 
@@ -41,6 +41,12 @@ SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: assets.csv and the report; ``lon`` and ``lat`` [decimal degrees] locate an asset for ``screen event``. Any other
 #: extra column is kept too, with a warning (a typo is likely).
 ASSET_COLUMNS = ("value", "location", "floor", "owner", "category", "lon", "lat")
+#: What a misspelt optional column costs until it is renamed (said with the suggestion)
+UNUSED = {"azimuth_deg": ": every block's azimuth is blank, so each is of unknown orientation (every plane scanned)",
+          "mu": ": every block takes blocks.default_mu", "restitution": ": every block takes Housner's restitution",
+          "depth_m": ": no box has a depth (each is judged in the plane of its width)",
+          "base_margin_m": ": no block's base margin is checked", "shape": ": every block is a box",
+          "mesh": ": no block is given by its scan"}
 #: Plausible block sizes [m]: from a small figurine to a tall obelisk or rock pillar.
 SIZE_RANGE_M = (0.01, 100.0)
 #: Heights above this are accepted but warned about: taller than the free-standing objects screened
@@ -248,9 +254,16 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
                                      problems=errors, required=REQUIRED)
     extras = [c for c in header if c not in REQUIRED + OPTIONAL]
     unknown = [c for c in extras if c not in ASSET_COLUMNS]
-    if unknown:
+    for c in unknown:
+        meant = close_match(c, [k for k in REQUIRED + OPTIONAL + ASSET_COLUMNS if k not in header])
+        if meant is not None:
+            log.warning("%s, line 1: column %r is not an inventory column: did you mean %r? Rename it; until then "
+                        "it is kept as an extra column and not used%s", path, c, meant, UNUSED.get(meant, ""))
+    others = [c for c in unknown if close_match(c, [k for k in REQUIRED + OPTIONAL + ASSET_COLUMNS
+                                                    if k not in header]) is None]
+    if others:
         log.warning("%s, line 1: column(s) %s are not inventory columns; they are kept and carried to the "
-                    "results as given (valid columns: %s; asset columns: %s)", path, unknown,
+                    "results as given (valid columns: %s; asset columns: %s)", path, others,
                     list(REQUIRED + OPTIONAL), list(ASSET_COLUMNS))
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras) + ("scan",)}
     seen: dict[str, int] = {}
@@ -271,7 +284,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         _read_mesh(rec, where, path.parent, rows, errors)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
             implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
-    if implausible:
+    if implausible and not errors:         # an inventory with errors is not screened: no "screened as given"
         log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
                     len(implausible), "\n  ".join(implausible))
     if errors:
@@ -313,7 +326,13 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
             errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
             rows[c].append(1.0)
         else:
-            rows[c].append(_cell(errors, where, c, rec[c], size_rule, lambda x: lo <= x <= hi, 1.0))
+            rule = size_rule
+            try:
+                if float(rec[c]) > hi and lo <= float(rec[c]) / 100.0 <= hi:
+                    rule += f" (in centimetres? {float(rec[c]) / 100.0:g} m; sizes are in metres)"
+            except ValueError:
+                pass
+            rows[c].append(_cell(errors, where, c, rec[c], rule, lambda x: lo <= x <= hi, 1.0))
     mu = rec.get("mu", "")
     rows["mu"].append(default_mu if not mu else _cell(errors, where, "mu", mu,
                                                       "a friction coefficient > 0 (at most 5)",

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import difflib
 import logging
 import math
 import shlex
@@ -48,13 +49,55 @@ EXIT_LOCKED = 75          # sysexits EX_TEMPFAIL: another run holds the output; 
 EXIT_INTERRUPTED = 130
 
 
+#: What each command's exit codes mean, for its --help
+EXIT_CODES = {
+    "run": "0 ok; 1 some records failed (each reported; --tolerate-failures makes it 0, except when no record was "
+           "screened); 2 bad usage, configuration, inventory or no record found; 3 the output cannot be written "
+           "(earlier results intact); 75 another run holds the output; 130 interrupted (the work done is kept)",
+    "records": "0 ok; 1 some records failed (--tolerate-failures: 0); 2 bad usage, configuration or inventory; "
+               "3 the output cannot be written; 75 another run holds the output; 130 interrupted",
+    "plain": "0 ok; 2 bad usage, configuration, inventory or input file; 3 the output cannot be written; "
+             "130 interrupted",
+    "locked": "0 ok; 2 bad usage, configuration, inventory or input file; 3 the output cannot be written; 75 another "
+              "run holds the output; 130 interrupted",
+}
+#: An example of each command, run from the project's folder on its bundled data
+EXAMPLES = {
+    "run": "screen --records records --blocks configs/blocks.csv --out results --tolerate-failures",
+    "chart": "screen chart --block COL-1 --blocks configs/blocks.csv --results results/screening.nc",
+    "report": "screen report results",
+    "bench": "screen bench --records records --blocks configs/blocks.csv --out results/bench",
+    "infer": "screen infer --blocks configs/colonnade-blocks.csv --observed configs/colonnade-observed.csv",
+    "fragility": "screen fragility --records records --blocks configs/blocks.csv --im pga --levels auto "
+                 "--tolerate-failures",
+    "fragility_event": "screen fragility --records records --blocks examples/event/blocks.csv --im pgv "
+                       "--im-component larger --levels auto --out results/event-fragility --tolerate-failures",
+    "event": "screen event --shakemap examples/event/903_m6p09_se-scenario-grid.xml.gz --blocks "
+             "examples/event/blocks.csv --fragility results/event-fragility",
+}
+
+
+def _epilog(command: str, codes: str) -> str:
+    """The end of a command's --help: an example (two for ``event``: the fragility it reads first) and its exit
+    codes."""
+    first = f"  {EXAMPLES['fragility_event']}\n" if command == "event" else ""
+    return f"example:\n{first}  {EXAMPLES[command]}\n\nexit codes: {EXIT_CODES[codes]}"
+
+
+def _add_stationxml(p: argparse.ArgumentParser, what: str) -> None:
+    """--stationxml (``--inventory`` is its old name, kept: the block inventory is --blocks)."""
+    p.add_argument("--stationxml", "--inventory", dest="inventory", type=Path, metavar="STATIONXML",
+                   help=f"StationXML {what} (--inventory is this option's old name; the blocks' inventory is "
+                        "--blocks)")
+
+
 def _add_inputs(p: argparse.ArgumentParser, *, out: Path, out_help: str) -> None:
-    """--records, --blocks, --out, --config, --inventory (screen, screen fragility)."""
+    """--records, --blocks, --out, --config, --stationxml (screen, screen fragility)."""
     p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
     p.add_argument("--blocks", required=True, type=Path, help="inventory CSV (id,height_m,width_m,...)")
     p.add_argument("--out", type=Path, default=out, help=out_help)
     p.add_argument("--config", type=Path, help="TOML configuration (default: built-in, as configs/screen.toml)")
-    p.add_argument("--inventory", type=Path, help="StationXML for records in counts (else *.xml in --records)")
+    _add_stationxml(p, "for records in counts (else *.xml in --records)")
     p.add_argument("--buildings", type=Path,
                    help="buildings CSV id,period_s,damping,stiffness_ratio,height_m[,n_stories]: blocks whose "
                         "'building' column names one are screened on their floor's motion (the continuous "
@@ -318,7 +361,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         _print_summary(result.counts, result.screening_path)
         _print_margins(result.margins)
         print(f"wrote {result.report_path} and {result.assets_path}", file=sys.stderr)
-    return _run_exit(result.records_failed, args)
+    return _run_exit(result.records_failed, args, records_ok=int(result.counts.get("records_ok", 1)))
 
 
 def _say(message: str) -> None:
@@ -336,8 +379,13 @@ def _compile_simulator(args: argparse.Namespace, inventory) -> None:
                       scanned=bool(inventory.scanned().any()))
 
 
-def _run_exit(records_failed: int, args: argparse.Namespace) -> int:
-    """1 when records failed (unless --tolerate-failures), else 0: the same for a run and an up-to-date one."""
+def _run_exit(records_failed: int, args: argparse.Namespace, *, records_ok: int = 1) -> int:
+    """1 when records failed (unless --tolerate-failures), else 0: the same for a run and an up-to-date one. A run
+    that screened no record exits 1 whatever the flags: nothing it wrote says an asset is safe."""
+    if records_failed and not records_ok:
+        log.error("no record was screened (%d failed): every asset is 'not screened'; fix the failures above and run "
+                  "again (this exits 1 even with --tolerate-failures)", records_failed)
+        return EXIT_RECORD_FAILURES
     return EXIT_RECORD_FAILURES if records_failed and not args.tolerate_failures else EXIT_OK
 
 
@@ -365,7 +413,7 @@ def _report_up_to_date(args: argparse.Namespace, last: dict, config) -> int:
         print("that run's summary:", file=sys.stderr)
         _print_summary(counts, Path(args.out) / "screening.nc", wrote=False)
         _print_margins(last["margins"])
-    return _run_exit(int(counts.get("records_failed", 0)), args)
+    return _run_exit(int(counts.get("records_failed", 0)), args, records_ok=int(counts.get("records_ok", 1)))
 
 
 def chart_parser() -> argparse.ArgumentParser:
@@ -373,7 +421,7 @@ def chart_parser() -> argparse.ArgumentParser:
     from .closed_forms import PULSE_BETA
 
     p = argparse.ArgumentParser(
-        prog="screen chart",
+        prog="screen chart", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_epilog("chart", "plain"),
         description="Stability chart of one block for one pulse shape (the reference paper's Figs. 2a and 4), "
                     "optionally with every record's pulse as a point.",
     )
@@ -389,12 +437,14 @@ def chart_parser() -> argparse.ArgumentParser:
     pts = p.add_mutually_exclusive_group()
     pts.add_argument("--records", type=Path, help="directory of records to extract pulses from and plot")
     pts.add_argument("--results", type=Path, help="screening.nc whose pulses to plot")
-    p.add_argument("--inventory", type=Path, help="StationXML for --records in counts")
+    _add_stationxml(p, "for --records in counts")
     p.add_argument("--config", type=Path, help="TOML configuration")
     p.add_argument("--simulate", action="store_true",
                    help="add critical_acceleration_simulated: upward amplitude scan with the rocking simulator")
     p.add_argument("--cycles", type=int, default=25, help="cycles of the harmonic pulse for --simulate (25)")
-    p.add_argument("--out", type=Path, default=Path("chart.nc"), help="chart data, netCDF (default chart.nc)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="chart data, netCDF (default results/chart/chart-<block id, or HxW>.nc; a chart already "
+                        "there is replaced, and the run says so)")
     p.add_argument("--figure", type=Path, help="figure, .png/.svg/.pdf (default: --out with .png)")
     _add_output_options(p)
     return p
@@ -420,6 +470,11 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     else:
         raise UsageError("screen chart: give the block as --height H --width W [--mu MU], "
                               "or as --block ID --blocks inventory.csv")
+    if args.out is None:
+        name = args.block if args.block is not None else f"{args.height:g}x{args.width:g}"
+        args.out = Path("results") / "chart" / f"chart-{name}.nc"
+    if args.out.exists() and not args.quiet:
+        print(f"replacing {args.out} (the chart of an earlier run; give --out for another file)", file=sys.stderr)
     out, figure, transition_s = write_chart(ChartRequest(
         config=config, block=block, block_id=args.block, pulse=args.pulse, periods_s=args.periods, out=args.out,
         simulate=args.simulate, cycles=args.cycles,
@@ -432,7 +487,8 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
 
 def report_parser() -> argparse.ArgumentParser:
     """Parser of ``screen report``."""
-    p = argparse.ArgumentParser(prog="screen report",
+    p = argparse.ArgumentParser(prog="screen report", formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=_epilog("report", "plain"),
                                 description="Regenerate report.html and assets.csv from a results file "
                                             "(pulses.nc and histories.nc are read from the same directory).")
     p.add_argument("results", type=Path, help="screening.nc written by screen")
@@ -447,6 +503,8 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
     from .run.stages import rebuild_report
 
+    if args.results.is_dir():                   # the output folder of a run: its screening.nc
+        args.results = args.results / "screening.nc"
     html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures,
                                   command=shlex.join(["screen", *argv]))
     print(f"wrote {html} and {assets}", file=sys.stderr)
@@ -455,13 +513,15 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
 
 def bench_parser() -> argparse.ArgumentParser:
     """Parser of ``screen bench``."""
-    p = argparse.ArgumentParser(prog="screen bench",
+    p = argparse.ArgumentParser(prog="screen bench", formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=_epilog("bench", "records"),
                                 description="Run every fidelity tier on the same scenes and measure time per scene "
                                             "and agreement with the reference tier; also the cost of the simulation "
                                             "settings. Writes bench.csv, bench.md and bench.png.")
     p.add_argument("--records", required=True, type=Path, help="directory of ground-motion records")
     p.add_argument("--blocks", required=True, type=Path, help="inventory CSV (id,height_m,width_m,...)")
-    p.add_argument("--out", type=Path, default=Path("bench"), help="output directory (default: bench/)")
+    p.add_argument("--out", type=Path, default=Path("results/bench"),
+                   help="output directory (default: results/bench/)")
     p.add_argument("--config", type=Path, help="TOML configuration")
     p.add_argument("--tiers-only", action="store_true", help="skip the sweep of the simulation settings")
     _add_output_options(p)
@@ -486,7 +546,8 @@ def fragility_parser() -> argparse.ArgumentParser:
     from .records.intensity import IMS, SCALABLE
     from .uncertainty.hazard import Component
 
-    p = argparse.ArgumentParser(prog="screen fragility",
+    p = argparse.ArgumentParser(prog="screen fragility", formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=_epilog("fragility", "records"),
                                 description="Multiple-stripe analysis: every record scaled to each IM level, every "
                                             "block judged; lognormal fragility fits, the IMs that predict "
                                             "overturning, and with --hazard the annual rate of overturning.")
@@ -505,17 +566,19 @@ def fragility_parser() -> argparse.ArgumentParser:
                    help="hazard curve as exported: OpenQuake hazard_curve-*.csv, the USGS hazard service's JSON, or "
                         "a CSV <im>_<unit>[_<component>],annual_rate; repeat for Sa at several periods (each "
                         "block uses the nearest) (docs/user-guide.md)")
-    p.add_argument("--hazard-site", help="OpenQuake file of several sites: the custom_site_id to use")
-    p.add_argument("--hazard-lonlat", help="OpenQuake file of several sites: LON,LAT; the nearest site is used")
+    p.add_argument("--hazard-site", metavar="SITE_ID",
+                   help="OpenQuake file of several sites: the custom_site_id to use")
+    p.add_argument("--hazard-lonlat", metavar="LON,LAT",
+                   help="OpenQuake file of several sites: LON,LAT; the nearest site is used")
     p.add_argument("--hazard-component", choices=[c.value for c in Component],
                    help="the horizontal component definition of the hazard curve, where the file does not say "
                         "(OpenQuake curves are taken as rotd50 unless stated)")
     p.add_argument("--im-component", choices=[c.value for c in Component],
                    help="the component definition the fragility is fitted on (default: the hazard's, else rotd100, "
                         "the peak of the horizontal vector)")
-    p.add_argument("--hazard-scale", type=float,
+    p.add_argument("--hazard-scale", type=float, metavar="FACTOR",
                    help="a stated conversion when --im-component differs from the hazard's: hazard levels x FACTOR")
-    p.add_argument("--bootstrap", type=int, default=200, help="bootstrap draws for the intervals (200)")
+    p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap draws for the intervals (200)")
     p.add_argument("--orientation", choices=("random", "worst"), default="random",
                    help="for a block of blank azimuth, fit the probability of a block of unknown orientation "
                         "(random, the default: its risk) or in the orientation found worst on the scan's grid "
@@ -583,7 +646,8 @@ def infer_parser() -> argparse.ArgumentParser:
     """Parser of ``screen infer``."""
     from .run.infer import INFER_SHAPES
 
-    p = argparse.ArgumentParser(prog="screen infer",
+    p = argparse.ArgumentParser(prog="screen infer", formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=_epilog("infer", "plain"),
                                 description="Archaeoseismology: the pulses (a_p, t_p, orientation) consistent with "
                                             "which blocks toppled and which stood, by the paper's criterion and by "
                                             "simulation; conflicting observations are reported.")
@@ -591,7 +655,8 @@ def infer_parser() -> argparse.ArgumentParser:
     p.add_argument("--observed", required=True, type=Path,
                    help="CSV id,outcome[,fall_azimuth_deg] with outcome toppled or standing")
     p.add_argument("--pulse", default="half-sine", choices=INFER_SHAPES, help="assumed pulse shape")
-    p.add_argument("--out", type=Path, default=Path("infer"), help="output directory (default: infer/)")
+    p.add_argument("--out", type=Path, default=Path("results/infer"),
+                   help="output directory (default: results/infer/)")
     p.add_argument("--config", type=Path, help="TOML configuration ([infer] grid)")
     _add_output_options(p)
     return p
@@ -625,7 +690,8 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
 
 def event_parser() -> argparse.ArgumentParser:
     """Parser of ``screen event``."""
-    p = argparse.ArgumentParser(prog="screen event",
+    p = argparse.ArgumentParser(prog="screen event", formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=_epilog("event", "locked"),
                                 description="After an earthquake: every asset's probability of overturning from the "
                                             "event's ShakeMap and the fragilities of 'screen fragility', ranked into "
                                             "an inspection list (event.nc, inspection.csv, event.html, "
@@ -653,12 +719,11 @@ def event_parser() -> argparse.ArgumentParser:
                    help="the event's station records: an asset within [event] station_radius_km of a station (its "
                         "coordinates from the files or the StationXML) is also screened on that record, into "
                         "OUT/records/; the larger probability governs")
-    p.add_argument("--inventory", type=Path, default=None, metavar="STATIONXML",
-                   help="StationXML for --records in counts or without coordinates (default: *.xml in --records)")
-    p.add_argument("-n", "--num-processes", type=int, default=None,
+    _add_stationxml(p, "for --records in counts or without coordinates (default: *.xml in --records)")
+    p.add_argument("-n", "--num-processes", type=int, default=None, metavar="N",
                    help="worker processes that screen --records (default: the cores)")
     p.add_argument("--config", type=Path, default=None, help="TOML configuration ([event]: levels, default sigma)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no summary")
+    _add_output_options(p)
     return p
 
 
@@ -718,9 +783,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "screen --records DIR --blocks CSV [--out DIR] ...   the main job (options below)\n\n"
                     "subcommands (screen SUBCOMMAND --help for each):\n"
                     + "\n".join(f"  {name:<9} {SUBCOMMAND_HELP[name]}" for name in SUBCOMMANDS),
-        epilog="Exit codes: 0 ok; 1 some records failed (see status); 2 bad usage, config, inventory or no "
-               "record found; 3 the output cannot be written (permissions, disk full; earlier results intact); "
-               "75 another run holds the output (try again later); 130 interrupted (work done is kept).",
+        epilog=_epilog("run", "run"),
     )
     p.add_argument("--version", action="version", version=f"rockscreen {__version__}")
     _add_run_arguments(p)
@@ -754,6 +817,13 @@ def _signals_interrupt():
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``screen`` console script."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and not argv[0].startswith("-") and argv[0] not in SUBCOMMANDS:
+        meant = difflib.get_close_matches(argv[0], list(SUBCOMMANDS), n=1, cutoff=0.6)
+        print(f"error: {argv[0]!r} is not a subcommand"
+              + (f"; did you mean 'screen {meant[0]}'?" if meant else "")
+              + f" Subcommands: {', '.join(SUBCOMMANDS)}; the main job is 'screen --records DIR --blocks CSV' "
+              "(screen --help).", file=sys.stderr)
+        return EXIT_USAGE
     if argv and argv[0] in SUBCOMMANDS:
         parser_factory, handler = SUBCOMMANDS[argv[0]]
         args = parser_factory().parse_args(argv[1:])

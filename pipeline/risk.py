@@ -14,6 +14,7 @@ governing record, and says why in words:
 * the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
 * stations whose records have no verdict (a 3D model stopped where the base would slide or lift off): "check",
   never "no action";
+* no record screened at all (every record failed): "not screened", with the failures' count, never "no action";
 * otherwise "no action".
 
 Every recommendation that counts the stations overturning the asset also counts those without a verdict.
@@ -92,7 +93,7 @@ def _margin_words(sim_scale: float, governing: str) -> str:
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
                    stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan,
-                   undecided: int = 0) -> str:
+                   undecided: int = 0, failed: int = 0) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -119,7 +120,12 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         (stations whose record overturns the asset, stations screened).
     undecided : int
         Stations whose records all leave the asset without a verdict (the model stopped).
+    failed : int
+        Records that could not be screened (said where none was).
     """
+    if stations is not None and stations[1] == 0:
+        return ("not screened: no record was screened" + (f" ({failed} failed; the report lists each failure and "
+                                                          "its fix)" if failed else ""))
     sampled = np.isfinite(p_max)
     why = [p_words or f"p = {p_max:.2f} under {p_record}"] if sampled else []
     why.append(_margin_words(sim_scale, governing))
@@ -264,7 +270,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
                                              p_record=probabilities["p_record"], governing=gov or "the records",
                                              stations=(stations_over, n_stations),
                                              p_words=probabilities["p_words"], slide_m=slide,
-                                             undecided=undecided),
+                                             undecided=undecided, failed=int((~ok).sum())),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })

@@ -613,6 +613,9 @@ FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                                "overturned at no level, the hazard's rate of exceeding the top level"}),
     "p_overturn_50yr_upper": (("block",), "1", "upper bound of the probability of overturning in 50 years", {}),
     "block_period": (("block",), "s", "the block's Sa period 2 pi / p", {}),
+    "can_rock": (("block",), None, "the block can rock: it tips before it slides (mu > tan alpha) and is slender "
+                 "enough (alpha < 54.7 deg)", {**TRUE_FALSE, "comment": "a block that cannot rock only slides or "
+                                                                         "stands: no level overturns it"}),
     "hazard_period": (("block",), "s", "period of the Sa hazard curve the block is integrated against", {}),
     "hazard_period_ratio": (("block",), "1", "that curve's period over the block's own Sa period",
                             {"comment": "1 where a curve of the block's own period was given"}),

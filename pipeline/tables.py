@@ -4,10 +4,38 @@ cells, with errors that name the file, line and column and say what was expected
 from __future__ import annotations
 
 import csv
+import difflib
+import logging
 import math
+import re
 from pathlib import Path
 
 from .errors import InventoryError
+
+log = logging.getLogger(__name__)
+
+#: The delimiters a table may use, tried on its header line (European spreadsheets export ';')
+DELIMITERS = (",", ";", "\t")
+#: A number written with a decimal comma (read where the table's delimiter is not a comma)
+DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+([eE][+-]?\d+)?$")
+
+
+def close_match(name: str, names) -> str | None:
+    """The known column ``name`` most likely meant (a misspelling, another case), or None."""
+    lowered = {n.lower(): n for n in names}
+    if name.lower() in lowered:
+        return lowered[name.lower()]
+    got = difflib.get_close_matches(name.lower(), list(lowered), n=1, cutoff=0.75)
+    if not got:                               # a name without its unit suffix: 'azimuth' for 'azimuth_deg'
+        got = [n for n in lowered if n.split("_")[0] == name.lower()][:1]
+    return lowered[got[0]] if got else None
+
+
+def _delimiter(line: str) -> str:
+    """The delimiter of a header line: the most frequent of :data:`DELIMITERS` (a comma on ties)."""
+    counts = {d: line.count(d) for d in DELIMITERS}
+    best = max(DELIMITERS, key=lambda d: (counts[d], d == ","))
+    return best if counts[best] else ","
 
 
 def parse_number(value: str, *, where: str, column: str, rule: str, ok) -> float:
@@ -46,14 +74,23 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
         raise InventoryError(f"{path}: {what} file not found") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InventoryError(f"{path}: cannot be read as UTF-8 text ({exc})") from exc
-    reader = csv.reader(text.splitlines())
+    lines = text.splitlines()
+    delimiter = _delimiter(lines[0]) if lines else ","
+    decimal_comma = delimiter != ","
+    if delimiter != ",":
+        log.info("%s: columns separated by %r; numbers with a decimal comma are read as decimals", path, delimiter)
+    reader = csv.reader(lines, delimiter=delimiter)
     try:
         header = [c.strip() for c in next(reader)]
     except StopIteration:
         raise InventoryError(f"{path}: empty file; expected a header line {expected_header!r}") from None
     missing = [c for c in required if c not in header]
     if missing:
-        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}; expected {expected_header!r}")
+        hints = [f"{close!r} for {c!r}" for c in missing
+                 if (close := close_match(c, [h for h in header if h not in required])) is not None]
+        raise InventoryError(f"{path}, line 1: missing required column(s) {missing}; expected {expected_header!r} "
+                             f"(columns separated by {delimiter!r}: found {header})"
+                             + (f"; rename {', '.join(hints)}" if hints else ""))
     dupes = {c for c in header if header.count(c) > 1}
     if required and dupes:
         raise InventoryError(f"{path}, line 1: column(s) {sorted(dupes)} appear more than once")
@@ -69,6 +106,9 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
                     raise InventoryError(message)
                 problems.append(message)
                 continue
-            yield reader.line_num, where, {c: row[i].strip() for i, c in enumerate(header)}
+            cells = {c: row[i].strip() for i, c in enumerate(header)}
+            if decimal_comma:
+                cells = {c: v.replace(",", ".") if DECIMAL_COMMA.match(v) else v for c, v in cells.items()}
+            yield reader.line_num, where, cells
 
     return header, records()

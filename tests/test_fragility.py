@@ -306,6 +306,11 @@ def test_the_fragility_run_never_reports_a_rate_of_zero_for_a_block_that_can_roc
     ds.attrs.setdefault("im_component", "rotd100")
     assert "ROCKS: nothing overturns at any level tested (raise the levels)" in left_out(ds)
     assert "no curve for ROCKS: nothing overturns" in openquake_nrml(ds)
+    # advice that matches the physics: higher levels cannot overturn a block that only slides
+    assert ds["can_rock"].values.tolist() == [1, 0]
+    slides = [line for line in left_out(ds) if line.startswith("SLIDES")]
+    assert slides == ["SLIDES: it cannot rock (it slides or stands: mu <= tan alpha, or alpha >= 54.7 deg), so no "
+                      "level overturns it; its risk is sliding (see the screening's recommendation)"]
 
 
 def test_levels_auto_start_at_the_uplift_and_extend_until_every_block_brackets():

@@ -7,7 +7,7 @@ Where the units come from, in order:
 2. K-NET/KiK-net: obspy's ``stats.calib`` (the file's ``Scale Factor`` in gal
    per count, times 0.01), applied to the raw counts;
 3. counts with a StationXML response (a ``*.xml`` file in the records
-   directory, or ``--inventory``): the instrument sensitivity is removed for
+   directory, or ``--stationxml``): the instrument sensitivity is removed for
    accelerometers (flat response), the full response for other sensors;
 4. a declaration in ``units.toml`` in the records directory (or the
    configuration's ``records.declared_units``) for formats that do not say,
@@ -175,7 +175,7 @@ def to_ms2(trace, *, path: Path, declared: str | None, g_ms2: float, inventory=N
         why = info.units_unstated
     else:
         why = (f"the units of this {fmt} file cannot be determined (raw counts with no StationXML response, or "
-               "units not stated); put the StationXML file in the records directory or pass --inventory, or")
+               "units not stated); put the StationXML file in the records directory or pass --stationxml, or")
     readings = plausible_units(trace.data, g_ms2=g_ms2)
     suggested = readings[0][0] if readings else ""
     reading_text = "; ".join(f"{pga_g:.3g} g if in {unit}" for unit, pga_g in readings)

@@ -139,6 +139,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "velocity_ratio_rank": int(rank[vr]), "velocity_ratio_beta": float(beta_im[vr]),
             "im_ranking": ";".join(f"{ims[k]}={beta_im[k]:.3g}" for k in order if np.isfinite(beta_im[k])),
             "at_risk": int(ds["fit_status"].values[j]) != FitStatus.none_overturn,
+            "can_rock": bool(int(ds["can_rock"].values[j])) if "can_rock" in ds else True,
         })
     # by the rate, or where none could be computed (nothing overturned up to the top level) by its upper bound
     rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"] if np.isfinite(r["annual_rate_overturn"])

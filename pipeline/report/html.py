@@ -274,6 +274,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
             ok & (ds["is_pulse"].values == 1)].tolist()}) if "is_pulse" in ds else 0,
         "fragility": fragility,
         "failures": [(rid, st) for rid, st in zip(ds["record"].values, ds["status"].values) if st != "ok"],
+        "units_toml": str(ds.attrs.get("units_toml", "")), "units_toml_path": str(ds.attrs.get("units_toml_path", "")),
         "pulse_like": int(np.sum(ds["is_pulse"].values[ok] == 1)) if "is_pulse" in ds else 0,
         "blocks": ds.sizes["block"],
         "boxes": planar_boxes(ds),

@@ -354,10 +354,14 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     _run_attributes(ds, key, buildings, found)
     in_use = frozenset(key for key in floor_groups(placements) if key)
     pulses = _pulse_series(sorted(everything, key=lambda r: r.record_id), got.shed, cache, in_use)
+    units_toml = units_toml_lines(records_dir, [f.status for f in got.failed])
+    if units_toml:                       # the report opens with these lines: what to paste, where
+        ds.attrs["units_toml"] = "\n".join(units_toml)
+        ds.attrs["units_toml_path"] = str(Path(records_dir) / "units.toml")
     counts = {**_scene_counts(ds, config), **_record_counts(got, the_plan, found),
               "blocks": len(inventory), "blocks_changed": the_plan.blocks_changed,
               "buildings": ds.attrs.get("buildings", ""),
-              "units_toml": units_toml_lines(records_dir, [f.status for f in got.failed]),
+              "units_toml": units_toml,
               "records_dir": str(records_dir),
               "executor": f"{executor.name} ({executor.n_workers} worker{'s' if executor.n_workers != 1 else ''})",
               "wall_time_s": time.perf_counter() - t0}

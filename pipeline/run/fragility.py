@@ -427,6 +427,7 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
         SCENE.p_overturn: (("record", "im_level", "block"), prob),
         "beta_im": (("block", "im"), beta_im), "median_im": (("block", "im"), median_im),
         "block_period": (("block",), 2.0 * math.pi / inventory.geometry(g_ms2=config.records.g_ms2).p),
+        "can_rock": (("block",), _can_rock(inventory, config).astype("i1")),
         "sufficiency_p": (("block", "im"), suff), "im_rank": (("block", "im"), rank.astype("i2")),
     }
     if hazard is not None:
@@ -488,18 +489,23 @@ def _hazard_variables(hazard: HazardSet, fit, inventory: Inventory, config: Conf
     return data
 
 
+def _can_rock(inventory: Inventory, config: Config) -> np.ndarray:
+    """Whether each block can rock (:func:`~pipeline.rocking.rules.rocks`): one that cannot never overturns."""
+    geom = inventory.geometry(g_ms2=config.records.g_ms2)
+    return np.array([rocks(float(geom.alpha[j]), float(inventory.mu[j])) for j in range(len(inventory))], dtype=bool)
+
+
 def _rates(chosen: list, fit, inventory: Inventory, config: Config, levels: np.ndarray
            ) -> tuple[np.ndarray, np.ndarray]:
     """Each block's annual rate of overturning, and its upper bound for levels never tested (overturning certain
     above the top level). A block that can rock but overturned at no level has no rate (NaN: raise the levels),
     only the bound, the hazard's rate of exceeding the top level; one that cannot rock (it slides) has 0."""
-    geom = inventory.geometry(g_ms2=config.records.g_ms2)
     top = float(np.max(levels))
     rate, upper = np.full(len(chosen), np.nan), np.full(len(chosen), np.nan)
+    can_rock = _can_rock(inventory, config)
     for j, (curve, _) in enumerate(chosen):
         theta, beta = float(fit.theta[j]), float(fit.beta[j])
-        can_rock = rocks(float(geom.alpha[j]), float(inventory.mu[j]))
-        if fit.status[j] == FitStatus.none_overturn and not can_rock:
+        if fit.status[j] == FitStatus.none_overturn and not can_rock[j]:
             rate[j] = upper[j] = 0.0
             continue
         rate[j] = math.nan if fit.status[j] == FitStatus.none_overturn else annual_rate(curve, theta, beta)
@@ -563,7 +569,7 @@ class FragilityRequest:
     scheduler: str | None = None
     bootstrap: int = 200
     command: tuple = ()
-    #: StationXML for records in counts (``--inventory``; else ``*.xml`` in the records directory)
+    #: StationXML for records in counts (``--stationxml``; else ``*.xml`` in the records directory)
     stationxml: Path | None = None
     #: the probability fitted for a block of blank azimuth (:data:`ORIENTATIONS`)
     orientation: str = "random"

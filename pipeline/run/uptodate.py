@@ -7,7 +7,7 @@ alone, whether the outputs already answer the command:
 
 * the **inputs**: the SHA-256 of every file under ``--records`` (all files, hidden ones
   and side files included, so any change at all counts), of the inventory CSV and of the
-  StationXML given with ``--inventory``;
+  StationXML given with ``--stationxml``;
 * the **settings**: the effective configuration's digest (after ``--fidelity``,
   ``--samples``, ``--seed``);
 * the **code**: the SHA-256 of every file of the installed ``pipeline`` package and the

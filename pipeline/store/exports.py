@@ -70,6 +70,11 @@ LEFT_OUT = {FitStatus.none_overturn: "nothing overturns at any level tested (rai
             FitStatus.extrapolated: "the median lies outside the levels tested (widen the levels)"}
 
 
+#: Why the curve of a block that cannot rock is left out: no level overturns it, however high
+CANNOT_ROCK = ("it cannot rock (it slides or stands: mu <= tan alpha, or alpha >= 54.7 deg), so no level overturns it; "
+               "its risk is sliding (see the screening's recommendation)")
+
+
 def _curves(ds: xr.Dataset):
     """(block, theta [SI], beta, period [s]) of every block whose median lies within the levels tested (fit status
     ok or separated), and (block, why) of the others, which are left out."""
@@ -79,6 +84,8 @@ def _curves(ds: xr.Dataset):
     for j, block in enumerate(ds["block"].values.tolist()):
         theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
         why = LEFT_OUT.get(FitStatus(int(status[j])))
+        if "can_rock" in ds and not int(ds["can_rock"].values[j]):
+            why = CANNOT_ROCK
         if why is None and not (math.isfinite(theta) and theta > 0 and math.isfinite(beta) and beta > 0):
             why = "no finite fit"
         if why is None:
