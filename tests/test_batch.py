@@ -584,6 +584,7 @@ def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(f
     assert "no longer in" not in caplog.text
 
 
+@pytest.mark.slow                    # 20 s measured (two screenings and a fresh one): make test keeps under 5 min
 def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path, capsys, caplog, fresh):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK

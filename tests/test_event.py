@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from browser import assert_reads_at
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
@@ -311,6 +312,7 @@ def test_the_event_page_in_headless_chromium(shakemaps, tmp_path):
     assert got.get("map-rendered") == "yes" and got.get("dead-links") == "0", got
     assert int(got["page-width"]) <= 1400 and int(got["list-right"]) <= 1400, got
     assert dom.stdout.count('<figure id="curve-') == len(ids)
+    assert_reads_at(page, tmp_path)                               # a phone (390 px) and a laptop (1400 px)
 
 
 def test_event_nc_follows_the_schema_and_names_a_more_efficient_im(shakemaps, tmp_path):

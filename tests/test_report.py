@@ -12,6 +12,7 @@ import sys
 
 import numpy as np
 import pytest
+from browser import assert_reads_at
 
 from pipeline.blocks import geometry
 from pipeline.cli import main
@@ -224,6 +225,7 @@ def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
     widths = {k: int(v) for k, v in re.findall(r'data-(page-width|asset-table-right)="(\d+)"', wide.stdout)}
     assert widths.keys() == {"page-width", "asset-table-right"}, wide.stdout[:500]
     assert widths["page-width"] <= 1400 and widths["asset-table-right"] <= 1400, widths
+    assert_reads_at(screened / "report.html", tmp_path)          # a phone (390 px) and a laptop (1400 px)
     shot = tmp_path / "report.png"
     run = subprocess.run([*common, "--window-size=1400,2400", f"--screenshot={shot}", page],
                          capture_output=True, text=True, timeout=120, env=env)
@@ -519,6 +521,7 @@ def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, re
     frag = (out / "fragility" / "fragility.html").read_text()
     assert "the fraction of records overturning at each level" in frag and "beta [-] of each IM" in frag
     assert not re.search(r"<figcaption>COL: pga=", frag)
+    assert_reads_at(out / "fragility" / "fragility.html", tmp_path)   # a phone (390 px) and a laptop (1400 px)
 
 
 def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():

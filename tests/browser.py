@@ -1,0 +1,74 @@
+"""Headless Chromium for the page tests: the page as a browser lays it out at a window width (the ``layoutProbe``
+of the pages' ``layout.js.j2`` writes what it measured into ``<body data-...>``)."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+#: A phone (390 px, an iPhone 12-15 in portrait) and a laptop
+WIDTHS = (390, 1400)
+
+
+def chromium() -> str:
+    """The browser's path; skips loudly (fails where ROCKSCREEN_REQUIRE_BROWSER is set, as in CI) without one."""
+    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
+        path = shutil.which(name)
+        if path:
+            return path
+    message = ("CHROMIUM IS NOT INSTALLED: the pages were NOT tested in a browser. Install Debian's 'chromium' "
+               "package (make test does this when it can) and run again.")
+    print(f"\n{'!' * 80}\n{message}\n{'!' * 80}", file=sys.stderr)
+    if os.environ.get("ROCKSCREEN_REQUIRE_BROWSER"):
+        pytest.fail(message + " (ROCKSCREEN_REQUIRE_BROWSER is set, as in CI)")
+    pytest.skip(message)
+
+
+#: The page in a frame of the width asked for: headless Chromium's window is at least 500 px wide, so a phone's
+#: viewport is a frame; the frame's probe (run on its own load) is copied to this page's body for --dump-dom
+FRAME = """<!DOCTYPE html><html><body style="margin:0">
+<iframe id="f" src="{src}" style="width:{width}px;height:900px;border:0"></iframe>
+<script>
+document.getElementById("f").addEventListener("load", function () {{
+  var data = this.contentDocument.body.dataset;
+  Object.keys(data).forEach(function (k) {{ document.body.dataset[k] = data[k]; }});
+}});
+</script></body></html>"""
+
+
+def layout_at(page: Path, width: int, tmp: Path) -> dict:
+    """The probe's measures of ``page`` in a viewport ``width`` px wide: page-width, window-width,
+    tables-overflowing, broken-words (and broken_examples, the first few)."""
+    frame = page.parent / f".frame-{width}.html"
+    frame.write_text(FRAME.format(src=page.name, width=width))
+    common = [chromium(), "--headless=new", "--no-sandbox", "--disable-gpu", f"--user-data-dir={tmp / 'profile'}",
+              "--virtual-time-budget=10000", "--window-size=1600,1000", "--hide-scrollbars",
+              "--allow-file-access-from-files"]
+    try:
+        run = subprocess.run([*common, "--dump-dom", frame.as_uri()], capture_output=True, text=True, timeout=120,
+                             env=dict(os.environ, HOME=str(tmp)))
+    finally:
+        frame.unlink()
+    assert run.returncode == 0, run.stderr[-2000:]
+    got: dict = {k: int(v) for k, v in re.findall(
+        r'data-(page-width|window-width|tables-overflowing|broken-words)="(\d+)"', run.stdout)}
+    assert len(got) == 4, run.stdout[:500]
+    examples = re.search(r'data-broken-examples="([^"]*)"', run.stdout)
+    got["broken_examples"] = examples.group(1) if examples else ""
+    assert got["window-width"] == width, got
+    return got
+
+
+def assert_reads_at(page: Path, tmp: Path) -> None:
+    """At a phone's and a laptop's width: the page no wider than the window (tables scroll in their own box), no
+    word of a table broken inside."""
+    for width in WIDTHS:
+        got = layout_at(page, width, tmp)
+        assert got["page-width"] <= got["window-width"], (width, got)
+        assert got["tables-overflowing"] == 0 and got["broken-words"] == 0, (width, got)
