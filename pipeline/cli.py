@@ -341,7 +341,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
         return _report_up_to_date(args, last, config)
 
     from .run import RunInterrupted, ScreenRequest, screen
+    from .run.stages import preflight
 
+    preflight(records_dir, args.out)             # an empty --records or an unwritable --out: said at once
     if config.fidelity.tier != "criterion":
         _compile_simulator(args, inventory)
 

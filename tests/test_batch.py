@@ -155,6 +155,7 @@ def test_rerun_reuses_everything_and_changes_nothing(few_records, blocks_csv, tm
     assert list(first.screened_utc.values) == list(second.screened_utc.values)
 
 
+@pytest.mark.slow                    # 4-6 s measured: make test keeps under 5 min from a fresh clone
 def test_changed_and_new_records_only_are_screened(few_records, blocks_csv, tmp_path, records_dir, capsys, fresh):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
@@ -189,6 +190,7 @@ def test_inventory_edit_rescreens_only_affected_blocks(few_records, blocks_csv, 
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records, inv2))
 
 
+@pytest.mark.slow                    # 4-6 s measured: make test keeps under 5 min from a fresh clone
 def test_configuration_change_rescreens_everything(few_records, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
@@ -335,6 +337,7 @@ def test_unwritable_output_is_reported_before_any_work(few_records, blocks_csv, 
     assert "output directory is not writable" in err and "Nothing was screened" in err
 
 
+@pytest.mark.slow                    # 4-6 s measured: make test keeps under 5 min from a fresh clone
 def test_disk_full_keeps_previous_results_and_the_work_done(few_records, blocks_csv, tmp_path, capsys,
                                                             monkeypatch):
     out = tmp_path / "out"
@@ -598,6 +601,7 @@ def test_damaged_cache_entry_is_screened_again(few_records, blocks_csv, tmp_path
     assert_same_results(open_results(out / "screening.nc"), fresh(few_records))
 
 
+@pytest.mark.slow                    # 4-6 s measured: make test keeps under 5 min from a fresh clone
 def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(make_records, blocks_csv, tmp_path,
                                                                                  monkeypatch):
     """A record already in the cache (its pulse series shed from memory) that fails when screened for a new

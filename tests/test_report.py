@@ -180,7 +180,7 @@ def _chromium() -> str | None:
 
 
 @pytest.mark.browser
-@pytest.mark.parametrize("run", ["nominal", "default"])
+@pytest.mark.parametrize("run", [pytest.param("nominal", marks=pytest.mark.slow), "default"])  # nominal: 19 s
 def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
     """The page in a real browser, for a --samples 0 run and for the default (sampled) run, whose table has
     more columns: every figure renders, every link has its target, the page fits a 1400 px window."""

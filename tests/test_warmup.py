@@ -13,6 +13,28 @@ def test_a_long_compilation_is_announced_and_a_quick_one_is_silent(monkeypatch):
     said.clear()
     elapsed = warmup.compile_kernels(announce=said.append)
     assert elapsed >= 0.0
-    assert said[0].startswith("compiling the simulator") and said[-1].startswith("compiled the simulator in")
+    # the first call compiled or loaded every kernel: this one loads them all, and says so, never "compiling"
+    assert said[0].startswith("loading the simulator") and said[-1].startswith("loaded the simulator in")
     # a fresh install compiles here: announced, with lines while it goes on; else nothing is said
-    assert not quick or (quick[0].startswith("compiling") and quick[-1].startswith("compiled"))
+    assert not quick or (quick[0].startswith(("compiling", "loading")) and quick[-1].startswith(("compiled",
+                                                                                                "loaded")))
+
+
+def test_the_counter_sees_a_compilation_and_not_a_call_of_compiled_code():
+    """What decides "compiling" or "loading": numba's compile events, counted."""
+    import numpy as np
+
+    from pipeline.compiled import HAVE_NUMBA
+
+    if not HAVE_NUMBA:
+        return
+    import numba
+
+    counter = warmup.CompileCounter()
+    with counter.listening():
+        f = numba.njit(lambda x: x + 1.0)
+        f(np.float64(1.0))                                # compiled here
+    compiled = counter.n
+    with counter.listening():
+        f(np.float64(2.0))                                # the same signature: no compilation
+    assert compiled >= 1 and counter.n == compiled

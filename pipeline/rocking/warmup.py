@@ -38,9 +38,9 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     Parameters
     ----------
     announce : callable, optional
-        Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` (numba is
-        compiling: the first run of an install), every :data:`REPEAT_S` while it goes on, and with the time
-        it took.
+        Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` ("compiling" where
+        numba has compiled a function by then, the first run of an install; else "loading", from numba's cache),
+        every :data:`REPEAT_S` while it goes on, and with the time it took.
     cylinders : bool
         Compile the 3D cylinder's kernel too (about 10 s on a fresh install; a run without cylinders never uses it).
     boxes : bool
@@ -54,6 +54,7 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
         return 0.0
+    compiles = CompileCounter()
     said, done = threading.Event(), threading.Event()
 
     def tell() -> None:
@@ -62,34 +63,64 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         said.set()
         if announce is None:
             return
-        announce("compiling the simulator (numba, once per install; later runs load it from disk) ...")
+        announce("compiling the simulator (numba, once per install; later runs load it from disk) ..."
+                 if compiles.n else "loading the simulator (numba's cache on disk) ...")
         while not done.wait(REPEAT_S):
-            announce(f"compiling the simulator ... {time.perf_counter() - t0:.0f} s")
+            announce(f"{'compiling' if compiles.n else 'loading'} the simulator ... "
+                     f"{time.perf_counter() - t0:.0f} s")
 
     timer = threading.Thread(target=tell, daemon=True)
     timer.start()
     try:
-        a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
-        if planar:
-            for model in MODELS:
-                model.warmup()
-        if sampled:
-            _compile_sampled(a)
-        if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
-            simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7,
-                                                                restitution=0.8))
-        if boxes:               # the 3D box (a tiny scene that lifts it onto a corner)
-            simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
-        if scanned:             # the two-sided kernel, with and without a vertical (a scene that lifts it)
-            for vertical in (None, 0.1 * a):
-                rock_two_sided_fast(a, 0.01, TwoSided(0.05, 0.08, 0.5, 0.02), av=vertical)
+        with compiles.listening():
+            _warm(planar=planar, sampled=sampled, cylinders=cylinders, boxes=boxes, scanned=scanned)
     finally:
         done.set()
         timer.join()
     elapsed = time.perf_counter() - t0
     if said.is_set() and announce is not None:
-        announce(f"compiled the simulator in {elapsed:.0f} s")
+        announce(f"{'compiled' if compiles.n else 'loaded'} the simulator in {elapsed:.0f} s")
     return elapsed
+
+
+def _warm(*, planar: bool, sampled: bool, cylinders: bool, boxes: bool, scanned: bool) -> None:
+    """Call the kernels asked for once, each on a tiny scene."""
+    a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
+    if planar:
+        for model in MODELS:
+            model.warmup()
+    if sampled:
+        _compile_sampled(a)
+    if cylinders:           # the 3D cylinder (a tiny scene that lifts it)
+        simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
+    if boxes:               # the 3D box (a tiny scene that lifts it onto a corner)
+        simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
+    if scanned:             # the two-sided kernel, with and without a vertical (a scene that lifts it)
+        for vertical in (None, 0.1 * a):
+            rock_two_sided_fast(a, 0.01, TwoSided(0.05, 0.08, 0.5, 0.02), av=vertical)
+
+
+class CompileCounter:
+    """Counts the functions numba compiles while :meth:`listening` (numba's ``numba:compile`` events), so that the
+    warm-up says "compiling" only when it compiles, and "loading" when numba reads its cache."""
+
+    def __init__(self) -> None:
+        self.n = 0
+
+    def listening(self):
+        """A context in which numba's compilations are counted."""
+        from numba.core import event
+
+        counter = self
+
+        class _Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                counter.n += 1
+
+            def on_end(self, ev) -> None:
+                pass
+
+        return event.install_listener("numba:compile", _Listener())
 
 
 def _compile_sampled(a: np.ndarray) -> None:

@@ -277,3 +277,21 @@ def ensure_writable(out_dir: str | Path) -> Path:
         raise OutputError(f"{out}: the output directory is not writable ({exc.strerror or exc}); "
                           "choose another --out or fix its permissions. Nothing was screened.") from exc
     return out
+
+
+def writable_target(out_dir: str | Path) -> None:
+    """A quick check, before any work and without creating anything, that ``out_dir`` (or its nearest existing
+    parent, where it will be created) can be written (:func:`ensure_writable` checks again by writing).
+
+    Raises
+    ------
+    OutputError
+        Naming the directory that cannot be written, and the fix.
+    """
+    here = Path(out_dir).absolute()
+    while not here.exists() and here != here.parent:
+        here = here.parent
+    if not here.is_dir() or not os.access(here, os.W_OK | os.X_OK):
+        raise OutputError(f"{out_dir}: the output directory cannot be written ({here} is "
+                          f"{'not a directory' if not here.is_dir() else 'not writable'}); choose another --out or "
+                          "fix its permissions. Nothing was screened.")

@@ -41,7 +41,7 @@ from ..store import (
 )
 from . import uptodate
 from .batch import BatchOutcome, run
-from .cache import ensure_writable, scene_cache_dir
+from .cache import ensure_writable, scene_cache_dir, writable_target
 from .executors import checked_workers, make_executor
 from .margins import add_margins
 
@@ -284,6 +284,23 @@ def prepare(request: ScreenRequest) -> tuple:
     stationxml_sha = files_sha256(stationxml_paths(request.records_dir, request.stationxml))
     declared = read_declared_units(request.records_dir, request.config)
     return station_inventory, stationxml_sha, declared, found, ensure_writable(request.out_dir)
+
+
+def preflight(records_dir: Path, out_dir: Path) -> None:
+    """What can be checked in a moment, before the simulator is compiled or loaded: the records directory holds a
+    file, and the output directory can be written (the inputs stage checks both again, in full).
+
+    Raises
+    ------
+    NoRecordsError
+        The records directory holds no file at all.
+    OutputError
+        The output directory cannot be written.
+    """
+    if not any(p.is_file() for p in Path(records_dir).rglob("*")):
+        raise NoRecordsError(f"{records_dir}: the records directory is empty; put the records there, or point "
+                             "--records at the directory that holds them")
+    writable_target(out_dir)
 
 
 def margins_stage(outcome: BatchOutcome, executor, *, cache=None, progress=None
