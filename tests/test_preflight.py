@@ -36,4 +36,4 @@ def test_an_output_that_cannot_be_written_is_said_before_the_warm_up(records_dir
     assert main(["--records", str(records_dir / "fn-ascii"), "--blocks", str(tmp_path / "b.csv"), "--out",
                  str(tmp_path / "a-file" / "out")]) == 3
     err = capsys.readouterr().err
-    assert "cannot be written" in err and "a-file is not a directory" in err
+    assert "output directory is not writable" in err and "a-file is not a directory" in err

@@ -292,6 +292,6 @@ def writable_target(out_dir: str | Path) -> None:
     while not here.exists() and here != here.parent:
         here = here.parent
     if not here.is_dir() or not os.access(here, os.W_OK | os.X_OK):
-        raise OutputError(f"{out_dir}: the output directory cannot be written ({here} is "
-                          f"{'not a directory' if not here.is_dir() else 'not writable'}); choose another --out or "
+        raise OutputError(f"{out_dir}: the output directory is not writable ({here} is "
+                          f"{'not a directory' if not here.is_dir() else 'read-only'}); choose another --out or "
                           "fix its permissions. Nothing was screened.")

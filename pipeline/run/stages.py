@@ -298,8 +298,8 @@ def preflight(records_dir: Path, out_dir: Path) -> None:
         The output directory cannot be written.
     """
     if not any(p.is_file() for p in Path(records_dir).rglob("*")):
-        raise NoRecordsError(f"{records_dir}: the records directory is empty; put the records there, or point "
-                             "--records at the directory that holds them")
+        raise NoRecordsError(f"{records_dir}: no strong-motion record found: the records directory is empty; put "
+                             "the records there, or point --records at the directory that holds them")
     writable_target(out_dir)
 
 
