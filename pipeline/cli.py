@@ -477,6 +477,10 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
         args.out = Path("results") / "chart" / f"chart-{name}.nc"
     if args.out.exists() and not args.quiet:
         print(f"replacing {args.out} (the chart of an earlier run; give --out for another file)", file=sys.stderr)
+    if not args.quiet:
+        print(f"stability chart of {args.block or f'{args.height:g} x {args.width:g} m'}"
+              + (": the criterion, the closed forms" + (", the simulated amplitude scan" if args.simulate else "")
+                 + (" and the records' pulses" if args.records or args.results else "")) + " ...", file=sys.stderr)
     out, figure, transition_s = write_chart(ChartRequest(
         config=config, block=block, block_id=args.block, pulse=args.pulse, periods_s=args.periods, out=args.out,
         simulate=args.simulate, cycles=args.cycles,
@@ -530,14 +534,44 @@ def bench_parser() -> argparse.ArgumentParser:
     return p
 
 
+@contextlib.contextmanager
+def _ticking(quiet: bool):
+    """A stage announcer (None with ``-q``) that, while a stage runs, repeats its name with the time spent on it
+    every :data:`PROGRESS_LINE_S` seconds: nothing is silent for longer."""
+    if quiet:
+        yield None
+        return
+    stage = {"text": ""}
+    since = {"t": time.monotonic()}
+    stop = threading.Event()
+
+    def announce(text: str) -> None:
+        stage["text"], since["t"] = text, time.monotonic()
+        _say(text)
+
+    def tick() -> None:
+        while not stop.wait(PROGRESS_LINE_S):
+            if stage["text"] and time.monotonic() - since["t"] >= PROGRESS_LINE_S:
+                _say(f"  ... {stage['text'].split(' (')[0]}: {time.monotonic() - since['t']:.0f} s")
+
+    ticker = threading.Thread(target=tick, daemon=True)
+    ticker.start()
+    try:
+        yield announce
+    finally:
+        stop.set()
+        ticker.join()
+
+
 def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen bench``: what accuracy costs in time."""
     from .run.accuracy import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
     _compile_simulator(args, inventory)
-    rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
-                     settings_sweep=not args.tiers_only, progress=None if args.quiet else _say)
+    with _ticking(args.quiet) as say:
+        rows = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
+                         settings_sweep=not args.tiers_only, progress=say)
     print(markdown(rows), end="")
     print(f"wrote {args.out / 'bench.csv'}, {args.out / 'bench.md'} and {args.out / 'bench.png'}", file=sys.stderr)
     return EXIT_OK
@@ -670,7 +704,7 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
 
     config, inventory = _config_and_inventory(args)
     ds, out, figure = write_inference(args.observed, inventory, shape=args.pulse, config=config, out_dir=args.out,
-                                      history=f"screen {shlex.join(argv)}")
+                                      history=f"screen {shlex.join(argv)}", progress=_progress(args.quiet))
     g = config.records.g_ms2
     for method, info in summarize(ds).items():
         if info["consistent"]:

@@ -108,7 +108,10 @@ def test_full_and_reference_tiers_simulate_every_scene(by_tier):
 @BY_TIER_IS_SLOW
 def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config, by_tier, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
-    rows = run_bench(records, inventory, config, out_dir=tmp_path, settings_sweep=False)
+    said: list[str] = []
+    rows = run_bench(records, inventory, config, out_dir=tmp_path, settings_sweep=False, progress=said.append)
+    assert [": ".join(x.split(": ")[:2]) for x in said] == [f"bench: section {k} of {len(said)}"
+                                                             for k in range(1, len(said) + 1)]
     tiers = {r["value"]: r for r in rows if r["section"] == "tier"}
     assert list(tiers) == list(FIDELITY_TIERS)
     ref = by_tier["reference"]
@@ -135,7 +138,11 @@ def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config
 @pytest.mark.slow
 def test_bench_settings_sweep_marks_defaults(records, blocks_csv, config, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu).take(range(4))
-    rows = run_bench(records, inventory, config, out_dir=tmp_path)
+    said: list[str] = []
+    rows = run_bench(records, inventory, config, out_dir=tmp_path, progress=said.append)
+    # every section is announced with its number, and the count announced is the count run
+    total = int(said[0].split(" of ")[1].split(":")[0])
+    assert [int(x.split("section ")[1].split(" of ")[0]) for x in said] == list(range(1, total + 1))
     settings = {(r["section"], r["setting"].split()[0]) for r in rows}
     assert {("simulation", "rtol"), ("simulation", "rest_ratio"), ("simulation", "max_step_p"),
             ("margin", "margin_step")} <= settings

@@ -33,7 +33,6 @@ representative sample, not a whole archive.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 from pathlib import Path
 
@@ -169,20 +168,20 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     out_dir.mkdir(parents=True, exist_ok=True)
     t_start = time.perf_counter()
     rows: list[dict] = []
-    pace = {"runs_left": FULL_RUNS_AFTER_TIERS if settings_sweep else 2, "per_run_s": math.nan}
+    total = SECTIONS_TIERS + (SECTIONS_SWEEP + len(CONVERGENCE_SAMPLES) if settings_sweep else 0)
+    done = {"sections": 0}
 
     def say(what: str) -> None:
-        """Announce the next measurement, with an estimate of the time left once the full tier was timed, and
-        write the rows measured so far (an interrupted bench keeps its finished sections)."""
+        """Announce the next measurement (its number among the bench's sections and the time so far: the sections
+        differ in cost too much for an estimate of the time left to be honest), and write the rows measured so
+        far (an interrupted bench keeps its finished sections)."""
         if rows:
             _write(rows, out_dir)
+        done["sections"] += 1
         if progress is None:
             return
-        left = ""
-        if math.isfinite(pace["per_run_s"]):
-            left = f"; about {pace['runs_left'] * pace['per_run_s']:.0f} s left (estimated)"
-            pace["runs_left"] = max(pace["runs_left"] - 1, 0)
-        progress(f"bench: {what} ({time.perf_counter() - t_start:.0f} s{left})")
+        progress(f"bench: section {done['sections']} of {total}: {what} ({time.perf_counter() - t_start:.0f} s "
+                 "so far)")
 
     sampled = config if config.with_tier("full").sampling else Config().with_tier(config.fidelity.tier)
     config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
@@ -200,8 +199,6 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
         say(f"tier {tier}")
         cfg = config.with_tier(tier)
         sim, t_sim = (ref, t_ref) if tier == "reference" else _simulate(scenes, inventory, cfg)
-        if tier == "full":
-            pace["per_run_s"] = t_sim + t_common
         simulated = sim.overturn_simulated >= 0
         verdict = np.where(simulated, sim.overturn_simulated, crit)
         t = t_crit + t_sim
@@ -221,9 +218,11 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     return rows
 
 
-#: Runs of about one full tier's cost after the tiers (worst scenes 2, the settings sweep 14 + 7, the contact
-#: model 2, floors, margins and sampling about 6): the basis of the bench's estimate of the time left
-FULL_RUNS_AFTER_TIERS = 31
+#: The bench's sections (each announced): the records, the criterion, the reference, the tiers and the slowest
+#: scenes; and with the settings sweep its 16 settings, 7 orientation variants, the contact model, floors, margin
+#: steps and the nominal and sampled runs, plus one per convergence sample size
+SECTIONS_TIERS = 4 + len(FIDELITY_TIERS)
+SECTIONS_SWEEP = 16 + 7 + 3 + 2
 
 
 def _worst_scene_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:

@@ -384,8 +384,9 @@ ORIENTATIONS = {"random": ("p_random", "p_overturn_random_orientation (a block o
 def assemble_fragility(results: list[dict], inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                        hazard: HazardSet | None = None, bootstrap: int = 200,
                        orientation: str = "random", component: Component = Component.rotd100,
-                       level_unit: tuple[str, float] | None = None) -> xr.Dataset:
-    """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates.
+                       level_unit: tuple[str, float] | None = None, progress=None) -> xr.Dataset:
+    """Stripes, fits, bootstrap intervals, IM ranking and (with a hazard curve) the annual rates (``progress``:
+    the command's progress display, told of each block's bootstrap).
 
     ``orientation`` (:data:`ORIENTATIONS`): with sampling, each scaled scene's outcome is its probability for a
     block of unknown orientation (the default: the risk of such a block) or in its worst orientation; a block
@@ -408,7 +409,9 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     frac = np.where(n > 0, z / np.maximum(n, 1), np.nan)
     fit = fit_stripes(levels, z.T, n.T)
     th_ci, be_ci = np.full((nb, 2), np.nan), np.full((nb, 2), np.nan)
-    for j in range(nb):
+    blocks = range(nb)
+    label = f"blocks fitted ({bootstrap} bootstrap draws each)"
+    for j in (progress(blocks, total=nb, label=label) if progress is not None and bootstrap else blocks):
         th_ci[j], be_ci[j] = bootstrap_stripes(levels, outcome[:, :, j], draws=bootstrap,
                                                seed=config.uncertainty.seed + j)
         if fit.status[j] == FitStatus.not_bounded:     # the median lies beyond the levels: its interval is open
@@ -636,7 +639,9 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
         ds = assemble_fragility(results, request.inventory, request.config, im=request.im, levels=levels,
                                 hazard=request.hazard, bootstrap=request.bootstrap,
                                 orientation=request.orientation, component=request.component,
-                                level_unit=request.level_unit)
+                                level_unit=request.level_unit, progress=progress)
+        if say is not None:
+            say("writing fragility.nc, fragility.html (its figures) and the exports ...")
         ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} "
                                     f"{' '.join(request.command)}",
                          "rockscreen_config": json.dumps(request.config.to_dict(), sort_keys=True),

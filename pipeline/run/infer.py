@@ -142,14 +142,17 @@ def criterion_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     return (felt >= a_crit[:, None, :, None]) & below_sliding & applicable
 
 
-def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config) -> tuple[np.ndarray, int]:
-    """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs."""
+def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config,
+                        progress=None) -> tuple[np.ndarray, int]:
+    """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs (``progress``: the
+    command's progress display, told of each block done)."""
     rocking_blocks = inv.rocking_blocks(g_ms2=config.records.g_ms2)
     felt = _felt(inv, azimuths)
     out = np.zeros((len(inv), azimuths.size, tp.size, ap.size), dtype=bool)
     runs = 0
     settings = config.simulation_settings()
-    for j in range(len(inv)):
+    blocks = range(len(inv))
+    for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
         memo: dict[tuple, bool] = {}
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
@@ -212,7 +215,7 @@ def conflicts(holds: np.ndarray, ids: tuple) -> dict:
 
 
 def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durations_s=None,
-          accelerations_ms2=None) -> xr.Dataset:
+          accelerations_ms2=None, progress=None) -> xr.Dataset:
     """The consistency masks on the grid, by the criterion and by simulation (netCDF-ready Dataset).
 
     Parameters
@@ -226,6 +229,8 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
     durations_s, accelerations_ms2 : array_like, optional
         A fixed grid of t_p [s] and a_p [m s-2] instead of the one fitted to the blocks
         (to compare sites or subsets on the same grid).
+    progress : callable, optional
+        The command's progress display (the simulation's blocks, one by one).
     """
     from ..errors import ParameterError
 
@@ -240,7 +245,7 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
         ap = np.asarray(accelerations_ms2, dtype=float)
     crit = consistency(criterion_overturns(inv, tp, ap, az, shape=shape, config=config), obs, az, config)
     t0 = time.perf_counter()
-    sim_over, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config)
+    sim_over, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config, progress=progress)
     t_sim = time.perf_counter() - t0
     sim = consistency(sim_over, obs, az, config)
     dims = ("observation", "azimuth", "duration", "acceleration")
@@ -283,13 +288,13 @@ def summarize(ds: xr.Dataset) -> dict:
 
 
 def write_inference(observed_csv: Path, inventory: Inventory, *, shape: str, config: Config, out_dir: Path,
-                    history: str) -> tuple[xr.Dataset, Path, Path]:
+                    history: str, progress=None) -> tuple[xr.Dataset, Path, Path]:
     """``screen infer``: the observations of ``observed_csv`` against the pulses of ``shape`` (:func:`infer`),
     written to ``out_dir/infer.nc`` and drawn in ``out_dir/infer.png``; the dataset and both paths."""
     from ..report.infer_plot import plot_inference
     from ..store import Family, OutputLock, publish_staged, write_atomic
 
-    ds = infer(read_observations(observed_csv, inventory), shape=shape, config=config)
+    ds = infer(read_observations(observed_csv, inventory), shape=shape, config=config, progress=progress)
     ds.attrs["history"] = history
     with OutputLock(out_dir, command=history):         # the two files are published as one set
         out, figure = publish_staged(out_dir, lambda stage: [
