@@ -10,14 +10,13 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
-from browser import assert_reads_at
+from browser import assert_reads_at, chromium
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
@@ -273,13 +272,6 @@ def test_the_shakecast_export_reads_back_with_the_same_medians_and_follows_the_f
     assert [lv.alpha for lv in read_facilities(example)[1].levels] == [21, 35, 70, 137, 0.01]
 
 
-def _chromium() -> str | None:
-    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
-        if shutil.which(name):
-            return shutil.which(name)
-    return None
-
-
 @pytest.mark.browser
 def test_the_event_page_in_headless_chromium(shakemaps, tmp_path):
     """The page opens with the list and the map; the map renders, every link has its target, and the page fits
@@ -295,13 +287,7 @@ def test_the_event_page_in_headless_chromium(shakemaps, tmp_path):
     source = page.read_text()
     assert source.index('id="priority"') < source.index('id="map"') < source.index('id="curves"')
     assert not re.search(r"""(src|href)=["']?(https?:)?//""", source), "the page must not load anything remotely"
-    browser = _chromium()
-    if browser is None:
-        message = "CHROMIUM IS NOT INSTALLED: the event page was NOT tested in a browser."
-        print(f"\n{'!' * 80}\n{message}\n{'!' * 80}", file=sys.stderr)
-        if os.environ.get("ROCKSCREEN_REQUIRE_BROWSER"):
-            pytest.fail(message + " (ROCKSCREEN_REQUIRE_BROWSER is set, as in CI)")
-        pytest.skip(message)
+    browser = chromium()
     common = [browser, "--headless=new", "--no-sandbox", "--disable-gpu", f"--user-data-dir={tmp_path / 'p'}",
               "--virtual-time-budget=10000", "--window-size=1400,1000"]
     env = dict(os.environ, HOME=str(tmp_path))

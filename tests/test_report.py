@@ -8,11 +8,10 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 
 import numpy as np
 import pytest
-from browser import assert_reads_at
+from browser import assert_reads_at, chromium
 
 from pipeline.blocks import geometry
 from pipeline.cli import main
@@ -171,28 +170,13 @@ def test_page_is_self_contained(screened):
     assert "<script src" not in html and "<link" not in html
 
 
-def _chromium() -> str | None:
-    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
 @pytest.mark.browser
 @pytest.mark.parametrize("run", [pytest.param("nominal", marks=pytest.mark.slow), "default"])  # nominal: 19 s
 def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
     """The page in a real browser, for a --samples 0 run and for the default (sampled) run, whose table has
     more columns: every figure renders, every link has its target, the page fits a 1400 px window."""
     screened = request.getfixturevalue("screened" if run == "nominal" else "screened_sampled")
-    browser = _chromium()
-    if browser is None:
-        message = ("CHROMIUM IS NOT INSTALLED: the report was NOT tested in a browser. Install Debian's "
-                   "'chromium' package (make test does this when it can) and run again.")
-        print(f"\n{'!' * 80}\n{message}\n{'!' * 80}", file=sys.stderr)
-        if os.environ.get("ROCKSCREEN_REQUIRE_BROWSER"):
-            pytest.fail(message + " (ROCKSCREEN_REQUIRE_BROWSER is set, as in CI)")
-        pytest.skip(message)
+    browser = chromium()
     page = (screened / "report.html").as_uri()
     common = [browser, "--headless=new", "--no-sandbox", "--disable-gpu", "--enable-logging=stderr", "--v=0",
               f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=10000"]

@@ -402,6 +402,25 @@ def _accept(hh, th1, om1, err, dt, progress, theta_out):
 
 
 @jit_inline
+def step_error(th, om, th1, om1, et, eo, lim, rtol):
+    """The step's error norm against the tolerances (``lim.atol_theta``, ``lim.atol_omega``; relative ``rtol``):
+    above 1 the step is rejected (Hairer, Norsett & Wanner 1993, section II.4)."""
+    sc_t = lim.atol_theta + rtol * max(abs(th), abs(th1))
+    sc_o = lim.atol_omega + rtol * max(abs(om), abs(om1))
+    return math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
+
+
+@jit_inline
+def reject(hh, err, min_step, progress):
+    """A rejected step of length ``hh``: the next is shorter, never below ``min_step`` (flagged where it would be)."""
+    pr = progress[0]
+    pr.h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
+    if pr.h < min_step:
+        pr.status |= STATUS_STEP_UNDERFLOW
+        pr.h = min_step
+
+
+@jit_inline
 def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
     """One adaptive step of a rocking block inside the ground piece, with its events: a rejected step
     shrinks; an accepted one ends at an impact, at overturning (|theta| = pi/2), where contact is lost or
@@ -418,14 +437,9 @@ def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
     if hh <= min_step:
         hh = pc.t1 - t
     th1, om1, et, eo, acc1, sin1, cos1 = dopri_step(t, th, om, hh, pc, s, lim.p2, block.alpha, block.g, block.linear)
-    sc_t = lim.atol_theta + control.rtol * max(abs(th), abs(th1))
-    sc_o = lim.atol_omega + control.rtol * max(abs(om), abs(om1))
-    err = math.sqrt(0.5 * ((et / sc_t) ** 2 + (eo / sc_o) ** 2))
+    err = step_error(th, om, th1, om1, et, eo, lim, control.rtol)
     if err > 1.0 and hh > min_step:
-        pr.h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
-        if pr.h < min_step:
-            pr.status |= STATUS_STEP_UNDERFLOW
-            pr.h = min_step
+        reject(hh, err, min_step, progress)
         return True
     if has_v and block.g + pc.v0 + pc.sv * (t + hh - pc.t0) <= 0.0:
         _to_ground_flight(hh, pc, block, lim, progress)

@@ -51,11 +51,10 @@ from .codes import (
     STATUS_GROUND_FLIGHT,
     STATUS_LIFTOFF,
     STATUS_STEP_CAP,
-    STATUS_STEP_UNDERFLOW,
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
-from .dopri import dopri_step, fill_hermite, first_crossing, hermite_peak, locate_impact, pivot_demand
+from .dopri import dopri_step, fill_hermite, hermite_peak, locate_impact, pivot_demand
 from .ground import flight_fraction
 from .kernel import (
     ERROR_EXPONENT,
@@ -64,13 +63,15 @@ from .kernel import (
     MAX_STEPS_FIXED,
     MAX_STEPS_PER_SAMPLE,
     MIN_FACTOR,
-    MIN_FACTOR_REJECTED,
     MIN_STEP_AFTER_IMPACT_P,
     MIN_STEP_S,
     SAFETY,
     TINY,
     UPLIFT_STEP_FRACTION,
+    _impact_fraction,
     _piece,
+    reject,
+    step_error,
 )
 from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from .structures import StepControl
@@ -289,17 +290,6 @@ def _impact(hh, x, dt, pc, b, control, lim, progress, theta_out):
 
 
 @jit_inline
-def _crossing(th, om, th1, om1, hh, s):
-    """Fraction of an accepted step where theta first meets 0 on the pivot side, or -1."""
-    if s * th1 < 0.0:
-        x = first_crossing(th, om, th1, om1, hh, s)
-        return 1.0 if x < 0.0 else x
-    if s * om < 0.0 and s * om1 > 0.0:
-        return first_crossing(th, om, th1, om1, hh, s)
-    return -1.0
-
-
-@jit_inline
 def _rocking_step(has_v, dt, pc, b, control, lim, progress, theta_out):
     """One adaptive step with its events; False where the scene ends (overturned, contact lost, step cap)."""
     pr = progress[0]
@@ -314,18 +304,14 @@ def _rocking_step(has_v, dt, pc, b, control, lim, progress, theta_out):
     if hh <= min_step:
         hh = pc.t1 - t
     th1, om1, et, eo, acc1, sin1, cos1 = dopri_step(t, th, om, hh, pc, s, p2, alpha, b.g, False)
-    err = math.sqrt(0.5 * ((et / (lim.atol_theta + control.rtol * max(abs(th), abs(th1)))) ** 2
-                           + (eo / (lim.atol_omega + control.rtol * max(abs(om), abs(om1)))) ** 2))
+    err = step_error(th, om, th1, om1, et, eo, lim, control.rtol)
     if err > 1.0 and hh > min_step:
-        pr.h = hh * max(MIN_FACTOR_REJECTED, SAFETY * err ** ERROR_EXPONENT)
-        if pr.h < min_step:
-            pr.status |= STATUS_STEP_UNDERFLOW
-            pr.h = min_step
+        reject(hh, err, min_step, progress)
         return True
     if has_v and b.g + pc.v0 + pc.sv * (t + hh - pc.t0) <= 0.0:
         pr.status |= STATUS_GROUND_FLIGHT
         return False
-    x = _crossing(th, om, th1, om1, hh, s)
+    x = _impact_fraction(th, om, th1, om1, hh, s)
     if x >= 0.0:
         _impact(hh, x, dt, pc, b, control, lim, progress, theta_out)
         return True
