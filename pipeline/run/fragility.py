@@ -241,6 +241,8 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
                                "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
 
 
+#: How a level's unit reads in a sentence (the option's suffix, ``cms``, is not a unit a reader knows)
+UNIT_WORDS = {"cms": "cm/s", "ms": "m/s", "cms2": "cm/s2", "ms2": "m/s2"}
 #: IMs ``--levels auto`` can start from the blocks' capacities: the uplift acceleration g min(tan alpha, mu) for
 #: accelerations, the critical velocity of the reference paper's Eq. (4) for PGV, 1 for the velocity ratio
 AUTO_IMS = ("pga", "sa", "ap", "pgv", "velocity_ratio")
@@ -325,15 +327,20 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
     cap = capacities(inventory, im, g_ms2=config.records.g_ms2)
     levels = auto_ladder(cap)
     shown, factor = display_unit(im)
+    words = UNIT_WORDS.get(shown, shown)
+
+    def listed(xs) -> str:
+        return ", ".join(f"{x / factor:,.4g}" if x / factor < 1e4 else f"{x / factor:,.0f}" for x in xs)
+
     if say is not None:
-        say(f"levels auto: {', '.join(f'{x / factor:.3g}' for x in levels)} {shown}, from the blocks' capacities")
+        say(f"levels auto: {listed(levels)} {words}, from the blocks' capacities")
     results, failures, counts = run(levels)
     for k in range(AUTO_ROUNDS):
         add = [x for x in extension(levels, results, cap, outcome=outcome) if levels.size < AUTO_MAX_LEVELS]
         if not add:
             break
         if say is not None:
-            say(f"levels auto, round {k + 2}: adding {', '.join(f'{x / factor:.3g}' for x in sorted(add))} {shown}, "
+            say(f"levels auto, round {k + 2}: adding {listed(sorted(add))} {words}, "
                 "where some block's stripes do not yet reach 10 % or 90 % overturning")
         more, more_failures, more_counts = run(np.array(sorted(add)))
         results = merge_rounds(results, more)
