@@ -86,7 +86,7 @@ def _margin_words(sim_scale: float, governing: str) -> str:
     if not np.isfinite(sim_scale):
         return f"stands under {governing} scaled up to the scan limit" if np.isinf(sim_scale) else "no margin"
     if sim_scale <= 1.0:
-        return f"overturns under {governing} x{factor_words(sim_scale)}"
+        return f"overturns under {governing} scaled by {factor_words(sim_scale)}"
     return f"overturns only with {governing} scaled by {factor_words(sim_scale)}"
 
 

@@ -388,9 +388,9 @@ def test_stations_without_a_verdict_are_counted_and_never_give_no_action():
 
 
 @pytest.mark.parametrize("kw, start, words", [
-    (dict(p_max=0.97, p_record="R1", sim_scale=0.8), "restrain or anchor", ["p = 0.97 under R1", "x0.80"]),
+    (dict(p_max=0.97, p_record="R1", sim_scale=0.8), "restrain or anchor", ["p = 0.97 under R1", "scaled by 0.80"]),
     (dict(p_max=0.3, p_record="R2", sim_scale=0.95, overturned=True), "restrain, or relocate",
-     ["p = 0.30 under R2", "overturns under G x0.95"]),
+     ["p = 0.30 under R2", "overturns under G scaled by 0.95"]),
     (dict(p_max=0.02, p_record="R3", sim_scale=math.inf), "no action", ["p = 0.02 under R3", "scan limit"]),
     (dict(sim_scale=0.9, overturned=False), "restrain or anchor", ["not monotonic"]),
     (dict(sim_scale=1.3), "restrain, or relocate", ["scaled by 1.30"]),
