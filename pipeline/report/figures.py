@@ -41,7 +41,13 @@ def png_bytes(fig) -> bytes:
 
 
 def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
-    """Normalized stability chart with one point per scene.
+    """PNG of :func:`scenes_chart_figure`."""
+    return png_bytes(scenes_chart_figure(x, y, response))
+
+
+def scenes_chart_figure(x: np.ndarray, y: np.ndarray, response: np.ndarray):
+    """Normalized stability chart with one point per scene; its legend outside the axes, so that it covers no
+    point and no line.
 
     Parameters
     ----------
@@ -52,7 +58,7 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
     response : ndarray of int
         Simulated response code per scene.
     """
-    fig = new_figure(figsize=(7.5, 5.5), layout="constrained")
+    fig = new_figure(figsize=(9.5, 5.5), layout="constrained")
     ax = fig.subplots()
     ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
     lo = min(0.05, float(np.min(x[ok])) / 1.5) if ok.any() else 0.05
@@ -74,9 +80,10 @@ def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
     ax.set_xlabel("pulse duration / transition duration, t_p / t_bar")
     ax.set_ylabel("pulse acceleration / uplift acceleration, a_p / (g tan alpha)")
     ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="upper right", title="simulated response", title_fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), title="simulated response",
+              title_fontsize=8, borderaxespad=0.0)
     ax.set_title(f"Every screened scene ({int(ok.sum())} with an extracted pulse)", fontsize=10)
-    return png_bytes(fig)
+    return fig
 
 
 def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:

@@ -59,15 +59,20 @@ def _png(fig) -> str:
 
 
 def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
+    """The PNG (a data URI) of :func:`curve_figure_of`."""
+    return _png(curve_figure_of(ds, j, hazard))
+
+
+def curve_figure_of(ds: xr.Dataset, j: int, hazard: HazardSet | None):
     """The fitted curve with the stripe fractions and their intervals (and the hazard integrand), in the unit the
-    levels were given in (the table's), ticks at the levels."""
+    levels were given in (the table's), ticks at the levels; the legend below the axes, covering no stripe."""
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
     shown = float(ds.attrs.get("im_display_factor", 1.0))
     units = UNIT_WORDS.get(ds.attrs.get("im_display_unit", ""), ds.attrs["im_units"])
     levels = ds["im_level"].values / shown
-    fig = new_figure(figsize=(9.0 if hazard is not None else 5.0, 3.4))
-    fig.subplots_adjust(left=0.09, right=0.98, top=0.88, bottom=0.16, wspace=0.28)
+    fig = new_figure(figsize=(9.0 if hazard is not None else 5.0, 4.2))
+    fig.subplots_adjust(left=0.09 if hazard is not None else 0.14, right=0.98, top=0.9, bottom=0.34, wspace=0.28)
     axes = fig.subplots(1, 2 if hazard is not None else 1, squeeze=False)[0]
     ax = axes[0]
     n, z = ds["n_records"].values[j], ds["overturned_sum"].values[j]
@@ -89,7 +94,7 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
     ax.set_xlabel(f"{ds.attrs['im']} [{units}]")
     ax.set_ylabel("P(overturn)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.2), borderaxespad=0.0, frameon=False)
     ax.set_title(str(ds["block"].values[j]), fontsize=9)
     if hazard is not None:
         period = float(ds["hazard_period"].values[j]) if "hazard_period" in ds else math.nan
@@ -103,7 +108,7 @@ def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
         axes[1].set_ylabel("P(C|im) |d lambda / d ln im| [1/yr]")
         axes[1].set_title("which shaking levels drive the rate", fontsize=9)
         axes[1].grid(alpha=0.3, which="both")
-    return _png(fig)
+    return fig
 
 
 def asset_rows(ds: xr.Dataset) -> list[dict]:
