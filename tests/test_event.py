@@ -364,3 +364,47 @@ def test_the_events_records_screen_the_assets_near_their_station(shakemaps, reco
     assert int(ds.level.values[0]) == Level.high and int(ds.priority.values[0]) == 1
     assert math.isnan(float(ds.p_overturn_record.values[1])) and int(ds.governed_by.values[1]) == 0
     assert "station_record" in (tmp_path / "out" / "inspection.csv").read_text().splitlines()[0]
+
+
+def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_below(shakemaps, tmp_path,
+                                                                                    monkeypatch):
+    """Assets clustered at the epicentre: their names stand in a column beside the map, none over another, none
+    over the map; the legend is below the axes; the curves' tick labels have no exponent."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from test_plots_clear import _legend_boxes_clear
+
+    from pipeline.report import event_html
+
+    drawn = []
+
+    def capture(ds, grid, inv, order):
+        fig = event_html.map_figure(ds, grid, inv, order)
+        drawn.append(fig)
+        from pipeline.report.figures import png_bytes
+        return png_bytes(fig)
+
+    monkeypatch.setattr(event_html, "map_png", capture)
+    rows = _node_rows(shakemaps / SCENARIO)
+    lon0 = float(np.median([r[0] for r in rows]))                        # the assets in a cluster mid-grid
+    lat0 = float(np.median([r[1] for r in rows]))
+    ids = [f"A{k}" for k in range(10)]
+    inv = _inventory(tmp_path / "b.csv", [(f"A{k}", 1.0, 0.2, 0.6, "", "s", lon0 + 0.001 * k, lat0 + 0.0005 * k)
+                                          for k in range(10)])
+    frag = _fragility(tmp_path / "frag", ids, median_g=[0.05 + 0.3 * k for k in range(10)], beta=[0.4] * 10)
+    screen_event(_request(tmp_path, shakemaps / SCENARIO, inv, frag))
+    fig = drawn[0]
+    FigureCanvasAgg(fig)
+    assert _legend_boxes_clear(fig) == []
+    ax = fig.axes[0]
+    box = ax.get_window_extent()
+    assert len(fig.legends) == 1 and not fig.legends[0].get_window_extent().overlaps(box)
+    from matplotlib.text import Text
+
+    renderer = fig.canvas.get_renderer()
+    labels = [Text.get_window_extent(t, renderer) for t in ax.texts]     # the text alone, not its leader line
+    assert len(labels) == min(10, event_html.MAP_LABELS)
+    assert all(box.x1 <= lb.x0 and lb.x1 <= fig.bbox.x1 for lb in labels)   # beside the map, within the figure
+    assert not any(a.overlaps(b) for i, a in enumerate(labels) for b in labels[i + 1:])
+    page = (tmp_path / "out" / "event.html").read_text()
+    ticks = re.findall(r'text-anchor="(?:start|middle|end)">([^<]+)</text>', page)
+    assert ticks and not [t for t in ticks if "e+" in t or "e-" in t]

@@ -44,7 +44,15 @@ def _unit(ds: xr.Dataset) -> tuple[str, float]:
 
 
 def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]) -> bytes:
-    """The map: the field most assets read, on a log colour scale, the assets by level, the epicentre."""
+    """PNG of :func:`map_figure`."""
+    return png_bytes(map_figure(ds, grid, inv, order))
+
+
+def map_figure(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]):
+    """The map: the field most assets read, on a log colour scale, the assets by level, the epicentre. The colour
+    bar and the legend sit below the map and the names of the first :data:`MAP_LABELS` assets in a column beside
+    it, each joined to its asset by a leader line, so that no label covers another or the assets near the
+    epicentre."""
     from matplotlib.colors import LogNorm
 
     names, counts = np.unique(ds["shakemap_field"].values.astype(str), return_counts=True)
@@ -66,16 +74,15 @@ def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]
     norm = LogNorm(vmin=max(positive.min(), positive.max() / 1e3), vmax=positive.max()) if positive.size else None
     mesh = ax.pcolormesh(grid.lon[ix], grid.lat[iy], np.where(values > 0, values, np.nan), shading="nearest",
                          cmap="viridis", norm=norm, rasterized=True)
-    fig.colorbar(mesh, ax=ax, label=f"ShakeMap {field} median [{label}]", shrink=0.85)
+    fig.colorbar(mesh, ax=ax, label=f"ShakeMap {field} median [{label}]", shrink=0.85, location="bottom",
+                 aspect=40)
     lv = ds["level"].values.astype(int)
     for level in sorted(Level, key=lambda m: m.value):
         at = lv == level
         if at.any():
             ax.scatter(lon[at], lat[at], s=36 + 12 * level.value, c=LEVEL_COLOURS[level], edgecolors="black",
                        linewidths=0.6, label=f"{level.name} ({int(at.sum())})", zorder=3 + level.value)
-    for k in order[:MAP_LABELS]:
-        ax.annotate(inv.ids[k], (lon[k], lat[k]), xytext=(4, 4), textcoords="offset points", fontsize=8,
-                    color="white", path_effects=_outline())
+    _leader_labels(ax, [(inv.ids[k], float(lon[k]), float(lat[k])) for k in order[:MAP_LABELS]])
     if math.isfinite(epi[0]):
         ax.scatter([epi[0]], [epi[1]], marker="*", s=260, c="white", edgecolors="black", zorder=10,
                    label="epicentre")
@@ -84,16 +91,25 @@ def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]
     ax.set_aspect(1.0 / max(math.cos(math.radians(0.5 * (y0 + y1))), 0.1))
     ax.set_xlabel("longitude [deg]")
     ax.set_ylabel("latitude [deg]")
-    ax.legend(loc="upper right", fontsize=8, title="inspection level", title_fontsize=8, framealpha=0.85)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=5, fontsize=8,
+               title="inspection level", title_fontsize=8, frameon=False)
     ax.set_title(f"{ds.attrs['event_description'] or ds.attrs['event_id']}: ShakeMap v{ds.attrs['shakemap_version']}"
                  f" {field}", fontsize=10)
-    return png_bytes(fig)
+    return fig
 
 
-def _outline():
-    from matplotlib import patheffects
-
-    return [patheffects.withStroke(linewidth=2, foreground="black")]
+def _leader_labels(ax, named: list[tuple[str, float, float]]) -> None:
+    """Each (name, lon, lat) named in a column right of the map (where it has no tick labels), in the order of
+    latitude (so that leader lines do not cross one another), joined to its point by a thin line; the layout makes
+    room for the column."""
+    if not named:
+        return
+    rows = sorted(named, key=lambda t: -t[2])
+    for i, (name, x, y) in enumerate(rows):
+        frac = 1.0 - (i + 0.5) / len(rows)
+        ax.annotate(name, xy=(x, y), xycoords="data", xytext=(1.03, frac), textcoords="axes fraction",
+                    ha="left", va="center", fontsize=8,
+                    arrowprops={"arrowstyle": "-", "color": "0.2", "lw": 0.6, "shrinkA": 2, "shrinkB": 3})
 
 
 def curve_svg(ds: xr.Dataset, k: int) -> str:
@@ -127,15 +143,22 @@ def curve_svg(ds: xr.Dataset, k: int) -> str:
                      'stroke-width="2"/>')
     for p in (0.0, 0.5, 1.0):
         parts.append(f'<text x="{pad - 4}" y="{py(p) + 4:.1f}" font-size="10" text-anchor="end">{p:g}</text>')
-    for v in (lo, math.sqrt(lo * hi), hi):
-        parts.append(f'<text x="{px(v):.1f}" y="{h - pad + 14}" font-size="10" text-anchor="middle">'
-                     f'{v * factor:.3g}</text>')
+    for v, anchor in ((lo, "start"), (math.sqrt(lo * hi), "middle"), (hi, "end")):
+        parts.append(f'<text x="{px(v):.1f}" y="{h - pad + 14}" font-size="10" text-anchor="{anchor}">'
+                     f'{plain(v * factor)}</text>')
     parts.append(f'<text x="{pad + (w - pad) / 2:.0f}" y="{h - 8}" font-size="11" text-anchor="middle">'
                  f'{escape(str(ds["shakemap_field"].values[k]))} [{escape(label)}] (blue: the site, median and '
                  '+-1 sigma)</text>')
     parts.append(f'<text x="12" y="{h / 2:.0f}" font-size="11" transform="rotate(-90 12 {h / 2:.0f})" '
                  'text-anchor="middle">P(overturn)</text></svg>')
     return "".join(parts)
+
+
+def plain(x: float) -> str:
+    """A number without an exponent, three significant digits (a tick label a reader takes in at once)."""
+    if x >= 1000:
+        return f"{x:,.0f}"
+    return f"{x:.3g}" if x >= 1e-3 else f"{x:.2g}"
 
 
 def _p_text(v: dict, k: int) -> str:
