@@ -115,6 +115,17 @@ def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     crit = ds.consistent_criterion.values.astype(bool)
     assert crit.any() and not crit[:, k - 1:k + 2, m - 1:m + 2].any()
     assert (out / "infer.png").read_bytes()[:4] == b"\x89PNG"
+    # the figure's legend names every block and both regions, outside the axes (no label over another or a line)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from test_plots_clear import _legend_boxes_clear
+
+    from pipeline.report.infer_plot import inference_figure
+
+    fig = inference_figure(ds, g_ms2=G)
+    FigureCanvasAgg(fig)
+    assert _legend_boxes_clear(fig) == []
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert len(texts) == 2 + ds.sizes["observation"] and not fig.axes[0].texts
     from pipeline import schema
 
     assert schema.check(ds, schema.INFER) == []

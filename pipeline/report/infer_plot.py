@@ -13,17 +13,22 @@ from .mpl import new_figure, save_figure
 
 
 def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) -> Path:
+    """Write :func:`inference_figure` to ``path``."""
+    return save_figure(inference_figure(ds, g_ms2=g_ms2), path, dpi=100)
+
+
+def inference_figure(ds: xr.Dataset, *, g_ms2: float = 9.80665):
     """Shade the consistent (t_p, a_p) region (any orientation) and draw each block's boundary.
 
     Simulation: filled; criterion: hatched outline. Each block's criterion boundary
     (Eq. 7, with the paper's sliding line where it is lower) is drawn solid when the block
-    toppled and dashed when it stood, labelled with its id.
+    toppled and dashed when it stood; the legend, outside the axes, names them and the two regions.
     """
-    from matplotlib.patches import Rectangle
+    from matplotlib.patches import Patch, Rectangle
 
     tp = ds["duration"].values
     ap_g = ds["acceleration"].values / g_ms2
-    fig = new_figure(figsize=(8.5, 6), layout="constrained")
+    fig = new_figure(figsize=(10.5, 6), layout="constrained")
     ax = fig.subplots()
     sim = ds["consistent_simulation"].values.astype(bool).any(axis=0).T        # (acceleration, duration)
     crit = ds["consistent_criterion"].values.astype(bool).any(axis=0).T
@@ -44,16 +49,20 @@ def plot_inference(ds: xr.Dataset, path: str | Path, *, g_ms2: float = 9.80665) 
         geo = geometry(float(ds["height"][k]), float(ds["width"][k]), g_ms2=g_ms2)
         curve = criteria.critical_acceleration(tp, geo.R, geo.alpha, beta, g_ms2=g_ms2) / g_ms2
         toppled = bool(ds["toppled"][k])
-        line, = ax.plot(tp, curve, lw=1.2, ls="-" if toppled else "--")
-        ax.annotate(f"{bid} ({'toppled' if toppled else 'standing'})", (tp[-1], curve[-1]), fontsize=7,
-                    color=line.get_color(), xytext=(3, 0), textcoords="offset points", va="center")
+        ax.plot(tp, curve, lw=1.2, ls="-" if toppled else "--",
+                label=f"{bid} ({'toppled' if toppled else 'standing'}): its criterion boundary")
+    handles, _labels = ax.get_legend_handles_labels()
+    regions = [Patch(facecolor="tab:green", alpha=0.45, label="consistent with every observation: simulation"),
+               Patch(fill=False, hatch="//", edgecolor="k", label="consistent with every observation: criterion")]
+    ax.legend(handles=[*regions, *handles], fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+              borderaxespad=0.0, title="solid: toppled; dashed: stood", title_fontsize=7)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlim(tp[0], tp[-1] * 3)
+    ax.set_xlim(tp[0], tp[-1])
     ax.set_ylim(ap_g[0], ap_g[-1])
     ax.set_xlabel("pulse duration t_p [s]")
     ax.set_ylabel("pulse acceleration a_p [g]")
     ax.set_title(f"Pulses ({ds.attrs['pulse']}) consistent with every observation: simulation (green), "
                  "criterion (hatched)", fontsize=9)
     ax.grid(which="both", alpha=0.25)
-    return save_figure(fig, path, dpi=100)
+    return fig

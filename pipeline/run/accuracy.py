@@ -478,14 +478,15 @@ def markdown(rows: list[dict]) -> str:
 def _plot(rows: list[dict], path: Path) -> Path:
     from ..report.mpl import new_figure, save_figure
 
-    fig = new_figure(figsize=(12, 4.6), layout="constrained")
+    fig = new_figure(figsize=(13, 5.2), layout="constrained")
     ax, ax2 = fig.subplots(1, 2)
     tiers = [r for r in rows if r["section"] == "tier"]
-    for k, r in enumerate(tiers):
+    for r, marker in zip(tiers, ("o", "s", "D", "^", "v")):
         wrong = max(r["misses"] + r["false_alarms"], 0.5)
-        ax.scatter(r["time_per_scene_us"], wrong, s=40)
-        ax.annotate(f"{r['value']}: {r['misses']} missed, {r['false_alarms']} false", (r["time_per_scene_us"], wrong),
-                    fontsize=8, xytext=(-10, 8 + 12 * (k % 2)), textcoords="offset points")
+        ax.scatter(r["time_per_scene_us"], wrong, s=40, marker=marker,
+                   label=f"{r['value']}: {r['misses']} missed, {r['false_alarms']} false alarms")
+    if tiers:                                   # named in a legend beside the panel: no label over another
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0.0, -0.18), borderaxespad=0.0, frameon=False)
     markers = {"rtol": "o", "rest_ratio": "s", "max_step_p": "^"}
     for name, marker in markers.items():
         sweep = [r for r in rows if r["section"] == "simulation" and r["setting"].split()[0] == name]
@@ -498,7 +499,8 @@ def _plot(rows: list[dict], path: Path) -> Path:
         for r, xi, yi in zip(sweep, x, y):
             ax2.annotate(f"{r['value']:g}", (xi, yi), fontsize=7, xytext=(3, 3), textcoords="offset points")
     if ax2.lines:
-        ax2.legend(fontsize=8)
+        ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
+                   title="setting (values beside the points)", title_fontsize=8)
     else:
         ax2.text(0.5, 0.5, "settings not swept (--tiers-only)", transform=ax2.transAxes, ha="center")
     ax.set_xscale("log")
