@@ -58,6 +58,13 @@ def _png(fig) -> str:
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
+def rate_text(x) -> str:
+    """An annual rate in one notation down its column: two significant digits in scientific notation ('' for
+    NaN)."""
+    x = float(x)
+    return "" if math.isnan(x) else f"{x:.2e}"
+
+
 def curve_figure(ds: xr.Dataset, j: int, hazard: HazardSet | None) -> str:
     """The PNG (a data URI) of :func:`curve_figure_of`."""
     return _png(curve_figure_of(ds, j, hazard))
@@ -171,6 +178,7 @@ def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardSet |
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     env.filters["num"] = _num
+    env.filters["rate"] = rate_text
     ims = ds["im"].values.tolist()
     html = env.get_template("fragility.html.j2").render(
         attrs=ds.attrs, assets=rows, hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
