@@ -53,8 +53,9 @@ PHYSICS_NAMES = {-1: "not simulated", **{m.value: m.name for m in Physics}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
 
-#: Columns of assets.csv; a column named as a screening.nc variable holds that variable (same units: height and
-#: width [m], slenderness [rad], frequency_parameter [rad s-1]) for the asset's governing scene, except
+#: Columns of assets.csv (their headers: :data:`ASSETS_CSV_HEADERS` adds the unit to a name); a column named as a
+#: screening.nc variable holds that variable (same units: height and width [m], slenderness [rad],
+#: frequency_parameter [rad s-1], azimuths [deg]) for the asset's governing scene, except
 #: p_overturn (the worst orientation), its interval, p_overturn_azimuth (the plane it is for [deg]),
 #: p_overturn_random_orientation (an unknown orientation) and robustness, which are those of the record with the
 #: largest p_overturn (``p_record``). ``stations_*`` count the records of one station recording in several files
@@ -286,9 +287,19 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
     return rows
 
 
+#: assets.csv's header of a column whose number has a unit: the unit in the name, as the console and the report
+#: print it (the others are dimensionless, counts, names or words)
+ASSETS_CSV_HEADERS = {"height": "height_m", "width": "width_m", "slenderness": "slenderness_rad",
+                      "frequency_parameter": "frequency_parameter_rad_s",
+                      SCENE.p_overturn_azimuth: "p_overturn_azimuth_deg", SCENE.governing_azimuth:
+                      "governing_azimuth_deg", SCENE.theta_max: "theta_max_over_alpha"}
+
+
 def assets_csv_table(rows: list[dict]) -> tuple[tuple[str, ...], list[dict]]:
     """The columns and rows of ``assets.csv``: the per-asset table (numbers unrounded, inf for 'none up to the
-    scan limit'), then the extra inventory columns as given."""
+    scan limit'; a header with a unit has it in its name, :data:`ASSETS_CSV_HEADERS`), then the extra inventory
+    columns as given."""
     extra = list(rows[0]["inventory"]) if rows else []
-    return ASSETS_CSV_COLUMNS + tuple(extra), [{**{c: r[c] for c in ASSETS_CSV_COLUMNS}, **r["inventory"]}
-                                               for r in rows]
+    header = tuple(ASSETS_CSV_HEADERS.get(c, c) for c in ASSETS_CSV_COLUMNS)
+    return header + tuple(extra), [{**{ASSETS_CSV_HEADERS.get(c, c): r[c] for c in ASSETS_CSV_COLUMNS},
+                                    **r["inventory"]} for r in rows]

@@ -139,6 +139,13 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
         ids = sorted(ds.record.values[ok & (ds.overturn.values[:, j] == 1)])
         assert int(r["records_overturning"]) == len(ids) and sorted(filter(None, r["records_overturning_ids"]
                                                                            .split(";"))) == ids
+    # a header whose number has a unit says it, and holds screening.nc's value in that unit
+    assert {"height_m", "width_m", "slenderness_rad", "frequency_parameter_rad_s", "governing_azimuth_deg",
+            "theta_max_over_alpha"} <= set(rows[0]) and "height" not in rows[0]
+    for r in rows:
+        j = list(ds.block.values).index(r["block"])
+        assert float(r["height_m"]) == pytest.approx(float(ds["height"].values[j]))
+        assert float(r["slenderness_rad"]) == pytest.approx(float(ds["slenderness"].values[j]))
     for r in rows:
         m = float(r["overturn_scale_simulated"])
         if m <= 1.0:
