@@ -408,3 +408,7 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
     page = (tmp_path / "out" / "event.html").read_text()
     ticks = re.findall(r'text-anchor="(?:start|middle|end)">([^<]+)</text>', page)
     assert ticks and not [t for t in ticks if "e+" in t or "e-" in t]
+    # the terms of the details table are explained above it, on the rendered page
+    terms = page[page.index('id="terms"'):page.index('id="detail-table"')]
+    for word in ("P bounds", "basis", "fitted", "extrapolated", "bounds only", "cannot rock", "no fragility"):
+        assert word in terms, word

@@ -120,3 +120,19 @@ def test_the_plane_geometry_of_a_rectangle_scales_as_a_rectangle(w, h):
         rectangle(1.1 * w, 0.9 * h))
     rev = rectangle_plane(w, h)._replace(b_plus_m=w / 4).reversed()
     assert rev.b_minus_m == w / 4 and rev.azimuth_deg == 180.0
+
+
+@pytest.mark.parametrize("factor", [0.5, 1.0, 1.5, 5.0])
+def test_no_impact_gains_speed_or_energy_whatever_the_declared_restitution(factor):
+    """The energy decision after the record assumes impacts never add energy (the impact rule's own ratios, by
+    (A - b1 b2)^2 <= (A + b1^2)(A + b2^2)); a declared factor is capped to keep it so."""
+    from pipeline.rocking.two_sided import two_sided_block
+
+    for body in (TwoSided(0.05, 0.3, 0.4, 0.02), TwoSided(0.3, 0.05, 0.6, 0.1), rectangle(0.4, 1.2)):
+        b = two_sided_block(body, restitution_factor=factor)
+        inertia_plus, inertia_minus = body.side(1.0)[2], body.side(-1.0)[2]
+        assert b.ratio_plus <= 1.0 and b.ratio_minus <= 1.0
+        assert inertia_minus * b.ratio_plus ** 2 <= inertia_plus * (1 + 1e-12)       # leaving +: onto -
+        assert inertia_plus * b.ratio_minus ** 2 <= inertia_minus * (1 + 1e-12)
+        if factor <= 1.0:                                  # below the caps: exactly the rule's ratio times the factor
+            assert b.ratio_plus == pytest.approx(body.impact_ratio(1.0) * factor, rel=1e-12)

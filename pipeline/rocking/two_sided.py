@@ -18,7 +18,8 @@ p_min alpha_min rests; the event cap and tie rule 6 of :mod:`.rules` apply as in
 **After the record** the free motion is decided by its energy, ``E = I_s omega^2 / 2 + g R_s cos(alpha_s -
 |theta|)`` per unit mass, impact by impact in closed form: it overturns where E reaches a side's barrier
 ``g R_s`` on a swing toward it, and stands once E is below ``g min(R_+, R_-)`` (impacts never add energy,
-``(A - b_1 b_2)^2 <= (A + b_1^2)(A + b_2^2)``). The impacts taken after the record are counted.
+``(A - b_1 b_2)^2 <= (A + b_1^2)(A + b_2^2)``; a declared restitution is capped to keep it so,
+:func:`two_sided_block`). The impacts taken after the record are counted.
 
 Not modelled (flagged in ``status``, never a silent "stands"): the ground falling faster than gravity
 (``ground_flight``: the scene stops there, no verdict), the pivot lifting off (``liftoff``) and the pivot's
@@ -114,12 +115,16 @@ class TwoSidedBlock(NamedTuple):
 
 def two_sided_block(body: TwoSided, *, restitution_factor: float = 1.0, g_ms2: float = G) -> TwoSidedBlock:
     """The kernel's :class:`TwoSidedBlock` of a :class:`~.asymmetric.TwoSided` body (``restitution_factor``
-    scales both sides' impact ratios, each capped at 1: no impact gains speed [-])."""
+    scales both sides' impact ratios [-]). Each scaled ratio is capped so that no impact gains speed (ratio <= 1)
+    or energy (I_new ratio^2 <= I_old): the energy decision after the record rests on the energy never growing;
+    the impact rule's own ratios satisfy both."""
     (ap, rp, ip), (am, rm, im) = body.side(1.0), body.side(-1.0)
+    cap_plus, cap_minus = min(1.0, math.sqrt(ip / im)), min(1.0, math.sqrt(im / ip))
     return TwoSidedBlock(alpha_plus=ap, alpha_minus=am, R_plus=rp, R_minus=rm, p2_plus=g_ms2 * rp / ip,
-                         p2_minus=g_ms2 * rm / im, ratio_plus=min(body.impact_ratio(1.0) * restitution_factor, 1.0),
-                         ratio_minus=min(body.impact_ratio(-1.0) * restitution_factor, 1.0), z_g=body.com_height_m,
-                         g=g_ms2)
+                         p2_minus=g_ms2 * rm / im,
+                         ratio_plus=min(body.impact_ratio(1.0) * restitution_factor, cap_plus),
+                         ratio_minus=min(body.impact_ratio(-1.0) * restitution_factor, cap_minus),
+                         z_g=body.com_height_m, g=g_ms2)
 
 
 class TwoSidedOutcome(NamedTuple):

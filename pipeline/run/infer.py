@@ -154,6 +154,8 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     blocks = range(len(inv))
     for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
         memo: dict[tuple, bool] = {}
+        block = inv.shape(j)
+        scanned = _weakest_body(block) if inv.scanned()[j] else None       # once per block, not per grid point
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
                              samples_per_period=config.infer.samples_per_period)
@@ -161,8 +163,8 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
                 for q in range(azimuths.size):
                     amp = float(a * felt[j, q])
                     key = (k, round(amp, 12))
-                    if key not in memo and inv.scanned()[j]:       # its weakest plane, the pulse either way
-                        memo[key] = any(_scanned_overturns(inv.shape(j), sense * amp * unit, dt, settings=settings,
+                    if key not in memo and scanned is not None:    # its weakest plane, the pulse either way
+                        memo[key] = any(_scanned_overturns(block, scanned, sense * amp * unit, dt, settings=settings,
                                                            g_ms2=config.records.g_ms2) for sense in (1.0, -1.0))
                         runs += 2
                     elif key not in memo:
@@ -173,13 +175,18 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     return out, runs
 
 
-def _scanned_overturns(shape, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
-    """A body given by its scan, its weakest plane facing the pulse (:func:`pipeline.shapes.plane.weakest_plane`),
-    by the two-sided model (:mod:`pipeline.rocking.scanned`)."""
-    from ..rocking.scanned import plane_scene
+def _weakest_body(shape):
+    """The :class:`~pipeline.shapes.plane.PlaneBody` of a scanned body in its weakest plane."""
     from ..shapes.plane import plane_body, weakest_plane
 
-    body = plane_body(shape.scan, weakest_plane(shape.scan))
+    return plane_body(shape.scan, weakest_plane(shape.scan))
+
+
+def _scanned_overturns(shape, body, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
+    """A body given by its scan, its weakest plane (``body``, :func:`_weakest_body`) facing the pulse, by the
+    two-sided model (:mod:`pipeline.rocking.scanned`)."""
+    from ..rocking.scanned import plane_scene
+
     return plane_scene(ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu, settings=settings,
                        g_ms2=g_ms2).overturned
 

@@ -98,10 +98,13 @@ def plane_body(shape: ScannedShape, azimuth_deg: float, *, rule: PivotRule = Piv
 
 def weakest_plane(shape: ScannedShape, *, step_deg: float = 1.0, footprint_tol_m: float = FOOTPRINT_TOL_M) -> float:
     """The plane in which the body tips most easily, toward its + side [deg, in [0, 360)]: the smallest footprint
-    extent b_+ over planes every ``step_deg`` (the first where several tie)."""
+    extent b_+ over planes every ``step_deg`` (the first where several tie); every plane at once, one product of
+    the footprint with the planes' directions."""
     grid = np.arange(0.0, 360.0, step_deg)
-    b = [footprint_extents(shape, float(a), footprint_tol_m=footprint_tol_m)[0] for a in grid]
-    return float(grid[int(np.argmin(b))])
+    phi = np.radians(grid)
+    foot = shape.vertices_m[shape.vertices_m[:, 2] <= footprint_tol_m, :2]
+    b_plus = np.max(foot @ np.vstack([np.cos(phi), np.sin(phi)]), axis=0)
+    return float(grid[int(np.argmin(b_plus))])
 
 
 def equivalent_rectangle(shape: ScannedShape, *, footprint_tol_m: float = FOOTPRINT_TOL_M) -> tuple[float, float]:

@@ -127,11 +127,18 @@ def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, gov
     av = m.vertical if m.vertical.size else None
     scatter = not m.single and planes is None and math.isfinite(shape.azimuth_deg)
 
+    bodies: dict[float, PlaneBody] = {}              # each plane's geometry once, whatever the draws
+
+    def body_of(deg: float) -> PlaneBody:
+        if deg not in bodies:
+            bodies[deg] = plane_body(scan, deg)
+        return bodies[deg]
+
     def judge_in(pick):
         def judge(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
             for k in range(sl.start, sl.stop):
                 pl = pick(k)
-                sc = drawn_scene(along(h, m.azimuth0_deg, pl), av, m.dt_s, plane_body(scan, pl.body_deg),
+                sc = drawn_scene(along(h, m.azimuth0_deg, pl), av, m.dt_s, body_of(pl.body_deg),
                                  draw_factors(z[k], settings), restitution=shape.restitution, mu=shape.mu,
                                  simulation=simulation, g_ms2=g_ms2)
                 verdicts[k] = (Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0
