@@ -48,6 +48,7 @@ from pipeline.rocking.simulate import step_control
 from pipeline.rocking.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.shapes.plane import PivotRule, PlaneBody, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
+from pipeline.store import write_csv_atomic
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.settings import UncertaintyConfig
 from pipeline.uncertainty.two_sided import plane_draws
@@ -234,10 +235,8 @@ def plots(rows: list[dict], out: Path) -> None:
 
 
 def _write(path: Path, rows: list[dict]) -> None:
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    """The table as rockscreen writes every CSV (:func:`~pipeline.store.write_csv_atomic`: NaN a blank cell)."""
+    write_csv_atomic(path, list(rows[0]), rows)
 
 
 def main() -> None:

@@ -162,6 +162,13 @@ def test_a_fragility_that_bounds_nothing_gives_bounds_not_a_number(shakemaps, tm
         _phi(math.log(row[2] / 100.0 / 0.1) / sd), rel=1e-9)
     assert float(ds.p_overturn_event_low.values[0]) == 0.0
     assert int(ds.basis.values[1]) == Basis.cannot_rock and float(ds.p_overturn_event.values[1]) == 0.0
+    # the page and the list say it in words: no raw "inf" or "nan" (the fragility median is inf, beta NaN)
+    out = tmp_path / "out"
+    text = re.sub(r"<[^>]+>", " ", re.sub(r"data:image/[^\"]+", "", (out / "event.html").read_text()))
+    assert not re.findall(r"\b(?:nan|inf)\b", text, flags=re.I)
+    assert "none overturn" in text and re.search(r"\bnone\b", text.split("fragility median")[-1])
+    cells = [c for line in (out / "inspection.csv").read_text().splitlines() for c in line.split(",")]
+    assert not [c for c in cells if c.strip().lower() in ("nan", "inf", "-inf")], cells
 
 
 def _with_version(src: Path, dest: Path, version: int, factor: float = 1.0) -> Path:

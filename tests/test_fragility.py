@@ -311,6 +311,16 @@ def test_the_fragility_run_never_reports_a_rate_of_zero_for_a_block_that_can_roc
     slides = [line for line in left_out(ds) if line.startswith("SLIDES")]
     assert slides == ["SLIDES: it cannot rock (it slides or stands: mu <= tan alpha, or alpha >= 54.7 deg), so no "
                       "level overturns it; its risk is sliding (see the screening's recommendation)"]
+    # the page and the table say it in words: no raw "inf" or "nan" (the medians are inf, the betas NaN)
+    import re
+
+    from pipeline.report.fragility_html import build_fragility_report
+
+    html, table = build_fragility_report(ds, tmp_path)
+    text = re.sub(r"<[^>]+>", " ", re.sub(r"data:image/[^\"]+", "", html.read_text()))
+    assert not re.findall(r"\b(?:nan|inf)\b", text, flags=re.I)
+    cells = [c for line in table.read_text().splitlines() for c in line.split(",")]
+    assert not [c for c in cells if c.strip().lower() in ("nan", "inf", "-inf")] and "" in cells
 
 
 def test_levels_auto_start_at_the_uplift_and_extend_until_every_block_brackets():

@@ -126,9 +126,12 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
     with open(screened / "assets.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     n_blocks = sum(1 for line in blocks_csv.read_text().splitlines()[1:] if line.strip())
+    # a number that is not finite is a blank cell, never the raw text "nan" or "inf"
+    raw = [(r["block"], k) for r in rows for k, v in r.items() if v.strip().lower() in ("nan", "inf", "-inf")]
+    assert not raw and any(v == "" for r in rows for v in r.values()), raw
     assert len(rows) == n_blocks and [int(r["rank"]) for r in rows] == list(range(1, n_blocks + 1))
     # ranked by the number of stations that overturn the asset, then by the simulated margin (NaN last)
-    key = [(-int(r["stations_overturning"]), float(r["overturn_scale_simulated"])) for r in rows]
+    key = [(-int(r["stations_overturning"]), float(r["overturn_scale_simulated"] or "nan")) for r in rows]
     for (n1, m1), (n2, m2) in zip(key, key[1:]):
         assert n1 < n2 or (n1 == n2 and (math.isnan(m2) or m1 <= m2))
     # the count is the records whose verdict is "overturns", recounted from screening.nc
@@ -147,7 +150,7 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
         assert float(r["height_m"]) == pytest.approx(float(ds["height"].values[j]))
         assert float(r["slenderness_rad"]) == pytest.approx(float(ds["slenderness"].values[j]))
     for r in rows:
-        m = float(r["overturn_scale_simulated"])
+        m = float(r["overturn_scale_simulated"] or "nan")
         if m <= 1.0:
             # a margin <= 1: it overturns, or a smaller factor does (a window below the nominal amplitude)
             assert r["recommendation"].startswith("restrain or anchor")
@@ -536,3 +539,13 @@ def test_factor_words_keep_the_side_of_one():
     assert factor_words(0.996) == "0.996" and factor_words(1.004) == "1.004" and factor_words(0.24) == "0.24"
     assert factor_words(0.99999) == "0.99999" or float(factor_words(0.99999)) < 1.0
     assert factor_words(1.0) == "1.00"
+
+
+def test_the_report_never_prints_a_raw_nan_or_inf(screened):
+    """Missing or unbounded numbers read as words or a dash on the page, never "nan" or "inf"."""
+    import re
+
+    html = (screened / "report.html").read_text()
+    text = re.sub(r"<[^>]+>", " ", re.sub(r"data:image/[^\"]+|<svg.*?</svg>|<script.*?</script>", "", html,
+                                          flags=re.S))
+    assert not re.findall(r"\b(?:nan|inf)\b", text, flags=re.I)

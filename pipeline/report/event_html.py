@@ -161,6 +161,17 @@ def plain(x: float) -> str:
     return f"{x:.3g}" if x >= 1e-3 else f"{x:.2g}"
 
 
+def number_text(x: float, spec: str, *, factor: float = 1.0) -> str:
+    """``x * factor`` in the format ``spec`` for a table cell; never the raw "inf" or "nan": an infinite value
+    (a fragility median where no level overturned the asset) reads "none", a missing one "-"."""
+    x = float(x)
+    if math.isnan(x):
+        return "-"
+    if math.isinf(x):
+        return "none"
+    return format(x * factor, spec)
+
+
 def _p_text(v: dict, k: int) -> str:
     """Asset ``k``'s P for the page (``v``: event.nc's arrays): two decimals, its bounds where it is not given."""
     p, lo, hi = (float(v[n][k]) for n in ("p_overturn_event", "p_overturn_event_low", "p_overturn_event_high"))
@@ -186,14 +197,15 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
             "level": level.name, "colour": LEVEL_COLOURS[level], "p": _p_text(v, k),
             "bounds": f"{float(v['p_overturn_event_low'][k]):.2f}-{float(v['p_overturn_event_high'][k]):.2f}",
             "basis": Basis(int(v["basis"][k])).name.replace("_", " "), "field": str(v["shakemap_field"][k]),
-            "shaking": f"{float(v['shaking_median'][k]) * factor:.3g}",
-            "sigma": f"{float(v['shaking_log_sd'][k]):.2f}",
+            "shaking": number_text(v["shaking_median"][k], ".3g", factor=factor),
+            "sigma": number_text(v["shaking_log_sd"][k], ".2f"),
             "sigma_source": ("grid", "uncertainty.xml", "default")[int(v["log_sd_source"][k])],
-            "median": f"{float(v['fragility_median'][k]) * factor:.3g}", "beta": f"{float(v['fragility_beta'][k]):.2f}",
+            "median": number_text(v["fragility_median"][k], ".3g", factor=factor),
+            "beta": number_text(v["fragility_beta"][k], ".2f"),
             "status": FitStatus(int(v["fit_status"][k])).name.replace("_", " "),
-            "distance": f"{float(v['epicentral_distance'][k]):.1f}",
+            "distance": number_text(v["epicentral_distance"][k], ".1f"),
             "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn,
-            "record": str(v["station_record"][k]), "record_km": f"{float(v['station_distance'][k]):.2f}",
+            "record": str(v["station_record"][k]), "record_km": number_text(v["station_distance"][k], ".2f"),
             "p_record": f"{float(v['p_overturn_record'][k]):.2f}" if math.isfinite(v["p_overturn_record"][k]) else "",
             "governs": "record" if v["governed_by"][k] else "shakemap"})
     counts = {lv.name: int(np.sum(ds["level"].values == lv)) for lv in sorted(Level, key=lambda m: -m.value)}

@@ -6,10 +6,13 @@ A reader, or a run killed at any instant, sees the old file or the new one, neve
 from __future__ import annotations
 
 import csv
+import math
 import os
 import tempfile
 from pathlib import Path
 from typing import Callable
+
+import numpy as np
 
 from ..constants import STATE_DIR
 from ..errors import OutputError
@@ -72,8 +75,12 @@ FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
 def inert(value):
-    """A CSV cell a spreadsheet will not execute: text that starts like a formula (:data:`FORMULA_START`) gets a
-    leading apostrophe, as OWASP advises; numbers, also negative ones written as text, are kept as they are."""
+    """A CSV cell a spreadsheet reads as meant: a number that is not finite (NaN, +-inf) is a blank cell, which
+    spreadsheets and pandas read as missing (never the text "nan" or "inf"; the table's other columns say why it
+    is missing); text that starts like a formula (:data:`FORMULA_START`) gets a leading apostrophe, as OWASP
+    advises; numbers, also negative ones written as text, are kept as they are."""
+    if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+        return ""
     if not isinstance(value, str) or not value.startswith(FORMULA_START):
         return value
     try:
@@ -84,8 +91,9 @@ def inert(value):
 
 
 def write_csv_atomic(path: str | Path, columns, rows: list[dict]) -> Path:
-    """Write a CSV table (header ``columns``; missing keys blank) atomically (:func:`replace_atomically`); text that
-    a spreadsheet would execute as a formula is written inert (:func:`inert`)."""
+    """Write a CSV table (header ``columns``; missing keys and numbers that are not finite blank) atomically
+    (:func:`replace_atomically`); text that a spreadsheet would execute as a formula is written inert
+    (:func:`inert`)."""
     def write(tmp: str) -> None:
         with open(tmp, "w", newline="", encoding="utf-8") as fh:
             w = csv.DictWriter(fh, fieldnames=list(columns), restval="", extrasaction="ignore")
