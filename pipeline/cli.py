@@ -23,6 +23,7 @@ import contextlib
 import difflib
 import logging
 import math
+import os
 import shlex
 import signal
 import sys
@@ -179,19 +180,31 @@ def _add_output_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("-v", "--verbose", action="store_true", help="rockscreen's own debug messages")
 
 
-#: Seconds between progress lines when stderr is not a terminal (scheduled runs, logs).
-#: Longest silence of the plain progress lines [s]: a line is printed at least this often while tasks run.
+#: Longest silence of a command while it works [s]: a progress line, a stage's name or the bar's refresh comes at
+#: least this often (stderr not a terminal: scheduled runs, logs; or the stages of screen bench)
 PROGRESS_LINE_S = 2.0
+#: How often the watchers look at the time since the last line [s]; a line is due once the silence is within one
+#: look of PROGRESS_LINE_S, so no silence exceeds it
+PROGRESS_POLL_S = PROGRESS_LINE_S / 4
 
 
 def _progress(quiet: bool):
-    """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal; otherwise a progress
-    line at every tenth of the work, and whenever :data:`PROGRESS_LINE_S` seconds pass without one."""
+    """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal of known width; otherwise a
+    progress line at every tenth of the work, and whenever :data:`PROGRESS_LINE_S` seconds pass without one."""
     if quiet:
         return None
-    if sys.stderr.isatty():
+    if sys.stderr.isatty() and _terminal_columns() > 0:
         return _progress_bar
     return _progress_lines
+
+
+def _terminal_columns() -> int:
+    """The width of the terminal on stderr; 0 where it has none (a pseudo-terminal whose size was never set, as
+    some job runners open, in which a tqdm bar draws nothing)."""
+    try:
+        return os.get_terminal_size(sys.stderr.fileno()).columns
+    except (OSError, ValueError):
+        return 0
 
 
 def _progress_bar(items, total=None, running=None, label: str = "records screened"):
@@ -205,7 +218,7 @@ def _progress_bar(items, total=None, running=None, label: str = "records screene
     stop = threading.Event()
 
     def watch() -> None:
-        while not stop.wait(PROGRESS_LINE_S):
+        while not stop.wait(PROGRESS_LINE_S - PROGRESS_POLL_S):
             bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
 
     threading.Thread(target=watch, daemon=True).start()
@@ -235,8 +248,8 @@ def _progress_lines(items, total=None, running=None, label: str = "records scree
             state["last"] = now
 
     def watch() -> None:
-        while not stop.wait(PROGRESS_LINE_S / 4):
-            if time.monotonic() - state["last"] >= PROGRESS_LINE_S:
+        while not stop.wait(PROGRESS_POLL_S):
+            if time.monotonic() - state["last"] >= PROGRESS_LINE_S - PROGRESS_POLL_S:
                 line()
 
     step = max(1, (total or 0) // 10)
@@ -542,17 +555,19 @@ def _ticking(quiet: bool):
         yield None
         return
     stage = {"text": ""}
-    since = {"t": time.monotonic()}
+    since = {"t": time.monotonic(), "said": time.monotonic()}
     stop = threading.Event()
 
     def announce(text: str) -> None:
         stage["text"], since["t"] = text, time.monotonic()
+        since["said"] = since["t"]
         _say(text)
 
     def tick() -> None:
-        while not stop.wait(PROGRESS_LINE_S):
-            if stage["text"] and time.monotonic() - since["t"] >= PROGRESS_LINE_S:
-                _say(f"  ... {stage['text'].split(' (')[0]}: {time.monotonic() - since['t']:.0f} s")
+        while not stop.wait(PROGRESS_POLL_S):
+            if stage["text"] and time.monotonic() - since["said"] >= PROGRESS_LINE_S - PROGRESS_POLL_S:
+                since["said"] = time.monotonic()
+                _say(f"  ... {stage['text'].split(' (')[0]}: {since['said'] - since['t']:.0f} s")
 
     ticker = threading.Thread(target=tick, daemon=True)
     ticker.start()

@@ -86,7 +86,7 @@ def read_csv_table(path: Path, *, what: str, expected_header: str, problems: lis
         raise InventoryError(f"{path}: empty file; expected a header line {expected_header!r}") from None
     missing = [c for c in required if c not in header]
     if missing:
-        hints = [f"{close!r} for {c!r}" for c in missing
+        hints = [f"{close!r} to {c!r}" for c in missing
                  if (close := close_match(c, [h for h in header if h not in required])) is not None]
         raise InventoryError(f"{path}, line 1: missing required column(s) {missing}; expected {expected_header!r} "
                              f"(columns separated by {delimiter!r}: found {header})"

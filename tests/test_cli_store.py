@@ -331,6 +331,36 @@ def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
     assert len(lines) >= 3, lines
 
 
+def test_a_terminal_of_no_width_gets_progress_lines_not_an_empty_bar():
+    """A pseudo-terminal whose size was never set (columns 0) draws a tqdm bar as nothing at all: measured, a
+    42.8 s fragility run printed nothing there. Such a terminal gets the progress lines."""
+    import os
+    import pty
+    import sys
+
+    from pipeline import cli
+
+    master, slave = pty.openpty()
+    try:
+        with open(slave, "w", closefd=False) as tty:
+            saved = sys.stderr
+            sys.stderr = tty
+            try:
+                assert os.get_terminal_size(slave).columns == 0 and tty.isatty()
+                assert cli._progress(False) is cli._progress_lines
+                import fcntl
+                import struct
+                import termios
+
+                fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 120, 0, 0))
+                assert cli._progress(False) is cli._progress_bar
+            finally:
+                sys.stderr = saved
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
 @pytest.mark.parametrize("failing", ["screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv"])
 def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(make_records, blocks_csv, tmp_path,
                                                                              monkeypatch, failing):

@@ -31,7 +31,7 @@ def test_semicolons_tabs_and_decimal_commas_read_as_the_comma_table(tmp_path, te
 
 def test_a_misspelt_required_column_is_matched_to_the_intended_one(tmp_path):
     (tmp_path / "b.csv").write_text("id,heigth_m,width_m\nA,1.0,0.2\n")
-    with pytest.raises(InventoryError, match=r"rename 'heigth_m' for 'height_m'"):
+    with pytest.raises(InventoryError, match=r"rename 'heigth_m' to 'height_m'"):
         read_inventory(tmp_path / "b.csv", default_mu=0.5)
 
 
