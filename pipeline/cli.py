@@ -183,9 +183,9 @@ def _add_output_options(p: argparse.ArgumentParser) -> None:
 #: Longest silence of a command while it works [s]: a progress line, a stage's name or the bar's refresh comes at
 #: least this often (stderr not a terminal: scheduled runs, logs; or the stages of screen bench)
 PROGRESS_LINE_S = 2.0
-#: How often the watchers look at the time since the last line [s]; a line is due once the silence is within one
-#: look of PROGRESS_LINE_S, so no silence exceeds it
-PROGRESS_POLL_S = PROGRESS_LINE_S / 4
+#: How often the watchers look at the time since the last line, as a fraction of PROGRESS_LINE_S; a line is due
+#: once the silence is within one look of PROGRESS_LINE_S, so no silence exceeds it
+PROGRESS_POLL_FRACTION = 0.25
 
 
 def _progress(quiet: bool):
@@ -218,7 +218,7 @@ def _progress_bar(items, total=None, running=None, label: str = "records screene
     stop = threading.Event()
 
     def watch() -> None:
-        while not stop.wait(PROGRESS_LINE_S - PROGRESS_POLL_S):
+        while not stop.wait(PROGRESS_LINE_S * (1.0 - PROGRESS_POLL_FRACTION)):
             bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
 
     threading.Thread(target=watch, daemon=True).start()
@@ -248,8 +248,9 @@ def _progress_lines(items, total=None, running=None, label: str = "records scree
             state["last"] = now
 
     def watch() -> None:
-        while not stop.wait(PROGRESS_POLL_S):
-            if time.monotonic() - state["last"] >= PROGRESS_LINE_S - PROGRESS_POLL_S:
+        poll = PROGRESS_LINE_S * PROGRESS_POLL_FRACTION
+        while not stop.wait(poll):
+            if time.monotonic() - state["last"] >= PROGRESS_LINE_S - poll:
                 line()
 
     step = max(1, (total or 0) // 10)
@@ -564,8 +565,9 @@ def _ticking(quiet: bool):
         _say(text)
 
     def tick() -> None:
-        while not stop.wait(PROGRESS_POLL_S):
-            if stage["text"] and time.monotonic() - since["said"] >= PROGRESS_LINE_S - PROGRESS_POLL_S:
+        poll = PROGRESS_LINE_S * PROGRESS_POLL_FRACTION
+        while not stop.wait(poll):
+            if stage["text"] and time.monotonic() - since["said"] >= PROGRESS_LINE_S - poll:
                 since["said"] = time.monotonic()
                 _say(f"  ... {stage['text'].split(' (')[0]}: {since['said'] - since['t']:.0f} s")
 
