@@ -14,16 +14,18 @@ $(BIN)/python:
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	@echo "installing rockscreen and its dependencies (pyproject.toml) into $(VENV) with pip: about a minute, once"
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e .
+	@$(PYTHON) tools/ticking.py "installing" -- $(BIN)/python -m pip install --quiet --disable-pip-version-check -e .
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	@echo "installing rockscreen, its dependencies and the test extras into $(VENV) with pip: a minute or two, once"
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	@$(PYTHON) tools/ticking.py "installing" -- $(BIN)/python -m pip install --quiet --disable-pip-version-check \
+	    -e '.[test]'
 	touch $@ $(VENV)/.installed
 
 $(VENV)/.installed-lint: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[lint]'
+	@$(PYTHON) tools/ticking.py "installing" -- $(BIN)/python -m pip install --quiet --disable-pip-version-check \
+	    -e '.[lint]'
 	touch $@ $(VENV)/.installed
 
 demo: $(VENV)/.installed
@@ -44,10 +46,12 @@ event-demo: $(VENV)/.installed
 # a test file's tests stay on one worker (--dist loadfile), so a module's shared screenings run once, not on each
 # worker (169 s against 211-222 s for the suite, measured)
 test: $(VENV)/.installed-test browser
+	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 45 s the first time)"
+	@$(PYTHON) tools/ticking.py "compiling the simulator" -- sh -c '\
 	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(planar=False, sampled=False)" \
 	& pid=$$!; \
 	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(cylinders=False, boxes=False, scanned=False)" \
-	&& wait $$pid
+	&& wait $$pid'
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
