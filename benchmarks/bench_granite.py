@@ -19,6 +19,14 @@ shape; settled on a flat base; :mod:`pipeline.shapes.plane`); the compiled two-s
 * the baselines: always "stands"; a logistic curve in ln PGA and ln(PGV/PGA) (``tests.csv``) scored by
   leave-one-motion-out cross-validation (each motion's tests predicted by a curve fitted without them).
 
+``--model rolling`` rolls each rock on its convex hull instead (:mod:`pipeline.shapes.hull`,
+:mod:`pipeline.rocking.rolling`: no footprint tolerance; the landing on the base loses what the impact rule says,
+the rolling over the scan's facets nothing) in every vertical plane of a ``--orientation-step`` grid (5 degrees,
+rockscreen's scan): ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the probability under
+an orientation drawn at random from the grid with rockscreen's amplitude and restitution spreads (the sizes are
+not drawn), ``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the
+orientation were known, estimated by leave-one-motion-out (the baseline's protocol, one parameter).
+
 Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``overturn_nominal``, ``p_overturn``, ``observed``, the
 per-pose verdicts, ``p_logistic_lomo``, and ``why`` for each wrong verdict: below uplift at every pose, lifted but
 never overturned, or overturned by some draws only; a false alarm), ``OUT_DIR/summary.csv`` (accuracy, F1, Brier
@@ -43,13 +51,15 @@ import obspy
 from pipeline.constants import G
 from pipeline.records.processing import apply_steps
 from pipeline.records.settings import ProcessingConfig
+from pipeline.rocking.rolling import roll_on_hull
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
 from pipeline.rocking.two_sided import rock_two_sided_compiled, two_sided_block
+from pipeline.shapes.hull import HullChain, hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
 from pipeline.store import write_csv_atomic
-from pipeline.uncertainty.sampling import common_normals
+from pipeline.uncertainty.sampling import common_normals, lognormal_factor
 from pipeline.uncertainty.settings import UncertaintyConfig
 from pipeline.uncertainty.two_sided import plane_draws
 
@@ -111,6 +121,57 @@ def _one_test(job) -> list[dict]:
     return rows
 
 
+def chains(data: Path, step_deg: float) -> dict[tuple[str, float], HullChain]:
+    """Each rock's :class:`~pipeline.shapes.hull.HullChain` in every vertical plane of the grid (both senses of a
+    plane are in its chain: the grid spans 360 degrees)."""
+    out = {}
+    for rock, scan in SCANS.items():
+        shape = read_scan(data / "geometry" / scan)
+        for az in np.arange(0.0, 360.0, step_deg):
+            out[(rock, float(az))] = hull_chain(shape, float(az))
+    return out
+
+
+def _one_test_rolling(job) -> list[dict]:
+    """Every rock of one test rolled on its hull (:mod:`pipeline.rocking.rolling`) in every plane of the grid (the
+    verdict of the worst orientation), and the draws (each: an orientation of the grid at random, rockscreen's
+    amplitude and restitution factors)."""
+    data, test, geo, samples = job
+    ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
+    settings = UncertaintyConfig()
+    z = common_normals(settings.seed, samples)
+    rows = []
+    for rock in SCANS:
+        planes = [key for key in geo if key[0] == rock]
+        row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
+               "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
+               "observed": int(test[f"{rock.lower()}_overturned"])}
+        nominal = [roll_on_hull(ah, dt, geo[key]) for key in planes]
+        row["overturn_nominal"] = int(any(o.overturned for o in nominal))
+        row["orientations_overturning"] = float(np.mean([o.overturned for o in nominal]))
+        row["overturning_planes_deg"] = ";".join(f"{key[1]:g}" for key, o in zip(planes, nominal) if o.overturned)
+        over, undecided = 0, 0
+        for zr in z:
+            pick = planes[min(int(0.5 * (1.0 + math.erf(zr[5] / math.sqrt(2.0))) * len(planes)), len(planes) - 1)]
+            out = roll_on_hull(ah * float(lognormal_factor(zr[0], settings.amplitude_cov)), dt, geo[pick],
+                               restitution_factor=float(lognormal_factor(zr[1], settings.restitution_cov)))
+            over += int(out.verdict == 1)
+            undecided += int(out.verdict < 0)
+        row["p_overturn"] = over / max(len(z) - undecided, 1)
+        row["undecided_draws"] = undecided + sum(int(o.verdict < 0) for o in nominal)
+        row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
+        row["uplift_pga_g"] = min(_base_tan_alpha(geo[key]) for key in planes)
+        row["why"] = why(row)
+        rows.append(row)
+    return rows
+
+
+def _base_tan_alpha(chain: HullChain) -> float:
+    """tan alpha of the base edge's nearer end: the uplift acceleration over g of the weaker side."""
+    near = chain.pivots_m[chain.rest - 1: chain.rest + 1]
+    return float(np.min(np.abs(near[:, 0]) / -near[:, 1]))
+
+
 def why(row: dict) -> str:
     """What a wrong verdict of the worst pose is, measured: a missed overturning the table could not even lift at any
     pose (its peak below the smallest g tan alpha: the pivots or the base's rolling are not the rock's); one it lifted
@@ -121,7 +182,26 @@ def why(row: dict) -> str:
         return "false alarm"
     if row["table_pga_g"] <= row["uplift_pga_g"]:
         return "missed: below uplift at every pose"
-    return "missed: some draws overturn" if row["p_overturn"] > 0 else "missed: lifts, no pose or draw overturns"
+    return ("missed: some draws overturn" if row["p_overturn"] > 0
+            else "missed: lifts, no orientation or draw overturns")
+
+
+def orientation_lomo(rows: list[dict]) -> np.ndarray:
+    """The verdicts of one rock if its orientation on the table were known, that orientation estimated by
+    leave-one-motion-out: for each motion, the plane whose verdicts agree best with the other motions' tests (the
+    first of equals), its verdict on the motion's own tests. The protocol of the logistic baseline, one parameter."""
+    planes = sorted({float(a) for r in rows for a in r["overturning_planes_deg"].split(";") if a})
+    verdicts = np.array([[f"{a:g}" in r["overturning_planes_deg"].split(";") for a in planes] for r in rows], int)
+    if not planes:
+        return np.zeros(len(rows), int)
+    obs = np.array([r["observed"] for r in rows])
+    motions = np.array([r["motion_id"] for r in rows])
+    out = np.zeros(len(rows), int)
+    for m in np.unique(motions):
+        held = motions == m
+        agree = (verdicts[~held] == obs[~held, None]).mean(axis=0)
+        out[held] = verdicts[held, int(np.argmax(agree))]
+    return out
 
 
 def logistic_lomo(rows: list[dict]) -> np.ndarray:
@@ -173,11 +253,16 @@ def summary(rows: list[dict]) -> list[dict]:
         preds = {"always_stands": (np.zeros(len(sel), int), np.zeros(len(sel))),
                  "logistic_lomo": (np.array([r["p_logistic_lomo"] >= 0.5 for r in sel], int),
                                    np.array([r["p_logistic_lomo"] for r in sel])),
-                 "rockscreen (worst pose; p over poses)": (np.array([r["overturn_nominal"] for r in sel]),
+                 ("rockscreen (worst orientation; p random orientation)" if "orientations_overturning" in sel[0]
+                  else "rockscreen (worst pose; p over poses)"): (np.array([r["overturn_nominal"] for r in sel]),
                                                            np.array([r["p_overturn"] for r in sel]))}
+        if "overturning_planes_deg" in sel[0]:
+            v = orientation_lomo(sel)
+            preds["rockscreen, orientation chosen leave-one-motion-out"] = (v, v.astype(float))
         for label, _a, _s in POSES:
-            v = np.array([r[f"nominal_{label}"] for r in sel])
-            preds[f"rockscreen pose {label}"] = (v, v.astype(float))
+            if f"nominal_{label}" in sel[0]:
+                v = np.array([r[f"nominal_{label}"] for r in sel])
+                preds[f"rockscreen pose {label}"] = (v, v.astype(float))
         for name, (v, p) in preds.items():
             out.append({"rock": rock, "predictor": name, "tests": len(sel), "overturned": int(obs.sum()),
                         **scores(v, p, obs)})
@@ -249,18 +334,32 @@ def main() -> None:
                     help="the footprint's tolerance above the base [mm] (default %(default)s)")
     ap.add_argument("--samples", type=int, default=UncertaintyConfig().samples, help="draws per pose")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--model", choices=("two_sided", "rolling"), default="two_sided",
+                    help="two_sided: one pivot per side at the footprint (four poses); rolling: the body rolls on "
+                         "its convex hull, every plane of the --orientation-step grid")
+    ap.add_argument("--orientation-step", type=float, default=5.0,
+                    help="the rolling model's grid of planes [deg] (default %(default)s, rockscreen's scan)")
     args = ap.parse_args()
     tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
     tests = tests[:args.limit] if args.limit else tests
-    geo = bodies(args.data, PivotRule[args.pivots], args.footprint_mm / 1e3)
-    for (rock, label), pb in geo.items():
-        tip = [math.degrees(math.atan2(b, pb.com_height_m)) for b in (pb.b_plus_m, pb.b_minus_m)]
-        print(f"{rock} {label:>2}: alpha {tip[0]:.1f} / {tip[1]:.1f} deg, z_G {1e3 * pb.com_height_m:.1f} mm")
+    if args.model == "rolling":
+        geo: dict = chains(args.data, args.orientation_step)
+        task = _one_test_rolling
+        for rock in SCANS:
+            alpha = [math.degrees(math.atan(_base_tan_alpha(c))) for (r, _az), c in geo.items() if r == rock]
+            print(f"{rock}: rolling on its hull in {len(alpha)} planes; base alpha {min(alpha):.1f}-{max(alpha):.1f}"
+                  " deg")
+    else:
+        geo = bodies(args.data, PivotRule[args.pivots], args.footprint_mm / 1e3)
+        task = _one_test
+        for (rock, label), pb in geo.items():
+            tip = [math.degrees(math.atan2(b, pb.com_height_m)) for b in (pb.b_plus_m, pb.b_minus_m)]
+            print(f"{rock} {label:>2}: alpha {tip[0]:.1f} / {tip[1]:.1f} deg, z_G {1e3 * pb.com_height_m:.1f} mm")
     args.out.mkdir(parents=True, exist_ok=True)
     rows: list[dict] = []
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-        for n, got in enumerate(pool.map(_one_test, [(args.data, t, geo, args.samples) for t in tests]), 1):
+        for n, got in enumerate(pool.map(task, [(args.data, t, geo, args.samples) for t in tests]), 1):
             rows.extend(got)
             if n % 20 == 0 or n == len(tests):
                 print(f"{n}/{len(tests)} tests, {time.perf_counter() - t0:.0f} s", flush=True)

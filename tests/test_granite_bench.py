@@ -47,12 +47,23 @@ def test_the_scores_are_the_textbook_formulas(bench):
     assert got["false_alarms"] == 1 and got["missed"] == 1
 
 
+def test_the_orientation_is_chosen_without_the_motions_own_tests(bench):
+    """Hand-counted: plane 10 agrees with motions m1 and m2 throughout, plane 20 with m3; each motion is predicted
+    by the plane that agrees best with the other two (plane 10 for m1, a tie broken to the first, and for m3)."""
+    obs = [1, 0, 1, 0, 1, 1]
+    planes = ["10;20", "20", "10;20", "20", "10;20", "20"]
+    rows = [{"observed": o, "motion_id": f"m{k // 2 + 1}", "overturning_planes_deg": p}
+            for k, (o, p) in enumerate(zip(obs, planes))]
+    assert bench.orientation_lomo(rows).tolist() == [1, 0, 1, 0, 1, 0]
+
+
 @pytest.mark.slow
-def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monkeypatch):
+@pytest.mark.parametrize("model", ["two_sided", "rolling"])
+def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monkeypatch, model):
     if not (GRANITE / "tests.csv").is_file():
         pytest.skip(f"the granite shake-table data is not at {GRANITE} (GPL-3: kept in ../shared, never copied)")
     monkeypatch.setattr(sys, "argv", ["bench_granite.py", str(GRANITE), "--out", str(tmp_path), "--limit", "24",
-                                      "--samples", "5"])
+                                      "--samples", "5", "--model", model, "--orientation-step", "30"])
     bench.main()
     rows = list(csv.DictReader((tmp_path / "predictions.csv").open()))
     assert len(rows) == 48 and {r["rock"] for r in rows} == {"SP1", "SP2"}

@@ -1,0 +1,207 @@
+"""Compiled planar rocking of a scanned body that rolls on its convex hull (:mod:`pipeline.shapes.hull`).
+
+**Equation of motion** on pivot k, at (u_k, z_k) from G at rest (R_k its distance from G, alpha_k = atan2(u_k, -z_k)
+the angle of G above it from the vertical, signed), per unit mass, with I_k = I_G + R_k^2 (Housner 1963, each pivot
+its own inverted pendulum)::
+
+    theta'' = -(g R_k / I_k) [sin(alpha_k - theta) + (a_h / g) cos(alpha_k - theta)]
+
+valid while theta lies in the pivot's interval of the chain. **Uplift** from rest on the base edge toward the side
+whose pivot the ground's push turns the body about; a body resting on another edge of its outline (a tilted rest)
+leaves it the same way. **Pivot changes**: where theta reaches a bound, the next vertex touches. On the base edge
+(theta = 0, the body landing on what it stands on) the impact conserves angular momentum about the new pivot,
+``omega+ = omega- (I_G + r_new . r_old) / (I_G + R_new^2)`` (Housner's argument, his 1 - 3/2 sin^2 alpha for a
+rectangle), times a declared factor. Elsewhere the vertices are the scan's facets of one curved surface over which
+the body rolls: the change keeps the kinetic energy (``omega+ = omega- sqrt(I_old / I_new)``), as rolling on the
+curve the facets approximate would. A landing slower than :data:`REST_OMEGA` rests the body on its base; so does
+a slow change elsewhere where the new pivot turns the body back while the old one pushes it on (it sits on the
+edge between them, a tilted rest).
+
+**Integration**: classical Runge-Kutta of order 4 on :data:`SUBSTEPS` steps per sample, the record linear between
+its samples; a step that crosses a bound is cut at it by bisection (:data:`BISECTIONS`). The free motion after the
+record is followed for :data:`TAIL_S` more seconds. The body overturns when its tilt reaches 90 degrees (the end of
+its chain). Every loop advances or counts against a cap: :data:`MAX_EVENTS_PER_STEP` pivot changes in one step end
+the scene with ``STATUS_EVENT_CAP`` and no verdict.
+
+Not modelled: sliding, the vertical, the pivot lifting off, motion out of the plane.
+
+References
+----------
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit
+from ..constants import G
+from ..shapes.hull import HullChain
+from .codes import STATUS_EVENT_CAP
+
+#: Runge-Kutta steps per sample of the record
+SUBSTEPS = 4
+#: Halvings that place a pivot change within a step (2^-30 of the step)
+BISECTIONS = 30
+#: Pivot changes within one step before the scene is ended without a verdict (``STATUS_EVENT_CAP``)
+MAX_EVENTS_PER_STEP = 200
+#: A rebound slower than this rests the body on the edge it landed on [rad s-1]
+REST_OMEGA = 1e-3
+#: The free motion after the record is followed this long [s]
+TAIL_S = 10.0
+
+
+class RollingOutcome(NamedTuple):
+    """What :func:`roll_on_hull` returns.
+
+    Attributes
+    ----------
+    overturned : bool
+    verdict : int
+        1 overturns, 0 stands, -1 no verdict (a cap was met: ``status``).
+    theta_max : float
+        Largest |tilt| [rad].
+    n_impacts : int
+        Landings on the base edge.
+    n_pivot_changes : int
+        Every change of pivot, landings included.
+    status : int
+        ``pipeline.rocking.codes`` flags (0: none).
+    """
+
+    overturned: bool
+    verdict: int
+    theta_max: float
+    n_impacts: int
+    n_pivot_changes: int
+    status: int
+
+
+@jit
+def _accel(theta, u, z, inertia, ah, g):
+    """theta'' on the pivot at (u, z) from G at rest (see the module) [rad s-2]."""
+    c, s = math.cos(theta), math.sin(theta)
+    rx = -(u * c + z * s)                      # G from the pivot, horizontal and up
+    rz = u * s - z * c
+    return (g * rx - ah * rz) / (inertia + rx * rx + rz * rz)
+
+
+@jit
+def _rk4(theta, omega, u, z, inertia, a0, a1, h, g):
+    """One Runge-Kutta step of length h [s], the ground going linearly from a0 to a1 [m s-2]."""
+    am = 0.5 * (a0 + a1)
+    k1t, k1o = omega, _accel(theta, u, z, inertia, a0, g)
+    k2t, k2o = omega + 0.5 * h * k1o, _accel(theta + 0.5 * h * k1t, u, z, inertia, am, g)
+    k3t, k3o = omega + 0.5 * h * k2o, _accel(theta + 0.5 * h * k2t, u, z, inertia, am, g)
+    k4t, k4o = omega + h * k3o, _accel(theta + h * k3t, u, z, inertia, a1, g)
+    return theta + h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t), omega + h / 6.0 * (k1o + 2 * k2o + 2 * k3o + k4o)
+
+
+@jit
+def _change_ratio(theta, u0, z0, u1, z1, inertia, landing, factor):
+    """omega+ / omega- where the pivot moves from (u0, z0) to (u1, z1) at tilt theta (see the module)."""
+    c, s = math.cos(theta), math.sin(theta)
+    r0x, r0z = -(u0 * c + z0 * s), u0 * s - z0 * c
+    r1x, r1z = -(u1 * c + z1 * s), u1 * s - z1 * c
+    i0, i1 = inertia + r0x * r0x + r0z * r0z, inertia + r1x * r1x + r1z * r1z
+    if landing:
+        return min((inertia + r1x * r0x + r1z * r0z) / i1 * factor, 1.0, math.sqrt(i0 / i1))
+    return math.sqrt(i0 / i1)
+
+
+@jit
+def _held(theta, u0, z0, u1, z1, inertia, ah, g, direction):
+    """Whether a slow body at the bound between two pivots sits on the edge between them: the new pivot turns it
+    back and the old one pushes it on (moving in ``direction``, +-1)."""
+    return (_accel(theta, u1, z1, inertia, ah, g) * direction < 0.0
+            and _accel(theta, u0, z0, inertia, ah, g) * direction > 0.0)
+
+
+@jit
+def _roll(ah, dt, pivots, bounds, rest, inertia, g, factor):
+    n, npiv = len(ah), len(pivots)
+    steps = n - 1 + int(TAIL_S / dt)
+    h = dt / SUBSTEPS
+    theta, omega, k, edge = 0.0, 0.0, -1, rest          # k: the pivot (-1: resting on edge ``edge``)
+    theta_max, impacts, changes = 0.0, 0, 0
+    for i in range(steps):
+        a0 = ah[i] if i < n else 0.0
+        a1 = ah[i + 1] if i + 1 < n else 0.0
+        for j in range(SUBSTEPS):
+            aa = a0 + (a1 - a0) * j / SUBSTEPS
+            ab = a0 + (a1 - a0) * (j + 1) / SUBSTEPS
+            if k < 0:
+                theta = bounds[edge]
+                if edge < npiv and _accel(theta, pivots[edge, 0], pivots[edge, 1], inertia, aa, g) > 0.0:
+                    k = edge
+                elif edge > 0 and _accel(theta, pivots[edge - 1, 0], pivots[edge - 1, 1], inertia, aa, g) < 0.0:
+                    k = edge - 1
+                else:
+                    continue
+                omega = 0.0
+            left, events = h, 0
+            while left > 0.0:
+                u, z = pivots[k, 0], pivots[k, 1]
+                lo, hi = bounds[k], bounds[k + 1]
+                a_start = aa + (ab - aa) * (1.0 - left / h)
+                th1, om1 = _rk4(theta, omega, u, z, inertia, a_start, ab, left, g)
+                if lo <= th1 <= hi:
+                    theta, omega = th1, om1
+                    break
+                f0, f1 = 0.0, 1.0                          # the bound's crossing, by bisection
+                for _ in range(BISECTIONS):
+                    fm = 0.5 * (f0 + f1)
+                    tm, _om = _rk4(theta, omega, u, z, inertia, a_start, a_start + (ab - a_start) * fm, left * fm,
+                                   g)
+                    if tm > hi or tm < lo:
+                        f1 = fm
+                    else:
+                        f0 = fm
+                _th, omega = _rk4(theta, omega, u, z, inertia, a_start, a_start + (ab - a_start) * f1, left * f1, g)
+                left -= left * f1
+                edge = k + 1 if th1 > hi else k
+                nk = k + 1 if th1 > hi else k - 1
+                theta = bounds[edge]
+                if nk < 0 or nk >= npiv:                   # past 90 degrees
+                    return RollingOutcome(True, 1, 0.5 * math.pi, impacts, changes, 0)
+                landing = edge == rest
+                omega *= _change_ratio(theta, u, z, pivots[nk, 0], pivots[nk, 1], inertia, landing, factor)
+                impacts += int(landing)
+                changes += 1
+                events += 1
+                if abs(omega) < REST_OMEGA and (landing or _held(theta, u, z, pivots[nk, 0], pivots[nk, 1],
+                                                                  inertia, ab, g, 1.0 if th1 > hi else -1.0)):
+                    k, omega = -1, 0.0
+                    break
+                k = nk
+                if events >= MAX_EVENTS_PER_STEP:
+                    return RollingOutcome(False, -1, theta_max, impacts, changes, STATUS_EVENT_CAP)
+            theta_max = max(theta_max, abs(theta))
+        if i >= n and k < 0 and edge == rest:
+            break
+    return RollingOutcome(False, 0, theta_max, impacts, changes, 0)
+
+
+def roll_on_hull(ah_ms2: np.ndarray, dt_s: float, chain: HullChain, *, restitution_factor: float = 1.0,
+                 g_ms2: float = G) -> RollingOutcome:
+    """Roll the body of ``chain`` under a horizontal ground acceleration along its plane's + direction.
+
+    Parameters
+    ----------
+    ah_ms2 : ndarray
+        Ground acceleration [m s-2].
+    dt_s : float
+        Its sampling interval [s].
+    chain : HullChain
+        The body's pivots in the plane (:func:`pipeline.shapes.hull.hull_chain`).
+    restitution_factor : float
+        A declared factor on the landing impact's ratio (capped so that no impact gains speed or energy) [-].
+    g_ms2 : float
+        Gravity [m s-2].
+    """
+    return _roll(np.ascontiguousarray(ah_ms2, dtype=float), float(dt_s), np.ascontiguousarray(chain.pivots_m),
+                 np.ascontiguousarray(chain.bounds_rad), int(chain.rest), float(chain.inertia_m2), float(g_ms2),
+                 float(restitution_factor))

@@ -1,0 +1,106 @@
+"""A scanned body's contact with the ground in one vertical plane, pivot by pivot, as it rolls on its convex hull.
+
+A rigid body on a flat ground touches it with the lowest point of its convex hull. Tilted by theta in a vertical
+plane, that point is a vertex of the hull's outline in the plane (the body's points projected on the plane), and
+which vertex it is depends only on theta: vertex k is the lowest for theta between the tilts at which its two edges
+lie flat. The outline, ordered from the far end of the - side through the base to the far end of the + side, is
+therefore a chain of pivots, each with the tilt interval on which it carries the body. The body at rest sits on the
+base edge below its centre of mass (theta = 0). A body whose sides are straight, such as a rectangle, has one pivot
+per side up to 90 degrees of tilt: the planar rocking block.
+
+No tolerance enters: the pivots are the outline's vertices, however close to the base (a rock's base that is not
+flat at the millimetre scale becomes a run of pivots over which it rolls).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..errors import MeshError
+from .scan import ScannedShape
+
+#: The chain ends at the first pivot whose far edge lies flat beyond this tilt [rad]: past 90 degrees the body
+#: has overturned
+END_TILT_RAD = 0.5 * math.pi
+
+
+class HullChain(NamedTuple):
+    """The pivots of a body in one plane (:func:`hull_chain`), in the form the rolling kernel takes.
+
+    Attributes
+    ----------
+    pivots_m : ndarray, shape (n, 2)
+        Each pivot's position relative to the centre of mass G at rest: along the plane's + direction and up [m].
+    bounds_rad : ndarray, shape (n + 1,)
+        Pivot k carries the body for tilts in [bounds_rad[k], bounds_rad[k + 1]] [rad]; increasing, 0 at ``rest``.
+    rest : int
+        Index of the bound at theta = 0: the base edge between pivots rest - 1 and rest.
+    inertia_m2 : float
+        Moment of inertia about G per unit mass, about the axis normal to the plane [m2].
+    azimuth_deg : float
+        The plane [deg, from the settled body's x axis toward y].
+    """
+
+    pivots_m: np.ndarray
+    bounds_rad: np.ndarray
+    rest: int
+    inertia_m2: float
+    azimuth_deg: float
+
+
+def _outline(points_uz: np.ndarray) -> np.ndarray:
+    """The convex outline of points in the plane, counter-clockwise."""
+    from scipy.spatial import ConvexHull
+
+    return points_uz[ConvexHull(points_uz).vertices]
+
+
+def chain_from_outline(outline: np.ndarray, inertia_m2: float, *, azimuth_deg: float = 0.0) -> HullChain:
+    """The :class:`HullChain` of a convex outline (counter-clockwise vertices relative to G, u and z [m]) resting
+    on its edge below G."""
+    n = len(outline)
+    edges = np.roll(outline, -1, axis=0) - outline
+    below = [k for k in range(n) if edges[k, 0] > 0 and outline[k, 0] <= 0.0 <= outline[(k + 1) % n, 0]]
+    if not below:
+        raise MeshError("the outline has no edge below its centre of mass: it does not stand on a base")
+    base = min(below, key=lambda k: outline[k, 1] + outline[(k + 1) % n, 1])
+    v = np.roll(outline, -base, axis=0)
+    tilt = np.roll(np.arctan2(edges[:, 1], edges[:, 0]), -base)     # the tilt at which edge k lies flat
+    tilt = (tilt - tilt[0] + math.pi) % (2.0 * math.pi) - math.pi
+    plus, plus_bounds = [], []
+    for k in range(1, n + 1):                                        # the + side: vertices 1, 2, ... of the base
+        plus.append(v[k % n])
+        plus_bounds.append(tilt[k % n])
+        if not 0.0 < tilt[k % n] < END_TILT_RAD:
+            break
+    minus, minus_bounds = [], []
+    for k in range(0, -n, -1):                                      # the - side: vertices 0, -1, ...
+        minus.append(v[k % n])
+        minus_bounds.append(tilt[(k - 1) % n])
+        if not -END_TILT_RAD < tilt[(k - 1) % n] < 0.0:
+            break
+    bounds = np.array(minus_bounds[::-1] + [0.0] + plus_bounds)
+    bounds[0], bounds[-1] = min(bounds[0], -END_TILT_RAD), max(bounds[-1], END_TILT_RAD)
+    return HullChain(np.array(minus[::-1] + plus, dtype=float), bounds, len(minus), float(inertia_m2),
+                     float(azimuth_deg))
+
+
+def hull_chain(shape: ScannedShape, azimuth_deg: float) -> HullChain:
+    """The pivots of a settled scan in the vertical plane at ``azimuth_deg`` (see the module)."""
+    phi = math.radians(azimuth_deg)
+    d = np.array([math.cos(phi), math.sin(phi), 0.0])
+    pts = shape.hull_m if len(shape.hull_m) else shape.vertices_m
+    uz = np.column_stack([pts @ d, pts[:, 2] - shape.com_height_m])
+    inertia = shape.inertia_per_mass_m2
+    normal = np.array([-math.sin(phi), math.cos(phi), 0.0])            # the rotation axis, normal to the plane
+    return chain_from_outline(_outline(uz), float(normal @ inertia @ normal), azimuth_deg=azimuth_deg)
+
+
+def rectangle_chain(width_m: float, height_m: float) -> HullChain:
+    """The :class:`HullChain` of a rectangular block of full width and height [m]: one pivot per side."""
+    b, h = width_m / 2.0, height_m / 2.0
+    outline = np.array([[-b, -h], [b, -h], [b, h], [-b, h]])
+    return chain_from_outline(outline, (width_m ** 2 + height_m ** 2) / 12.0)

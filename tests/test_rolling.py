@@ -1,0 +1,115 @@
+"""A scanned body rolling on its convex hull (pipeline.shapes.hull, pipeline.rocking.rolling) against independent
+truth: a rectangle's chain is its two corners, and it rocks as Housner's block in the planar rocking kernel (same
+verdicts and peaks); a rocker with a circular base under a constant push reaches the tilt at which the push's work
+equals the potential energy gained (rolling without slip, closed form); uplift at the base pivot's threshold
+exactly; mirror symmetry of a real scan."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from pipeline.rocking.rolling import roll_on_hull
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.simulate import rock
+from pipeline.shapes.hull import chain_from_outline, hull_chain, rectangle_chain
+
+G = 9.80665
+DT = 0.005
+
+
+def _pulse(amp_g, period_s, n=1600):
+    t = np.arange(n) * DT
+    return np.where(t < period_s, amp_g * G * np.sin(2 * np.pi * t / period_s), 0.0)
+
+
+def test_a_rectangles_chain_is_its_two_corners():
+    ch = rectangle_chain(0.3, 1.5)
+    np.testing.assert_allclose(ch.pivots_m, [[-0.15, -0.75], [0.15, -0.75]])
+    np.testing.assert_allclose(ch.bounds_rad, [-math.pi / 2, 0.0, math.pi / 2])
+    assert ch.rest == 1 and ch.inertia_m2 == pytest.approx((0.3 ** 2 + 1.5 ** 2) / 12)
+
+
+def test_a_box_given_as_a_mesh_has_the_rectangles_chain(scans_dir):
+    pytest.importorskip("trimesh")
+    from pipeline.shapes.scan import read_scan
+
+    shape = read_scan(scans_dir / "box-0.3x3.0x1.5.obj")
+    for az, width in ((0.0, 0.3), (90.0, 3.0), (180.0, 0.3)):
+        ours, closed = hull_chain(shape, az), rectangle_chain(width, 1.5)
+        np.testing.assert_allclose(ours.pivots_m, closed.pivots_m, atol=1e-9)
+        np.testing.assert_allclose(ours.bounds_rad, closed.bounds_rad, atol=1e-9)
+        assert ours.inertia_m2 == pytest.approx(closed.inertia_m2, rel=1e-6)
+
+
+@pytest.mark.parametrize("amp_g,period_s", [(0.22, 0.5), (0.25, 0.6), (0.28, 0.7), (0.3, 0.8), (0.5, 0.5),
+                                            (0.24, 1.2)])
+def test_a_rectangle_rolls_as_the_planar_kernels_block(amp_g, period_s):
+    w, h = 0.3, 1.5
+    alpha, R = math.atan2(w / 2, h / 2), math.hypot(w / 2, h / 2)
+    a = _pulse(amp_g, period_s)
+    ours = roll_on_hull(a, DT, rectangle_chain(w, h))
+    ref = rock(a, DT, p=math.sqrt(0.75 * G / R), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=R,
+               settings=SimulationConfig(closed_form_chatter=False))
+    assert ours.overturned == ref.overturned and ours.verdict == int(ref.overturned)
+    if not ours.overturned:
+        assert ours.theta_max / alpha == pytest.approx(ref.theta_max, abs=1e-4)
+
+
+HALF_ARC = math.radians(80.0)
+
+
+def _rocker(radius_m, drop_m, *, facets, half_arc=HALF_ARC):
+    """A body whose base is a circular arc of radius ``radius_m`` centred ``drop_m`` above G, closed by a chord:
+    its outline relative to G, counter-clockwise, a vertex straight below G."""
+    step = 2 * half_arc / facets
+    angles = -math.pi / 2 - half_arc + step * np.arange(facets + 1)
+    return np.column_stack([radius_m * np.cos(angles), drop_m + radius_m * np.sin(angles)])
+
+
+@pytest.mark.parametrize("radius_m,drop_m,push_g", [(0.3, 0.2, 0.1), (0.5, 0.3, 0.15), (0.2, 0.15, 0.3)])
+def test_a_rocker_reaches_the_tilt_where_the_pushs_work_equals_the_potential_gained(radius_m, drop_m, push_g):
+    """Rolling without slip on a circle of radius r with G a distance d below its centre, under a constant
+    ground acceleration -a: G rises by d (1 - cos theta) and moves r theta - d sin theta with the push, so the first
+    peak solves g d (1 - cos theta) = a (r theta - d sin theta). The facets between the arc's vertices keep the
+    energy, as the circle would: the polygon's peak converges to the circle's as the facets shrink."""
+    a = np.full(1000, -push_g * G)
+
+    def work_minus_potential(th):
+        return push_g * (radius_m * th - drop_m * math.sin(th)) - drop_m * (1 - math.cos(th))
+
+    peak = brentq(work_minus_potential, 1e-3, math.radians(79.0))
+    errors = []
+    for facets in (2000, 20000):
+        got = roll_on_hull(a, DT, chain_from_outline(_rocker(radius_m, drop_m, facets=facets), 0.02))
+        assert not got.overturned and got.status == 0
+        errors.append(abs(got.theta_max / peak - 1.0))
+    assert errors[1] < 5e-3 and errors[1] < errors[0] / 4 + 1e-4, errors
+
+
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_uplift_at_the_base_pivots_threshold_exactly(side):
+    outline = np.array([[-0.1, -0.5], [0.2, -0.5], [0.25, 0.3], [-0.15, 0.4]])
+    chain = chain_from_outline(outline, 0.05)
+    u, z = chain.pivots_m[chain.rest if side > 0 else chain.rest - 1]
+    threshold = abs(u) / -z
+    at = roll_on_hull(np.full(400, -side * G * threshold), DT, chain)
+    assert at.theta_max == 0.0 and at.n_pivot_changes == 0
+    above = roll_on_hull(np.full(400, -side * G * threshold * (1 + 1e-6)), DT, chain)
+    assert above.theta_max > 0.0
+
+
+def test_a_scan_rolls_the_same_seen_from_the_other_side(scans_dir):
+    pytest.importorskip("trimesh")
+    from pipeline.shapes.scan import read_scan
+
+    shape = read_scan(scans_dir / "balanced-rock.obj")
+    a = _pulse(0.35, 0.6)
+    for az in (0.0, 40.0, 115.0):
+        one, other = hull_chain(shape, az), hull_chain(shape, az + 180.0)
+        np.testing.assert_allclose(other.pivots_m[::-1] * [-1.0, 1.0], one.pivots_m, atol=1e-12)
+        r1, r2 = roll_on_hull(a, DT, one), roll_on_hull(-a, DT, other)
+        assert r1.overturned == r2.overturned and r1.theta_max == pytest.approx(r2.theta_max, rel=1e-9, abs=1e-12)
