@@ -11,24 +11,15 @@ import math
 
 import numpy as np
 import pytest
+from planar_reference import DT, PULSES, RECTANGLE, G, housner_block, pulse
 
 from pipeline.rocking.asymmetric import TwoSided, rectangle, rock_two_sided
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
-from pipeline.rocking.settings import SimulationConfig
-from pipeline.rocking.simulate import rock
 from pipeline.rocking.two_sided import rock_two_sided_fast
 from pipeline.shapes.plane import rectangle_plane
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.settings import UncertaintyConfig
 from pipeline.uncertainty.two_sided import plane_draws
-
-G = 9.80665
-DT = 0.005
-
-
-def _pulse(amp_g, period_s, n=1600):
-    t = np.arange(n) * DT
-    return np.where(t < period_s, amp_g * G * np.sin(2 * np.pi * t / period_s), 0.0)
 
 
 def _record(seed, n=1200, amp_g=0.3):
@@ -39,15 +30,11 @@ def _record(seed, n=1200, amp_g=0.3):
     return amp_g * G * a / np.max(np.abs(a))
 
 
-@pytest.mark.parametrize("amp_g,period_s", [(0.22, 0.5), (0.25, 0.6), (0.28, 0.7), (0.3, 0.8), (0.5, 0.5),
-                                            (0.24, 1.2)])
+@pytest.mark.parametrize("amp_g,period_s", PULSES)
 def test_a_rectangle_is_the_planar_kernels_block(amp_g, period_s):
-    w, h = 0.3, 1.5
-    alpha, R = math.atan2(w / 2, h / 2), math.hypot(w / 2, h / 2)
-    a = _pulse(amp_g, period_s)
-    ours = rock_two_sided_fast(a, DT, rectangle(w, h))
-    ref = rock(a, DT, p=math.sqrt(0.75 * G / R), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=R,
-               settings=SimulationConfig(closed_form_chatter=False))
+    a, alpha = pulse(amp_g, period_s), math.atan2(RECTANGLE[0], RECTANGLE[1])
+    ours = rock_two_sided_fast(a, DT, rectangle(*RECTANGLE))
+    ref = housner_block(a, *RECTANGLE)
     assert ours.overturned == ref.overturned
     assert max(ours.theta_max_plus, ours.theta_max_minus) / alpha == pytest.approx(ref.theta_max, rel=1e-6, abs=1e-9)
     if not ours.overturned:
@@ -91,7 +78,7 @@ def test_a_mirrored_body_under_a_mirrored_motion_mirrors():
 @pytest.mark.parametrize("amp_g", [0.26, 0.3, 0.34, 0.4, 0.5])
 def test_the_energy_decision_after_the_record_is_the_integrated_free_motion(amp_g):
     body = TwoSided(0.1, 0.2, 0.6, 0.08)
-    a = _pulse(amp_g, 0.9, n=200)                       # ends while the body still rocks
+    a = pulse(amp_g, 0.9, n=200)                       # ends while the body still rocks
     cut = rock_two_sided_fast(a, DT, body)
     long = rock_two_sided_fast(np.concatenate([a, np.zeros(20000)]), DT, body)
     assert cut.overturned == long.overturned
@@ -104,7 +91,7 @@ def test_the_energy_decision_after_the_record_is_the_integrated_free_motion(amp_
 
 def test_a_ground_falling_faster_than_gravity_is_flagged_never_stands():
     body = TwoSided(0.1, 0.2, 0.6, 0.08)
-    a = _pulse(0.1, 0.5)
+    a = pulse(0.1, 0.5)
     av = np.where(np.arange(a.size) * DT > 1.0, -1.2 * G, 0.0)
     out = rock_two_sided_fast(a, DT, body, av=av)
     assert out.status & STATUS_GROUND_FLIGHT and not out.overturned
