@@ -13,6 +13,7 @@ import pytest
 from planar_reference import DT, PULSES, RECTANGLE, G, housner_block, pulse
 from scipy.optimize import brentq
 
+from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
 from pipeline.rocking.rolling import roll_on_hull
 from pipeline.shapes.hull import chain_from_outline, hull_chain, rectangle_chain
 
@@ -71,7 +72,7 @@ def test_a_rocker_reaches_the_tilt_where_the_pushs_work_equals_the_potential_gai
     peak = brentq(work_minus_potential, 1e-3, math.radians(79.0))
     errors = []
     for facets in (2000, 20000):
-        got = roll_on_hull(a, DT, chain_from_outline(_rocker(radius_m, drop_m, facets=facets), 0.02))
+        got = roll_on_hull(a, DT, chain_from_outline(_rocker(radius_m, drop_m, facets=facets), 0.01, 0.01))
         assert not got.overturned and got.status == 0
         errors.append(abs(got.theta_max / peak - 1.0))
     assert errors[1] < 5e-3 and errors[1] < errors[0] / 4 + 1e-4, errors
@@ -80,7 +81,7 @@ def test_a_rocker_reaches_the_tilt_where_the_pushs_work_equals_the_potential_gai
 @pytest.mark.parametrize("side", [1.0, -1.0])
 def test_uplift_at_the_base_pivots_threshold_exactly(side):
     outline = np.array([[-0.1, -0.5], [0.2, -0.5], [0.25, 0.3], [-0.15, 0.4]])
-    chain = chain_from_outline(outline, 0.05)
+    chain = chain_from_outline(outline, 0.025, 0.025)
     u, z = chain.pivots_m[chain.rest if side > 0 else chain.rest - 1]
     threshold = abs(u) / -z
     at = roll_on_hull(np.full(400, -side * G * threshold), DT, chain)
@@ -100,3 +101,43 @@ def test_a_scan_rolls_the_same_seen_from_the_other_side(scans_dir):
         np.testing.assert_allclose(other.pivots_m[::-1] * [-1.0, 1.0], one.pivots_m, atol=1e-12)
         r1, r2 = roll_on_hull(a, DT, one), roll_on_hull(-a, DT, other)
         assert r1.overturned == r2.overturned and r1.theta_max == pytest.approx(r2.theta_max, rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("fw,fh", [(1.2, 0.9), (0.8, 1.1)])
+def test_a_scaled_chain_is_the_scaled_bodys(fw, fh):
+    w, h = RECTANGLE
+    got, closed = rectangle_chain(w, h).scaled(width_factor=fw, height_factor=fh), rectangle_chain(w * fw, h * fh)
+    np.testing.assert_allclose(got.pivots_m, closed.pivots_m, atol=1e-12)
+    np.testing.assert_allclose(got.bounds_rad, closed.bounds_rad, atol=1e-12)
+    assert got.inertia_m2 == pytest.approx(closed.inertia_m2, rel=1e-12)
+    outline = _rocker(0.3, 0.2, facets=40)
+    stretched = chain_from_outline(outline * [fw, fh], 0.01 * fw ** 2, 0.02 * fh ** 2)
+    scaled = chain_from_outline(outline, 0.01, 0.02).scaled(width_factor=fw, height_factor=fh)
+    np.testing.assert_allclose(scaled.pivots_m, stretched.pivots_m, atol=1e-12)
+    np.testing.assert_allclose(scaled.bounds_rad, stretched.bounds_rad, atol=1e-12)
+
+
+def test_a_constant_vertical_is_another_gravity():
+    """theta'' has g + a_v where the planar equation has g (Yim et al. 1980): a constant vertical c is the same
+    body under gravity g + c."""
+    chain = chain_from_outline(_rocker(0.3, 0.2, facets=400), 0.01, 0.01)
+    a = pulse(0.25, 0.7)
+    for c in (-0.3 * G, 0.2 * G):
+        with_v, other_g = np.zeros(a.size), np.zeros(a.size)
+        roll_on_hull(a, DT, chain, av_ms2=np.full(a.size, c), theta_out=with_v)
+        roll_on_hull(a, DT, chain, g_ms2=G + c, theta_out=other_g)
+        assert np.max(np.abs(with_v)) > 0.1
+        np.testing.assert_allclose(with_v, other_g, rtol=1e-12, atol=1e-15)      # (after the record, the vertical
+        # is 0 and gravity g: the free motions differ)
+
+
+def test_the_history_follows_the_tilt_and_a_falling_ground_leaves_no_verdict():
+    chain = rectangle_chain(*RECTANGLE)
+    a = pulse(0.25, 0.6)
+    theta = np.zeros(a.size)
+    out = roll_on_hull(a, DT, chain, theta_out=theta)
+    assert 0.0 < np.max(np.abs(theta)) <= out.theta_max
+    assert np.max(np.abs(theta)) == pytest.approx(out.theta_max, rel=0.02)        # sampled at DT
+    av = np.where(np.arange(a.size) * DT > 0.3, -1.01 * G, 0.0)                    # the ground falls faster than g
+    flight = roll_on_hull(a, DT, chain, av_ms2=av)
+    assert flight.verdict == -1 and not flight.overturned and flight.status & STATUS_GROUND_FLIGHT

@@ -4,9 +4,10 @@
 the angle of G above it from the vertical, signed), per unit mass, with I_k = I_G + R_k^2 (Housner 1963, each pivot
 its own inverted pendulum)::
 
-    theta'' = -(g R_k / I_k) [sin(alpha_k - theta) + (a_h / g) cos(alpha_k - theta)]
+    theta'' = -(g R_k / I_k) [(1 + a_v / g) sin(alpha_k - theta) + (a_h / g) cos(alpha_k - theta)]
 
-valid while theta lies in the pivot's interval of the chain. **Uplift** from rest on the base edge toward the side
+(the vertical a_v, up positive, as in Yim, Chopra & Penzien 1980) valid while theta lies in the pivot's interval
+of the chain. **Uplift** from rest on the base edge toward the side
 whose pivot the ground's push turns the body about; a body resting on another edge of its outline (a tilted rest)
 leaves it the same way. **Pivot changes**: where theta reaches a bound, the next vertex touches. On the base edge
 (theta = 0, the body landing on what it stands on) the impact conserves angular momentum about the new pivot,
@@ -23,11 +24,14 @@ record is followed for :data:`TAIL_S` more seconds. The body overturns when its 
 its chain). Every loop advances or counts against a cap: :data:`MAX_EVENTS_PER_STEP` pivot changes in one step end
 the scene with ``STATUS_EVENT_CAP`` and no verdict.
 
-Not modelled: sliding, the vertical, the pivot lifting off, motion out of the plane.
+Not modelled (never a silent "stands"): the ground falling faster than gravity (g + a_v <= 0: the scene stops
+there with ``STATUS_GROUND_FLIGHT`` and no verdict), sliding, the pivot lifting off, motion out of the plane.
 
 References
 ----------
 Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes. Earthquake
+Engineering & Structural Dynamics 8(6), 565-587.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ import numpy as np
 from ..compiled import jit
 from ..constants import G
 from ..shapes.hull import HullChain
-from .codes import STATUS_EVENT_CAP
+from .codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT
 
 #: Runge-Kutta steps per sample of the record
 SUBSTEPS = 4
@@ -81,22 +85,23 @@ class RollingOutcome(NamedTuple):
 
 
 @jit
-def _accel(theta, u, z, inertia, ah, g):
-    """theta'' on the pivot at (u, z) from G at rest (see the module) [rad s-2]."""
+def _accel(theta, u, z, inertia, ah, gv):
+    """theta'' on the pivot at (u, z) from G at rest (see the module), ``gv`` = g + a_v [rad s-2]."""
     c, s = math.cos(theta), math.sin(theta)
     rx = -(u * c + z * s)                      # G from the pivot, horizontal and up
     rz = u * s - z * c
-    return (g * rx - ah * rz) / (inertia + rx * rx + rz * rz)
+    return (gv * rx - ah * rz) / (inertia + rx * rx + rz * rz)
 
 
 @jit
-def _rk4(theta, omega, u, z, inertia, a0, a1, h, g):
-    """One Runge-Kutta step of length h [s], the ground going linearly from a0 to a1 [m s-2]."""
-    am = 0.5 * (a0 + a1)
-    k1t, k1o = omega, _accel(theta, u, z, inertia, a0, g)
-    k2t, k2o = omega + 0.5 * h * k1o, _accel(theta + 0.5 * h * k1t, u, z, inertia, am, g)
-    k3t, k3o = omega + 0.5 * h * k2o, _accel(theta + 0.5 * h * k2t, u, z, inertia, am, g)
-    k4t, k4o = omega + h * k3o, _accel(theta + h * k3t, u, z, inertia, a1, g)
+def _rk4(theta, omega, u, z, inertia, a0, a1, v0, v1, h):
+    """One Runge-Kutta step of length h [s], the ground going linearly from a0 to a1 and g + a_v from v0 to v1
+    [m s-2]."""
+    am, vm = 0.5 * (a0 + a1), 0.5 * (v0 + v1)
+    k1t, k1o = omega, _accel(theta, u, z, inertia, a0, v0)
+    k2t, k2o = omega + 0.5 * h * k1o, _accel(theta + 0.5 * h * k1t, u, z, inertia, am, vm)
+    k3t, k3o = omega + 0.5 * h * k2o, _accel(theta + 0.5 * h * k2t, u, z, inertia, am, vm)
+    k4t, k4o = omega + h * k3o, _accel(theta + h * k3t, u, z, inertia, a1, v1)
     return theta + h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t), omega + h / 6.0 * (k1o + 2 * k2o + 2 * k3o + k4o)
 
 
@@ -113,31 +118,41 @@ def _change_ratio(theta, u0, z0, u1, z1, inertia, landing, factor):
 
 
 @jit
-def _held(theta, u0, z0, u1, z1, inertia, ah, g, direction):
+def _held(theta, u0, z0, u1, z1, inertia, ah, gv, direction):
     """Whether a slow body at the bound between two pivots sits on the edge between them: the new pivot turns it
     back and the old one pushes it on (moving in ``direction``, +-1)."""
-    return (_accel(theta, u1, z1, inertia, ah, g) * direction < 0.0
-            and _accel(theta, u0, z0, inertia, ah, g) * direction > 0.0)
+    return (_accel(theta, u1, z1, inertia, ah, gv) * direction < 0.0
+            and _accel(theta, u0, z0, inertia, ah, gv) * direction > 0.0)
 
 
 @jit
-def _roll(ah, dt, pivots, bounds, rest, inertia, g, factor):
+def _ground(ah, av, i, n, g):
+    """The horizontal and g + a_v at sample i (zero motion after the record)."""
+    if i >= n:
+        return 0.0, g
+    return ah[i], g + (av[i] if len(av) else 0.0)
+
+
+@jit
+def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
     n, npiv = len(ah), len(pivots)
     steps = n - 1 + int(TAIL_S / dt)
     h = dt / SUBSTEPS
     theta, omega, k, edge = 0.0, 0.0, -1, rest          # k: the pivot (-1: resting on edge ``edge``)
     theta_max, impacts, changes = 0.0, 0, 0
     for i in range(steps):
-        a0 = ah[i] if i < n else 0.0
-        a1 = ah[i + 1] if i + 1 < n else 0.0
+        a0, v0 = _ground(ah, av, i, n, g)
+        a1, v1 = _ground(ah, av, i + 1, n, g)
+        if v0 <= 0.0 or v1 <= 0.0:                      # the ground falls faster than gravity
+            return RollingOutcome(False, -1, theta_max, impacts, changes, STATUS_GROUND_FLIGHT)
         for j in range(SUBSTEPS):
-            aa = a0 + (a1 - a0) * j / SUBSTEPS
-            ab = a0 + (a1 - a0) * (j + 1) / SUBSTEPS
+            aa, va = a0 + (a1 - a0) * j / SUBSTEPS, v0 + (v1 - v0) * j / SUBSTEPS
+            ab, vb = a0 + (a1 - a0) * (j + 1) / SUBSTEPS, v0 + (v1 - v0) * (j + 1) / SUBSTEPS
             if k < 0:
                 theta = bounds[edge]
-                if edge < npiv and _accel(theta, pivots[edge, 0], pivots[edge, 1], inertia, aa, g) > 0.0:
+                if edge < npiv and _accel(theta, pivots[edge, 0], pivots[edge, 1], inertia, aa, va) > 0.0:
                     k = edge
-                elif edge > 0 and _accel(theta, pivots[edge - 1, 0], pivots[edge - 1, 1], inertia, aa, g) < 0.0:
+                elif edge > 0 and _accel(theta, pivots[edge - 1, 0], pivots[edge - 1, 1], inertia, aa, va) < 0.0:
                     k = edge - 1
                 else:
                     continue
@@ -146,21 +161,24 @@ def _roll(ah, dt, pivots, bounds, rest, inertia, g, factor):
             while left > 0.0:
                 u, z = pivots[k, 0], pivots[k, 1]
                 lo, hi = bounds[k], bounds[k + 1]
-                a_start = aa + (ab - aa) * (1.0 - left / h)
-                th1, om1 = _rk4(theta, omega, u, z, inertia, a_start, ab, left, g)
+                f_start = 1.0 - left / h
+                a_s, v_s = aa + (ab - aa) * f_start, va + (vb - va) * f_start
+                th1, om1 = _rk4(theta, omega, u, z, inertia, a_s, ab, v_s, vb, left)
                 if lo <= th1 <= hi:
                     theta, omega = th1, om1
                     break
                 f0, f1 = 0.0, 1.0                          # the bound's crossing, by bisection
                 for _ in range(BISECTIONS):
                     fm = 0.5 * (f0 + f1)
-                    tm, _om = _rk4(theta, omega, u, z, inertia, a_start, a_start + (ab - a_start) * fm, left * fm,
-                                   g)
+                    tm, _om = _rk4(theta, omega, u, z, inertia, a_s, a_s + (ab - a_s) * fm, v_s,
+                                   v_s + (vb - v_s) * fm, left * fm)
                     if tm > hi or tm < lo:
                         f1 = fm
                     else:
                         f0 = fm
-                _th, omega = _rk4(theta, omega, u, z, inertia, a_start, a_start + (ab - a_start) * f1, left * f1, g)
+                _th, omega = _rk4(theta, omega, u, z, inertia, a_s, a_s + (ab - a_s) * f1, v_s,
+                                  v_s + (vb - v_s) * f1, left * f1)
+                a_at, v_at = a_s + (ab - a_s) * f1, v_s + (vb - v_s) * f1
                 left -= left * f1
                 edge = k + 1 if th1 > hi else k
                 nk = k + 1 if th1 > hi else k - 1
@@ -173,35 +191,45 @@ def _roll(ah, dt, pivots, bounds, rest, inertia, g, factor):
                 changes += 1
                 events += 1
                 if abs(omega) < REST_OMEGA and (landing or _held(theta, u, z, pivots[nk, 0], pivots[nk, 1],
-                                                                  inertia, ab, g, 1.0 if th1 > hi else -1.0)):
+                                                                  inertia, a_at, v_at, 1.0 if th1 > hi else -1.0)):
                     k, omega = -1, 0.0
                     break
                 k = nk
                 if events >= MAX_EVENTS_PER_STEP:
                     return RollingOutcome(False, -1, theta_max, impacts, changes, STATUS_EVENT_CAP)
             theta_max = max(theta_max, abs(theta))
+        if len(theta_out) and i + 1 < n:
+            theta_out[i + 1] = theta
         if i >= n and k < 0 and edge == rest:
             break
     return RollingOutcome(False, 0, theta_max, impacts, changes, 0)
 
 
-def roll_on_hull(ah_ms2: np.ndarray, dt_s: float, chain: HullChain, *, restitution_factor: float = 1.0,
-                 g_ms2: float = G) -> RollingOutcome:
-    """Roll the body of ``chain`` under a horizontal ground acceleration along its plane's + direction.
+def roll_on_hull(ah_ms2: np.ndarray, dt_s: float, chain: HullChain, *, av_ms2: np.ndarray | None = None,
+                 restitution_factor: float = 1.0, g_ms2: float = G, theta_out: np.ndarray | None = None
+                 ) -> RollingOutcome:
+    """Roll the body of ``chain`` under a ground acceleration along its plane's + direction.
 
     Parameters
     ----------
     ah_ms2 : ndarray
-        Ground acceleration [m s-2].
+        Horizontal ground acceleration [m s-2].
     dt_s : float
         Its sampling interval [s].
     chain : HullChain
         The body's pivots in the plane (:func:`pipeline.shapes.hull.hull_chain`).
+    av_ms2 : ndarray, optional
+        Vertical ground acceleration, up positive, on the same samples [m s-2].
     restitution_factor : float
         A declared factor on the landing impact's ratio (capped so that no impact gains speed or energy) [-].
     g_ms2 : float
         Gravity [m s-2].
+    theta_out : ndarray, optional
+        Filled with the tilt at each sample of the record [rad] (its length: the record's), up to where the scene
+        ends (overturned, or stopped without a verdict); the samples after that keep what they held.
     """
-    return _roll(np.ascontiguousarray(ah_ms2, dtype=float), float(dt_s), np.ascontiguousarray(chain.pivots_m),
-                 np.ascontiguousarray(chain.bounds_rad), int(chain.rest), float(chain.inertia_m2), float(g_ms2),
-                 float(restitution_factor))
+    ah = np.ascontiguousarray(ah_ms2, dtype=float)
+    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
+    out = np.zeros(0) if theta_out is None else theta_out
+    return _roll(ah, av, float(dt_s), np.ascontiguousarray(chain.pivots_m), np.ascontiguousarray(chain.bounds_rad),
+                 int(chain.rest), float(chain.inertia_m2), float(g_ms2), float(restitution_factor), out)

@@ -22,8 +22,8 @@ import numpy as np
 from ..errors import MeshError
 from .scan import ScannedShape
 
-#: The chain ends at the first pivot whose far edge lies flat beyond this tilt [rad]: past 90 degrees the body
-#: has overturned
+#: The chain ends at the first pivot whose far edge lies flat beyond this tilt, and that pivot's interval ends at
+#: it [rad]: at 90 degrees the body has overturned
 END_TILT_RAD = 0.5 * math.pi
 
 
@@ -38,8 +38,9 @@ class HullChain(NamedTuple):
         Pivot k carries the body for tilts in [bounds_rad[k], bounds_rad[k + 1]] [rad]; increasing, 0 at ``rest``.
     rest : int
         Index of the bound at theta = 0: the base edge between pivots rest - 1 and rest.
-    inertia_m2 : float
-        Moment of inertia about G per unit mass, about the axis normal to the plane [m2].
+    second_u_m2, second_z_m2 : float
+        The body's second moments about G per unit mass along the plane and up [m2]; their sum is its moment of
+        inertia about the axis normal to the plane.
     azimuth_deg : float
         The plane [deg, from the settled body's x axis toward y].
     """
@@ -47,8 +48,27 @@ class HullChain(NamedTuple):
     pivots_m: np.ndarray
     bounds_rad: np.ndarray
     rest: int
-    inertia_m2: float
+    second_u_m2: float
+    second_z_m2: float
     azimuth_deg: float
+
+    @property
+    def inertia_m2(self) -> float:
+        """Moment of inertia about G per unit mass, about the axis normal to the plane [m2]."""
+        return self.second_u_m2 + self.second_z_m2
+
+    def scaled(self, *, width_factor: float = 1.0, height_factor: float = 1.0) -> HullChain:
+        """The chain of the body stretched by ``width_factor`` along the plane and ``height_factor`` up (a draw's
+        sizes, as a rectangle's are drawn): the pivots move, the tilts at which the edges lie flat change, the
+        second moments scale by the squares."""
+        piv = self.pivots_m * np.array([width_factor, height_factor])
+        d = np.diff(piv, axis=0)
+        tilt = np.arctan2(d[:, 1], d[:, 0])
+        bounds = self.bounds_rad.copy()
+        bounds[1:-1] = tilt - tilt[self.rest - 1]
+        bounds[self.rest] = 0.0
+        return self._replace(pivots_m=piv, bounds_rad=bounds, second_u_m2=self.second_u_m2 * width_factor ** 2,
+                             second_z_m2=self.second_z_m2 * height_factor ** 2)
 
 
 def _outline(points_uz: np.ndarray) -> np.ndarray:
@@ -58,9 +78,10 @@ def _outline(points_uz: np.ndarray) -> np.ndarray:
     return points_uz[ConvexHull(points_uz).vertices]
 
 
-def chain_from_outline(outline: np.ndarray, inertia_m2: float, *, azimuth_deg: float = 0.0) -> HullChain:
+def chain_from_outline(outline: np.ndarray, second_u_m2: float, second_z_m2: float, *, azimuth_deg: float = 0.0
+                       ) -> HullChain:
     """The :class:`HullChain` of a convex outline (counter-clockwise vertices relative to G, u and z [m]) resting
-    on its edge below G."""
+    on its edge below G, with the body's second moments about G (per unit mass, along the plane and up) [m2]."""
     n = len(outline)
     edges = np.roll(outline, -1, axis=0) - outline
     below = [k for k in range(n) if edges[k, 0] > 0 and outline[k, 0] <= 0.0 <= outline[(k + 1) % n, 0]]
@@ -83,9 +104,9 @@ def chain_from_outline(outline: np.ndarray, inertia_m2: float, *, azimuth_deg: f
         if not -END_TILT_RAD < tilt[(k - 1) % n] < 0.0:
             break
     bounds = np.array(minus_bounds[::-1] + [0.0] + plus_bounds)
-    bounds[0], bounds[-1] = min(bounds[0], -END_TILT_RAD), max(bounds[-1], END_TILT_RAD)
-    return HullChain(np.array(minus[::-1] + plus, dtype=float), bounds, len(minus), float(inertia_m2),
-                     float(azimuth_deg))
+    bounds[0], bounds[-1] = -END_TILT_RAD, END_TILT_RAD              # the ends: overturned at 90 degrees
+    return HullChain(np.array(minus[::-1] + plus, dtype=float), bounds, len(minus), float(second_u_m2),
+                     float(second_z_m2), float(azimuth_deg))
 
 
 def hull_chain(shape: ScannedShape, azimuth_deg: float) -> HullChain:
@@ -95,12 +116,12 @@ def hull_chain(shape: ScannedShape, azimuth_deg: float) -> HullChain:
     pts = shape.hull_m if len(shape.hull_m) else shape.vertices_m
     uz = np.column_stack([pts @ d, pts[:, 2] - shape.com_height_m])
     inertia = shape.inertia_per_mass_m2
-    normal = np.array([-math.sin(phi), math.cos(phi), 0.0])            # the rotation axis, normal to the plane
-    return chain_from_outline(_outline(uz), float(normal @ inertia @ normal), azimuth_deg=azimuth_deg)
+    second = 0.5 * float(np.trace(inertia)) * np.eye(3) - inertia        # <r r^T> about G from I = tr(C) 1 - C
+    return chain_from_outline(_outline(uz), float(d @ second @ d), float(second[2, 2]), azimuth_deg=azimuth_deg)
 
 
 def rectangle_chain(width_m: float, height_m: float) -> HullChain:
     """The :class:`HullChain` of a rectangular block of full width and height [m]: one pivot per side."""
     b, h = width_m / 2.0, height_m / 2.0
     outline = np.array([[-b, -h], [b, -h], [b, h], [-b, h]])
-    return chain_from_outline(outline, (width_m ** 2 + height_m ** 2) / 12.0)
+    return chain_from_outline(outline, width_m ** 2 / 12.0, height_m ** 2 / 12.0)
