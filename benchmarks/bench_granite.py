@@ -22,10 +22,12 @@ shape; settled on a flat base; :mod:`pipeline.shapes.plane`); the compiled two-s
 ``--model rolling`` rolls each rock on its convex hull instead (:mod:`pipeline.shapes.hull`,
 :mod:`pipeline.rocking.rolling`: no footprint tolerance; the landing on the base loses what the impact rule says,
 the rolling over the scan's facets nothing) in every vertical plane of a ``--orientation-step`` grid (5 degrees,
-rockscreen's scan): ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the probability under
-an orientation drawn at random from the grid with rockscreen's amplitude and restitution spreads (the sizes are
-not drawn), ``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the
-orientation were known, estimated by leave-one-motion-out (the baseline's protocol, one parameter).
+rockscreen's scan): ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the worst
+orientation's probability under rockscreen's amplitude, size and restitution spreads (the largest over the
+:data:`CANDIDATES` planes nearest to overturning at the nominal, as rockscreen gives p for a blank azimuth),
+``p_random_orientation`` the probability under an orientation drawn at random from the grid, and
+``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the orientation were
+known, estimated by leave-one-motion-out (the baseline's protocol, one parameter).
 
 Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``overturn_nominal``, ``p_overturn``, ``observed``, the
 per-pose verdicts, ``p_logistic_lomo``, and ``why`` for each wrong verdict: below uplift at every pose, lifted but
@@ -59,15 +61,18 @@ from pipeline.shapes.hull import HullChain, hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
 from pipeline.store import write_csv_atomic
-from pipeline.uncertainty.sampling import common_normals, lognormal_factor
+from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.settings import UncertaintyConfig
-from pipeline.uncertainty.two_sided import plane_draws
+from pipeline.uncertainty.two_sided import draw_factors, plane_draws
 
 SCANS = {"SP1": "SP1.obj", "SP2": "final_sp2_1.obj"}
 #: (label, azimuth of the shaking axis in the scan's settled frame [deg], sense of the table's +x along it)
 POSES = (("x", 0.0, 1.0), ("-x", 0.0, -1.0), ("y", 90.0, 1.0), ("-y", 90.0, -1.0))
 #: Probabilities are clipped to [P_CLIP, 1 - P_CLIP] in the log-loss only (a p of 0 or 1 that is wrong scores inf)
 P_CLIP = 0.01
+#: Planes of the rolling model, nearest to overturning at the nominal, in which the draws give the worst
+#: orientation's p
+CANDIDATES = 4
 #: Bins of the reliability plot
 BINS = np.array([0.0, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 1.0])
 
@@ -134,12 +139,12 @@ def chains(data: Path, step_deg: float) -> dict[tuple[str, float], HullChain]:
 
 def _one_test_rolling(job) -> list[dict]:
     """Every rock of one test rolled on its hull (:mod:`pipeline.rocking.rolling`) in every plane of the grid (the
-    verdict of the worst orientation), and the draws (each: an orientation of the grid at random, rockscreen's
-    amplitude and restitution factors)."""
+    verdict of the worst orientation), and the draws of rockscreen's amplitude, size and restitution factors: in
+    each of the :data:`CANDIDATES` planes that come nearest to overturning at the nominal (the worst's p, as
+    rockscreen gives for a blank azimuth), and in a plane of the grid drawn at random for each draw."""
     data, test, geo, samples = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
-    settings = UncertaintyConfig()
-    z = common_normals(settings.seed, samples)
+    z = common_normals(UncertaintyConfig().seed, samples)
     rows = []
     for rock in SCANS:
         planes = [key for key in geo if key[0] == rock]
@@ -150,20 +155,32 @@ def _one_test_rolling(job) -> list[dict]:
         row["overturn_nominal"] = int(any(o.overturned for o in nominal))
         row["orientations_overturning"] = float(np.mean([o.overturned for o in nominal]))
         row["overturning_planes_deg"] = ";".join(f"{key[1]:g}" for key, o in zip(planes, nominal) if o.overturned)
-        over, undecided = 0, 0
-        for zr in z:
-            pick = planes[min(int(0.5 * (1.0 + math.erf(zr[5] / math.sqrt(2.0))) * len(planes)), len(planes) - 1)]
-            out = roll_on_hull(ah * float(lognormal_factor(zr[0], settings.amplitude_cov)), dt, geo[pick],
-                               restitution_factor=float(lognormal_factor(zr[1], settings.restitution_cov)))
-            over += int(out.verdict == 1)
-            undecided += int(out.verdict < 0)
-        row["p_overturn"] = over / max(len(z) - undecided, 1)
-        row["undecided_draws"] = undecided + sum(int(o.verdict < 0) for o in nominal)
+        nearest = sorted(range(len(planes)), key=lambda k: (-nominal[k].overturned, -nominal[k].theta_max))
+        worst = [_rolled_p(ah, dt, [geo[planes[k]]] * len(z), z) for k in nearest[:CANDIDATES]]
+        row["p_overturn"] = max(p for p, _u in worst)
+        pick = np.minimum((0.5 * (1.0 + np.vectorize(math.erf)(z[:, 5] / math.sqrt(2.0))) * len(planes)).astype(int),
+                          len(planes) - 1)
+        row["p_random_orientation"], undecided = _rolled_p(ah, dt, [geo[planes[k]] for k in pick], z)
+        row["undecided_draws"] = undecided + sum(u for _p, u in worst) + sum(int(o.verdict < 0) for o in nominal)
         row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
         row["uplift_pga_g"] = min(_base_tan_alpha(geo[key]) for key in planes)
         row["why"] = why(row)
         rows.append(row)
     return rows
+
+
+def _rolled_p(ah: np.ndarray, dt: float, chains: list[HullChain], z: np.ndarray) -> tuple[float, int]:
+    """(p, draws without a verdict): draw k rolls ``chains[k]`` scaled by row k of ``z`` (rockscreen's amplitude,
+    height, width and restitution factors, :func:`~pipeline.uncertainty.two_sided.draw_factors`)."""
+    settings = UncertaintyConfig()
+    over = undecided = 0
+    for chain, zr in zip(chains, z):
+        f = draw_factors(zr, settings)
+        out = roll_on_hull(ah * f.amplitude, dt, chain.scaled(width_factor=f.width, height_factor=f.height),
+                           restitution_factor=f.restitution)
+        over += int(out.verdict == 1)
+        undecided += int(out.verdict < 0)
+    return over / max(len(z) - undecided, 1), undecided
 
 
 def _base_tan_alpha(chain: HullChain) -> float:
@@ -253,10 +270,14 @@ def summary(rows: list[dict]) -> list[dict]:
         preds = {"always_stands": (np.zeros(len(sel), int), np.zeros(len(sel))),
                  "logistic_lomo": (np.array([r["p_logistic_lomo"] >= 0.5 for r in sel], int),
                                    np.array([r["p_logistic_lomo"] for r in sel])),
-                 ("rockscreen (worst orientation; p random orientation)" if "orientations_overturning" in sel[0]
+                 ("rockscreen (worst orientation, its p)" if "orientations_overturning" in sel[0]
                   else "rockscreen (worst pose; p over poses)"): (np.array([r["overturn_nominal"] for r in sel]),
                                                            np.array([r["p_overturn"] for r in sel]))}
+        p_own = np.array([r["p_overturn"] for r in sel])
+        preds["rockscreen, p >= 0.5 (the report's threshold)"] = ((p_own >= 0.5).astype(int), p_own)
         if "overturning_planes_deg" in sel[0]:
+            preds["rockscreen (worst orientation, p of a random one)"] = (
+                np.array([r["overturn_nominal"] for r in sel]), np.array([r["p_random_orientation"] for r in sel]))
             v = orientation_lomo(sel)
             preds["rockscreen, orientation chosen leave-one-motion-out"] = (v, v.astype(float))
         for label, _a, _s in POSES:
