@@ -315,7 +315,7 @@ def plots(rows: list[dict], out: Path) -> None:
         ax.plot([0, 1], [0, 1], color="0.6", lw=0.8, ls=":", label="perfect")
         ax.set(title=f"{rock}: reliability (tests per bin beside each point)", xlabel="predicted p of overturning",
                ylabel="observed frequency", xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
-        ax.legend(loc="lower right", fontsize=8)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=3, fontsize=8)   # below: never on a point
     fig.savefig(out / "reliability.png", dpi=120)
     plt.close(fig)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True, sharey=True)
