@@ -49,6 +49,7 @@ from pathlib import Path
 
 import numpy as np
 import obspy
+from scipy.special import ndtr
 
 from pipeline.constants import G
 from pipeline.records.processing import apply_steps
@@ -158,8 +159,7 @@ def _one_test_rolling(job) -> list[dict]:
         nearest = sorted(range(len(planes)), key=lambda k: (-nominal[k].overturned, -nominal[k].theta_max))
         worst = [_rolled_p(ah, dt, [geo[planes[k]]] * len(z), z) for k in nearest[:CANDIDATES]]
         row["p_overturn"] = max(p for p, _u in worst)
-        pick = np.minimum((0.5 * (1.0 + np.vectorize(math.erf)(z[:, 5] / math.sqrt(2.0))) * len(planes)).astype(int),
-                          len(planes) - 1)
+        pick = np.minimum((ndtr(z[:, 5]) * len(planes)).astype(int), len(planes) - 1)   # a plane at random
         row["p_random_orientation"], undecided = _rolled_p(ah, dt, [geo[planes[k]] for k in pick], z)
         row["undecided_draws"] = undecided + sum(u for _p, u in worst) + sum(int(o.verdict < 0) for o in nominal)
         row["table_pga_g"] = float(np.max(np.abs(ah)) / G)

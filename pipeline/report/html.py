@@ -325,7 +325,7 @@ def _fragility_summary(out_dir: Path) -> dict | None:
 
 
 def _num(x, digits: int = 3) -> str:
-    """A number for a table cell: '' for NaN, 'none up to the limit' for inf."""
+    """A number for a table cell: '' for NaN, '> limit' for inf (a margin scan that reached its limit)."""
     try:
         x = float(x)
     except (TypeError, ValueError):
