@@ -2,32 +2,31 @@
 
 For every test of DATA_DIR (the layout of ``../shared/experiments/granite-pbr``: ``tests.csv``, ``motions/``,
 ``geometry/``) with a table motion: the motion read by rockscreen's table reader and processed by its uncorrected
-chain (mean and trend removed, 5 % taper, 0.05 Hz high-pass); each rock's rocking geometry from its scan
-(:mod:`pipeline.shapes.scan`: SP1 from ``SP1.obj``, SP2 from ``final_sp2_1.obj``, the closed mesh of the same
-shape; settled on a flat base; :mod:`pipeline.shapes.plane`); the compiled two-sided rocking model
-(:mod:`pipeline.rocking.two_sided`). Every parameter is declared, none fitted to a test:
+chain (mean and trend removed, 5 % taper, 0.05 Hz high-pass); each rock from its scan (:mod:`pipeline.shapes.scan`:
+SP1 from ``SP1.obj``, SP2 from ``final_sp2_1.obj``, the closed mesh of the same shape; settled on a flat base).
+Every parameter is declared, none fitted to a test; restitution: the impact rule's own ratio; friction: not
+modelled (the rocks do not slide in either model). The baselines: always "stands"; a logistic curve in ln PGA and
+ln(PGV/PGA) (``tests.csv``) scored by leave-one-motion-out cross-validation (each motion's tests predicted by a
+curve fitted without them).
 
-* the pivots: the footprint's extreme points within ``--footprint-mm`` (default rockscreen's 2 mm) of the base,
-  or (``--pivots tipping``) where each side's static tipping angle puts them;
-* restitution: the impact rule's own ratio; friction: not modelled (the rocks do not slide in the model);
-* the orientation on the table is not recorded: four poses are taken, the scans' x axis along the shaking (the
-  published simulation's pose) and their y axis, each in both senses (which way the table's positive
-  acceleration pointed is not recorded either). ``overturn_nominal`` is the blank-azimuth verdict (any pose
-  overturns it: the worst orientation of rockscreen's scan); ``p_overturn`` is the probability under a pose drawn
-  at random among the four and rockscreen's default uncertainty (amplitude, sizes, restitution;
-  ``--samples`` draws per pose);
-* the baselines: always "stands"; a logistic curve in ln PGA and ln(PGV/PGA) (``tests.csv``) scored by
-  leave-one-motion-out cross-validation (each motion's tests predicted by a curve fitted without them).
-
-``--model rolling`` rolls each rock on its convex hull instead (:mod:`pipeline.shapes.hull`,
-:mod:`pipeline.rocking.rolling`: no footprint tolerance; the landing on the base loses what the impact rule says,
-the rolling over the scan's facets nothing) in every vertical plane of a ``--orientation-step`` grid (5 degrees,
-rockscreen's scan): ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the worst
-orientation's probability under rockscreen's amplitude, size and restitution spreads (the largest over the
-:data:`CANDIDATES` planes nearest to overturning at the nominal, as rockscreen gives p for a blank azimuth),
-``p_random_orientation`` the probability under an orientation drawn at random from the grid, and
-``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the orientation were
+``--model rolling`` (the default) judges each rock as ``screen`` judges a body given by its mesh with a blank
+azimuth on a record of one horizontal, with its default model (:func:`pipeline.run.scanned.scanned_scene`; the rock
+rolls on its convex hull, :mod:`pipeline.shapes.hull`, :mod:`pipeline.rocking.rolling`: no footprint tolerance;
+the landing on the base loses what the impact rule says, the rolling over the scan's facets nothing): every
+vertical plane of the body on the ``--orientation-step`` grid (5 degrees, rockscreen's default) facing the table's
+axis. ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the worst orientation's probability
+under rockscreen's amplitude, size and restitution spreads (the largest over the
+:data:`~pipeline.uncertainty.two_sided.CANDIDATES` planes nearest to overturning at the nominal; ``--samples``
+draws at most), ``p_random_orientation`` the probability under an orientation drawn at random among the planes,
+and ``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the orientation were
 known, estimated by leave-one-motion-out (the baseline's protocol, one parameter).
+
+``--model two_sided`` rocks each rock on one pivot per side (:mod:`pipeline.shapes.plane`,
+:mod:`pipeline.rocking.two_sided`): the footprint's extreme points within ``--footprint-mm`` (default rockscreen's
+2 mm) of the base, or (``--pivots tipping``) where each side's static tipping angle puts them. The orientation on
+the table is not recorded: four poses are taken, the scans' x axis along the shaking (the published simulation's
+pose) and their y axis, each in both senses. ``overturn_nominal`` is the worst pose's verdict; ``p_overturn`` the
+probability under a pose drawn at random among the four (``--samples`` draws per pose).
 
 Writes ``OUT_DIR/predictions.csv`` (``test``, ``rock``, ``overturn_nominal``, ``p_overturn``, ``observed``, the
 per-pose verdicts, ``p_logistic_lomo``, and ``why`` for each wrong verdict: below uplift at every pose, lifted but
@@ -42,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -49,31 +49,32 @@ from pathlib import Path
 
 import numpy as np
 import obspy
-from scipy.special import ndtr
 
+from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.processing import apply_steps
+from pipeline.records.record import Record
 from pipeline.records.settings import ProcessingConfig
-from pipeline.rocking.rolling import roll_on_hull
-from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.block import BlockShape, ShapeKind
+from pipeline.rocking.orientation import plane_grid
+from pipeline.rocking.settings import ScannedModel, SimulationConfig
 from pipeline.rocking.simulate import step_control
 from pipeline.rocking.two_sided import rock_two_sided_compiled, two_sided_block
-from pipeline.shapes.hull import HullChain, hull_chain
-from pipeline.shapes.plane import PivotRule, PlaneBody, plane_body
+from pipeline.run.scanned import scanned_scene
+from pipeline.shapes.hull import hull_chain
+from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
 from pipeline.store import write_csv_atomic
 from pipeline.uncertainty.sampling import common_normals
+from pipeline.uncertainty.scenes import motion as scene_motion
 from pipeline.uncertainty.settings import UncertaintyConfig
-from pipeline.uncertainty.two_sided import draw_factors, plane_draws
+from pipeline.uncertainty.two_sided import plane_draws
 
 SCANS = {"SP1": "SP1.obj", "SP2": "final_sp2_1.obj"}
 #: (label, azimuth of the shaking axis in the scan's settled frame [deg], sense of the table's +x along it)
 POSES = (("x", 0.0, 1.0), ("-x", 0.0, -1.0), ("y", 90.0, 1.0), ("-y", 90.0, -1.0))
 #: Probabilities are clipped to [P_CLIP, 1 - P_CLIP] in the log-loss only (a p of 0 or 1 that is wrong scores inf)
 P_CLIP = 0.01
-#: Planes of the rolling model, nearest to overturning at the nominal, in which the draws give the worst
-#: orientation's p
-CANDIDATES = 4
 #: Bins of the reliability plot
 BINS = np.array([0.0, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 1.0])
 
@@ -99,7 +100,7 @@ def motion(path: Path) -> tuple[np.ndarray, float]:
 
 def _one_test(job) -> list[dict]:
     """Every rock and pose of one test: the nominal verdict and the draws."""
-    data, test, geo, samples = job
+    data, test, geo, samples, _step = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
     control = step_control(SimulationConfig())
     z = common_normals(UncertaintyConfig().seed, samples)
@@ -127,66 +128,50 @@ def _one_test(job) -> list[dict]:
     return rows
 
 
-def chains(data: Path, step_deg: float) -> dict[tuple[str, float], HullChain]:
-    """Each rock's :class:`~pipeline.shapes.hull.HullChain` in every vertical plane of the grid (both senses of a
-    plane are in its chain: the grid spans 360 degrees)."""
+def scans(data: Path) -> dict[str, BlockShape]:
+    """Each rock as the inventory gives a body by its mesh with a blank azimuth (no friction: neither model slides;
+    the impact rule's own restitution)."""
     out = {}
     for rock, scan in SCANS.items():
         shape = read_scan(data / "geometry" / scan)
-        for az in np.arange(0.0, 360.0, step_deg):
-            out[(rock, float(az))] = hull_chain(shape, float(az))
+        height, width = equivalent_rectangle(shape)
+        out[rock] = BlockShape(height_m=height, width_m=width, mu=math.inf, kind=ShapeKind.scanned, scan=shape)
     return out
 
 
 def _one_test_rolling(job) -> list[dict]:
-    """Every rock of one test rolled on its hull (:mod:`pipeline.rocking.rolling`) in every plane of the grid (the
-    verdict of the worst orientation), and the draws of rockscreen's amplitude, size and restitution factors: in
-    each of the :data:`CANDIDATES` planes that come nearest to overturning at the nominal (the worst's p, as
-    rockscreen gives for a blank azimuth), and in a plane of the grid drawn at random for each draw."""
-    data, test, geo, samples = job
+    """Every rock of one test as ``screen`` judges a body given by its scan, with a blank azimuth, on a record of one
+    horizontal (:func:`pipeline.run.scanned.scanned_scene` with the rolling model): every plane of the body facing
+    the shaking (the worst orientation's verdict), its probability (the draws in the :data:`CANDIDATES` planes
+    nearest to overturning, the largest) and an orientation's at random."""
+    data, test, geo, samples, step_deg = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
-    z = common_normals(UncertaintyConfig().seed, samples)
+    rec = Record(record_id=test["test"], dt_s=dt, horizontal_ms2=ah[None, :], azimuths_deg=(0.0,),
+                 azimuth_known=False, vertical_ms2=None, files=(), formats=("TABLE",), component_codes=("X",),
+                 processing_level="uncorrected")
+    cfg = Config(simulation=SimulationConfig(orientation_step_deg=step_deg, scanned_model=ScannedModel.rolling),
+                 uncertainty=dataclasses.replace(UncertaintyConfig(), samples=samples))
+    z = common_normals(cfg.uncertainty.seed, samples)
     rows = []
-    for rock in SCANS:
-        planes = [key for key in geo if key[0] == rock]
+    for rock, shape in geo.items():
         row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
                "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
                "observed": int(test[f"{rock.lower()}_overturned"])}
-        nominal = [roll_on_hull(ah, dt, geo[key]) for key in planes]
-        row["overturn_nominal"] = int(any(o.overturned for o in nominal))
-        row["orientations_overturning"] = float(np.mean([o.overturned for o in nominal]))
-        row["overturning_planes_deg"] = ";".join(f"{key[1]:g}" for key, o in zip(planes, nominal) if o.overturned)
-        nearest = sorted(range(len(planes)), key=lambda k: (-nominal[k].overturned, -nominal[k].theta_max))
-        worst = [_rolled_p(ah, dt, [geo[planes[k]]] * len(z), z) for k in nearest[:CANDIDATES]]
-        row["p_overturn"] = max(p for p, _u in worst)
-        pick = np.minimum((ndtr(z[:, 5]) * len(planes)).astype(int), len(planes) - 1)   # a plane at random
-        row["p_random_orientation"], undecided = _rolled_p(ah, dt, [geo[planes[k]] for k in pick], z)
-        row["undecided_draws"] = undecided + sum(u for _p, u in worst) + sum(int(o.verdict < 0) for o in nominal)
+        got = scanned_scene(rec, scene_motion(rec.horizontal_ms2, 0.0, None, dt), z, shape, direction_deg=0.0,
+                            grid_deg=plane_grid(step_deg), cfg=cfg, settings=cfg.simulation)
+        nominal = got.search.scenes
+        row["overturn_nominal"] = int(got.result.scene.overturned)
+        row["orientations_overturning"] = float(np.mean([sc.overturned for _pl, sc in nominal]))
+        row["overturning_planes_deg"] = ";".join(f"{pl.body_deg:g}" for pl, sc in nominal if sc.overturned)
+        row["p_overturn"] = got.probability.worst.p
+        row["p_random_orientation"] = got.probability.random
+        row["draws"] = got.probability.worst.drawn
+        row["undecided_draws"] = got.probability.worst.free_flight + sum(int(sc.verdict < 0) for _pl, sc in nominal)
         row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
-        row["uplift_pga_g"] = min(_base_tan_alpha(geo[key]) for key in planes)
+        row["uplift_pga_g"] = min(hull_chain(shape.scan, pl.body_deg).base_tan_alpha() for pl, _sc in nominal)
         row["why"] = why(row)
         rows.append(row)
     return rows
-
-
-def _rolled_p(ah: np.ndarray, dt: float, chains: list[HullChain], z: np.ndarray) -> tuple[float, int]:
-    """(p, draws without a verdict): draw k rolls ``chains[k]`` scaled by row k of ``z`` (rockscreen's amplitude,
-    height, width and restitution factors, :func:`~pipeline.uncertainty.two_sided.draw_factors`)."""
-    settings = UncertaintyConfig()
-    over = undecided = 0
-    for chain, zr in zip(chains, z):
-        f = draw_factors(zr, settings)
-        out = roll_on_hull(ah * f.amplitude, dt, chain.scaled(width_factor=f.width, height_factor=f.height),
-                           restitution_factor=f.restitution)
-        over += int(out.verdict == 1)
-        undecided += int(out.verdict < 0)
-    return over / max(len(z) - undecided, 1), undecided
-
-
-def _base_tan_alpha(chain: HullChain) -> float:
-    """tan alpha of the base edge's nearer end: the uplift acceleration over g of the weaker side."""
-    near = chain.pivots_m[chain.rest - 1: chain.rest + 1]
-    return float(np.min(np.abs(near[:, 0]) / -near[:, 1]))
 
 
 def why(row: dict) -> str:
@@ -355,19 +340,21 @@ def main() -> None:
                     help="the footprint's tolerance above the base [mm] (default %(default)s)")
     ap.add_argument("--samples", type=int, default=UncertaintyConfig().samples, help="draws per pose")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--model", choices=("two_sided", "rolling"), default="two_sided",
-                    help="two_sided: one pivot per side at the footprint (four poses); rolling: the body rolls on "
-                         "its convex hull, every plane of the --orientation-step grid")
+    ap.add_argument("--model", choices=("rolling", "two_sided"), default="rolling",
+                    help="rolling (screen's default): the body rolls on its convex hull, every plane of the "
+                         "--orientation-step grid, as screen judges a mesh with a blank azimuth; two_sided: one "
+                         "pivot per side at the footprint (four poses)")
     ap.add_argument("--orientation-step", type=float, default=5.0,
                     help="the rolling model's grid of planes [deg] (default %(default)s, rockscreen's scan)")
     args = ap.parse_args()
     tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
     tests = tests[:args.limit] if args.limit else tests
     if args.model == "rolling":
-        geo: dict = chains(args.data, args.orientation_step)
+        geo: dict = scans(args.data)
         task = _one_test_rolling
-        for rock in SCANS:
-            alpha = [math.degrees(math.atan(_base_tan_alpha(c))) for (r, _az), c in geo.items() if r == rock]
+        for rock, shape in geo.items():
+            alpha = [math.degrees(math.atan(hull_chain(shape.scan, az).base_tan_alpha()))
+                     for az in np.arange(0.0, 360.0, args.orientation_step)]
             print(f"{rock}: rolling on its hull in {len(alpha)} planes; base alpha {min(alpha):.1f}-{max(alpha):.1f}"
                   " deg")
     else:
@@ -380,7 +367,8 @@ def main() -> None:
     rows: list[dict] = []
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-        for n, got in enumerate(pool.map(task, [(args.data, t, geo, args.samples) for t in tests]), 1):
+        jobs = [(args.data, t, geo, args.samples, args.orientation_step) for t in tests]
+        for n, got in enumerate(pool.map(task, jobs), 1):
             rows.extend(got)
             if n % 20 == 0 or n == len(tests):
                 print(f"{n}/{len(tests)} tests, {time.perf_counter() - t0:.0f} s", flush=True)

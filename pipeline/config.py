@@ -21,7 +21,7 @@ from .criteria import FORMS
 from .errors import ConfigError
 from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
 from .records.settings import ProcessingConfig, RecordsConfig
-from .rocking.settings import SimulationConfig
+from .rocking.settings import ScannedModel, SimulationConfig
 from .uncertainty.settings import UncertaintyConfig
 
 __all__ = ["Config", "ProcessingConfig", "RecordsConfig", "SimulationConfig", "UncertaintyConfig", "config_from_dict",
@@ -258,6 +258,7 @@ CHOICES: dict[tuple[str, ...], dict[str, tuple[str, ...]]] = {
     ("fidelity",): {"tier": FIDELITY_TIERS},
     ("event",): {"shakemap_component": ("rotd100", "rotd50", "geomean", "larger")},
     ("records",): {"implausible": ("fail", "warn")},
+    ("simulation",): {"scanned_model": tuple(m.value for m in ScannedModel)},
 }
 
 

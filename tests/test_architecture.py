@@ -26,7 +26,8 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
                                      "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.box_planar",
                                      "pipeline.rocking.asymmetric", "pipeline.rocking.solid3d",
                                      "pipeline.rocking.two_sided", "pipeline.rocking.scanned", "pipeline.shapes.plane",
-                                     "pipeline.uncertainty.two_sided"])
+                                     "pipeline.uncertainty.two_sided", "pipeline.rocking.rolling",
+                                     "pipeline.shapes.hull"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
@@ -51,7 +52,8 @@ PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline
            "pipeline.uncertainty.orientations", "pipeline.uncertainty.fragility", "pipeline.uncertainty.sampling",
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
            "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan", "pipeline.shapes.plane",
-           "pipeline.rocking.two_sided", "pipeline.rocking.scanned", "pipeline.uncertainty.two_sided")
+           "pipeline.rocking.two_sided", "pipeline.rocking.scanned", "pipeline.uncertainty.two_sided",
+           "pipeline.rocking.rolling", "pipeline.shapes.hull")
 
 
 @pytest.mark.parametrize("library", PHYSICS)

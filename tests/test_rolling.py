@@ -25,6 +25,22 @@ def test_a_rectangles_chain_is_its_two_corners():
     assert ch.rest == 1 and ch.inertia_m2 == pytest.approx((0.3 ** 2 + 1.5 ** 2) / 12)
 
 
+def test_a_chain_of_one_pivot_per_side_is_the_footprints_two_sided_body(scans_dir):
+    """pipeline.shapes.plane.chain_plane (the hull's two pivots) against plane_body (the footprint's extremes, a
+    second path) for a box given as a mesh, in planes across and along it and oblique."""
+    pytest.importorskip("trimesh")
+    from pipeline.shapes.plane import chain_plane, plane_body
+    from pipeline.shapes.scan import read_scan
+
+    shape = read_scan(scans_dir / "box-0.3x3.0x1.5.obj")
+    for az in (0.0, 90.0, 180.0, 30.0):
+        chain = hull_chain(shape, az)
+        assert len(chain.pivots_m) == 2
+        np.testing.assert_allclose(chain_plane(chain), plane_body(shape, az), atol=1e-9)
+    with pytest.raises(ValueError, match="not one pivot per side"):
+        chain_plane(chain_from_outline(_rocker(0.3, 0.2, facets=40), 0.01, 0.01))
+
+
 def test_a_box_given_as_a_mesh_has_the_rectangles_chain(scans_dir):
     pytest.importorskip("trimesh")
     from pipeline.shapes.scan import read_scan
@@ -101,6 +117,41 @@ def test_a_scan_rolls_the_same_seen_from_the_other_side(scans_dir):
         np.testing.assert_allclose(other.pivots_m[::-1] * [-1.0, 1.0], one.pivots_m, atol=1e-12)
         r1, r2 = roll_on_hull(a, DT, one), roll_on_hull(-a, DT, other)
         assert r1.overturned == r2.overturned and r1.theta_max == pytest.approx(r2.theta_max, rel=1e-9, abs=1e-12)
+        assert r1.theta_max_plus == pytest.approx(r2.theta_max_minus, rel=1e-9, abs=1e-12)   # each side's peak
+        assert r1.theta_max_minus == pytest.approx(r2.theta_max_plus, rel=1e-9, abs=1e-12)
+        assert r1.theta_max == max(r1.theta_max_plus, r1.theta_max_minus)
+        assert one.tipping_rad() == pytest.approx(other.tipping_rad()[::-1], abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["balanced-rock.obj", "leaning-statue.obj"])
+def test_the_chains_tipping_angles_are_the_scans_bisected_ones(scans_dir, name):
+    """HullChain.tipping_rad (G over the pivot of the chain's interval) against pipeline.shapes.scan.pivots (a
+    second algorithm: the tilt at which G passes over the hull's lowest point, bracketed on a grid and bisected)."""
+    pytest.importorskip("trimesh")
+    from pipeline.shapes.scan import pivots, read_scan
+
+    shape = read_scan(scans_dir / name)
+    for az in (0.0, 35.0, 90.0, 200.0, 290.0):
+        plus, minus = hull_chain(shape, az).tipping_rad()
+        piv = pivots(shape, az)
+        assert plus == pytest.approx(piv.tipping_plus, abs=1e-6) and minus == pytest.approx(piv.tipping_minus,
+                                                                                             abs=1e-6)
+
+
+@pytest.mark.parametrize("restitution", [0.5, 0.8, 0.95])
+def test_a_declared_restitution_is_a_rectangles_landing_ratio(restitution):
+    """The factor on the landing ratio makes a rectangle's landing keep the declared ratio, as the planar kernel's
+    restitution does; the rule's own ratio is Housner's 1 - 3/2 sin^2 alpha."""
+    from pipeline.rocking.rolling import landing_ratio
+    from pipeline.rocking.scanned import rolling_restitution_factor
+
+    chain = rectangle_chain(*RECTANGLE)
+    alpha = math.atan(RECTANGLE[0] / RECTANGLE[1])
+    for onto_plus in (True, False):
+        assert landing_ratio(chain, onto_plus=onto_plus) == pytest.approx(1 - 1.5 * math.sin(alpha) ** 2, rel=1e-12)
+        assert (landing_ratio(chain, onto_plus=onto_plus) * rolling_restitution_factor(chain, restitution)
+                == pytest.approx(restitution, rel=1e-12))
+    assert rolling_restitution_factor(chain, math.nan) == 1.0
 
 
 @pytest.mark.parametrize("fw,fh", [(1.2, 0.9), (0.8, 1.1)])
@@ -141,3 +192,28 @@ def test_the_history_follows_the_tilt_and_a_falling_ground_leaves_no_verdict():
     av = np.where(np.arange(a.size) * DT > 0.3, -1.01 * G, 0.0)                    # the ground falls faster than g
     flight = roll_on_hull(a, DT, chain, av_ms2=av)
     assert flight.verdict == -1 and not flight.overturned and flight.status & STATUS_GROUND_FLIGHT
+
+
+@pytest.mark.parametrize("amp_g,period_s", PULSES)
+def test_a_rectangles_rolling_scene_is_the_planar_kernels_with_a_declared_restitution(amp_g, period_s):
+    """The scene screen stores for a rectangle given as a mesh (pipeline.rocking.scanned.plane_scene, the rolling
+    model) against the planar kernel's block with the same declared restitution: verdict, theta_max / alpha, the
+    time it overturns (to a sampling interval) and the response class."""
+    from pipeline.rocking.scanned import plane_scene
+    from pipeline.rocking.scene import Physics, Response
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.simulate import rock
+
+    w, h = RECTANGLE
+    alpha, R = math.atan2(w / 2, h / 2), math.hypot(w / 2, h / 2)
+    a = pulse(amp_g, period_s)
+    ours = plane_scene(a, None, DT, rectangle_chain(w, h), restitution=0.7, mu=1.0)
+    ref = rock(a, DT, p=math.sqrt(0.75 * G / R), alpha=alpha, e=0.7, R_m=R,
+               settings=SimulationConfig(closed_form_chatter=False))
+    assert ours.physics == Physics.rolling and ours.overturned == ref.overturned
+    assert ours.response == (Response.overturn if ref.overturned else Response.rock if ref.theta_max > 0
+                             else Response.rest)
+    if ref.overturned:
+        assert ours.t_overturn == pytest.approx(ref.t_overturn, abs=DT)
+    else:
+        assert ours.theta_max == pytest.approx(ref.theta_max, abs=1e-4) and math.isnan(ours.t_overturn)

@@ -203,9 +203,9 @@ def _rocking_warmup() -> None:
 #: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder, or a box with a depth
 #: and an azimuth, on two horizontals: :func:`pipeline.rocking.solid3d.solid_of`), not by this planar registry.
 THREE_D = (Physics.wobbling, Physics.rocking3d)
-#: Every physics chosen by the block's shape, not by this registry: the 3D models', and the two-sided model of a body
+#: Every physics chosen by the block's shape, not by this registry: the 3D models', and the two models of a body
 #: given by its scan (:mod:`pipeline.rocking.scanned`).
-BY_SHAPE = (*THREE_D, Physics.two_sided)
+BY_SHAPE = (*THREE_D, Physics.two_sided, Physics.rolling)
 
 #: Every scene model, in the order the planner tries them: a scene goes to the first whose certificate holds.
 MODELS: tuple[SceneModel, ...] = (

@@ -68,10 +68,14 @@ class RollingOutcome(NamedTuple):
         1 overturns, 0 stands, -1 no verdict (a cap was met: ``status``).
     theta_max : float
         Largest |tilt| [rad].
+    theta_max_plus, theta_max_minus : float
+        Largest tilt toward the + side and toward the - side (magnitudes) [rad].
     n_impacts : int
         Landings on the base edge.
     n_pivot_changes : int
         Every change of pivot, landings included.
+    t_overturn : float
+        When the tilt reached 90 degrees [s from the record's start] (NaN: it did not).
     status : int
         ``pipeline.rocking.codes`` flags (0: none).
     """
@@ -79,8 +83,11 @@ class RollingOutcome(NamedTuple):
     overturned: bool
     verdict: int
     theta_max: float
+    theta_max_plus: float
+    theta_max_minus: float
     n_impacts: int
     n_pivot_changes: int
+    t_overturn: float
     status: int
 
 
@@ -139,12 +146,13 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
     steps = n - 1 + int(TAIL_S / dt)
     h = dt / SUBSTEPS
     theta, omega, k, edge = 0.0, 0.0, -1, rest          # k: the pivot (-1: resting on edge ``edge``)
-    theta_max, impacts, changes = 0.0, 0, 0
+    hi_max, lo_max, impacts, changes = 0.0, 0.0, 0, 0
     for i in range(steps):
         a0, v0 = _ground(ah, av, i, n, g)
         a1, v1 = _ground(ah, av, i + 1, n, g)
         if v0 <= 0.0 or v1 <= 0.0:                      # the ground falls faster than gravity
-            return RollingOutcome(False, -1, theta_max, impacts, changes, STATUS_GROUND_FLIGHT)
+            return RollingOutcome(False, -1, max(hi_max, lo_max), hi_max, lo_max, impacts, changes,
+                                  math.nan, STATUS_GROUND_FLIGHT)
         for j in range(SUBSTEPS):
             aa, va = a0 + (a1 - a0) * j / SUBSTEPS, v0 + (v1 - v0) * j / SUBSTEPS
             ab, vb = a0 + (a1 - a0) * (j + 1) / SUBSTEPS, v0 + (v1 - v0) * (j + 1) / SUBSTEPS
@@ -184,7 +192,9 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 nk = k + 1 if th1 > hi else k - 1
                 theta = bounds[edge]
                 if nk < 0 or nk >= npiv:                   # past 90 degrees
-                    return RollingOutcome(True, 1, 0.5 * math.pi, impacts, changes, 0)
+                    hi_max, lo_max = (0.5 * math.pi, lo_max) if nk >= npiv else (hi_max, 0.5 * math.pi)
+                    return RollingOutcome(True, 1, 0.5 * math.pi, hi_max, lo_max, impacts, changes,
+                                          i * dt + j * h + (h - left), 0)
                 landing = edge == rest
                 omega *= _change_ratio(theta, u, z, pivots[nk, 0], pivots[nk, 1], inertia, landing, factor)
                 impacts += int(landing)
@@ -196,13 +206,23 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                     break
                 k = nk
                 if events >= MAX_EVENTS_PER_STEP:
-                    return RollingOutcome(False, -1, theta_max, impacts, changes, STATUS_EVENT_CAP)
-            theta_max = max(theta_max, abs(theta))
+                    return RollingOutcome(False, -1, max(hi_max, lo_max), hi_max, lo_max, impacts, changes,
+                                          math.nan, STATUS_EVENT_CAP)
+            hi_max, lo_max = max(hi_max, theta), max(lo_max, -theta)
         if len(theta_out) and i + 1 < n:
             theta_out[i + 1] = theta
         if i >= n and k < 0 and edge == rest:
             break
-    return RollingOutcome(False, 0, theta_max, impacts, changes, 0)
+    return RollingOutcome(False, 0, max(hi_max, lo_max), hi_max, lo_max, impacts, changes, math.nan, 0)
+
+
+def landing_ratio(chain: HullChain, *, onto_plus: bool) -> float:
+    """omega+ / omega- of the impact rule (angular momentum about the new pivot, no declared factor) where the body,
+    rocking on one end of its base edge, lands on it and turns about the other end (``onto_plus``: onto the + end)
+    [-]. A rectangle's is Housner's 1 - 3/2 sin^2 alpha on either side."""
+    u0, z0 = chain.pivots_m[chain.rest - 1 if onto_plus else chain.rest]
+    u1, z1 = chain.pivots_m[chain.rest if onto_plus else chain.rest - 1]
+    return float((chain.inertia_m2 + u0 * u1 + z0 * z1) / (chain.inertia_m2 + u1 * u1 + z1 * z1))
 
 
 def roll_on_hull(ah_ms2: np.ndarray, dt_s: float, chain: HullChain, *, av_ms2: np.ndarray | None = None,

@@ -1,23 +1,30 @@
 """The scenes of a body given by its scan (:class:`~.block.ShapeKind` ``scanned``): the vertical planes it is judged
-in, and one plane's scene by the two-sided rocking model (:mod:`.two_sided`).
+in, and one plane's scene by the model ``[simulation] scanned_model`` names (:class:`~.settings.ScannedModel`):
 
-A scanned body rocks, in each vertical plane, about a pivot on either side at its own distance from G
-(:mod:`pipeline.shapes.plane`). Which planes (:func:`scene_planes`):
+* ``rolling`` (the default): the body rolls on the pivots of its convex hull's outline in the plane, in turn
+  (:mod:`pipeline.shapes.hull`, :mod:`.rolling`); the model scored against the granite shake-table tests;
+* ``two_sided``: it rocks on one pivot per side, the footprint's extreme points within 2 mm of the base
+  (:mod:`pipeline.shapes.plane`, :mod:`.two_sided`).
 
-* **a given azimuth** (the compass direction of the scan's +x axis) on two horizontals of known azimuth: every plane
-  of the body on a grid (``step_deg``, over 360 deg: its two sides differ), each under the record's projection on
-  that plane's compass direction; the worst is kept;
-* **a blank azimuth** (or a record whose absolute azimuth is unknown): the body turned so that its weakest plane
-  (:func:`pipeline.shapes.plane.weakest_plane`, the smallest footprint extent) faces the pulse axis and every plane of
-  the record's grid over 360 deg; the worst is kept. The weakest plane is a stated choice, not a proof that no
-  other orientation of the body is worse;
-* **one horizontal**: its plane only, as for every block whatever its azimuth (its direction is rarely known): the
-  body's weakest plane facing it, in both senses of the record.
+Which planes (:func:`scene_planes`; a body's plane is given in its settled axes, from x toward y, over 360 deg
+since its two sides differ; a record's direction ``psi`` meets the body's plane ``B - psi``, B the compass direction
+of the body's +x):
 
-A body's two sides differ, so a plane's compass direction runs over 360 deg (the projection on ``psi + 180`` is
-the negated projection on ``psi``). The scene's verdict is the planar two-sided model's: it does not slide (the
-friction demand is recorded and ``friction_exceeded`` flags a scene whose pivot would slip), and a ground falling
-faster than gravity, the step budget or the free motion's cap leave the scene without a verdict (``model_limit``).
+* **a given azimuth** on two horizontals of known azimuth: every plane of the body on the grid (``step_deg``),
+  each under the record's projection on that plane's compass direction; the worst is kept;
+* **a blank azimuth** (or a record whose absolute azimuth is unknown): the orientation is unknown, so the search
+  runs over both the body's plane and the record's direction, one after the other: every plane of the body on the
+  grid facing the record's pulse axis; then the worst of them facing every direction of the record's grid over 360
+  deg (:func:`record_planes`); the worst is kept. This coordinate search is a stated choice: the worst pair of the
+  full grid of both (72 x 72 runs) may be worse, and so may a plane between the grid's;
+* **one horizontal**: the recorded direction, every plane of the body on the grid facing it (its azimuth, rarely
+  known for one horizontal, is not used).
+
+The scene's verdict is the model's: neither slides (the two-sided model records the friction demand and
+``friction_exceeded`` flags a scene whose pivot would slip; the rolling model does not compute it), and a ground
+falling faster than gravity, a step or event cap or the free motion's cap leave the scene without a verdict
+(``model_limit``). ``theta_max`` is each side's peak tilt over its static tipping angle (a rectangle's: alpha),
+the larger of the two.
 """
 
 from __future__ import annotations
@@ -29,10 +36,13 @@ import numpy as np
 
 from ..constants import G
 from ..records.record import project
-from ..shapes.plane import PlaneBody, plane_body, weakest_plane
+from ..shapes.hull import HullChain, hull_chain
+from ..shapes.plane import PlaneBody, chain_plane, plane_body
+from ..shapes.scan import ScannedShape
 from .block import BlockShape
 from .codes import (
     STATUS_CHATTER,
+    STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
     STATUS_STEP_CAP,
     STATUS_TAIL_CAP,
@@ -40,16 +50,19 @@ from .codes import (
     ContactMode,
 )
 from .orientation import PlaneResult
+from .rolling import landing_ratio, roll_on_hull
 from .scene import FreeFlight, Guard, Physics, Response, Scene
-from .settings import SimulationConfig
+from .settings import ScannedModel, SimulationConfig
 from .simulate import step_control
 from .two_sided import rock_two_sided_compiled, two_sided_block
 
-#: A plane replaces the worst so far only where its theta_max / alpha is larger by more than this fraction, so that
-#: a mirror plane of a symmetric body (the same response to rounding) never displaces the first [-]
+#: A plane replaces the worst so far only where its theta_max is larger by more than this fraction, so that a mirror
+#: plane of a symmetric body (the same response to rounding) never displaces the first [-]
 TIE_RTOL = 1e-9
 #: The status bits that leave a scanned scene without a verdict
-NO_VERDICT_STATUS = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_TAIL_CAP
+NO_VERDICT_STATUS = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_TAIL_CAP | STATUS_EVENT_CAP
+#: A scanned body's geometry in one plane, as its model takes it
+PlaneGeometry = PlaneBody | HullChain
 
 
 class ScannedPlane(NamedTuple):
@@ -60,7 +73,7 @@ class ScannedPlane(NamedTuple):
     record_deg : float
         Compass azimuth the record is projected on [deg, in [0, 360)].
     sense : float
-        +1, or -1 for the recorded horizontal's opposite sense (one horizontal: its sense is the only freedom).
+        +1, or -1 for the recorded horizontal's opposite sense.
     body_deg : float
         The body's plane facing it, in its settled axes [deg, from x toward y, in [0, 360)].
     """
@@ -70,28 +83,75 @@ class ScannedPlane(NamedTuple):
     body_deg: float
 
 
+class PlaneSearch(NamedTuple):
+    """What :func:`worst_scanned` found.
+
+    Attributes
+    ----------
+    result : PlaneResult
+        The worst plane's scene (its azimuth: the record's compass direction).
+    governing : ScannedPlane
+        That plane.
+    ranked : list of ScannedPlane
+        Every plane simulated, the nearest to overturning first (overturned, then the largest theta_max).
+    scenes : list of (ScannedPlane, Scene)
+        Every plane simulated and its scene, in the order simulated.
+    """
+
+    result: PlaneResult
+    governing: ScannedPlane
+    ranked: list[ScannedPlane]
+    scenes: list[tuple[ScannedPlane, Scene]]
+
+
+def body_planes(grid_deg: np.ndarray) -> list[float]:
+    """The body's planes a search with an unknown orientation runs over: the grid over [0, 180) doubled to
+    [0, 360) [deg]."""
+    return [float(phi) for phi in np.concatenate([grid_deg, grid_deg + 180.0])]
+
+
 def scene_planes(shape: BlockShape, *, direction_deg: float, grid_deg: np.ndarray, single_component: bool,
                  azimuth_known: bool) -> list[ScannedPlane]:
-    """The planes a scanned body is judged in on one record (see the module); ``grid_deg`` over [0, 180) is doubled
-    to [0, 360). A direction ``psi`` of the record meets the body's plane ``B - psi`` (B: the compass direction of
-    the body's +x; the body's y is 90 deg counter-clockwise of x seen from above)."""
+    """The planes a scanned body is judged in first on one record (see the module; a blank azimuth on two
+    horizontals continues with :func:`record_planes`)."""
     scan = shape.scan
     assert scan is not None
-    given = azimuth_known and math.isfinite(shape.azimuth_deg)
-    if single_component:                  # as for every block: the recorded plane, whatever the azimuth
-        weak = weakest_plane(scan)
-        return [ScannedPlane(direction_deg, 1.0, weak), ScannedPlane(direction_deg, -1.0, weak)]
-    full = np.concatenate([grid_deg, grid_deg + 180.0])
-    if given:
+    if azimuth_known and not single_component and math.isfinite(shape.azimuth_deg):
+        full = np.concatenate([grid_deg, grid_deg + 180.0])
         return [ScannedPlane(float((shape.azimuth_deg - phi) % 360.0), 1.0, float(phi)) for phi in full]
-    weak = weakest_plane(scan)
-    return [ScannedPlane(float(psi % 360.0), 1.0, weak) for psi in (direction_deg, *full)]
+    return [ScannedPlane(float(direction_deg % 360.0), 1.0, phi) for phi in body_planes(grid_deg)]
+
+
+def record_planes(plane: ScannedPlane, grid_deg: np.ndarray) -> list[ScannedPlane]:
+    """The body's plane of ``plane`` facing every direction of the record's grid over 360 deg but its own."""
+    full = np.concatenate([grid_deg, grid_deg + 180.0])
+    return [plane._replace(record_deg=float(psi)) for psi in full if float(psi) != plane.record_deg]
 
 
 def along(horizontal_ms2: np.ndarray, azimuth0_deg: float, plane: ScannedPlane) -> np.ndarray:
     """The record's horizontal motion along a plane's compass direction, in its sense [m s-2]."""
     return plane.sense * np.ascontiguousarray(project(np.atleast_2d(horizontal_ms2), azimuth0_deg, plane.record_deg),
                                               dtype=float)
+
+
+def plane_geometry(scan: ScannedShape, body_deg: float, settings: SimulationConfig) -> PlaneGeometry:
+    """The body's geometry in its plane ``body_deg`` as the model of ``settings.scanned_model`` takes it. A hull
+    with one pivot per side in that plane (a box's, a prism's: :func:`~pipeline.shapes.plane.chain_plane`) rolls as
+    the two-sided model rocks it, on the same two pivots by the same equations and impact rule: it is given to that
+    model, whose integrator is adaptive (the rolling model's steps are fixed)."""
+    if settings.scanned_model == ScannedModel.two_sided:
+        return plane_body(scan, body_deg)
+    chain = hull_chain(scan, body_deg)
+    return chain if len(chain.pivots_m) > 2 else chain_plane(chain)
+
+
+def uplift_tan_alpha(geometry: PlaneGeometry, *, width_factor: float = 1.0, height_factor: float = 1.0) -> float:
+    """tan alpha of the weaker side's pivot at rest, of the body scaled by a draw's factors: the record lifts the
+    body where |a_h| exceeds (g + a_v) times this [-]."""
+    if isinstance(geometry, HullChain):
+        return geometry.base_tan_alpha() * width_factor / height_factor
+    two = geometry.two_sided(width_factor=width_factor, height_factor=height_factor)
+    return math.tan(min(two.side(1.0)[0], two.side(-1.0)[0]))
 
 
 def restitution_factor(body: PlaneBody, restitution: float) -> float:
@@ -103,10 +163,20 @@ def restitution_factor(body: PlaneBody, restitution: float) -> float:
     return restitution / math.sqrt(max(two.impact_ratio(1.0) * two.impact_ratio(-1.0), 1e-300))
 
 
-def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneBody, *, restitution: float,
-                mu: float, settings: SimulationConfig = SimulationConfig(), g_ms2: float = G, history: bool = False,
-                width_factor: float = 1.0, height_factor: float = 1.0, restitution_scale: float = 1.0) -> Scene:
-    """One plane's :class:`~.scene.Scene` by the two-sided model.
+def rolling_restitution_factor(chain: HullChain, restitution: float) -> float:
+    """The factor on the rolling model's landing ratios of a declared restitution (NaN: the rule's own, 1), as
+    :func:`restitution_factor` takes it for the two ends of the base."""
+    if not math.isfinite(restitution):
+        return 1.0
+    both = landing_ratio(chain, onto_plus=True) * landing_ratio(chain, onto_plus=False)
+    return restitution / math.sqrt(max(both, 1e-300))
+
+
+def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geometry: PlaneGeometry, *,
+                restitution: float, mu: float, settings: SimulationConfig = SimulationConfig(), g_ms2: float = G,
+                history: bool = False, width_factor: float = 1.0, height_factor: float = 1.0,
+                restitution_scale: float = 1.0) -> Scene:
+    """One plane's :class:`~.scene.Scene` by the model of its geometry (:func:`plane_geometry`).
 
     Parameters
     ----------
@@ -114,16 +184,21 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body
         Ground acceleration along the plane's + side and vertical (None: none) [m s-2].
     dt_s : float
         Sampling interval [s].
-    body : PlaneBody
+    geometry : PlaneBody or HullChain
+        The body in the plane: one pivot per side (the two-sided model) or its hull's chain (the rolling model).
     restitution : float
         The declared restitution (NaN: the impact rule's own) [-].
     mu : float
-        Friction coefficient, against which the pivot's friction demand is flagged [-].
+        Friction coefficient, against which the two-sided model's friction demand is flagged [-].
     width_factor, height_factor, restitution_scale : float
         A draw's factors on the body's sizes and on its impact ratios [-].
     """
-    two = body.two_sided(width_factor=width_factor, height_factor=height_factor)
-    factor = restitution_factor(body, restitution) * restitution_scale
+    if isinstance(geometry, HullChain):
+        return _rolling_scene(ah_ms2, av_ms2, dt_s, geometry, restitution=restitution, g_ms2=g_ms2, history=history,
+                              width_factor=width_factor, height_factor=height_factor,
+                              restitution_scale=restitution_scale)
+    two = geometry.two_sided(width_factor=width_factor, height_factor=height_factor)
+    factor = restitution_factor(geometry, restitution) * restitution_scale
     theta = np.zeros(np.asarray(ah_ms2).size) if history else np.zeros(0)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
     out = rock_two_sided_compiled(np.ascontiguousarray(ah_ms2, dtype=float), av, float(dt_s),
@@ -147,23 +222,64 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body
                  contact_modes=ContactMode.rock if out.n_uplifts else 0, guard=guard)
 
 
+def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, chain: HullChain, *,
+                   restitution: float, g_ms2: float, history: bool, width_factor: float, height_factor: float,
+                   restitution_scale: float) -> Scene:
+    """One plane's scene by the rolling model (:mod:`.rolling`): theta_max and the history over each side's
+    static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); the friction demand is not
+    computed (NaN, ``friction_exceeded`` -1)."""
+    factor = rolling_restitution_factor(chain, restitution) * restitution_scale
+    body = chain if width_factor == 1.0 and height_factor == 1.0 else chain.scaled(width_factor=width_factor,
+                                                                                     height_factor=height_factor)
+    theta = np.zeros(np.asarray(ah_ms2).size) if history else None
+    out = roll_on_hull(ah_ms2, dt_s, body, av_ms2=av_ms2, restitution_factor=factor, g_ms2=g_ms2, theta_out=theta)
+    tip_plus, tip_minus = body.tipping_rad()
+    moved = out.theta_max > 0.0
+    flight = bool(out.status & STATUS_GROUND_FLIGHT) and not out.overturned
+    response = (Response.overturn if out.overturned else Response.free_flight if flight
+                else Response.rock if moved else Response.rest)
+    guard = ((Guard.model_limit if out.verdict < 0 else 0)
+             | (Guard.event_cap if out.status & STATUS_EVENT_CAP else 0))
+    return Scene(physics=Physics.rolling, response=response, overturned=bool(out.overturned),
+                 theta_max=max(out.theta_max_plus / tip_plus, out.theta_max_minus / tip_minus),
+                 n_impacts=int(out.n_impacts), t_overturn=float(out.t_overturn), friction_demand=math.nan,
+                 sliding_max_m=math.nan, free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
+                 chatter=bool(out.status & STATUS_EVENT_CAP), friction_exceeded=-1,
+                 theta_over_alpha=None if theta is None else theta / min(tip_plus, tip_minus),
+                 contact_modes=ContactMode.rock if moved else 0, guard=guard)
+
+
 def worst_scanned(horizontal_ms2: np.ndarray, azimuth0_deg: float, av_ms2: np.ndarray | None, dt_s: float,
                   shape: BlockShape, planes: list[ScannedPlane], *, settings: SimulationConfig = SimulationConfig(),
-                  g_ms2: float = G) -> tuple[PlaneResult, ScannedPlane]:
-    """The worst of ``planes`` (overturned, then without a verdict, then the largest theta_max / alpha, the first of
-    the planes on ties within :data:`TIE_RTOL`) as a :class:`~.orientation.PlaneResult` (its azimuth: the record's
-    compass direction),
-    and that plane."""
-    assert shape.scan is not None
+                  g_ms2: float = G, then_grid_deg: np.ndarray | None = None) -> PlaneSearch:
+    """The worst of ``planes`` (overturned, then without a verdict, then the largest theta_max, the first of the
+    planes on ties within :data:`TIE_RTOL`); with ``then_grid_deg`` (a blank azimuth on two horizontals), then the
+    worst's body plane facing every direction of that grid (:func:`record_planes`), the worst of all kept."""
+    scan = shape.scan
+    assert scan is not None
     best: tuple | None = None
-    responses = []
-    for pl in planes:
-        sc = plane_scene(along(horizontal_ms2, azimuth0_deg, pl), av_ms2, dt_s, plane_body(shape.scan, pl.body_deg),
-                         restitution=shape.restitution, mu=shape.mu, settings=settings, g_ms2=g_ms2)
-        responses.append((pl.record_deg, sc.theta_max))
-        rank = (sc.overturned, sc.verdict < 0)
-        if best is None or rank > best[0] or (rank == best[0] and sc.theta_max > best[1].theta_max * (1 + TIE_RTOL)):
-            best = (rank, sc, pl)
+    scenes: list[tuple[ScannedPlane, Scene]] = []
+    geometry: dict[float, PlaneGeometry] = {}
+
+    def run(batch: list[ScannedPlane]) -> None:
+        nonlocal best
+        for pl in batch:
+            if pl.body_deg not in geometry:
+                geometry[pl.body_deg] = plane_geometry(scan, pl.body_deg, settings)
+            sc = plane_scene(along(horizontal_ms2, azimuth0_deg, pl), av_ms2, dt_s, geometry[pl.body_deg],
+                             restitution=shape.restitution, mu=shape.mu, settings=settings, g_ms2=g_ms2)
+            scenes.append((pl, sc))
+            rank = (sc.overturned, sc.verdict < 0)
+            if best is None or rank > best[0] or (rank == best[0]
+                                                  and sc.theta_max > best[1].theta_max * (1 + TIE_RTOL)):
+                best = (rank, sc, pl)
+
+    run(planes)
+    if then_grid_deg is not None:
+        assert best is not None
+        run(record_planes(best[2], then_grid_deg))
     assert best is not None
-    return PlaneResult(scene=best[1], azimuth_deg=best[2].record_deg, planes_simulated=len(planes),
-                       responses=tuple(responses)), best[2]
+    ranked = [pl for pl, _sc in sorted(scenes, key=lambda item: (-item[1].overturned, -item[1].theta_max))]
+    return PlaneSearch(PlaneResult(scene=best[1], azimuth_deg=best[2].record_deg, planes_simulated=len(scenes),
+                                   responses=tuple((pl.record_deg, sc.theta_max) for pl, sc in scenes)),
+                       best[2], ranked, scenes)

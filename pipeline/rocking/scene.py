@@ -40,6 +40,7 @@ class Physics(IntEnum):
     wobbling = 5          # a cylinder rocking and rolling on its rim under both horizontals (rocking.cylinder3d)
     rocking3d = 6         # a box with a depth on an edge or a corner under both horizontals (rocking.box3d)
     two_sided = 7         # a body given by its scan, each side's pivot its own, in a vertical plane (rocking.scanned)
+    rolling = 8           # a body given by its scan rolling on its convex hull in a vertical plane (rocking.rolling)
 
 
 class Response(IntEnum):
@@ -76,8 +77,8 @@ class Guard(IntEnum):
     step_cap = 8          # the step budget ran out: ended there with the verdict of the state reached
     tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
     model_limit = 32      # the 3D model stopped where its base would slide or lift off (not modeled), or at its step
-                          # cap; or the two-sided model of a scanned body met a free flight of the ground, its step
-                          # cap or its free motion's cap: no verdict
+                          # cap; or the two-sided or rolling model of a scanned body met a free flight of the ground,
+                          # its step or event cap or its free motion's cap: no verdict
     held_past_alpha = 64  # the 3D model's base would slide or lift off while it fell past alpha: followed with the
                           # rim held; its overturning kept (it had no verdict otherwise)
 

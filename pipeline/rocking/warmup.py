@@ -16,10 +16,12 @@ import numpy as np
 
 from ..compiled import HAVE_NUMBA
 from ..constants import G
+from ..shapes.hull import rectangle_chain
 from .asymmetric import TwoSided
 from .box3d import Box, simulate_box
 from .cylinder3d import Cylinder, simulate_cylinder
 from .models import MODELS
+from .rolling import roll_on_hull
 from .sampled import sample_plane_outcomes, sample_verdicts
 from .settings import SimulationConfig
 from .simulate import step_control
@@ -49,7 +51,7 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
         Compile the planar models' kernels, and the sampled kernels of the probabilities (False: leave them to
         another process compiling beside this one; the kernels are cached on disk one function each).
     scanned : bool
-        Compile the two-sided kernel of bodies given by their scans (:mod:`.two_sided`).
+        Compile the kernels of bodies given by their scans (:mod:`.rolling`, :mod:`.two_sided`).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
@@ -95,9 +97,11 @@ def _warm(*, planar: bool, sampled: bool, cylinders: bool, boxes: bool, scanned:
         simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
     if boxes:               # the 3D box (a tiny scene that lifts it onto a corner)
         simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
-    if scanned:             # the two-sided kernel, with and without a vertical (a scene that lifts it)
+    if scanned:             # the two-sided and rolling kernels, with and without a vertical (a scene that lifts it)
         for vertical in (None, 0.1 * a):
             rock_two_sided_fast(a, 0.01, TwoSided(0.05, 0.08, 0.5, 0.02), av=vertical)
+            for history in (None, np.zeros_like(a)):
+                roll_on_hull(a, 0.01, rectangle_chain(0.2, 1.0), av_ms2=vertical, theta_out=history)
 
 
 class CompileCounter:

@@ -155,7 +155,7 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
         memo: dict[tuple, bool] = {}
         block = inv.shape(j)
-        scanned = _weakest_body(block) if inv.scanned()[j] else None       # once per block, not per grid point
+        scanned = _weakest_body(block, settings) if inv.scanned()[j] else None   # once per block, not per point
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
                              samples_per_period=config.infer.samples_per_period)
@@ -175,16 +175,18 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     return out, runs
 
 
-def _weakest_body(shape):
-    """The :class:`~pipeline.shapes.plane.PlaneBody` of a scanned body in its weakest plane."""
-    from ..shapes.plane import plane_body, weakest_plane
+def _weakest_body(shape, settings):
+    """A scanned body's geometry in its weakest plane (the smallest footprint extent), for the model of
+    ``settings.scanned_model`` (:func:`pipeline.rocking.scanned.plane_geometry`)."""
+    from ..rocking.scanned import plane_geometry
+    from ..shapes.plane import weakest_plane
 
-    return plane_body(shape.scan, weakest_plane(shape.scan))
+    return plane_geometry(shape.scan, weakest_plane(shape.scan), settings)
 
 
 def _scanned_overturns(shape, body, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
-    """A body given by its scan, its weakest plane (``body``, :func:`_weakest_body`) facing the pulse, by the
-    two-sided model (:mod:`pipeline.rocking.scanned`)."""
+    """A body given by its scan, its weakest plane (``body``, :func:`_weakest_body`) facing the pulse, by its model
+    (:mod:`pipeline.rocking.scanned`)."""
     from ..rocking.scanned import plane_scene
 
     return plane_scene(ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu, settings=settings,

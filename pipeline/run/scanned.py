@@ -5,6 +5,7 @@ and how its plane was chosen; and its margins on its governing record (:func:`sc
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -12,48 +13,86 @@ from ..config import Config
 from ..records.record import Record
 from ..risk import RELOCATE_BELOW_SCALE
 from ..rocking.block import BlockShape
-from ..rocking.orientation import Orientation, PlaneResult
-from ..rocking.scanned import ScannedPlane, along, plane_scene, scene_planes, worst_scanned
+from ..rocking.orientation import Orientation, PlaneResult, plane_grid
+from ..rocking.scanned import (
+    PlaneSearch,
+    ScannedPlane,
+    along,
+    body_planes,
+    plane_geometry,
+    plane_scene,
+    scene_planes,
+    uplift_tan_alpha,
+    worst_scanned,
+)
 from ..rocking.settings import SimulationConfig
-from ..shapes.plane import plane_body, weakest_plane
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
-from ..uncertainty.two_sided import draw_factors, scanned_probability
+from ..uncertainty.two_sided import CANDIDATES, draw_factors, scanned_probability
+
+
+class ScannedScene(NamedTuple):
+    """A scanned body's scene on one record (:func:`scanned_scene`).
+
+    Attributes
+    ----------
+    result : PlaneResult
+        Its worst plane's scene.
+    probability : OrientationProbability
+        Its probabilities (not evaluated without draws).
+    orientation : Orientation
+        How its planes were chosen: given, scanned, scanned_relative or single_component.
+    search : PlaneSearch
+        Every plane simulated, with its scene.
+    """
+
+    result: PlaneResult
+    probability: OrientationProbability
+    orientation: Orientation
+    search: PlaneSearch
 
 
 def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, shape: BlockShape, *,
                   direction_deg: float, grid_deg: np.ndarray, cfg: Config, settings: SimulationConfig
-                  ) -> tuple[PlaneResult, OrientationProbability, Orientation]:
-    """The scene of a scanned body on ``rec``: the worst of its planes, its probabilities (None ``z``: nominal
-    only) and its orientation code (given, scanned, scanned_relative or single_component)."""
-    given = rec.azimuth_known and math.isfinite(shape.azimuth_deg)
+                  ) -> ScannedScene:
+    """The scene of a scanned body on ``rec``: the worst of its planes (:mod:`pipeline.rocking.scanned`) and its
+    probabilities (None ``z``: nominal only; :func:`pipeline.uncertainty.two_sided.scanned_probability`, in the
+    :data:`~pipeline.uncertainty.two_sided.CANDIDATES` planes nearest to overturning where the orientation is
+    unknown)."""
+    given = rec.azimuth_known and not rec.single_component and math.isfinite(shape.azimuth_deg)
     planes = scene_planes(shape, direction_deg=direction_deg, grid_deg=grid_deg, single_component=rec.single_component,
                           azimuth_known=bool(rec.azimuth_known))
-    res, governing = worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape,
-                                   planes, settings=settings, g_ms2=cfg.records.g_ms2)
+    search = worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape, planes,
+                           settings=settings, g_ms2=cfg.records.g_ms2,
+                           then_grid_deg=None if given or rec.single_component else grid_deg)
+    res = search.result
     code = (Orientation.single_component if rec.single_component else Orientation.given if given
             else Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative)
     if base is None or z is None:
-        return res, NOT_EVALUATED_ORIENTATION, code
-    blank = code in (Orientation.scanned, Orientation.scanned_relative)
-    worst, random = scanned_probability(base, z, shape, governing=governing, planes=planes if blank else None,
-                                        settings=cfg.uncertainty, simulation=settings, g_ms2=cfg.records.g_ms2)
-    if not blank:
+        return ScannedScene(res, NOT_EVALUATED_ORIENTATION, code, search)
+    unknown = not given
+    worst, random = scanned_probability(base, z, shape,
+                                        candidates=search.ranked[:CANDIDATES] if unknown else [search.governing],
+                                        planes=search.ranked if unknown else None, settings=cfg.uncertainty,
+                                        simulation=settings, g_ms2=cfg.records.g_ms2)
+    if not unknown:
         random = worst
-    return res, OrientationProbability(worst, res.azimuth_deg, random.p, random.low, random.high,
-                                       worst.simulations + (random.simulations if blank else 0)), code
+    return ScannedScene(res, OrientationProbability(worst, res.azimuth_deg, random.p, random.low, random.high,
+                                                    worst.simulations + (random.simulations if unknown else 0)),
+                        code, search)
 
 
-def _governing_planes(rec, shape: BlockShape, record_deg: float) -> list[ScannedPlane]:
-    """The plane(s) of a scanned scene whose record direction is ``record_deg`` (one horizontal: both senses)."""
+def _governing_plane(rec, shape: BlockShape, record_deg: float, *, settings: SimulationConfig, g_ms2: float
+                     ) -> ScannedPlane:
+    """The plane of a scanned scene whose record direction is ``record_deg``: with a given azimuth, the body's plane
+    facing it; else the worst of the body's planes facing it (:func:`~pipeline.rocking.scanned.body_planes`)."""
     assert shape.scan is not None
-    if rec.single_component:
-        weak = weakest_plane(shape.scan)
-        return [ScannedPlane(record_deg, 1.0, weak), ScannedPlane(record_deg, -1.0, weak)]
-    if rec.azimuth_known and math.isfinite(shape.azimuth_deg):
-        return [ScannedPlane(record_deg, 1.0, (shape.azimuth_deg - record_deg) % 360.0)]
-    return [ScannedPlane(record_deg, 1.0, weakest_plane(shape.scan))]
+    if rec.azimuth_known and not rec.single_component and math.isfinite(shape.azimuth_deg):
+        return ScannedPlane(record_deg, 1.0, (shape.azimuth_deg - record_deg) % 360.0)
+    planes = [ScannedPlane(record_deg, 1.0, phi) for phi in body_planes(plane_grid(settings.orientation_step_deg))]
+    return worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape, planes,
+                         settings=settings, g_ms2=g_ms2).governing
 
 
 def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: SimulationConfig, g_ms2: float,
@@ -65,18 +104,17 @@ def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: Simu
     from .margins import scale_scan  # margins imports the screening, which imports this module
 
     assert shape.scan is not None
-    body = plane_body(shape.scan, plane.body_deg)
-    two = body.two_sided(width_factor=width_factor, height_factor=height_factor)
+    geometry = plane_geometry(shape.scan, plane.body_deg, settings)
     ah = amplitude * along(rec.horizontal_ms2, float(rec.azimuths_deg[0]), plane)
     av = None if rec.vertical_ms2 is None else amplitude * rec.vertical_ms2
-    tan_a = math.tan(min(two.side(1.0)[0], two.side(-1.0)[0]))
+    tan_a = uplift_tan_alpha(geometry, width_factor=width_factor, height_factor=height_factor)
     lift = np.abs(ah) - (av * tan_a if av is not None else 0.0)
     if not np.any(lift > 0):
         return math.inf, 0
     first = float(np.min(g_ms2 * tan_a / lift[lift > 0]))
 
     def verdict_at(factor: float) -> int:
-        return plane_scene(factor * ah, None if av is None else factor * av, rec.dt_s, body,
+        return plane_scene(factor * ah, None if av is None else factor * av, rec.dt_s, geometry,
                            restitution=shape.restitution, mu=shape.mu, settings=settings, g_ms2=g_ms2,
                            width_factor=width_factor, height_factor=height_factor,
                            restitution_scale=restitution_scale).verdict
@@ -86,16 +124,10 @@ def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: Simu
 
 def governing_scale(rec, shape: BlockShape, record_deg: float, *, settings: SimulationConfig, g_ms2: float,
                     overturned: bool | None = None) -> tuple[float, int, ScannedPlane]:
-    """The simulated margin of a scanned scene whose record direction is ``record_deg`` (:func:`scanned_scale`; one
-    horizontal: the smaller of its two senses): (margin, runs, the plane it is for)."""
-    planes = _governing_planes(rec, shape, record_deg)
-    runs, scale, governing = 0, math.inf, planes[0]
-    for pl in planes:
-        s, r = scanned_scale(rec, shape, pl, settings=settings, g_ms2=g_ms2,
-                             overturns_at_one=overturned if len(planes) == 1 else None)
-        runs += r
-        if s < scale or (math.isnan(s) and not math.isnan(scale)):
-            scale, governing = s, pl
+    """The simulated margin of a scanned scene whose record direction is ``record_deg`` (:func:`scanned_scale`, in
+    :func:`_governing_plane`): (margin, runs, the plane it is for)."""
+    governing = _governing_plane(rec, shape, record_deg, settings=settings, g_ms2=g_ms2)
+    scale, runs = scanned_scale(rec, shape, governing, settings=settings, g_ms2=g_ms2, overturns_at_one=overturned)
     return scale, runs, governing
 
 
@@ -111,8 +143,8 @@ def scanned_margins(rec, shape: BlockShape, record_deg: float, cfg: Config, sett
     history = None
     if want_history or scale <= RELOCATE_BELOW_SCALE:
         sc = plane_scene(along(rec.horizontal_ms2, float(rec.azimuths_deg[0]), governing), rec.vertical_ms2, rec.dt_s,
-                         plane_body(shape.scan, governing.body_deg), restitution=shape.restitution, mu=shape.mu,
-                         settings=settings, g_ms2=g, history=True)
+                         plane_geometry(shape.scan, governing.body_deg, settings), restitution=shape.restitution,
+                         mu=shape.mu, settings=settings, g_ms2=g, history=True)
         history = sc.theta_over_alpha if sc.theta_max > 0 else None
     n = cfg.uncertainty.margin_samples if cfg.sampling else 0
     sampled = np.full(max(n, 0), np.nan)

@@ -304,8 +304,9 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
         ctx.progress.scene(str(inv.ids[j]))
         t_scene = time.perf_counter()
         if inv.scanned()[j]:                                    # a body given by its scan: two-sided, planar
-            res, orient, how = scanned_scene(rec, base, z, inv.shape(int(j)), direction_deg=float(directions[j]),
-                                             grid_deg=grid, cfg=cfg, settings=settings)
+            res, orient, how, _search = scanned_scene(rec, base, z, inv.shape(int(j)),
+                                                      direction_deg=float(directions[j]), grid_deg=grid, cfg=cfg,
+                                                      settings=settings)
             scene_values(out, int(j), res, how, orient)
             ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
                                     detail=lambda res=res: f"scanned body, {res.planes_simulated} planes, governing "

@@ -57,6 +57,30 @@ class HullChain(NamedTuple):
         """Moment of inertia about G per unit mass, about the axis normal to the plane [m2]."""
         return self.second_u_m2 + self.second_z_m2
 
+    def base_tan_alpha(self) -> float:
+        """tan alpha of the nearer of the base edge's two ends: the uplift acceleration over g of the weaker side
+        [-]."""
+        near = self.pivots_m[self.rest - 1: self.rest + 1]
+        return float(np.min(np.abs(near[:, 0]) / -near[:, 1]))
+
+    def tipping_rad(self) -> tuple[float, float]:
+        """(toward +, toward -): the static tipping angles, the tilt at which G passes over the pivot then
+        carrying the body (G above pivot k at the tilt atan2(u_k, -z_k); where that lies before the pivot's
+        interval, G passed over it at the interval's start, on the edge) [rad, both positive]. A rectangle's are
+        its alpha."""
+        u, z = self.pivots_m[:, 0], self.pivots_m[:, 1]
+        over = np.arctan2(u, -z)
+        plus = minus = END_TILT_RAD
+        for k in range(self.rest, len(u)):
+            if over[k] <= self.bounds_rad[k + 1]:
+                plus = max(float(over[k]), float(self.bounds_rad[k]))
+                break
+        for k in range(self.rest - 1, -1, -1):
+            if over[k] >= self.bounds_rad[k]:
+                minus = -min(float(over[k]), float(self.bounds_rad[k + 1]))
+                break
+        return plus, minus
+
     def scaled(self, *, width_factor: float = 1.0, height_factor: float = 1.0) -> HullChain:
         """The chain of the body stretched by ``width_factor`` along the plane and ``height_factor`` up (a draw's
         sizes, as a rectangle's are drawn): the pivots move, the tilts at which the edges lie flat change, the

@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..rocking.asymmetric import TwoSided
+from .hull import HullChain
 from .scan import FOOTPRINT_TOL_M, ScannedShape, pivots
 
 
@@ -64,6 +65,16 @@ class PlaneBody(NamedTuple):
         """The same plane seen from the other side (azimuth + 180 deg): the pivots swapped."""
         return self._replace(azimuth_deg=(self.azimuth_deg + 180.0) % 360.0, b_plus_m=self.b_minus_m,
                              b_minus_m=self.b_plus_m)
+
+
+def chain_plane(chain: HullChain) -> PlaneBody:
+    """The :class:`PlaneBody` of a hull chain with one pivot per side (:mod:`.hull`: both ends of its flat base,
+    each carrying the body up to 90 degrees, as a prism's or a box's): the same body on the same two pivots."""
+    if len(chain.pivots_m) != 2:
+        raise ValueError(f"a chain of {len(chain.pivots_m)} pivots is not one pivot per side")
+    (u_minus, z_minus), (u_plus, z_plus) = chain.pivots_m
+    return PlaneBody(chain.azimuth_deg, float(u_plus), float(-u_minus), float(-0.5 * (z_minus + z_plus)),
+                     chain.second_u_m2, chain.second_z_m2)
 
 
 def rectangle_plane(width_m: float, height_m: float) -> PlaneBody:

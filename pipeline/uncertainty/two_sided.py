@@ -1,8 +1,8 @@
-"""The probability of overturning of a two-sided body (a scanned rock or statue) in one rocking plane: each draw
-of the declared uncertainty (:class:`~.settings.UncertaintyConfig`: the amplitude, the height and the width,
-the restitution) is one run of the compiled two-sided model (:mod:`pipeline.rocking.two_sided`), with the same
-common random numbers (:func:`~.sampling.common_normals`) as every other scene. The friction coefficient is not
-drawn: the two-sided model does not slide (it records the friction demand).
+"""The probability of overturning of a body given by its scan (a rock or a statue): each draw of the declared
+uncertainty (:class:`~.settings.UncertaintyConfig`: the amplitude, the height and the width, the restitution) is
+one run of its model in one plane (:func:`pipeline.rocking.scanned.plane_scene`: the rolling or the two-sided
+model), with the same common random numbers (:func:`~.sampling.common_normals`) as every other scene. The friction
+coefficient is not drawn: neither model slides.
 
 A draw the model cannot decide (the ground falling faster than gravity, the step budget, the free motion after
 the record outlasting its cap) has no verdict and is counted apart.
@@ -10,6 +10,7 @@ the record outlasting its cap) has no verdict and is counted apart.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import NamedTuple
 
@@ -18,12 +19,15 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.scanned import ScannedPlane, along, plane_scene
+from ..rocking.scanned import PlaneGeometry, ScannedPlane, along, plane_geometry, plane_scene
 from ..rocking.settings import SimulationConfig
-from ..shapes.plane import PlaneBody, plane_body
 from .sampling import lognormal_factor
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, sample_until_decided
 from .settings import UncertaintyConfig
+
+#: Planes nearest to overturning at the nominal (the body's orientation unknown) in which the draws are run; the
+#: worst orientation's p is the largest of theirs
+CANDIDATES = 4
 
 
 class DrawFactors(NamedTuple):
@@ -44,7 +48,7 @@ def draw_factors(z_row: np.ndarray, settings: UncertaintyConfig) -> DrawFactors:
                        restitution=float(lognormal_factor(z_row[1], settings.restitution_cov)))
 
 
-def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneBody, f: DrawFactors, *,
+def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneGeometry, f: DrawFactors, *,
                 restitution: float, mu: float, simulation: SimulationConfig, g_ms2: float):
     """One draw's :class:`~pipeline.rocking.scene.Scene` (:func:`pipeline.rocking.scanned.plane_scene` under the
     record scaled by ``f.amplitude``)."""
@@ -73,7 +77,7 @@ class PlaneDraws(NamedTuple):
         return float(np.sum(self.overturned & ~self.undecided) / n) if n else float("nan")
 
 
-def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneBody, z: np.ndarray, *, settings: UncertaintyConfig,
+def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneGeometry, z: np.ndarray, *, settings: UncertaintyConfig,
                 simulation: SimulationConfig = SimulationConfig(), av_ms2: np.ndarray | None = None,
                 restitution: float = math.nan, g_ms2: float = G) -> PlaneDraws:
     """Run every draw of ``z`` (rows of :func:`~.sampling.common_normals`) of ``body`` under the record, in one
@@ -85,7 +89,8 @@ def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneBody, z: np.ndarray,
         Ground acceleration along the plane's + side [m s-2].
     dt_s : float
         Sampling interval [s].
-    body : PlaneBody
+    body : PlaneBody or HullChain
+        The body in the plane (:func:`pipeline.rocking.scanned.plane_geometry`).
     z : ndarray, shape (n, 6)
     settings : UncertaintyConfig
         The spreads.
@@ -111,27 +116,30 @@ def _uniform(z: np.ndarray) -> np.ndarray:
     return np.minimum(ndtr(z), np.nextafter(1.0, 0.0))
 
 
-def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, governing: ScannedPlane,
+def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, candidates: list[ScannedPlane],
                         planes: list[ScannedPlane] | None, settings: UncertaintyConfig,
                         simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G
                         ) -> tuple[Probability, Probability]:
-    """The probabilities of a scanned body's scene (:mod:`pipeline.rocking.scanned`): in its governing plane, each
-    draw's amplitude, sizes and restitution (and, for a given azimuth on two horizontals, the azimuth's scatter on
-    the record's plane, the body's plane kept); and, where its orientation is unknown (``planes``: the scanned
-    ones), each draw in one of them drawn at random (uniform, from the draw's azimuth number). Both with the
-    sampling and stopping rule of every other scene (:func:`~.scenes.sample_until_decided`). Returns (worst,
-    random); random is NOT_EVALUATED without ``planes``."""
+    """The probabilities of a scanned body's scene (:mod:`pipeline.rocking.scanned`). The worst orientation's: in
+    each plane of ``candidates`` (the governing plane where the orientation is given; else the
+    :data:`CANDIDATES` planes nearest to overturning at the nominal) each draw's amplitude, sizes and restitution
+    (and, for a given azimuth on two horizontals, the azimuth's scatter on the record's plane, the body's plane
+    kept), the largest p of the candidates kept (the first on ties; chosen on the same draws it is estimated on, so
+    it leans high). Where the orientation is unknown (``planes``: those simulated), an orientation at random: each
+    draw in one of them drawn at random (uniform, from the draw's azimuth number). Both with the sampling and
+    stopping rule of every other scene (:func:`~.scenes.sample_until_decided`). Returns (worst, random); random is
+    NOT_EVALUATED without ``planes``."""
     scan = shape.scan
     assert scan is not None
     h = np.vstack([m.h1, m.h2]) if not m.single else m.h1[None, :]
     av = m.vertical if m.vertical.size else None
     scatter = not m.single and planes is None and math.isfinite(shape.azimuth_deg)
 
-    bodies: dict[float, PlaneBody] = {}              # each plane's geometry once, whatever the draws
+    bodies: dict[float, PlaneGeometry] = {}              # each plane's geometry once, whatever the draws
 
-    def body_of(deg: float) -> PlaneBody:
+    def body_of(deg: float) -> PlaneGeometry:
         if deg not in bodies:
-            bodies[deg] = plane_body(scan, deg)
+            bodies[deg] = plane_geometry(scan, deg, simulation)
         return bodies[deg]
 
     def judge_in(pick):
@@ -146,12 +154,16 @@ def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, gov
                 runs[k] = 1
         return judge
 
-    def in_governing(k: int) -> ScannedPlane:
-        if scatter:
-            return governing._replace(record_deg=(governing.record_deg + settings.azimuth_sd_deg * z[k, 5]) % 360.0)
-        return governing
+    def in_plane(plane: ScannedPlane):
+        def pick(k: int) -> ScannedPlane:
+            if scatter:
+                return plane._replace(record_deg=(plane.record_deg + settings.azimuth_sd_deg * z[k, 5]) % 360.0)
+            return plane
+        return pick
 
-    worst = sample_until_decided(len(z), judge_in(in_governing), settings=settings)
+    estimates = [sample_until_decided(len(z), judge_in(in_plane(pl)), settings=settings) for pl in candidates]
+    worst = max(estimates, key=lambda e: -1.0 if math.isnan(e.p) else e.p)
+    worst = dataclasses.replace(worst, simulations=sum(e.simulations for e in estimates))
     if planes is None:
         return worst, NOT_EVALUATED
     idx = (_uniform(z[:, 5]) * len(planes)).astype(int)
