@@ -41,6 +41,28 @@ def test_a_chain_of_one_pivot_per_side_is_the_footprints_two_sided_body(scans_di
         chain_plane(chain_from_outline(_rocker(0.3, 0.2, facets=40), 0.01, 0.01))
 
 
+def test_a_box_is_a_uniform_rectangle_in_its_base_planes_and_a_cylinder_never(scans_dir, tmp_path):
+    """rectangle_section: a box mesh is its width x height rectangle across, its depth x height along, and no
+    rectangle obliquely (its outline there is a rectangle, its inertia not that rectangle's); an upright cylinder's
+    outline is a rectangle in every plane, its inertia never a uniform rectangle's."""
+    trimesh = pytest.importorskip("trimesh")
+    from pipeline.rocking.scanned import RectangleSection, rectangle_section
+    from pipeline.shapes.scan import read_scan
+
+    box = read_scan(scans_dir / "box-0.3x3.0x1.5.obj")
+    for az, expected in ((0.0, (0.3, 1.5)), (180.0, (0.3, 1.5)), (90.0, (3.0, 1.5)), (270.0, (3.0, 1.5))):
+        got = rectangle_section(hull_chain(box, az))
+        assert isinstance(got, RectangleSection) and got == pytest.approx(expected, rel=1e-9)
+    assert rectangle_section(hull_chain(box, 30.0)) is None
+    cyl = trimesh.creation.cylinder(radius=0.2, height=1.0, sections=256)
+    cyl.apply_translation([0.0, 0.0, 0.5])
+    cyl.export(tmp_path / "cyl.stl")
+    shape = read_scan(tmp_path / "cyl.stl")
+    for az in (0.0, 45.0):
+        chain = hull_chain(shape, az)
+        assert len(chain.pivots_m) == 2 and rectangle_section(chain) is None
+
+
 def test_a_box_given_as_a_mesh_has_the_rectangles_chain(scans_dir):
     pytest.importorskip("trimesh")
     from pipeline.shapes.scan import read_scan

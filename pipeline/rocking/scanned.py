@@ -39,7 +39,7 @@ from ..records.record import project
 from ..shapes.hull import HullChain, hull_chain
 from ..shapes.plane import PlaneBody, chain_plane, plane_body
 from ..shapes.scan import ScannedShape
-from .block import BlockShape
+from .block import Block, BlockShape
 from .codes import (
     STATUS_CHATTER,
     STATUS_EVENT_CAP,
@@ -49,7 +49,10 @@ from .codes import (
     STATUS_TIE_HOLD,
     ContactMode,
 )
+from .geometry import effective_restitution
+from .geometry import geometry as geometry_of
 from .orientation import PlaneResult
+from .planner import simulate_scene
 from .rolling import landing_ratio, roll_on_hull
 from .scene import FreeFlight, Guard, Physics, Response, Scene
 from .settings import ScannedModel, SimulationConfig
@@ -61,8 +64,26 @@ from .two_sided import rock_two_sided_compiled, two_sided_block
 TIE_RTOL = 1e-9
 #: The status bits that leave a scanned scene without a verdict
 NO_VERDICT_STATUS = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_TAIL_CAP | STATUS_EVENT_CAP
+#: A plane's two pivots and second moments are a uniform rectangle's within this relative tolerance [-]
+RECTANGLE_RTOL = 1e-6
+
+
+class RectangleSection(NamedTuple):
+    """A plane in which a scanned body is a uniform rectangle (its hull's two pivots symmetric about G, its second
+    moments a uniform rectangle's: a box's width or depth plane): the planar registry's block of these sizes.
+
+    Attributes
+    ----------
+    width_m, height_m : float
+        Full width and height [m].
+    """
+
+    width_m: float
+    height_m: float
+
+
 #: A scanned body's geometry in one plane, as its model takes it
-PlaneGeometry = PlaneBody | HullChain
+PlaneGeometry = PlaneBody | HullChain | RectangleSection
 
 
 class ScannedPlane(NamedTuple):
@@ -135,14 +156,33 @@ def along(horizontal_ms2: np.ndarray, azimuth0_deg: float, plane: ScannedPlane) 
 
 
 def plane_geometry(scan: ScannedShape, body_deg: float, settings: SimulationConfig) -> PlaneGeometry:
-    """The body's geometry in its plane ``body_deg`` as the model of ``settings.scanned_model`` takes it. A hull
-    with one pivot per side in that plane (a box's, a prism's: :func:`~pipeline.shapes.plane.chain_plane`) rolls as
-    the two-sided model rocks it, on the same two pivots by the same equations and impact rule: it is given to that
-    model, whose integrator is adaptive (the rolling model's steps are fixed)."""
+    """The body's geometry in its plane ``body_deg`` as the model of ``settings.scanned_model`` takes it.
+
+    With the rolling model, two exact shortcuts: a hull with one pivot per side in that plane (a prism's: the two
+    ends of its flat base) rolls as the two-sided model rocks it, on the same two pivots by the same equations and
+    impact rule, so it is given to that model, whose integrator is adaptive (the rolling model's steps are fixed);
+    and where the body is a uniform rectangle in that plane (:func:`rectangle_section`), it is the block of the
+    planar registry, whose models also slide, fly and take over where pure rocking stops holding."""
     if settings.scanned_model == ScannedModel.two_sided:
         return plane_body(scan, body_deg)
     chain = hull_chain(scan, body_deg)
-    return chain if len(chain.pivots_m) > 2 else chain_plane(chain)
+    if len(chain.pivots_m) > 2:
+        return chain
+    return rectangle_section(chain) or chain_plane(chain)
+
+
+def rectangle_section(chain: HullChain) -> RectangleSection | None:
+    """The uniform rectangle a chain of one pivot per side is, where it is one (pivots symmetric about G, second
+    moments b^2 / 3 along the plane and h^2 / 3 up, all within :data:`RECTANGLE_RTOL`), else None."""
+    if len(chain.pivots_m) != 2:
+        return None
+    (u_minus, z_minus), (u_plus, z_plus) = chain.pivots_m
+    b, h = 0.5 * (u_plus - u_minus), -0.5 * (z_minus + z_plus)
+    close = (math.isclose(u_plus, -u_minus, rel_tol=RECTANGLE_RTOL) and math.isclose(z_plus, z_minus,
+                                                                                      rel_tol=RECTANGLE_RTOL)
+             and math.isclose(chain.second_u_m2, b * b / 3.0, rel_tol=RECTANGLE_RTOL)
+             and math.isclose(chain.second_z_m2, h * h / 3.0, rel_tol=RECTANGLE_RTOL))
+    return RectangleSection(2.0 * b, 2.0 * h) if close else None
 
 
 def uplift_tan_alpha(geometry: PlaneGeometry, *, width_factor: float = 1.0, height_factor: float = 1.0) -> float:
@@ -150,6 +190,8 @@ def uplift_tan_alpha(geometry: PlaneGeometry, *, width_factor: float = 1.0, heig
     body where |a_h| exceeds (g + a_v) times this [-]."""
     if isinstance(geometry, HullChain):
         return geometry.base_tan_alpha() * width_factor / height_factor
+    if isinstance(geometry, RectangleSection):
+        return geometry.width_m * width_factor / (geometry.height_m * height_factor)
     two = geometry.two_sided(width_factor=width_factor, height_factor=height_factor)
     return math.tan(min(two.side(1.0)[0], two.side(-1.0)[0]))
 
@@ -175,7 +217,7 @@ def rolling_restitution_factor(chain: HullChain, restitution: float) -> float:
 def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geometry: PlaneGeometry, *,
                 restitution: float, mu: float, settings: SimulationConfig = SimulationConfig(), g_ms2: float = G,
                 history: bool = False, width_factor: float = 1.0, height_factor: float = 1.0,
-                restitution_scale: float = 1.0) -> Scene:
+                restitution_scale: float = 1.0, friction_scale: float = 1.0) -> Scene:
     """One plane's :class:`~.scene.Scene` by the model of its geometry (:func:`plane_geometry`).
 
     Parameters
@@ -184,15 +226,21 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
         Ground acceleration along the plane's + side and vertical (None: none) [m s-2].
     dt_s : float
         Sampling interval [s].
-    geometry : PlaneBody or HullChain
-        The body in the plane: one pivot per side (the two-sided model) or its hull's chain (the rolling model).
+    geometry : PlaneBody, HullChain or RectangleSection
+        The body in the plane: one pivot per side (the two-sided model), its hull's chain (the rolling model) or a
+        uniform rectangle (the planar registry's block, :func:`pipeline.rocking.planner.simulate_scene`).
     restitution : float
         The declared restitution (NaN: the impact rule's own) [-].
     mu : float
-        Friction coefficient, against which the two-sided model's friction demand is flagged [-].
-    width_factor, height_factor, restitution_scale : float
-        A draw's factors on the body's sizes and on its impact ratios [-].
+        Friction coefficient: the rectangle's; against it the two-sided model's friction demand is flagged [-].
+    width_factor, height_factor, restitution_scale, friction_scale : float
+        A draw's factors on the body's sizes, on its impact ratios and on its friction (the rectangle's only) [-].
     """
+    if isinstance(geometry, RectangleSection):
+        shape = geometry_of(geometry.height_m * height_factor, geometry.width_m * width_factor, g_ms2=g_ms2)
+        block = Block(p=float(shape.p), alpha=float(shape.alpha), R_m=float(shape.R), mu=mu * friction_scale,
+                      e=float(effective_restitution(restitution, shape.e_housner, restitution_scale)), g_ms2=g_ms2)
+        return simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=history)
     if isinstance(geometry, HullChain):
         return _rolling_scene(ah_ms2, av_ms2, dt_s, geometry, restitution=restitution, g_ms2=g_ms2, history=history,
                               width_factor=width_factor, height_factor=height_factor,

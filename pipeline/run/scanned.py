@@ -97,7 +97,8 @@ def _governing_plane(rec, shape: BlockShape, record_deg: float, *, settings: Sim
 
 def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: SimulationConfig, g_ms2: float,
                   overturns_at_one: bool | None = None, amplitude: float = 1.0, width_factor: float = 1.0,
-                  height_factor: float = 1.0, restitution_scale: float = 1.0) -> tuple[float, int]:
+                  height_factor: float = 1.0, restitution_scale: float = 1.0, friction_scale: float = 1.0
+                  ) -> tuple[float, int]:
     """The simulated margin of a scanned scene in one plane (:func:`~.margins.scale_scan`, from the factor at which
     the record could first lift the body toward its weaker side), for the record scaled by ``amplitude`` and the
     body by a draw's factors."""
@@ -117,7 +118,7 @@ def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: Simu
         return plane_scene(factor * ah, None if av is None else factor * av, rec.dt_s, geometry,
                            restitution=shape.restitution, mu=shape.mu, settings=settings, g_ms2=g_ms2,
                            width_factor=width_factor, height_factor=height_factor,
-                           restitution_scale=restitution_scale).verdict
+                           restitution_scale=restitution_scale, friction_scale=friction_scale).verdict
 
     return scale_scan(first, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 
@@ -154,6 +155,7 @@ def scanned_margins(rec, shape: BlockShape, record_deg: float, cfg: Config, sett
         for k in range(n):
             f = draw_factors(z[k], unc)
             s_k, r = scanned_scale(rec, shape, governing, settings=settings, g_ms2=g, amplitude=f.amplitude,
-                                   width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution)
+                                   width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution,
+                                   friction_scale=f.friction)
             sampled[k], runs = s_k * f.amplitude, runs + r
     return scale, runs, history, rec.dt_s, sampled

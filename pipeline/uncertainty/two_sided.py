@@ -32,12 +32,14 @@ CANDIDATES = 4
 
 class DrawFactors(NamedTuple):
     """One draw's factors on a scanned scene [-]: the record's amplitude, the body's width and height, its impact
-    ratios (the same columns of the common random numbers as :func:`~.sampling.sample_block` reads)."""
+    ratios and its friction (a plane in which it is a uniform rectangle only; the same columns of the common random
+    numbers as :func:`~.sampling.sample_block` reads)."""
 
     amplitude: float
     width: float
     height: float
     restitution: float
+    friction: float
 
 
 def draw_factors(z_row: np.ndarray, settings: UncertaintyConfig) -> DrawFactors:
@@ -45,7 +47,8 @@ def draw_factors(z_row: np.ndarray, settings: UncertaintyConfig) -> DrawFactors:
     return DrawFactors(amplitude=float(lognormal_factor(z_row[0], settings.amplitude_cov)),
                        width=float(lognormal_factor(z_row[4], settings.size_cov)),
                        height=float(lognormal_factor(z_row[3], settings.size_cov)),
-                       restitution=float(lognormal_factor(z_row[1], settings.restitution_cov)))
+                       restitution=float(lognormal_factor(z_row[1], settings.restitution_cov)),
+                       friction=float(lognormal_factor(z_row[2], settings.friction_cov)))
 
 
 def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneGeometry, f: DrawFactors, *,
@@ -54,7 +57,8 @@ def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body
     record scaled by ``f.amplitude``)."""
     return plane_scene(f.amplitude * np.asarray(ah_ms2, dtype=float), None if av_ms2 is None else f.amplitude * av_ms2,
                        dt_s, body, restitution=restitution, mu=mu, settings=simulation, g_ms2=g_ms2,
-                       width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution)
+                       width_factor=f.width, height_factor=f.height, restitution_scale=f.restitution,
+                       friction_scale=f.friction)
 
 
 class PlaneDraws(NamedTuple):
