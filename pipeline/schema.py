@@ -180,9 +180,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                             "an edge or a corner in 3D (governing_azimuth: where it leant); two_sided: a body given "
                             "by its scan (inventory mesh), rocking in a vertical plane on pivots of its own on each "
                             "side (governing_azimuth: the record's compass direction, over 360 deg; no sliding, no "
-                            "flight); rolling: a body given by its scan rolling on its convex hull in a vertical "
-                            "plane (the default for a mesh, simulation.scanned_model; likewise no sliding, no "
-                            "flight)"}),
+                            "flight: friction_exceeded flags them); rolling: a body given by its scan rolling on its "
+                            "convex hull in a vertical plane (the default for a mesh, simulation.scanned_model; "
+                            "likewise); a plane in which the body is a uniform rectangle gets the planar models"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "

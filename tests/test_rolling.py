@@ -239,3 +239,16 @@ def test_a_rectangles_rolling_scene_is_the_planar_kernels_with_a_declared_restit
         assert ours.t_overturn == pytest.approx(ref.t_overturn, abs=DT)
     else:
         assert ours.theta_max == pytest.approx(ref.theta_max, abs=1e-4) and math.isnan(ours.t_overturn)
+
+
+@pytest.mark.parametrize("amp_g,period_s", PULSES)
+def test_a_rectangles_friction_demand_is_the_planar_kernels(amp_g, period_s):
+    """The pivot's largest |f_x| / f_z while G has not passed it (Zhang & Makris 2001, eqs. 16-20, in the planar
+    kernel) against the rolling kernel's, from Newton's law for G on the same rectangle."""
+    a = pulse(amp_g, period_s)
+    ours = roll_on_hull(a, DT, rectangle_chain(*RECTANGLE))
+    ref = housner_block(a, *RECTANGLE)
+    if ref.friction_demand == 0.0:
+        assert ours.friction_demand == 0.0
+    else:
+        assert ours.friction_demand == pytest.approx(ref.friction_demand, rel=1e-4)

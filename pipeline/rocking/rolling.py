@@ -25,7 +25,9 @@ its chain). Every loop advances or counts against a cap: :data:`MAX_EVENTS_PER_S
 the scene with ``STATUS_EVENT_CAP`` and no verdict.
 
 Not modelled (never a silent "stands"): the ground falling faster than gravity (g + a_v <= 0: the scene stops
-there with ``STATUS_GROUND_FLIGHT`` and no verdict), sliding, the pivot lifting off, motion out of the plane.
+there with ``STATUS_GROUND_FLIGHT`` and no verdict), sliding and the pivot lifting off (the friction demand at the
+pivot is recorded, and a normal force reaching 0 sets ``STATUS_LIFTOFF``: flags, the verdict is kept), motion out
+of the plane.
 
 References
 ----------
@@ -44,7 +46,7 @@ import numpy as np
 from ..compiled import jit
 from ..constants import G
 from ..shapes.hull import HullChain
-from .codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT
+from .codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_LIFTOFF
 
 #: Runge-Kutta steps per sample of the record
 SUBSTEPS = 4
@@ -76,6 +78,9 @@ class RollingOutcome(NamedTuple):
         Every change of pivot, landings included.
     t_overturn : float
         When the tilt reached 90 degrees [s from the record's start] (NaN: it did not).
+    friction_demand : float
+        The largest |f_x| / f_z at the pivot while its gravity moment restores the body (G not past it), at the
+        ends of the steps: the friction coefficient rolling without slip needs (0: it never moved) [-].
     status : int
         ``pipeline.rocking.codes`` flags (0: none).
     """
@@ -88,6 +93,7 @@ class RollingOutcome(NamedTuple):
     n_impacts: int
     n_pivot_changes: int
     t_overturn: float
+    friction_demand: float
     status: int
 
 
@@ -98,6 +104,18 @@ def _accel(theta, u, z, inertia, ah, gv):
     rx = -(u * c + z * s)                      # G from the pivot, horizontal and up
     rz = u * s - z * c
     return (gv * rx - ah * rz) / (inertia + rx * rx + rz * rz)
+
+
+@jit
+def _contact_force(theta, omega, u, z, inertia, ah, gv):
+    """(f_x, f_z, r_x): the ground's force on the body at the pivot per unit mass [m s-2] (Newton's law for G, whose
+    acceleration relative to the ground is theta'' (r_z, -r_x) - omega^2 (r_x, r_z) on the pivot), and G's horizontal
+    offset from the pivot r_x [m]."""
+    c, s = math.cos(theta), math.sin(theta)
+    rx = -(u * c + z * s)
+    rz = u * s - z * c
+    acc = (gv * rx - ah * rz) / (inertia + rx * rx + rz * rz)
+    return acc * rz - omega * omega * rx + ah, -acc * rx - omega * omega * rz + gv, rx
 
 
 @jit
@@ -147,12 +165,13 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
     h = dt / SUBSTEPS
     theta, omega, k, edge = 0.0, 0.0, -1, rest          # k: the pivot (-1: resting on edge ``edge``)
     hi_max, lo_max, impacts, changes = 0.0, 0.0, 0, 0
+    demand, status = 0.0, 0
     for i in range(steps):
         a0, v0 = _ground(ah, av, i, n, g)
         a1, v1 = _ground(ah, av, i + 1, n, g)
         if v0 <= 0.0 or v1 <= 0.0:                      # the ground falls faster than gravity
             return RollingOutcome(False, -1, max(hi_max, lo_max), hi_max, lo_max, impacts, changes,
-                                  math.nan, STATUS_GROUND_FLIGHT)
+                                  math.nan, demand, status | STATUS_GROUND_FLIGHT)
         for j in range(SUBSTEPS):
             aa, va = a0 + (a1 - a0) * j / SUBSTEPS, v0 + (v1 - v0) * j / SUBSTEPS
             ab, vb = a0 + (a1 - a0) * (j + 1) / SUBSTEPS, v0 + (v1 - v0) * (j + 1) / SUBSTEPS
@@ -174,6 +193,12 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 th1, om1 = _rk4(theta, omega, u, z, inertia, a_s, ab, v_s, vb, left)
                 if lo <= th1 <= hi:
                     theta, omega = th1, om1
+                    fx, fz, rx = _contact_force(theta, omega, u, z, inertia, ab, vb)
+                    if rx * u < 0.0:                   # G not past the pivot: the contact must hold
+                        if fz <= 0.0:
+                            status |= STATUS_LIFTOFF
+                        else:
+                            demand = max(demand, abs(fx) / fz)
                     break
                 f0, f1 = 0.0, 1.0                          # the bound's crossing, by bisection
                 for _ in range(BISECTIONS):
@@ -194,7 +219,7 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 if nk < 0 or nk >= npiv:                   # past 90 degrees
                     hi_max, lo_max = (0.5 * math.pi, lo_max) if nk >= npiv else (hi_max, 0.5 * math.pi)
                     return RollingOutcome(True, 1, 0.5 * math.pi, hi_max, lo_max, impacts, changes,
-                                          i * dt + j * h + (h - left), 0)
+                                          i * dt + j * h + (h - left), demand, status)
                 landing = edge == rest
                 omega *= _change_ratio(theta, u, z, pivots[nk, 0], pivots[nk, 1], inertia, landing, factor)
                 impacts += int(landing)
@@ -207,13 +232,13 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 k = nk
                 if events >= MAX_EVENTS_PER_STEP:
                     return RollingOutcome(False, -1, max(hi_max, lo_max), hi_max, lo_max, impacts, changes,
-                                          math.nan, STATUS_EVENT_CAP)
+                                          math.nan, demand, status | STATUS_EVENT_CAP)
             hi_max, lo_max = max(hi_max, theta), max(lo_max, -theta)
         if len(theta_out) and i + 1 < n:
             theta_out[i + 1] = theta
         if i >= n and k < 0 and edge == rest:
             break
-    return RollingOutcome(False, 0, max(hi_max, lo_max), hi_max, lo_max, impacts, changes, math.nan, 0)
+    return RollingOutcome(False, 0, max(hi_max, lo_max), hi_max, lo_max, impacts, changes, math.nan, demand, status)
 
 
 def landing_ratio(chain: HullChain, *, onto_plus: bool) -> float:

@@ -20,8 +20,8 @@ of the body's +x):
 * **one horizontal**: the recorded direction, every plane of the body on the grid facing it (its azimuth, rarely
   known for one horizontal, is not used).
 
-The scene's verdict is the model's: neither slides (the two-sided model records the friction demand and
-``friction_exceeded`` flags a scene whose pivot would slip; the rolling model does not compute it), and a ground
+The scene's verdict is the model's: neither slides (each records the pivot's friction demand and
+``friction_exceeded`` flags a scene whose pivot would slip), and a ground
 falling faster than gravity, a step or event cap or the free motion's cap leave the scene without a verdict
 (``model_limit``). ``theta_max`` is each side's peak tilt over its static tipping angle (a rectangle's: alpha),
 the larger of the two.
@@ -44,6 +44,7 @@ from .codes import (
     STATUS_CHATTER,
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
+    STATUS_LIFTOFF,
     STATUS_STEP_CAP,
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
@@ -242,7 +243,8 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
                       e=float(effective_restitution(restitution, shape.e_housner, restitution_scale)), g_ms2=g_ms2)
         return simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=history)
     if isinstance(geometry, HullChain):
-        return _rolling_scene(ah_ms2, av_ms2, dt_s, geometry, restitution=restitution, g_ms2=g_ms2, history=history,
+        return _rolling_scene(ah_ms2, av_ms2, dt_s, geometry, restitution=restitution, mu=mu, g_ms2=g_ms2,
+                              history=history,
                               width_factor=width_factor, height_factor=height_factor,
                               restitution_scale=restitution_scale)
     two = geometry.two_sided(width_factor=width_factor, height_factor=height_factor)
@@ -259,7 +261,8 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
              | (Guard.event_cap if out.status & STATUS_CHATTER else 0))
     flight = out.status & STATUS_GROUND_FLIGHT and not out.overturned
     response = (Response.overturn if out.overturned else Response.free_flight if flight
-                else Response.rock if out.n_uplifts else Response.rest)
+                else Response.slide_rock if out.friction_max > mu else Response.rock if out.n_uplifts
+                else Response.rest)
     return Scene(physics=Physics.two_sided, response=response, overturned=bool(out.overturned),
                  theta_max=max(out.theta_max_plus / a_plus, out.theta_max_minus / a_minus),
                  n_impacts=int(out.n_impacts), t_overturn=float(out.t_overturn),
@@ -271,11 +274,12 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
 
 
 def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, chain: HullChain, *,
-                   restitution: float, g_ms2: float, history: bool, width_factor: float, height_factor: float,
+                   restitution: float, mu: float, g_ms2: float, history: bool, width_factor: float, height_factor: float,
                    restitution_scale: float) -> Scene:
     """One plane's scene by the rolling model (:mod:`.rolling`): theta_max and the history over each side's
-    static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); the friction demand is not
-    computed (NaN, ``friction_exceeded`` -1)."""
+    static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); a pivot that needs more friction
+    than ``mu`` is flagged (``friction_exceeded``, response slide_rock) and one whose normal force reaches 0 too
+    (``free_flight`` block_liftoff), the rolling verdict kept, as pure rocking's is without the contact model."""
     factor = rolling_restitution_factor(chain, restitution) * restitution_scale
     body = chain if width_factor == 1.0 and height_factor == 1.0 else chain.scaled(width_factor=width_factor,
                                                                                      height_factor=height_factor)
@@ -284,15 +288,18 @@ def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, c
     tip_plus, tip_minus = body.tipping_rad()
     moved = out.theta_max > 0.0
     flight = bool(out.status & STATUS_GROUND_FLIGHT) and not out.overturned
+    exceeded = out.friction_demand > mu
     response = (Response.overturn if out.overturned else Response.free_flight if flight
-                else Response.rock if moved else Response.rest)
+                else Response.slide_rock if exceeded else Response.rock if moved else Response.rest)
     guard = ((Guard.model_limit if out.verdict < 0 else 0)
              | (Guard.event_cap if out.status & STATUS_EVENT_CAP else 0))
     return Scene(physics=Physics.rolling, response=response, overturned=bool(out.overturned),
                  theta_max=max(out.theta_max_plus / tip_plus, out.theta_max_minus / tip_minus),
-                 n_impacts=int(out.n_impacts), t_overturn=float(out.t_overturn), friction_demand=math.nan,
-                 sliding_max_m=math.nan, free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
-                 chatter=bool(out.status & STATUS_EVENT_CAP), friction_exceeded=-1,
+                 n_impacts=int(out.n_impacts), t_overturn=float(out.t_overturn),
+                 friction_demand=float(out.friction_demand), sliding_max_m=math.nan,
+                 free_flight=(FreeFlight.ground_flight if flight else FreeFlight.block_liftoff
+                              if out.status & STATUS_LIFTOFF else FreeFlight.none),
+                 chatter=bool(out.status & STATUS_EVENT_CAP), friction_exceeded=int(exceeded),
                  theta_over_alpha=None if theta is None else theta / min(tip_plus, tip_minus),
                  contact_modes=ContactMode.rock if moved else 0, guard=guard)
 
