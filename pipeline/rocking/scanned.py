@@ -274,8 +274,8 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
 
 
 def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, chain: HullChain, *,
-                   restitution: float, mu: float, g_ms2: float, history: bool, width_factor: float, height_factor: float,
-                   restitution_scale: float) -> Scene:
+                   restitution: float, mu: float, g_ms2: float, history: bool, width_factor: float,
+                   height_factor: float, restitution_scale: float) -> Scene:
     """One plane's scene by the rolling model (:mod:`.rolling`): theta_max and the history over each side's
     static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); a pivot that needs more friction
     than ``mu`` is flagged (``friction_exceeded``, response slide_rock) and one whose normal force reaches 0 too
