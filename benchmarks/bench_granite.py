@@ -46,6 +46,7 @@ import math
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import obspy
@@ -128,14 +129,23 @@ def _one_test(job) -> list[dict]:
     return rows
 
 
-def scans(data: Path) -> dict[str, BlockShape]:
-    """Each rock as the inventory gives a body by its mesh with a blank azimuth (no friction: neither model slides;
-    the impact rule's own restitution)."""
+class Rock(NamedTuple):
+    """A rock as ``screen`` takes a body given by its mesh with a blank azimuth (no friction: neither model slides;
+    the impact rule's own restitution), and its smallest uplift acceleration over the grid's planes [g]."""
+
+    shape: BlockShape
+    uplift_g: float
+
+
+def scans(data: Path, step_deg: float) -> dict[str, Rock]:
+    """Each rock of the data (:class:`Rock`), its uplift over the planes of a ``step_deg`` grid."""
     out = {}
     for rock, scan in SCANS.items():
         shape = read_scan(data / "geometry" / scan)
         height, width = equivalent_rectangle(shape)
-        out[rock] = BlockShape(height_m=height, width_m=width, mu=math.inf, kind=ShapeKind.scanned, scan=shape)
+        uplift = min(hull_chain(shape, float(az)).base_tan_alpha() for az in np.arange(0.0, 360.0, step_deg))
+        out[rock] = Rock(BlockShape(height_m=height, width_m=width, mu=math.inf, kind=ShapeKind.scanned, scan=shape),
+                         uplift)
     return out
 
 
@@ -153,7 +163,7 @@ def _one_test_rolling(job) -> list[dict]:
                  uncertainty=dataclasses.replace(UncertaintyConfig(), samples=samples))
     z = common_normals(cfg.uncertainty.seed, samples)
     rows = []
-    for rock, shape in geo.items():
+    for rock, (shape, uplift_g) in geo.items():
         row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
                "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
                "observed": int(test[f"{rock.lower()}_overturned"])}
@@ -168,7 +178,7 @@ def _one_test_rolling(job) -> list[dict]:
         row["draws"] = got.probability.worst.drawn
         row["undecided_draws"] = got.probability.worst.free_flight + sum(int(sc.verdict < 0) for _pl, sc in nominal)
         row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
-        row["uplift_pga_g"] = min(hull_chain(shape.scan, pl.body_deg).base_tan_alpha() for pl, _sc in nominal)
+        row["uplift_pga_g"] = uplift_g
         row["why"] = why(row)
         rows.append(row)
     return rows
@@ -350,13 +360,13 @@ def main() -> None:
     tests = [r for r in csv.DictReader((args.data / "tests.csv").open()) if r["has_motion"] == "1"]
     tests = tests[:args.limit] if args.limit else tests
     if args.model == "rolling":
-        geo: dict = scans(args.data)
+        geo: dict = scans(args.data, args.orientation_step)
         task = _one_test_rolling
-        for rock, shape in geo.items():
+        for rock, (shape, uplift_g) in geo.items():
             alpha = [math.degrees(math.atan(hull_chain(shape.scan, az).base_tan_alpha()))
                      for az in np.arange(0.0, 360.0, args.orientation_step)]
             print(f"{rock}: rolling on its hull in {len(alpha)} planes; base alpha {min(alpha):.1f}-{max(alpha):.1f}"
-                  " deg")
+                  f" deg (uplift from {uplift_g:.3f} g)")
     else:
         geo = bodies(args.data, PivotRule[args.pivots], args.footprint_mm / 1e3)
         task = _one_test

@@ -244,8 +244,7 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
         return simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=history)
     if isinstance(geometry, HullChain):
         return _rolling_scene(ah_ms2, av_ms2, dt_s, geometry, restitution=restitution, mu=mu, g_ms2=g_ms2,
-                              history=history,
-                              width_factor=width_factor, height_factor=height_factor,
+                              history=history, width_factor=width_factor, height_factor=height_factor,
                               restitution_scale=restitution_scale)
     two = geometry.two_sided(width_factor=width_factor, height_factor=height_factor)
     factor = restitution_factor(geometry, restitution) * restitution_scale
