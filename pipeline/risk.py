@@ -12,7 +12,8 @@ governing record, and says why in words:
 * p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
   :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
 * the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
-* stations whose records have no verdict (a 3D model stopped where the base would slide or lift off): "check",
+* stations whose records have no verdict (the ground fell faster than gravity, a 3D model stopped where the base
+  would slide or lift off, or a cap): "check",
   never "no action";
 * no record screened at all (every record failed): "not screened", with the failures' count, never "no action";
 * otherwise "no action".
@@ -33,7 +34,7 @@ import numpy as np
 import xarray as xr
 
 from .rocking.orientation import Orientation
-from .rocking.planner import Physics, Response
+from .rocking.planner import FreeFlight, Physics, Response
 from .scene_table import SCENE
 from .schema import INVENTORY_PREFIX
 from .uncertainty.robust import Robustness
@@ -94,7 +95,7 @@ def _margin_words(sim_scale: float, governing: str) -> str:
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
                    stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan,
-                   undecided: int = 0, failed: int = 0) -> str:
+                   undecided: int = 0, undecided_why: str = "", failed: int = 0) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -121,6 +122,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         (stations whose record overturns the asset, stations screened).
     undecided : int
         Stations whose records all leave the asset without a verdict (the model stopped).
+    undecided_why : str
+        Why, in words (:func:`undecided_causes`).
     failed : int
         Records that could not be screened (said where none was).
     """
@@ -133,8 +136,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if stations is not None:
         why.append(f"{stations[0]} of {stations[1]} stations overturn it")
         if undecided:
-            why.append(f"{undecided} of {stations[1]} stations have no verdict (the model stopped where the base "
-                       "would slide or lift off)")
+            why.append(f"{undecided} of {stations[1]} stations have no verdict "
+                       f"({undecided_why or 'the model stopped'})")
     small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
@@ -152,6 +155,21 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if undecided:
         return "check: " + "; ".join(why)
     return "no action: " + "; ".join(why)
+
+
+def undecided_causes(ds: xr.Dataset, rows: np.ndarray, j: int) -> str:
+    """Why the scenes ``rows`` (a mask over records) of block ``j`` have no verdict, in words: the ground falling
+    faster than gravity, a 3D model's base that would slide or lift off, or a simulator's cap."""
+    flight = ds[SCENE.free_flight].values[rows, j] == FreeFlight.ground_flight if SCENE.free_flight in ds else []
+    physics = ds[SCENE.physics].values[rows, j]
+    causes = []
+    if np.any(flight):
+        causes.append("the ground fell faster than gravity")
+    if np.any(np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)):
+        causes.append("a 3D model stopped where the base would slide or lift off")
+    if np.any(~np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)):
+        causes.append("the simulation stopped at a cap")
+    return "; ".join(causes)
 
 
 def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
@@ -271,7 +289,8 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
                                              p_record=probabilities["p_record"], governing=gov or "the records",
                                              stations=(stations_over, n_stations),
                                              p_words=probabilities["p_words"], slide_m=slide,
-                                             undecided=undecided, failed=int((~ok).sum())),
+                                             undecided=undecided, failed=int((~ok).sum()),
+                                             undecided_why=undecided_causes(ds, ok & (verdict[:, j] < 0), j)),
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })

@@ -203,8 +203,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                      "step_cap: ended there, the verdict from the state reached (the energy of its "
                                      "free rocking); tail_cap: motion after the record followed to its cap; "
                                      "model_limit: a 3D model (a cylinder, a box in 3D) stopped where its base "
-                                     "would slide or lift off (not modeled in 3D), or a scanned body's two-sided "
-                                     "model met a ground flight or its caps: no verdict. "
+                                     "would slide or lift off (not modeled in 3D), or a scanned body's model "
+                                     "(rolling or two-sided) met a ground flight or its caps: no verdict. "
                                      "The orientation scan ORs the planes simulated"}),
     "overturn_simulated": (("record", "block"), None, "overturning by the nonlinear time history",
                            {**TRISTATE,

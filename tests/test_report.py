@@ -20,7 +20,7 @@ from pipeline.config import SimulationConfig
 from pipeline.constants import G
 from pipeline.rocking.block import Block
 from pipeline.rocking.excitation import pulse
-from pipeline.rocking.planner import simulate_scene
+from pipeline.rocking.planner import Physics, simulate_scene
 from pipeline.run.chart import simulated_critical_acceleration, stability_chart
 from pipeline.run.margins import governing_records, overturn_scale_simulated
 from pipeline.store import open_results
@@ -395,6 +395,28 @@ def test_stations_without_a_verdict_are_counted_and_never_give_no_action():
     text = recommendation(crit_overturns=False, response=0, governing="G", stations=(0, 9), undecided=3,
                           p_max=0.02, p_record="R3", sim_scale=math.inf)
     assert text.startswith("check:") and "3 of 9 stations have no verdict" in text, text
+
+
+@pytest.mark.parametrize("physics, flight, words", [
+    ((Physics.rolling, Physics.rolling), (1, 0),
+     "the ground fell faster than gravity; the simulation stopped at a cap"),
+    ((Physics.rocking3d, Physics.wobbling), (0, 0), "a 3D model stopped where the base would slide or lift off"),
+    ((Physics.two_sided,), (1,), "the ground fell faster than gravity"),
+])
+def test_the_recommendation_says_why_a_scene_has_no_verdict(physics, flight, words):
+    """The cause of a missing verdict as the scenes stored it (a scanned body's falling ground is not a 3D model's
+    sliding base)."""
+    import xarray as xr
+
+    from pipeline.risk import recommendation, undecided_causes
+
+    ds = xr.Dataset({"physics": (("record", "block"), np.array(physics)[:, None]),
+                     "free_flight": (("record", "block"), np.array(flight)[:, None])})
+    why = undecided_causes(ds, np.ones(len(physics), dtype=bool), 0)
+    assert why == words
+    text = recommendation(crit_overturns=False, response=0, governing="G", stations=(0, 9), undecided=2,
+                          p_max=0.02, p_record="R3", sim_scale=math.inf, undecided_why=why)
+    assert f"2 of 9 stations have no verdict ({words})" in text, text
 
 
 @pytest.mark.parametrize("kw, start, words", [

@@ -14,7 +14,8 @@ leaves it the same way. **Pivot changes**: where theta reaches a bound, the next
 ``omega+ = omega- (I_G + r_new . r_old) / (I_G + R_new^2)`` (Housner's argument, his 1 - 3/2 sin^2 alpha for a
 rectangle), times a declared factor. Elsewhere the vertices are the scan's facets of one curved surface over which
 the body rolls: the change keeps the kinetic energy (``omega+ = omega- sqrt(I_old / I_new)``), as rolling on the
-curve the facets approximate would. A landing slower than :data:`REST_OMEGA` rests the body on its base; so does
+curve the facets approximate would. A landing slower than :data:`REST_RATIO` times sqrt(g / k) (k the radius of
+gyration about G: the body's own rate, so that the rule keeps similitude) rests the body on its base; so does
 a slow change elsewhere where the new pivot turns the body back while the old one pushes it on (it sits on the
 edge between them, a tilted rest).
 
@@ -54,8 +55,9 @@ SUBSTEPS = 4
 BISECTIONS = 30
 #: Pivot changes within one step before the scene is ended without a verdict (``STATUS_EVENT_CAP``)
 MAX_EVENTS_PER_STEP = 200
-#: A rebound slower than this rests the body on the edge it landed on [rad s-1]
-REST_OMEGA = 1e-3
+#: A rebound slower than this fraction of sqrt(g / k) (k: the radius of gyration about G) rests the body on the edge
+#: it landed on [-]
+REST_RATIO = 1e-4
 #: The free motion after the record is followed this long [s]
 TAIL_S = 10.0
 
@@ -163,6 +165,7 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
     n, npiv = len(ah), len(pivots)
     steps = n - 1 + int(TAIL_S / dt)
     h = dt / SUBSTEPS
+    rest_omega = REST_RATIO * math.sqrt(g / math.sqrt(inertia))
     theta, omega, k, edge = 0.0, 0.0, -1, rest          # k: the pivot (-1: resting on edge ``edge``)
     hi_max, lo_max, impacts, changes = 0.0, 0.0, 0, 0
     demand, status = 0.0, 0
@@ -225,7 +228,7 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 impacts += int(landing)
                 changes += 1
                 events += 1
-                if abs(omega) < REST_OMEGA and (landing or _held(theta, u, z, pivots[nk, 0], pivots[nk, 1],
+                if abs(omega) < rest_omega and (landing or _held(theta, u, z, pivots[nk, 0], pivots[nk, 1],
                                                                   inertia, a_at, v_at, 1.0 if th1 > hi else -1.0)):
                     k, omega = -1, 0.0
                     break
