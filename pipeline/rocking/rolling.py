@@ -121,6 +121,18 @@ def _contact_force(theta, omega, u, z, inertia, ah, gv):
 
 
 @jit
+def _contact(theta, omega, u, z, inertia, ah, gv, demand, status):
+    """(demand, status) updated with the contact at the pivot (u, z) while G has not passed it: the largest
+    |f_x| / f_z, and ``STATUS_LIFTOFF`` where f_z <= 0."""
+    fx, fz, rx = _contact_force(theta, omega, u, z, inertia, ah, gv)
+    if rx * u >= 0.0:                                   # G past the pivot: it falls, nothing to hold
+        return demand, status
+    if fz <= 0.0:
+        return demand, status | STATUS_LIFTOFF
+    return max(demand, abs(fx) / fz), status
+
+
+@jit
 def _rk4(theta, omega, u, z, inertia, a0, a1, v0, v1, h):
     """One Runge-Kutta step of length h [s], the ground going linearly from a0 to a1 and g + a_v from v0 to v1
     [m s-2]."""
@@ -196,12 +208,7 @@ def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
                 th1, om1 = _rk4(theta, omega, u, z, inertia, a_s, ab, v_s, vb, left)
                 if lo <= th1 <= hi:
                     theta, omega = th1, om1
-                    fx, fz, rx = _contact_force(theta, omega, u, z, inertia, ab, vb)
-                    if rx * u < 0.0:                   # G not past the pivot: the contact must hold
-                        if fz <= 0.0:
-                            status |= STATUS_LIFTOFF
-                        else:
-                            demand = max(demand, abs(fx) / fz)
+                    demand, status = _contact(theta, omega, u, z, inertia, ab, vb, demand, status)
                     break
                 f0, f1 = 0.0, 1.0                          # the bound's crossing, by bisection
                 for _ in range(BISECTIONS):
