@@ -18,8 +18,9 @@ axis. ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` th
 under rockscreen's amplitude, size and restitution spreads (the largest over the
 :data:`~pipeline.uncertainty.two_sided.CANDIDATES` planes nearest to overturning at the nominal; ``--samples``
 draws at most), ``p_random_orientation`` the probability under an orientation drawn at random among the planes,
-and ``overturning_planes_deg`` the planes that overturn it; the summary adds the verdicts if the orientation were
-known, estimated by leave-one-motion-out (the baseline's protocol, one parameter).
+and ``overturning_planes_deg`` the planes that overturn it (a false alarm's ``why`` says in how many); the summary
+adds the verdicts if the orientation were known, estimated by leave-one-motion-out (the baseline's protocol, one
+parameter).
 
 ``--model two_sided`` rocks each rock on one pivot per side (:mod:`pipeline.shapes.plane`,
 :mod:`pipeline.rocking.two_sided`): the footprint's extreme points within ``--footprint-mm`` (default rockscreen's
@@ -172,6 +173,7 @@ def _one_test_rolling(job) -> list[dict]:
         nominal = got.search.scenes
         row["overturn_nominal"] = int(got.result.scene.overturned)
         row["orientations_overturning"] = float(np.mean([sc.overturned for _pl, sc in nominal]))
+        row["planes"] = len(nominal)
         row["overturning_planes_deg"] = ";".join(f"{pl.body_deg:g}" for pl, sc in nominal if sc.overturned)
         row["p_overturn"] = got.probability.worst.p
         row["p_random_orientation"] = got.probability.random
@@ -187,11 +189,16 @@ def _one_test_rolling(job) -> list[dict]:
 def why(row: dict) -> str:
     """What a wrong verdict of the worst pose is, measured: a missed overturning the table could not even lift at any
     pose (its peak below the smallest g tan alpha: the pivots or the base's rolling are not the rock's); one it lifted
-    but no pose and no draw overturned; one only some draws overturned (a sensitive scene); a false alarm."""
+    but no pose and no draw overturned; one only some draws overturned (a sensitive scene); a false alarm (with the
+    rolling model: in how many of the planes, and which: the orientation that decides it)."""
     if row["overturn_nominal"] == row["observed"]:
         return ""
     if row["observed"] == 0:
-        return "false alarm"
+        planes = [a for a in row.get("overturning_planes_deg", "").split(";") if a]
+        if not planes:
+            return "false alarm"
+        share = round(row["orientations_overturning"] * row["planes"])
+        return f"false alarm: overturns in {share} of {row['planes']} orientations ({', '.join(planes)} deg)"
     if row["table_pga_g"] <= row["uplift_pga_g"]:
         return "missed: below uplift at every pose"
     return ("missed: some draws overturn" if row["p_overturn"] > 0
@@ -392,7 +399,8 @@ def main() -> None:
         kinds: dict[str, int] = {}
         for r in rows:
             if r["rock"] == rock and r["why"]:
-                kinds[r["why"]] = kinds.get(r["why"], 0) + 1
+                kind = r["why"].split(":")[0] if r["why"].startswith("false alarm") else r["why"]
+                kinds[kind] = kinds.get(kind, 0) + 1
         print(f"{rock} wrong verdicts (worst pose): " + ", ".join(f"{k} {v}" for k, v in sorted(kinds.items())))
     for r in table:
         print(f"{r['rock']} {r['predictor']:<40} accuracy {r['accuracy']:.3f}  F1 {r['f1']:.3f}  Brier "
