@@ -165,15 +165,15 @@ def test_a_declared_restitution_is_a_rectangles_landing_ratio(restitution):
     """The factor on the landing ratio makes a rectangle's landing keep the declared ratio, as the planar kernel's
     restitution does; the rule's own ratio is Housner's 1 - 3/2 sin^2 alpha."""
     from pipeline.rocking.rolling import landing_ratio
-    from pipeline.rocking.scanned import rolling_restitution_factor
+    from pipeline.rocking.scanned import restitution_factor
 
     chain = rectangle_chain(*RECTANGLE)
     alpha = math.atan(RECTANGLE[0] / RECTANGLE[1])
     for onto_plus in (True, False):
         assert landing_ratio(chain, onto_plus=onto_plus) == pytest.approx(1 - 1.5 * math.sin(alpha) ** 2, rel=1e-12)
-        assert (landing_ratio(chain, onto_plus=onto_plus) * rolling_restitution_factor(chain, restitution)
+        assert (landing_ratio(chain, onto_plus=onto_plus) * restitution_factor(chain, restitution)
                 == pytest.approx(restitution, rel=1e-12))
-    assert rolling_restitution_factor(chain, math.nan) == 1.0
+    assert restitution_factor(chain, math.nan) == 1.0
 
 
 @pytest.mark.parametrize("fw,fh", [(1.2, 0.9), (0.8, 1.1)])

@@ -93,15 +93,13 @@ class ScannedPlane(NamedTuple):
     Attributes
     ----------
     record_deg : float
-        Compass azimuth the record is projected on [deg, in [0, 360)].
-    sense : float
-        +1, or -1 for the recorded horizontal's opposite sense.
+        Compass azimuth the record is projected on [deg, in [0, 360)] (the opposite sense of a horizontal is the
+        body's plane + 180 deg: its planes run over 360 deg).
     body_deg : float
         The body's plane facing it, in its settled axes [deg, from x toward y, in [0, 360)].
     """
 
     record_deg: float
-    sense: float
     body_deg: float
 
 
@@ -114,22 +112,30 @@ class PlaneSearch(NamedTuple):
         The worst plane's scene (its azimuth: the record's compass direction).
     governing : ScannedPlane
         That plane.
-    ranked : list of ScannedPlane
-        Every plane simulated, the nearest to overturning first (overturned, then the largest theta_max).
     scenes : list of (ScannedPlane, Scene)
         Every plane simulated and its scene, in the order simulated.
     """
 
     result: PlaneResult
     governing: ScannedPlane
-    ranked: list[ScannedPlane]
     scenes: list[tuple[ScannedPlane, Scene]]
+
+    @property
+    def ranked(self) -> list[ScannedPlane]:
+        """Every plane simulated, the nearest to overturning first (overturned, then the largest theta_max; the
+        order simulated on ties)."""
+        return [pl for pl, _sc in sorted(self.scenes, key=lambda item: (-item[1].overturned, -item[1].theta_max))]
+
+
+def full_circle(grid_deg: np.ndarray) -> np.ndarray:
+    """A grid over [0, 180) doubled to [0, 360) [deg]: a scanned body's two sides differ."""
+    return np.concatenate([grid_deg, grid_deg + 180.0])
 
 
 def body_planes(grid_deg: np.ndarray) -> list[float]:
     """The body's planes a search with an unknown orientation runs over: the grid over [0, 180) doubled to
     [0, 360) [deg]."""
-    return [float(phi) for phi in np.concatenate([grid_deg, grid_deg + 180.0])]
+    return [float(phi) for phi in full_circle(grid_deg)]
 
 
 def scene_planes(shape: BlockShape, *, direction_deg: float, grid_deg: np.ndarray, single_component: bool,
@@ -139,21 +145,18 @@ def scene_planes(shape: BlockShape, *, direction_deg: float, grid_deg: np.ndarra
     scan = shape.scan
     assert scan is not None
     if azimuth_known and not single_component and math.isfinite(shape.azimuth_deg):
-        full = np.concatenate([grid_deg, grid_deg + 180.0])
-        return [ScannedPlane(float((shape.azimuth_deg - phi) % 360.0), 1.0, float(phi)) for phi in full]
-    return [ScannedPlane(float(direction_deg % 360.0), 1.0, phi) for phi in body_planes(grid_deg)]
+        return [ScannedPlane(float((shape.azimuth_deg - phi) % 360.0), phi) for phi in body_planes(grid_deg)]
+    return [ScannedPlane(float(direction_deg % 360.0), phi) for phi in body_planes(grid_deg)]
 
 
 def record_planes(plane: ScannedPlane, grid_deg: np.ndarray) -> list[ScannedPlane]:
     """The body's plane of ``plane`` facing every direction of the record's grid over 360 deg but its own."""
-    full = np.concatenate([grid_deg, grid_deg + 180.0])
-    return [plane._replace(record_deg=float(psi)) for psi in full if float(psi) != plane.record_deg]
+    return [plane._replace(record_deg=float(psi)) for psi in full_circle(grid_deg) if float(psi) != plane.record_deg]
 
 
 def along(horizontal_ms2: np.ndarray, azimuth0_deg: float, plane: ScannedPlane) -> np.ndarray:
-    """The record's horizontal motion along a plane's compass direction, in its sense [m s-2]."""
-    return plane.sense * np.ascontiguousarray(project(np.atleast_2d(horizontal_ms2), azimuth0_deg, plane.record_deg),
-                                              dtype=float)
+    """The record's horizontal motion along a plane's compass direction [m s-2]."""
+    return np.ascontiguousarray(project(np.atleast_2d(horizontal_ms2), azimuth0_deg, plane.record_deg), dtype=float)
 
 
 def plane_geometry(scan: ScannedShape, body_deg: float, settings: SimulationConfig) -> PlaneGeometry:
@@ -197,21 +200,17 @@ def uplift_tan_alpha(geometry: PlaneGeometry, *, width_factor: float = 1.0, heig
     return math.tan(min(two.side(1.0)[0], two.side(-1.0)[0]))
 
 
-def restitution_factor(body: PlaneBody, restitution: float) -> float:
+def restitution_factor(body: PlaneBody | HullChain, restitution: float) -> float:
     """The factor on the impact rule's ratios of a declared restitution (NaN: the rule's own, 1): the declared value
-    over the geometric mean of the two sides' ratios, so that a rectangle's impacts keep the declared ratio."""
+    over the geometric mean of the rule's ratios onto either side (the two-sided body's impacts, the rolling
+    chain's landings on the two ends of its base), so that a rectangle's impacts keep the declared ratio."""
     if not math.isfinite(restitution):
         return 1.0
-    two = body.two_sided()
-    return restitution / math.sqrt(max(two.impact_ratio(1.0) * two.impact_ratio(-1.0), 1e-300))
-
-
-def rolling_restitution_factor(chain: HullChain, restitution: float) -> float:
-    """The factor on the rolling model's landing ratios of a declared restitution (NaN: the rule's own, 1), as
-    :func:`restitution_factor` takes it for the two ends of the base."""
-    if not math.isfinite(restitution):
-        return 1.0
-    both = landing_ratio(chain, onto_plus=True) * landing_ratio(chain, onto_plus=False)
+    if isinstance(body, HullChain):
+        both = landing_ratio(body, onto_plus=True) * landing_ratio(body, onto_plus=False)
+    else:
+        two = body.two_sided()
+        both = two.impact_ratio(1.0) * two.impact_ratio(-1.0)
     return restitution / math.sqrt(max(both, 1e-300))
 
 
@@ -279,7 +278,7 @@ def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, c
     static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); a pivot that needs more friction
     than ``mu`` is flagged (``friction_exceeded``, response slide_rock) and one whose normal force reaches 0 too
     (``free_flight`` block_liftoff), the rolling verdict kept, as pure rocking's is without the contact model."""
-    factor = rolling_restitution_factor(chain, restitution) * restitution_scale
+    factor = restitution_factor(chain, restitution) * restitution_scale
     body = chain if width_factor == 1.0 and height_factor == 1.0 else chain.scaled(width_factor=width_factor,
                                                                                      height_factor=height_factor)
     theta = np.zeros(np.asarray(ah_ms2).size) if history else None
@@ -333,7 +332,6 @@ def worst_scanned(horizontal_ms2: np.ndarray, azimuth0_deg: float, av_ms2: np.nd
         assert best is not None
         run(record_planes(best[2], then_grid_deg))
     assert best is not None
-    ranked = [pl for pl, _sc in sorted(scenes, key=lambda item: (-item[1].overturned, -item[1].theta_max))]
     return PlaneSearch(PlaneResult(scene=best[1], azimuth_deg=best[2].record_deg, planes_simulated=len(scenes),
                                    responses=tuple((pl.record_deg, sc.theta_max) for pl, sc in scenes)),
-                       best[2], ranked, scenes)
+                       best[2], scenes)

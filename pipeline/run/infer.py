@@ -6,8 +6,9 @@ optionally, the azimuth it fell towards), find the idealized pulses
 
 * by the paper's criterion (closed form, Eqs. 1, 5, 7 and the sliding line
   a_p <= mu g): a block overturns where a_p >= max(v_crit / (beta t_p), g tan alpha);
-* by the nonlinear rocking simulation of the idealized pulse at every grid point (a body given by its scan: the
-  two-sided model in its weakest plane, the pulse in either sense; the criterion takes its equivalent rectangle).
+* by the nonlinear rocking simulation of the idealized pulse at every grid point (a body given by its scan: its
+  model, ``[simulation] scanned_model``, in its weakest plane by the footprint, the pulse in either sense; the
+  criterion takes its equivalent rectangle).
 
 The pulse acts along an axis at azimuth phi. A block with a rocking plane
 (``azimuth_deg`` in the inventory) feels a_p |cos(phi - plane)|; a block free

@@ -72,9 +72,10 @@ def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, s
     if base is None or z is None:
         return ScannedScene(res, NOT_EVALUATED_ORIENTATION, code, search)
     unknown = not given
+    ranked = search.ranked if unknown else []
     worst, random = scanned_probability(base, z, shape,
-                                        candidates=search.ranked[:CANDIDATES] if unknown else [search.governing],
-                                        planes=search.ranked if unknown else None, settings=cfg.uncertainty,
+                                        candidates=ranked[:CANDIDATES] if unknown else [search.governing],
+                                        planes=ranked if unknown else None, settings=cfg.uncertainty,
                                         simulation=settings, g_ms2=cfg.records.g_ms2)
     if not unknown:
         random = worst
@@ -89,8 +90,8 @@ def _governing_plane(rec, shape: BlockShape, record_deg: float, *, settings: Sim
     facing it; else the worst of the body's planes facing it (:func:`~pipeline.rocking.scanned.body_planes`)."""
     assert shape.scan is not None
     if rec.azimuth_known and not rec.single_component and math.isfinite(shape.azimuth_deg):
-        return ScannedPlane(record_deg, 1.0, (shape.azimuth_deg - record_deg) % 360.0)
-    planes = [ScannedPlane(record_deg, 1.0, phi) for phi in body_planes(plane_grid(settings.orientation_step_deg))]
+        return ScannedPlane(record_deg, (shape.azimuth_deg - record_deg) % 360.0)
+    planes = [ScannedPlane(record_deg, phi) for phi in body_planes(plane_grid(settings.orientation_step_deg))]
     return worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape, planes,
                          settings=settings, g_ms2=g_ms2).governing
 
@@ -135,8 +136,8 @@ def governing_scale(rec, shape: BlockShape, record_deg: float, *, settings: Simu
 def scanned_margins(rec, shape: BlockShape, record_deg: float, cfg: Config, settings: SimulationConfig, *,
                     overturned: bool, want_history: bool) -> tuple:
     """A scanned body's margin task on its governing record (as :func:`~.margins.margin_task` returns it): the
-    margin in its governing plane (the smaller of the two senses of one horizontal), its history when at risk, and
-    the sampled margins (each draw's own scan, as factors on the nominal record)."""
+    margin in the plane that governs the record's direction (:func:`governing_scale`), its history when at risk,
+    and the sampled margins (each draw's own scan, as factors on the nominal record)."""
     assert shape.scan is not None
     g = cfg.records.g_ms2
     scale, runs, governing = governing_scale(rec, shape, record_deg, settings=settings, g_ms2=g,
