@@ -178,7 +178,7 @@ def _one_test_rolling(job) -> list[dict]:
         row["p_overturn"] = got.probability.worst.p
         row["p_random_orientation"] = got.probability.random
         row["draws"] = got.probability.worst.drawn
-        row["undecided_draws"] = got.probability.worst.free_flight + sum(int(sc.verdict < 0) for _pl, sc in nominal)
+        row["undecided_draws"] = got.probability.worst.without_verdict + sum(int(sc.verdict < 0) for _pl, sc in nominal)
         row["table_pga_g"] = float(np.max(np.abs(ah)) / G)
         row["uplift_pga_g"] = uplift_g
         row["why"] = why(row)

@@ -209,11 +209,15 @@ def sampling(samples: int, tier: str) -> bool:
     return samples > 0 and tier != "criterion"
 
 
+def tier_of(attrs: dict) -> str:
+    """The fidelity tier of the run that wrote a results file, from its attributes (``rockscreen_config``)."""
+    return str(json.loads(attrs.get("rockscreen_config", "{}")).get("fidelity", {}).get("tier", "full"))
+
+
 def sampling_of(attrs: dict) -> bool:
     """:func:`sampling` of the run that wrote a results file, from its attributes (``uncertainty_samples`` and the
     tier in ``rockscreen_config``)."""
-    tier = json.loads(attrs.get("rockscreen_config", "{}")).get("fidelity", {}).get("tier", "full")
-    return sampling(int(attrs.get("uncertainty_samples", 0)), str(tier))
+    return sampling(int(attrs.get("uncertainty_samples", 0)), tier_of(attrs))
 
 
 #: Float keys for which 0 is a valid value (it switches an approximation or a refinement off).

@@ -3,22 +3,27 @@
 
 Recommendation rule (per asset; thresholds here). It weighs the probability of overturning under the
 declared uncertainty (the largest over the records, when the run sampled) and the simulated margin on the
-governing record, and says why in words:
+governing record, and says why in words. A scene or a sample without a verdict is unknown, never safe: the
+rule also weighs ``p_overturn_with_unknown``, the largest over the records of the fraction of samples that
+overturn or have no verdict (the unknown counted as overturning).
 
 * p >= :data:`P_ANCHOR`, or (without sampling) a simulated margin <= 1: "restrain or anchor" (a margin <= 1
   for an asset that stands under its governing record means the record scaled down overturns it: a window
   of overturning below the nominal amplitude, flagged ``overturns_below_nominal``);
-* free flight on the governing record (g + a_v <= 0 before any overturning) and no probability: "no verdict";
 * p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
   :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
+* stations whose records have no verdict (the ground fell faster than gravity, a model stopped where the base
+  would slide, twist or lift off, or a cap), or samples without a verdict that could lift p to
+  :data:`P_RELOCATE`: "at risk until judged", with how many and why, never "no action" nor "limit sliding";
 * the governing scene slides (or the pure-rocking friction demand exceeds mu): "limit sliding";
-* stations whose records have no verdict (the ground fell faster than gravity, a 3D model stopped where the base
-  would slide or lift off, or a cap): "check",
-  never "no action";
 * no record screened at all (every record failed): "not screened", with the failures' count, never "no action";
+* the paper's criterion alone (fidelity ``criterion``, no simulation): "check by simulation", never "no action":
+  the criterion misses most overturnings;
 * otherwise "no action".
 
-Every recommendation that counts the stations overturning the asset also counts those without a verdict.
+Every recommendation that counts the stations overturning the asset also counts those without a verdict. An
+asset with any station or sample without a verdict is never ``robust_stand`` and its simulated verdict never
+reads "stands" alone.
 
 References
 ----------
@@ -53,16 +58,21 @@ RESPONSE_NAMES = {-1: "not simulated", **{m.value: m.name for m in Response}}
 PHYSICS_NAMES = {-1: "not simulated", **{m.value: m.name for m in Physics}}
 VERDICT = {-1: "n/a", 0: "stands", 1: "overturns"}
 ROBUSTNESS_NAMES = {-1: "", **{m.value: m.name for m in Robustness}}
+#: The robustness an asset reads where some station or sample has no verdict and its judged ones would stand.
+ROBUSTNESS_UNKNOWN = "unknown"
 
 #: Columns of assets.csv (their headers: :data:`ASSETS_CSV_HEADERS` adds the unit to a name); a column named as a
 #: screening.nc variable holds that variable (same units: height and width [m], slenderness [rad],
 #: frequency_parameter [rad s-1], azimuths [deg]) for the asset's governing scene, except
 #: p_overturn (the worst orientation), its interval, p_overturn_azimuth (the plane it is for [deg]),
 #: p_overturn_random_orientation (an unknown orientation) and robustness, which are those of the record with the
-#: largest p_overturn (``p_record``). ``stations_*`` count the records of one station recording in several files
-#: once (``records_*`` count files). Extra inventory columns follow, as given.
+#: largest p_overturn (``p_record``). ``p_overturn_with_unknown``: the largest over the records of (samples that
+#: overturn + samples without a verdict) / samples drawn; ``draws_without_verdict`` and ``draws``: the samples
+#: without a verdict and the samples drawn, summed over the records. ``stations_*`` count the records of one station
+#: recording in several files once (``records_*`` count files). Extra inventory columns follow, as given.
 ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", "mu", "slenderness",
                  "frequency_parameter", SCENE.p_overturn, SCENE.p_overturn_low, SCENE.p_overturn_high, "p_record",
+                 "p_overturn_with_unknown", "draws_without_verdict", "draws",
                  SCENE.p_overturn_azimuth, SCENE.p_overturn_random_orientation, SCENE.robustness,
                  "stations_p_half", "records_sensitive", "stations_overturning", "stations_screened",
                  "stations_without_verdict",
@@ -95,7 +105,9 @@ def _margin_words(sim_scale: float, governing: str) -> str:
 def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, overturned: bool = True,
                    p_max: float = math.nan, p_record: str = "", governing: str = "the governing record",
                    stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan,
-                   undecided: int = 0, undecided_why: str = "", failed: int = 0) -> str:
+                   undecided: int = 0, undecided_why: str = "", failed: int = 0,
+                   unknown_draws: tuple[int, int] = (0, 0), p_with_unknown: float = math.nan,
+                   criterion_only: bool = False) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -126,35 +138,62 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         Why, in words (:func:`undecided_causes`).
     failed : int
         Records that could not be screened (said where none was).
+    unknown_draws : tuple of int
+        (samples without a verdict, samples drawn), summed over the records.
+    p_with_unknown : float
+        The largest over the records of the fraction of samples that overturn or have no verdict [-].
+    criterion_only : bool
+        The run judged by the paper's criterion alone (fidelity ``criterion``).
     """
     if stations is not None and stations[1] == 0:
         return ("not screened: no record was screened" + (f" ({failed} failed; the report lists each failure and "
                                                           "its fix)" if failed else ""))
     sampled = np.isfinite(p_max)
     why = [p_words or f"p = {p_max:.2f} under {p_record}"] if sampled else []
-    why.append(_margin_words(sim_scale, governing))
+    if not criterion_only:
+        why.append(_margin_words(sim_scale, governing))
     if stations is not None:
-        why.append(f"{stations[0]} of {stations[1]} stations overturn it")
-        if undecided:
-            why.append(f"{undecided} of {stations[1]} stations have no verdict "
-                       f"({undecided_why or 'the model stopped'})")
+        why.append(f"{stations[0]} of {stations[1]} stations overturn it" + (" by the paper's criterion"
+                                                                              if criterion_only else ""))
+    unknown_words = _unknown_words(stations, undecided, undecided_why, unknown_draws, p_with_unknown)
+    why += unknown_words
     small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
             why.append("it stands under the record itself: overturning is not monotonic in amplitude")
         return "restrain or anchor: " + "; ".join(why)
-    if response == Response.free_flight and not sampled:
-        return "no verdict: free flight (the ground's g + a_v reached 0 before any overturning)"
     if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
         if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
             why.append("the paper's criterion predicts overturning")
         return "restrain, or relocate: " + "; ".join(why)
+    unknown_matters = undecided > 0 or (response == Response.free_flight and not sampled) or (
+        np.isfinite(p_with_unknown) and p_with_unknown >= P_RELOCATE)
+    if unknown_matters:
+        return ("at risk until judged: treat it as at risk until the records without a verdict are judged (a "
+                "model of the base's sliding, twisting or lift-off, or a check by another tool); " + "; ".join(why))
+    if criterion_only:
+        return ("check by simulation: the paper's criterion alone finds no overturning, and it is not conservative "
+                "(it misses most overturnings the simulation finds); run the default fidelity; " + "; ".join(why))
     if response in SLIDING_RESPONSES:
-        far = f" {slide_m:.2g} m" if np.isfinite(slide_m) else ""
+        far = f" {slide_m:.2g} m" if np.isfinite(slide_m) and slide_m > 0 else ""
         return f"limit sliding (friction pads or a restraint): it slides{far} under {governing}"
-    if undecided:
-        return "check: " + "; ".join(why)
     return "no action: " + "; ".join(why)
+
+
+def _unknown_words(stations: tuple[int, int] | None, undecided: int, undecided_why: str,
+                   unknown_draws: tuple[int, int], p_with_unknown: float) -> list[str]:
+    """What was not judged, in words: the stations without a verdict and why, the samples without one and what
+    they could make of p."""
+    out = []
+    if undecided and stations is not None:
+        out.append(f"overturning not judged on {undecided} of {stations[1]} stations "
+                   f"({undecided_why or 'the model stopped'})")
+    if unknown_draws[0]:
+        words = f"{unknown_draws[0]} of {unknown_draws[1]} samples have no verdict"
+        if np.isfinite(p_with_unknown):
+            words += f" (counted as overturning, p reaches {p_with_unknown:.2f})"
+        out.append(words)
+    return out
 
 
 def undecided_causes(ds: xr.Dataset, rows: np.ndarray, j: int) -> str:
@@ -166,10 +205,62 @@ def undecided_causes(ds: xr.Dataset, rows: np.ndarray, j: int) -> str:
     if np.any(flight):
         causes.append("the ground fell faster than gravity")
     if np.any(np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)):
-        causes.append("a 3D model stopped where the base would slide or lift off")
-    if np.any(~np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)):
+        causes.append("the model stops where the base slides, twists or lifts off")
+    scanned = np.isin(physics, (Physics.two_sided, Physics.rolling)) & ~np.asarray(flight, dtype=bool)
+    left_out = _left_out(ds, rows, j)
+    if np.any(scanned & left_out):
+        causes.append("a scanned body's pivot would slip or lift off, which its model does not follow")
+    if np.any(~np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)
+              & ~(scanned & left_out)):
         causes.append("the simulation stopped at a cap")
     return "; ".join(causes)
+
+
+def _station_counts(stations: np.ndarray, ok: np.ndarray, verdict: np.ndarray) -> tuple[int, int, int]:
+    """Stations whose record overturns the block, stations whose records all left it without a verdict, and stations
+    screened (``verdict`` over the records: 1, 0, -1)."""
+    decided = set(stations[ok & (verdict >= 0)].tolist())
+    return (len(set(stations[ok & (verdict == 1)].tolist())),
+            len(set(stations[ok & (verdict < 0)].tolist()) - decided), len(set(stations[ok].tolist())))
+
+
+def _left_out(ds: xr.Dataset, rows: np.ndarray, j: int) -> np.ndarray:
+    """Whether each scene ``rows`` of block ``j`` was flagged for an effect its model leaves out (friction exceeded
+    at a pivot, or the block's own lift-off)."""
+    n = int(np.sum(rows))
+    exceeded = ds[SCENE.friction_exceeded].values[rows, j] == 1 if SCENE.friction_exceeded in ds else np.zeros(n, bool)
+    lift = (ds[SCENE.free_flight].values[rows, j] == FreeFlight.block_liftoff if SCENE.free_flight in ds
+            else np.zeros(n, bool))
+    return np.asarray(exceeded | lift, dtype=bool)
+
+
+def _unknown_samples(ds: xr.Dataset, ok: np.ndarray, j: int) -> tuple[int, int, float]:
+    """Block ``j``'s samples without a verdict and samples drawn, summed over the records ``ok``, and the largest
+    over those records of (overturned + without a verdict) / drawn (NaN: not sampled)."""
+    if SCENE.samples_without_verdict not in ds:
+        return 0, 0, math.nan
+    drawn = np.where(ok, ds[SCENE.samples_drawn].values[:, j], 0).astype(float)
+    unknown = np.where(ok, ds[SCENE.samples_without_verdict].values[:, j], 0).astype(float)
+    over = np.where(ok, ds[SCENE.samples_overturned].values[:, j], 0).astype(float)
+    drawn, unknown, over = (np.maximum(a, 0.0) for a in (drawn, unknown, over))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        frac = np.where(drawn > 0, (over + unknown) / drawn, np.nan)
+    return int(unknown.sum()), int(drawn.sum()), float(np.nanmax(frac)) if np.isfinite(frac).any() else math.nan
+
+
+def _verdict_words(sim: int, response: int, slide_m: float, undecided: int, n_stations: int,
+                   unknown_samples: int) -> str:
+    """The simulation's verdict under the governing record, in words; never "stands" alone where a station or a
+    sample has no verdict."""
+    words = VERDICT[sim] + (f" (slides {slide_m:.2g} m)" if response in SLIDING_RESPONSES and np.isfinite(slide_m)
+                            and slide_m > 0 else "")
+    if sim == 1:
+        return words
+    if sim < 0:
+        words = "not judged"
+    gaps = ([f"not judged on {undecided} of {n_stations} stations"] if undecided else []) + (
+        [f"{unknown_samples} samples without a verdict"] if unknown_samples else [])
+    return f"unknown: {words} under the governing record; " + "; ".join(gaps) if gaps else words
 
 
 def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
@@ -226,13 +317,24 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
             "p_words": words}
 
 
-def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> list[dict]:
-    """One row per block, ranked by risk: the largest probability of overturning over the records, then the
-    number of stations with p_overturn >= 0.5, then the most stations that overturn it (nominal), the
-    smallest simulated margin, the criterion's margin and the largest rotation.
+def _risk_key(r: dict) -> tuple:
+    """An asset row's place in the ranking (:func:`asset_rows`), smallest first (NaN: not sampled, last)."""
+    return (-np.nan_to_num(np.fmax(r[SCENE.p_overturn], r["p_overturn_with_unknown"]), nan=-1.0),
+            -r["stations_p_half"], -(r["stations_overturning"] + r["stations_without_verdict"]),
+            np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
+            np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r[SCENE.theta_max], nan=-1.0))
+
+
+def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, criterion_only: bool = False
+               ) -> list[dict]:
+    """One row per block, ranked by risk: the largest probability of overturning over the records (with the
+    samples without a verdict counted as overturning where that is larger), then the number of stations with
+    p_overturn >= 0.5, then the most stations that overturn it (nominal) or have no verdict, the smallest simulated
+    margin, the criterion's margin and the largest rotation.
 
     ``station_of`` maps a record to the record that stands for its station recording (records of one
-    recording in several files count once); a record not in it is a station of its own.
+    recording in several files count once); a record not in it is a station of its own. ``criterion_only``: the
+    run judged by the paper's criterion alone (fidelity ``criterion``): no asset is cleared.
     """
     rows = []
     stations = np.array([(station_of or {}).get(r, r) for r in ds["record"].values.tolist()], dtype=object)
@@ -255,11 +357,11 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
         response = int(at(SCENE.response, -1))
         slide = float(at(SCENE.sliding_max))
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
-        stations_over = len(set(stations[ok & (verdict[:, j] == 1)].tolist()))
-        decided = set(stations[ok & (verdict[:, j] >= 0)].tolist())
-        undecided = len(set(stations[ok & (verdict[:, j] < 0)].tolist()) - decided)
-        n_stations = len(set(stations[ok].tolist()))
+        stations_over, undecided, n_stations = _station_counts(stations, ok, verdict[:, j])
         probabilities = _probabilities(ds, ok, j, stations, i)
+        unknown = _unknown_samples(ds, ok, j)
+        if (undecided or unknown[0]) and probabilities[SCENE.robustness] == Robustness.robust_stand.name:
+            probabilities[SCENE.robustness] = ROBUSTNESS_UNKNOWN
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
             "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
@@ -275,8 +377,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
             "records_overturning_ids": ";".join(overturning),
             "governing_record": gov, SCENE.governing_azimuth: float(at(SCENE.governing_azimuth)),
             "verdict_criterion": VERDICT[crit],
-            "verdict_simulation": VERDICT[sim] + (f" (slides {slide:.2g} m)" if response in SLIDING_RESPONSES
-                                                  and np.isfinite(slide) and slide > 0 else ""),
+            "verdict_simulation": _verdict_words(sim, response, slide, undecided, n_stations, unknown[0]),
             SCENE.theta_max: float(at(SCENE.theta_max)), SCENE.response: RESPONSE_NAMES[response],
             SCENE.physics: PHYSICS_NAMES[int(at(SCENE.physics, -1))],
             "overturn_scale": crit_scale, "overturn_scale_simulated": sim_scale, "overturns_below_nominal": below,
@@ -290,17 +391,15 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None) -> l
                                              stations=(stations_over, n_stations),
                                              p_words=probabilities["p_words"], slide_m=slide,
                                              undecided=undecided, failed=int((~ok).sum()),
-                                             undecided_why=undecided_causes(ds, ok & (verdict[:, j] < 0), j)),
+                                             undecided_why=undecided_causes(ds, ok & (verdict[:, j] < 0), j),
+                                             unknown_draws=unknown[:2], p_with_unknown=unknown[2],
+                                             criterion_only=criterion_only),
+            "draws_without_verdict": unknown[0], "draws": unknown[1], "p_overturn_with_unknown": unknown[2],
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,
         })
 
-    def risk(r: dict) -> tuple:
-        return (-np.nan_to_num(r[SCENE.p_overturn], nan=-1.0), -r["stations_p_half"], -r["stations_overturning"],
-                np.nan_to_num(r["overturn_scale_simulated"], nan=np.inf),
-                np.nan_to_num(r["overturn_scale"], nan=np.inf), -np.nan_to_num(r[SCENE.theta_max], nan=-1.0))
-
-    rows.sort(key=risk)
+    rows.sort(key=_risk_key)
     for k, r in enumerate(rows, 1):
         r["rank"] = k
     return rows

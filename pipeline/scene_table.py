@@ -51,7 +51,7 @@ class SceneColumns:
     robustness: np.ndarray
     samples_drawn: np.ndarray
     samples_overturned: np.ndarray
-    samples_free_flight: np.ndarray
+    samples_without_verdict: np.ndarray
     sample_simulations: np.ndarray
     p_overturn_azimuth: np.ndarray
     p_overturn_random_orientation: np.ndarray

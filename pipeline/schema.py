@@ -57,7 +57,7 @@ PULSE_BLOCK_VARS = ("block_pulse_azimuth", "block_pulse_ap", "block_pulse_tp", "
 #: Integer variables that are counts rather than flags (-1: not evaluated).
 INTEGER_DTYPES = {"n_impacts": "i4", "planes_simulated": "i4", "npts": "i4", "n_horizontal": "i1",
                   "margin_simulations": "i4", "pulse_candidate": "i1", "samples_drawn": "i4",
-                  "samples_overturned": "i4", "samples_free_flight": "i4", "sample_simulations": "i4",
+                  "samples_overturned": "i4", "samples_without_verdict": "i4", "sample_simulations": "i4",
                   "contact_modes": "i1", "simulation_guard": "i1"}
 
 #: Per (record, block) variables of the simulator.
@@ -72,7 +72,7 @@ FLOOR_PULSE_VALUES = ("is_pulse", "pulse_indicator", "pulse_period", "pulse_azim
 
 #: Per (record, block) variables of the uncertainty sampling (NaN / -1 where not sampled).
 PROBABILITY_VARS = ("p_overturn", "p_overturn_low", "p_overturn_high", "robustness", "samples_drawn",
-                    "samples_overturned", "samples_free_flight", "sample_simulations", "p_overturn_azimuth",
+                    "samples_overturned", "samples_without_verdict", "sample_simulations", "p_overturn_azimuth",
                     "p_overturn_random_orientation", "p_overturn_random_orientation_low",
                     "p_overturn_random_orientation_high")
 
@@ -278,20 +278,25 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                                           "on p_overturn_random_orientation (on the per-draw fractions)", {}),
     "p_overturn_random_orientation_high": (("record", "block"), "1", "upper bound of the two-sided Wilson "
                                            "interval on p_overturn_random_orientation", {}),
-    "p_overturn_low": (("record", "block"), "1", "lower bound of the two-sided Wilson interval on p_overturn",
+    "p_overturn_low": (("record", "block"), "1", "lower bound of the two-sided Wilson interval on p_overturn, the "
+                       "samples without a verdict counted as standing",
                        {"comment": "confidence: [uncertainty] confidence (default 0.90)"}),
-    "p_overturn_high": (("record", "block"), "1", "upper bound of the two-sided Wilson interval on p_overturn",
-                        {}),
+    "p_overturn_high": (("record", "block"), "1", "upper bound of the two-sided Wilson interval on p_overturn, the "
+                        "samples without a verdict counted as overturning", {}),
     "robustness": (("record", "block"), None, "how firmly the declared uncertainty decides the verdict",
                    {**flags(Robustness),
-                    "comment": "robust_stand: interval below [uncertainty] robust_below; robust_overturn: above "
+                    "comment": "robust_stand: interval below [uncertainty] robust_below and fewer than one "
+                               "sample in ten without a verdict; robust_overturn: above "
                                "robust_above; sensitive: otherwise (the verdict can flip under the declared "
                                "uncertainty). Sampling stops once the interval decides the class"}),
     "samples_drawn": (("record", "block"), "1", "samples drawn for the scene (sequential stop; -1: not sampled)",
                       {}),
     "samples_overturned": (("record", "block"), "1", "samples that overturned (-1: not sampled)", {}),
-    "samples_free_flight": (("record", "block"), "1", "samples without a verdict: the ground's g + a_v reached 0 "
-                            "before any overturning (-1: not sampled)", {}),
+    "samples_without_verdict": (("record", "block"), "1", "samples without a verdict, unknown: the model stopped "
+                                "where the base would slide, twist or lift off, the ground fell faster than gravity "
+                                "(contact model off), or a cap (-1: not sampled)",
+                                {"comment": "p_overturn_low counts them as standing, p_overturn_high as "
+                                            "overturning; never counted as standing in p_overturn"}),
     "sample_simulations": (("record", "block"), "1", "rocking or sliding planes integrated over the samples "
                            "(samples proven at rest cost none; -1: not sampled)", {}),
     # per record and component
@@ -579,6 +584,17 @@ FRAGILITY: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "fraction_overturned": (("block", "im_level"), "1", "mean over the stripe's records of the overturn outcome "
                             "(nominal verdict, or p_overturn when sampled)", {}),
     "n_records": (("block", "im_level"), "1", "records with a verdict in the stripe", {}),
+    "n_scaled": (("block", "im_level"), "1", "records scaled to the level, with a verdict or without", {}),
+    "n_unjudged": (("block", "im_level"), "1", "records without a verdict in the stripe (a sampled scene counts "
+                   "by its fraction of samples without a verdict)",
+                   {"comment": "unknown, never standing: the median_unjudged_* fits count them both ways"}),
+    "n_sliding": (("block", "im_level"), "1", "records whose nominal scene slides or slide-rocks at the level", {}),
+    "median_unjudged_overturn": (("block",), IM_UNITS, "median of the fit with the records and samples without a "
+                                 "verdict counted as overturning (the lower bound they allow)", {}),
+    "beta_unjudged_overturn": (("block",), "1", "dispersion of that fit", {}),
+    "median_unjudged_stand": (("block",), IM_UNITS, "median of the fit with the records and samples without a "
+                              "verdict counted as standing (the upper bound they allow)", {}),
+    "beta_unjudged_stand": (("block",), "1", "dispersion of that fit", {}),
     "overturned_sum": (("block", "im_level"), "1", "sum of the outcomes in the stripe (the fit's successes)", {}),
     "median": (("block",), IM_UNITS, "median theta of the lognormal fragility, maximum likelihood on the stripes "
                "(Baker 2015)", {"comment": "inf: nothing overturns at any level; 0: everything overturns at "
@@ -638,7 +654,11 @@ EVENT: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                               "top level tested where nothing overturned)", {}),
     "basis": (("block",), None, "what the probability rests on", flags(Basis, missing=None)),
     "level": (("block",), None, "inspection level (thresholds: global attributes level_low, level_medium, "
-              "level_high)", flags(Level, missing=None)),
+              "level_high)", {**flags(Level, missing=None),
+                              "comment": "never none where the asset slid at the site's shaking (sliding_risk) or "
+                                         "where P is unknown; records without a verdict are ranked as overturning"}),
+    "sliding_risk": (("block",), None, "the site's median shaking reaches a level at which the asset slid in the "
+                     "fragility's stripes", TRUE_FALSE),
     "level_previous": (("block",), None, "the level in the previous version of the same event's ShakeMap run into "
                        "this output", flags(Level, missing="not_evaluated")),
     "priority": (("block",), "1", "rank in the inspection list (1: first): by the governing probability "

@@ -130,8 +130,10 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
     raw = [(r["block"], k) for r in rows for k, v in r.items() if v.strip().lower() in ("nan", "inf", "-inf")]
     assert not raw and any(v == "" for r in rows for v in r.values()), raw
     assert len(rows) == n_blocks and [int(r["rank"]) for r in rows] == list(range(1, n_blocks + 1))
-    # ranked by the number of stations that overturn the asset, then by the simulated margin (NaN last)
-    key = [(-int(r["stations_overturning"]), float(r["overturn_scale_simulated"] or "nan")) for r in rows]
+    # ranked by the number of stations that overturn the asset or have no verdict (unknown is never safe), then by
+    # the simulated margin (NaN last)
+    key = [(-int(r["stations_overturning"]) - int(r["stations_without_verdict"]),
+            float(r["overturn_scale_simulated"] or "nan")) for r in rows]
     for (n1, m1), (n2, m2) in zip(key, key[1:]):
         assert n1 < n2 or (n1 == n2 and (math.isnan(m2) or m1 <= m2))
     # the count is the records whose verdict is "overturns", recounted from screening.nc
@@ -394,13 +396,14 @@ def test_stations_without_a_verdict_are_counted_and_never_give_no_action():
     from pipeline.risk import recommendation
     text = recommendation(crit_overturns=False, response=0, governing="G", stations=(0, 9), undecided=3,
                           p_max=0.02, p_record="R3", sim_scale=math.inf)
-    assert text.startswith("check:") and "3 of 9 stations have no verdict" in text, text
+    assert text.startswith("at risk until judged:") and "overturning not judged on 3 of 9 stations" in text, text
+    assert "no action" not in text
 
 
 @pytest.mark.parametrize("physics, flight, words", [
     ((Physics.rolling, Physics.rolling), (1, 0),
      "the ground fell faster than gravity; the simulation stopped at a cap"),
-    ((Physics.rocking3d, Physics.wobbling), (0, 0), "a 3D model stopped where the base would slide or lift off"),
+    ((Physics.rocking3d, Physics.wobbling), (0, 0), "the model stops where the base slides, twists or lifts off"),
     ((Physics.two_sided,), (1,), "the ground fell faster than gravity"),
 ])
 def test_the_recommendation_says_why_a_scene_has_no_verdict(physics, flight, words):
@@ -416,7 +419,7 @@ def test_the_recommendation_says_why_a_scene_has_no_verdict(physics, flight, wor
     assert why == words
     text = recommendation(crit_overturns=False, response=0, governing="G", stations=(0, 9), undecided=2,
                           p_max=0.02, p_record="R3", sim_scale=math.inf, undecided_why=why)
-    assert f"2 of 9 stations have no verdict ({words})" in text, text
+    assert f"overturning not judged on 2 of 9 stations ({words})" in text, text
 
 
 @pytest.mark.parametrize("kw, start, words", [

@@ -51,6 +51,7 @@ class Basis(IntEnum):
     bounds_only = 2        # the fit did not bound the median: only p_low and p_high are given
     cannot_rock = 3        # the block is too wide to rock (alpha >= 54.7 deg): it cannot overturn
     no_fragility = 4       # the fragility run has no fit for the block
+    unjudged = 5           # the fit, with records or samples without a verdict: p_high counts them as overturning
 
 
 @dataclass(frozen=True)
@@ -66,6 +67,11 @@ class Fragilities:
     level_min: float
     level_max: float
     can_rock: np.ndarray
+    #: the fit with the records and samples without a verdict counted as overturning (NaN: none had no verdict)
+    median_unjudged: np.ndarray | None = None
+    beta_unjudged: np.ndarray | None = None
+    #: the lowest level at which some record's nominal scene slid [SI] (inf: none slid)
+    slides_from: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -76,8 +82,11 @@ class EventRisk:
     p_low: np.ndarray
     p_high: np.ndarray
     basis: np.ndarray
-    #: the probability the ranking and the level use: p, or p_high where p is not given
+    #: the probability the ranking and the level use: p, or p_high where p is not given; where records or samples
+    #: had no verdict, at least the probability with them counted as overturning
     p_rank: np.ndarray
+    #: the site's median shaking reaches a level at which the asset slid in the fragility's stripes
+    sliding: np.ndarray
 
 
 def convolved(median: np.ndarray, log_sd: np.ndarray, theta: np.ndarray, beta: np.ndarray, *,
@@ -136,15 +145,28 @@ def event_risk(median: np.ndarray, log_sd: np.ndarray, frag: Fragilities, *, k_s
     p, p_low, p_high = (np.where(rigid, 0.0, a) for a in (p, p_low, p_high))
     basis = np.where(rigid, Basis.cannot_rock, basis)
     p_rank = np.where(np.isfinite(p), p, p_high)
-    return EventRisk(p, p_low, p_high, basis.astype(np.int8), p_rank)
+    if frag.median_unjudged is not None and frag.beta_unjudged is not None:
+        # records without a verdict are unknown, never standing: P with them counted as overturning bounds p_high
+        # and the rank from above (the fit of the judged records alone may read safer than they allow)
+        has = np.isfinite(frag.median_unjudged) & ~rigid & ~missing
+        p_unjudged = convolved(median, log_sd, frag.median_unjudged, frag.beta_unjudged, k_sigma=k_sigma)
+        p_high = np.where(has, np.fmax(p_high, p_unjudged), p_high)
+        p_rank = np.where(has, np.fmax(p_rank, p_unjudged), p_rank)
+        basis = np.where(has & (basis != Basis.bounds_only), Basis.unjudged, basis)
+    sliding = (np.zeros(np.shape(median), dtype=bool) if frag.slides_from is None
+               else np.nan_to_num(shaking, nan=0.0) >= frag.slides_from)
+    return EventRisk(p, p_low, p_high, basis.astype(np.int8), p_rank, sliding)
 
 
-def levels(p: np.ndarray, thresholds: tuple[float, float, float]) -> np.ndarray:
+def levels(p: np.ndarray, thresholds: tuple[float, float, float], *, at_least_low=None) -> np.ndarray:
     """The inspection level of each probability: high at or above ``thresholds[2]``, medium at or above
-    ``thresholds[1]``, low at or above ``thresholds[0]``, else none (NaN: high, since nothing is known)."""
+    ``thresholds[1]``, low at or above ``thresholds[0]``, else none (NaN: high, since nothing is known);
+    ``at_least_low`` (a mask): never none there (an asset the screening found sliding at the site's shaking)."""
     low, medium, high = thresholds
     p = np.asarray(p, dtype=float)
     out = np.full(p.shape, Level.none, dtype=np.int8)
+    if at_least_low is not None:
+        out[np.asarray(at_least_low, dtype=bool)] = Level.low
     out[p >= low] = Level.low
     out[p >= medium] = Level.medium
     out[(p >= high) | np.isnan(p)] = Level.high

@@ -176,7 +176,10 @@ def _p_text(v: dict, k: int) -> str:
     """Asset ``k``'s P for the page (``v``: event.nc's arrays): two decimals, its bounds where it is not given."""
     p, lo, hi = (float(v[n][k]) for n in ("p_overturn_event", "p_overturn_event_low", "p_overturn_event_high"))
     if math.isfinite(p):
-        return f"{p:.2f}" if p >= 0.005 or p == 0 else "<0.01"
+        text = f"{p:.2f}" if p >= 0.005 or p == 0 else "<0.01"
+        if int(v["basis"][k]) == Basis.unjudged and math.isfinite(hi):
+            text += f" (up to {hi:.2f}: records not judged, counted as overturning)"
+        return text
     return f"{lo:.2f}-{hi:.2f}" if math.isfinite(lo) and math.isfinite(hi) else "no fit"
 
 
@@ -194,7 +197,9 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
         prev = int(v["level_previous"][k])
         rows.append({
             "priority": int(v["priority"][k]), "id": inv.ids[k], "name": inv.names[k], "site": inv.sites[k],
-            "level": level.name, "colour": LEVEL_COLOURS[level], "p": _p_text(v, k),
+            "level": level.name + (" (it slides at this shaking)" if "sliding_risk" in v and v["sliding_risk"][k]
+                                   else ""),
+            "colour": LEVEL_COLOURS[level], "p": _p_text(v, k),
             "bounds": f"{float(v['p_overturn_event_low'][k]):.2f}-{float(v['p_overturn_event_high'][k]):.2f}",
             "basis": Basis(int(v["basis"][k])).name.replace("_", " "), "field": str(v["shakemap_field"][k]),
             "shaking": number_text(v["shaking_median"][k], ".3g", factor=factor),

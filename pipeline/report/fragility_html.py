@@ -152,6 +152,7 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
             "im_ranking": ";".join(f"{ims[k]}={beta_im[k]:.3g}" for k in order if np.isfinite(beta_im[k])),
             "at_risk": int(ds["fit_status"].values[j]) != FitStatus.none_overturn,
             "can_rock": bool(int(ds["can_rock"].values[j])) if "can_rock" in ds else True,
+            **_unjudged_row(ds, j, factor),
         })
     # by the rate, or where none could be computed (nothing overturned up to the top level) by its upper bound
     rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"] if np.isfinite(r["annual_rate_overturn"])
@@ -159,6 +160,21 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
     for k, r in enumerate(rows, 1):
         r["rank"] = k
     return rows
+
+
+def _unjudged_row(ds: xr.Dataset, j: int, factor: float) -> dict:
+    """Block ``j``'s records without a verdict (summed over the stripes, and the stripe with most), and its medians
+    with them counted as overturning and as standing [display units]."""
+    if "n_unjudged" not in ds:
+        return {"unjudged": 0.0, "unjudged_most": "", "median_unjudged_overturn_shown": math.nan,
+                "median_unjudged_stand_shown": math.nan}
+    u = ds["n_unjudged"].values[j]
+    k = int(np.argmax(u))
+    return {"unjudged": float(u.sum()),
+            "unjudged_most": (f"{u[k]:.3g} of {int(ds['n_scaled'].values[j, k])} at "
+                              f"{float(ds['im_level'].values[k]) / factor:.4g}"),
+            "median_unjudged_overturn_shown": float(ds["median_unjudged_overturn"].values[j]) / factor,
+            "median_unjudged_stand_shown": float(ds["median_unjudged_stand"].values[j]) / factor}
 
 
 def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardSet | None = None
@@ -184,7 +200,8 @@ def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardSet |
         attrs=ds.attrs, assets=rows, hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
         levels_shown=(ds["im_level"].values / float(ds.attrs.get("im_display_factor", 1.0))).tolist(),
         unit_shown=UNIT_WORDS.get(ds.attrs.get("im_display_unit", ""), ds.attrs.get("im_units", "")),
-        n_records=ds.sizes["record"], drawn=drawn, at_risk=sum(r["at_risk"] for r in rows),
+        n_records=ds.sizes["record"], drawn=drawn, unjudged=sum(r["unjudged"] > 0 for r in rows),
+        at_risk=sum(r["at_risk"] for r in rows),
         mean_beta={im: float(np.nanmedian(np.where(np.isfinite(ds["beta_im"].values[:, k]),
                                                    ds["beta_im"].values[:, k], np.nan)))
                    if np.isfinite(ds["beta_im"].values[:, k]).any() else math.nan for k, im in enumerate(ims)},

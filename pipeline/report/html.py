@@ -29,7 +29,7 @@ import xarray as xr
 from markupsafe import Markup, escape
 
 from .. import __version__
-from ..config import sampling_of
+from ..config import CRITERION_MEASURED_MISSES, sampling_of, tier_of
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
@@ -216,7 +216,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     cache = FigureCache(Path(figure_cache) if figure_cache is not None else None)
     groups = recording_groups(ds, pulses)
     station_of = {r: grp.kept for grp in groups for r in grp.records}
-    assets = asset_rows(ds, station_of=station_of)
+    assets = asset_rows(ds, station_of=station_of, criterion_only=tier_of(ds.attrs) == "criterion")
     histories = _histories(results_path.parent / "histories.nc")
     drawn = _theta_figures(assets, histories, cache)
     resp = ds[SCENE.response].values
@@ -266,6 +266,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
     resp = ds[SCENE.response].values
     counts = Counter(r["recommendation"].split(":")[0] for r in assets)
     sampled = sampling_of(ds.attrs)
+    criterion_only = tier_of(ds.attrs) == "criterion"
     return {
         "records_ok": int(ok.sum()), "records_failed": int((~ok).sum()),
         "stations": len({station_of.get(r, r) for r in ds["record"].values[ok].tolist()}),
@@ -285,6 +286,11 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "by_recommendation": counts.most_common(),
         "scenes": int(ok.sum()) * ds.sizes["block"],
         "free_flight_scenes": int(np.sum(resp[ok] == Response.free_flight)),
+        "unjudged_assets": sum(1 for r in assets if r["stations_without_verdict"] or r["draws_without_verdict"]),
+        "unjudged_scenes": int(np.sum(ds[SCENE.overturn_simulated].values[ok] < 0)) if not criterion_only else 0,
+        "unjudged_samples": sum(r["draws_without_verdict"] for r in assets),
+        "draws": sum(r["draws"] for r in assets),
+        "criterion_only": criterion_only, "criterion_misses": CRITERION_MEASURED_MISSES,
         "free_flight_records": [str(r) for r in ds["record"].values[ok][
             np.any(resp[ok] == Response.free_flight, axis=1)]],
         "guarded": guarded_scenes(ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)

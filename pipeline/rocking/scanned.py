@@ -10,14 +10,17 @@ Which planes (:func:`scene_planes`; a body's plane is given in its settled axes,
 since its two sides differ; a record's direction ``psi`` meets the body's plane ``B - psi``, B the compass direction
 of the body's +x):
 
-* **a given azimuth** on two horizontals of known azimuth: every plane of the body on the grid (``step_deg``),
+The body's planes (:func:`body_planes`) are the grid's (``step_deg``, in the body's settled axes) and the plane in
+which it tips most easily, wherever the mesh's rotation puts it.
+
+* **a given azimuth** on two horizontals of known azimuth: every one of the body's planes,
   each under the record's projection on that plane's compass direction; the worst is kept;
 * **a blank azimuth** (or a record whose absolute azimuth is unknown): the orientation is unknown, so the search
-  runs over both the body's plane and the record's direction, one after the other: every plane of the body on the
-  grid facing the record's pulse axis; then the worst of them facing every direction of the record's grid over 360
+  runs over both the body's plane and the record's direction, one after the other: every one of the body's planes
+  facing the record's pulse axis; then the worst of them facing every direction of the record's grid over 360
   deg (:func:`record_planes`); the worst is kept. This coordinate search is a stated choice: the worst pair of the
   full grid of both (72 x 72 runs) may be worse, and so may a plane between the grid's;
-* **one horizontal**: the recorded direction, every plane of the body on the grid facing it (its azimuth, rarely
+* **one horizontal**: the recorded direction, every one of the body's planes facing it (its azimuth, rarely
   known for one horizontal, is not used).
 
 The scene's verdict is the model's: neither slides (each records the pivot's friction demand and
@@ -37,7 +40,7 @@ import numpy as np
 from ..constants import G
 from ..records.record import project
 from ..shapes.hull import HullChain, hull_chain
-from ..shapes.plane import PlaneBody, chain_plane, plane_body
+from ..shapes.plane import PlaneBody, chain_plane, plane_body, weakest_plane
 from ..shapes.scan import ScannedShape
 from .block import Block, BlockShape
 from .codes import (
@@ -127,15 +130,26 @@ class PlaneSearch(NamedTuple):
         return [pl for pl, _sc in sorted(self.scenes, key=lambda item: (-item[1].overturned, -item[1].theta_max))]
 
 
+#: Two body planes closer than this are one [deg].
+SAME_PLANE_DEG = 1e-6
+
+
 def full_circle(grid_deg: np.ndarray) -> np.ndarray:
     """A grid over [0, 180) doubled to [0, 360) [deg]: a scanned body's two sides differ."""
     return np.concatenate([grid_deg, grid_deg + 180.0])
 
 
-def body_planes(grid_deg: np.ndarray) -> list[float]:
-    """The body's planes a search with an unknown orientation runs over: the grid over [0, 180) doubled to
-    [0, 360) [deg]."""
-    return [float(phi) for phi in full_circle(grid_deg)]
+def body_planes(grid_deg: np.ndarray, scan: ScannedShape | None = None) -> list[float]:
+    """The body's planes a search runs over: the grid over [0, 180) doubled to [0, 360) [deg], in the body's own
+    axes, and the plane in which it tips most easily (:func:`~pipeline.shapes.plane.weakest_plane`, the normal of
+    its footprint's edge nearest to G) where it falls between the grid's, so that the weakest plane is always judged
+    whatever the mesh's rotation."""
+    planes = [float(phi) for phi in full_circle(grid_deg)]
+    if scan is not None:
+        weak = weakest_plane(scan)
+        if min(abs((weak - phi + 180.0) % 360.0 - 180.0) for phi in planes) > SAME_PLANE_DEG:
+            planes.append(weak)
+    return planes
 
 
 def scene_planes(shape: BlockShape, *, direction_deg: float, grid_deg: np.ndarray, single_component: bool,
@@ -145,8 +159,8 @@ def scene_planes(shape: BlockShape, *, direction_deg: float, grid_deg: np.ndarra
     scan = shape.scan
     assert scan is not None
     if azimuth_known and not single_component and math.isfinite(shape.azimuth_deg):
-        return [ScannedPlane(float((shape.azimuth_deg - phi) % 360.0), phi) for phi in body_planes(grid_deg)]
-    return [ScannedPlane(float(direction_deg % 360.0), phi) for phi in body_planes(grid_deg)]
+        return [ScannedPlane(float((shape.azimuth_deg - phi) % 360.0), phi) for phi in body_planes(grid_deg, scan)]
+    return [ScannedPlane(float(direction_deg % 360.0), phi) for phi in body_planes(grid_deg, scan)]
 
 
 def record_planes(plane: ScannedPlane, grid_deg: np.ndarray) -> list[ScannedPlane]:
@@ -254,7 +268,9 @@ def plane_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, geom
                                   step_control(settings), theta)
     (a_plus, _r, _i), (a_minus, _r2, _i2) = two.side(1.0), two.side(-1.0)
     alpha = min(a_plus, a_minus)
-    guard = ((Guard.model_limit if out.status & NO_VERDICT_STATUS and not out.overturned else 0)
+    # a pivot that would slip is a sliding this model does not follow: no verdict, never "stands"
+    slips = out.friction_max > mu and not out.overturned
+    guard = ((Guard.model_limit if (out.status & NO_VERDICT_STATUS or slips) and not out.overturned else 0)
              | (Guard.tie_hold if out.status & STATUS_TIE_HOLD else 0)
              | (Guard.event_cap if out.status & STATUS_CHATTER else 0))
     flight = out.status & STATUS_GROUND_FLIGHT and not out.overturned
@@ -277,7 +293,8 @@ def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, c
     """One plane's scene by the rolling model (:mod:`.rolling`): theta_max and the history over each side's
     static tipping angle (:meth:`~pipeline.shapes.hull.HullChain.tipping_rad`); a pivot that needs more friction
     than ``mu`` is flagged (``friction_exceeded``, response slide_rock) and one whose normal force reaches 0 too
-    (``free_flight`` block_liftoff), the rolling verdict kept, as pure rocking's is without the contact model."""
+    (``free_flight`` block_liftoff); either leaves the scene without a verdict (``Guard.model_limit``) unless it
+    overturned: the slip or the lift-off is not modeled, so "stands" would not be a verdict."""
     factor = restitution_factor(chain, restitution) * restitution_scale
     body = chain if width_factor == 1.0 and height_factor == 1.0 else chain.scaled(width_factor=width_factor,
                                                                                      height_factor=height_factor)
@@ -289,7 +306,8 @@ def _rolling_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, c
     exceeded = out.friction_demand > mu
     response = (Response.overturn if out.overturned else Response.free_flight if flight
                 else Response.slide_rock if exceeded else Response.rock if moved else Response.rest)
-    guard = ((Guard.model_limit if out.verdict < 0 else 0)
+    left_out = (exceeded or bool(out.status & STATUS_LIFTOFF)) and not out.overturned
+    guard = ((Guard.model_limit if out.verdict < 0 or left_out else 0)
              | (Guard.event_cap if out.status & STATUS_EVENT_CAP else 0))
     return Scene(physics=Physics.rolling, response=response, overturned=bool(out.overturned),
                  theta_max=max(out.theta_max_plus / tip_plus, out.theta_max_minus / tip_minus),

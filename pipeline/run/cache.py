@@ -37,7 +37,7 @@ from .screening import RecordResult
 log = logging.getLogger(__name__)
 
 #: Bump when the entry layout changes: older entries are then ignored.
-ENTRY_FORMAT = 8
+ENTRY_FORMAT = 9
 
 
 def run_key(config_dict: dict, *, declared_units: dict, station_inventory_sha256: str = "",

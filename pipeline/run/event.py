@@ -43,14 +43,15 @@ OUTPUTS = ("event.nc", "inspection.csv", "event.html", "shakecast-facilities.xml
 #: The IMs of a fragility that a ShakeMap gives (as fields PGA, PGV, PSA..)
 SHAKEMAP_IMS = ("pga", "pgv", "sa")
 #: Columns of inspection.csv; ``{unit}`` is the unit of the shaking and the fragility median
-INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "p_overturn_event",
+INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "sliding_risk", "p_overturn_event",
                       "p_overturn_event_low", "p_overturn_event_high", "basis", "shakemap_field",
                       "shaking_median_{unit}", "shaking_log_sd", "log_sd_source", "fragility_median_{unit}",
                       "fragility_beta", "fit_status", "epicentral_distance_km", "station_record",
                       "station_distance_km", "p_overturn_record", "governed_by", "level_previous", "level_changed")
 LOG_SD_SOURCES = ("grid", "uncertainty", "default")
 #: The variables of fragility.nc an event reads
-FRAGILITY_READ = ("median", "beta", "median_low", "median_high", "fit_status", "beta_im")
+FRAGILITY_READ = ("median", "beta", "median_low", "median_high", "fit_status", "beta_im", "median_unjudged_overturn",
+                  "beta_unjudged_overturn", "n_unjudged", "n_sliding")
 
 
 class EventError(RockscreenError, ValueError):
@@ -173,9 +174,14 @@ def _fragilities(frag: xr.Dataset, inv: Inventory, g_ms2: float) -> tuple[Fragil
     def col(name: str) -> np.ndarray:
         return sel[name].values.astype(float) if name in sel else np.full(len(inv), math.nan)
 
+    unjudged = (sel["n_unjudged"].values > 0).any(axis=1) if "n_unjudged" in sel else np.zeros(len(inv), bool)
+    slid = sel["n_sliding"].values > 0 if "n_sliding" in sel else np.zeros((len(inv), levels.size), bool)
+    slides_from = np.where(slid.any(axis=1), np.min(np.where(slid, levels, np.inf), axis=1), np.inf)
     frags = Fragilities(col("median"), col("beta"), col("median_low"), col("median_high"),
                         sel["fit_status"].values.astype(int), float(levels.min()), float(levels.max()),
-                        np.asarray(geom.alpha) < ALPHA_MAX_ROCKING)
+                        np.asarray(geom.alpha) < ALPHA_MAX_ROCKING,
+                        median_unjudged=np.where(unjudged, col("median_unjudged_overturn"), np.nan),
+                        beta_unjudged=col("beta_unjudged_overturn"), slides_from=slides_from)
     return frags, 2.0 * math.pi / np.asarray(geom.p, dtype=float)
 
 
@@ -310,7 +316,7 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
                             stationxml=req.stationxml, progress=progress, command=req.command)
         warnings += near.notes
     rank, record_governs = governing(risk.p_rank, near)
-    level = levels(rank, thresholds)
+    level = levels(rank, thresholds, at_least_low=risk.sliding)
     order = sorted(range(len(inv)), key=lambda k: (-np.nan_to_num(rank[k], nan=2.0), inv.ids[k]))
     priority = np.empty(len(inv), dtype=np.int32)
     priority[order] = np.arange(1, len(inv) + 1)
@@ -320,6 +326,7 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
         "p_overturn_event": (("block",), risk.p), "p_overturn_event_low": (("block",), risk.p_low),
         "p_overturn_event_high": (("block",), risk.p_high), "basis": (("block",), risk.basis),
         "level": (("block",), level), "level_previous": (("block",), previous),
+        "sliding_risk": (("block",), risk.sliding.astype(np.int8)),
         "priority": (("block",), priority), "shaking_median": (("block",), shaking["median"]),
         "shaking_log_sd": (("block",), shaking["log_sd"]), "log_sd_source": (("block",), shaking["source"]),
         "shakemap_field": (("block",), shaking["field"].astype(str)),
@@ -379,7 +386,8 @@ def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[t
         prev = int(v["level_previous"])
         rows.append(dict(zip(columns, (
             int(v["priority"]), inv.ids[k], inv.names[k], inv.sites[k], f"{v['lon']:.5f}", f"{v['lat']:.5f}",
-            Level(int(v["level"])).name, _value(v["p_overturn_event"]), _value(v["p_overturn_event_low"]),
+            Level(int(v["level"])).name, "yes" if int(v["sliding_risk"]) == 1 else "",
+            _value(v["p_overturn_event"]), _value(v["p_overturn_event_low"]),
             _value(v["p_overturn_event_high"]), Basis(int(v["basis"])).name, str(v["shakemap_field"]),
             _value(v["shaking_median"] * factor), _value(v["shaking_log_sd"]),
             LOG_SD_SOURCES[int(v["log_sd_source"])], _value(v["fragility_median"] * factor),

@@ -45,6 +45,7 @@ from ..records.intensity import (
 )
 from ..records.loader import Failure, Scan, read_declared_units, scan_directory
 from ..rocking.rules import rocks
+from ..rocking.scene import Response
 from ..scene_table import SCENE
 from ..schema import FRAGILITY, apply_schema
 from ..uncertainty.fragility import FitStatus, bootstrap_stripes, fit_stripes, im_dispersion, open_interval
@@ -88,8 +89,10 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
     -------
     dict
         ``verdict`` (levels, blocks) int8 (1, 0, -1 no verdict or not scalable), ``p`` (levels, blocks: the
-        worst orientation), ``p_random`` (levels, blocks: an unknown orientation), ``factor`` (levels, blocks)
-        and ``im.<name>`` (blocks) for every IM of :data:`IMS`.
+        worst orientation), ``p_random`` (levels, blocks: an unknown orientation), ``p_unknown`` (levels,
+        blocks: the fraction of the samples without a verdict, NaN not sampled), ``slides`` (levels, blocks
+        int8: the nominal scene slides or slide-rocks, -1 not simulated), ``factor`` (levels, blocks) and
+        ``im.<name>`` (blocks) for every IM of :data:`IMS`.
     """
     _, blocks, _, directions = pulses_and_directions(rec, base)
     g = base.config.records.g_ms2
@@ -100,6 +103,8 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
     verdict = np.full((len(levels), nb), -1, dtype="i1")
     prob = np.full((len(levels), nb), np.nan)
     prob_random = np.full((len(levels), nb), np.nan)
+    unknown = np.full((len(levels), nb), np.nan)
+    slides = np.full((len(levels), nb), -1, dtype="i1")
     # blocks on floors: each floor's blocks are judged on that floor's motion, scaled by the factor that brings
     # the *ground* record to the level (the filter is linear: the floor of the scaled ground is the scaled
     # floor), so the fragility stays a function of the ground IM the hazard gives
@@ -111,18 +116,22 @@ def judge_record(rec, base: Context, im: str, levels, component: Component = Com
         else:                                      # the ground's blocks: the pulses already extracted above
             gdirections, gblocks = directions[idx], {n: np.asarray(v)[idx] for n, v in blocks.items()}
         part = _judge_levels(motions.record(key), sub, gblocks, gdirections, factors[:, idx])
-        verdict[:, idx], prob[:, idx], prob_random[:, idx] = part
-    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random, "factor": factors,
+        verdict[:, idx], prob[:, idx], prob_random[:, idx], unknown[:, idx], slides[:, idx] = part
+    return {"record_id": rec.record_id, "verdict": verdict, "p": prob, "p_random": prob_random,
+            "p_unknown": unknown, "slides": slides, "factor": factors,
             **{f"im.{k}": v for k, v in ims.items()}}
 
 
 def _judge_levels(rec, ctx: Context, blocks: dict, directions: np.ndarray, factors: np.ndarray):
-    """Verdicts and probabilities (levels, blocks) of the blocks of ``ctx`` on ``rec`` scaled by ``factors``."""
+    """Verdicts, probabilities, fractions of samples without a verdict and sliding (levels, blocks) of the blocks of
+    ``ctx`` on ``rec`` scaled by ``factors``."""
     g = ctx.config.records.g_ms2
     nl, nb = factors.shape
     verdict = np.full((nl, nb), -1, dtype="i1")
     prob = np.full((nl, nb), np.nan)
     prob_random = np.full((nl, nb), np.nan)
+    unknown = np.full((nl, nb), np.nan)
+    slides = np.full((nl, nb), -1, dtype="i1")
     simulate = ctx.config.fidelity.tier != "criterion"
     geo = ctx.inventory.geometry(g_ms2=g)
     rocking_blocks = ctx.inventory.rocking_blocks(g_ms2=g)  # once: Sa gives every block its own factor
@@ -136,13 +145,18 @@ def _judge_levels(rec, ctx: Context, blocks: dict, directions: np.ndarray, facto
                 verdict[j, sel] = np.nan_to_num(sim.overturn_simulated[sel], nan=-1).astype("i1")
                 prob[j, sel] = sim.p_overturn[sel]
                 prob_random[j, sel] = sim.p_overturn_random_orientation[sel]
+                drawn = sim.samples_drawn[sel]
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    unknown[j, sel] = np.where(drawn > 0, sim.samples_without_verdict[sel] / drawn, np.nan)
+                slides[j, sel] = np.where(np.isfinite(sim.response[sel]),
+                                          np.isin(sim.response[sel], SLIDING_CODES), -1).astype("i1")
             else:
                 crit = criteria.evaluate(f * ap, tp, blocks.get(SCENE.block_pulse_beta, np.nan),
                                          f * np.asarray(blocks.get(SCENE.block_pulse_dv, np.nan)), R_m=geo.R,
                                          alpha=geo.alpha, p=geo.p, mu=ctx.inventory.mu, g_ms2=g,
                                          form=ctx.config.criteria.form)
                 verdict[j, sel] = np.asarray(crit["overturn_criterion"])[sel]
-    return verdict, prob, prob_random
+    return verdict, prob, prob_random, unknown, slides
 
 
 def fragility_task(item: tuple, ctx: FragilityContext) -> dict:
@@ -241,6 +255,11 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
                                "records_failed": len(failures), "wall_time_s": time.perf_counter() - t0}
 
 
+#: The per-record results that have one row per level (merged and ordered with the levels)
+STRIPE_KEYS = ("verdict", "p", "p_random", "p_unknown", "slides", "factor")
+#: The responses that count as sliding in a stripe (:class:`~pipeline.rocking.scene.Response`)
+SLIDING_CODES = (int(Response.slide), int(Response.slide_rock))
+
 #: How a level's unit reads in a sentence (the option's suffix, ``cms``, is not a unit a reader knows)
 UNIT_WORDS = {"cms": "cm/s", "ms": "m/s", "cms2": "cm/s2", "ms2": "m/s2"}
 #: IMs ``--levels auto`` can start from the blocks' capacities: the uplift acceleration g min(tan alpha, mu) for
@@ -311,7 +330,7 @@ def merge_rounds(earlier: list[dict], later: list[dict]) -> list[dict]:
         if s is None:
             continue
         merged = dict(r)
-        for k in ("verdict", "p", "p_random", "factor"):
+        for k in STRIPE_KEYS:
             merged[k] = np.concatenate([r[k], s[k]], axis=0)
         out.append(merged)
     return out
@@ -350,7 +369,7 @@ def auto_stripes(run, inventory: Inventory, config: Config, im: str, *, say=None
         levels = np.concatenate([levels, np.array(sorted(add))])
     order = np.argsort(levels)
     for r in results:
-        for name in ("verdict", "p", "p_random", "factor"):
+        for name in STRIPE_KEYS:
             r[name] = np.asarray(r[name])[order]
     return levels[order], results, failures, counts
 
@@ -415,6 +434,11 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     z = np.nansum(outcome, axis=0)
     frac = np.where(n > 0, z / np.maximum(n, 1), np.nan)
     fit = fit_stripes(levels, z.T, n.T)
+    unjudged = _unjudged(results, outcome, factor, sampled=sampled, shape=(nl, nb))
+    scaled = np.sum(np.isfinite(factor), axis=0)                              # every record scaled, judged or not
+    # the fits bounded by the records without a verdict: counted as overturning, then as standing
+    fit_over = fit_stripes(levels, (z + unjudged.overturn_add).T, scaled.T)
+    fit_stand = fit_stripes(levels, (z + unjudged.stand_add).T, scaled.T)
     th_ci, be_ci = np.full((nb, 2), np.nan), np.full((nb, 2), np.nan)
     blocks = range(nb)
     label = f"blocks fitted ({bootstrap} bootstrap draws each)"
@@ -428,6 +452,11 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
     data = {
         "fraction_overturned": (("block", "im_level"), frac.T),
         "n_records": (("block", "im_level"), n.T.astype("i4")),
+        "n_scaled": (("block", "im_level"), scaled.T.astype("i4")),
+        "n_unjudged": (("block", "im_level"), unjudged.count.T),
+        "n_sliding": (("block", "im_level"), unjudged.sliding.T.astype("i4")),
+        "median_unjudged_overturn": (("block",), fit_over.theta), "beta_unjudged_overturn": (("block",), fit_over.beta),
+        "median_unjudged_stand": (("block",), fit_stand.theta), "beta_unjudged_stand": (("block",), fit_stand.beta),
         "overturned_sum": (("block", "im_level"), z.T),
         "median": (("block",), fit.theta), "beta": (("block",), fit.beta), "fit_status": (("block",), fit.status),
         "median_low": (("block",), th_ci[:, 0]), "median_high": (("block",), th_ci[:, 1]),
@@ -457,6 +486,41 @@ def assemble_fragility(results: list[dict], inventory: Inventory, config: Config
                      "bootstrap_draws": bootstrap, "Conventions": "CF-1.11",
                      "title": "rockscreen fragility: multiple-stripe analysis"})
     return apply_schema(ds, FRAGILITY)
+
+
+@dataclass(frozen=True)
+class Unjudged:
+    """Per stripe (levels, blocks): what the records without a verdict add to the overturned sum when counted as
+    overturning or as standing, their count (a sampled scene counts by the fraction of its samples without a
+    verdict), and the records whose nominal scene slid."""
+
+    overturn_add: np.ndarray
+    stand_add: np.ndarray
+    count: np.ndarray
+    sliding: np.ndarray
+
+
+def _unjudged(results: list[dict], outcome: np.ndarray, factor: np.ndarray, *, sampled: bool,
+              shape: tuple[int, int]) -> Unjudged:
+    """The records without a verdict of every stripe (:class:`Unjudged`). A scene without any verdict adds 1 when
+    counted as overturning and 0 as standing; a sampled scene with a verdict, p over its judged samples, is
+    k / n + u / n or k / n when its u samples without a verdict are counted as overturning or standing (its
+    outcome, p, already sits in the judged sum: the differences are added)."""
+    if not results:
+        zero = np.zeros(shape)
+        return Unjudged(zero, zero, zero, zero)
+    scaled = np.isfinite(factor)
+    none = scaled & ~np.isfinite(outcome)
+    over, stand, count = none.astype(float), np.zeros(outcome.shape), none.astype(float)
+    if sampled:
+        fu = np.stack([np.asarray(r.get("p_unknown", np.full(shape, np.nan)), dtype=float) for r in results])
+        fu = np.where(scaled & np.isfinite(outcome) & np.isfinite(fu), fu, 0.0)
+        p = np.nan_to_num(outcome)
+        over = over + (p * (1.0 - fu) + fu) - p
+        stand = stand + p * (1.0 - fu) - p
+        count = count + fu
+    slid = np.stack([np.asarray(r.get("slides", np.full(shape, -1)), dtype=int) for r in results]) == 1
+    return Unjudged(over.sum(axis=0), stand.sum(axis=0), count.sum(axis=0), (slid & scaled).sum(axis=0))
 
 
 def _im_ranking(results: list[dict], outcome: np.ndarray, factor: np.ndarray, names: list[str]) -> tuple:
@@ -540,8 +604,10 @@ def stripe_warnings(ds: xr.Dataset) -> list[str]:
         if empty.size:
             lv = ", ".join(f"{x:g}" for x in ds["im_level"].values[empty])
             out.append(f"block {block}: no record has a verdict at level(s) {lv} {ds.attrs['im_units']} (every "
-                       "record unscalable there, in free flight, or, for a cylinder in 3D, with a base that would "
-                       "slide or lift off before it tilts past alpha); those stripes are empty")
+                       "record unscalable there, in free flight, or with a base that would slide, twist or lift off "
+                       "where the model stops); those stripes are empty")
+    if "n_unjudged" in ds:
+        out += unjudged_words(ds)
     if "hazard_period_ratio" in ds:
         for j, block in enumerate(ds["block"].values.tolist()):
             ratio = float(ds["hazard_period_ratio"].values[j])
@@ -549,6 +615,26 @@ def stripe_warnings(ds: xr.Dataset) -> list[str]:
                 out.append(f"block {block}: its Sa period is {float(ds['block_period'].values[j]):.3g} s; the "
                            f"nearest hazard curve is for {float(ds['hazard_period'].values[j]):.3g} s (ratio "
                            f"{ratio:.2f}); give a curve nearer its period for a closer rate")
+    return out
+
+
+def unjudged_words(ds: xr.Dataset) -> list[str]:
+    """Per block whose stripes hold records without a verdict: how many, at which levels, and the median counted
+    both ways (the fit bounds), in words."""
+    out = []
+    unit = ds.attrs.get("im_display_unit", ds.attrs.get("im_units", ""))
+    factor = float(ds.attrs.get("im_display_factor", 1.0))
+    for j, block in enumerate(ds["block"].values.tolist()):
+        u = ds["n_unjudged"].values[j]
+        if not np.any(u > 0):
+            continue
+        worst = int(np.argmax(u))
+        lo, hi = (float(ds[v].values[j]) / factor for v in ("median_unjudged_overturn", "median_unjudged_stand"))
+        out.append(f"block {block}: {u.sum():.3g} record-levels without a verdict (up to {u[worst]:.3g} of "
+                   f"{int(ds['n_scaled'].values[j, worst])} records at "
+                   f"{float(ds['im_level'].values[worst]) / factor:.4g} "
+                   f"{unit}); counted as overturning the median is {lo:.4g} {unit}, as standing {hi:.4g} {unit}: "
+                   "the fit is bounded by them, and the event's P spans both")
     return out
 
 

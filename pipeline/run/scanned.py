@@ -91,7 +91,8 @@ def _governing_plane(rec, shape: BlockShape, record_deg: float, *, settings: Sim
     assert shape.scan is not None
     if rec.azimuth_known and not rec.single_component and math.isfinite(shape.azimuth_deg):
         return ScannedPlane(record_deg, (shape.azimuth_deg - record_deg) % 360.0)
-    planes = [ScannedPlane(record_deg, phi) for phi in body_planes(plane_grid(settings.orientation_step_deg))]
+    grid = plane_grid(settings.orientation_step_deg)
+    planes = [ScannedPlane(record_deg, phi) for phi in body_planes(grid, shape.scan)]
     return worst_scanned(rec.horizontal_ms2, float(rec.azimuths_deg[0]), rec.vertical_ms2, rec.dt_s, shape, planes,
                          settings=settings, g_ms2=g_ms2).governing
 

@@ -375,7 +375,7 @@ def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,
             time_free_flight=sc.t_flight, governing_azimuth=res.azimuth_deg, orientation=orientation,
             planes_simulated=res.planes_simulated, contact_modes=sc.contact_modes, simulation_guard=sc.guard,
             p_overturn=prob.p, p_overturn_low=prob.low, p_overturn_high=prob.high, robustness=prob.robustness,
-            samples_drawn=prob.drawn, samples_overturned=prob.overturned, samples_free_flight=prob.free_flight,
+            samples_drawn=prob.drawn, samples_overturned=prob.overturned, samples_without_verdict=prob.without_verdict,
             sample_simulations=orient.simulations, p_overturn_azimuth=orient.worst_azimuth_deg,
             p_overturn_random_orientation=orient.random, p_overturn_random_orientation_low=orient.random_low,
             p_overturn_random_orientation_high=orient.random_high)

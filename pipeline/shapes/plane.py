@@ -107,15 +107,39 @@ def plane_body(shape: ScannedShape, azimuth_deg: float, *, rule: PivotRule = Piv
     return PlaneBody(float(azimuth_deg), b_plus, b_minus, z, float(d @ second @ d), float(second[2, 2]))
 
 
-def weakest_plane(shape: ScannedShape, *, step_deg: float = 1.0, footprint_tol_m: float = FOOTPRINT_TOL_M) -> float:
-    """The plane in which the body tips most easily, toward its + side [deg, in [0, 360)]: the smallest footprint
-    extent b_+ over planes every ``step_deg`` (the first where several tie); every plane at once, one product of
-    the footprint with the planes' directions."""
-    grid = np.arange(0.0, 360.0, step_deg)
-    phi = np.radians(grid)
-    foot = shape.vertices_m[shape.vertices_m[:, 2] <= footprint_tol_m, :2]
-    b_plus = np.max(foot @ np.vstack([np.cos(phi), np.sin(phi)]), axis=0)
-    return float(grid[int(np.argmin(b_plus))])
+def weakest_plane(shape: ScannedShape, *, footprint_tol_m: float = FOOTPRINT_TOL_M) -> float:
+    """The plane in which the body tips most easily, toward its + side [deg, in [0, 360)]: the outward normal of the
+    footprint's convex-hull edge nearest to G (horizontally), whatever the mesh's rotation.
+
+    The extent b_+(phi) of a convex footprint along a direction phi is its support function, the distance from G to
+    the supporting line normal to phi; between two consecutive edge normals it is |v| cos(phi - phi_v) for the hull
+    vertex v between them, concave in phi, so its smallest value is at an edge normal: the edge nearest to G. A
+    footprint of two points (a knife edge) has the two normals of its segment."""
+    foot = np.unique(np.round(shape.vertices_m[shape.vertices_m[:, 2] <= footprint_tol_m, :2], 12), axis=0)
+    normals = _edge_normals(foot)
+    b_plus = np.max(foot @ normals.T, axis=0)
+    k = int(np.argmin(b_plus))
+    return float(math.degrees(math.atan2(normals[k, 1], normals[k, 0])) % 360.0)
+
+
+def _edge_normals(points: np.ndarray) -> np.ndarray:
+    """Unit outward normals of the convex hull's edges of 2D ``points`` (two directions for a segment, four axis
+    directions for a single point)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    if len(points) >= 3:
+        try:
+            hull = ConvexHull(points)
+            n = hull.equations[:, :2]
+            return n / np.linalg.norm(n, axis=1)[:, None]
+        except QhullError:              # collinear: a segment
+            pass
+    if len(points) >= 2:
+        span = points.max(axis=0) - points.min(axis=0)
+        d = span / np.linalg.norm(span)
+        n = np.array([-d[1], d[0]])
+        return np.vstack([n, -n, d, -d])
+    return np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
 
 
 def equivalent_rectangle(shape: ScannedShape, *, footprint_tol_m: float = FOOTPRINT_TOL_M) -> tuple[float, float]:

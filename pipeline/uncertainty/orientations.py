@@ -49,7 +49,7 @@ from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_plane_outcomes
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
-from .robust import Robustness, wilson_interval
+from .robust import Robustness, spanning_interval, wilson_interval
 from .sampling import common_normals, sample_block
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, scene_probability
 from .settings import UncertaintyConfig
@@ -327,12 +327,14 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
             sims += integrated
         drawn = int(rows[-1]) + 1
         v = outcome[:drawn]
-        k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
-        if n == 0:
+        k, unknown = int(np.sum(v == Verdict.overturns)), int(np.sum(v == Verdict.no_verdict))
+        if drawn == unknown:
             continue
-        lo, hi = wilson_interval(k, n, confidence=u.confidence)
-        mean, low, high = k / n, float(lo), float(hi)
-        if drawn >= SELECTION_BATCHES * batch and (high - low) / 2.0 <= u.orientation_average_halfwidth:
+        # the draws without a verdict are unknown: the interval spans them (standing below, overturning above)
+        mean = k / (drawn - unknown)
+        low, high = spanning_interval(k, unknown, drawn, confidence=u.confidence)
+        sampling_halfwidth = (high - low - unknown / drawn) / 2.0      # the unknown draws' share is no sampling error
+        if drawn >= SELECTION_BATCHES * batch and sampling_halfwidth <= u.orientation_average_halfwidth:
             break
     return mean, low, high, sims
 

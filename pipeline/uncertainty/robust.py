@@ -8,6 +8,12 @@ class:
 * ``robust_overturn``: the lower bound is above ``robust_above`` (default 0.9);
 * ``sensitive``: neither (the verdict can go either way under the declared uncertainty).
 
+A draw without a verdict (a model that stops where the base would slide or lift off, a ground falling
+faster than gravity, a cap) is unknown, never standing: the interval spans it
+(:func:`spanning_interval`: the lower bound counts such draws as standing, the upper as overturning),
+and a scene is ``robust_stand`` only where that interval says so and fewer than
+:data:`UNKNOWN_STAND_LIMIT` of its draws are unknown.
+
 Sequential rule: samples are drawn in batches; after each batch the interval is recomputed
 and sampling stops as soon as the interval lies wholly below ``robust_below`` or wholly above
 ``robust_above``; or wholly between the two (``sensitive`` is then decided) and at most
@@ -32,6 +38,9 @@ from functools import lru_cache
 from statistics import NormalDist
 
 import numpy as np
+
+#: A scene is ``robust_stand`` only where fewer than this fraction of its draws have no verdict [-].
+UNKNOWN_STAND_LIMIT = 0.1
 
 
 class Robustness(IntEnum):
@@ -74,6 +83,31 @@ def wilson_interval(k, n, *, confidence: float = 0.90) -> tuple[np.ndarray, np.n
     return low, high
 
 
+def spanning_interval(k: int, unknown: int, drawn: int, *, confidence: float = 0.90) -> tuple[float, float]:
+    """Wilson bounds on p that span the draws without a verdict.
+
+    Parameters
+    ----------
+    k : int
+        Draws that overturn.
+    unknown : int
+        Draws without a verdict.
+    drawn : int
+        Every draw, with and without a verdict.
+    confidence : float
+        Two-sided confidence level [-].
+
+    Returns
+    -------
+    low, high : float
+        The lower Wilson bound of k / drawn (the unknown draws counted as standing) and the upper one of
+        (k + unknown) / drawn (counted as overturning); NaN where nothing was drawn.
+    """
+    low, _ = wilson_interval(k, drawn, confidence=confidence)
+    _, high = wilson_interval(k + unknown, drawn, confidence=confidence)
+    return float(low), float(high)
+
+
 @lru_cache(maxsize=8)
 def _normal_quantile(q: float) -> float:
     """The standard normal quantile of ``q`` (computed once per confidence)."""
@@ -93,10 +127,14 @@ def classify(low: float, high: float, *, below: float, above: float) -> int | No
     return None
 
 
-def final_class(low: float, high: float, *, below: float, above: float) -> int:
+def final_class(low: float, high: float, *, below: float, above: float, unknown_fraction: float = 0.0) -> int:
     """The class once sampling has ended: an undecided interval is ``sensitive`` (it cannot
-    exclude probabilities between the thresholds), -1 without any verdict sample."""
+    exclude probabilities between the thresholds), and so is one that would stand while
+    :data:`UNKNOWN_STAND_LIMIT` or more of the draws (``unknown_fraction``) have no verdict;
+    -1 where nothing was drawn."""
     if math.isnan(low):
         return -1
     decided = classify(low, high, below=below, above=above)
+    if decided == Robustness.robust_stand and unknown_fraction >= UNKNOWN_STAND_LIMIT:
+        decided = Robustness.sensitive
     return int(Robustness.sensitive if decided is None else decided)

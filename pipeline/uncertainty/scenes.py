@@ -5,10 +5,13 @@ call per batch (:func:`pipeline.rocking.sampled.sample_verdicts`); after each ba
 interval is tested and sampling stops once it decides the robustness class
 (:mod:`.robust`). Samples proven at rest by the exact certificate are not integrated.
 
-``p_overturn`` = k / n over the samples with a verdict; samples whose ground reached
-g + a_v <= 0 before any overturning (free flight) have none and are counted apart. A scene
-whose first batch holds no sample with a verdict stops there (p undetermined, robustness -1):
-its ground leaves the contact model at every amplitude sampled.
+``p_overturn`` = k / n over the samples with a verdict. A sample without one (the ground fell
+faster than gravity with the contact model off, a 3D or scanned model stopped where the base would
+slide, twist or lift off, a cap) is unknown: it is counted apart, and the interval spans it
+(:func:`~.robust.spanning_interval`: the lower bound counts it as standing, the upper as
+overturning), so a scene with unknown samples is never reported safer than they allow. A scene
+whose first batch holds no sample with a verdict stops there: p undetermined, its interval
+[0, 1] and its class ``sensitive``.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from ..rocking.codes import Verdict
 from ..rocking.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
-from .robust import Robustness, classify, final_class, wilson_interval
+from .robust import Robustness, classify, final_class, spanning_interval
 from .sampling import sample_block
 from .settings import UncertaintyConfig
 
@@ -46,10 +49,10 @@ class Probability:
     high: float
     #: :class:`~.robust.Robustness` code, -1 when no sample had a verdict
     robustness: int
-    #: samples drawn, samples that overturned, samples in free flight (no verdict)
+    #: samples drawn, samples that overturned, samples without a verdict (unknown)
     drawn: int
     overturned: int
-    free_flight: int
+    without_verdict: int
     #: rocking or sliding planes integrated over all samples
     simulations: int
 
@@ -137,17 +140,24 @@ def sample_until_decided(n_max: int, judge, *, settings: UncertaintyConfig) -> P
     for sl in _batches(n_max, settings.batch):
         judge(sl, verdicts, planes)
         done = sl.stop
-        v = verdicts[:done]
-        k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
-        lo, hi = wilson_interval(k, n, confidence=settings.confidence)
-        low, high = float(lo), float(hi)
-        if n == 0:                    # every sample so far in free flight: no verdict to estimate p from
+        k, unknown, judged = _counts(verdicts[:done])
+        low, high = spanning_interval(k, unknown, done, confidence=settings.confidence)
+        if judged == 0:               # no sample so far has a verdict: nothing to estimate p from
             break
         decided = classify(low, high, below=settings.robust_below, above=settings.robust_above)
-        if decided is not None and (decided != Robustness.sensitive or (high - low) / 2.0 <= settings.p_halfwidth):
+        # the unknown draws' share of the width is no sampling error: more draws keep it, so it is not waited on
+        if decided is not None and (decided != Robustness.sensitive
+                                    or (high - low - unknown / done) / 2.0 <= settings.p_halfwidth):
             break
-    v = verdicts[:done]
-    k, n = int(np.sum(v == Verdict.overturns)), int(np.sum(v >= Verdict.stands))
-    return Probability(k / n if n else math.nan, low, high,
-                       final_class(low, high, below=settings.robust_below, above=settings.robust_above),
-                       done, k, int(np.sum(v == Verdict.no_verdict)), int(planes[:done].sum()))
+    k, unknown, judged = _counts(verdicts[:done])
+    return Probability(k / judged if judged else math.nan, low, high,
+                       final_class(low, high, below=settings.robust_below, above=settings.robust_above,
+                                   unknown_fraction=unknown / done),
+                       done, k, unknown, int(planes[:done].sum()))
+
+
+def _counts(verdicts: np.ndarray) -> tuple[int, int, int]:
+    """Draws that overturn, draws without a verdict and draws with one, of :class:`~pipeline.rocking.codes.Verdict`
+    codes."""
+    return (int(np.sum(verdicts == Verdict.overturns)), int(np.sum(verdicts == Verdict.no_verdict)),
+            int(np.sum(verdicts >= Verdict.stands)))

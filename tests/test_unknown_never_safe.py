@@ -1,0 +1,221 @@
+"""A missing verdict is unknown, never safe: in every probability, robustness class, asset row, recommendation,
+fragility stripe and event level; and a scan's weakest plane is always among the planes judged."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeline.rocking.codes import Verdict
+from pipeline.uncertainty.robust import Robustness, wilson_interval
+from pipeline.uncertainty.scenes import sample_until_decided
+from pipeline.uncertainty.settings import UncertaintyConfig
+
+
+def _judge_fixed(codes: np.ndarray):
+    """A judge that gives the draws fixed verdicts (a stand-in for the simulator, so that the counting is tested
+    against numbers fixed in advance)."""
+    def judge(rows: slice, verdicts: np.ndarray, simulations: np.ndarray) -> None:
+        verdicts[rows] = codes[rows]
+        simulations[rows] = 1
+    return judge
+
+
+@pytest.mark.parametrize("overturned, unknown", [(0, 15), (3, 12), (0, 1), (10, 30)])
+def test_the_interval_spans_the_draws_without_a_verdict(overturned, unknown):
+    n = 40
+    codes = np.full(n, Verdict.stands, dtype=np.int64)
+    codes[:overturned] = Verdict.overturns
+    codes[overturned:overturned + unknown] = Verdict.no_verdict
+    rng = np.random.default_rng(1)
+    rng.shuffle(codes)
+    settings = UncertaintyConfig(samples=n, batch=n)           # one batch: the counts are the whole draw
+    prob = sample_until_decided(n, _judge_fixed(codes), settings=settings)
+    assert (prob.drawn, prob.overturned, prob.without_verdict) == (n, overturned, unknown)
+    # the bounds are Wilson's on the two readings of the unknown draws, computed here from the closed form
+    low, _ = wilson_interval(overturned, n, confidence=settings.confidence)
+    _, high = wilson_interval(overturned + unknown, n, confidence=settings.confidence)
+    assert prob.low == pytest.approx(float(low)) and prob.high == pytest.approx(float(high))
+    assert prob.high >= (overturned + unknown) / n >= prob.p * (n - unknown) / n
+    assert prob.p == pytest.approx(overturned / (n - unknown))
+    assert prob.robustness != Robustness.robust_stand
+
+
+def test_robust_stand_needs_fewer_than_one_unknown_draw_in_ten():
+    """With a lenient threshold the interval alone would call 5 unknown draws of 40 robust_stand; 1 of 40 is."""
+    settings = UncertaintyConfig(samples=40, batch=40, robust_below=0.5)
+    for unknown, expected in ((5, Robustness.sensitive), (1, Robustness.robust_stand)):
+        codes = np.full(40, Verdict.stands, dtype=np.int64)
+        codes[:unknown] = Verdict.no_verdict
+        assert sample_until_decided(40, _judge_fixed(codes), settings=settings).robustness == expected
+
+
+def test_a_scene_with_no_verdict_at_all_is_not_standing():
+    codes = np.full(40, Verdict.no_verdict, dtype=np.int64)
+    prob = sample_until_decided(40, _judge_fixed(codes), settings=UncertaintyConfig(samples=40, batch=10))
+    assert math.isnan(prob.p) and prob.low == 0.0 and prob.high == 1.0
+    assert prob.robustness == Robustness.sensitive and prob.without_verdict == prob.drawn == 10
+
+
+@pytest.mark.parametrize("kwargs", [
+    # the cabinet of the finding: 15 of 31 stations without a verdict, its governing scene slides
+    {"undecided": 15, "stations": (0, 31), "response": 1, "slide_m": 0.0},
+    # samples without a verdict that could lift p to 0.53
+    {"unknown_draws": (15, 40), "p_with_unknown": 0.53, "stations": (0, 31), "response": 2},
+])
+def test_an_asset_not_judged_is_at_risk_never_no_action_nor_a_sliding_of_zero(kwargs):
+    from pipeline.risk import recommendation
+
+    text = recommendation(sim_scale=math.inf, crit_overturns=False, p_max=0.0, p_record="R", governing="G",
+                          **kwargs)
+    assert text.startswith("at risk until judged:"), text
+    assert "no action" not in text and "slides 0 m" not in text
+
+
+def test_the_criterion_tier_never_writes_no_action():
+    from pipeline.risk import recommendation
+
+    for response in (0, 1, 2):
+        text = recommendation(sim_scale=math.nan, crit_overturns=False, response=response, stations=(0, 31),
+                              criterion_only=True)
+        assert text.startswith("check by simulation:") and "no action" not in text, text
+
+
+@pytest.mark.parametrize("sim, undecided, unknown", [(0, 11, 0), (0, 0, 3), (-1, 15, 0)])
+def test_the_simulated_verdict_never_reads_stands_where_something_was_not_judged(sim, undecided, unknown):
+    from pipeline.risk import _verdict_words
+
+    words = _verdict_words(sim, 2, math.nan, undecided, 35, unknown)
+    assert words.startswith("unknown:") and words != "stands", words
+
+
+def test_fragility_stripes_bounded_both_ways_by_the_records_without_a_verdict():
+    from pipeline.run.fragility import _unjudged
+    from pipeline.uncertainty.fragility import fit_stripes
+
+    levels = np.array([0.5, 1.0, 2.0, 4.0])
+    rng = np.random.default_rng(3)
+    n_rec = 30
+    # a lognormal truth (median 1.5, beta 0.5); the records above 1.5 x the level go without a verdict at the
+    # top two levels (the strong records are the ones a 3D model stops on)
+    capacity = 1.5 * np.exp(0.5 * rng.standard_normal(n_rec))
+    outcome = (levels[None, :] >= capacity[:, None]).astype(float)[:, :, None]
+    outcome[:8, 2:, 0] = np.nan
+    factor = np.ones_like(outcome)
+    results = [{"slides": np.full((4, 1), -1)} for _ in range(n_rec)]
+    u = _unjudged(results, outcome, factor, sampled=False, shape=(4, 1))
+    np.testing.assert_array_equal(u.count[:, 0], [0, 0, 8, 8])
+    n = np.sum(np.isfinite(outcome), axis=0)[:, 0]
+    z = np.nansum(outcome, axis=0)[:, 0]
+    judged = fit_stripes(levels, z, n)
+    over = fit_stripes(levels, z + u.overturn_add[:, 0], np.full(4, n_rec))
+    stand = fit_stripes(levels, z + u.stand_add[:, 0], np.full(4, n_rec))
+    assert float(over.theta) <= float(judged.theta) * (1 + 1e-9) or float(over.theta) <= float(stand.theta)
+    assert float(over.theta) < float(stand.theta)
+
+
+def test_a_sampled_scene_adds_its_unknown_fraction_to_the_bounds():
+    from pipeline.run.fragility import _unjudged
+
+    outcome = np.array([[[0.2]]])                  # p over the judged samples
+    results = [{"p_unknown": np.array([[0.25]]), "slides": np.array([[0]])}]
+    u = _unjudged(results, outcome, np.ones((1, 1, 1)), sampled=True, shape=(1, 1))
+    # k / n = 0.2 x 0.75 = 0.15 counted standing; + 0.25 counted overturning
+    assert outcome[0, 0, 0] + u.stand_add[0, 0] == pytest.approx(0.15)
+    assert outcome[0, 0, 0] + u.overturn_add[0, 0] == pytest.approx(0.40)
+    assert u.count[0, 0] == pytest.approx(0.25)
+
+
+def test_the_event_never_says_none_where_p_is_unknown_or_the_asset_slides():
+    from pipeline.event.assets import Basis, Fragilities, Level, event_risk, levels
+
+    frag = Fragilities(median=np.array([10.0, 10.0, 10.0]), beta=np.array([0.4, 0.4, 0.4]),
+                       median_low=np.array([8.0, 8.0, 8.0]), median_high=np.array([12.0, 12.0, 12.0]),
+                       status=np.zeros(3, int), level_min=1.0, level_max=20.0, can_rock=np.array([True, True, False]),
+                       median_unjudged=np.array([np.nan, 2.0, np.nan]), beta_unjudged=np.array([np.nan, 0.4, np.nan]),
+                       slides_from=np.array([np.inf, np.inf, 1.5]))
+    risk = event_risk(np.full(3, 2.0), np.full(3, 0.3), frag)
+    assert risk.p[0] < 0.01 and risk.p[1] == risk.p[0]          # the judged records alone read safe
+    assert risk.p_high[1] > 0.4 and risk.p_rank[1] > 0.4 and risk.basis[1] == Basis.unjudged
+    assert risk.p[2] == 0.0 and bool(risk.sliding[2])             # it cannot rock, but it slid at this shaking
+    lv = levels(risk.p_rank, (0.05, 0.2, 0.5), at_least_low=risk.sliding)
+    assert lv[0] == Level.none and lv[1] != Level.none and lv[2] == Level.low
+
+
+def _turned_box(scans_dir, tmp_path, degrees: float):
+    """The bundled 0.3 x 3.0 x 1.5 m box mesh turned about the vertical by ``degrees``."""
+    src = (scans_dir / "box-0.3x3.0x1.5.obj").read_text().splitlines()
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    out = []
+    for line in src:
+        if line.startswith("v "):
+            x, y, z = (float(t) for t in line.split()[1:4])
+            line = f"v {c * x - s * y:.12f} {s * x + c * y:.12f} {z:.12f}"
+        out.append(line)
+    path = tmp_path / f"box-turned-{degrees}.obj"
+    path.write_text("\n".join(out) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("degrees", [0.0, 2.5, 17.0, 44.0])
+def test_the_weakest_plane_is_judged_whatever_the_mesh_rotation(scans_dir, tmp_path, degrees):
+    from pipeline.rocking.orientation import plane_grid
+    from pipeline.rocking.scanned import body_planes
+    from pipeline.shapes.plane import footprint_extents
+    from pipeline.shapes.scan import read_scan
+
+    shape = read_scan(_turned_box(scans_dir, tmp_path, degrees))
+    planes = body_planes(plane_grid(5.0), shape)
+    smallest = min(footprint_extents(shape, phi)[0] for phi in planes) / shape.com_height_m
+    assert smallest == pytest.approx(0.15 / 0.75, rel=1e-6)      # tan alpha of the slab's thin side, 0.2
+
+
+def test_a_turned_mesh_overturns_as_the_unturned_one_does(scans_dir, tmp_path):
+    """A 1 s one-sine pulse of 0.35 g on one horizontal overturns the slab given as a mesh (tan alpha 0.2); turned by
+    2.5 deg, its grid planes alone stand (their smallest tan alpha is 0.287; measured: they stand up to 0.35 g and
+    overturn from 0.40 g), and the weakest plane added to them overturns it as the unturned mesh."""
+    from pipeline.cli import main
+
+    dt, tp = 0.01, 1.0
+    t = np.arange(0.0, 6.0, dt)
+    a = np.where((t >= 1.0) & (t < 1.0 + tp), 0.35 * np.sin(2 * math.pi * (t - 1.0) / tp), 0.0)
+    records = tmp_path / "records"
+    records.mkdir()
+    (records / "pulse.txt").write_text("# dt_s=0.01 units=g\n" + "\n".join(f"{x:.8f}" for x in a) + "\n")
+    mesh = _turned_box(scans_dir, tmp_path, 2.5)
+    flat = _turned_box(scans_dir, tmp_path, 0.0)
+    inv = tmp_path / "blocks.csv"
+    inv.write_text("id,name,height_m,width_m,mu,azimuth_deg,mesh\n"
+                   f"TURNED,slab turned 2.5 deg,,,1.0,,{mesh.name}\nFLAT,slab,,,1.0,,{flat.name}\n")
+    out = tmp_path / "out"
+    assert main(["--records", str(records), "--blocks", str(inv), "--out", str(out), "--samples", "0"]) == 0
+    from pipeline.store import open_results
+
+    ds = open_results(out / "screening.nc")
+    assert ds["overturn_simulated"].sel(block="FLAT").values.tolist() == [1]
+    assert ds["overturn_simulated"].sel(block="TURNED").values.tolist() == [1]
+
+
+def test_a_scanned_pivot_that_would_slip_gives_no_verdict(scans_dir):
+    """Friction far below the demand of rocking: the rolling model's pivot would slip, which it does not follow; the
+    scene has no verdict (never "stands") unless it overturned."""
+    from pipeline.rocking.scanned import plane_geometry, plane_scene
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.shapes.scan import read_scan
+
+    shape = read_scan(scans_dir / "leaning-statue.obj")
+    dt = 0.005
+    t = np.arange(0.0, 4.0, dt)
+    exceeded = 0
+    for body_deg in (0.0, 90.0, 180.0, 270.0):
+        geometry = plane_geometry(shape, body_deg, SimulationConfig())
+        for amplitude_g in (0.15, 0.25, 0.4):
+            a = np.where(t < 0.6, amplitude_g * 9.80665 * np.sin(2 * math.pi * t / 0.6), 0.0)
+            sc = plane_scene(a, None, dt, geometry, restitution=math.nan, mu=0.12, settings=SimulationConfig(),
+                             g_ms2=9.80665)
+            if sc.friction_exceeded == 1:
+                exceeded += 1
+                assert sc.overturned or sc.verdict == -1, (body_deg, amplitude_g, sc)
+    assert exceeded >= 3
