@@ -49,7 +49,10 @@ the run stops there, flagged.
 
 **Overturning** is the body's axis reaching the horizontal (``R_zz <= 0``) while the ground moves. The contact
 force ``F = a_G - g_eff`` is checked on every accepted step: the scene is flagged where the base would leave the
-ground (``F_z <= 0``) or slide (``|F_h| > mu F_z``), as in :mod:`.cylinder3d`, with the same rule past the
+ground (``F_z <= 0``) or slide (``|F_h| > mu F_z``), as in :mod:`.cylinder3d`; on an edge, friction is also checked
+at each of its two corners (Coulomb's law at each contact point): their forces across the edge are fixed by the yaw
+couple (the second corner's from its Euler equation about the pivot, ``M_z / L``), those along it only in sum, and a
+corner that cannot hold is a slide (the box would twist: not followed, no verdict); the same rule holds past the
 tipping point (the fall followed with the contact held can confirm an overturning, never make the box stand).
 The equations are integrated by the Dormand-Prince 5(4) pair with error control on all seven states; no step
 crosses a sample of the record; a cap on the steps ends a run that does not advance, flagged.

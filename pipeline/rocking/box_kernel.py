@@ -128,12 +128,36 @@ def edge_axis(m, j, prm):
     return ux / n, uy / n, uz / n, n
 
 
+#: The contact forces an accepted step reports (:func:`derivatives`): F_x, F_y, F_z, N_1, N_2, F_2 across the edge
+FORCE_SIZE = 6
+
+
+@jit
+def edge_ends_hold(force, mu, ux, uy):
+    """Whether friction holds at both corners of an edge (unit horizontal direction ``(ux, uy)``) under ``force``
+    (:func:`derivatives`): the forces across the edge are fixed by the yaw couple (corner 2's is ``force[5]``, corner
+    1's the rest), those along it only in sum, so both hold where each corner's friction cone leaves room across
+    and the two rooms along the edge add up to the force along it. Coulomb's law at each contact point."""
+    n1, n2 = force[3], force[4]
+    across = -force[0] * uy + force[1] * ux
+    along = force[0] * ux + force[1] * uy
+    x2 = force[5]
+    x1 = across - x2
+    r1 = (mu * n1) ** 2 - x1 * x1
+    r2 = (mu * n2) ** 2 - x2 * x2
+    if r1 < 0.0 or r2 < 0.0:
+        return False
+    return math.sqrt(r1) + math.sqrt(r2) >= abs(along)
+
+
 @jit
 def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
     """d/dt of the state on a corner, an edge, or a corner with the edge's other corner sliding (the module's
     equations) under the effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); returns the contact force per
     unit mass (F_x, F_y, F_z) and, on an edge, the normal forces at its two corners (N_1 at ``pivot``, N_2 at
-    ``pivot + 1``); with a corner sliding, the pivot's force, its normal force and the sliding corner's."""
+    ``pivot + 1``) and the second corner's force across the edge (along e_z x u: the yaw couple of the two corners,
+    from the contact's moment about the pivot, ``M_z / L``); with a corner sliding, the pivot's force, its normal
+    force and the sliding corner's (and 0)."""
     m = rotation(y)
     rx, ry, rz = lever(m, pivot, prm)
     ig = _inertia_g(m, prm)
@@ -174,13 +198,14 @@ def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
     ax2, ay2, az2 = cross(wx, wy, wz, vx, vy, vz)
     fx, fy, fz = ax1 + ax2 - gx, ay1 + ay2 - gy, az1 + az2 - gz
     if twist:
-        return fx, fy, fz - n2, fz - n2, n2      # the pivot's force, its normal force, the sliding corner's
+        return fx, fy, fz - n2, fz - n2, n2, 0.0      # the pivot's force, its normal force, the sliding corner's
     if mode == EDGE:
         mx, my, mz = _sym_apply(ip, alx, aly, alz)
         mx, my, mz = mx + gyx - tx, my + gyy - ty, mz + gyz - tz
         n2 = -(mx * -uy + my * ux) / length          # N_2 = -M_P . (e_z x w) / L
         n1 = fz - n2
-    return fx, fy, fz, n1, n2
+        return fx, fy, fz, n1, n2, mz / length       # F_2 . (e_z x u) = M_P,z / L (the edge on the ground)
+    return fx, fy, fz, n1, n2, 0.0
 
 
 @jit
@@ -210,7 +235,7 @@ def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
         y_new[q] = y[q] + hh * acc
     gx, gy, gz = _ground(t + hh, i, grd)
     f = derivatives(y_new, gx, gy, gz, prm, mode, pivot, k[6])
-    for q in range(5):
+    for q in range(FORCE_SIZE):
         force[q] = f[q]
     for q in range(7):
         acc = 0.0

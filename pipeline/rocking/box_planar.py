@@ -26,12 +26,25 @@ edge (``|a_y| h > c (g + a_v)``); on an edge, the same with the moving G. Fricti
   + 2 theta_max max_t A)`` (the term in R cancels), hence ``N >= N_lb(t) = g + a_v - sin(alpha) A(t) - 2
   theta_max max_t A``.
 
-A planar run that never lifted leaves the box flat: there ``N = g + a_v`` and ``z_G = h`` exactly, and the
-certificate is the exact condition of uplift and slip at rest (its boundary, equality, certified). Certified
-where, at every sample, ``N_lb > 0``, ``|a_y| R cos(alpha - theta_max) <= c N_lb`` and ``a_y^2 <=
-(mu^2 - D'^2) N_lb^2`` with ``D' = max(D, min(max_t |a_x| / (g + a_v), tan alpha))``. Between samples the ground is
-linear: each side of each inequality's margin is concave there (a linear term minus absolute values of linear
-terms), so its least value over an interval is at a sample, and the check is exact for the bounds. Under the
+**Friction at each end of the edge.** On an edge the friction is checked at each of its two ends, not on the total
+force alone. The contact's moment about G along the vertical is zero too (the angular momentum stays along the depth
+axis), and the edge lies ``d = R sin(alpha - |theta|) <= b`` from G across it, so the ends' forces across the edge
+differ by a couple: ``X_1 - X_2 = d a_y / c``, ``X_1 + X_2 = F_x``; their normal forces are ``N_{1,2} = (N -+ z_G
+a_y / c) / 2``; the forces along the edge add to ``a_y`` and split freely. Taking that split in proportion to the
+normal forces, each end holds where ``|X_i| <= m' N_i`` with ``m' = sqrt(mu^2 - a_y^2 / N^2)``; with ``|X_i| <= (D'
+N + b |a_y| / c) / 2`` and ``N_i >= (N - z_G |a_y| / c) / 2``, both hold where ``N (m' - D') >= |a_y| (b + m'
+z_G) / c``, and (``m'`` growing with N) where it holds at ``N_lb``. A box with a cross motion can thus slip at one
+end, and twist, where the total force is well inside the friction cone.
+
+A planar run that never lifted leaves the box flat: there ``N = g + a_v`` and ``z_G = h`` exactly, its base carries
+any couple, and the certificate is the exact condition of uplift and slip at rest (its boundary, equality,
+certified). Certified where, at every sample, ``N_lb > 0``, ``|a_y| R cos(alpha - theta_max) <= c N_lb`` and, flat
+throughout, ``a_y^2 <= (mu^2 - D'^2) N_lb^2``; having rocked, ``mu N_lb > |a_y|`` and ``N_lb (m' - D') >= |a_y| (b +
+m' z_ub) / c`` with ``m' = sqrt(mu^2 - a_y^2 / N_lb^2)``; ``D' = max(D, min(max_t |a_x| / (g + a_v), tan alpha))``.
+Between samples the ground is linear: the margins of the lift and of the flat slip conditions are concave there (a
+linear term minus absolute values of linear terms), so their least value over an interval is at a sample, and the
+check is exact for the bounds; the ends' friction condition (not concave: m' is a square root) is checked at the
+samples. Under the
 certificate the 3D model (:mod:`.box3d`) never leaves the edges of the depth axis, never slides, and follows the
 planar equation of the width's plane, which it reduces to (tested to 1e-5 alpha on pulses); the planar run is kept.
 In long trains of impacts with a restitution near 1 the two integrations can still part (5 of 1,100 certified
@@ -78,7 +91,9 @@ class OtherAxis(NamedTuple):
         The least of ``1 - |a_y| z_G / (c N_lb)`` over the samples [-] (below 0: not certified; -inf where N_lb
         reached 0).
     slip_margin : float
-        The least of ``1 - sqrt(D'^2 N_lb^2 + a_y^2) / (mu N_lb)`` over the samples [-].
+        The least over the samples of ``1 - sqrt(D'^2 N_lb^2 + a_y^2) / (mu N_lb)`` (flat throughout), or of the
+        worse end of the edge, ``1 - (D' N_lb + |a_y| (b + m' z_ub) / c) / (m' N_lb)`` (having rocked; -inf where
+        ``mu N_lb <= |a_y|``) [-].
     """
 
     certified: bool
@@ -130,8 +145,22 @@ def other_axis_certificate(along_ms2, across_ms2, vertical_ms2, box: Box, *, the
         return NOT_CERTIFIED
     lift = 1.0 - float(np.max(ay * z_ub / (c * n_lb)))
     d = max(friction_demand, min(float(np.max(ax / gv)), b / h))
-    slip = 1.0 - float(np.max(np.sqrt((d * n_lb) ** 2 + ay ** 2) / (box.mu * n_lb)))
+    if theta_max_rad > 0.0:
+        slip = _edge_ends_margin(ay, n_lb, d, b=b, c=c, z_ub=z_ub, mu=box.mu)
+    else:
+        slip = 1.0 - float(np.max(np.sqrt((d * n_lb) ** 2 + ay ** 2) / (box.mu * n_lb)))
     return OtherAxis(lift >= 0.0 and slip >= 0.0, lift, slip)
+
+
+def _edge_ends_margin(ay: np.ndarray, n_lb: np.ndarray, d: float, *, b: float, c: float, z_ub: float,
+                      mu: float) -> float:
+    """The least margin over the samples of friction at the worse end of the edge (the module's bound): 1 - (D' N_lb
+    + |a_y| (b + m' z_ub) / c) / (m' N_lb), ``m' = sqrt(mu^2 - a_y^2 / N_lb^2)``; -inf where ``mu N_lb <= |a_y|``."""
+    ratio = ay / n_lb
+    if np.any(ratio >= mu):
+        return -math.inf
+    m = np.sqrt(mu * mu - ratio * ratio)
+    return 1.0 - float(np.max((d * n_lb + ay * (b + m * z_ub) / c) / (m * n_lb)))
 
 
 class CertifiedScene(NamedTuple):

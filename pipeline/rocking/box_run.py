@@ -13,6 +13,7 @@ from .box_kernel import (
     CORNER,
     EDGE,
     EVENT_BISECTIONS,
+    FORCE_SIZE,
     MAX_FACTOR,
     MAX_STEPS_PER_SAMPLE,
     MIN_FACTOR,
@@ -32,6 +33,7 @@ from .box_kernel import (
     derivatives,
     dopri_step,
     edge_axis,
+    edge_ends_hold,
     flatten,
     height,
     lever,
@@ -329,7 +331,7 @@ def _fresh_pass(y, t, i, grd, prm, mode, pivot, k, force0):
     Returns (mode, pivot, whether they changed)."""
     gx, gy, gz = _ground(t, i, grd)
     f = derivatives(y, gx, gy, gz, prm, mode, pivot, k[0])
-    for q in range(5):
+    for q in range(FORCE_SIZE):
         force0[q] = f[q]
     if mode == EDGE and min(f[3], f[4]) <= UNLOADED * grd.g and f[2] > 0.0:
         keep = pivot if f[4] <= f[3] else (pivot + 1) % 4
@@ -387,8 +389,14 @@ def _stick(y, mode, pivot, prm):
 
 @jit
 def _contact_flags(force, mu, held, y_new, mode, pivot, prm):
-    """The flag of an accepted step and the held flag (held past the tipping point: see box3d)."""
+    """The flag of an accepted step and the held flag (held past the tipping point: see box3d); on an edge whose two
+    corners press, friction is checked at each corner (:func:`~.box_kernel.edge_ends_hold`): one that slips is a
+    slide (the box would twist)."""
     flag = contact_flag(force, mu)
+    if flag == FLAG_NONE and mode == EDGE and force[3] > 0.0 and force[4] > 0.0:
+        ux, uy, _uz, _length = edge_axis(rotation(y_new), pivot, prm)
+        if not edge_ends_hold(force, mu, ux, uy):
+            flag = FLAG_SLIDE
     if held == FLAG_NONE and flag == FLAG_NONE:
         return flag, held
     beyond, falling = _past_tipping(y_new, mode, pivot, prm)
@@ -407,7 +415,7 @@ def _accept(y, y_new, k, force, force0):
         y_new[q] /= nq
     y[:] = y_new
     k[0, :] = k[6, :]
-    for q in range(5):
+    for q in range(FORCE_SIZE):
         force0[q] = force[q]
 
 
@@ -433,7 +441,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         flatten(y)
         y[4], y[5], y[6] = 0.0, 0.0, 0.0
     k, tmp, y_new, err = np.zeros((7, 7)), np.empty(7), np.empty(7), np.empty(7)
-    force, force0, scratch = np.zeros(5), np.zeros(5), np.empty(4)
+    force, force0, scratch = np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4)
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
     i_landed, landed_here, holds = -1, 0, 0
     tilt_max, az_max, flag, impacts, t_over, demand, held, corner_s = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, 0, 0.0
