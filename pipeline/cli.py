@@ -292,9 +292,9 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
             f"{k} {v}" for k, v in s["scenes_by_robustness"].items())
             + f"; sampled planes integrated: {s['sampled_simulations']} (sensitive: the verdict can flip; "
             "p_overturn in screening.nc)", file=sys.stderr)
-    if s.get("scenes_without_verdict") or s.get("samples_without_verdict"):
-        print(f"not judged: {s.get('scenes_without_verdict', 0)} scene(s) and {s.get('samples_without_verdict', 0)} "
-              f"of {s.get('samples_drawn', 0)} samples (in {s.get('scenes_with_unknown_samples', 0)} scenes) have no "
+    if s.get("scenes_unjudged") or s.get("draws_unjudged"):
+        print(f"not judged: {s.get('scenes_unjudged', 0)} scene(s) and {s.get('draws_unjudged', 0)} "
+              f"of {s.get('draws_total', 0)} samples (in {s.get('scenes_with_unjudged_draws', 0)} scenes) have no "
               "verdict (a model stopped where the base slides, twists or lifts off, the ground fell faster than "
               "gravity, or a cap): unknown, never standing; p intervals span them and such assets read 'at risk "
               "until judged' (samples_without_verdict in screening.nc)", file=sys.stderr)

@@ -286,6 +286,13 @@ def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray,
         return empty
     p = np.where(ok, ds[SCENE.p_overturn].values[:, j], np.nan)
     if not np.isfinite(p).any():
+        drawn = np.where(ok, ds[SCENE.samples_drawn].values[:, j], 0) if SCENE.samples_drawn in ds else np.zeros(1)
+        if np.any(drawn > 0):          # sampled, but no sample had a verdict: p unknown, its interval [0, 1]
+            bounds = (np.where(ok & (drawn > 0), ds[v].values[:, j], np.nan)
+                      for v in (SCENE.p_overturn_low, SCENE.p_overturn_high))
+            low, high = (float(np.nanmax(b)) for b in bounds)
+            return {**empty, SCENE.p_overturn_low: low, SCENE.p_overturn_high: high,
+                    SCENE.robustness: ROBUSTNESS_UNKNOWN, "p_words": "p unknown (no sample had a verdict)"}
         return empty
     i = int(np.nanargmax(p))
     if governing is not None and p[governing] == p[i]:

@@ -14,6 +14,10 @@ import pytest
 
 #: A phone (390 px, an iPhone 12-15 in portrait) and a laptop
 WIDTHS = (390, 1400)
+#: The decision (a page's ranked assets, marked data-decision) starts within this many px of the page's top, at each
+#: width: about one screen of a phone (the report's asset table sat 6,077 px down at 390 px when its diagnostics
+#: came first)
+DECISION_TOP_MAX_PX = {390: 1000, 1400: 700}
 
 
 def chromium() -> str:
@@ -59,6 +63,7 @@ def layout_at(page: Path, width: int, tmp: Path) -> dict:
     got: dict = {k: int(v) for k, v in re.findall(
         r'data-(page-width|window-width|tables-overflowing|broken-words)="(\d+)"', run.stdout)}
     assert len(got) == 4, run.stdout[:500]
+    got.update({k: int(v) for k, v in re.findall(r'data-(decision-top|key-column-right)="(\d+)"', run.stdout)})
     examples = re.search(r'data-broken-examples="([^"]*)"', run.stdout)
     got["broken_examples"] = examples.group(1) if examples else ""
     assert got["window-width"] == width, got
@@ -67,8 +72,11 @@ def layout_at(page: Path, width: int, tmp: Path) -> dict:
 
 def assert_reads_at(page: Path, tmp: Path) -> None:
     """At a phone's and a laptop's width: the page no wider than the window (tables scroll in their own box), no
-    word of a table broken inside."""
+    word of a table broken inside, the decision near the top (:data:`DECISION_TOP_MAX_PX`) and the column that
+    decides (data-key-column) inside the window."""
     for width in WIDTHS:
         got = layout_at(page, width, tmp)
         assert got["page-width"] <= got["window-width"], (width, got)
         assert got["tables-overflowing"] == 0 and got["broken-words"] == 0, (width, got)
+        assert got["decision-top"] <= DECISION_TOP_MAX_PX[width], (width, got)      # every page marks its decision
+        assert got.get("key-column-right", 0) <= got["window-width"], (width, got)

@@ -323,3 +323,79 @@ def test_an_edge_end_that_would_slip_gives_no_verdict_and_no_certificate(cross_g
     assert not (cert.certified and demand > mu)
     if cross_g == 0.0:
         assert cert.certified                                    # no cross motion: the planar run is exact
+
+
+@pytest.fixture(scope="module")
+def strong_pair(records_dir, tmp_path_factory):
+    """Two strong bundled records (Ridgecrest CI.CLC, Chi-Chi TCU102) under which 3D boxes stop where the base would
+    slide, twist or lift off, and a cabinet and a transformer of the demo's inventory screened on them."""
+    import shutil
+
+    root = tmp_path_factory.mktemp("strong")
+    recs = root / "records"
+    recs.mkdir()
+    for path in [*records_dir.rglob("CICLC.v1"), *records_dir.rglob("RSN1529_CHICHI_TCU102-*.AT2")]:
+        shutil.copy(path, recs / path.name)
+    inv = root / "blocks.csv"
+    inv.write_text("id,name,height_m,width_m,mu,azimuth_deg,shape,depth_m\n"
+                   "CAB-01,cabinet,1.98,0.45,0.35,0,box,0.90\n"
+                   "TRAF-01,transformer,3.40,1.40,0.50,0,box,2.00\n")
+    return recs, inv, root
+
+
+def test_assets_not_judged_say_so_in_every_output(strong_pair):
+    import csv
+
+    from pipeline.cli import main
+
+    recs, inv, root = strong_pair
+    out = root / "screen"
+    assert main(["--records", str(recs), "--blocks", str(inv), "--out", str(out), "-q", "--samples", "12"]) == 0
+    rows = list(csv.DictReader(open(out / "assets.csv", newline="")))
+    unjudged = [r for r in rows if int(r["stations_without_verdict"]) or int(r["draws_without_verdict"])]
+    assert unjudged, "the records chosen no longer leave a draw without a verdict: choose stronger ones"
+    for r in unjudged:
+        assert r["robustness"] != "robust_stand" and r["verdict_simulation"] != "stands", r
+        assert not r["recommendation"].startswith(("no action", "limit sliding")), r["recommendation"]
+        assert "slides 0 m" not in r["recommendation"]
+        if r["p_overturn_high"]:
+            assert float(r["p_overturn_high"]) >= float(r["p_overturn_with_unknown"]) - 1e-12
+    page = (out / "report.html").read_text()
+    assert 'id="not-judged"' in page and "assets not judged on some records" in page
+    # the decision before the diagnostics: the asset table comes before the guarded scenes and the free flights
+    assert page.index('id="asset-table"') < page.index('id="diagnostics"')
+
+
+def test_fragility_stripes_count_the_records_without_a_verdict(strong_pair):
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    recs, inv, root = strong_pair
+    out = root / "fragility"
+    assert main(["fragility", "--records", str(recs), "--blocks", str(inv), "--im", "pga", "--levels",
+                 "0.1g,0.3g,0.6g", "--out", str(out), "-q", "--samples", "8", "--bootstrap", "20"]) == 0
+    ds = open_results(out / "fragility.nc")
+    u = ds["n_unjudged"].values
+    assert np.all(ds["n_scaled"].values >= ds["n_records"].values)
+    assert np.all(u <= ds["n_scaled"].values + 1e-9) and u.sum() > 0
+    lo, hi = ds["median_unjudged_overturn"].values, ds["median_unjudged_stand"].values
+    has = u.sum(axis=1) > 0
+    assert np.all(lo[has] <= hi[has])
+    page = (out / "fragility.html").read_text()
+    assert "not judged" in page and "records that could be scaled" in page
+
+
+def test_the_criterion_tier_clears_no_asset(strong_pair):
+    import csv
+
+    from pipeline.cli import main
+
+    recs, inv, root = strong_pair
+    out = root / "criterion"
+    assert main(["--records", str(recs), "--blocks", str(inv), "--out", str(out), "-q", "--fidelity",
+                 "criterion"]) == 0
+    rows = list(csv.DictReader(open(out / "assets.csv", newline="")))
+    assert rows and not any(r["recommendation"].startswith("no action") for r in rows)
+    page = (out / "report.html").read_text()
+    # said on the first screen: before the summary and the asset table
+    assert 'id="criterion-tier"' in page and page.index('id="criterion-tier"') < page.index('id="summary"')

@@ -523,11 +523,11 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "free_flight_scenes": int(np.sum(resp == Response.free_flight)),
         "scenes_by_robustness": {m.name: int(np.sum(ds[SCENE.robustness].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds[SCENE.sample_simulations].values, 0))),
-        "scenes_without_verdict": int(np.sum(ds[SCENE.overturn_simulated].values[ds["status"].values == "ok"] < 0))
+        "scenes_unjudged": int(np.sum(ds[SCENE.overturn_simulated].values[ds["status"].values == "ok"] < 0))
         if config.fidelity.tier != "criterion" else 0,
-        "samples_without_verdict": int(np.sum(np.maximum(ds[SCENE.samples_without_verdict].values, 0))),
-        "samples_drawn": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
-        "scenes_with_unknown_samples": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),
+        "draws_unjudged": int(np.sum(np.maximum(ds[SCENE.samples_without_verdict].values, 0))),
+        "draws_total": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
+        "scenes_with_unjudged_draws": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),
         "general_scenes": _general_reasons(ds),
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],

@@ -629,13 +629,23 @@ def unjudged_words(ds: xr.Dataset) -> list[str]:
         if not np.any(u > 0):
             continue
         worst = int(np.argmax(u))
-        lo, hi = (float(ds[v].values[j]) / factor for v in ("median_unjudged_overturn", "median_unjudged_stand"))
+        lo, hi = (_median_words(float(ds[v].values[j]) / factor, unit)
+                  for v in ("median_unjudged_overturn", "median_unjudged_stand"))
         out.append(f"block {block}: {u.sum():.3g} record-levels without a verdict (up to {u[worst]:.3g} of "
                    f"{int(ds['n_scaled'].values[j, worst])} records at "
                    f"{float(ds['im_level'].values[worst]) / factor:.4g} "
-                   f"{unit}); counted as overturning the median is {lo:.4g} {unit}, as standing {hi:.4g} {unit}: "
+                   f"{unit}); counted as overturning the median is {lo}, as standing {hi}: "
                    "the fit is bounded by them, and the event's P spans both")
     return out
+
+
+def _median_words(x: float, unit: str) -> str:
+    """A fitted median in words: 'none (no level overturns)' for inf, 'below every level' for 0."""
+    if math.isinf(x):
+        return "none (no level overturns)"
+    if x == 0.0:
+        return "below every level"
+    return "not fitted" if math.isnan(x) else f"{x:.4g} {unit}"
 
 
 #: A block integrated against an Sa curve whose period differs from its own by more than this factor is warned of.

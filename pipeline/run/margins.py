@@ -83,18 +83,27 @@ def governing_records(ds: xr.Dataset) -> np.ndarray:
 
 
 def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
-    """Blocks whose governing scene overturns by the simulation or by the criterion, or whose largest probability
-    of overturning reaches :data:`P_RELOCATE` (every asset the report marks at risk gets a history; one whose
-    margin is small is added by the margin task, which finds it)."""
+    """Blocks whose governing scene overturns by the simulation or by the criterion, or has no verdict (unknown is
+    never safe), or whose largest probability of overturning, the samples without a verdict counted as overturning,
+    reaches :data:`P_RELOCATE` (every asset the report marks at risk gets a history; one whose margin is small is
+    added by the margin task, which finds it)."""
     cols = np.arange(ds.sizes["block"])
     has = rec_index >= 0
     r = np.where(has, rec_index, 0)
-    sim = ds[SCENE.overturn_simulated].values[r, cols] == 1
+    verdict = ds[SCENE.overturn_simulated].values[r, cols]
+    simulated = ds[SCENE.physics].values[r, cols] >= 0 if SCENE.physics in ds else np.zeros(len(cols), dtype=bool)
+    sim = (verdict == 1) | ((verdict == -1) & simulated)                                   # simulated, no verdict
     crit = ds["overturn_criterion"].values[r, cols] == 1
     likely = np.zeros(ds.sizes["block"], dtype=bool)
     if SCENE.p_overturn in ds:
         ok = (ds["status"].values == "ok")[:, None] if "status" in ds else True
-        likely = np.any(np.where(ok, np.nan_to_num(ds[SCENE.p_overturn].values, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
+        p = ds[SCENE.p_overturn].values
+        if SCENE.samples_without_verdict in ds:          # the samples without a verdict counted as overturning
+            drawn = ds[SCENE.samples_drawn].values.astype(float)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                p = np.fmax(p, np.where(drawn > 0, (ds[SCENE.samples_overturned].values
+                                                    + ds[SCENE.samples_without_verdict].values) / drawn, np.nan))
+        likely = np.any(np.where(ok, np.nan_to_num(p, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
     return has & (sim | crit | likely)
 
 
