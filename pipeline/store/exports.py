@@ -75,15 +75,25 @@ CANNOT_ROCK = ("it cannot rock (it slides or stands: mu <= tan alpha, or alpha >
                "its risk is sliding (see the screening's recommendation)")
 
 
+#: Why the curve of a block whose stripes hold records without a verdict is left out: its fit counts only the judged
+#: records, which may read safer than the unknown ones allow; fragility.nc bounds it
+UNJUDGED = ("{n:.3g} scaled record-levels have no verdict (a model stopped where the base slides, twists or lifts "
+            "off): the fit of the judged records alone may read safer than they allow; fragility.nc bounds it "
+            "(median_unjudged_overturn, median_unjudged_stand)")
+
+
 def _curves(ds: xr.Dataset):
     """(block, theta [SI], beta, period [s]) of every block whose median lies within the levels tested (fit status
-    ok or separated), and (block, why) of the others, which are left out."""
+    ok or separated) and whose stripes hold no record without a verdict, and (block, why) of the others, which are
+    left out."""
     periods = ds["block_period"].values if "block_period" in ds else np.full(ds.sizes["block"], math.nan)
     status = ds["fit_status"].values if "fit_status" in ds else np.zeros(ds.sizes["block"], dtype=int)
     fitted, unfitted = [], []
     for j, block in enumerate(ds["block"].values.tolist()):
         theta, beta = float(ds["median"].values[j]), float(ds["beta"].values[j])
         why = LEFT_OUT.get(FitStatus(int(status[j])))
+        if why is None and "n_unjudged" in ds and float(np.sum(ds["n_unjudged"].values[j])) > 0:
+            why = UNJUDGED.format(n=float(np.sum(ds["n_unjudged"].values[j])))
         if "can_rock" in ds and not int(ds["can_rock"].values[j]):
             why = CANNOT_ROCK
         if why is None and not (math.isfinite(theta) and theta > 0 and math.isfinite(beta) and beta > 0):
