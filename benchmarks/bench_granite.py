@@ -172,6 +172,8 @@ def _one_test_rolling(job) -> list[dict]:
                             grid_deg=plane_grid(step_deg), cfg=cfg, settings=cfg.simulation)
         nominal = got.search.scenes
         row["overturn_nominal"] = int(got.result.scene.overturned)
+        # the worst orientation without a verdict (a pivot that would slip or lift): unknown, never standing
+        row["verdict_unknown"] = int(got.result.scene.verdict < 0)
         row["orientations_overturning"] = float(np.mean([sc.overturned for _pl, sc in nominal]))
         row["planes"] = len(nominal)
         row["overturning_planes_deg"] = ";".join(f"{pl.body_deg:g}" for pl, sc in nominal if sc.overturned)
@@ -276,6 +278,10 @@ def summary(rows: list[dict]) -> list[dict]:
                   else "rockscreen (worst pose; p over poses)"): (np.array([r["overturn_nominal"] for r in sel]),
                                                            np.array([r["p_overturn"] for r in sel]))}
         p_own = np.array([r["p_overturn"] for r in sel])
+        if "verdict_unknown" in sel[0]:
+            unknown = np.array([r["verdict_unknown"] for r in sel])
+            preds["rockscreen, no verdict counted as overturning (the report's reading)"] = (
+                np.array([r["overturn_nominal"] for r in sel]) | unknown, p_own)
         preds["rockscreen, p >= 0.5 (the report's threshold)"] = ((p_own >= 0.5).astype(int), p_own)
         if "overturning_planes_deg" in sel[0]:
             preds["rockscreen (worst orientation, p of a random one)"] = (

@@ -419,3 +419,38 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
     terms = page[page.index('id="terms"'):page.index('id="detail-table"')]
     for word in ("P bounds", "basis", "fitted", "extrapolated", "bounds only", "cannot rock", "no fragility"):
         assert word in terms, word
+
+
+def test_records_without_a_verdict_and_sliding_are_never_level_none(shakemaps, tmp_path):
+    """A: its judged records put the median at 20 times the site's shaking (P ~ 0), but its fragility run had
+    records without a verdict, and counted as overturning they put it at half the shaking: P's upper bound, its rank
+    and its level come from that fit (the closed form), and the run says so with the count. CRATE cannot rock (P = 0)
+    but slid in the stripes at a level below the site's shaking: never level none."""
+    row = _node_rows(shakemaps / SCENARIO)[100]
+    site_g = row[2] / 100.0
+    inv = _inventory(tmp_path / "b.csv", [("A", 1.0, 0.2, 0.6, "", "s", row[0], row[1]),
+                                          ("CRATE", 0.6, 1.2, 0.25, "", "s", row[0], row[1])])
+    levels_g = (0.05, 0.1, 0.2, 0.4, 0.8)
+    frag = _fragility(tmp_path / "frag", ["A", "CRATE"], median_g=[20 * site_g, math.inf], beta=[0.4, math.nan],
+                      status=[FitStatus.ok, FitStatus.none_overturn], levels_g=levels_g)
+    with xr.open_dataset(frag / "fragility.nc") as f:
+        ds = f.load()
+    ds["median_unjudged_overturn"] = (("block",), np.array([0.5 * site_g * G, math.nan]))
+    ds["beta_unjudged_overturn"] = (("block",), np.array([0.4, math.nan]))
+    ds["n_unjudged"] = (("block", "im_level"), np.array([[0, 0, 1, 2, 3], [0, 0, 0, 0, 0]], dtype=float))
+    ds["n_sliding"] = (("block", "im_level"), np.array([[0] * 5, [1, 1, 2, 2, 2]], dtype="i4"))
+    (frag / "fragility.nc").unlink()
+    ds.to_netcdf(frag / "fragility.nc")
+    result = screen_event(_request(tmp_path, shakemaps / SCENARIO, inv, frag))
+    out = result.dataset
+    sd = float(out.shaking_log_sd.values[0])
+    assert float(out.p_overturn_event.values[0]) < 0.01
+    expected = _phi(math.log(2.0) / math.sqrt(0.4 ** 2 + sd ** 2))            # shaking / median = 2
+    assert float(out.p_overturn_event_high.values[0]) == pytest.approx(expected, rel=1e-9)
+    assert int(out.basis.values[0]) == Basis.unjudged and int(out.level.values[0]) != Level.none
+    assert any(w.startswith("A: 6 scaled record-levels") for w in result.warnings), result.warnings
+    assert site_g >= 0.05, "the node chosen must shake above the level at which CRATE slid"
+    assert int(out.sliding_risk.values[1]) == 1 and int(out.level.values[1]) == Level.low
+    assert float(out.p_overturn_event.values[1]) == 0.0
+    page = (tmp_path / "out" / "event.html").read_text()
+    assert "it slides at this shaking" in page and "records not judged" in page

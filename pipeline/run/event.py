@@ -185,6 +185,17 @@ def _fragilities(frag: xr.Dataset, inv: Inventory, g_ms2: float) -> tuple[Fragil
     return frags, 2.0 * math.pi / np.asarray(geom.p, dtype=float)
 
 
+def unjudged_warnings(frag: xr.Dataset, inv: Inventory, risk) -> list[str]:
+    """One line per asset whose fragility stripes hold records without a verdict: how many, and P with them counted
+    as overturning (its upper bound, which ranks it)."""
+    if "n_unjudged" not in frag:
+        return []
+    counts = frag["n_unjudged"].sel(block=list(inv.ids)).values.sum(axis=1)
+    return [f"{inv.ids[k]}: {counts[k]:.3g} scaled record-levels of its fragility run have no verdict (a model "
+            f"stopped where the base slides, twists or lifts off); P up to {float(risk.p_high[k]):.2f} counts them "
+            "as overturning, and ranks it" for k in np.flatnonzero(counts > 0)]
+
+
 def most_efficient(frag: xr.Dataset, inv: Inventory) -> tuple[np.ndarray, np.ndarray]:
     """Per asset, the ShakeMap IM (pga, pgv, sa) whose fit of the same outcomes has the smallest dispersion
     (fragility.nc ``beta_im``), and that dispersion ("" and NaN where none has a finite fit)."""
@@ -308,6 +319,7 @@ def _run(req: EventRequest, grid: ShakeMapGrid, frag: xr.Dataset, im: str, out_d
                         "probabilities")
     thresholds = (cfg.event.level_low, cfg.event.level_medium, cfg.event.level_high)
     risk = event_risk(shaking["median"], shaking["log_sd"], frags, k_sigma=req.k_sigma)
+    warnings += unjudged_warnings(frag, inv, risk)
     near = None
     if req.records is not None:
         from .event_records import near_records
