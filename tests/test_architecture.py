@@ -104,3 +104,47 @@ def test_no_module_below_the_run_layer_imports_the_application():
 def test_the_import_scan_sees_an_import_of_the_application():
     """The scan above finds what it looks for: the run layer's screening module imports the inventory module."""
     assert "blocks" in _imported_parts(PIPELINE / "run" / "screening.py")
+
+
+def _imports_graph() -> dict[str, set[str]]:
+    """Module -> the package's modules it imports, at module level or deferred inside a function (``from . import x``
+    of a submodule x names x, not the package)."""
+    root = Path(__file__).resolve().parents[1] / "pipeline"
+
+    def name_of(p: Path) -> str:
+        parts = list(p.relative_to(root.parent).with_suffix("").parts)
+        return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+    mods = {name_of(p): p for p in root.rglob("*.py")}
+    graph: dict[str, set[str]] = {}
+    for name, path in mods.items():
+        package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+        deps = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                base = package.split(".")[:len(package.split(".")) - max(node.level - 1, 0)] if node.level else []
+                target = ".".join(base + [node.module]) if node.module else ".".join(base)
+                subs = [f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in mods]
+                deps |= set(subs if len(subs) == len(node.names) else [target, *subs])
+            elif isinstance(node, ast.Import):
+                deps |= {a.name for a in node.names}
+        graph[name] = {d for d in deps if d in mods and d != name}
+    return graph
+
+
+def test_no_import_cycle_in_the_package():
+    """No module imports, directly or through others, one that imports it back (deferred imports included: a cycle
+    closed inside a function is still a cycle)."""
+    graph = _imports_graph()
+    cycles = []
+    for start in graph:
+        seen, stack = set(), [(start, (start,))]
+        while stack:
+            node, path = stack.pop()
+            for dep in graph[node]:
+                if dep == start:
+                    cycles.append(" -> ".join((*path, dep)))
+                elif dep not in seen:
+                    seen.add(dep)
+                    stack.append((dep, (*path, dep)))
+    assert cycles == [], cycles[:5]

@@ -57,6 +57,7 @@ from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
 from .engine import RecordJobs
+from .scale_scan import scale_scan
 from .screening import Context
 
 log = logging.getLogger(__name__)
@@ -147,35 +148,6 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
         return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
 
     return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
-
-
-def scale_scan(lift_factor: float, verdict_at, *, settings, overturns_at_one: bool | None = None
-               ) -> tuple[float, int]:
-    """The upward scan of :func:`overturn_scale_simulated`: from the factor that first lifts the block up to 1
-    (exclusive), then 1, then up to ``margin_max_factor``, in steps of ``margin_step``; ``verdict_at(factor)``
-    judges one (1 overturns, 0 stands, -1 no verdict). Returns the first factor that overturns (NaN when one has
-    no verdict first, ``inf`` when none does) and the scenes simulated."""
-    def factors():
-        x = lift_factor
-        while x < 1.0:
-            yield x
-            x *= 1.0 + settings.margin_step
-        yield 1.0
-        x = 1.0 + settings.margin_step
-        while x <= settings.margin_max_factor:
-            yield x
-            x *= 1.0 + settings.margin_step
-
-    runs = 0
-    for factor in factors():
-        if factor == 1.0 and overturns_at_one is not None:
-            v = int(overturns_at_one)                   # the unscaled scene's verdict is known
-        else:
-            runs += 1
-            v = verdict_at(factor)
-        if v != 0:                      # overturns; or free flight: no verdict at or above this factor
-            return (factor if v == 1 else math.nan), runs
-    return math.inf, runs
 
 
 def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,

@@ -30,6 +30,7 @@ from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationPro
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
 from ..uncertainty.two_sided import CANDIDATES, draw_factors, scanned_probability
+from .scale_scan import scale_scan
 
 
 class ScannedScene(NamedTuple):
@@ -101,10 +102,9 @@ def scanned_scale(rec, shape: BlockShape, plane: ScannedPlane, *, settings: Simu
                   overturns_at_one: bool | None = None, amplitude: float = 1.0, width_factor: float = 1.0,
                   height_factor: float = 1.0, restitution_scale: float = 1.0, friction_scale: float = 1.0
                   ) -> tuple[float, int]:
-    """The simulated margin of a scanned scene in one plane (:func:`~.margins.scale_scan`, from the factor at which
+    """The simulated margin of a scanned scene in one plane (:func:`~.scale_scan.scale_scan`, from the factor at which
     the record could first lift the body toward its weaker side), for the record scaled by ``amplitude`` and the
     body by a draw's factors."""
-    from .margins import scale_scan  # margins imports the screening, which imports this module
 
     assert shape.scan is not None
     geometry = plane_geometry(shape.scan, plane.body_deg, settings)

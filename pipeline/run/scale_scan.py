@@ -1,0 +1,35 @@
+"""The upward scan of the factor on a record that first overturns a block: the simulated margin's one loop, shared
+by the planar blocks, the solids and the scanned bodies (:mod:`.margins`, :mod:`.scanned`)."""
+
+from __future__ import annotations
+
+import math
+
+
+def scale_scan(lift_factor: float, verdict_at, *, settings, overturns_at_one: bool | None = None
+               ) -> tuple[float, int]:
+    """The upward scan of :func:`~.margins.overturn_scale_simulated`: from the factor that first lifts the block up to 1
+    (exclusive), then 1, then up to ``margin_max_factor``, in steps of ``margin_step``; ``verdict_at(factor)``
+    judges one (1 overturns, 0 stands, -1 no verdict). Returns the first factor that overturns (NaN when one has
+    no verdict first, ``inf`` when none does) and the scenes simulated."""
+    def factors():
+        x = lift_factor
+        while x < 1.0:
+            yield x
+            x *= 1.0 + settings.margin_step
+        yield 1.0
+        x = 1.0 + settings.margin_step
+        while x <= settings.margin_max_factor:
+            yield x
+            x *= 1.0 + settings.margin_step
+
+    runs = 0
+    for factor in factors():
+        if factor == 1.0 and overturns_at_one is not None:
+            v = int(overturns_at_one)                   # the unscaled scene's verdict is known
+        else:
+            runs += 1
+            v = verdict_at(factor)
+        if v != 0:                      # overturns; or free flight: no verdict at or above this factor
+            return (factor if v == 1 else math.nan), runs
+    return math.inf, runs
