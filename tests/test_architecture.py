@@ -148,3 +148,33 @@ def test_no_import_cycle_in_the_package():
                     seen.add(dep)
                     stack.append((dep, (*path, dep)))
     assert cycles == [], cycles[:5]
+
+
+def test_the_design_page_names_every_module_and_no_missing_one():
+    """docs/design.md's layout does not drift: every module of the package is named in its layout block (by its
+    name), and every ``*.py`` the page names exists (in the package, or as the path it gives)."""
+    import re
+
+    project = Path(__file__).resolve().parents[1]
+    text = (project / "docs" / "design.md").read_text()
+    layout = text.split("## Layout", 1)[1].split("```")[1]
+    root = project / "pipeline"
+    modules = [p.relative_to(root).as_posix() for p in root.rglob("*.py") if p.name != "__init__.py"]
+    unnamed = [m for m in modules if not re.search(rf"\b{re.escape(Path(m).stem)}\b", layout)]
+    assert unnamed == [], f"name these in docs/design.md's layout: {unnamed}"
+    basenames = {Path(m).name for m in modules}
+    named = set(re.findall(r"[A-Za-z_][\w/]*\.py\b", text))
+    absent = [n for n in named if not ((project / n).is_file() or (root / n).is_file() or Path(n).name in basenames)]
+    assert absent == [], f"docs/design.md names modules that do not exist: {absent}"
+
+
+def test_no_page_of_the_docs_dates_itself_by_issues_or_sessions():
+    """The docs describe the software as it is, by topic: no 'issue 39', 'session 14', 'the issue's', 'this
+    session'."""
+    import re
+
+    project = Path(__file__).resolve().parents[1]
+    pattern = re.compile(r"\b(?:issues? \d+|sessions? \d+|the issue'?s?\b|this session|rounds? of work)", re.I)
+    found = [(page.name, m.group(0)) for page in [project / "README.md", *sorted((project / "docs").glob("*.md"))]
+             for m in pattern.finditer(page.read_text())]
+    assert found == [], found
