@@ -42,6 +42,7 @@ from .errors import (
     RockscreenError,
     UsageError,
 )
+from .ticker import POLL_FRACTION, Ticker
 
 log = logging.getLogger("pipeline")
 
@@ -181,11 +182,9 @@ def _add_output_options(p: argparse.ArgumentParser) -> None:
 
 
 #: Longest silence of a command while it works [s]: a progress line, a stage's name or the bar's refresh comes at
-#: least this often (stderr not a terminal: scheduled runs, logs; or the stages of screen bench)
+#: least this often (stderr not a terminal: scheduled runs, logs; or the stages of screen bench), by a
+#: :class:`~pipeline.ticker.Ticker`
 PROGRESS_LINE_S = 2.0
-#: How often the watchers look at the time since the last line, as a fraction of PROGRESS_LINE_S; a line is due
-#: once the silence is within one look of PROGRESS_LINE_S, so no silence exceeds it
-PROGRESS_POLL_FRACTION = 0.25
 
 
 def _progress(quiet: bool):
@@ -210,62 +209,46 @@ def _terminal_columns() -> int:
 def _progress_bar(items, total=None, running=None, label: str = "records screened"):
     """Yield ``items`` under a tqdm bar whose postfix names the records running long and their scenes (``label``:
     what a finished item is; its first word is the bar's name)."""
-    import threading
-
     from tqdm import tqdm
 
     bar = tqdm(items, total=total, desc=label.split()[0], unit="rec", file=sys.stderr, leave=False)
-    stop = threading.Event()
 
-    def watch() -> None:
-        while not stop.wait(PROGRESS_LINE_S * (1.0 - PROGRESS_POLL_FRACTION)):
-            bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
+    def refresh(_elapsed_s: float) -> None:
+        bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
 
-    threading.Thread(target=watch, daemon=True).start()
     try:
-        yield from bar
+        with Ticker(refresh, every_s=PROGRESS_LINE_S * (1.0 - POLL_FRACTION)):
+            yield from bar
     finally:
-        stop.set()
         bar.close()
 
 
 def _progress_lines(items, total=None, running=None, label: str = "records screened"):
     """Yield ``items``, printing progress lines (from a watcher thread while a task takes long); ``running()``
     names the records that have run long and the scene each is on; ``label``: what a finished item is."""
-    import threading
-
     t0 = time.monotonic()
-    state = {"done": 0, "last": t0}
+    state = {"done": 0}
     lock = threading.Lock()
-    stop = threading.Event()
 
-    def line() -> None:
+    def line(_elapsed_s: float = 0.0) -> None:
         with lock:
-            now = time.monotonic()
             busy = running() if running is not None else []
-            print(f"progress: {state['done']}/{total} {label}, {now - t0:.0f} s"
+            print(f"progress: {state['done']}/{total} {label}, {time.monotonic() - t0:.0f} s"
                   + (f"; running long: {'; '.join(busy)}" if busy else ""), file=sys.stderr, flush=True)
-            state["last"] = now
+            ticker.said()
 
-    def watch() -> None:
-        poll = PROGRESS_LINE_S * PROGRESS_POLL_FRACTION
-        while not stop.wait(poll):
-            if time.monotonic() - state["last"] >= PROGRESS_LINE_S - poll:
-                line()
-
-    step = max(1, (total or 0) // 10)
-    watcher = threading.Thread(target=watch, daemon=True) if total else None
-    if watcher is not None:
-        line()                                   # at once: the run has started and how much it has to do
-        watcher.start()
-    try:
+    ticker = Ticker(line, every_s=PROGRESS_LINE_S)
+    if not total:
+        yield from items
+        return
+    step = max(1, total // 10)
+    line()                                       # at once: the run has started and how much it has to do
+    with ticker:
         for k, item in enumerate(items, 1):
             yield item
             state["done"] = k
-            if total and (k % step == 0 or k == total):
+            if k % step == 0 or k == total:
                 line()
-    finally:
-        stop.set()
 
 
 def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
@@ -561,29 +544,20 @@ def _ticking(quiet: bool):
     if quiet:
         yield None
         return
-    stage = {"text": ""}
-    since = {"t": time.monotonic(), "said": time.monotonic()}
-    stop = threading.Event()
+    stage, started = {"text": ""}, {"t": time.monotonic()}
 
     def announce(text: str) -> None:
-        stage["text"], since["t"] = text, time.monotonic()
-        since["said"] = since["t"]
+        stage["text"], started["t"] = text, time.monotonic()
+        ticker.said()
         _say(text)
 
-    def tick() -> None:
-        poll = PROGRESS_LINE_S * PROGRESS_POLL_FRACTION
-        while not stop.wait(poll):
-            if stage["text"] and time.monotonic() - since["said"] >= PROGRESS_LINE_S - poll:
-                since["said"] = time.monotonic()
-                _say(f"  ... {stage['text'].split(' (')[0]}: {since['said'] - since['t']:.0f} s")
+    def tick(_elapsed_s: float) -> None:
+        if stage["text"]:
+            _say(f"  ... {stage['text'].split(' (')[0]}: {time.monotonic() - started['t']:.0f} s")
 
-    ticker = threading.Thread(target=tick, daemon=True)
-    ticker.start()
-    try:
+    ticker = Ticker(tick, every_s=PROGRESS_LINE_S)
+    with ticker:
         yield announce
-    finally:
-        stop.set()
-        ticker.join()
 
 
 def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:

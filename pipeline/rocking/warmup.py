@@ -8,7 +8,6 @@ the caller can say what is happening.
 
 from __future__ import annotations
 
-import threading
 import time
 from collections.abc import Callable
 
@@ -17,6 +16,7 @@ import numpy as np
 from ..compiled import HAVE_NUMBA
 from ..constants import G
 from ..shapes.hull import rectangle_chain
+from ..ticker import Ticker
 from .asymmetric import TwoSided
 from .box3d import Box, simulate_box
 from .cylinder3d import Cylinder, simulate_cylinder
@@ -57,30 +57,22 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, cylinders:
     if not HAVE_NUMBA:
         return 0.0
     compiles = CompileCounter()
-    said, done = threading.Event(), threading.Event()
 
-    def tell() -> None:
-        if done.wait(ANNOUNCE_AFTER_S):
-            return
-        said.set()
+    def tell(elapsed_s: float) -> None:
         if announce is None:
             return
-        announce("compiling the simulator (numba, once per install; later runs load it from disk) ..."
-                 if compiles.n else "loading the simulator (numba's cache on disk) ...")
-        while not done.wait(REPEAT_S):
-            announce(f"{'compiling' if compiles.n else 'loading'} the simulator ... "
-                     f"{time.perf_counter() - t0:.0f} s")
+        if not ticker.spoke:
+            announce("compiling the simulator (numba, once per install; later runs load it from disk) ..."
+                     if compiles.n else "loading the simulator (numba's cache on disk) ...")
+        else:
+            announce(f"{'compiling' if compiles.n else 'loading'} the simulator ... {elapsed_s:.0f} s")
 
-    timer = threading.Thread(target=tell, daemon=True)
-    timer.start()
-    try:
+    ticker = Ticker(tell, every_s=REPEAT_S, first_after_s=ANNOUNCE_AFTER_S)      # bound before its thread starts
+    with ticker:
         with compiles.listening():
             _warm(planar=planar, sampled=sampled, cylinders=cylinders, boxes=boxes, scanned=scanned)
-    finally:
-        done.set()
-        timer.join()
     elapsed = time.perf_counter() - t0
-    if said.is_set() and announce is not None:
+    if ticker.spoke and announce is not None:
         announce(f"{'compiled' if compiles.n else 'loaded'} the simulator in {elapsed:.0f} s")
     return elapsed
 
