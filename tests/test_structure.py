@@ -88,8 +88,9 @@ CLI_LIBRARY_IMPORTS = {
     "uncertainty.hazard": "Component: the component definitions --im-component accepts",
     "event.assets": "Level: the inspection levels it counts",
 }
-#: The application modules the CLI calls (the run layer orchestrates; these read inputs or name outputs).
-CLI_APPLICATION_IMPORTS = ("run", "config", "errors", "blocks", "levels", "scene_table")
+#: The application modules the CLI calls (the run layer orchestrates; these read inputs or name outputs; ticker says
+#: something at least every 2 s: printing, the CLI's own work).
+CLI_APPLICATION_IMPORTS = ("run", "config", "errors", "blocks", "levels", "scene_table", "ticker")
 
 
 def test_the_cli_parses_and_prints_and_leaves_the_work_to_the_run_layer():
