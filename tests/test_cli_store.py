@@ -317,7 +317,7 @@ def test_progress_lines_keep_coming_while_a_task_runs_long(monkeypatch, capsys):
 
     from pipeline import cli
 
-    monkeypatch.setattr(cli, "PROGRESS_LINE_S", 0.2)
+    monkeypatch.setattr(cli.progress, "PROGRESS_LINE_S", 0.2)
 
     def slow():
         yield 1

@@ -78,8 +78,8 @@ SET_RECORD = "set.json"
 OLD_STAGING = "staging"
 
 
-#: The signals a command treats as Ctrl-C (:data:`pipeline.cli.INTERRUPT_SIGNALS` and SIGINT): held while an output
-#: set is swapped, so that none of them leaves half a set.
+#: The signals a command treats as Ctrl-C (:data:`pipeline.cli.exits.INTERRUPT_SIGNALS` and SIGINT): held while an
+#: output set is swapped, so that none of them leaves half a set.
 HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
