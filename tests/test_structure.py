@@ -113,3 +113,9 @@ def test_the_cli_loads_no_simulator_before_it_has_work():
     code = ("import sys, pipeline.cli\n"
             "print(','.join(sorted(m for m in sys.modules if m.startswith(('numba', 'pipeline.rocking.kernel')))))")
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip() == ""
+
+
+def test_no_module_of_the_command_line_is_over_300_lines():
+    """The command line is a package of small modules (one per subcommand, the shared options, progress, exits)."""
+    long = {p.name: n for p in (PIPELINE / "cli").glob("*.py") if (n := len(p.read_text().splitlines())) > 300}
+    assert long == {}, long
