@@ -174,7 +174,20 @@ def test_no_page_of_the_docs_dates_itself_by_issues_or_sessions():
     import re
 
     project = Path(__file__).resolve().parents[1]
-    pattern = re.compile(r"\b(?:issues? \d+|sessions? \d+|the issue'?s?\b|this session|rounds? of work)", re.I)
+    pattern = re.compile(r"\b(?:issues?[- ]\d+|sessions?[- ]\d+|the issue'?s?\b|this session|rounds? of work)", re.I)
     found = [(page.name, m.group(0)) for page in [project / "README.md", *sorted((project / "docs").glob("*.md"))]
              for m in pattern.finditer(page.read_text())]
     assert found == [], found
+
+
+def test_the_docs_links_to_validation_sections_resolve():
+    """A link to a section of docs/validation.md names a heading it has (GitHub's anchors: lower case, punctuation
+    dropped, spaces as hyphens)."""
+    import re
+
+    project = Path(__file__).resolve().parents[1]
+    headings = re.findall(r"^#+ (.+)$", (project / "docs" / "validation.md").read_text(), flags=re.M)
+    anchors = {re.sub(r"[^a-z0-9 _-]", "", h.lower()).replace(" ", "-") for h in headings}
+    links = [a for page in [project / "README.md", *(project / "docs").glob("*.md")]
+             for a in re.findall(r"validation\.md#([\w-]+)", page.read_text())]
+    assert links and [a for a in links if a not in anchors] == []
