@@ -11,7 +11,7 @@ curve fitted without them).
 
 ``--model rolling`` (the default) judges each rock as ``screen`` judges a body given by its mesh with a blank
 azimuth on a record of one horizontal, with its default model (:func:`pipeline.run.scanned.scanned_scene`; the rock
-rolls on its convex hull, :mod:`pipeline.shapes.hull`, :mod:`pipeline.rocking.rolling`: no footprint tolerance;
+rolls on its convex hull, :mod:`pipeline.shapes.hull`, :mod:`pipeline.rocking.scanned.rolling`: no footprint tolerance;
 the landing on the base loses what the impact rule says, the rolling over the scan's facets nothing): every
 vertical plane of the body on the ``--orientation-step`` grid (5 degrees, rockscreen's default) facing the table's
 axis. ``overturn_nominal`` is the worst orientation's verdict, ``p_overturn`` the worst orientation's probability
@@ -23,8 +23,9 @@ adds the verdicts if the orientation were known, estimated by leave-one-motion-o
 parameter).
 
 ``--model two_sided`` rocks each rock on one pivot per side (:mod:`pipeline.shapes.plane`,
-:mod:`pipeline.rocking.two_sided`): the footprint's extreme points within ``--footprint-mm`` (default rockscreen's
-2 mm) of the base, or (``--pivots tipping``) where each side's static tipping angle puts them. The orientation on
+:mod:`pipeline.rocking.scanned.two_sided`): the footprint's extreme points within ``--footprint-mm`` (default
+rockscreen's 2 mm) of the base, or (``--pivots tipping``) where each side's static tipping angle puts them. The
+orientation on
 the table is not recorded: four poses are taken, the scans' x axis along the shaking (the published simulation's
 pose) and their y axis, each in both senses. ``overturn_nominal`` is the worst pose's verdict; ``p_overturn`` the
 probability under a pose drawn at random among the four (``--samples`` draws per pose).
@@ -59,9 +60,9 @@ from pipeline.records.record import Record
 from pipeline.records.settings import ProcessingConfig
 from pipeline.rocking.block import BlockShape, ShapeKind
 from pipeline.rocking.orientation import plane_grid
+from pipeline.rocking.scanned.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.rocking.settings import ScannedModel, SimulationConfig
 from pipeline.rocking.simulate import step_control
-from pipeline.rocking.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.run.scanned import scanned_scene
 from pipeline.shapes.hull import hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body

@@ -3,7 +3,7 @@
 For every (record, block) scene of the sample inventory that the planner sends
 to the rocking model (first horizontal component, horizontal motion only, so
 both solvers see the same physics), times the compiled kernel at the default
-settings and the reference (``pipeline.rocking.reference``, DOP853 at
+settings and the reference (``pipeline.rocking.references.reference``, DOP853 at
 rtol 1e-8) and compares verdicts, impacts and theta_max/alpha. Prints measured
 figures only. The kernel is compiled (and a warm-up scene run) before timing.
 
@@ -22,7 +22,7 @@ from pipeline.blocks import read_inventory
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.planner import Physics, plan
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.simulate import rock
 
 ROOT = Path(__file__).resolve().parents[1]

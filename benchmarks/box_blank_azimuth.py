@@ -21,10 +21,10 @@ import numpy as np
 
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.box3d import Box
-from pipeline.rocking.box_planar import width_block
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
-from pipeline.rocking.solid3d import Solid, judge_solid
+from pipeline.rocking.solids.box3d import Box
+from pipeline.rocking.solids.box_planar import width_block
+from pipeline.rocking.solids.solid3d import Solid, judge_solid
 
 ROOT = Path(__file__).resolve().parents[1]
 MU = 0.7

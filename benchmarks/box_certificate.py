@@ -1,4 +1,4 @@
-"""The other-axis certificate of a box (pipeline.rocking.box_planar) against the 3D model, draw by draw, on the
+"""The other-axis certificate of a box (pipeline.rocking.solids.box_planar) against the 3D model, draw by draw, on the
 bundled records: for every record with two horizontals of known azimuth, every box of configs/blocks.csv with a
 depth and an azimuth, and the first DRAWS draws of the declared uncertainty (the screening's own draws), the draw's
 planar scene and certificate, and the 3D model's run. Prints how many draws were certified, how many of those the 3D
@@ -19,9 +19,9 @@ import numpy as np
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.box3d import Box
-from pipeline.rocking.box_planar import planar_box_scene
-from pipeline.rocking.solid3d import drawn, run, scene_of, solid_of
+from pipeline.rocking.solids.box3d import Box
+from pipeline.rocking.solids.box_planar import planar_box_scene
+from pipeline.rocking.solids.solid3d import drawn, run, scene_of, solid_of
 from pipeline.uncertainty.sampling import common_normals, sample_block
 
 ROOT = Path(__file__).resolve().parents[1]

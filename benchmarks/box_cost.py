@@ -2,7 +2,7 @@
 two horizontal components.
 
 For each record and each box (width along x), both are timed once after a warm-up (compiled kernels loaded): the 3D
-run (:func:`pipeline.rocking.box3d.simulate_box` on both horizontals and the vertical) and the planar run of the
+run (:func:`pipeline.rocking.solids.box3d.simulate_box` on both horizontals and the vertical) and the planar run of the
 plane of its width (:func:`pipeline.rocking.simulate.rock` on the x component and the vertical, Housner's
 restitution). Prints each pair, the 3D outcome, and the ratio of the totals.
 
@@ -20,8 +20,8 @@ from pathlib import Path
 
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.box3d import Box, housner_e_box, simulate_box
 from pipeline.rocking.simulate import rock
+from pipeline.rocking.solids.box3d import Box, housner_e_box, simulate_box
 
 G = 9.80665
 #: (label, width [m], depth [m], height [m], mu)

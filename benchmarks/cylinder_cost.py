@@ -2,7 +2,7 @@
 a blank azimuth is scanned), on the bundled records with two horizontal components.
 
 For each record and each cylinder, both are timed once after a warm-up (compiled kernels loaded): the 3D run
-(:func:`pipeline.rocking.solid3d.solid_scene`) and the planar scan
+(:func:`pipeline.rocking.solids.solid3d.solid_scene`) and the planar scan
 (:func:`pipeline.rocking.orientation.worst_plane` over the pulse axis and the 5-degree grid, 37 planes, with the
 cylinder's own p and restitution). Prints each pair and the ratio of the totals.
 
@@ -21,7 +21,7 @@ from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind, dynamics
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
-from pipeline.rocking.solid3d import solid_of, solid_scene
+from pipeline.rocking.solids.solid3d import solid_of, solid_scene
 
 CYLINDERS = (("vase 0.8 x 0.26", 0.8, 0.26, 0.55), ("column 2 x 0.5", 2.0, 0.5, 0.6),
              ("column 6 x 1", 6.0, 1.0, 0.7))

@@ -1,5 +1,6 @@
-"""What the cylinder's settle rule changes (pipeline.rocking.cylinder3d.SETTLE_TILT_ALPHA: a tilt below that x alpha
-through a sample interval over which the ground cannot lift the cylinder from rest is set at rest), against the same
+"""What the cylinder's settle rule changes (pipeline.rocking.solids.cylinder3d.SETTLE_TILT_ALPHA: a tilt below that x
+alpha through a sample interval over which the ground cannot lift the cylinder from rest is set at rest), against the
+same
 model without it, on the bundled records with two horizontals x three cylinders (a vase 0.8 x 0.26 m, mu 0.55; a
 column 2 x 0.5 m, mu 0.6; a column 6 x 1 m, mu 0.7). Prints the time of each, and every scene whose verdict the
 rule changes with the chaos check (the record x0.98 and x1.02, with and without the rule) and, where PyBullet is
@@ -18,9 +19,9 @@ from pathlib import Path
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind
-from pipeline.rocking.cylinder3d import SETTLE_TILT_ALPHA, simulate_cylinder
-from pipeline.rocking.cylinder_scene import cylinder_of
-from pipeline.rocking.solid3d import Solid, scene_of
+from pipeline.rocking.solids.cylinder3d import SETTLE_TILT_ALPHA, simulate_cylinder
+from pipeline.rocking.solids.cylinder_scene import cylinder_of
+from pipeline.rocking.solids.solid3d import Solid, scene_of
 
 ROOT = Path(__file__).resolve().parents[1]
 CYLINDERS = (("vase 0.8 x 0.26", 0.8, 0.26, 0.55), ("column 2 x 0.5", 2.0, 0.5, 0.6),

@@ -117,7 +117,7 @@ class Inventory:
 
     def boxes_in_3d(self) -> np.ndarray:
         """Whether each block is a box with a depth and an azimuth (simulated in 3D on two horizontals of known
-        azimuth: :func:`pipeline.rocking.solid3d.solid_of`)."""
+        azimuth: :func:`pipeline.rocking.solids.solid3d.solid_of`)."""
         return (self.kinds() == int(ShapeKind.box)) & np.isfinite(self.depths()) & np.isfinite(self.azimuth_deg)
 
     def base_margins(self) -> np.ndarray:

@@ -18,8 +18,8 @@ import numpy as np
 
 from pipeline.rocking import rules
 from pipeline.rocking.block import Block
+from pipeline.rocking.planar.sampled import sample_verdicts
 from pipeline.rocking.planner import Scene, simulate_scene
-from pipeline.rocking.sampled import sample_verdicts
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
 

@@ -14,20 +14,17 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
                "pipeline.schema")
 
 
-@pytest.mark.parametrize("library", ["pipeline.rocking.planner", "pipeline.rocking.orientation",
-                                     "pipeline.rocking.reference", "pipeline.records.loader", "pipeline.pulses",
-                                     "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
-                                     "pipeline.rocking.sampled", "pipeline.records.intensity",
-                                     "pipeline.uncertainty.scenes", "pipeline.uncertainty.fragility",
-                                     "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling",
-                                     "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates",
-                                     "pipeline.records.common", "pipeline.rocking.contact", "pipeline.rocking.handoff",
-                                     "pipeline.uncertainty.hazard_files", "pipeline.floors.model",
-                                     "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.box_planar",
-                                     "pipeline.rocking.asymmetric", "pipeline.rocking.solid3d",
-                                     "pipeline.rocking.two_sided", "pipeline.rocking.scanned", "pipeline.shapes.plane",
-                                     "pipeline.uncertainty.two_sided", "pipeline.rocking.rolling",
-                                     "pipeline.shapes.hull"])
+@pytest.mark.parametrize("library", [
+    "pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline.rocking.references.reference",
+    "pipeline.records.loader", "pipeline.pulses", "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
+    "pipeline.rocking.planar.sampled", "pipeline.records.intensity", "pipeline.uncertainty.scenes",
+    "pipeline.uncertainty.fragility", "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling",
+    "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates", "pipeline.records.common",
+    "pipeline.rocking.planar.contact", "pipeline.rocking.planar.handoff", "pipeline.uncertainty.hazard_files",
+    "pipeline.floors.model", "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.solids.box_planar",
+    "pipeline.rocking.references.asymmetric", "pipeline.rocking.solids.solid3d",
+    "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.shapes.plane",
+    "pipeline.uncertainty.two_sided", "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
@@ -46,14 +43,14 @@ def _loaded(library: str, prefixes: tuple[str, ...]) -> str:
 
 #: The physics libraries: they read blocks as arrays or typed blocks, never the inventory module (a CSV reader).
 PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline.rocking.rules",
-           "pipeline.rocking.sampled", "pipeline.rocking.contact", "pipeline.rocking.handoff",
+           "pipeline.rocking.planar.sampled", "pipeline.rocking.planar.contact", "pipeline.rocking.planar.handoff",
            "pipeline.rocking.geometry", "pipeline.criteria", "pipeline.closed_forms", "pipeline.pulses",
            "pipeline.records.loader", "pipeline.records.coordinates", "pipeline.uncertainty.scenes",
            "pipeline.uncertainty.orientations", "pipeline.uncertainty.fragility", "pipeline.uncertainty.sampling",
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
            "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan", "pipeline.shapes.plane",
-           "pipeline.rocking.two_sided", "pipeline.rocking.scanned", "pipeline.uncertainty.two_sided",
-           "pipeline.rocking.rolling", "pipeline.shapes.hull")
+           "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.uncertainty.two_sided",
+           "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull")
 
 
 @pytest.mark.parametrize("library", PHYSICS)

@@ -1,4 +1,4 @@
-"""The two-sided rocking model (pipeline.rocking.asymmetric): a rectangle reduces to Housner's block (the
+"""The two-sided rocking model (pipeline.rocking.references.asymmetric): a rectangle reduces to Housner's block (the
 event-driven reference solver and the compiled kernel, on pulses); the impact rule is Housner's for equal sides,
 never adds energy, and is the angular momentum balance about the new pivot (by vectors, in
 test_properties_asymmetric.py);
@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.rocking.asymmetric import TwoSided, rectangle, rock_two_sided
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.asymmetric import TwoSided, rectangle, rock_two_sided
+from pipeline.rocking.references.reference import rock_reference
 
 G = 9.80665
 DT = 0.005

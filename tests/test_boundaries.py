@@ -17,9 +17,10 @@ from boundary_scenes import ALPHA_MAX, SCENE_BUDGET_S, G, block, motions, mu_tie
 
 from pipeline.cli import main
 from pipeline.errors import ParameterError
-from pipeline.rocking import codes, contact, contact_laws, handoff, kernel, rules
+from pipeline.rocking import codes, rules
 from pipeline.rocking.block import rigid_block
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
+from pipeline.rocking.planar import contact, contact_laws, handoff, kernel
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
 from pipeline.rocking.simulate import rock, slide
 from pipeline.rocking.structures import ContactState

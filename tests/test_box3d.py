@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from pipeline.constants import G
-from pipeline.rocking.box3d import (
+from pipeline.rocking.simulate import rock
+from pipeline.rocking.solids.box3d import (
     CORNER,
     FLAG_NONE,
     FLAG_SLIDE,
@@ -21,7 +22,6 @@ from pipeline.rocking.box3d import (
     housner_e_box,
     simulate_box,
 )
-from pipeline.rocking.simulate import rock
 
 DT = 0.005
 STATUE = Box(half_width_m=0.25, half_depth_m=0.4, half_height_m=1.0, mu=10.0)

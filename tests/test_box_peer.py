@@ -14,7 +14,7 @@ from rigid_body_peer import STEP_S, bullet_box_overturns
 
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.box3d import FLAG_NONE, Box, simulate_box
+from pipeline.rocking.solids.box3d import FLAG_NONE, Box, simulate_box
 
 #: Every how many of the bundled two-component records the test takes (1: all 22)
 EVERY = int(os.environ.get("ROCKSCREEN_PEER_EVERY", "2"))

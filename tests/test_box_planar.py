@@ -1,5 +1,6 @@
-"""The certificate that a box's other base axis never lifts nor slips (pipeline.rocking.box_planar), checked against
-the 3D model (a second algorithm: where the certificate holds, the 3D box never leaves the edges of its depth axis,
+"""The certificate that a box's other base axis never lifts nor slips (pipeline.rocking.solids.box_planar), checked
+against the 3D model (a second algorithm: where the certificate holds, the 3D box never leaves the edges of its depth
+axis,
 never slides, and follows the planar scene), and at its exact boundaries (flat: uplift at |a_y| h = c (g + a_v),
 slip at |a_h| = mu (g + a_v))."""
 
@@ -10,14 +11,14 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.rocking.box3d import Box, simulate_box
-from pipeline.rocking.box_planar import (
+from pipeline.rocking.scene import Physics
+from pipeline.rocking.solids.box3d import Box, simulate_box
+from pipeline.rocking.solids.box_planar import (
     other_axis_certificate,
     planar_box_scene,
     width_block,
     width_components,
 )
-from pipeline.rocking.scene import Physics
 
 G = 9.80665
 DT = 0.005

@@ -86,7 +86,7 @@ def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the
     from pipeline.records.loader import load_record, scan
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
-    from pipeline.rocking.solid3d import run, solid_of
+    from pipeline.rocking.solids.solid3d import run, solid_of
 
     ds, idx, _ = screened
     j = idx["CERTIFIED"]
@@ -138,7 +138,7 @@ def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
     from pipeline.records.loader import load_record, scan
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
-    from pipeline.rocking.solid3d import run, solid_of
+    from pipeline.rocking.solids.solid3d import run, solid_of
 
     ds, idx, _ = screened
     sources, _ = scan(kocaeli, config=Config())

@@ -144,7 +144,7 @@ def test_isolated_overturning_window_of_the_half_metre_block():
     (about 0.139 g) is a narrow window; the block is safe again above it, and overturns for good from
     about 0.176 g, 4 % below UDEC's 0.1836 g."""
     from pipeline.blocks import geometry
-    from pipeline.rocking.excitation import pulse
+    from pipeline.rocking.references.excitation import pulse
     from pipeline.rocking.simulate import rock
     from pipeline.run.chart import simulated_critical_acceleration, stability_chart
 

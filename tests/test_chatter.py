@@ -1,4 +1,5 @@
-"""The closed-form flights of an impact cascade (pipeline.rocking.chatter) against stepped flights and solve_ivp."""
+"""The closed-form flights of an impact cascade (pipeline.rocking.planar.chatter) against stepped flights and
+solve_ivp."""
 
 from __future__ import annotations
 
@@ -9,8 +10,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from pipeline.rocking.chatter import flight, flight_peak
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.planar.chatter import flight, flight_peak
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import rock
 

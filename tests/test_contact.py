@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from pipeline.constants import G
-from pipeline.rocking import codes, contact, contact_laws
+from pipeline.rocking import codes
 from pipeline.rocking.block import Block, rigid_block
+from pipeline.rocking.planar import contact, contact_laws
 from pipeline.rocking.planner import ContactMode, Physics, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import from_rest, rock, slide

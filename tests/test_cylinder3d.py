@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from pipeline.constants import G
-from pipeline.rocking.cylinder3d import (
+from pipeline.rocking.solids.cylinder3d import (
     FLAG_NONE,
     Cylinder,
     housner_e,
@@ -165,7 +165,7 @@ def test_a_tilt_too_small_to_matter_with_too_little_energy_to_grow_is_set_at_res
     set at rest at the end of the first sample interval (counted in holds); the same tilt with the contact running
     round the rim fast (kinetic energy above what would raise it to 1e-3 alpha) is followed, not held; and with the
     rule off (0) nothing is held."""
-    from pipeline.rocking.cylinder3d import SETTLE_TILT_ALPHA, Cylinder, simulate_cylinder
+    from pipeline.rocking.solids.cylinder3d import SETTLE_TILT_ALPHA, Cylinder, simulate_cylinder
 
     c = Cylinder(radius_m=0.13, half_height_m=0.4, mu=0.7, restitution=0.9)
     alpha = math.atan2(c.radius_m, c.half_height_m)

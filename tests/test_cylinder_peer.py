@@ -13,8 +13,8 @@ from rigid_body_peer import STEP_S, bullet_cylinder_overturns
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind
-from pipeline.rocking.cylinder_scene import cylinder_of, run_on_record
-from pipeline.rocking.solid3d import Solid, scene_of
+from pipeline.rocking.solids.cylinder_scene import cylinder_of, run_on_record
+from pipeline.rocking.solids.solid3d import Solid, scene_of
 
 #: Every how many of the bundled two-component records the test takes (2: 11 of 22, about a minute; 1: all, the
 #: measurement in docs/validation.md)

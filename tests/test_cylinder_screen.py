@@ -13,9 +13,9 @@ from pipeline.blocks import read_inventory
 from pipeline.constants import G
 from pipeline.errors import InventoryError
 from pipeline.rocking.block import ShapeKind
-from pipeline.rocking.cylinder3d import housner_e, planar_inertia
 from pipeline.rocking.orientation import Orientation
 from pipeline.rocking.scene import Guard, Physics
+from pipeline.rocking.solids.cylinder3d import housner_e, planar_inertia
 from pipeline.uncertainty.robust import Robustness
 
 
@@ -97,9 +97,9 @@ def test_without_the_vertical_the_cylinder_overturns(el_centro_6):
     reached 0.016 alpha."""
     from pipeline.config import Config
     from pipeline.records.loader import load_record, scan
-    from pipeline.rocking.cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder
-    from pipeline.rocking.cylinder_scene import run_on_record
     from pipeline.rocking.settings import SimulationConfig
+    from pipeline.rocking.solids.cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder
+    from pipeline.rocking.solids.cylinder_scene import run_on_record
 
     sources, _ = scan(el_centro_6, config=Config())
     rec = load_record(sources[0], root=el_centro_6, config=Config())
@@ -139,8 +139,8 @@ def test_a_cylinder_on_one_horizontal_rocks_in_its_plane_with_its_own_inertia(re
     (False, 3, 0, -1, Guard.model_limit | Guard.step_cap),     # the step cap: no verdict either
 ])
 def test_what_a_3d_run_becomes_in_the_results(overturned, flag, held, verdict, guard):
-    from pipeline.rocking.cylinder3d import Cylinder, WobbleOutcome
-    from pipeline.rocking.solid3d import Solid, scene_of
+    from pipeline.rocking.solids.cylinder3d import Cylinder, WobbleOutcome
+    from pipeline.rocking.solids.solid3d import Solid, scene_of
 
     z = np.zeros(3)
     out = WobbleOutcome(overturned, 1.0 if overturned else math.nan, 0.5, 10.0, flag, 2, z, z, np.zeros(6), 0.3,

@@ -23,8 +23,8 @@ from pipeline.config import Config
 from pipeline.errors import HazardError, UsageError
 from pipeline.levels import parse_levels
 from pipeline.records.record import Record
-from pipeline.rocking.excitation import pulse
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.excitation import pulse
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.run.fragility import assemble_fragility, judge_record, stripe_warnings
 from pipeline.run.screening import Context
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes

@@ -15,8 +15,8 @@ from pipeline.constants import G
 from pipeline.criteria import critical_acceleration
 from pipeline.errors import InventoryError
 from pipeline.rocking.block import Block
-from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import simulate_scene
+from pipeline.rocking.references.excitation import pulse
 from pipeline.run.infer import infer, read_observations, summarize
 
 PROJECT = Path(__file__).resolve().parents[1]

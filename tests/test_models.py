@@ -16,8 +16,8 @@ from pipeline.constants import G
 from pipeline.rocking import models
 from pipeline.rocking.block import Block, BlockShape, dynamics
 from pipeline.rocking.contract import SceneFacts, SceneModel
+from pipeline.rocking.planar.sampled import sample_verdicts
 from pipeline.rocking.planner import REST_SCENE, Physics, scene_facts, simulate_scene
-from pipeline.rocking.sampled import sample_verdicts
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
 from pipeline.uncertainty.sampling import sample_block

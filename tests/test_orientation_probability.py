@@ -22,9 +22,9 @@ from scipy.stats import norm
 
 from pipeline.blocks import geometry
 from pipeline.rocking.block import BlockShape
-from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import plane_grid
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.excitation import pulse
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.uncertainty.orientations import orientation_probability
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.scenes import motion, scene_probability

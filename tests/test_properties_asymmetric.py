@@ -1,5 +1,5 @@
-"""Property: the two-sided impact rule (pipeline.rocking.asymmetric) is the angular momentum balance about the new
-pivot, derived a second way (by vectors), and never adds kinetic energy, for any two-sided body."""
+"""Property: the two-sided impact rule (pipeline.rocking.references.asymmetric) is the angular momentum balance about
+the new pivot, derived a second way (by vectors), and never adds kinetic energy, for any two-sided body."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pipeline.rocking.asymmetric import TwoSided
+from pipeline.rocking.references.asymmetric import TwoSided
 
 
 @settings(max_examples=200, deadline=None)

@@ -1,4 +1,4 @@
-"""Property: wherever the other-axis certificate holds (pipeline.rocking.box_planar), the 3D box (a second
+"""Property: wherever the other-axis certificate holds (pipeline.rocking.solids.box_planar), the 3D box (a second
 algorithm) never leaves the edges of its depth axis, never slides, and stands as the planar scene does, on random
 boxes under random two-component pulses with a vertical."""
 
@@ -10,8 +10,8 @@ import numpy as np
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
-from pipeline.rocking.box3d import Box, simulate_box
-from pipeline.rocking.box_planar import planar_box_scene, width_block
+from pipeline.rocking.solids.box3d import Box, simulate_box
+from pipeline.rocking.solids.box_planar import planar_box_scene, width_block
 
 G = 9.80665
 DT = 0.005

@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 from pipeline.constants import G
-from pipeline.rocking.cylinder3d import FLAG_NONE, FLAG_STEPS, Cylinder, housner_e, simulate_cylinder
+from pipeline.rocking.solids.cylinder3d import FLAG_NONE, FLAG_STEPS, Cylinder, housner_e, simulate_cylinder
 
 #: 25 cases each, the same in every run (derandomized): CI judges a fixed set, the cases found are kept as examples
 SETTINGS = settings(max_examples=25, deadline=None, derandomize=True,

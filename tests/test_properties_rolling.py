@@ -1,4 +1,4 @@
-"""Properties of a body rolling on its convex hull (pipeline.shapes.hull, pipeline.rocking.rolling), for random
+"""Properties of a body rolling on its convex hull (pipeline.shapes.hull, pipeline.rocking.scanned.rolling), for random
 convex bodies: similitude (a body lambda times larger under the same accelerations, played sqrt(lambda) times
 slower, tilts the same at the corresponding instants: theta'' scales as g / L, the only time scale is sqrt(L / g)),
 mirror symmetry (the mirrored body under the negated ground motion tilts the other way, each side's peak the other
@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
 from pipeline.constants import G
-from pipeline.rocking.rolling import roll_on_hull
+from pipeline.rocking.scanned.rolling import roll_on_hull
 from pipeline.shapes.hull import chain_from_outline
 
 DT = 0.005

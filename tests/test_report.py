@@ -19,8 +19,8 @@ from pipeline.closed_forms import makris_roussos_halfsine
 from pipeline.config import SimulationConfig
 from pipeline.constants import G
 from pipeline.rocking.block import Block
-from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import Physics, simulate_scene
+from pipeline.rocking.references.excitation import pulse
 from pipeline.run.chart import simulated_critical_acceleration, stability_chart
 from pipeline.run.margins import governing_records, overturn_scale_simulated
 from pipeline.store import open_results

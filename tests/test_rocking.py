@@ -10,8 +10,8 @@ import pytest
 
 from pipeline.blocks import geometry
 from pipeline.closed_forms import housner_rectangle_duration, makris_roussos_halfsine
-from pipeline.rocking.excitation import pulse
 from pipeline.rocking.planner import Physics, plan
+from pipeline.rocking.references.excitation import pulse
 from pipeline.rocking.simulate import rock, slide
 
 G81 = 9.81      # the published benchmarks use g = 9.81

@@ -16,11 +16,11 @@ from pipeline.blocks import geometry
 from pipeline.closed_forms import housner_rectangle_duration
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking import kernel
 from pipeline.rocking.block import Block
-from pipeline.rocking.excitation import pulse
+from pipeline.rocking.planar import kernel
 from pipeline.rocking.planner import simulate_scene
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.excitation import pulse
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.simulate import rock
 
 G = 9.80665
@@ -169,8 +169,8 @@ def test_agrees_with_the_solve_ivp_reference(real_records, record_id, height, wi
 
 _TWIN = """
 import json, math, sys
-from pipeline.rocking import kernel
-from pipeline.rocking.excitation import pulse
+from pipeline.rocking.planar import kernel
+from pipeline.rocking.references.excitation import pulse
 from pipeline.rocking.simulate import rock, slide
 assert kernel.rock.__class__.__name__ == "function", "numba is not disabled"
 out = []

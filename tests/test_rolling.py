@@ -1,5 +1,6 @@
-"""A scanned body rolling on its convex hull (pipeline.shapes.hull, pipeline.rocking.rolling) against independent
-truth: a rectangle's chain is its two corners, and it rocks as Housner's block in the planar rocking kernel (same
+"""A scanned body rolling on its convex hull (pipeline.shapes.hull, pipeline.rocking.scanned.rolling) against
+independent truth: a rectangle's chain is its two corners, and it rocks as Housner's block in the planar rocking kernel
+(same
 verdicts and peaks); a rocker with a circular base under a constant push reaches the tilt at which the push's work
 equals the potential energy gained (rolling without slip, closed form); uplift at the base pivot's threshold
 exactly; mirror symmetry of a real scan."""
@@ -14,7 +15,7 @@ from planar_reference import DT, PULSES, RECTANGLE, G, housner_block, pulse
 from scipy.optimize import brentq
 
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
-from pipeline.rocking.rolling import roll_on_hull
+from pipeline.rocking.scanned.rolling import roll_on_hull
 from pipeline.shapes.hull import chain_from_outline, hull_chain, rectangle_chain
 
 
@@ -46,7 +47,7 @@ def test_a_box_is_a_uniform_rectangle_in_its_base_planes_and_a_cylinder_never(sc
     rectangle obliquely (its outline there is a rectangle, its inertia not that rectangle's); an upright cylinder's
     outline is a rectangle in every plane, its inertia never a uniform rectangle's."""
     trimesh = pytest.importorskip("trimesh")
-    from pipeline.rocking.scanned import RectangleSection, rectangle_section
+    from pipeline.rocking.scanned.planes import RectangleSection, rectangle_section
     from pipeline.shapes.scan import read_scan
 
     box = read_scan(scans_dir / "box-0.3x3.0x1.5.obj")
@@ -164,8 +165,8 @@ def test_the_chains_tipping_angles_are_the_scans_bisected_ones(scans_dir, name):
 def test_a_declared_restitution_is_a_rectangles_landing_ratio(restitution):
     """The factor on the landing ratio makes a rectangle's landing keep the declared ratio, as the planar kernel's
     restitution does; the rule's own ratio is Housner's 1 - 3/2 sin^2 alpha."""
-    from pipeline.rocking.rolling import landing_ratio
-    from pipeline.rocking.scanned import restitution_factor
+    from pipeline.rocking.scanned.planes import restitution_factor
+    from pipeline.rocking.scanned.rolling import landing_ratio
 
     chain = rectangle_chain(*RECTANGLE)
     alpha = math.atan(RECTANGLE[0] / RECTANGLE[1])
@@ -218,10 +219,10 @@ def test_the_history_follows_the_tilt_and_a_falling_ground_leaves_no_verdict():
 
 @pytest.mark.parametrize("amp_g,period_s", PULSES)
 def test_a_rectangles_rolling_scene_is_the_planar_kernels_with_a_declared_restitution(amp_g, period_s):
-    """The scene screen stores for a rectangle given as a mesh (pipeline.rocking.scanned.plane_scene, the rolling
+    """The scene screen stores for a rectangle given as a mesh (pipeline.rocking.scanned.planes.plane_scene, the rolling
     model) against the planar kernel's block with the same declared restitution: verdict, theta_max / alpha, the
     time it overturns (to a sampling interval) and the response class."""
-    from pipeline.rocking.scanned import plane_scene
+    from pipeline.rocking.scanned.planes import plane_scene
     from pipeline.rocking.scene import Physics, Response
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.simulate import rock

@@ -1,5 +1,5 @@
-"""The exact rest check of the 3D scenes (pipeline.rocking.solid3d.stays_at_rest), which lets the screening skip a
-3D run where nothing moves: wherever it says at rest, the 3D models themselves (a second algorithm) do not move, on
+"""The exact rest check of the 3D scenes (pipeline.rocking.solids.solid3d.stays_at_rest), which lets the screening skip
+a 3D run where nothing moves: wherever it says at rest, the 3D models themselves (a second algorithm) do not move, on
 random two-component records scaled around their thresholds; it holds at its exact boundaries. (Just above the
 threshold a box may lift by less than the samples show: the check then runs the model, which is exact too.)"""
 
@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.rocking.box3d import Box
-from pipeline.rocking.cylinder3d import Cylinder
 from pipeline.rocking.settings import SimulationConfig
-from pipeline.rocking.solid3d import Solid, judge_solid, lift_factor, run, stays_at_rest
+from pipeline.rocking.solids.box3d import Box
+from pipeline.rocking.solids.cylinder3d import Cylinder
+from pipeline.rocking.solids.solid3d import Solid, judge_solid, lift_factor, run, stays_at_rest
 
 G = 9.80665
 DT = 0.01

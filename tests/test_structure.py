@@ -16,11 +16,11 @@ PIPELINE = Path(__file__).resolve().parents[1] / "pipeline"
 PER_SCENE = set(schema.PULSE_BLOCK_VARS + schema.SIMULATION_VARS + schema.PROBABILITY_VARS + schema.FLOOR_VARS)
 #: Strings equal to a per-scene variable's name that name something else, with what they name.
 HOMONYMS = {
-    ("rocking/kernel.py", "theta_max"): "a field of the rocking kernel's progress record",
-    ("rocking/kernel.py", "n_impacts"): "a field of the rocking kernel's progress record",
-    ("rocking/two_sided.py", "n_impacts"): "a field of the two-sided kernel's progress record",
-    ("rocking/contact.py", "theta_max"): "a field of the contact model's motion record",
-    ("rocking/contact.py", "n_impacts"): "a field of the contact model's motion record",
+    ("rocking/planar/kernel.py", "theta_max"): "a field of the rocking kernel's progress record",
+    ("rocking/planar/kernel.py", "n_impacts"): "a field of the rocking kernel's progress record",
+    ("rocking/scanned/two_sided.py", "n_impacts"): "a field of the two-sided kernel's progress record",
+    ("rocking/planar/contact.py", "theta_max"): "a field of the contact model's motion record",
+    ("rocking/planar/contact.py", "n_impacts"): "a field of the contact model's motion record",
     ("uncertainty/hazard_files.py", "response"): "a key of the USGS hazard service's JSON",
     ("store/exports.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
     ("report/fragility_html.py", "orientation"): "fragility.nc's attribute and fragility_assets.csv's column",
@@ -111,7 +111,8 @@ def test_the_cli_loads_no_simulator_before_it_has_work():
     import sys
 
     code = ("import sys, pipeline.cli\n"
-            "print(','.join(sorted(m for m in sys.modules if m.startswith(('numba', 'pipeline.rocking.kernel')))))")
+            "print(','.join(sorted(m for m in sys.modules\n"
+            "                      if m.startswith(('numba', 'pipeline.rocking.planar.kernel')))))")
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip() == ""
 
 

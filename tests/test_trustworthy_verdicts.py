@@ -16,7 +16,7 @@ from pipeline.records.loader import read_declared_units, scan
 from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
 from pipeline.run.margins import overturn_scale_simulated

@@ -1,7 +1,7 @@
-"""The compiled two-sided rocking model (pipeline.rocking.two_sided) against independent truth: a rectangle is
+"""The compiled two-sided rocking model (pipeline.rocking.scanned.two_sided) against independent truth: a rectangle is
 Housner's block in the planar rocking kernel (same verdicts, peaks and impacts); an asymmetric body agrees with the
-event-driven solve_ivp solver (pipeline.rocking.asymmetric, a second algorithm); uplift toward each side at its own
-threshold exactly; mirror symmetry; the energy decision after the record equals integrating the free motion; a
+event-driven solve_ivp solver (pipeline.rocking.references.asymmetric, a second algorithm); uplift toward each side at
+its own threshold exactly; mirror symmetry; the energy decision after the record equals integrating the free motion; a
 ground falling faster than gravity is flagged, never "stands". The scalable plane geometry
 (pipeline.shapes.plane) is the rectangle's closed form, and scales as the rectangle does."""
 
@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from planar_reference import DT, PULSES, RECTANGLE, G, housner_block, pulse
 
-from pipeline.rocking.asymmetric import TwoSided, rectangle, rock_two_sided
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
-from pipeline.rocking.two_sided import rock_two_sided_fast
+from pipeline.rocking.references.asymmetric import TwoSided, rectangle, rock_two_sided
+from pipeline.rocking.scanned.two_sided import rock_two_sided_fast
 from pipeline.shapes.plane import rectangle_plane
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.settings import UncertaintyConfig
@@ -113,7 +113,7 @@ def test_the_plane_geometry_of_a_rectangle_scales_as_a_rectangle(w, h):
 def test_no_impact_gains_speed_or_energy_whatever_the_declared_restitution(factor):
     """The energy decision after the record assumes impacts never add energy (the impact rule's own ratios, by
     (A - b1 b2)^2 <= (A + b1^2)(A + b2^2)); a declared factor is capped to keep it so."""
-    from pipeline.rocking.two_sided import two_sided_block
+    from pipeline.rocking.scanned.two_sided import two_sided_block
 
     for body in (TwoSided(0.05, 0.3, 0.4, 0.02), TwoSided(0.3, 0.05, 0.6, 0.1), rectangle(0.4, 1.2)):
         b = two_sided_block(body, restitution_factor=factor)

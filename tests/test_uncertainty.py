@@ -19,9 +19,9 @@ from pipeline.blocks import geometry
 from pipeline.config import Config, config_from_dict
 from pipeline.errors import ConfigError
 from pipeline.rocking.block import Block, BlockShape
-from pipeline.rocking.excitation import pulse
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
-from pipeline.rocking.reference import rock_reference
+from pipeline.rocking.references.excitation import pulse
+from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.simulate import rock
 from pipeline.uncertainty.robust import Robustness
 from pipeline.uncertainty.sampling import common_normals, lognormal_factor

@@ -162,7 +162,7 @@ def _turned_box(scans_dir, tmp_path, degrees: float):
 @pytest.mark.parametrize("degrees", [0.0, 2.5, 17.0, 44.0])
 def test_the_weakest_plane_is_judged_whatever_the_mesh_rotation(scans_dir, tmp_path, degrees):
     from pipeline.rocking.orientation import plane_grid
-    from pipeline.rocking.scanned import body_planes
+    from pipeline.rocking.scanned.planes import body_planes
     from pipeline.shapes.plane import footprint_extents
     from pipeline.shapes.scan import read_scan
 
@@ -201,7 +201,7 @@ def test_a_turned_mesh_overturns_as_the_unturned_one_does(scans_dir, tmp_path):
 def test_a_scanned_pivot_that_would_slip_gives_no_verdict(scans_dir):
     """Friction far below the demand of rocking: the rolling model's pivot would slip, which it does not follow; the
     scene has no verdict (never "stands") unless it overturned."""
-    from pipeline.rocking.scanned import plane_geometry, plane_scene
+    from pipeline.rocking.scanned.planes import plane_geometry, plane_scene
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.shapes.scan import read_scan
 
@@ -228,7 +228,7 @@ def test_the_3d_edge_forces_split_between_the_corners_as_the_balances_say(theta_
     Euler equation about the pivot) equal the closed form of the two corners' balances about G: the yaw couple
     X_+ - X_- = d a_y / c and the roll N_+ - N_- = -z_G a_y / c (box_planar's module), d and z_G the edge's horizontal
     and vertical distances from G."""
-    from pipeline.rocking.box_kernel import EDGE, FORCE_SIZE, _params, derivatives
+    from pipeline.rocking.solids.box_kernel import EDGE, FORCE_SIZE, _params, derivatives
 
     g, b, c, h = 9.80665, 0.12, 0.12, 0.31
     prm = _params(g, b, c, h, 0.62, 1.0, 1e-8, 1e-8)
@@ -249,7 +249,7 @@ def test_the_3d_edge_forces_split_between_the_corners_as_the_balances_say(theta_
 
 
 def test_a_corner_that_slips_on_an_edge_is_a_slide():
-    from pipeline.rocking.box_kernel import edge_ends_hold
+    from pipeline.rocking.solids.box_kernel import edge_ends_hold
 
     # the total force well inside the cone (0.4 of mu 0.62 at N = 1), the couple pushing one corner past it
     mu = 0.62
@@ -302,9 +302,9 @@ def test_an_edge_end_that_would_slip_gives_no_verdict_and_no_certificate(cross_g
     the edge needs 4.4 (read here from the planar run by the corners' balances, independently of the 3D kernel).
     There the 3D model flags a slide (no verdict: it does not follow the twist) where it used to say "stands", and
     the planar certificate never certifies a box whose edge end would slip."""
-    from pipeline.rocking.box3d import Box, simulate_box
-    from pipeline.rocking.box_planar import other_axis_certificate
-    from pipeline.rocking.vec3 import FLAG_NONE, FLAG_SLIDE
+    from pipeline.rocking.solids.box3d import Box, simulate_box
+    from pipeline.rocking.solids.box_planar import other_axis_certificate
+    from pipeline.rocking.solids.vec3 import FLAG_NONE, FLAG_SLIDE
 
     b, c, h, mu, g = 0.12, 0.12, 0.31, 0.62, 9.80665
     dt = 0.001

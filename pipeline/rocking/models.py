@@ -39,8 +39,8 @@ from ..constants import G
 from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
 from .contract import SceneFacts, SceneInput, SceneModel, always, never
-from .handoff import continue_rocking, from_rest, stopped_short
-from .kernel import rock as rock_compiled
+from .planar.handoff import continue_rocking, from_rest, stopped_short
+from .planar.kernel import rock as rock_compiled
 from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene, general_scene, rocking_scene
 from .settings import SimulationConfig
 from .simulate import continued, rock, slide
@@ -201,10 +201,10 @@ def _rocking_warmup() -> None:
 # --- the registry -----------------------------------------------------------------------------------------------
 
 #: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder, or a box with a depth
-#: and an azimuth, on two horizontals: :func:`pipeline.rocking.solid3d.solid_of`), not by this planar registry.
+#: and an azimuth, on two horizontals: :func:`pipeline.rocking.solids.solid3d.solid_of`), not by this planar registry.
 THREE_D = (Physics.wobbling, Physics.rocking3d)
 #: Every physics chosen by the block's shape, not by this registry: the 3D models', and the two models of a body
-#: given by its scan (:mod:`pipeline.rocking.scanned`).
+#: given by its scan (:mod:`pipeline.rocking.scanned.planes`).
 BY_SHAPE = (*THREE_D, Physics.two_sided, Physics.rolling)
 
 #: Every scene model, in the order the planner tries them: a scene goes to the first whose certificate holds.

@@ -15,7 +15,6 @@ from enum import IntEnum
 
 import numpy as np
 
-from . import handoff
 from .codes import (
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
@@ -26,6 +25,7 @@ from .codes import (
     STATUS_TIE_HOLD,
     ContactMode,
 )
+from .planar import handoff
 from .simulate import ContactResult, RockResult
 
 

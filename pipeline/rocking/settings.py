@@ -12,8 +12,8 @@ from enum import Enum
 class ScannedModel(str, Enum):
     """The model a body given by its scan is rocked with, in each vertical plane (``[simulation] scanned_model``)."""
 
-    rolling = "rolling"         # on the pivots of its convex hull's outline in turn (pipeline.rocking.rolling)
-    two_sided = "two_sided"     # on one pivot per side, the footprint's extremes (pipeline.rocking.two_sided)
+    rolling = "rolling"         # on the pivots of its convex hull's outline in turn (pipeline.rocking.scanned.rolling)
+    two_sided = "two_sided"     # on one pivot per side, the footprint's extremes (pipeline.rocking.scanned.two_sided)
 
 
 @dataclass(frozen=True)
@@ -27,7 +27,7 @@ class SimulationConfig:
     #: An impact whose rebound is below rest_ratio * p * alpha puts the block to rest [-].
     rest_ratio: float = 1e-6
     #: True (default): the small flights of an impact cascade near rest are taken in closed form
-    #: (:mod:`pipeline.rocking.chatter`) wherever the term it drops is within ``rtol``; False: every flight is
+    #: (:mod:`pipeline.rocking.planar.chatter`) wherever the term it drops is within ``rtol``; False: every flight is
     #: stepped by Runge-Kutta and every impact located by Newton iterations (the ``reference`` tier does this;
     #: ``screen bench`` measures the difference).
     closed_form_chatter: bool = True

@@ -1,6 +1,6 @@
 """Simulation of one scene (a ground motion and a block): rocking, sliding, or the general contact model.
 
-Thin, validated wrappers around the kernels of :mod:`pipeline.rocking.kernel`,
+Thin, validated wrappers around the kernels of :mod:`pipeline.rocking.planar.kernel`,
 returning plain dataclasses.
 """
 
@@ -13,8 +13,8 @@ import numpy as np
 
 from ..constants import G
 from ..errors import ParameterError
-from . import handoff, kernel, sliding
 from .block import rigid_block
+from .planar import handoff, kernel, sliding
 from .settings import SimulationConfig
 from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 

@@ -17,15 +17,15 @@ from ..compiled import HAVE_NUMBA
 from ..constants import G
 from ..shapes.hull import rectangle_chain
 from ..ticker import Ticker
-from .asymmetric import TwoSided
-from .box3d import Box, simulate_box
-from .cylinder3d import Cylinder, simulate_cylinder
 from .models import MODELS
-from .rolling import roll_on_hull
-from .sampled import sample_plane_outcomes, sample_verdicts
+from .planar.sampled import sample_plane_outcomes, sample_verdicts
+from .references.asymmetric import TwoSided
+from .scanned.rolling import roll_on_hull
+from .scanned.two_sided import rock_two_sided_fast
 from .settings import SimulationConfig
 from .simulate import step_control
-from .two_sided import rock_two_sided_fast
+from .solids.box3d import Box, simulate_box
+from .solids.cylinder3d import Cylinder, simulate_cylinder
 
 #: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
 #: lines while it goes on.

@@ -1,4 +1,4 @@
-"""``screen bench`` rows of the inventory's 3D scenes (:mod:`pipeline.rocking.solid3d`) against the planar models
+"""``screen bench`` rows of the inventory's 3D scenes (:mod:`pipeline.rocking.solids.solid3d`) against the planar models
 they replace, on the records with two horizontal components: each cylinder against the planar scan of the same
 cylinder (every rocking plane, the worst kept, with the cylinder's own p and restitution), and each box with a
 depth and an azimuth against its planar scene in the plane of its width (the component along its azimuth). What
@@ -16,7 +16,7 @@ from ..blocks import Inventory
 from ..config import Config
 from ..rocking.orientation import Planes, plane_grid, worst_plane
 from ..rocking.scene import Physics
-from ..rocking.solid3d import Solid, solid_of, solid_scene
+from ..rocking.solids.solid3d import Solid, solid_of, solid_scene
 
 #: (section, the 3D row's setting, the planar row's setting, cylinders: True / boxes: False)
 SECTIONS = (("cylinders", "3D model (one run, no orientation scan)",

@@ -222,7 +222,7 @@ def simulated_critical_acceleration(chart: xr.Dataset, *, cycles: int = 25, sett
     times the uplift acceleration).
     """
     from ..config import SimulationConfig
-    from ..rocking.excitation import pulse
+    from ..rocking.references.excitation import pulse
     from ..rocking.simulate import rock
 
     settings = settings or SimulationConfig()

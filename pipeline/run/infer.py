@@ -45,8 +45,8 @@ from ..blocks import Inventory
 from ..closed_forms import PULSE_BETA
 from ..config import Config
 from ..errors import InventoryError
-from ..rocking.excitation import pulse
 from ..rocking.planner import simulate_scene
+from ..rocking.references.excitation import pulse
 from ..schema import INFER, apply_schema
 from ..tables import parse_number, read_csv_table
 
@@ -178,8 +178,8 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
 
 def _weakest_body(shape, settings):
     """A scanned body's geometry in its weakest plane (the smallest footprint extent), for the model of
-    ``settings.scanned_model`` (:func:`pipeline.rocking.scanned.plane_geometry`)."""
-    from ..rocking.scanned import plane_geometry
+    ``settings.scanned_model`` (:func:`pipeline.rocking.scanned.planes.plane_geometry`)."""
+    from ..rocking.scanned.planes import plane_geometry
     from ..shapes.plane import weakest_plane
 
     return plane_geometry(shape.scan, weakest_plane(shape.scan), settings)
@@ -187,8 +187,8 @@ def _weakest_body(shape, settings):
 
 def _scanned_overturns(shape, body, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
     """A body given by its scan, its weakest plane (``body``, :func:`_weakest_body`) facing the pulse, by its model
-    (:mod:`pipeline.rocking.scanned`)."""
-    from ..rocking.scanned import plane_scene
+    (:mod:`pipeline.rocking.scanned.planes`)."""
+    from ..rocking.scanned.planes import plane_scene
 
     return plane_scene(ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu, settings=settings,
                        g_ms2=g_ms2).overturned

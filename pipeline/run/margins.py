@@ -52,7 +52,7 @@ from ..records.loader import Failure, RecordSource
 from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
 from ..rocking.planner import rocks, simulate_scene
-from ..rocking.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of
+from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
 from ..uncertainty.sampling import common_normals, sample_block
@@ -153,8 +153,8 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
 def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
                           overturns_at_one: bool | None = None) -> tuple[float, int]:
     """:func:`overturn_scale_simulated` of a solid on a record's two horizontals and vertical, by its 3D model
-    (:mod:`pipeline.rocking.solid3d`), from the factor at which it first lifts
-    (:func:`~pipeline.rocking.solid3d.lift_factor`)."""
+    (:mod:`pipeline.rocking.solids.solid3d`), from the factor at which it first lifts
+    (:func:`~pipeline.rocking.solids.solid3d.lift_factor`)."""
     h = rec.horizontal_ms2
     f = lift_factor(h[0], h[1], rec.vertical_ms2, solid, g_ms2=g_ms2)
     if not math.isfinite(f):
@@ -238,7 +238,7 @@ def margin_task(item: tuple, ctx: Context) -> dict:
 
 
 def solid_history(rec, solid: Solid, *, settings, g_ms2: float) -> np.ndarray | None:
-    """A solid's history on two horizontals (:func:`~pipeline.rocking.solid3d.judge_solid`), shape (2, n):
+    """A solid's history on two horizontals (:func:`~pipeline.rocking.solids.solid3d.judge_solid`), shape (2, n):
     theta(t)/alpha and the compass azimuth it leans toward [deg] (NaN at rest and after overturning; a box judged in
     the plane of its width leans along it), or None where nothing lifts."""
     h = rec.horizontal_ms2

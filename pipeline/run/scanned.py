@@ -1,5 +1,5 @@
 """A scanned body's scene on one record, as the screening stores it: its nominal scene in the worst of its planes
-(:mod:`pipeline.rocking.scanned`), its probabilities (:func:`pipeline.uncertainty.two_sided.scanned_probability`)
+(:mod:`pipeline.rocking.scanned.planes`), its probabilities (:func:`pipeline.uncertainty.two_sided.scanned_probability`)
 and how its plane was chosen; and its margins on its governing record (:func:`scanned_margins`)."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from ..records.record import Record
 from ..risk import RELOCATE_BELOW_SCALE
 from ..rocking.block import BlockShape
 from ..rocking.orientation import Orientation, PlaneResult, plane_grid
-from ..rocking.scanned import (
+from ..rocking.scanned.planes import (
     PlaneSearch,
     ScannedPlane,
     along,
@@ -57,7 +57,7 @@ class ScannedScene(NamedTuple):
 def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, shape: BlockShape, *,
                   direction_deg: float, grid_deg: np.ndarray, cfg: Config, settings: SimulationConfig
                   ) -> ScannedScene:
-    """The scene of a scanned body on ``rec``: the worst of its planes (:mod:`pipeline.rocking.scanned`) and its
+    """The scene of a scanned body on ``rec``: the worst of its planes (:mod:`pipeline.rocking.scanned.planes`) and its
     probabilities (None ``z``: nominal only; :func:`pipeline.uncertainty.two_sided.scanned_probability`, in the
     :data:`~pipeline.uncertainty.two_sided.CANDIDATES` planes nearest to overturning where the orientation is
     unknown)."""
@@ -88,7 +88,7 @@ def scanned_scene(rec: Record, base: SceneMotion | None, z: np.ndarray | None, s
 def _governing_plane(rec, shape: BlockShape, record_deg: float, *, settings: SimulationConfig, g_ms2: float
                      ) -> ScannedPlane:
     """The plane of a scanned scene whose record direction is ``record_deg``: with a given azimuth, the body's plane
-    facing it; else the worst of the body's planes facing it (:func:`~pipeline.rocking.scanned.body_planes`)."""
+    facing it; else the worst of the body's planes facing it (:func:`~pipeline.rocking.scanned.planes.body_planes`)."""
     assert shape.scan is not None
     if rec.azimuth_known and not rec.single_component and math.isfinite(shape.azimuth_deg):
         return ScannedPlane(record_deg, (shape.azimuth_deg - record_deg) % 360.0)

@@ -33,7 +33,7 @@ from ..records.record import Record
 from ..rocking.block import Block
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planner import ContactMode, Physics, guard_names
-from ..rocking.solid3d import Solid, solid_of, solid_scene
+from ..rocking.solids.solid3d import Solid, solid_of, solid_scene
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..schema import (
@@ -341,8 +341,9 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
 
 def _solid_scene(rec: Record, base: SceneMotion | None, z, shape, solid: Solid, cfg: Config,
                  settings: SimulationConfig) -> tuple[PlaneResult, OrientationProbability, Orientation]:
-    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solid3d`): the nominal scene (a box's planar
-    scene where its other axis is certified, else the 3D model's), its probability (one judgement per draw; a box's
+    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solids.solid3d`): the nominal scene (a box's
+    planar scene where its other axis is certified, else the 3D model's), its probability (one judgement per draw; a
+    box's
     azimuth drawn as a planar scene's is, a cylinder's none) and how its orientation was chosen."""
     res, certified = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
                                  float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=cfg.records.g_ms2)

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..rocking.asymmetric import TwoSided
+from ..rocking.references.asymmetric import TwoSided
 from .hull import HullChain
 from .scan import FOOTPRINT_TOL_M, ScannedShape, pivots
 
@@ -55,8 +55,8 @@ class PlaneBody(NamedTuple):
     second_z_m2: float
 
     def two_sided(self, *, width_factor: float = 1.0, height_factor: float = 1.0) -> TwoSided:
-        """The :class:`~pipeline.rocking.asymmetric.TwoSided` of the body scaled by ``width_factor`` across and
-        ``height_factor`` up [-]."""
+        """The :class:`~pipeline.rocking.references.asymmetric.TwoSided` of the body scaled by ``width_factor`` across
+        and ``height_factor`` up [-]."""
         fw2, fh2 = width_factor * width_factor, height_factor * height_factor
         return TwoSided(self.b_plus_m * width_factor, self.b_minus_m * width_factor, self.com_height_m * height_factor,
                         self.second_u_m2 * fw2 + self.second_z_m2 * fh2)

@@ -46,7 +46,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.sampled import sample_plane_outcomes
+from ..rocking.planar.sampled import sample_plane_outcomes
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, spanning_interval, wilson_interval

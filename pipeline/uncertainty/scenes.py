@@ -1,7 +1,7 @@
 """The probability of overturning of one scene under the declared uncertainty.
 
 Samples are drawn in batches (:attr:`UncertaintyConfig.batch`) and judged by one compiled
-call per batch (:func:`pipeline.rocking.sampled.sample_verdicts`); after each batch the Wilson
+call per batch (:func:`pipeline.rocking.planar.sampled.sample_verdicts`); after each batch the Wilson
 interval is tested and sampling stops once it decides the robustness class
 (:mod:`.robust`). Samples proven at rest by the exact certificate are not integrated.
 
@@ -25,7 +25,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.sampled import sample_verdicts
+from ..rocking.planar.sampled import sample_verdicts
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, spanning_interval

@@ -1,7 +1,7 @@
 """The probability of overturning of a 3D scene on two horizontals (a cylinder, or a box with a depth at its
-azimuth; :mod:`pipeline.rocking.solid3d`): each draw of the declared uncertainty (amplitude, sizes, friction,
+azimuth; :mod:`pipeline.rocking.solids.solid3d`): each draw of the declared uncertainty (amplitude, sizes, friction,
 restitution, and a box's azimuth; :func:`~.sampling.sample_block`) is judged once
-(:func:`~pipeline.rocking.solid3d.judge_solid`: a box's planar scene where that draw's other axis is certified,
+(:func:`~pipeline.rocking.solids.solid3d.judge_solid`: a box's planar scene where that draw's other axis is certified,
 else the 3D model), with the sampling and stopping rule of every other scene
 (:func:`~.scenes.sample_until_decided`). A draw whose base would slide or lift off, or that reached the step cap,
 has no verdict and is counted apart, as a planar draw in free flight is. A cylinder draws no orientation: it is
@@ -16,7 +16,7 @@ from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
 from ..rocking.settings import SimulationConfig
-from ..rocking.solid3d import Solid, drawn, judge_solid
+from ..rocking.solids.solid3d import Solid, drawn, judge_solid
 from .sampling import sample_block
 from .scenes import Probability, SceneMotion, sample_until_decided
 from .settings import UncertaintyConfig

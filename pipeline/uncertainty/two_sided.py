@@ -1,6 +1,6 @@
 """The probability of overturning of a body given by its scan (a rock or a statue): each draw of the declared
 uncertainty (:class:`~.settings.UncertaintyConfig`: the amplitude, the height and the width, the restitution) is
-one run of its model in one plane (:func:`pipeline.rocking.scanned.plane_scene`: the rolling or the two-sided
+one run of its model in one plane (:func:`pipeline.rocking.scanned.planes.plane_scene`: the rolling or the two-sided
 model), with the same common random numbers (:func:`~.sampling.common_normals`) as every other scene. The friction
 coefficient is not drawn: neither model slides.
 
@@ -19,7 +19,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.scanned import PlaneGeometry, ScannedPlane, along, plane_geometry, plane_scene
+from ..rocking.scanned.planes import PlaneGeometry, ScannedPlane, along, plane_geometry, plane_scene
 from ..rocking.settings import SimulationConfig
 from .sampling import lognormal_factor
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, sample_until_decided
@@ -53,7 +53,7 @@ def draw_factors(z_row: np.ndarray, settings: UncertaintyConfig) -> DrawFactors:
 
 def drawn_scene(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, body: PlaneGeometry, f: DrawFactors, *,
                 restitution: float, mu: float, simulation: SimulationConfig, g_ms2: float):
-    """One draw's :class:`~pipeline.rocking.scene.Scene` (:func:`pipeline.rocking.scanned.plane_scene` under the
+    """One draw's :class:`~pipeline.rocking.scene.Scene` (:func:`pipeline.rocking.scanned.planes.plane_scene` under the
     record scaled by ``f.amplitude``)."""
     return plane_scene(f.amplitude * np.asarray(ah_ms2, dtype=float), None if av_ms2 is None else f.amplitude * av_ms2,
                        dt_s, body, restitution=restitution, mu=mu, settings=simulation, g_ms2=g_ms2,
@@ -85,7 +85,7 @@ def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneGeometry, z: np.ndar
                 simulation: SimulationConfig = SimulationConfig(), av_ms2: np.ndarray | None = None,
                 restitution: float = math.nan, g_ms2: float = G) -> PlaneDraws:
     """Run every draw of ``z`` (rows of :func:`~.sampling.common_normals`) of ``body`` under the record, in one
-    plane (:func:`pipeline.rocking.scanned.plane_scene`).
+    plane (:func:`pipeline.rocking.scanned.planes.plane_scene`).
 
     Parameters
     ----------
@@ -94,7 +94,7 @@ def plane_draws(ah_ms2: np.ndarray, dt_s: float, body: PlaneGeometry, z: np.ndar
     dt_s : float
         Sampling interval [s].
     body : PlaneBody or HullChain
-        The body in the plane (:func:`pipeline.rocking.scanned.plane_geometry`).
+        The body in the plane (:func:`pipeline.rocking.scanned.planes.plane_geometry`).
     z : ndarray, shape (n, 6)
     settings : UncertaintyConfig
         The spreads.
@@ -124,7 +124,7 @@ def scanned_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, can
                         planes: list[ScannedPlane] | None, settings: UncertaintyConfig,
                         simulation: SimulationConfig = SimulationConfig(), g_ms2: float = G
                         ) -> tuple[Probability, Probability]:
-    """The probabilities of a scanned body's scene (:mod:`pipeline.rocking.scanned`). The worst orientation's: in
+    """The probabilities of a scanned body's scene (:mod:`pipeline.rocking.scanned.planes`). The worst orientation's: in
     each plane of ``candidates`` (the governing plane where the orientation is given; else the
     :data:`CANDIDATES` planes nearest to overturning at the nominal) each draw's amplitude, sizes and restitution
     (and, for a given azimuth on two horizontals, the azimuth's scatter on the record's plane, the body's plane

@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..constants import G
+from ...constants import G
 
 #: Rounding allowance when t / dt falls on a sample [-] (the reference keeps its own: it shares no code with the
 #: kernels it checks)

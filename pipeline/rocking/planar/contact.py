@@ -26,8 +26,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit, jit_inline, state_factory
-from .codes import (
+from ...compiled import jit, jit_inline, state_factory
+from ..codes import (
     FLIGHT,
     MODE_FLIGHT,
     OVERTURNED,
@@ -42,6 +42,10 @@ from .codes import (
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
+from ..numerics.dopri import HISTORY_TIME_TOL_S
+from ..numerics.ground import exceed_fraction, flight_fraction
+from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
+from ..structures import ContactOutcome, ContactState, GroundPiece
 from .contact_laws import (
     FLAT_ANGLE_ALPHA,
     _constrain,
@@ -54,11 +58,7 @@ from .contact_laws import (
     corner_offsets,
     state_verdict,
 )
-from .dopri import HISTORY_TIME_TOL_S
-from .ground import exceed_fraction, flight_fraction
 from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
-from .structures import ContactOutcome, ContactState, GroundPiece
 
 __all__ = ["ContactOutcome", "ContactState", "move"]
 

@@ -44,10 +44,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit
-from ..constants import G
-from ..shapes.hull import HullChain
-from .codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_LIFTOFF
+from ...compiled import jit
+from ...constants import G
+from ...shapes.hull import HullChain
+from ..codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_LIFTOFF
 
 #: Runge-Kutta steps per sample of the record
 SUBSTEPS = 4

@@ -66,12 +66,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..constants import G
-from .block import Block
+from ...constants import G
+from ..block import Block
+from ..planner import simulate_scene
+from ..scene import Physics, Scene
+from ..settings import SimulationConfig
 from .box3d import Box, housner_e_box
-from .planner import simulate_scene
-from .scene import Physics, Scene
-from .settings import SimulationConfig
 
 #: The planar physics a certified scene may have: at rest, or pure rocking (with or without the vertical)
 PLANAR_CERTIFIABLE = (Physics.none, Physics.rocking, Physics.rocking_vertical)

@@ -8,7 +8,7 @@ found exactly here rather than by stepping.
 
 from __future__ import annotations
 
-from ..compiled import jit
+from ...compiled import jit
 
 
 @jit

@@ -25,9 +25,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ..compiled import jit
-from . import contact
-from .codes import (
+from ...compiled import jit
+from ..codes import (
     FLIGHT,
     MODE_ROCK,
     OVERTURNED,
@@ -42,10 +41,11 @@ from .codes import (
     STATUS_STEP_CAP,
     STATUS_TIE_HOLD,
 )
+from ..structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
+from . import contact
 from .contact import ContactOutcome, ContactState
 from .contact_laws import corner_offsets
 from .kernel import rock
-from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 
 #: Cap on the alternations between the two models in one scene (each needs at least a sample interval of
 #: general motion, or ends the scene at a cap; the cap is a guard, flagged as STATUS_EVENT_CAP).

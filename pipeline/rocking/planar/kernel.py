@@ -42,9 +42,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
-from .chatter import chatter, take_impact
-from .codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
+from ...compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
+from ..codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
     OVERTURNED,
     REST,
     ROCK,
@@ -56,7 +55,7 @@ from .codes import (  # noqa: F401  (the status bits and modes the kernel's call
     STATUS_STEP_UNDERFLOW,
     STATUS_TIE_HOLD,
 )
-from .dopri import (
+from ..numerics.dopri import (
     HISTORY_TIME_TOL_S,
     dopri_step,
     fill_hermite,
@@ -65,9 +64,10 @@ from .dopri import (
     locate_impact,
     pivot_demand,
 )
-from .ground import exceed_fraction, flight_fraction
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
-from .structures import GroundPiece, RockingOutcome
+from ..numerics.ground import exceed_fraction, flight_fraction
+from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
+from ..structures import GroundPiece, RockingOutcome
+from .chatter import chatter, take_impact
 
 HALF_PI = 0.5 * math.pi
 

@@ -74,8 +74,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit
-from .dopri import (
+from ...compiled import jit
+from ..geometry import cylinder_p_e
+from ..numerics.dopri import (
     A21,
     A31,
     A32,
@@ -107,7 +108,6 @@ from .dopri import (
     E6,
     E7,
 )
-from .geometry import cylinder_p_e
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
 from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE

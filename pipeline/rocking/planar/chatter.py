@@ -43,10 +43,10 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ..compiled import jit, jit_inline
-from .codes import REST, STATUS_CHATTER
-from .dopri import HISTORY_TIME_TOL_S, pivot_demand
-from .rules import events_at_instant_compiled, min_advance_compiled
+from ...compiled import jit, jit_inline
+from ..codes import REST, STATUS_CHATTER
+from ..numerics.dopri import HISTORY_TIME_TOL_S, pivot_demand
+from ..rules import events_at_instant_compiled, min_advance_compiled
 
 # Closed-form flights, named once
 SERIES_BELOW = 0.25           # sinh(y) - y by its Taylor series to y^9 below this |y| (the next term < 1e-16) [-]

@@ -14,8 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit, jit_inline, state_factory
-from .ground import exceed_fraction, flight_fraction
+from ...compiled import jit, jit_inline, state_factory
+from ..numerics.ground import exceed_fraction, flight_fraction
 from .kernel import TINY
 
 #: Slip starts and stops located in one sample interval, at most (the slip velocity is quadratic in time there,

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..constants import G
-from .block import BlockShape
+from ...constants import G
+from ..block import BlockShape
+from ..geometry import cylinder_p_e, effective_restitution
+from ..settings import SimulationConfig
 from .cylinder3d import Cylinder, WobbleOutcome, simulate_cylinder
-from .geometry import cylinder_p_e, effective_restitution
-from .settings import SimulationConfig
 
 
 def cylinder_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Cylinder:

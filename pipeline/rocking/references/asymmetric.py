@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..constants import G
+from ...constants import G
 from .reference import segment_events
 
 #: Impacts after the record before the free motion is given up, flagged

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ..errors import ParameterError
+from ...errors import ParameterError
 
 SHAPES = ("half-sine", "one-sine", "one-cosine", "harmonic", "step", "linear", "parabolic")
 

@@ -27,17 +27,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..constants import G
-from .block import BlockShape, ShapeKind
+from ...constants import G
+from ..block import BlockShape, ShapeKind
+from ..codes import ContactMode
+from ..geometry import effective_restitution
+from ..orientation import PlaneResult
+from ..scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
+from ..settings import SimulationConfig
 from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
 from .box_planar import planar_box_scene
-from .codes import ContactMode
 from .cylinder3d import Cylinder, WobbleOutcome, cylinder_from_corner
 from .cylinder_scene import cylinder_of, run_on_record
-from .geometry import effective_restitution
-from .orientation import PlaneResult
-from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
-from .settings import SimulationConfig
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS
 
 

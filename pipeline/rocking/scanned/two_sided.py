@@ -41,10 +41,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit, jit_inline, state_factory
-from ..constants import G
-from .asymmetric import TwoSided
-from .codes import (
+from ...compiled import jit, jit_inline, state_factory
+from ...constants import G
+from ..codes import (
     OVERTURNED,
     REST,
     ROCK,
@@ -55,9 +54,9 @@ from .codes import (
     STATUS_TAIL_CAP,
     STATUS_TIE_HOLD,
 )
-from .dopri import dopri_step, fill_hermite, hermite_peak, locate_impact, pivot_demand
-from .ground import flight_fraction
-from .kernel import (
+from ..numerics.dopri import dopri_step, fill_hermite, hermite_peak, locate_impact, pivot_demand
+from ..numerics.ground import flight_fraction
+from ..planar.kernel import (
     ERROR_EXPONENT,
     FIRST_STEP_FRACTION,
     MAX_FACTOR,
@@ -74,8 +73,9 @@ from .kernel import (
     reject,
     step_error,
 )
-from .rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
-from .structures import StepControl
+from ..references.asymmetric import TwoSided
+from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
+from ..structures import StepControl
 
 HALF_PI = 0.5 * math.pi
 #: Impacts of the free motion after the record taken in closed form before it is given up (``tail_cap``)
@@ -435,8 +435,8 @@ def rock_two_sided_fast(ah, dt_s: float, body: TwoSided, *, av=None, restitution
     """:func:`rock_two_sided_compiled` from Python: ``body`` by its :class:`~.asymmetric.TwoSided` geometry,
     ``av`` None for no vertical, ``control`` None for the simulator's defaults."""
     if control is None:
-        from .settings import SimulationConfig
-        from .simulate import step_control
+        from ..settings import SimulationConfig
+        from ..simulate import step_control
         control = step_control(SimulationConfig())
     a = np.ascontiguousarray(ah, dtype=float)
     v = np.zeros(0) if av is None else np.ascontiguousarray(av, dtype=float)

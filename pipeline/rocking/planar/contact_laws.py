@@ -56,8 +56,8 @@ from __future__ import annotations
 
 import math
 
-from ..compiled import jit
-from .codes import (
+from ...compiled import jit
+from ..codes import (
     FLIGHT,
     MODE_FLIGHT,
     MODE_ROCK,
@@ -69,8 +69,8 @@ from .codes import (
     SLIDE,
     SLIDE_ROCK,
 )
+from ..rules import rocks_compiled
 from .kernel import free_outcome
-from .rules import rocks_compiled
 
 PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
 FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat

@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ..compiled import jit
-from .dopri import TABLEAU_B, TABLEAU_E, TABLEAU_NODES, TABLEAU_ROWS
+from ...compiled import jit
+from ..numerics.dopri import TABLEAU_B, TABLEAU_E, TABLEAU_NODES, TABLEAU_ROWS
 from .vec3 import cross, error_norm, shifted, solve3, solve_sym3
 
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3

@@ -37,13 +37,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..constants import G
-from ..records.record import project
-from ..shapes.hull import HullChain, hull_chain
-from ..shapes.plane import PlaneBody, chain_plane, plane_body, weakest_plane
-from ..shapes.scan import ScannedShape
-from .block import Block, BlockShape
-from .codes import (
+from ...constants import G
+from ...records.record import project
+from ...shapes.hull import HullChain, hull_chain
+from ...shapes.plane import PlaneBody, chain_plane, plane_body, weakest_plane
+from ...shapes.scan import ScannedShape
+from ..block import Block, BlockShape
+from ..codes import (
     STATUS_CHATTER,
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
@@ -53,14 +53,14 @@ from .codes import (
     STATUS_TIE_HOLD,
     ContactMode,
 )
-from .geometry import effective_restitution
-from .geometry import geometry as geometry_of
-from .orientation import PlaneResult
-from .planner import simulate_scene
+from ..geometry import effective_restitution
+from ..geometry import geometry as geometry_of
+from ..orientation import PlaneResult
+from ..planner import simulate_scene
+from ..scene import FreeFlight, Guard, Physics, Response, Scene
+from ..settings import ScannedModel, SimulationConfig
+from ..simulate import step_control
 from .rolling import landing_ratio, roll_on_hull
-from .scene import FreeFlight, Guard, Physics, Response, Scene
-from .settings import ScannedModel, SimulationConfig
-from .simulate import step_control
 from .two_sided import rock_two_sided_compiled, two_sided_block
 
 #: A plane replaces the worst so far only where its theta_max is larger by more than this fraction, so that a mirror

@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit
+from ...compiled import jit
 
 
 class Ground(NamedTuple):

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from ..compiled import jit
+from ...compiled import jit
 
 # Event location and dense output, named once
 NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the step length

@@ -28,13 +28,13 @@ import math
 
 import numpy as np
 
-from ..compiled import jit
-from .block import rigid_block
-from .codes import NO_VERDICT, OVERTURNS, STANDS
-from .contract import PlaneSample, SampleWorkspace, SceneFacts
-from .models import judge
-from .rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
-from .structures import RockingOutput, RockingState
+from ...compiled import jit
+from ..block import rigid_block
+from ..codes import NO_VERDICT, OVERTURNS, STANDS
+from ..contract import PlaneSample, SampleWorkspace, SceneFacts
+from ..models import judge
+from ..rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
+from ..structures import RockingOutput, RockingState
 
 
 @jit

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ..compiled import jit
+from ...compiled import jit
 from .box_kernel import (
     CORNER,
     EDGE,
