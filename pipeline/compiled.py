@@ -21,7 +21,7 @@ try:  # numba is a core dependency; the same source still runs as Python without
 
     # The scene-model registry's compiled dispatch (rocking.models.judge) loops over the registered models'
     # certificates and twins with literal_unroll, which numba types as first-class functions and marks
-    # experimental. The dispatch is tested against the Python entries (tests/test_models.py) and measured at par
+    # experimental. The dispatch is tested against the Python entries (tests/rocking/test_models.py) and measured at par
     # (docs/validation.md); the notice would only reach users at the one-time compilation, so it is not shown.
     warnings.filterwarnings("ignore", message="First-class function type feature is experimental",
                             category=NumbaExperimentalFeatureWarning)

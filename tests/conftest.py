@@ -1,9 +1,14 @@
-"""Shared fixtures: project data found by fixture, never by string paths in tests."""
+"""Shared fixtures: project data found by fixture, never by string paths in tests. The tests mirror the package
+(``tests/rocking/solids/`` tests ``pipeline/rocking/solids/``); the helpers and independent peers they share are in
+``tests/support/``, importable by name from every test."""
 
 from __future__ import annotations
 
 import shutil
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "support"))
 
 import pytest
 
@@ -44,7 +49,7 @@ def data_dir() -> Path:
 @pytest.fixture(scope="session")
 def config() -> Config:
     """The default configuration with nominal verdicts only (samples = 0): the tests of the
-    probabilistic default (tests/test_uncertainty.py) build their own."""
+    probabilistic default (tests/uncertainty/test_uncertainty.py) build their own."""
     return Config().with_uncertainty(samples=0)
 
 

@@ -120,3 +120,14 @@ def test_no_module_of_the_command_line_is_over_300_lines():
     """The command line is a package of small modules (one per subcommand, the shared options, progress, exits)."""
     long = {p.name: n for p in (PIPELINE / "cli").glob("*.py") if (n := len(p.read_text().splitlines())) > 300}
     assert long == {}, long
+
+
+def test_the_tests_mirror_the_package():
+    """A module's tests are found by its path: every folder of tests/ (but the shared support/ and data/) is a package
+    of pipeline/, and every test file sits in one of them or at the top for the top-level modules."""
+    tests = Path(__file__).resolve().parent
+    folders = [p.relative_to(tests) for p in tests.rglob("*") if p.is_dir() and "__pycache__" not in p.parts
+               and p.relative_to(tests).parts[0] not in ("support", "data")]
+    assert folders and [f for f in folders if not (PIPELINE / f / "__init__.py").is_file()] == []
+    stray = [p.name for p in tests.glob("*.py") if not p.name.startswith("test_") and p.name != "conftest.py"]
+    assert stray == [], f"helpers belong in tests/support/: {stray}"

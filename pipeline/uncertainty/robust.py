@@ -20,7 +20,7 @@ and sampling stops as soon as the interval lies wholly below ``robust_below`` or
 ``2 p_halfwidth`` wide, so that a sensitive scene's p is estimated to a stated precision
 (:func:`pipeline.uncertainty.scenes.scene_probability`); or when the largest number of samples is
 reached. Stopping on the data changes the interval's coverage;
-``tests/test_properties_uncertainty.py`` measures the rule's error rates on Bernoulli streams
+``tests/uncertainty/test_properties_uncertainty.py`` measures the rule's error rates on Bernoulli streams
 of known p.
 
 References

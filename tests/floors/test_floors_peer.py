@@ -1,5 +1,5 @@
 """The floor motion of the continuous shear-flexural model (rockscreen) against an independent MDOF wall-frame
-built and integrated by OpenSees (tests/building_peer.py), on two real records: a near-fault pulse (Northridge,
+built and integrated by OpenSees (tests/support/building_peer.py), on two real records: a near-fault pulse (Northridge,
 Rinaldi receiving station 228, 0.01 s) and a high-frequency record (Bam, 0.005 s, its first 40 s).
 
 Tolerance: the two differ by the discretization (40 segments; lumped masses), Newmark's period error on the

@@ -16,7 +16,7 @@ from pipeline.pulses.shahi_baker import _strongest_point, extract_along, wavelet
 from pipeline.records.loader import load_record, scan
 from pipeline.store import open_results
 
-PROJECT_CONFIGS = __import__("pathlib").Path(__file__).resolve().parents[1] / "configs"
+PROJECT_CONFIGS = __import__("pathlib").Path(__file__).resolve().parents[2] / "configs"
 
 
 @pytest.fixture(scope="module")

@@ -15,8 +15,8 @@ from pipeline.config import Config
 from pipeline.records.loader import read_declared_units, scan
 from pipeline.run.screening import Context, failure_result, screen_record
 
-RECORDS = Path(__file__).resolve().parents[1] / "records"
-BLOCKS = Path(__file__).resolve().parents[1] / "configs" / "blocks.csv"
+RECORDS = Path(__file__).resolve().parents[2] / "records"
+BLOCKS = Path(__file__).resolve().parents[2] / "configs" / "blocks.csv"
 GOOD = "peer-at2/RSN77_SFERN_PUL164.AT2"
 REAL = ["peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/NGA_no_1063_RRS228.AT2",
         "cosmos/CE23837.V1C", "dmg/CE58667.V2", "dmg/CICLC.v1", "knet/test.knet",

@@ -377,8 +377,8 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
                                                                                     monkeypatch):
     """Assets clustered at the epicentre: their names stand in a column beside the map, none over another, none
     over the map; the legend is below the axes; the curves' tick labels have no exponent."""
+    from figure_checks import legend_boxes_clear
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from test_plots_clear import _legend_boxes_clear
 
     from pipeline.report import event_html
 
@@ -401,7 +401,7 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
     screen_event(_request(tmp_path, shakemaps / SCENARIO, inv, frag))
     fig = drawn[0]
     FigureCanvasAgg(fig)
-    assert _legend_boxes_clear(fig) == []
+    assert legend_boxes_clear(fig) == []
     ax = fig.axes[0]
     box = ax.get_window_extent()
     assert len(fig.legends) == 1 and not fig.legends[0].get_window_extent().overlaps(box)

@@ -19,7 +19,7 @@ from pipeline.rocking.planner import simulate_scene
 from pipeline.rocking.references.excitation import pulse
 from pipeline.run.infer import infer, read_observations, summarize
 
-PROJECT = Path(__file__).resolve().parents[1]
+PROJECT = Path(__file__).resolve().parents[2]
 
 #: A site of free-standing columns (height, width) spanning slenderness and size.
 SITE = [(2.0, 0.40), (3.0, 0.45), (1.5, 0.40), (4.0, 0.55), (2.5, 0.60), (6.0, 0.80), (1.2, 0.35), (5.0, 0.90)]
@@ -116,14 +116,14 @@ def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     assert crit.any() and not crit[:, k - 1:k + 2, m - 1:m + 2].any()
     assert (out / "infer.png").read_bytes()[:4] == b"\x89PNG"
     # the figure's legend names every block and both regions, outside the axes (no label over another or a line)
+    from figure_checks import legend_boxes_clear
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from test_plots_clear import _legend_boxes_clear
 
     from pipeline.report.infer_plot import inference_figure
 
     fig = inference_figure(ds, g_ms2=G)
     FigureCanvasAgg(fig)
-    assert _legend_boxes_clear(fig) == []
+    assert legend_boxes_clear(fig) == []
     texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert len(texts) == 2 + ds.sizes["observation"] and not fig.axes[0].texts
     from pipeline import schema

@@ -1,6 +1,6 @@
 """Run a ``screen`` command and kill its output set's publish at every step (a test harness, not a test).
 
-Usage: ``python tests/publish_killer.py REPORT.json SCREEN_ARGS...``
+Usage: ``python tests/support/publish_killer.py REPORT.json SCREEN_ARGS...``
 
 When the command publishes, the harness copies the output directory as it is, then for each file-system step
 k = 0, 1, ... of the publish (every ``os.replace``, ``os.symlink``, ``os.link``, ``os.unlink``, ``shutil.rmtree``

@@ -1,4 +1,4 @@
-"""Numbers in one notation down a column (the terms of the event page: tests/test_event.py)."""
+"""Numbers in one notation down a column (the terms of the event page: tests/event/test_event.py)."""
 
 from __future__ import annotations
 

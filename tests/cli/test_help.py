@@ -10,7 +10,7 @@ import pytest
 
 from pipeline import cli
 
-PROJECT = Path(__file__).resolve().parents[1]
+PROJECT = Path(__file__).resolve().parents[2]
 COMMANDS = ["run", *cli.SUBCOMMANDS]
 
 

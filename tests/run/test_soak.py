@@ -20,7 +20,7 @@ from pipeline.store.sets import PLAIN_BEFORE_SETS, Family
 
 pytestmark = pytest.mark.soak
 
-PROJECT = Path(__file__).resolve().parents[1]
+PROJECT = Path(__file__).resolve().parents[2]
 #: scheduled runs in the soak
 RUNS = int(os.environ.get("ROCKSCREEN_SOAK_RUNS", "50"))
 #: the latest instant [s] after the start at which a run is killed (an uninterrupted run takes 3-6 s)

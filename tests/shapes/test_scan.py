@@ -17,7 +17,7 @@ trimesh = pytest.importorskip("trimesh")
 from pipeline.errors import MeshError  # noqa: E402
 from pipeline.shapes.scan import pivots, read_scan  # noqa: E402
 
-GRANITE = Path(__file__).resolve().parents[2] / "shared" / "experiments" / "granite-pbr" / "geometry"
+GRANITE = Path(__file__).resolve().parents[3] / "shared" / "experiments" / "granite-pbr" / "geometry"
 
 
 def _box_file(tmp_path, w, d, h, *, suffix=".stl", turn_deg=0.0, shift=(0.0, 0.0, 0.0)):

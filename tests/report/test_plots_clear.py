@@ -6,24 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
-
-
-def _legend_boxes_clear(fig) -> list[str]:
-    """The axes whose legend overlaps their plotting area (drawn figure, display coordinates)."""
-    fig.canvas.draw()
-    bad = []
-    for ax in fig.axes:
-        legend = ax.get_legend()
-        if legend is None:
-            continue
-        lb, ab = legend.get_window_extent(), ax.get_window_extent()
-        if lb.x0 < ab.x1 - 1 and lb.x1 > ab.x0 + 1 and lb.y0 < ab.y1 - 1 and lb.y1 > ab.y0 + 1:
-            bad.append(ax.get_title() or "axes")
-        fig_box = fig.bbox
-        assert lb.x1 <= fig_box.x1 + 1 and lb.y0 >= fig_box.y0 - 1, "the legend is cut off the figure"
-        label = ax.yaxis.label.get_window_extent()
-        assert label.x0 >= fig_box.x0 - 1, "the y label is cut off the figure"
-    return bad
+from figure_checks import legend_boxes_clear
 
 
 def test_the_stability_chart_keeps_its_legend_off_the_points():
@@ -35,7 +18,7 @@ def test_the_stability_chart_keeps_its_legend_off_the_points():
     x, y = 10 ** rng.uniform(-1.2, 1.2, 300), 10 ** rng.uniform(-1.2, 1.2, 300)   # points fill the whole chart
     fig = scenes_chart_figure(x, y, rng.integers(0, 5, 300))
     FigureCanvasAgg(fig)
-    assert _legend_boxes_clear(fig) == []
+    assert legend_boxes_clear(fig) == []
 
 
 def test_the_fragility_curve_keeps_its_legend_off_the_stripes():
@@ -54,4 +37,4 @@ def test_the_fragility_curve_keeps_its_legend_off_the_stripes():
     ds.attrs.update({"im": "pga", "im_units": "m s-2", "im_display_unit": "g", "im_display_factor": 9.80665})
     fig = curve_figure_of(ds, 0, None)
     FigureCanvasAgg(fig)
-    assert _legend_boxes_clear(fig) == []
+    assert legend_boxes_clear(fig) == []

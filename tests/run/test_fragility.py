@@ -225,7 +225,7 @@ ASSET_RATE = 12     # column of annual_rate_overturn in fragility_assets.csv
 
 def test_a_hazard_curve_labelled_synthetic_says_so_on_the_page(tmp_path):
 
-    curve = read_hazard(Path(__file__).resolve().parents[1] / "configs" / "hazard-example.csv", im="pga")
+    curve = read_hazard(Path(__file__).resolve().parents[2] / "configs" / "hazard-example.csv", im="pga")
     assert curve.synthetic and curve.title.startswith("SYNTHETIC hazard curve") and curve.units == "g"
 
 

@@ -176,7 +176,7 @@ def test_an_output_directory_moved_whole_keeps_its_outputs(tmp_path):
 
 # --- each command's publish, killed at every step (slow: a real command per case) ---------------------------
 
-KILLER = Path(__file__).resolve().parent / "publish_killer.py"
+KILLER = Path(__file__).resolve().parents[1] / "support" / "publish_killer.py"
 
 
 def killed_at_every_step(args: list[str], tmp_path: Path) -> list[dict]:

@@ -17,7 +17,7 @@ from pipeline.records.detect import detect_format
 from pipeline.records.loader import iter_records
 from pipeline.records.table import _is_table
 
-GRANITE = Path(__file__).resolve().parents[2] / "shared" / "experiments" / "granite-pbr" / "motions"
+GRANITE = Path(__file__).resolve().parents[3] / "shared" / "experiments" / "granite-pbr" / "motions"
 G = 9.80665
 
 

@@ -3,7 +3,7 @@
 A half-sine pulse polarized along one azimuth, in a two-component record: in a plane at angle phi to the
 polarization the block feels the pulse scaled by |cos phi|. With only the amplitude uncertain (lognormal,
 median 1, s = sqrt(ln(1 + cov^2))) and a block whose overturning is monotonic in amplitude around its
-threshold a* (checked in tests/test_uncertainty.py), the block overturns in plane phi when
+threshold a* (checked in tests/uncertainty/test_uncertainty.py), the block overturns in plane phi when
 eps k |cos phi| > 1, so:
 
 * the worst orientation is the polarization plane, with P = Phi(ln k / s);
