@@ -155,8 +155,7 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if stations is not None:
         why.append(f"{stations[0]} of {stations[1]} stations overturn it" + (" by the paper's criterion"
                                                                               if criterion_only else ""))
-    unknown_words = _unknown_words(stations, undecided, undecided_why, unknown_draws, p_with_unknown)
-    why += unknown_words
+    why += _unknown_words(stations, undecided, undecided_why, unknown_draws, p_with_unknown)
     small_margin = np.isfinite(sim_scale) and sim_scale <= RELOCATE_BELOW_SCALE
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
@@ -234,17 +233,33 @@ def _left_out(ds: xr.Dataset, rows: np.ndarray, j: int) -> np.ndarray:
     return np.asarray(exceeded | lift, dtype=bool)
 
 
-def _unknown_samples(ds: xr.Dataset, ok: np.ndarray, j: int) -> tuple[int, int, float]:
+def p_with_unknown(ds: xr.Dataset) -> np.ndarray:
+    """Per scene (records, blocks): (samples that overturn + samples without a verdict) / samples drawn, the
+    unknown counted as overturning (NaN: not sampled, or a results file without the counts)."""
+    if SCENE.samples_without_verdict not in ds:
+        return np.full(ds[SCENE.overturn_simulated].shape, np.nan)
+    drawn = ds[SCENE.samples_drawn].values.astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(drawn > 0, (ds[SCENE.samples_overturned].values
+                                    + ds[SCENE.samples_without_verdict].values) / drawn, np.nan)
+
+
+def scenes_without_verdict(ds: xr.Dataset) -> int:
+    """The screened scenes (records of status ok) the simulation left without a verdict; 0 where it ran nothing
+    (fidelity ``criterion``: no scene was simulated, so none stopped)."""
+    ok = ds["status"].values == "ok"
+    simulated = ds[SCENE.physics].values[ok] >= 0 if SCENE.physics in ds else np.zeros((0,), dtype=bool)
+    return int(np.sum((ds[SCENE.overturn_simulated].values[ok] < 0) & simulated))
+
+
+def _unknown_samples(ds: xr.Dataset, ok: np.ndarray, j: int, bound: np.ndarray) -> tuple[int, int, float]:
     """Block ``j``'s samples without a verdict and samples drawn, summed over the records ``ok``, and the largest
-    over those records of (overturned + without a verdict) / drawn (NaN: not sampled)."""
+    over those records of :func:`p_with_unknown` (``bound``; NaN: not sampled)."""
     if SCENE.samples_without_verdict not in ds:
         return 0, 0, math.nan
-    drawn = np.where(ok, ds[SCENE.samples_drawn].values[:, j], 0).astype(float)
-    unknown = np.where(ok, ds[SCENE.samples_without_verdict].values[:, j], 0).astype(float)
-    over = np.where(ok, ds[SCENE.samples_overturned].values[:, j], 0).astype(float)
-    drawn, unknown, over = (np.maximum(a, 0.0) for a in (drawn, unknown, over))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        frac = np.where(drawn > 0, (over + unknown) / drawn, np.nan)
+    drawn, unknown = (np.maximum(np.where(ok, ds[v].values[:, j], 0), 0)
+                      for v in (SCENE.samples_drawn, SCENE.samples_without_verdict))
+    frac = np.where(ok, bound[:, j], np.nan)
     return int(unknown.sum()), int(drawn.sum()), float(np.nanmax(frac)) if np.isfinite(frac).any() else math.nan
 
 
@@ -350,6 +365,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
     verdict = ds["overturn"].values if "overturn" in ds else ds[SCENE.overturn_simulated].values
     record_ids = ds["record"].values
     extra = [str(n) for n in ds.data_vars if str(n).startswith(INVENTORY_PREFIX)]
+    bound = p_with_unknown(ds)
     for j, block in enumerate(ds["block"].values.tolist()):
         gov = str(ds["governing_record"].values[j]) if "governing_record" in ds else ""
         i = rec_pos.get(gov)
@@ -366,7 +382,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
         overturning = [str(r) for r in record_ids[ok & (verdict[:, j] == 1)]]
         stations_over, undecided, n_stations = _station_counts(stations, ok, verdict[:, j])
         probabilities = _probabilities(ds, ok, j, stations, i)
-        unknown = _unknown_samples(ds, ok, j)
+        unknown = _unknown_samples(ds, ok, j, bound)
         if (undecided or unknown[0]) and probabilities[SCENE.robustness] == Robustness.robust_stand.name:
             probabilities[SCENE.robustness] = ROBUSTNESS_UNKNOWN
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1

@@ -4,12 +4,13 @@ fragility stripe and event level; and a scan's weakest plane is always among the
 from __future__ import annotations
 
 import math
+from statistics import NormalDist
 
 import numpy as np
 import pytest
 
 from pipeline.rocking.codes import Verdict
-from pipeline.uncertainty.robust import Robustness, wilson_interval
+from pipeline.uncertainty.robust import Robustness
 from pipeline.uncertainty.scenes import sample_until_decided
 from pipeline.uncertainty.settings import UncertaintyConfig
 
@@ -34,10 +35,17 @@ def test_the_interval_spans_the_draws_without_a_verdict(overturned, unknown):
     settings = UncertaintyConfig(samples=n, batch=n)           # one batch: the counts are the whole draw
     prob = sample_until_decided(n, _judge_fixed(codes), settings=settings)
     assert (prob.drawn, prob.overturned, prob.without_verdict) == (n, overturned, unknown)
-    # the bounds are Wilson's on the two readings of the unknown draws, computed here from the closed form
-    low, _ = wilson_interval(overturned, n, confidence=settings.confidence)
-    _, high = wilson_interval(overturned + unknown, n, confidence=settings.confidence)
-    assert prob.low == pytest.approx(float(low)) and prob.high == pytest.approx(float(high))
+    # the bounds are Wilson's (1927) on the two readings of the unknown draws, written out here
+    z = NormalDist().inv_cdf(0.5 + settings.confidence / 2.0)
+
+    def wilson(k: int, sign: float) -> float:
+        if (sign < 0 and k == 0) or (sign > 0 and k == n):
+            return 0.0 if sign < 0 else 1.0
+        centre = (k + z * z / 2.0) / (n + z * z)
+        return centre + sign * z * math.sqrt(k * (n - k) / n + z * z / 4.0) / (n + z * z)
+
+    assert prob.low == pytest.approx(wilson(overturned, -1.0)) and prob.high == pytest.approx(
+        wilson(overturned + unknown, +1.0))
     assert prob.high >= (overturned + unknown) / n >= prob.p * (n - unknown) / n
     assert prob.p == pytest.approx(overturned / (n - unknown))
     assert prob.robustness != Robustness.robust_stand
@@ -98,10 +106,11 @@ def test_fragility_stripes_bounded_both_ways_by_the_records_without_a_verdict():
     levels = np.array([0.5, 1.0, 2.0, 4.0])
     rng = np.random.default_rng(3)
     n_rec = 30
-    # a lognormal truth (median 1.5, beta 0.5); the records above 1.5 x the level go without a verdict at the
-    # top two levels (the strong records are the ones a 3D model stops on)
+    # a lognormal truth (median 1.5, beta 0.5); 8 records go without a verdict at the top two levels (the strong
+    # levels are where a 3D model stops)
     capacity = 1.5 * np.exp(0.5 * rng.standard_normal(n_rec))
-    outcome = (levels[None, :] >= capacity[:, None]).astype(float)[:, :, None]
+    truth = (levels[None, :] >= capacity[:, None]).astype(float)[:, :, None]
+    outcome = truth.copy()
     outcome[:8, 2:, 0] = np.nan
     factor = np.ones_like(outcome)
     results = [{"slides": np.full((4, 1), -1)} for _ in range(n_rec)]
@@ -112,8 +121,10 @@ def test_fragility_stripes_bounded_both_ways_by_the_records_without_a_verdict():
     judged = fit_stripes(levels, z, n)
     over = fit_stripes(levels, z + u.overturn_add[:, 0], np.full(4, n_rec))
     stand = fit_stripes(levels, z + u.stand_add[:, 0], np.full(4, n_rec))
-    assert float(over.theta) <= float(judged.theta) * (1 + 1e-9) or float(over.theta) <= float(stand.theta)
-    assert float(over.theta) < float(stand.theta)
+    # the fit of the whole truth (no record unknown) lies between the two readings of the unknown records
+    whole = fit_stripes(levels, truth.sum(axis=0)[:, 0], np.full(4, n_rec))
+    assert float(over.theta) <= float(whole.theta) <= float(stand.theta)
+    assert float(over.theta) < float(stand.theta) and np.isfinite(float(judged.theta))
 
 
 def test_a_sampled_scene_adds_its_unknown_fraction_to_the_bounds():
@@ -399,3 +410,17 @@ def test_the_criterion_tier_clears_no_asset(strong_pair):
     page = (out / "report.html").read_text()
     # said on the first screen: before the summary and the asset table
     assert 'id="criterion-tier"' in page and page.index('id="criterion-tier"') < page.index('id="summary"')
+
+
+def test_a_few_unknown_samples_that_cannot_change_the_decision_are_named_in_it():
+    """1 of 40 samples without a verdict and none overturning: counted as overturning, p is 0.025 < 0.1, so the
+    decision stands as the judged samples give it, and the words say what was not judged."""
+    from pipeline.risk import P_RELOCATE, recommendation
+
+    assert 1 / 40 < P_RELOCATE
+    text = recommendation(sim_scale=math.inf, crit_overturns=False, response=2, p_max=0.0, p_record="R",
+                          governing="G", stations=(0, 31), unknown_draws=(1, 40), p_with_unknown=1 / 40)
+    assert text.startswith("no action:") and "1 of 40 samples have no verdict" in text, text
+    more = recommendation(sim_scale=math.inf, crit_overturns=False, response=2, p_max=0.0, p_record="R",
+                          governing="G", stations=(0, 31), unknown_draws=(4, 40), p_with_unknown=4 / 40)
+    assert more.startswith("at risk until judged:"), more

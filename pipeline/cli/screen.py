@@ -9,7 +9,7 @@ from pathlib import Path
 from ..config import CRITERION_MEASURED_MISSES
 from .exits import EXIT_INTERRUPTED, _run_exit
 from .options import _buildings, _compile_simulator, _config_and_inventory, _records_dir, _workers, log
-from .progress import _progress
+from .progress import _progress, _ticking
 
 
 def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
@@ -110,7 +110,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                             scheduler=args.scheduler, force=args.force,
                             command=list(argv), key=key, buildings=_buildings(args, inventory))
     try:
-        result = screen(request, progress=_progress(args.quiet))
+        with _ticking(args.quiet) as say:        # the writing's name, repeated while it runs
+            result = screen(request, progress=_progress(args.quiet), say=say)
     except RunInterrupted as exc:
         print(str(exc), file=sys.stderr)
         return EXIT_INTERRUPTED

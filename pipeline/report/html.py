@@ -33,7 +33,7 @@ from ..config import CRITERION_MEASURED_MISSES, sampling_of, tier_of
 from ..constants import M_TO_CM, G
 from ..errors import OutputError
 from ..records.duplicates import RecordingGroup, compared_series, group_compared
-from ..risk import asset_rows, assets_csv_table
+from ..risk import asset_rows, assets_csv_table, scenes_without_verdict
 from ..rocking.block import ShapeKind
 from ..rocking.orientation import Orientation
 from ..rocking.planner import Response, guarded_scenes
@@ -287,7 +287,7 @@ def _summary(ds: xr.Dataset, assets: list[dict], groups, station_of: dict, *, fr
         "scenes": int(ok.sum()) * ds.sizes["block"],
         "free_flight_scenes": int(np.sum(resp[ok] == Response.free_flight)),
         "unjudged_assets": sum(1 for r in assets if r["stations_without_verdict"] or r["draws_without_verdict"]),
-        "unjudged_scenes": int(np.sum(ds[SCENE.overturn_simulated].values[ok] < 0)) if not criterion_only else 0,
+        "unjudged_scenes": scenes_without_verdict(ds),
         "unjudged_samples": sum(r["draws_without_verdict"] for r in assets),
         "draws": sum(r["draws"] for r in assets),
         "criterion_only": criterion_only, "criterion_misses": CRITERION_MEASURED_MISSES,

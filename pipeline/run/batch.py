@@ -41,6 +41,7 @@ from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
 from ..records.loader import Failure, RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
 from ..records.units import declared_units_for
+from ..risk import scenes_without_verdict
 from ..rocking.block import ShapeKind
 from ..rocking.orientation import Orientation
 from ..rocking.planner import ContactMode, FreeFlight, Physics, Response, guarded_scenes
@@ -523,8 +524,7 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "free_flight_scenes": int(np.sum(resp == Response.free_flight)),
         "scenes_by_robustness": {m.name: int(np.sum(ds[SCENE.robustness].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds[SCENE.sample_simulations].values, 0))),
-        "scenes_unjudged": int(np.sum(ds[SCENE.overturn_simulated].values[ds["status"].values == "ok"] < 0))
-        if config.fidelity.tier != "criterion" else 0,
+        "scenes_unjudged": scenes_without_verdict(ds),
         "draws_unjudged": int(np.sum(np.maximum(ds[SCENE.samples_without_verdict].values, 0))),
         "draws_total": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
         "scenes_with_unjudged_draws": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),

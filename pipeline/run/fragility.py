@@ -513,13 +513,13 @@ def _unjudged(results: list[dict], outcome: np.ndarray, factor: np.ndarray, *, s
     none = scaled & ~np.isfinite(outcome)
     over, stand, count = none.astype(float), np.zeros(outcome.shape), none.astype(float)
     if sampled:
-        fu = np.stack([np.asarray(r.get("p_unknown", np.full(shape, np.nan)), dtype=float) for r in results])
+        fu = np.stack([np.asarray(r["p_unknown"], dtype=float) for r in results])
         fu = np.where(scaled & np.isfinite(outcome) & np.isfinite(fu), fu, 0.0)
         p = np.nan_to_num(outcome)
         over = over + (p * (1.0 - fu) + fu) - p
         stand = stand + p * (1.0 - fu) - p
         count = count + fu
-    slid = np.stack([np.asarray(r.get("slides", np.full(shape, -1)), dtype=int) for r in results]) == 1
+    slid = np.stack([np.asarray(r["slides"], dtype=int) for r in results]) == 1
     return Unjudged(over.sum(axis=0), stand.sum(axis=0), count.sum(axis=0), (slid & scaled).sum(axis=0))
 
 
@@ -635,7 +635,7 @@ def unjudged_words(ds: xr.Dataset) -> list[str]:
                    f"{int(ds['n_scaled'].values[j, worst])} records at "
                    f"{float(ds['im_level'].values[worst]) / factor:.4g} "
                    f"{unit}); counted as overturning the median is {lo}, as standing {hi}: "
-                   "the fit is bounded by them, and the event's P spans both")
+                   "the fit is bounded by them, and screen event takes P's upper bound from the first")
     return out
 
 

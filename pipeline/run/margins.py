@@ -49,7 +49,7 @@ import xarray as xr
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..records.loader import Failure, RecordSource
-from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE
+from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE, p_with_unknown
 from ..rocking.block import Block
 from ..rocking.planner import rocks, simulate_scene
 from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of
@@ -98,12 +98,7 @@ def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     likely = np.zeros(ds.sizes["block"], dtype=bool)
     if SCENE.p_overturn in ds:
         ok = (ds["status"].values == "ok")[:, None] if "status" in ds else True
-        p = ds[SCENE.p_overturn].values
-        if SCENE.samples_without_verdict in ds:          # the samples without a verdict counted as overturning
-            drawn = ds[SCENE.samples_drawn].values.astype(float)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                p = np.fmax(p, np.where(drawn > 0, (ds[SCENE.samples_overturned].values
-                                                    + ds[SCENE.samples_without_verdict].values) / drawn, np.nan))
+        p = np.fmax(ds[SCENE.p_overturn].values, p_with_unknown(ds))   # the unknown counted as overturning
         likely = np.any(np.where(ok, np.nan_to_num(p, nan=0.0), 0.0) >= P_RELOCATE, axis=0)
     return has & (sim | crit | likely)
 

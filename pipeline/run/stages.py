@@ -198,12 +198,13 @@ def provenance(request: ScreenRequest) -> dict:
     }
 
 
-def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
+def screen(request: ScreenRequest, *, progress=None, say=None) -> ScreenResult:
     """Screen every record against every block, incrementally, and write results and the report.
 
     Stages: :func:`prepare` (inputs and the output directory), then under the output lock
     :func:`pipeline.run.batch.run` (scan, plan, execute, assemble), :func:`margins_stage`,
-    :func:`write_stage` and :func:`report_stage`.
+    :func:`write_stage` and :func:`report_stage`. ``progress``: the display of the records' and margins' tasks;
+    ``say(stage)``: told when the writing starts (the tasks' display is silent there).
 
     Raises
     ------
@@ -237,6 +238,8 @@ def screen(request: ScreenRequest, *, progress=None) -> ScreenResult:
                                                             progress=progress)
                 log.debug("margins: %s", margins)
             # the output set is staged, then published together: a failed write leaves the previous set intact
+            if say is not None:
+                say("writing screening.nc, pulses.nc, histories.nc and the report ...")
             stage = staging_dir(out_dir, family=Family.SCREENING)
             staged = write_stage(outcome, results, histories, stage, provenance(request), margin_cache=margin_cache)
             log.debug("write: %s", staged)

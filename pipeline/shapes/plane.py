@@ -108,8 +108,9 @@ def plane_body(shape: ScannedShape, azimuth_deg: float, *, rule: PivotRule = Piv
 
 
 def weakest_plane(shape: ScannedShape, *, footprint_tol_m: float = FOOTPRINT_TOL_M) -> float:
-    """The plane in which the body tips most easily, toward its + side [deg, in [0, 360)]: the outward normal of the
-    footprint's convex-hull edge nearest to G (horizontally), whatever the mesh's rotation.
+    """The plane in which the body's footprint reaches least far from G, toward its + side [deg, in [0, 360)]: the
+    smallest uplift threshold of a body tipping about its footprint's extreme points (the two-sided model's pivots),
+    the outward normal of the footprint's convex-hull edge nearest to G (horizontally), whatever the mesh's rotation.
 
     The extent b_+(phi) of a convex footprint along a direction phi is its support function, the distance from G to
     the supporting line normal to phi; between two consecutive edge normals it is |v| cos(phi - phi_v) for the hull

@@ -141,9 +141,9 @@ def full_circle(grid_deg: np.ndarray) -> np.ndarray:
 
 def body_planes(grid_deg: np.ndarray, scan: ScannedShape | None = None) -> list[float]:
     """The body's planes a search runs over: the grid over [0, 180) doubled to [0, 360) [deg], in the body's own
-    axes, and the plane in which it tips most easily (:func:`~pipeline.shapes.plane.weakest_plane`, the normal of
-    its footprint's edge nearest to G) where it falls between the grid's, so that the weakest plane is always judged
-    whatever the mesh's rotation."""
+    axes, and the plane of the footprint's smallest uplift (:func:`~pipeline.shapes.plane.weakest_plane`, the normal
+    of its footprint's edge nearest to G) where it falls between the grid's, so that plane is judged whatever the
+    mesh's rotation."""
     planes = [float(phi) for phi in full_circle(grid_deg)]
     if scan is not None:
         weak = weakest_plane(scan)
