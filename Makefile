@@ -42,15 +42,15 @@ event-demo: $(VENV)/.installed
 	    --blocks examples/event/blocks.csv --fragility results/event-fragility --out results/event
 
 # the simulator is compiled (or loaded from numba's cache) once before the two test workers start, not by each,
-# in two processes at once (the 3D models beside the planar and sampled kernels: 44 s instead of 66 s, fresh);
+# in two processes at once, each warming up every other model of the registry;
 # a test file's tests stay on one worker (--dist loadfile), so a module's shared screenings run once, not on each
 # worker (169 s against 211-222 s for the suite, measured)
 test: $(VENV)/.installed-test browser
 	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 45 s the first time)"
 	@$(PYTHON) tools/ticking.py "compiling the simulator" -- sh -c '\
-	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(planar=False, sampled=False)" \
+	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(share=(0, 2))" \
 	& pid=$$!; \
-	$(BIN)/python -c "from pipeline.rocking.warmup import compile_kernels as c; c(cylinders=False, boxes=False, scanned=False)" \
+	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(share=(1, 2))" \
 	&& wait $$pid'
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not slow and not soak" $(PYTEST_ARGS)
 

@@ -41,12 +41,12 @@ ROOT = Path(__file__).resolve().parents[1]
 def make_records(dest: Path, n_records: int) -> int:
     """The bundled records, then AT2 copies in sub-directories until ``n_records``; returns the count."""
     from pipeline.config import Config
-    from pipeline.records.loader import scan
+    from pipeline.records.loader import find_records
 
     shutil.copytree(ROOT / "records", dest)
     cfg = Config()
-    base = len(scan(dest, config=cfg)[0])
-    at2 = len(scan(ROOT / "records" / "peer-at2", config=cfg)[0])
+    base = len(find_records(dest, config=cfg)[0])
+    at2 = len(find_records(ROOT / "records" / "peer-at2", config=cfg)[0])
     k = 0
     while base + k * at2 < n_records:
         k += 1
@@ -57,7 +57,7 @@ def make_records(dest: Path, n_records: int) -> int:
             lines = f.read_text().split("\n")
             lines[0] = f"{lines[0]} (benchmark copy {k})"
             f.write_text("\n".join(lines))
-    sources = scan(dest, config=cfg)[0]
+    sources = find_records(dest, config=cfg)[0]
     # trim so that exactly n_records are scanned: the last copy's records first, then (for fewer records
     # than are bundled) bundled records by id, keeping the vertical-only file that fails on purpose
     extra = len(sources) - n_records
@@ -69,7 +69,7 @@ def make_records(dest: Path, n_records: int) -> int:
         for s in sorted(sources, key=order)[:extra]:
             for f in s.files:
                 Path(f).unlink()
-    n = len(scan(dest, config=cfg)[0])
+    n = len(find_records(dest, config=cfg)[0])
     if n != n_records:
         raise SystemExit(f"made {n} records, expected {n_records}")
     return n

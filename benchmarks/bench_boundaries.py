@@ -23,11 +23,11 @@ sys.path.insert(0, str(ROOT / "tests"))          # the boundary scenes the tests
 from boundary_scenes import block, mu_ties, run_scene  # noqa: E402
 from test_boundaries_fuzz import _draws  # noqa: E402
 
+from pipeline.bodies.warmup import compile_kernels  # noqa: E402
 from pipeline.config import Config  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.orientation import Planes, plane_grid  # noqa: E402
 from pipeline.rocking.planner import simulate_scene  # noqa: E402
-from pipeline.rocking.warmup import compile_kernels  # noqa: E402
 
 
 def main() -> None:

@@ -33,9 +33,9 @@ MIN_ROBUST_DRAWS = 25
 
 def _records(dest: Path, n: int) -> int:
     from pipeline.config import Config
-    from pipeline.records.loader import scan
+    from pipeline.records.loader import find_records
 
-    sources, _ = scan(ROOT / "records", config=Config())
+    sources, _ = find_records(ROOT / "records", config=Config())
     picked = 0
     # two or three files (two horizontals), units stated in the files themselves (no StationXML, no glob)
     usable = [s for s in sources if len(s.files) >= 2

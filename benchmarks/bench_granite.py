@@ -10,7 +10,7 @@ ln(PGV/PGA) (``tests.csv``) scored by leave-one-motion-out cross-validation (eac
 curve fitted without them).
 
 ``--model rolling`` (the default) judges each rock as ``screen`` judges a body given by its mesh with a blank
-azimuth on a record of one horizontal, with its default model (:func:`pipeline.run.scanned.scanned_scene`; the rock
+azimuth on a record of one horizontal, with its default model (:func:`pipeline.bodies.scanned.scanned_scene`; the rock
 rolls on its convex hull, :mod:`pipeline.shapes.hull`, :mod:`pipeline.rocking.scanned.rolling`: no footprint tolerance;
 the landing on the base loses what the impact rule says, the rolling over the scan's facets nothing): every
 vertical plane of the body on the ``--orientation-step`` grid (5 degrees, rockscreen's default) facing the table's
@@ -53,6 +53,8 @@ from typing import NamedTuple
 import numpy as np
 import obspy
 
+from pipeline.bodies.contract import Setup
+from pipeline.bodies.scanned import scanned_scene
 from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.processing import apply_steps
@@ -63,7 +65,6 @@ from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.scanned.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.rocking.settings import ScannedModel, SimulationConfig
 from pipeline.rocking.simulate import step_control
-from pipeline.run.scanned import scanned_scene
 from pipeline.shapes.hull import hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
@@ -153,7 +154,7 @@ def scans(data: Path, step_deg: float) -> dict[str, Rock]:
 
 def _one_test_rolling(job) -> list[dict]:
     """Every rock of one test as ``screen`` judges a body given by its scan, with a blank azimuth, on a record of one
-    horizontal (:func:`pipeline.run.scanned.scanned_scene` with the rolling model): every plane of the body facing
+    horizontal (:func:`pipeline.bodies.scanned.scanned_scene` with the rolling model): every plane of the body facing
     the shaking (the worst orientation's verdict), its probability (the draws in the :data:`CANDIDATES` planes
     nearest to overturning, the largest) and an orientation's at random."""
     data, test, geo, samples, step_deg = job
@@ -170,7 +171,8 @@ def _one_test_rolling(job) -> list[dict]:
                "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
                "observed": int(test[f"{rock.lower()}_overturned"])}
         got = scanned_scene(rec, scene_motion(rec.horizontal_ms2, 0.0, None, dt), z, shape, direction_deg=0.0,
-                            grid_deg=plane_grid(step_deg), cfg=cfg, settings=cfg.simulation)
+                            grid_deg=plane_grid(step_deg),
+                            setup=Setup(cfg.simulation, cfg.uncertainty, cfg.records.g_ms2, True, math.inf))
         nominal = got.search.scenes
         row["overturn_nominal"] = int(got.result.scene.overturned)
         # the worst orientation without a verdict (a pivot that would slip or lift): unknown, never standing

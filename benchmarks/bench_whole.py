@@ -63,10 +63,10 @@ print(n)
 def two_component_groups() -> list[list[Path]]:
     """The bundled AT2 records with two horizontals: their two horizontal files."""
     from pipeline.config import Config
-    from pipeline.records.loader import scan
+    from pipeline.records.loader import find_records
 
     groups = []
-    for src in scan(ROOT / "records" / "peer-at2", config=Config())[0]:
+    for src in find_records(ROOT / "records" / "peer-at2", config=Config())[0]:
         hor = [Path(f) for f in src.files if not Path(f).stem.upper().endswith(("-UP", "-V", "UP"))]
         if len(hor) == 2:
             groups.append(sorted(hor))

@@ -16,6 +16,7 @@ earthquakes. BSSA 53(2), 403-417.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import logging
 import math
@@ -99,10 +100,6 @@ class Inventory:
         """Block ``j``'s settled scan, or None."""
         return self.scans[j] if len(self.scans) == len(self) else None
 
-    def scanned(self) -> np.ndarray:
-        """Whether each block is given by its scan."""
-        return self.kinds() == int(ShapeKind.scanned)
-
     def kinds(self) -> np.ndarray:
         """:attr:`kind` aligned with the blocks (box where none is given)."""
         return self.kind if self.kind.size == len(self) else np.full(len(self), int(ShapeKind.box), dtype=np.int8)
@@ -114,11 +111,6 @@ class Inventory:
     def cylinders(self) -> np.ndarray:
         """Whether each block is a solid cylinder."""
         return self.kinds() == int(ShapeKind.cylinder)
-
-    def boxes_in_3d(self) -> np.ndarray:
-        """Whether each block is a box with a depth and an azimuth (simulated in 3D on two horizontals of known
-        azimuth: :func:`pipeline.rocking.solids.solid3d.solid_of`)."""
-        return (self.kinds() == int(ShapeKind.box)) & np.isfinite(self.depths()) & np.isfinite(self.azimuth_deg)
 
     def base_margins(self) -> np.ndarray:
         """:attr:`base_margin_m` aligned with the blocks (NaN where none is given) [m]."""
@@ -201,6 +193,7 @@ class Inventory:
                 fields += (hashlib.sha256(scan.vertices_m.tobytes()).hexdigest(),)
             if self.buildings()[j]:             # a block in a building: its floor enters the computation
                 fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
+            fields += _declared_later(self.shape(j))
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
         return tuple(out)
 
@@ -213,6 +206,25 @@ class Inventory:
         return cls(ids=(block_id,), names=("",), sites=("",), notes=("",), height_m=np.array([height_m]),
                    width_m=np.array([width_m]), mu=np.array([mu]), azimuth_deg=np.array([azimuth_deg]),
                    restitution=np.array([math.nan]), source="<command line>")
+
+
+#: The fields of :class:`~pipeline.rocking.block.BlockShape` the digest above names one by one; any other field a
+#: model declares there enters the digest by itself wherever it differs from its default (:func:`_declared_later`).
+DIGESTED_SHAPE_FIELDS = ("height_m", "width_m", "mu", "restitution", "azimuth_deg", "depth_m", "kind", "scan")
+
+
+def _declared_later(shape: BlockShape) -> tuple:
+    """``(name, value)`` of every field of ``shape`` not in :data:`DIGESTED_SHAPE_FIELDS` whose value is not its
+    default: a field added to the block for a new model reaches the scene cache's digest without a line here, so
+    that a changed value is never answered from the cache."""
+    out: tuple = ()
+    for f in dataclasses.fields(shape):
+        if f.name in DIGESTED_SHAPE_FIELDS:
+            continue
+        value = getattr(shape, f.name)
+        if f.default is dataclasses.MISSING or str(value) != str(f.default):
+            out += ((f.name, value),)
+    return out
 
 
 def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float) -> list[str]:

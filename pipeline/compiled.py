@@ -6,6 +6,7 @@ is installed, and runs as plain Python without it or under ``NUMBA_DISABLE_JIT=1
 
 from __future__ import annotations
 
+import types
 import warnings
 from collections.abc import Callable
 from typing import TypeVar
@@ -48,6 +49,16 @@ except ImportError:  # pragma: no cover - exercised by the no-numba install
         return container
 
     HAVE_NUMBA = False
+
+
+def rebound(f: Callable, **names) -> Callable:
+    """A copy of the kernel ``f`` (decorated with :func:`jit`, or plain) in which the module globals ``names`` are
+    replaced: how a compiled dispatch is built again from a registry changed at run time. The copy is compiled on
+    its first call and not cached on disk (its globals are not its module's)."""
+    py = getattr(f, "py_func", f)
+    copy = types.FunctionType(py.__code__, {**py.__globals__, **names}, py.__name__, py.__defaults__,
+                              py.__closure__)
+    return _njit(nogil=True)(copy) if HAVE_NUMBA else copy
 
 
 def state_factory(dtype: np.dtype) -> Callable[[], np.ndarray]:

@@ -29,7 +29,7 @@ def records_dir() -> Path:
 def compiled_simulator() -> float:
     """The simulator compiled (or loaded from numba's cache) before a test times a scene: a scene's time budget
     is for the scene, not for the one-time compilation of a fresh install. Returns the seconds it took."""
-    from pipeline.rocking.warmup import compile_kernels
+    from pipeline.bodies.warmup import compile_kernels
 
     return compile_kernels()
 

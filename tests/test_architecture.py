@@ -24,7 +24,8 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
     "pipeline.floors.model", "pipeline.floors.motion", "pipeline.shapes.scan", "pipeline.rocking.solids.box_planar",
     "pipeline.rocking.references.asymmetric", "pipeline.rocking.solids.solid3d",
     "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.shapes.plane",
-    "pipeline.uncertainty.two_sided", "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull"])
+    "pipeline.uncertainty.two_sided", "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull",
+    "pipeline.bodies.registry", "pipeline.bodies.warmup"])
 def test_libraries_load_no_application_module(library):
     # a fresh interpreter: what importing the library alone pulls in
     code = (f"import sys, {library}\n"
@@ -50,7 +51,7 @@ PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
            "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan", "pipeline.shapes.plane",
            "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.uncertainty.two_sided",
-           "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull")
+           "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull", "pipeline.bodies.registry")
 
 
 @pytest.mark.parametrize("library", PHYSICS)

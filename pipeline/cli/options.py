@@ -147,10 +147,7 @@ def _say(message: str) -> None:
 
 def _compile_simulator(args: argparse.Namespace, inventory) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
-    first run of an install); the 3D models' kernels too where the inventory has a cylinder, or a box with a depth
-    and an azimuth, and the two-sided one where it has a body given by its scan."""
+    first run of an install): the kernels of the models that may judge a block of the inventory."""
     from ..run.stages import compile_simulator
 
-    compile_simulator(announce=None if getattr(args, "quiet", False) else _say,
-                      cylinders=bool(inventory.cylinders().any()), boxes=bool(inventory.boxes_in_3d().any()),
-                      scanned=bool(inventory.scanned().any()))
+    compile_simulator(inventory, announce=None if getattr(args, "quiet", False) else _say)

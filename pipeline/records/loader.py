@@ -231,7 +231,7 @@ def _common_stem(files: list[str]) -> str:
 
 
 @dataclass
-class Scan:
+class Listing:
     """What a records directory holds.
 
     Attributes
@@ -256,14 +256,14 @@ class Scan:
     duplicates: list[tuple[str, str, tuple[str, ...]]] = field(default_factory=list)
 
 
-def scan(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource], list[Failure]]:
+def find_records(root: str | Path, *, config: ReaderSettings) -> tuple[list[RecordSource], list[Failure]]:
     """Group the files under ``root`` into station recordings, reading headers only
-    (:func:`scan_directory` without the files that are not records)."""
-    found = scan_directory(root, config=config)
+    (:func:`list_directory` without the files that are not records)."""
+    found = list_directory(root, config=config)
     return found.sources, found.failures
 
 
-def scan_directory(root: str | Path, *, config: ReaderSettings) -> Scan:
+def list_directory(root: str | Path, *, config: ReaderSettings) -> Listing:
     """Offer every regular file under ``root`` to the readers by content, and group the records.
 
     A file no reader recognises is a failed record when its name says it is a record
@@ -331,7 +331,7 @@ def scan_directory(root: str | Path, *, config: ReaderSettings) -> Scan:
             continue
         first_with[content] = s.record_id
         kept.append(RecordSource(s.record_id, s.files, s.formats, s.file_formats, hashes))
-    return Scan(kept, failures, not_records, len(files), duplicates)
+    return Listing(kept, failures, not_records, len(files), duplicates)
 
 
 def _bytes_sha256(path: str) -> str:
@@ -604,7 +604,7 @@ def iter_records(root: str | Path, *, config: ReaderSettings, inventory=None):
     screening itself keeps the failures (:func:`pipeline.run.batch.run`).
     """
     root = Path(root)
-    sources, _ = scan(root, config=config)
+    sources, _ = find_records(root, config=config)
     declared = read_declared_units(root, config)
     for source in sources:
         try:

@@ -30,11 +30,12 @@ Shenton, H. W. (1996). Criteria for initiation of slide, rock, and slide-rock ri
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
-from ..compiled import jit, unroll
+from ..compiled import jit, rebound, unroll
 from ..constants import G
 from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
@@ -200,13 +201,6 @@ def _rocking_warmup() -> None:
 
 # --- the registry -----------------------------------------------------------------------------------------------
 
-#: The physics of the 3D models, chosen by the block's shape before any plane (a cylinder, or a box with a depth
-#: and an azimuth, on two horizontals: :func:`pipeline.rocking.solids.solid3d.solid_of`), not by this planar registry.
-THREE_D = (Physics.wobbling, Physics.rocking3d)
-#: Every physics chosen by the block's shape, not by this registry: the 3D models', and the two models of a body
-#: given by its scan (:mod:`pipeline.rocking.scanned.planes`).
-BY_SHAPE = (*THREE_D, Physics.two_sided, Physics.rolling)
-
 #: Every scene model, in the order the planner tries them: a scene goes to the first whose certificate holds.
 MODELS: tuple[SceneModel, ...] = (
     SceneModel(physics=Physics.none, certificate=at_rest, simulate=_rest, twin=_rest_twin, warmup=_no_warmup),
@@ -238,7 +232,9 @@ def by_physics(physics: int, models: tuple[SceneModel, ...] | None = None) -> Sc
     raise LookupError(f"no scene model is registered for physics code {physics}")
 
 
-#: The registry's certificates and twins for the compiled dispatch (:func:`judge`), in the registry's order.
+#: The registry's certificates and twins for the compiled dispatch (:func:`judge`), in the order of the registry
+#: as imported; :func:`compiled_judge` builds the dispatch again where the registry has changed since.
+_IMPORTED = MODELS
 _CERTIFICATES = tuple(jit(m.certificate) for m in MODELS)
 _TWINS = tuple(m.twin for m in MODELS)
 
@@ -260,3 +256,16 @@ def judge(facts, x, block, control, w):
             outcome, integrated = twin(facts, x, block, control, w)
         k += 1
     return outcome, integrated
+
+
+def compiled_judge():
+    """:func:`judge` for the registry as it stands now (:data:`MODELS`): the compiled function cached on disk where
+    the registry is the one imported, else a copy built for the registry as it is (:func:`_judge_for`)."""
+    return judge if MODELS == _IMPORTED else _judge_for(MODELS)
+
+
+@functools.lru_cache(maxsize=4)
+def _judge_for(models: tuple[SceneModel, ...]):
+    """The compiled dispatch of ``models`` (compiled on its first call, not cached on disk)."""
+    return rebound(judge, _CERTIFICATES=tuple(jit(m.certificate) for m in models),
+                   _TWINS=tuple(m.twin for m in models))

@@ -40,11 +40,13 @@ import numpy as np
 
 from .. import criteria
 from ..blocks import Inventory
+from ..bodies.contract import Placement
+from ..bodies.registry import body_model
 from ..config import FIDELITY_TIERS, Config
 from ..errors import RockscreenError, UsageError
 from ..floors.motion import Building
 from ..floors.standing import floor_record
-from ..records.loader import read_declared_units, scan
+from ..records.loader import find_records, read_declared_units
 from ..records.loader import read_inventory as read_station_inventory
 from ..records.record import Record
 from ..rocking.planner import Physics
@@ -52,8 +54,6 @@ from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..store import Family, OutputLock, publish_staged, write_csv_atomic, write_text_atomic
 from .bench_solids import solid_rows
-from .margins import overturn_scale_simulated
-from .scanned import governing_scale
 from .screening import Context, pulses_and_directions, simulate_scenes, simulation_mask
 
 COLUMNS = ("section", "setting", "value", "time_s", "time_per_scene_us", "scenes_simulated",
@@ -72,7 +72,7 @@ class _Scene:
 
 
 def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list[_Scene], float]:
-    sources, _ = scan(records_dir, config=config)
+    sources, _ = find_records(records_dir, config=config)
     ctx = Context(str(records_dir), config, inventory, read_declared_units(records_dir, config),
                   read_station_inventory(records_dir))
     out, t_common = [], 0.0
@@ -424,12 +424,10 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
             rec = scenes[i].record
             plane = ref.governing_azimuth[i, j]
             plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
-            if inventory.scanned()[j]:                          # a body given by its scan: two-sided
-                out.append(governing_scale(rec, inventory.shape(j), plane, settings=settings,
-                                           g_ms2=config.records.g_ms2)[0])
-                continue
-            out.append(overturn_scale_simulated(rec.along(plane), rec.vertical_ms2,
-                                                rec.dt_s, settings=settings, block=rocking_blocks[j])[0])
+            shape = inventory.shape(j)
+            model = body_model(shape, Placement.of(rec))        # the model its scenes were judged by
+            out.append(model.scale(rec, shape, rocking_blocks[j], plane, settings=settings,
+                                   g_ms2=config.records.g_ms2))
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)
     finest = margins[min(steps)]
     rows = []

@@ -39,7 +39,7 @@ from ..config import Config
 from ..errors import RockscreenError
 from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
-from ..records.loader import Failure, RecordSource, Scan, read_declared_units, scan_directory, units_toml_lines
+from ..records.loader import Failure, Listing, RecordSource, list_directory, read_declared_units, units_toml_lines
 from ..records.units import declared_units_for
 from ..risk import scenes_without_verdict
 from ..rocking.block import ShapeKind
@@ -300,7 +300,7 @@ class BatchOutcome:
 
 def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path | None = None,
         executor=None, force: bool = False, station_inventory=None, declared_units: dict | None = None,
-        stationxml_sha256: str = "", progress=None, scanned: Scan | None = None,
+        stationxml_sha256: str = "", progress=None, listing: Listing | None = None,
         buildings: dict | None = None) -> BatchOutcome:
     """Screen every record under ``records_dir`` against ``inventory``.
 
@@ -321,8 +321,8 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
         Recompute every record and block.
     progress : callable, optional
         ``progress(iterable, total)`` wrapping the stream of finished tasks.
-    scanned : Scan, optional
-        The directory's scan when the caller has it (:func:`~pipeline.records.loader.scan_directory`).
+    listing : Listing, optional
+        The directory's scan when the caller has it (:func:`~pipeline.records.loader.list_directory`).
     buildings : dict, optional
         Building id -> :class:`~pipeline.floors.motion.Building`, for blocks on a floor.
 
@@ -332,7 +332,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     """
     t0 = time.perf_counter()
     records_dir = Path(records_dir)
-    found = scan_directory(records_dir, config=config) if scanned is None else scanned
+    found = list_directory(records_dir, config=config) if listing is None else listing
     _say_what_the_scan_found(found)
     declared = read_declared_units(records_dir, config) if declared_units is None else declared_units
     placements = place_blocks(inventory, buildings or {})        # checked before any record is read
@@ -452,7 +452,7 @@ def _mark_present(got: _Collected, the_plan: Plan) -> list[RecordResult]:
     return list(got.results.values()) + got.failed
 
 
-def _run_attributes(ds: xr.Dataset, key: str, buildings: dict | None, found: Scan) -> None:
+def _run_attributes(ds: xr.Dataset, key: str, buildings: dict | None, found: Listing) -> None:
     """The run's key, its buildings, the files that are not records and the duplicate records, as attributes."""
     ds.attrs["rockscreen_run_key"] = key
     if buildings:
@@ -462,7 +462,7 @@ def _run_attributes(ds: xr.Dataset, key: str, buildings: dict | None, found: Sca
                                               for kept, dup, files in found.duplicates)
 
 
-def _record_counts(got: _Collected, the_plan: Plan, found: Scan) -> dict:
+def _record_counts(got: _Collected, the_plan: Plan, found: Listing) -> dict:
     """The records of the run's summary: ok, failed, screened now, reused, vanished, dropped; the files seen."""
     vanished = len(the_plan.vanished)
     return {"records_ok": len(got.results), "records_failed": len(got.failed), "records_screened": got.records,
@@ -473,7 +473,7 @@ def _record_counts(got: _Collected, the_plan: Plan, found: Scan) -> dict:
             "duplicates": [(kept, dup) for kept, dup, _ in found.duplicates]}
 
 
-def _say_what_the_scan_found(found: Scan) -> None:
+def _say_what_the_scan_found(found: Listing) -> None:
     """Log the files that are not records, and the records that hold the same bytes as another."""
     for path, reason in found.not_records:
         log.info("not a record: %s: %s", path, reason)

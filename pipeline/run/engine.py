@@ -8,7 +8,7 @@ workers' scene progress shown beside the progress bar. A task that returns a :cl
 record's failed row instead (the row goes into ``screening.nc``), built from the same value
 (:func:`~pipeline.run.screening.failed_result`).
 
-A run goes: scan the directory once (:func:`~pipeline.records.loader.scan_directory`), then
+A run goes: scan the directory once (:func:`~pipeline.records.loader.list_directory`), then
 :meth:`RecordJobs.run`, the one record-job loop of ``screen``, ``screen fragility`` and the margins stage: each job
 looked up in the command's cache, the rest run on the executor under one failure policy (:class:`Guarded`: any
 exception a task raises comes back as a :class:`~pipeline.errors.TaskFailure`, and a lost worker as one too), every

@@ -20,7 +20,7 @@ from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError
 from ..records.coordinates import distance_km
-from ..records.loader import read_inventory, scan, station_of
+from ..records.loader import find_records, read_inventory, station_of
 from ..scene_table import SCENE
 from .stages import ScreenRequest, screen
 
@@ -40,7 +40,7 @@ class NearRecords:
 def _locate(records_dir: Path, config: Config, stationxml: Path | None) -> tuple[list[tuple], list[str]]:
     """(record id, lon, lat, where read) of every record whose headers (or StationXML) say where its station is,
     read from the headers alone; notes on the others."""
-    sources, failures = scan(records_dir, config=config)
+    sources, failures = find_records(records_dir, config=config)
     inventory = read_inventory(records_dir, stationxml)
     located, unlocated, notes = [], [], [f"record {f.record_id}: not used ({f.reason})" for f in failures]
     for src in sources:

@@ -43,7 +43,7 @@ from ..records.intensity import (
     record_measures,
     scale_factors,
 )
-from ..records.loader import Failure, Scan, read_declared_units, scan_directory
+from ..records.loader import Failure, Listing, list_directory, read_declared_units
 from ..rocking.rules import rocks
 from ..rocking.scene import Response
 from ..scene_table import SCENE
@@ -209,11 +209,11 @@ def fragility_key(config: Config, inventory: Inventory, im: str, levels, declare
 def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: str, levels: np.ndarray,
                 executor, out_dir: Path | None = None, progress=None, station_inventory=None,
                 stationxml_sha256: str = "", component: Component = Component.rotd100,
-                buildings: dict | None = None, prune: bool = True, scanned: Scan | None = None
+                buildings: dict | None = None, prune: bool = True, listing: Listing | None = None
                 ) -> tuple[list[dict], list[Failure], dict]:
     """Scale every record to every level and judge every block (cached per record under ``out_dir``; ``prune``:
-    drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep; ``scanned``: the
-    directory's scan, made once for all the rounds).
+    drop the cache entries this call did not use, which the rounds of ``--levels auto`` keep; ``listing``: the
+    directory's listing, made once for all the rounds).
 
     ``station_inventory`` (an obspy Inventory) converts records in counts, as for ``screen``.
 
@@ -228,7 +228,7 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
         ``records_computed``, ``records_reused``, ``wall_time_s``.
     """
     t0 = time.perf_counter()
-    found = scan_directory(records_dir, config=config) if scanned is None else scanned
+    found = list_directory(records_dir, config=config) if listing is None else listing
     declared = read_declared_units(records_dir, config)
     jobs = RecordJobs(executor, progress=progress)
     base = Context(str(records_dir), config, inventory, declared, station_inventory, dict(buildings or {}),
@@ -719,7 +719,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     station = read_inventory(request.records_dir, request.stationxml)
     levels = request.levels
     _say_why_all_is_new(out_dir, request)
-    found = scan_directory(request.records_dir, config=request.config)      # once, for every round of auto
+    found = list_directory(request.records_dir, config=request.config)      # once, for every round of auto
     with OutputLock(out_dir, command=" ".join(request.command)):
         with make_executor(n_workers=request.n_workers, scheduler=request.scheduler) as executor:
             def run(lv: np.ndarray, prune: bool = True):
@@ -728,7 +728,7 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
                                    stationxml_sha256=files_sha256(stationxml_paths(request.records_dir,
                                                                                    request.stationxml)),
                                    component=request.component, buildings=request.buildings, prune=prune,
-                                   scanned=found)
+                                   listing=found)
 
             if levels is None:                         # --levels auto
                 levels, results, failures, counts = auto_stripes(

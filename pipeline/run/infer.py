@@ -42,10 +42,11 @@ import xarray as xr
 
 from .. import criteria
 from ..blocks import Inventory
+from ..bodies.contract import Placement
+from ..bodies.registry import body_model
 from ..closed_forms import PULSE_BETA
 from ..config import Config
 from ..errors import InventoryError
-from ..rocking.planner import simulate_scene
 from ..rocking.references.excitation import pulse
 from ..schema import INFER, apply_schema
 from ..tables import parse_number, read_csv_table
@@ -64,6 +65,10 @@ class Observations:
     fall_azimuth_deg: np.ndarray  #: fall azimuth mod 180 [deg] (NaN: not observed)
     source: str
 
+
+#: Where an idealized pulse acts: one horizontal (the models of blocks judged in 3D on two horizontals take the pulse
+#: as the planar model of the same block does).
+ONE_DIRECTION = Placement(single_component=True, azimuth_deg=0.0, azimuth_known=True)
 
 def read_observations(path: str | Path, inventory: Inventory) -> Observations:
     """Read ``id,outcome[,fall_azimuth_deg]`` (outcome: toppled | standing).
@@ -155,8 +160,9 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     blocks = range(len(inv))
     for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
         memo: dict[tuple, bool] = {}
-        block = inv.shape(j)
-        scanned = _weakest_body(block, settings) if inv.scanned()[j] else None   # once per block, not per point
+        body = inv.shape(j)
+        overturns = body_model(body, ONE_DIRECTION).pulse(body, rocking_blocks[j], settings=settings,
+                                                          g_ms2=config.records.g_ms2)      # once per block
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),
                              samples_per_period=config.infer.samples_per_period)
@@ -164,34 +170,11 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
                 for q in range(azimuths.size):
                     amp = float(a * felt[j, q])
                     key = (k, round(amp, 12))
-                    if key not in memo and scanned is not None:    # its weakest plane, the pulse either way
-                        memo[key] = any(_scanned_overturns(block, scanned, sense * amp * unit, dt, settings=settings,
-                                                           g_ms2=config.records.g_ms2) for sense in (1.0, -1.0))
-                        runs += 2
-                    elif key not in memo:
-                        memo[key] = simulate_scene(amp * unit, None, dt, block=rocking_blocks[j],
-                                                   settings=settings).overturned
-                        runs += 1
+                    if key not in memo:
+                        memo[key], n_runs = overturns(amp * unit, dt)
+                        runs += n_runs
                     out[j, q, k, m] = memo[key]
     return out, runs
-
-
-def _weakest_body(shape, settings):
-    """A scanned body's geometry in its weakest plane (the smallest footprint extent), for the model of
-    ``settings.scanned_model`` (:func:`pipeline.rocking.scanned.planes.plane_geometry`)."""
-    from ..rocking.scanned.planes import plane_geometry
-    from ..shapes.plane import weakest_plane
-
-    return plane_geometry(shape.scan, weakest_plane(shape.scan), settings)
-
-
-def _scanned_overturns(shape, body, ah_ms2: np.ndarray, dt_s: float, *, settings, g_ms2: float) -> bool:
-    """A body given by its scan, its weakest plane (``body``, :func:`_weakest_body`) facing the pulse, by its model
-    (:mod:`pipeline.rocking.scanned.planes`)."""
-    from ..rocking.scanned.planes import plane_scene
-
-    return plane_scene(ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu, settings=settings,
-                       g_ms2=g_ms2).overturned
 
 
 def _fall_ok(obs: Observations, azimuths: np.ndarray, tolerance_deg: float) -> np.ndarray:

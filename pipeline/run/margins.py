@@ -38,27 +38,22 @@ rules out bisection.
 
 from __future__ import annotations
 
-import dataclasses
 import logging
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 
+from ..bodies.contract import Placement
+from ..bodies.registry import body_model
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..records.loader import Failure, RecordSource
-from ..risk import P_RELOCATE, RELOCATE_BELOW_SCALE, p_with_unknown
-from ..rocking.block import Block
-from ..rocking.planner import rocks, simulate_scene
-from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of
+from ..risk import P_RELOCATE, p_with_unknown
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema
-from ..uncertainty.sampling import common_normals, sample_block
 from .engine import RecordJobs
-from .scale_scan import scale_scan
-from .screening import Context
+from .screening import Context, setup_of
 
 log = logging.getLogger(__name__)
 
@@ -103,91 +98,6 @@ def at_risk(ds: xr.Dataset, rec_index: np.ndarray) -> np.ndarray:
     return has & (sim | crit | likely)
 
 
-def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: Block, settings,
-                             overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """Smallest factor on the record under which the block overturns (upward scan).
-
-    Parameters
-    ----------
-    ah_ms2, av_ms2 : ndarray
-        Horizontal acceleration along the block's direction and vertical (or None) [m s-2].
-    dt_s : float
-        Sampling interval [s].
-    block : Block
-        The block.
-    settings : SimulationConfig
-        ``margin_step`` and ``margin_max_factor``, and the integration settings.
-    overturns_at_one : bool, optional
-        The simulated verdict of the unscaled record, when already known.
-
-    Returns
-    -------
-    scale : float
-        The first factor of the scan that overturns (below 1 for a standing scene when a
-        smaller factor overturns it); ``inf`` when none up to ``margin_max_factor``; NaN for
-        blocks the rocking model does not apply to (sliding or squat blocks never overturn in
-        it), and when a scaled record reaches free flight before any overturning.
-    runs : int
-        Scenes simulated.
-    """
-    if not rocks(block.alpha, block.mu):
-        return math.nan, 0
-    tan_a = math.tan(block.alpha)
-    lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
-    if not np.any(lift > 0):
-        return math.inf, 0
-    f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
-
-    def verdict_at(factor: float) -> int:
-        av = None if av_ms2 is None else factor * av_ms2
-        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
-
-    return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
-
-
-def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
-                          overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """:func:`overturn_scale_simulated` of a solid on a record's two horizontals and vertical, by its 3D model
-    (:mod:`pipeline.rocking.solids.solid3d`), from the factor at which it first lifts
-    (:func:`~pipeline.rocking.solids.solid3d.lift_factor`)."""
-    h = rec.horizontal_ms2
-    f = lift_factor(h[0], h[1], rec.vertical_ms2, solid, g_ms2=g_ms2)
-    if not math.isfinite(f):
-        return math.inf, 0
-
-    def verdict_at(factor: float) -> int:
-        return judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2,
-                     amplitude=factor).scene.verdict
-
-    return scale_scan(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
-
-
-def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:
-    """theta(t) / alpha at every sample of the scene, or None where nothing rocks."""
-    sc = simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=True)
-    return sc.theta_over_alpha
-
-
-def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, j: int, inv, settings, unc,
-                    g_ms2: float, sampling: bool) -> tuple[np.ndarray, int]:
-    """The simulated margin of the first ``unc.margin_samples`` samples of block ``j`` (common random
-    numbers), as factors on the *nominal* record: the sampled block's scan on the record scaled by the
-    sample's amplitude factor, times that factor (none where the run does not sample: ``sampling``,
-    :attr:`pipeline.config.Config.sampling`). Returns the margins and the scenes simulated."""
-    n = unc.margin_samples if sampling else 0       # --samples 0: nominal results only
-    if n <= 0:
-        return np.zeros(0), 0
-    sb = sample_block(common_normals(unc.seed, n), dataclasses.replace(inv.shape(j), azimuth_deg=math.nan),
-                      settings=unc, g_ms2=g_ms2)
-    out, runs = np.full(n, np.nan), 0
-    for k in range(n):
-        eps = float(sb.amplitude[k])
-        av = None if av_ms2 is None else eps * av_ms2
-        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, block=sb.block(k), settings=settings)
-        out[k], runs = scale * eps, runs + r
-    return out, runs
-
-
 def margin_task(item: tuple, ctx: Context) -> dict:
     """One record and the blocks it governs: their margins and, for those at risk, theta(t)/alpha.
 
@@ -196,77 +106,23 @@ def margin_task(item: tuple, ctx: Context) -> dict:
     failure policy (:class:`~pipeline.run.engine.Guarded`): a record that cannot be loaded again comes back as
     its failure.
     """
-    from .scanned import scanned_margins
-
     source, blocks = item
     cfg = ctx.config
     rec = ctx.load(source)
     inv = ctx.inventory
     rocking_blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2)
-    settings = cfg.simulation_settings()
+    setup = setup_of(cfg)
     index = {b: k for k, b in enumerate(inv.ids)}
     motions = FloorMotions(rec, place_blocks(inv, ctx.buildings))   # a block on a floor: that floor's motion
     out = {}
     for block_id, direction, overturned, want_history in blocks:
-        on = motions.of_block(index[block_id])
-        if inv.scanned()[index[block_id]]:                              # two-sided, in its governing plane
-            out[block_id] = scanned_margins(on, inv.shape(index[block_id]), float(direction), cfg, settings,
-                                            overturned=overturned, want_history=want_history)
-            continue
-        solid = None if on.single_component else solid_of(inv.shape(index[block_id]), record_azimuth_deg=float(
-            on.azimuths_deg[0]), known_azimuth=bool(on.azimuth_known))
-        if solid is not None:                                           # the 3D model, as its scene was judged
-            out[block_id] = _solid_margins(on, inv.shape(index[block_id]), solid, cfg, settings,
-                                           overturned=overturned, want_history=want_history)
-            continue
-        ah = on.along(float(direction))
-        block = rocking_blocks[index[block_id]]
-        scale, runs = overturn_scale_simulated(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings,
-                                               overturns_at_one=overturned)
-        history = theta_history(ah, on.vertical_ms2, on.dt_s, block=block, settings=settings) \
-            if want_history or scale <= RELOCATE_BELOW_SCALE else None
-        sampled, more = sampled_margins(ah, on.vertical_ms2, on.dt_s, j=index[block_id], inv=inv,
-                                        settings=settings, unc=cfg.uncertainty, g_ms2=cfg.records.g_ms2,
-                                        sampling=cfg.sampling)
-        out[block_id] = (scale, runs + more, history, on.dt_s, sampled)
+        j = index[block_id]
+        on = motions.of_block(j)
+        shape = inv.shape(j)
+        model = body_model(shape, Placement.of(on))                     # the model its scene was judged by
+        out[block_id] = tuple(model.margins(on, shape, rocking_blocks[j], float(direction), setup=setup,
+                                            overturned=overturned, want_history=want_history))
     return out
-
-
-def solid_history(rec, solid: Solid, *, settings, g_ms2: float) -> np.ndarray | None:
-    """A solid's history on two horizontals (:func:`~pipeline.rocking.solids.solid3d.judge_solid`), shape (2, n):
-    theta(t)/alpha and the compass azimuth it leans toward [deg] (NaN at rest and after overturning; a box judged in
-    the plane of its width leans along it), or None where nothing lifts."""
-    h = rec.horizontal_ms2
-    got = judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2, history=True)
-    theta, lean = got.scene.theta_over_alpha, got.lean_history_deg
-    if theta is None or lean is None or not got.scene.theta_max > 0:
-        return None
-    return np.vstack([theta, (float(rec.azimuths_deg[0]) - lean) % 360.0])
-
-
-def _solid_margins(rec, shape, solid: Solid, cfg, settings, *, overturned: bool, want_history: bool) -> tuple:
-    """A solid's margin task on two horizontals, by its 3D model (a box's planar scene where its other axis is
-    certified): its scale scan, its history when at risk (:func:`solid_history`), and the sampled margins (each
-    draw's own scan, as factors on the nominal record)."""
-    g = cfg.records.g_ms2
-    scale, runs = solid_scale_simulated(rec, solid, settings=settings, g_ms2=g, overturns_at_one=overturned)
-    history = None
-    if want_history or scale <= RELOCATE_BELOW_SCALE:
-        history = solid_history(rec, solid, settings=settings, g_ms2=g)
-    n = cfg.uncertainty.margin_samples if cfg.sampling else 0
-    sampled = np.full(max(n, 0), np.nan)
-    if n > 0:
-        sb = sample_block(common_normals(cfg.uncertainty.seed, n), shape, settings=cfg.uncertainty, g_ms2=g)
-        for k in range(n):
-            az = None if np.isnan(sb.azimuth_deg[k]) else float(sb.azimuth_deg[k])
-            body = drawn(solid, R_m=float(sb.R_m[k]), alpha=float(sb.alpha[k]), mu=float(sb.mu[k]),
-                         restitution=float(sb.e[k]), azimuth_deg=az, record_azimuth_deg=float(rec.azimuths_deg[0]))
-            eps = float(sb.amplitude[k])
-            scaled = dataclasses.replace(rec, horizontal_ms2=eps * rec.horizontal_ms2,
-                                         vertical_ms2=None if rec.vertical_ms2 is None else eps * rec.vertical_ms2)
-            s_k, r = solid_scale_simulated(scaled, body, settings=settings, g_ms2=g)
-            sampled[k], runs = s_k * eps, runs + r
-    return scale, runs, history, rec.dt_s, sampled
 
 
 #: The most blocks one margin task scans on its record: the blocks a record governs are split into tasks of at most

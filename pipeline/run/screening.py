@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,8 +20,10 @@ import xarray as xr
 
 from .. import __version__, criteria
 from ..blocks import Inventory
+from ..bodies.contract import OnRecord, Placement, Setup
+from ..bodies.registry import body_model
 from ..closed_forms import PULSE_BETA
-from ..config import Config, SimulationConfig
+from ..config import Config
 from ..constants import CM_TO_M
 from ..errors import PulseError, TaskFailure
 from ..floors.buildings import place_blocks
@@ -30,10 +31,9 @@ from ..floors.standing import FloorMotions
 from ..pulses import analyze
 from ..records.loader import Failure, RecordSource, load_record
 from ..records.record import Record
+from ..risk import RELOCATE_BELOW_SCALE
 from ..rocking.block import Block
-from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
-from ..rocking.planner import ContactMode, Physics, guard_names
-from ..rocking.solids.solid3d import Solid, solid_of, solid_scene
+from ..rocking.orientation import PlaneResult, Planes, plane_grid
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns
 from ..schema import (
@@ -53,18 +53,13 @@ from ..schema import (
     result_table,
 )
 from ..uncertainty.orientations import (
-    NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
     average_normals,
     estimation_normals,
-    one_plane,
-    orientation_probability,
 )
 from ..uncertainty.sampling import common_normals
-from ..uncertainty.scenes import SceneMotion, motion, scene_probability
-from ..uncertainty.solids import solid_probability
+from ..uncertainty.scenes import motion
 from .engine import as_failure, task_failure
-from .scanned import scanned_scene
 
 log = logging.getLogger(__name__)
 
@@ -259,109 +254,48 @@ def simulation_mask(inventory: Inventory, config: Config) -> np.ndarray:
     return np.full(len(inventory), config.fidelity.tier != "criterion")
 
 
-def scene_planes(rec: Record, block_azimuth_deg: float, direction_deg: float, grid_deg: np.ndarray
-                 ) -> tuple[int, list[float]]:
-    """The orientation code (:class:`~pipeline.rocking.orientation.Orientation`) of a scene and the planes it is
-    simulated in.
+def on_record(rec: Record, cfg: Config, *, scan: bool = True) -> OnRecord:
+    """``rec`` as every body model's scene takes it (:class:`~pipeline.bodies.contract.OnRecord`): its planes, the
+    orientation grid and, where the run samples, the draws."""
+    unc = cfg.uncertainty
+    z = common_normals(unc.seed, unc.samples) if scan and cfg.sampling else None
+    draws = None if z is None else (z, estimation_normals(unc, unc.samples), average_normals(unc))
+    settings = cfg.simulation_settings()
+    base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
+    planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
+    return OnRecord(rec, base, draws, planes, plane_grid(settings.orientation_step_deg), setup_of(cfg), scan)
 
-    A block with a given azimuth on a record of known azimuth: its own plane. A blank azimuth,
-    or a record whose absolute azimuth is unknown (the pair's relative orientation is known):
-    ``direction_deg`` (the pulse axis) and every plane of the grid (the worst is kept). A
-    single horizontal: the one plane recorded.
-    """
-    if rec.single_component:
-        return Orientation.single_component, [direction_deg]
-    if rec.azimuth_known and not np.isnan(block_azimuth_deg):
-        return Orientation.given, [direction_deg]
-    code = Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative
-    return code, [direction_deg, *grid_deg.tolist()]
+
+def setup_of(cfg: Config) -> Setup:
+    """The run's settings as the body models read them."""
+    return Setup(cfg.simulation_settings(), cfg.uncertainty, cfg.records.g_ms2, cfg.sampling, RELOCATE_BELOW_SCALE)
 
 
 def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
                     scan: bool = True, blocks: list[Block] | None = None) -> SceneColumns:
-    """Plan and simulate the blocks in ``mask`` (default all) against one record, each in its worst plane.
+    """Simulate the blocks in ``mask`` (default all) against one record, each by the body model that claims it
+    (:func:`pipeline.bodies.registry.body_model`).
 
-    ``scan=False`` simulates every block in ``directions`` only (the pulse axis for a blank
-    azimuth): what ``screen bench`` compares the orientation scan with. ``blocks``: the
-    inventory's :meth:`~pipeline.blocks.Inventory.rocking_blocks`, when the caller simulates the
-    same inventory many times (``screen fragility``).
+    ``scan=False`` simulates every planar block in ``directions`` only (the pulse axis for a blank azimuth), and
+    samples nothing: what ``screen bench`` compares the orientation scan with. ``blocks``: the inventory's
+    :meth:`~pipeline.blocks.Inventory.rocking_blocks`, when the caller simulates the same inventory many times
+    (``screen fragility``).
     """
-    inv, cfg = ctx.inventory, ctx.config
-    blocks = inv.rocking_blocks(g_ms2=cfg.records.g_ms2) if blocks is None else blocks
-    nb = len(inv)
-    out = SceneColumns.empty(nb)
-    unc = cfg.uncertainty
-    z = common_normals(unc.seed, unc.samples) if scan and cfg.sampling else None
-    z_estimate = estimation_normals(unc, unc.samples) if z is not None else None
-    z_average = average_normals(unc) if z is not None else None
-    settings = cfg.simulation_settings()
-    step, refine = settings.orientation_step_deg, settings.orientation_refine_deg
-    grid = plane_grid(step)
-    planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
-    base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
-    mask = np.ones(nb, dtype=bool) if mask is None else mask
+    inv = ctx.inventory
+    blocks = inv.rocking_blocks(g_ms2=ctx.config.records.g_ms2) if blocks is None else blocks
+    out = SceneColumns.empty(len(inv))
+    on = on_record(rec, ctx.config, scan=scan)
+    placement = Placement.of(rec)
+    mask = np.ones(len(inv), dtype=bool) if mask is None else mask
     for j in np.flatnonzero(mask):
-        ctx.progress.scene(str(inv.ids[j]))
+        block_id = str(inv.ids[j])
+        ctx.progress.scene(block_id)
         t_scene = time.perf_counter()
-        if inv.scanned()[j]:                                    # a body given by its scan: two-sided, planar
-            res, orient, how, _search = scanned_scene(rec, base, z, inv.shape(int(j)),
-                                                      direction_deg=float(directions[j]), grid_deg=grid, cfg=cfg,
-                                                      settings=settings)
-            scene_values(out, int(j), res, how, orient)
-            ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                    detail=lambda res=res: f"scanned body, {res.planes_simulated} planes, governing "
-                                                           f"{res.azimuth_deg:.0f} deg")
-            continue
-        solid = None if rec.single_component else solid_of(inv.shape(int(j)), record_azimuth_deg=float(
-            rec.azimuths_deg[0]), known_azimuth=bool(rec.azimuth_known))
-        if solid is not None:                                   # 3D: a cylinder, or a box at its azimuth
-            res, orient, how = _solid_scene(rec, base, z, inv.shape(int(j)), solid, cfg, settings)
-            scene_values(out, int(j), res, how, orient)
-            ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                    detail=lambda res=res, how=how: _solid_detail(res, how))
-            continue
-        code, azimuths = scene_planes(rec, float(inv.azimuth_deg[j]), float(directions[j]), grid)
-        if not scan:
-            azimuths = azimuths[:1]
-        scanned = code in (Orientation.scanned, Orientation.scanned_relative)
-        res = worst_plane(planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
-                          refine_deg=refine, block=blocks[j])
-        sc = res.scene
-        orient = NOT_EVALUATED_ORIENTATION
-        if base is not None and z is not None and z_estimate is not None:
-            orient = _orientation_probability(base, (z, z_estimate, z_average), inv, int(j), scanned=scanned,
-                                              azimuths=azimuths, nominal=res, planes=planes, grid=grid, cfg=cfg,
-                                              settings=settings)
-        scene_values(out, int(j), res, code, orient)
-        ctx.progress.scene_done(block_id=str(inv.ids[j]), seconds=time.perf_counter() - t_scene,
-                                detail=lambda sc=sc, res=res, orient=orient: _scene_detail(
-                                    sc, res.azimuth_deg, res.planes_simulated, orient.simulations))
+        shape = inv.shape(int(j))
+        got = body_model(shape, placement).scene(on, shape, blocks[j], float(directions[j]))
+        scene_values(out, int(j), got.result, got.orientation, got.probability)
+        ctx.progress.scene_done(block_id=block_id, seconds=time.perf_counter() - t_scene, detail=got.detail)
     return out
-
-
-def _solid_scene(rec: Record, base: SceneMotion | None, z, shape, solid: Solid, cfg: Config,
-                 settings: SimulationConfig) -> tuple[PlaneResult, OrientationProbability, Orientation]:
-    """A solid on a record with two horizontals (:mod:`pipeline.rocking.solids.solid3d`): the nominal scene (a box's
-    planar scene where its other axis is certified, else the 3D model's), its probability (one judgement per draw; a
-    box's
-    azimuth drawn as a planar scene's is, a cylinder's none) and how its orientation was chosen."""
-    res, certified = solid_scene(rec.horizontal_ms2[0], rec.horizontal_ms2[1], rec.vertical_ms2, rec.dt_s,
-                                 float(rec.azimuths_deg[0]), solid, settings=settings, g_ms2=cfg.records.g_ms2)
-    code = (Orientation.axisymmetric if solid.physics == Physics.wobbling
-            else Orientation.given_certified if certified else Orientation.given_3d)
-    if base is None or z is None:
-        return res, NOT_EVALUATED_ORIENTATION, code
-    prob = solid_probability(base, z, shape, solid, record_azimuth_deg=float(rec.azimuths_deg[0]),
-                             settings=cfg.uncertainty, simulation=settings, g_ms2=cfg.records.g_ms2)
-    return res, one_plane(prob, res.azimuth_deg), code
-
-
-def _solid_detail(res: PlaneResult, code: Orientation) -> str:
-    """What a slow 3D scene was doing."""
-    if code == Orientation.given_certified:
-        return "box in the plane of its width (its other axis certified)"
-    body = "cylinder" if code == Orientation.axisymmetric else "box"
-    return f"{body} in 3D, leaning toward {res.azimuth_deg:.0f} deg"
 
 
 def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,
@@ -380,46 +314,6 @@ def scene_values(out: SceneColumns, j: int, res: PlaneResult, orientation: int,
             sample_simulations=orient.simulations, p_overturn_azimuth=orient.worst_azimuth_deg,
             p_overturn_random_orientation=orient.random, p_overturn_random_orientation_low=orient.random_low,
             p_overturn_random_orientation_high=orient.random_high)
-
-
-def _scene_detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
-    """What a slow scene was doing: its physics, the modes it went through, the guards it met, its planes."""
-    modes = ", ".join(m.name for m in ContactMode if sc.contact_modes & m) or "none"
-    guards = guard_names(sc.guard) or "none"
-    return (f"physics {Physics(sc.physics).name}, contact modes {modes}, guards {guards}; {planes} plane(s) "
-            f"integrated (governing plane {azimuth_deg:.0f} deg), {max(sampled, 0)} sampled plane(s)")
-
-
-def _ranked(res: PlaneResult, planes: Planes, azimuths: list[float]) -> list[float]:
-    """The planes of a scene by decreasing nominal peak rotation (the planes integrated), then the others by
-    decreasing demand ratio."""
-    moved = [az for az, _theta in sorted(res.responses, key=lambda r: -r[1])]
-    rest, _ = planes.by_demand(tuple(dict.fromkeys(Planes.key(a) for a in azimuths)))
-    return list(dict.fromkeys([*moved, *rest]))
-
-
-def _orientation_probability(base: SceneMotion, draws: tuple, inv: Inventory, j: int, *, scanned: bool,
-                             azimuths: list[float], nominal: PlaneResult, planes: Planes, grid: np.ndarray,
-                             cfg: Config, settings: SimulationConfig) -> OrientationProbability:
-    """Block ``j``'s probabilities of overturning under the declared uncertainty: per orientation when its
-    rocking plane is unknown (scanned on a two-component record), else in its one plane. ``draws``: the
-    selection draws, the independent estimation draws and the random orientation's draws."""
-    z, z_estimate, z_average = draws
-    governing_deg = nominal.azimuth_deg
-    unc = cfg.uncertainty
-    if not scanned or base.single:
-        shape = dataclasses.replace(inv.shape(j), azimuth_deg=math.nan if scanned else azimuths[0])
-        prob = scene_probability(base, z, shape, settings=unc, simulation=settings, g_ms2=cfg.records.g_ms2)
-        return one_plane(prob, azimuths[0])
-    sample_grid, candidates = grid, list(azimuths)
-    if unc.orientation_step_deg > 0:        # a coarser grid for the samples, with the pulse axis and the nominal
-        sample_grid = plane_grid(unc.orientation_step_deg)                                       # worst plane
-        candidates = list(dict.fromkeys([float(azimuths[0]), float(governing_deg) % 180.0, *sample_grid.tolist()]))
-    return orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z, inv.shape(j),
-                                   grid_deg=sample_grid, prefer_deg=governing_deg, settings=unc,
-                                   simulation=settings, g_ms2=cfg.records.g_ms2, z_estimate=z_estimate,
-                                   z_average=z_average, nominal_overturned=bool(nominal.scene.overturned),
-                                   ranked_deg=_ranked(nominal, planes, azimuths))
 
 
 def screen_record(source: RecordSource, ctx: Context, block_ids=None, content_sha256: str | None = None

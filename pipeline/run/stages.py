@@ -24,7 +24,7 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import REFERENCE_PAPER
 from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
-from ..records.loader import files_sha256, read_declared_units, scan_directory, stationxml_paths
+from ..records.loader import files_sha256, list_directory, read_declared_units, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
 from ..store import (
@@ -141,13 +141,13 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
-def compile_simulator(*, announce=None, cylinders: bool = False, boxes: bool = False, scanned: bool = False) -> float:
-    """Compile the simulator in this process before any worker needs it (:func:`pipeline.rocking.warmup
-    .compile_kernels`, the 3D cylinder's kernel with ``cylinders``, the 3D box's with ``boxes``, the two-sided one
-    with ``scanned``; ``announce`` is told when it takes a while: the first run of an install); seconds taken."""
-    from ..rocking.warmup import compile_kernels
+def compile_simulator(inventory: Inventory, *, announce=None) -> float:
+    """Compile the simulator in this process before any worker needs it: the kernels of every body model that may
+    claim a block of ``inventory`` (:func:`pipeline.bodies.warmup.compile_kernels`; ``announce`` is told when it
+    takes a while: the first run of an install); seconds taken."""
+    from ..bodies.warmup import compile_kernels
 
-    return compile_kernels(announce=announce, cylinders=cylinders, boxes=boxes, scanned=scanned)
+    return compile_kernels(announce=announce, shapes=inventory.shapes())
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:
@@ -231,7 +231,7 @@ def screen(request: ScreenRequest, *, progress=None, say=None) -> ScreenResult:
                 outcome = run(request.records_dir, request.inventory, request.config, out_dir=out_dir,
                               executor=executor, force=request.force, station_inventory=station_inventory,
                               declared_units=declared, stationxml_sha256=stationxml_sha, progress=progress,
-                              scanned=found, buildings=request.buildings)
+                              listing=found, buildings=request.buildings)
                 margin_cache = outcome.cache.margins() if outcome.cache is not None else None
                 log.debug("screen: %s", {k: v for k, v in outcome.counts.items() if isinstance(v, (int, float))})
                 results, histories, margins = margins_stage(outcome, executor, cache=margin_cache,
@@ -275,7 +275,7 @@ def prepare(request: ScreenRequest) -> tuple:
     if not Path(request.records_dir).is_dir():
         raise RecordsNotFoundError(f"{request.records_dir}: records directory not found; give an existing "
                                    "directory to --records")
-    found = scan_directory(request.records_dir, config=request.config)
+    found = list_directory(request.records_dir, config=request.config)
     if not found.sources and not found.failures:
         listed = "; ".join(f"{Path(p).name}: {r}" for p, r in found.not_records[:5])
         raise NoRecordsError(

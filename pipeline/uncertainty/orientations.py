@@ -46,7 +46,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.planar.sampled import sample_plane_outcomes
+from ..rocking.planar.sampled import kernels
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, spanning_interval, wilson_interval
@@ -166,7 +166,7 @@ def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
     s = blk.simulation
-    sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
+    kernels().sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
                           np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
                           float(blk.g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s), out,
                           planes)

@@ -132,13 +132,13 @@ def test_a_block_on_the_ground_floor_is_screened_exactly_as_on_the_ground(tmp_pa
     """Similitude: z = 0 is the ground (phi_i(0) = 0), so every per-scene value is identical, bit for bit."""
     import dataclasses
 
-    from pipeline.records.loader import read_declared_units, scan
+    from pipeline.records.loader import find_records, read_declared_units
     from pipeline.run.screening import Context, screen_record
     from pipeline.schema import PROBABILITY_VARS, PULSE_BLOCK_VARS, SIMULATION_VARS
 
     inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,,,", "B,1.5,0.3,0.6,MUSEUM,0,", "C,1.5,0.3,0.6,MUSEUM,,0"])
     cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=3))
-    src = scan(rinaldi_dir, config=cfg)[0][0]
+    src = find_records(rinaldi_dir, config=cfg)[0][0]
     res = screen_record(src, Context(str(rinaldi_dir), cfg, inv, read_declared_units(rinaldi_dir, cfg), None,
                                      {"MUSEUM": MUSEUM}))
     assert res.ok, res.status

@@ -13,7 +13,7 @@ from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
 from pipeline.pulses.cwt import cwt, cwt_point, cwt_window, scales_for
 from pipeline.pulses.shahi_baker import _strongest_point, extract_along, wavelet_on_grid
-from pipeline.records.loader import load_record, scan
+from pipeline.records.loader import find_records, load_record
 from pipeline.store import open_results
 
 PROJECT_CONFIGS = __import__("pathlib").Path(__file__).resolve().parents[2] / "configs"
@@ -72,7 +72,7 @@ def test_parity_through_screen_command(make_records, blocks_csv, tmp_path, refer
 def test_default_processing_moves_tp_by_a_documented_amount(make_records, config, reference):
     """Default config (trapezoid, g = 9.80665) on the same pair: Tp stays within one scale step."""
     root = make_records("pulse-reference/example1.AT2", "pulse-reference/example2.AT2")
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     p = analyze(rec)
     assert abs(p.result.tp_s - 4.788) <= 1.4 * 0.005 * 43  # one of the 51 scale steps at most
 
@@ -95,7 +95,7 @@ def test_rotation_invariance(example_velocity, angle_deg):
                                  "peer-at2/RSN1086_NORTHR_SYL360.AT2", "peer-at2/RSN292_ITALY_A-STU270.AT2"])
 def test_tp_is_integer_multiple_of_1p4_dt(make_records, config, rel):
     root = make_records(rel)
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     for c in analyze(rec).result.candidates:
         q = c.tp_s / (1.4 * rec.dt_s)
         assert q == pytest.approx(round(q), abs=1e-9)
@@ -162,7 +162,7 @@ NON_PULSE = [("peer-at2/RSN6_IMPVALL.I_I-ELC180.AT2",), ("peer-at2/RSN15_KERN_TA
                          ids=lambda v: v[0].split("/")[-1] if isinstance(v, tuple) else str(v))
 def test_known_classifications(make_records, config, files, expected):
     root = make_records(*files)
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     assert analyze(rec).result.is_pulse is expected
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from pipeline.config import Config
-from pipeline.records.loader import read_inventory, scan, station_of
+from pipeline.records.loader import find_records, read_inventory, station_of
 
 #: record id -> (lat, lon) as the file prints it, and the header it comes from
 EXPECTED = {
@@ -22,7 +22,7 @@ EXPECTED = {
 @pytest.fixture(scope="module")
 def located(records_dir):
     inventory = read_inventory(records_dir / "mseed")
-    return {src.record_id: station_of(src, inventory) for src in scan(records_dir, config=Config())[0]}
+    return {src.record_id: station_of(src, inventory) for src in find_records(records_dir, config=Config())[0]}
 
 
 @pytest.mark.parametrize("record_id", sorted(EXPECTED))

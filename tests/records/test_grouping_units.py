@@ -7,7 +7,7 @@ import pytest
 
 from pipeline.config import config_from_dict
 from pipeline.errors import RecordGroupingError, UnitsError
-from pipeline.records.loader import load_record, scan
+from pipeline.records.loader import find_records, load_record
 from pipeline.records.orientation import orientation_from_code
 from pipeline.records.units import FACTORS_TO_MS2, canonical_units, factor_to_ms2
 
@@ -54,7 +54,7 @@ def test_unknown_orientation_code_is_none():
 ])
 def test_grouping_and_orientation(make_records, config, files, n_files, codes, azimuths, known):
     root = make_records(*files)
-    sources, failures = scan(root, config=config)
+    sources, failures = find_records(root, config=config)
     assert failures == [] and len(sources) == 1 and len(sources[0].files) == n_files
     rec = load_record(sources[0], root=root, config=config)
     assert rec.component_codes == codes
@@ -84,7 +84,7 @@ def test_peer_suffix_pairs_and_unequal_lengths_are_screened(tmp_path, records_di
     _at2_copy(src / "RSN1063_NORTHR_RRS228.AT2", tmp_path / f"RSN1063_NORTHR_RRS-{first}.AT2", component=first)
     _at2_copy(src / "RSN1063_NORTHR_RRS318.AT2", tmp_path / f"RSN1063_NORTHR_RRS-{second}.AT2",
               component=second, npts=1600)       # 1991 and 1600 samples, no start times in the files
-    sources, failures = scan(tmp_path, config=config)
+    sources, failures = find_records(tmp_path, config=config)
     assert failures == [] and len(sources) == 1
     rec = load_record(sources[0], root=tmp_path, config=config)
     assert rec.npts == 1600 and rec.horizontal_ms2.shape == (2, 1600)
@@ -92,22 +92,22 @@ def test_peer_suffix_pairs_and_unequal_lengths_are_screened(tmp_path, records_di
     assert any("aligned at their first sample" in n for n in rec.notes)
     assert any("not recognised" in n for n in rec.notes) is pair_note
     # the samples are those of the files, from the first one on
-    full = load_record(scan(records_dir / "peer-at2", config=config)[0][
-        [s.record_id for s in scan(records_dir / "peer-at2", config=config)[0]].index("RSN1063_NORTHR_RRS")],
+    full = load_record(find_records(records_dir / "peer-at2", config=config)[0][
+        [s.record_id for s in find_records(records_dir / "peer-at2", config=config)[0]].index("RSN1063_NORTHR_RRS")],
         root=records_dir, config=config)
     assert rec.horizontal_ms2[0][:100] == pytest.approx(full.horizontal_ms2[0][:100], rel=1e-6, abs=1e-9)
 
 
 def test_single_component_record_is_flagged(make_records, config):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     assert rec.single_component and "single horizontal component" in rec.notes
 
 
 def test_lengths_within_20_samples_are_trimmed_with_note(make_records, config):
     root = make_records("peer-at2/RSN181_IMPVALL.H_H-E06140.AT2", "peer-at2/RSN181_IMPVALL.H_H-E06230.AT2",
                         "peer-at2/RSN181_IMPVALL.H_H-E06-UP.AT2")
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     assert rec.npts == 7815  # 7817 / 7818 / 7815 in SOURCES.md
     assert any("7815" in n for n in rec.notes)
 
@@ -124,11 +124,11 @@ def test_length_mismatch_over_the_threshold_is_screened_with_a_warning(tmp_path,
     rng = np.random.default_rng(1)
     _write_at2(tmp_path / "TEST000.AT2", "0", 1000, 0.01, rng)
     _write_at2(tmp_path / "TEST090.AT2", "90", 1030, 0.01, rng)
-    assert load_record(scan(tmp_path, config=config)[0][0], root=tmp_path, config=config).npts == 1000
+    assert load_record(find_records(tmp_path, config=config)[0][0], root=tmp_path, config=config).npts == 1000
     assert "TEST000.AT2" in caplog.text and "max_length_mismatch_samples = 20" in caplog.text
     caplog.clear()
     relaxed = config_from_dict({"records": {"max_length_mismatch_samples": 40}})
-    assert load_record(scan(tmp_path, config=relaxed)[0][0], root=tmp_path, config=relaxed).npts == 1000
+    assert load_record(find_records(tmp_path, config=relaxed)[0][0], root=tmp_path, config=relaxed).npts == 1000
     assert "max_length_mismatch_samples" not in caplog.text
 
 
@@ -137,7 +137,7 @@ def test_different_sampling_intervals_are_an_error(tmp_path, config):
     _write_at2(tmp_path / "TEST000.AT2", "0", 1000, 0.01, rng)
     _write_at2(tmp_path / "TEST090.AT2", "90", 1000, 0.005, rng)
     with pytest.raises(RecordGroupingError, match="different sampling intervals"):
-        load_record(scan(tmp_path, config=config)[0][0], root=tmp_path, config=config)
+        load_record(find_records(tmp_path, config=config)[0][0], root=tmp_path, config=config)
 
 
 def test_non_orthogonal_pair_is_an_error(tmp_path, config):
@@ -145,7 +145,7 @@ def test_non_orthogonal_pair_is_an_error(tmp_path, config):
     _write_at2(tmp_path / "TEST000.AT2", "0", 500, 0.01, rng)
     _write_at2(tmp_path / "TEST045.AT2", "45", 500, 0.01, rng)
     with pytest.raises(RecordGroupingError, match="not orthogonal"):
-        load_record(scan(tmp_path, config=config)[0][0], root=tmp_path, config=config)
+        load_record(find_records(tmp_path, config=config)[0][0], root=tmp_path, config=config)
 
 
 @pytest.mark.parametrize("unit,factor", [("g", 9.80665), ("mg", 9.80665e-3), ("cm/s**2", 0.01),
@@ -164,24 +164,24 @@ def test_unknown_declared_unit_lists_valid_ones():
 def test_sac_without_declaration_is_an_error_naming_the_fix(make_records, config):
     root = make_records("sac/20190706031952.CJ.T001230.HNE.sac", units_toml=False)
     with pytest.raises(UnitsError, match=r"idep=IACC.*units\.toml"):
-        load_record(scan(root, config=config)[0][0], root=root, config=config)
+        load_record(find_records(root, config=config)[0][0], root=root, config=config)
 
 
 def test_counts_without_response_is_an_error(make_records, config):
     root = make_records("mseed/CI.CCC..HNE.mseed", units_toml=False)
     with pytest.raises(UnitsError, match="StationXML"):
-        load_record(scan(root, config=config)[0][0], root=root, config=config)
+        load_record(find_records(root, config=config)[0][0], root=root, config=config)
 
 
 def test_declaration_conflicting_with_file_is_an_error(make_records, config):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", units_toml=False)
     (root / "units.toml").write_text('[files]\n"peer-at2/*.AT2" = "cm/s**2"\n')
     with pytest.raises(UnitsError, match="states units 'g' but units.toml declares"):
-        load_record(scan(root, config=config)[0][0], root=root, config=config)
+        load_record(find_records(root, config=config)[0][0], root=root, config=config)
 
 
 def test_history_records_conversion_and_steps(make_records, config):
     root = make_records("knet/AOM0170806140843.NS", "knet/AOM0170806140843.EW")
-    rec = load_record(scan(root, config=config)[0][0], root=root, config=config)
+    rec = load_record(find_records(root, config=config)[0][0], root=root, config=config)
     text = "\n".join(rec.history)
     assert "calib" in text and "detrend" in text and "filter" in text and "integrate" in text

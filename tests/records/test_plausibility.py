@@ -11,7 +11,7 @@ from obspy import read
 
 from pipeline.config import Config, config_from_dict
 from pipeline.errors import ConfigError, RecordFormatError
-from pipeline.records.loader import load_record, scan
+from pipeline.records.loader import find_records, load_record
 from pipeline.records.plausibility import ImplausibleRecordError
 
 PACOIMA = "peer-at2/RSN77_SFERN_PUL164.AT2"          # a real AT2 in g: NPTS= 4172, DT= .0100 SEC
@@ -30,7 +30,7 @@ def _at2(records_dir, tmp_path, *, header: str | None = None, spike_g: float | N
     root = tmp_path / "recs"
     root.mkdir()
     (root / "pacoima.AT2").write_text("\n".join(lines) + "\n")
-    sources, failures = scan(root, config=Config())
+    sources, failures = find_records(root, config=Config())
     return root, sources, failures
 
 
@@ -83,7 +83,7 @@ def test_zeros_after_the_data_are_padding_and_pass_without_a_word(records_dir, t
     root = tmp_path / "recs"
     root.mkdir()
     (root / "pacoima.AT2").write_text("\n".join(lines) + "\n")
-    sources, _ = scan(root, config=Config())
+    sources, _ = find_records(root, config=Config())
     with caplog.at_level(logging.WARNING):
         assert load_record(sources[0], root=root, config=Config()).npts == 4172
     assert not any("after the NPTS" in r.getMessage() for r in caplog.records)
@@ -102,7 +102,7 @@ def test_the_bundled_records_are_plausible(records_dir):
     from pipeline.records.loader import read_inventory as read_station_inventory
 
     config = Config()
-    sources, _ = scan(records_dir, config=config)
+    sources, _ = find_records(records_dir, config=config)
     declared, stationxml = read_declared_units(records_dir, config), read_station_inventory(records_dir, None)
     implausible, loaded = [], 0
     for src in sources:

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
-from pipeline.records.loader import read_declared_units, scan
+from pipeline.records.loader import find_records, read_declared_units
 from pipeline.run.screening import Context, failure_result, screen_record
 
 RECORDS = Path(__file__).resolve().parents[2] / "records"
@@ -26,7 +26,7 @@ SUFFIXES = [".AT2", ".V1C", ".V2", ".v1", ".dat", ".sac", ".mseed", ".NS", ""]
 
 def _screen_dir(root: Path) -> dict[str, str]:
     config = Config()
-    sources, failures = scan(root, config=config)
+    sources, failures = find_records(root, config=config)
     ctx = Context(str(root), config, read_inventory(BLOCKS, default_mu=0.6),
                   read_declared_units(root, config))
     results = [failure_result(f) for f in failures] + [screen_record(s, ctx) for s in sources]

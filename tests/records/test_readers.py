@@ -9,7 +9,7 @@ import pytest
 from pipeline.constants import G
 from pipeline.errors import RecordFormatError
 from pipeline.records import at2
-from pipeline.records.loader import load_record, read_declared_units, read_inventory, scan
+from pipeline.records.loader import find_records, load_record, read_declared_units, read_inventory
 from pipeline.run.screening import Context, screen_record
 
 FORMATS = {
@@ -55,7 +55,7 @@ def test_every_bundled_file_is_read_or_reported(records_dir, config, blocks_csv)
     """Every file under records/ ends in a screened record or a failure with a clear reason."""
     from pipeline.blocks import read_inventory as read_blocks
 
-    sources, failures = scan(records_dir, config=config)
+    sources, failures = find_records(records_dir, config=config)
     assert failures == []
     ctx = Context(str(records_dir), config, read_blocks(blocks_csv, default_mu=0.6),
                   read_declared_units(records_dir, config), read_inventory(records_dir))
@@ -85,7 +85,7 @@ HEADER_PEAKS = [
 @pytest.mark.parametrize("files", HEADER_PEAKS, ids=lambda f: f[0].split("/")[-1])
 def test_pga_matches_header_within_half_percent(make_records, config, files):
     root = make_records(*files)
-    sources, _ = scan(root, config=config)
+    sources, _ = find_records(root, config=config)
     assert len(sources) == 1
     rec = load_record(sources[0], root=root, config=config)
     series = list(rec.horizontal_ms2) + ([rec.vertical_ms2] if rec.vertical_ms2 is not None else [])
@@ -109,7 +109,7 @@ SOURCES_PGA_G = [
 @pytest.mark.parametrize("rel,xml,code,pga_g", SOURCES_PGA_G, ids=lambda v: str(v).split("/")[-1])
 def test_component_pga_matches_independent_values(make_records, config, rel, xml, code, pga_g):
     root = make_records(rel, *( [xml] if xml else []))
-    sources, _ = scan(root, config=config)
+    sources, _ = find_records(root, config=config)
     rec = load_record(sources[0], root=root, config=config, inventory=read_inventory(root))
     idx = rec.component_codes.index(code)
     data = rec.horizontal_ms2[idx] if idx < rec.horizontal_ms2.shape[0] else rec.vertical_ms2
@@ -163,4 +163,4 @@ def test_free_format_bad_token_names_its_line_after_a_d_exponent():
 def test_a_record_carries_the_station_and_earthquake_its_files_name(make_records, config, files, label):
     """Records are known by their file names ('example', 'test'); the report also shows what the files say."""
     root = make_records(*files)
-    assert load_record(scan(root, config=config)[0][0], root=root, config=config).label == label
+    assert load_record(find_records(root, config=config)[0][0], root=root, config=config).label == label

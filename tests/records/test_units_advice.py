@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pipeline.errors import UnitsError
-from pipeline.records.loader import load_record, read_declared_units, scan
+from pipeline.records.loader import find_records, load_record, read_declared_units
 from pipeline.records.units import common_glob, plausible_units, suggest_declarations
 
 G = 9.80665
@@ -49,7 +49,7 @@ def test_declaration_outside_the_files_table_is_an_error(tmp_path, config):
 def test_a_record_names_every_file_that_needs_a_declaration(make_records, config):
     root = make_records(*(f"sac/20190706031952.CJ.T001230.HN{c}.sac" for c in "ENZ"), units_toml=False)
     with pytest.raises(UnitsError) as info:
-        load_record(scan(root, config=config)[0][0], root=root, config=config)
+        load_record(find_records(root, config=config)[0][0], root=root, config=config)
     text = str(info.value)
     assert "HNN.sac" in text and "HNZ.sac" in text
     assert '[files]\n"sac/20190706031952.CJ.T001230.HN?.sac" = "g"' in text

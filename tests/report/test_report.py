@@ -14,6 +14,7 @@ import pytest
 from browser import assert_reads_at, chromium
 
 from pipeline.blocks import geometry
+from pipeline.bodies.planar import overturn_scale_simulated
 from pipeline.cli import main
 from pipeline.closed_forms import makris_roussos_halfsine
 from pipeline.config import SimulationConfig
@@ -22,7 +23,7 @@ from pipeline.rocking.block import Block
 from pipeline.rocking.planner import Physics, simulate_scene
 from pipeline.rocking.references.excitation import pulse
 from pipeline.run.chart import simulated_critical_acceleration, stability_chart
-from pipeline.run.margins import governing_records, overturn_scale_simulated
+from pipeline.run.margins import governing_records
 from pipeline.store import open_results
 
 RECORDS = ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",

@@ -26,7 +26,7 @@ import xarray as xr
 
 from pipeline.blocks import read_inventory
 from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
-from pipeline.records.loader import read_declared_units, scan
+from pipeline.records.loader import find_records, read_declared_units
 from pipeline.run.batch import _task, plan
 from pipeline.run.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
 from pipeline.run.screening import Context
@@ -231,7 +231,7 @@ def test_vanished_record_keeps_its_results_flagged(few_records, blocks_csv, tmp_
 
 def test_file_vanishing_after_the_scan_fails_that_record_alone(few_records, blocks_csv, config):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
-    sources, _ = scan(few_records, config=config)
+    sources, _ = find_records(few_records, config=config)
     gone = next(s for s in sources if s.record_id == "test")
     Path(gone.files[0]).unlink()
     p = plan(sources, inventory, cache=None)
@@ -393,7 +393,7 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
         if f.name.startswith(KILL_RECORDS):
             shutil.copy(f, recs / f.name)
     shutil.copy(records_dir / "units.toml", recs)
-    n_records = len(scan(recs, config=config)[0])
+    n_records = len(find_records(recs, config=config)[0])
     assert screen(recs, blocks_csv, out) == EXIT_OK
     previous = (out / "screening.nc").read_bytes()
     cfg = tmp_path / "c.toml"
@@ -431,7 +431,7 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
 @pytest.fixture
 def tasks(few_records, blocks_csv, config):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
-    sources, _ = scan(few_records, config=config)
+    sources, _ = find_records(few_records, config=config)
     ctx = Context(str(few_records), config, inventory, read_declared_units(few_records, config))
     return [(s, None, None) for s in sources], ctx
 

@@ -11,7 +11,7 @@ def no_warmup(monkeypatch):
     """The simulator's warm-up, made to fail the test if it is reached."""
     from pipeline.run import stages
 
-    def refuse(**kwargs):
+    def refuse(*args, **kwargs):
         raise AssertionError("the simulator was warmed up before the inputs were checked")
 
     monkeypatch.setattr(stages, "compile_simulator", refuse)

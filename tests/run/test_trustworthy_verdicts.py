@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 
 from pipeline.blocks import read_inventory
+from pipeline.bodies.planar import overturn_scale_simulated
 from pipeline.constants import G
-from pipeline.records.loader import read_declared_units, scan
+from pipeline.records.loader import find_records, read_declared_units
 from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import Physics, Response, plan, simulate_scene
 from pipeline.rocking.references.reference import rock_reference
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
-from pipeline.run.margins import overturn_scale_simulated
 from pipeline.run.screening import Context, screen_record
 
 #: Near-field two-component records with known azimuths (Northridge, Kocaeli, Chi-Chi, Duzce, Imperial Valley).
@@ -52,7 +52,7 @@ def explicit_planes(tmp_path_factory, records_dir, config):
     csv.write_text("\n".join(rows) + "\n")
     inv = read_inventory(csv, default_mu=0.6)
     ctx = Context(str(root), config, inv, read_declared_units(root, config))
-    sources, failures = scan(root, config=config)
+    sources, failures = find_records(root, config=config)
     assert not failures and len(sources) == len(NEAR_FIELD)
     results = [screen_record(s, ctx) for s in sources]
     assert all(r.ok for r in results), [r.status for r in results if not r.ok]
@@ -236,6 +236,6 @@ def test_all_zero_horizontals_get_a_clear_status(tmp_path, records_dir, blocks_c
         (tmp_path / f"RSN1063_NORTHR_RRS{comp}.AT2").write_text("\n".join(lines[:4] + body) + "\n")
     inv = read_inventory(blocks_csv, default_mu=0.6)
     ctx = Context(str(tmp_path), config, inv, {})
-    sources, _ = scan(tmp_path, config=config)
+    sources, _ = find_records(tmp_path, config=config)
     res = screen_record(sources[0], ctx)
     assert not res.ok and "every horizontal sample" in res.status and "zero" in res.status

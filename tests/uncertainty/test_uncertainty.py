@@ -145,10 +145,10 @@ def test_harmonic_near_its_chaotic_threshold_is_sensitive():
 
 def test_unit_factors_reproduce_the_nominal_orientation_scan(records_dir, config):
     """With every spread 0, each sample is the nominal block: its verdict is worst_plane's on the grid."""
-    from pipeline.records.loader import scan_directory
+    from pipeline.records.loader import list_directory
     from pipeline.run.screening import Context
 
-    scanned = scan_directory(records_dir / "peer-at2", config=config)
+    scanned = list_directory(records_dir / "peer-at2", config=config)
     zero = UncertaintyConfig(samples=5, batch=5, amplitude_cov=0.0, restitution_cov=0.0, friction_cov=0.0,
                              size_cov=0.0, azimuth_sd_deg=0.0)
     ctx = Context(str(records_dir / "peer-at2"), config, None, {}, None)

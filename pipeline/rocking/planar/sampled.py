@@ -24,11 +24,15 @@ whenever the nominal verdict was decided on the grid (tested).
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, rebound
+from .. import models
 from ..block import rigid_block
 from ..codes import NO_VERDICT, OVERTURNS, STANDS
 from ..contract import PlaneSample, SampleWorkspace, SceneFacts
@@ -215,3 +219,26 @@ def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, 
                 seen_flight = True
         if verdict_out[k] == STANDS and seen_flight:
             verdict_out[k] = NO_VERDICT
+
+
+class SampledKernels(NamedTuple):
+    """The sampled kernels of one registry of scene models."""
+
+    sample_verdicts: Callable[..., None]
+    sample_plane_outcomes: Callable[..., None]
+
+
+def kernels() -> SampledKernels:
+    """The sampled kernels for the planar registry as it stands now (:func:`.models.compiled_judge`): the compiled
+    functions cached on disk where it is the registry imported, else copies built for it (compiled on their first
+    call)."""
+    current = models.compiled_judge()
+    if current is judge:
+        return SampledKernels(sample_verdicts, sample_plane_outcomes)
+    return _kernels_for(current)
+
+
+@functools.lru_cache(maxsize=4)
+def _kernels_for(dispatch) -> SampledKernels:
+    one = rebound(_judge, judge=dispatch)
+    return SampledKernels(rebound(sample_verdicts, _judge=one), rebound(sample_plane_outcomes, _judge=one))

@@ -227,7 +227,7 @@ def test_a_block_that_slides_farther_than_its_base_margin_slides_off(tmp_path, r
     import shutil
 
     from pipeline.blocks import read_inventory
-    from pipeline.records.loader import read_declared_units, scan
+    from pipeline.records.loader import find_records, read_declared_units
     from pipeline.run.screening import Context, assemble, screen_record
 
     (tmp_path / "fn-ascii").mkdir()
@@ -238,7 +238,7 @@ def test_a_block_that_slides_farther_than_its_base_margin_slides_off(tmp_path, r
                    "CRATE-none,0.5,1.0,0.3,\nCOLUMN,2.0,0.4,0.8,0.01\n")
     inv = read_inventory(csv, default_mu=0.6)
     cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))
-    sources, failures = scan(tmp_path, config=cfg)
+    sources, failures = find_records(tmp_path, config=cfg)
     assert not failures and len(sources) == 1
     results = [screen_record(s, Context(str(tmp_path), cfg, inv, read_declared_units(tmp_path, cfg)))
                for s in sources]

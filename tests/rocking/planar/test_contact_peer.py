@@ -17,7 +17,7 @@ from rigid_body_peer import bullet_overturns, pybullet
 
 from pipeline.blocks import read_inventory
 from pipeline.constants import G
-from pipeline.records.loader import read_declared_units, scan
+from pipeline.records.loader import find_records, read_declared_units
 from pipeline.records.loader import read_inventory as read_stations
 from pipeline.records.record import project
 from pipeline.rocking.planner import Physics, simulate_scene
@@ -76,7 +76,7 @@ def test_verdicts_agree_with_pybullet_on_bundled_scenes(records_dir, data_dir, c
     inv = read_inventory(data_dir / "blocks-planar-peer.csv", default_mu=config.blocks.default_mu)
     blocks = dict(zip(inv.ids, inv.rocking_blocks(g_ms2=config.records.g_ms2)))
     ctx = Context(str(records_dir), cfg, inv, read_declared_units(records_dir, cfg), read_stations(records_dir))
-    sources, _ = scan(records_dir, config=cfg)
+    sources, _ = find_records(records_dir, config=cfg)
     rng = np.random.default_rng(1)
     general, pure = [], []
     for src in sources:

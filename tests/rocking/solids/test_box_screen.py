@@ -83,7 +83,7 @@ def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the
     """CERTIFIED rocks (its planar scene) and its 4 m depth cannot lift: orientation given_certified, the planar
     physics, and the 3D model's run of the same scene (a second algorithm) stays on its edges with the same peak."""
     from pipeline.config import Config
-    from pipeline.records.loader import load_record, scan
+    from pipeline.records.loader import find_records, load_record
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.solid3d import run, solid_of
@@ -94,7 +94,7 @@ def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the
     assert ds["physics"].values[0, j] == Physics.rocking_vertical
     assert 0.0 < ds["theta_max"].values[0, j] < 1.0
     assert ds["governing_azimuth"].values[0, j] % 180.0 == pytest.approx(150.0, abs=1e-6)
-    sources, _ = scan(kocaeli, config=Config())
+    sources, _ = find_records(kocaeli, config=Config())
     rec = load_record(sources[0], root=kocaeli, config=Config())
     solid = solid_of(BlockShape(height_m=1.4, width_m=0.35, mu=0.9, azimuth_deg=150.0, depth_m=4.0),
                      record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
@@ -135,13 +135,13 @@ def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
     below it (the scan's resolution). SQUARE's scaled runs stop where a corner of its edge would slip (no verdict, no
     finite margin); DEEP's do not, so at least one box is checked."""
     from pipeline.config import Config
-    from pipeline.records.loader import load_record, scan
+    from pipeline.records.loader import find_records, load_record
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.solid3d import run, solid_of
 
     ds, idx, _ = screened
-    sources, _ = scan(kocaeli, config=Config())
+    sources, _ = find_records(kocaeli, config=Config())
     rec = load_record(sources[0], root=kocaeli, config=Config())
     h1, h2 = rec.horizontal_ms2
     checked = 0

@@ -96,12 +96,12 @@ def test_without_the_vertical_the_cylinder_overturns(el_centro_6):
     slide while it falls (held: the fall kept), and it overturns at 8.7 s, where the planar scan's worst plane
     reached 0.016 alpha."""
     from pipeline.config import Config
-    from pipeline.records.loader import load_record, scan
+    from pipeline.records.loader import find_records, load_record
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder
     from pipeline.rocking.solids.cylinder_scene import run_on_record
 
-    sources, _ = scan(el_centro_6, config=Config())
+    sources, _ = find_records(el_centro_6, config=Config())
     rec = load_record(sources[0], root=el_centro_6, config=Config())
     c = Cylinder(radius_m=0.1665, half_height_m=0.5, mu=0.7, restitution=housner_e(0.1665, 0.5))
     out = run_on_record(rec.horizontal_ms2[0], rec.horizontal_ms2[1], None, rec.dt_s, c,
@@ -153,11 +153,11 @@ def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro
     from types import SimpleNamespace
 
     from pipeline.config import Config
-    from pipeline.records.loader import load_record, scan
+    from pipeline.records.loader import find_records, load_record
     from pipeline.run.bench_solids import solid_rows
 
     cfg = Config()
-    sources, _ = scan(el_centro_6, config=cfg)
+    sources, _ = find_records(el_centro_6, config=cfg)
     rec = load_record(sources[0], root=el_centro_6, config=cfg)
     inv = _inventory(tmp_path, "id,height_m,width_m,mu,shape\nCYL,1.0,0.333,0.7,cylinder\nBOX,1.0,0.333,0.7,\n")
     three_d, planar = solid_rows([SimpleNamespace(record=rec)], inv, cfg)

@@ -1,14 +1,14 @@
 """The upward scan of the factor on a record that first overturns a block: the simulated margin's one loop, shared
-by the planar blocks, the solids and the scanned bodies (:mod:`.margins`, :mod:`.scanned`)."""
+by every body model (:mod:`.planar`, :mod:`.solids`, :mod:`.scanned`)."""
 
 from __future__ import annotations
 
 import math
 
 
-def scale_scan(lift_factor: float, verdict_at, *, settings, overturns_at_one: bool | None = None
+def factor_sweep(lift_factor: float, verdict_at, *, settings, overturns_at_one: bool | None = None
                ) -> tuple[float, int]:
-    """The upward scan of :func:`~.margins.overturn_scale_simulated`: from the factor that first lifts the block up to 1
+    """The upward scan of :func:`~.planar.overturn_scale_simulated`: from the factor that first lifts the block up to 1
     (exclusive), then 1, then up to ``margin_max_factor``, in steps of ``margin_step``; ``verdict_at(factor)``
     judges one (1 overturns, 0 stands, -1 no verdict). Returns the first factor that overturns (NaN when one has
     no verdict first, ``inf`` when none does) and the scenes simulated."""

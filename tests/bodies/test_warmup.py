@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pipeline.rocking import warmup
+from pipeline.bodies import warmup
 
 
 def test_a_long_compilation_is_announced_and_a_quick_one_is_silent(monkeypatch):

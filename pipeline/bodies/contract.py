@@ -1,0 +1,219 @@
+"""What a body model must provide: the contract every entry of the registry (:mod:`.registry`) follows.
+
+A *body model* judges the blocks it claims, on whatever record they stand on: a planar block in the worst of its
+rocking planes, a cylinder or a box in 3D, a body given by its scan in the planes of its footprint. The run layer
+(the screening, its margins, ``screen bench``, ``screen infer``, fragility and the warm-up) never asks what kind
+of block it has: it asks the registry for the first model that claims the block on the record
+(:func:`.registry.body_model`) and calls that model's fields. A model provides, as the fields of one
+:class:`BodyModel`:
+
+``name``
+    Its name, as the progress line and ``screen bench`` print it.
+``physics``
+    The :class:`~pipeline.rocking.scene.Physics` codes its scenes may store beyond the planar scene models' (the
+    planar model's scenes are those of :data:`pipeline.rocking.models.MODELS`).
+``claims(shape, placement) -> bool``
+    Whether it judges this block (:class:`~pipeline.rocking.block.BlockShape`) on a record placed as
+    ``placement`` (:class:`Placement`). The registry's last model claims every block.
+``may_claim(shape) -> bool``
+    Whether it could claim the block on some record: the warm-up compiles its kernels only then.
+``scene(on: OnRecord, shape, block, direction_deg) -> BodyScene``
+    The block's scene on one record: the governing plane's :class:`~pipeline.rocking.scene.Scene`, its
+    probabilities under the declared uncertainty (where ``on.draws`` holds draws) and how its orientation was
+    chosen.
+``margins(rec, shape, block, direction_deg, *, setup, overturned, want_history) -> Margin``
+    The simulated margin on the block's governing record, its history when at risk, and the sampled margins.
+``scale(rec, shape, block, plane_deg, *, settings, g_ms2) -> float``
+    The simulated margin alone, in a given record direction (``screen bench``'s margin sweep).
+``pulse(shape, block, *, settings, g_ms2) -> Callable[[ah_ms2, dt_s], tuple[bool, int]]``
+    A judge of one-directional pulses (``screen infer``): whether the pulse overturns the block, and the runs.
+``warmup()``
+    Calls its compiled kernels once on a tiny scene, so that numba compiles them before any worker needs them.
+``versus_planar``
+    Optional: how ``screen bench`` compares it with the planar model it replaces (:class:`VersusPlanar`).
+
+Written the way scipy's ``integrate/_ivp`` lists its solvers in one ``METHODS`` mapping, and as obspy's
+readers keep generic code from branching on a format.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..records.record import Record
+from ..rocking.block import Block, BlockShape
+from ..rocking.orientation import PlaneResult, Planes
+from ..rocking.settings import SimulationConfig
+from ..uncertainty.orientations import OrientationProbability
+from ..uncertainty.scenes import SceneMotion
+from ..uncertainty.settings import UncertaintyConfig
+
+
+class Placement(NamedTuple):
+    """What a model's claim reads of the record a block stands on.
+
+    Attributes
+    ----------
+    single_component : bool
+        The record has one horizontal only.
+    azimuth_deg : float
+        Compass azimuth of its first horizontal [deg].
+    azimuth_known : bool
+        That azimuth is absolute (False: only the pair's relative orientation is known).
+    """
+
+    single_component: bool
+    azimuth_deg: float
+    azimuth_known: bool
+
+    @classmethod
+    def of(cls, rec) -> Placement:
+        """The placement of a record (or of a floor's motion, which reads the same)."""
+        return cls(bool(rec.single_component), float(rec.azimuths_deg[0]), bool(rec.azimuth_known))
+
+
+class Setup(NamedTuple):
+    """The run's settings a model reads (built once by the run layer from its configuration).
+
+    Attributes
+    ----------
+    settings : SimulationConfig
+        The simulator's settings.
+    uncertainty : UncertaintyConfig
+        The declared uncertainty.
+    g_ms2 : float
+        Gravity [m s-2].
+    sampling : bool
+        The run samples the uncertainty (False: nominal results only).
+    history_below_scale : float
+        A block whose simulated margin is at most this gets its history on its governing record, as a block at
+        risk does (the report's relocation threshold) [-].
+    """
+
+    settings: SimulationConfig
+    uncertainty: UncertaintyConfig
+    g_ms2: float
+    sampling: bool
+    history_below_scale: float
+
+
+class OnRecord(NamedTuple):
+    """One record as every model's scene takes it (built once per record by the run layer).
+
+    Attributes
+    ----------
+    record : Record
+        The record (or a floor's motion).
+    base : SceneMotion or None
+        Its motion as the probabilities draw from it (None: nominal only).
+    draws : tuple or None
+        The selection draws, the independent estimation draws and the random orientation's draws (None: nominal
+        only).
+    planes : Planes
+        Its rocking planes, each simulated once per block.
+    grid_deg : ndarray
+        The orientation grid of a block whose rocking plane is unknown [deg].
+    setup : Setup
+        The run's settings.
+    scan : bool
+        Scan the planes of a block whose rocking plane is unknown (False: the pulse axis only, as ``screen bench``
+        compares).
+    """
+
+    record: Record
+    base: SceneMotion | None
+    draws: tuple | None
+    planes: Planes
+    grid_deg: np.ndarray
+    setup: Setup
+    scan: bool = True
+
+
+class BodyScene(NamedTuple):
+    """A block's scene on one record, as a model returns it.
+
+    Attributes
+    ----------
+    result : PlaneResult
+        The governing plane's scene.
+    probability : OrientationProbability
+        Its probabilities (not evaluated without draws).
+    orientation : int
+        How its orientation was chosen (:class:`~pipeline.rocking.orientation.Orientation`).
+    detail : callable
+        What the scene did, in words, for a slow scene's progress line (called only then).
+    """
+
+    result: PlaneResult
+    probability: OrientationProbability
+    orientation: int
+    detail: Callable[[], str]
+
+
+class Margin(NamedTuple):
+    """A block's margins on its governing record.
+
+    Attributes
+    ----------
+    scale : float
+        The smallest factor on the record that overturns it (inf: none up to the scan's end; NaN: a scaled record
+        without a verdict first, or a block the model cannot overturn) [-].
+    runs : int
+        Scenes simulated.
+    history : ndarray or None
+        Its history on the record when at risk (theta(t) / alpha; a solid's also its lean azimuth).
+    dt_s : float
+        The history's sampling interval [s].
+    sampled : ndarray
+        The margins of the first draws of the declared uncertainty, as factors on the nominal record [-].
+    """
+
+    scale: float
+    runs: int
+    history: np.ndarray | None
+    dt_s: float
+    sampled: np.ndarray
+
+
+class VersusPlanar(NamedTuple):
+    """How ``screen bench`` compares a model with the planar model it replaces.
+
+    Attributes
+    ----------
+    section : str
+        The bench's section.
+    setting : str
+        The model's row.
+    setting_planar : str
+        The planar row.
+    planar : callable
+        ``planar(on: OnRecord, shape, block) -> PlaneResult``: the planar model's scene of the same block.
+    """
+
+    section: str
+    setting: str
+    setting_planar: str
+    planar: Callable[[OnRecord, BlockShape, Block], PlaneResult]
+
+
+PulseJudge = Callable[[np.ndarray, float], tuple[bool, int]]
+
+
+@dataclass(frozen=True)
+class BodyModel:
+    """One entry of the registry: what a model judges and how (see the module's docstring)."""
+
+    name: str
+    physics: tuple[int, ...]
+    claims: Callable[[BlockShape, Placement], bool]
+    may_claim: Callable[[BlockShape], bool]
+    scene: Callable[[OnRecord, BlockShape, Block, float], BodyScene]
+    margins: Callable[..., Margin]
+    scale: Callable[..., float]
+    pulse: Callable[..., PulseJudge]
+    warmup: Callable[[], None]
+    versus_planar: VersusPlanar | None = None

@@ -1,0 +1,235 @@
+"""The planar body model: a block judged in its rocking plane, or in the worst of them where its plane is unknown.
+
+It claims every block no other model of the registry claims (the registry's last entry). Its scene goes to the
+planar registry's scene models (:mod:`pipeline.rocking.models`: at rest, sliding, rocking, the general contact
+model), chosen per plane by their certificates; its probabilities sample the declared uncertainty per orientation
+where the plane is unknown (:mod:`pipeline.uncertainty.orientations`), else in its one plane
+(:mod:`pipeline.uncertainty.scenes`); its margin is the upward scan of factors on the record in its governing
+plane (:func:`overturn_scale_simulated`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..constants import G
+from ..rocking import models as scene_models
+from ..rocking.block import Block, BlockShape
+from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
+from ..rocking.planar.sampled import kernels
+from ..rocking.planner import ContactMode, Physics, guard_names, rocks, simulate_scene
+from ..rocking.settings import SimulationConfig
+from ..rocking.simulate import step_control
+from ..uncertainty.orientations import (
+    NOT_EVALUATED_ORIENTATION,
+    OrientationProbability,
+    one_plane,
+    orientation_probability,
+)
+from ..uncertainty.sampling import common_normals, sample_block
+from ..uncertainty.scenes import SceneMotion, scene_probability
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
+from .factor_sweep import factor_sweep
+
+
+def scene_planes(rec, block_azimuth_deg: float, direction_deg: float, grid_deg: np.ndarray
+                 ) -> tuple[int, list[float]]:
+    """The orientation code (:class:`~pipeline.rocking.orientation.Orientation`) of a scene and the planes it is
+    simulated in.
+
+    A block with a given azimuth on a record of known azimuth: its own plane. A blank azimuth, or a record whose
+    absolute azimuth is unknown (the pair's relative orientation is known): ``direction_deg`` (the pulse axis) and
+    every plane of the grid (the worst is kept). A single horizontal: the one plane recorded.
+    """
+    if rec.single_component:
+        return Orientation.single_component, [direction_deg]
+    if rec.azimuth_known and not np.isnan(block_azimuth_deg):
+        return Orientation.given, [direction_deg]
+    code = Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative
+    return code, [direction_deg, *grid_deg.tolist()]
+
+
+def planar_scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float) -> BodyScene:
+    """The block's scene on ``on``: the worst of its planes (its own where given) and its probabilities."""
+    rec, settings = on.record, on.setup.settings
+    step = settings.orientation_step_deg
+    code, azimuths = scene_planes(rec, shape.azimuth_deg, direction_deg, on.grid_deg)
+    if not on.scan:
+        azimuths = azimuths[:1]
+    scanned = code in (Orientation.scanned, Orientation.scanned_relative)
+    res = worst_plane(on.planes, azimuths, rec.dt_s, settings=settings, refine_span_deg=step if scanned else 0.0,
+                      refine_deg=settings.orientation_refine_deg, block=block)
+    orient = NOT_EVALUATED_ORIENTATION
+    if on.base is not None and on.draws is not None:
+        orient = _probability(on, shape, scanned=scanned, azimuths=azimuths, nominal=res)
+    sc = res.scene
+    return BodyScene(res, orient, code, lambda: _detail(sc, res.azimuth_deg, res.planes_simulated,
+                                                         orient.simulations))
+
+
+def _detail(sc, azimuth_deg: float, planes: int, sampled: int) -> str:
+    """What a slow scene was doing: its physics, the modes it went through, the guards it met, its planes."""
+    modes = ", ".join(m.name for m in ContactMode if sc.contact_modes & m) or "none"
+    guards = guard_names(sc.guard) or "none"
+    return (f"physics {Physics(sc.physics).name}, contact modes {modes}, guards {guards}; {planes} plane(s) "
+            f"integrated (governing plane {azimuth_deg:.0f} deg), {max(sampled, 0)} sampled plane(s)")
+
+
+def _ranked(res: PlaneResult, planes: Planes, azimuths: list[float]) -> list[float]:
+    """The planes of a scene by decreasing nominal peak rotation (the planes integrated), then the others by
+    decreasing demand ratio."""
+    moved = [az for az, _theta in sorted(res.responses, key=lambda r: -r[1])]
+    rest, _ = planes.by_demand(tuple(dict.fromkeys(Planes.key(a) for a in azimuths)))
+    return list(dict.fromkeys([*moved, *rest]))
+
+
+def _probability(on: OnRecord, shape: BlockShape, *, scanned: bool, azimuths: list[float],
+                 nominal: PlaneResult) -> OrientationProbability:
+    """The block's probabilities of overturning under the declared uncertainty: per orientation when its rocking
+    plane is unknown (scanned on a two-component record), else in its one plane."""
+    assert on.base is not None and on.draws is not None
+    base: SceneMotion = on.base
+    z, z_estimate, z_average = on.draws
+    unc, settings, g = on.setup.uncertainty, on.setup.settings, on.setup.g_ms2
+    if not scanned or base.single:
+        one = dataclasses.replace(shape, azimuth_deg=math.nan if scanned else azimuths[0])
+        prob = scene_probability(base, z, one, settings=unc, simulation=settings, g_ms2=g)
+        return one_plane(prob, azimuths[0])
+    sample_grid, candidates = on.grid_deg, list(azimuths)
+    if unc.orientation_step_deg > 0:        # a coarser grid for the samples, with the pulse axis and the nominal
+        sample_grid = plane_grid(unc.orientation_step_deg)                                       # worst plane
+        candidates = list(dict.fromkeys([float(azimuths[0]), float(nominal.azimuth_deg) % 180.0,
+                                         *sample_grid.tolist()]))
+    return orientation_probability(dataclasses.replace(base, planes_deg=np.asarray(candidates)), z, shape,
+                                   grid_deg=sample_grid, prefer_deg=nominal.azimuth_deg, settings=unc,
+                                   simulation=settings, g_ms2=g, z_estimate=z_estimate, z_average=z_average,
+                                   nominal_overturned=bool(nominal.scene.overturned),
+                                   ranked_deg=_ranked(nominal, on.planes, azimuths))
+
+
+def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: Block, settings,
+                             overturns_at_one: bool | None = None) -> tuple[float, int]:
+    """Smallest factor on the record under which the block overturns (upward scan).
+
+    Parameters
+    ----------
+    ah_ms2, av_ms2 : ndarray
+        Horizontal acceleration along the block's direction and vertical (or None) [m s-2].
+    dt_s : float
+        Sampling interval [s].
+    block : Block
+        The block.
+    settings : SimulationConfig
+        ``margin_step`` and ``margin_max_factor``, and the integration settings.
+    overturns_at_one : bool, optional
+        The simulated verdict of the unscaled record, when already known.
+
+    Returns
+    -------
+    scale : float
+        The first factor of the scan that overturns (below 1 for a standing scene when a smaller factor overturns
+        it); ``inf`` when none up to ``margin_max_factor``; NaN for blocks the rocking model does not apply to
+        (sliding or squat blocks never overturn in it), and when a scaled record reaches free flight before any
+        overturning.
+    runs : int
+        Scenes simulated.
+    """
+    if not rocks(block.alpha, block.mu):
+        return math.nan, 0
+    tan_a = math.tan(block.alpha)
+    lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
+    if not np.any(lift > 0):
+        return math.inf, 0
+    f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
+
+    def verdict_at(factor: float) -> int:
+        av = None if av_ms2 is None else factor * av_ms2
+        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
+
+    return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+
+
+def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:
+    """theta(t) / alpha at every sample of the scene, or None where nothing rocks."""
+    return simulate_scene(ah_ms2, av_ms2, dt_s, block=block, settings=settings, history=True).theta_over_alpha
+
+
+def sampled_margins(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, shape: BlockShape, setup: Setup
+                    ) -> tuple[np.ndarray, int]:
+    """The simulated margin of the first ``margin_samples`` draws of the block (common random numbers), as factors
+    on the *nominal* record: the sampled block's scan on the record scaled by the draw's amplitude factor, times
+    that factor (none where the run does not sample). Returns the margins and the scenes simulated."""
+    unc = setup.uncertainty
+    n = unc.margin_samples if setup.sampling else 0       # --samples 0: nominal results only
+    if n <= 0:
+        return np.zeros(0), 0
+    sb = sample_block(common_normals(unc.seed, n), dataclasses.replace(shape, azimuth_deg=math.nan),
+                      settings=unc, g_ms2=setup.g_ms2)
+    out, runs = np.full(n, np.nan), 0
+    for k in range(n):
+        eps = float(sb.amplitude[k])
+        av = None if av_ms2 is None else eps * av_ms2
+        scale, r = overturn_scale_simulated(eps * ah_ms2, av, dt_s, block=sb.block(k), settings=setup.settings)
+        out[k], runs = scale * eps, runs + r
+    return out, runs
+
+
+def planar_margins(rec, shape: BlockShape, block: Block, direction_deg: float, *, setup: Setup, overturned: bool,
+                   want_history: bool) -> Margin:
+    """The block's margins in its governing plane (``direction_deg``) of its governing record."""
+    settings = setup.settings
+    ah = rec.along(direction_deg)
+    scale, runs = overturn_scale_simulated(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings,
+                                           overturns_at_one=overturned)
+    history = theta_history(ah, rec.vertical_ms2, rec.dt_s, block=block, settings=settings) \
+        if want_history or scale <= setup.history_below_scale else None
+    sampled, more = sampled_margins(ah, rec.vertical_ms2, rec.dt_s, shape=shape, setup=setup)
+    return Margin(scale, runs + more, history, rec.dt_s, sampled)
+
+
+def planar_scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, settings: SimulationConfig,
+                 g_ms2: float) -> float:
+    """The simulated margin in the record direction ``plane_deg``."""
+    return overturn_scale_simulated(rec.along(plane_deg), rec.vertical_ms2, rec.dt_s, settings=settings,
+                                    block=block)[0]
+
+
+def planar_pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2: float) -> PulseJudge:
+    """A judge of one-directional pulses in the block's plane: one simulation each."""
+    def judge(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
+        return bool(simulate_scene(ah_ms2, None, dt_s, block=block, settings=settings).overturned), 1
+
+    return judge
+
+
+def warmup() -> None:
+    """The planar scene models' kernels and the sampled kernels of the probabilities, each on a tiny scene."""
+    for model in scene_models.MODELS:           # the registry as it stands
+        model.warmup()
+    a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
+    one = np.ones(1)
+    out = np.zeros(1, dtype=np.int64)
+    control = step_control(SimulationConfig())
+    block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu arrays
+    sample_verdicts, sample_plane_outcomes = kernels()                   # the registry's, as it stands
+    for vertical in (np.zeros(0), 0.1 * a):
+        sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
+                        True, control, out, out.copy())
+        sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
+                              0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+
+
+def _everywhere(shape: BlockShape, placement: Placement) -> bool:
+    return True
+
+
+def _always(shape: BlockShape) -> bool:
+    return True
+
+
+#: The planar body model: every block no other model claims.
+PLANAR = BodyModel(name="planar", physics=(), claims=_everywhere, may_claim=_always, scene=planar_scene,
+                   margins=planar_margins, scale=planar_scale, pulse=planar_pulse, warmup=warmup)

@@ -1,0 +1,90 @@
+"""Compile the simulator once, in one process, before any worker needs it.
+
+numba compiles the kernels on their first call and keeps them on disk (``cache=True``), so only the first run
+of an install pays for it. :func:`compile_kernels` makes that first call on a tiny scene, in the calling
+process, so that the workers of a run load the compiled kernels instead of each compiling them, and so that
+the caller can say what is happening.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+
+from ..compiled import HAVE_NUMBA
+from ..rocking.block import BlockShape
+from ..ticker import Ticker
+from . import registry
+
+#: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
+#: lines while it goes on.
+ANNOUNCE_AFTER_S = 1.0
+REPEAT_S = 2.0
+
+
+def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: Iterable[BlockShape] | None = None,
+                    share: tuple[int, int] = (0, 1)) -> float:
+    """Call the compiled kernels of every body model of the registry (:data:`.registry.BODIES`) once on a tiny
+    scene; return the seconds it took.
+
+    Parameters
+    ----------
+    announce : callable, optional
+        Called with a message when the call has not finished after :data:`ANNOUNCE_AFTER_S` ("compiling" where
+        numba has compiled a function by then, the first run of an install; else "loading", from numba's cache),
+        every :data:`REPEAT_S` while it goes on, and with the time it took.
+    shapes : iterable of BlockShape, optional
+        The run's blocks: only the models that may claim one of them are warmed up (None: every model). A run
+        without a cylinder never compiles the cylinder's kernel (about 10 s on a fresh install).
+    share : (int, int)
+        ``(k, n)``: warm up the models at positions k, k + n, k + 2n, ... of those selected, so that n processes
+        started together each compile a share (numba caches each function on disk on its own).
+    """
+    t0 = time.perf_counter()
+    if not HAVE_NUMBA:
+        return 0.0
+    k, n = share
+    models = registry.models_for(shapes)[k::n]
+    compiles = CompileCounter()
+
+    def tell(elapsed_s: float) -> None:
+        if announce is None:
+            return
+        if not ticker.spoke:
+            announce("compiling the simulator (numba, once per install; later runs load it from disk) ..."
+                     if compiles.n else "loading the simulator (numba's cache on disk) ...")
+        else:
+            announce(f"{'compiling' if compiles.n else 'loading'} the simulator ... {elapsed_s:.0f} s")
+
+    ticker = Ticker(tell, every_s=REPEAT_S, first_after_s=ANNOUNCE_AFTER_S)      # bound before its thread starts
+    with ticker:
+        with compiles.listening():
+            for model in models:
+                model.warmup()
+    elapsed = time.perf_counter() - t0
+    if ticker.spoke and announce is not None:
+        announce(f"{'compiled' if compiles.n else 'loaded'} the simulator in {elapsed:.0f} s")
+    return elapsed
+
+
+class CompileCounter:
+    """Counts the functions numba compiles while :meth:`listening` (numba's ``numba:compile`` events), so that the
+    warm-up says "compiling" only when it compiles, and "loading" when numba reads its cache."""
+
+    def __init__(self) -> None:
+        self.n = 0
+
+    def listening(self):
+        """A context in which numba's compilations are counted."""
+        from numba.core import event
+
+        counter = self
+
+        class _Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                counter.n += 1
+
+            def on_end(self, ev) -> None:
+                pass
+
+        return event.install_listener("numba:compile", _Listener())

@@ -1,0 +1,179 @@
+"""One registry for every model: it reaches every physics the screening stores; the run layer asks it, never a
+block's kind; and a model added by one registration, planar or chosen by the block, runs through ``screen`` with
+sampling on (nominal, probabilities and margins), the registry being read as it stands when used."""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.bodies import registry
+from pipeline.bodies.contract import BodyModel, Placement
+from pipeline.bodies.planar import PLANAR, planar_margins, planar_pulse, planar_scale, planar_scene
+from pipeline.compiled import jit
+from pipeline.rocking import models
+from pipeline.rocking.block import BlockShape, ShapeKind, dynamics
+from pipeline.rocking.codes import STANDS
+from pipeline.rocking.contract import SceneModel
+from pipeline.rocking.scene import REST_SCENE, Physics
+
+PIPELINE = Path(__file__).resolve().parents[2] / "pipeline"
+RECORD = ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")
+SCENE_VARS = ("physics", "overturn_simulated", "theta_max", "n_impacts", "p_overturn", "samples_drawn",
+              "samples_overturned", "samples_without_verdict", "robustness")
+
+
+def test_the_registry_reaches_every_physics_the_screening_stores():
+    assert registry.physics_reached() == set(Physics)
+
+
+def test_the_last_model_claims_every_block_and_a_registry_without_one_says_so():
+    shape = BlockShape(height_m=1.0, width_m=0.2, mu=0.6, restitution=np.nan, azimuth_deg=np.nan)
+    assert registry.body_model(shape, Placement(True, 0.0, False)) is PLANAR
+    with pytest.raises(LookupError, match="claims every block"):
+        registry.body_model(shape, Placement(True, 0.0, False), registry.BODIES[:-1])
+
+
+@pytest.mark.parametrize("kind, depth, placement, expected", [
+    (ShapeKind.cylinder, np.nan, Placement(False, 30.0, True), "cylinder"),
+    (ShapeKind.cylinder, np.nan, Placement(True, 30.0, True), "planar"),        # one horizontal: planar
+    (ShapeKind.box, 0.3, Placement(False, 30.0, True), "box in 3D"),
+    (ShapeKind.box, 0.3, Placement(False, 30.0, False), "planar"),              # a relative pair: planar
+    (ShapeKind.box, np.nan, Placement(False, 30.0, True), "planar"),            # no depth: planar
+])
+def test_each_block_goes_to_the_model_its_shape_and_record_call_for(kind, depth, placement, expected):
+    shape = BlockShape(height_m=1.0, width_m=0.2, mu=0.6, restitution=np.nan, azimuth_deg=45.0, depth_m=depth,
+                       kind=kind)
+    assert registry.body_model(shape, placement).name == expected
+
+
+#: What the run layer and the command line may import of the models: the registry and its contract, never a
+#: model's module nor the physics of one kind of block.
+MODEL_MODULES = ("pipeline.bodies.planar", "pipeline.bodies.solids", "pipeline.bodies.scanned",
+                 "pipeline.rocking.solids", "pipeline.rocking.scanned")
+
+
+def _absolute_imports(path: Path) -> set[str]:
+    package = ["pipeline", *path.relative_to(PIPELINE).parts[:-1]]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = package[:len(package) - (node.level - 1)] if node.level else []
+            mod = ".".join(base + (node.module.split(".") if node.module else []))
+            out.add(mod)
+            out.update(f"{mod}.{a.name}" for a in node.names)
+        elif isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+    return out
+
+
+@pytest.mark.parametrize("part", ["run", "cli"])
+def test_the_run_layer_asks_the_registry_never_a_kind_of_block(part):
+    offenders = {str(p.relative_to(PIPELINE)): sorted(m for m in _absolute_imports(p) if m.startswith(MODEL_MODULES))
+                 for p in sorted((PIPELINE / part).rglob("*.py"))}
+    assert {k: v for k, v in offenders.items() if v} == {}
+
+
+def test_the_import_scan_sees_the_registry_imported():
+    assert "pipeline.bodies.registry.body_model" in _absolute_imports(PIPELINE / "run" / "screening.py")
+
+
+# --- toy models, added by one registration each ----------------------------------------------------------------
+
+#: The toy body model's marker: it claims blocks of this friction coefficient narrower than TOY_WIDTH_M.
+TOY_MU, TOY_WIDTH_M = 0.61, 0.3
+
+
+def _wide(shape: BlockShape) -> BlockShape:
+    return dataclasses.replace(shape, width_m=2.0 * shape.width_m)
+
+
+def _wide_block(shape: BlockShape):
+    return dynamics([_wide(shape)])[0]
+
+
+#: A toy model chosen by the block: it judges a block as the planar model judges the same block twice as wide.
+TOY_BODY = BodyModel(
+    name="toy: twice as wide", physics=(),
+    claims=lambda shape, placement: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
+    may_claim=lambda shape: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
+    scene=lambda on, shape, block, direction: planar_scene(on, _wide(shape), _wide_block(shape), direction),
+    margins=lambda rec, shape, block, direction, **kw: planar_margins(rec, _wide(shape), _wide_block(shape), direction,
+                                                                       **kw),
+    scale=lambda rec, shape, block, plane, **kw: planar_scale(rec, _wide(shape), _wide_block(shape), plane, **kw),
+    pulse=lambda shape, block, **kw: planar_pulse(_wide(shape), _wide_block(shape), **kw),
+    warmup=lambda: None)
+
+
+def _rest(scene):
+    return REST_SCENE
+
+
+def _glued(facts) -> bool:
+    return facts.mu > 3.0
+
+
+@jit
+def _glued_twin(facts, x, block, control, w):
+    return STANDS, False
+
+
+#: A toy planar scene model: a block whose friction exceeds 3 is glued down: it stands, nothing integrated.
+TOY_SCENE = SceneModel(physics=Physics.none, certificate=_glued, simulate=_rest, twin=_glued_twin,
+                       warmup=lambda: None)
+
+
+@pytest.fixture(scope="module")
+def kocaeli(records_dir, tmp_path_factory):
+    root = tmp_path_factory.mktemp("kocaeli-registry")
+    for name in RECORD:
+        shutil.copy(records_dir / "peer-at2" / name, root / name)
+    shutil.copy(records_dir / "units.toml", root / "units.toml")
+    return root
+
+
+def _screen(records: Path, out: Path, inventory: str):
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    out.mkdir(parents=True)
+    (out / "b.csv").write_text("id,height_m,width_m,mu,azimuth_deg\n" + inventory)
+    assert main(["--records", str(records), "--blocks", str(out / "b.csv"), "--out", str(out / "res"), "-q",
+                 "--samples", "24"]) == 0
+    return open_results(out / "res" / "screening.nc")
+
+
+def _scene(ds, block: str) -> dict:
+    j = list(ds["block"].values).index(block)
+    got = {v: ds[v].values[:, j].tolist() for v in SCENE_VARS}
+    got["overturn_scale_simulated"] = float(ds["overturn_scale_simulated"].values[j])
+    return got
+
+
+def test_a_model_chosen_by_the_block_runs_through_screen_with_sampling(kocaeli, tmp_path, monkeypatch):
+    narrow = f"T,1.2,0.2,{TOY_MU},45\n"
+    wide = f"T,1.2,0.4,{TOY_MU},45\n"              # not claimed by the toy (too wide): the planar model
+    plain = _screen(kocaeli, tmp_path / "plain", narrow)
+    reference = _screen(kocaeli, tmp_path / "wide", wide)
+    monkeypatch.setattr(registry, "BODIES", (TOY_BODY, *registry.BODIES))       # one registration
+    toy = _screen(kocaeli, tmp_path / "toy", narrow)
+    assert _scene(plain, "T") != _scene(reference, "T")                     # the toy changes what is judged
+    assert _scene(toy, "T") == _scene(reference, "T")                       # nominal, probabilities, margins
+    assert np.all(toy["samples_drawn"].values > 0)
+
+
+def test_a_planar_model_added_at_run_time_reaches_the_nominal_and_the_sampled_verdicts(kocaeli, tmp_path,
+                                                                                         monkeypatch):
+    glued = "G,1.2,0.2,5.0,45\n"
+    plain = _screen(kocaeli, tmp_path / "plain", glued)
+    assert max(plain["theta_max"].values[:, 0]) > 0 and plain["samples_overturned"].values.sum() > 0
+    monkeypatch.setattr(models, "MODELS", (TOY_SCENE, *models.MODELS))      # one registration
+    toy = _screen(kocaeli, tmp_path / "toy", glued)
+    assert toy["theta_max"].values[:, 0].tolist() == [0.0] * toy.sizes["record"]
+    assert toy["overturn_simulated"].values[:, 0].tolist() == [0] * toy.sizes["record"]
+    assert toy["samples_drawn"].values.sum() > 0 and toy["samples_overturned"].values.sum() == 0    # compiled too
