@@ -196,7 +196,8 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
             guard |= sc.guard
             responses.append((k, float(sc.theta_max)))
             n = state.planes_simulated + 1
-            state = PlaneResult(sc, k, n) if sc.overturned or _worse(sc, state.scene) else \
+            none_yet = state.planes_simulated == 0              # a simulated scene replaces the rest scene
+            state = PlaneResult(sc, k, n) if none_yet or sc.overturned or _worse(sc, state.scene) else \
                 PlaneResult(state.scene, state.azimuth_deg, n)
             if sc.overturned:
                 return True

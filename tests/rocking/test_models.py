@@ -142,3 +142,19 @@ def test_blocks_are_built_by_keyword_only():
         BlockShape(1.0, 0.3, 0.6)  # type: ignore[misc]
     assert dataclasses.replace(BlockShape(height_m=1.0, width_m=0.3, mu=0.6), depth_m=0.2).depth_m == 0.2
     assert scene_facts(np.zeros(3), None, alpha=0.2, mu=0.6).ratio == 0.0
+
+
+def test_a_model_whose_scene_equals_rest_still_names_itself_in_the_worst_plane(monkeypatch):
+    """A plane simulated by a model that leaves the block as at rest (theta 0, nothing slid) is stored as that
+    model's scene, not as the at-rest certificate's: its physics reaches screening.nc."""
+    from pipeline.rocking.orientation import Planes, worst_plane
+
+    quiet = SceneModel(physics=Physics.general, certificate=lambda f: True,
+                       simulate=lambda s: dataclasses.replace(REST_SCENE, physics=Physics.general),
+                       twin=models.MODELS[0].twin, warmup=lambda: None)
+    monkeypatch.setattr(models, "MODELS", (quiet, *models.MODELS))
+    t = np.arange(0.0, 2.0, 0.01)
+    h = np.vstack([0.5 * G * np.sin(2 * np.pi * t), 0.3 * G * np.cos(2 * np.pi * t)])
+    block = dynamics([BlockShape(height_m=2.0, width_m=0.4, mu=0.8)])[0]
+    got = worst_plane(Planes(h, 0.0, None), [0.0, 45.0, 90.0], 0.01, block=block)
+    assert got.planes_simulated == 3 and got.scene.physics == Physics.general
