@@ -59,6 +59,20 @@ def blocks_csv() -> Path:
     return PROJECT / "configs" / "blocks.csv"
 
 
+#: One station's record of Kocaeli 1999 at Yarimca (YPT): two horizontals of known azimuth and the vertical.
+KOCAELI_YPT = ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")
+
+
+@pytest.fixture(scope="session")
+def kocaeli(tmp_path_factory) -> Path:
+    """A records folder of :data:`KOCAELI_YPT` alone, with its units.toml."""
+    root = tmp_path_factory.mktemp("kocaeli")
+    for name in KOCAELI_YPT:
+        shutil.copy(RECORDS / "peer-at2" / name, root / name)
+    shutil.copy(RECORDS / "units.toml", root / "units.toml")
+    return root
+
+
 @pytest.fixture
 def make_records(tmp_path):
     """Copy chosen bundled files (paths relative to records/) into a fresh directory."""

@@ -41,19 +41,9 @@ from .factor_sweep import factor_sweep
 
 
 class ScannedScene(NamedTuple):
-    """A scanned body's scene on one record (:func:`scanned_scene`).
-
-    Attributes
-    ----------
-    result : PlaneResult
-        Its worst plane's scene.
-    probability : OrientationProbability
-        Its probabilities (not evaluated without draws).
-    orientation : Orientation
-        How its planes were chosen: given, scanned, scanned_relative or single_component.
-    search : PlaneSearch
-        Every plane simulated, with its scene.
-    """
+    """A scanned body's scene on one record (:func:`scanned_scene`): ``result``, ``probability`` and ``orientation``
+    as a :class:`~.contract.BodyScene` holds them (the orientation given, scanned, scanned_relative or
+    single_component), and ``search``, every plane simulated with its scene."""
 
     result: PlaneResult
     probability: OrientationProbability

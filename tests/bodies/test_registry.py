@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import ast
 import dataclasses
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +22,6 @@ from pipeline.rocking.contract import SceneModel
 from pipeline.rocking.scene import REST_SCENE, Physics
 
 PIPELINE = Path(__file__).resolve().parents[2] / "pipeline"
-RECORD = ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")
 SCENE_VARS = ("physics", "overturn_simulated", "theta_max", "n_impacts", "p_overturn", "samples_drawn",
               "samples_overturned", "samples_without_verdict", "robustness")
 
@@ -126,15 +124,6 @@ def _glued_twin(facts, x, block, control, w):
 #: A toy planar scene model: a block whose friction exceeds 3 is glued down: it stands, nothing integrated.
 TOY_SCENE = SceneModel(physics=Physics.none, certificate=_glued, simulate=_rest, twin=_glued_twin,
                        warmup=lambda: None)
-
-
-@pytest.fixture(scope="module")
-def kocaeli(records_dir, tmp_path_factory):
-    root = tmp_path_factory.mktemp("kocaeli-registry")
-    for name in RECORD:
-        shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    return root
 
 
 def _screen(records: Path, out: Path, inventory: str):

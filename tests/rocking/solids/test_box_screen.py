@@ -15,22 +15,12 @@ from pipeline.rocking.orientation import Orientation
 from pipeline.rocking.scene import Physics
 from pipeline.uncertainty.robust import Robustness
 
-RECORD = ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")
 INVENTORY = ("id,height_m,width_m,mu,azimuth_deg,depth_m\n"
              "DEEP,1.2,0.15,0.9,60,6.0\n"          # far deeper than high: rocks in its width's plane only
              "DEEP-PLANAR,1.2,0.15,0.9,60,\n"      # the same without a depth: the planar model
              "SQUARE,1.5,0.2,0.9,20,0.2\n"        # a square base at a given azimuth: 3D
              "SQUARE-BLANK,1.5,0.2,0.9,,0.2\n"   # no azimuth: the planar scan
              "CERTIFIED,1.4,0.35,0.9,150,4.0\n")  # rocks a little, its 4 m depth certified: the planar scene
-
-
-@pytest.fixture(scope="module")
-def kocaeli(records_dir, tmp_path_factory):
-    root = tmp_path_factory.mktemp("kocaeli")
-    for name in RECORD:
-        shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    return root
 
 
 @pytest.fixture(scope="module")
