@@ -95,6 +95,9 @@ class Inventory:
     #: the settled scan of each block given by a mesh (:class:`~pipeline.shapes.scan.ScannedShape`, None for the
     #: others); empty: none for any block
     scans: tuple = ()
+    #: the fields of :class:`~pipeline.rocking.block.BlockShape` declared for a model beyond those above
+    #: (:func:`declared_fields`), name -> one number per block; a field absent takes its default
+    declared: dict = field(default_factory=dict)
 
     def scan_of(self, j: int):
         """Block ``j``'s settled scan, or None."""
@@ -140,7 +143,8 @@ class Inventory:
         """Block ``j`` as the simulator's models read it (:class:`~pipeline.rocking.block.BlockShape`)."""
         return BlockShape(height_m=float(self.height_m[j]), width_m=float(self.width_m[j]), mu=float(self.mu[j]),
                           restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]),
-                          depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])), scan=self.scan_of(j))
+                          depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])), scan=self.scan_of(j),
+                          **{name: float(values[j]) for name, values in self.declared.items()})
 
     def shapes(self) -> list[BlockShape]:
         """Every block's :class:`~pipeline.rocking.block.BlockShape`."""
@@ -160,7 +164,8 @@ class Inventory:
                          source=self.source, extra={c: pick(v) for c, v in self.extra.items()},
                          base_margin_m=self.base_margins()[k], building=pick(self.buildings()),
                          floor_height_m=self.floor_heights()[k], kind=self.kinds()[k], depth_m=self.depths()[k],
-                         scans=tuple(self.scan_of(int(i)) for i in k) if len(self.scans) == len(self) else ())
+                         scans=tuple(self.scan_of(int(i)) for i in k) if len(self.scans) == len(self) else (),
+                         declared={name: values[k] for name, values in self.declared.items()})
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -213,6 +218,14 @@ class Inventory:
 DIGESTED_SHAPE_FIELDS = ("height_m", "width_m", "mu", "restitution", "azimuth_deg", "depth_m", "kind", "scan")
 
 
+def declared_fields() -> list[dataclasses.Field]:
+    """The fields of :class:`~pipeline.rocking.block.BlockShape` beyond :data:`DIGESTED_SHAPE_FIELDS`: what a model
+    declares it needs of a block, each a number with a default. Each is read from the inventory column of its name
+    (blank: its default), checked by its metadata ``ok`` (a predicate; default: finite) and described by its
+    ``rule`` (the error's "expected ..."), and enters the digest."""
+    return [f for f in dataclasses.fields(BlockShape) if f.name not in DIGESTED_SHAPE_FIELDS]
+
+
 def _declared_later(shape: BlockShape) -> tuple:
     """``(name, value)`` of every field of ``shape`` not in :data:`DIGESTED_SHAPE_FIELDS` whose value is not its
     default: a field added to the block for a new model reaches the scene cache's digest without a line here, so
@@ -251,7 +264,8 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
 def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None = None) -> Inventory:
     """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
 
-    Columns: :data:`REQUIRED`, :data:`OPTIONAL`, and any extra ones (kept as given; those not in
+    Columns: :data:`REQUIRED`, :data:`OPTIONAL`, those of the fields a model declared on the block
+    (:func:`declared_fields`), and any extra ones (kept as given; those not in
     :data:`ASSET_COLUMNS` also warn). ``default_mu`` fills a blank ``mu``; ``warn_for``: warn about implausible
     values of that block alone (a command about one block; default: every block).
 
@@ -264,7 +278,8 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
     errors: list[str] = []
     header, records = read_csv_table(path, what="inventory", expected_header="id,height_m,width_m,...",
                                      problems=errors, required=REQUIRED)
-    extras = [c for c in header if c not in REQUIRED + OPTIONAL]
+    declared = [f for f in declared_fields() if f.name in header]
+    extras = [c for c in header if c not in REQUIRED + OPTIONAL + tuple(f.name for f in declared)]
     unknown = [c for c in extras if c not in ASSET_COLUMNS]
     for c in unknown:
         meant = close_match(c, [k for k in REQUIRED + OPTIONAL + ASSET_COLUMNS if k not in header])
@@ -278,6 +293,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
                     "results as given (valid columns: %s; asset columns: %s)", path, others,
                     list(REQUIRED + OPTIONAL), list(ASSET_COLUMNS))
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras) + ("scan",)}
+    rows.update({f.name: [] for f in declared})
     seen: dict[str, int] = {}
     implausible: list[str] = []
     for line, where, rec in records:
@@ -293,6 +309,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         seen.setdefault(bid, line)
         rows["id"].append(bid)
         _read_row(rec, where, rows, errors, default_mu=default_mu, extras=extras)
+        _read_declared(rec, where, declared, rows, errors)
         _read_mesh(rec, where, path.parent, rows, errors)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
             implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
@@ -313,7 +330,19 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
         kind=np.array(rows["shape"], dtype=np.int8), depth_m=np.array(rows["depth_m"], dtype=float),
         scans=tuple(rows["scan"]) if any(x is not None for x in rows["scan"]) else (),
+        declared={f.name: np.array(rows[f.name], dtype=float) for f in declared},
     )
+
+
+def _read_declared(rec: dict, where: str, declared: list[dataclasses.Field], rows: dict[str, list],
+                   errors: list[str]) -> None:
+    """The cells of the fields a model declared (:func:`declared_fields`): blank takes the field's default."""
+    for f in declared:
+        value = rec.get(f.name, "")
+        ok = f.metadata.get("ok", math.isfinite)
+        rule = f.metadata.get("rule", "a number")
+        default = float(f.default)  # type: ignore[arg-type]   # a declared field has a numeric default
+        rows[f.name].append(default if not value else _cell(errors, where, f.name, value, rule, ok, default))
 
 
 def _cell(errors: list[str], where: str, column: str, value: str, rule: str, ok, default: float) -> float:

@@ -108,6 +108,20 @@ TOY_BODY = BodyModel(
     warmup=lambda: None)
 
 
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class _Anchored(BlockShape):
+    """The block as a model needing a new field would declare it: one field, its column's rule beside it."""
+
+    anchor_kN: float = dataclasses.field(default=0.0, metadata={
+        "rule": "an anchor's strength in kN >= 0 (blank: none)", "ok": lambda x: x >= 0})
+
+
+#: A toy body model that reads the new field: an anchored block is judged as the same block twice as wide.
+TOY_ANCHORED = dataclasses.replace(TOY_BODY, name="toy: anchored",
+                                   claims=lambda shape, placement: getattr(shape, "anchor_kN", 0.0) > 0,
+                                   may_claim=lambda shape: getattr(shape, "anchor_kN", 0.0) > 0)
+
+
 def _rest(scene):
     return REST_SCENE
 
@@ -126,12 +140,12 @@ TOY_SCENE = SceneModel(physics=Physics.none, certificate=_glued, simulate=_rest,
                        warmup=lambda: None)
 
 
-def _screen(records: Path, out: Path, inventory: str):
+def _screen(records: Path, out: Path, inventory: str, header: str = "id,height_m,width_m,mu,azimuth_deg"):
     from pipeline.cli import main
     from pipeline.store import open_results
 
     out.mkdir(parents=True)
-    (out / "b.csv").write_text("id,height_m,width_m,mu,azimuth_deg\n" + inventory)
+    (out / "b.csv").write_text(header + "\n" + inventory)
     assert main(["--records", str(records), "--blocks", str(out / "b.csv"), "--out", str(out / "res"), "-q",
                  "--samples", "24"]) == 0
     return open_results(out / "res" / "screening.nc")
@@ -166,3 +180,21 @@ def test_a_planar_model_added_at_run_time_reaches_the_nominal_and_the_sampled_ve
     assert toy["theta_max"].values[:, 0].tolist() == [0.0] * toy.sizes["record"]
     assert toy["overturn_simulated"].values[:, 0].tolist() == [0] * toy.sizes["record"]
     assert toy["samples_drawn"].values.sum() > 0 and toy["samples_overturned"].values.sum() == 0    # compiled too
+
+
+def test_a_model_that_needs_a_new_block_field_is_one_field_and_one_registration(kocaeli, tmp_path, monkeypatch):
+    """The field declared once on the block (its default, its column's rule) reaches the inventory, its check,
+    the digest and the model; nothing else is written for it."""
+    from pipeline import blocks
+
+    reference = _scene(_screen(kocaeli, tmp_path / "wide", f"T,1.2,0.4,{TOY_MU},45\n"), "T")
+    monkeypatch.setattr(blocks, "BlockShape", _Anchored)                        # the field, declared
+    monkeypatch.setattr(registry, "BODIES", (TOY_ANCHORED, *registry.BODIES))   # the registration
+    header = "id,height_m,width_m,mu,azimuth_deg,anchor_kN"
+    toy = _screen(kocaeli, tmp_path / "toy", f"T,1.2,0.2,{TOY_MU},45,2.5\n", header)
+    assert _scene(toy, "T") == reference
+    inv = blocks.read_inventory(tmp_path / "toy" / "b.csv", default_mu=0.6)
+    assert inv.shape(0).anchor_kN == 2.5 and inv.take([0]).shape(0).anchor_kN == 2.5
+    (tmp_path / "bad.csv").write_text(header + "\nT,1.2,0.2,0.6,45,-1\n")
+    with pytest.raises(blocks.InventoryError, match="anchor_kN.*an anchor's strength in kN >= 0"):
+        blocks.read_inventory(tmp_path / "bad.csv", default_mu=0.6)
