@@ -19,7 +19,7 @@ from ..constants import G
 from ..rocking import models as scene_models
 from ..rocking.block import Block, BlockShape
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
-from ..rocking.planar.sampled import kernels
+from ..rocking.planar.sampled import SampledBlocks, SampledMotion, SampleRules, kernels
 from ..rocking.planner import ContactMode, Physics, guard_names, rocks, simulate_scene
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
@@ -212,14 +212,14 @@ def warmup() -> None:
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     one = np.ones(1)
     out = np.zeros(1, dtype=np.int64)
-    control = step_control(SimulationConfig())
-    block = (one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)      # eps, p, alpha, e, R, mu arrays
+    blocks = SampledBlocks(one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)
+    rules = SampleRules(G, 0.0, True, step_control(SimulationConfig()))
     sample_verdicts, sample_plane_outcomes = kernels()                   # the registry's, as it stands
     for vertical in (np.zeros(0), 0.1 * a):
-        sample_verdicts(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 1)), np.zeros((1, 1)), *block, G, 0.0,
-                        True, control, out, out.copy())
-        sample_plane_outcomes(a, np.zeros_like(a), vertical, 0.01, np.ones((1, 2)), np.zeros((1, 2)), *block, G,
-                              0.0, True, control, np.zeros((1, 2), dtype=np.int8), out.copy())
+        motion = SampledMotion(a, np.zeros_like(a), vertical, 0.01)
+        sample_verdicts(motion, np.ones((1, 1)), np.zeros((1, 1)), blocks, rules, out, out.copy())
+        sample_plane_outcomes(motion, np.ones((1, 2)), np.zeros((1, 2)), blocks, rules,
+                              np.zeros((1, 2), dtype=np.int8), out.copy())
 
 
 def _everywhere(shape: BlockShape, placement: Placement) -> bool:

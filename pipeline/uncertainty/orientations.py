@@ -46,7 +46,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.planar.sampled import kernels
+from ..rocking.planar.sampled import SampledMotion, SampleRules, kernels, sampled_blocks
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, spanning_interval, wilson_interval
@@ -166,10 +166,10 @@ def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
     s = blk.simulation
-    kernels().sample_plane_outcomes(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
-                          np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                          float(blk.g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s), out,
-                          planes)
+    kernels().sample_plane_outcomes(SampledMotion(m.h1, m.h2, m.vertical, m.dt_s), np.ascontiguousarray(np.cos(phi)),
+                                    np.ascontiguousarray(np.sin(phi)), sampled_blocks(sb),
+                                    SampleRules(float(blk.g_ms2), float(s.vertical_fraction), bool(s.contact_model),
+                                                step_control(s)), out, planes)
     return out, int(planes.sum())
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.planar.sampled import kernels
+from ..rocking.planar.sampled import SampledMotion, SampleRules, kernels, sampled_blocks
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, spanning_interval
@@ -119,10 +119,10 @@ def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, setti
         else:
             phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (n_rows, m.planes_deg.size))
         s = simulation
-        kernels().sample_verdicts(m.h1, m.h2, m.vertical, m.dt_s, np.ascontiguousarray(np.cos(phi)),
-                        np.ascontiguousarray(np.sin(phi)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu,
-                        float(g_ms2), float(s.vertical_fraction), bool(s.contact_model), step_control(s),
-                        verdicts[sl], planes[sl])
+        kernels().sample_verdicts(SampledMotion(m.h1, m.h2, m.vertical, m.dt_s), np.ascontiguousarray(np.cos(phi)),
+                                  np.ascontiguousarray(np.sin(phi)), sampled_blocks(sb),
+                                  SampleRules(float(g_ms2), float(s.vertical_fraction), bool(s.contact_model),
+                                              step_control(s)), verdicts[sl], planes[sl])
 
     return sample_until_decided(len(z), judge, settings=settings)
 

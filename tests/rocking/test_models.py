@@ -16,7 +16,7 @@ from pipeline.constants import G
 from pipeline.rocking import models
 from pipeline.rocking.block import Block, BlockShape, dynamics
 from pipeline.rocking.contract import SceneFacts, SceneModel
-from pipeline.rocking.planar.sampled import sample_verdicts
+from pipeline.rocking.planar.sampled import SampledMotion, SampleRules, sample_verdicts, sampled_blocks
 from pipeline.rocking.planner import REST_SCENE, Physics, scene_facts, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
@@ -88,8 +88,8 @@ def test_the_sampled_kernels_dispatch_through_the_registry_like_the_planner():
         seen.add(nominal.physics)
         sb = sample_block(np.zeros((1, 6)), shape, settings=unit)
         out, planes = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
-        sample_verdicts(ah, np.zeros_like(ah), np.zeros(0) if av is None else av, 0.01, np.ones((1, 1)),
-                        np.zeros((1, 1)), sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu, G, 0.0, True, control,
+        sample_verdicts(SampledMotion(ah, np.zeros_like(ah), np.zeros(0) if av is None else av, 0.01),
+                        np.ones((1, 1)), np.zeros((1, 1)), sampled_blocks(sb), SampleRules(G, 0.0, True, control),
                         out, planes)
         assert out[0] == nominal.verdict, (shape, av is None, nominal)
     assert {Physics.none, Physics.sliding, Physics.rocking, Physics.rocking_vertical, Physics.general} <= seen

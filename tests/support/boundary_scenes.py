@@ -18,7 +18,7 @@ import numpy as np
 
 from pipeline.rocking import rules
 from pipeline.rocking.block import Block
-from pipeline.rocking.planar.sampled import sample_verdicts
+from pipeline.rocking.planar.sampled import SampledBlocks, SampledMotion, SampleRules, sample_verdicts
 from pipeline.rocking.planner import Scene, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import step_control
@@ -118,10 +118,12 @@ def sampled_verdict(motion: Motion, blk: Block, *, settings: SimulationConfig = 
     av = np.zeros(0) if motion.av is None else np.ascontiguousarray(motion.av, dtype=float)
     faulthandler.dump_traceback_later(WATCHDOG_S, exit=True)
     try:
-        sample_verdicts(np.ascontiguousarray(motion.ah, dtype=float), np.zeros(n), av, motion.dt,
-                        np.ones((1, 1)), np.zeros((1, 1)), np.ones(1), np.array([blk.p]), np.array([blk.alpha]),
-                        np.array([blk.e]), np.array([blk.R_m]), np.array([blk.mu]), blk.g_ms2,
-                        settings.vertical_fraction, settings.contact_model, step_control(settings), verdict, planes)
+        sample_verdicts(SampledMotion(np.ascontiguousarray(motion.ah, dtype=float), np.zeros(n), av, motion.dt),
+                        np.ones((1, 1)), np.zeros((1, 1)),
+                        SampledBlocks(np.ones(1), np.array([blk.p]), np.array([blk.alpha]), np.array([blk.e]),
+                                      np.array([blk.R_m]), np.array([blk.mu])),
+                        SampleRules(blk.g_ms2, settings.vertical_fraction, settings.contact_model,
+                                    step_control(settings)), verdict, planes)
     finally:
         faulthandler.cancel_dump_traceback_later()
     return int(verdict[0])

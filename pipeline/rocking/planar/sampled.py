@@ -41,6 +41,71 @@ from ..rules import motion_threshold_compiled, rocks_compiled, vertical_kept_com
 from ..structures import RockingOutput, RockingState
 
 
+class SampledMotion(NamedTuple):
+    """The record the samples of a scene share (a numba namedtuple).
+
+    Attributes
+    ----------
+    h1, h2 : ndarray
+        The record's two horizontals [m s-2] (``h2`` zeros for a single component).
+    av : ndarray
+        Vertical [m s-2], empty without one.
+    dt : float
+        Sampling interval [s].
+    """
+
+    h1: np.ndarray
+    h2: np.ndarray
+    av: np.ndarray
+    dt: float
+
+
+class SampledBlocks(NamedTuple):
+    """Each sample's amplitude factor and block (a numba namedtuple of arrays, shape (n_samples,)).
+
+    Attributes
+    ----------
+    eps : ndarray
+        Amplitude factor on the record [-].
+    p, alpha, e, R, mu : ndarray
+        Frequency parameter [rad s-1], slenderness [rad], restitution [-], half-diagonal [m], friction [-].
+    """
+
+    eps: np.ndarray
+    p: np.ndarray
+    alpha: np.ndarray
+    e: np.ndarray
+    R: np.ndarray
+    mu: np.ndarray
+
+
+class SampleRules(NamedTuple):
+    """What decides a sample besides its motion and block (a numba namedtuple).
+
+    Attributes
+    ----------
+    g : float
+        Gravity [m s-2].
+    vertical_fraction : float
+        The planner's vertical approximation (0: the vertical is always simulated) [-].
+    contact_model : bool
+        Continue with the general contact model where pure rocking stops holding (without it, free flight gives
+        no verdict).
+    control : StepControl
+        The simulator's step control (:func:`~pipeline.rocking.simulate.step_control`).
+    """
+
+    g: float
+    vertical_fraction: float
+    contact_model: bool
+    control: object
+
+
+def sampled_blocks(sb) -> SampledBlocks:
+    """The :class:`SampledBlocks` of a :class:`~pipeline.uncertainty.sampling.SampledBlock`'s draws."""
+    return SampledBlocks(sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu)
+
+
 @jit
 def _demand(h1, h2, c, s, eps, av_s, has_v, g):
     """max_t |eps (c h1 + s h2)| / (g + a_v) (inf where g + a_v <= 0).
@@ -113,8 +178,7 @@ def _flight_at_some_sample(av_s, g):
 
 
 @jit
-def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction,
-                          contact_model, control, outcome_out, planes_out):
+def sample_plane_outcomes(motion, cosines, sines, blocks, rules, outcome_out, planes_out):
     """Every sample's outcome in every candidate plane: what a block of each orientation would do.
 
     The same inputs as :func:`sample_verdicts`, and the same decisions per plane (the exact at-rest
@@ -122,6 +186,9 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
     once another overturns: ``outcome_out[k, j]`` is a :class:`~.codes.Verdict` (no_verdict: free flight before
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
+    h1, h2, av, dt = motion
+    eps, p, alpha, e, R, mu = blocks
+    g, vertical_fraction, contact_model, control = rules
     w = _workspace(h1, av, dt)
     av_s = w.av_s
     n_s, n_p = cosines.shape
@@ -143,32 +210,25 @@ def sample_plane_outcomes(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, m
 
 
 @jit
-def sample_verdicts(h1, h2, av, dt, cosines, sines, eps, p, alpha, e, R, mu, g, vertical_fraction, contact_model,
-                    control, verdict_out, planes_out):
+def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_out):
     """Verdicts of the samples of one scene.
 
     Parameters
     ----------
-    h1, h2 : ndarray
-        The record's two horizontals [m s-2] (``h2`` zeros for a single component).
-    av : ndarray
-        Vertical [m s-2], empty without one.
-    dt : float
-        Sampling interval [s].
+    motion : SampledMotion
+        The record.
     cosines, sines : ndarray, shape (n_samples, n_planes)
         Projection weights of each sample's candidate planes: a = c h1 + s h2.
-    eps, p, alpha, e, R, mu : ndarray, shape (n_samples,)
+    blocks : SampledBlocks
         Amplitude factor and block of each sample.
-    g, vertical_fraction : float
-        Gravity [m s-2] and the planner's vertical approximation (0: the vertical is always simulated).
-    contact_model : bool
-        Continue with the general contact model where pure rocking stops holding (the planner's
-        ``contact_model`` setting); without it, free flight gives -1 (no verdict).
-    control : StepControl
-        The simulator's step control (:func:`~.simulate.step_control`).
+    rules : SampleRules
+        Gravity, the vertical approximation, the contact model's setting and the step control.
     verdict_out, planes_out : ndarray (int64)
         Filled with each sample's :class:`~.codes.Verdict` and planes integrated.
     """
+    h1, h2, av, dt = motion
+    eps, p, alpha, e, R, mu = blocks
+    g, vertical_fraction, contact_model, control = rules
     w = _workspace(h1, av, dt)
     n, has_v, av_s = w.n, w.has_v, w.av_s
     n_s, n_p = cosines.shape
