@@ -41,6 +41,8 @@ class Physics(IntEnum):
     rocking3d = 6         # a box with a depth on an edge or a corner under both horizontals (rocking.box3d)
     two_sided = 7         # a body given by its scan, each side's pivot its own, in a vertical plane (rocking.scanned)
     rolling = 8           # a body given by its scan rolling on its convex hull in a vertical plane (rocking.rolling)
+    contact3d = 9         # a cylinder or a box by the 3D contact model where its exact model stopped
+                          # (rocking.solids.contact_scene; [simulation] contact3d = true)
 
 
 class Response(IntEnum):

@@ -16,7 +16,8 @@ its planar scene in the plane of its width, whose equation the 3D model then fol
 
 Where a model stops because its base would slide or lift off (not modeled in 3D), the scene has no verdict
 (``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
-with the contact held past the tipping point is kept and flagged (held_past_alpha).
+with the contact held past the tipping point is kept and flagged (held_past_alpha). With ``[simulation]
+contact3d = true`` both are decided by the 3D contact model instead (:mod:`.contact_scene`).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from ..scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
 from ..settings import SimulationConfig
 from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
 from .box_planar import planar_box_scene
+from .contact_scene import contact_scene
 from .cylinder3d import Cylinder, WobbleOutcome, cylinder_from_corner
 from .cylinder_scene import cylinder_of, run_on_record
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS
@@ -177,8 +179,12 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
             return Judged(cs.scene, solid.azimuth_deg if cs.scene.theta_max > 0 else math.nan, True, lean)
     out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
     lean = np.where(out.theta > 0, np.degrees(out.azimuth), math.nan) if history else None
-    return Judged(scene_of(out, solid, history=history), out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan,
-                  False, lean)
+    scene = scene_of(out, solid, history=history)
+    if settings.contact3d and scene.guard & (Guard.model_limit | Guard.held_past_alpha):
+        handed = contact_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, solid.alpha, g_ms2=g_ms2,
+                               amplitude=amplitude)      # no history of its own: the exact model's up to its stop
+        return Judged(handed, out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan, False, None)
+    return Judged(scene, out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan, False, lean)
 
 
 def solid_scene(h1, h2, vertical, dt_s: float, record_azimuth_deg: float, solid: Solid, *,

@@ -1,0 +1,70 @@
+"""The hand-off of ``[simulation] contact3d = true``: a box's or a cylinder's 3D scene whose exact model stops (a
+base that would slide, twist or lift off: no verdict) is decided by the 3D contact model, in the nominal scene, the
+probabilities and the margins; with the setting off (the default) it keeps no verdict."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+
+from pipeline.config import Config
+from pipeline.records.loader import iter_records
+from pipeline.rocking.block import BlockShape
+from pipeline.rocking.scene import Guard, Physics
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.solids.contact3d import box_body, simulate_contact3d
+from pipeline.rocking.solids.solid3d import judge_solid, solid_of
+
+SYLMAR = ("RSN1086_NORTHR_SYL090.AT2", "RSN1086_NORTHR_SYL360.AT2", "RSN1086_NORTHR_SYL-UP.AT2")
+#: A square statue 0.5 x 0.5 x 2.0 m, friction 0.7, its width facing azimuth 50 deg.
+STATUE = BlockShape(height_m=2.0, width_m=0.5, mu=0.7, azimuth_deg=50.0, depth_m=0.5)
+
+
+@pytest.fixture(scope="module")
+def sylmar(records_dir, tmp_path_factory):
+    root = tmp_path_factory.mktemp("sylmar")
+    for name in SYLMAR:
+        shutil.copy(records_dir / "peer-at2" / name, root / name)
+    shutil.copy(records_dir / "units.toml", root / "units.toml")
+    return root
+
+
+@pytest.fixture(scope="module")
+def record(sylmar):
+    return next(iter(iter_records(sylmar, config=Config())))
+
+
+def test_a_scene_the_exact_model_stops_is_decided_by_the_contact_model(record):
+    """Northridge at Sylmar (RSN1086) and the statue: the box model stops where a corner would slip (no verdict);
+    the contact model overturns it, as the contact model alone does on the same record in the box's frame."""
+    solid = solid_of(STATUE, record_azimuth_deg=float(record.azimuths_deg[0]), known_azimuth=True)
+    h1, h2 = record.horizontal_ms2
+    off = judge_solid(h1, h2, record.vertical_ms2, record.dt_s, solid, settings=SimulationConfig())
+    on = judge_solid(h1, h2, record.vertical_ms2, record.dt_s, solid, settings=SimulationConfig(contact3d=True))
+    assert off.scene.verdict == -1 and off.scene.guard & Guard.model_limit
+    assert on.scene.physics == Physics.contact3d and on.scene.verdict == 1
+    alone = simulate_contact3d(h1, -h2, record.vertical_ms2, record.dt_s, box_body(0.5, 0.5, 2.0, mu=0.7),
+                               yaw_deg=solid.azimuth_deg)
+    assert alone.overturned and on.scene.t_overturn == alone.t_overturn
+
+
+@pytest.mark.slow          # about 40 s: each margin factor and draw that the box model stops is run again
+def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_verdict(sylmar, tmp_path):
+    from pipeline.cli import main
+    from pipeline.store import open_results
+
+    (tmp_path / "b.csv").write_text("id,height_m,width_m,mu,azimuth_deg,depth_m\nSTATUE,2.0,0.5,0.7,50,0.5\n")
+    runs = {}
+    for on in (False, True):
+        (tmp_path / f"c{on}.toml").write_text(f"[simulation]\ncontact3d = {str(on).lower()}\n")
+        out = tmp_path / f"out{on}"
+        assert main(["--records", str(sylmar), "--blocks", str(tmp_path / "b.csv"), "--out", str(out), "-q",
+                     "--samples", "8", "--config", str(tmp_path / f"c{on}.toml")]) == 0
+        runs[on] = open_results(out / "screening.nc")
+    off, on = runs[False], runs[True]
+    assert int(off["overturn_simulated"].values[0, 0]) == -1
+    assert int(on["physics"].values[0, 0]) == Physics.contact3d and int(on["overturn_simulated"].values[0, 0]) == 1
+    assert int(on["samples_without_verdict"].values[0, 0]) < int(off["samples_without_verdict"].values[0, 0])
+    assert np.isfinite(on["overturn_scale_simulated"].values[0])
