@@ -12,6 +12,7 @@ Run: ``python benchmarks/contact3d_peer.py [--families statues,cabinets,boxes,cy
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
 import time
@@ -64,6 +65,7 @@ def main() -> None:
     args = ap.parse_args()
     cfg = Config()
     settings = cfg.simulation_settings()
+    handing = dataclasses.replace(settings, contact3d=True)           # [simulation] contact3d = true
     records = [r for r in iter_records(ROOT / "records", config=cfg) if not r.single_component and r.azimuth_known
                and np.max(np.hypot(*r.horizontal_ms2)) >= args.pga_min * G]
     print(f"{len(records)} records with two horizontals of known azimuth and PGA >= {args.pga_min} g")
@@ -85,27 +87,31 @@ def main() -> None:
                 t2 = time.perf_counter()
                 peer = _peer(kind, w, d, h, mu, bx, by, av, rec.dt_s)
                 t3 = time.perf_counter()
+                handed = judge_solid(rec.horizontal_ms2[0], rec.horizontal_ms2[1], av, rec.dt_s, solid,
+                                     settings=handing).scene.verdict
                 t_c.append(t1 - t0)
                 t_e.append(t2 - t1)
                 t_p.append(t3 - t2)
                 robust = None
-                if c3.overturned != peer:
+                if c3.overturned != peer or handed != int(peer):
                     again = [_peer(kind, w, d, h, mu, bx, by, av, rec.dt_s, step_s=STEP_S / 2),
                              _peer(kind, w, d, h, mu, bx, by, av, rec.dt_s, scale=0.98),
                              _peer(kind, w, d, h, mu, bx, by, av, rec.dt_s, scale=1.02)]
                     robust = all(a == peer for a in again)
                 rows.append((f"{w}x{d}x{h} mu {mu}", rec.record_id, int(c3.overturned), exact, int(peer), robust,
-                             c3.capped_steps))
+                             c3.capped_steps, handed))
         agree = sum(r[2] == r[4] for r in rows)
         exact_agree = sum(r[3] == r[4] for r in rows)
         print(f"\n## {family}: {len(rows)} scenes; the contact model agrees with PyBullet on {agree}, the exact "
-              f"models on {exact_agree} (no verdict on {sum(r[3] < 0 for r in rows)})")
+              f"models on {exact_agree} (no verdict on {sum(r[3] < 0 for r in rows)}), the exact models handed to "
+              f"the contact model where they stop ([simulation] contact3d = true) on "
+              f"{sum(r[7] == r[4] for r in rows)} (no verdict on {sum(r[7] < 0 for r in rows)})")
         print(f"   time per scene [s]: contact model median {np.median(t_c):.3f} worst {max(t_c):.3f}; exact "
               f"models median {np.median(t_e):.3f} worst {max(t_e):.3f}; PyBullet median {np.median(t_p):.3f} "
               f"worst {max(t_p):.3f}")
-        for body_name, rid, c, e, p, robust, capped in rows:
-            if c != p:
-                print(f"   differ: {body_name} x {rid}: contact {c}, exact {e}, PyBullet {p} "
+        for body_name, rid, c, e, p, robust, capped, handed in rows:
+            if c != p or handed != p:
+                print(f"   differ: {body_name} x {rid}: contact {c}, exact {e}, handed {handed}, PyBullet {p} "
                       f"({'robust' if robust else 'not robust'} in the engine); capped steps {capped}")
 
 
