@@ -21,7 +21,8 @@ A body flat on its base and still (the body at the start, or one found again wit
 the ground's demand |a_h| / (g + a_v) stays at or below min(mu, tan alpha_min) (:func:`base_threshold`): the exact
 at-rest certificate of the other models.
 
-Not yet in the verdict path: ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`.
+``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
+true`` the scenes they stop are handed to this model (:mod:`.contact_scene`).
 
 References
 ----------
