@@ -329,6 +329,54 @@ def _energy(v, w, r, inertia, z_g, g):
 
 
 @jit
+def _ground(ax, ay, az, k, n_sub):
+    """The ground's acceleration at the middle of step ``k`` (linear between samples) [m s-2]."""
+    i, frac = k // n_sub, (k % n_sub + 0.5) / n_sub
+    return (ax[i] + frac * (ax[i + 1] - ax[i]), ay[i] + frac * (ay[i + 1] - ay[i]),
+            az[i] + frac * (az[i + 1] - az[i]))
+
+
+@jit
+def _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, gz_total):
+    """The step's velocities without the contacts: gravity and the ground's inertial force (``gz_total`` =
+    g + a_v), and the gyroscopic term -I^-1 (w x I w), explicit."""
+    v[0] -= h * gx
+    v[1] -= h * gy
+    v[2] -= h * gz_total
+    iw = np.empty(3)
+    for a in range(3):
+        s = 0.0
+        for b in range(3):
+            s += rm[b, a] * w[b]
+        iw[a] = inertia[a] * s
+    lw = np.empty(3)
+    for a in range(3):
+        lw[a] = rm[a, 0] * iw[0] + rm[a, 1] * iw[1] + rm[a, 2] * iw[2]
+    cx, cy, cz = w[1] * lw[2] - w[2] * lw[1], w[2] * lw[0] - w[0] * lw[2], w[0] * lw[1] - w[1] * lw[0]
+    for a in range(3):
+        w[a] -= h * (inv_i[a, 0] * cx + inv_i[a, 1] * cy + inv_i[a, 2] * cz)
+
+
+@jit
+def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p):
+    """The vertices at or below the ground at the step's middle (G at height ``z_g``): their arms from G, indices,
+    normal velocities before the step's forces (``dv_z`` the step's vertical change) and last impulses (the warm
+    start); how many."""
+    n_c = 0
+    for i in range(vertices.shape[0]):
+        r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
+        r1 = rm[1, 0] * vertices[i, 0] + rm[1, 1] * vertices[i, 1] + rm[1, 2] * vertices[i, 2]
+        r2 = rm[2, 0] * vertices[i, 0] + rm[2, 1] * vertices[i, 1] + rm[2, 2] * vertices[i, 2]
+        if z_g + r2 <= 0.0:
+            arms[n_c, 0], arms[n_c, 1], arms[n_c, 2] = r0, r1, r2
+            index[n_c] = i
+            p[n_c, 0], p[n_c, 1], p[n_c, 2] = impulses[i, 0], impulses[i, 1], impulses[i, 2]
+            u_before[n_c] = v[2] + dv_z + w[0] * r1 - w[1] * r0
+            n_c += 1
+    return n_c
+
+
+@jit
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
     n_v = vertices.shape[0]
     size = 0.0
@@ -356,13 +404,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
         if not during and k >= (n - 1) * n_sub + tail_steps:
             flags |= FLAG_TAIL_CAP
             break
-        if during:                                      # the ground at the middle of the step, linear in time
-            i, frac = k // n_sub, (k % n_sub + 0.5) / n_sub
-            gx = ax[i] + frac * (ax[i + 1] - ax[i])
-            gy = ay[i] + frac * (ay[i + 1] - ay[i])
-            gz = az[i] + frac * (az[i + 1] - az[i])
-        else:
-            gx = gy = gz = 0.0
+        gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
         if resting:
             gv = g + gz
             if gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= threshold * gv:
@@ -377,32 +419,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
         rm = _rotation(qm)
         inv_i = _world_inverse_inertia(rm, inertia)
         e_before = _energy(v, w, _rotation(q), inertia, x[2], g)
-        v[0] -= h * gx                                              # gravity and the ground's inertial force
-        v[1] -= h * gy
-        v[2] -= h * (g + gz)
-        iw = np.empty(3)                                            # gyroscopic: -I^-1 (w x I w), explicit
-        for a in range(3):
-            s = 0.0
-            for b in range(3):
-                s += rm[b, a] * w[b]
-            iw[a] = inertia[a] * s
-        lw = np.empty(3)
-        for a in range(3):
-            lw[a] = rm[a, 0] * iw[0] + rm[a, 1] * iw[1] + rm[a, 2] * iw[2]
-        cx, cy, cz = w[1] * lw[2] - w[2] * lw[1], w[2] * lw[0] - w[0] * lw[2], w[0] * lw[1] - w[1] * lw[0]
-        for a in range(3):
-            w[a] -= h * (inv_i[a, 0] * cx + inv_i[a, 1] * cy + inv_i[a, 2] * cz)
-        n_c = 0
-        for i in range(n_v):
-            r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
-            r1 = rm[1, 0] * vertices[i, 0] + rm[1, 1] * vertices[i, 1] + rm[1, 2] * vertices[i, 2]
-            r2 = rm[2, 0] * vertices[i, 0] + rm[2, 1] * vertices[i, 1] + rm[2, 2] * vertices[i, 2]
-            if xm[2] + r2 <= 0.0:
-                arms[n_c, 0], arms[n_c, 1], arms[n_c, 2] = r0, r1, r2
-                index[n_c] = i
-                p[n_c, 0], p[n_c, 1], p[n_c, 2] = impulses[i, 0], impulses[i, 1], impulses[i, 2]
-                u_before[n_c] = v[2] + h * (g + gz) + w[0] * r1 - w[1] * r0     # before this step's forces
-                n_c += 1
+        _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
+        n_c = _contacts(vertices, rm, xm[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
         if n_c == 0:
             flight = True
         elif not _solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p):
