@@ -42,6 +42,10 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               "verdict (a model stopped where the base slides, twists or lifts off, the ground fell faster than "
               "gravity, or a cap): unknown, never standing; p intervals span them and such assets read 'at risk "
               "until judged' (samples_without_verdict in screening.nc)", file=sys.stderr)
+    if s.get("scenes_unjudged_3d"):
+        print(f"  {s['scenes_unjudged_3d']} of them are 3D scenes stopped where the base would slide, twist or lift "
+              "off: [simulation] contact3d = true decides them by the 3D contact model, at a cost (docs/user-guide.md)",
+              file=sys.stderr)
     general = s.get("general_scenes", {})
     if general.get("total"):
         print(f"contact model: {general['total']} scene(s) left pure rocking or sliding and were decided by the "

@@ -525,6 +525,8 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "scenes_by_robustness": {m.name: int(np.sum(ds[SCENE.robustness].values == m.value)) for m in Robustness},
         "sampled_simulations": int(np.sum(np.maximum(ds[SCENE.sample_simulations].values, 0))),
         "scenes_unjudged": scenes_without_verdict(ds),
+        "scenes_unjudged_3d": int(np.sum((ds[SCENE.overturn_simulated].values == -1)
+                                         & np.isin(phys, (Physics.wobbling, Physics.rocking3d)))),
         "draws_unjudged": int(np.sum(np.maximum(ds[SCENE.samples_without_verdict].values, 0))),
         "draws_total": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
         "scenes_with_unjudged_draws": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),

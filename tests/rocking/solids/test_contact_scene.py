@@ -51,7 +51,7 @@ def test_a_scene_the_exact_model_stops_is_decided_by_the_contact_model(record):
 
 
 @pytest.mark.slow          # about 40 s: each margin factor and draw that the box model stops is run again
-def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_verdict(sylmar, tmp_path):
+def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_verdict(sylmar, tmp_path, capsys):
     from pipeline.cli import main
     from pipeline.store import open_results
 
@@ -60,9 +60,12 @@ def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_
     for on in (False, True):
         (tmp_path / f"c{on}.toml").write_text(f"[simulation]\ncontact3d = {str(on).lower()}\n")
         out = tmp_path / f"out{on}"
-        assert main(["--records", str(sylmar), "--blocks", str(tmp_path / "b.csv"), "--out", str(out), "-q",
+        assert main(["--records", str(sylmar), "--blocks", str(tmp_path / "b.csv"), "--out", str(out),
                      "--samples", "8", "--config", str(tmp_path / f"c{on}.toml")]) == 0
         runs[on] = open_results(out / "screening.nc")
+        said = capsys.readouterr().err
+        # without the setting, the summary names the 3D scene without a verdict and the setting that decides it
+        assert ("1 of them are 3D scenes stopped" in said and "contact3d = true" in said) is not on
     off, on = runs[False], runs[True]
     assert int(off["overturn_simulated"].values[0, 0]) == -1
     assert int(on["physics"].values[0, 0]) == Physics.contact3d and int(on["overturn_simulated"].values[0, 0]) == 1
