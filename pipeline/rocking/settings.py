@@ -47,7 +47,7 @@ class SimulationConfig:
     #: False (default): a cylinder's or a box's 3D scene whose exact model stops where its base would slide, twist
     #: or lift off has no verdict. True: the 3D contact model (:mod:`pipeline.rocking.solids.contact3d`) decides it
     #: over the whole record (physics ``contact3d``), in the probabilities and margins too; it costs about 0.35 s
-    #: per such scene (median; 15 s for a 320 s record), docs/validation.md.
+    #: per such scene (median; up to 18 s on the longest bundled records), docs/validation.md.
     contact3d: bool = False
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
