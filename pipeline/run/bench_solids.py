@@ -24,6 +24,8 @@ def solid_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
     (:attr:`~pipeline.bodies.contract.BodyModel.versus_planar`) and claims blocks of the inventory, on the
     two-component records of ``scenes`` (the bench's loaded records)."""
     records = [s.record for s in scenes if not s.record.single_component]
+    blocks = inventory.rocking_blocks(g_ms2=config.records.g_ms2)
+    ons = [on_record(rec, config, scan=False) for rec in records]        # nominal: no draws; once per record
     rows: list[dict] = []
     for model in registry.BODIES:
         versus = model.versus_planar
@@ -32,8 +34,8 @@ def solid_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
         t3 = tp = 0.0
         v3: list[int] = []
         vp: list[int] = []
-        for rec in records:
-            t3_rec, tp_rec = _record(rec, inventory, config, model, v3, vp)
+        for on in ons:
+            t3_rec, tp_rec = _record(on, inventory, blocks, model, v3, vp)
             t3, tp = t3 + t3_rec, tp + tp_rec
         n = len(v3)
         if n == 0:
@@ -50,13 +52,11 @@ def solid_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
     return rows
 
 
-def _record(rec, inventory: Inventory, config: Config, model: BodyModel, v3: list, vp: list
-            ) -> tuple[float, float]:
+def _record(on, inventory: Inventory, blocks: list, model: BodyModel, v3: list, vp: list) -> tuple[float, float]:
     """The record's scenes of the blocks ``model`` claims and their planar counterparts, timed; verdicts
     appended."""
     assert model.versus_planar is not None
-    blocks = inventory.rocking_blocks(g_ms2=config.records.g_ms2)
-    on = on_record(rec, config, scan=False)       # nominal: no draws
+    rec = on.record
     placement = Placement.of(rec)
     t3 = tp = 0.0
     for j in range(len(inventory)):

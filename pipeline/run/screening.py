@@ -260,10 +260,10 @@ def on_record(rec: Record, cfg: Config, *, scan: bool = True) -> OnRecord:
     unc = cfg.uncertainty
     z = common_normals(unc.seed, unc.samples) if scan and cfg.sampling else None
     draws = None if z is None else (z, estimation_normals(unc, unc.samples), average_normals(unc))
-    settings = cfg.simulation_settings()
+    setup = setup_of(cfg)
     base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
-    return OnRecord(rec, base, draws, planes, plane_grid(settings.orientation_step_deg), setup_of(cfg), scan)
+    return OnRecord(rec, base, draws, planes, plane_grid(setup.settings.orientation_step_deg), setup, scan)
 
 
 def setup_of(cfg: Config) -> Setup:

@@ -3,12 +3,12 @@ the hand-off of ``[simulation] contact3d = true``.
 
 The exact models (:mod:`.cylinder3d`, :mod:`.box3d`) hold while the body rocks or wobbles without slipping; where
 its base would slide, twist or lift off they stop (``simulation_guard`` model_limit, no verdict). With the setting
-on, such a scene is run again by the contact model over the whole record from rest (the contact model holds in
-every mode, so the hand-off is exact in the model's own terms), and its verdict is the contact model's: physics
-``contact3d``. The contact model's own caps are flagged (step_cap where a step's contact problem ended at its
-sweep cap, tail_cap where the body still moved at the end of its tail), never silent. A scene the exact model
-followed past the tipping point with its contact held (held_past_alpha) keeps the exact model's verdict: against
-PyBullet it agreed on one more cylinder than the contact model did (docs/validation.md).
+on, such a scene is run again by the contact model over the whole record from rest (nothing of the exact model's
+run is carried over), and its verdict is the contact model's: physics ``contact3d``. The contact model's own caps
+are flagged (step_cap where a step's contact problem ended at its sweep cap, tail_cap where the body still moved
+at the end of its tail), never silent. A scene the exact model followed past the tipping point with its contact
+held (held_past_alpha) keeps the exact model's verdict: against PyBullet it agreed on one more cylinder than the
+contact model did (docs/validation.md).
 """
 
 from __future__ import annotations
