@@ -15,7 +15,7 @@ from pipeline.rocking.block import BlockShape, dynamics
 from pipeline.rocking.planner import simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
-from pipeline.rocking.solids.contact3d import box_body, cylinder_body, simulate_contact3d
+from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, box_body, cylinder_body, simulate_contact3d
 
 DT = 0.005
 T = np.arange(0.0, 6.0, DT)
@@ -86,3 +86,24 @@ def test_no_energy_is_gained_through_the_contacts_once_the_ground_stands_still(r
     got = simulate_contact3d(x, y, None, DT, box_body(0.4, 0.6, 1.6, mu=0.5, restitution=restitution))
     assert got.tilt_max_rad > 0.01
     assert got.energy_gain_max <= 1e-9
+
+
+@pytest.mark.parametrize("body, amp_g", [(box_body(0.4, 0.6, 1.6, mu=0.5), 0.3),
+                                         (box_body(1.0, 1.0, 0.3, mu=0.3), 0.45),
+                                         (cylinder_body(0.5, 1.5, mu=0.6), 0.35)], ids=["rocks", "slides", "drum"])
+def test_a_quiet_minute_after_the_motion_is_held_at_rest_and_changes_nothing(body, amp_g):
+    """The body moved by a pulse on two horizontals comes to rest flat on its base within 20 s; a minute of ground
+    motion below its at-rest threshold min(mu, tan alpha) follows. The body found at rest again is held there: the
+    minute integrates no step (the same integrated steps as the record without it), and every peak is the same."""
+    t = np.arange(0.0, 20.0, DT)
+    x = amp_g * G * np.sin(2 * np.pi * t / 0.8) * (t < 0.8)
+    y = 0.5 * amp_g * G * np.sin(2 * np.pi * t / 0.5) * (t < 0.5)
+    short = simulate_contact3d(x, y, None, DT, body)
+    calm = 0.04 * G * np.sin(2 * np.pi * np.arange(0.0, 60.0, DT) / 0.7)     # |a_h| <= 0.045 g: held
+    longer = simulate_contact3d(np.concatenate([x, calm]), np.concatenate([y, 0.5 * calm]), None, DT, body)
+    assert short.tilt_max_rad > 1e-3 or short.slide_max_m > 1e-3                # it moved
+    assert not short.overturned and not short.flags & FLAG_TAIL_CAP
+    assert longer.integrated_steps == short.integrated_steps
+    assert longer.steps >= short.steps + 60.0 / DT - 1                               # the minute was there
+    assert (longer.tilt_max_rad, longer.slide_max_m, longer.twist_max_rad) == (
+        short.tilt_max_rad, short.slide_max_m, short.twist_max_rad)
