@@ -29,6 +29,7 @@ from .constants import G
 from .errors import InventoryError
 from .rocking.block import Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
+from .shapes.mesh_limits import SIZE_RANGE_M, MeshLimits
 from .tables import close_match, parse_number, read_csv_table
 
 log = logging.getLogger(__name__)
@@ -48,8 +49,9 @@ UNUSED = {"azimuth_deg": ": every block's azimuth is blank, so each is of unknow
           "depth_m": ": no box has a depth (each is judged in the plane of its width)",
           "base_margin_m": ": no block's base margin is checked", "shape": ": every block is a box",
           "mesh": ": no block is given by its scan"}
-#: Plausible block sizes [m]: from a small figurine to a tall obelisk or rock pillar.
-SIZE_RANGE_M = (0.01, 100.0)
+#: The largest scan read, and the sizes it may have (the columns' range, SIZE_RANGE_M: plausible block sizes [m],
+#: from a small figurine to a tall obelisk or rock pillar), unless ``[blocks]`` says
+DEFAULT_MESH_LIMITS = MeshLimits(size_range_m=SIZE_RANGE_M)
 #: Heights above this are accepted but warned about: taller than the free-standing objects screened
 #: (columns, obelisks, precarious rock pillars); often centimetres typed as metres [m].
 PLAUSIBLE_HEIGHT_M = 30.0
@@ -240,10 +242,12 @@ def _declared_later(shape: BlockShape) -> tuple:
     return out
 
 
-def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float) -> list[str]:
-    """Warnings for values a real free-standing object does not have (a unit typed wrong, a typo)."""
+def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float, *,
+                 height_typed: bool = True) -> list[str]:
+    """Warnings for values a real free-standing object does not have (a unit typed wrong, a typo); the height's only
+    where it was typed (``height_typed``; a scan's own height is held to the columns' range when it is read)."""
     out = []
-    if height_m > PLAUSIBLE_HEIGHT_M:
+    if height_typed and height_m > PLAUSIBLE_HEIGHT_M:
         out.append(f"{where} ({block_id}): height_m {height_m:g} m is above {PLAUSIBLE_HEIGHT_M:g} m (centimetres "
                    "typed as metres?)")
     if mu > PLAUSIBLE_MU:
@@ -261,13 +265,15 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
     return out
 
 
-def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None = None) -> Inventory:
+def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None = None,
+                   mesh_limits: MeshLimits = DEFAULT_MESH_LIMITS) -> Inventory:
     """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
 
     Columns: :data:`REQUIRED`, :data:`OPTIONAL`, those of the fields a model declared on the block
     (:func:`declared_fields`), and any extra ones (kept as given; those not in
     :data:`ASSET_COLUMNS` also warn). ``default_mu`` fills a blank ``mu``; ``warn_for``: warn about implausible
-    values of that block alone (a command about one block; default: every block).
+    values of that block alone (a command about one block; default: every block); ``mesh_limits``: the largest scan
+    read (``[blocks] max_mesh_faces``, ``max_mesh_mb``).
 
     Raises
     ------
@@ -310,9 +316,10 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         rows["id"].append(bid)
         _read_row(rec, where, rows, errors, default_mu=default_mu, extras=extras)
         _read_declared(rec, where, declared, rows, errors)
-        _read_mesh(rec, where, path.parent, rows, errors)
+        _read_mesh(rec, where, path.parent, rows, errors, limits=mesh_limits)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
-            implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1])
+            implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1],
+                                        height_typed=bool(rec.get("height_m", "").strip()))
     if implausible and not errors:         # an inventory with errors is not screened: no "screened as given"
         log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
                     len(implausible), "\n  ".join(implausible))
@@ -417,7 +424,8 @@ def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str])
         "perpendicular to width_m; blank: not given)", lambda x: lo <= x <= hi, math.nan))
 
 
-def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], errors: list[str]) -> None:
+def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], errors: list[str], *,
+               limits: MeshLimits = DEFAULT_MESH_LIMITS) -> None:
     """The ``mesh`` cell (a scan, relative to the inventory's folder) with ``density_kg_m3`` or ``mass_kg``: the
     settled scan (:func:`pipeline.shapes.scan.read_scan`), the block's kind ``scanned``, its azimuth over 360 deg
     (its two sides differ) and, where blank, its height and width from its equivalent rectangle."""
@@ -444,7 +452,7 @@ def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], error
         return
     try:
         scan = read_scan(Path(mesh) if Path(mesh).is_absolute() else folder / mesh, density_kg_m3=density,
-                         mass_kg=mass)
+                         mass_kg=mass, limits=limits)
     except MeshError as exc:
         errors.append(f"{where}, column 'mesh': {exc}")
         return

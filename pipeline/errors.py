@@ -138,5 +138,10 @@ class OutputError(RockscreenError, OSError):
     """Results cannot be written (unwritable directory, disk full, ...)."""
 
 
+class UnsafeOutputError(OutputError):
+    """Something under the output directory is not what rockscreen makes there (a planted link, a file where its
+    state directory goes): refused before anything is changed."""
+
+
 class OutputLockedError(OutputError):
     """Another run holds the lock on the output directory."""

@@ -59,7 +59,8 @@ def cmd_chart(args: argparse.Namespace, argv: list[str]) -> int:
     if args.block is not None:
         if args.blocks is None or args.height is not None or args.width is not None:
             raise UsageError("screen chart: give either --block ID with --blocks CSV, or --height and --width")
-        block = read_inventory(args.blocks, default_mu=config.blocks.default_mu, warn_for=args.block).select(args.block)
+        block = read_inventory(args.blocks, default_mu=config.blocks.default_mu, warn_for=args.block,
+                               mesh_limits=config.blocks.mesh_limits()).select(args.block)
         if args.mu is not None:
             block = Inventory.single(height_m=float(block.height_m[0]), width_m=float(block.width_m[0]),
                                      mu=args.mu, block_id=args.block, azimuth_deg=float(block.azimuth_deg[0]))

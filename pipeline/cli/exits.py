@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import logging
+import os
 import signal
+import sys
 import threading
+from typing import NoReturn
 
 log = logging.getLogger("pipeline")
 
@@ -49,15 +53,51 @@ def _raise_interrupt(signum, frame) -> None:
 
 
 @contextlib.contextmanager
-def _signals_interrupt():
+def _signals_interrupt(*, to_the_end: bool = False, received: list[int] | None = None):
     """While a command runs (in the main thread), :data:`INTERRUPT_SIGNALS` raise ``KeyboardInterrupt`` as Ctrl-C
-    does; the previous handlers are restored after."""
+    does; the previous handlers are restored after, or, with ``to_the_end`` (the console command), those signals and
+    Ctrl-C are only noted from then on, for :func:`finish_console` to find. Every signal is noted in ``received``
+    (yielded): one whose ``KeyboardInterrupt`` was swallowed where Python cannot raise it (a finalizer) is still
+    there, and the command is then reported interrupted."""
+    received = [] if received is None else received
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield received
         return
-    previous = {s: signal.signal(s, _raise_interrupt) for s in INTERRUPT_SIGNALS}
+
+    def interrupt(signum, frame) -> None:
+        received.append(signum)
+        _raise_interrupt(signum, frame)
+
+    previous = {s: signal.signal(s, interrupt) for s in INTERRUPT_SIGNALS}
     try:
-        yield
+        yield received
     finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
+        if to_the_end:                   # the disposition is the process's: no thread may die of one from here
+            for s in (*INTERRUPT_SIGNALS, signal.SIGINT):
+                signal.signal(s, lambda signum, frame: received.append(signum))
+        else:
+            for s, handler in previous.items():
+                signal.signal(s, handler)
+
+
+def finish_console(code: int, received: list[int]) -> NoReturn:
+    """End the console command with ``code``, or :data:`EXIT_INTERRUPTED` when one of :data:`INTERRUPT_SIGNALS` or
+    Ctrl-C arrived since it returned (``received``, noted by the handlers :func:`_signals_interrupt` left): the exit
+    functions run, the output is flushed and the process ends at once. Python's own finalization would put back the
+    signals' default actions first, and a signal in that window ended the process with its own status (143 for
+    SIGTERM) instead of 130."""
+    with contextlib.suppress(Exception):          # Python's own order: threads joined, then the exit functions
+        threading._shutdown()                     # type: ignore[attr-defined]
+    with contextlib.suppress(Exception):
+        atexit._run_exitfuncs()
+    _flush()
+    if received and code != EXIT_INTERRUPTED:
+        print("interrupted as the command ended: what it wrote above is complete", file=sys.stderr)
+        _flush()
+    os._exit(EXIT_INTERRUPTED if received else code)       # from the check to the end: microseconds
+
+
+def _flush() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()

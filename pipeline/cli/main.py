@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import errno
 import logging
 import sys
 
@@ -18,7 +19,7 @@ from ..errors import (
 from .bench import bench_parser, cmd_bench
 from .chart import chart_parser, cmd_chart
 from .event import cmd_event, event_parser
-from .exits import EXIT_INTERRUPTED, EXIT_LOCKED, EXIT_OUTPUT, EXIT_USAGE, _signals_interrupt
+from .exits import EXIT_INTERRUPTED, EXIT_LOCKED, EXIT_OUTPUT, EXIT_USAGE, _signals_interrupt, finish_console
 from .fragility import cmd_fragility, fragility_parser
 from .infer import cmd_infer, infer_parser
 from .options import _add_run_arguments, _epilog, log
@@ -58,6 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``screen`` console script."""
+    console = argv is None                  # the process is the command: its last instants answer signals too
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and not argv[0].startswith("-") and argv[0] not in SUBCOMMANDS:
         meant = difflib.get_close_matches(argv[0], list(SUBCOMMANDS), n=1, cutoff=0.6)
@@ -76,14 +78,29 @@ def main(argv: list[str] | None = None) -> int:
     # third parties (matplotlib, numba, distributed, ...) speak at WARNING; -v opens rockscreen's own debug lines
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s", stream=sys.stderr)
     log.setLevel(logging.DEBUG if getattr(args, "verbose", False) else logging.WARNING)
+    received: list[int] = []
+    code = _run(command, args, argv, console=console, received=received)
+    if console:
+        finish_console(code, received)
+    return code
+
+
+def _run(command, args, argv: list[str], *, console: bool, received: list[int]) -> int:
+    """Run ``command`` with the signals of :func:`_signals_interrupt` (those noted into ``received``), each error
+    turned into its message and exit code."""
     try:
-        with _signals_interrupt():
+        with _signals_interrupt(to_the_end=console, received=received):
             if sys.stderr.isatty() and not getattr(args, "quiet", False):
                 from tqdm.contrib.logging import logging_redirect_tqdm
 
                 with logging_redirect_tqdm():                    # warnings above the progress bar, never inside it
-                    return command(args, argv)
-            return command(args, argv)
+                    code = command(args, argv)
+            else:
+                code = command(args, argv)
+        if received:                     # its KeyboardInterrupt was swallowed (raised in a finalizer) as it ended
+            print("interrupted as the command ended: what it wrote above is complete", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        return code
     except InventoryError as exc:
         print(f"error: {exc}\nnothing was screened or written.", file=sys.stderr)
         return EXIT_USAGE
@@ -101,10 +118,15 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     except OSError as exc:      # a path the command cannot create, read or write (outside the checked inputs)
         where = exc.filename if exc.filename is not None else "a file"
+        if exc.errno == errno.ENOSPC:
+            print(f"error: the disk is full ({exc.strerror}) writing {where}; earlier results are intact. Free disk "
+                  "space or choose another --out", file=sys.stderr)
+            return EXIT_OUTPUT
         print(f"error: cannot use {where}: {exc.strerror or exc}. Check that the path is right, its parent "
               "directory exists, and you may write there; earlier results are intact.", file=sys.stderr)
         return EXIT_OUTPUT
     except KeyboardInterrupt:
-        print("interrupted: no results were written for this run; earlier results are intact.",
+        print("interrupted: every output this run reported writing above is complete, and nothing else of it was "
+              "written; earlier results are intact.",
               file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -117,7 +117,8 @@ def _config_and_inventory(args: argparse.Namespace):
         config = config.with_tier(args.fidelity)
     if getattr(args, "samples", None) is not None or getattr(args, "seed", None) is not None:
         config = config.with_uncertainty(samples=args.samples, seed=args.seed, where="command line")
-    return config, read_inventory(args.blocks, default_mu=config.blocks.default_mu)
+    return config, read_inventory(args.blocks, default_mu=config.blocks.default_mu,
+                                  mesh_limits=config.blocks.mesh_limits())
 
 
 def _records_dir(path: Path) -> Path:

@@ -29,6 +29,8 @@ import numpy as np
 import pywt
 from scipy import fft as sfft
 
+from ..errors import PulseError
+
 #: db4 support length [in units of the scale].
 SUPPORT = 7.0
 #: Resolution of the sampled wavelet function (MATLAB ``intwave(db4, 10)``).
@@ -151,8 +153,18 @@ def scales_for(dt_s: float, *, tp_min_s: float = 0.25, tp_max_s: float = 15.0, n
 
     ``s_min = floor(TpMin/1.4/dt)``, ``step = ceil((TpMax/1.4/dt - s_min)/50)``,
     scales ``s_min : step : s_min + 50 step``.
+
+    Raises
+    ------
+    PulseError
+        When the sampling is too coarse for the shortest period searched (``s_min`` below one sample).
     """
     s_min = int(np.floor(tp_min_s / 1.4 / dt_s))
+    if s_min < 1:
+        raise PulseError(f"sampling interval dt = {dt_s:g} s is too coarse for the pulse search from Tp = "
+                         f"{tp_min_s:g} s (its smallest wavelet scale would be below one sample: dt must be at most "
+                         f"{tp_min_s / 1.4:.3g} s); resample the record finer, or raise [pulses] tp_min_s to at "
+                         f"least {1.4 * dt_s:.3g} s")
     step = int(np.ceil((tp_max_s / 1.4 / dt_s - s_min) / n_scales))
     return s_min + step * np.arange(n_scales + 1)
 

@@ -20,6 +20,8 @@ log = logging.getLogger(__name__)
 
 #: Bytes read by a format check: enough for every header we detect on.
 PEEK_BYTES = 4096
+#: The UTF-8 byte-order mark some Windows programs write first; not part of the text.
+UTF8_BOM = b"\xef\xbb\xbf"
 
 def source_name(source) -> str:
     """Return a printable name for a path or file-like ``source``."""
@@ -47,7 +49,7 @@ def peek_lines(source, n_lines: int) -> list[str]:
         raw = raw.encode("latin-1", "replace")
     if b"\x00" in raw:
         return []
-    return raw.decode("latin-1").splitlines()[:n_lines]
+    return raw.removeprefix(UTF8_BOM).decode("latin-1").splitlines()[:n_lines]
 
 
 def read_lines(source) -> list[str]:
@@ -72,7 +74,7 @@ def read_lines(source) -> list[str]:
         raise RecordFormatError(f"{name}: the file is empty; expected a strong-motion record")
     if b"\x00" in raw:
         raise RecordFormatError(f"{name}: binary content in a text format; the file is corrupt")
-    return raw.decode("latin-1").splitlines()
+    return raw.removeprefix(UTF8_BOM).decode("latin-1").splitlines()
 
 
 def parse_free_floats(lines: list[str], *, name: str, first_line_no: int) -> np.ndarray:

@@ -30,13 +30,22 @@ import obspy
 from ..constants import CM_TO_M
 from ..errors import RecordFormatError, RecordGroupingError, RockscreenError, UndeclaredUnitsError, UnitsError
 from .common import COMMON, annotate
+from .compressed import refuse_if_expands_beyond
 from .coordinates import StationLocation, station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
-from .plausibility import check_plausible, refuse_implausible_headers, refuse_large_files
+from .plausibility import (
+    BYTES_PER_SAMPLE_MAX,
+    COMPONENTS_PER_FILE_MAX,
+    check_plausible,
+    refuse_implausible_headers,
+    refuse_large_files,
+)
 from .processing import apply_steps, integrate, integration_method
 from .record import Record
 from .settings import ReaderSettings
+from .table import MAX_ROWS as TABLE_MAX_ROWS
+from .table import TABLE_FORMAT
 from .units import UNITS_TABLE, advice, canonical_units, combined_declarations, declared_units_for, to_ms2
 
 log = logging.getLogger(__name__)
@@ -91,7 +100,7 @@ def files_sha256(paths, *, byte_digests: dict[str, str] | None = None) -> str:
     known = byte_digests or {}
     h = hashlib.sha256()
     for f in paths:
-        h.update(Path(f).name.encode())
+        h.update(os.fsencode(Path(f).name))
         h.update((known.get(f) or _bytes_sha256(f)).encode())
     return h.hexdigest()
 
@@ -166,6 +175,15 @@ def units_toml_lines(root: str | Path, messages: list[str]) -> list[str]:
     return combined_declarations(messages, [p.relative_to(root).as_posix() for p in _record_files(root)])
 
 
+def _utf8_name(path: Path) -> bool:
+    """Whether ``path``'s name is text (the file system gave valid UTF-8, not bytes Python could only escape)."""
+    try:
+        path.name.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def _record_files(root: Path) -> list[Path]:
     """Every regular file under ``root`` that may hold a record: all but hidden files, ``units.toml``
     and StationXML (``*.xml``, read as the inventory), whatever their extension."""
@@ -180,7 +198,8 @@ def _record_files(root: Path) -> list[Path]:
     return files
 
 
-def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obspy.Stream:
+def _read(path: Path, *, fmt: str | None = None, headonly: bool = False,
+          max_rows: int = TABLE_MAX_ROWS) -> obspy.Stream:
     try:
         try:
             size = path.stat().st_size
@@ -191,7 +210,12 @@ def _read(path: Path, *, fmt: str | None = None, headonly: bool = False) -> obsp
             raise RecordFormatError(f"{path}: the file is empty; expected a strong-motion record")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            st = obspy.read(str(path), format=fmt, headonly=headonly)
+            if fmt == TABLE_FORMAT:             # read as a stream by its own reader, gzip included
+                st = obspy.read(str(path), format=fmt, headonly=headonly, check_compression=False,
+                                max_rows=max_rows)
+            else:
+                refuse_if_expands_beyond(path, BYTES_PER_SAMPLE_MAX * COMPONENTS_PER_FILE_MAX * max_rows)
+                st = obspy.read(str(path), format=fmt, headonly=headonly)
         for w in caught:
             if "end of file" in str(w.message).lower():
                 raise RecordFormatError(f"{path}: truncated ({w.message}); re-download the file")
@@ -277,6 +301,13 @@ def list_directory(root: str | Path, *, config: ReaderSettings) -> Listing:
     not_records = []
     files = _record_files(root)
     for path in files:
+        if not _utf8_name(path):
+            shown = os.fsencode(path).decode("utf-8", "backslashreplace")
+            failures.append(Failure(os.fsencode(path.stem).decode("utf-8", "backslashreplace"), (shown,),
+                                    f"{shown}: the file name is not UTF-8 (its bytes shown as \\x..); results name "
+                                    "their records in UTF-8: rename it (e.g. 'convmv -f latin1 -t utf8 --notest')",
+                                    deterministic=True))
+            continue
         empty = path.stat().st_size == 0
         fmt = None if empty else detect_format(path)
         if fmt is None and not looks_like_a_record(path):
@@ -287,8 +318,8 @@ def list_directory(root: str | Path, *, config: ReaderSettings) -> Listing:
                                                "K-NET, SAC, MiniSEED or any other format obspy reads)"))
             continue
         try:
-            st = _read(path, fmt=fmt, headonly=True)
-        except RecordFormatError as exc:
+            st = _read(path, fmt=fmt, headonly=True, max_rows=config.records.max_samples)
+        except (RecordFormatError, UnitsError) as exc:        # this file alone fails: the others are screened
             failures.append(Failure(path.stem, (str(path),), str(exc)))
             continue
         for tr in st:
@@ -464,7 +495,8 @@ def _refuse_before_reading(source: RecordSource, config: ReaderSettings) -> None
     refuse_large_files(sizes, records=config.records)
     headers = []
     for f in source.files:
-        for tr in _read(Path(f), fmt=source.format_of(f) or detect_format(Path(f)), headonly=True):
+        for tr in _read(Path(f), fmt=source.format_of(f) or detect_format(Path(f)), headonly=True,
+                        max_rows=config.records.max_samples):
             tr.stats.rockscreen_file = str(f)
             headers.append(tr)
     refuse_implausible_headers(headers, records=config.records)
@@ -478,7 +510,7 @@ def _traces_in_ms2(source: RecordSource, *, root: Path, config: ReaderSettings, 
     undeclared: list[UndeclaredUnitsError] = []     # every file of the record that needs a declaration, at once
     for f in source.files:
         path = Path(f)
-        for tr in _read(path, fmt=source.format_of(f) or detect_format(path)):
+        for tr in _read(path, fmt=source.format_of(f) or detect_format(path), max_rows=config.records.max_samples):
             if tr.stats.npts < 2:
                 raise RecordFormatError(f"{path}: channel {tr.stats.channel or '?'} holds {tr.stats.npts} "
                                         "sample(s); the file is truncated or has no data. Re-download it")

@@ -19,9 +19,12 @@ high-passes (``records.processing.uncorrected``).
 
 from __future__ import annotations
 
+import contextlib
 import gzip
 import os
 import re
+import zlib
+from array import array
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +32,7 @@ from obspy import Stream, Trace, UTCDateTime
 from obspy.core import AttribDict
 
 from ..errors import RecordFormatError
-from ._text import check_interval, check_samples, source_name
+from ._text import UTF8_BOM, check_interval, check_samples, source_name
 from .common import COMMON, common_fields
 from .units import canonical_units
 
@@ -47,24 +50,47 @@ DT_KEYS = ("dt_s", "dt", "delta")
 #: The component a table is without a ``component=`` header: one horizontal (its azimuth unknown)
 HORIZONTAL = "H1"
 GZIP_MAGIC = b"\x1f\x8b"
+#: The format's name among obspy's plug-ins (pyproject.toml's entry point)
+TABLE_FORMAT = "TABLE"
+#: The most rows a table is read to, unless the run says (its ``[records] max_samples``)
+MAX_ROWS = 1_000_000
+#: The longest line a table may have [bytes] (a number or two per line: a longer one is not a table)
+MAX_LINE_BYTES = 4096
+#: Time stamps kept as printed, to judge the time column's precision (:func:`_interval`)
+TIME_TEXT_ROWS = 200
 
 
 def _raw(source, limit: int | None = None) -> bytes:
     """The bytes of a path or file-like ``source`` (decompressed when gzip), at most ``limit`` of them."""
+    with _lines(source) as fh:
+        return fh.read(limit) if limit else fh.read()
+
+
+@contextlib.contextmanager
+def _lines(source):
+    """A binary stream of a path or file-like ``source``, decompressed as read when it is gzip (a file-like source
+    is left at the position it had)."""
     if isinstance(source, (str, os.PathLike)):
         with open(source, "rb") as fh:
-            head = fh.read(2)
+            magic = fh.read(2)
             fh.seek(0)
-            if head == GZIP_MAGIC:
+            if magic == GZIP_MAGIC:
                 with gzip.open(fh) as gz:
-                    return gz.read(limit) if limit else gz.read()
-            return fh.read(limit) if limit else fh.read()
+                    yield gz
+            else:
+                yield fh
+        return
     pos = source.tell()
-    data = source.read()
+    magic = source.read(2)
     source.seek(pos)
-    if data[:2] == GZIP_MAGIC:
-        data = gzip.decompress(data)
-    return data[:limit] if limit else data
+    try:
+        if magic == GZIP_MAGIC:
+            with gzip.open(source) as gz:
+                yield gz
+        else:
+            yield source
+    finally:
+        source.seek(pos)                       # a format check leaves the caller's file where it was
 
 
 def _fields(line: str) -> list[str]:
@@ -83,7 +109,7 @@ def _is_table(filename) -> bool:
         return False
     if b"\x00" in raw:
         return False
-    lines = raw.decode("latin-1").splitlines()
+    lines = raw.removeprefix(UTF8_BOM).decode("latin-1").splitlines()
     rows, width, named = 0, 0, False
     for line in lines[:-1]:                       # the last may be cut by the peek
         if not line.strip() or line.lstrip().startswith("#"):
@@ -127,32 +153,50 @@ def _interval(times: np.ndarray, *, name: str, first_line: int, text: list[str])
     return float(dt)
 
 
-def _read_table(filename, headonly: bool = False, **kwargs) -> Stream:
-    """Read a one- or two-column table (see the module)."""
+def _read_table(filename, headonly: bool = False, max_rows: int = MAX_ROWS, **kwargs) -> Stream:
+    """Read a one- or two-column table (see the module), as a stream: at most ``max_rows`` data rows (the
+    ``[records] max_samples`` of the run) and lines of at most :data:`MAX_LINE_BYTES` are read, so memory stays
+    bounded whatever the file (a gzip bomb is refused by the row limit, named)."""
     name = source_name(filename)
+    head: dict[str, str] = {}
+    values = array("d")
+    times: list[str] = []                              # the first time stamps as printed (their precision)
+    width, first_line, n_rows, named = 0, 0, 0, False
     try:
-        text = _raw(filename).decode("latin-1")
-    except OSError as exc:
+        with _lines(filename) as stream:
+            for k, raw in enumerate(iter(lambda: stream.readline(MAX_LINE_BYTES + 1), b""), start=1):
+                if len(raw) > MAX_LINE_BYTES:
+                    raise RecordFormatError(f"{name}, line {k}: longer than {MAX_LINE_BYTES:,} bytes; not a table "
+                                            "of one or two numbers per line")
+                line = (raw.removeprefix(UTF8_BOM) if k == 1 else raw).decode("latin-1")
+                if line.lstrip().startswith("#"):
+                    head.update({key.lower(): v for key, v in _PAIR.findall(line)})
+                    continue
+                if not line.strip():
+                    continue
+                fields = _fields(line)
+                if not first_line and not named and not _is_numeric_row(fields):
+                    named = True                                           # the column names
+                    continue
+                if not first_line:
+                    width, first_line = len(fields), k
+                if len(fields) != width or not _is_numeric_row(fields):
+                    raise RecordFormatError(f"{name}, line {k}: {line.strip()!r}; expected {width} number(s) per "
+                                            f"line like line {first_line}")
+                n_rows += 1
+                if n_rows > max_rows:
+                    raise RecordFormatError(f"{name}: more than {max_rows:,} rows; a record that long is refused "
+                                            "before it fills memory ([records] max_samples: raise it if the file "
+                                            "is a real record)")
+                if width == 2 and len(times) < TIME_TEXT_ROWS:
+                    times.append(fields[0])
+                values.extend(float(f.replace("D", "E").replace("d", "e")) for f in fields)
+    except (OSError, EOFError, zlib.error) as exc:
         raise RecordFormatError(f"{name}: cannot be read ({exc})") from exc
-    lines = text.splitlines()
-    head = _header(lines)
-    data_lines, line_nos = [], []
-    for k, line in enumerate(lines, start=1):
-        if line.strip() and not line.lstrip().startswith("#"):
-            data_lines.append(line)
-            line_nos.append(k)
-    if data_lines and not _is_numeric_row(_fields(data_lines[0])):
-        data_lines, line_nos = data_lines[1:], line_nos[1:]          # the column names
-    rows = [_fields(line) for line in data_lines]
-    width = len(rows[0]) if rows else 0
-    for k, fields in enumerate(rows):
-        if len(fields) != width or not _is_numeric_row(fields):
-            raise RecordFormatError(f"{name}, line {line_nos[k]}: {data_lines[k].strip()!r}; expected {width} "
-                                    f"number(s) per line like line {line_nos[0]}")
-    values = np.array([[float(f.replace("D", "E").replace("d", "e")) for f in r] for r in rows], dtype=float)
+    table = np.frombuffer(values, dtype=float).reshape(-1, width) if width else np.zeros((0, 1))
     if width == 2:
-        dt = _interval(values[:, 0], name=name, first_line=line_nos[0], text=[r[0] for r in rows])
-        acc = values[:, 1]
+        dt = _interval(table[:, 0], name=name, first_line=first_line, text=times)
+        acc = table[:, 1].copy()
     else:
         key = next((k for k in DT_KEYS if k in head), None)
         if key is None:
@@ -163,7 +207,7 @@ def _read_table(filename, headonly: bool = False, **kwargs) -> Stream:
         except ValueError:
             raise RecordFormatError(f"{name}: header {key}={head[key]!r} is not a number of seconds") from None
         check_interval(dt, name=name, where=f"header {key}")
-        acc = values[:, 0] if width else np.zeros(0)
+        acc = table[:, 0].copy() if width else np.zeros(0)
     if "n" in head and head["n"].isdigit() and int(head["n"]) != acc.size:
         raise RecordFormatError(f"{name}: the header says n={head['n']} samples, the table holds {acc.size}; the "
                                 "file is truncated or the header is wrong")

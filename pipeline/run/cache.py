@@ -31,7 +31,7 @@ import numpy as np
 from .. import __version__
 from ..errors import OutputError
 from ..schema import FLOOR_PULSE_SERIES, PULSE_SERIES, floor_key
-from ..store import STATE_DIR, replace_atomically
+from ..store import STATE_DIR, check_output_tree, output_names, replace_atomically
 from .screening import RecordResult
 
 log = logging.getLogger(__name__)
@@ -268,6 +268,7 @@ def ensure_writable(out_dir: str | Path) -> Path:
         Naming the directory and the reason, before any record is screened.
     """
     out = Path(out_dir)
+    check_output_tree(out, output_names=output_names(out))     # a planted link, a file where the state goes
     try:
         (out / STATE_DIR).mkdir(parents=True, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix=".probe.", dir=out)

@@ -32,9 +32,12 @@ from ..store import (
     Family,
     OutputLock,
     carry,
+    check_output_tree,
     describe,
+    output_names,
     publish,
     remove_stale_temporaries,
+    removed_unless_published,
     signals_held,
     staging_dir,
     write_atomic,
@@ -173,13 +176,16 @@ def rebuild_report(results_path: Path, out_dir: Path | None, *, all_figures: boo
     """
     cache = Path(results_path).parent / STATE_DIR / "figures"
     out = Path(out_dir) if out_dir is not None else Path(results_path).parent
+    check_output_tree(Path(results_path).parent,              # its figure cache is pruned too
+                      output_names=output_names(Path(results_path).parent))
     with OutputLock(out, command=command):
         stage = staging_dir(out, family=Family.SCREENING)
-        kept = carry(stage, out, [n for n in OUTPUT_SET if n not in REPORT_FILES])
-        build_report(results_path, stage, all_figures=all_figures, figure_cache=cache if cache.is_dir() else None,
-                     home=out)
-        with signals_held():                    # a signal during the switch is taken after it: never half a set
-            paths = publish(stage, out, [*kept, *REPORT_FILES], command=command)
+        with removed_unless_published(stage):
+            kept = carry(stage, out, [n for n in OUTPUT_SET if n not in REPORT_FILES])
+            build_report(results_path, stage, all_figures=all_figures,
+                         figure_cache=cache if cache.is_dir() else None, home=out)
+            with signals_held():                    # a signal during the switch is taken after it: never half a set
+                paths = publish(stage, out, [*kept, *REPORT_FILES], command=command)
         return paths[-2], paths[-1]
 
 
@@ -241,17 +247,19 @@ def screen(request: ScreenRequest, *, progress=None, say=None) -> ScreenResult:
             if say is not None:
                 say("writing screening.nc, pulses.nc, histories.nc and the report ...")
             stage = staging_dir(out_dir, family=Family.SCREENING)
-            staged = write_stage(outcome, results, histories, stage, provenance(request), margin_cache=margin_cache)
-            log.debug("write: %s", staged)
-            counts = outcome.counts
-            failed = [(str(r), str(st)) for r, st in zip(results["record"].values, results["status"].values)
-                      if st != "ok"]
-            del outcome, results, histories     # written: the report reads the files, not these
-            report_stage(staged, figure_cache=out_dir / STATE_DIR / "figures", home=out_dir)
-            with signals_held():                # a signal during the swap is taken after it: never half a set
-                path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET,
-                                                     command=shlex.join(["screen", *request.command]))
-                published = True
+            with removed_unless_published(stage):   # a failed write (a full disk) leaves no staged set behind
+                staged = write_stage(outcome, results, histories, stage, provenance(request),
+                                     margin_cache=margin_cache)
+                log.debug("write: %s", staged)
+                counts = outcome.counts
+                failed = [(str(r), str(st)) for r, st in zip(results["record"].values, results["status"].values)
+                          if st != "ok"]
+                del outcome, results, histories     # written: the report reads the files, not these
+                report_stage(staged, figure_cache=out_dir / STATE_DIR / "figures", home=out_dir)
+                with signals_held():                # a signal during the swap is taken after it: never half a set
+                    path, _, _, report, assets = publish(stage, out_dir, OUTPUT_SET,
+                                                         command=shlex.join(["screen", *request.command]))
+                    published = True
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
                 uptodate.write_manifest(out_dir, request.key, counts=counts, margins=margins, failures=failed)

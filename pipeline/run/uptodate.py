@@ -73,7 +73,7 @@ def tree_sha256(root: str | Path, *, exclude: Path | None = None) -> tuple[str, 
                 digest = file_sha256(p)
             except OSError as exc:      # unreadable: the full path reports it; here it is part of the key
                 digest = f"unreadable ({exc.errno})"
-            h.update(str(p.relative_to(root)).encode() + b"\0" + digest.encode() + b"\n")
+            h.update(os.fsencode(p.relative_to(root)) + b"\0" + digest.encode() + b"\n")
             n += 1
     return h.hexdigest(), n
 

@@ -38,6 +38,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import MeshError
+from .mesh_limits import MeshLimits, check_before_reading, check_body, check_sizes
 
 log = logging.getLogger(__name__)
 
@@ -53,6 +54,8 @@ TIPPING_BISECTIONS = 60
 #: The footprint's default tolerance above the lowest point of the settled base [m]
 FOOTPRINT_TOL_M = 0.002
 SUFFIXES = (".obj", ".ply", ".stl")
+#: The limits of ``[blocks]`` by default (:class:`.mesh_limits.MeshLimits`)
+DEFAULT_LIMITS = MeshLimits()
 
 
 class ScannedShape(NamedTuple):
@@ -122,20 +125,28 @@ class Pivots(NamedTuple):
     tipping_minus: float
 
 
-def _load(path: Path):
-    """The file as a closed, outward trimesh (a point cloud by its convex hull); and whether it was points."""
+def _load(path: Path, limits: MeshLimits):
+    """The file as a closed, outward trimesh of one body (a point cloud by its convex hull), after its size and
+    faces are checked against ``limits``; and whether it was points."""
     import trimesh
 
     if path.suffix.lower() not in SUFFIXES:
         raise MeshError(f"{path}: a mesh file ends in {', '.join(SUFFIXES)}, found {path.suffix!r}; export the scan "
                         "as OBJ, PLY or STL")
     try:
-        obj = trimesh.load(path, process=True)
+        check_before_reading(path, limits)
+    except OSError as exc:
+        raise MeshError(f"{path}: cannot be read ({exc.strerror or exc}); check the inventory's mesh path") from exc
+    try:
+        obj = trimesh.load(path, process=False)
     except Exception as exc:             # trimesh raises many kinds on a damaged file
         raise MeshError(f"{path}: could not be read as a mesh ({exc}); export it again as OBJ, PLY or STL") from exc
     if isinstance(obj, trimesh.Scene):
         parts = [g for g in obj.geometry.values() if isinstance(g, trimesh.Trimesh)]
         obj = trimesh.util.concatenate(parts) if parts else trimesh.PointCloud(np.zeros((0, 3)))
+    if isinstance(obj, trimesh.Trimesh) and len(obj.faces):
+        check_body(path, np.asarray(obj.vertices, dtype=float), 1)      # as written: processing drops NaN
+        obj.process()
     if not isinstance(obj, trimesh.Trimesh) or len(obj.faces) == 0:
         points = np.asarray(getattr(obj, "vertices", np.zeros((0, 3))), dtype=np.float64)
         if len(points) < 4:
@@ -150,6 +161,7 @@ def _load(path: Path):
     if not mesh.is_watertight:
         raise MeshError(f"{path}: the mesh is not closed (open edges), so it has no volume or centre of mass; close "
                         "its holes (e.g. MeshLab's Close Holes, or Blender's 3D-Print Toolbox) and export it again")
+    check_body(path, np.asarray(mesh.vertices, dtype=float), int(mesh.body_count))
     if mesh.volume < 0.0:                                   # faces pointing inward
         mesh.invert()
     return mesh, False
@@ -167,24 +179,21 @@ def _rotation_to(n: np.ndarray, target: np.ndarray) -> np.ndarray:
     return np.eye(3) + s * kx + (1.0 - c) * kx @ kx
 
 
-def _face_below(points: np.ndarray, com: np.ndarray):
-    """The outward normal of the convex hull's face that the downward vertical through ``com`` leaves by."""
+def settle(points: np.ndarray, com: np.ndarray, *, path: str = "") -> tuple[np.ndarray, float]:
+    """The rotation (about ``com``) that stands the body on a flat base, and its angle [deg] (see the module). The
+    hull is built once: turned about G, each face keeps its distance from G and only its normal turns."""
     from scipy.spatial import ConvexHull
 
-    hull = ConvexHull(points)
-    normals, offsets = hull.equations[:, :3], -hull.equations[:, 3]       # n . x = c, n outward
-    down = np.array([0.0, 0.0, -1.0])
-    facing = normals @ down
-    t = np.where(facing > 0.0, (offsets - normals @ com) / np.where(facing > 0.0, facing, 1.0), np.inf)
-    return normals[int(np.argmin(t))]
-
-
-def settle(points: np.ndarray, com: np.ndarray, *, path: str = "") -> tuple[np.ndarray, float]:
-    """The rotation (about ``com``) that stands the body on a flat base, and its angle [deg] (see the module)."""
+    equations = ConvexHull(points).equations
+    normals = equations[:, :3]                                   # n . x = c, n outward
+    distance = -equations[:, 3] - normals @ com                  # each face's distance from G
     total = np.eye(3)
     down = np.array([0.0, 0.0, -1.0])
     for _ in range(MAX_SETTLE_TURNS):
-        n = _face_below((points - com) @ total.T + com, com)
+        turned = normals @ total.T
+        facing = turned @ down
+        t = np.where(facing > 0.0, distance / np.where(facing > 0.0, facing, 1.0), np.inf)
+        n = turned[int(np.argmin(t))]                            # the face the vertical below G leaves the hull by
         if 1.0 - float(np.dot(n, down)) <= LEVEL_TOL:
             angle = math.degrees(math.acos(min(1.0, max(-1.0, total[2, 2]))))
             return total, angle
@@ -193,7 +202,8 @@ def settle(points: np.ndarray, com: np.ndarray, *, path: str = "") -> tuple[np.n
                     "check that the mesh is one closed body")
 
 
-def read_scan(path, *, density_kg_m3: float = math.nan, mass_kg: float = math.nan) -> ScannedShape:
+def read_scan(path, *, density_kg_m3: float = math.nan, mass_kg: float = math.nan,
+              limits: MeshLimits = DEFAULT_LIMITS) -> ScannedShape:
     """Read a scan and settle it on a flat base (see the module).
 
     Parameters
@@ -202,14 +212,27 @@ def read_scan(path, *, density_kg_m3: float = math.nan, mass_kg: float = math.na
         OBJ, PLY or STL, in metres, z up as the object stands.
     density_kg_m3, mass_kg : float
         Either gives the mass (NaN: none; rocking needs none).
+    limits : MeshLimits
+        The largest file and count of faces read, and the sizes the body may have.
 
     Raises
     ------
     MeshError
-        Unreadable, not closed, or not standing on the base below its centre of mass (the message says the fix).
+        Too large, unreadable, not closed, not one body, flat or not finite, of a size outside the columns' range,
+        or not standing on the base below its centre of mass (the message says the fix).
     """
     path = Path(path)
-    mesh, from_points = _load(path)
+    try:
+        return _read(path, density_kg_m3=density_kg_m3, mass_kg=mass_kg, limits=limits)
+    except (MeshError, MemoryError):
+        raise
+    except Exception as exc:             # trimesh and qhull raise many kinds on a damaged mesh
+        raise MeshError(f"{path}: a damaged mesh ({type(exc).__name__}: {exc}); repair it (e.g. MeshLab's "
+                        "Cleaning and Repairing filters) or export it again") from exc
+
+
+def _read(path: Path, *, density_kg_m3: float, mass_kg: float, limits: MeshLimits) -> ScannedShape:
+    mesh, from_points = _load(path, limits)
     props = mesh.mass_properties                             # unit density: mass = volume
     volume = float(props["volume"])
     if not volume > 0.0:
@@ -227,6 +250,8 @@ def read_scan(path, *, density_kg_m3: float = math.nan, mass_kg: float = math.na
     settled_hull[:, 2] -= base
     settled = (np.asarray(mesh.vertices, dtype=float) - com) @ rot.T
     settled[:, 2] -= base
+    extents = np.ptp(settled_hull, axis=0)
+    check_sizes(path, float(extents[2]), (float(extents[0]), float(extents[1])), limits)
     mass = mass_kg if math.isfinite(mass_kg) else density_kg_m3 * volume
     return ScannedShape(str(path), settled, settled_hull, -base, volume, rot @ inertia @ rot.T, float(mass), angle,
                         from_points)

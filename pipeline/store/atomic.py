@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable
@@ -16,6 +17,9 @@ import numpy as np
 
 from ..constants import STATE_DIR
 from ..errors import OutputError
+
+#: How netCDF4 begins the message of a failed file operation (a full disk among them), raised as RuntimeError
+NETCDF_ERROR = "NetCDF:"
 
 
 def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
@@ -48,6 +52,14 @@ def replace_atomically(path: str | Path, write: Callable[[str], None]) -> Path:
         _remove_quietly(tmp)
         raise OutputError(f"{path}: writing failed ({exc.strerror or exc}); the previous results, if "
                           "any, are intact. Free disk space or choose another --out") from exc
+    except RuntimeError as exc:
+        if not str(exc).startswith(NETCDF_ERROR):
+            _remove_quietly(tmp)
+            raise
+        free = shutil.disk_usage(path.parent).free          # netCDF4 reports a failed write (a full disk) so
+        _remove_quietly(tmp)
+        raise OutputError(f"{path}: writing failed ({exc}; {free:,} bytes free on that disk); the previous "
+                          "results, if any, are intact. Free disk space or choose another --out") from exc
     except BaseException:
         _remove_quietly(tmp)
         raise

@@ -9,8 +9,10 @@ import socket
 import time
 from pathlib import Path
 
-from ..errors import OutputLockedError
+from ..errors import OutputLockedError, UnsafeOutputError
 from .atomic import STATE_DIR
+from .guard import check_output_tree
+from .sets import output_names
 
 
 class OutputLock:
@@ -37,11 +39,17 @@ class OutputLock:
             return {}
 
     def acquire(self) -> "OutputLock":
+        out = self.path.parent.parent
+        check_output_tree(out, output_names=output_names(out))    # nothing planted is followed out of OUT
         self.path.parent.mkdir(parents=True, exist_ok=True)
         info = {"pid": os.getpid(), "host": socket.gethostname(),
                 "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "command": self.command}
         for _ in range(MAX_LOCK_ATTEMPTS):
-            fd = os.open(self.path, os.O_CREAT | os.O_RDWR, 0o644)
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_RDWR | os.O_NOFOLLOW, 0o644)
+            except OSError as exc:                    # ELOOP: a link planted since the check
+                raise UnsafeOutputError(f"{self.path}: cannot open the lock file without following a link "
+                                        f"({exc.strerror or exc}); remove it and run again") from exc
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:

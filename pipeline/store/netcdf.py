@@ -5,6 +5,7 @@ Variable attributes come from :mod:`pipeline.schema`.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Hashable, NamedTuple
@@ -14,7 +15,7 @@ import xarray as xr
 
 from ..errors import ResultsError
 from ..schema import FLOOR_PULSE_SERIES, FLOOR_PULSE_STATION, PULSE_SERIES
-from .atomic import replace_atomically
+from .atomic import STATE_DIR, replace_atomically
 
 #: Samples per chunk of a ragged array's per-sample variables. Left to itself, netCDF-C makes one chunk of a
 #: whole 1-D variable, which the HDF5 chunk cache then holds uncompressed until the file is closed (memory
@@ -275,6 +276,11 @@ def open_results(path: str | Path, *, variables: tuple[str, ...] | None = None) 
         If the file is missing or not a netCDF file.
     """
     path = Path(path)
+    if path.is_symlink() and not path.exists() and os.readlink(path).startswith(f"{STATE_DIR}/"):
+        raise ResultsError(f"{path}: a link of rockscreen's into {path.parent / STATE_DIR}, which this folder "
+                           f"lacks: a copy of the folder's contents left out its hidden {STATE_DIR} (cp -r OUT/* "
+                           "does). Copy the folder itself (cp -r OUT DEST, cp -a, tar, rsync -a) or follow the links "
+                           "(cp -rL OUT/* DEST)")
     if not path.is_file():
         raise ResultsError(f"{path}: results file not found; run 'screen --records DIR --blocks CSV --out DIR' "
                            "first, which writes DIR/screening.nc")

@@ -39,6 +39,7 @@ from typing import Callable
 
 from ..constants import STATE_DIR
 from ..errors import InterruptedAfterPublishing, OutputError
+from .guard import check_output_tree
 
 log = logging.getLogger(__name__)
 
@@ -165,6 +166,7 @@ def publish(stage: str | Path, out_dir: str | Path, names, *, command: str = "")
     """
     stage, out, names = Path(stage), Path(out_dir), list(names)
     family = stage.name.split(".", 1)[0]
+    check_output_tree(out, output_names=[*names, *output_names(out)])
     missing = [n for n in names if not (stage / n).is_file()]
     if missing:
         raise OutputError(f"{stage}: the staged set lacks {', '.join(missing)}; nothing was published")
@@ -213,6 +215,24 @@ def publish_staged(out_dir: str | Path, write: Callable[[Path], list[Path]], *, 
                                          f"complete ({', '.join(names)})") from None
 
 
+@contextlib.contextmanager
+def removed_unless_published(stage: str | Path):
+    """The staged set ``stage`` is removed when the block ends in an error before its publication (a full disk, an
+    interrupt), so failed runs leave no staged sets behind; a published stage is the current set and stays."""
+    try:
+        yield
+    except BaseException:
+        if not Path(stage).resolve() == _current_target(Path(stage)):
+            shutil.rmtree(stage, ignore_errors=True)
+        raise
+
+
+def _current_target(stage: Path) -> Path | None:
+    """The set directory the family of ``stage`` points at now (None: none)."""
+    ptr = stage.parent.parent / f"{stage.name.split('.', 1)[0]}{POINTER_SUFFIX}"
+    return ptr.resolve() if ptr.is_symlink() else None
+
+
 def describe(out_dir: str | Path, family: Family) -> str:
     """Which set ``out_dir`` shows for ``family``: its publication time and command, or '' when it has none."""
     try:
@@ -220,6 +240,15 @@ def describe(out_dir: str | Path, family: Family) -> str:
     except (OSError, ValueError):
         return ""
     return f"the set published {rec.get('published_utc', '?')} by '{rec.get('command', '?')}'"
+
+
+def output_names(out_dir: str | Path) -> list[str]:
+    """Every name of ``out_dir`` an output set may hold: each family's outputs, and the names each current set
+    records of itself."""
+    names = [n for family in Family for n in PLAIN_BEFORE_SETS[family]]
+    for family in Family:
+        names += _recorded_names(pointer(out_dir, family))
+    return list(dict.fromkeys(names))
 
 
 def link_target(family: Family | str, name: str) -> str:

@@ -109,3 +109,50 @@ def test_a_tables_component_may_give_its_azimuth(tmp_path):
     _, a = _motion(n=2000)
     rec = _record_of(tmp_path, "# dt_s=0.01 units=g component=35", a)
     assert rec.single_component and rec.azimuth_known and rec.azimuths_deg == (35.0,)
+
+
+def test_a_byte_order_mark_is_not_part_of_the_table(tmp_path):
+    """Windows programs write a UTF-8 byte-order mark first: the table reads as the same table without it."""
+    t, a = _motion()
+    text = "# dt_s=0.01 units=g\n" + "".join(f"{x:.7f}\n" for x in a)
+    (tmp_path / "plain.txt").write_bytes(text.encode())
+    (tmp_path / "bom.txt").write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert _is_table(tmp_path / "bom.txt")
+    plain, bom = (obspy.read(str(tmp_path / n), format="TABLE")[0] for n in ("plain.txt", "bom.txt"))
+    assert bom.stats.delta == plain.stats.delta and bom.stats.physical_units == "g"
+    np.testing.assert_array_equal(bom.data, plain.data)
+
+
+def test_a_gzip_bomb_is_refused_by_the_row_limit_in_bounded_memory(tmp_path):
+    """A 1 MB gzip table that expands to about 180 MB of rows is refused at the row limit, named; the reader reads
+    it as a stream, so its memory is the rows it kept (independent reading: tracemalloc's peak)."""
+    import tracemalloc
+
+    path = tmp_path / "bomb.txt.gz"
+    with gzip.open(path, "wb", compresslevel=1) as fh:
+        fh.write(b"# dt_s=0.01 units=g\n")
+        for _ in range(200):
+            fh.write(b"0.000000\n" * 100_000)
+    assert path.stat().st_size < 2_000_000
+    tracemalloc.start()
+    with pytest.raises(RecordFormatError, match=r"bomb\.txt\.gz: more than 10,000 rows.*max_samples"):
+        obspy.read(str(path), format="TABLE", check_compression=False, max_rows=10_000)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 5_000_000
+
+
+def test_the_run_reads_a_table_to_its_max_samples(tmp_path):
+    """The row limit is the run's [records] max_samples: a 2,000-row table fails alone under max_samples 1,000."""
+    import dataclasses
+
+    root = tmp_path / "recs"
+    root.mkdir()
+    (root / "long.txt").write_text("# dt_s=0.01 units=g\n" + "0.001\n" * 2000)
+    cfg = Config()
+    cfg = dataclasses.replace(cfg, records=dataclasses.replace(cfg.records, max_samples=1000))
+    from pipeline.records.loader import find_records
+
+    sources, failures = find_records(root, config=cfg)
+    assert not sources and len(failures) == 1
+    assert "long.txt: more than 1,000 rows" in failures[0].reason

@@ -822,3 +822,25 @@ def test_margins_split_into_tasks_of_a_few_blocks_give_the_same_margins(few_reco
     assert_same_results(a, b)
     assert (whole / "histories.nc").read_bytes() != b"" and \
         open_results(whole / "histories.nc").equals(open_results(split / "histories.nc"))
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+def test_a_signal_after_the_report_is_written_exits_130(make_records, tmp_path, sig):
+    """What a scheduler sends may arrive after the command's last line, while the interpreter winds down (here an
+    exit function that takes a second, as a cluster's clean-up may): the process still ends with 130, as documented
+    (it ended with 143 or 129, the signal's own death)."""
+    recs = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2")
+    blocks = tmp_path / "b.csv"
+    blocks.write_text("id,height_m,width_m,mu\nTOMB,1.1,0.2,0.65\n")
+    console = "import atexit, time; atexit.register(time.sleep, 1.0); from pipeline.cli import main; main()"
+    cmd = [sys.executable, "-c", console, "--samples", "0", "--records", str(recs), "--blocks", str(blocks),
+           "--out", str(tmp_path / "out")]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if "report.html" in line:                       # the last line: the outputs are complete
+            proc.send_signal(sig)
+            break
+    proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert (tmp_path / "out" / "report.html").is_file()

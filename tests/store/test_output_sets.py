@@ -9,6 +9,7 @@ import signal
 from pathlib import Path
 
 import pytest
+from small_run import one_record_run
 
 from pipeline.errors import OutputError
 from pipeline.store import sets
@@ -280,3 +281,27 @@ def test_an_output_directory_copied_through_its_links_publishes_again(tmp_path):
     assert (copy / ".rockscreen" / "screening.current").is_symlink()
     assert len(list((copy / ".rockscreen" / "sets").iterdir())) == 1
     assert view(out) == {n: f"old {n}" for n in FIVE}
+
+
+def test_a_full_disk_mid_write_exits_3_named_and_leaves_no_staged_set(make_records, tmp_path, monkeypatch, capsys):
+    """netCDF4 reports a write that found the disk full as ``RuntimeError: NetCDF: HDF error``: the run exits 3
+    naming the file and the free space, the previous set is what a reader sees, and no staged set is left behind
+    (failed runs on a full disk used to pile them up)."""
+    import xarray as xr
+
+    from pipeline.cli import main
+
+    run, out = one_record_run(make_records, tmp_path)
+    before = {n: (out / n).read_bytes() for n in FIVE}
+
+    def full(self, *args, **kwargs):
+        raise RuntimeError("NetCDF: HDF error")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
+    capsys.readouterr()
+    assert main([*run, "--force"]) == 3
+    err = capsys.readouterr().err
+    assert ".nc: writing failed (NetCDF: HDF error;" in err and "bytes free on that disk" in err, err
+    assert "Free disk space" in err
+    assert {n: (out / n).read_bytes() for n in FIVE} == before
+    assert len(list((out / ".rockscreen" / "sets").iterdir())) == 1

@@ -388,13 +388,32 @@ def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p)
 
 
 @jit
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
-    n_v = vertices.shape[0]
+def _extent(vertices):
+    """The body's size (its farthest vertex from G) and the height of G above its lowest vertex [m]."""
     size = 0.0
     z0 = 0.0
-    for i in range(n_v):
+    for i in range(vertices.shape[0]):
         size = max(size, math.sqrt(vertices[i, 0] ** 2 + vertices[i, 1] ** 2 + vertices[i, 2] ** 2))
         z0 = max(z0, -vertices[i, 2])
+    return size, z0
+
+
+@jit
+def _set_down(v, w, q, x, r, z0, impulses):
+    """A body found at rest: still, set down flat (its heading and place kept), its next motion from no impulse."""
+    v[:] = 0.0
+    w[:] = 0.0
+    heading = math.atan2(r[1, 0], r[0, 0])
+    q[:] = 0.0
+    q[0], q[3] = math.cos(heading / 2.0), math.sin(heading / 2.0)
+    x[2] = z0
+    impulses[:] = 0.0
+
+
+@jit
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
+    n_v = vertices.shape[0]
+    size, z0 = _extent(vertices)
     threshold = base_threshold(vertices, mu)
     impulses = np.zeros((n_v, 3))                   # the last step's impulse at each vertex (warm start)
     index = np.empty(n_v, dtype=np.int64)
@@ -464,13 +483,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
             break
         if n_c > 0 and tilt < REST_TILT_RAD and math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < REST_SPEED and \
                 math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * size < REST_SPEED:
-            v[:] = 0.0                              # flat on its base and still: at rest
-            w[:] = 0.0
-            heading = math.atan2(r[1, 0], r[0, 0])  # set down flat, its heading kept
-            q[:] = 0.0
-            q[0], q[3] = math.cos(heading / 2.0), math.sin(heading / 2.0)
-            x[2] = z0
-            impulses[:] = 0.0                       # its next motion starts from no impulse, as at the start
+            _set_down(v, w, q, x, r, z0, impulses)  # flat on its base and still: at rest
             resting = True
             if not during:
                 break
