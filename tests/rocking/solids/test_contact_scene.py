@@ -71,3 +71,46 @@ def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_
     assert int(on["physics"].values[0, 0]) == Physics.contact3d and int(on["overturn_simulated"].values[0, 0]) == 1
     assert int(on["samples_without_verdict"].values[0, 0]) < int(off["samples_without_verdict"].values[0, 0])
     assert np.isfinite(on["overturn_scale_simulated"].values[0])
+
+
+def test_a_drum_that_slides_without_lifting_is_handed_over_not_kept_at_rest():
+    """A 2 x 2 m drum, mu 0.3 < tan alpha = 1, under a 0.35 g sine: it never lifts, but its base slides, which the
+    cylinder's model kept at rest (stands, physics none). It now stops there (no verdict, model_limit, a slide), and
+    the hand-off decides it: stands, having slid the planar Coulomb model's distance (independent: the planar
+    stick-slip kernel)."""
+    from pipeline.rocking.block import ShapeKind
+    from pipeline.rocking.scene import Response
+    from pipeline.rocking.simulate import slide
+
+    dt = 0.005
+    t = np.arange(0.0, 6.0, dt)
+    ah = 0.35 * 9.80665 * np.sin(2 * np.pi * t) * (t < 4.0)
+    drum = solid_of(BlockShape(height_m=2.0, width_m=2.0, mu=0.3, kind=ShapeKind.cylinder), record_azimuth_deg=0.0,
+                    known_azimuth=True)
+    exact = judge_solid(ah, np.zeros_like(ah), None, dt, drum, settings=SimulationConfig()).scene
+    assert exact.verdict == -1 and exact.guard & Guard.model_limit and exact.response == Response.slide
+    handed = judge_solid(ah, np.zeros_like(ah), None, dt, drum, settings=SimulationConfig(contact3d=True)).scene
+    assert handed.verdict == 0 and handed.physics == Physics.contact3d and handed.response == Response.slide
+    assert handed.sliding_max_m == pytest.approx(slide(ah, dt, mu=0.3).sliding_max_m, rel=1e-3)
+
+
+@pytest.mark.parametrize("across_g, exact_verdict", [(0.0, 0), (0.10, 0), (0.34, -1)])
+def test_the_narrow_box_whose_corner_slips_gets_a_verdict(across_g, exact_verdict):
+    """A 0.24 x 0.24 x 0.62 m box (mu 0.62) under a 0.3 s one-sine of 1.45 g tan(alpha) along its width and a cross
+    motion: where one corner of the edge it rocks on would slip (0.34 g across), the exact model stops; handed over,
+    the scene has a verdict (it stands, having slid and twisted), and the scenes the exact model decides keep theirs."""
+    import math
+
+    from pipeline.rocking.block import ShapeKind
+
+    dt = 0.005
+    t = np.arange(0.0, 5.0, dt)
+    pulse = np.sin(2 * np.pi * t / 0.3) * (t < 0.3)
+    ax, ay = 1.45 * math.tan(math.atan(0.12 / 0.31)) * 9.80665 * pulse, across_g * 9.80665 * pulse
+    box = solid_of(BlockShape(height_m=0.62, width_m=0.24, mu=0.62, azimuth_deg=0.0, depth_m=0.24,
+                              kind=ShapeKind.box), record_azimuth_deg=0.0, known_azimuth=True)
+    exact = judge_solid(ax, ay, None, dt, box, settings=SimulationConfig()).scene
+    handed = judge_solid(ax, ay, None, dt, box, settings=SimulationConfig(contact3d=True)).scene
+    assert exact.verdict == exact_verdict
+    assert handed.verdict == 0
+    assert (handed.physics == Physics.contact3d) == (exact_verdict == -1)
