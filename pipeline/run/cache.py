@@ -259,8 +259,9 @@ def merge(old, new):
     return new
 
 
-def ensure_writable(out_dir: str | Path) -> Path:
-    """Create the output directory and check that files can be created in it.
+def ensure_writable(out_dir: str | Path, *, replaces=()) -> Path:
+    """Create the output directory and check that files can be created in it, after :func:`check_output_tree`
+    (``replaces``: the names the command writes, which must not be a user's own files in a fresh folder).
 
     Raises
     ------
@@ -268,7 +269,7 @@ def ensure_writable(out_dir: str | Path) -> Path:
         Naming the directory and the reason, before any record is screened.
     """
     out = Path(out_dir)
-    check_output_tree(out, output_names=output_names(out))     # a planted link, a file where the state goes
+    check_output_tree(out, output_names=output_names(out), replaces=replaces)  # planted links; a user's files
     try:
         (out / STATE_DIR).mkdir(parents=True, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix=".probe.", dir=out)

@@ -712,10 +712,11 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     from ..report.fragility_html import build_fragility_report
     from ..store import Family, OutputLock, publish_staged, write_atomic
     from ..store.exports import left_out, write_exports
+    from ..store.sets import PLAIN_BEFORE_SETS
     from .cache import ensure_writable
     from .executors import make_executor
 
-    out_dir = ensure_writable(request.out_dir)
+    out_dir = ensure_writable(request.out_dir, replaces=PLAIN_BEFORE_SETS[Family.FRAGILITY])
     station = read_inventory(request.records_dir, request.stationxml)
     levels = request.levels
     _say_why_all_is_new(out_dir, request)

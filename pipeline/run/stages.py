@@ -294,7 +294,8 @@ def prepare(request: ScreenRequest) -> tuple:
     station_inventory = read_station_inventory(request.records_dir, request.stationxml)
     stationxml_sha = files_sha256(stationxml_paths(request.records_dir, request.stationxml))
     declared = read_declared_units(request.records_dir, request.config)
-    return station_inventory, stationxml_sha, declared, found, ensure_writable(request.out_dir)
+    return station_inventory, stationxml_sha, declared, found, ensure_writable(request.out_dir,
+                                                                             replaces=OUTPUT_SET)
 
 
 def preflight(records_dir: Path, out_dir: Path) -> None:

@@ -13,8 +13,8 @@ that is not what rockscreen makes there:
   copy that followed the links, which a publish turns back into a set);
 - ``OUT/<name>``, for each name an output set may hold: absent, a regular file (a copy's, or an older rockscreen's),
   or the link ``.rockscreen/<family>.current/<name>`` rockscreen makes; in a folder without ``.rockscreen`` (one
-  rockscreen never wrote into) regular files by such names, without a netCDF result among them, are the user's,
-  and refused rather than replaced.
+  rockscreen never wrote into) regular files by the names the command writes, without a netCDF result among them,
+  are the user's, and refused rather than replaced (``replaces``, as the commands prepare their output).
 
 It runs when the output's lock is taken (every command that writes ``OUT`` takes it) and again before each publish
 and each clean-up, so a planted link is refused (:class:`~pipeline.errors.UnsafeOutputError`, exit 3) before anything
@@ -42,7 +42,7 @@ TEMPORARY_LINK_SUFFIX = ".link.tmp"
 MAX_DEPTH = 3
 
 
-def check_output_tree(out_dir: str | Path, *, output_names) -> None:
+def check_output_tree(out_dir: str | Path, *, output_names, replaces=()) -> None:
     """Refuse an output directory where something rockscreen touches is not what it makes there (see the module).
 
     Parameters
@@ -53,6 +53,9 @@ def check_output_tree(out_dir: str | Path, *, output_names) -> None:
     output_names : iterable of str
         The names of ``OUT`` a set may hold (:func:`.sets.output_names`: each family's outputs and the names each
         current set records); a link by one of these names must be rockscreen's own.
+    replaces : iterable of str
+        The names the command will write: in a folder rockscreen never wrote into, a regular file by one of them
+        (with no results netCDF beside it) is the user's, and refused.
 
     Raises
     ------
@@ -74,7 +77,7 @@ def check_output_tree(out_dir: str | Path, *, output_names) -> None:
         _check_state(state)
     _check_outputs(out, set(output_names))
     if kind == "absent":
-        _refuse_foreign_files(out, set(output_names))
+        _refuse_foreign_files(out, set(replaces))
 
 
 def _check_state(state: Path) -> None:
