@@ -29,7 +29,7 @@ from .constants import G
 from .errors import InventoryError
 from .rocking.block import Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
-from .shapes.mesh_limits import SIZE_RANGE_M, MeshLimits
+from .shapes.mesh_limits import DEFAULT_LIMITS, SIZE_RANGE_M, MeshLimits
 from .tables import close_match, parse_number, read_csv_table
 
 log = logging.getLogger(__name__)
@@ -49,9 +49,6 @@ UNUSED = {"azimuth_deg": ": every block's azimuth is blank, so each is of unknow
           "depth_m": ": no box has a depth (each is judged in the plane of its width)",
           "base_margin_m": ": no block's base margin is checked", "shape": ": every block is a box",
           "mesh": ": no block is given by its scan"}
-#: The largest scan read, and the sizes it may have (the columns' range, SIZE_RANGE_M: plausible block sizes [m],
-#: from a small figurine to a tall obelisk or rock pillar), unless ``[blocks]`` says
-DEFAULT_MESH_LIMITS = MeshLimits(size_range_m=SIZE_RANGE_M)
 #: Heights above this are accepted but warned about: taller than the free-standing objects screened
 #: (columns, obelisks, precarious rock pillars); often centimetres typed as metres [m].
 PLAUSIBLE_HEIGHT_M = 30.0
@@ -266,7 +263,7 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
 
 
 def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None = None,
-                   mesh_limits: MeshLimits = DEFAULT_MESH_LIMITS) -> Inventory:
+                   mesh_limits: MeshLimits = DEFAULT_LIMITS) -> Inventory:
     """Read and validate an inventory CSV; every bad row is reported, and any stops everything.
 
     Columns: :data:`REQUIRED`, :data:`OPTIONAL`, those of the fields a model declared on the block
@@ -425,7 +422,7 @@ def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str])
 
 
 def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], errors: list[str], *,
-               limits: MeshLimits = DEFAULT_MESH_LIMITS) -> None:
+               limits: MeshLimits = DEFAULT_LIMITS) -> None:
     """The ``mesh`` cell (a scan, relative to the inventory's folder) with ``density_kg_m3`` or ``mass_kg``: the
     settled scan (:func:`pipeline.shapes.scan.read_scan`), the block's kind ``scanned``, its azimuth over 360 deg
     (its two sides differ) and, where blank, its height and width from its equivalent rectangle."""

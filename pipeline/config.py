@@ -22,7 +22,7 @@ from .errors import ConfigError
 from .records.processing import INTEGRATION_METHODS, STEP_PARAMS
 from .records.settings import ProcessingConfig, RecordsConfig
 from .rocking.settings import ScannedModel, SimulationConfig
-from .shapes.mesh_limits import SIZE_RANGE_M, MeshLimits
+from .shapes.mesh_limits import DEFAULT_LIMITS, MeshLimits
 from .uncertainty.settings import UncertaintyConfig
 
 __all__ = ["Config", "ProcessingConfig", "RecordsConfig", "SimulationConfig", "UncertaintyConfig", "config_from_dict",
@@ -42,13 +42,13 @@ class BlocksConfig:
     default_mu: float = 0.6
     #: The largest scan read (a ``mesh`` column): faces, and the file's size [MB]; a larger one is refused, named,
     #: before it is read (decimate it, or raise these).
-    max_mesh_faces: int = 2_000_000
-    max_mesh_mb: float = 500.0
+    max_mesh_faces: int = DEFAULT_LIMITS.max_faces
+    max_mesh_mb: float = DEFAULT_LIMITS.max_mb
 
     def mesh_limits(self) -> MeshLimits:
         """The largest scan the inventory reads, as :func:`pipeline.shapes.scan.read_scan` takes it (its sizes held
         to the columns' range, :data:`pipeline.shapes.mesh_limits.SIZE_RANGE_M`)."""
-        return MeshLimits(max_faces=self.max_mesh_faces, max_mb=self.max_mesh_mb, size_range_m=SIZE_RANGE_M)
+        return DEFAULT_LIMITS._replace(max_faces=self.max_mesh_faces, max_mb=self.max_mesh_mb)
 
 
 @dataclass(frozen=True)

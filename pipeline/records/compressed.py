@@ -2,7 +2,7 @@
 record whole into memory before its reader sees it, so a small file that expands to gigabytes (a decompression
 bomb, or a mistaken archive) would fill memory. :func:`refuse_if_expands_beyond` decompresses it as a stream,
 keeping nothing, and refuses it once it passes the limit (the largest file a record of ``[records] max_samples``
-samples takes, as :func:`pipeline.records.plausibility.refuse_large_files` reckons it for plain files)."""
+samples takes: :func:`pipeline.records.plausibility.file_size_limit`)."""
 
 from __future__ import annotations
 

@@ -35,9 +35,8 @@ from .coordinates import StationLocation, station_location
 from .detect import detect_format, looks_like_a_record
 from .orientation import Orientation, orientation_of
 from .plausibility import (
-    BYTES_PER_SAMPLE_MAX,
-    COMPONENTS_PER_FILE_MAX,
     check_plausible,
+    file_size_limit,
     refuse_implausible_headers,
     refuse_large_files,
 )
@@ -214,7 +213,7 @@ def _read(path: Path, *, fmt: str | None = None, headonly: bool = False,
                 st = obspy.read(str(path), format=fmt, headonly=headonly, check_compression=False,
                                 max_rows=max_rows)
             else:
-                refuse_if_expands_beyond(path, BYTES_PER_SAMPLE_MAX * COMPONENTS_PER_FILE_MAX * max_rows)
+                refuse_if_expands_beyond(path, file_size_limit(max_rows))
                 st = obspy.read(str(path), format=fmt, headonly=headonly)
         for w in caught:
             if "end of file" in str(w.message).lower():

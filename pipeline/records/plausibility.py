@@ -65,6 +65,12 @@ def implausibilities(traces, *, records: RecordsConfig) -> list[str]:
     return out
 
 
+def file_size_limit(max_samples: int) -> int:
+    """The largest file a record of ``max_samples`` samples takes: :data:`BYTES_PER_SAMPLE_MAX` x
+    :data:`COMPONENTS_PER_FILE_MAX` x ``max_samples`` [bytes] (as text, or decompressed)."""
+    return BYTES_PER_SAMPLE_MAX * COMPONENTS_PER_FILE_MAX * max_samples
+
+
 def refuse_large_files(sizes, *, records: RecordsConfig) -> None:
     """Refuse a record whose file is larger than :data:`BYTES_PER_SAMPLE_MAX` x :data:`COMPONENTS_PER_FILE_MAX` x
     ``max_samples`` bytes, before anything of it is read; ``sizes``: (path, bytes) of each file. Nothing is
@@ -75,7 +81,7 @@ def refuse_large_files(sizes, *, records: RecordsConfig) -> None:
     ImplausibleRecordError
         Naming the file, its size and the limit, and the fix.
     """
-    limit = BYTES_PER_SAMPLE_MAX * COMPONENTS_PER_FILE_MAX * records.max_samples
+    limit = file_size_limit(records.max_samples)
     found = [f"{p}: {size:,} bytes, more than a file of {COMPONENTS_PER_FILE_MAX} components of "
              f"{records.max_samples:,} samples takes ({limit:,} bytes; [records] max_samples)"
              for p, size in sizes if size > limit]

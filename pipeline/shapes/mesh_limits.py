@@ -21,7 +21,8 @@ CHUNK_BYTES = 1 << 20
 #: A PLY header is at most this long [bytes]
 PLY_HEADER_BYTES = 1 << 16
 _PLY_FACES = re.compile(rb"^element\s+face\s+(\d+)\s*$", re.MULTILINE)
-#: The sizes a body may have, as the inventory's size columns accept them [m]
+#: The sizes a block may have, as the inventory's size columns and a scan's extents are held to them [m]: from a
+#: small figurine to a tall obelisk or rock pillar
 SIZE_RANGE_M = (0.01, 100.0)
 
 
@@ -41,6 +42,10 @@ class MeshLimits(NamedTuple):
     max_faces: int = 2_000_000
     max_mb: float = 500.0
     size_range_m: tuple[float, float] = SIZE_RANGE_M
+
+
+#: The limits by default (``[blocks]``'s defaults are these)
+DEFAULT_LIMITS = MeshLimits()
 
 
 def check_before_reading(path: Path, limits: MeshLimits) -> int:
@@ -93,8 +98,8 @@ def _count_lines(fh, head: bytes, keyword: bytes) -> int:
     return count + (1 if tail.lstrip().split(b" ", 1)[0] == keyword else 0)
 
 
-def check_body(path: Path, vertices: np.ndarray, body_count: int) -> None:
-    """A read mesh is a body: finite coordinates, extent in every direction, one connected piece.
+def check_body(path: Path, vertices: np.ndarray) -> None:
+    """A mesh as written is a body: finite coordinates, extent in every direction.
 
     Raises
     ------
@@ -109,6 +114,16 @@ def check_body(path: Path, vertices: np.ndarray, body_count: int) -> None:
     if not np.min(extents) > 1e-9 * max(float(np.max(extents)), 1e-300):
         raise MeshError(f"{path}: flat (its extents {', '.join(f'{e:.4g}' for e in extents)} m): a surface, not a "
                         "body; export the closed scan of the whole object")
+
+
+def check_one_body(path: Path, body_count: int) -> None:
+    """A closed mesh is one connected body, not several screened as one rigid body.
+
+    Raises
+    ------
+    MeshError
+        Naming the count, and the fix.
+    """
     if body_count > 1:
         raise MeshError(f"{path}: {body_count} separate bodies in one mesh, which would be screened as one rigid "
                         "body; export each object to its own file (one row of the inventory each)")

@@ -38,7 +38,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import MeshError
-from .mesh_limits import MeshLimits, check_before_reading, check_body, check_sizes
+from .mesh_limits import DEFAULT_LIMITS, MeshLimits, check_before_reading, check_body, check_one_body, check_sizes
 
 log = logging.getLogger(__name__)
 
@@ -54,8 +54,6 @@ TIPPING_BISECTIONS = 60
 #: The footprint's default tolerance above the lowest point of the settled base [m]
 FOOTPRINT_TOL_M = 0.002
 SUFFIXES = (".obj", ".ply", ".stl")
-#: The limits of ``[blocks]`` by default (:class:`.mesh_limits.MeshLimits`)
-DEFAULT_LIMITS = MeshLimits()
 
 
 class ScannedShape(NamedTuple):
@@ -145,7 +143,7 @@ def _load(path: Path, limits: MeshLimits):
         parts = [g for g in obj.geometry.values() if isinstance(g, trimesh.Trimesh)]
         obj = trimesh.util.concatenate(parts) if parts else trimesh.PointCloud(np.zeros((0, 3)))
     if isinstance(obj, trimesh.Trimesh) and len(obj.faces):
-        check_body(path, np.asarray(obj.vertices, dtype=float), 1)      # as written: processing drops NaN
+        check_body(path, np.asarray(obj.vertices, dtype=float))      # as written: processing drops NaN
         obj.process()
     if not isinstance(obj, trimesh.Trimesh) or len(obj.faces) == 0:
         points = np.asarray(getattr(obj, "vertices", np.zeros((0, 3))), dtype=np.float64)
@@ -161,7 +159,7 @@ def _load(path: Path, limits: MeshLimits):
     if not mesh.is_watertight:
         raise MeshError(f"{path}: the mesh is not closed (open edges), so it has no volume or centre of mass; close "
                         "its holes (e.g. MeshLab's Close Holes, or Blender's 3D-Print Toolbox) and export it again")
-    check_body(path, np.asarray(mesh.vertices, dtype=float), int(mesh.body_count))
+    check_one_body(path, int(mesh.body_count))
     if mesh.volume < 0.0:                                   # faces pointing inward
         mesh.invert()
     return mesh, False

@@ -32,9 +32,9 @@ from pathlib import Path
 from ..constants import STATE_DIR
 from ..errors import UnsafeOutputError
 
-#: The suffix of a family's pointer in the state directory (as :data:`.sets.POINTER_SUFFIX`)
+#: The suffix of a family's pointer in the state directory, ``<family>.current`` (:mod:`.sets` uses these)
 POINTER_SUFFIX = ".current"
-#: The folder of set directories (as :data:`.sets.SETS`)
+#: The folder of set directories, in the state directory
 SETS = "sets"
 #: A temporary link of a publish killed before its rename (``.<name>.<pid>.link.tmp``), removed by the next publish
 TEMPORARY_LINK_SUFFIX = ".link.tmp"

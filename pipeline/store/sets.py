@@ -39,7 +39,7 @@ from typing import Callable
 
 from ..constants import STATE_DIR
 from ..errors import InterruptedAfterPublishing, OutputError
-from .guard import check_output_tree
+from .guard import POINTER_SUFFIX, SETS, check_output_tree
 
 log = logging.getLogger(__name__)
 
@@ -69,10 +69,6 @@ PLAIN_BEFORE_SETS = {
     Family.INFERENCE: ("infer.nc", "infer.png"),
 }
 
-#: Where set directories live, inside the output's state directory
-SETS = "sets"
-#: The pointer of a family of outputs, ``<family>.current`` in the state directory
-POINTER_SUFFIX = ".current"
 #: What each set directory records of itself (family, names, when it was published, the command)
 SET_RECORD = "set.json"
 #: The staging directory of rockscreen before output sets (removed when found)
@@ -222,15 +218,11 @@ def removed_unless_published(stage: str | Path):
     try:
         yield
     except BaseException:
-        if not Path(stage).resolve() == _current_target(Path(stage)):
+        stage = Path(stage)
+        ptr = pointer(stage.parent.parent.parent, stage.name.split(".", 1)[0])
+        if not (ptr.is_symlink() and ptr.resolve() == stage.resolve()):
             shutil.rmtree(stage, ignore_errors=True)
         raise
-
-
-def _current_target(stage: Path) -> Path | None:
-    """The set directory the family of ``stage`` points at now (None: none)."""
-    ptr = stage.parent.parent / f"{stage.name.split('.', 1)[0]}{POINTER_SUFFIX}"
-    return ptr.resolve() if ptr.is_symlink() else None
 
 
 def describe(out_dir: str | Path, family: Family) -> str:

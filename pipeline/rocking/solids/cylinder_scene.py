@@ -17,7 +17,7 @@ from ...constants import G
 from ..block import BlockShape
 from ..geometry import cylinder_p_e, effective_restitution
 from ..settings import SimulationConfig
-from .cylinder3d import Cylinder, WobbleOutcome, simulate_cylinder
+from .cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder, WobbleOutcome, simulate_cylinder
 
 
 def cylinder_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Cylinder:
@@ -31,7 +31,14 @@ def cylinder_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Cylind
 def run_on_record(h1, h2, vertical, dt_s: float, cylinder: Cylinder, *, settings: SimulationConfig,
                   g_ms2: float = G, amplitude: float = 1.0) -> WobbleOutcome:
     """The 3D model on a record's two horizontals (the second 90 deg clockwise of the first) and its vertical
-    (None: none), all scaled by ``amplitude``."""
+    (None: none), all scaled by ``amplitude``. The model holds a cylinder that never lifts at rest; where the ground
+    then slid its base (|a_h| > mu (g + a_v) at a sample: the ground is linear between samples, so the peak is at
+    one) or fell away (g + a_v <= 0), the outcome is flagged FLAG_SLIDE, a stop the model does not follow."""
+    x, y = amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float)
     av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
-    return simulate_cylinder(amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float), av,
-                             dt_s, cylinder, g_ms2=g_ms2, rtol=settings.rtol, atol_alpha=settings.atol)
+    out = simulate_cylinder(x, y, av, dt_s, cylinder, g_ms2=g_ms2, rtol=settings.rtol, atol_alpha=settings.atol)
+    if out.flag == FLAG_NONE and not out.theta_max_rad > 0:
+        gv = g_ms2 + (0.0 if av is None else av)
+        if np.any(gv <= 0.0) or np.any(np.hypot(x, y) > cylinder.mu * gv):
+            out = out._replace(flag=FLAG_SLIDE)
+    return out

@@ -178,10 +178,6 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
                 theta > 0, solid.azimuth_deg, np.where(theta < 0, solid.azimuth_deg + 180.0, math.nan))
             return Judged(cs.scene, solid.azimuth_deg if cs.scene.theta_max > 0 else math.nan, True, lean)
     out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
-    if isinstance(solid.body, Cylinder) and out.flag == FLAG_NONE and not out.theta_max_rad > 0:
-        # never lifted, yet not at rest by the certificate above: its base slid (|a_h| > mu (g + a_v)) or the
-        # ground fell away, which the cylinder's model keeps at rest and does not follow
-        out = out._replace(flag=FLAG_SLIDE)
     lean = np.where(out.theta > 0, np.degrees(out.azimuth), math.nan) if history else None
     scene = scene_of(out, solid, history=history)
     if settings.contact3d and scene.guard & Guard.model_limit:     # held_past_alpha kept: measured better

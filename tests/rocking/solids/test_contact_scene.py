@@ -114,3 +114,8 @@ def test_the_narrow_box_whose_corner_slips_gets_a_verdict(across_g, exact_verdic
     assert exact.verdict == exact_verdict
     assert handed.verdict == 0
     assert (handed.physics == Physics.contact3d) == (exact_verdict == -1)
+    from rigid_body_peer import bullet_box_overturns, pybullet
+
+    pybullet()                              # an independent engine (a skip, said, where it is not installed)
+    overturns, _ = bullet_box_overturns(ax, -ay, None, dt, width_m=0.24, depth_m=0.24, height_m=0.62, mu=0.62)
+    assert handed.verdict == int(overturns)                      # the models' y is the record's second reversed
