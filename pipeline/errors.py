@@ -71,6 +71,10 @@ class HazardError(RockscreenError, ValueError):
     """The hazard-curve CSV is invalid (names file, line and value)."""
 
 
+class ConstraintError(RockscreenError, ValueError):
+    """Inputs of a hazard constraint by fragile rocks that cannot be used (an age, a branch, a weight, a rock)."""
+
+
 class ConfigError(RockscreenError, ValueError):
     """The TOML configuration is invalid (names the key and the valid values)."""
 

@@ -689,3 +689,60 @@ EVENT: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                     "and the record's", {"flag_values": np.array([0, 1], dtype="i1"),
                                          "flag_meanings": "shakemap record"}),
 }
+
+
+#: ``constrain.nc`` (``screen constrain``): the constraint standing fragile rocks put on a hazard model's end
+#: branches. Levels and fragility medians in the IM's SI unit (global attribute ``im_units``).
+CONSTRAIN: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
+    "rock": (("rock",), None, "rock id (the fragility run's block id)", {}),
+    "branch": (("branch",), None, "end branch of the hazard model's logic tree (OpenQuake realization, or curve "
+               "file)", {}),
+    "im_level": (("im_level",), IM_UNITS, "IM level every branch's curve covers", {}),
+    "fractile": (("fractile",), "1", "fractile of the branches' hazard", {}),
+    "target_rate": (("target_rate",), "yr-1", "annual rate of exceedance at which the hazard's change is read", {}),
+    "branch_path": (("branch",), None, "the branch's path through the logic tree, as the file gives it", {}),
+    "prior_weight": (("branch",), "1", "the branch's weight in the hazard model", {}),
+    "posterior_weight": (("branch",), "1", "the branch's weight given that the rocks stood through their ages "
+                         "(Bayes' rule)", {}),
+    "likelihood": (("branch",), "1", "probability that the rocks stood through their ages under the branch, the "
+                   "rocks combined as the global attribute combine says", {}),
+    "likelihood_rock": (("rock", "branch"), "1", "probability that the rock stood through its age under the branch: "
+                        "exp(-rate T) averaged over the age and the fragility's draws", {}),
+    "posterior_weight_rock": (("rock", "branch"), "1", "the branch's posterior weight given this rock alone", {}),
+    "toppling_rate": (("rock", "branch"), "yr-1", "annual rate of toppling: the fitted fragility integrated over "
+                      "the branch's hazard curve", {}),
+    "toppling_rate_low": (("rock", "branch"), "yr-1", "5th percentile of the toppling rate over the fragility's "
+                          "draws", {}),
+    "toppling_rate_high": (("rock", "branch"), "yr-1", "95th percentile of the toppling rate over the fragility's "
+                           "draws", {}),
+    "toppling_rate_upper": (("rock", "branch"), "yr-1", "upper bound of the toppling rate: the fragility below the "
+                            "top level tested and toppling certain above it",
+                            {"comment": "NaN where the top level tested is not known (a fragility table)"}),
+    "hazard_rate": (("branch", "im_level"), "yr-1", "the branch's annual rate of exceedance", {}),
+    "age_mean": (("rock",), "year", "mean exposure age of the rock", {}),
+    "age_sd": (("rock",), "year", "standard deviation of the exposure age", {}),
+    "fragility_median": (("rock",), IM_UNITS, "median of the rock's lognormal fragility", {}),
+    "fragility_beta": (("rock",), "1", "dispersion of the rock's lognormal fragility", {}),
+    "fragility_median_draws_low": (("rock",), IM_UNITS, "5th percentile of the fragility median's draws", {}),
+    "fragility_median_draws_high": (("rock",), IM_UNITS, "95th percentile of the fragility median's draws", {}),
+    "fragility_top_level": (("rock",), IM_UNITS, "largest IM level the fragility was tested at",
+                            {"comment": "inf: not known (a fragility table)"}),
+    "fit_status": (("rock",), None, "how the fragility's fit ended", flags(FitStatus, missing=None)),
+    "mean_rate_prior": (("im_level",), "yr-1", "mean hazard curve of the prior weights", {}),
+    "mean_rate_posterior": (("im_level",), "yr-1", "mean hazard curve of the posterior weights", {}),
+    "fractile_rate_prior": (("fractile", "im_level"), "yr-1", "fractile hazard curves of the prior weights", {}),
+    "fractile_rate_posterior": (("fractile", "im_level"), "yr-1", "fractile hazard curves of the posterior weights",
+                                {}),
+    "mean_level_prior": (("target_rate",), IM_UNITS, "IM level of the prior mean curve at the target rate",
+                         {"comment": "NaN: the curve does not reach the rate within its levels"}),
+    "mean_level_posterior": (("target_rate",), IM_UNITS, "IM level of the posterior mean curve at the target rate",
+                             {"comment": "NaN: the curve does not reach the rate within its levels"}),
+    "fractile_level_prior": (("fractile", "target_rate"), IM_UNITS, "IM level of each prior fractile curve at the "
+                             "target rate", {}),
+    "fractile_level_posterior": (("fractile", "target_rate"), IM_UNITS, "IM level of each posterior fractile curve "
+                                 "at the target rate", {}),
+    "mean_level_change": (("target_rate",), "1", "relative change of the mean hazard's level at the target rate "
+                          "(posterior / prior - 1)", {}),
+    "range_change": (("target_rate",), "1", "relative change of the width of the 5-95 % fractile range of levels at "
+                     "the target rate (posterior / prior - 1)", {}),
+}

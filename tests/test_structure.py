@@ -87,6 +87,7 @@ CLI_LIBRARY_IMPORTS = {
     "records.intensity": "IMS, SCALABLE, display_unit: the IMs --im accepts and the unit --levels is printed in",
     "uncertainty.hazard": "Component: the component definitions --im-component accepts",
     "event.assets": "Level: the inspection levels it counts",
+    "uncertainty.constraint": "Combine: the rules --combine accepts",
 }
 #: The application modules the CLI calls (the run layer orchestrates; these read inputs or name outputs; ticker says
 #: something at least every 2 s: printing, the CLI's own work).

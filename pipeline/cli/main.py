@@ -18,6 +18,7 @@ from ..errors import (
 )
 from .bench import bench_parser, cmd_bench
 from .chart import chart_parser, cmd_chart
+from .constrain import cmd_constrain, constrain_parser
 from .event import cmd_event, event_parser
 from .exits import EXIT_INTERRUPTED, EXIT_LOCKED, EXIT_OUTPUT, EXIT_USAGE, _signals_interrupt, finish_console
 from .fragility import cmd_fragility, fragility_parser
@@ -28,7 +29,8 @@ from .screen import cmd_run
 
 SUBCOMMANDS = {"chart": (chart_parser, cmd_chart), "report": (report_parser, cmd_report),
                "bench": (bench_parser, cmd_bench), "infer": (infer_parser, cmd_infer),
-               "fragility": (fragility_parser, cmd_fragility), "event": (event_parser, cmd_event)}
+               "fragility": (fragility_parser, cmd_fragility), "event": (event_parser, cmd_event),
+               "constrain": (constrain_parser, cmd_constrain)}
 
 
 SUBCOMMAND_HELP = {
@@ -38,6 +40,7 @@ SUBCOMMAND_HELP = {
     "infer": "archaeoseismology: the pulses consistent with which blocks toppled and which stood",
     "fragility": "fragility curves by multiple-stripe analysis, the IMs that predict overturning, hazard",
     "event": "after an earthquake: P(overturn) per asset from the ShakeMap, an inspection list and map",
+    "constrain": "fragile rocks that stood reweight a hazard model's branches: the site's hazard before and after",
 }
 
 

@@ -29,13 +29,17 @@ EXAMPLES = {
                        "--im-component larger --levels auto --out results/event-fragility --tolerate-failures",
     "event": "screen event --shakemap examples/event/903_m6p09_se-scenario-grid.xml.gz --blocks "
              "examples/event/blocks.csv --fragility results/event-fragility",
+    "fragility_constrain": "screen fragility --records records --blocks examples/constrain/rocks.csv --im pga "
+                           "--im-component rotd50 --levels auto --out results/pbr-fragility --tolerate-failures",
+    "constrain": "screen constrain --fragility results/pbr-fragility --ages examples/constrain/ages.csv "
+                 "--hazard-branches examples/constrain/openquake --out results/constrain",
 }
 
 
 def _epilog(command: str, codes: str) -> str:
-    """The end of a command's --help: an example (two for ``event``: the fragility it reads first) and its exit
-    codes."""
-    first = f"  {EXAMPLES['fragility_event']}\n" if command == "event" else ""
+    """The end of a command's --help: an example (two for ``event`` and ``constrain``: the fragility each reads
+    first) and its exit codes."""
+    first = f"  {EXAMPLES['fragility_' + command]}\n" if f"fragility_{command}" in EXAMPLES else ""
     return f"example:\n{first}  {EXAMPLES[command]}\n\nexit codes: {EXIT_CODES[codes]}"
 
 

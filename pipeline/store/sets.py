@@ -56,6 +56,8 @@ class Family(Enum):
     BENCH = "bench"
     #: ``screen infer``
     INFERENCE = "inference"
+    #: ``screen constrain``
+    CONSTRAINT = "constraint"
 
 
 #: The files each command wrote as plain files before output sets: found in place, they are adopted into the
@@ -67,6 +69,7 @@ PLAIN_BEFORE_SETS = {
     Family.EVENT: ("event.nc", "inspection.csv", "event.html", "shakecast-facilities.xml"),
     Family.BENCH: ("bench.csv", "bench.md", "bench.png"),
     Family.INFERENCE: ("infer.nc", "infer.png"),
+    Family.CONSTRAINT: (),
 }
 
 #: What each set directory records of itself (family, names, when it was published, the command)

@@ -77,6 +77,12 @@ class HazardCurve:
     source_format: str = "csv"
     #: what was done to the numbers (probabilities converted, saturated levels dropped, the curve ended at 0)
     notes: tuple = ()
+    #: True when the file's rates reach 0 after the last level kept: nothing exceeds the levels above it
+    ended_at_zero: bool = False
+    #: an OpenQuake file's years of its probabilities (NaN for annual rates)
+    investigation_time_yr: float = math.nan
+    #: an OpenQuake file's site as written: (custom_site_id or "", lon, lat, depth)
+    site_row: tuple = ()
 
     def with_component(self, component: Component, *, stated: bool) -> "HazardCurve":
         """The same curve with its component definition given."""

@@ -141,6 +141,7 @@ def _finish(path: Path, im: str, levels, rates, *, notes: list[str], **kw) -> Ha
         notes.append(f"the rate reaches 0 at {levels[zero[0]]:.4g} {unit}: the curve ends there "
                      f"({levels.size - zero[0]} level(s) of rate 0)")
         levels, rates = levels[:zero[0]], rates[:zero[0]]
+        kw["ended_at_zero"] = True
     flat = int(np.sum(np.diff(rates) == 0))
     if flat:
         notes.append(f"{flat} flat segment(s) (equal rates) add nothing to the integral")
@@ -246,7 +247,9 @@ def _openquake(path: Path, text: str, *, im: str, site, lonlat, period_s) -> Haz
     title = f"OpenQuake {meta.get('kind', 'hazard')} curve, {imt_name}, site {label}"
     return _finish(path, im, levels, rates, notes=notes, title=title, units="g" if im != "pgv" else "cms",
                    component=Component.rotd50, component_stated=False, period_s=file_period, site=label,
-                   source_format="openquake")
+                   source_format="openquake", investigation_time_yr=T,
+                   site_row=(row[sid].strip() if sid is not None else "", row[lon_k].strip(), row[lat_k].strip(),
+                             row[header.index("depth")].strip() if "depth" in header else "0.00000"))
 
 
 def _imt_from_name(path: Path) -> str:

@@ -1,0 +1,113 @@
+"""``constrain.html``: the site's hazard before and after the rocks, the branches' weights, the rocks used and the
+rocks left out, and the limits of the method, drawn from ``constrain.nc``."""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+
+import numpy as np
+import xarray as xr
+
+from ..records.intensity import display_unit
+from ..uncertainty.fragility import FitStatus
+from .mpl import new_figure
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def hazard_figure(ds: xr.Dataset) -> str:
+    """The branches' hazard curves coloured by their posterior weight, the prior and posterior means and 5-95 %
+    fractiles, and the target rates; a PNG as a data URL."""
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    unit, factor = display_unit(ds.attrs["im"])
+    x = ds["im_level"].values / factor
+    post = ds["posterior_weight"].values
+    fig = new_figure(figsize=(7.5, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    cmap, norm = colormaps["viridis"], Normalize(vmin=0.0, vmax=max(float(post.max()), 1e-9))
+    for b in np.argsort(post):
+        ax.plot(x, ds["hazard_rate"].values[b], color=cmap(norm(post[b])), lw=1.2, alpha=0.9)
+    ax.plot(x, ds["mean_rate_prior"].values, "k--", lw=2, label="mean, prior weights")
+    ax.plot(x, ds["mean_rate_posterior"].values, color="#c0392b", lw=2.4, label="mean, posterior weights")
+    f = ds["fractile_rate_posterior"].values
+    ax.fill_between(x, f[0], f[-1], color="#c0392b", alpha=0.12, label="5-95 %, posterior")
+    fp = ds["fractile_rate_prior"].values
+    ax.plot(x, fp[0], "k:", lw=1), ax.plot(x, fp[-1], "k:", lw=1, label="5 % and 95 %, prior")
+    for r in ds["target_rate"].values:
+        ax.axhline(r, color="#888", lw=0.6)
+    ax.set(xscale="log", yscale="log", xlabel=f"{ds.attrs['im'].upper()} ({ds.attrs['im_component']}) [{unit}]",
+           ylabel="annual rate of exceedance [1/yr]", ylim=(min(1e-6, float(np.nanmin(ds["target_rate"].values)) / 3),
+                                                            None))
+    ax.legend(fontsize=8, loc="lower left")
+    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="posterior weight of the branch")
+    return _png(fig)
+
+
+def _level(x: float, factor: float) -> str:
+    return "not reached" if not math.isfinite(x) else f"{x / factor:.3g}"
+
+
+def _change_rows(ds: xr.Dataset, factor: float) -> list[dict]:
+    rows = []
+    for k, r in enumerate(ds["target_rate"].values):
+        fp, fq = ds["fractile_level_prior"].values[:, k], ds["fractile_level_posterior"].values[:, k]
+        rows.append({"rate": f"{r:.0e}", "prior": _level(ds["mean_level_prior"].values[k], factor),
+                     "posterior": _level(ds["mean_level_posterior"].values[k], factor),
+                     "change": _percent(ds["mean_level_change"].values[k]),
+                     "range_prior": f"{_level(fp[0], factor)} to {_level(fp[-1], factor)}",
+                     "range_posterior": f"{_level(fq[0], factor)} to {_level(fq[-1], factor)}",
+                     "range_change": _percent(ds["range_change"].values[k])})
+    return rows
+
+
+def _percent(x: float) -> str:
+    if not math.isfinite(x):
+        return "not computed"
+    return "0 %" if round(100 * x) == 0 else f"{100 * x:+.0f} %"
+
+
+def _rock_rows(ds: xr.Dataset, factor: float) -> list[dict]:
+    rows = []
+    for i, rock in enumerate(ds["rock"].values):
+        rows.append({"rock": str(rock), "median": f"{ds['fragility_median'].values[i] / factor:.3g}",
+                     "draws": f"{ds['fragility_median_draws_low'].values[i] / factor:.3g} to "
+                              f"{ds['fragility_median_draws_high'].values[i] / factor:.3g}",
+                     "beta": f"{ds['fragility_beta'].values[i]:.2f}",
+                     "status": FitStatus(int(ds["fit_status"].values[i])).name.replace("_", " "),
+                     "age": f"{ds['age_mean'].values[i]:,.0f} &plusmn; {ds['age_sd'].values[i]:,.0f}",
+                     "rates": f"{np.nanmin(ds['toppling_rate'].values[i]):.2e} to "
+                              f"{np.nanmax(ds['toppling_rate'].values[i]):.2e}",
+                     "likelihoods": f"{np.min(ds['likelihood_rock'].values[i]):.3f} to "
+                                    f"{np.max(ds['likelihood_rock'].values[i]):.3f}"})
+    return rows
+
+
+def _branch_rows(ds: xr.Dataset) -> list[dict]:
+    order = np.argsort(-ds["posterior_weight"].values)
+    return [{"branch": str(ds["branch"].values[b]), "path": str(ds["branch_path"].values[b]),
+             "prior": f"{ds['prior_weight'].values[b]:.3f}", "likelihood": f"{ds['likelihood'].values[b]:.3g}",
+             "posterior": f"{ds['posterior_weight'].values[b]:.3f}"} for b in order]
+
+
+def constrain_page(ds: xr.Dataset) -> str:
+    """The page's HTML."""
+    from jinja2 import Environment, PackageLoader, select_autoescape
+
+    unit, factor = display_unit(ds.attrs["im"])
+    env = Environment(loader=PackageLoader("pipeline.report", "templates"),
+                      autoescape=select_autoescape(["html", "j2"]))
+    refused = [line.split(": ", 1) for line in ds.attrs.get("refused", "").splitlines() if line]
+    return env.get_template("constrain.html.j2").render(
+        attrs=ds.attrs, unit=unit, changes=_change_rows(ds, factor), rocks=_rock_rows(ds, factor),
+        branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds),
+        notes=[n for n in ds.attrs.get("notes", "").splitlines() if n],
+        warnings=[w for w in ds.attrs.get("warnings", "").splitlines() if w])

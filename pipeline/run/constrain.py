@@ -1,0 +1,261 @@
+"""``screen constrain``: the constraint standing fragile rocks put on a site's hazard.
+
+rocks (fragility and draws, :mod:`.constrain_inputs`) + ages (:mod:`pipeline.uncertainty.ages`) + the hazard
+model's end branches (:mod:`pipeline.uncertainty.branches`) -> per branch and rock the toppling rate and the
+probability of having stood through the age (:mod:`pipeline.uncertainty.constraint`) -> the rocks combined ->
+posterior weights -> the site's hazard before and after (:mod:`pipeline.uncertainty.branch_stats`) ->
+``constrain.nc``, ``constrain.html``, ``constrain_branches.csv`` and the reweighted curves in the format the
+branches came in (:mod:`pipeline.store.hazard_export`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..errors import ConstraintError
+from ..schema import CONSTRAIN, apply_schema
+from ..uncertainty.ages import Age, read_ages
+from ..uncertainty.branch_stats import common_levels, fractile_curve, level_at_rate, mean_curve, rates_on
+from ..uncertainty.branches import LogicTree, read_branches
+from ..uncertainty.constraint import (
+    Combine,
+    combine,
+    posterior_weights,
+    survival_likelihood,
+    toppling_rate_upper,
+    toppling_rates,
+)
+from ..uncertainty.fragility import FitStatus
+from ..uncertainty.hazard import IM_KIND, Component
+from .constrain_inputs import Rocks, read_rocks
+
+#: Annual rates at which the hazard's change is reported [1/yr].
+TARGET_RATES = (1e-3, 1e-4, 1e-5)
+#: Fractiles of the branches reported [-].
+FRACTILES = (0.05, 0.5, 0.95)
+#: The files ``screen constrain`` writes besides the reweighted curves
+OUTPUTS = ("constrain.nc", "constrain.html", "constrain_branches.csv")
+
+
+@dataclass(frozen=True)
+class ConstrainRequest:
+    """What ``screen constrain`` is asked (paths as given)."""
+
+    fragility: Path
+    ages: Path
+    branches: Path
+    out_dir: Path
+    combine: Combine = Combine.strongest
+    draws: int = 200
+    seed: int = 20261123
+    site: str | None = None
+    lonlat: tuple[float, float] | None = None
+    period_s: float | None = None
+    #: the hazard's component definition where the files do not say (OpenQuake's: rotd50)
+    hazard_component: Component | None = None
+    #: a stated conversion of the hazard's levels to the fragility's component
+    hazard_scale: float | None = None
+    command: tuple = ()
+
+
+@dataclass
+class ConstrainResult:
+    """The dataset, the files written and what was said."""
+
+    dataset: xr.Dataset
+    paths: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    seconds: float = 0.0
+
+
+def constrain(req: ConstrainRequest) -> ConstrainResult:
+    """Read the inputs, compute the constraint, write the outputs (published together)."""
+    t0 = time.perf_counter()
+    if req.draws < 1:
+        raise ConstraintError(f"--draws {req.draws}: at least 1 draw of each rock's fragility")
+    rocks = read_rocks(req.fragility, draws=req.draws, seed=req.seed)
+    ages = read_ages(req.ages)
+    tree = read_branches(req.branches, im=rocks.im, site=req.site, lonlat=req.lonlat, period_s=req.period_s,
+                         component=req.hazard_component)
+    tree = _matched(tree, rocks, scale=req.hazard_scale)
+    rocks, warnings = _with_ages(rocks, ages, req.ages)
+    ds = compute(rocks, ages, tree, rule=req.combine)
+    ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {' '.join(req.command)}",
+                     "fragility_source": rocks.source, "ages_file": str(req.ages), "branches_folder": tree.folder,
+                     "warnings": "\n".join(warnings)})
+    paths = _publish(ds, tree, req)
+    return ConstrainResult(ds, paths, warnings, time.perf_counter() - t0)
+
+
+def _matched(tree: LogicTree, rocks: Rocks, *, scale: float | None) -> LogicTree:
+    """The tree's curves on the fragility's component definition (the stated conversion applied), or an error."""
+    if tree.im != rocks.im:
+        raise ConstraintError(f"{tree.folder}: the branches are {tree.im} curves, the fragility ({rocks.source}) is "
+                              f"fitted on {rocks.im}: give the branches' curves of {rocks.im} or fit on {tree.im}")
+    comp = tree.component
+    if comp == rocks.component:
+        if scale is not None:
+            raise ConstraintError(f"--hazard-scale {scale:g} given, but the hazard and the fragility are both "
+                                  f"{comp.value if comp else 'undefined'}: leave it out")
+        return tree
+    if scale is None:
+        raise ConstraintError(
+            f"{tree.folder}: the hazard is {comp.value if comp else 'of an unstated component'}, the fragility "
+            f"({rocks.source}) is fitted on {rocks.component.value}: fit the fragility on the hazard's definition "
+            f"('screen fragility --im-component {comp.value if comp else 'rotd50'}'), state the hazard's "
+            "(--hazard-component) or the conversion (--hazard-scale FACTOR: hazard x FACTOR = fragility's)")
+    curves = tuple(dataclasses.replace(c, levels=c.levels * scale, component=rocks.component,
+                                       notes=(*c.notes, f"levels x {scale:g}: {comp.value if comp else '?'} to "
+                                                        f"{rocks.component.value}")) for c in tree.curves)
+    return dataclasses.replace(tree, curves=curves)
+
+
+def _with_ages(rocks: Rocks, ages: dict[str, Age], ages_path: Path) -> tuple[Rocks, list[str]]:
+    """The rocks that have an age; the others refused (an unknown age constrains nothing)."""
+    refused = dict(rocks.refused)
+    keep = [k for k, r in enumerate(rocks.ids) if r in ages]
+    for r in rocks.ids:
+        if r not in ages:
+            refused[r] = f"no age in {ages_path}: an unknown age constrains nothing"
+    warnings = [f"{r}: left out: {why}" for r, why in refused.items()]
+    warnings += [f"{r}: an age is given in {ages_path}, but {rocks.source} has no such rock" for r in ages
+                 if r not in rocks.ids and r not in refused]
+    if not keep:
+        raise ConstraintError("no rock can constrain the hazard: " + "; ".join(warnings))
+    rocks = dataclasses.replace(rocks, ids=tuple(rocks.ids[k] for k in keep),
+                                fragility=tuple(rocks.fragility[k] for k in keep),
+                                status=tuple(rocks.status[k] for k in keep), refused=refused)
+    return rocks, warnings
+
+
+def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combine) -> xr.Dataset:
+    """The constraint as a dataset (:data:`pipeline.schema.CONSTRAIN`)."""
+    nr, nb = len(rocks.ids), len(tree.ids)
+    rate, upper, lik = np.empty((nr, nb)), np.full((nr, nb), np.nan), np.empty((nr, nb))
+    rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
+    for i, (rock, frag) in enumerate(zip(rocks.ids, rocks.fragility)):
+        for b, curve in enumerate(tree.curves):
+            draws = toppling_rates(curve, frag.theta_draws, frag.beta_draws)
+            rate[i, b] = toppling_rates(curve, [frag.theta], [frag.beta])[0]
+            rate_lo[i, b], rate_hi[i, b] = np.percentile(draws, [5, 95])
+            lik[i, b] = survival_likelihood(draws, ages[rock])
+            if rocks.status[i] in (FitStatus.extrapolated, FitStatus.separated) or np.isfinite(frag.top_level):
+                upper[i, b] = toppling_rate_upper(curve, frag.theta, frag.beta, frag.top_level)
+    combined, chosen = combine(lik, tree.weights, rule)
+    post = posterior_weights(tree.weights, combined)
+    per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])
+    grid = common_levels(tree.curves)
+    hazard = np.array([rates_on(c, grid) for c in tree.curves])
+    data = {"prior_weight": (("branch",), tree.weights), "posterior_weight": (("branch",), post),
+            "likelihood": (("branch",), combined), "likelihood_rock": (("rock", "branch"), lik),
+            "posterior_weight_rock": (("rock", "branch"), per_rock),
+            "toppling_rate": (("rock", "branch"), rate), "toppling_rate_low": (("rock", "branch"), rate_lo),
+            "toppling_rate_high": (("rock", "branch"), rate_hi), "toppling_rate_upper": (("rock", "branch"), upper),
+            "branch_path": (("branch",), np.array(tree.paths, dtype=object)),
+            "hazard_rate": (("branch", "im_level"), hazard),
+            **_rock_variables(rocks, ages), **_summaries(grid, hazard, tree.weights, post)}
+    coords = {"rock": np.array(rocks.ids, dtype=object), "branch": np.array(tree.ids, dtype=object),
+              "im_level": grid, "fractile": np.array(FRACTILES), "target_rate": np.array(TARGET_RATES)}
+    attrs = {"title": "rockscreen: the constraint of standing fragile rocks on a site's hazard",
+             "Conventions": "CF-1.11", "im": rocks.im, "im_component": rocks.component.value,
+             "im_units": "m s-2" if IM_KIND[rocks.im] == "acceleration" else "m s-1",
+             "combine": rule.value, "constraining_rock": rocks.ids[chosen] if chosen >= 0 else "",
+             "fragility_draws": int(len(rocks.fragility[0].theta_draws)),
+             "branches_layout": tree.layout.value, "site": tree.curves[0].site,
+             "refused": "\n".join(f"{r}: {why}" for r, why in rocks.refused.items()),
+             "notes": "\n".join((*rocks.notes, *tree.notes, *dict.fromkeys(n for c in tree.curves for n in c.notes)))}
+    return apply_schema(xr.Dataset(data, coords=coords, attrs=attrs), CONSTRAIN)
+
+
+def _posterior_or_nan(prior: np.ndarray, likelihood: np.ndarray) -> np.ndarray:
+    try:
+        return posterior_weights(prior, likelihood)
+    except ConstraintError:
+        return np.full(prior.shape, np.nan)
+
+
+def _rock_variables(rocks: Rocks, ages: dict[str, Age]) -> dict:
+    f = rocks.fragility
+    return {"age_mean": (("rock",), np.array([ages[r].mean_yr for r in rocks.ids])),
+            "age_sd": (("rock",), np.array([ages[r].sd_yr for r in rocks.ids])),
+            "fragility_median": (("rock",), np.array([x.theta for x in f])),
+            "fragility_beta": (("rock",), np.array([x.beta for x in f])),
+            "fragility_median_draws_low": (("rock",), np.array([np.percentile(x.theta_draws, 5) for x in f])),
+            "fragility_median_draws_high": (("rock",), np.array([np.percentile(x.theta_draws, 95) for x in f])),
+            "fragility_top_level": (("rock",), np.array([x.top_level for x in f])),
+            "fit_status": (("rock",), np.array([int(s) for s in rocks.status], dtype="i1"))}
+
+
+def _summaries(grid: np.ndarray, hazard: np.ndarray, prior: np.ndarray, post: np.ndarray) -> dict:
+    """Mean and fractile curves before and after, and their levels at :data:`TARGET_RATES`."""
+    out: dict[str, tuple] = {}
+    for tag, w in (("prior", prior), ("posterior", post)):
+        mean = mean_curve(hazard, w)
+        frac = np.array([fractile_curve(hazard, w, q) for q in FRACTILES])
+        out[f"mean_rate_{tag}"] = (("im_level",), mean)
+        out[f"fractile_rate_{tag}"] = (("fractile", "im_level"), frac)
+        out[f"mean_level_{tag}"] = (("target_rate",), np.array([level_at_rate(grid, mean, r) for r in TARGET_RATES]))
+        out[f"fractile_level_{tag}"] = (("fractile", "target_rate"),
+                                        np.array([[level_at_rate(grid, f, r) for r in TARGET_RATES] for f in frac]))
+    before, after = out["mean_level_prior"][1], out["mean_level_posterior"][1]
+    spread_before = out["fractile_level_prior"][1][-1] - out["fractile_level_prior"][1][0]
+    spread_after = out["fractile_level_posterior"][1][-1] - out["fractile_level_posterior"][1][0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out["mean_level_change"] = (("target_rate",), after / before - 1.0)
+        out["range_change"] = (("target_rate",), spread_after / spread_before - 1.0)
+    return out
+
+
+def percent(x: float) -> str:
+    """A relative change as a signed percentage ("0 %" where it rounds to 0; "not computed" where it is not a
+    number: a curve that does not reach the rate)."""
+    if not np.isfinite(x):
+        return "not computed"
+    return "0 %" if round(100 * x) == 0 else f"{100 * x:+.0f} %"
+
+
+def summary_lines(ds: xr.Dataset) -> list[str]:
+    """The change of the site's hazard at each target rate, one line each, in the IM's display unit."""
+    from ..records.intensity import display_unit
+
+    unit, factor = display_unit(ds.attrs["im"])
+
+    def level(x: float) -> str:
+        return f"{x / factor:.3g}" if np.isfinite(x) else "not reached"
+
+    lines = []
+    for k, rate in enumerate(ds["target_rate"].values):
+        lo0, hi0 = ds["fractile_level_prior"].values[[0, -1], k]
+        lo1, hi1 = ds["fractile_level_posterior"].values[[0, -1], k]
+        change = percent(ds["mean_level_change"].values[k])
+        lines.append(f"at {rate:.0e}/yr: mean {ds.attrs['im']} {level(ds['mean_level_prior'].values[k])} -> "
+                     f"{level(ds['mean_level_posterior'].values[k])} {unit} ({change}); "
+                     f"5-95 % {level(lo0)}-{level(hi0)} -> {level(lo1)}-{level(hi1)} {unit} "
+                     f"(width {percent(ds['range_change'].values[k])})")
+    return lines
+
+
+def _publish(ds: xr.Dataset, tree: LogicTree, req: ConstrainRequest) -> list[Path]:
+    """Write the outputs into a staged set and publish them together."""
+    from ..report.constrain_html import constrain_page
+    from ..store import Family, OutputLock, publish_staged, write_atomic, write_csv_atomic, write_text_atomic
+    from ..store.hazard_export import branch_rows, write_reweighted
+    from .cache import ensure_writable
+
+    out_dir = ensure_writable(req.out_dir, replaces=OUTPUTS)
+
+    def write(stage: Path) -> list[Path]:
+        columns, rows = branch_rows(ds)
+        return [write_atomic(ds, stage / "constrain.nc"),
+                write_text_atomic(stage / "constrain.html", constrain_page(ds)),
+                write_csv_atomic(stage / "constrain_branches.csv", columns, rows),
+                *write_reweighted(ds, tree, stage)]
+
+    with OutputLock(out_dir, command=" ".join(req.command)):
+        return publish_staged(out_dir, write, family=Family.CONSTRAINT, command=" ".join(req.command))

@@ -1,0 +1,159 @@
+"""``screen constrain`` end to end: the shipped OpenQuake example with a fragility run or a fragility table, the
+rocks that cannot constrain anything refused with their reason, the component rule, the outputs (the schema, the
+reweighted curves read back by the hazard readers, the page at a phone's and a laptop's width)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from support.browser import assert_reads_at
+
+from pipeline.cli import main
+from pipeline.constants import G
+from pipeline.schema import CONSTRAIN, check
+from pipeline.uncertainty.branches import read_branches
+from pipeline.uncertainty.fragility import FitStatus, fit_stripes
+from pipeline.uncertainty.hazard_files import read_hazard
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = ROOT / "examples" / "constrain"
+LEVELS_G = np.array([0.05, 0.1, 0.2, 0.4, 0.8])
+
+
+def fragility_run(folder: Path) -> Path:
+    """A ``screen fragility`` output of six rocks over 40 records, outcomes drawn from known capacities: A a
+    lognormal (median 0.2 g, beta 0.4), B never topples, C always does, D topples below 50 % at every level, E
+    cannot rock, F is A with the 8 records that topple it first at 0.4 g without a verdict there."""
+    rng = np.random.default_rng(3)
+    nrec, nl = 40, LEVELS_G.size
+    cap = 0.2 * np.exp(0.4 * rng.standard_normal(nrec))
+    out = np.zeros((nrec, nl, 6), dtype="i1")
+    out[:, :, 0] = LEVELS_G[None, :] >= cap[:, None]
+    out[:, :, 2] = 1
+    out[:5, 2:, 3] = 1
+    out[:, :, 5] = out[:, :, 0]
+    first = np.flatnonzero((out[:, 3, 0] == 1) & (out[:, 2, 0] == 0))[:8]
+    out[first, 3, 5] = -1
+    judged = (out >= 0).sum(axis=0).T
+    fit = fit_stripes(LEVELS_G * G, np.where(out > 0, out, 0).sum(axis=0).T, judged)
+    stand = fit_stripes(LEVELS_G * G, np.where(out > 0, out, 0).sum(axis=0).T, np.full((6, nl), nrec))
+    ds = xr.Dataset({"outcome": (("record", "im_level", "block"), out),
+                     "p_overturn": (("record", "im_level", "block"), np.full(out.shape, np.nan)),
+                     "scale_factor": (("record", "im_level", "block"), np.ones(out.shape)),
+                     "median": (("block",), fit.theta), "beta": (("block",), fit.beta),
+                     "fit_status": (("block",), fit.status),
+                     "median_unjudged_stand": (("block",), stand.theta),
+                     "beta_unjudged_stand": (("block",), stand.beta),
+                     "can_rock": (("block",), np.array([1, 1, 1, 1, 0, 1], "i1"))},
+                    coords={"block": np.array(list("ABCDEF"), dtype=object), "im_level": LEVELS_G * G,
+                            "record": np.array([f"r{k}" for k in range(nrec)], dtype=object)},
+                    attrs={"im": "pga", "im_component": "rotd50", "outcome_measure": "nominal verdict",
+                           "im_display_unit": "g", "im_display_factor": G})
+    folder.mkdir()
+    ds.to_netcdf(folder / "fragility.nc")
+    return folder
+
+
+def ages_file(tmp: Path, rocks: str = "ABCDE") -> Path:
+    path = tmp / "ages.csv"
+    path.write_text("rock,age_yr,age_sd_yr\n" + "".join(f"{r},12000,2000\n" for r in rocks))
+    return path
+
+
+def test_a_fragility_run_constrains_the_example_and_refuses_what_cannot(tmp_path, capsys):
+    frag = fragility_run(tmp_path / "frag")
+    out = tmp_path / "out"
+    code = main(["constrain", "--fragility", str(frag), "--ages", str(ages_file(tmp_path, "ABCDF")),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(out)])
+    assert code == 0
+    captured = capsys.readouterr()
+    assert "at 1e-04/yr: mean pga" in captured.out
+    for rock, why in (("B", "it toppled at no level tested"), ("C", "it toppled at every level tested"),
+                      ("D", "its stripes"), ("E", "it cannot rock")):
+            assert f"{rock}: left out: {why}" in captured.err
+    assert "do not bracket 50 % toppling" in captured.err
+    ds = xr.open_dataset(out / "constrain.nc")
+    assert check(ds, CONSTRAIN) == []
+    assert ds["rock"].values.tolist() == ["A", "F"]
+    # F's records without a verdict count as standing: a less fragile rock, a weaker constraint than A's
+    assert "F: 8 scaled record(s) without a verdict counted as standing" in ds.attrs["notes"]
+    assert ds["fragility_median"].values[1] > ds["fragility_median"].values[0]
+    assert np.all(ds["likelihood_rock"].values[1] >= ds["likelihood_rock"].values[0] - 0.02)
+    assert FitStatus(int(ds["fit_status"].values[0])) == FitStatus.ok
+    assert ds.attrs["constraining_rock"] == "A"
+    # the bootstrap's draws are spread about the fit (records resampled)
+    assert ds["fragility_median_draws_low"].values[0] < ds["fragility_median"].values[0] \
+        < ds["fragility_median_draws_high"].values[0]
+    assert np.all(ds["toppling_rate_low"].values <= ds["toppling_rate"].values * 1.05)
+    assert np.all(ds["toppling_rate_upper"].values >= ds["toppling_rate"].values)
+    assert ds["posterior_weight"].values.sum() == pytest.approx(1.0)
+
+
+def fragility_table(tmp: Path, component: str = "rotd50") -> Path:
+    path = tmp / "fragility.csv"
+    path.write_text("rock,im,component,median,unit,beta,median_low,median_high,beta_low,beta_high\n"
+                    f"SP1,pga,{component},0.21,g,0.42,0.19,0.23,0.25,0.55\n"
+                    f"SP2,pga,{component},0.24,g,0.40,0.22,0.26,0.20,0.55\n")
+    return path
+
+
+@pytest.fixture(scope="module")
+def constrained(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("constrain")
+    out = tmp / "out"
+    code = main(["constrain", "--fragility", str(fragility_table(tmp)), "--ages", str(EXAMPLE / "ages.csv"),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(out), "--combine", "independent"])
+    assert code == 0
+    return out
+
+
+def test_the_reweighted_curves_are_written_as_openquake_writes_them(constrained, tmp_path):
+    ds = xr.open_dataset(constrained / "constrain.nc")
+    assert check(ds, CONSTRAIN) == [] and ds.attrs["combine"] == "independent"
+    mean = read_hazard(constrained / "hazard_curve-mean-PGA_posterior.csv", im="pga")
+    grid = ds["im_level"].values
+    keep = ds["mean_rate_posterior"].values > 0
+    assert np.exp(np.interp(np.log(grid[keep][:-1]), np.log(mean.levels), np.log(mean.rates))) == pytest.approx(
+        ds["mean_rate_posterior"].values[keep][:-1], rel=1e-5)     # 7 digits of the level, 7 of the probability
+    # the posterior realizations beside the branches' curves make a tree whose prior is this posterior
+    tree = tmp_path / "tree"
+    shutil.copytree(EXAMPLE / "openquake", tree, ignore=shutil.ignore_patterns("realizations_*"))
+    shutil.copy(constrained / "realizations_posterior.csv", tree / "realizations_posterior.csv")
+    again = read_branches(tree, im="pga")
+    assert again.weights == pytest.approx(ds["posterior_weight"].values, rel=1e-6)
+
+
+def test_the_rocks_lower_the_example_s_hazard_and_the_page_reads(constrained, tmp_path):
+    ds = xr.open_dataset(constrained / "constrain.nc")
+    # the branches that topple the rocks fastest lose weight: the posterior mean is lower at every target rate
+    assert np.all(ds["mean_level_change"].values < 0)
+    fast = np.argmax(ds["toppling_rate"].values[0])
+    assert ds["posterior_weight"].values[fast] < ds["prior_weight"].values[fast]
+    assert_reads_at(constrained / "constrain.html", tmp_path)
+
+
+def test_a_component_mismatch_is_refused_with_the_fix(tmp_path, capsys):
+    code = main(["constrain", "--fragility", str(fragility_table(tmp_path, "rotd100")), "--ages",
+                 str(EXAMPLE / "ages.csv"), "--hazard-branches", str(EXAMPLE / "openquake"),
+                 "--out", str(tmp_path / "out")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "the hazard is rotd50" in err and "--hazard-scale" in err
+    code = main(["constrain", "--fragility", str(fragility_table(tmp_path, "rotd100")), "--ages",
+                 str(EXAMPLE / "ages.csv"), "--hazard-branches", str(EXAMPLE / "openquake"),
+                 "--out", str(tmp_path / "out"), "--hazard-scale", "1.2"])
+    assert code == 0
+
+
+def test_no_rock_with_an_age_is_an_error(tmp_path, capsys):
+    ages = tmp_path / "ages.csv"
+    ages.write_text("rock,age_yr,age_sd_yr\nOTHER,1000,10\n")
+    code = main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(ages),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(tmp_path / "out")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "no rock can constrain the hazard" in err and "SP1: left out: no age in" in err
