@@ -10,6 +10,7 @@ from pathlib import Path
 from ..errors import UsageError
 from .exits import EXIT_OK
 from .options import _add_output_options, _epilog
+from .progress import _ticking
 
 
 def constrain_parser() -> argparse.ArgumentParser:
@@ -67,13 +68,13 @@ def cmd_constrain(args: argparse.Namespace, argv: list[str]) -> int:
         except ValueError:
             raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees") from None
         lonlat = (lon, lat)
-    if not args.quiet:
-        print("reading the rocks' fragility, their ages and the hazard's branches ...", file=sys.stderr)
-    result = constrain(ConstrainRequest(
+    request = ConstrainRequest(
         args.fragility, args.ages, args.branches, args.out, combine=Combine(args.combine), draws=args.draws,
         site=args.hazard_site, lonlat=lonlat, period_s=args.hazard_period,
         hazard_component=Component(args.hazard_component) if args.hazard_component else None,
-        hazard_scale=args.hazard_scale, command=("screen", *map(shlex.quote, argv))))
+        hazard_scale=args.hazard_scale, command=("screen", *map(shlex.quote, argv)))
+    with _ticking(args.quiet) as say:
+        result = constrain(request, say=say)
     ds = result.dataset
     for w in result.warnings:
         print(f"WARNING: {w}", file=sys.stderr)

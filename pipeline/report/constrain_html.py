@@ -14,6 +14,9 @@ from ..records.intensity import display_unit
 from ..uncertainty.fragility import FitStatus
 from .mpl import new_figure
 
+#: Branches drawn in the figure, the heaviest after the constraint first (every curve is in constrain.nc)
+MAX_CURVES = 200
+
 
 def _png(fig) -> str:
     buf = io.BytesIO()
@@ -34,7 +37,7 @@ def hazard_figure(ds: xr.Dataset) -> str:
     fig = new_figure(figsize=(7.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
     cmap, norm = colormaps["viridis"], Normalize(vmin=0.0, vmax=max(float(post.max()), 1e-9))
-    for b in np.argsort(post):
+    for b in np.argsort(post)[-MAX_CURVES:]:                 # the heaviest drawn last, on top
         ax.plot(x, ds["hazard_rate"].values[b], color=cmap(norm(post[b])), lw=1.2, alpha=0.9)
     ax.plot(x, ds["mean_rate_prior"].values, "k--", lw=2, label="mean, prior weights")
     ax.plot(x, ds["mean_rate_posterior"].values, color="#c0392b", lw=2.4, label="mean, posterior weights")
@@ -108,6 +111,6 @@ def constrain_page(ds: xr.Dataset) -> str:
     refused = [line.split(": ", 1) for line in ds.attrs.get("refused", "").splitlines() if line]
     return env.get_template("constrain.html.j2").render(
         attrs=ds.attrs, unit=unit, changes=_change_rows(ds, factor), rocks=_rock_rows(ds, factor),
-        branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds),
+        branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds), drawn=min(MAX_CURVES, ds.sizes["branch"]),
         notes=[n for n in ds.attrs.get("notes", "").splitlines() if n],
         warnings=[w for w in ds.attrs.get("warnings", "").splitlines() if w])

@@ -28,10 +28,9 @@ from ..uncertainty.constraint import (
     combine,
     posterior_weights,
     survival_likelihood,
-    toppling_rate_upper,
-    toppling_rates,
+    toppling_rates_many,
+    toppling_rates_upper,
 )
-from ..uncertainty.fragility import FitStatus
 from ..uncertainty.hazard import IM_KIND, Component
 from .constrain_inputs import Rocks, read_rocks
 
@@ -74,18 +73,24 @@ class ConstrainResult:
     seconds: float = 0.0
 
 
-def constrain(req: ConstrainRequest) -> ConstrainResult:
-    """Read the inputs, compute the constraint, write the outputs (published together)."""
+def constrain(req: ConstrainRequest, *, say=None) -> ConstrainResult:
+    """Read the inputs, compute the constraint, write the outputs (published together); ``say`` (the command's stage
+    announcer, or None) is told each stage."""
     t0 = time.perf_counter()
+    say = say or (lambda _text: None)
     if req.draws < 1:
         raise ConstraintError(f"--draws {req.draws}: at least 1 draw of each rock's fragility")
+    say(f"reading the rocks' fragility and drawing it {req.draws} times ({req.fragility})")
     rocks = read_rocks(req.fragility, draws=req.draws, seed=req.seed)
     ages = read_ages(req.ages)
+    say(f"reading the hazard's branches ({req.branches})")
     tree = read_branches(req.branches, im=rocks.im, site=req.site, lonlat=req.lonlat, period_s=req.period_s,
                          component=req.hazard_component)
     tree = _matched(tree, rocks, scale=req.hazard_scale)
     rocks, warnings = _with_ages(rocks, ages, req.ages)
+    say(f"the toppling rates of {len(rocks.ids)} rock(s) x {req.draws} draws on {len(tree.ids)} branches")
     ds = compute(rocks, ages, tree, rule=req.combine)
+    say("writing constrain.nc, constrain.html (its figure) and the reweighted curves")
     ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {' '.join(req.command)}",
                      "fragility_source": rocks.source, "ages_file": str(req.ages), "branches_folder": tree.folder,
                      "warnings": "\n".join(warnings)})
@@ -137,16 +142,14 @@ def _with_ages(rocks: Rocks, ages: dict[str, Age], ages_path: Path) -> tuple[Roc
 def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combine) -> xr.Dataset:
     """The constraint as a dataset (:data:`pipeline.schema.CONSTRAIN`)."""
     nr, nb = len(rocks.ids), len(tree.ids)
-    rate, upper, lik = np.empty((nr, nb)), np.full((nr, nb), np.nan), np.empty((nr, nb))
+    rate, upper, lik = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
     rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
     for i, (rock, frag) in enumerate(zip(rocks.ids, rocks.fragility)):
-        for b, curve in enumerate(tree.curves):
-            draws = toppling_rates(curve, frag.theta_draws, frag.beta_draws)
-            rate[i, b] = toppling_rates(curve, [frag.theta], [frag.beta])[0]
-            rate_lo[i, b], rate_hi[i, b] = np.percentile(draws, [5, 95])
-            lik[i, b] = survival_likelihood(draws, ages[rock])
-            if rocks.status[i] in (FitStatus.extrapolated, FitStatus.separated) or np.isfinite(frag.top_level):
-                upper[i, b] = toppling_rate_upper(curve, frag.theta, frag.beta, frag.top_level)
+        draws = toppling_rates_many(tree.curves, frag.theta_draws, frag.beta_draws)      # (branches, draws)
+        rate[i] = toppling_rates_many(tree.curves, [frag.theta], [frag.beta])[:, 0]
+        rate_lo[i], rate_hi[i] = np.percentile(draws, [5, 95], axis=1)
+        lik[i] = survival_likelihood(draws, ages[rock])
+        upper[i] = toppling_rates_upper(tree.curves, frag.theta, frag.beta, frag.top_level)
     combined, chosen = combine(lik, tree.weights, rule)
     post = posterior_weights(tree.weights, combined)
     per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])

@@ -30,6 +30,8 @@ from scipy.special import log_ndtr
 from ..errors import ConstraintError
 from ..tables import read_csv_table
 
+#: A standard deviation below this fraction of the mean is an exact age [-].
+EXACT_SD = 1e-9
 #: The two layouts of an ages table.
 AGES_HEADER = "rock,age_yr,age_sd_yr  (or rock,age_yr,weight: one row per age of a table)"
 
@@ -61,7 +63,7 @@ class Age:
         if self.kind is AgeKind.table:
             t = np.asarray(self.values_yr)
             return np.tensordot(np.exp(-lam[..., None] * t), np.asarray(self.weights), axes=([-1], [0]))
-        if self.sd_yr == 0.0:
+        if self.sd_yr <= EXACT_SD * self.mean_yr:       # the age as good as exact (and the closed form's ratio finite)
             return np.exp(-lam * self.mean_yr)
         m, s = self.mean_yr, self.sd_yr
         log_e = -lam * m + 0.5 * (lam * s) ** 2 + log_ndtr((m - lam * s * s) / s) - log_ndtr(m / s)

@@ -27,6 +27,7 @@ Earthquake hazard uncertainties improved using precariously balanced rocks. AGU 
 
 from __future__ import annotations
 
+import dataclasses
 from enum import Enum
 from typing import NamedTuple
 
@@ -73,18 +74,41 @@ def toppling_rates(curve: HazardCurve, theta, beta) -> np.ndarray:
     theta, beta : array_like, shape (n,)
         Medians [SI] and dispersions [-].
     """
+    return toppling_rates_many([curve], theta, beta)[0]
+
+
+def toppling_rates_many(curves, theta, beta) -> np.ndarray:
+    """:func:`toppling_rates` on many curves, shape (curves, n) [1/yr]: the fragility is evaluated once per set of
+    levels the curves share (a logic tree's branches usually share them all)."""
     theta, beta = np.atleast_1d(np.asarray(theta, dtype=float)), np.atleast_1d(np.asarray(beta, dtype=float))
+    out = np.empty((len(curves), theta.size))
+    groups: dict[bytes, list[int]] = {}
+    for b, c in enumerate(curves):
+        groups.setdefault(np.asarray(c.levels, dtype=float).tobytes(), []).append(b)
+    for members in groups.values():
+        p = _fragility(_gauss_points(curves[members[0]].levels), theta, beta)           # (n, points)
+        out[members] = (p @ np.stack([_gauss_weights(curves[b]) for b in members], axis=1)).T
+    return out
+
+
+def _gauss_points(levels: np.ndarray) -> np.ndarray:
+    """ln im at the Gauss points of every segment, then at the last level (the tail term)."""
+    x, _ = GAUSS
+    lv = np.log(levels)
+    half = 0.5 * np.diff(lv)
+    u = half[:, None] * x[None, :] + (0.5 * (lv[1:] + lv[:-1]))[:, None]   # (segments, 32)
+    return np.append(u.ravel(), lv[-1])
+
+
+def _gauss_weights(curve: HazardCurve) -> np.ndarray:
+    """|d lambda / d ln im| d ln im at :func:`_gauss_points`, then lambda(im_max) for the tail [1/yr]."""
     x, w = GAUSS
     lv, rt = np.log(curve.levels), np.log(curve.rates)
     half = 0.5 * np.diff(lv)
     s = -np.diff(rt) / np.diff(lv)                                          # each segment's log-log slope
-    u = half[:, None] * x[None, :] + (0.5 * (lv[1:] + lv[:-1]))[:, None]   # (segments, 32) Gauss points in ln im
+    u = half[:, None] * x[None, :] + (0.5 * (lv[1:] + lv[:-1]))[:, None]
     lam = np.exp(rt[:-1, None] - s[:, None] * (u - lv[:-1, None]))
-    weight = (half[:, None] * w[None, :] * s[:, None] * lam).ravel()        # |d lambda / d ln im| d ln im
-    points = np.append(u.ravel(), lv[-1])                                   # the tail term at the last level
-    weight = np.append(weight, curve.rates[-1])
-    p = _fragility(points, theta, beta)                                     # (n, points)
-    return p @ weight
+    return np.append((half[:, None] * w[None, :] * s[:, None] * lam).ravel(), curve.rates[-1])
 
 
 def _fragility(ln_im: np.ndarray, theta: np.ndarray, beta: np.ndarray) -> np.ndarray:
@@ -96,12 +120,28 @@ def _fragility(ln_im: np.ndarray, theta: np.ndarray, beta: np.ndarray) -> np.nda
     return np.where((theta == 0)[:, None], 1.0, p)
 
 
-def toppling_rate_upper(curve: HazardCurve, theta: float, beta: float, top: float) -> float:
-    """An upper bound of the toppling rate where the fragility is extrapolated above its top tested level
-    ``top`` [SI]: the fragility below it, toppling certain above it [1/yr] (:func:`.hazard.annual_rate_upper`)."""
-    from .hazard import annual_rate_upper
+def toppling_rates_upper(curves, theta: float, beta: float, top: float) -> np.ndarray:
+    """Upper bounds of the toppling rate on each curve where the fragility is extrapolated above its top tested level
+    ``top`` [SI]: the fragility below it, toppling certain above it [1/yr] (as :func:`.hazard.annual_rate_upper`);
+    NaN where ``top`` is not known."""
+    if not np.isfinite(top):
+        return np.full(len(curves), np.nan)
+    from .hazard import exceedance_rate
 
-    return annual_rate_upper(curve, theta, beta, top) if np.isfinite(top) else float("nan")
+    below, lam_top = [], []
+    for c in curves:
+        keep = c.levels < top
+        lam_top.append(exceedance_rate(c, top))
+        below.append(dataclasses.replace(c, levels=np.append(c.levels[keep], top),
+                                         rates=np.append(c.rates[keep], lam_top[-1])))
+    ok = np.array([b.levels.size >= 2 for b in below])
+    lam_top_a = np.array(lam_top)
+    out = lam_top_a.copy()                                     # nothing tested below the first level: all certain
+    if ok.any():
+        rates = toppling_rates_many([b for b, good in zip(below, ok) if good], [theta], [beta])[:, 0]
+        p_top = float(_fragility(np.array([np.log(top)]), np.array([theta]), np.array([beta]))[0, 0])
+        out[ok] = rates + (1.0 - p_top) * lam_top_a[ok]       # the tail term at top replaced by certain toppling
+    return out
 
 
 def survival_likelihood(rates: np.ndarray, age: Age) -> np.ndarray:

@@ -34,8 +34,10 @@ from pipeline.uncertainty.constraint import (
     posterior_weights,
     survival_likelihood,
     toppling_rates,
+    toppling_rates_many,
+    toppling_rates_upper,
 )
-from pipeline.uncertainty.hazard import HazardCurve, annual_rate, exceedance_rate
+from pipeline.uncertainty.hazard import HazardCurve, annual_rate, annual_rate_upper, exceedance_rate
 from pipeline.uncertainty.hazard_files import read_hazard
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "constrain" / "openquake"
@@ -63,6 +65,22 @@ def test_the_rates_of_many_draws_equal_the_one_rate_integral_draw_by_draw():
     assert got == pytest.approx([annual_rate(curve, t, b) for t, b in zip(theta, beta)], rel=1e-12)
     edges = toppling_rates(curve, [np.inf, 0.0], [np.nan, np.nan])
     assert edges[0] == 0.0 and edges[1] == pytest.approx(float(curve.rates[0]), rel=1e-12)
+
+
+def test_many_curves_at_once_equal_each_curve_alone_and_the_upper_bound_is_fragility_s():
+    """Curves on shared and on other levels in one call; the bound with toppling certain above the top level tested
+    equals :func:`annual_rate_upper` of ``screen fragility``."""
+    tree = read_branches(EXAMPLE, im="pga")
+    other = power_law(1e-4, 2.5, 0.3 * G, 0.4)
+    curves = [*tree.curves, other]
+    theta, beta = np.array([0.21, 0.5]) * G, np.array([0.42, 0.3])
+    many = toppling_rates_many(curves, theta, beta)
+    for b, c in enumerate(curves):
+        assert many[b] == pytest.approx(toppling_rates(c, theta, beta), rel=1e-13)
+    for top in (0.3 * G, 0.9 * G):
+        got = toppling_rates_upper(curves, 0.21 * G, 0.42, top)
+        assert got == pytest.approx([annual_rate_upper(c, 0.21 * G, 0.42, top) for c in curves], rel=1e-12)
+    assert np.isnan(toppling_rates_upper(curves, 0.21 * G, 0.42, math.inf)).all()
 
 
 @pytest.mark.parametrize("rate, mean, sd", [(1e-4, 10_000, 1_500), (5e-4, 12_000, 4_000), (3e-3, 5_000, 2_500),
