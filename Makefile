@@ -7,7 +7,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PYTEST_ARGS ?=
 
-.PHONY: demo event-demo test test-slow soak lint browser peers bench clean
+.PHONY: demo event-demo constrain-demo test test-slow soak lint browser peers bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -40,6 +40,15 @@ event-demo: $(VENV)/.installed
 	    --levels auto --out results/event-fragility --tolerate-failures
 	$(BIN)/screen event --shakemap examples/event/903_m6p09_se-scenario-grid.xml.gz \
 	    --blocks examples/event/blocks.csv --fragility results/event-fragility --out results/event
+
+# Rocks that stood: the fragility of the two granite rocks of examples/constrain/ from the bundled records (on PGA as
+# RotD50, OpenQuake's definition), then the constraint they put on the example's OpenQuake logic tree
+# -> results/constrain/constrain.html, constrain.nc and the reweighted curves
+constrain-demo: $(VENV)/.installed
+	$(BIN)/screen fragility --records records --blocks examples/constrain/rocks.csv --im pga --im-component rotd50 \
+	    --levels auto --out results/pbr-fragility --tolerate-failures
+	$(BIN)/screen constrain --fragility results/pbr-fragility --ages examples/constrain/ages.csv \
+	    --hazard-branches examples/constrain/openquake --out results/constrain
 
 # the simulator is compiled (or loaded from numba's cache) once before the two test workers start, not by each,
 # in two processes at once, each warming up every other model of the registry;

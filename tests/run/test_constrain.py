@@ -157,3 +157,45 @@ def test_no_rock_with_an_age_is_an_error(tmp_path, capsys):
     assert code == 2
     err = capsys.readouterr().err
     assert "no rock can constrain the hazard" in err and "SP1: left out: no age in" in err
+
+
+def test_curves_and_weights_in_and_out(tmp_path, capsys):
+    """A folder of plain curves with weights.csv: a curve that does not state its component needs
+    --hazard-component; the posterior weights and curves are written as plain files the readers take back."""
+    folder = tmp_path / "branches"
+    folder.mkdir()
+    for name, scale in (("low.csv", 0.3), ("mid.csv", 1.0), ("high.csv", 3.0)):
+        levels = np.geomspace(0.01, 2.0, 25)
+        rows = "".join(f"{x:.6g},{scale * 1e-4 * x ** -2.2:.6g}\n" for x in levels)
+        (folder / name).write_text("pga_g,annual_rate\n" + rows)
+    (folder / "weights.csv").write_text("file,weight\nlow.csv,0.3\nmid.csv,0.4\nhigh.csv,0.3\n")
+    args = ["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
+            "--hazard-branches", str(folder), "--out", str(tmp_path / "out")]
+    assert main(args) == 2
+    assert "of an unstated component" in capsys.readouterr().err
+    assert main([*args, "--hazard-component", "rotd50"]) == 0
+    ds = xr.open_dataset(tmp_path / "out" / "constrain.nc")
+    assert check(ds, CONSTRAIN) == []
+    post = dict(zip(ds["branch"].values.tolist(), ds["posterior_weight"].values))
+    assert post["high.csv"] < 0.3 < post["low.csv"]                 # the most hazardous branch loses weight
+    mean = read_hazard(tmp_path / "out" / "hazard_mean_posterior.csv", im="pga")
+    assert mean.rates == pytest.approx(ds["mean_rate_posterior"].values, rel=1e-12)
+    (folder / "weights.csv").write_bytes((tmp_path / "out" / "weights_posterior.csv").read_bytes())
+    again = read_branches(folder, im="pga", component=None)
+    assert [again.weights[again.ids.index(b)] for b in post] == pytest.approx(list(post.values()), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_the_readme_s_example_prints_what_the_readme_quotes(tmp_path, capsys):
+    """The two commands of the README's row for ``screen constrain``, run on the bundled records: the line it quotes
+    is the line printed at 1e-4 per year."""
+    readme = (ROOT / "README.md").read_text()
+    quoted = readme.split("which prints `", 1)[1].split("`", 1)[0]
+    assert main(["fragility", "--records", str(ROOT / "records"), "--blocks", str(EXAMPLE / "rocks.csv"), "--im",
+                 "pga", "--im-component", "rotd50", "--levels", "auto", "--out", str(tmp_path / "frag"),
+                 "--tolerate-failures", "-q"]) == 0
+    capsys.readouterr()
+    assert main(["constrain", "--fragility", str(tmp_path / "frag"), "--ages", str(EXAMPLE / "ages.csv"),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert quoted in printed, (quoted, printed)
