@@ -95,7 +95,7 @@ def _rock_rows(ds: xr.Dataset, factor: float) -> list[dict]:
 
 
 def _branch_rows(ds: xr.Dataset) -> list[dict]:
-    order = np.argsort(-ds["posterior_weight"].values)
+    order = np.argsort(-ds["posterior_weight"].values)[:MAX_CURVES]
     return [{"branch": str(ds["branch"].values[b]), "path": str(ds["branch_path"].values[b]),
              "prior": f"{ds['prior_weight'].values[b]:.3f}", "likelihood": f"{ds['likelihood'].values[b]:.3g}",
              "posterior": f"{ds['posterior_weight'].values[b]:.3f}"} for b in order]
@@ -112,5 +112,6 @@ def constrain_page(ds: xr.Dataset) -> str:
     return env.get_template("constrain.html.j2").render(
         attrs=ds.attrs, unit=unit, changes=_change_rows(ds, factor), rocks=_rock_rows(ds, factor),
         branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds), drawn=min(MAX_CURVES, ds.sizes["branch"]),
+        n_branches=ds.sizes["branch"],
         notes=[n for n in ds.attrs.get("notes", "").splitlines() if n],
         warnings=[w for w in ds.attrs.get("warnings", "").splitlines() if w])

@@ -38,6 +38,11 @@ from .constrain_inputs import Rocks, read_rocks
 TARGET_RATES = (1e-3, 1e-4, 1e-5)
 #: Fractiles of the branches reported [-].
 FRACTILES = (0.05, 0.5, 0.95)
+#: Branches whose draws' rates are held in memory at once, per rock (2,000 x 200 draws: 3.2 MB)
+BRANCHES_AT_ONCE = 2000
+#: The most fragility draws a run takes (each rock's bootstrap is refitted in chunks; beyond this the sampling
+#: error of the likelihood is far below the fragility's own spread)
+MAX_DRAWS = 10_000
 #: The files ``screen constrain`` writes besides the reweighted curves
 OUTPUTS = ("constrain.nc", "constrain.html", "constrain_branches.csv")
 
@@ -78,8 +83,8 @@ def constrain(req: ConstrainRequest, *, say=None) -> ConstrainResult:
     announcer, or None) is told each stage."""
     t0 = time.perf_counter()
     say = say or (lambda _text: None)
-    if req.draws < 1:
-        raise ConstraintError(f"--draws {req.draws}: at least 1 draw of each rock's fragility")
+    if not 1 <= req.draws <= MAX_DRAWS:
+        raise ConstraintError(f"--draws {req.draws}: between 1 and {MAX_DRAWS:,} draws of each rock's fragility")
     say(f"reading the rocks' fragility and drawing it {req.draws} times ({req.fragility})")
     rocks = read_rocks(req.fragility, draws=req.draws, seed=req.seed)
     ages = read_ages(req.ages)
@@ -145,11 +150,14 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
     rate, upper, lik = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
     rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
     for i, (rock, frag) in enumerate(zip(rocks.ids, rocks.fragility)):
-        draws = toppling_rates_many(tree.curves, frag.theta_draws, frag.beta_draws)      # (branches, draws)
-        rate[i] = toppling_rates_many(tree.curves, [frag.theta], [frag.beta])[:, 0]
-        rate_lo[i], rate_hi[i] = np.percentile(draws, [5, 95], axis=1)
-        lik[i] = survival_likelihood(draws, ages[rock])
-        upper[i] = toppling_rates_upper(tree.curves, frag.theta, frag.beta, frag.top_level)
+        for lo in range(0, nb, BRANCHES_AT_ONCE):                                    # memory bounded
+            sl = slice(lo, min(lo + BRANCHES_AT_ONCE, nb))
+            curves = tree.curves[sl]
+            draws = toppling_rates_many(curves, frag.theta_draws, frag.beta_draws)   # (branches, draws)
+            rate[i, sl] = toppling_rates_many(curves, [frag.theta], [frag.beta])[:, 0]
+            rate_lo[i, sl], rate_hi[i, sl] = np.percentile(draws, [5, 95], axis=1)
+            lik[i, sl] = survival_likelihood(draws, ages[rock])
+            upper[i, sl] = toppling_rates_upper(curves, frag.theta, frag.beta, frag.top_level)
     combined, chosen = combine(lik, tree.weights, rule)
     post = posterior_weights(tree.weights, combined)
     per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])

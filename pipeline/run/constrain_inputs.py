@@ -27,6 +27,8 @@ from ..uncertainty.hazard import IM_KIND, UNITS, Component
 
 #: The smallest dispersion a table's draws take [-].
 BETA_MIN = 0.05
+#: Bootstrap draws refitted at once (each holds every record's outcome at every level)
+DRAWS_AT_ONCE = 200
 #: The z-score of a 90 % interval's ends.
 Z90 = float(norm.ppf(0.95))
 #: A fragility table's columns (the intervals optional: without them the fragility is taken as exact).
@@ -97,12 +99,8 @@ def _from_run(ds: xr.Dataset, source: str, *, draws: int, seed: int) -> Rocks:
             theta, beta = float(ds["median_unjudged_stand"].values[j]), float(ds["beta_unjudged_stand"].values[j])
             notes.append(f"{rock}: {int(unjudged[:, :, j].sum())} scaled record(s) without a verdict counted as "
                          "standing (the rock less fragile: the constraint weakened, never strengthened)")
-        pick = rng.integers(0, outcome.shape[0], size=(draws, outcome.shape[0]))
-        sample = outcome[pick, :, j]                                    # (draws, records, levels)
-        fit = fit_stripes(levels, np.nansum(sample, axis=1), np.sum(np.isfinite(sample), axis=1).astype(float))
-        keep = (np.isfinite(fit.theta) & np.isfinite(fit.beta)) | np.isin(fit.theta, (0.0, np.inf))
-        frags.append(FragilityDraws(theta, beta, fit.theta[keep],
-                                    np.where(np.isfinite(fit.beta[keep]), fit.beta[keep], 1.0), float(levels.max())))
+        theta_d, beta_d = _bootstrap(outcome[:, :, j], levels, draws, rng)
+        frags.append(FragilityDraws(theta, beta, theta_d, beta_d, float(levels.max())))
         status.append(st)
     kept = tuple(r for r in ids if r not in refused)
     component = Component(ds.attrs.get("im_component") or Component.rotd100.value)
@@ -110,6 +108,21 @@ def _from_run(ds: xr.Dataset, source: str, *, draws: int, seed: int) -> Rocks:
                  (f"fragility draws: {draws} bootstrap resamplings of the records "
                   f"({ds.attrs.get('outcome_measure')})", *notes),
                  tuple(status))
+
+
+def _bootstrap(outcome: np.ndarray, levels: np.ndarray, draws: int, rng) -> tuple[np.ndarray, np.ndarray]:
+    """Fits of the stripes with the records (rows of ``outcome``) resampled, :data:`DRAWS_AT_ONCE` at a time: the
+    medians [SI] (inf: nothing toppled in the draw; 0: everything did) and dispersions of the draws with a fit."""
+    thetas, betas = [], []
+    n = outcome.shape[0]
+    for k in range(0, draws, DRAWS_AT_ONCE):
+        pick = rng.integers(0, n, size=(min(DRAWS_AT_ONCE, draws - k), n))
+        sample = outcome[pick]                                          # (draws, records, levels)
+        fit = fit_stripes(levels, np.nansum(sample, axis=1), np.sum(np.isfinite(sample), axis=1).astype(float))
+        keep = (np.isfinite(fit.theta) & np.isfinite(fit.beta)) | np.isin(fit.theta, (0.0, np.inf))
+        thetas.append(fit.theta[keep])
+        betas.append(np.where(np.isfinite(fit.beta[keep]), fit.beta[keep], 1.0))
+    return np.concatenate(thetas), np.concatenate(betas)
 
 
 def _display(ds: xr.Dataset) -> tuple[str, float]:

@@ -38,6 +38,9 @@ from ..errors import ConstraintError
 from .ages import Age
 from .hazard import GAUSS, HazardCurve
 
+#: Curves whose integration weights are held in memory at once (each about 13 kB on 50 levels).
+CURVES_AT_ONCE = 1000
+
 
 class Combine(Enum):
     """How the rocks of one site combine into one likelihood per branch."""
@@ -87,7 +90,9 @@ def toppling_rates_many(curves, theta, beta) -> np.ndarray:
         groups.setdefault(np.asarray(c.levels, dtype=float).tobytes(), []).append(b)
     for members in groups.values():
         p = _fragility(_gauss_points(curves[members[0]].levels), theta, beta)           # (n, points)
-        out[members] = (p @ np.stack([_gauss_weights(curves[b]) for b in members], axis=1)).T
+        for k in range(0, len(members), CURVES_AT_ONCE):                               # memory bounded
+            chunk = members[k:k + CURVES_AT_ONCE]
+            out[chunk] = (p @ np.stack([_gauss_weights(curves[b]) for b in chunk], axis=1)).T
     return out
 
 

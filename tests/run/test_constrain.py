@@ -199,3 +199,26 @@ def test_the_readme_s_example_prints_what_the_readme_quotes(tmp_path, capsys):
                  "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(tmp_path / "out")]) == 0
     printed = capsys.readouterr().out.splitlines()
     assert quoted in printed, (quoted, printed)
+
+
+def test_the_work_in_chunks_gives_the_same_numbers(constrained, tmp_path, monkeypatch):
+    """Memory is bounded by working through branches, curves and bootstrap draws in chunks; chunks of a few give
+    the numbers of one chunk."""
+    import pipeline.run.constrain as run_constrain
+    import pipeline.uncertainty.constraint as constraint
+
+    monkeypatch.setattr(run_constrain, "BRANCHES_AT_ONCE", 4)
+    monkeypatch.setattr(constraint, "CURVES_AT_ONCE", 3)
+    out = tmp_path / "out"
+    assert main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(out), "--combine", "independent"]) == 0
+    a, b = xr.open_dataset(constrained / "constrain.nc"), xr.open_dataset(out / "constrain.nc")
+    for name in ("toppling_rate", "toppling_rate_upper", "likelihood_rock", "posterior_weight", "mean_rate_posterior"):
+        np.testing.assert_allclose(b[name].values, a[name].values, rtol=1e-13, err_msg=name)
+
+
+def test_too_many_draws_are_refused(tmp_path, capsys):
+    assert main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
+                 "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(tmp_path / "out"),
+                 "--draws", "1000000"]) == 2
+    assert "between 1 and 10,000 draws" in capsys.readouterr().err
