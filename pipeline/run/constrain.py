@@ -28,17 +28,16 @@ from ..uncertainty.constraint import (
     combine,
     posterior_weights,
     survival_likelihood,
-    toppling_rates_many,
-    toppling_rates_upper,
 )
-from ..uncertainty.hazard import IM_KIND, Component
+from ..uncertainty.hazard import IM_KIND, Component, annual_rates, annual_rates_upper
 from .constrain_inputs import Rocks, read_rocks
 
 #: Annual rates at which the hazard's change is reported [1/yr].
 TARGET_RATES = (1e-3, 1e-4, 1e-5)
 #: Fractiles of the branches reported [-].
 FRACTILES = (0.05, 0.5, 0.95)
-#: Branches whose draws' rates are held in memory at once, per rock (2,000 x 200 draws: 3.2 MB)
+#: Branches whose draws' rates are held in memory at once (2,000 x 201 fragilities of one rock: 3.2 MB; at most
+#: 160 MB at MAX_DRAWS)
 BRANCHES_AT_ONCE = 2000
 #: The most fragility draws a run takes (each rock's bootstrap is refitted in chunks; beyond this the sampling
 #: error of the likelihood is far below the fragility's own spread)
@@ -149,15 +148,16 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
     nr, nb = len(rocks.ids), len(tree.ids)
     rate, upper, lik = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
     rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
-    for i, (rock, frag) in enumerate(zip(rocks.ids, rocks.fragility)):
-        for lo in range(0, nb, BRANCHES_AT_ONCE):                                    # memory bounded
-            sl = slice(lo, min(lo + BRANCHES_AT_ONCE, nb))
-            curves = tree.curves[sl]
-            draws = toppling_rates_many(curves, frag.theta_draws, frag.beta_draws)   # (branches, draws)
-            rate[i, sl] = toppling_rates_many(curves, [frag.theta], [frag.beta])[:, 0]
-            rate_lo[i, sl], rate_hi[i, sl] = np.percentile(draws, [5, 95], axis=1)
-            lik[i, sl] = survival_likelihood(draws, ages[rock])
-            upper[i, sl] = toppling_rates_upper(curves, frag.theta, frag.beta, frag.top_level)
+    for lo in range(0, nb, BRANCHES_AT_ONCE):                                        # memory bounded
+        sl = slice(lo, min(lo + BRANCHES_AT_ONCE, nb))
+        for i, (rock, frag) in enumerate(zip(rocks.ids, rocks.fragility)):
+            # the draws and then the fit, in one call: the branches' weights built once per rock
+            rates = annual_rates(tree.curves[sl], np.append(frag.theta_draws, frag.theta),
+                                 np.append(frag.beta_draws, frag.beta))            # (branches, draws + 1)
+            rate[i, sl] = rates[:, -1]
+            rate_lo[i, sl], rate_hi[i, sl] = np.percentile(rates[:, :-1], [5, 95], axis=1)
+            lik[i, sl] = survival_likelihood(rates[:, :-1], ages[rock])
+            upper[i, sl] = annual_rates_upper(tree.curves[sl], frag.theta, frag.beta, frag.top_level)
     combined, chosen = combine(lik, tree.weights, rule)
     post = posterior_weights(tree.weights, combined)
     per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
+from scipy.special import ndtr
 
 from ..constants import G
 from ..errors import HazardError
@@ -89,9 +90,51 @@ class HazardCurve:
         return dataclasses.replace(self, component=component, component_stated=stated)
 
 
+#: Curves whose integration weights are held in memory at once by :func:`annual_rates` (about 13 kB each on 50
+#: levels).
+CURVES_AT_ONCE = 1000
+
+
 def annual_rate(curve: HazardCurve, theta: float, beta: float) -> float:
     """Mean annual rate of overturning for a lognormal fragility (theta [SI], beta) [1/yr]."""
-    return float(np.sum(integrand_segments(curve, theta, beta)[2]))
+    return float(annual_rates([curve], [theta], [beta])[0, 0])
+
+
+def annual_rates(curves, theta, beta) -> np.ndarray:
+    """The rate of :func:`annual_rate` for every curve (rows) and every (theta [SI], beta) (columns) [1/yr]: many
+    fragility draws on many branches of a logic tree at once. The fragility is evaluated once per set of levels the
+    curves share, and at most :data:`CURVES_AT_ONCE` curves' weights are held at once."""
+    theta, beta = np.atleast_1d(np.asarray(theta, dtype=float)), np.atleast_1d(np.asarray(beta, dtype=float))
+    out = np.empty((len(curves), theta.size))
+    groups: dict[bytes, list[int]] = {}
+    for b, c in enumerate(curves):
+        groups.setdefault(np.asarray(c.levels, dtype=float).tobytes(), []).append(b)
+    for members in groups.values():
+        u, _, _ = _nodes(curves[members[0]])
+        p = fragility_curves(np.append(u.ravel(), math.log(curves[members[0]].levels[-1])), theta, beta)
+        for k in range(0, len(members), CURVES_AT_ONCE):
+            chunk = members[k:k + CURVES_AT_ONCE]
+            out[chunk] = (p @ np.stack([_weights(curves[b]) for b in chunk], axis=1)).T
+    return out
+
+
+def _nodes(curve: HazardCurve) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per segment (rows) and Gauss point (columns): ln im, |d lambda / d ln im| of the log-log segment, and the
+    quadrature weight in ln im."""
+    x, w = GAUSS
+    lv, rt = np.log(curve.levels), np.log(curve.rates)
+    half = 0.5 * np.diff(lv)
+    s = -np.diff(rt) / np.diff(lv)                                          # each segment's log-log slope
+    u = half[:, None] * x[None, :] + (0.5 * (lv[1:] + lv[:-1]))[:, None]
+    slope_rate = s[:, None] * np.exp(rt[:-1, None] - s[:, None] * (u - lv[:-1, None]))
+    return u, slope_rate, half[:, None] * w[None, :]
+
+
+def _weights(curve: HazardCurve) -> np.ndarray:
+    """The integral's weights at the Gauss points of :func:`_nodes` (raveled), then lambda(im_max), the tail's
+    [1/yr]."""
+    _, slope_rate, quad = _nodes(curve)
+    return np.append((quad * slope_rate).ravel(), curve.rates[-1])
 
 
 def integrand_segments(curve: HazardCurve, theta: float, beta: float
@@ -107,20 +150,21 @@ def integrand_segments(curve: HazardCurve, theta: float, beta: float
     contribution : ndarray
         Each segment's integral, then the tail term [1/yr] (their sum is the rate).
     """
-    x, w = GAUSS
-    lv, rt = np.log(curve.levels), np.log(curve.rates)
-    ims, dens, parts = [], [], []
-    for k in range(len(lv) - 1):
-        s = -(rt[k + 1] - rt[k]) / (lv[k + 1] - lv[k])               # log-log slope of the segment
-        u = 0.5 * (lv[k + 1] - lv[k]) * x + 0.5 * (lv[k + 1] + lv[k])
-        im = np.exp(u)
-        lam = np.exp(rt[k] - s * (u - lv[k]))
-        f = fragility_curve(im, theta, beta) * s * lam                # per unit ln(im)
-        parts.append(0.5 * (lv[k + 1] - lv[k]) * float(np.sum(w * f)))
-        ims.append(im)
-        dens.append(f / im)
-    parts.append(float(fragility_curve(np.array([curve.levels[-1]]), theta, beta)[0]) * float(curve.rates[-1]))
-    return np.concatenate(ims), np.concatenate(dens), np.array(parts)
+    u, slope_rate, quad = _nodes(curve)
+    im = np.exp(u)
+    f = fragility_curve(im, theta, beta) * slope_rate                       # per unit ln(im)
+    parts = np.append(np.sum(quad * f, axis=1),
+                      float(fragility_curve(np.array([curve.levels[-1]]), theta, beta)[0]) * float(curve.rates[-1]))
+    return im.ravel(), (f / im).ravel(), parts
+
+
+def fragility_curves(ln_im: np.ndarray, theta: np.ndarray, beta: np.ndarray) -> np.ndarray:
+    """:func:`~.fragility.fragility_curve` of many fragilities (rows) at many ln im (columns) [-]: 0 for theta = inf,
+    1 for theta = 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = (ln_im[None, :] - np.log(theta)[:, None]) / beta[:, None]
+    p = np.where(np.isposinf(theta)[:, None], 0.0, ndtr(z))
+    return np.where((theta == 0)[:, None], 1.0, p)
 
 
 def exceedance_rate(curve: HazardCurve, im: float) -> float:
@@ -135,12 +179,23 @@ def annual_rate_upper(curve: HazardCurve, theta: float, beta: float, top: float)
     fragility below ``top`` (0 where nothing overturned: theta = inf), and overturning certain at and above it,
     the conservative reading of levels never tested [1/yr]. Equal to ``lambda(top)`` when nothing overturned.
     """
-    below = dataclasses.replace(curve, levels=np.append(curve.levels[curve.levels < top], top),
-                                rates=np.append(curve.rates[curve.levels < top], exceedance_rate(curve, top)))
-    if below.levels.size < 2:
-        return exceedance_rate(curve, top)
-    parts = integrand_segments(below, theta, beta)[2]
-    return float(np.sum(parts[:-1])) + exceedance_rate(curve, top)   # the segments below top, then certain above
+    return float(annual_rates_upper([curve], theta, beta, top)[0])
+
+
+def annual_rates_upper(curves, theta: float, beta: float, top: float) -> np.ndarray:
+    """:func:`annual_rate_upper` on every curve [1/yr]; NaN where ``top`` is not known (not finite)."""
+    if not math.isfinite(top):
+        return np.full(len(curves), np.nan)
+    lam_top = np.array([exceedance_rate(c, top) for c in curves])
+    below = [dataclasses.replace(c, levels=np.append(c.levels[c.levels < top], top),
+                                 rates=np.append(c.rates[c.levels < top], lam)) for c, lam in zip(curves, lam_top)]
+    tested = np.array([b.levels.size >= 2 for b in below])
+    out = lam_top.copy()                                  # nothing tested below the first level: certain above it
+    if tested.any():
+        rates = annual_rates([b for b, ok in zip(below, tested) if ok], [theta], [beta])[:, 0]
+        p_top = float(fragility_curves(np.array([math.log(top)]), np.array([theta]), np.array([beta]))[0, 0])
+        out[tested] = rates + (1.0 - p_top) * lam_top[tested]   # the tail at top taken as certain, not P(top)
+    return out
 
 
 def probability_in(rate_per_year: float, years: float = 50.0) -> float:

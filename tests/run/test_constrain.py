@@ -205,10 +205,10 @@ def test_the_work_in_chunks_gives_the_same_numbers(constrained, tmp_path, monkey
     """Memory is bounded by working through branches, curves and bootstrap draws in chunks; chunks of a few give
     the numbers of one chunk."""
     import pipeline.run.constrain as run_constrain
-    import pipeline.uncertainty.constraint as constraint
+    import pipeline.uncertainty.hazard as hazard
 
     monkeypatch.setattr(run_constrain, "BRANCHES_AT_ONCE", 4)
-    monkeypatch.setattr(constraint, "CURVES_AT_ONCE", 3)
+    monkeypatch.setattr(hazard, "CURVES_AT_ONCE", 3)
     out = tmp_path / "out"
     assert main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
                  "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(out), "--combine", "independent"]) == 0

@@ -2,7 +2,8 @@
 
 * Cornell et al. (2002): a lognormal fragility on a power-law hazard curve lambda = k0 x^-k has the rate
   k0 theta^-k exp(k^2 beta^2 / 2): the toppling rate matches it to 0.1 % per branch.
-* The vectorized integral equals :func:`pipeline.uncertainty.hazard.annual_rate` draw by draw.
+* The integral equals adaptive quadrature of the log-log curve draw by draw; the upper bound with toppling certain
+  above the top level tested equals its closed form on a power law (by parts).
 * The truncated normal's survival (closed form) equals numerical quadrature of exp(-lambda T) over its density.
 * Anderson & Brune (1999): a fragility without dispersion topples exactly when the shaking exceeds its median, so
   the survival is exp(-lambda(theta) T), lambda read from the hazard curve.
@@ -33,11 +34,8 @@ from pipeline.uncertainty.constraint import (
     combine,
     posterior_weights,
     survival_likelihood,
-    toppling_rates,
-    toppling_rates_many,
-    toppling_rates_upper,
 )
-from pipeline.uncertainty.hazard import HazardCurve, annual_rate, annual_rate_upper, exceedance_rate
+from pipeline.uncertainty.hazard import HazardCurve, annual_rates, annual_rates_upper, exceedance_rate
 from pipeline.uncertainty.hazard_files import read_hazard
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "constrain" / "openquake"
@@ -54,33 +52,58 @@ def power_law(k0: float, k: float, theta: float, beta: float) -> HazardCurve:
 def test_a_power_law_branch_matches_cornell_s_closed_form(k0, k, theta, beta):
     curve = power_law(k0, k, theta, beta)
     expected = k0 * theta ** -k * math.exp(k * k * beta * beta / 2)          # Cornell et al. (2002), eq. (6)
-    assert toppling_rates(curve, [theta], [beta])[0] == pytest.approx(expected, rel=1e-3)
+    assert annual_rates([curve], [theta], [beta])[0, 0] == pytest.approx(expected, rel=1e-3)
 
 
-def test_the_rates_of_many_draws_equal_the_one_rate_integral_draw_by_draw():
+def _quadrature_rate(curve: HazardCurve, theta: float, beta: float) -> float:
+    """The same integral by adaptive quadrature (scipy's quad) on each log-log segment, plus the tail term."""
+    lv, rt = np.log(curve.levels), np.log(curve.rates)
+    total = 0.0
+    for k in range(lv.size - 1):
+        s = -(rt[k + 1] - rt[k]) / (lv[k + 1] - lv[k])
+
+        def integrand(u, k=k, s=s):
+            return norm.cdf((u - math.log(theta)) / beta) * s * math.exp(rt[k] - s * (u - lv[k]))
+
+        total += integrate.quad(integrand, lv[k], lv[k + 1], epsabs=0.0, epsrel=1e-12)[0]
+    return total + norm.cdf((lv[-1] - math.log(theta)) / beta) * curve.rates[-1]
+
+
+def test_the_rates_of_many_draws_equal_adaptive_quadrature():
     curve = read_hazard(next(EXAMPLE.glob("hazard_curve-rlz-000-*.csv")), im="pga")
     rng = np.random.default_rng(5)
-    theta, beta = rng.uniform(0.05, 1.5, 20) * G, rng.uniform(0.1, 0.8, 20)
-    got = toppling_rates(curve, theta, beta)
-    assert got == pytest.approx([annual_rate(curve, t, b) for t, b in zip(theta, beta)], rel=1e-12)
-    edges = toppling_rates(curve, [np.inf, 0.0], [np.nan, np.nan])
+    theta, beta = rng.uniform(0.05, 1.5, 8) * G, rng.uniform(0.1, 0.8, 8)
+    got = annual_rates([curve], theta, beta)[0]
+    assert got == pytest.approx([_quadrature_rate(curve, t, b) for t, b in zip(theta, beta)], rel=1e-9)
+    edges = annual_rates([curve], [np.inf, 0.0], [np.nan, np.nan])[0]
     assert edges[0] == 0.0 and edges[1] == pytest.approx(float(curve.rates[0]), rel=1e-12)
 
 
-def test_many_curves_at_once_equal_each_curve_alone_and_the_upper_bound_is_fragility_s():
-    """Curves on shared and on other levels in one call; the bound with toppling certain above the top level tested
-    equals :func:`annual_rate_upper` of ``screen fragility``."""
+@pytest.mark.parametrize("top_over_theta", [0.6, 1.0, 2.5])
+def test_the_upper_bound_matches_its_closed_form_on_a_power_law(top_over_theta):
+    """The fragility below the top level tested and toppling certain above it, on lambda = k0 x^-k: by parts,
+    k0 theta^-k exp(k^2 beta^2 / 2) Phi(z + k beta) + lambda(top) (1 - Phi(z)), z = ln(top / theta) / beta."""
+    k0, k, theta, beta = 1e-4, 2.5, 0.3 * G, 0.4
+    top = top_over_theta * theta
+    z = math.log(top / theta) / beta
+    expected = (k0 * theta ** -k * math.exp(k * k * beta * beta / 2) * norm.cdf(z + k * beta)
+                + k0 * top ** -k * (1 - norm.cdf(z)))
+    curves = [power_law(k0, k, theta, beta), read_hazard(next(EXAMPLE.glob("hazard_curve-rlz-000-*.csv")), im="pga")]
+    got = annual_rates_upper(curves, theta, beta, top)
+    assert got[0] == pytest.approx(expected, rel=1e-6)
+    assert got[1] >= annual_rates([curves[1]], [theta], [beta])[0, 0]      # never below the fitted rate
+    assert np.isnan(annual_rates_upper(curves, theta, beta, math.inf)).all()
+
+
+def test_curves_on_other_levels_in_one_call_give_each_curve_s_rate():
+    """Curves grouped by their levels: one call on a tree's branches and a curve of other levels gives what each
+    curve gives alone."""
     tree = read_branches(EXAMPLE, im="pga")
-    other = power_law(1e-4, 2.5, 0.3 * G, 0.4)
-    curves = [*tree.curves, other]
+    curves = [*tree.curves, power_law(1e-4, 2.5, 0.3 * G, 0.4)]
     theta, beta = np.array([0.21, 0.5]) * G, np.array([0.42, 0.3])
-    many = toppling_rates_many(curves, theta, beta)
+    many = annual_rates(curves, theta, beta)
     for b, c in enumerate(curves):
-        assert many[b] == pytest.approx(toppling_rates(c, theta, beta), rel=1e-13)
-    for top in (0.3 * G, 0.9 * G):
-        got = toppling_rates_upper(curves, 0.21 * G, 0.42, top)
-        assert got == pytest.approx([annual_rate_upper(c, 0.21 * G, 0.42, top) for c in curves], rel=1e-12)
-    assert np.isnan(toppling_rates_upper(curves, 0.21 * G, 0.42, math.inf)).all()
+        assert many[b] == pytest.approx(annual_rates([c], theta, beta)[0], rel=1e-13)
 
 
 @pytest.mark.parametrize("rate, mean, sd", [(1e-4, 10_000, 1_500), (5e-4, 12_000, 4_000), (3e-3, 5_000, 2_500),
@@ -106,7 +129,7 @@ def test_anderson_and_brune_s_rule_is_the_limit_of_no_dispersion():
     """A rock that topples exactly when the shaking exceeds theta survives T years with exp(-lambda(theta) T)."""
     curve = read_hazard(next(EXAMPLE.glob("hazard_curve-rlz-003-*.csv")), im="pga")
     theta = 0.25 * G
-    rate = toppling_rates(curve, [theta], [1e-4])
+    rate = annual_rates([curve], [theta], [1e-4])[0]
     survival = survival_likelihood(rate, normal_age(12_000, 0))
     assert survival == pytest.approx(math.exp(-exceedance_rate(curve, theta) * 12_000), rel=1e-3)
 
@@ -129,7 +152,7 @@ def test_earthquakes_drawn_from_the_curve_topple_the_rock_at_the_integrated_rate
     topple = rng.uniform(size=im.size) < norm.cdf(np.log(im / theta) / beta)
     owner = np.repeat(np.arange(n), events)
     stood = 1.0 - np.bincount(owner[topple], minlength=n).clip(max=1).mean()
-    expected = math.exp(-toppling_rates(curve, [theta], [beta])[0] * years)
+    expected = math.exp(-annual_rates([curve], [theta], [beta])[0, 0] * years)
     assert abs(stood - expected) < 4 * math.sqrt(expected * (1 - expected) / n)
 
 

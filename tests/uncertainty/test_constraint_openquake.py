@@ -20,7 +20,7 @@ from scipy.stats import norm
 
 from pipeline.constants import G
 from pipeline.uncertainty.branches import read_branches
-from pipeline.uncertainty.constraint import toppling_rates
+from pipeline.uncertainty.hazard import annual_rates
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "constrain" / "openquake"
 
@@ -53,5 +53,5 @@ def test_each_branch_s_rate_equals_openquake_s_classical_damage(theta_g, beta):
         fragility = [lambda x: norm.cdf(np.log(np.asarray(x) / theta_g) / beta)]
         theirs = -np.log(oq(fragility, fine / G, poes, 1.0, 1.0)[0])    # P(no damage) in a year -> rate
         theirs += fragility[0](fine[-1] / G) * rates[-1]                # the tail above the last level (below)
-        ours = toppling_rates(curve, [theta_g * G], [beta])[0]
+        ours = annual_rates([curve], [theta_g * G], [beta])[0, 0]
         assert ours == pytest.approx(theirs, rel=1e-3)
