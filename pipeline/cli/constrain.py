@@ -7,9 +7,8 @@ import shlex
 import sys
 from pathlib import Path
 
-from ..errors import UsageError
 from .exits import EXIT_OK
-from .options import _add_output_options, _epilog
+from .options import _add_hazard_site, _add_output_options, _epilog, _hazard_site
 from .progress import _ticking
 
 
@@ -38,9 +37,7 @@ def constrain_parser() -> argparse.ArgumentParser:
                         "conservative where the same earthquakes shake every rock) or independent (the product)")
     p.add_argument("--draws", type=int, default=200, metavar="N",
                    help="draws of each rock's fragility carried into the likelihood (200)")
-    p.add_argument("--hazard-site", metavar="SITE_ID", help="OpenQuake files of several sites: the custom_site_id")
-    p.add_argument("--hazard-lonlat", metavar="LON,LAT",
-                   help="OpenQuake files of several sites: the nearest to LON,LAT")
+    _add_hazard_site(p)
     p.add_argument("--hazard-period", type=float, metavar="SECONDS", help="Sa's period where the folder holds several")
     p.add_argument("--hazard-component", choices=[c.value for c in Component],
                    help="the hazard's component definition where its files do not say (OpenQuake's: rotd50)")
@@ -59,18 +56,10 @@ def cmd_constrain(args: argparse.Namespace, argv: list[str]) -> int:
     from ..uncertainty.constraint import Combine
     from ..uncertainty.hazard import Component
 
-    if args.hazard_scale is not None and not args.hazard_scale > 0:
-        raise UsageError(f"--hazard-scale {args.hazard_scale}: must be a positive factor")
-    lonlat = None
-    if args.hazard_lonlat:
-        try:
-            lon, lat = (float(x) for x in args.hazard_lonlat.split(","))
-        except ValueError:
-            raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees") from None
-        lonlat = (lon, lat)
+    site, lonlat = _hazard_site(args)
     request = ConstrainRequest(
         args.fragility, args.ages, args.branches, args.out, combine=Combine(args.combine), draws=args.draws,
-        site=args.hazard_site, lonlat=lonlat, period_s=args.hazard_period,
+        site=site, lonlat=lonlat, period_s=args.hazard_period,
         hazard_component=Component(args.hazard_component) if args.hazard_component else None,
         hazard_scale=args.hazard_scale, command=("screen", *map(shlex.quote, argv)))
     with _ticking(args.quiet) as say:

@@ -12,6 +12,7 @@ from ..errors import (
 from .exits import _run_exit
 from .options import (
     _add_execution,
+    _add_hazard_site,
     _add_inputs,
     _add_output_options,
     _add_tolerate,
@@ -19,6 +20,7 @@ from .options import (
     _compile_simulator,
     _config_and_inventory,
     _epilog,
+    _hazard_site,
     _records_dir,
     _say,
     _workers,
@@ -52,10 +54,7 @@ def fragility_parser() -> argparse.ArgumentParser:
                    help="hazard curve as exported: OpenQuake hazard_curve-*.csv, the USGS hazard service's JSON, or "
                         "a CSV <im>_<unit>[_<component>],annual_rate; repeat for Sa at several periods (each "
                         "block uses the nearest) (docs/user-guide.md)")
-    p.add_argument("--hazard-site", metavar="SITE_ID",
-                   help="OpenQuake file of several sites: the custom_site_id to use")
-    p.add_argument("--hazard-lonlat", metavar="LON,LAT",
-                   help="OpenQuake file of several sites: LON,LAT; the nearest site is used")
+    _add_hazard_site(p)
     p.add_argument("--hazard-component", choices=[c.value for c in Component],
                    help="the horizontal component definition of the hazard curve, where the file does not say "
                         "(OpenQuake curves are taken as rotd50 unless stated)")
@@ -114,15 +113,6 @@ def _hazard_and_component(args: argparse.Namespace):
     fit uses (:func:`pipeline.run.fragility.hazard_and_component`)."""
     from ..run.fragility import hazard_and_component
 
-    lonlat = None
-    if args.hazard_lonlat:
-        try:
-            lon, lat = (float(x) for x in args.hazard_lonlat.split(","))
-        except ValueError:
-            raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees, e.g. "
-                             "12.5,41.9") from None
-        lonlat = (lon, lat)
-    if args.hazard_scale is not None and not (args.hazard_scale > 0):
-        raise UsageError(f"--hazard-scale {args.hazard_scale}: must be a positive factor")
-    return hazard_and_component(args.hazard or [], im=args.im, site=args.hazard_site, lonlat=lonlat,
+    site, lonlat = _hazard_site(args)
+    return hazard_and_component(args.hazard or [], im=args.im, site=site, lonlat=lonlat,
                                 stated=args.hazard_component, im_component=args.im_component, scale=args.hazard_scale)

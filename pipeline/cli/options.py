@@ -10,6 +10,7 @@ from pathlib import Path
 from ..config import FIDELITY_TIERS
 from ..errors import (
     RecordsNotFoundError,
+    UsageError,
 )
 from .exits import EXIT_CODES
 
@@ -93,6 +94,36 @@ def _add_run_arguments(p: argparse.ArgumentParser) -> None:
                         "is, the run is skipped after checking the digests of inputs, code and outputs)")
     _add_tolerate(p)
     _add_output_options(p)
+
+
+def _add_hazard_site(p: argparse.ArgumentParser) -> None:
+    """--hazard-site and --hazard-lonlat: the site of OpenQuake files of several (screen fragility, screen
+    constrain); read back by :func:`_hazard_site`."""
+    p.add_argument("--hazard-site", metavar="SITE_ID",
+                   help="OpenQuake file of several sites: the custom_site_id to use")
+    p.add_argument("--hazard-lonlat", metavar="LON,LAT",
+                   help="OpenQuake file of several sites: LON,LAT; the nearest site is used")
+
+
+def _hazard_site(args: argparse.Namespace) -> tuple[str | None, tuple[float, float] | None]:
+    """--hazard-site and --hazard-lonlat parsed (and --hazard-scale checked positive where given).
+
+    Raises
+    ------
+    UsageError
+        For a LON,LAT that is not two numbers, or a factor that is not positive.
+    """
+    scale = getattr(args, "hazard_scale", None)
+    if scale is not None and not scale > 0:
+        raise UsageError(f"--hazard-scale {scale}: must be a positive factor")
+    if not args.hazard_lonlat:
+        return args.hazard_site, None
+    try:
+        lon, lat = (float(x) for x in args.hazard_lonlat.split(","))
+    except ValueError:
+        raise UsageError(f"--hazard-lonlat {args.hazard_lonlat!r}: expected LON,LAT in degrees, e.g. "
+                         "12.5,41.9") from None
+    return args.hazard_site, (lon, lat)
 
 
 def _add_tolerate(p: argparse.ArgumentParser) -> None:

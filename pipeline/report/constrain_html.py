@@ -55,27 +55,42 @@ def hazard_figure(ds: xr.Dataset) -> str:
     return _png(fig)
 
 
-def _level(x: float, factor: float) -> str:
+def level_text(x: float, factor: float) -> str:
+    """A level [SI] in the display unit (``factor`` to SI), or "not reached" where the curve does not reach the
+    rate."""
     return "not reached" if not math.isfinite(x) else f"{x / factor:.3g}"
 
 
-def _change_rows(ds: xr.Dataset, factor: float) -> list[dict]:
-    rows = []
-    for k, r in enumerate(ds["target_rate"].values):
-        fp, fq = ds["fractile_level_prior"].values[:, k], ds["fractile_level_posterior"].values[:, k]
-        rows.append({"rate": f"{r:.0e}", "prior": _level(ds["mean_level_prior"].values[k], factor),
-                     "posterior": _level(ds["mean_level_posterior"].values[k], factor),
-                     "change": _percent(ds["mean_level_change"].values[k]),
-                     "range_prior": f"{_level(fp[0], factor)} to {_level(fp[-1], factor)}",
-                     "range_posterior": f"{_level(fq[0], factor)} to {_level(fq[-1], factor)}",
-                     "range_change": _percent(ds["range_change"].values[k])})
-    return rows
-
-
-def _percent(x: float) -> str:
+def percent_text(x: float) -> str:
+    """A relative change as a signed percentage ("0 %" where it rounds to 0; "not computed" where it is not a
+    number: a curve that does not reach the rate)."""
     if not math.isfinite(x):
         return "not computed"
     return "0 %" if round(100 * x) == 0 else f"{100 * x:+.0f} %"
+
+
+def change_rows(ds: xr.Dataset) -> list[dict]:
+    """The change of the site's hazard at each target rate, as text in the IM's display unit: the page's first
+    table and the lines ``screen constrain`` prints (:func:`summary_lines`)."""
+    _, factor = display_unit(ds.attrs["im"])
+    rows = []
+    for k, r in enumerate(ds["target_rate"].values):
+        fp, fq = ds["fractile_level_prior"].values[:, k], ds["fractile_level_posterior"].values[:, k]
+        rows.append({"rate": f"{r:.0e}", "prior": level_text(ds["mean_level_prior"].values[k], factor),
+                     "posterior": level_text(ds["mean_level_posterior"].values[k], factor),
+                     "change": percent_text(ds["mean_level_change"].values[k]),
+                     "prior_low": level_text(fp[0], factor), "prior_high": level_text(fp[-1], factor),
+                     "posterior_low": level_text(fq[0], factor), "posterior_high": level_text(fq[-1], factor),
+                     "width_change": percent_text(ds["range_change"].values[k])})
+    return rows
+
+
+def summary_lines(ds: xr.Dataset) -> list[str]:
+    """One line per target rate: the mean and the 5-95 % range before and after."""
+    unit = display_unit(ds.attrs["im"])[0]
+    return [f"at {r['rate']}/yr: mean {ds.attrs['im']} {r['prior']} -> {r['posterior']} {unit} ({r['change']}); "
+            f"5-95 % {r['prior_low']}-{r['prior_high']} -> {r['posterior_low']}-{r['posterior_high']} {unit} "
+            f"(width {r['width_change']})" for r in change_rows(ds)]
 
 
 def _rock_rows(ds: xr.Dataset, factor: float) -> list[dict]:
@@ -110,7 +125,7 @@ def constrain_page(ds: xr.Dataset) -> str:
                       autoescape=select_autoescape(["html", "j2"]))
     refused = [line.split(": ", 1) for line in ds.attrs.get("refused", "").splitlines() if line]
     return env.get_template("constrain.html.j2").render(
-        attrs=ds.attrs, unit=unit, changes=_change_rows(ds, factor), rocks=_rock_rows(ds, factor),
+        attrs=ds.attrs, unit=unit, changes=change_rows(ds), rocks=_rock_rows(ds, factor),
         branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds), drawn=min(MAX_CURVES, ds.sizes["branch"]),
         n_branches=ds.sizes["branch"],
         notes=[n for n in ds.attrs.get("notes", "").splitlines() if n],

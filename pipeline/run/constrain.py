@@ -42,6 +42,8 @@ BRANCHES_AT_ONCE = 2000
 #: The most fragility draws a run takes (each rock's bootstrap is refitted in chunks; beyond this the sampling
 #: error of the likelihood is far below the fragility's own spread)
 MAX_DRAWS = 10_000
+#: How far a rock's Sa period may be from the branches' before it is said [-]
+PERIOD_TOLERANCE = 0.1
 #: The files ``screen constrain`` writes besides the reweighted curves
 OUTPUTS = ("constrain.nc", "constrain.html", "constrain_branches.csv")
 
@@ -92,6 +94,7 @@ def constrain(req: ConstrainRequest, *, say=None) -> ConstrainResult:
                          component=req.hazard_component)
     tree = _matched(tree, rocks, scale=req.hazard_scale)
     rocks, warnings = _with_ages(rocks, ages, req.ages)
+    warnings += _period_warnings(tree, rocks)
     say(f"the toppling rates of {len(rocks.ids)} rock(s) x {req.draws} draws on {len(tree.ids)} branches")
     ds = compute(rocks, ages, tree, rule=req.combine)
     say("writing constrain.nc, constrain.html (its figure) and the reweighted curves")
@@ -139,8 +142,21 @@ def _with_ages(rocks: Rocks, ages: dict[str, Age], ages_path: Path) -> tuple[Roc
         raise ConstraintError("no rock can constrain the hazard: " + "; ".join(warnings))
     rocks = dataclasses.replace(rocks, ids=tuple(rocks.ids[k] for k in keep),
                                 fragility=tuple(rocks.fragility[k] for k in keep),
-                                status=tuple(rocks.status[k] for k in keep), refused=refused)
+                                status=tuple(rocks.status[k] for k in keep),
+                                period_s=tuple(rocks.period_s[k] for k in keep), refused=refused)
     return rocks, warnings
+
+
+def _period_warnings(tree: LogicTree, rocks: Rocks) -> list[str]:
+    """For Sa: each rock whose fragility's period is more than :data:`PERIOD_TOLERANCE` away from the branches'
+    (the fragility is fitted on Sa at the rock's own period 2 pi / p)."""
+    tree_period = tree.curves[0].period_s
+    if rocks.im != "sa" or not np.isfinite(tree_period):
+        return []
+    return [f"{r}: its fragility is on Sa({p:.3g} s), the branches on Sa({tree_period:g} s) (ratio "
+            f"{tree_period / p:.2f}): give the branches at its period for a rate of its own"
+            for r, p in zip(rocks.ids, rocks.period_s)
+            if np.isfinite(p) and abs(np.log(tree_period / p)) > np.log(1.0 + PERIOD_TOLERANCE)]
 
 
 def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combine) -> xr.Dataset:
@@ -223,33 +239,11 @@ def _summaries(grid: np.ndarray, hazard: np.ndarray, prior: np.ndarray, post: np
     return out
 
 
-def percent(x: float) -> str:
-    """A relative change as a signed percentage ("0 %" where it rounds to 0; "not computed" where it is not a
-    number: a curve that does not reach the rate)."""
-    if not np.isfinite(x):
-        return "not computed"
-    return "0 %" if round(100 * x) == 0 else f"{100 * x:+.0f} %"
-
-
 def summary_lines(ds: xr.Dataset) -> list[str]:
-    """The change of the site's hazard at each target rate, one line each, in the IM's display unit."""
-    from ..records.intensity import display_unit
+    """The change of the site's hazard at each target rate, one line each, as the page's first table gives it."""
+    from ..report.constrain_html import summary_lines as lines
 
-    unit, factor = display_unit(ds.attrs["im"])
-
-    def level(x: float) -> str:
-        return f"{x / factor:.3g}" if np.isfinite(x) else "not reached"
-
-    lines = []
-    for k, rate in enumerate(ds["target_rate"].values):
-        lo0, hi0 = ds["fractile_level_prior"].values[[0, -1], k]
-        lo1, hi1 = ds["fractile_level_posterior"].values[[0, -1], k]
-        change = percent(ds["mean_level_change"].values[k])
-        lines.append(f"at {rate:.0e}/yr: mean {ds.attrs['im']} {level(ds['mean_level_prior'].values[k])} -> "
-                     f"{level(ds['mean_level_posterior'].values[k])} {unit} ({change}); "
-                     f"5-95 % {level(lo0)}-{level(hi0)} -> {level(lo1)}-{level(hi1)} {unit} "
-                     f"(width {percent(ds['range_change'].values[k])})")
-    return lines
+    return lines(ds)
 
 
 def _publish(ds: xr.Dataset, tree: LogicTree, req: ConstrainRequest) -> list[Path]:

@@ -3,7 +3,8 @@ a table of lognormal parameters, and the rocks that cannot constrain anything, e
 
 From ``fragility.nc`` the draws are the bootstrap's: the records resampled with replacement and the stripes
 fitted again (:func:`pipeline.uncertainty.fragility.fit_stripes`, the same fit as the run's), so that the
-fragility's own uncertainty enters the likelihood. From a table, the median is drawn lognormal and beta normal
+fragility's own uncertainty enters the likelihood. A scaled record without a verdict counts as the rock standing, and
+the point fit is then the run's ``median_unjudged_stand``. From a table, the median is drawn lognormal and beta normal
 (truncated at :data:`BETA_MIN`), each with the standard deviation its 90 % interval implies, or held at the
 point where no interval is given.
 """
@@ -47,8 +48,10 @@ class Rocks:
     refused: dict
     source: str
     notes: tuple = ()
-    #: per rock: the fit's status (FitStatus), and its Sa period [s] where the IM is sa
+    #: per rock: the fit's status (FitStatus)
     status: tuple = ()
+    #: per rock: the period of its Sa fragility [s] (NaN: not known, or an IM other than Sa)
+    period_s: tuple = ()
 
 
 def read_rocks(path: Path, *, draws: int, seed: int) -> Rocks:
@@ -61,17 +64,14 @@ def read_rocks(path: Path, *, draws: int, seed: int) -> Rocks:
         a fragility (named with the line).
     """
     path = Path(path)
-    if path.is_dir():
-        nc = path / "fragility.nc"
-        if not nc.is_file():
-            raise ConstraintError(f"{nc}: no fragility.nc; --fragility is the --out folder of a 'screen fragility' "
-                                  f"run, or a CSV {TABLE_HEADER}")
-        with xr.open_dataset(nc) as ds:
-            return _from_run(ds.load(), str(nc), draws=draws, seed=seed)
-    if path.suffix.lower() == ".nc":
-        with xr.open_dataset(path) as ds:
-            return _from_run(ds.load(), str(path), draws=draws, seed=seed)
-    return _from_table(path, draws=draws, seed=seed)
+    nc = path / "fragility.nc" if path.is_dir() else path
+    if nc.suffix.lower() != ".nc":
+        return _from_table(path, draws=draws, seed=seed)
+    if not nc.is_file():
+        raise ConstraintError(f"{nc}: no fragility.nc; --fragility is the --out folder of a 'screen fragility' run, or "
+                              f"a CSV {TABLE_HEADER}")
+    with xr.open_dataset(nc) as ds:
+        return _from_run(ds.load(), str(nc), draws=draws, seed=seed)
 
 
 def _from_run(ds: xr.Dataset, source: str, *, draws: int, seed: int) -> Rocks:
@@ -81,11 +81,11 @@ def _from_run(ds: xr.Dataset, source: str, *, draws: int, seed: int) -> Rocks:
     factor = ds["scale_factor"].values
     outcome = prob if sampled else np.where(verdict >= 0, verdict.astype(float), np.nan)
     scaled = np.isfinite(factor)
-    # a record-level without a verdict counts as the rock standing: the reading that weakens the constraint
+    # a record-level without a verdict counts as the rock standing: no stripe's toppling fraction is raised by it
     unjudged = scaled & ~np.isfinite(outcome)
     outcome = np.where(scaled, np.where(unjudged, 0.0, outcome), np.nan)     # (record, level, block)
     ids = [str(b) for b in ds["block"].values]
-    refused, frags, status, notes = {}, [], [], []
+    refused, frags, status, notes, periods = {}, [], [], [], []
     unit, shown = _display(ds)
     rng = np.random.Generator(np.random.PCG64(seed))
     for j, rock in enumerate(ids):
@@ -98,16 +98,17 @@ def _from_run(ds: xr.Dataset, source: str, *, draws: int, seed: int) -> Rocks:
         if unjudged[:, :, j].any() and "median_unjudged_stand" in ds:
             theta, beta = float(ds["median_unjudged_stand"].values[j]), float(ds["beta_unjudged_stand"].values[j])
             notes.append(f"{rock}: {int(unjudged[:, :, j].sum())} scaled record(s) without a verdict counted as "
-                         "standing (the rock less fragile: the constraint weakened, never strengthened)")
+                         "standing (no stripe's toppling fraction raised by what was not judged)")
         theta_d, beta_d = _bootstrap(outcome[:, :, j], levels, draws, rng)
         frags.append(FragilityDraws(theta, beta, theta_d, beta_d, float(levels.max())))
         status.append(st)
+        periods.append(float(ds["block_period"].values[j]) if "block_period" in ds else math.nan)
     kept = tuple(r for r in ids if r not in refused)
     component = Component(ds.attrs.get("im_component") or Component.rotd100.value)
     return Rocks(kept, tuple(frags), str(ds.attrs["im"]), component, refused, source,
                  (f"fragility draws: {draws} bootstrap resamplings of the records "
                   f"({ds.attrs.get('outcome_measure')})", *notes),
-                 tuple(status))
+                 tuple(status), tuple(periods))
 
 
 def _bootstrap(outcome: np.ndarray, levels: np.ndarray, draws: int, rng) -> tuple[np.ndarray, np.ndarray]:
@@ -180,7 +181,7 @@ def _from_table(path: Path, *, draws: int, seed: int) -> Rocks:
                               "component for every rock, the hazard's")
     return Rocks(tuple(ids), tuple(frags), ims.pop(), Component(comps.pop()), {}, str(path),
                  (f"fragility draws: {draws} from each row's 90 % intervals (median lognormal, beta normal)",),
-                 tuple(FitStatus.ok for _ in ids))
+                 tuple(FitStatus.ok for _ in ids), tuple(math.nan for _ in ids))
 
 
 def _number(cells: dict, key: str, where: str) -> float:

@@ -12,6 +12,8 @@
 
 from __future__ import annotations
 
+import csv
+import io
 import math
 from pathlib import Path
 
@@ -54,10 +56,13 @@ def write_reweighted(ds: xr.Dataset, tree: LogicTree, out: Path) -> list[Path]:
 
 def _openquake(ds: xr.Dataset, tree: LogicTree, out: Path) -> list[Path]:
     meta = f"generated_by='rockscreen {__version__} screen constrain'"
-    weights = "\n".join(f"{int(bid[4:])},{inert(str(path))},{w:.7e}" for bid, path, w in
-                        zip(tree.ids, tree.paths, ds["posterior_weight"].values))
+    table = io.StringIO()
+    rows = csv.writer(table, lineterminator="\n")                # a branch path with a comma or a quote stays whole
+    rows.writerow(["rlz_id", "branch_path", "weight"])
+    rows.writerows([int(bid[4:]), inert(str(path)), f"{w:.7e}"]
+                   for bid, path, w in zip(tree.ids, tree.paths, ds["posterior_weight"].values))
     paths = [write_text_atomic(out / "realizations_posterior.csv",
-                               f'#,,"{meta}, kind=\'posterior weights\'"\nrlz_id,branch_path,weight\n{weights}\n')]
+                               f'#,,"{meta}, kind=\'posterior weights\'"\n{table.getvalue()}')]
     first = tree.curves[0]
     years = first.investigation_time_yr if math.isfinite(first.investigation_time_yr) else 1.0
     factor = OQ_LEVEL_UNITS[ds.attrs["im"]][0]

@@ -6,7 +6,8 @@ level at which a curve reaches a rate.
   better than 1 %.)
 * A fractile q at a level is the weighted quantile of the branches' rates there, read from their weighted
   empirical distribution: the rates sorted, the weights accumulated, q interpolated linearly between them (the
-  definition of OpenQuake's quantile curves, so that a tree's prior fractiles equal OpenQuake's exported ones).
+  definition of OpenQuake's quantile curves; OpenQuake interpolates between probabilities, rockscreen between rates,
+  and on the shipped example the prior fractiles equal OpenQuake's exported ones to 2.4e-6).
 * The level at a rate (a uniform-hazard level) is read from a curve log-log between its points; NaN where the
   curve does not reach the rate within its levels.
 

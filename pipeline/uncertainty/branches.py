@@ -110,7 +110,7 @@ def _openquake(folder: Path, tables: list[Path], *, im: str, period_s, **kw) -> 
     calc_id = calc.group(1) if calc else ""
     rows = _realizations(table)
     files = _rlz_files(folder, im=im, period_s=period_s, calc_id=calc_id)
-    ids, paths, curves, weights = [], [], [], []
+    rlzs, paths, curves, weights = [], [], [], []
     for _line, where, cells in rows:
         try:
             rlz, weight = int(cells["rlz_id"]), float(cells["weight"])
@@ -121,19 +121,19 @@ def _openquake(folder: Path, tables: list[Path], *, im: str, period_s, **kw) -> 
             raise ConstraintError(f"{where}: realization {rlz} has no {OQ_IMT.get(im, im)} curve file "
                                   f"hazard_curve-rlz-{rlz:03d}-...csv in {folder}; export every realization "
                                   "(individual_rlzs = true, oq export hcurves <calc> -e csv)")
-        ids.append(f"rlz-{rlz:03d}")
+        rlzs.append(rlz)
         paths.append(cells["branch_path"])
         curves.append(read_hazard(files[rlz][1], im=im, period_s=period_s, **kw))
         weights.append(weight)
-    if not ids:
+    if not rlzs:
         raise ConstraintError(f"{table}: no realizations listed")
-    extra = sorted(set(files) - {int(i[4:]) for i in ids})
+    extra = sorted(set(files) - set(rlzs))
     if extra:
         raise ConstraintError(f"{folder}: curve files of realizations {extra} not in {table.name}: a folder holds "
                               "one calculation's export")
     w, notes = _normalised(np.array(weights), where=str(table))
-    return LogicTree(tuple(ids), tuple(paths), tuple(curves), w, str(folder), TreeFormat.openquake, tuple(notes),
-                     imt=files[int(ids[0][4:])][0], calc_id=calc_id)
+    return LogicTree(tuple(f"rlz-{r:03d}" for r in rlzs), tuple(paths), tuple(curves), w, str(folder),
+                     TreeFormat.openquake, tuple(notes), imt=files[rlzs[0]][0], calc_id=calc_id)
 
 
 def _realizations(table: Path):

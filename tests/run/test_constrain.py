@@ -222,3 +222,24 @@ def test_too_many_draws_are_refused(tmp_path, capsys):
                  "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(tmp_path / "out"),
                  "--draws", "1000000"]) == 2
     assert "between 1 and 10,000 draws" in capsys.readouterr().err
+
+
+def test_an_sa_fragility_of_another_period_is_said(tmp_path, capsys):
+    """A rock's Sa fragility is at its own period 2 pi / p: branches at a period more than 10 % away are named."""
+    frag = fragility_run(tmp_path / "frag")
+    with xr.open_dataset(frag / "fragility.nc") as ds:
+        ds = ds.load()
+    ds.attrs["im"] = "sa"
+    ds["block_period"] = (("block",), np.array([2.0, 1.0, 1.0, 1.0, 1.0, 1.05]))
+    ds.to_netcdf(frag / "fragility.nc")
+    folder = tmp_path / "branches"
+    folder.mkdir()
+    for name, scale in (("a.csv", 0.5), ("b.csv", 2.0)):
+        rows = "".join(f"{x:.6g},{scale * 1e-4 * x ** -2.2:.6g}\n" for x in np.geomspace(0.01, 2.0, 25))
+        (folder / name).write_text("sa(1.0)_g_rotd50,annual_rate\n" + rows)
+    (folder / "weights.csv").write_text("file,weight\na.csv,0.5\nb.csv,0.5\n")
+    assert main(["constrain", "--fragility", str(frag), "--ages", str(ages_file(tmp_path, "AF")),
+                 "--hazard-branches", str(folder), "--out", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert "A: its fragility is on Sa(2 s), the branches on Sa(1 s) (ratio 0.50)" in err
+    assert "F: its fragility is on Sa" not in err
