@@ -7,8 +7,14 @@ of a step is a contact with Coulomb friction (the isotropic cone, ``|P_t| <= mu 
 the step solve the velocity-level complementarity problem of Moreau (1988) and Jean (1999): a contact keeps its
 normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or separates with no impulse;
 it sticks, or slides with the largest friction against its slip. The problem is solved by projected Gauss-Seidel
-over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, to a stated
+over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, started from a
+Newton solve of all the contacts together where at most four touch (:mod:`.contact_problem`), to a stated
 tolerance or a cap of sweeps (the step is then flagged, never silently accepted).
+
+**Overturned** is the body lying on a side: its axis tilted to within :data:`LYING_SLACK_RAD` of the horizontal.
+A box that falls lands on its side face at a tilt of pi/2 less what the landing step lets it sink into the ground
+(a velocity-level step keeps contacts from approaching, not from overlapping by up to a step's travel), so a test of
+exactly pi/2 decided such a fall by the last step's rounding.
 
 A plastic impact at a new sticking contact reduces to Housner's (1963) rule for a block pivoting without slip:
 the angular momentum about the new pivot is conserved and the old pivot lifts (tested against the planar kernel).
@@ -20,7 +26,7 @@ A body flat on its base and still (the body at the start, or one found again wit
 :data:`REST_TILT_RAD` and every speed below :data:`REST_SPEED`) is held at rest, nothing integrated, for as long as
 the ground's demand |a_h| / (g + a_v) at the middle of a step (the force the step applies) stays at or below
 min(mu, tan alpha_min) (:func:`base_threshold`): a step the stepping itself would leave at rest. A body found at rest
-again is set down flat (its tilt of at most 1e-4 rad set to 0, its heading and place kept) and its next motion
+again is set down flat (its tilt of at most 1e-3 rad set to 0, its heading and place kept) and its next motion
 starts from no impulse, as at the start. Against holding only the body at the start, on 144 scenes on real records
 (benchmarks/contact3d_peer.py's families) this took 8.6x less time and changed one verdict (a statue on RSN1503, which
 also turns with the solver's tolerance: now overturned, as PyBullet overturns it robustly).
@@ -46,17 +52,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 from ...constants import G
+from .contact_problem import MAX_SWEEPS, solve_contacts, workspace
 
 #: Steps per sampling interval of the record (the ground is linear between samples).
 STEPS_PER_SAMPLE = 8
 #: The largest step [s]: a record sampled coarsely is still stepped at least this finely.
 MAX_STEP_S = 5e-4
-#: Gauss-Seidel sweeps: converged when no impulse changes by more than this fraction of the step's weight
-#: impulse (g h per unit mass) [-], or flagged at the cap.
-SWEEP_TOL = 1e-8
-MAX_SWEEPS = 2000
 #: After the record: the body is followed until it rests (every velocity below REST_SPEED [m s-1, rad s-1 times
 #: the body's size]) or for at most TAIL_S [s] (then flagged).
 REST_SPEED = 1e-6
@@ -65,8 +68,15 @@ TAIL_S = 20.0
 #: A body in contact, tilted less than REST_TILT_RAD [rad], whose every speed is below REST_SPEED is at rest: it is
 #: set down flat and held there, nothing integrated, for as long as the ground's demand |a_h| / (g + a_v) stays at
 #: or below the exact at-rest threshold min(mu, tan alpha_min) (:func:`base_threshold`); the body standing on its
-#: base at the start is.
-REST_TILT_RAD = 1e-4
+#: base at the start is. A body that lands flat stays sunk by what the landing step let it overlap the ground (up to
+#: h times the landing speed at an edge, over the base's width: 1.3e-4 rad measured on a 0.5 m base), so a bound
+#: of 1e-4 rad missed such rests and integrated them to the end of the tail.
+REST_TILT_RAD = 1e-3
+
+#: The body lies on a side once its tilt is within this of pi/2 [rad]: more than the overlap of a landing step
+#: (h times the landing speed over the body's size: 1.6e-4 rad measured, a 0.5 x 0.5 x 1.5 m box on a real record);
+#: at that tilt the centre of mass of a box or cylinder less slender than 89.4 deg is beyond its pivot.
+LYING_SLACK_RAD = 1e-2
 
 #: The outcome's flags (bits).
 FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
@@ -100,11 +110,11 @@ class Contact3DOutcome(NamedTuple):
     Attributes
     ----------
     overturned : bool
-        The body's axis reached the horizontal (tilt pi/2).
+        The body lies on a side (its axis within :data:`LYING_SLACK_RAD` of the horizontal).
     t_overturn : float
         When [s] (NaN: it did not).
     tilt_max_rad : float
-        The largest tilt of its axis from the vertical [rad].
+        The largest tilt of its axis from the vertical [rad] (pi/2 once overturned).
     slide_max_m : float
         The largest horizontal displacement of G from where it stood [m].
     twist_max_rad : float
@@ -124,6 +134,13 @@ class Contact3DOutcome(NamedTuple):
         Steps integrated (the rest are steps held at rest by the exact at-rest certificate).
     sweeps : int
         Gauss-Seidel sweeps over all steps (the cost of the contact problems).
+    lean_at_peak_deg : float
+        Where its axis leant at its largest tilt, as an azimuth from x toward y [deg] (NaN: it never tilted).
+    tilt_rad : ndarray or None
+        With ``history``: its tilt at each sample [rad] (pi/2 from its overturning on).
+    lean_deg : ndarray or None
+        With ``history``: where its axis leans at each sample [deg] (NaN while upright; after overturning, where it
+        fell).
     """
 
     overturned: bool
@@ -138,6 +155,9 @@ class Contact3DOutcome(NamedTuple):
     energy_gain_max: float
     integrated_steps: int
     sweeps: int
+    lean_at_peak_deg: float = math.nan
+    tilt_rad: np.ndarray | None = None
+    lean_deg: np.ndarray | None = None
 
 
 def box_body(width_m: float, depth_m: float, height_m: float, *, mu: float, restitution: float = 0.0
@@ -162,18 +182,22 @@ def cylinder_body(diameter_m: float, height_m: float, *, mu: float, restitution:
 
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
-                       g_ms2: float = G) -> Contact3DOutcome:
+                       g_ms2: float = G, history: bool = False) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
-    from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``."""
+    from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
+    ``history`` its tilt and lean at each sample too."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
     h = min(dt_s / STEPS_PER_SAMPLE, MAX_STEP_S)
     n_sub = max(1, int(math.ceil(dt_s / h - 1e-9)))
+    hist = np.full((ax.size if history else 0, 2), math.nan)
     out = _run(ax, ay, az, float(dt_s), n_sub, np.ascontiguousarray(body.vertices, dtype=float),
                np.ascontiguousarray(body.inertia, dtype=float), float(body.mu), float(body.restitution),
-               math.radians(yaw_deg), float(g_ms2))
-    return Contact3DOutcome(*out)
+               math.radians(yaw_deg), float(g_ms2), workspace(len(body.vertices)), hist)
+    lean_peak = math.degrees(out[-1]) if math.isfinite(out[-1]) else math.nan
+    return Contact3DOutcome._make((*out[:-1], lean_peak, hist[:, 0] if history else None,
+                                   np.degrees(hist[:, 1]) if history else None))
 
 
 @jit
@@ -218,118 +242,45 @@ def base_threshold(vertices, mu):
     return min(mu, nearest / -zmin)
 
 
-@jit
-def _rotation(q):
-    """The rotation matrix of the unit quaternion q = (w, x, y, z)."""
+@jit_inline
+def _rotation(q, r):
+    """The rotation matrix of the unit quaternion q = (w, x, y, z) into ``r``."""
     w, x, y, z = q[0], q[1], q[2], q[3]
-    r = np.empty((3, 3))
     r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
     r[1, 0], r[1, 1], r[1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
     r[2, 0], r[2, 1], r[2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
-    return r
 
 
-@jit
-def _turned(q, wx, wy, wz, t):
-    """q turned by the world-frame rate (wx, wy, wz) over ``t`` (the exact rotation of a constant rate)."""
+@jit_inline
+def _turned(q, wx, wy, wz, t, out):
+    """q turned by the world-frame rate (wx, wy, wz) over ``t`` (the exact rotation of a constant rate) into
+    ``out`` (not q)."""
     ang = math.sqrt(wx * wx + wy * wy + wz * wz) * t
     if ang == 0.0:
-        return q.copy()
+        out[:] = q
+        return
     s = math.sin(ang / 2.0) / (ang / t)
     dw, dx, dy, dz = math.cos(ang / 2.0), wx * s, wy * s, wz * s
-    out = np.empty(4)
-    out[0] = dw * q[0] - dx * q[1] - dy * q[2] - dz * q[3]
-    out[1] = dw * q[1] + dx * q[0] + dy * q[3] - dz * q[2]
-    out[2] = dw * q[2] - dx * q[3] + dy * q[0] + dz * q[1]
-    out[3] = dw * q[3] + dx * q[2] - dy * q[1] + dz * q[0]
-    return out / math.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2 + out[3] ** 2)
+    o0 = dw * q[0] - dx * q[1] - dy * q[2] - dz * q[3]
+    o1 = dw * q[1] + dx * q[0] + dy * q[3] - dz * q[2]
+    o2 = dw * q[2] - dx * q[3] + dy * q[0] + dz * q[1]
+    o3 = dw * q[3] + dx * q[2] - dy * q[1] + dz * q[0]
+    norm = math.sqrt(o0 * o0 + o1 * o1 + o2 * o2 + o3 * o3)
+    out[0], out[1], out[2], out[3] = o0 / norm, o1 / norm, o2 / norm, o3 / norm
 
 
-@jit
-def _world_inverse_inertia(r, inertia):
-    """R diag(1 / I) R^T: the inverse inertia in the world frame."""
-    out = np.zeros((3, 3))
+@jit_inline
+def _world_inverse_inertia(r, inertia, out):
+    """R diag(1 / I) R^T: the inverse inertia in the world frame, into ``out``."""
     for i in range(3):
         for j in range(3):
             s = 0.0
             for k in range(3):
                 s += r[i, k] * r[j, k] / inertia[k]
             out[i, j] = s
-    return out
 
 
-@jit
-def _apply(v, w, inv_i, px, py, pz, rx, ry, rz):
-    """Add an impulse P (per unit mass) at r from G to the body's velocity v and rate w."""
-    v[0] += px
-    v[1] += py
-    v[2] += pz
-    mx, my, mz = ry * pz - rz * py, rz * px - rx * pz, rx * py - ry * px
-    for i in range(3):
-        w[i] += inv_i[i, 0] * mx + inv_i[i, 1] * my + inv_i[i, 2] * mz
-
-
-@jit
-def _delassus(inv_i, rx, ry, rz):
-    """The contact's 3 x 3 block 1 - [r]x I^-1 [r]x (per unit mass)."""
-    c = np.array([[0.0, -rz, ry], [rz, 0.0, -rx], [-ry, rx, 0.0]])
-    m = np.eye(3)
-    for i in range(3):
-        for j in range(3):
-            s = 0.0
-            for k in range(3):
-                for m_ in range(3):
-                    s += c[i, k] * inv_i[k, m_] * c[m_, j]
-            m[i, j] -= s
-    return m
-
-
-@jit
-def _onto_cone(px, py, pz, mu):
-    """The Euclidean projection of an impulse onto the friction cone |P_t| <= mu P_n."""
-    t = math.sqrt(px * px + py * py)
-    if t <= mu * pz:
-        return px, py, pz
-    if mu * t <= -pz:                                           # inside the polar cone: nothing
-        return 0.0, 0.0, 0.0
-    n = (mu * t + pz) / (1.0 + mu * mu)
-    return mu * n * px / t, mu * n * py / t, n
-
-
-@jit
-def _solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p):
-    """Projected Gauss-Seidel over the contacts, each by De Saxce's fixed point P = proj_K(P - rho (u + mu |u_t|
-    n)), whose fixed points are Coulomb's law exactly (De Saxce & Feng 1998), from the impulses ``p`` (the previous
-    step's at the same vertices: a warm start); the impulses are applied to (v, w) and left in ``p``. The sweeps
-    it took, or -1 at the cap."""
-    for c in range(n_c):
-        _apply(v, w, inv_i, p[c, 0], p[c, 1], p[c, 2], arms[c, 0], arms[c, 1], arms[c, 2])
-    rho = np.empty(n_c)
-    for c in range(n_c):
-        d = _delassus(inv_i, arms[c, 0], arms[c, 1], arms[c, 2])
-        bound = 0.0                                             # Gershgorin: above W's largest eigenvalue
-        for i in range(3):
-            bound = max(bound, abs(d[i, 0]) + abs(d[i, 1]) + abs(d[i, 2]))
-        rho[c] = 1.0 / bound
-    for _sweep in range(MAX_SWEEPS):
-        change = 0.0
-        for c in range(n_c):
-            rx, ry, rz = arms[c, 0], arms[c, 1], arms[c, 2]
-            ux = v[0] + w[1] * rz - w[2] * ry
-            uy = v[1] + w[2] * rx - w[0] * rz
-            uz = v[2] + w[0] * ry - w[1] * rx - (-e_n * u_before[c] if u_before[c] < 0.0 else 0.0)
-            uz += mu * math.sqrt(ux * ux + uy * uy)
-            nx, ny, nz = _onto_cone(p[c, 0] - rho[c] * ux, p[c, 1] - rho[c] * uy, p[c, 2] - rho[c] * uz, mu)
-            dx, dy, dz = nx - p[c, 0], ny - p[c, 1], nz - p[c, 2]
-            _apply(v, w, inv_i, dx, dy, dz, rx, ry, rz)
-            p[c, 0], p[c, 1], p[c, 2] = nx, ny, nz
-            change = max(change, abs(dx), abs(dy), abs(dz))
-        if change <= SWEEP_TOL * scale:
-            return _sweep + 1
-    return -1
-
-
-@jit
+@jit_inline
 def _energy(v, w, r, inertia, z_g, g):
     """Kinetic and potential energy per unit mass in the ground's frame (the ground still) [J kg-1]."""
     e = 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + g * z_g
@@ -339,7 +290,7 @@ def _energy(v, w, r, inertia, z_g, g):
     return e
 
 
-@jit
+@jit_inline
 def _ground(ax, ay, az, k, n_sub):
     """The ground's acceleration at the middle of step ``k`` (linear between samples) [m s-2]."""
     i, frac = k // n_sub, (k % n_sub + 0.5) / n_sub
@@ -347,28 +298,25 @@ def _ground(ax, ay, az, k, n_sub):
             az[i] + frac * (az[i + 1] - az[i]))
 
 
-@jit
+@jit_inline
 def _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, gz_total):
     """The step's velocities without the contacts: gravity and the ground's inertial force (``gz_total`` =
     g + a_v), and the gyroscopic term -I^-1 (w x I w), explicit."""
     v[0] -= h * gx
     v[1] -= h * gy
     v[2] -= h * gz_total
-    iw = np.empty(3)
-    for a in range(3):
-        s = 0.0
-        for b in range(3):
-            s += rm[b, a] * w[b]
-        iw[a] = inertia[a] * s
-    lw = np.empty(3)
-    for a in range(3):
-        lw[a] = rm[a, 0] * iw[0] + rm[a, 1] * iw[1] + rm[a, 2] * iw[2]
-    cx, cy, cz = w[1] * lw[2] - w[2] * lw[1], w[2] * lw[0] - w[0] * lw[2], w[0] * lw[1] - w[1] * lw[0]
+    i0 = inertia[0] * (rm[0, 0] * w[0] + rm[1, 0] * w[1] + rm[2, 0] * w[2])      # I w in the body's axes
+    i1 = inertia[1] * (rm[0, 1] * w[0] + rm[1, 1] * w[1] + rm[2, 1] * w[2])
+    i2 = inertia[2] * (rm[0, 2] * w[0] + rm[1, 2] * w[1] + rm[2, 2] * w[2])
+    l0 = rm[0, 0] * i0 + rm[0, 1] * i1 + rm[0, 2] * i2                           # ... in the world's
+    l1 = rm[1, 0] * i0 + rm[1, 1] * i1 + rm[1, 2] * i2
+    l2 = rm[2, 0] * i0 + rm[2, 1] * i1 + rm[2, 2] * i2
+    cx, cy, cz = w[1] * l2 - w[2] * l1, w[2] * l0 - w[0] * l2, w[0] * l1 - w[1] * l0
     for a in range(3):
         w[a] -= h * (inv_i[a, 0] * cx + inv_i[a, 1] * cy + inv_i[a, 2] * cz)
 
 
-@jit
+@jit_inline
 def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p):
     """The vertices at or below the ground at the step's middle (G at height ``z_g``): their arms from G, indices,
     normal velocities before the step's forces (``dv_z`` the step's vertical change) and last impulses (the warm
@@ -398,7 +346,54 @@ def _extent(vertices):
     return size, z0
 
 
-@jit
+@jit_inline
+def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ground, work):
+    """One Moreau-Jean step of the body at (x, q) moving at (v, w), all updated in place: to the step's middle,
+    the free velocities, the contacts at the middle and their impulses, to the step's end. ``frames``: room for the
+    middle's quaternion, rotation and world inverse inertia; ``contact``: the last impulses at each vertex (the
+    warm start, replaced by this step's) and room for the contacts' arms, indices, normal velocities and impulses;
+    ``ground``: its acceleration at the middle. Returns the contacts and the sweeps taken (-1: at the cap)."""
+    qm, rm, inv_i = frames
+    impulses, arms, index, u_before, p = contact
+    gx, gy, gz = ground
+    for i in range(3):                                          # Moreau's midpoint
+        x[i] += 0.5 * h * v[i]
+    _turned(q, w[0], w[1], w[2], 0.5 * h, qm)
+    _rotation(qm, rm)
+    _world_inverse_inertia(rm, inertia, inv_i)
+    _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
+    n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
+    taken = 0 if n_c == 0 else solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p, work)
+    impulses[:] = 0.0
+    for c in range(n_c):
+        impulses[index[c], 0], impulses[index[c], 1], impulses[index[c], 2] = p[c, 0], p[c, 1], p[c, 2]
+    for i in range(3):
+        x[i] += 0.5 * h * v[i]
+    _turned(qm, w[0], w[1], w[2], 0.5 * h, q)
+    return n_c, taken
+
+
+@jit_inline
+def _still(v, w, size):
+    """Every speed below REST_SPEED (the rate times the body's size)."""
+    return (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < REST_SPEED
+            and math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * size < REST_SPEED)
+
+
+@jit_inline
+def _lean(r, tilt):
+    """Where the body's axis (the third column of its rotation ``r``) leans, from x toward y [rad] (NaN upright)."""
+    return math.atan2(r[1, 2], r[0, 2]) if tilt > 0.0 else math.nan
+
+
+@jit_inline
+def _record(hist, i, tilt, lean):
+    """The tilt and lean at sample ``i`` into ``hist`` (no row: no history kept)."""
+    if i < hist.shape[0]:
+        hist[i, 0], hist[i, 1] = tilt, lean
+
+
+@jit_inline
 def _set_down(v, w, q, x, r, z0, impulses):
     """A body found at rest: still, set down flat (its heading and place kept), its next motion from no impulse."""
     v[:] = 0.0
@@ -411,7 +406,7 @@ def _set_down(v, w, q, x, r, z0, impulses):
 
 
 @jit
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist):
     n_v = vertices.shape[0]
     size, z0 = _extent(vertices)
     threshold = base_threshold(vertices, mu)
@@ -422,6 +417,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
     x = np.array([0.0, 0.0, z0])
     q = np.array([math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)])
     v, w = np.zeros(3), np.zeros(3)
+    qm, rm, r, inv_i = np.empty(4), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
     h = dt / n_sub
     arms = np.empty((n_v, 3))
     u_before = np.empty(n_v)
@@ -430,6 +426,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
     overturned, flight, flags, steps, capped, t_over = False, False, 0, 0, 0, math.nan
     integrated, sweeps = 0, 0
     t, k, tail_steps = 0.0, 0, int(TAIL_S / h)
+    tilt, lean_peak = 0.0, math.nan
+    _record(hist, 0, 0.0, math.nan)
     while True:
         during = k < (n - 1) * n_sub
         if not during and k >= (n - 1) * n_sub + tail_steps:
@@ -441,51 +439,48 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g):
             if gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= threshold * gv:
                 k += 1                              # the exact at-rest certificate: nothing moves this step
                 steps += 1
+                if hist.shape[0] and k % n_sub == 0:
+                    _record(hist, k // n_sub, 0.0, math.nan)
                 if not during:
                     break
                 continue
             resting = False
-        xm = x + 0.5 * h * v                                        # Moreau's midpoint
-        qm = _turned(q, w[0], w[1], w[2], 0.5 * h)
-        rm = _rotation(qm)
-        inv_i = _world_inverse_inertia(rm, inertia)
-        e_before = 0.0 if during else _energy(v, w, _rotation(q), inertia, x[2], g)     # checked after the record
-        _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
-        n_c = _contacts(vertices, rm, xm[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
-        if n_c == 0:
-            flight = True
-        else:
-            taken = _solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p)
-            if taken < 0:
-                flags |= FLAG_SWEEP_CAP
-                capped += 1
-            sweeps += MAX_SWEEPS if taken < 0 else taken
+        e_before = 0.0
+        if not during:                                              # checked after the record
+            _rotation(q, r)
+            e_before = _energy(v, w, r, inertia, x[2], g)
+        n_c, taken = _moreau_step(x, q, v, w, (qm, rm, inv_i), vertices, inertia, (impulses, arms, index, u_before, p),
+                                  mu, e_n, g, h, (gx, gy, gz), work)
+        flight |= n_c == 0
+        if taken < 0:
+            flags |= FLAG_SWEEP_CAP
+            capped += 1
+        sweeps += MAX_SWEEPS if taken < 0 else taken
         integrated += 1
-        impulses[:] = 0.0
-        for c in range(n_c):
-            impulses[index[c], 0], impulses[index[c], 1], impulses[index[c], 2] = p[c, 0], p[c, 1], p[c, 2]
-        x = xm + 0.5 * h * v
-        q = _turned(qm, w[0], w[1], w[2], 0.5 * h)
         k += 1
         steps += 1
         t = k * h
-        r = _rotation(q)
+        _rotation(q, r)
         tilt = math.acos(min(1.0, max(-1.0, r[2, 2])))
-        tilt_max = max(tilt_max, tilt)
+        if tilt > tilt_max:
+            tilt_max, lean_peak = tilt, _lean(r, tilt)
+        if k % n_sub == 0 and k // n_sub < hist.shape[0]:
+            _record(hist, k // n_sub, tilt, _lean(r, tilt))
         slide_max = max(slide_max, math.sqrt(x[0] * x[0] + x[1] * x[1]))
         if r[2, 2] > 0.0:                                           # the yaw of its x axis, from where it stood
             turn = (math.atan2(r[1, 0], r[0, 0]) - yaw + math.pi) % (2.0 * math.pi) - math.pi
             twist_max = max(twist_max, abs(turn))
         if not during:
             energy_gain = max(energy_gain, _energy(v, w, r, inertia, x[2], g) - e_before)
-        if tilt >= 0.5 * math.pi:
-            overturned, t_over = True, t
+        if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
+            overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
+            for i in range(k // n_sub + 1, hist.shape[0]):
+                _record(hist, i, 0.5 * math.pi, _lean(r, tilt))
             break
-        if n_c > 0 and tilt < REST_TILT_RAD and math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < REST_SPEED and \
-                math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * size < REST_SPEED:
+        if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
             _set_down(v, w, q, x, r, z0, impulses)  # flat on its base and still: at rest
             resting = True
             if not during:
                 break
     return (overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped, energy_gain, integrated,
-            sweeps)
+            sweeps, lean_peak)
