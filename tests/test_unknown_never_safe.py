@@ -339,7 +339,9 @@ def test_an_edge_end_that_would_slip_gives_no_verdict_and_no_certificate(cross_g
 @pytest.fixture(scope="module")
 def strong_pair(records_dir, tmp_path_factory):
     """Two strong bundled records (Ridgecrest CI.CLC, Chi-Chi TCU102) under which 3D boxes stop where the base would
-    slide, twist or lift off, and a cabinet and a transformer of the demo's inventory screened on them."""
+    slide, twist or lift off, a cabinet and a transformer of the demo's inventory screened on them, and a
+    configuration that leaves such scenes without a verdict (the 3D contact model off), so that the outputs' unknowns
+    are exercised."""
     import shutil
 
     root = tmp_path_factory.mktemp("strong")
@@ -351,6 +353,7 @@ def strong_pair(records_dir, tmp_path_factory):
     inv.write_text("id,name,height_m,width_m,mu,azimuth_deg,shape,depth_m\n"
                    "CAB-01,cabinet,1.98,0.45,0.35,0,box,0.90\n"
                    "TRAF-01,transformer,3.40,1.40,0.50,0,box,2.00\n")
+    (root / "off.toml").write_text("[simulation]\ncontact3d = false\n")
     return recs, inv, root
 
 
@@ -361,7 +364,8 @@ def test_assets_not_judged_say_so_in_every_output(strong_pair):
 
     recs, inv, root = strong_pair
     out = root / "screen"
-    assert main(["--records", str(recs), "--blocks", str(inv), "--out", str(out), "-q", "--samples", "12"]) == 0
+    assert main(["--records", str(recs), "--blocks", str(inv), "--out", str(out), "-q", "--samples", "12",
+                 "--config", str(root / "off.toml")]) == 0
     rows = list(csv.DictReader(open(out / "assets.csv", newline="")))
     unjudged = [r for r in rows if int(r["stations_without_verdict"]) or int(r["draws_without_verdict"])]
     assert unjudged, "the records chosen no longer leave a draw without a verdict: choose stronger ones"
@@ -384,7 +388,8 @@ def test_fragility_stripes_count_the_records_without_a_verdict(strong_pair):
     recs, inv, root = strong_pair
     out = root / "fragility"
     assert main(["fragility", "--records", str(recs), "--blocks", str(inv), "--im", "pga", "--levels",
-                 "0.1g,0.3g,0.6g", "--out", str(out), "-q", "--samples", "8", "--bootstrap", "20"]) == 0
+                 "0.1g,0.3g,0.6g", "--out", str(out), "-q", "--samples", "8", "--bootstrap", "20",
+                 "--config", str(root / "off.toml")]) == 0
     ds = open_results(out / "fragility.nc")
     u = ds["n_unjudged"].values
     assert np.all(ds["n_scaled"].values >= ds["n_records"].values)

@@ -20,6 +20,7 @@ from ..rocking.orientation import Orientation, PlaneResult, worst_plane
 from ..rocking.scene import Physics
 from ..rocking.settings import SimulationConfig
 from ..rocking.solids.box3d import Box, simulate_box
+from ..rocking.solids.contact3d import box_body, simulate_contact3d
 from ..rocking.solids.cylinder3d import Cylinder, simulate_cylinder
 from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of, solid_scene
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, one_plane
@@ -158,16 +159,23 @@ def _claims(physics: Physics):
     return claims, may_claim
 
 
+def _contact_warmup(a: np.ndarray) -> None:
+    """The 3D contact model's kernel (the hand-off of both solids), on a tiny scene that tips a box."""
+    simulate_contact3d(a, 0.5 * a, None, 0.01, box_body(0.2, 0.3, 1.0, mu=0.7))
+
+
 def _cylinder_warmup() -> None:
-    """The 3D cylinder's kernel, on a tiny scene that lifts it."""
+    """The 3D cylinder's kernel and the contact model's, on a tiny scene that lifts it."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
+    _contact_warmup(a)
 
 
 def _box_warmup() -> None:
-    """The 3D box's kernel, on a tiny scene that lifts it onto a corner."""
+    """The 3D box's kernel and the contact model's, on a tiny scene that lifts it onto a corner."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
+    _contact_warmup(a)
 
 
 _cylinder_claims, _cylinder_may = _claims(Physics.wobbling)

@@ -44,8 +44,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               "until judged' (samples_without_verdict in screening.nc)", file=sys.stderr)
     if s.get("scenes_unjudged_3d"):
         print(f"  {s['scenes_unjudged_3d']} of them are 3D scenes stopped where the base would slide, twist or lift "
-              "off: [simulation] contact3d = true decides them by the 3D contact model, at a cost (docs/user-guide.md)",
-              file=sys.stderr)
+              "off, left so by [simulation] contact3d = false: the default (true) decides them by the 3D contact "
+              "model (docs/user-guide.md)", file=sys.stderr)
     general = s.get("general_scenes", {})
     if general.get("total"):
         print(f"contact model: {general['total']} scene(s) left pure rocking or sliding and were decided by the "

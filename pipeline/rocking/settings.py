@@ -44,11 +44,11 @@ class SimulationConfig:
     #: free flight) continues the scene and decides its verdict. False: the pure-rocking verdict is kept
     #: and flagged (slide_rock), and free flight has no verdict (what ``screen bench`` compares with).
     contact_model: bool = True
-    #: False (default): a cylinder's or a box's 3D scene whose exact model stops where its base would slide, twist
-    #: or lift off has no verdict. True: the 3D contact model (:mod:`pipeline.rocking.solids.contact3d`) decides it
-    #: over the whole record (physics ``contact3d``), in the probabilities and margins too; it costs about 0.35 s
-    #: per such scene (median; up to 18 s on the longest bundled records), docs/validation.md.
-    contact3d: bool = False
+    #: True (default): a cylinder's or a box's 3D scene whose exact model stops where its base would slide, twist
+    #: or lift off is decided by the 3D contact model (:mod:`pipeline.rocking.solids.contact3d`) over the whole
+    #: record (physics ``contact3d``), in the probabilities and margins too (about 0.02 s per such scene, median;
+    #: docs/validation.md). False: such a scene has no verdict (unknown).
+    contact3d: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
     orientation_step_deg: float = 5.0

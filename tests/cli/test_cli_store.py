@@ -10,17 +10,26 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from handoff import NO_HANDOFF
 
 from pipeline.cli import main
 from pipeline.errors import OutputError
 from pipeline.store import open_results, write_atomic
 
 
+@pytest.fixture(scope="module")
+def config():
+    """The configuration with nominal verdicts only and the hand-off off (``handoff.NO_HANDOFF``)."""
+    from pipeline.config import load_config
+
+    return load_config(NO_HANDOFF[1]).with_uncertainty(samples=0)
+
 def test_screen_writes_dataset_with_records_and_blocks(make_records, blocks_csv, tmp_path):
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
                         "knet/test.knet")
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     ds = open_results(out / "screening.nc")
     assert ds.sizes["record"] == 2 and ds.sizes["block"] == 14
     assert list(ds.status.values) == ["ok", "ok"]
@@ -36,7 +45,8 @@ def test_bad_file_fails_alone_and_sets_exit_code(make_records, blocks_csv, tmp_p
     (root / "garbage.AT2").write_bytes(b"\x00\x01 not a record")
     (root / "empty.V2").write_bytes(b"")
     out = tmp_path / "out"
-    code = main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    code = main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
     assert code == 1
     ds = open_results(out / "screening.nc")
     status = dict(zip(ds.record.values, ds.status.values))
@@ -44,7 +54,8 @@ def test_bad_file_fails_alone_and_sets_exit_code(make_records, blocks_csv, tmp_p
     assert "garbage.AT2" in status["garbage"] and "unrecognised format" in status["garbage"]
     assert "empty.V2" in status["empty"] and "empty" in status["empty"]
     assert "garbage.AT2" in caplog.text
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
                  "--tolerate-failures"]) == 0
 
 
@@ -94,9 +105,11 @@ def test_failed_write_leaves_previous_file_intact(tmp_path, monkeypatch):
 def test_inventory_flag_supplies_the_response(make_records, blocks_csv, tmp_path, records_dir):
     root = make_records("mseed/CI.CCC..HNE.mseed", "mseed/CI.CCC..HNN.mseed", units_toml=False)
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
     assert "StationXML" in str(open_results(out / "screening.nc").status.values[0])
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
                  "--inventory", str(records_dir / "mseed" / "CI.CCC.xml")]) == 0
     ds = open_results(out / "screening.nc")
     # SOURCES.md: HNE 0.565 g, HNN 0.470 g (counts / sensitivity ~2.14e5 per m/s^2)
@@ -123,7 +136,7 @@ def test_every_variable_has_cf_attributes_and_provenance(make_records, blocks_cs
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "knet/test.knet")
     (root / "bad.AT2").write_text("not a record\n")
     out = tmp_path / "out"
-    main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
+    main([*NO_HANDOFF, "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"])
     for path in (out / "screening.nc", out / "pulses.nc"):
         ds = open_results(path)
         assert ds.attrs["Conventions"].startswith("CF-")
@@ -244,11 +257,12 @@ def test_help_names_every_subcommand(capsys):
 
 def test_quiet_prints_only_warnings_and_verbose_only_rockscreen(make_records, blocks_csv, tmp_path, capsys, caplog):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
-    assert main(["--samples", "0",
+    assert main([*NO_HANDOFF, "--samples", "0",
                  "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "q"), "-q"]) == 0
     assert capsys.readouterr().err == ""
     # not a terminal: progress lines instead of a bar, then the summary
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "v"),
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "v"),
                  "-v", "--force"]) == 0
     err = capsys.readouterr().err
     assert "progress: 1/1 records screened" in err and "records: 1 ok" in err
@@ -262,7 +276,8 @@ def test_records_saved_under_any_name_are_read_by_content(make_records, blocks_c
         f.rename(f.with_suffix(".txt"))                       # an AT2 pair saved as .txt
     (root / "notes.csv").write_text("who,what\nme,notes\n")
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 0
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]) == 0
     err = capsys.readouterr().err
     assert "records: 1 ok" in err and "not records: 1 of 3 files (notes.csv)" in err
     ds = open_results(out / "screening.nc")
@@ -286,7 +301,7 @@ def test_a_folder_without_records_exits_2_and_leaves_nothing(tmp_path, blocks_cs
 def test_report_into_an_output_it_cannot_create_exits_3_without_a_traceback(make_records, blocks_csv, tmp_path,
                                                                               capsys):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "out"),
+    assert main([*NO_HANDOFF, "--records", str(root), "--blocks", str(blocks_csv), "--out", str(tmp_path / "out"),
                  "--samples", "0", "--fidelity", "criterion"]) == 0
     blocker = tmp_path / "a-file"
     blocker.write_text("")
@@ -302,7 +317,7 @@ def test_a_block_named_error_gets_its_margins(make_records, tmp_path, caplog):
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
     blocks = tmp_path / "b.csv"
     blocks.write_text("id,height_m,width_m,mu\nerror,1.0,0.2,0.7\nother,1.2,0.3,0.7\n")
-    assert main(["--records", str(root), "--blocks", str(blocks), "--out", str(tmp_path / "out"),
+    assert main([*NO_HANDOFF, "--records", str(root), "--blocks", str(blocks), "--out", str(tmp_path / "out"),
                  "--samples", "0", "-q"]) == 0
     ds = open_results(tmp_path / "out" / "screening.nc")
     margins = dict(zip(ds.block.values.tolist(), ds.overturn_scale_simulated.values.tolist()))
@@ -372,7 +387,7 @@ def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(mak
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
                         "peer-at2/RSN1063_NORTHR_RRS-UP.AT2")
     out = tmp_path / "out"
-    args = ["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]
+    args = [*NO_HANDOFF, "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]
     assert main(args) == 0
     names = ("screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv")
     before = {n: hashlib.sha256((out / n).read_bytes()).hexdigest() for n in names}
@@ -408,7 +423,7 @@ def test_the_up_to_date_message_counts_files_as_the_summary_does(make_records, b
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
     (root / "notes.txt").write_text("field notes, not a record\n")
     out = tmp_path / "out"
-    args = ["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]
+    args = [*NO_HANDOFF, "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out)]
     assert main(args) == 0
     summary = capsys.readouterr().err
     seen = int(re.search(r"not records: \d+ of (\d+) files", summary).group(1))
@@ -447,7 +462,8 @@ def test_an_inventory_name_written_to_assets_csv_cannot_run_in_a_spreadsheet(mak
     inv.write_text('id,name,height_m,width_m\nB1,"=HYPERLINK(""http://x.example"",""open"")",2.0,0.5\n'
                    "B2,+cmd|' /C calc'!A0,1.0,0.4\n")
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) == 0
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) == 0
     with open(out / "assets.csv", newline="", encoding="utf-8") as fh:
         cells = [c for row in csv.reader(fh) for c in row]
     assert '\'=HYPERLINK("http://x.example","open")' in cells and "'+cmd|' /C calc'!A0" in cells

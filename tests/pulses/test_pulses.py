@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from handoff import NO_HANDOFF
 
 from pipeline.cli import main
 from pipeline.errors import PulseError
@@ -58,7 +59,8 @@ def test_matlab_parity_all_candidates(example_velocity, reference):
 def test_parity_through_screen_command(make_records, blocks_csv, tmp_path, reference):
     root = make_records("pulse-reference/example1.AT2", "pulse-reference/example2.AT2")
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q",
                  "--config", str(PROJECT_CONFIGS / "shahi_baker_2014.toml")]) == 0
     ds = open_results(out / "screening.nc").sel(record="example")
     r = reference[0]
@@ -229,7 +231,8 @@ def test_pulse_series_file_and_plot(make_records, blocks_csv, tmp_path):
 
     root = make_records("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2")
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     ps = xr.open_dataset(out / "pulses.nc")
     assert ps.featureType == "timeSeries" and int(ps.row_size.sum()) == ps.sizes["sample"]
     n = int(ps.row_size[0])

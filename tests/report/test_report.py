@@ -12,6 +12,7 @@ import subprocess
 import numpy as np
 import pytest
 from browser import assert_reads_at, chromium
+from handoff import NO_HANDOFF
 
 from pipeline.blocks import geometry
 from pipeline.bodies.planar import overturn_scale_simulated
@@ -39,7 +40,8 @@ def _screen(tmp_path_factory, records_dir, blocks_csv, *options: str):
         shutil.copy(records_dir / rel, root / rel)
     shutil.copy(records_dir / "units.toml", root)
     out = tmp_path_factory.mktemp("out")
-    assert main([*options, "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
+    assert main([*NO_HANDOFF,
+                 *options, "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 0
     return out
 
 
@@ -457,7 +459,7 @@ def test_one_station_in_several_files_is_grouped_and_counted_once(records_dir, b
         shutil.copy(records_dir / rel, root / rel)
     shutil.copy(records_dir / "units.toml", root)
     out = tmp_path / "out"
-    assert main(["--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "--samples", "0",
+    assert main([*NO_HANDOFF, "--records", str(root), "--blocks", str(blocks_csv), "--out", str(out), "--samples", "0",
                  "--fidelity", "criterion", "-q"]) == 0
     ds = open_results(out / "screening.nc")
     pulses = open_results(out / "pulses.nc")
@@ -510,7 +512,8 @@ def test_markup_in_a_record_file_name_or_an_inventory_name_reaches_the_page_esca
     inv = tmp_path / "inv.csv"
     inv.write_text('id,name,height_m,width_m,mu\nB1,"<script>alert(2)</script>",1.0,0.2,0.6\n')
     out = tmp_path / "out"
-    assert main(["--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) in (0, 1)
+    assert main([*NO_HANDOFF,
+                 "--samples", "0", "--records", str(root), "--blocks", str(inv), "--out", str(out), "-q"]) in (0, 1)
     page = (out / "report.html").read_text()
     assert "<script>alert(2)" not in page and "&lt;script&gt;alert(2)" in page
     assert "<img src=x" not in page and "<b>plain<b>" not in page

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from handoff import NO_HANDOFF
 
 from pipeline.blocks import read_inventory
 from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
@@ -44,8 +45,8 @@ def assert_same_results(a: xr.Dataset, b: xr.Dataset) -> None:
 
 
 def screen(records, blocks, out, *extra) -> int:
-    return main(["--samples", "0", "--records", str(records), "--blocks", str(blocks), "--out", str(out),
-                 "--tolerate-failures", *map(str, extra)])
+    return main([*NO_HANDOFF, "--samples", "0", "--records", str(records), "--blocks", str(blocks), "--out",
+                 str(out), "--tolerate-failures", *map(str, extra)])
 
 
 @pytest.fixture
@@ -128,7 +129,7 @@ def test_up_to_date_run_names_the_failed_records_and_exits_as_the_full_run(make_
     records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2",
                            "cosmos/us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c")
     out = tmp_path / "out"
-    args = ["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
+    args = [*NO_HANDOFF, "--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
     assert main(args) == 1                                     # one record failed: exit 1
     caplog.clear()
     capsys.readouterr()
@@ -578,7 +579,7 @@ def test_record_corrupted_since_the_last_run_fails_and_is_not_kept_as_vanished(f
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     (few_records / "knet" / "test.knet").write_bytes(b"\x00garbage\x00" * 10)
-    assert main(["--samples", "0",
+    assert main([*NO_HANDOFF, "--samples", "0",
                  "--records", str(few_records), "--blocks", str(blocks_csv), "--out", str(out), "-q"]) == 1
     ds = open_results(out / "screening.nc")
     assert list(ds.record.values).count("test") == 1
@@ -681,7 +682,7 @@ def test_the_plan_reads_only_the_keys_of_the_previous_results(one_record, blocks
     records x blocks arrays."""
     from pipeline.run.batch import PLAN_VARIABLES
 
-    assert main(["--samples", "0", "--records", str(one_record), "--blocks", str(blocks_csv),
+    assert main([*NO_HANDOFF, "--samples", "0", "--records", str(one_record), "--blocks", str(blocks_csv),
                  "--out", str(tmp_path), "-q"]) == EXIT_OK
     small = open_results(tmp_path / "screening.nc", variables=PLAN_VARIABLES + ("not_there",))
     whole = open_results(tmp_path / "screening.nc")
@@ -695,7 +696,7 @@ def test_a_units_toml_line_recomputes_only_the_records_it_names(make_records, bl
 
     records = make_records("peer-at2/RSN77_SFERN_PUL164.AT2", "fn-ascii/rinaldi_fn.dat")
     out = tmp_path / "out"
-    args = ["--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
+    args = [*NO_HANDOFF, "--samples", "0", "--records", str(records), "--blocks", str(blocks_csv), "--out", str(out)]
     assert main(args) == 0
     capsys.readouterr()
     units = records / "units.toml"
@@ -748,7 +749,7 @@ def test_a_run_with_a_lost_worker_is_never_up_to_date(few_records, blocks_csv, t
     victim = "RSN77_SFERN_PUL164"
     with monkeypatch.context() as m:
         _losing(m, victim)
-        assert main(["--samples", "0", "--records", str(few_records), "--blocks", str(blocks_csv), "--out",
+        assert main([*NO_HANDOFF, "--samples", "0", "--records", str(few_records), "--blocks", str(blocks_csv), "--out",
                      str(out)]) == 1
     capsys.readouterr()
     assert screen(few_records, blocks_csv, out) == EXIT_OK

@@ -14,10 +14,11 @@ the model's azimuth ``phi`` leans toward the compass azimuth ``A - phi``.
 A box whose other base axis is certified never to lift nor slip under the record (:mod:`.box_planar`) is judged by
 its planar scene in the plane of its width, whose equation the 3D model then follows (:func:`judge_solid`).
 
-Where a model stops because its base would slide or lift off (not modeled in 3D), the scene has no verdict
-(``simulation_guard`` model_limit, ``overturn_simulated`` not_evaluated): never "stands". An overturning reached
-with the contact held past the tipping point is kept and flagged (held_past_alpha). With ``[simulation]
-contact3d = true`` a stopped scene is decided by the 3D contact model instead (:mod:`.contact_scene`).
+Where a model stops because its base would slide or lift off (not modeled here), or follows the fall past the
+tipping point with its contact held, the scene is decided by the 3D contact model (:mod:`.contact_scene`; the
+default, ``[simulation] contact3d = true``). With the setting off, a stopped scene has no verdict (``simulation_guard``
+model_limit, ``overturn_simulated`` not_evaluated): never "stands"; an overturning reached with the contact held is
+kept and flagged (held_past_alpha).
 """
 
 from __future__ import annotations
@@ -180,10 +181,10 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
     out = run(h1, h2, vertical, dt_s, solid, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
     lean = np.where(out.theta > 0, np.degrees(out.azimuth), math.nan) if history else None
     scene = scene_of(out, solid, history=history)
-    if settings.contact3d and scene.guard & Guard.model_limit:     # held_past_alpha kept: measured better
-        handed = contact_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, solid.alpha, g_ms2=g_ms2,
-                               amplitude=amplitude)      # no history of its own: the exact model's up to its stop
-        return Judged(handed, out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan, False, None)
+    if settings.contact3d and scene.guard & (Guard.model_limit | Guard.held_past_alpha):
+        handed, c3 = contact_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, solid.alpha, g_ms2=g_ms2,
+                                   amplitude=amplitude, history=history)
+        return Judged(handed, c3.lean_at_peak_deg % 360.0 if c3.tilt_max_rad > 0 else math.nan, False, c3.lean_deg)
     return Judged(scene, out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan, False, lean)
 
 

@@ -43,14 +43,14 @@ def test_a_box_with_a_depth_and_an_azimuth_is_simulated_in_3d(screened):
                         ("DEEP-PLANAR", Orientation.given), ("SQUARE-BLANK", Orientation.scanned)):
         assert ds["orientation"].values[0, idx[block]] == code, block
     for block in ("DEEP", "SQUARE"):
-        assert ds["physics"].values[0, idx[block]] in (Physics.rocking3d, Physics.none)
+        # the exact 3D model, or where it stops (a corner of an edge would slip) the 3D contact model
+        assert ds["physics"].values[0, idx[block]] in (Physics.rocking3d, Physics.contact3d, Physics.none)
         assert ds["planes_simulated"].values[0, idx[block]] in (0, 1)
         assert ds["sample_simulations"].values[0, idx[block]] > 0            # its probability drew 3D runs
         p, low, high = (float(ds[v].values[0, idx[block]]) for v in ("p_overturn", "p_overturn_low", "p_overturn_high"))
         drawn, unknown = (int(ds[v].values[0, idx[block]]) for v in ("samples_drawn", "samples_without_verdict"))
-        # p in [0, 1]; or no draw had a verdict (a corner of an edge would slip: the box would twist, which the 3D
-        # model does not follow): p undetermined, its interval [0, 1], never standing
-        assert 0.0 <= p <= 1.0 or (math.isnan(p) and unknown == drawn > 0 and (low, high) == (0.0, 1.0)), block
+        # every draw has a verdict: where the exact model stops, the contact model decides it
+        assert 0.0 <= low <= p <= high <= 1.0 and unknown == 0 < drawn, block
 
 
 def test_a_box_far_deeper_than_high_follows_its_planar_scene(screened):
@@ -59,14 +59,16 @@ def test_a_box_far_deeper_than_high_follows_its_planar_scene(screened):
     rotation; this checks the 3D frames (the record's azimuth, the second horizontal's sense, the box's azimuth)."""
     ds, idx, _ = screened
     deep, planar = idx["DEEP"], idx["DEEP-PLANAR"]
-    assert ds["physics"].values[0, deep] == Physics.rocking3d
+    # the exact box model, or the contact model where the fall past alpha would slip its edge (handed over)
+    assert ds["physics"].values[0, deep] in (Physics.rocking3d, Physics.contact3d)
     assert ds["overturn_simulated"].values[0, deep] == ds["overturn_simulated"].values[0, planar]
     assert ds["theta_max"].values[0, deep] == pytest.approx(ds["theta_max"].values[0, planar], rel=1e-4)
     # both overturn here: the factor on the record at which each first overturns (the margins' scan) is the sharper
     # check, and the 3D box leans along its own plane
     assert ds["overturn_scale_simulated"].values[deep] == pytest.approx(
         ds["overturn_scale_simulated"].values[planar], rel=1e-6)
-    assert ds["governing_azimuth"].values[0, deep] % 180.0 == pytest.approx(60.0, abs=1e-6)
+    # (the contact model's lean at its peak tilt: 0.04 deg off its plane here)
+    assert ds["governing_azimuth"].values[0, deep] % 180.0 == pytest.approx(60.0, abs=0.1)
 
 
 def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the_3d_one(screened, kocaeli):
@@ -121,14 +123,13 @@ def test_the_summary_counts_the_boxes_not_checked_about_their_other_axis(screene
 
 
 def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
-    """The simulated margin of a box judged in 3D is the 3D model's: overturning at the margin's factor and not just
-    below it (the scan's resolution). SQUARE's scaled runs stop where a corner of its edge would slip (no verdict, no
-    finite margin); DEEP's do not, so at least one box is checked."""
+    """The simulated margin of a box judged in 3D is the 3D scene's (the exact model's, or the contact model's where
+    it is handed over): overturning at the margin's factor."""
     from pipeline.config import Config
     from pipeline.records.loader import find_records, load_record
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
-    from pipeline.rocking.solids.solid3d import run, solid_of
+    from pipeline.rocking.solids.solid3d import judge_solid, solid_of
 
     ds, idx, _ = screened
     sources, _ = find_records(kocaeli, config=Config())
@@ -143,11 +144,11 @@ def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
             continue
         solid = solid_of(shape, record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
         assert solid is not None
-        at = run(h1, h2, rec.vertical_ms2, rec.dt_s, solid, settings=SimulationConfig(), amplitude=scale)
-        assert at.overturned, block
+        at = judge_solid(h1, h2, rec.vertical_ms2, rec.dt_s, solid, settings=SimulationConfig(), amplitude=scale)
+        assert at.scene.overturned, block
         assert ds["robustness"].values[0, idx[block]] in [m.value for m in Robustness]
         checked += 1
-    assert checked >= 1
+    assert checked == 2
 
 
 def test_the_3d_box_is_not_used_on_one_horizontal(records_dir, tmp_path):

@@ -1,6 +1,6 @@
-"""The hand-off of ``[simulation] contact3d = true``: a box's or a cylinder's 3D scene whose exact model stops (a
-base that would slide, twist or lift off: no verdict) is decided by the 3D contact model, in the nominal scene, the
-probabilities and the margins; with the setting off (the default) it keeps no verdict."""
+"""The hand-off of ``[simulation] contact3d = true`` (the default): a box's or a cylinder's 3D scene whose exact model
+stops (a base that would slide, twist or lift off: no verdict) is decided by the 3D contact model, in the nominal
+scene, the probabilities and the margins; with the setting off it keeps no verdict."""
 
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ def test_a_scene_the_exact_model_stops_is_decided_by_the_contact_model(record):
     the contact model overturns it, as the contact model alone does on the same record in the box's frame."""
     solid = solid_of(STATUE, record_azimuth_deg=float(record.azimuths_deg[0]), known_azimuth=True)
     h1, h2 = record.horizontal_ms2
-    off = judge_solid(h1, h2, record.vertical_ms2, record.dt_s, solid, settings=SimulationConfig())
+    off = judge_solid(h1, h2, record.vertical_ms2, record.dt_s, solid, settings=SimulationConfig(contact3d=False))
     on = judge_solid(h1, h2, record.vertical_ms2, record.dt_s, solid, settings=SimulationConfig(contact3d=True))
     assert off.scene.verdict == -1 and off.scene.guard & Guard.model_limit
     assert on.scene.physics == Physics.contact3d and on.scene.verdict == 1
@@ -64,8 +64,8 @@ def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_
                      "--samples", "8", "--config", str(tmp_path / f"c{on}.toml")]) == 0
         runs[on] = open_results(out / "screening.nc")
         said = capsys.readouterr().err
-        # without the setting, the summary names the 3D scene without a verdict and the setting that decides it
-        assert ("1 of them are 3D scenes stopped" in said and "contact3d = true" in said) is not on
+        # with the setting off, the summary names the 3D scene without a verdict and the setting that left it so
+        assert ("1 of them are 3D scenes stopped" in said and "contact3d = false" in said) is not on
     off, on = runs[False], runs[True]
     assert int(off["overturn_simulated"].values[0, 0]) == -1
     assert int(on["physics"].values[0, 0]) == Physics.contact3d and int(on["overturn_simulated"].values[0, 0]) == 1
@@ -87,7 +87,7 @@ def test_a_drum_that_slides_without_lifting_is_handed_over_not_kept_at_rest():
     ah = 0.35 * 9.80665 * np.sin(2 * np.pi * t) * (t < 4.0)
     drum = solid_of(BlockShape(height_m=2.0, width_m=2.0, mu=0.3, kind=ShapeKind.cylinder), record_azimuth_deg=0.0,
                     known_azimuth=True)
-    exact = judge_solid(ah, np.zeros_like(ah), None, dt, drum, settings=SimulationConfig()).scene
+    exact = judge_solid(ah, np.zeros_like(ah), None, dt, drum, settings=SimulationConfig(contact3d=False)).scene
     assert exact.verdict == -1 and exact.guard & Guard.model_limit and exact.response == Response.slide
     handed = judge_solid(ah, np.zeros_like(ah), None, dt, drum, settings=SimulationConfig(contact3d=True)).scene
     assert handed.verdict == 0 and handed.physics == Physics.contact3d and handed.response == Response.slide
@@ -109,7 +109,7 @@ def test_the_narrow_box_whose_corner_slips_gets_a_verdict(across_g, exact_verdic
     ax, ay = 1.45 * math.tan(math.atan(0.12 / 0.31)) * 9.80665 * pulse, across_g * 9.80665 * pulse
     box = solid_of(BlockShape(height_m=0.62, width_m=0.24, mu=0.62, azimuth_deg=0.0, depth_m=0.24,
                               kind=ShapeKind.box), record_azimuth_deg=0.0, known_azimuth=True)
-    exact = judge_solid(ax, ay, None, dt, box, settings=SimulationConfig()).scene
+    exact = judge_solid(ax, ay, None, dt, box, settings=SimulationConfig(contact3d=False)).scene
     handed = judge_solid(ax, ay, None, dt, box, settings=SimulationConfig(contact3d=True)).scene
     assert exact.verdict == exact_verdict
     assert handed.verdict == 0

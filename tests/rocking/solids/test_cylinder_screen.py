@@ -64,8 +64,9 @@ def el_centro_6(tmp_path_factory, records_dir):
 def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(el_centro_6, tmp_path, capsys):
     """The measured case: El Centro #6 x a solid cylinder 1.0 m high, 0.333 m across, mu 0.7. The planar scan of
     its 37 planes said robust_stand, p = 0.00, where a 3D rigid-body engine overturns it; in 3D its base would
-    slide under the record's vertical (-0.97 g at 2.3 s), which the 3D model does not follow: no verdict, never
-    robust_stand. A box of the same size on the same record is still scanned in planes."""
+    slide under the record's vertical (-0.97 g at 2.3 s), where the exact model stops: the 3D contact model decides
+    the scene, and overturns it, as the engine does; never robust_stand. A box of the same size on the same record
+    is still scanned in planes."""
     from pipeline.cli import main
     from pipeline.store import open_results
 
@@ -81,10 +82,10 @@ def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(
     cyl, box = (list(ds["block"].values).index(b) for b in ("CYL", "BOX"))
     assert ds["orientation"].values[0, cyl] == Orientation.axisymmetric
     assert ds["orientation"].values[0, box] == Orientation.scanned
-    assert ds["physics"].values[0, cyl] == Physics.wobbling
+    assert ds["physics"].values[0, cyl] == Physics.contact3d
     assert ds["planes_simulated"].values[0, cyl] == 1
-    assert ds["simulation_guard"].values[0, cyl] & Guard.model_limit
-    assert ds["overturn_simulated"].values[0, cyl] == -1                 # no verdict: never "stands"
+    assert not ds["simulation_guard"].values[0, cyl] & Guard.model_limit
+    assert ds["overturn_simulated"].values[0, cyl] == 1
     assert ds["robustness"].values[0, cyl] != Robustness.robust_stand
     assert 0.0 <= ds["governing_azimuth"].values[0, cyl] < 360.0
     assert list(ds["shape"].values) == [ShapeKind.cylinder, ShapeKind.box]
@@ -108,6 +109,26 @@ def test_without_the_vertical_the_cylinder_overturns(el_centro_6):
                         settings=SimulationConfig())
     assert out.overturned and out.flag == FLAG_NONE and out.held == FLAG_SLIDE
     assert np.nanmax(np.abs(np.diff(np.unwrap(out.azimuth[np.isfinite(out.azimuth)])))) > 0     # it rolled
+    # a fall followed with the rim held is handed to the 3D contact model (the default), which lets the rim slip:
+    # it overturns too, with its own peak, history and lean; with the hand-off off the held fall is kept, flagged
+    from pipeline.rocking.block import BlockShape, ShapeKind
+    from pipeline.rocking.solids.solid3d import judge_solid, solid_of
+
+    solid = solid_of(BlockShape(height_m=1.0, width_m=0.333, mu=0.7, kind=ShapeKind.cylinder),
+                     record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
+    kept = judge_solid(rec.horizontal_ms2[0], rec.horizontal_ms2[1], None, rec.dt_s, solid,
+                       settings=SimulationConfig(contact3d=False)).scene
+    assert kept.physics == Physics.wobbling and kept.guard & Guard.held_past_alpha and kept.verdict == 1
+    handed = judge_solid(rec.horizontal_ms2[0], rec.horizontal_ms2[1], None, rec.dt_s, solid,
+                         settings=SimulationConfig(), history=True)
+    assert handed.scene.physics == Physics.contact3d and handed.scene.verdict == 1
+    assert not handed.scene.guard & (Guard.held_past_alpha | Guard.model_limit)
+    assert handed.scene.theta_max == pytest.approx(0.5 * np.pi / solid.alpha)
+    theta, lean = handed.scene.theta_over_alpha, handed.lean_history_deg
+    assert theta.shape == lean.shape == rec.horizontal_ms2[0].shape
+    assert np.all(np.isnan(lean[theta == 0.0])) and np.all(np.isfinite(lean[theta > 0.0]))
+    assert theta[-1] == pytest.approx(0.5 * np.pi / solid.alpha)            # lying on its side from its fall on
+    assert 0.0 <= handed.lean_deg < 360.0
 
 
 def test_a_cylinder_on_one_horizontal_rocks_in_its_plane_with_its_own_inertia(records_dir, tmp_path):
@@ -163,8 +184,8 @@ def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro
     three_d, planar = solid_rows([SimpleNamespace(record=rec)], inv, cfg)
     assert three_d["section"] == planar["section"] == "cylinders" and three_d["scenes"] == planar["scenes"] == 1
     assert three_d["time_s"] > 0 and planar["time_s"] > 0
-    assert three_d["scenes_simulated"] == 0                  # no verdict in 3D here: left out of the comparison
-    assert planar["misses"] == planar["false_alarms"] == 0
+    assert three_d["scenes_simulated"] == 1                  # decided in 3D by the contact model: it overturns
+    assert planar["misses"] == 1 and planar["false_alarms"] == 0      # where the planar scan stands
     assert solid_rows([SimpleNamespace(record=rec)], inv.take([1]), cfg) == []       # no 3D scene: no rows
     from pipeline.run.accuracy import markdown
 
