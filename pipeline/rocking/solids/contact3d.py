@@ -69,8 +69,8 @@ TAIL_S = 20.0
 #: set down flat and held there, nothing integrated, for as long as the ground's demand |a_h| / (g + a_v) stays at
 #: or below the exact at-rest threshold min(mu, tan alpha_min) (:func:`base_threshold`); the body standing on its
 #: base at the start is. A body that lands flat stays sunk by what the landing step let it overlap the ground (up to
-#: h times the landing speed at an edge, over the base's width: 1.3e-4 rad measured on a 0.5 m base), so a bound
-#: of 1e-4 rad missed such rests and integrated them to the end of the tail.
+#: h times the landing speed at an edge, over the base's width), so a bound of 1e-4 rad missed such rests (a 0.5 m
+#: box back on its base after rocking to 1.3e-4 rad) and integrated them to the end of the tail.
 REST_TILT_RAD = 1e-3
 
 #: The body lies on a side once its tilt is within this of pi/2 [rad]: more than the overlap of a landing step
