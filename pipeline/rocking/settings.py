@@ -45,9 +45,10 @@ class SimulationConfig:
     #: and flagged (slide_rock), and free flight has no verdict (what ``screen bench`` compares with).
     contact_model: bool = True
     #: True (default): a cylinder's or a box's 3D scene whose exact model stops where its base would slide, twist
-    #: or lift off is decided by the 3D contact model (:mod:`pipeline.rocking.solids.contact3d`) over the whole
-    #: record (physics ``contact3d``), in the probabilities and margins too (about 0.02 s per such scene, median;
-    #: docs/validation.md). False: such a scene has no verdict (unknown).
+    #: or lift off, or follows a fall past alpha with its contact held, is decided by the 3D contact model
+    #: (:mod:`pipeline.rocking.solids.contact3d`) over the whole record (physics ``contact3d``), in the
+    #: probabilities and margins too (0.014 s per such run, median on the bundled run; docs/validation.md). False:
+    #: a stopped scene has no verdict (unknown), a held fall keeps the exact model's overturning (held_past_alpha).
     contact3d: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].
