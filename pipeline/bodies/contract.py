@@ -29,6 +29,9 @@ of block it has: it asks the registry for the first model that claims the block 
     A judge of one-directional pulses (``screen infer``): whether the pulse overturns the block, and the runs.
 ``warmup()``
     Calls its compiled kernels once on a tiny scene, so that numba compiles them before any worker needs them.
+``shared_warmups``
+    Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder and the box),
+    called once per warm-up whichever of those models it selects.
 ``versus_planar``
     Optional: how ``screen bench`` compares it with the planar model it replaces (:class:`VersusPlanar`).
 
@@ -217,3 +220,4 @@ class BodyModel:
     pulse: Callable[..., PulseJudge]
     warmup: Callable[[], None]
     versus_planar: VersusPlanar | None = None
+    shared_warmups: tuple[Callable[[], None], ...] = ()

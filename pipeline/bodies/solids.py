@@ -159,23 +159,22 @@ def _claims(physics: Physics):
     return claims, may_claim
 
 
-def _contact_warmup(a: np.ndarray) -> None:
+def _contact_warmup() -> None:
     """The 3D contact model's kernel (the hand-off of both solids), on a tiny scene that tips a box."""
+    a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_contact3d(a, 0.5 * a, None, 0.01, box_body(0.2, 0.3, 1.0, mu=0.7))
 
 
 def _cylinder_warmup() -> None:
-    """The 3D cylinder's kernel and the contact model's, on a tiny scene that lifts it."""
+    """The 3D cylinder's kernel, on a tiny scene that lifts it."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_cylinder(a, 0.5 * a, None, 0.01, Cylinder(radius_m=0.1, half_height_m=0.5, mu=0.7, restitution=0.8))
-    _contact_warmup(a)
 
 
 def _box_warmup() -> None:
-    """The 3D box's kernel and the contact model's, on a tiny scene that lifts it onto a corner."""
+    """The 3D box's kernel, on a tiny scene that lifts it onto a corner."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
-    _contact_warmup(a)
 
 
 _cylinder_claims, _cylinder_may = _claims(Physics.wobbling)
@@ -185,11 +184,13 @@ _box_claims, _box_may = _claims(Physics.rocking3d)
 CYLINDER = BodyModel(
     name="cylinder", physics=(Physics.wobbling, Physics.contact3d), claims=_cylinder_claims,
     may_claim=_cylinder_may, scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_cylinder_warmup,
+    shared_warmups=(_contact_warmup,),
     versus_planar=VersusPlanar("cylinders", "3D model (one run, no orientation scan)",
                                "planar scan of the same cylinders (worst plane; vs the 3D verdicts)", _cylinder_versus))
 #: A box with a depth and an azimuth on two horizontals of known azimuth: rocking in 3D.
 BOX = BodyModel(
     name="box in 3D", physics=(Physics.rocking3d, Physics.contact3d), claims=_box_claims, may_claim=_box_may,
     scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_box_warmup,
+    shared_warmups=(_contact_warmup,),
     versus_planar=VersusPlanar("boxes in 3D", "3D model (one run at the box's azimuth, both horizontals)",
                                "planar scene in the plane of the width (vs the 3D verdicts)", _box_versus))

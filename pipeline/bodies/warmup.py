@@ -37,14 +37,17 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
         The run's blocks: only the models that may claim one of them are warmed up (None: every model). A run
         without a cylinder never compiles the cylinder's kernel (about 10 s on a fresh install).
     share : (int, int)
-        ``(k, n)``: warm up the models at positions k, k + n, k + 2n, ... of those selected, so that n processes
-        started together each compile a share (numba caches each function on disk on its own).
+        ``(k, n)``: make the warm-up calls at positions k, k + n, k + 2n, ... of those of the selected models (each
+        model's own, then the kernels they share, each once), so that n processes started together each compile a
+        share (numba caches each function on disk on its own).
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
         return 0.0
     k, n = share
-    models = registry.models_for(shapes)[k::n]
+    models = registry.models_for(shapes)
+    # each model's own kernels, then the kernels some of them share, each once (dict keeps the order)
+    calls = list(dict.fromkeys([m.warmup for m in models] + [f for m in models for f in m.shared_warmups]))[k::n]
     compiles = CompileCounter()
 
     def tell(elapsed_s: float) -> None:
@@ -59,8 +62,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
     ticker = Ticker(tell, every_s=REPEAT_S, first_after_s=ANNOUNCE_AFTER_S)      # bound before its thread starts
     with ticker:
         with compiles.listening():
-            for model in models:
-                model.warmup()
+            for call in calls:
+                call()
     elapsed = time.perf_counter() - t0
     if ticker.spoke and announce is not None:
         announce(f"{'compiled' if compiles.n else 'loaded'} the simulator in {elapsed:.0f} s")
