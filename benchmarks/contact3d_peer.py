@@ -30,7 +30,8 @@ from pipeline.constants import G  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.block import BlockShape, ShapeKind  # noqa: E402
 from pipeline.rocking.scene import Guard  # noqa: E402
-from pipeline.rocking.solids.contact3d import box_body, cylinder_body, simulate_contact3d  # noqa: E402
+from pipeline.rocking.solids.contact3d import simulate_contact3d  # noqa: E402
+from pipeline.rocking.solids.convex_body import box_body, cylinder_body  # noqa: E402
 from pipeline.rocking.solids.solid3d import judge_solid, solid_of  # noqa: E402
 
 #: family -> bodies: (kind, width, depth, height, mu, azimuth of the width [deg])

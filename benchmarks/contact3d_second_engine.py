@@ -28,7 +28,8 @@ from contact3d_peer import FAMILIES, _frame  # noqa: E402
 from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
-from pipeline.rocking.solids.contact3d import box_body, cylinder_body, simulate_contact3d  # noqa: E402
+from pipeline.rocking.solids.contact3d import simulate_contact3d  # noqa: E402
+from pipeline.rocking.solids.convex_body import box_body, cylinder_body  # noqa: E402
 
 #: family, index of the body in the family, record id: the peer benchmark's disagreements
 DISAGREEMENTS = [("statues", 1, "RSN181_IMPVALL.H_H-E06"), ("cabinets", 0, "RSN181_IMPVALL.H_H-E06"),

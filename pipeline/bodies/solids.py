@@ -20,7 +20,8 @@ from ..rocking.orientation import Orientation, PlaneResult, worst_plane
 from ..rocking.scene import Physics
 from ..rocking.settings import SimulationConfig
 from ..rocking.solids.box3d import Box, simulate_box
-from ..rocking.solids.contact3d import box_body, simulate_contact3d
+from ..rocking.solids.contact3d import simulate_contact3d
+from ..rocking.solids.convex_body import box_body
 from ..rocking.solids.cylinder3d import Cylinder, simulate_cylinder
 from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of, solid_scene
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, one_plane

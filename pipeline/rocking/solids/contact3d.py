@@ -14,7 +14,11 @@ tolerance or a cap of sweeps (the step is then flagged, never silently accepted)
 **Overturned** is the body lying on a side: its axis tilted to within :data:`LYING_SLACK_RAD` of the horizontal.
 A box that falls lands on its side face at a tilt of pi/2 less what the landing step lets it sink into the ground
 (a velocity-level step keeps contacts from approaching, not from overlapping by up to a step's travel), so a test of
-exactly pi/2 decided such a fall by the last step's rounding.
+exactly pi/2 decided such a fall by the last step's rounding. An irregular body (a scan, :mod:`..scanned.hull3d`)
+may instead come to rest on another face of its hull short of lying on its side (a granite rock toppled onto a
+face at 72 deg); given its smallest static tipping angle (``tipping_rad``), a body found at rest after the record
+(three contacts or more, every speed below :data:`REST_SPEED`) tilted beyond it has overturned too. The tilt is
+always measured from how the body stood at the start (``rest``: its principal axes as it stands).
 
 A plastic impact at a new sticking contact reduces to Housner's (1963) rule for a block pivoting without slip:
 the angular momentum about the new pivot is conserved and the old pivot lifts (tested against the planar kernel).
@@ -55,6 +59,7 @@ import numpy as np
 from ...compiled import jit, jit_inline
 from ...constants import G
 from .contact_problem import MAX_SWEEPS, solve_contacts, workspace
+from .convex_body import ConvexBody, base_threshold
 
 #: Steps per sampling interval of the record (the ground is linear between samples).
 STEPS_PER_SAMPLE = 8
@@ -83,25 +88,16 @@ FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
 FLAG_TAIL_CAP = 2           # still moving TAIL_S after the record
 
 
-class ConvexBody(NamedTuple):
-    """A rigid convex body, per unit mass.
+class Pose(NamedTuple):
+    """How the body stands, for the kernel: its principal axes' orientation as it stands (unit quaternion (w, x, y,
+    z)), the body-axis vectors that point up and along x as it stands, its vertices in those standing axes, and the
+    tilt beyond which a rest on another face is an overturning [rad]."""
 
-    Attributes
-    ----------
-    vertices : ndarray, shape (n, 3)
-        Its hull's vertices about G in its principal axes, z up when it stands [m].
-    inertia : ndarray, shape (3,)
-        Its principal moments of inertia about G per unit mass [m2].
-    mu : float
-        Friction coefficient at every contact [-].
-    restitution : float
-        Newton's normal restitution at a contact [-] (0: plastic, which gives Housner's rule at a pivot).
-    """
-
-    vertices: np.ndarray
-    inertia: np.ndarray
-    mu: float
-    restitution: float = 0.0
+    q_rest: np.ndarray
+    up: np.ndarray
+    x_ref: np.ndarray
+    standing: np.ndarray
+    toppled: float
 
 
 class Contact3DOutcome(NamedTuple):
@@ -110,9 +106,11 @@ class Contact3DOutcome(NamedTuple):
     Attributes
     ----------
     overturned : bool
-        The body lies on a side (its axis within :data:`LYING_SLACK_RAD` of the horizontal).
+        The body lies on a side (its standing axis within :data:`LYING_SLACK_RAD` of the horizontal), or, with the
+        body's ``tipping_rad``, rests after the record on another face tilted beyond it.
     t_overturn : float
-        When [s] (NaN: it did not).
+        When [s] (NaN: it did not): when it came to lie on its side, or when it last tilted beyond ``tipping_rad``
+        before it rested on another face.
     tilt_max_rad : float
         The largest tilt of its axis from the vertical [rad] (pi/2 once overturned).
     slide_max_m : float
@@ -141,6 +139,9 @@ class Contact3DOutcome(NamedTuple):
     lean_deg : ndarray or None
         With ``history``: where its axis leans at each sample [deg] (NaN while upright; after overturning, where it
         fell).
+    tilt_end_rad : float
+        Its tilt where the run ended [rad]: at rest on its base (below :data:`REST_TILT_RAD`), at rest on another
+        face (three contacts or more, still, after the record), lying on a side, or where the tail ended.
     """
 
     overturned: bool
@@ -158,27 +159,7 @@ class Contact3DOutcome(NamedTuple):
     lean_at_peak_deg: float = math.nan
     tilt_rad: np.ndarray | None = None
     lean_deg: np.ndarray | None = None
-
-
-def box_body(width_m: float, depth_m: float, height_m: float, *, mu: float, restitution: float = 0.0
-             ) -> ConvexBody:
-    """A uniform box (width along x, depth along y) by its eight corners."""
-    b, d, h = width_m / 2.0, depth_m / 2.0, height_m / 2.0
-    corners = np.array([[sx * b, sy * d, sz * h] for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)])
-    inertia = np.array([(d * d + h * h) / 3.0, (b * b + h * h) / 3.0, (b * b + d * d) / 3.0])
-    return ConvexBody(corners, inertia, mu, restitution)
-
-
-def cylinder_body(diameter_m: float, height_m: float, *, mu: float, restitution: float = 0.0,
-                  rim_points: int = 32) -> ConvexBody:
-    """A uniform solid cylinder by ``rim_points`` points on each rim (the inscribed polygon: its radius toward a
-    side is r cos(pi / rim_points), 0.5 % short of r at 32 points)."""
-    r, h = diameter_m / 2.0, height_m / 2.0
-    phi = 2.0 * np.pi * np.arange(rim_points) / rim_points
-    rim = np.column_stack([r * np.cos(phi), r * np.sin(phi)])
-    vertices = np.vstack([np.column_stack([rim, np.full(rim_points, z)]) for z in (-h, h)])
-    side = r * r / 4.0 + (2.0 * h) ** 2 / 12.0
-    return ConvexBody(vertices, np.array([side, side, r * r / 2.0]), mu, restitution)
+    tilt_end_rad: float = math.nan
 
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
@@ -192,54 +173,30 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     h = min(dt_s / STEPS_PER_SAMPLE, MAX_STEP_S)
     n_sub = max(1, int(math.ceil(dt_s / h - 1e-9)))
     hist = np.full((ax.size if history else 0, 2), math.nan)
-    out = _run(ax, ay, az, float(dt_s), n_sub, np.ascontiguousarray(body.vertices, dtype=float),
-               np.ascontiguousarray(body.inertia, dtype=float), float(body.mu), float(body.restitution),
-               math.radians(yaw_deg), float(g_ms2), workspace(len(body.vertices)), hist)
-    lean_peak = math.degrees(out[-1]) if math.isfinite(out[-1]) else math.nan
-    return Contact3DOutcome._make((*out[:-1], lean_peak, hist[:, 0] if history else None,
-                                   np.degrees(hist[:, 1]) if history else None))
+    vertices = np.ascontiguousarray(body.vertices, dtype=float)
+    out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
+               float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
+               workspace(len(body.vertices)), hist, pose(vertices, body.rest, body.tipping_rad))
+    lean_peak = math.degrees(out[-2]) if math.isfinite(out[-2]) else math.nan
+    return Contact3DOutcome._make((*out[:-2], lean_peak, hist[:, 0] if history else None,
+                                   np.degrees(hist[:, 1]) if history else None, out[-1]))
 
 
-@jit
-def base_threshold(vertices, mu):
-    """min(mu, tan alpha_min): the demand ratio at or below which the body standing on its base neither slides nor
-    tips (alpha_min: the smallest static tipping angle, about the base hull's edge nearest below G) [-]."""
-    n = vertices.shape[0]
-    zmin = vertices[0, 2]
-    for i in range(n):
-        zmin = min(zmin, vertices[i, 2])
-    size = 0.0
-    for i in range(n):
-        size = max(size, abs(vertices[i, 0]), abs(vertices[i, 1]), abs(vertices[i, 2]))
-    tol = 1e-12 * size
-    nearest = math.inf
-    for i in range(n):
-        if vertices[i, 2] > zmin + tol:
-            continue
-        for j in range(n):
-            if j == i or vertices[j, 2] > zmin + tol:
-                continue
-            ex, ey = vertices[j, 0] - vertices[i, 0], vertices[j, 1] - vertices[i, 1]
-            length = math.sqrt(ex * ex + ey * ey)
-            if length <= tol:
-                continue
-            side = 0                            # a hull edge: every base vertex on one side of it
-            ok = True
-            for m in range(n):
-                if vertices[m, 2] > zmin + tol:
-                    continue
-                cr = ex * (vertices[m, 1] - vertices[i, 1]) - ey * (vertices[m, 0] - vertices[i, 0])
-                if abs(cr) <= tol * length:
-                    continue
-                sgn = 1 if cr > 0 else -1
-                if side == 0:
-                    side = sgn
-                elif sgn != side:
-                    ok = False
-                    break
-            if ok:
-                nearest = min(nearest, abs(ex * (-vertices[i, 1]) - ey * (-vertices[i, 0])) / length)
-    return min(mu, nearest / -zmin)
+def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = math.nan) -> Pose:
+    """The kernel's :class:`Pose` of a body whose principal axes turn by ``rest`` into the axes it stands in."""
+    toppled = 0.5 * math.pi - LYING_SLACK_RAD if math.isnan(tipping_rad) else float(tipping_rad)
+    if rest is None:
+        return Pose(np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]), vertices,
+                    toppled)
+    rot = np.asarray(rest, dtype=float)
+    if not (np.allclose(rot @ rot.T, np.eye(3), atol=1e-9) and np.linalg.det(rot) > 0.0):
+        raise ValueError(f"rest is not a rotation matrix (R R^T - I up to {np.abs(rot @ rot.T - np.eye(3)).max():.2g},"
+                         f" det {np.linalg.det(rot):.6g}); give the principal axes' orientation as it stands")
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(rot).as_quat()
+    return Pose(np.array([w, x, y, z]), np.ascontiguousarray(rot[2]), np.ascontiguousarray(rot[0]),
+                np.ascontiguousarray(vertices @ rot.T), toppled)
 
 
 @jit_inline
@@ -249,6 +206,16 @@ def _rotation(q, r):
     r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
     r[1, 0], r[1, 1], r[1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
     r[2, 0], r[2, 1], r[2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+
+
+@jit_inline
+def _headed(heading, q_rest, out):
+    """The standing orientation ``q_rest`` turned by ``heading`` [rad] about the vertical, into ``out``."""
+    c, s = math.cos(heading / 2.0), math.sin(heading / 2.0)
+    out[0] = c * q_rest[0] - s * q_rest[3]
+    out[1] = c * q_rest[1] - s * q_rest[2]
+    out[2] = c * q_rest[2] + s * q_rest[1]
+    out[3] = c * q_rest[3] + s * q_rest[0]
 
 
 @jit_inline
@@ -323,10 +290,10 @@ def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p)
     start); how many."""
     n_c = 0
     for i in range(vertices.shape[0]):
-        r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
-        r1 = rm[1, 0] * vertices[i, 0] + rm[1, 1] * vertices[i, 1] + rm[1, 2] * vertices[i, 2]
         r2 = rm[2, 0] * vertices[i, 0] + rm[2, 1] * vertices[i, 1] + rm[2, 2] * vertices[i, 2]
-        if z_g + r2 <= 0.0:
+        if z_g + r2 <= 0.0:                         # the height first: a scan's hull has hundreds of vertices
+            r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
+            r1 = rm[1, 0] * vertices[i, 0] + rm[1, 1] * vertices[i, 1] + rm[1, 2] * vertices[i, 2]
             arms[n_c, 0], arms[n_c, 1], arms[n_c, 2] = r0, r1, r2
             index[n_c] = i
             p[n_c, 0], p[n_c, 1], p[n_c, 2] = impulses[i, 0], impulses[i, 1], impulses[i, 2]
@@ -381,9 +348,27 @@ def _still(v, w, size):
 
 
 @jit_inline
-def _lean(r, tilt):
-    """Where the body's axis (the third column of its rotation ``r``) leans, from x toward y [rad] (NaN upright)."""
-    return math.atan2(r[1, 2], r[0, 2]) if tilt > 0.0 else math.nan
+def _along(r, u, row):
+    """Component ``row`` of the world vector R u."""
+    return r[row, 0] * u[0] + r[row, 1] * u[1] + r[row, 2] * u[2]
+
+
+@jit_inline
+def _tilt(r, up):
+    """The tilt from where it stood: the angle of its standing up axis ``up`` from the vertical [rad]."""
+    return math.acos(min(1.0, max(-1.0, _along(r, up, 2))))
+
+
+@jit_inline
+def _heading(r, x_ref):
+    """Where its standing x axis ``x_ref`` points, seen from above, from x toward y [rad]."""
+    return math.atan2(_along(r, x_ref, 1), _along(r, x_ref, 0))
+
+
+@jit_inline
+def _lean(r, up, tilt):
+    """Where its standing up axis leans, from x toward y [rad] (NaN upright)."""
+    return math.atan2(_along(r, up, 1), _along(r, up, 0)) if tilt > 0.0 else math.nan
 
 
 @jit_inline
@@ -394,28 +379,28 @@ def _record(hist, i, tilt, lean):
 
 
 @jit_inline
-def _set_down(v, w, q, x, r, z0, impulses):
-    """A body found at rest: still, set down flat (its heading and place kept), its next motion from no impulse."""
+def _set_down(v, w, q, x, r, z0, impulses, pose):
+    """A body found at rest: still, set down as it stood (its heading and place kept), its next motion from no
+    impulse."""
     v[:] = 0.0
     w[:] = 0.0
-    heading = math.atan2(r[1, 0], r[0, 0])
-    q[:] = 0.0
-    q[0], q[3] = math.cos(heading / 2.0), math.sin(heading / 2.0)
+    _headed(_heading(r, pose.x_ref), pose.q_rest, q)
     x[2] = z0
     impulses[:] = 0.0
 
 
 @jit
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose):
     n_v = vertices.shape[0]
-    size, z0 = _extent(vertices)
-    threshold = base_threshold(vertices, mu)
+    size, z0 = _extent(pose.standing)
+    threshold = base_threshold(pose.standing, mu)
     impulses = np.zeros((n_v, 3))                   # the last step's impulse at each vertex (warm start)
     index = np.empty(n_v, dtype=np.int64)
     p = np.empty((n_v, 3))
     resting = True
     x = np.array([0.0, 0.0, z0])
-    q = np.array([math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)])
+    q = np.empty(4)
+    _headed(yaw, pose.q_rest, q)
     v, w = np.zeros(3), np.zeros(3)
     qm, rm, r, inv_i = np.empty(4), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
     h = dt / n_sub
@@ -427,6 +412,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist):
     integrated, sweeps = 0, 0
     t, k, tail_steps = 0.0, 0, int(TAIL_S / h)
     tilt, lean_peak = 0.0, math.nan
+    tilt_before, t_beyond = 0.0, math.nan
     _record(hist, 0, 0.0, math.nan)
     while True:
         during = k < (n - 1) * n_sub
@@ -461,26 +447,33 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist):
         steps += 1
         t = k * h
         _rotation(q, r)
-        tilt = math.acos(min(1.0, max(-1.0, r[2, 2])))
+        tilt = _tilt(r, pose.up)
         if tilt > tilt_max:
-            tilt_max, lean_peak = tilt, _lean(r, tilt)
+            tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
         if k % n_sub == 0 and k // n_sub < hist.shape[0]:
-            _record(hist, k // n_sub, tilt, _lean(r, tilt))
+            _record(hist, k // n_sub, tilt, _lean(r, pose.up, tilt))
         slide_max = max(slide_max, math.sqrt(x[0] * x[0] + x[1] * x[1]))
-        if r[2, 2] > 0.0:                                           # the yaw of its x axis, from where it stood
-            turn = (math.atan2(r[1, 0], r[0, 0]) - yaw + math.pi) % (2.0 * math.pi) - math.pi
+        if _along(r, pose.up, 2) > 0.0:                             # the yaw of its x axis, from where it stood
+            turn = (_heading(r, pose.x_ref) - yaw + math.pi) % (2.0 * math.pi) - math.pi
             twist_max = max(twist_max, abs(turn))
         if not during:
             energy_gain = max(energy_gain, _energy(v, w, r, inertia, x[2], g) - e_before)
         if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
             for i in range(k // n_sub + 1, hist.shape[0]):
-                _record(hist, i, 0.5 * math.pi, _lean(r, tilt))
+                _record(hist, i, 0.5 * math.pi, _lean(r, pose.up, tilt))
             break
         if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
-            _set_down(v, w, q, x, r, z0, impulses)  # flat on its base and still: at rest
+            _set_down(v, w, q, x, r, z0, impulses, pose)  # flat on its base and still: at rest
             resting = True
             if not during:
                 break
+        if tilt > pose.toppled and tilt_before <= pose.toppled:
+            t_beyond = t                            # when it last went beyond its tipping angle
+        tilt_before = tilt
+        if not during and n_c >= 3 and _still(v, w, size):
+            if tilt > pose.toppled:                 # at rest on another face beyond its tipping: toppled
+                overturned, t_over, tilt_max = True, t_beyond, 0.5 * math.pi
+            break                                   # at rest on three contacts or more, off its base
     return (overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped, energy_gain, integrated,
-            sweeps, lean_peak)
+            sweeps, lean_peak, tilt)

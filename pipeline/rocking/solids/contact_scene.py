@@ -20,7 +20,8 @@ import numpy as np
 from ..codes import ContactMode
 from ..scene import FreeFlight, Guard, Physics, Response, Scene
 from .box3d import Box
-from .contact3d import FLAG_TAIL_CAP, Contact3DOutcome, ConvexBody, box_body, cylinder_body, simulate_contact3d
+from .contact3d import FLAG_TAIL_CAP, Contact3DOutcome, simulate_contact3d
+from .convex_body import ConvexBody, box_body, cylinder_body
 from .cylinder3d import Cylinder
 
 

@@ -15,7 +15,8 @@ from pipeline.rocking.block import BlockShape, dynamics
 from pipeline.rocking.planner import simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import slide
-from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, box_body, cylinder_body, simulate_contact3d
+from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, simulate_contact3d
+from pipeline.rocking.solids.convex_body import box_body, cylinder_body
 
 DT = 0.005
 T = np.arange(0.0, 6.0, DT)

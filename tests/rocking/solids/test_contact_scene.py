@@ -14,7 +14,8 @@ from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape
 from pipeline.rocking.scene import Guard, Physics
 from pipeline.rocking.settings import SimulationConfig
-from pipeline.rocking.solids.contact3d import box_body, simulate_contact3d
+from pipeline.rocking.solids.contact3d import simulate_contact3d
+from pipeline.rocking.solids.convex_body import box_body
 from pipeline.rocking.solids.solid3d import judge_solid, solid_of
 
 SYLMAR = ("RSN1086_NORTHR_SYL090.AT2", "RSN1086_NORTHR_SYL360.AT2", "RSN1086_NORTHR_SYL-UP.AT2")

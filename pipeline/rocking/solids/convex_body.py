@@ -1,0 +1,106 @@
+"""A rigid convex body for the 3D contact model (:mod:`.contact3d`), per unit mass: its hull's vertices about its
+centre of mass G in its principal axes, its principal inertias, friction and restitution; the uniform box and
+cylinder; and the exact at-rest threshold of the body standing on its base (:func:`base_threshold`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ...compiled import jit
+
+
+class ConvexBody(NamedTuple):
+    """A rigid convex body, per unit mass.
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (n, 3)
+        Its hull's vertices about G in its principal axes, z up when it stands [m].
+    inertia : ndarray, shape (3,)
+        Its principal moments of inertia about G per unit mass [m2].
+    mu : float
+        Friction coefficient at every contact [-].
+    restitution : float
+        Newton's normal restitution at a contact [-] (0: plastic, which gives Housner's rule at a pivot).
+    rest : ndarray, shape (3, 3), or None
+        The rotation from its principal axes into the axes it stands in, z up (a scan's settled pose); None: they
+        are the same (a box, a cylinder). Its tilt is measured from that pose.
+    tipping_rad : float
+        Its smallest static tipping angle [rad]: a body found at rest after the record on another face of its hull,
+        tilted beyond it, has overturned (toppled onto that face). NaN: only lying on a side counts (a box or a
+        cylinder, which cannot rest tilted otherwise).
+    """
+
+    vertices: np.ndarray
+    inertia: np.ndarray
+    mu: float
+    restitution: float = 0.0
+    rest: np.ndarray | None = None
+    tipping_rad: float = math.nan
+
+
+def box_body(width_m: float, depth_m: float, height_m: float, *, mu: float, restitution: float = 0.0
+             ) -> ConvexBody:
+    """A uniform box (width along x, depth along y) by its eight corners."""
+    b, d, h = width_m / 2.0, depth_m / 2.0, height_m / 2.0
+    corners = np.array([[sx * b, sy * d, sz * h] for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)])
+    inertia = np.array([(d * d + h * h) / 3.0, (b * b + h * h) / 3.0, (b * b + d * d) / 3.0])
+    return ConvexBody(corners, inertia, mu, restitution)
+
+
+def cylinder_body(diameter_m: float, height_m: float, *, mu: float, restitution: float = 0.0,
+                  rim_points: int = 32) -> ConvexBody:
+    """A uniform solid cylinder by ``rim_points`` points on each rim (the inscribed polygon: its radius toward a
+    side is r cos(pi / rim_points), 0.5 % short of r at 32 points)."""
+    r, h = diameter_m / 2.0, height_m / 2.0
+    phi = 2.0 * np.pi * np.arange(rim_points) / rim_points
+    rim = np.column_stack([r * np.cos(phi), r * np.sin(phi)])
+    vertices = np.vstack([np.column_stack([rim, np.full(rim_points, z)]) for z in (-h, h)])
+    side = r * r / 4.0 + (2.0 * h) ** 2 / 12.0
+    return ConvexBody(vertices, np.array([side, side, r * r / 2.0]), mu, restitution)
+
+
+@jit
+def base_threshold(vertices, mu):
+    """min(mu, tan alpha_min): the demand ratio at or below which the body standing on its base neither slides nor
+    tips (alpha_min: the smallest static tipping angle, about the base hull's edge nearest below G) [-]."""
+    n = vertices.shape[0]
+    zmin = vertices[0, 2]
+    for i in range(n):
+        zmin = min(zmin, vertices[i, 2])
+    size = 0.0
+    for i in range(n):
+        size = max(size, abs(vertices[i, 0]), abs(vertices[i, 1]), abs(vertices[i, 2]))
+    tol = 1e-12 * size
+    nearest = math.inf
+    for i in range(n):
+        if vertices[i, 2] > zmin + tol:
+            continue
+        for j in range(n):
+            if j == i or vertices[j, 2] > zmin + tol:
+                continue
+            ex, ey = vertices[j, 0] - vertices[i, 0], vertices[j, 1] - vertices[i, 1]
+            length = math.sqrt(ex * ex + ey * ey)
+            if length <= tol:
+                continue
+            side = 0                            # a hull edge: every base vertex on one side of it
+            ok = True
+            for m in range(n):
+                if vertices[m, 2] > zmin + tol:
+                    continue
+                cr = ex * (vertices[m, 1] - vertices[i, 1]) - ey * (vertices[m, 0] - vertices[i, 0])
+                if abs(cr) <= tol * length:
+                    continue
+                sgn = 1 if cr > 0 else -1
+                if side == 0:
+                    side = sgn
+                elif sgn != side:
+                    ok = False
+                    break
+            if ok:
+                nearest = min(nearest, abs(ex * (-vertices[i, 1]) - ey * (-vertices[i, 0])) / length)
+    return min(mu, nearest / -zmin)
