@@ -10,11 +10,12 @@ stands at the start and what its tilt is measured from. Every hull vertex is a c
 are the body's surface; a curved base is its facets' polygon).
 
 **Overturned** is lying on a side, as for any body, or coming to rest after the record on another face of the hull
-tilted beyond the body's smallest static tipping angle (the tilt at which G passes over the hull's lowest point,
-:func:`pipeline.shapes.scan.pivots`, the least over the vertical planes of a :data:`TIPPING_STEP_DEG` grid, both
-senses): a rock that topples comes to rest on a face short of its side (the granite rocks of the shake-table
-benchmark at 72-73 deg). The grid's least is at least the true least, by up to the tipping angle's change over one
-step of the grid.
+tilted beyond the body's smallest static tipping angle: a rock that topples comes to rest on a face short of its side
+(the granite rocks of the shake-table benchmark at 72-73 deg). The static tipping angle toward a horizontal
+direction is the tilt at which G passes over the hull's lowest point as the body turns about the horizontal axis
+normal to it (:func:`tipping_rad`, exact on the hull's outline in that plane); the smallest is sought over the
+directions of a :data:`TIPPING_STEP_DEG` grid, so it is at least the true least, by up to the change of the
+tipping angle over one step.
 
 References
 ----------
@@ -24,20 +25,51 @@ Mirtich, B. (1996). Fast and accurate computation of polyhedral mass properties.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from ...shapes.scan import ScannedShape, pivots
+from ...shapes.scan import ScannedShape
 from ..solids.convex_body import ConvexBody
 
-#: The grid of vertical planes over which the smallest static tipping angle is sought [deg]
-TIPPING_STEP_DEG = 5.0
+#: The grid of horizontal directions over which the smallest static tipping angle is sought [deg]
+TIPPING_STEP_DEG = 1.0
 
 
-def smallest_tipping_rad(shape: ScannedShape, *, step_deg: float = TIPPING_STEP_DEG) -> float:
-    """The least static tipping angle of the settled scan over the vertical planes every ``step_deg``, both senses
-    [rad]."""
-    return min(min(pv.tipping_plus, pv.tipping_minus)
-               for pv in (pivots(shape, float(az)) for az in np.arange(0.0, 180.0, step_deg)))
+def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float) -> float:
+    """The static tipping angle of a body standing on its hull toward the horizontal direction ``azimuth_deg`` (from
+    x toward y) [rad]: the tilt at which G passes over the lowest point, walking the hull's outline in that vertical
+    plane from the base outward (each vertex is the lowest from the tilt its previous edge lies flat to the tilt its
+    next edge does; G passes over it at the angle of its arm from the downward vertical); pi/2 at most."""
+    from scipy.spatial import ConvexHull
+
+    phi = math.radians(azimuth_deg)
+    u = hull_m[:, 0] * math.cos(phi) + hull_m[:, 1] * math.sin(phi)
+    w = hull_m[:, 2] - com_height_m
+    pts = np.column_stack([u, w])
+    ring = pts[ConvexHull(pts).vertices]                    # counter-clockwise: from the base up the +u side
+    tol = 1e-12 * float(np.max(np.abs(pts)))
+    low = np.flatnonzero(ring[:, 1] <= ring[:, 1].min() + tol)
+    k = int(low[np.argmax(ring[low, 0])])                   # the base's end toward +u
+    flat = 0.0
+    for _ in range(len(ring)):
+        nxt = ring[(k + 1) % len(ring)]
+        edge = math.atan2(nxt[1] - ring[k, 1], nxt[0] - ring[k, 0])
+        arm = math.atan2(ring[k, 0], -ring[k, 1])
+        if arm <= edge or edge >= 0.5 * math.pi:
+            return min(max(flat, arm), 0.5 * math.pi)
+        flat, k = edge, (k + 1) % len(ring)
+    return 0.5 * math.pi
+
+
+def smallest_tipping(hull_m: np.ndarray, com_height_m: float, *, step_deg: float = TIPPING_STEP_DEG
+                     ) -> tuple[float, float]:
+    """The least static tipping angle over the horizontal directions every ``step_deg`` [rad], and that direction
+    [deg, from x toward y]."""
+    azimuths = np.arange(0.0, 360.0, step_deg)
+    angles = [tipping_rad(hull_m, com_height_m, float(az)) for az in azimuths]
+    k = int(np.argmin(angles))
+    return float(angles[k]), float(azimuths[k])
 
 
 def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> ConvexBody:
@@ -64,4 +96,4 @@ def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> Co
         axes[:, 2] = -axes[:, 2]
     about_g = np.asarray(shape.hull_m, dtype=float) - np.array([0.0, 0.0, shape.com_height_m])
     return ConvexBody(np.ascontiguousarray(about_g @ axes), moments, float(mu), float(restitution), rest=axes,
-                      tipping_rad=smallest_tipping_rad(shape))
+                      tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m)[0])

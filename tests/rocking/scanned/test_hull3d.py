@@ -11,10 +11,10 @@ import pytest
 import trimesh
 
 from pipeline.constants import G
-from pipeline.rocking.scanned.hull3d import scan_body
+from pipeline.rocking.scanned.hull3d import scan_body, smallest_tipping, tipping_rad
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.convex_body import box_body
-from pipeline.shapes.scan import read_scan
+from pipeline.shapes.scan import pivots, read_scan
 
 DT = 0.002
 T = np.arange(0.0, 3.0, DT)
@@ -99,3 +99,18 @@ def test_a_weaker_pulse_leaves_the_prism_on_its_base(hexagon):
     ax, ay = _pulse(1.0, 0.35)
     got = simulate_contact3d(ax, ay, None, DT, hexagon)
     assert not got.overturned and got.tilt_end_rad < 1e-3 and 0.1 < got.tilt_max_rad < math.radians(30.0)
+
+
+@pytest.mark.parametrize("name", ["leaning-statue.obj", "box-0.3x3.0x1.5.obj"])
+def test_the_tipping_angle_is_the_scan_modules_by_a_second_algorithm(scans_dir, name):
+    """The walk along the hull's outline against the grid and bisection of :func:`pipeline.shapes.scan.pivots`, both
+    senses of 24 planes; the least over the 1-degree grid is at most the least of those planes."""
+    shape = read_scan(scans_dir / name)
+    least = math.inf
+    for az in np.arange(0.0, 180.0, 7.5):
+        pv = pivots(shape, float(az))
+        assert tipping_rad(shape.hull_m, shape.com_height_m, float(az)) == pytest.approx(pv.tipping_plus, abs=1e-9)
+        assert tipping_rad(shape.hull_m, shape.com_height_m, float(az) + 180.0) == pytest.approx(pv.tipping_minus,
+                                                                                                  abs=1e-9)
+        least = min(least, pv.tipping_plus, pv.tipping_minus)
+    assert smallest_tipping(shape.hull_m, shape.com_height_m)[0] <= least + 1e-12
