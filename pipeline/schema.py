@@ -182,7 +182,12 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                             "side (governing_azimuth: the record's compass direction, over 360 deg; no sliding, no "
                             "flight: friction_exceeded flags them); rolling: a body given by its scan rolling on its "
                             "convex hull in a vertical plane (the default for a mesh, simulation.scanned_model; "
-                            "likewise); a plane in which the body is a uniform rectangle gets the planar models"}),
+                            "likewise); a plane in which the body is a uniform rectangle gets the planar models; "
+                            "contact3d: a rigid convex body in 3D in every contact mode at once (slide, twist, rock, "
+                            "roll, lift-off): a cylinder's or a box's scene its exact model stops (simulation."
+                            "contact3d), or a body given by its scan with simulation.scanned_model contact3d "
+                            "(theta_max: tilt over its smallest static tipping angle; governing_azimuth: where it "
+                            "leant)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "

@@ -160,7 +160,7 @@ def _claims(physics: Physics):
     return claims, may_claim
 
 
-def _contact_warmup() -> None:
+def contact_warmup() -> None:
     """The 3D contact model's kernel (the hand-off of both solids), on a tiny scene that tips a box."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     simulate_contact3d(a, 0.5 * a, None, 0.01, box_body(0.2, 0.3, 1.0, mu=0.7))
@@ -185,13 +185,13 @@ _box_claims, _box_may = _claims(Physics.rocking3d)
 CYLINDER = BodyModel(
     name="cylinder", physics=(Physics.wobbling, Physics.contact3d), claims=_cylinder_claims,
     may_claim=_cylinder_may, scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_cylinder_warmup,
-    shared_warmups=(_contact_warmup,),
+    shared_warmups=(contact_warmup,),
     versus_planar=VersusPlanar("cylinders", "3D model (one run, no orientation scan)",
                                "planar scan of the same cylinders (worst plane; vs the 3D verdicts)", _cylinder_versus))
 #: A box with a depth and an azimuth on two horizontals of known azimuth: rocking in 3D.
 BOX = BodyModel(
     name="box in 3D", physics=(Physics.rocking3d, Physics.contact3d), claims=_box_claims, may_claim=_box_may,
     scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_box_warmup,
-    shared_warmups=(_contact_warmup,),
+    shared_warmups=(contact_warmup,),
     versus_planar=VersusPlanar("boxes in 3D", "3D model (one run at the box's azimuth, both horizontals)",
                                "planar scene in the plane of the width (vs the 3D verdicts)", _box_versus))

@@ -10,10 +10,12 @@ from enum import Enum
 
 
 class ScannedModel(str, Enum):
-    """The model a body given by its scan is rocked with, in each vertical plane (``[simulation] scanned_model``)."""
+    """The model a body given by its scan is judged by (``[simulation] scanned_model``): in each vertical plane, or
+    in 3D."""
 
     rolling = "rolling"         # on the pivots of its convex hull's outline in turn (pipeline.rocking.scanned.rolling)
     two_sided = "two_sided"     # on one pivot per side, the footprint's extremes (pipeline.rocking.scanned.two_sided)
+    contact3d = "contact3d"     # in 3D on its hull, every contact mode (pipeline.rocking.scanned.hull3d; not in planes)
 
 
 @dataclass(frozen=True)

@@ -97,3 +97,19 @@ def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> Co
     about_g = np.asarray(shape.hull_m, dtype=float) - np.array([0.0, 0.0, shape.com_height_m])
     return ConvexBody(np.ascontiguousarray(about_g @ axes), moments, float(mu), float(restitution), rest=axes,
                       tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m)[0])
+
+
+def scaled_scan(shape: ScannedShape, width_factor: float, height_factor: float) -> ScannedShape:
+    """The scan stretched by ``width_factor`` horizontally and ``height_factor`` vertically about G (a draw of its
+    sizes): its hull, G's height and its inertia per unit mass (the second moments C = tr(I) / 2 - I scale as
+    S C S, S = diag(w, w, h); I = tr(C) - C) [-]."""
+    stretch = np.array([width_factor, width_factor, height_factor])
+    inertia = np.asarray(shape.inertia_per_mass_m2, dtype=float)
+    moments = 0.5 * np.trace(inertia) * np.eye(3) - inertia
+    moments = moments * np.outer(stretch, stretch)
+    g = np.array([0.0, 0.0, shape.com_height_m])
+    return shape._replace(hull_m=(np.asarray(shape.hull_m, dtype=float) - g) * stretch + g * height_factor,
+                          vertices_m=(np.asarray(shape.vertices_m, dtype=float) - g) * stretch + g * height_factor,
+                          com_height_m=shape.com_height_m * height_factor,
+                          volume_m3=shape.volume_m3 * width_factor ** 2 * height_factor,
+                          inertia_per_mass_m2=np.trace(moments) * np.eye(3) - moments)

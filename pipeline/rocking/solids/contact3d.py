@@ -394,25 +394,20 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
     n_v = vertices.shape[0]
     size, z0 = _extent(pose.standing)
     threshold = base_threshold(pose.standing, mu)
-    impulses = np.zeros((n_v, 3))                   # the last step's impulse at each vertex (warm start)
-    index = np.empty(n_v, dtype=np.int64)
-    p = np.empty((n_v, 3))
+    # the last impulse per vertex (the warm start); room for the contacts' arms, indices, velocities, impulses
+    contact = (np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v), np.empty((n_v, 3)))
+    impulses = contact[0]
     resting = True
-    x = np.array([0.0, 0.0, z0])
-    q = np.empty(4)
+    x, q = np.array([0.0, 0.0, z0]), np.empty(4)
     _headed(yaw, pose.q_rest, q)
     v, w = np.zeros(3), np.zeros(3)
-    qm, rm, r, inv_i = np.empty(4), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
+    frames, r = (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3))
     h = dt / n_sub
-    arms = np.empty((n_v, 3))
-    u_before = np.empty(n_v)
     n = ax.size
     tilt_max = slide_max = twist_max = energy_gain = 0.0
     overturned, flight, flags, steps, capped, t_over = False, False, 0, 0, 0, math.nan
-    integrated, sweeps = 0, 0
-    t, k, tail_steps = 0.0, 0, int(TAIL_S / h)
-    tilt, lean_peak = 0.0, math.nan
-    tilt_before, t_beyond = 0.0, math.nan
+    t, k, tail_steps, integrated, sweeps = 0.0, 0, int(TAIL_S / h), 0, 0
+    tilt, lean_peak, tilt_before, t_beyond = 0.0, math.nan, 0.0, math.nan
     _record(hist, 0, 0.0, math.nan)
     while True:
         during = k < (n - 1) * n_sub
@@ -435,8 +430,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if not during:                                              # checked after the record
             _rotation(q, r)
             e_before = _energy(v, w, r, inertia, x[2], g)
-        n_c, taken = _moreau_step(x, q, v, w, (qm, rm, inv_i), vertices, inertia, (impulses, arms, index, u_before, p),
-                                  mu, e_n, g, h, (gx, gy, gz), work)
+        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, (gx, gy, gz), work)
         flight |= n_c == 0
         if taken < 0:
             flags |= FLAG_SWEEP_CAP
@@ -468,8 +462,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             resting = True
             if not during:
                 break
-        if tilt > pose.toppled and tilt_before <= pose.toppled:
-            t_beyond = t                            # when it last went beyond its tipping angle
+        t_beyond = t if tilt > pose.toppled >= tilt_before else t_beyond     # when it last passed its tipping angle
         tilt_before = tilt
         if not during and n_c >= 3 and _still(v, w, size):
             if tilt > pose.toppled:                 # at rest on another face beyond its tipping: toppled

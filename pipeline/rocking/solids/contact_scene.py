@@ -42,6 +42,12 @@ def contact_scene(h1, h2, vertical, dt_s: float, body: Cylinder | Box, azimuth_d
     av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
     out = simulate_contact3d(amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float), av,
                              dt_s, convex_body(body), yaw_deg=azimuth_deg, g_ms2=g_ms2, history=history)
+    return outcome_scene(out, alpha), out
+
+
+def outcome_scene(out: Contact3DOutcome, alpha: float) -> Scene:
+    """The :class:`~pipeline.rocking.scene.Scene` of a contact model's outcome: theta_max (and with a history
+    theta_over_alpha) as a fraction of ``alpha`` [rad]; its caps flagged (step_cap, tail_cap), its verdict kept."""
     rocked, slid = out.tilt_max_rad > 1e-6, out.slide_max_m > 1e-9
     if out.overturned:
         response = Response.overturn
@@ -57,9 +63,9 @@ def contact_scene(h1, h2, vertical, dt_s: float, body: Cylinder | Box, azimuth_d
               int(ContactMode.slide) if slid else 0) | (int(ContactMode.free_flight) if out.flight else 0))
     guard = (Guard.step_cap if out.capped_steps else 0) | (Guard.tail_cap if out.flags & FLAG_TAIL_CAP else 0)
     flight = FreeFlight.block_liftoff if out.flight else FreeFlight.none
-    scene = Scene(physics=Physics.contact3d, response=response, overturned=out.overturned,
-                  theta_max=out.tilt_max_rad / alpha, n_impacts=0, t_overturn=out.t_overturn, friction_demand=math.nan,
-                  sliding_max_m=out.slide_max_m, free_flight=flight,
-                  chatter=False, friction_exceeded=1 if slid else 0, contact_modes=modes, guard=int(guard),
-                  theta_over_alpha=None if out.tilt_rad is None else out.tilt_rad / alpha)
-    return scene, out
+    return Scene(physics=Physics.contact3d, response=response, overturned=out.overturned,
+                 theta_max=out.tilt_max_rad / alpha, n_impacts=0, t_overturn=out.t_overturn, friction_demand=math.nan,
+                 sliding_max_m=out.slide_max_m, free_flight=flight,
+                 chatter=False, friction_exceeded=1 if slid else 0, contact_modes=modes, guard=int(guard),
+                 theta_over_alpha=None if out.tilt_rad is None else out.tilt_rad / alpha)
+
