@@ -11,7 +11,7 @@ import pytest
 import trimesh
 
 from pipeline.constants import G
-from pipeline.rocking.scanned.hull3d import scan_body, smallest_tipping, tipping_rad
+from pipeline.rocking.scanned.hull3d import scaled_scan, scan_body, smallest_tipping, tipping_rad
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.convex_body import box_body
 from pipeline.shapes.scan import pivots, read_scan
@@ -114,3 +114,13 @@ def test_the_tipping_angle_is_the_scan_modules_by_a_second_algorithm(scans_dir, 
                                                                                                   abs=1e-9)
         least = min(least, pv.tipping_plus, pv.tipping_minus)
     assert smallest_tipping(shape.hull_m, shape.com_height_m)[0] <= least + 1e-12
+
+
+def test_a_scan_stretched_by_a_draw_is_the_box_of_the_stretched_sizes(tmp_path):
+    """A draw's factors (width 1.1, height 0.9) on the 0.4 x 0.6 x 1.6 m box: the hull, G's height and the inertia
+    of a 0.44 x 0.66 x 1.44 m box read from its own mesh."""
+    drawn = scaled_scan(_scan(tmp_path, _box_points(0.4, 0.6, 1.6), "a"), 1.1, 0.9)
+    box = _scan(tmp_path, _box_points(0.44, 0.66, 1.44), "b")
+    np.testing.assert_allclose(drawn.inertia_per_mass_m2, box.inertia_per_mass_m2, atol=1e-12)
+    assert drawn.com_height_m == pytest.approx(box.com_height_m, abs=1e-12)
+    np.testing.assert_allclose(np.sort(drawn.hull_m, axis=0), np.sort(box.hull_m, axis=0), atol=1e-12)
