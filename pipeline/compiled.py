@@ -3,19 +3,12 @@
 One source, two paths: a function decorated with :func:`jit` is compiled (cached, releasing the GIL) when numba
 is installed, and runs as plain Python without it or under ``NUMBA_DISABLE_JIT=1`` (the tests run both).
 
-**The cache.** numba keeps each compiled kernel beside its module (``__pycache__/*.nbi``, ``*.nbc``) and checks it
-against that module's own source only, not against the functions it calls or inlines from other modules: a kernel
-whose callee changed would be loaded as it was compiled before (measured: the 3D contact model kept its old
-contact solver after the solver's module changed, and 11 of 70 runs differed from a fresh compilation). So at import
-the package's sources are fingerprinted (each module's path, size and modification time) and, where the fingerprint
-differs from the one the cache was built with, every cached kernel of the package is dropped and compiled again on
-its first call (:func:`drop_stale_kernels`).
+**The cache.** numba's, beside each module; at import the kernels whose module, or a module it imports, changed
+since they were cached are dropped (:func:`pipeline.kernel_cache.drop_stale_kernels`).
 """
 
 from __future__ import annotations
 
-import hashlib
-import os
 import types
 import warnings
 from collections.abc import Callable
@@ -24,46 +17,9 @@ from typing import TypeVar
 
 import numpy as np
 
+from .kernel_cache import drop_stale_kernels
+
 _T = TypeVar("_T")
-
-#: The fingerprint of the sources the cached kernels were compiled from, kept in the package's ``__pycache__``.
-STAMP_NAME = "kernels.fingerprint"
-
-
-def source_fingerprint(root: Path) -> str:
-    """A digest of every module under ``root`` (its relative path, size and modification time): it changes when
-    any source changes (conservatively: also when a file is only touched)."""
-    digest = hashlib.sha256()
-    for path in sorted(p for p in root.rglob("*.py") if "__pycache__" not in p.parts):
-        st = path.stat()
-        digest.update(f"{path.relative_to(root).as_posix()}\0{st.st_size}\0{st.st_mtime_ns}\n".encode())
-    return digest.hexdigest()
-
-
-def drop_stale_kernels(root: Path) -> int:
-    """Delete the cached kernels under ``root`` (numba's ``*.nbi``, ``*.nbc``) if its sources changed since they were
-    compiled, and record the sources' fingerprint; how many files were deleted. A tree that cannot be written
-    (an installed, read-only package) is left as it is: numba then caches elsewhere, in ``NUMBA_CACHE_DIR``."""
-    stamp = root / "__pycache__" / STAMP_NAME
-    digest = source_fingerprint(root)
-    try:
-        if stamp.read_text() == digest:
-            return 0
-    except OSError:
-        pass
-    dropped = 0
-    try:
-        for cached in [*root.rglob("__pycache__/*.nbi"), *root.rglob("__pycache__/*.nbc")]:
-            cached.unlink(missing_ok=True)
-            dropped += 1
-        stamp.parent.mkdir(exist_ok=True)
-        partial = stamp.with_name(f"{STAMP_NAME}.{os.getpid()}")
-        partial.write_text(digest)
-        partial.replace(stamp)
-    except OSError:
-        pass
-    return dropped
-
 
 try:  # numba is a core dependency; the same source still runs as Python without it
     from numba import literal_unroll as unroll
