@@ -17,12 +17,20 @@ from pipeline.config import Config
 PROJECT = Path(__file__).resolve().parents[1]
 RECORDS = PROJECT / "records"
 DATA = Path(__file__).resolve().parent / "data"
+#: Real files `screen` refuses (a vertical channel alone): kept out of the bundled demo's records, which all screen
+REFUSED = DATA / "refused"
 
 
 @pytest.fixture(scope="session")
 def records_dir() -> Path:
     """The bundled real records."""
     return RECORDS
+
+
+@pytest.fixture(scope="session")
+def refused_dir() -> Path:
+    """Real record files that cannot be screened (:data:`REFUSED`), laid out as under records/."""
+    return REFUSED
 
 
 @pytest.fixture(scope="session")
@@ -75,7 +83,7 @@ def kocaeli(tmp_path_factory) -> Path:
 
 @pytest.fixture
 def make_records(tmp_path):
-    """Copy chosen bundled files (paths relative to records/) into a fresh directory."""
+    """Copy chosen bundled files (paths relative to records/, or to tests/data/refused/) into a fresh directory."""
 
     def _make(*relpaths: str, units_toml: bool = True) -> Path:
         root = tmp_path / "recs"
@@ -83,7 +91,7 @@ def make_records(tmp_path):
         for rel in relpaths:
             dst = root / rel
             dst.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy(RECORDS / rel, dst)
+            shutil.copy(RECORDS / rel if (RECORDS / rel).is_file() else REFUSED / rel, dst)
         if units_toml:
             shutil.copy(RECORDS / "units.toml", root / "units.toml")
         return root
