@@ -63,7 +63,8 @@ LM_DAMPING_MAX = 1e-1
 
 
 class Workspace(NamedTuple):
-    """The arrays a step's contact problem works in, made once per run for up to n contacts (m = 3 n)."""
+    """The arrays a step's contact problem works in, made once per run (m = 3 min(n, NEWTON_MAX_CONTACTS)) for up to
+    n contacts."""
 
     big: np.ndarray         # (m, m) the Delassus matrix
     jac: np.ndarray         # (m, m) the natural map's Jacobian
@@ -80,8 +81,10 @@ class Workspace(NamedTuple):
 
 
 def workspace(n: int) -> Workspace:
-    """A :class:`Workspace` for up to ``n`` contacts."""
-    m = 3 * max(n, 1)
+    """A :class:`Workspace` for up to ``n`` contacts: the Newton start's matrices and vectors for the
+    :data:`NEWTON_MAX_CONTACTS` it takes at most (a scan's hull has hundreds of vertices: 3 n square would be
+    55 MB a matrix at 875), the sweeps' steps for all ``n``."""
+    m = 3 * max(min(n, NEWTON_MAX_CONTACTS), 1)
     return Workspace(np.empty((m, m)), np.empty((m, m)), np.empty((m, m)), np.empty(m), np.empty(m), np.empty(m),
                      np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(max(n, 1)))
 
