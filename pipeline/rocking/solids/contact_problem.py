@@ -282,24 +282,14 @@ def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
 
 
 @jit_inline
-def _step_sizes(inv_i, arms, n_c, a, rho):
+def _step_sizes(inv_i, arms, n_c, a, block, rho):
     """rho per contact into ``rho``: the inverse of a Gershgorin bound on the largest eigenvalue of its Delassus
-    block 1 - [r]x I^-1 [r]x (``a``: room for I^-1 [r]x)."""
+    block 1 - [r]x I^-1 [r]x (:func:`delassus` of the contact alone; ``a``, ``block``: room for 3 x 3)."""
     for c in range(n_c):
-        rx, ry, rz = arms[c, 0], arms[c, 1], arms[c, 2]
-        _cross_inv(inv_i, rx, ry, rz, a)
+        delassus(inv_i, arms[c:c + 1], 1, block, a)
         bound = 0.0
         for i in range(3):
-            row = 0.0
-            for j in range(3):
-                if i == 0:
-                    e = -(ry * a[2, j] - rz * a[1, j])
-                elif i == 1:
-                    e = -(rz * a[0, j] - rx * a[2, j])
-                else:
-                    e = -(rx * a[1, j] - ry * a[0, j])
-                row += abs(e + (1.0 if i == j else 0.0))
-            bound = max(bound, row)
+            bound = max(bound, abs(block[i, 0]) + abs(block[i, 1]) + abs(block[i, 2]))
         rho[c] = 1.0 / bound
 
 
@@ -335,7 +325,7 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     :class:`Workspace` ``work``: the sweeps of :func:`sweep_contacts` from the start ``p`` (the previous step's
     impulses at the same vertices), or from Newton's solve where at most :data:`NEWTON_MAX_CONTACTS` touch;
     applied to (v, w) and left in ``p``. The sweeps taken, or -1 at the cap."""
-    _step_sizes(inv_i, arms, n_c, work.block, work.rho)
+    _step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
     if n_c > NEWTON_MAX_CONTACTS:
         return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
     v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]

@@ -127,7 +127,7 @@ def test_a_solved_step_obeys_coulomb_and_signorini_at_every_contact(body, n_c, m
             check_coulomb(inertia, arms, v0, w0, p, v, w, mu, tol=1e-7 * SCALE * 10)
             continue
         work = cp.workspace(n_c)
-        cp._step_sizes(inv_i, arms, n_c, work.block, work.rho)
+        cp._step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
         alone = cp.sweep_contacts(v0.copy(), w0.copy(), inv_i, arms, n_c, u_before, mu, 0.0, SCALE,
                                   np.zeros((n_c, 3)), work, 100 * cp.MAX_SWEEPS)
         assert alone < 0 or alone > cp.MAX_SWEEPS
@@ -147,7 +147,7 @@ def test_newtons_start_leaves_the_sweeps_almost_nothing_on_a_slender_edge():
     v, w, p = v0.copy(), w0.copy(), np.zeros((2, 3))
     assert cp.solve_contacts(v, w, inv_i, arms, 2, u_before, 0.7, 0.0, SCALE, p, cp.workspace(2)) == 1
     work = cp.workspace(2)
-    cp._step_sizes(inv_i, arms, 2, work.block, work.rho)
+    cp._step_sizes(inv_i, arms, 2, work.block, work.cone, work.rho)
     plain_v, plain_w = v0.copy(), w0.copy()
     sweeps = cp.sweep_contacts(plain_v, plain_w, inv_i, arms, 2, u_before, 0.7, 0.0, SCALE, np.zeros((2, 3)), work,
                                100 * cp.MAX_SWEEPS)
