@@ -56,8 +56,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline
+from ...compiled import jit, jit_inline, jit_lean
 from ...constants import G
+from .attitude import energy, headed, rotation, turned, world_inverse_inertia
 from .contact_problem import MAX_SWEEPS, solve_contacts, workspace
 from .convex_body import ConvexBody, base_threshold
 
@@ -77,6 +78,11 @@ TAIL_S = 20.0
 #: h times the landing speed at an edge, over the base's width), so a bound of 1e-4 rad missed such rests (a 0.5 m
 #: box back on its base after rocking to 1.3e-4 rad) and integrated them to the end of the tail.
 REST_TILT_RAD = 1e-3
+
+#: A body held at rest skips a whole sampling interval at once where the ground's demand at its two samples is
+#: below the at-rest threshold by this fraction [-] (so that no rounding of the steps' middles in between can reach
+#: it); elsewhere every step's middle is checked. The same steps are held as when each is checked.
+CALM_MARGIN = 1e-9
 
 #: The body lies on a side once its tilt is within this of pi/2 [rad]: more than the overlap of a landing step
 #: (h times the landing speed over the body's size: 1.6e-4 rad measured, a 0.5 x 0.5 x 1.5 m box on a real record);
@@ -176,10 +182,31 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     vertices = np.ascontiguousarray(body.vertices, dtype=float)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
-               workspace(len(body.vertices)), hist, pose(vertices, body.rest, body.tipping_rad))
+               workspace(len(body.vertices)), hist, pose(vertices, body.rest, body.tipping_rad), _room(len(vertices)))
     lean_peak = math.degrees(out[-2]) if math.isfinite(out[-2]) else math.nan
     return Contact3DOutcome._make((*out[:-2], lean_peak, hist[:, 0] if history else None,
                                    np.degrees(hist[:, 1]) if history else None, out[-1]))
+
+
+class _Room(NamedTuple):
+    """The arrays the kernel works in, made once per run (the kernel makes none: :func:`~pipeline.compiled.jit_lean`):
+    ``contact`` the last impulse per vertex (the warm start) and room for the contacts' arms, indices, velocities
+    and impulses; ``frames`` room for a step's middle quaternion, rotation and world inverse inertia; ``r`` the
+    rotation at a step's end; the body's place ``x``, orientation ``q``, velocity ``v`` and rate ``w``."""
+
+    contact: tuple
+    frames: tuple
+    r: np.ndarray
+    x: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+
+
+def _room(n_v: int) -> _Room:
+    return _Room((np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v),
+                  np.empty((n_v, 3))), (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3)),
+                 np.empty(3), np.empty(4), np.empty(3), np.empty(3))
 
 
 def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = math.nan) -> Pose:
@@ -197,64 +224,6 @@ def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = mat
     x, y, z, w = Rotation.from_matrix(rot).as_quat()
     return Pose(np.array([w, x, y, z]), np.ascontiguousarray(rot[2]), np.ascontiguousarray(rot[0]),
                 np.ascontiguousarray(vertices @ rot.T), toppled)
-
-
-@jit_inline
-def _rotation(q, r):
-    """The rotation matrix of the unit quaternion q = (w, x, y, z) into ``r``."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
-    r[1, 0], r[1, 1], r[1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
-    r[2, 0], r[2, 1], r[2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
-
-
-@jit_inline
-def _headed(heading, q_rest, out):
-    """The standing orientation ``q_rest`` turned by ``heading`` [rad] about the vertical, into ``out``."""
-    c, s = math.cos(heading / 2.0), math.sin(heading / 2.0)
-    out[0] = c * q_rest[0] - s * q_rest[3]
-    out[1] = c * q_rest[1] - s * q_rest[2]
-    out[2] = c * q_rest[2] + s * q_rest[1]
-    out[3] = c * q_rest[3] + s * q_rest[0]
-
-
-@jit_inline
-def _turned(q, wx, wy, wz, t, out):
-    """q turned by the world-frame rate (wx, wy, wz) over ``t`` (the exact rotation of a constant rate) into
-    ``out`` (not q)."""
-    ang = math.sqrt(wx * wx + wy * wy + wz * wz) * t
-    if ang == 0.0:
-        out[:] = q
-        return
-    s = math.sin(ang / 2.0) / (ang / t)
-    dw, dx, dy, dz = math.cos(ang / 2.0), wx * s, wy * s, wz * s
-    o0 = dw * q[0] - dx * q[1] - dy * q[2] - dz * q[3]
-    o1 = dw * q[1] + dx * q[0] + dy * q[3] - dz * q[2]
-    o2 = dw * q[2] - dx * q[3] + dy * q[0] + dz * q[1]
-    o3 = dw * q[3] + dx * q[2] - dy * q[1] + dz * q[0]
-    norm = math.sqrt(o0 * o0 + o1 * o1 + o2 * o2 + o3 * o3)
-    out[0], out[1], out[2], out[3] = o0 / norm, o1 / norm, o2 / norm, o3 / norm
-
-
-@jit_inline
-def _world_inverse_inertia(r, inertia, out):
-    """R diag(1 / I) R^T: the inverse inertia in the world frame, into ``out``."""
-    for i in range(3):
-        for j in range(3):
-            s = 0.0
-            for k in range(3):
-                s += r[i, k] * r[j, k] / inertia[k]
-            out[i, j] = s
-
-
-@jit_inline
-def _energy(v, w, r, inertia, z_g, g):
-    """Kinetic and potential energy per unit mass in the ground's frame (the ground still) [J kg-1]."""
-    e = 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + g * z_g
-    for k in range(3):
-        wk = r[0, k] * w[0] + r[1, k] * w[1] + r[2, k] * w[2]      # the rate in the body's axes
-        e += 0.5 * inertia[k] * wk * wk
-    return e
 
 
 @jit_inline
@@ -325,9 +294,9 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
     gx, gy, gz = ground
     for i in range(3):                                          # Moreau's midpoint
         x[i] += 0.5 * h * v[i]
-    _turned(q, w[0], w[1], w[2], 0.5 * h, qm)
-    _rotation(qm, rm)
-    _world_inverse_inertia(rm, inertia, inv_i)
+    turned(q, w[0], w[1], w[2], 0.5 * h, qm)
+    rotation(qm, rm)
+    world_inverse_inertia(rm, inertia, inv_i)
     _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
     n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
     taken = 0 if n_c == 0 else solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p, work)
@@ -336,7 +305,7 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
         impulses[index[c], 0], impulses[index[c], 1], impulses[index[c], 2] = p[c, 0], p[c, 1], p[c, 2]
     for i in range(3):
         x[i] += 0.5 * h * v[i]
-    _turned(qm, w[0], w[1], w[2], 0.5 * h, q)
+    turned(qm, w[0], w[1], w[2], 0.5 * h, q)
     return n_c, taken
 
 
@@ -379,29 +348,68 @@ def _record(hist, i, tilt, lean):
 
 
 @jit_inline
+def _calm(gx, gy, gz, threshold, g):
+    """The ground's acceleration (gx, gy, gz) inside the at-rest certificate by the margin :data:`CALM_MARGIN`."""
+    gv = g + gz
+    return gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= (1.0 - CALM_MARGIN) * threshold * gv
+
+
+@jit_inline
+def _calm_until(ax, ay, az, i, threshold, g):
+    """The first sample at or after ``i`` that does not begin a calm interval: one whose two samples are both
+    :func:`_calm` (|a_h| - c (g + a_v) is convex along the linear ground between them, so then every step's middle
+    in it is inside the at-rest certificate too); the record's last sample at most."""
+    last = ax.size - 1
+    calm = _calm(ax[i], ay[i], az[i], threshold, g)
+    while i < last and calm:
+        calm = _calm(ax[i + 1], ay[i + 1], az[i + 1], threshold, g)
+        if not calm:
+            break
+        i += 1
+    return i
+
+
+@jit_inline
+def _start(room, z0, yaw, pose):
+    """The body standing still on its base at ``yaw`` [rad], G at height ``z0``, no impulse yet: its place,
+    orientation, velocity and rate (``room``'s arrays, set)."""
+    room.contact[0][:, :] = 0.0
+    x, q, v, w = room.x, room.q, room.v, room.w
+    x[0], x[1], x[2] = 0.0, 0.0, z0
+    headed(yaw, pose.q_rest, q)
+    v[:] = 0.0
+    w[:] = 0.0
+    return x, q, v, w
+
+
+@jit_inline
+def _hold_calm(ax, ay, az, i, threshold, g, hist):
+    """The body at rest at sample ``i``: the sampling intervals it is held through at once (:func:`_calm_until`),
+    their samples recorded upright; how many."""
+    calm_to = _calm_until(ax, ay, az, i, threshold, g)
+    for j in range(i + 1, calm_to + 1):
+        _record(hist, j, 0.0, math.nan)
+    return calm_to - i
+
+
+@jit_inline
 def _set_down(v, w, q, x, r, z0, impulses, pose):
     """A body found at rest: still, set down as it stood (its heading and place kept), its next motion from no
     impulse."""
     v[:] = 0.0
     w[:] = 0.0
-    _headed(_heading(r, pose.x_ref), pose.q_rest, q)
+    headed(_heading(r, pose.x_ref), pose.q_rest, q)
     x[2] = z0
     impulses[:] = 0.0
 
 
-@jit
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose):
-    n_v = vertices.shape[0]
+@jit_lean
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room):
     size, z0 = _extent(pose.standing)
     threshold = base_threshold(pose.standing, mu)
-    # the last impulse per vertex (the warm start); room for the contacts' arms, indices, velocities, impulses
-    contact = (np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v), np.empty((n_v, 3)))
-    impulses = contact[0]
+    contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
+    x, q, v, w = _start(room, z0, yaw, pose)
     resting = True
-    x, q = np.array([0.0, 0.0, z0]), np.empty(4)
-    _headed(yaw, pose.q_rest, q)
-    v, w = np.zeros(3), np.zeros(3)
-    frames, r = (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3))
     h = dt / n_sub
     n = ax.size
     tilt_max = slide_max = twist_max = energy_gain = 0.0
@@ -414,6 +422,10 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if not during and k >= (n - 1) * n_sub + tail_steps:
             flags |= FLAG_TAIL_CAP
             break
+        if resting and during and k % n_sub == 0:
+            held = _hold_calm(ax, ay, az, k // n_sub, threshold, g, hist) * n_sub
+            k, steps = k + held, steps + held
+            during = k < (n - 1) * n_sub
         gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
         if resting:
             gv = g + gz
@@ -428,8 +440,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             resting = False
         e_before = 0.0
         if not during:                                              # checked after the record
-            _rotation(q, r)
-            e_before = _energy(v, w, r, inertia, x[2], g)
+            rotation(q, r)
+            e_before = energy(v, w, r, inertia, x[2], g)
         n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, (gx, gy, gz), work)
         flight |= n_c == 0
         if taken < 0:
@@ -440,7 +452,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         k += 1
         steps += 1
         t = k * h
-        _rotation(q, r)
+        rotation(q, r)
         tilt = _tilt(r, pose.up)
         if tilt > tilt_max:
             tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
@@ -451,7 +463,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             turn = (_heading(r, pose.x_ref) - yaw + math.pi) % (2.0 * math.pi) - math.pi
             twist_max = max(twist_max, abs(turn))
         if not during:
-            energy_gain = max(energy_gain, _energy(v, w, r, inertia, x[2], g) - e_before)
+            energy_gain = max(energy_gain, energy(v, w, r, inertia, x[2], g) - e_before)
         if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
             for i in range(k // n_sub + 1, hist.shape[0]):

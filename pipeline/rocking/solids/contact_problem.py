@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline
+from ...compiled import jit_inline, jit_lean
 
 #: Gauss-Seidel sweeps: converged when no impulse changes by more than this fraction of the step's weight
 #: impulse (g h per unit mass) [-], or flagged at the cap.
@@ -161,7 +161,7 @@ def _cone_derivative(zx, zy, zz, mu, out):
     out[2, 2] = k
 
 
-@jit
+@jit_lean
 def _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, with_jacobian):
     """De Saxce's natural map F(P) = P - proj_K(P - rho u~(P)) of every contact (u = W P + q) into ``f``, and with
     ``with_jacobian`` its generalized Jacobian into ``jac`` (``dp``: room for the cone's derivative); the sum of
@@ -194,7 +194,7 @@ def _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, with_jacobian):
     return total
 
 
-@jit
+@jit_lean
 def _damped_step(jac, f, m, a, step, damping):
     """The Levenberg-Marquardt step: (J^T J + lambda 1) step = -J^T f with lambda ``damping`` times the largest
     diagonal of J^T J, by Cholesky (``a``: room for the matrix)."""
@@ -234,7 +234,7 @@ def _damped_step(jac, f, m, a, step, damping):
         step[i] = s / a[i, i]
 
 
-@jit
+@jit_lean
 def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     """Replace the starting impulses ``p`` by Newton's solve of all the contacts' fixed point together (the body's
     velocity (v, w) before any contact impulse; ``work`` a :class:`Workspace` with its ``rho`` set); each
@@ -293,7 +293,7 @@ def _step_sizes(inv_i, arms, n_c, a, block, rho):
         rho[c] = 1.0 / bound
 
 
-@jit
+@jit_lean
 def sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, most=MAX_SWEEPS):
     """Projected Gauss-Seidel sweeps from the impulses ``p`` (the body's velocity (v, w) before any contact impulse;
     ``work`` a :class:`Workspace` with its ``rho`` set): applied to (v, w) and left in ``p``. The sweeps taken, or
@@ -319,7 +319,7 @@ def sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, mo
     return -1
 
 
-@jit
+@jit_lean
 def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     """The step's contact impulses (the body's velocity (v, w) before any contact impulse), in the
     :class:`Workspace` ``work``: the sweeps of :func:`sweep_contacts` from the start ``p`` (the previous step's
