@@ -49,7 +49,8 @@ try:  # numba is a core dependency; the same source still runs as Python without
         the solvers it calls per step, whose arrays are all made by the caller in Python and outlive the call. Such
         a function cannot make an array. Measured on the 3D contact model: the atomic increments and decrements of
         the arrays passed to its per-step solver and unpacked from its tuples took 38 % of its time."""
-        return _njit(cache=True, nogil=True, _nrt=False)(f)
+        options: dict = {"_nrt": False}                 # numba's flag, not in its type stubs
+        return _njit(cache=True, nogil=True, **options)(f)
 
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover - exercised by the no-numba install
