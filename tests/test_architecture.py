@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from pathlib import Path
@@ -27,19 +28,23 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
     "pipeline.uncertainty.two_sided", "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull",
     "pipeline.bodies.registry", "pipeline.bodies.warmup"])
 def test_libraries_load_no_application_module(library):
-    # a fresh interpreter: what importing the library alone pulls in
-    code = (f"import sys, {library}\n"
-            f"bad = sorted(m for m in sys.modules if m.startswith({APPLICATION!r}))\n"
-            "print(','.join(bad))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    out = _loaded(library, APPLICATION)
     assert out == "", f"importing {library} loads {out}"
+
+
+@functools.cache
+def _pipeline_modules_loaded(library: str) -> tuple[str, ...]:
+    """The package's modules that importing ``library`` alone loads, in a fresh interpreter (once per library: the
+    checks below share it)."""
+    code = (f"import sys, {library}\n"
+            "print(','.join(sorted(m for m in sys.modules if m == 'pipeline' or m.startswith('pipeline.'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    return tuple(out.split(","))
 
 
 def _loaded(library: str, prefixes: tuple[str, ...]) -> str:
     """The modules starting with ``prefixes`` that importing ``library`` alone loads, in a fresh interpreter."""
-    code = (f"import sys, {library}\n"
-            f"print(','.join(sorted(m for m in sys.modules if m.startswith({prefixes!r}))))")
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    return ",".join(m for m in _pipeline_modules_loaded(library) if m.startswith(prefixes))
 
 
 #: The physics libraries: they read blocks as arrays or typed blocks, never the inventory module (a CSV reader).
