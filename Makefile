@@ -64,7 +64,9 @@ test: $(VENV)/.installed-test browser
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
-# figures quoted to users; and the process pools against serial, 7-8 s each); CI runs them after make test
+# figures quoted to users; the process pools against serial, 7-8 s each; and whole screen runs of 4-9 s each
+# whose check a faster test also makes on fewer files or models: every bundled file, the pulse parity through the
+# command, a model added to the registry, four of the five outputs' failed writes); CI runs them after make test
 test-slow: $(VENV)/.installed-test peers
 	$(BIN)/python -m pytest -n 2 -m "slow and not soak" $(PYTEST_ARGS)
 

@@ -170,6 +170,7 @@ def test_a_model_chosen_by_the_block_runs_through_screen_with_sampling(kocaeli, 
     assert np.all(toy["samples_drawn"].values > 0)
 
 
+@pytest.mark.slow
 def test_a_planar_model_added_at_run_time_reaches_the_nominal_and_the_sampled_verdicts(kocaeli, tmp_path,
                                                                                          monkeypatch):
     glued = "G,1.2,0.2,5.0,45\n"

@@ -376,7 +376,8 @@ def test_a_terminal_of_no_width_gets_progress_lines_not_an_empty_bar():
         os.close(slave)
 
 
-@pytest.mark.parametrize("failing", ["screening.nc", "pulses.nc", "histories.nc", "report.html", "assets.csv"])
+@pytest.mark.parametrize("failing", ["screening.nc", *(pytest.param(name, marks=pytest.mark.slow) for name in
+                                                    ("pulses.nc", "histories.nc", "report.html", "assets.csv"))])
 def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(make_records, blocks_csv, tmp_path,
                                                                              monkeypatch, failing):
     """The output set is staged, then published together: failing the write of each file in turn, and its

@@ -56,6 +56,7 @@ def test_matlab_parity_all_candidates(example_velocity, reference):
     assert res.is_pulse and res.tp_s == pytest.approx(4.788, abs=1e-9)  # find_Tp
 
 
+@pytest.mark.slow
 def test_parity_through_screen_command(make_records, blocks_csv, tmp_path, reference):
     root = make_records("pulse-reference/example1.AT2", "pulse-reference/example2.AT2")
     out = tmp_path / "out"

@@ -57,6 +57,7 @@ def _screened(root, config, blocks_csv) -> tuple[list, set]:
     return results, {f for s, _ in results for f in s.files}
 
 
+@pytest.mark.slow
 def test_every_bundled_file_is_screened(records_dir, config, blocks_csv):
     """Every file under records/ (the demo's) ends in a screened record."""
     results, covered = _screened(records_dir, config, blocks_csv)

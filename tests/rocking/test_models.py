@@ -95,6 +95,7 @@ def test_the_sampled_kernels_dispatch_through_the_registry_like_the_planner():
     assert {Physics.none, Physics.sliding, Physics.rocking, Physics.rocking_vertical, Physics.general} <= seen
 
 
+@pytest.mark.slow
 def test_a_toy_model_is_one_registry_line_and_runs_through_screen(make_records, tmp_path, monkeypatch):
     """A toy model, registered in this test only: a block declared anchored (its friction coefficient at or above
     5, the toy's convention) stays at rest whatever the ground does. One line in the registry, and ``screen``
