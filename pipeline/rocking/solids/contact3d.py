@@ -348,21 +348,23 @@ def _record(hist, i, tilt, lean):
 
 
 @jit_inline
-def _calm(gx, gy, gz, threshold, g):
-    """The ground's acceleration (gx, gy, gz) inside the at-rest certificate by the margin :data:`CALM_MARGIN`."""
+def _within(gx, gy, gz, limit, g):
+    """The ground's acceleration (gx, gy, gz) within the demand ratio ``limit``: |a_h| <= limit (g + a_v), g + a_v > 0
+    (the at-rest certificate with ``limit`` the body's threshold)."""
     gv = g + gz
-    return gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= (1.0 - CALM_MARGIN) * threshold * gv
+    return gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= limit * gv
 
 
 @jit_inline
 def _calm_until(ax, ay, az, i, threshold, g):
     """The first sample at or after ``i`` that does not begin a calm interval: one whose two samples are both
-    :func:`_calm` (|a_h| - c (g + a_v) is convex along the linear ground between them, so then every step's middle
-    in it is inside the at-rest certificate too); the record's last sample at most."""
+    within the threshold by :data:`CALM_MARGIN` (|a_h| - c (g + a_v) is convex along the linear ground between them,
+    so then every step's middle in it is inside the at-rest certificate too); the record's last sample at most."""
     last = ax.size - 1
-    calm = _calm(ax[i], ay[i], az[i], threshold, g)
+    limit = (1.0 - CALM_MARGIN) * threshold
+    calm = _within(ax[i], ay[i], az[i], limit, g)
     while i < last and calm:
-        calm = _calm(ax[i + 1], ay[i + 1], az[i + 1], threshold, g)
+        calm = _within(ax[i + 1], ay[i + 1], az[i + 1], limit, g)
         if not calm:
             break
         i += 1
@@ -428,8 +430,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             during = k < (n - 1) * n_sub
         gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
         if resting:
-            gv = g + gz
-            if gv > 0.0 and math.sqrt(gx * gx + gy * gy) <= threshold * gv:
+            if _within(gx, gy, gz, threshold, g):
                 k += 1                              # the exact at-rest certificate: nothing moves this step
                 steps += 1
                 if hist.shape[0] and k % n_sub == 0:
