@@ -13,8 +13,9 @@ worst yaw: overturned first, then the largest tilt). **Probabilities**: each dra
 (amplitude, the scan's width and height about G, friction; :func:`~pipeline.uncertainty.two_sided.draw_factors`) is
 one run, at the worst yaw (``p_overturn``) and, where the yaw is not known, at the grid's yaws in turn
 (``p_random_orientation``: the draws cycle over the grid). The restitution draw does not apply: the contacts are
-plastic (Housner's rule at a pivot). **Margins**: the smallest factor on the record that overturns the body at the
-worst yaw, scanned upward from the factor at which the ground's demand first reaches the at-rest threshold
+plastic (Housner's rule at a pivot). **Margins**: the first factor on the record that overturns the body at the
+worst yaw in the upward scan of :func:`~.factor_sweep.factor_sweep` (steps of ``margin_step``), from the factor at
+which the ground's demand first reaches the at-rest threshold
 min(mu, tan alpha_min) (:func:`~pipeline.rocking.solids.convex_body.base_threshold`). **Pulses** (``screen infer``):
 along the direction the body tips in most easily (:func:`~pipeline.rocking.scanned.hull3d.smallest_tipping`), either
 way.
@@ -123,14 +124,16 @@ def _lean_deg(fr: Frame, out: Contact3DOutcome) -> float:
     return (fr.x_deg - out.lean_at_peak_deg) % 360.0 if out.tilt_max_rad > 0.0 else math.nan
 
 
-def _draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, *, settings: UncertaintyConfig,
-           g_ms2: float) -> Probability:
-    """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``."""
+def _draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, bodies: dict[int, ConvexBody], *,
+           settings: UncertaintyConfig, g_ms2: float) -> Probability:
+    """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``; ``bodies`` keeps each
+    draw's stretched body (its tipping angle costs a search over the hull) for the other yaws' draws of the scene."""
     def judge_draws(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
         for k in range(sl.start, sl.stop):
             f = draw_factors(z[k], settings)
-            out = run(fr, body_of(shape, width=f.width, height=f.height, friction=f.friction),
-                      float(yaws[k % len(yaws)]), g_ms2=g_ms2, amplitude=f.amplitude)
+            if k not in bodies:
+                bodies[k] = body_of(shape, width=f.width, height=f.height, friction=f.friction)
+            out = run(fr, bodies[k], float(yaws[k % len(yaws)]), g_ms2=g_ms2, amplitude=f.amplitude)
             verdicts[k] = Verdict.overturns if out.overturned else Verdict.stands
             runs[k] = 1 if out.integrated_steps else 0
 
@@ -149,11 +152,12 @@ def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float) -
     orient = NOT_EVALUATED_ORIENTATION
     if on.base is not None and on.draws is not None:
         unc = setup.uncertainty
-        worst = _draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), settings=unc, g_ms2=setup.g_ms2)
+        bodies: dict[int, ConvexBody] = {}
+        worst = _draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), bodies, settings=unc, g_ms2=setup.g_ms2)
         if fr.given:
             orient = one_plane(worst, res.azimuth_deg)
         else:
-            rnd = _draws(fr, shape, on.draws[0], fr.yaws_deg, settings=unc, g_ms2=setup.g_ms2)
+            rnd = _draws(fr, shape, on.draws[0], fr.yaws_deg, bodies, settings=unc, g_ms2=setup.g_ms2)
             orient = OrientationProbability(worst, res.azimuth_deg, rnd.p, rnd.low, rnd.high,
                                             worst.simulations + rnd.simulations)
     yaws = "given" if fr.given else f"{j.runs} of {len(fr.yaws_deg)} yaws"
@@ -173,7 +177,8 @@ def _first_lift(fr: Frame, body: ConvexBody, g_ms2: float) -> float:
 
 def margin(fr: Frame, body: ConvexBody, yaw_deg: float, *, settings: SimulationConfig, g_ms2: float,
            overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """The smallest factor on the record that overturns the body at ``yaw_deg``, and the runs."""
+    """The first factor of the upward scan (:func:`~.factor_sweep.factor_sweep`) that overturns the body at
+    ``yaw_deg``, and the runs."""
     first = _first_lift(fr, body, g_ms2)
     if not math.isfinite(first):
         return math.inf, 0
