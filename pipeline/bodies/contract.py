@@ -12,11 +12,14 @@ of block it has: it asks the registry for the first model that claims the block 
 ``physics``
     The :class:`~pipeline.rocking.scene.Physics` codes its scenes may store beyond the planar scene models' (the
     planar model's scenes are those of :data:`pipeline.rocking.models.MODELS`).
-``claims(shape, placement) -> bool``
+``claims(shape, placement, settings) -> bool``
     Whether it judges this block (:class:`~pipeline.rocking.block.BlockShape`) on a record placed as
-    ``placement`` (:class:`Placement`). The registry's last model claims every block.
+    ``placement`` (:class:`Placement`) under the run's simulator settings
+    (:class:`~pipeline.rocking.settings.SimulationConfig`, where the user chooses between models, as
+    ``scanned_model`` does). The registry's last model claims every block.
 ``may_claim(shape) -> bool``
-    Whether it could claim the block on some record: the warm-up compiles its kernels only then.
+    Whether it could claim the block on some record under some settings: the warm-up compiles its kernels only
+    then.
 ``scene(on: OnRecord, shape, block, direction_deg) -> BodyScene``
     The block's scene on one record: the governing plane's :class:`~pipeline.rocking.scene.Scene`, its
     probabilities under the declared uncertainty (where ``on.draws`` holds draws) and how its orientation was
@@ -212,7 +215,7 @@ class BodyModel:
 
     name: str
     physics: tuple[int, ...]
-    claims: Callable[[BlockShape, Placement], bool]
+    claims: Callable[[BlockShape, Placement, SimulationConfig], bool]
     may_claim: Callable[[BlockShape], bool]
     scene: Callable[[OnRecord, BlockShape, Block, float], BodyScene]
     margins: Callable[..., Margin]

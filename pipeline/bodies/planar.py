@@ -222,7 +222,7 @@ def warmup() -> None:
                               np.zeros((1, 2), dtype=np.int8), out.copy())
 
 
-def _everywhere(shape: BlockShape, placement: Placement) -> bool:
+def _everywhere(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
     return True
 
 

@@ -16,20 +16,23 @@ from collections.abc import Iterable
 
 from ..rocking import models as scene_models
 from ..rocking.block import BlockShape
+from ..rocking.settings import SimulationConfig
 from .contract import BodyModel, Placement
 from .planar import PLANAR
 from .scanned import SCANNED
+from .scanned3d import SCANNED_3D
 from .solids import BOX, CYLINDER
 
 #: Every body model, in the order they are asked: a block goes to the first that claims it; the last claims all.
-BODIES: tuple[BodyModel, ...] = (SCANNED, CYLINDER, BOX, PLANAR)
+BODIES: tuple[BodyModel, ...] = (SCANNED_3D, SCANNED, CYLINDER, BOX, PLANAR)
 
 
-def body_model(shape: BlockShape, placement: Placement, bodies: tuple[BodyModel, ...] | None = None) -> BodyModel:
+def body_model(shape: BlockShape, placement: Placement, settings: SimulationConfig,
+               bodies: tuple[BodyModel, ...] | None = None) -> BodyModel:
     """The first model of ``bodies`` (default: the registry, :data:`BODIES`) that claims ``shape`` on a record
-    placed as ``placement``."""
+    placed as ``placement`` under the simulator's ``settings``."""
     for model in BODIES if bodies is None else bodies:
-        if model.claims(shape, placement):
+        if model.claims(shape, placement, settings):
             return model
     raise LookupError(f"no body model claims {shape} on {placement}: the registry must end with one that claims "
                       "every block")

@@ -2,8 +2,8 @@
 planes (:mod:`pipeline.rocking.scanned.planes`, two-sided rocking or rolling on its hull), its probabilities
 (:func:`pipeline.uncertainty.two_sided.scanned_probability`) and how its plane was chosen; its margins on its
 governing record (:func:`scanned_margins`); a pulse facing its weakest plane, either way (``screen infer``).
-It claims every block with a scan, on any record. With ``[simulation] scanned_model = "contact3d"`` each of its
-fields is the 3D model's (:mod:`.scanned3d`)."""
+It claims every block with a scan, on any record, unless ``[simulation] scanned_model = "contact3d"`` chooses the 3D
+model's entry (:data:`.scanned3d.SCANNED_3D`)."""
 
 from __future__ import annotations
 
@@ -37,10 +37,8 @@ from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationPro
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
 from ..uncertainty.two_sided import CANDIDATES, draw_factors, scanned_probability
-from . import scanned3d
 from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
 from .factor_sweep import factor_sweep
-from .solids import contact_warmup
 
 
 class ScannedScene(NamedTuple):
@@ -140,9 +138,6 @@ def scanned_margins(rec, shape: BlockShape, block: Block, record_deg: float, *, 
     direction (:func:`governing_scale`), its history when at risk, and the sampled margins (each draw's own scan,
     as factors on the nominal record)."""
     assert shape.scan is not None
-    if setup.settings.scanned_model == ScannedModel.contact3d:
-        return scanned3d.margins(rec, shape, block, record_deg, setup=setup, overturned=overturned,
-                                 want_history=want_history)
     g, settings = setup.g_ms2, setup.settings
     scale, runs, governing = governing_scale(rec, shape, record_deg, settings=settings, g_ms2=g,
                                              overturned=overturned)
@@ -168,8 +163,6 @@ def scanned_margins(rec, shape: BlockShape, block: Block, record_deg: float, *, 
 
 def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float) -> BodyScene:
     """The scanned body's scene on ``on`` (:func:`scanned_scene`)."""
-    if on.setup.settings.scanned_model == ScannedModel.contact3d:
-        return scanned3d.scene(on, shape, block, direction_deg)
     got = scanned_scene(on.record, on.base, None if on.draws is None else on.draws[0], shape,
                         direction_deg=direction_deg, grid_deg=on.grid_deg, setup=on.setup)
     res = got.result
@@ -180,8 +173,6 @@ def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float) -
 def scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, settings: SimulationConfig,
           g_ms2: float) -> float:
     """The simulated margin in the plane that governs the record direction ``plane_deg`` (:func:`governing_scale`)."""
-    if settings.scanned_model == ScannedModel.contact3d:
-        return scanned3d.scale(rec, shape, block, plane_deg, settings=settings, g_ms2=g_ms2)
     return governing_scale(rec, shape, plane_deg, settings=settings, g_ms2=g_ms2)[0]
 
 
@@ -189,8 +180,6 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
     """A judge of one-directional pulses: the body's weakest plane (the smallest footprint extent,
     :func:`pipeline.shapes.plane.weakest_plane`) facing the pulse, either way; two runs each."""
     assert shape.scan is not None
-    if settings.scanned_model == ScannedModel.contact3d:
-        return scanned3d.pulse(shape, block, settings=settings, g_ms2=g_ms2)
     body = plane_geometry(shape.scan, weakest_plane(shape.scan), settings)
 
     def judge(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
@@ -209,15 +198,15 @@ def warmup() -> None:
             roll_on_hull(a, 0.01, rectangle_chain(0.2, 1.0), av_ms2=vertical, theta_out=history)
 
 
-def _claims(shape: BlockShape, placement: Placement) -> bool:
-    return shape.scan is not None
+def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
+    return shape.scan is not None and settings.scanned_model != ScannedModel.contact3d
 
 
 def _may_claim(shape: BlockShape) -> bool:
     return shape.scan is not None
 
 
-#: A body given by its scan, on any record.
-SCANNED = BodyModel(name="scanned body", physics=(Physics.two_sided, Physics.rolling, Physics.contact3d),
-                    claims=_claims, may_claim=_may_claim, scene=scene, margins=scanned_margins, scale=scale,
-                    pulse=pulse, warmup=warmup, shared_warmups=(contact_warmup,))
+#: A body given by its scan, on any record, in its vertical planes (``scanned_model`` rolling or two_sided).
+SCANNED = BodyModel(name="scanned body", physics=(Physics.two_sided, Physics.rolling), claims=_claims,
+                    may_claim=_may_claim, scene=scene, margins=scanned_margins, scale=scale, pulse=pulse,
+                    warmup=warmup)

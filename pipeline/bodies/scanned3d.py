@@ -1,8 +1,9 @@
 """A body given by its scan, judged in 3D (``[simulation] scanned_model = "contact3d"``): the scan's hull moves on the
 moving ground as one rigid convex body by the 3D contact model (:mod:`pipeline.rocking.scanned.hull3d`,
 :mod:`pipeline.rocking.solids.contact3d`): it may slide, twist, rock on an edge or a corner, roll over its hull's
-facets and lift off, under both horizontals and the vertical at once. The scanned body model
-(:mod:`.scanned`) hands each of its fields here when that model is chosen.
+facets and lift off, under both horizontals and the vertical at once. Its registry entry, :data:`SCANNED_3D`,
+claims every block with a scan when that model is chosen; otherwise the scanned body model in planes
+(:mod:`.scanned`) claims it.
 
 **The frame.** The contact model's x axis points to a compass azimuth (the body's settled x axis where the
 inventory gives its azimuth and the record's azimuth is known, else the record's first horizontal), its y axis 90
@@ -33,8 +34,8 @@ from ..rocking.block import Block, BlockShape
 from ..rocking.codes import Verdict
 from ..rocking.orientation import Orientation, PlaneResult
 from ..rocking.scanned.hull3d import scaled_scan, scan_body, smallest_tipping
-from ..rocking.scene import Scene
-from ..rocking.settings import SimulationConfig
+from ..rocking.scene import Physics, Scene
+from ..rocking.settings import ScannedModel, SimulationConfig
 from ..rocking.solids.contact3d import Contact3DOutcome, pose, simulate_contact3d
 from ..rocking.solids.contact_scene import outcome_scene
 from ..rocking.solids.convex_body import ConvexBody, base_threshold
@@ -43,8 +44,9 @@ from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import Probability, sample_until_decided
 from ..uncertainty.settings import UncertaintyConfig
 from ..uncertainty.two_sided import draw_factors
-from .contract import BodyScene, Margin, OnRecord, PulseJudge, Setup
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
 from .factor_sweep import factor_sweep
+from .solids import contact_warmup
 
 #: The yaws a body of unknown orientation is judged at [deg]
 YAW_STEP_DEG = 30.0
@@ -238,3 +240,16 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
                                       g_ms2=g_ms2).overturned for sense in (1.0, -1.0)), 2
 
     return judge_pulse
+
+
+def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
+    return shape.scan is not None and settings.scanned_model == ScannedModel.contact3d
+
+
+def _may_claim(shape: BlockShape) -> bool:
+    return shape.scan is not None
+
+
+#: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it.
+SCANNED_3D = BodyModel(name="scanned body in 3D", physics=(Physics.contact3d,), claims=_claims, may_claim=_may_claim,
+                       scene=scene, margins=margins, scale=scale, pulse=pulse, warmup=contact_warmup)

@@ -148,14 +148,14 @@ def _box_versus(on: OnRecord, shape: BlockShape, block: Block) -> PlaneResult:
 
 
 def _claims(physics: Physics):
-    def claims(shape: BlockShape, placement: Placement) -> bool:
+    def claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
         if placement.single_component:
             return False
         solid = solid_of(shape, record_azimuth_deg=placement.azimuth_deg, known_azimuth=placement.azimuth_known)
         return solid is not None and solid.physics == physics
 
     def may_claim(shape: BlockShape) -> bool:
-        return claims(shape, Placement(False, 0.0, True))
+        return claims(shape, Placement(False, 0.0, True), SimulationConfig())
 
     return claims, may_claim
 

@@ -425,7 +425,7 @@ def _margin_sweep(scenes, inventory, config, ref) -> list[dict]:
             plane = ref.governing_azimuth[i, j]
             plane = float(scenes[i].directions[j] if np.isnan(plane) else plane)
             shape = inventory.shape(j)
-            model = body_model(shape, Placement.of(rec))        # the model its scenes were judged by
+            model = body_model(shape, Placement.of(rec), settings)        # the model its scenes were judged by
             out.append(model.scale(rec, shape, rocking_blocks[j], plane, settings=settings,
                                    g_ms2=config.records.g_ms2))
         times[step], margins[step] = time.perf_counter() - t0, np.array(out)

@@ -61,7 +61,7 @@ def _record(on, inventory: Inventory, blocks: list, model: BodyModel, v3: list, 
     t3 = tp = 0.0
     for j in range(len(inventory)):
         shape = inventory.shape(j)
-        if registry.body_model(shape, placement) is not model:
+        if registry.body_model(shape, placement, on.setup.settings) is not model:
             continue
         t0 = time.perf_counter()
         res = model.scene(on, shape, blocks[j], 0.0).result

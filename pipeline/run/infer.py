@@ -161,7 +161,7 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
     for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
         memo: dict[tuple, bool] = {}
         body = inv.shape(j)
-        overturns = body_model(body, ONE_DIRECTION).pulse(body, rocking_blocks[j], settings=settings,
+        overturns = body_model(body, ONE_DIRECTION, settings).pulse(body, rocking_blocks[j], settings=settings,
                                                           g_ms2=config.records.g_ms2)      # once per block
         for k, t in enumerate(tp):
             unit, dt = pulse(shape, amplitude_ms2=1.0, period_s=2.0 * float(t),

@@ -119,7 +119,7 @@ def margin_task(item: tuple, ctx: Context) -> dict:
         j = index[block_id]
         on = motions.of_block(j)
         shape = inv.shape(j)
-        model = body_model(shape, Placement.of(on))                     # the model its scene was judged by
+        model = body_model(shape, Placement.of(on), setup.settings)     # the model its scene was judged by
         out[block_id] = tuple(model.margins(on, shape, rocking_blocks[j], float(direction), setup=setup,
                                             overturned=overturned, want_history=want_history))
     return out

@@ -292,7 +292,7 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
         ctx.progress.scene(block_id)
         t_scene = time.perf_counter()
         shape = inv.shape(int(j))
-        got = body_model(shape, placement).scene(on, shape, blocks[j], float(directions[j]))
+        got = body_model(shape, placement, on.setup.settings).scene(on, shape, blocks[j], float(directions[j]))
         scene_values(out, int(j), got.result, got.orientation, got.probability)
         ctx.progress.scene_done(block_id=block_id, seconds=time.perf_counter() - t_scene, detail=got.detail)
     return out

@@ -20,10 +20,20 @@ from pipeline.rocking.block import BlockShape, ShapeKind, dynamics
 from pipeline.rocking.codes import STANDS
 from pipeline.rocking.contract import SceneModel
 from pipeline.rocking.scene import REST_SCENE, Physics
+from pipeline.rocking.settings import ScannedModel, SimulationConfig
 
 PIPELINE = Path(__file__).resolve().parents[2] / "pipeline"
 SCENE_VARS = ("physics", "overturn_simulated", "theta_max", "n_impacts", "p_overturn", "samples_drawn",
               "samples_overturned", "samples_without_verdict", "robustness")
+
+
+@pytest.fixture(scope="module")
+def scan_shape(scans_dir):
+    """A block given by one of the example scans."""
+    from pipeline.shapes.scan import read_scan
+
+    scan = read_scan(scans_dir / "balanced-rock.obj")
+    return BlockShape(height_m=1.0, width_m=0.5, mu=0.6, azimuth_deg=np.nan, kind=ShapeKind.scanned, scan=scan)
 
 
 def test_the_registry_reaches_every_physics_the_screening_stores():
@@ -32,9 +42,9 @@ def test_the_registry_reaches_every_physics_the_screening_stores():
 
 def test_the_last_model_claims_every_block_and_a_registry_without_one_says_so():
     shape = BlockShape(height_m=1.0, width_m=0.2, mu=0.6, restitution=np.nan, azimuth_deg=np.nan)
-    assert registry.body_model(shape, Placement(True, 0.0, False)) is PLANAR
+    assert registry.body_model(shape, Placement(True, 0.0, False), SimulationConfig()) is PLANAR
     with pytest.raises(LookupError, match="claims every block"):
-        registry.body_model(shape, Placement(True, 0.0, False), registry.BODIES[:-1])
+        registry.body_model(shape, Placement(True, 0.0, False), SimulationConfig(), registry.BODIES[:-1])
 
 
 @pytest.mark.parametrize("kind, depth, placement, expected", [
@@ -47,7 +57,22 @@ def test_the_last_model_claims_every_block_and_a_registry_without_one_says_so():
 def test_each_block_goes_to_the_model_its_shape_and_record_call_for(kind, depth, placement, expected):
     shape = BlockShape(height_m=1.0, width_m=0.2, mu=0.6, restitution=np.nan, azimuth_deg=45.0, depth_m=depth,
                        kind=kind)
-    assert registry.body_model(shape, placement).name == expected
+    assert registry.body_model(shape, placement, SimulationConfig()).name == expected
+
+
+@pytest.mark.parametrize("model, expected", [(ScannedModel.rolling, "scanned body"),
+                                             (ScannedModel.two_sided, "scanned body"),
+                                             (ScannedModel.contact3d, "scanned body in 3D")])
+@pytest.mark.parametrize("placement", [Placement(False, 30.0, True), Placement(True, 0.0, False)])
+def test_a_scan_goes_to_the_model_the_settings_choose_on_any_record(scan_shape, model, expected, placement):
+    assert registry.body_model(scan_shape, placement, SimulationConfig(scanned_model=model)).name == expected
+
+
+def test_exactly_one_model_claims_a_scan_under_each_setting(scan_shape):
+    for model in ScannedModel:
+        settings = SimulationConfig(scanned_model=model)
+        claiming = [m.name for m in registry.BODIES[:-1] if m.claims(scan_shape, Placement(False, 0.0, True), settings)]
+        assert len(claiming) == 1, (model, claiming)
 
 
 #: What the run layer and the command line may import of the models: the registry and its contract, never a
@@ -98,7 +123,7 @@ def _wide_block(shape: BlockShape):
 #: A toy model chosen by the block: it judges a block as the planar model judges the same block twice as wide.
 TOY_BODY = BodyModel(
     name="toy: twice as wide", physics=(),
-    claims=lambda shape, placement: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
+    claims=lambda shape, placement, settings: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
     may_claim=lambda shape: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
     scene=lambda on, shape, block, direction: planar_scene(on, _wide(shape), _wide_block(shape), direction),
     margins=lambda rec, shape, block, direction, **kw: planar_margins(rec, _wide(shape), _wide_block(shape), direction,
@@ -118,7 +143,7 @@ class _Anchored(BlockShape):
 
 #: A toy body model that reads the new field: an anchored block is judged as the same block twice as wide.
 TOY_ANCHORED = dataclasses.replace(TOY_BODY, name="toy: anchored",
-                                   claims=lambda shape, placement: getattr(shape, "anchor_kN", 0.0) > 0,
+                                   claims=lambda shape, placement, settings: getattr(shape, "anchor_kN", 0.0) > 0,
                                    may_claim=lambda shape: getattr(shape, "anchor_kN", 0.0) > 0)
 
 
