@@ -19,7 +19,13 @@ point of all the contacts together (Alart & Curnier 1991 solve the same kind of 
 method; here the natural map of De Saxce's law, with its generalized Jacobian, Levenberg-Marquardt's damping for
 the rank-deficient W and a backtracking line search on its squared norm). The Newton solve only gives the
 sweeps a starting point: convergence is still the sweeps' own criterion, so a step is accepted exactly as
-without it.
+without it. Where the pivot passes from one contact to a neighbour close by (a cylinder's rim points 2.5 cm
+apart: their Delassus matrix's smallest nonzero eigenvalue 1.4e-3 against 11.5), Newton from the last step's
+impulses stalls at a minimum of its squared norm that loads the wrong contact, and the sweeps converge only after
+thousands; Newton then starts again with the step's weight impulse on each contact alone, and with no impulse
+(:func:`solve_contacts`): of 9 such steps of at most four contacts captured on two bundled records
+(docs/validation.md), one of those starts converged each of the 6 with two contacts (in one iteration and one
+sweep) and 2 of the 3 with four.
 
 References
 ----------
@@ -52,7 +58,8 @@ NEWTON_ITERATIONS = 10
 NEWTON_TOL = 0.1
 LINE_SEARCH_HALVINGS = 8
 #: Where Newton stalls (at a kink of the cone's projection), the sweeps take SWEEPS_PER_ROUND and Newton starts
-#: again from where they got, for at most NEWTON_ROUNDS rounds; the last round's sweeps go on to MAX_SWEEPS in all.
+#: again from where they got, for NEWTON_ROUNDS - 1 rounds; then once from the weight on each contact alone and
+#: once from no impulse; the last round's sweeps go on to MAX_SWEEPS in all.
 NEWTON_ROUNDS = 4
 SWEEPS_PER_ROUND = 25
 #: Levenberg-Marquardt damping: this fraction of the largest diagonal of J^T J [-].
@@ -78,6 +85,7 @@ class Workspace(NamedTuple):
     cone: np.ndarray        # (3, 3) the cone projection's derivative
     block: np.ndarray       # (3, 3) I^-1 [r]x
     rho: np.ndarray         # (n,) the sweeps' step per contact
+    held: np.ndarray        # (m / 3, 3) the impulses the sweeps got to, kept while Newton tries other starts
 
 
 def workspace(n: int) -> Workspace:
@@ -86,7 +94,8 @@ def workspace(n: int) -> Workspace:
     55 MB a matrix at 875), the sweeps' steps for all ``n``."""
     m = 3 * max(min(n, NEWTON_MAX_CONTACTS), 1)
     return Workspace(np.empty((m, m)), np.empty((m, m)), np.empty((m, m)), np.empty(m), np.empty(m), np.empty(m),
-                     np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(max(n, 1)))
+                     np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(max(n, 1)),
+                     np.empty((m // 3, 3)))
 
 
 @jit_inline
@@ -324,19 +333,43 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     """The step's contact impulses (the body's velocity (v, w) before any contact impulse), in the
     :class:`Workspace` ``work``: the sweeps of :func:`sweep_contacts` from the start ``p`` (the previous step's
     impulses at the same vertices), or from Newton's solve where at most :data:`NEWTON_MAX_CONTACTS` touch;
-    applied to (v, w) and left in ``p``. The sweeps taken, or -1 at the cap."""
+    applied to (v, w) and left in ``p``. The sweeps taken, or -1 at the cap.
+
+    Newton's rounds start from ``p``, then from where the sweeps got (:data:`NEWTON_ROUNDS` - 1 rounds of
+    :data:`SWEEPS_PER_ROUND` sweeps), then from the step's weight impulse ``scale`` on each contact alone and from
+    no impulse (one round each); the last round goes on from where the first rounds got, to :data:`MAX_SWEEPS` in
+    all."""
     _step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
     if n_c > NEWTON_MAX_CONTACTS:
         return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
     v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
     done = 0
     for _ in range(NEWTON_ROUNDS - 1):
-        newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
-        taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+        taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
         if taken > 0:
             return done + taken
         done += SWEEPS_PER_ROUND
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2     # Newton again from where the sweeps got
+    held = work.held
+    for c in range(n_c):
+        held[c, 0], held[c, 1], held[c, 2] = p[c, 0], p[c, 1], p[c, 2]
+    for alone in range(n_c + 1):                                # the weight on one contact (n_c: on none)
+        for c in range(n_c):
+            p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, scale if c == alone else 0.0
+        taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+        if taken > 0:
+            return done + taken
+        done += SWEEPS_PER_ROUND
+        v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    for c in range(n_c):
+        p[c, 0], p[c, 1], p[c, 2] = held[c, 0], held[c, 1], held[c, 2]
     newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
+
+
+@jit_inline
+def _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
+    """Newton from ``p``, then :data:`SWEEPS_PER_ROUND` sweeps: the sweeps taken, or -1."""
+    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+    return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)

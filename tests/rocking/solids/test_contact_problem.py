@@ -154,3 +154,31 @@ def test_newtons_start_leaves_the_sweeps_almost_nothing_on_a_slender_edge():
     assert sweeps > 1000
     np.testing.assert_allclose(np.r_[v, w], np.r_[plain_v, plain_w], atol=1e-8)
     check_coulomb(inertia, arms, v0, w0, p, v, w, 0.7, tol=1e-7 * SCALE * 10)
+
+
+def test_a_pivot_passing_to_the_next_rim_point_is_solved_from_another_start():
+    """A 0.26 x 0.8 m cylinder (its rim as 32 points) leaning between two neighbours 2.5 cm apart, its weight on the
+    first at the last step (the warm start): the solution carries it on the second alone, the first lifting. Newton
+    from the warm start stalls and the sweeps take 4,785 to get there; Newton from the weight on the second contact
+    converges: the step ends converged (before: at the cap, its velocity and rate up to 2.6e-4 off), at the
+    sweeps' own velocity, obeying Coulomb's law and Signorini's condition at both contacts."""
+    r, hh, mu = 0.13, 0.4, 0.55
+    inertia = np.array([(3 * r * r + 4 * hh * hh) / 12, (3 * r * r + 4 * hh * hh) / 12, r * r / 2])
+    inv_i = np.diag(1.0 / inertia)
+    angle = np.radians([45.0, 45.0 + 360.0 / 32])
+    arms = np.c_[r * np.cos(angle), r * np.sin(angle), np.full(2, -hh)]
+    v0, w0 = np.array([0.004549, 0.005938, -0.002107]), np.array([-0.01164, 0.009242, -0.0006043])
+    warm = np.array([[-0.0009385, -0.0009940, 0.004052], [0.0, 0.0, 0.0]])
+    u_before = np.full(2, -0.01)
+    v, w, p = v0.copy(), w0.copy(), warm.copy()
+    taken = cp.solve_contacts(v, w, inv_i, arms, 2, u_before, mu, 0.0, SCALE, p, cp.workspace(2))
+    assert 0 < taken <= (cp.NEWTON_ROUNDS + 2) * cp.SWEEPS_PER_ROUND
+    work = cp.workspace(2)
+    cp._step_sizes(inv_i, arms, 2, work.block, work.cone, work.rho)
+    plain_v, plain_w = v0.copy(), w0.copy()
+    sweeps = cp.sweep_contacts(plain_v, plain_w, inv_i, arms, 2, u_before, mu, 0.0, SCALE, warm.copy(), work,
+                               100 * cp.MAX_SWEEPS)
+    assert sweeps > cp.MAX_SWEEPS
+    np.testing.assert_allclose(np.r_[v, w], np.r_[plain_v, plain_w], atol=1e-8)
+    assert not p[0].any() and p[1, 2] > 0.0
+    check_coulomb(inertia, arms, v0, w0, p, v, w, mu, tol=1e-7 * SCALE * 10)
