@@ -25,7 +25,11 @@ impulses stalls at a minimum of its squared norm that loads the wrong contact, a
 thousands; Newton then starts again with the step's weight impulse on each contact alone, and with no impulse
 (:func:`solve_contacts`): of 9 such steps of at most four contacts captured on two bundled records
 (docs/validation.md), one of those starts converged each of the 6 with two contacts (in one iteration and one
-sweep) and 2 of the 3 with four.
+sweep) and 2 of the 3 with four. Where more contacts touch than Newton takes (a cylinder's base on up to 32 rim
+points, as rocking starts or the body lands), the sweeps alone crept for tens of thousands; after their first
+rounds Newton solves the 1, 2, 3 and then 4 contacts farthest toward the side the body's free horizontal velocity
+points to, the others without impulse, and the sweeps go on from each (:func:`_many_contacts`): of 56 such steps
+captured, 45 converged from one of those starts.
 
 References
 ----------
@@ -59,7 +63,8 @@ NEWTON_TOL = 0.1
 LINE_SEARCH_HALVINGS = 8
 #: Where Newton stalls (at a kink of the cone's projection), the sweeps take SWEEPS_PER_ROUND and Newton starts
 #: again from where they got, for NEWTON_ROUNDS - 1 rounds; then once from the weight on each contact alone and
-#: once from no impulse; the last round's sweeps go on to MAX_SWEEPS in all.
+#: once from no impulse (more contacts than Newton takes: once on the 1-4 of the side the body tips toward); the
+#: last round's sweeps go on to MAX_SWEEPS in all.
 NEWTON_ROUNDS = 4
 SWEEPS_PER_ROUND = 25
 #: Levenberg-Marquardt damping: this fraction of the largest diagonal of J^T J [-].
@@ -85,7 +90,12 @@ class Workspace(NamedTuple):
     cone: np.ndarray        # (3, 3) the cone projection's derivative
     block: np.ndarray       # (3, 3) I^-1 [r]x
     rho: np.ndarray         # (n,) the sweeps' step per contact
-    held: np.ndarray        # (m / 3, 3) the impulses the sweeps got to, kept while Newton tries other starts
+    held: np.ndarray        # (n, 3) the impulses the sweeps got to, kept while Newton tries other starts
+    side: np.ndarray        # (m / 3,) int: the contacts a Newton start on some of them takes
+    side_arms: np.ndarray   # (m / 3, 3) their arms
+    side_before: np.ndarray     # (m / 3,) their normal velocities before the step
+    side_p: np.ndarray      # (m / 3, 3) their impulses
+    side_rho: np.ndarray    # (m / 3,) their steps
 
 
 def workspace(n: int) -> Workspace:
@@ -95,7 +105,8 @@ def workspace(n: int) -> Workspace:
     m = 3 * max(min(n, NEWTON_MAX_CONTACTS), 1)
     return Workspace(np.empty((m, m)), np.empty((m, m)), np.empty((m, m)), np.empty(m), np.empty(m), np.empty(m),
                      np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(max(n, 1)),
-                     np.empty((m // 3, 3)))
+                     np.empty((max(n, 1), 3)), np.empty(m // 3, dtype=np.int64), np.empty((m // 3, 3)),
+                     np.empty(m // 3), np.empty((m // 3, 3)), np.empty(m // 3))
 
 
 @jit_inline
@@ -244,12 +255,12 @@ def _damped_step(jac, f, m, a, step, damping):
 
 
 @jit_lean
-def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
+def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, rho):
     """Replace the starting impulses ``p`` by Newton's solve of all the contacts' fixed point together (the body's
-    velocity (v, w) before any contact impulse; ``work`` a :class:`Workspace` with its ``rho`` set); each
+    velocity (v, w) before any contact impulse; ``work`` a :class:`Workspace`, ``rho`` the contacts' steps); each
     iteration is kept only where it lowers the natural map's squared norm. Returns the iterations taken."""
     m = 3 * n_c
-    big, jac, dp, rho = work.big, work.jac, work.cone, work.rho
+    big, jac, dp = work.big, work.jac, work.cone
     q, pv, f, trial, f_trial, step = work.q, work.pv, work.f, work.trial, work.f_trial, work.step
     delassus(inv_i, arms, n_c, big, work.block)
     for c in range(n_c):
@@ -338,10 +349,10 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     Newton's rounds start from ``p``, then from where the sweeps got (:data:`NEWTON_ROUNDS` - 1 rounds of
     :data:`SWEEPS_PER_ROUND` sweeps), then from the step's weight impulse ``scale`` on each contact alone and from
     no impulse (one round each); the last round goes on from where the first rounds got, to :data:`MAX_SWEEPS` in
-    all."""
+    all. More contacts than Newton takes: :func:`_many_contacts`."""
     _step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
     if n_c > NEWTON_MAX_CONTACTS:
-        return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+        return _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
     v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
     done = 0
     for _ in range(NEWTON_ROUNDS - 1):
@@ -363,7 +374,7 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
     for c in range(n_c):
         p[c, 0], p[c, 1], p[c, 2] = held[c, 0], held[c, 1], held[c, 2]
-    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
 
@@ -371,5 +382,67 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
 @jit_inline
 def _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     """Newton from ``p``, then :data:`SWEEPS_PER_ROUND` sweeps: the sweeps taken, or -1."""
-    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
     return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+
+
+@jit_lean
+def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
+    """:func:`solve_contacts` where more contacts touch than Newton takes: the sweeps from ``p``, as many as
+    Newton's first rounds take; then Newton on the 1, 2, 3 and 4 contacts farthest toward the side the body's free
+    horizontal velocity points to, the others without impulse, and one round of sweeps from each
+    (:func:`_tipping_side`); the last round goes on from where the first sweeps got, to :data:`MAX_SWEEPS` in
+    all."""
+    v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
+    done = (NEWTON_ROUNDS - 1) * SWEEPS_PER_ROUND
+    taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
+    if taken > 0:
+        return taken
+    held = work.held
+    for c in range(n_c):
+        held[c, 0], held[c, 1], held[c, 2] = p[c, 0], p[c, 1], p[c, 2]
+    for k in range(1, NEWTON_MAX_CONTACTS + 1 if v0 != 0.0 or v1 != 0.0 else 1):
+        v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+        _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
+        taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+        if taken > 0:
+            return done + taken
+        done += SWEEPS_PER_ROUND
+    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    for c in range(n_c):
+        p[c, 0], p[c, 1], p[c, 2] = held[c, 0], held[c, 1], held[c, 2]
+    taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
+    return done + taken if taken > 0 else -1
+
+
+@jit_inline
+def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
+    """Into ``p``: Newton's solve of the ``k`` contacts farthest along the body's free horizontal velocity (v, w
+    before any contact impulse), from the step's weight impulse ``scale`` shared among them; no impulse at the
+    others."""
+    side, s_arms, s_before, s_p = work.side, work.side_arms, work.side_before, work.side_p
+    for j in range(k):
+        best, at = -math.inf, 0
+        for c in range(n_c):
+            reach = arms[c, 0] * v[0] + arms[c, 1] * v[1]
+            if reach > best and not _chosen(side, j, c):
+                best, at = reach, c
+        side[j] = at
+        s_arms[j, 0], s_arms[j, 1], s_arms[j, 2] = arms[at, 0], arms[at, 1], arms[at, 2]
+        s_before[j] = u_before[at]
+        s_p[j, 0], s_p[j, 1], s_p[j, 2] = 0.0, 0.0, scale / k
+    _step_sizes(inv_i, s_arms, k, work.block, work.cone, work.side_rho)
+    newton_start(v, w, inv_i, s_arms, k, s_before, mu, e_n, scale, s_p, work, work.side_rho)
+    for c in range(n_c):
+        p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, 0.0
+    for j in range(k):
+        p[side[j], 0], p[side[j], 1], p[side[j], 2] = s_p[j, 0], s_p[j, 1], s_p[j, 2]
+
+
+@jit_inline
+def _chosen(side, j, c):
+    """Contact ``c`` among the first ``j`` of ``side``."""
+    for i in range(j):
+        if side[i] == c:
+            return True
+    return False

@@ -93,12 +93,15 @@ def _problem(rng, body, n_c):
     return inertia, arms, v, w
 
 
-def check_coulomb(inertia, arms, v0, w0, p, v, w, mu, *, tol):
+def check_coulomb(inertia, arms, v0, w0, p, v, w, mu, *, tol, inv_i=None):
     """Each contact of the solution, checked on its own: the impulses are what moved the body from (v0, w0) to
     (v, w); P_n >= 0 and u_n >= 0, one of them 0; |P_t| <= mu P_n; a contact that slips is pushed by the largest
-    friction straight against its slip; one inside the cone does not slip."""
+    friction straight against its slip; one inside the cone does not slip. ``inv_i``: the inverse inertia as a
+    matrix (default: of the principal moments ``inertia``)."""
     j = _jacobian_of_contacts(arms)
-    moved = np.r_[v0, w0] + np.diag(np.r_[1.0, 1.0, 1.0, 1.0 / inertia]) @ j.T @ p[: len(arms)].ravel()
+    inverse = np.eye(6)
+    inverse[3:, 3:] = np.diag(1.0 / inertia) if inv_i is None else inv_i
+    moved = np.r_[v0, w0] + inverse @ j.T @ p[: len(arms)].ravel()
     np.testing.assert_allclose(np.r_[v, w], moved, atol=tol)
     u = (j @ np.r_[v, w]).reshape(-1, 3)
     for pc, uc in zip(p[: len(arms)], u):
@@ -182,3 +185,26 @@ def test_a_pivot_passing_to_the_next_rim_point_is_solved_from_another_start():
     np.testing.assert_allclose(np.r_[v, w], np.r_[plain_v, plain_w], atol=1e-8)
     assert not p[0].any() and p[1, 2] > 0.0
     check_coulomb(inertia, arms, v0, w0, p, v, w, mu, tol=1e-7 * SCALE * 10)
+
+
+@pytest.fixture(scope="module")
+def flat_base_steps(data_dir):
+    with np.load(data_dir / "contact" / "flat_base_steps.npz") as z:
+        return {k: z[k] for k in z.files}
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_a_base_on_many_rim_points_is_solved_from_the_side_it_tips_toward(flat_base_steps, k):
+    """Four steps of cylinders with the base on 18-32 rim points (real runs, tests/data/contact): beyond the four
+    contacts Newton takes, the sweeps alone ended each at the cap; Newton on the contacts farthest toward the body's
+    free horizontal velocity gives a start from which the sweeps converge, and the solution obeys Coulomb's law and
+    Signorini's condition at every contact."""
+    z = flat_base_steps
+    n_c, mu, e_n, scale = int(z["n_contacts"][k]), float(z["mu"][k]), float(z["e_n"][k]), float(z["scale_ms"][k])
+    arms = np.ascontiguousarray(z["arms_m"][k, :n_c])
+    v0, w0, inv_i = z["v_free_ms"][k], z["w_free_rads"][k], z["inv_inertia"][k]
+    v, w, p = v0.copy(), w0.copy(), np.ascontiguousarray(z["warm"][k, :n_c])
+    taken = cp.solve_contacts(v, w, inv_i, arms, n_c, np.ascontiguousarray(z["u_before_ms"][k, :n_c]), mu, e_n,
+                              scale, p, cp.workspace(n_c))
+    assert 0 < taken < cp.MAX_SWEEPS
+    check_coulomb(None, arms, v0, w0, p, v, w, mu, tol=1e-7 * scale * 10, inv_i=inv_i)
