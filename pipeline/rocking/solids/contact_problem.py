@@ -361,9 +361,7 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
             return done + taken
         done += SWEEPS_PER_ROUND
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2     # Newton again from where the sweeps got
-    held = work.held
-    for c in range(n_c):
-        held[c, 0], held[c, 1], held[c, 2] = p[c, 0], p[c, 1], p[c, 2]
+    _copy(p, work.held, n_c)
     for alone in range(n_c + 1):                                # the weight on one contact (n_c: on none)
         for c in range(n_c):
             p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, scale if c == alone else 0.0
@@ -372,8 +370,7 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
             return done + taken
         done += SWEEPS_PER_ROUND
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
-    for c in range(n_c):
-        p[c, 0], p[c, 1], p[c, 2] = held[c, 0], held[c, 1], held[c, 2]
+    _copy(work.held, p, n_c)
     newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
@@ -398,9 +395,7 @@ def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
     if taken > 0:
         return taken
-    held = work.held
-    for c in range(n_c):
-        held[c, 0], held[c, 1], held[c, 2] = p[c, 0], p[c, 1], p[c, 2]
+    _copy(p, work.held, n_c)
     for k in range(1, NEWTON_MAX_CONTACTS + 1 if v0 != 0.0 or v1 != 0.0 else 1):
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
         _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
@@ -409,8 +404,7 @@ def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
             return done + taken
         done += SWEEPS_PER_ROUND
     v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
-    for c in range(n_c):
-        p[c, 0], p[c, 1], p[c, 2] = held[c, 0], held[c, 1], held[c, 2]
+    _copy(work.held, p, n_c)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
 
@@ -446,3 +440,10 @@ def _chosen(side, j, c):
         if side[i] == c:
             return True
     return False
+
+
+@jit_inline
+def _copy(source, target, n_c):
+    """The first ``n_c`` impulses of ``source`` into ``target``."""
+    for c in range(n_c):
+        target[c, 0], target[c, 1], target[c, 2] = source[c, 0], source[c, 1], source[c, 2]
