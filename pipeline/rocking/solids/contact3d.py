@@ -360,13 +360,10 @@ def _calm_until(ax, ay, az, i, threshold, g):
     """The first sample at or after ``i`` that does not begin a calm interval: one whose two samples are both
     within the threshold by :data:`CALM_MARGIN` (|a_h| - c (g + a_v) is convex along the linear ground between them,
     so then every step's middle in it is inside the at-rest certificate too); the record's last sample at most."""
-    last = ax.size - 1
     limit = (1.0 - CALM_MARGIN) * threshold
-    calm = _within(ax[i], ay[i], az[i], limit, g)
-    while i < last and calm:
-        calm = _within(ax[i + 1], ay[i + 1], az[i + 1], limit, g)
-        if not calm:
-            break
+    if not _within(ax[i], ay[i], az[i], limit, g):
+        return i
+    while i < ax.size - 1 and _within(ax[i + 1], ay[i + 1], az[i + 1], limit, g):
         i += 1
     return i
 

@@ -396,6 +396,7 @@ def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     if taken > 0:
         return taken
     _copy(p, work.held, n_c)
+    _rank_side(v0, v1, arms, n_c, work.side)
     for k in range(1, NEWTON_MAX_CONTACTS + 1 if v0 != 0.0 or v1 != 0.0 else 1):
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
         _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
@@ -410,27 +411,16 @@ def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
 
 
 @jit_inline
-def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
-    """Into ``p``: Newton's solve of the ``k`` contacts farthest along the body's free horizontal velocity (v, w
-    before any contact impulse), from the step's weight impulse ``scale`` shared among them; no impulse at the
-    others."""
-    side, s_arms, s_before, s_p = work.side, work.side_arms, work.side_before, work.side_p
-    for j in range(k):
+def _rank_side(dx, dy, arms, n_c, side):
+    """Into ``side``: the contacts farthest along (dx, dy) (the body's free horizontal velocity), farthest first, as
+    many as ``side`` holds."""
+    for j in range(side.size):
         best, at = -math.inf, 0
         for c in range(n_c):
-            reach = arms[c, 0] * v[0] + arms[c, 1] * v[1]
+            reach = arms[c, 0] * dx + arms[c, 1] * dy
             if reach > best and not _chosen(side, j, c):
                 best, at = reach, c
         side[j] = at
-        s_arms[j, 0], s_arms[j, 1], s_arms[j, 2] = arms[at, 0], arms[at, 1], arms[at, 2]
-        s_before[j] = u_before[at]
-        s_p[j, 0], s_p[j, 1], s_p[j, 2] = 0.0, 0.0, scale / k
-    _step_sizes(inv_i, s_arms, k, work.block, work.cone, work.side_rho)
-    newton_start(v, w, inv_i, s_arms, k, s_before, mu, e_n, scale, s_p, work, work.side_rho)
-    for c in range(n_c):
-        p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, 0.0
-    for j in range(k):
-        p[side[j], 0], p[side[j], 1], p[side[j], 2] = s_p[j, 0], s_p[j, 1], s_p[j, 2]
 
 
 @jit_inline
@@ -440,6 +430,25 @@ def _chosen(side, j, c):
         if side[i] == c:
             return True
     return False
+
+
+@jit_inline
+def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
+    """Into ``p``: Newton's solve of the first ``k`` contacts of ``work.side`` (:func:`_rank_side`; the body's
+    velocity (v, w) before any contact impulse), from the step's weight impulse ``scale`` shared among them; no
+    impulse at the others."""
+    side, s_arms, s_before, s_p = work.side, work.side_arms, work.side_before, work.side_p
+    for j in range(k):
+        at = side[j]
+        s_arms[j, 0], s_arms[j, 1], s_arms[j, 2] = arms[at, 0], arms[at, 1], arms[at, 2]
+        s_before[j] = u_before[at]
+        s_p[j, 0], s_p[j, 1], s_p[j, 2] = 0.0, 0.0, scale / k
+    _step_sizes(inv_i, s_arms, k, work.block, work.cone, work.side_rho)
+    newton_start(v, w, inv_i, s_arms, k, s_before, mu, e_n, scale, s_p, work, work.side_rho)
+    for c in range(n_c):
+        p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, 0.0
+    for j in range(k):
+        p[side[j], 0], p[side[j], 1], p[side[j], 2] = s_p[j, 0], s_p[j, 1], s_p[j, 2]
 
 
 @jit_inline
