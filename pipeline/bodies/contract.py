@@ -31,10 +31,11 @@ of block it has: it asks the registry for the first model that claims the block 
 ``pulse(shape, block, *, settings, g_ms2) -> Callable[[ah_ms2, dt_s], tuple[bool, int]]``
     A judge of one-directional pulses (``screen infer``): whether the pulse overturns the block, and the runs.
 ``warmup()``
-    Calls its compiled kernels once on a tiny scene, so that numba compiles them before any worker needs them.
+    Calls its compiled kernels once on a tiny scene, so that numba compiles them before any worker needs them
+    (None: it has no kernels of its own, only shared ones).
 ``shared_warmups``
-    Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder and the box),
-    called once per warm-up whichever of those models it selects.
+    Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder, the box and the
+    scanned body in 3D), called once per warm-up whichever of those models it selects.
 ``versus_planar``
     Optional: how ``screen bench`` compares it with the planar model it replaces (:class:`VersusPlanar`).
 
@@ -221,6 +222,6 @@ class BodyModel:
     margins: Callable[..., Margin]
     scale: Callable[..., float]
     pulse: Callable[..., PulseJudge]
-    warmup: Callable[[], None]
+    warmup: Callable[[], None] | None
     versus_planar: VersusPlanar | None = None
     shared_warmups: tuple[Callable[[], None], ...] = ()

@@ -250,6 +250,8 @@ def _may_claim(shape: BlockShape) -> bool:
     return shape.scan is not None
 
 
-#: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it.
+#: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it: its
+#: kernel is the contact model the cylinder and the box hand over to.
 SCANNED_3D = BodyModel(name="scanned body in 3D", physics=(Physics.contact3d,), claims=_claims, may_claim=_may_claim,
-                       scene=scene, margins=margins, scale=scale, pulse=pulse, warmup=contact_warmup)
+                       scene=scene, margins=margins, scale=scale, pulse=pulse, warmup=None,
+                       shared_warmups=(contact_warmup,))

@@ -47,7 +47,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
     k, n = share
     models = registry.models_for(shapes)
     # each model's own kernels, then the kernels some of them share, each once (dict keeps the order)
-    calls = list(dict.fromkeys([m.warmup for m in models] + [f for m in models for f in m.shared_warmups]))[k::n]
+    own = [m.warmup for m in models if m.warmup is not None]
+    calls = list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups]))[k::n]
     compiles = CompileCounter()
 
     def tell(elapsed_s: float) -> None:

@@ -38,3 +38,30 @@ def test_the_counter_sees_a_compilation_and_not_a_call_of_compiled_code():
     with counter.listening():
         f(np.float64(2.0))                                # the same signature: no compilation
     assert compiled >= 1 and counter.n == compiled
+
+
+def test_the_shares_make_every_warm_up_once_and_a_model_without_kernels_takes_no_share(monkeypatch):
+    """Two processes' shares: each model's own warm-up and each shared one exactly once between them; a model whose
+    kernels are all shared (warmup None, as the scanned body in 3D) adds no call, so the calls alternate as if it
+    were not there."""
+    from types import SimpleNamespace
+
+    from pipeline.compiled import HAVE_NUMBA
+
+    if not HAVE_NUMBA:
+        return
+    made: list[str] = []
+
+    def call(name):
+        return lambda: made.append(name)
+
+    shared = call("shared")
+    models = [SimpleNamespace(warmup=None, shared_warmups=(shared,)),
+              SimpleNamespace(warmup=call("a"), shared_warmups=()),
+              SimpleNamespace(warmup=call("b"), shared_warmups=(shared,)),
+              SimpleNamespace(warmup=call("c"), shared_warmups=())]
+    monkeypatch.setattr(warmup.registry, "models_for", lambda shapes: models)
+    warmup.compile_kernels(share=(0, 2))
+    first = list(made)
+    warmup.compile_kernels(share=(1, 2))
+    assert first == ["a", "c"] and made[len(first):] == ["b", "shared"]
