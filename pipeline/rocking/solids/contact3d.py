@@ -8,7 +8,7 @@ the step solve the velocity-level complementarity problem of Moreau (1988) and J
 normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or separates with no impulse;
 it sticks, or slides with the largest friction against its slip. The problem is solved by projected Gauss-Seidel
 over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, started from a
-Newton solve of all the contacts together where at most four touch (:mod:`.contact_problem`), to a stated
+Newton solve of all the contacts together where at most eight touch (:mod:`.contact_problem`), to a stated
 tolerance or a cap of sweeps (the step is then flagged, never silently accepted).
 
 **Overturned** is the body lying on a side: its axis tilted to within :data:`LYING_SLACK_RAD` of the horizontal.

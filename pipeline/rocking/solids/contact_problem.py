@@ -28,8 +28,11 @@ thousands; Newton then starts again with the step's weight impulse on each conta
 sweep) and 2 of the 3 with four. Where more contacts touch than Newton takes (a cylinder's base on up to 32 rim
 points, as rocking starts or the body lands), the sweeps alone crept for tens of thousands; after their first
 rounds Newton solves the 1, 2, 3 and then 4 contacts farthest toward the side the body's free horizontal velocity
-points to, the others without impulse, and the sweeps go on from each (:func:`_many_contacts`): of 56 such steps
-captured, 45 converged from one of those starts.
+points to, the others without impulse, then the 1-4 that approach the ground fastest, and the sweeps go on from
+each (:func:`_side_starts`). A cylinder barely tilted touches on 5-15 nearly collinear points of one rim arc; with
+Newton on at most four contacts and the first ranking alone, 53 of 88 capped steps captured on five records
+converged; with the second ranking 64, and with Newton on up to eight contacts together 79
+(docs/validation.md).
 
 References
 ----------
@@ -55,7 +58,7 @@ from ...compiled import jit_inline, jit_lean
 SWEEP_TOL = 1e-8
 MAX_SWEEPS = 2000
 #: The Newton start: tried where at most this many contacts touch (its Jacobian is 3 n square) ...
-NEWTON_MAX_CONTACTS = 4
+NEWTON_MAX_CONTACTS = 8
 #: ... for at most this many iterations, ended sooner once the natural map is below NEWTON_TOL times SWEEP_TOL
 #: times the weight impulse, or where the line search finds no decrease in LINE_SEARCH_HALVINGS halvings.
 NEWTON_ITERATIONS = 10
@@ -63,10 +66,11 @@ NEWTON_TOL = 0.1
 LINE_SEARCH_HALVINGS = 8
 #: Where Newton stalls (at a kink of the cone's projection), the sweeps take SWEEPS_PER_ROUND and Newton starts
 #: again from where they got, for NEWTON_ROUNDS - 1 rounds; then once from the weight on each contact alone and
-#: once from no impulse (more contacts than Newton takes: once on the 1-4 of the side the body tips toward); the
-#: last round's sweeps go on to MAX_SWEEPS in all.
+#: once from no impulse (more contacts than Newton takes: as many sweeps instead); then on the first 1, 2, ...
+#: SIDE_CONTACTS contacts of two rankings alone; the last round's sweeps go on to MAX_SWEEPS in all.
 NEWTON_ROUNDS = 4
 SWEEPS_PER_ROUND = 25
+SIDE_CONTACTS = 4
 #: Levenberg-Marquardt damping: this fraction of the largest diagonal of J^T J [-].
 LM_DAMPING = 1e-12
 #: ... raised by this factor where a step finds no decrease, up to LM_DAMPING_MAX (then Newton stops).
@@ -91,6 +95,7 @@ class Workspace(NamedTuple):
     block: np.ndarray       # (3, 3) I^-1 [r]x
     rho: np.ndarray         # (n,) the sweeps' step per contact
     held: np.ndarray        # (n, 3) the impulses the sweeps got to, kept while Newton tries other starts
+    score: np.ndarray       # (n,) the contacts' scores a Newton start on some of them ranks
     side: np.ndarray        # (m / 3,) int: the contacts a Newton start on some of them takes
     side_arms: np.ndarray   # (m / 3, 3) their arms
     side_before: np.ndarray     # (m / 3,) their normal velocities before the step
@@ -103,10 +108,11 @@ def workspace(n: int) -> Workspace:
     :data:`NEWTON_MAX_CONTACTS` it takes at most (a scan's hull has hundreds of vertices: 3 n square would be
     55 MB a matrix at 875), the sweeps' steps for all ``n``."""
     m = 3 * max(min(n, NEWTON_MAX_CONTACTS), 1)
+    k, n = m // 3, max(n, 1)
     return Workspace(np.empty((m, m)), np.empty((m, m)), np.empty((m, m)), np.empty(m), np.empty(m), np.empty(m),
-                     np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(max(n, 1)),
-                     np.empty((max(n, 1), 3)), np.empty(m // 3, dtype=np.int64), np.empty((m // 3, 3)),
-                     np.empty(m // 3), np.empty((m // 3, 3)), np.empty(m // 3))
+                     np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(n),
+                     np.empty((n, 3)), np.empty(n), np.empty(k, dtype=np.int64), np.empty((k, 3)), np.empty(k),
+                     np.empty((k, 3)), np.empty(k))
 
 
 @jit_inline
@@ -346,23 +352,30 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     impulses at the same vertices), or from Newton's solve where at most :data:`NEWTON_MAX_CONTACTS` touch;
     applied to (v, w) and left in ``p``. The sweeps taken, or -1 at the cap.
 
-    Newton's rounds start from ``p``, then from where the sweeps got (:data:`NEWTON_ROUNDS` - 1 rounds of
-    :data:`SWEEPS_PER_ROUND` sweeps), then from the step's weight impulse ``scale`` on each contact alone and from
-    no impulse (one round each); the last round goes on from where the first rounds got, to :data:`MAX_SWEEPS` in
-    all. More contacts than Newton takes: :func:`_many_contacts`."""
+    At most :data:`NEWTON_MAX_CONTACTS` contacts: Newton's rounds start from ``p``, then from where the sweeps got
+    (:data:`NEWTON_ROUNDS` - 1 rounds of :data:`SWEEPS_PER_ROUND` sweeps), then from the step's weight impulse
+    ``scale`` on each contact alone and from no impulse (one round each). More: as many sweeps from ``p`` as those
+    first rounds take. Then, either way, Newton on some of the contacts alone (:func:`_side_starts`); the last
+    round goes on from where the first rounds got, to :data:`MAX_SWEEPS` in all."""
     _step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
-    if n_c > NEWTON_MAX_CONTACTS:
-        return _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+    few = n_c <= NEWTON_MAX_CONTACTS
     v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
-    done = 0
-    for _ in range(NEWTON_ROUNDS - 1):
-        taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+    done = (NEWTON_ROUNDS - 1) * SWEEPS_PER_ROUND
+    if not few:
+        taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
         if taken > 0:
-            return done + taken
-        done += SWEEPS_PER_ROUND
-        v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2     # Newton again from where the sweeps got
+            return taken
+    else:
+        done = 0
+        for _ in range(NEWTON_ROUNDS - 1):
+            taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+            if taken > 0:
+                return done + taken
+            done += SWEEPS_PER_ROUND
+            v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2     # Newton again from where sweeps got
     _copy(p, work.held, n_c)
-    for alone in range(n_c + 1):                                # the weight on one contact (n_c: on none)
+    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    for alone in range(n_c + 1 if few else 0):                  # the weight on one contact (n_c: on none)
         for c in range(n_c):
             p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, scale if c == alone else 0.0
         taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
@@ -370,8 +383,13 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
             return done + taken
         done += SWEEPS_PER_ROUND
         v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    taken, done = _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
+    if taken > 0:
+        return done + taken
+    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
     _copy(work.held, p, n_c)
-    newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
+    if few:
+        newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
 
@@ -383,43 +401,45 @@ def _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
 
 
-@jit_lean
-def _many_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
-    """:func:`solve_contacts` where more contacts touch than Newton takes: the sweeps from ``p``, as many as
-    Newton's first rounds take; then Newton on the 1, 2, 3 and 4 contacts farthest toward the side the body's free
-    horizontal velocity points to, the others without impulse, and one round of sweeps from each
-    (:func:`_tipping_side`); the last round goes on from where the first sweeps got, to :data:`MAX_SWEEPS` in
-    all."""
+@jit_inline
+def _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done):
+    """From the body's velocity (v, w) before any contact impulse: Newton on the first 1, 2, ...
+    :data:`SIDE_CONTACTS` contacts farthest toward the side the body's free horizontal velocity points to, the
+    others without impulse, and one round of sweeps from each (:func:`_tipping_side`); then the same on as many of
+    the contacts that approach the ground fastest. The sweeps taken by the round that converged (or -1) and the
+    sweeps ``done`` before it."""
     v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
-    done = (NEWTON_ROUNDS - 1) * SWEEPS_PER_ROUND
-    taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
-    if taken > 0:
-        return taken
-    _copy(p, work.held, n_c)
-    _rank_side(v0, v1, arms, n_c, work.side)
-    for k in range(1, NEWTON_MAX_CONTACTS + 1 if v0 != 0.0 or v1 != 0.0 else 1):
-        v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
-        _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
-        taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
-        if taken > 0:
-            return done + taken
-        done += SWEEPS_PER_ROUND
-    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
-    _copy(work.held, p, n_c)
-    taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
-    return done + taken if taken > 0 else -1
+    for ranking in range(2):
+        _rank(_side_scores(v0, v1, v2, w0, w1, w2, arms, n_c, work.score, ranking), n_c, work.side)
+        most = min(n_c, SIDE_CONTACTS) if ranking == 1 or v0 != 0.0 or v1 != 0.0 else 1
+        for k in range(1, most + 1):
+            v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+            _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
+            taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+            if taken > 0:
+                return taken, done
+            done += SWEEPS_PER_ROUND
+    return -1, done
 
 
 @jit_inline
-def _rank_side(dx, dy, arms, n_c, side):
-    """Into ``side``: the contacts farthest along (dx, dy) (the body's free horizontal velocity), farthest first, as
-    many as ``side`` holds."""
+def _side_scores(v0, v1, v2, w0, w1, w2, arms, n_c, score, ranking):
+    """Into ``score``, for each contact (the body's free velocity (v, w)): ranking 0, how far it lies along the free
+    horizontal velocity; ranking 1, how fast it approaches the ground (minus its normal velocity)."""
+    for c in range(n_c):
+        rx, ry = arms[c, 0], arms[c, 1]
+        score[c] = rx * v0 + ry * v1 if ranking == 0 else -(v2 + w0 * ry - w1 * rx)
+    return score
+
+
+@jit_inline
+def _rank(score, n_c, side):
+    """Into ``side``: the contacts of the highest ``score``, highest first, as many as ``side`` holds."""
     for j in range(side.size):
         best, at = -math.inf, 0
         for c in range(n_c):
-            reach = arms[c, 0] * dx + arms[c, 1] * dy
-            if reach > best and not _chosen(side, j, c):
-                best, at = reach, c
+            if score[c] > best and not _chosen(side, j, c):
+                best, at = score[c], c
         side[j] = at
 
 
@@ -434,7 +454,7 @@ def _chosen(side, j, c):
 
 @jit_inline
 def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
-    """Into ``p``: Newton's solve of the first ``k`` contacts of ``work.side`` (:func:`_rank_side`; the body's
+    """Into ``p``: Newton's solve of the first ``k`` contacts of ``work.side`` (:func:`_rank`; the body's
     velocity (v, w) before any contact impulse), from the step's weight impulse ``scale`` shared among them; no
     impulse at the others."""
     side, s_arms, s_before, s_p = work.side, work.side_arms, work.side_before, work.side_p

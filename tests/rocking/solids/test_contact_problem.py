@@ -187,19 +187,24 @@ def test_a_pivot_passing_to_the_next_rim_point_is_solved_from_another_start():
     check_coulomb(inertia, arms, v0, w0, p, v, w, mu, tol=1e-7 * SCALE * 10)
 
 
-@pytest.fixture(scope="module")
-def flat_base_steps(data_dir):
-    with np.load(data_dir / "contact" / "flat_base_steps.npz") as z:
+def _stored_steps(path):
+    with np.load(path) as z:
         return {k: z[k] for k in z.files}
 
 
-@pytest.mark.parametrize("k", range(4))
-def test_a_base_on_many_rim_points_is_solved_from_the_side_it_tips_toward(flat_base_steps, k):
-    """Four steps of cylinders with the base on 18-32 rim points (real runs, tests/data/contact): beyond the four
-    contacts Newton takes, the sweeps alone ended each at the cap; Newton on the contacts farthest toward the body's
-    free horizontal velocity gives a start from which the sweeps converge, and the solution obeys Coulomb's law and
-    Signorini's condition at every contact."""
-    z = flat_base_steps
+@pytest.fixture(scope="module")
+def flat_base_steps(data_dir):
+    return _stored_steps(data_dir / "contact" / "flat_base_steps.npz")
+
+
+@pytest.fixture(scope="module")
+def rim_arc_steps(data_dir):
+    return _stored_steps(data_dir / "contact" / "rim_arc_steps.npz")
+
+
+def _solve_stored(z, k):
+    """Solve stored step ``k`` from its warm start; check it converged and obeys Coulomb's law and Signorini's
+    condition at every contact."""
     n_c, mu, e_n, scale = int(z["n_contacts"][k]), float(z["mu"][k]), float(z["e_n"][k]), float(z["scale_ms"][k])
     arms = np.ascontiguousarray(z["arms_m"][k, :n_c])
     v0, w0, inv_i = z["v_free_ms"][k], z["w_free_rads"][k], z["inv_inertia"][k]
@@ -208,3 +213,22 @@ def test_a_base_on_many_rim_points_is_solved_from_the_side_it_tips_toward(flat_b
                               scale, p, cp.workspace(n_c))
     assert 0 < taken < cp.MAX_SWEEPS
     check_coulomb(None, arms, v0, w0, p, v, w, mu, tol=1e-7 * scale * 10, inv_i=inv_i)
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_a_base_on_many_rim_points_is_solved_from_the_side_it_tips_toward(flat_base_steps, k):
+    """Four steps of cylinders with the base on 18-32 rim points (real runs, tests/data/contact): beyond the
+    contacts Newton takes, the sweeps alone ended each at the cap; Newton on the contacts farthest toward the body's
+    free horizontal velocity gives a start from which the sweeps converge, and the solution obeys Coulomb's law and
+    Signorini's condition at every contact."""
+    _solve_stored(flat_base_steps, k)
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_a_cylinder_on_an_arc_of_its_rim_is_solved(rim_arc_steps, k):
+    """Four steps of a cylinder barely tilted, on 4, 5, 8 and 15 nearly collinear rim points (a real run,
+    tests/data/contact): each ended at the cap when Newton took at most four contacts and ranked them only by the
+    free horizontal velocity; with Newton on up to eight contacts together, and on the contacts that approach the
+    ground fastest, each converges, and the solution obeys Coulomb's law and Signorini's condition at every
+    contact."""
+    _solve_stored(rim_arc_steps, k)
