@@ -17,9 +17,9 @@ of block it has: it asks the registry for the first model that claims the block 
     ``placement`` (:class:`Placement`) under the run's simulator settings
     (:class:`~pipeline.rocking.settings.SimulationConfig`, where the user chooses between models, as
     ``scanned_model`` does). The registry's last model claims every block.
-``may_claim(shape) -> bool``
-    Whether it could claim the block on some record under some settings: the warm-up compiles its kernels only
-    then.
+``may_claim(shape, settings) -> bool``
+    Whether it could claim the block on some record under the run's simulator settings: the warm-up compiles its
+    kernels only then.
 ``scene(on: OnRecord, shape, block, direction_deg) -> BodyScene``
     The block's scene on one record: the governing plane's :class:`~pipeline.rocking.scene.Scene`, its
     probabilities under the declared uncertainty (where ``on.draws`` holds draws) and how its orientation was
@@ -217,7 +217,7 @@ class BodyModel:
     name: str
     physics: tuple[int, ...]
     claims: Callable[[BlockShape, Placement, SimulationConfig], bool]
-    may_claim: Callable[[BlockShape], bool]
+    may_claim: Callable[[BlockShape, SimulationConfig], bool]
     scene: Callable[[OnRecord, BlockShape, Block, float], BodyScene]
     margins: Callable[..., Margin]
     scale: Callable[..., float]

@@ -226,7 +226,7 @@ def _everywhere(shape: BlockShape, placement: Placement, settings: SimulationCon
     return True
 
 
-def _always(shape: BlockShape) -> bool:
+def _always(shape: BlockShape, settings: SimulationConfig) -> bool:
     return True
 
 

@@ -38,14 +38,15 @@ def body_model(shape: BlockShape, placement: Placement, settings: SimulationConf
                       "every block")
 
 
-def models_for(shapes: Iterable[BlockShape] | None, bodies: tuple[BodyModel, ...] | None = None
-               ) -> list[BodyModel]:
-    """The models that may claim one of ``shapes`` on some record (None: every model), in the registry's order."""
+def models_for(shapes: Iterable[BlockShape] | None, settings: SimulationConfig,
+               bodies: tuple[BodyModel, ...] | None = None) -> list[BodyModel]:
+    """The models that may claim one of ``shapes`` on some record under the simulator's ``settings`` (shapes None:
+    every model), in the registry's order."""
     models = BODIES if bodies is None else bodies
     if shapes is None:
         return list(models)
     shapes = list(shapes)
-    return [m for m in models if any(m.may_claim(s) for s in shapes)]
+    return [m for m in models if any(m.may_claim(s, settings) for s in shapes)]
 
 
 def physics_reached(bodies: tuple[BodyModel, ...] | None = None) -> set[int]:

@@ -202,8 +202,8 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
     return shape.scan is not None and settings.scanned_model != ScannedModel.contact3d
 
 
-def _may_claim(shape: BlockShape) -> bool:
-    return shape.scan is not None
+def _may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
+    return _claims(shape, Placement(False, 0.0, True), settings)
 
 
 #: A body given by its scan, on any record, in its vertical planes (``scanned_model`` rolling or two_sided).

@@ -154,8 +154,8 @@ def _claims(physics: Physics):
         solid = solid_of(shape, record_azimuth_deg=placement.azimuth_deg, known_azimuth=placement.azimuth_known)
         return solid is not None and solid.physics == physics
 
-    def may_claim(shape: BlockShape) -> bool:
-        return claims(shape, Placement(False, 0.0, True), SimulationConfig())
+    def may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
+        return claims(shape, Placement(False, 0.0, True), settings)
 
     return claims, may_claim
 

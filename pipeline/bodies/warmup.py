@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterable
 
 from ..compiled import HAVE_NUMBA
 from ..rocking.block import BlockShape
+from ..rocking.settings import SimulationConfig
 from ..ticker import Ticker
 from . import registry
 
@@ -23,7 +24,7 @@ REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: Iterable[BlockShape] | None = None,
-                    share: tuple[int, int] = (0, 1)) -> float:
+                    settings: SimulationConfig | None = None, share: tuple[int, int] = (0, 1)) -> float:
     """Call the compiled kernels of every body model of the registry (:data:`.registry.BODIES`) once on a tiny
     scene; return the seconds it took.
 
@@ -36,6 +37,8 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
     shapes : iterable of BlockShape, optional
         The run's blocks: only the models that may claim one of them are warmed up (None: every model). A run
         without a cylinder never compiles the cylinder's kernel (about 10 s on a fresh install).
+    settings : SimulationConfig, optional
+        The run's simulator settings, which choose between some models (``scanned_model``); default: the defaults.
     share : (int, int)
         ``(k, n)``: make the warm-up calls at positions k, k + n, k + 2n, ... of those of the selected models (each
         model's own, then the kernels they share, each once), so that n processes started together each compile a
@@ -45,7 +48,7 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
     if not HAVE_NUMBA:
         return 0.0
     k, n = share
-    models = registry.models_for(shapes)
+    models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
     # each model's own kernels, then the kernels some of them share, each once (dict keeps the order)
     own = [m.warmup for m in models if m.warmup is not None]
     calls = list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups]))[k::n]

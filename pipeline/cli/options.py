@@ -181,9 +181,10 @@ def _say(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def _compile_simulator(args: argparse.Namespace, inventory) -> None:
+def _compile_simulator(args: argparse.Namespace, inventory, settings) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
-    first run of an install): the kernels of the models that may judge a block of the inventory."""
+    first run of an install): the kernels of the models that may judge a block of the inventory under the
+    simulator's ``settings``."""
     from ..run.stages import compile_simulator
 
-    compile_simulator(inventory, announce=None if getattr(args, "quiet", False) else _say)
+    compile_simulator(inventory, settings=settings, announce=None if getattr(args, "quiet", False) else _say)

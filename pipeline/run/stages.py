@@ -27,6 +27,7 @@ from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
 from ..records.loader import files_sha256, list_directory, read_declared_units, stationxml_paths
 from ..records.loader import read_inventory as read_station_inventory
 from ..report.html import build_report
+from ..rocking.settings import SimulationConfig
 from ..store import (
     STATE_DIR,
     Family,
@@ -144,13 +145,13 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
-def compile_simulator(inventory: Inventory, *, announce=None) -> float:
+def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, announce=None) -> float:
     """Compile the simulator in this process before any worker needs it: the kernels of every body model that may
-    claim a block of ``inventory`` (:func:`pipeline.bodies.warmup.compile_kernels`; ``announce`` is told when it
-    takes a while: the first run of an install); seconds taken."""
+    claim a block of ``inventory`` under the simulator's ``settings`` (:func:`pipeline.bodies.warmup.compile_kernels`;
+    ``announce`` is told when it takes a while: the first run of an install); seconds taken."""
     from ..bodies.warmup import compile_kernels
 
-    return compile_kernels(announce=announce, shapes=inventory.shapes())
+    return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings)
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:

@@ -75,6 +75,16 @@ def test_exactly_one_model_claims_a_scan_under_each_setting(scan_shape):
         assert len(claiming) == 1, (model, claiming)
 
 
+
+@pytest.mark.parametrize("model, expected", [(ScannedModel.rolling, "scanned body"),
+                                             (ScannedModel.two_sided, "scanned body"),
+                                             (ScannedModel.contact3d, "scanned body in 3D")])
+def test_the_warm_up_of_an_inventory_with_a_scan_takes_the_model_the_settings_choose(scan_shape, model, expected):
+    """The warm-up compiles the kernels of the models ``models_for`` names: for a scan, the one the settings give
+    it (and the planar model, which may claim every block), not the other."""
+    names = [m.name for m in registry.models_for([scan_shape], SimulationConfig(scanned_model=model))]
+    assert names == [expected, "planar"]
+
 #: What the run layer and the command line may import of the models: the registry and its contract, never a
 #: model's module nor the physics of one kind of block.
 MODEL_MODULES = ("pipeline.bodies.planar", "pipeline.bodies.solids", "pipeline.bodies.scanned",
@@ -124,7 +134,7 @@ def _wide_block(shape: BlockShape):
 TOY_BODY = BodyModel(
     name="toy: twice as wide", physics=(),
     claims=lambda shape, placement, settings: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
-    may_claim=lambda shape: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
+    may_claim=lambda shape, settings: shape.mu == TOY_MU and shape.width_m < TOY_WIDTH_M,
     scene=lambda on, shape, block, direction: planar_scene(on, _wide(shape), _wide_block(shape), direction),
     margins=lambda rec, shape, block, direction, **kw: planar_margins(rec, _wide(shape), _wide_block(shape), direction,
                                                                        **kw),
@@ -144,7 +154,7 @@ class _Anchored(BlockShape):
 #: A toy body model that reads the new field: an anchored block is judged as the same block twice as wide.
 TOY_ANCHORED = dataclasses.replace(TOY_BODY, name="toy: anchored",
                                    claims=lambda shape, placement, settings: getattr(shape, "anchor_kN", 0.0) > 0,
-                                   may_claim=lambda shape: getattr(shape, "anchor_kN", 0.0) > 0)
+                                   may_claim=lambda shape, settings: getattr(shape, "anchor_kN", 0.0) > 0)
 
 
 def _rest(scene):

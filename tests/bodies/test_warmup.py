@@ -60,7 +60,7 @@ def test_the_shares_make_every_warm_up_once_and_a_model_without_kernels_takes_no
               SimpleNamespace(warmup=call("a"), shared_warmups=()),
               SimpleNamespace(warmup=call("b"), shared_warmups=(shared,)),
               SimpleNamespace(warmup=call("c"), shared_warmups=())]
-    monkeypatch.setattr(warmup.registry, "models_for", lambda shapes: models)
+    monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
     warmup.compile_kernels(share=(0, 2))
     first = list(made)
     warmup.compile_kernels(share=(1, 2))
