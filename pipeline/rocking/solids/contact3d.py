@@ -23,6 +23,14 @@ always measured from how the body stood at the start (``rest``: its principal ax
 A plastic impact at a new sticking contact reduces to Housner's (1963) rule for a block pivoting without slip:
 the angular momentum about the new pivot is conserved and the old pivot lifts (tested against the planar kernel).
 
+**The step** is the record's interval over :data:`STEPS_PER_SAMPLE`, at most :data:`MAX_STEP_S`. A body rocking
+at a small tilt hits the ground every few milliseconds (free rocking from theta_0 << alpha lasts about
+(4 / p) (theta_0 / alpha) a cycle; Housner 1963), so a 0.5 ms step resolves such a half-cycle in a few steps and
+damps it: on Kocaeli at Yarimca a 0.4 x 1.6 m cylinder that the exact cylinder model rocks from 0.004 to 0.28
+alpha before its base would slip peaked at 0.008 alpha. While the tilt is between :data:`FINE_TILT_FROM` and
+:data:`FINE_TILT_TO` times the smallest static tipping angle, each step is therefore taken as
+:data:`FINE_SUBSTEPS` steps (that cylinder then peaks at 0.27 alpha; docs/validation.md).
+
 The ground is the plane z = 0 of the ground's frame, which moves with the record: the body feels gravity and the
 inertial force -a_g (x, y the record's two horizontals, z up).
 
@@ -89,6 +97,13 @@ CALM_MARGIN = 1e-9
 #: at that tilt the centre of mass of a box or cylinder less slender than 89.4 deg is beyond its pivot.
 LYING_SLACK_RAD = 1e-2
 
+#: A body tilted between FINE_TILT_FROM and FINE_TILT_TO times its smallest static tipping angle rocks with impacts
+#: a few milliseconds apart: each of its steps is taken as FINE_SUBSTEPS steps [-] (chosen on real records against
+#: the exact cylinder model, docs/validation.md).
+FINE_TILT_FROM = 1e-3
+FINE_TILT_TO = 0.02
+FINE_SUBSTEPS = 3
+
 #: The outcome's flags (bits).
 FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
 FLAG_TAIL_CAP = 2           # still moving TAIL_S after the record
@@ -135,7 +150,8 @@ class Contact3DOutcome(NamedTuple):
         The largest energy gained over one step while the ground stood still after the record [J kg-1] (0 when
         none: the contacts only dissipate).
     integrated_steps : int
-        Steps integrated (the rest are steps held at rest by the exact at-rest certificate).
+        Steps integrated, a step taken in :data:`FINE_SUBSTEPS` parts counted as that many (the rest are steps held
+        at rest by the exact at-rest certificate).
     sweeps : int
         Gauss-Seidel sweeps over all steps (the cost of the contact problems).
     lean_at_peak_deg : float
@@ -227,9 +243,10 @@ def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = mat
 
 
 @jit_inline
-def _ground(ax, ay, az, k, n_sub):
-    """The ground's acceleration at the middle of step ``k`` (linear between samples) [m s-2]."""
-    i, frac = k // n_sub, (k % n_sub + 0.5) / n_sub
+def _ground(ax, ay, az, k, n_sub, within=0.5):
+    """The ground's acceleration at the fraction ``within`` of step ``k`` (default its middle; linear between
+    samples) [m s-2]."""
+    i, frac = k // n_sub, (k % n_sub + within) / n_sub
     return (ax[i] + frac * (ax[i + 1] - ax[i]), ay[i] + frac * (ay[i + 1] - ay[i]),
             az[i] + frac * (az[i + 1] - az[i]))
 
@@ -307,6 +324,23 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
         x[i] += 0.5 * h * v[i]
     turned(qm, w[0], w[1], w[2], 0.5 * h, q)
     return n_c, taken
+
+
+@jit_inline
+def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k, n_sub, during, parts,
+             work):
+    """Step ``k`` of the run (:func:`_moreau_step`), as ``parts`` steps of h / parts each, the ground at each one's
+    middle (``during`` the record; else none). The fewest contacts of a part, the sweeps taken (MAX_SWEEPS for a
+    part at the cap) and the parts at the cap."""
+    least, sweeps, capped = vertices.shape[0], 0, 0
+    for j in range(parts):
+        ground = _ground(ax, ay, az, k, n_sub, (j + 0.5) / parts) if during else (0.0, 0.0, 0.0)
+        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h / parts, ground, work)
+        least = min(least, n_c)
+        sweeps += MAX_SWEEPS if taken < 0 else taken
+        if taken < 0:
+            capped += 1
+    return least, sweeps, capped
 
 
 @jit_inline
@@ -406,6 +440,8 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room):
     size, z0 = _extent(pose.standing)
     threshold = base_threshold(pose.standing, mu)
+    alpha_min = math.atan(base_threshold(pose.standing, math.inf))
+    fine_low, fine_high = FINE_TILT_FROM * alpha_min, FINE_TILT_TO * alpha_min
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, z0, yaw, pose)
     resting = True
@@ -425,8 +461,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             held = _hold_calm(ax, ay, az, k // n_sub, threshold, g, hist) * n_sub
             k, steps = k + held, steps + held
             during = k < (n - 1) * n_sub
-        gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
         if resting:
+            gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
             if _within(gx, gy, gz, threshold, g):
                 k += 1                              # the exact at-rest certificate: nothing moves this step
                 steps += 1
@@ -440,13 +476,15 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if not during:                                              # checked after the record
             rotation(q, r)
             e_before = energy(v, w, r, inertia, x[2], g)
-        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, (gx, gy, gz), work)
+        parts = FINE_SUBSTEPS if fine_low < tilt < fine_high else 1
+        n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
+                                          n_sub, during, parts, work)
         flight |= n_c == 0
-        if taken < 0:
+        if capped_now:
             flags |= FLAG_SWEEP_CAP
-            capped += 1
-        sweeps += MAX_SWEEPS if taken < 0 else taken
-        integrated += 1
+            capped += capped_now
+        sweeps += taken
+        integrated += parts
         k += 1
         steps += 1
         t = k * h
