@@ -440,7 +440,7 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room):
     size, z0 = _extent(pose.standing)
     threshold = base_threshold(pose.standing, mu)
-    alpha_min = math.atan(base_threshold(pose.standing, math.inf))
+    alpha_min = math.atan(base_threshold(pose.standing, math.inf))      # the smallest static tipping angle
     fine_low, fine_high = FINE_TILT_FROM * alpha_min, FINE_TILT_TO * alpha_min
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, z0, yaw, pose)
@@ -480,9 +480,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work)
         flight |= n_c == 0
-        if capped_now:
-            flags |= FLAG_SWEEP_CAP
-            capped += capped_now
+        flags |= FLAG_SWEEP_CAP if capped_now else 0
+        capped += capped_now
         sweeps += taken
         integrated += parts
         k += 1
