@@ -145,7 +145,7 @@ class Contact3DOutcome(NamedTuple):
     flags : int
         :data:`FLAG_SWEEP_CAP`, :data:`FLAG_TAIL_CAP`.
     capped_steps : int
-        Steps whose contact problem ended at :data:`MAX_SWEEPS`.
+        Steps whose contact problem ended at :data:`MAX_SWEEPS` (each part of a finely taken step counted).
     energy_gain_max : float
         The largest energy gained over one step while the ground stood still after the record [J kg-1] (0 when
         none: the contacts only dissipate).
