@@ -439,9 +439,9 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
 @jit_lean
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room):
     size, z0 = _extent(pose.standing)
-    threshold = base_threshold(pose.standing, mu)
-    alpha_min = math.atan(base_threshold(pose.standing, math.inf))      # the smallest static tipping angle
-    fine_low, fine_high = FINE_TILT_FROM * alpha_min, FINE_TILT_TO * alpha_min
+    tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
+    threshold = min(mu, tan_alpha)
+    fine_low, fine_high = FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, z0, yaw, pose)
     resting = True

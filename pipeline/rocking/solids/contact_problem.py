@@ -96,11 +96,12 @@ class Workspace(NamedTuple):
     rho: np.ndarray         # (n,) the sweeps' step per contact
     held: np.ndarray        # (n, 3) the impulses the sweeps got to, kept while Newton tries other starts
     score: np.ndarray       # (n,) the contacts' scores a Newton start on some of them ranks
-    side: np.ndarray        # (m / 3,) int: the contacts a Newton start on some of them takes
-    side_arms: np.ndarray   # (m / 3, 3) their arms
-    side_before: np.ndarray     # (m / 3,) their normal velocities before the step
-    side_p: np.ndarray      # (m / 3, 3) their impulses
-    side_rho: np.ndarray    # (m / 3,) their steps
+    side: np.ndarray        # (k,) int: the contacts a Newton start on some of them takes (k <= SIDE_CONTACTS)
+    side_arms: np.ndarray   # (k, 3) their arms
+    side_before: np.ndarray     # (k,) their normal velocities before the step
+    side_p: np.ndarray      # (k, 3) their impulses
+    side_rho: np.ndarray    # (k,) their steps
+    free: np.ndarray        # (6,) the body's velocity and rate before any contact impulse
 
 
 def workspace(n: int) -> Workspace:
@@ -108,11 +109,11 @@ def workspace(n: int) -> Workspace:
     :data:`NEWTON_MAX_CONTACTS` it takes at most (a scan's hull has hundreds of vertices: 3 n square would be
     55 MB a matrix at 875), the sweeps' steps for all ``n``."""
     m = 3 * max(min(n, NEWTON_MAX_CONTACTS), 1)
-    k, n = m // 3, max(n, 1)
+    k, n = max(min(n, SIDE_CONTACTS), 1), max(n, 1)
     return Workspace(np.empty((m, m)), np.empty((m, m)), np.empty((m, m)), np.empty(m), np.empty(m), np.empty(m),
                      np.empty(m), np.empty(m), np.empty(m), np.empty((3, 3)), np.empty((3, 3)), np.empty(n),
                      np.empty((n, 3)), np.empty(n), np.empty(k, dtype=np.int64), np.empty((k, 3)), np.empty(k),
-                     np.empty((k, 3)), np.empty(k))
+                     np.empty((k, 3)), np.empty(k), np.empty(6))
 
 
 @jit_inline
@@ -359,22 +360,20 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     round goes on from where the first rounds got, to :data:`MAX_SWEEPS` in all."""
     _step_sizes(inv_i, arms, n_c, work.block, work.cone, work.rho)
     few = n_c <= NEWTON_MAX_CONTACTS
-    v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
+    free = work.free
+    free[0], free[1], free[2], free[3], free[4], free[5] = v[0], v[1], v[2], w[0], w[1], w[2]
     done = (NEWTON_ROUNDS - 1) * SWEEPS_PER_ROUND
     if not few:
         taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
         if taken > 0:
             return taken
-    else:
-        done = 0
-        for _ in range(NEWTON_ROUNDS - 1):
-            taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
-            if taken > 0:
-                return done + taken
-            done += SWEEPS_PER_ROUND
-            v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2     # Newton again from where sweeps got
+    for r in range(NEWTON_ROUNDS - 1 if few else 0):            # Newton again from where the sweeps got
+        taken = _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work)
+        if taken > 0:
+            return r * SWEEPS_PER_ROUND + taken
+        _reset(v, w, free)
     _copy(p, work.held, n_c)
-    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    _reset(v, w, free)
     for alone in range(n_c + 1 if few else 0):                  # the weight on one contact (n_c: on none)
         for c in range(n_c):
             p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, scale if c == alone else 0.0
@@ -382,16 +381,22 @@ def solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
         if taken > 0:
             return done + taken
         done += SWEEPS_PER_ROUND
-        v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+        _reset(v, w, free)
     taken, done = _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done)
     if taken > 0:
         return done + taken
-    v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+    _reset(v, w, free)
     _copy(work.held, p, n_c)
     if few:
         newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
     taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, MAX_SWEEPS - done)
     return done + taken if taken > 0 else -1
+
+
+@jit_inline
+def _reset(v, w, free):
+    """(v, w) back to the body's velocity and rate before any contact impulse (``free``, stacked)."""
+    v[0], v[1], v[2], w[0], w[1], w[2] = free[0], free[1], free[2], free[3], free[4], free[5]
 
 
 @jit_inline
@@ -403,17 +408,17 @@ def _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
 
 @jit_inline
 def _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done):
-    """From the body's velocity (v, w) before any contact impulse: Newton on the first 1, 2, ...
+    """From the body's velocity before any contact impulse (``work.free``): Newton on the first 1, 2, ...
     :data:`SIDE_CONTACTS` contacts farthest toward the side the body's free horizontal velocity points to, the
     others without impulse, and one round of sweeps from each (:func:`_tipping_side`); then the same on as many of
     the contacts that approach the ground fastest. The sweeps taken by the round that converged (or -1) and the
     sweeps ``done`` before it."""
-    v0, v1, v2, w0, w1, w2 = v[0], v[1], v[2], w[0], w[1], w[2]
+    free = work.free
     for ranking in range(2):
-        _rank(_side_scores(v0, v1, v2, w0, w1, w2, arms, n_c, work.score, ranking), n_c, work.side)
-        most = min(n_c, SIDE_CONTACTS) if ranking == 1 or v0 != 0.0 or v1 != 0.0 else 1
+        most = min(n_c, SIDE_CONTACTS) if ranking == 1 or free[0] != 0.0 or free[1] != 0.0 else 1
+        _rank(_side_scores(free, arms, n_c, work.score, ranking), n_c, work.side, most)
         for k in range(1, most + 1):
-            v[0], v[1], v[2], w[0], w[1], w[2] = v0, v1, v2, w0, w1, w2
+            _reset(v, w, free)
             _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
             taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
             if taken > 0:
@@ -423,19 +428,19 @@ def _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done
 
 
 @jit_inline
-def _side_scores(v0, v1, v2, w0, w1, w2, arms, n_c, score, ranking):
-    """Into ``score``, for each contact (the body's free velocity (v, w)): ranking 0, how far it lies along the free
-    horizontal velocity; ranking 1, how fast it approaches the ground (minus its normal velocity)."""
+def _side_scores(free, arms, n_c, score, ranking):
+    """Into ``score``, for each contact (the body's free velocity and rate ``free``): ranking 0, how far it lies
+    along the free horizontal velocity; ranking 1, how fast it approaches the ground (minus its normal velocity)."""
     for c in range(n_c):
         rx, ry = arms[c, 0], arms[c, 1]
-        score[c] = rx * v0 + ry * v1 if ranking == 0 else -(v2 + w0 * ry - w1 * rx)
+        score[c] = rx * free[0] + ry * free[1] if ranking == 0 else -(free[2] + free[3] * ry - free[4] * rx)
     return score
 
 
 @jit_inline
-def _rank(score, n_c, side):
-    """Into ``side``: the contacts of the highest ``score``, highest first, as many as ``side`` holds."""
-    for j in range(side.size):
+def _rank(score, n_c, side, most):
+    """Into the first ``most`` of ``side``: the contacts of the highest ``score``, highest first."""
+    for j in range(most):
         best, at = -math.inf, 0
         for c in range(n_c):
             if score[c] > best and not _chosen(side, j, c):
