@@ -83,6 +83,17 @@ class Placement(NamedTuple):
         return cls(bool(rec.single_component), float(rec.azimuths_deg[0]), bool(rec.azimuth_known))
 
 
+def claims_on_two_horizontals(claims: Callable[[BlockShape, Placement, SimulationConfig], bool]
+                               ) -> Callable[[BlockShape, SimulationConfig], bool]:
+    """A ``may_claim`` that asks ``claims`` on a record of two horizontals whose azimuth is known: the placement
+    every registered model claims on, where it claims a block on any (the 3D solids need two horizontals)."""
+
+    def may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
+        return claims(shape, Placement(False, 0.0, True), settings)
+
+    return may_claim
+
+
 class Setup(NamedTuple):
     """The run's settings a model reads (built once by the run layer from its configuration).
 

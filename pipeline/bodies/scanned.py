@@ -37,7 +37,7 @@ from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationPro
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
 from ..uncertainty.two_sided import CANDIDATES, draw_factors, scanned_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, claims_on_two_horizontals
 from .factor_sweep import factor_sweep
 
 
@@ -202,11 +202,7 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
     return shape.scan is not None and settings.scanned_model != ScannedModel.contact3d
 
 
-def _may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
-    return _claims(shape, Placement(False, 0.0, True), settings)
-
-
 #: A body given by its scan, on any record, in its vertical planes (``scanned_model`` rolling or two_sided).
 SCANNED = BodyModel(name="scanned body", physics=(Physics.two_sided, Physics.rolling), claims=_claims,
-                    may_claim=_may_claim, scene=scene, margins=scanned_margins, scale=scale, pulse=pulse,
-                    warmup=warmup)
+                    may_claim=claims_on_two_horizontals(_claims), scene=scene, margins=scanned_margins, scale=scale,
+                    pulse=pulse, warmup=warmup)

@@ -44,7 +44,7 @@ from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import Probability, sample_until_decided
 from ..uncertainty.settings import UncertaintyConfig
 from ..uncertainty.two_sided import draw_factors
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, claims_on_two_horizontals
 from .factor_sweep import factor_sweep
 from .solids import contact_warmup
 
@@ -246,12 +246,8 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
     return shape.scan is not None and settings.scanned_model == ScannedModel.contact3d
 
 
-def _may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
-    return _claims(shape, Placement(False, 0.0, True), settings)
-
-
 #: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it: its
 #: kernel is the contact model the cylinder and the box hand over to.
-SCANNED_3D = BodyModel(name="scanned body in 3D", physics=(Physics.contact3d,), claims=_claims, may_claim=_may_claim,
-                       scene=scene, margins=margins, scale=scale, pulse=pulse, warmup=None,
-                       shared_warmups=(contact_warmup,))
+SCANNED_3D = BodyModel(name="scanned body in 3D", physics=(Physics.contact3d,), claims=_claims,
+                       may_claim=claims_on_two_horizontals(_claims), scene=scene, margins=margins, scale=scale,
+                       pulse=pulse, warmup=None, shared_warmups=(contact_warmup,))

@@ -27,7 +27,7 @@ from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, sol
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, one_plane
 from ..uncertainty.sampling import common_normals, sample_block
 from ..uncertainty.solids import solid_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, Setup, VersusPlanar
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, Setup, VersusPlanar, claims_on_two_horizontals
 from .factor_sweep import factor_sweep
 from .planar import planar_pulse
 
@@ -154,10 +154,7 @@ def _claims(physics: Physics):
         solid = solid_of(shape, record_azimuth_deg=placement.azimuth_deg, known_azimuth=placement.azimuth_known)
         return solid is not None and solid.physics == physics
 
-    def may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
-        return claims(shape, Placement(False, 0.0, True), settings)
-
-    return claims, may_claim
+    return claims, claims_on_two_horizontals(claims)
 
 
 def contact_warmup() -> None:
