@@ -232,7 +232,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                      "comment": "ground_flight: the ground's g + a_v reached 0; block_liftoff: the block's own "
                                 "contact force reached 0. Both are simulated by the general contact model "
                                 "(physics general); with simulation.contact_model off, ground flight stops the "
-                                "simulation and a lift-off is only flagged"}),
+                                "simulation and a lift-off is only flagged. Physics contact3d: block_liftoff where "
+                                "the body lost every contact and rose more than 10 um clear of the ground"}),
     "floor_pga": (("record", "block"), "m s-2", "peak acceleration of the floor the block stands on, horizontal "
                   "vector (NaN on the ground)", {}),
     "floor_pgv": (("record", "block"), "m s-1", "peak velocity of the floor the block stands on, horizontal vector "

@@ -105,6 +105,13 @@ FINE_TILT_FROM = 1e-3
 FINE_TILT_TO = 0.02
 FINE_SUBSTEPS = 3
 
+#: A body in flight: it lost every contact at a step and its lowest point rose more than this above the ground
+#: [m]. A step without contact whose lowest point stays within it is the stepping's rounding at a pivot (a velocity-
+#: level step keeps a pivot from approaching the ground, not from rising by up to h^2 times its centripetal
+#: acceleration): measured on the bundled run, such steps rose at most 0.64 um, and 1,949 of the 2,503 runs with
+#: any step without contact had only single steps, while 255 rose more than 0.1 mm.
+FLIGHT_CLEARANCE_M = 1e-5
+
 #: The outcome's flags (bits).
 FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
 FLAG_TAIL_CAP = 2           # still moving TAIL_S after the record
@@ -140,7 +147,7 @@ class Contact3DOutcome(NamedTuple):
     twist_max_rad : float
         The largest rotation about the vertical [rad].
     flight : bool
-        It lost every contact at some step.
+        It lost every contact at some step and rose more than :data:`FLIGHT_CLEARANCE_M` clear of the ground.
     steps : int
         Steps taken.
     flags : int
@@ -345,6 +352,15 @@ def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, 
 
 
 @jit_inline
+def _clear_of_ground(vertices, r, z_g):
+    """Every vertex more than :data:`FLIGHT_CLEARANCE_M` above the ground (rotation ``r``, G at height ``z_g``)."""
+    for i in range(vertices.shape[0]):
+        if z_g + r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2] <= FLIGHT_CLEARANCE_M:
+            return False
+    return True
+
+
+@jit_inline
 def _still(v, w, size):
     """Every speed below REST_SPEED (the rate times the body's size)."""
     return (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < REST_SPEED
@@ -480,7 +496,6 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         parts = FINE_SUBSTEPS if fine_low < tilt < fine_high else 1
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work)
-        flight |= n_c == 0
         flags |= FLAG_SWEEP_CAP if capped_now else 0
         capped += capped_now
         sweeps += taken
@@ -489,6 +504,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         steps += 1
         t = k * h
         rotation(q, r)
+        flight = flight or (n_c == 0 and _clear_of_ground(vertices, r, x[2]))
         tilt = _tilt(r, pose.up)
         if tilt > tilt_max:
             tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)

@@ -52,6 +52,32 @@ def test_a_deep_box_rocks_as_the_planar_kernel_in_the_plane_of_its_width(amp_g, 
         assert got.capped_steps == 0
 
 
+@pytest.mark.parametrize("amp_g, period_s", [(0.3, 0.5), (0.5, 0.3), (0.45, 1.0)])
+@pytest.mark.parametrize("body", [box_body(0.4, 4.0, 2.0, mu=0.8), box_body(0.4, 0.6, 1.6, mu=0.5),
+                                  cylinder_body(0.4, 1.6, mu=0.6)], ids=["deep box", "box", "cylinder"])
+def test_rocking_on_a_horizontal_pulse_is_no_flight_as_in_the_planar_general_model(body, amp_g, period_s):
+    """A sine pulse along x and no vertical: the planar general contact model (event-driven: a lift-off where the
+    pivot's normal force reaches 0) rocks the 0.4 x 2 m block without any lift-off, standing and overturning; nor
+    does the contact model's body ever rise clear of the ground, though single steps without a contact come with
+    the stepping at a pivot."""
+    ah = np.where(T < period_s, amp_g * G * np.sin(2 * np.pi * T / period_s), 0.0)
+    block = dynamics([BlockShape(height_m=2.0, width_m=0.4, mu=0.8)])[0]
+    planar = simulate_scene(ah, None, DT, block=block, settings=SimulationConfig(contact_model=True))
+    got = simulate_contact3d(ah, np.zeros_like(ah), None, DT, body)
+    assert planar.free_flight == 0 and planar.theta_max > 0.1
+    assert got.tilt_max_rad > 0.01 and not got.flight
+
+
+@pytest.mark.parametrize("av_g, flies", [(-1.3, True), (-1.0, False), (-0.9, False)])
+def test_the_body_flies_where_the_ground_falls_faster_than_gravity(av_g, flies):
+    """The ground falling at a_v for 0.3 s: below -g nothing can hold the body down, and it rises clear of the ground
+    (g + a_v < 0); at -g exactly it is weightless and still, and nothing lifts it; above -g it stays on its base."""
+    av = np.where(T < 0.3, av_g * G, 0.0)
+    for body in (box_body(0.4, 4.0, 2.0, mu=0.8), cylinder_body(0.4, 1.6, mu=0.6)):
+        got = simulate_contact3d(np.zeros_like(T), np.zeros_like(T), av, DT, body)
+        assert got.flight == flies and not got.overturned
+
+
 def test_a_squat_drum_slides_as_the_planar_coulomb_model():
     """A 2 x 2 m drum (mu 0.3 < tan alpha = 1) under a 0.35 g sine slides, never tips: the planar Coulomb
     stick-slip model's distance."""
