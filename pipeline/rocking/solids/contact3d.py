@@ -30,7 +30,8 @@ is resolved within one step, and at a small tilt the rate at impact is small aga
 (an estimate for that cylinder at 0.004 alpha: it lands at about 0.065 rad/s, and gravity turns it by about
 1.1e-3 rad/s in 0.5 ms). While the tilt is between :data:`FINE_TILT_FROM` and :data:`FINE_TILT_TO` times the
 smallest static tipping angle, each step is therefore taken as :data:`FINE_SUBSTEPS` steps (that cylinder then
-peaks at 0.27 alpha; docs/validation.md).
+peaks at 0.27 alpha; docs/validation.md), and so is every step while the body flies and for :data:`AFTER_FLIGHT_S`
+after.
 
 The ground is the plane z = 0 of the ground's frame, which moves with the record: the body feels gravity and the
 inertial force -a_g (x, y the record's two horizontals, z up).
@@ -104,6 +105,10 @@ LYING_SLACK_RAD = 1e-2
 FINE_TILT_FROM = 1e-3
 FINE_TILT_TO = 0.02
 FINE_SUBSTEPS = 3
+#: A body in flight (:data:`FLIGHT_CLEARANCE_M`) lands at a tilt the step resolves as coarsely: its steps are taken in
+#: FINE_SUBSTEPS parts while it is clear of the ground and for AFTER_FLIGHT_S [s] after (chosen against every step
+#: at 0.1 ms on the flight scenes of benchmarks/contact3d_peer.py, docs/validation.md).
+AFTER_FLIGHT_S = 0.02
 
 #: A body in flight: it lost every contact at a step and its lowest point rose more than this above the ground
 #: [m]. A step without contact whose lowest point stays within it is the stepping's rounding at a pivot (a velocity-
@@ -462,8 +467,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, z0, yaw, pose)
     resting = True
-    h = dt / n_sub
-    n = ax.size
+    h, n = dt / n_sub, ax.size
+    aloft, after_flight = 0, int(AFTER_FLIGHT_S / h)                  # fine steps left after a flight
     tilt_max = slide_max = twist_max = energy_gain = 0.0
     overturned, flight, flags, steps, capped, t_over = False, False, 0, 0, 0, math.nan
     t, k, tail_steps, integrated, sweeps = 0.0, 0, int(TAIL_S / h), 0, 0
@@ -481,8 +486,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if resting:
             gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
             if _within(gx, gy, gz, threshold, g):
-                k += 1                              # the exact at-rest certificate: nothing moves this step
-                steps += 1
+                k, steps = k + 1, steps + 1         # the exact at-rest certificate: nothing moves this step
                 if hist.shape[0] and k % n_sub == 0:
                     _record(hist, k // n_sub, 0.0, math.nan)
                 if not during:
@@ -493,18 +497,18 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if not during:                                              # checked after the record
             rotation(q, r)
             e_before = energy(v, w, r, inertia, x[2], g)
-        parts = FINE_SUBSTEPS if fine_low < tilt < fine_high else 1
+        parts = FINE_SUBSTEPS if fine_low < tilt < fine_high or aloft > 0 else 1
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work)
         flags |= FLAG_SWEEP_CAP if capped_now else 0
         capped += capped_now
         sweeps += taken
-        integrated += parts
-        k += 1
-        steps += 1
+        integrated, aloft = integrated + parts, aloft - 1
+        k, steps = k + 1, steps + 1
         t = k * h
         rotation(q, r)
-        flight = flight or (n_c == 0 and _clear_of_ground(vertices, r, x[2]))
+        if n_c == 0 and _clear_of_ground(vertices, r, x[2]):
+            flight, aloft = True, after_flight
         tilt = _tilt(r, pose.up)
         if tilt > tilt_max:
             tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
