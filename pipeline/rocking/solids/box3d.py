@@ -150,6 +150,10 @@ class BoxOutcome(NamedTuple):
         cascades of flat landings held at rest to the next sample (more than
         :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` in one sample interval: rebounds too small to show at the
         samples, at the threshold of uplift)
+    handoff : ndarray or None
+        (t [s], q0, q1, q2, q3, omega_x, omega_y, omega_z, mode, pivot): the last state the model certified before it
+        first stopped or held (the start of the step whose contact force left the cone, or the instant at rest it
+        would slide); t NaN where it never did
     """
 
     overturned: bool
@@ -166,6 +170,7 @@ class BoxOutcome(NamedTuple):
     held: int
     steps: int = 0
     holds: int = 0
+    handoff: np.ndarray | None = None
 
 
 def housner_e_box(half_width_m: float, half_height_m: float) -> float:
@@ -243,12 +248,12 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
         y0, mode, pivot = np.asarray(initial, dtype=float).copy(), int(initial_mode), int(initial_pivot)
     tilt = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
-    y_end = np.empty(7)
+    y_end, cert = np.empty(7), np.full(10, np.nan)
     r = run_box(ax, ay, az, float(dt_s), float(g_ms2), *dims, float(box.mu), float(box.restitution_ratio),
-                float(rtol), float(atol_alpha), y0, mode, pivot, tilt, azimuth, y_end)
+                float(rtol), float(atol_alpha), y0, mode, pivot, tilt, azimuth, y_end, cert)
     if r.overturned:
         k = int(np.ceil(r.t_overturn / dt_s))
         tilt[k:], azimuth[k:] = HALF_PI, r.azimuth_max
     return BoxOutcome(bool(r.overturned), float(r.t_overturn), float(r.tilt_max),
                       float(np.degrees(r.azimuth_max) % 360.0), int(r.flag), int(r.impacts), float(r.corner_s),
-                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds))
+                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds), cert)

@@ -303,9 +303,21 @@ def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, t
 
 
 @jit
-def _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out):
+def certify(cert, t, y, mode, pivot):
+    """The last state the model certifies before its first stop (the contact model's hand-off): ``cert`` = (t, the
+    7 states, the mode, the pivot), kept from the first call (t NaN until then)."""
+    if math.isnan(cert[0]):
+        cert[0] = t
+        for j in range(7):
+            cert[1 + j] = y[j]
+        cert[8], cert[9] = mode, pivot
+
+
+@jit
+def _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out, cert):
     """At rest over sample interval ``i`` from ``t``: (the time reached, the mode, the pivot edge, the flag): the
-    next sample where nothing moves, the instant it lifts (EDGE), or where it would slide first (flagged)."""
+    next sample where nothing moves, the instant it lifts (EDGE), or where it would slide first (flagged, and
+    certified at rest there)."""
     last = grd.ax.shape[0] - 1
     j = i
     if _quiet(j, grd, quiet_ratio):
@@ -317,6 +329,7 @@ def _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out):
     start, j = _lift_off(t, i, grd, prm, y)
     slip = _slides_at_rest(t, i, grd, prm)
     if slip >= 0.0 and (start < 0.0 or slip < start):
+        certify(cert, slip, y, REST, 0)
         return slip, REST, 0, FLAG_SLIDE                      # it would slide before it rocks: not followed in 3D
     if start < 0.0:
         tilt_out[i + 1], azimuth_out[i + 1] = 0.0, 0.0
@@ -388,6 +401,16 @@ def _stick(y, mode, pivot, prm):
 
 
 @jit
+def _checked(force, mu, held, y_new, mode, pivot, prm, cert, t, y):
+    """:func:`_contact_flags` of the step from (t, y) to ``y_new``; at the first that flags or holds, (t, y)
+    certified (:func:`certify`)."""
+    flag, now_held = _contact_flags(force, mu, held, y_new, mode, pivot, prm)
+    if flag != FLAG_NONE or now_held != held:
+        certify(cert, t, y, mode, pivot)
+    return flag, now_held
+
+
+@jit
 def _contact_flags(force, mu, held, y_new, mode, pivot, prm):
     """The flag of an accepted step and the held flag (held past the tipping point: see box3d); on an edge whose two
     corners press, friction is checked at each corner (:func:`~.box_kernel.edge_ends_hold`): one that slips is a
@@ -430,13 +453,12 @@ def _hold(y, i, dt, tilt_out, azimuth_out):
 
 @jit
 def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode0, pivot0, tilt_out, azimuth_out,
-            y_end):
+            y_end, cert):
     """Run a box on the ground motion ``ax, ay, az`` [m s-2] sampled at ``dt`` [s] from the state ``y0`` in mode
-    ``mode0`` on ``pivot0`` (REST: at rest), filling the tilt and its azimuth at the samples and the last state."""
+    ``mode0`` on ``pivot0`` (REST: at rest), filling the tilt and its azimuth at the samples, the last state, and
+    the last state certified before a stop (:func:`certify`)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
-    n = ax.shape[0]
-    y = y0.copy()
-    mode, pivot = mode0, pivot0
+    n, y, mode, pivot = ax.shape[0], y0.copy(), mode0, pivot0
     if mode == REST:
         flatten(y)
         y[4], y[5], y[6] = 0.0, 0.0, 0.0
@@ -450,7 +472,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
         i = min(int(t / dt + 1e-9), n - 2)
         if mode == REST:
-            t, mode, pivot, flag = _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out)
+            t, mode, pivot, flag = _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out, cert)
             fresh = True
             continue
         steps += 1
@@ -493,7 +515,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
                 pivot = _stick(y, mode, pivot, prm)
             mode, fresh = then, True        # an edge's unloaded corner: the fresh pass decides lift or slide
             continue
-        flag, held = _contact_flags(force, mu, held, y_new, mode, pivot, prm)
+        flag, held = _checked(force, mu, held, y_new, mode, pivot, prm, cert, t, y)
         if force[2] > 0.0:
             demand = max(demand, math.hypot(force[0], force[1]) / force[2])
         _fill(tilt_out, azimuth_out, dt, t, hh, y, k, y_new, n, scratch)

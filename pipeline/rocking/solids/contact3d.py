@@ -70,6 +70,7 @@ from ...compiled import jit, jit_inline, jit_lean
 from ...constants import G
 from .attitude import energy, headed, rotation, turned, world_inverse_inertia
 from .contact_problem import MAX_SWEEPS, solve_contacts, workspace
+from .contact_start import Start, begin
 from .convex_body import ConvexBody, base_threshold
 
 #: Steps per sampling interval of the record (the ground is linear between samples).
@@ -198,10 +199,11 @@ class Contact3DOutcome(NamedTuple):
 
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
-                       g_ms2: float = G, history: bool = False) -> Contact3DOutcome:
+                       g_ms2: float = G, history: bool = False, start: Start | None = None) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
-    ``history`` its tilt and lean at each sample too."""
+    ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
+    rest (the outcome counts what the start says came before: its largest tilt and its history)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
@@ -209,9 +211,11 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     n_sub = max(1, int(math.ceil(dt_s / h - 1e-9)))
     hist = np.full((ax.size if history else 0, 2), math.nan)
     vertices = np.ascontiguousarray(body.vertices, dtype=float)
+    stance = pose(vertices, body.rest, body.tipping_rad)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
-               workspace(len(body.vertices)), hist, pose(vertices, body.rest, body.tipping_rad), _room(len(vertices)))
+               workspace(len(body.vertices)), hist, stance, _room(len(vertices)),
+               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist))
     lean_peak = math.degrees(out[-2]) if math.isfinite(out[-2]) else math.nan
     return Contact3DOutcome._make((*out[:-2], lean_peak, hist[:, 0] if history else None,
                                    np.degrees(hist[:, 1]) if history else None, out[-1]))
@@ -341,14 +345,15 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
 
 @jit_inline
 def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k, n_sub, during, parts,
-             work):
-    """Step ``k`` of the run (:func:`_moreau_step`), as ``parts`` steps of h / parts each, the ground at each one's
-    middle (``during`` the record; else none). The fewest contacts of a part, the sweeps taken (MAX_SWEEPS for a
-    part at the cap) and the parts at the cap."""
+             work, lo):
+    """Step ``k`` of the run from the fraction ``lo`` of it on (:func:`_moreau_step`), as ``parts`` steps of
+    h (1 - lo) / parts each, the ground at each one's middle (``during`` the record; else none). The fewest contacts
+    of a part, the sweeps taken (MAX_SWEEPS for a part at the cap) and the parts at the cap."""
     least, sweeps, capped = vertices.shape[0], 0, 0
-    for j in range(parts):
-        ground = _ground(ax, ay, az, k, n_sub, (j + 0.5) / parts) if during else (0.0, 0.0, 0.0)
-        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h / parts, ground, work)
+    for j in range(parts):                  # (the fractions written so that lo = 0 rounds as a whole step does)
+        ground = _ground(ax, ay, az, k, n_sub, lo + (j + 0.5) * (1.0 - lo) / parts) if during else (0.0, 0.0, 0.0)
+        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h * (1.0 - lo) / parts,
+                                  ground, work)
         least = min(least, n_c)
         sweeps += MAX_SWEEPS if taken < 0 else taken
         if taken < 0:
@@ -425,15 +430,31 @@ def _calm_until(ax, ay, az, i, threshold, g):
 
 
 @jit_inline
-def _start(room, z0, yaw, pose):
-    """The body standing still on its base at ``yaw`` [rad], G at height ``z0``, no impulse yet: its place,
-    orientation, velocity and rate (``room``'s arrays, set)."""
+def _start(room, vertices, z0, yaw, pose, begin):
+    """The body standing still on its base at ``yaw`` [rad], G at height ``z0``, or (``begin.k`` >= 0) turned to
+    ``begin.q`` at the rate ``begin.w`` about its non-slipping ``begin.pivot`` with its lowest vertex on the ground
+    and that point where it stood; no impulse yet: its place, orientation, velocity and rate (``room``'s arrays)."""
     room.contact[0][:, :] = 0.0
-    x, q, v, w = room.x, room.q, room.v, room.w
+    x, q, v, w, r = room.x, room.q, room.v, room.w, room.r
     x[0], x[1], x[2] = 0.0, 0.0, z0
     headed(yaw, pose.q_rest, q)
     v[:] = 0.0
     w[:] = 0.0
+    if begin.k < 0:
+        return x, q, v, w
+    rotation(q, r)                                      # where the pivot stood
+    p0, p1 = _along(r, begin.pivot, 0), _along(r, begin.pivot, 1)
+    for i in range(4):
+        q[i] = begin.q[i]
+    for i in range(3):
+        w[i] = begin.w[i]
+    rotation(q, r)
+    a0, a1, a2 = _along(r, begin.pivot, 0), _along(r, begin.pivot, 1), _along(r, begin.pivot, 2)
+    low = 0.0
+    for i in range(vertices.shape[0]):
+        low = min(low, r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2])
+    x[0], x[1], x[2] = p0 - a0, p1 - a1, -low
+    v[0], v[1], v[2] = a1 * w[2] - a2 * w[1], a2 * w[0] - a0 * w[2], a0 * w[1] - a1 * w[0]   # (R pivot) x w
     return x, q, v, w
 
 
@@ -459,21 +480,20 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
 
 
 @jit_lean
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin):
     size, z0 = _extent(pose.standing)
     tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
     threshold = min(mu, tan_alpha)
     fine_low, fine_high = FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
-    x, q, v, w = _start(room, z0, yaw, pose)
-    resting = True
+    x, q, v, w = _start(room, vertices, z0, yaw, pose, begin)
+    resting = begin.k < 0
     h, n = dt / n_sub, ax.size
     aloft, after_flight = 0, int(AFTER_FLIGHT_S / h)                  # fine steps left after a flight
-    tilt_max = slide_max = twist_max = energy_gain = 0.0
-    overturned, flight, flags, steps, capped, t_over = False, False, 0, 0, 0, math.nan
-    t, k, tail_steps, integrated, sweeps = 0.0, 0, int(TAIL_S / h), 0, 0
-    tilt, lean_peak, tilt_before, t_beyond = 0.0, math.nan, 0.0, math.nan
-    _record(hist, 0, 0.0, math.nan)
+    tilt_max, slide_max, twist_max, energy_gain = begin.tilt_max, 0.0, 0.0, 0.0
+    overturned, flight, flags, capped, t_over = False, False, 0, 0, math.nan
+    t, k, tail_steps, integrated, sweeps, lo = begin.t, max(begin.k, 0), int(TAIL_S / h), 0, 0, begin.lo
+    tilt, lean_peak, tilt_before, t_beyond, steps = begin.tilt, begin.lean_peak, begin.tilt, math.nan, k
     while True:
         during = k < (n - 1) * n_sub
         if not during and k >= (n - 1) * n_sub + tail_steps:
@@ -499,11 +519,11 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             e_before = energy(v, w, r, inertia, x[2], g)
         parts = FINE_SUBSTEPS if fine_low < tilt < fine_high or aloft > 0 else 1
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
-                                          n_sub, during, parts, work)
+                                          n_sub, during, parts, work, lo)
         flags |= FLAG_SWEEP_CAP if capped_now else 0
         capped += capped_now
         sweeps += taken
-        integrated, aloft = integrated + parts, aloft - 1
+        integrated, aloft, lo = integrated + parts, aloft - 1, 0.0
         k, steps = k + 1, steps + 1
         t = k * h
         rotation(q, r)

@@ -179,6 +179,9 @@ class WobbleOutcome(NamedTuple):
         and the run went on with the rim held (its overturning kept, see the module); FLAG_NONE otherwise
     holds : int
         sample intervals at whose end a tilt below :data:`SETTLE_TILT_ALPHA` x alpha was set at rest
+    handoff : ndarray or None
+        (t [s], theta, phi, psi, theta', phi', psi'): the last state the model certified before the base would first
+        slide or lift off (the start of that step); t NaN where it never would
     """
 
     overturned: bool
@@ -193,6 +196,7 @@ class WobbleOutcome(NamedTuple):
     friction_demand: float
     held: int
     holds: int = 0
+    handoff: np.ndarray | None = None
 
 
 class Params(NamedTuple):
@@ -421,13 +425,25 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
 
 
 @jit
-def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end, settle):
+def _flag_certified(force, mu, held, cert, t, y):
+    """The contact flag of the step from (t, y); at the first that flags before any hold, (t, y) into ``cert``."""
+    flag = _contact_flag(force, mu)
+    if flag != FLAG_NONE and held == FLAG_NONE and math.isnan(cert[0]):
+        cert[0] = t
+        for j in range(6):
+            cert[1 + j] = y[j]
+    return flag
+
+
+@jit
+def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end, settle, cert):
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, its restitution over Housner's
     ``scale``) on the ground motion
     ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
-    its azimuth at the samples and the last state in ``y_end``; returns (overturned, t_overturn, theta_max,
-    azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while rocking, and the flag
-    that was held while it fell past alpha)."""
+    its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last state
+    certified before the base would first slide or lift off (t NaN: it never would); returns (overturned,
+    t_overturn, theta_max, azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while
+    rocking, and the flag that was held while it fell past alpha)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, scale, rtol, atol_alpha)
     n = ax.shape[0]
     y = y0.copy()
@@ -475,7 +491,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             t, rests = _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out)
             rocking, fresh = not rests, True
             continue
-        flag = _contact_flag(force, mu)
+        flag = _flag_certified(force, mu, held, cert, t, y)
         if held != FLAG_NONE:                   # held past alpha (see the module) ...
             flag = held if y_new[0] < prm.alpha else FLAG_NONE       # ... until it comes back: then nothing
         elif flag != FLAG_NONE and y_new[0] > prm.alpha and y_new[3] > 0.0:
@@ -612,14 +628,14 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
     y0 = np.zeros(6) if initial is None else np.asarray(initial, dtype=float).copy()
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
-    y_end = np.empty(6)
+    y_end, cert = np.empty(6), np.full(7, np.nan)
     e_h = housner_e(cylinder.radius_m, cylinder.half_height_m)
     over, t_over, th_max, az_max, flag, impacts, demand, held, holds = wobble(
         ax, ay, az, float(dt_s), float(g_ms2), cylinder.radius_m, cylinder.half_height_m, cylinder.mu,
         cylinder.restitution / e_h if e_h > 0.0 else 0.0, float(rtol), float(atol_alpha), y0, theta, azimuth, y_end,
-        float(settle_tilt_alpha))
+        float(settle_tilt_alpha), cert)
     if over:
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds))
+                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds), cert)
