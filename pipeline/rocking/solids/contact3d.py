@@ -46,7 +46,8 @@ starts from no impulse, as at the start. Against holding only the body at the st
 also turns with the solver's tolerance: now overturned, as PyBullet overturns it robustly).
 
 ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
-true`` the scenes they stop are handed to this model (:mod:`.contact_scene`).
+true`` the scenes they stop are handed to this model, which goes on from the exact model's last certified state
+(:mod:`.contact_scene`; a :class:`~.contact_start.Start` instead of rest).
 
 References
 ----------

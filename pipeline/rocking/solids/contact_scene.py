@@ -25,7 +25,8 @@ from ..codes import ContactMode
 from ..scene import FreeFlight, Guard, Physics, Response, Scene
 from .box3d import Box, BoxOutcome
 from .box_kernel import REST
-from .contact3d import FLAG_TAIL_CAP, Contact3DOutcome, Start, simulate_contact3d
+from .contact3d import FLAG_TAIL_CAP, Contact3DOutcome, simulate_contact3d
+from .contact_start import Start
 from .convex_body import ConvexBody, box_body, cylinder_body
 from .cylinder3d import Cylinder, WobbleOutcome
 
@@ -43,7 +44,7 @@ def convex_body(body: Cylinder | Box) -> ConvexBody:
 
 def handoff(exact: WobbleOutcome | BoxOutcome | None, body: Cylinder | Box, azimuth_deg: float,
             dt_s: float) -> Start | None:
-    """The contact model's :class:`~.contact3d.Start` at the last state ``exact`` certified before it stopped
+    """The contact model's :class:`~.contact_start.Start` at the last state ``exact`` certified before it stopped
     (None where it certified none: it never moved, or stopped at a cap); ``azimuth_deg`` the body's at rest.
 
     A box turns about its pivot corner (``mode``/``pivot`` of its hand-off: a corner, or either corner of an edge, or
