@@ -49,6 +49,7 @@ from .vec3 import (
     cross,
     first_below,
     hermite,
+    keep_first,
     shifted,
     solve_sym3,
 )
@@ -305,11 +306,8 @@ def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, t
 @jit
 def certify(cert, t, y, mode, pivot):
     """The last state the model certifies before its first stop (the contact model's hand-off): ``cert`` = (t, the
-    7 states, the mode, the pivot), kept from the first call (t NaN until then)."""
-    if math.isnan(cert[0]):
-        cert[0] = t
-        for j in range(7):
-            cert[1 + j] = y[j]
+    7 states, the mode, the pivot), kept from the first call (:func:`~.vec3.keep_first`)."""
+    if keep_first(cert, t, y):
         cert[8], cert[9] = mode, pivot
 
 

@@ -363,12 +363,18 @@ def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, 
 
 
 @jit_inline
+def _lowest(vertices, r):
+    """The height of the lowest vertex above G, the body turned by ``r`` [m]."""
+    low = math.inf
+    for i in range(vertices.shape[0]):
+        low = min(low, r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2])
+    return low
+
+
+@jit_inline
 def _clear_of_ground(vertices, r, z_g):
     """Every vertex more than :data:`FLIGHT_CLEARANCE_M` above the ground (rotation ``r``, G at height ``z_g``)."""
-    for i in range(vertices.shape[0]):
-        if z_g + r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2] <= FLIGHT_CLEARANCE_M:
-            return False
-    return True
+    return z_g + _lowest(vertices, r) > FLIGHT_CLEARANCE_M
 
 
 @jit_inline
@@ -451,10 +457,7 @@ def _start(room, vertices, z0, yaw, pose, begin):
         w[i] = begin.w[i]
     rotation(q, r)
     a0, a1, a2 = _along(r, begin.pivot, 0), _along(r, begin.pivot, 1), _along(r, begin.pivot, 2)
-    low = 0.0
-    for i in range(vertices.shape[0]):
-        low = min(low, r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2])
-    x[0], x[1], x[2] = p0 - a0, p1 - a1, -low
+    x[0], x[1], x[2] = p0 - a0, p1 - a1, -_lowest(vertices, r)
     v[0], v[1], v[2] = a1 * w[2] - a2 * w[1], a2 * w[0] - a0 * w[2], a0 * w[1] - a1 * w[0]   # (R pivot) x w
     return x, q, v, w
 

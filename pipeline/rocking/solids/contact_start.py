@@ -2,10 +2,12 @@
 hands over (:mod:`.contact_scene`): its time, orientation, rate and the non-slipping point it turns about, with what
 came before (its largest tilt and its history).
 
-The kernel places the body with its lowest vertex on the ground and that point where it stood (exact for a box that
-turned about its own corners without slipping; a cylinder that rolled on its rim has moved its contact, and the
-horizontal place of G only enters ``slide_max_m``), and gives G the velocity of a rigid turn about it. A start
-between two steps of the kernel takes the rest of that step first.
+The kernel places the body with its lowest vertex on the ground and that point where it stood, and gives G the
+velocity of a rigid turn about it. The motion does not depend on where G stands horizontally (the ground is a plane),
+only ``slide_max_m`` does: it is G's place from where it stood as long as the pivot has not moved since rest (a box
+that has turned about one corner or edge only), and otherwise counts G from a pivot taken where it stood (a box that
+twisted on a corner, or a cylinder that rolled on its rim, has moved its contact). A start between two steps of the
+kernel takes the rest of that step first.
 """
 
 from __future__ import annotations

@@ -109,7 +109,7 @@ from ..numerics.dopri import (
     E7,
 )
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
-from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components
+from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components, keep_first
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
 from .vec3 import contact_flag as _contact_flag
 from .vec3 import cross as _cross
@@ -428,10 +428,8 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
 def _flag_certified(force, mu, held, cert, t, y):
     """The contact flag of the step from (t, y); at the first that flags before any hold, (t, y) into ``cert``."""
     flag = _contact_flag(force, mu)
-    if flag != FLAG_NONE and held == FLAG_NONE and math.isnan(cert[0]):
-        cert[0] = t
-        for j in range(6):
-            cert[1 + j] = y[j]
+    if flag != FLAG_NONE and held == FLAG_NONE:
+        keep_first(cert, t, y)
     return flag
 
 

@@ -58,6 +58,18 @@ def contact_flag(force, mu):
 
 
 @jit
+def keep_first(cert, t, y):
+    """(t, y) into ``cert`` unless it holds a state already (t NaN until then): the last state a 3D model certifies
+    before its first stop, which the contact model goes on from; whether it was kept now."""
+    if not math.isnan(cert[0]):
+        return False
+    cert[0] = t
+    for j in range(y.shape[0]):
+        cert[1 + j] = y[j]
+    return True
+
+
+@jit
 def cross(ax, ay, az, bx, by, bz):
     """a x b, by components."""
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
