@@ -36,7 +36,7 @@ after.
 The ground is the plane z = 0 of the ground's frame, which moves with the record: the body feels gravity and the
 inertial force -a_g (x, y the record's two horizontals, z up).
 
-A body flat on its base and still (the body at the start, or one found again with its tilt below
+A body flat on its base and still (the body at a start from rest, or one found again with its tilt below
 :data:`REST_TILT_RAD` and every speed below :data:`REST_SPEED`) is held at rest, nothing integrated, for as long as
 the ground's demand |a_h| / (g + a_v) at the middle of a step (the force the step applies) stays at or below
 min(mu, tan alpha_min) (:func:`base_threshold`): a step the stepping itself would leave at rest. A body found at rest

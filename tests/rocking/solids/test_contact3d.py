@@ -139,9 +139,9 @@ def test_a_quiet_minute_after_the_motion_is_held_at_rest_and_changes_nothing(bod
 def test_small_rocking_on_a_real_record_follows_the_exact_cylinder_model_while_it_holds(kocaeli):
     """Kocaeli at Yarimca x a 0.4 x 1.6 m cylinder (mu 0.6): the exact cylinder model (smooth rim, event-driven)
     holds until its base would slip at 12.2 s; through 9.9-12 s the cylinder rocks at 0.004-0.28 alpha, with
-    impacts milliseconds apart at the smallest tilts. Over that window the contact model's peak tilt is the exact
-    model's to 10 % (with every step 0.5 ms it was 0.008 alpha against 0.28: the coarse steps damped the small
-    rocking away)."""
+    impacts about 60 ms apart at the smallest tilts (Housner's period). Over that window the contact model's peak
+    tilt is the exact model's to 10 % (with every step 0.5 ms it was 0.008 alpha against 0.28: the coarse steps
+    damped the small rocking away)."""
     from pipeline.config import Config
     from pipeline.records.loader import find_records, load_record
     from pipeline.rocking.solids.cylinder3d import Cylinder, housner_e, simulate_cylinder
