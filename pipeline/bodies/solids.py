@@ -23,7 +23,16 @@ from ..rocking.solids.box3d import Box, simulate_box
 from ..rocking.solids.contact3d import simulate_contact3d
 from ..rocking.solids.convex_body import box_body
 from ..rocking.solids.cylinder3d import Cylinder, simulate_cylinder
-from ..rocking.solids.solid3d import Solid, drawn, judge_solid, lift_factor, solid_of, solid_scene
+from ..rocking.solids.solid3d import (
+    Solid,
+    cannot_tip,
+    drawn,
+    flight_factor,
+    judge_solid,
+    lift_factor,
+    solid_of,
+    solid_scene,
+)
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, one_plane
 from ..uncertainty.sampling import common_normals, sample_block
 from ..uncertainty.solids import solid_probability
@@ -75,17 +84,22 @@ def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
                           overturns_at_one: bool | None = None) -> tuple[float, int]:
     """The smallest factor on a record's two horizontals and vertical that overturns the solid, by its 3D model,
     scanned upward from the factor at which it first lifts
-    (:func:`~pipeline.rocking.solids.solid3d.lift_factor`); and the scenes simulated."""
+    (:func:`~pipeline.rocking.solids.solid3d.lift_factor`); and the scenes simulated. With the contact model on, a
+    solid that cannot tip (:func:`~pipeline.rocking.solids.solid3d.cannot_tip`) stands at every factor below the
+    one at which the ground first falls away (:func:`~pipeline.rocking.solids.solid3d.flight_factor`): those steps
+    of the scan are decided by that certificate, nothing simulated."""
     h = rec.horizontal_ms2
     f = lift_factor(h[0], h[1], rec.vertical_ms2, solid, g_ms2=g_ms2)
     if not math.isfinite(f):
         return math.inf, 0
+    flat_below = (flight_factor(rec.vertical_ms2, g_ms2=g_ms2) if settings.contact3d and cannot_tip(solid)
+                  else 0.0)
 
     def verdict_at(factor: float) -> int:
         return judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2,
-                           amplitude=factor).scene.verdict
+                           amplitude=factor, verdict_only=True).scene.verdict
 
-    return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+    return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=flat_below)
 
 
 def solid_history(rec, solid: Solid, *, settings, g_ms2: float) -> np.ndarray | None:

@@ -4,8 +4,9 @@ restitution, and a box's azimuth; :func:`~.sampling.sample_block`) is judged onc
 (:func:`~pipeline.rocking.solids.solid3d.judge_solid`: a box's planar scene where that draw's other axis is certified,
 else the 3D model), with the sampling and stopping rule of every other scene
 (:func:`~.scenes.sample_until_decided`). A draw whose base would slide or lift off, or that reached the step cap,
-has no verdict and is counted apart, as a planar draw in free flight is. A cylinder draws no orientation: it is
-axisymmetric.
+has no verdict and is counted apart, as a planar draw in free flight is. A draw that cannot tip while the ground
+pushes it up (:func:`~pipeline.rocking.solids.solid3d.stays_flat`: its drawn mu below the tan of its drawn smallest
+tipping angle) stands without a run. A cylinder draws no orientation: it is axisymmetric.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ def solid_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, solid: S
             body = drawn(solid, R_m=float(sb.R_m[r]), alpha=float(sb.alpha[r]), mu=float(sb.mu[r]),
                          restitution=float(sb.e[r]), azimuth_deg=az, record_azimuth_deg=record_azimuth_deg)
             sc = judge_solid(m.h1, m.h2, m.vertical, m.dt_s, body, settings=simulation, g_ms2=g_ms2,
-                       amplitude=float(sb.amplitude[r])).scene
+                             amplitude=float(sb.amplitude[r]), verdict_only=True).scene
             verdicts[sl.start + r] = (Verdict.overturns if sc.overturned else Verdict.no_verdict
                                       if sc.verdict < 0 else Verdict.stands)
             runs[sl.start + r] = 1 if sc.theta_max > 0 else 0
