@@ -7,17 +7,21 @@ largest max |theta| / alpha, then the largest velocity ratio of the paper's crit
 * ``overturn_scale`` is the criterion's margin: the smallest factor on the
   record that reaches the criterion's boundary (closed form, the scene's
   ``criterion_scale``);
-* ``overturn_scale_simulated`` is the simulator's margin: the smallest factor
+* ``overturn_scale_simulated`` is the simulator's margin: the first factor
   of an upward scan on the whole record (horizontal and vertical), in the
-  governing scene's rocking plane, under which the block overturns. The scan
-  starts from the factor that first lifts the block and grows by
-  ``simulation.margin_step`` (1 %) per step; the factor 1 is always tried.
-  Never by bisection: overturning is not monotonic in amplitude, so a
-  bisection can step over a window of overturning. What holds: a scene that
-  overturns has a margin <= 1. A scene that stands can also have a margin
-  below 1, when a smaller factor overturns it (a window of overturning below
-  the nominal amplitude); such blocks are flagged ``overturns_below_nominal``.
-  A window narrower than one step can be missed. ``inf`` means nothing
+  governing scene's rocking plane, under which the block overturns
+  (:mod:`pipeline.bodies.factor_sweep`). The scan starts from the factor that
+  first lifts the block and grows by ``simulation.margin_step`` (1 %) per step
+  up to ``margin_fine_to`` (x1.5), then by steps doubling up to
+  ``margin_coarse_step`` (10 %), an overturning there bisected back to 1 %
+  against the last factor that stood; the factor 1 is always tried.
+  Overturning is not monotonic in amplitude, so no range the scan has not
+  stepped over is bisected. What holds: the margin overturns and the factor
+  1 % below it stands; a scene that overturns has a margin <= 1. A scene that
+  stands can also have a margin below 1, when a smaller factor overturns it (a
+  window of overturning below the nominal amplitude); such blocks are flagged
+  ``overturns_below_nominal``. A window narrower than the step (1 % up to x1.5,
+  up to 10 % above) can be missed. ``inf`` means nothing
   overturns up to ``simulation.margin_max_factor``; NaN that the rocking
   model does not apply, or that the scaled record reaches free flight
   (g + a_v <= 0) before any overturning;
@@ -33,7 +37,7 @@ References
 ----------
 Purvance, Anooshehpoor & Brune (2008) scale records to find overturning
 thresholds; Zhang & Makris (2001) show the non-monotonic overturning that
-rules out bisection.
+rules out bisecting a range not scanned.
 """
 
 from __future__ import annotations
@@ -253,8 +257,12 @@ def _with_margins(ds: xr.Dataset, rec_index: np.ndarray, got: _Margins, ctx: Con
     ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(got.sim_scale), -1, below).astype("i1"))
     ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing "
                                    f"scene's rocking plane, x(1 + "
-                                   f"{ctx.config.simulation.margin_step:g}) per step, up to "
-                                   f"{ctx.config.simulation.margin_max_factor:g}; no bisection")
+                                   f"{ctx.config.simulation.margin_step:g}) per step up to "
+                                   f"{ctx.config.simulation.margin_fine_to:g}, then steps doubling up to x(1 + "
+                                   f"{ctx.config.simulation.margin_coarse_step:g}), up to "
+                                   f"{ctx.config.simulation.margin_max_factor:g}; an overturning above "
+                                   f"{ctx.config.simulation.margin_fine_to:g} bisected back to x(1 + "
+                                   f"{ctx.config.simulation.margin_step:g}) against the last factor that stood")
     return ds
 
 
