@@ -96,7 +96,8 @@ def factor_words(x: float) -> str:
 def _margin_words(sim_scale: float, governing: str) -> str:
     """The simulated margin on the governing record, in words."""
     if not np.isfinite(sim_scale):
-        return f"stands under {governing} scaled up to the scan limit" if np.isinf(sim_scale) else "no margin"
+        return (f"no overturning found under {governing} scaled up to the scan limit" if np.isinf(sim_scale)
+                else "no margin")
     if sim_scale <= 1.0:
         return f"overturns under {governing} scaled by {factor_words(sim_scale)}"
     return f"overturns only with {governing} scaled by {factor_words(sim_scale)}"

@@ -9,7 +9,9 @@ normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impac
 it sticks, or slides with the largest friction against its slip. The problem is solved by projected Gauss-Seidel
 over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, started from a
 Newton solve of all the contacts together where at most eight touch (:mod:`.contact_problem`), to a stated
-tolerance or a cap of sweeps (the step is then flagged, never silently accepted).
+tolerance or a cap of sweeps (the step is then flagged, never silently accepted). Where more touch (a cylinder's
+base flat on its 32 rim points), it is first solved on the eight extreme ones, and that solution is kept where every
+other contact, without impulse, does not approach the ground: then it solves the whole step (:mod:`.contact_reduced`).
 
 **Overturned** is the body lying on a side: its axis tilted to within :data:`LYING_SLACK_RAD` of the horizontal.
 A box that falls lands on its side face at a tilt of pi/2 less what the landing step lets it sink into the ground
@@ -70,7 +72,8 @@ import numpy as np
 from ...compiled import jit, jit_inline, jit_lean
 from ...constants import G
 from .attitude import energy, headed, rotation, turned, world_inverse_inertia
-from .contact_problem import MAX_SWEEPS, solve_contacts, workspace
+from .contact_problem import MAX_SWEEPS
+from .contact_reduced import solve_step, solvers
 from .contact_start import Start, begin
 from .convex_body import ConvexBody, base_threshold
 
@@ -215,7 +218,7 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     stance = pose(vertices, body.rest, body.tipping_rad)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
-               workspace(len(body.vertices)), hist, stance, _room(len(vertices)),
+               solvers(len(body.vertices)), hist, stance, _room(len(vertices)),
                begin(start, dt_s / n_sub, float(dt_s), stance.up, hist))
     lean_peak = math.degrees(out[-2]) if math.isfinite(out[-2]) else math.nan
     return Contact3DOutcome._make((*out[:-2], lean_peak, hist[:, 0] if history else None,
@@ -334,7 +337,7 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
     world_inverse_inertia(rm, inertia, inv_i)
     _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
     n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
-    taken = 0 if n_c == 0 else solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p, work)
+    taken = 0 if n_c == 0 else solve_step(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p, work)
     impulses[:] = 0.0
     for c in range(n_c):
         impulses[index[c], 0], impulses[index[c], 1], impulses[index[c], 2] = p[c, 0], p[c, 1], p[c, 2]
