@@ -40,8 +40,9 @@ TAIL_S = 5.0
 LYING_SLACK_RAD = 1e-2
 
 
-def mujoco_overturns(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S, scale=1.0) -> bool:
-    """Whether MuJoCo's body overturns under the record (body frame: x along the width) times ``scale``."""
+def mujoco_body(kind, w, d, h, mu, *, step_s=STEP_S):
+    """MuJoCo's model and data of the body (a box w x d x h, or a cylinder w across and h high) standing on a plane,
+    both with friction mu (elliptic cones, condim 3, stiff soft contacts), stepped at ``step_s``."""
     import mujoco
 
     size = f"{w / 2} {h / 2}" if kind == "cylinder" else f"{w / 2} {d / 2} {h / 2}"
@@ -51,7 +52,14 @@ def mujoco_overturns(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S, scale=
       <body pos="0 0 {h / 2}"><freejoint/><geom type="{kind}" size="{size}" friction="{mu} 0 0"/></body>
       </worldbody></mujoco>"""
     model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
+    return model, mujoco.MjData(model)
+
+
+def mujoco_overturns(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S, scale=1.0) -> bool:
+    """Whether MuJoCo's body overturns under the record (body frame: x along the width) times ``scale``."""
+    import mujoco
+
+    model, data = mujoco_body(kind, w, d, h, mu, step_s=step_s)
     az = np.zeros_like(ax) if az is None else az
     n = len(ax)
     while data.time < (n - 1) * dt + TAIL_S:

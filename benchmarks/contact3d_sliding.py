@@ -30,6 +30,7 @@ sys.path.insert(0, str(ROOT / "tests" / "support"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from contact3d_peer import _frame  # noqa: E402
+from contact3d_second_engine import mujoco_body  # noqa: E402
 from rigid_body_peer import STEP_S, _free_body, _world, pybullet  # noqa: E402
 
 from pipeline.config import Config  # noqa: E402
@@ -105,14 +106,7 @@ def bullet(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S) -> Run:
 def mujoco_run(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=MUJOCO_STEP_S) -> Run:
     import mujoco
 
-    size = f"{w / 2} {h / 2}" if kind == "cylinder" else f"{w / 2} {d / 2} {h / 2}"
-    xml = f"""<mujoco><option timestep="{step_s}" cone="elliptic" integrator="implicitfast"/>
-      <default><geom condim="3" solref="{max(5 * step_s, 5e-4)} 1" solimp="0.99 0.999 0.0001"/></default>
-      <worldbody><geom type="plane" size="100 100 0.1" friction="{mu} 0 0"/>
-      <body pos="0 0 {h / 2}"><freejoint/><geom type="{kind}" size="{size}" friction="{mu} 0 0"/></body>
-      </worldbody></mujoco>"""
-    model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
+    model, data = mujoco_body(kind, w, d, h, mu, step_s=step_s)
     t0 = time.perf_counter()
     n, slide, twist, over = ax.size, 0.0, 0.0, False
     while data.time < (n - 1) * dt + TAIL_S:
