@@ -8,16 +8,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import shutil
 
 import numpy as np
 import pytest
+from bundled import read_bundled
 
 from pipeline.bodies.factor_sweep import factor_sweep
 from pipeline.bodies.solids import solid_scale_simulated
-from pipeline.config import Config
 from pipeline.constants import G
-from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, ShapeKind
 from pipeline.rocking.scene import Physics
 from pipeline.rocking.settings import SimulationConfig
@@ -53,12 +51,8 @@ FLAT_RAD = 1e-4
 
 @pytest.fixture(scope="module")
 def stations(records_dir, tmp_path_factory):
-    root = tmp_path_factory.mktemp("near_field")
-    for names in STATIONS.values():
-        for name in names:
-            shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    by_file = {r.record_id[:7]: r for r in iter_records(root, config=Config())}
+    names = [name for files in STATIONS.values() for name in files]
+    by_file = {r.record_id[:7]: r for r in read_bundled(records_dir, tmp_path_factory.mktemp("near_field"), *names)}
     return {key: by_file[names[0][:7]] for key, names in STATIONS.items()}
 
 

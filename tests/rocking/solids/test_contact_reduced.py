@@ -5,14 +5,11 @@ included; the check that lets a reduced solution stand fails where a dropped con
 
 from __future__ import annotations
 
-import shutil
-
 import numpy as np
 import pytest
+from bundled import read_bundled
 from test_contact_problem import SCALE, _stored_steps, check_coulomb
 
-from pipeline.config import Config
-from pipeline.records.loader import iter_records
 from pipeline.rocking.simulate import slide
 from pipeline.rocking.solids import contact_problem as cp
 from pipeline.rocking.solids import contact_reduced as cr
@@ -77,11 +74,8 @@ def test_a_dropped_contact_that_would_approach_the_ground_is_caught():
 
 @pytest.fixture(scope="module")
 def yarimca(records_dir, tmp_path_factory):
-    root = tmp_path_factory.mktemp("yarimca")
-    for name in ("RSN1176_KOCAELI_YPT060.AT2", "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2"):
-        shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    return next(iter(iter_records(root, config=Config())))
+    return read_bundled(records_dir, tmp_path_factory.mktemp("yarimca"), "RSN1176_KOCAELI_YPT060.AT2",
+                        "RSN1176_KOCAELI_YPT150.AT2", "RSN1176_KOCAELI_YPT-UP.AT2")[0]
 
 
 def test_a_vase_slides_flat_as_the_planar_coulomb_model_with_a_sweep_a_step(yarimca):

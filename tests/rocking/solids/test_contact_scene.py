@@ -8,6 +8,7 @@ import shutil
 
 import numpy as np
 import pytest
+from bundled import copy_bundled
 
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
@@ -26,11 +27,7 @@ STATUE = BlockShape(height_m=2.0, width_m=0.5, mu=0.7, azimuth_deg=50.0, depth_m
 
 @pytest.fixture(scope="module")
 def sylmar(records_dir, tmp_path_factory):
-    root = tmp_path_factory.mktemp("sylmar")
-    for name in SYLMAR:
-        shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    return root
+    return copy_bundled(records_dir, tmp_path_factory.mktemp("sylmar"), *SYLMAR)
 
 
 @pytest.fixture(scope="module")

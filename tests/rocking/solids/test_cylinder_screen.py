@@ -52,13 +52,10 @@ def test_a_bad_shape_or_depth_is_named(tmp_path, row, message):
 @pytest.fixture(scope="module")
 def el_centro_6(tmp_path_factory, records_dir):
     """RSN181 (El Centro Array #6, 1979 Imperial Valley): two horizontals and the vertical."""
-    import shutil
+    from bundled import copy_bundled
 
-    root = tmp_path_factory.mktemp("rsn181")
-    for name in ("RSN181_IMPVALL.H_H-E06140.AT2", "RSN181_IMPVALL.H_H-E06230.AT2", "RSN181_IMPVALL.H_H-E06-UP.AT2"):
-        shutil.copy(records_dir / "peer-at2" / name, root / name)
-    shutil.copy(records_dir / "units.toml", root / "units.toml")
-    return root
+    return copy_bundled(records_dir, tmp_path_factory.mktemp("rsn181"), "RSN181_IMPVALL.H_H-E06140.AT2",
+                        "RSN181_IMPVALL.H_H-E06230.AT2", "RSN181_IMPVALL.H_H-E06-UP.AT2")
 
 
 def test_a_cylinder_on_two_horizontals_is_judged_in_3d_and_never_falsely_robust(el_centro_6, tmp_path, capsys):
