@@ -114,7 +114,7 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     Parameters
     ----------
     sim_scale : float
-        Simulated margin on the governing record: the smallest factor that overturns the asset [-].
+        Simulated margin on the governing record: the first factor of the upward scan that overturns the asset [-].
     crit_overturns : bool
         The paper's criterion says the governing record overturns it.
     response : int

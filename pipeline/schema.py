@@ -345,8 +345,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "overturn_scale": (("block",), "1", "margin by the criterion: smallest factor on the governing record that "
                        "reaches the criterion's boundary (closed form)",
                        {"comment": "inf: the scaled pulse crosses the sliding line first; NaN: not evaluated"}),
-    "overturn_scale_simulated": (("block",), "1", "margin by simulation: smallest factor of an upward scan on the "
-                                 "governing record, in its rocking plane, under which the block overturns",
+    "overturn_scale_simulated": (("block",), "1", "margin by simulation: first factor of an upward scan on the "
+                                 "governing record (1 % steps to x1.5, up to 10 % above), in its rocking plane, "
+                                 "under which the block overturns",
                                  {"comment": "<= 1 where the governing scene overturns; also < 1 for a standing "
                                              "scene with a window of overturning below the nominal amplitude "
                                              "(overturns_below_nominal). inf: none up to "

@@ -178,8 +178,8 @@ class Margin(NamedTuple):
     Attributes
     ----------
     scale : float
-        The smallest factor on the record that overturns it (inf: none up to the scan's end; NaN: a scaled record
-        without a verdict first, or a block the model cannot overturn) [-].
+        The first factor of the upward scan (:mod:`.factor_sweep`) that overturns it (inf: none found up to the
+        scan's end; NaN: a scaled record without a verdict first, or a block the model cannot overturn) [-].
     runs : int
         Scenes simulated.
     history : ndarray or None

@@ -82,8 +82,8 @@ def _detail(res: PlaneResult, code: int) -> str:
 
 def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
                           overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """The smallest factor on a record's two horizontals and vertical that overturns the solid, by its 3D model,
-    scanned upward from the factor at which it first lifts
+    """The first factor on a record's two horizontals and vertical that overturns the solid, by its 3D model, in the
+    upward scan of :func:`~.factor_sweep.factor_sweep` from the factor at which it first lifts
     (:func:`~pipeline.rocking.solids.solid3d.lift_factor`); and the scenes simulated. With the contact model on, a
     solid that cannot tip (:func:`~pipeline.rocking.solids.solid3d.cannot_tip`) stands at every factor below the
     one at which the ground first falls away (:func:`~pipeline.rocking.solids.solid3d.flight_factor`): those steps
