@@ -16,9 +16,10 @@ cylinder's base: eight rim points 45 deg apart), the others without impulse. Tha
 whole problem wherever every other contact, with P_c = 0, has u~_c in K*, which for P_c = 0 is u_n,c + e_n u_c^- >= 0:
 it does not approach the ground against Newton's target. That is checked at every such contact, to
 :data:`VERIFY_TOL` times the step's weight impulse; where it fails, or the reduced solve does not converge, the
-whole problem is solved from the step's warm start as before (:func:`~.contact_problem.solve_contacts`). The
-reduced solution is a solution of the step's problem, not an approximation of it; where the problem has several
-(redundant contacts share a load in many ways), it is one of them.
+whole problem is solved from the step's warm start as before (:func:`~.contact_problem.solve_contacts`). A kept
+reduced solution solves the step's whole problem to the same tolerances as a solve of all its contacts (the sweeps'
+on the kept contacts, :data:`VERIFY_TOL` on the others); where the problem has several solutions (redundant contacts
+share a load in many ways), it is one of them.
 """
 
 from __future__ import annotations
