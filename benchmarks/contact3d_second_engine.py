@@ -18,12 +18,11 @@ import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from contact3d_peer import FAMILIES, _frame  # noqa: E402
+from rigid_body_peer import ground_at  # noqa: E402
 
 from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
@@ -60,16 +59,9 @@ def mujoco_overturns(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S, scale=
     import mujoco
 
     model, data = mujoco_body(kind, w, d, h, mu, step_s=step_s)
-    az = np.zeros_like(ax) if az is None else az
     n = len(ax)
     while data.time < (n - 1) * dt + TAIL_S:
-        t = data.time
-        if t < (n - 1) * dt:
-            i = int(t / dt)
-            f = t / dt - i
-            g = [scale * (a[i] + f * (a[i + 1] - a[i])) for a in (ax, ay, az)]
-        else:
-            g = [0.0, 0.0, 0.0]
+        g = [scale * a for a in ground_at((ax, ay, az), data.time, dt)]
         model.opt.gravity[:] = (-g[0], -g[1], -(G + g[2]))
         mujoco.mj_step(model, data)
         if math.acos(max(-1.0, min(1.0, data.xmat[1][8]))) >= 0.5 * math.pi - LYING_SLACK_RAD:

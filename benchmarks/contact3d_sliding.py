@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from contact3d_peer import _frame  # noqa: E402
 from contact3d_second_engine import mujoco_body  # noqa: E402
-from rigid_body_peer import STEP_S, _free_body, _world, pybullet  # noqa: E402
+from rigid_body_peer import STEP_S, _free_body, _world, ground_at, pybullet  # noqa: E402
 
 from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
@@ -53,14 +53,6 @@ class Run:
 
     def __init__(self, slide_m: float, twist_deg: float, overturned: bool, seconds: float):
         self.slide_m, self.twist_deg, self.overturned, self.seconds = slide_m, twist_deg, overturned, seconds
-
-
-def _ground_at(ground, t, dt, n):
-    if t >= (n - 1) * dt:
-        return 0.0, 0.0, 0.0
-    k = min(int(t / dt), n - 2)
-    f = t / dt - k
-    return tuple(x[k] + f * (x[k + 1] - x[k]) for x in ground)
 
 
 def _yaw(rot9) -> float:
@@ -87,7 +79,7 @@ def bullet(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S) -> Run:
         _free_body(pb, body, mu, cid)
         n, slide, twist, over = ax.size, 0.0, 0.0, False
         for i in range(int(((n - 1) * dt + TAIL_S) / step_s)):
-            g = _ground_at((ax, ay, az), i * step_s, dt, n)
+            g = ground_at((ax, ay, az), i * step_s, dt)
             pb.setGravity(-g[0], -g[1], -(G + g[2]), physicsClientId=cid)
             pb.stepSimulation(physicsClientId=cid)
             if i % 4 == 0:
@@ -110,7 +102,7 @@ def mujoco_run(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=MUJOCO_STEP_S) -> Ru
     t0 = time.perf_counter()
     n, slide, twist, over = ax.size, 0.0, 0.0, False
     while data.time < (n - 1) * dt + TAIL_S:
-        g = _ground_at((ax, ay, az), data.time, dt, n)
+        g = ground_at((ax, ay, az), data.time, dt)
         model.opt.gravity[:] = (-g[0], -g[1], -(G + g[2]))
         mujoco.mj_step(model, data)
         rot = data.xmat[1]

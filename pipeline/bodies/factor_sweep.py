@@ -5,7 +5,7 @@ Overturning is not monotonic in amplitude (Zhang & Makris 2001), so the factor i
 over a range it has not scanned: in steps of ``margin_step`` (1 %) up to ``margin_fine_to`` (x1.5, the largest
 margin that changes a recommendation), then in steps that double from ``margin_step`` up to ``margin_coarse_step``
 (10 %); a factor there that overturns is bisected back against the last one that stood, down to ``margin_step``.
-What holds: the margin overturns and the factor ``margin_step`` below it stands (or it is the first factor
+What holds: the margin overturns and a factor at most ``margin_step`` below it stands (or it is the first factor
 scanned); every factor scanned below it stands; up to ``margin_fine_to``, a window of overturning narrower than
 ``margin_step`` can be missed, above it one narrower than the step there.
 

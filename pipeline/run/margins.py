@@ -255,14 +255,12 @@ def _with_margins(ds: xr.Dataset, rec_index: np.ndarray, got: _Margins, ctx: Con
     standing = np.where(rec_index >= 0, ds[SCENE.overturn_simulated].values[r, cols] == 0, False)
     below = np.where(np.isfinite(got.sim_scale), standing & (got.sim_scale < 1.0), False)
     ds["overturns_below_nominal"] = (("block",), np.where(np.isnan(got.sim_scale), -1, below).astype("i1"))
-    ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing "
-                                   f"scene's rocking plane, x(1 + "
-                                   f"{ctx.config.simulation.margin_step:g}) per step up to "
-                                   f"{ctx.config.simulation.margin_fine_to:g}, then steps doubling up to x(1 + "
-                                   f"{ctx.config.simulation.margin_coarse_step:g}), up to "
-                                   f"{ctx.config.simulation.margin_max_factor:g}; an overturning above "
-                                   f"{ctx.config.simulation.margin_fine_to:g} bisected back to x(1 + "
-                                   f"{ctx.config.simulation.margin_step:g}) against the last factor that stood")
+    sim = ctx.config.simulation
+    ds.attrs["margin_settings"] = (f"upward scan of the factor on the governing record, in the governing scene's "
+                                   f"rocking plane, x(1 + {sim.margin_step:g}) per step up to {sim.margin_fine_to:g}, "
+                                   f"then steps doubling up to x(1 + {sim.margin_coarse_step:g}), up to "
+                                   f"{sim.margin_max_factor:g}; an overturning above {sim.margin_fine_to:g} bisected "
+                                   f"back to x(1 + {sim.margin_step:g}) against the last factor that stood")
     return ds
 
 

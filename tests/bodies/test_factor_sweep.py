@@ -15,17 +15,22 @@ from pipeline.rocking.settings import SimulationConfig
 SETTINGS = SimulationConfig()
 
 
-def _plain(lift, verdict_at, step=SETTINGS.margin_step, top=SETTINGS.margin_max_factor):
-    """The reference: every factor from ``lift`` to 1 and from 1 to ``top`` in steps of ``step``."""
-    factors, x = [], lift
+def _plain_factors(lift, step=SETTINGS.margin_step, top=SETTINGS.margin_max_factor):
+    """The reference grid: every factor from ``lift`` to 1 and from 1 to ``top`` in steps of ``step``."""
+    x = lift
     while x < 1.0:
-        factors.append(x)
+        yield x
         x *= 1.0 + step
-    factors.append(1.0)
+    yield 1.0
     x = 1.0 + step
     while x <= top:
-        factors.append(x)
+        yield x
         x *= 1.0 + step
+
+
+def _plain(lift, verdict_at):
+    """The reference scan: the first factor of :func:`_plain_factors` that does not stand, and the runs."""
+    factors = list(_plain_factors(lift))
     for runs, f in enumerate(factors, start=1):
         v = verdict_at(f)
         if v != 0:
@@ -44,28 +49,12 @@ def test_the_fine_range_covers_every_margin_that_changes_a_recommendation():
 def test_the_factors_are_the_fine_grid_up_to_the_fine_range_then_grow_to_the_coarse_step():
     factors = list(scan_factors(0.5, settings=SETTINGS))
     fine = [f for f in factors if f <= SETTINGS.margin_fine_to]
-    plain = [f for f in _grid(0.5) if f <= SETTINGS.margin_fine_to]
+    plain = [f for f in _plain_factors(0.5) if f <= SETTINGS.margin_fine_to]
     assert fine == plain and 1.0 in factors
     ratios = [b / a for a, b in zip(factors, factors[1:])]
     assert all(r > 1.0 for r in ratios) and max(ratios) == pytest.approx(1.0 + SETTINGS.margin_coarse_step)
     assert factors[-1] == SETTINGS.margin_max_factor
-    assert len(factors) < len(_grid(0.5)) - 150         # 1.5 to 10: 23 factors instead of 191
-
-
-def _grid(lift):
-    return [f for f in _plain_factors(lift)]
-
-
-def _plain_factors(lift):
-    x = lift
-    while x < 1.0:
-        yield x
-        x *= 1.0 + SETTINGS.margin_step
-    yield 1.0
-    x = 1.0 + SETTINGS.margin_step
-    while x <= SETTINGS.margin_max_factor:
-        yield x
-        x *= 1.0 + SETTINGS.margin_step
+    assert len(factors) < len(list(_plain_factors(0.5))) - 150         # 1.5 to 10: 23 factors instead of 191
 
 
 @pytest.mark.parametrize("threshold", [0.31, 0.77, 1.0, 1.003, 1.25, 1.49])
@@ -122,3 +111,4 @@ def test_a_certificate_decides_the_factors_below_it():
     with_cert = factor_sweep(0.3, verdict, settings=SETTINGS, stands_below=2.0)
     without = factor_sweep(0.3, verdict, settings=SETTINGS)
     assert with_cert[0] == without[0] and with_cert[1] < without[1]
+    assert 2.345 <= with_cert[0] < 2.345 * (1.0 + SETTINGS.margin_step)

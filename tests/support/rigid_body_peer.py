@@ -31,6 +31,18 @@ def pybullet():
     return pb
 
 
+def ground_at(ground: tuple, t: float, dt_s: float) -> tuple[float, float, float]:
+    """The ground's (a_x, a_y, a_v) [m s-2] at time ``t`` [s], linear between the samples (a component None: 0; after
+    the record: 0)."""
+    n = ground[0].size
+    if t >= (n - 1) * dt_s:
+        return 0.0, 0.0, 0.0
+    k = min(int(t / dt_s), n - 2)
+    f = t / dt_s - k
+    a = [0.0 if x is None else x[k] + f * (x[k + 1] - x[k]) for x in ground]
+    return a[0], a[1], a[2]
+
+
 def _world(pb, step_s: float) -> int:
     """A Bullet world with a rigid floor of friction 1 and restitution 0, stepped at ``step_s``; its client id."""
     cid = pb.connect(pb.DIRECT)
@@ -51,16 +63,10 @@ def _shake(pb, cid: int, body: int, ground: tuple, dt_s: float, *, g_ms2: float,
            fallen_rad: float) -> tuple[bool, float]:
     """Step the world under the ground's (a_x, a_y, a_v) [m s-2] (a_y, a_v None: none), linear between samples, as
     a time-varying gravity, through the record and :data:`TAIL_S` after it: (fallen, largest tilt [rad])."""
-    n = ground[0].size
-    t_rec = (n - 1) * dt_s
+    t_rec = (ground[0].size - 1) * dt_s
     tilt_max = 0.0
     for i in range(int((t_rec + TAIL_S) / step_s)):
-        t = i * step_s
-        acc = [0.0, 0.0, 0.0]
-        if t < t_rec:
-            k = min(int(t / dt_s), n - 2)
-            f = t / dt_s - k
-            acc = [0.0 if x is None else x[k] + f * (x[k + 1] - x[k]) for x in ground]
+        acc = ground_at(ground, i * step_s, dt_s)
         pb.setGravity(-acc[0], -acc[1], -(g_ms2 + acc[2]), physicsClientId=cid)
         pb.stepSimulation(physicsClientId=cid)
         if i % 4 == 0:

@@ -30,11 +30,16 @@ from typing import NamedTuple
 import numpy as np
 
 from ...compiled import jit_inline, jit_lean
-from .contact_problem import MAX_SWEEPS, NEWTON_MAX_CONTACTS, SWEEP_TOL, Workspace, solve_contacts, workspace
+from .contact_problem import MAX_SWEEPS, NEWTON_MAX_CONTACTS, SWEEP_TOL, Workspace, _reset, solve_contacts, workspace
 
 #: A contact left without impulse may approach the ground by at most this fraction of the step's weight impulse
 #: g h [-] (the sweeps' own tolerance on an impulse, SWEEP_TOL) for the reduced solution to stand.
 VERIFY_TOL = SWEEP_TOL
+
+
+#: The horizontal directions k 360 / K deg (K = NEWTON_MAX_CONTACTS) along which the kept contacts are the farthest.
+_DIRECTIONS = tuple((math.cos(a), math.sin(a)) for a in (2.0 * math.pi * d / NEWTON_MAX_CONTACTS
+                                                          for d in range(NEWTON_MAX_CONTACTS)))
 
 
 class Solvers(NamedTuple):
@@ -82,7 +87,7 @@ def solve_step(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
             p[c, 0], p[c, 1], p[c, 2] = work.p[j, 0], work.p[j, 1], work.p[j, 2]
         return taken
     spent = taken if taken > 0 else MAX_SWEEPS
-    v[0], v[1], v[2], w[0], w[1], w[2] = free[0], free[1], free[2], free[3], free[4], free[5]
+    _reset(v, w, free)
     whole = solve_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work.whole)
     return -1 if whole < 0 else spent + whole
 
@@ -98,8 +103,7 @@ def _extremes(arms, n_c, index):
     cx, cy = cx / n_c, cy / n_c
     k = 0
     for d in range(NEWTON_MAX_CONTACTS):
-        ang = 2.0 * math.pi * d / NEWTON_MAX_CONTACTS
-        dx, dy = math.cos(ang), math.sin(ang)
+        dx, dy = _DIRECTIONS[d]
         best, at = -math.inf, 0
         for c in range(n_c):
             s = (arms[c, 0] - cx) * dx + (arms[c, 1] - cy) * dy

@@ -208,13 +208,22 @@ def solid_scene(h1, h2, vertical, dt_s: float, record_azimuth_deg: float, solid:
 def _pushes(x, y, solid: Solid) -> list[tuple[np.ndarray, float]]:
     """The ground's push against each way the solid at rest can lift, and that way's tan of slenderness: a
     cylinder's |a_h| and tan alpha; a box's acceleration along each base edge's inward normal and b_n / h."""
-    body = solid.body
-    if isinstance(body, Cylinder):
-        return [(np.hypot(x, y), body.radius_m / body.half_height_m)]
+    tans = _tipping_tans(solid)
+    if len(tans) == 1:
+        return [(np.hypot(x, y), tans[0])]
     c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
     along, across = c * x + s * y, -s * x + c * y
-    tw, td = body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
+    tw, td = tans
     return [(along, tw), (-along, tw), (across, td), (-across, td)]
+
+
+def _tipping_tans(solid: Solid) -> tuple[float, ...]:
+    """The tan of each static tipping angle of the solid as it stands: a cylinder's (r / h); a box's about the edges
+    across its width and across its depth (b / h, d / h; half sizes)."""
+    body = solid.body
+    if isinstance(body, Cylinder):
+        return (body.radius_m / body.half_height_m,)
+    return body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
 
 
 def _components(h1, h2, vertical, amplitude: float = 1.0):
@@ -225,28 +234,25 @@ def _components(h1, h2, vertical, amplitude: float = 1.0):
 
 
 def tan_alpha_min(solid: Solid) -> float:
-    """The tan of the solid's smallest static tipping angle as it stands: a cylinder's radius over half its height,
-    a box's smaller half base side over half its height [-]."""
-    body = solid.body
-    if isinstance(body, Cylinder):
-        return body.radius_m / body.half_height_m
-    return min(body.half_width_m, body.half_depth_m) / body.half_height_m
+    """The tan of the solid's smallest static tipping angle as it stands (:func:`_tipping_tans`) [-]."""
+    return min(_tipping_tans(solid))
 
 
 def cannot_tip(solid: Solid) -> bool:
-    """Whether no ground motion that keeps pushing the solid up (g + a_z > 0 throughout) can tip it from standing on
-    its base: mu < tan alpha_min (:func:`tan_alpha_min`; strictly: at mu = tan alpha_min the contact force can reach
-    a base edge).
+    """Whether the solid standing on its base is certified not to tip while the ground pushes it up (g + a_z > 0
+    throughout): mu < tan alpha_min (:func:`tan_alpha_min`; strictly: at mu = tan alpha_min the contact force can
+    reach a base edge).
 
-    Why it holds (rigid body, Coulomb's law at every point of a flat base): while the body stands flat, turning only
+    What holds (rigid body, Coulomb's law at every point of a flat base): while the body stands flat, turning only
     about the vertical (a principal axis, so no gyroscopic moment), the base's friction forces, at h below G, tilt it
     with the moment h F_t, which the normal forces balance where their centre of pressure lies h F_t / F_n from
     below G. Coulomb's law bounds that offset by mu h, below the base's inradius about G (h tan alpha_min), and
     every such point is a centre of pressure the base's contacts can give with non-negative normal forces (each
     contact's own friction offset is below the inradius too, so the origin lies in the hull of the offset contacts).
     So the flat motion, sliding and twisting, meets every equation of the model at every instant while the ground
-    pushes up; the same holds for the impulses of a step of the 3D contact model (measured: it keeps the three
-    sliding objects of tests/rocking/solids/test_cannot_tip.py within 1e-4 rad of flat on real records). Where the
+    pushes up, and so does a step of the 3D contact model. That it is the motion the model follows (a rigid body with
+    friction need not have a single solution) is measured: the contact model keeps the three sliding objects of
+    tests/rocking/solids/test_cannot_tip.py within 1e-4 rad of flat on real records. Where the
     ground falls away faster than gravity the body flies, and a flat landing is not robust (the contact model
     overturns a squat box, mu 0.15 against tan alpha_min 0.5, thrown up by El Centro #6 x10), so the certificate
     stops there (:func:`stays_flat`)."""
@@ -255,11 +261,9 @@ def cannot_tip(solid: Solid) -> bool:
 
 def stays_flat(vertical, solid: Solid, *, g_ms2: float = G, amplitude: float = 1.0) -> bool:
     """Whether the solid standing on its base stays flat under the record times ``amplitude``, whatever its
-    horizontals: it cannot tip (:func:`cannot_tip`) and the ground pushes it up at every sample (g + a_z > 0; the
-    ground is linear between samples, so that holds between them too)."""
-    if not cannot_tip(solid):
-        return False
-    return vertical is None or np.size(vertical) == 0 or bool(np.all(g_ms2 + amplitude * np.asarray(vertical) > 0.0))
+    horizontals: it cannot tip (:func:`cannot_tip`) and ``amplitude`` is below :func:`flight_factor`, so the ground
+    pushes it up at every sample (and between them: the ground is linear there)."""
+    return cannot_tip(solid) and amplitude < flight_factor(vertical, g_ms2=g_ms2)
 
 
 def flight_factor(vertical, *, g_ms2: float = G) -> float:

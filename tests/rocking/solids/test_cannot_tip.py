@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from bundled import read_bundled
 
-from pipeline.bodies.factor_sweep import factor_sweep
+from pipeline.bodies.factor_sweep import factor_sweep, scan_factors
 from pipeline.bodies.solids import solid_scale_simulated
 from pipeline.constants import G
 from pipeline.rocking.block import BlockShape, ShapeKind
@@ -60,6 +60,12 @@ def _solid(shape, rec):
     return solid_of(shape, record_azimuth_deg=float(rec.azimuths_deg[0]), known_azimuth=True)
 
 
+class _Placed:
+    """A record's placement for :func:`solid_of` (first horizontal at compass 0)."""
+
+    azimuths_deg = np.array([0.0, 90.0])
+
+
 @pytest.mark.parametrize("kind", ["box", "cylinder"])
 def test_the_boundary_mu_equal_to_tan_alpha_is_not_certified(kind):
     """At mu = tan alpha_min the contact force can reach a base edge: not certified; one ulp below: certified."""
@@ -71,10 +77,16 @@ def test_the_boundary_mu_equal_to_tan_alpha_is_not_certified(kind):
     assert tan == pytest.approx(0.25 / 0.75 if kind == "box" else 0.2 / 0.6, rel=1e-15)
 
 
-class _Placed:
-    """A record's placement for :func:`solid_of` (first horizontal at compass 0)."""
-
-    azimuths_deg = np.array([0.0, 90.0])
+def test_the_exact_boundary_on_a_real_record_is_integrated(stations):
+    """The box with mu = tan alpha_min exactly (1/3) on Rinaldi: not certified, so even a verdict-only judgement
+    integrates the scene (the exact models, then the contact model), and it ends with a verdict."""
+    rec = stations["rinaldi"]
+    solid = _solid(BOX, rec)
+    at = _solid(dataclasses.replace(BOX, mu=tan_alpha_min(solid)), rec)
+    h1, h2 = rec.horizontal_ms2
+    scene = judge_solid(h1, h2, rec.vertical_ms2, rec.dt_s, at, verdict_only=True).scene
+    assert not stays_flat(rec.vertical_ms2, at)
+    assert scene is not FLAT_SLIDE_SCENE and scene.physics == Physics.contact3d and scene.verdict in (0, 1)
 
 
 @pytest.mark.parametrize("station", ["rinaldi", "sylmar", "yarimca"])
@@ -156,20 +168,8 @@ def test_the_certificate_leaves_the_margin_scan_unchanged(stations):
 
     every, every_runs = factor_sweep(lift, simulated, settings=settings)
     certified, runs = solid_scale_simulated(rec, solid, settings=settings, g_ms2=G)
-    above = sum(1 for k in range(every_runs) if _grid(lift, settings)[k] >= flight_factor(rec.vertical_ms2))
+    grid = list(scan_factors(lift, settings=settings))
+    above = sum(1 for f in grid[:every_runs] if f >= flight_factor(rec.vertical_ms2))
     assert certified == every and math.isinf(every)
     assert runs == above and 0 < runs < every_runs
 
-
-def _grid(lift, settings):
-    """The scan's factors, as :func:`factor_sweep` takes them."""
-    out, x = [], lift
-    while x < 1.0:
-        out.append(x)
-        x *= 1.0 + settings.margin_step
-    out.append(1.0)
-    x = 1.0 + settings.margin_step
-    while x <= settings.margin_max_factor:
-        out.append(x)
-        x *= 1.0 + settings.margin_step
-    return out

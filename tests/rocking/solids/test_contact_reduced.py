@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from bundled import read_bundled
-from test_contact_problem import SCALE, _stored_steps, check_coulomb
+from test_contact_problem import _stored_steps, check_coulomb
 
 from pipeline.rocking.simulate import slide
 from pipeline.rocking.solids import contact_problem as cp
@@ -90,7 +90,3 @@ def test_a_vase_slides_flat_as_the_planar_coulomb_model_with_a_sweep_a_step(yari
     assert not got.overturned and got.tilt_max_rad < 1e-4
     assert got.sweeps <= 1.5 * got.integrated_steps and got.capped_steps == 0
 
-
-def test_the_scale_of_the_stored_steps():
-    """The stored steps' weight impulse is the contact model's g h (0.5 ms steps)."""
-    assert SCALE == pytest.approx(9.80665 * 5e-4)
