@@ -24,7 +24,7 @@ HOMONYMS = {
     ("uncertainty/hazard_files.py", "response"): "a key of the USGS hazard service's JSON",
     ("store/exports.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
     ("report/fragility_html.py", "orientation"): "fragility.nc's attribute and fragility_assets.csv's column",
-    ("run/fragility.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
+    ("run/fragility_assembly.py", "orientation"): "fragility.nc's attribute: the orientation the curves are for",
     ("run/accuracy.py", "orientation"): "a section of screen bench's table (the orientation scan's rows)",
 }
 MAX_FUNCTION_LINES = 80

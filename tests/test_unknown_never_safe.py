@@ -100,7 +100,7 @@ def test_the_simulated_verdict_never_reads_stands_where_something_was_not_judged
 
 
 def test_fragility_stripes_bounded_both_ways_by_the_records_without_a_verdict():
-    from pipeline.run.fragility import _unjudged
+    from pipeline.run.fragility_assembly import _unjudged
     from pipeline.uncertainty.fragility import fit_stripes
 
     levels = np.array([0.5, 1.0, 2.0, 4.0])
@@ -128,7 +128,7 @@ def test_fragility_stripes_bounded_both_ways_by_the_records_without_a_verdict():
 
 
 def test_a_sampled_scene_adds_its_unknown_fraction_to_the_bounds():
-    from pipeline.run.fragility import _unjudged
+    from pipeline.run.fragility_assembly import _unjudged
 
     outcome = np.array([[[0.2]]])                  # p over the judged samples
     results = [{"p_unknown": np.array([[0.25]]), "slides": np.array([[0]])}]

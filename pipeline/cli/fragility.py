@@ -110,8 +110,8 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
 
 def _hazard_and_component(args: argparse.Namespace):
     """``--hazard`` and its options, parsed: the hazard curves (bound to the fit) and the component definition the
-    fit uses (:func:`pipeline.run.fragility.hazard_and_component`)."""
-    from ..run.fragility import hazard_and_component
+    fit uses (:func:`pipeline.run.fragility_hazard.hazard_and_component`)."""
+    from ..run.fragility_hazard import hazard_and_component
 
     site, lonlat = _hazard_site(args)
     return hazard_and_component(args.hazard or [], im=args.im, site=site, lonlat=lonlat,

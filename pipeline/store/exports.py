@@ -1,6 +1,6 @@
 """Fragility curves in the formats of the risk engines: OpenQuake NRML and pelicun's damage-model CSV.
 
-Both come from ``fragility.nc`` (:func:`pipeline.run.fragility.assemble_fragility`): one lognormal curve per
+Both come from ``fragility.nc`` (:func:`pipeline.run.fragility_assembly.assemble_fragility`): one lognormal curve per
 block, median theta [SI] and dispersion beta, on an IM (PGA, PGV or Sa at the block's period) under a
 stated horizontal component definition.
 

@@ -203,7 +203,7 @@ def test_fragility_on_a_floor_is_against_the_ground_im(tmp_path, rinaldi_dir, co
     import dataclasses
 
     from pipeline.run.executors import SerialExecutor
-    from pipeline.run.fragility import run_stripes
+    from pipeline.run.fragility_stripes import run_stripes
 
     inv = museum_inventory(tmp_path, ["A,1.5,0.3,0.6,,,", "B,1.5,0.3,0.6,MUSEUM,0,", "T,1.5,0.3,0.6,MUSEUM,,17.5"])
     cfg = dataclasses.replace(config, uncertainty=dataclasses.replace(config.uncertainty, samples=0))

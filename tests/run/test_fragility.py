@@ -25,7 +25,8 @@ from pipeline.levels import parse_levels
 from pipeline.records.record import Record
 from pipeline.rocking.references.excitation import pulse
 from pipeline.rocking.references.reference import rock_reference
-from pipeline.run.fragility import assemble_fragility, judge_record, stripe_warnings
+from pipeline.run.fragility_assembly import assemble_fragility, stripe_warnings
+from pipeline.run.fragility_stripes import judge_record
 from pipeline.run.screening import Context
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes
 from pipeline.uncertainty.hazard import HazardCurve, annual_rate
@@ -327,7 +328,7 @@ def test_levels_auto_start_at_the_uplift_and_extend_until_every_block_brackets()
     """--levels auto on the 16 half-sine records: the ladder starts at the block's uplift acceleration g tan(alpha)
     (closed form), doubles, and is extended until the stripes go from at most 10 % to at least 90 % overturning;
     the stripes are the same as a run given those levels."""
-    from pipeline.run.fragility import AUTO_BRACKET, auto_stripes, capacities
+    from pipeline.run.fragility_levels import AUTO_BRACKET, auto_stripes, capacities
 
     inv = Inventory.single(**BLOCK, block_id="B")
     cfg = Config().with_uncertainty(samples=0)
@@ -351,7 +352,7 @@ def test_levels_auto_start_at_the_uplift_and_extend_until_every_block_brackets()
 
 
 def test_levels_auto_refuses_an_inventory_that_cannot_rock_and_an_im_without_a_capacity():
-    from pipeline.run.fragility import auto_ladder, capacities
+    from pipeline.run.fragility_levels import auto_ladder, capacities
 
     inv = Inventory.single(height_m=0.5, width_m=2.0, mu=0.3, block_id="SLAB")
     with pytest.raises(UsageError, match="no block of the inventory can rock"):
@@ -382,7 +383,7 @@ def test_a_change_of_component_definition_says_why_every_scene_is_new(tmp_path, 
 def test_levels_auto_brackets_the_outcome_the_fit_uses():
     """With sampling, the fit uses each scaled scene's probability: the ladder is extended on it, not on the
     nominal verdicts (planted: verdicts that bracket, probabilities that do not reach 0.9 at the top)."""
-    from pipeline.run.fragility import extension
+    from pipeline.run.fragility_levels import extension
 
     levels = np.array([1.0, 2.0, 4.0])
     cap = np.array([1.0])

@@ -191,7 +191,7 @@ def test_a_circular_motion_has_the_same_peak_in_every_direction():
 def test_a_block_far_from_the_nearest_sa_period_is_warned_of():
     import xarray as xr
 
-    from pipeline.run.fragility import stripe_warnings
+    from pipeline.run.fragility_assembly import stripe_warnings
     ds = xr.Dataset({"scale_factor": (("record", "im_level", "block"), np.ones((1, 2, 2))),
                      "n_records": (("block", "im_level"), np.ones((2, 2), dtype=int)),
                      "block_period": (("block",), np.array([1.0, 2.0])),
