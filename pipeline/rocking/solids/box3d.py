@@ -80,6 +80,8 @@ import numpy as np
 
 from .box_kernel import CORNER, EDGE, REST_RATE
 from .box_run import run_box
+from .convex_body import ConvexBody, box_body
+from .handoff3d import BoxHandoff, box_handoff
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, ground_components
 
 __all__ = ["Box", "BoxOutcome", "FLAG_NONE", "FLAG_FLIGHT", "FLAG_SLIDE", "FLAG_STEPS", "CORNER", "EDGE",
@@ -117,6 +119,11 @@ class Box(NamedTuple):
     mu: float
     restitution_ratio: float = 1.0
 
+    def convex(self) -> ConvexBody:
+        """The contact model's body of this box: its eight corners (plastic contacts, which give Housner's rule at a
+        pivot)."""
+        return box_body(2.0 * self.half_width_m, 2.0 * self.half_depth_m, 2.0 * self.half_height_m, mu=self.mu)
+
 
 class BoxOutcome(NamedTuple):
     """What a 3D box run gives.
@@ -150,10 +157,9 @@ class BoxOutcome(NamedTuple):
         cascades of flat landings held at rest to the next sample (more than
         :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` in one sample interval: rebounds too small to show at the
         samples, at the threshold of uplift)
-    handoff : ndarray or None
-        (t [s], q0, q1, q2, q3, omega_x, omega_y, omega_z, mode, pivot): the last state the model certified before it
-        first stopped or held (the start of the step whose contact force left the cone, or the instant at rest it
-        would slide); t NaN where it never did
+    handoff : BoxHandoff or None
+        the last state the model certified before it first stopped or held (the start of the step whose contact
+        force left the cone, or the instant at rest it would slide); None where it never did
     """
 
     overturned: bool
@@ -170,7 +176,7 @@ class BoxOutcome(NamedTuple):
     held: int
     steps: int = 0
     holds: int = 0
-    handoff: np.ndarray | None = None
+    handoff: BoxHandoff | None = None
 
 
 def housner_e_box(half_width_m: float, half_height_m: float) -> float:
@@ -256,4 +262,5 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
         tilt[k:], azimuth[k:] = HALF_PI, r.azimuth_max
     return BoxOutcome(bool(r.overturned), float(r.t_overturn), float(r.tilt_max),
                       float(np.degrees(r.azimuth_max) % 360.0), int(r.flag), int(r.impacts), float(r.corner_s),
-                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds), cert)
+                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds),
+                      box_handoff(cert))

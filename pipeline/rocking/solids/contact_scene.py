@@ -19,61 +19,36 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..codes import ContactMode
 from ..scene import FreeFlight, Guard, Physics, Response, Scene
 from .box3d import Box, BoxOutcome
-from .box_kernel import REST
 from .contact3d import FLAG_TAIL_CAP, Contact3DOutcome, simulate_contact3d
 from .contact_start import Start
-from .convex_body import ConvexBody, box_body, cylinder_body
+from .convex_body import ConvexBody
 from .cylinder3d import Cylinder, WobbleOutcome
-
-#: The base corners of the exact box model (box3d), counter-clockwise from above: c_k = (s_x b_x, s_y b_y, -h).
-_CORNER_SIGNS = ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0))
 
 
 def convex_body(body: Cylinder | Box) -> ConvexBody:
     """The contact model's body of an exact model's cylinder or box (restitution: plastic contacts, which give
     Housner's rule at a pivot)."""
-    if isinstance(body, Cylinder):
-        return cylinder_body(2.0 * body.radius_m, 2.0 * body.half_height_m, mu=body.mu)
-    return box_body(2.0 * body.half_width_m, 2.0 * body.half_depth_m, 2.0 * body.half_height_m, mu=body.mu)
+    return body.convex()
 
 
 def handoff(exact: WobbleOutcome | BoxOutcome | None, body: Cylinder | Box, azimuth_deg: float,
             dt_s: float) -> Start | None:
     """The contact model's :class:`~.contact_start.Start` at the last state ``exact`` certified before it stopped
-    (None where it certified none: it never moved, or stopped at a cap); ``azimuth_deg`` the body's at rest.
-
-    A box turns about its pivot corner (``mode``/``pivot`` of its hand-off: a corner, or either corner of an edge, or
-    the corner an edge turns on while the other slides); a cylinder rolls on the lowest point of its rim, whose arm
-    from G is ``r`` = ((h sin theta - a cos theta) cos phi, ... sin phi, h cos theta + a sin theta) and whose rate
-    is theta' e_n + phi' e_z + psi' e_3 (:mod:`.cylinder3d`). Its tilt and lean before are the exact model's."""
-    if exact is None or exact.handoff is None or not math.isfinite(exact.handoff[0]):
+    (None where it certified none: it never moved, or stopped at a cap); ``azimuth_deg`` the body's at rest. How the
+    body turns there is its hand-off's (:mod:`.handoff3d`); its tilt and lean before are the exact model's."""
+    if exact is None or exact.handoff is None:
         return None
     state = exact.handoff
-    if isinstance(body, Cylinder):
-        th, ph, ps, th_dot, ph_dot, ps_dot = state[1:7]
-        a, h = body.radius_m, body.half_height_m
-        rot = Rotation.from_euler("ZYZ", [ph, th, ps + math.radians(azimuth_deg)])
-        e_n, e_3 = np.array([-math.sin(ph), math.cos(ph), 0.0]), rot.apply([0.0, 0.0, 1.0])
-        rate = th_dot * e_n + np.array([0.0, 0.0, ph_dot]) + ps_dot * e_3
-        lever, up = h * math.sin(th) - a * math.cos(th), h * math.cos(th) + a * math.sin(th)
-        pivot = rot.inv().apply(-np.array([lever * math.cos(ph), lever * math.sin(ph), up]))
-        x, y, z, w = rot.as_quat()
-        q = np.array([w, x, y, z])
-    else:
-        q, rate = np.asarray(state[1:5], dtype=float), np.asarray(state[5:8], dtype=float)
-        k = 0 if int(state[8]) == REST else int(state[9])
-        sx, sy = _CORNER_SIGNS[k % 4]
-        pivot = np.array([sx * body.half_width_m, sy * body.half_depth_m, -body.half_height_m])
-    upto = int(math.floor(state[0] / dt_s + 1e-9)) + 1
+    q, rate, pivot = state.turning(body, azimuth_deg)
+    upto = int(math.floor(state.t_s / dt_s + 1e-9)) + 1
     tilt = np.asarray(exact.theta[:upto], dtype=float)
     lean = np.where(tilt > 0.0, np.asarray(exact.azimuth[:upto], dtype=float), math.nan)
     peak = int(np.nanargmax(tilt)) if np.any(np.isfinite(tilt)) else 0
-    return Start(float(state[0]), q, rate, pivot, float(np.nan_to_num(tilt[peak])), float(lean[peak]), tilt, lean)
+    return Start(float(state.t_s), q, rate, pivot, float(np.nan_to_num(tilt[peak])), float(lean[peak]), tilt, lean)
 
 
 def contact_scene(h1, h2, vertical, dt_s: float, body: Cylinder | Box, azimuth_deg: float, alpha: float, *,

@@ -108,6 +108,8 @@ from ..numerics.dopri import (
     E6,
     E7,
 )
+from .convex_body import ConvexBody, cylinder_body
+from .handoff3d import CylinderHandoff, cylinder_handoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
 from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components, keep_first
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
@@ -149,6 +151,11 @@ class Cylinder(NamedTuple):
     mu: float
     restitution: float
 
+    def convex(self) -> ConvexBody:
+        """The contact model's body of this cylinder: points of its two rims (plastic contacts, which give
+        Housner's rule at a pivot)."""
+        return cylinder_body(2.0 * self.radius_m, 2.0 * self.half_height_m, mu=self.mu)
+
 
 class WobbleOutcome(NamedTuple):
     """What a 3D cylinder run gives.
@@ -179,9 +186,9 @@ class WobbleOutcome(NamedTuple):
         and the run went on with the rim held (its overturning kept, see the module); FLAG_NONE otherwise
     holds : int
         sample intervals at whose end a tilt below :data:`SETTLE_TILT_ALPHA` x alpha was set at rest
-    handoff : ndarray or None
-        (t [s], theta, phi, psi, theta', phi', psi'): the last state the model certified before the base would first
-        slide or lift off (the start of that step); t NaN where it never would
+    handoff : CylinderHandoff or None
+        the last state the model certified before the base would first slide or lift off (the start of that step);
+        None where it never would
     """
 
     overturned: bool
@@ -196,7 +203,7 @@ class WobbleOutcome(NamedTuple):
     friction_demand: float
     held: int
     holds: int = 0
-    handoff: np.ndarray | None = None
+    handoff: CylinderHandoff | None = None
 
 
 class Params(NamedTuple):
@@ -636,4 +643,5 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds), cert)
+                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds),
+                         cylinder_handoff(cert))

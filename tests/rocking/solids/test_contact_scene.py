@@ -156,19 +156,20 @@ def test_a_box_lying_on_its_side_is_overturned_and_one_back_on_its_base_is_at_re
 
 
 def _state_at(out, i, body, dt):
-    """The hand-off vector of an exact run that ended at sample ``i`` (a box turning about its lowest corner)."""
+    """The hand-off of an exact run that ended at sample ``i`` (a box turning about its lowest corner)."""
     from scipy.spatial.transform import Rotation
 
     from pipeline.rocking.solids.box3d import Box
-    from pipeline.rocking.solids.contact_scene import _CORNER_SIGNS
+    from pipeline.rocking.solids.box_kernel import CORNER
+    from pipeline.rocking.solids.handoff3d import CORNER_SIGNS, BoxHandoff, CylinderHandoff
 
     y = out.state_end
     if not isinstance(body, Box):
-        return np.concatenate([[i * dt], y])
+        return CylinderHandoff(i * dt, *(float(v) for v in y))
     turn = Rotation.from_quat([y[1], y[2], y[3], y[0]])
     low = np.argmin([turn.apply([sx * body.half_width_m, sy * body.half_depth_m, -body.half_height_m])[2]
-                     for sx, sy in _CORNER_SIGNS])
-    return np.concatenate([[i * dt], y, [0, low]])
+                     for sx, sy in CORNER_SIGNS])
+    return BoxHandoff(i * dt, np.array(y[:4]), np.array(y[4:7]), CORNER, int(low))
 
 
 @pytest.mark.parametrize("amp_g, period_s, cross_g", [(0.3, 0.5, 0.0), (0.3, 0.5, 0.1), (0.4, 0.4, 0.05)])
