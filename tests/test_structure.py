@@ -132,3 +132,20 @@ def test_the_tests_mirror_the_package():
     assert folders and [f for f in folders if not (PIPELINE / f / "__init__.py").is_file()] == []
     stray = [p.name for p in tests.glob("*.py") if not p.name.startswith("test_") and p.name != "conftest.py"]
     assert stray == [], f"helpers belong in tests/support/: {stray}"
+
+
+def test_no_code_outside_a_bodys_own_modules_reads_its_type():
+    """The 3D bodies are dispatched by their family (``solid3d.FAMILIES``): ``isinstance`` on Box or Cylinder appears
+    only in the box's and the cylinder's own modules."""
+    bodies = {"Box", "Cylinder"}
+    found = []
+    for rel, tree in _modules():
+        if rel.split("/")[-1].startswith(("box", "cylinder")):
+            continue
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "isinstance"
+                    and len(node.args) == 2):
+                kinds = node.args[1].elts if isinstance(node.args[1], ast.Tuple) else [node.args[1]]
+                if any(isinstance(k, ast.Name) and k.id in bodies for k in kinds):
+                    found.append(f"{rel}:{node.lineno}")
+    assert found == [], "dispatch through the body's family (rocking/solids/family.py), not its type"

@@ -16,8 +16,10 @@ import numpy as np
 from ...constants import G
 from ..block import BlockShape
 from ..geometry import cylinder_p_e, effective_restitution
+from ..scene import Physics
 from ..settings import SimulationConfig
-from .cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder, WobbleOutcome, simulate_cylinder
+from .cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder, WobbleOutcome, cylinder_from_corner, simulate_cylinder
+from .family import SolidFamily
 
 
 def cylinder_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Cylinder:
@@ -42,3 +44,24 @@ def run_on_record(h1, h2, vertical, dt_s: float, cylinder: Cylinder, *, settings
         if np.any(gv <= 0.0) or np.any(np.hypot(x, y) > cylinder.mu * gv):
             out = out._replace(flag=FLAG_SLIDE)
     return out
+
+
+def _tipping_tans(cylinder: Cylinder) -> tuple[float, ...]:
+    """The tan of its static tipping angle, r / h [-]."""
+    return (cylinder.radius_m / cylinder.half_height_m,)
+
+
+def _drawn(cylinder: Cylinder, azimuth_deg: float, *, R_m: float, alpha: float, mu: float,
+           restitution: float) -> tuple[Cylinder, float]:
+    """The cylinder of one draw (axisymmetric: its azimuth stays 0)."""
+    return cylinder_from_corner(R_m, alpha, mu=mu, restitution=restitution), 0.0
+
+
+def _run(h1, h2, vertical, dt_s: float, cylinder: Cylinder, azimuth_deg: float, *, settings: SimulationConfig,
+         g_ms2: float = G, amplitude: float = 1.0) -> WobbleOutcome:
+    """:func:`run_on_record` (axisymmetric: ``azimuth_deg`` is not read)."""
+    return run_on_record(h1, h2, vertical, dt_s, cylinder, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
+
+
+#: The cylinders' family (:class:`~.family.SolidFamily`).
+CYLINDER = SolidFamily(physics=Physics.wobbling, tipping_tans=_tipping_tans, drawn=_drawn, run=_run)

@@ -32,15 +32,15 @@ import numpy as np
 from ...constants import G
 from ..block import BlockShape, ShapeKind
 from ..codes import ContactMode
-from ..geometry import effective_restitution
 from ..orientation import PlaneResult
 from ..scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
 from ..settings import SimulationConfig
-from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
-from .box_planar import planar_box_scene
+from .box3d import Box, BoxOutcome
+from .box_scene import BOX, box_of
 from .contact_scene import contact_scene
-from .cylinder3d import Cylinder, WobbleOutcome, cylinder_from_corner
-from .cylinder_scene import cylinder_of, run_on_record
+from .cylinder3d import Cylinder, WobbleOutcome
+from .cylinder_scene import CYLINDER, cylinder_of
+from .family import SolidFamily
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS
 
 
@@ -61,18 +61,17 @@ class Solid(NamedTuple):
     alpha: float
 
     @property
+    def family(self) -> SolidFamily:
+        """Its body's family (:data:`FAMILIES`)."""
+        return FAMILIES[type(self.body)]
+
+    @property
     def physics(self) -> Physics:
-        return Physics.wobbling if isinstance(self.body, Cylinder) else Physics.rocking3d
+        return self.family.physics
 
 
-def box_of(shape: BlockShape, *, restitution_factor: float = 1.0) -> Box:
-    """The 3D model's :class:`~.box3d.Box` of an inventory box with a depth: its flat landings keep the ratio of
-    the declared restitution (NaN: Housner's) to Housner's value in the plane of its width."""
-    b, h = shape.width_m / 2.0, shape.height_m / 2.0
-    e_h = housner_e_box(b, h)
-    e = float(effective_restitution(np.array(shape.restitution), e_h, restitution_factor))
-    return Box(half_width_m=b, half_depth_m=shape.depth_m / 2.0, half_height_m=h, mu=shape.mu,
-               restitution_ratio=e / e_h if e_h > 0.0 else 0.0)
+#: The families of 3D bodies, by the type of their body: a new body is its module and one line here.
+FAMILIES: dict[type, SolidFamily] = {Cylinder: CYLINDER, Box: BOX}
 
 
 def solid_of(shape: BlockShape, *, record_azimuth_deg: float, known_azimuth: bool) -> Solid | None:
@@ -91,25 +90,17 @@ def drawn(solid: Solid, *, R_m: float, alpha: float, mu: float, restitution: flo
           azimuth_deg: float | None = None, record_azimuth_deg: float = 0.0) -> Solid:
     """The solid of one draw of the declared uncertainty (its sampled R, alpha, friction and restitution; a box
     keeps its depth-to-width ratio and takes the drawn compass azimuth where given)."""
-    if isinstance(solid.body, Cylinder):
-        return Solid(cylinder_from_corner(R_m, alpha, mu=mu, restitution=restitution), 0.0, alpha)
-    ratio = solid.body.half_depth_m / solid.body.half_width_m
-    box = box_from_corner(R_m, alpha, 2.0 * ratio * R_m * math.sin(alpha), mu=mu, restitution=restitution)
     az = solid.azimuth_deg if azimuth_deg is None else (record_azimuth_deg - azimuth_deg) % 360.0
-    return Solid(box, az, alpha)
+    body, az = solid.family.drawn(solid.body, az, R_m=R_m, alpha=alpha, mu=mu, restitution=restitution)
+    return Solid(body, az, alpha)
 
 
 def run(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: SimulationConfig, g_ms2: float = G,
         amplitude: float = 1.0) -> WobbleOutcome | BoxOutcome:
     """The solid's 3D model on a record's two horizontals (the second 90 deg clockwise of the first) and its
     vertical (None: none), all scaled by ``amplitude``."""
-    if isinstance(solid.body, Cylinder):
-        return run_on_record(h1, h2, vertical, dt_s, solid.body, settings=settings, g_ms2=g_ms2,
-                             amplitude=amplitude)
-    av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
-    return simulate_box(amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float), av,
-                        dt_s, solid.body, azimuth_deg=solid.azimuth_deg, g_ms2=g_ms2, rtol=settings.rtol,
-                        atol_alpha=settings.atol)
+    return solid.family.run(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings, g_ms2=g_ms2,
+                            amplitude=amplitude)
 
 
 def scene_of(outcome: WobbleOutcome | BoxOutcome, solid: Solid, *, history: bool = False) -> Scene:
@@ -175,9 +166,10 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
     if verdict_only and not history and settings.contact3d and stays_flat(vertical, solid, g_ms2=g_ms2,
                                                                           amplitude=amplitude):
         return Judged(FLAT_SLIDE_SCENE, math.nan, False)
-    if isinstance(solid.body, Box):
-        cs = planar_box_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings,
-                              g_ms2=g_ms2, amplitude=amplitude, history=history)
+    certified_scene = solid.family.certified_scene
+    if certified_scene is not None:
+        cs = certified_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, settings=settings,
+                             g_ms2=g_ms2, amplitude=amplitude, history=history)
         if cs.other_axis.certified and cs.scene is not None:
             theta = cs.scene.theta_over_alpha
             lean = None if theta is None else np.where(
@@ -220,10 +212,7 @@ def _pushes(x, y, solid: Solid) -> list[tuple[np.ndarray, float]]:
 def _tipping_tans(solid: Solid) -> tuple[float, ...]:
     """The tan of each static tipping angle of the solid as it stands: a cylinder's (r / h); a box's about the edges
     across its width and across its depth (b / h, d / h; half sizes)."""
-    body = solid.body
-    if isinstance(body, Cylinder):
-        return (body.radius_m / body.half_height_m,)
-    return body.half_width_m / body.half_height_m, body.half_depth_m / body.half_height_m
+    return solid.family.tipping_tans(solid.body)
 
 
 def _components(h1, h2, vertical, amplitude: float = 1.0):
