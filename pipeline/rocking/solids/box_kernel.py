@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ...compiled import jit
-from ..numerics.dopri import TABLEAU_B, TABLEAU_E, TABLEAU_NODES, TABLEAU_ROWS
+from ...compiled import jit, jit_inline
+from ..numerics.rk import DOPRI54, rk_step
 from .vec3 import cross, error_norm, shifted, solve3, solve_sym3
 
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
@@ -216,32 +216,23 @@ def _ground(t, i, grd):
             -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
 
 
+@jit_inline
+def _rhs(t, y, args, out):
+    """f of the box in ``mode`` on ``pivot`` (``args``: sample interval, ground, constants, mode, pivot) at ``t``
+    into ``out``; returns the contact forces (:func:`derivatives`)."""
+    i, grd, prm, mode, pivot = args
+    gx, gy, gz = _ground(t, i, grd)
+    return derivatives(y, gx, gy, gz, prm, mode, pivot, out)
+
+
 @jit
 def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
-    """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (``k[0]``: f at the start): the 5th-order state in
-    ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces there in ``force``."""
-    for s in range(5):
-        for q in range(7):
-            acc = 0.0
-            for j in range(s + 1):
-                acc += TABLEAU_ROWS[s, j] * k[j, q]
-            tmp[q] = y[q] + hh * acc
-        gx, gy, gz = _ground(t + TABLEAU_NODES[s] * hh, i, grd)
-        derivatives(tmp, gx, gy, gz, prm, mode, pivot, k[s + 1])
-    for q in range(7):
-        acc = 0.0
-        for j in range(6):
-            acc += TABLEAU_B[j] * k[j, q]
-        y_new[q] = y[q] + hh * acc
-    gx, gy, gz = _ground(t + hh, i, grd)
-    f = derivatives(y_new, gx, gy, gz, prm, mode, pivot, k[6])
+    """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f at the
+    start): the 5th-order state in ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces
+    there in ``force``."""
+    f = rk_step(_rhs, (i, grd, prm, mode, pivot), t, y, hh, k, tmp, y_new, err, DOPRI54)
     for q in range(FORCE_SIZE):
         force[q] = f[q]
-    for q in range(7):
-        acc = 0.0
-        for j in range(7):
-            acc += TABLEAU_E[j] * k[j, q]
-        err[q] = hh * acc
 
 
 @jit
