@@ -74,40 +74,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 from ..geometry import cylinder_p_e
-from ..numerics.dopri import (
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    B1,
-    B3,
-    B4,
-    B5,
-    B6,
-    C2,
-    C3,
-    C4,
-    C5,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-)
+from ..numerics.rk import DOPRI54, rk_step
 from .convex_body import ConvexBody, cylinder_body
 from .handoff3d import CylinderHandoff, cylinder_handoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
@@ -313,37 +282,21 @@ def _ground(t, i, grd):
             -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
 
 
-@jit
-def _stage(y, k, coef, n_prev, hh, tmp):
-    for i in range(6):
-        acc = y[i]
-        for j in range(n_prev):
-            acc += hh * coef[j] * k[j, i]
-        tmp[i] = acc
+@jit_inline
+def _rhs(t, y, args, out):
+    """f of the rolling cylinder (``args``: sample interval, ground, constants) at ``t`` into ``out``; returns the
+    contact force per unit mass (:func:`derivatives`)."""
+    i, grd, prm = args
+    gx, gy, gz = _ground(t, i, grd)
+    return derivatives(y, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, out)
 
 
 @jit
 def dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err):
-    """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (``k[0]``: f at the start, FSAL): the
-    5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in ``k[6]``; returns the
-    contact force per unit mass at the end."""
-    c = np.empty(6)
-    nodes = (C2, C3, C4, C5, 1.0)
-    rows = ((A21, 0.0, 0.0, 0.0, 0.0), (A31, A32, 0.0, 0.0, 0.0), (A41, A42, A43, 0.0, 0.0),
-            (A51, A52, A53, A54, 0.0), (A61, A62, A63, A64, A65))
-    for s in range(5):
-        for j in range(5):
-            c[j] = rows[s][j]
-        _stage(y, k, c, s + 1, hh, tmp)
-        gx, gy, gz = _ground(t + nodes[s] * hh, i, grd)
-        derivatives(tmp, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, k[s + 1])
-    for q in range(6):
-        y_new[q] = y[q] + hh * (B1 * k[0, q] + B3 * k[2, q] + B4 * k[3, q] + B5 * k[4, q] + B6 * k[5, q])
-    gx, gy, gz = _ground(t + hh, i, grd)
-    force = derivatives(y_new, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, k[6])
-    for q in range(6):
-        err[q] = hh * (E1 * k[0, q] + E3 * k[2, q] + E4 * k[3, q] + E5 * k[4, q] + E6 * k[5, q] + E7 * k[6, q])
-    return force
+    """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f
+    at the start, FSAL): the 5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in
+    ``k[6]``; returns the contact force per unit mass at the end."""
+    return rk_step(_rhs, (i, grd, prm), t, y, hh, k, tmp, y_new, err, DOPRI54)
 
 
 @jit
