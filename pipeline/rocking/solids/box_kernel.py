@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 from ...compiled import jit, jit_inline
 from ..numerics.rk import DOPRI54, rk_step
-from .vec3 import cross, error_norm, shifted, solve3, solve_sym3
+from .vec3 import cross, effective_gravity, error_norm, shifted, solve3, solve_sym3
 
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
 
@@ -208,20 +208,12 @@ def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
     return fx, fy, fz, n1, n2, 0.0
 
 
-@jit
-def _ground(t, i, grd):
-    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t`` in sample interval ``i`` (linear between samples)."""
-    f = (t - i * grd.dt) / grd.dt
-    return (-(grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])), -(grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])),
-            -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
-
-
 @jit_inline
 def _rhs(t, y, args, out):
     """f of the box in ``mode`` on ``pivot`` (``args``: sample interval, ground, constants, mode, pivot) at ``t``
     into ``out``; returns the contact forces (:func:`derivatives`)."""
     i, grd, prm, mode, pivot = args
-    gx, gy, gz = _ground(t, i, grd)
+    gx, gy, gz = effective_gravity(t, i, grd)
     return derivatives(y, gx, gy, gz, prm, mode, pivot, out)
 
 

@@ -25,7 +25,6 @@ from .box_kernel import (
     BoxRun,
     _apply,
     _error_norm,
-    _ground,
     _inertia_g,
     _params,
     _sym_apply,
@@ -47,6 +46,7 @@ from .vec3 import (
     Ground,
     contact_flag,
     cross,
+    effective_gravity,
     first_below,
     hermite,
     keep_first,
@@ -249,7 +249,7 @@ def _lifts(y, t, i, grd, prm, keep, free, scratch):
     """Whether corner ``free`` of an edge would rise with the box turning on corner ``keep`` alone (its vertical
     acceleration there > 0). With the edge's normal force at ``free`` <= 0 this is the consistent lift; where it
     would not rise, that corner can neither pull nor lift, and only a slip of it (a twist) resolves the contact."""
-    gx, gy, gz = _ground(t, i, grd)
+    gx, gy, gz = effective_gravity(t, i, grd)
     derivatives(y, gx, gy, gz, prm, CORNER, keep, scratch)
     m = rotation(y)
     ax_, ay_, az_ = corner(free, prm)
@@ -340,7 +340,7 @@ def _fresh_pass(y, t, i, grd, prm, mode, pivot, k, force0):
     """f and the contact forces at a fresh state (after a transition); then a corner of an edge that is unloaded
     lifts (it would rise) or slides (it can neither press nor rise), and a sliding corner that is unloaded lifts.
     Returns (mode, pivot, whether they changed)."""
-    gx, gy, gz = _ground(t, i, grd)
+    gx, gy, gz = effective_gravity(t, i, grd)
     f = derivatives(y, gx, gy, gz, prm, mode, pivot, k[0])
     for q in range(FORCE_SIZE):
         force0[q] = f[q]

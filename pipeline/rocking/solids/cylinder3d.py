@@ -80,7 +80,16 @@ from ..numerics.rk import DOPRI54, rk_step
 from .convex_body import ConvexBody, cylinder_body
 from .handoff3d import CylinderHandoff, cylinder_handoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
-from .vec3 import FLAG_NONE, FLAG_STEPS, Ground, error_norm, first_below, ground_components, keep_first
+from .vec3 import (
+    FLAG_NONE,
+    FLAG_STEPS,
+    Ground,
+    effective_gravity,
+    error_norm,
+    first_below,
+    ground_components,
+    keep_first,
+)
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
 from .vec3 import contact_flag as _contact_flag
 from .vec3 import cross as _cross
@@ -273,21 +282,12 @@ def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
     return agx + wrx - gx, agy + wry - gy, agz + wrz - gz
 
 
-@jit
-def _ground(t, i, grd):
-    """The effective gravity (-a_x, -a_y, -g - a_z) at ``t`` inside sample interval ``i`` (the ground linear
-    between samples)."""
-    f = (t - i * grd.dt) / grd.dt
-    return (-(grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])), -(grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])),
-            -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
-
-
 @jit_inline
 def _rhs(t, y, args, out):
     """f of the rolling cylinder (``args``: sample interval, ground, constants) at ``t`` into ``out``; returns the
     contact force per unit mass (:func:`derivatives`)."""
     i, grd, prm = args
-    gx, gy, gz = _ground(t, i, grd)
+    gx, gy, gz = effective_gravity(t, i, grd)
     return derivatives(y, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, out)
 
 
@@ -360,7 +360,7 @@ def _lift_off(t, i, grd, prm, y):
     start = _uplift(t, t0 + grd.dt, t0, grd.dt, grd.ax[i], grd.ax[i + 1], grd.ay[i], grd.ay[i + 1], grd.az[i],
                     grd.az[i + 1], grd.g, prm.a / prm.h)
     if start >= 0.0:
-        gx, gy, _ = _ground(start, i, grd)
+        gx, gy, _ = effective_gravity(start, i, grd)
         y[:] = 0.0
         y[0], y[1] = 2.0 * prm.land, math.atan2(gy, gx)
     return start
@@ -431,7 +431,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             flag = FLAG_STEPS
             break
         if fresh:
-            gx, gy, gz = _ground(t, i, grd)
+            gx, gy, gz = effective_gravity(t, i, grd)
             derivatives(y, gx, gy, gz, a, h, prm.i1, prm.i3, k[0])
             fresh = False
         hh = min(hh_next, (i + 1) * dt - t)

@@ -21,6 +21,16 @@ class Ground(NamedTuple):
     dt: float
     g: float
 
+
+@jit
+def effective_gravity(t, i, grd):
+    """The effective gravity (-a_x, -a_y, -g - a_z) [m s-2] at ``t`` [s] inside sample interval ``i`` of ``grd``
+    (the ground linear between samples)."""
+    f = (t - i * grd.dt) / grd.dt
+    return (-(grd.ax[i] + f * (grd.ax[i + 1] - grd.ax[i])), -(grd.ay[i] + f * (grd.ay[i + 1] - grd.ay[i])),
+            -grd.g - (grd.az[i] + f * (grd.az[i + 1] - grd.az[i])))
+
+
 # Locating a crossing inside a step, named once
 CROSSING_PROBES = 16            # a step's cubic is probed at this many points before bisecting
 CROSSING_BISECTIONS = 60        # then bisected this many times
