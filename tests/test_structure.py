@@ -149,3 +149,20 @@ def test_no_code_outside_a_bodys_own_modules_reads_its_type():
                 if any(isinstance(k, ast.Name) and k.id in bodies for k in kinds):
                     found.append(f"{rel}:{node.lineno}")
     assert found == [], "dispatch through the body's family (rocking/solids/family.py), not its type"
+
+
+#: The solids' and contact models' code: every function documented and at most this long (lines from its def).
+SOLIDS_MAX_FUNCTION_LINES = 60
+
+
+def test_every_function_of_the_solids_and_contact_code_is_documented_and_short():
+    long_or_bare = []
+    for rel, tree in _modules():
+        if not (rel.startswith("rocking/solids/") or rel.startswith("rocking/planar/contact")):
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                lines = node.end_lineno - node.lineno + 1
+                if lines > SOLIDS_MAX_FUNCTION_LINES or not ast.get_docstring(node):
+                    long_or_bare.append(f"{rel}:{node.lineno} {node.name} ({lines} lines)")
+    assert long_or_bare == [], "split it, or say what it does"

@@ -28,6 +28,12 @@ import numpy as np
 
 from ...compiled import jit_inline
 
+# The step-size control of the 3D models, named once (as scipy's _ivp names its step factors): the next step is
+# h SAFETY err^ERROR_EXPONENT (the error of order 4 of DOPRI54 over the tolerance), within the factors below
+SAFETY = 0.9                    # the step-size controller's safety factor
+MIN_FACTOR, MAX_FACTOR = 0.2, 5.0
+ERROR_EXPONENT = -0.2           # -1 / (4 + 1)
+
 
 class Tableau(NamedTuple):
     """An embedded explicit Runge-Kutta method (its Butcher tableau).
@@ -89,3 +95,16 @@ def rk_step(fun, args, t, y, h, k, tmp, y_new, err, tableau):
             acc += tableau.e[j] * k[j, q]
         err[q] = h * acc
     return kept
+
+
+@jit_inline
+def rejected_step(h, norm):
+    """The step to retry after a step of ``h`` [s] whose error over the tolerance was ``norm`` > 1 (NaN: the
+    smallest factor)."""
+    return h * max(MIN_FACTOR, SAFETY * norm ** ERROR_EXPONENT) if norm == norm else h * MIN_FACTOR
+
+
+@jit_inline
+def next_step(h, norm):
+    """The step after an accepted step of ``h`` [s] whose error over the tolerance was ``norm`` <= 1."""
+    return h * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** ERROR_EXPONENT))

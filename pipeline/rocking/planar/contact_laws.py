@@ -217,6 +217,7 @@ def _onset(a, G, blk):
 
 @jit
 def _mode_bit(mode):
+    """The contact_modes bit of a contact mode (0: none)."""
     if mode == SLIDE:
         return MODE_SLIDE
     if mode == ROCK:

@@ -18,9 +18,7 @@ from .vec3 import cross, effective_gravity, error_norm, shifted, solve3, solve_s
 
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
 
-# Step control and events, named once (as scipy's _ivp names its step factors)
-SAFETY = 0.9                    # the step-size controller's safety factor
-MIN_FACTOR, MAX_FACTOR = 0.2, 5.0
+# Step limits and events, named once (the step-size factors: ..numerics.rk)
 MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
 LAND_THETA_ALPHA = 1e-9         # a base corner within this x alpha x the base's smaller side lands [-]
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
@@ -65,6 +63,7 @@ class BoxRun(NamedTuple):
 
 @jit
 def _params(g, bx, by, hz, mu, scale, rtol, atol_alpha):
+    """The box's :class:`BoxParams` (half sizes [m], friction, the restitution's scale, the tolerances)."""
     alpha = min(math.atan2(bx, hz), math.atan2(by, hz))
     r_w = math.hypot(bx, hz)
     p = math.sqrt(0.75 * g / r_w)
@@ -93,6 +92,7 @@ def rotation(y):
 
 @jit
 def _apply(m, x, y, z):
+    """The rotation ``m`` (nine entries, row by row) applied to (x, y, z)."""
     return (m[0] * x + m[1] * y + m[2] * z, m[3] * x + m[4] * y + m[5] * z, m[6] * x + m[7] * y + m[8] * z)
 
 
@@ -107,6 +107,7 @@ def _inertia_g(m, prm):
 
 @jit
 def _sym_apply(s, x, y, z):
+    """The symmetric matrix ``s`` (six entries: xx, xy, xz, yy, yz, zz) applied to (x, y, z)."""
     return (s[0] * x + s[1] * y + s[2] * z, s[1] * x + s[3] * y + s[4] * z, s[2] * x + s[4] * y + s[5] * z)
 
 

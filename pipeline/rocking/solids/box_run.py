@@ -8,18 +8,16 @@ import math
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
+from ..numerics.rk import next_step, rejected_step
 from .box_kernel import (
     CORNER,
     EDGE,
     EVENT_BISECTIONS,
     FORCE_SIZE,
-    MAX_FACTOR,
     MAX_STEPS_PER_SAMPLE,
-    MIN_FACTOR,
     REST,
     REST_RATE,
-    SAFETY,
     TWIST_NEXT,
     TWIST_PREV,
     BoxRun,
@@ -47,7 +45,9 @@ from .vec3 import (
     contact_flag,
     cross,
     effective_gravity,
+    final_flag,
     first_below,
+    friction_demand,
     hermite,
     keep_first,
     shifted,
@@ -290,6 +290,7 @@ def _past_tipping(y, mode, pivot, prm):
 
 @jit
 def _rzz(y):
+    """R_zz of the quaternion ``y[0:4]`` (not necessarily unit): the cosine of the body axis's tilt [-]."""
     return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
 
 
@@ -449,17 +450,58 @@ def _hold(y, i, dt, tilt_out, azimuth_out):
     return REST, (i + 1) * dt
 
 
-@jit
-def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode0, pivot0, tilt_out, azimuth_out,
-            y_end, cert):
-    """Run a box on the ground motion ``ax, ay, az`` [m s-2] sampled at ``dt`` [s] from the state ``y0`` in mode
-    ``mode0`` on ``pivot0`` (REST: at rest), filling the tilt and its azimuth at the samples, the last state, and
-    the last state certified before a stop (:func:`certify`)."""
-    grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
-    n, y, mode, pivot = ax.shape[0], y0.copy(), mode0, pivot0
+@jit_inline
+def _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+            scratch, i_landed, landed_here):
+    """A base corner lands at the fraction ``x`` of the step (corner ``kc``; another at ``x_next``): the state
+    advanced there, the impact applied, and a cascade of flat landings in one sample interval held at rest
+    (:func:`_hold`). Returns the time, the mode and pivot, the landings counted in this interval and whether it was
+    held."""
+    flat = mode != CORNER or (x_next - x) * hh <= TOGETHER_S
+    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch)
+    mode, pivot = _after_landing(y, mode, pivot, kc, (x_next - x) * hh <= TOGETHER_S, prm)
+    landed_here = landed_here + 1 if i == i_landed and flat else (1 if flat else 0)
+    if landed_here > MAX_FLAT_LANDINGS_PER_SAMPLE and mode != REST:
+        mode, t = _hold(y, i, grd.dt, tilt_out, azimuth_out)
+        return t, mode, pivot, 0, True
+    return t, mode, pivot, landed_here, False
+
+
+@jit_inline
+def _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+                 scratch):
+    """A contact event at the fraction ``x`` of the step (:func:`_contact_event`): the state advanced there and
+    the sliding corner stuck where an edge follows. Returns the time, the mode that follows and the pivot."""
+    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch)
+    if then == EDGE and mode != EDGE:
+        pivot = _stick(y, mode, pivot, prm)
+    return t, then, pivot
+
+
+@jit_inline
+def _peak(y_new, tilt_max, az_max):
+    """The run's largest tilt and its azimuth [rad] with the state ``y_new``'s."""
+    tilt, azimuth = tilt_of(y_new)
+    return (tilt, azimuth) if tilt > tilt_max else (tilt_max, az_max)
+
+
+@jit_inline
+def _start_state(y0, mode):
+    """The state to start from: ``y0``, set flat and still where the box starts at rest."""
+    y = y0.copy()
     if mode == REST:
         flatten(y)
         y[4], y[5], y[6] = 0.0, 0.0, 0.0
+    return y
+
+
+@jit
+def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode0, pivot0, tilt_out, azimuth_out,
+            y_end, cert):
+    """Run a box on the ground ``ax, ay, az`` [m s-2] at ``dt`` [s] from ``y0`` in ``mode0`` on ``pivot0`` (REST: at
+    rest): the tilt and azimuth at the samples, the last state, the last certified before a stop (:func:`certify`)."""
+    grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
+    n, y, mode, pivot = ax.shape[0], _start_state(y0, mode0), mode0, pivot0
     k, tmp, y_new, err = np.zeros((7, 7)), np.empty(7), np.empty(7), np.empty(7)
     force, force0, scratch = np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4)
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
@@ -473,8 +515,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             t, mode, pivot, flag = _rest_pass(t, i, grd, prm, y, quiet_ratio, tilt_out, azimuth_out, cert)
             fresh = True
             continue
-        steps += 1
-        stalled, t_last = (stalled + 1 if t <= t_last else 0), t
+        steps, stalled, t_last = steps + 1, (stalled + 1 if t <= t_last else 0), t
         if steps > MAX_STEPS_PER_SAMPLE * n or stalled > MAX_STALLED:
             flag = FLAG_STEPS
             break
@@ -486,7 +527,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force)
         norm = _error_norm(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
-            hh_next = hh * max(MIN_FACTOR, SAFETY * norm ** -0.2) if norm == norm else hh * MIN_FACTOR
+            hh_next = rejected_step(hh, norm)
             continue
         r0, r1 = _rzz(y), _rzz(y_new)
         if r1 <= 0.0:                                                # overturned: the axis reaches the horizontal
@@ -494,38 +535,24 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             break
         x, kc, x_next = _landing(y, k[0], y_new, k[6], hh, mode, pivot, prm)
         if kc >= 0:
-            impacts += 1
-            flat = mode != CORNER or (x_next - x) * hh <= TOGETHER_S
-            t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
-                         scratch)
-            mode, pivot = _after_landing(y, mode, pivot, kc, (x_next - x) * hh <= TOGETHER_S, prm)
-            fresh = True
-            i_landed, landed_here = i, (landed_here + 1 if i == i_landed and flat else (1 if flat else 0))
-            if landed_here > MAX_FLAT_LANDINGS_PER_SAMPLE and mode != REST:
-                mode, t = _hold(y, i, dt, tilt_out, azimuth_out)
-                holds, landed_here = holds + 1, 0
+            t, mode, pivot, landed_here, was_held = _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, tmp,
+                                                            y_new, err, force, tilt_out, azimuth_out, scratch,
+                                                            i_landed, landed_here)
+            impacts, holds, i_landed, fresh = impacts + 1, holds + was_held, i, True
             continue
         x, then = _contact_event(y, y_new, force, force0, mode, held, prm)
-        if x >= 0.0:
-            t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
-                         scratch)
-            if then == EDGE and mode != EDGE:
-                pivot = _stick(y, mode, pivot, prm)
-            mode, fresh = then, True        # an edge's unloaded corner: the fresh pass decides lift or slide
+        if x >= 0.0:        # an edge's unloaded corner: the fresh pass decides lift or slide
+            t, mode, pivot = _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force,
+                                          tilt_out, azimuth_out, scratch)
+            fresh = True
             continue
         flag, held = _checked(force, mu, held, y_new, mode, pivot, prm, cert, t, y)
-        if force[2] > 0.0:
-            demand = max(demand, math.hypot(force[0], force[1]) / force[2])
+        demand = friction_demand(force, demand)
         _fill(tilt_out, azimuth_out, dt, t, hh, y, k, y_new, n, scratch)
-        tl, azl = tilt_of(y_new)
-        if tl > tilt_max:
-            tilt_max, az_max = tl, azl
+        tilt_max, az_max = _peak(y_new, tilt_max, az_max)
         corner_s += hh if mode == CORNER else 0.0
-        t += hh
+        t, hh_next = t + hh, next_step(hh, norm)
         _accept(y, y_new, k, force, force0)
-        hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
     y_end[:] = y
-    if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
-        flag = held
-    return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, flag, impacts, corner_s, demand, held, steps,
-                  holds)
+    return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, final_flag(flag, held, t_over), impacts,
+                  corner_s, demand, held, steps, holds)

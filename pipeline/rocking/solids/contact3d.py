@@ -220,9 +220,11 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
                solvers(len(body.vertices)), hist, stance, _room(len(vertices)),
                begin(start, dt_s / n_sub, float(dt_s), stance.up, hist))
-    lean_peak = math.degrees(out[-2]) if math.isfinite(out[-2]) else math.nan
-    return Contact3DOutcome._make((*out[:-2], lean_peak, hist[:, 0] if history else None,
-                                   np.degrees(hist[:, 1]) if history else None, out[-1]))
+    return Contact3DOutcome(
+        out.overturned, out.t_overturn, out.tilt_max_rad, out.slide_max_m, out.twist_max_rad, out.flight, out.steps,
+        out.flags, out.capped_steps, out.energy_gain_max, out.integrated_steps, out.sweeps,
+        math.degrees(out.lean_peak_rad) if math.isfinite(out.lean_peak_rad) else math.nan,
+        hist[:, 0] if history else None, np.degrees(hist[:, 1]) if history else None, out.tilt_end)
 
 
 class _Room(NamedTuple):
@@ -241,6 +243,7 @@ class _Room(NamedTuple):
 
 
 def _room(n_v: int) -> _Room:
+    """The kernel's arrays for a body of ``n_v`` vertices (:class:`_Room`), the warm start at zero."""
     return _Room((np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v),
                   np.empty((n_v, 3))), (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3)),
                  np.empty(3), np.empty(4), np.empty(3), np.empty(3))
@@ -486,8 +489,80 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
     impulses[:] = 0.0
 
 
+class _Run(NamedTuple):
+    """What :func:`_run` found, the fields of :class:`Contact3DOutcome` of the same names (``lean_peak_rad`` where
+    its axis leant at the peak [rad], ``tilt_end`` its tilt at the end [rad])."""
+
+    overturned: bool
+    t_overturn: float
+    tilt_max_rad: float
+    slide_max_m: float
+    twist_max_rad: float
+    flight: bool
+    steps: int
+    flags: int
+    capped_steps: int
+    energy_gain_max: float
+    integrated_steps: int
+    sweeps: int
+    lean_peak_rad: float
+    tilt_end: float
+
+
+@jit_inline
+def _rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist):
+    """The body at rest at step ``k``: held through the calm sampling intervals from there (:func:`_hold_calm`) and
+    through this step where its ground is within the at-rest certificate. Returns the step reached, whether it still
+    rests, and whether the run ends there (it rests after the record)."""
+    during = k < (n - 1) * n_sub
+    if during and k % n_sub == 0:
+        k += _hold_calm(ax, ay, az, k // n_sub, threshold, g, hist) * n_sub
+        during = k < (n - 1) * n_sub
+    gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
+    if not _within(gx, gy, gz, threshold, g):
+        return k, False, False
+    k += 1                                          # the exact at-rest certificate: nothing moves this step
+    if hist.shape[0] and k % n_sub == 0:
+        _record(hist, k // n_sub, 0.0, math.nan)
+    return k, True, not during
+
+
+@jit_inline
+def _energy_now(q, r, v, w, inertia, x, g):
+    """Its energy per unit mass at orientation ``q`` (its rotation written into ``r``) [J kg-1]."""
+    rotation(q, r)
+    return energy(v, w, r, inertia, x[2], g)
+
+
+@jit_inline
+def _lie_down(hist, first, lean):
+    """The samples from ``first`` on recorded lying on a side, leaning toward ``lean``."""
+    for i in range(first, hist.shape[0]):
+        _record(hist, i, 0.5 * math.pi, lean)
+
+
+@jit_inline
+def _measure(r, x, pose, yaw, hist, k, n_sub, tilt_max, lean_peak, slide_max, twist_max):
+    """The body turned by ``r`` with G at ``x`` after step ``k``: its tilt, recorded at a sample, and the run's
+    largest tilt (where it leant then), slide and twist so far."""
+    tilt = _tilt(r, pose.up)
+    if tilt > tilt_max:
+        tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
+    if k % n_sub == 0 and k // n_sub < hist.shape[0]:
+        _record(hist, k // n_sub, tilt, _lean(r, pose.up, tilt))
+    slide_max = max(slide_max, math.sqrt(x[0] * x[0] + x[1] * x[1]))
+    if _along(r, pose.up, 2) > 0.0:                             # the yaw of its x axis, from where it stood
+        turn = (_heading(r, pose.x_ref) - yaw + math.pi) % (2.0 * math.pi) - math.pi
+        twist_max = max(twist_max, abs(turn))
+    return tilt, tilt_max, lean_peak, slide_max, twist_max
+
+
 @jit_lean
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin):
+    """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``) and
+    after it until it rests or :data:`TAIL_S`: held at rest where the certificate allows (:func:`_rest_through`),
+    else stepped (:func:`_advance`; in :data:`FINE_SUBSTEPS` parts at small tilts and around a flight), to lying on
+    a side or resting after the record; its tilt and lean at the samples into ``hist``. Returns a :class:`_Run`."""
     size, z0 = _extent(pose.standing)
     tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
     threshold = min(mu, tan_alpha)
@@ -502,55 +577,33 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
     t, k, tail_steps, integrated, sweeps, lo = begin.t, max(begin.k, 0), int(TAIL_S / h), 0, 0, begin.lo
     tilt, lean_peak, tilt_before, t_beyond, steps = begin.tilt, begin.lean_peak, begin.tilt, math.nan, k
     while True:
-        during = k < (n - 1) * n_sub
-        if not during and k >= (n - 1) * n_sub + tail_steps:
+        if k >= (n - 1) * n_sub + tail_steps:
             flags |= FLAG_TAIL_CAP
             break
-        if resting and during and k % n_sub == 0:
-            held = _hold_calm(ax, ay, az, k // n_sub, threshold, g, hist) * n_sub
-            k, steps = k + held, steps + held
-            during = k < (n - 1) * n_sub
         if resting:
-            gx, gy, gz = _ground(ax, ay, az, k, n_sub) if during else (0.0, 0.0, 0.0)
-            if _within(gx, gy, gz, threshold, g):
-                k, steps = k + 1, steps + 1         # the exact at-rest certificate: nothing moves this step
-                if hist.shape[0] and k % n_sub == 0:
-                    _record(hist, k // n_sub, 0.0, math.nan)
-                if not during:
-                    break
+            k_held, resting, ended = _rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist)
+            k, steps = k_held, steps + (k_held - k)
+            if ended:
+                break
+            if resting:
                 continue
-            resting = False
-        e_before = 0.0
-        if not during:                                              # checked after the record
-            rotation(q, r)
-            e_before = energy(v, w, r, inertia, x[2], g)
+        during = k < (n - 1) * n_sub
+        e_before = 0.0 if during else _energy_now(q, r, v, w, inertia, x, g)   # checked after the record
         parts = FINE_SUBSTEPS if fine_low < tilt < fine_high or aloft > 0 else 1
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work, lo)
         flags |= FLAG_SWEEP_CAP if capped_now else 0
-        capped += capped_now
-        sweeps += taken
-        integrated, aloft, lo = integrated + parts, aloft - 1, 0.0
-        k, steps = k + 1, steps + 1
-        t = k * h
+        capped, sweeps, integrated, aloft, lo = capped + capped_now, sweeps + taken, integrated + parts, aloft - 1, 0.0
+        k, steps, t = k + 1, steps + 1, (k + 1) * h
         rotation(q, r)
         if n_c == 0 and _clear_of_ground(vertices, r, x[2]):
             flight, aloft = True, after_flight
-        tilt = _tilt(r, pose.up)
-        if tilt > tilt_max:
-            tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
-        if k % n_sub == 0 and k // n_sub < hist.shape[0]:
-            _record(hist, k // n_sub, tilt, _lean(r, pose.up, tilt))
-        slide_max = max(slide_max, math.sqrt(x[0] * x[0] + x[1] * x[1]))
-        if _along(r, pose.up, 2) > 0.0:                             # the yaw of its x axis, from where it stood
-            turn = (_heading(r, pose.x_ref) - yaw + math.pi) % (2.0 * math.pi) - math.pi
-            twist_max = max(twist_max, abs(turn))
-        if not during:
-            energy_gain = max(energy_gain, energy(v, w, r, inertia, x[2], g) - e_before)
+        tilt, tilt_max, lean_peak, slide_max, twist_max = _measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
+                                                                   lean_peak, slide_max, twist_max)
+        energy_gain = energy_gain if during else max(energy_gain, _energy_now(q, r, v, w, inertia, x, g) - e_before)
         if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
-            for i in range(k // n_sub + 1, hist.shape[0]):
-                _record(hist, i, 0.5 * math.pi, _lean(r, pose.up, tilt))
+            _lie_down(hist, k // n_sub + 1, _lean(r, pose.up, tilt))
             break
         if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
             _set_down(v, w, q, x, r, z0, impulses, pose)  # flat on its base and still: at rest
@@ -563,5 +616,5 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             if tilt > pose.toppled:                 # at rest on another face beyond its tipping: toppled
                 overturned, t_over, tilt_max = True, t_beyond, 0.5 * math.pi
             break                                   # at rest on three contacts or more, off its base
-    return (overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped, energy_gain, integrated,
-            sweeps, lean_peak, tilt)
+    return _Run(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped, energy_gain,
+                integrated, sweeps, lean_peak, tilt)

@@ -76,7 +76,7 @@ import numpy as np
 
 from ...compiled import jit, jit_inline
 from ..geometry import cylinder_p_e
-from ..numerics.rk import DOPRI54, rk_step
+from ..numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from .convex_body import ConvexBody, cylinder_body
 from .handoff3d import CylinderHandoff, cylinder_handoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
@@ -86,7 +86,9 @@ from .vec3 import (
     Ground,
     effective_gravity,
     error_norm,
+    final_flag,
     first_below,
+    friction_demand,
     ground_components,
     keep_first,
 )
@@ -98,9 +100,7 @@ from .vec3 import solve_sym3 as _solve_sym3
 
 HALF_PI = 0.5 * math.pi
 
-# Step control and events, named once (as scipy's _ivp names its step factors)
-SAFETY = 0.9                    # the step-size controller's safety factor
-MIN_FACTOR, MAX_FACTOR = 0.2, 5.0
+# Step limits and events, named once (the step-size factors: ..numerics.rk)
 MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
 LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is taken to land flat, or starts
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
@@ -335,6 +335,8 @@ def _landing(y, a, h, i1, i3, scale):
 
 @jit
 def _params(g, a, h, mu, scale, rtol, atol_alpha):
+    """The cylinder's :class:`Params` (radius and half height [m], friction, the restitution's scale, the
+    tolerances)."""
     alpha = math.atan2(a, h)
     big_r = math.hypot(a, h)
     i1 = a * a / 4.0 + h * h / 3.0
@@ -393,38 +395,70 @@ def _flag_certified(force, mu, held, cert, t, y):
     return flag
 
 
+@jit_inline
+def _resting_interval(t, i, dt, grd, prm, y, theta_out, azimuth_out):
+    """At rest over sample interval ``i`` from ``t``: the instant the ground lifts the cylinder (:func:`_lift_off`,
+    the state then set rocking), or the interval's end at rest (recorded). Returns the time and whether it rocks."""
+    start = _lift_off(t, i, grd, prm, y)
+    if start < 0.0:
+        theta_out[i + 1], azimuth_out[i + 1] = 0.0, y[1]
+        return (i + 1) * dt, False
+    return start, True
+
+
+@jit_inline
+def _held_past_alpha(flag, held, theta, theta_rate, alpha):
+    """The step's flag and the flag held: a flag raised while the cylinder falls past alpha is held (the rim held,
+    see the module) until it comes back below alpha, where the held flag stands."""
+    if held != FLAG_NONE:
+        return (held if theta < alpha else FLAG_NONE), held
+    if flag != FLAG_NONE and theta > alpha and theta_rate > 0.0:
+        return FLAG_NONE, flag
+    return flag, held
+
+
+@jit_inline
+def _settled(t, i, dt, interval_peak, settle, y, grd, prm, theta_out):
+    """At the end of sample interval ``i``, a tilt that stayed small through it set at rest (:func:`_settles`);
+    whether it was."""
+    if abs(t - (i + 1) * dt) <= 1e-12 * dt and _settles(interval_peak, settle, y, i, grd, prm):
+        y[:] = 0.0
+        theta_out[i + 1] = 0.0
+        return True
+    return False
+
+
+@jit_inline
+def _start_state(y0, land):
+    """The state to start from and whether it rocks: ``y0``, set at rest where its tilt is below ``land``."""
+    y = y0.copy()
+    rocking = y[0] > land
+    if not rocking:
+        y[:] = 0.0
+    return y, rocking
+
+
 @jit
 def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, azimuth_out, y_end, settle, cert):
     """Run a cylinder (radius ``a``, half-height ``h`` [m], friction ``mu``, its restitution over Housner's
-    ``scale``) on the ground motion
-    ``ax, ay, az`` [m s-2] sampled at ``dt`` [s], from the state ``y0`` (zeros: at rest), filling the tilt and
-    its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last state
-    certified before the base would first slide or lift off (t NaN: it never would); returns (overturned,
-    t_overturn, theta_max, azimuth at theta_max [rad], flag, impacts, the peak friction demand |F_h| / F_z while
-    rocking, and the flag that was held while it fell past alpha)."""
+    ``scale``) on the ground ``ax, ay, az`` [m s-2] sampled at ``dt`` [s] from ``y0`` (zeros: at rest), filling the
+    tilt and its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last
+    state certified before the base would first slide or lift off (t NaN: never); returns (overturned, t_overturn,
+    theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, scale, rtol, atol_alpha)
-    n = ax.shape[0]
-    y = y0.copy()
-    rocking = y[0] > prm.land
-    if not rocking:
-        y[:] = 0.0
+    n, (y, rocking) = ax.shape[0], _start_state(y0, prm.land)
     k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
-    fresh = True
-    holds, interval, interval_peak = 0, -1, 0.0
+    fresh, holds, interval, interval_peak = True, 0, -1, 0.0
     while t < t_end - 1e-12 * dt and flag == FLAG_NONE and math.isnan(t_over):
         i = min(int(t / dt + 1e-9), n - 2)
         if i != interval:
             interval, interval_peak = i, y[0]
         if not rocking:
-            start = _lift_off(t, i, grd, prm, y)
-            if start < 0.0:
-                t = (i + 1) * dt
-                theta_out[i + 1], azimuth_out[i + 1] = 0.0, y[1]
-            else:
-                t, rocking, fresh = start, True, True
+            t, rocking = _resting_interval(t, i, dt, grd, prm, y, theta_out, azimuth_out)
+            fresh = True
             continue
         steps += 1
         if steps > MAX_STEPS_PER_SAMPLE * n:
@@ -438,7 +472,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
         force = dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err)
         norm = _error_norm(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
-            hh_next = hh * max(MIN_FACTOR, SAFETY * norm ** -0.2) if norm == norm else hh * MIN_FACTOR
+            hh_next = rejected_step(hh, norm)
             continue
         if y_new[0] >= HALF_PI:                                  # overturned (theta rises through pi/2 here)
             x = (HALF_PI - y[0]) / (y_new[0] - y[0])
@@ -449,28 +483,20 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             t, rests = _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out)
             rocking, fresh = not rests, True
             continue
-        flag = _flag_certified(force, mu, held, cert, t, y)
-        if held != FLAG_NONE:                   # held past alpha (see the module) ...
-            flag = held if y_new[0] < prm.alpha else FLAG_NONE       # ... until it comes back: then nothing
-        elif flag != FLAG_NONE and y_new[0] > prm.alpha and y_new[3] > 0.0:
-            held, flag = flag, FLAG_NONE        # falling past alpha: followed with the rim held
-        if force[2] > 0.0:
-            demand = max(demand, math.hypot(force[0], force[1]) / force[2])
+        flag, held = _held_past_alpha(_flag_certified(force, mu, held, cert, t, y), held, y_new[0], y_new[3],
+                                      prm.alpha)
+        demand = friction_demand(force, demand)
         _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n)
         if y_new[0] > theta_max:
             theta_max, az_max = y_new[0], y_new[1]
-        t += hh
+        t, hh_next = t + hh, next_step(hh, norm)
         y[:] = y_new
         k[0, :] = k[6, :]
-        hh_next = hh * (MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm ** -0.2))
         interval_peak = max(interval_peak, y[0])
-        if abs(t - (i + 1) * dt) <= 1e-12 * dt and _settles(interval_peak, settle, y, i, grd, prm):
-            y[:] = 0.0
-            theta_out[i + 1] = 0.0
+        if _settled(t, i, dt, interval_peak, settle, y, grd, prm, theta_out):
             rocking, fresh, holds = False, True, holds + 1
     y_end[:] = y
-    if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over):
-        flag = held                             # held past alpha, and it did not overturn: no verdict
+    flag = final_flag(flag, held, t_over)       # held past alpha, and it did not overturn: no verdict
     return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held, holds
 
 

@@ -67,6 +67,7 @@ class Solid(NamedTuple):
 
     @property
     def physics(self) -> Physics:
+        """The code of its exact model's scenes (its family's)."""
         return self.family.physics
 
 

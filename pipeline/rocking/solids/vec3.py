@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 
 
 class Ground(NamedTuple):
@@ -153,3 +153,18 @@ def first_below(y0, f0, y1, f1, hh, level):
         else:
             lo = mid
     return hi
+
+
+@jit_inline
+def friction_demand(force, demand):
+    """The larger of ``demand`` and the contact force's |F_h| / F_z (``force[0:3]``; none where F_z <= 0) [-]."""
+    if force[2] > 0.0:
+        return max(demand, math.hypot(force[0], force[1]) / force[2])
+    return demand
+
+
+@jit_inline
+def final_flag(flag, held, t_over):
+    """A run's flag: a flag held while the body fell past its tipping point stands where it did not overturn
+    (no verdict)."""
+    return held if held != FLAG_NONE and flag == FLAG_NONE and math.isnan(t_over) else flag
