@@ -194,3 +194,31 @@ def test_the_docs_links_to_validation_sections_resolve():
     links = [a for page in [project / "README.md", *(project / "docs").glob("*.md")]
              for a in re.findall(r"validation\.md#([\w-]+)", page.read_text())]
     assert links and [a for a in links if a not in anchors] == []
+
+
+def test_every_command_docs_validation_quotes_exists():
+    """docs/validation.md names the test or command behind each figure: every path it quotes exists, every test it
+    names by ``file::test`` is defined there, every ``make`` target is in the Makefile and every ``screen``
+    subcommand is one the command line has."""
+    import re
+
+    from pipeline.cli.main import SUBCOMMANDS
+
+    project = Path(__file__).resolve().parents[1]
+    text = (project / "docs" / "validation.md").read_text()
+    quoted = re.findall(r"`([^`]+)`", text)
+    missing = []
+    for q in quoted:
+        for path in re.findall(r"(?:^|\s)((?:benchmarks|tests|pipeline|configs|examples|records)/[\w./*?-]+)", q):
+            path, _, test = path.partition("::")
+            if not any(project.glob(path.rstrip("/."))):
+                missing.append(path)
+            elif test and not re.search(rf"^def {re.escape(test)}\(", (project / path).read_text(), flags=re.M):
+                missing.append(f"{path}::{test}")
+        for target in re.findall(r"^make ([\w-]+)", q):
+            if not re.search(rf"^{re.escape(target)}:", (project / "Makefile").read_text(), flags=re.M):
+                missing.append(f"make {target}")
+        for sub in re.findall(r"^screen ([a-z]+)\b", q):
+            if sub not in SUBCOMMANDS:
+                missing.append(f"screen {sub}")
+    assert quoted and missing == [], missing

@@ -26,8 +26,9 @@ between two grid planes can be missed.
 
 References
 ----------
-docs/validation.md (the orientation scan against dense scans); Zhang, J. & Makris, N. (2001),
-J. Eng. Mech. 127(5), 473-483, for the rocking plane of a block under two horizontal components.
+docs/validation.md (the scan's grids and the pulse axis alone against each other, ``screen bench``);
+Zhang, J. & Makris, N. (2001), J. Eng. Mech. 127(5), 473-483, for the rocking plane of a block under two
+horizontal components.
 """
 
 from __future__ import annotations

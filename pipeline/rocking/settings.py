@@ -49,7 +49,7 @@ class SimulationConfig:
     #: True (default): a cylinder's or a box's 3D scene whose exact model stops where its base would slide, twist
     #: or lift off, or follows a fall past alpha with its contact held, is decided by the 3D contact model
     #: (:mod:`pipeline.rocking.solids.contact3d`) over the whole record (physics ``contact3d``), in the
-    #: probabilities and margins too (0.014 s per such run, median on the bundled run; docs/validation.md). False:
+    #: probabilities and margins too (0.005 s per such run, median on the bundled run; docs/validation.md). False:
     #: a stopped scene has no verdict (unknown), a held fall keeps the exact model's overturning (held_past_alpha).
     contact3d: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
