@@ -69,9 +69,22 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline, jit_lean
+from ...compiled import jit_inline, jit_lean
 from ...constants import G
 from .attitude import energy, headed, rotation, turned, world_inverse_inertia
+from .contact_pose import (
+    LYING_SLACK_RAD,
+    along,
+    degrees,
+    extent,
+    heading,
+    lean_of,
+    lie_down,
+    lowest,
+    measure,
+    pose,
+    record,
+)
 from .contact_problem import MAX_SWEEPS
 from .contact_reduced import solve_step, solvers
 from .contact_start import Start, begin
@@ -99,10 +112,6 @@ REST_TILT_RAD = 1e-3
 #: it); elsewhere every step's middle is checked. The same steps are held as when each is checked.
 CALM_MARGIN = 1e-9
 
-#: The body lies on a side once its tilt is within this of pi/2 [rad]: more than the overlap of a landing step
-#: (h times the landing speed over the body's size: 1.6e-4 rad measured, a 0.5 x 0.5 x 1.5 m box on a real record);
-#: at that tilt the centre of mass of a box or cylinder less slender than 89.4 deg is beyond its pivot.
-LYING_SLACK_RAD = 1e-2
 
 #: A body tilted between FINE_TILT_FROM and FINE_TILT_TO times its smallest static tipping angle lands slowly against
 #: what gravity adds in a step: each of its steps is taken as FINE_SUBSTEPS steps [-] (chosen on real records against
@@ -125,18 +134,6 @@ FLIGHT_CLEARANCE_M = 1e-5
 #: The outcome's flags (bits).
 FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
 FLAG_TAIL_CAP = 2           # still moving TAIL_S after the record
-
-
-class Pose(NamedTuple):
-    """How the body stands, for the kernel: its principal axes' orientation as it stands (unit quaternion (w, x, y,
-    z)), the body-axis vectors that point up and along x as it stands, its vertices in those standing axes, and the
-    tilt beyond which a rest on another face is an overturning [rad]."""
-
-    q_rest: np.ndarray
-    up: np.ndarray
-    x_ref: np.ndarray
-    standing: np.ndarray
-    toppled: float
 
 
 class Contact3DOutcome(NamedTuple):
@@ -220,11 +217,7 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
                solvers(len(body.vertices)), hist, stance, _room(len(vertices)),
                begin(start, dt_s / n_sub, float(dt_s), stance.up, hist))
-    return Contact3DOutcome(
-        out.overturned, out.t_overturn, out.tilt_max_rad, out.slide_max_m, out.twist_max_rad, out.flight, out.steps,
-        out.flags, out.capped_steps, out.energy_gain_max, out.integrated_steps, out.sweeps,
-        math.degrees(out.lean_peak_rad) if math.isfinite(out.lean_peak_rad) else math.nan,
-        hist[:, 0] if history else None, np.degrees(hist[:, 1]) if history else None, out.tilt_end)
+    return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
 
 
 class _Room(NamedTuple):
@@ -247,23 +240,6 @@ def _room(n_v: int) -> _Room:
     return _Room((np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v),
                   np.empty((n_v, 3))), (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3)),
                  np.empty(3), np.empty(4), np.empty(3), np.empty(3))
-
-
-def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = math.nan) -> Pose:
-    """The kernel's :class:`Pose` of a body whose principal axes turn by ``rest`` into the axes it stands in."""
-    toppled = 0.5 * math.pi - LYING_SLACK_RAD if math.isnan(tipping_rad) else float(tipping_rad)
-    if rest is None:
-        return Pose(np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]), vertices,
-                    toppled)
-    rot = np.asarray(rest, dtype=float)
-    if not (np.allclose(rot @ rot.T, np.eye(3), atol=1e-9) and np.linalg.det(rot) > 0.0):
-        raise ValueError(f"rest is not a rotation matrix (R R^T - I up to {np.abs(rot @ rot.T - np.eye(3)).max():.2g},"
-                         f" det {np.linalg.det(rot):.6g}); give the principal axes' orientation as it stands")
-    from scipy.spatial.transform import Rotation
-
-    x, y, z, w = Rotation.from_matrix(rot).as_quat()
-    return Pose(np.array([w, x, y, z]), np.ascontiguousarray(rot[2]), np.ascontiguousarray(rot[0]),
-                np.ascontiguousarray(vertices @ rot.T), toppled)
 
 
 @jit_inline
@@ -312,17 +288,6 @@ def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p)
     return n_c
 
 
-@jit
-def _extent(vertices):
-    """The body's size (its farthest vertex from G) and the height of G above its lowest vertex [m]."""
-    size = 0.0
-    z0 = 0.0
-    for i in range(vertices.shape[0]):
-        size = max(size, math.sqrt(vertices[i, 0] ** 2 + vertices[i, 1] ** 2 + vertices[i, 2] ** 2))
-        z0 = max(z0, -vertices[i, 2])
-    return size, z0
-
-
 @jit_inline
 def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ground, work):
     """One Moreau-Jean step of the body at (x, q) moving at (v, w), all updated in place: to the step's middle,
@@ -369,18 +334,9 @@ def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, 
 
 
 @jit_inline
-def _lowest(vertices, r):
-    """The height of the lowest vertex above G, the body turned by ``r`` [m]."""
-    low = math.inf
-    for i in range(vertices.shape[0]):
-        low = min(low, r[2, 0] * vertices[i, 0] + r[2, 1] * vertices[i, 1] + r[2, 2] * vertices[i, 2])
-    return low
-
-
-@jit_inline
 def _clear_of_ground(vertices, r, z_g):
     """Every vertex more than :data:`FLIGHT_CLEARANCE_M` above the ground (rotation ``r``, G at height ``z_g``)."""
-    return z_g + _lowest(vertices, r) > FLIGHT_CLEARANCE_M
+    return z_g + lowest(vertices, r) > FLIGHT_CLEARANCE_M
 
 
 @jit_inline
@@ -388,37 +344,6 @@ def _still(v, w, size):
     """Every speed below REST_SPEED (the rate times the body's size)."""
     return (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < REST_SPEED
             and math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * size < REST_SPEED)
-
-
-@jit_inline
-def _along(r, u, row):
-    """Component ``row`` of the world vector R u."""
-    return r[row, 0] * u[0] + r[row, 1] * u[1] + r[row, 2] * u[2]
-
-
-@jit_inline
-def _tilt(r, up):
-    """The tilt from where it stood: the angle of its standing up axis ``up`` from the vertical [rad]."""
-    return math.acos(min(1.0, max(-1.0, _along(r, up, 2))))
-
-
-@jit_inline
-def _heading(r, x_ref):
-    """Where its standing x axis ``x_ref`` points, seen from above, from x toward y [rad]."""
-    return math.atan2(_along(r, x_ref, 1), _along(r, x_ref, 0))
-
-
-@jit_inline
-def _lean(r, up, tilt):
-    """Where its standing up axis leans, from x toward y [rad] (NaN upright)."""
-    return math.atan2(_along(r, up, 1), _along(r, up, 0)) if tilt > 0.0 else math.nan
-
-
-@jit_inline
-def _record(hist, i, tilt, lean):
-    """The tilt and lean at sample ``i`` into ``hist`` (no row: no history kept)."""
-    if i < hist.shape[0]:
-        hist[i, 0], hist[i, 1] = tilt, lean
 
 
 @jit_inline
@@ -456,14 +381,14 @@ def _start(room, vertices, z0, yaw, pose, begin):
     if begin.k < 0:
         return x, q, v, w
     rotation(q, r)                                      # where the pivot stood
-    p0, p1 = _along(r, begin.pivot, 0), _along(r, begin.pivot, 1)
+    p0, p1 = along(r, begin.pivot, 0), along(r, begin.pivot, 1)
     for i in range(4):
         q[i] = begin.q[i]
     for i in range(3):
         w[i] = begin.w[i]
     rotation(q, r)
-    a0, a1, a2 = _along(r, begin.pivot, 0), _along(r, begin.pivot, 1), _along(r, begin.pivot, 2)
-    x[0], x[1], x[2] = p0 - a0, p1 - a1, -_lowest(vertices, r)
+    a0, a1, a2 = along(r, begin.pivot, 0), along(r, begin.pivot, 1), along(r, begin.pivot, 2)
+    x[0], x[1], x[2] = p0 - a0, p1 - a1, -lowest(vertices, r)
     v[0], v[1], v[2] = a1 * w[2] - a2 * w[1], a2 * w[0] - a0 * w[2], a0 * w[1] - a1 * w[0]   # (R pivot) x w
     return x, q, v, w
 
@@ -474,7 +399,7 @@ def _hold_calm(ax, ay, az, i, threshold, g, hist):
     their samples recorded upright; how many."""
     calm_to = _calm_until(ax, ay, az, i, threshold, g)
     for j in range(i + 1, calm_to + 1):
-        _record(hist, j, 0.0, math.nan)
+        record(hist, j, 0.0, math.nan)
     return calm_to - i
 
 
@@ -484,29 +409,9 @@ def _set_down(v, w, q, x, r, z0, impulses, pose):
     impulse."""
     v[:] = 0.0
     w[:] = 0.0
-    headed(_heading(r, pose.x_ref), pose.q_rest, q)
+    headed(heading(r, pose.x_ref), pose.q_rest, q)
     x[2] = z0
     impulses[:] = 0.0
-
-
-class _Run(NamedTuple):
-    """What :func:`_run` found, the fields of :class:`Contact3DOutcome` of the same names (``lean_peak_rad`` where
-    its axis leant at the peak [rad], ``tilt_end`` its tilt at the end [rad])."""
-
-    overturned: bool
-    t_overturn: float
-    tilt_max_rad: float
-    slide_max_m: float
-    twist_max_rad: float
-    flight: bool
-    steps: int
-    flags: int
-    capped_steps: int
-    energy_gain_max: float
-    integrated_steps: int
-    sweeps: int
-    lean_peak_rad: float
-    tilt_end: float
 
 
 @jit_inline
@@ -523,7 +428,7 @@ def _rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist):
         return k, False, False
     k += 1                                          # the exact at-rest certificate: nothing moves this step
     if hist.shape[0] and k % n_sub == 0:
-        _record(hist, k // n_sub, 0.0, math.nan)
+        record(hist, k // n_sub, 0.0, math.nan)
     return k, True, not during
 
 
@@ -534,36 +439,13 @@ def _energy_now(q, r, v, w, inertia, x, g):
     return energy(v, w, r, inertia, x[2], g)
 
 
-@jit_inline
-def _lie_down(hist, first, lean):
-    """The samples from ``first`` on recorded lying on a side, leaning toward ``lean``."""
-    for i in range(first, hist.shape[0]):
-        _record(hist, i, 0.5 * math.pi, lean)
-
-
-@jit_inline
-def _measure(r, x, pose, yaw, hist, k, n_sub, tilt_max, lean_peak, slide_max, twist_max):
-    """The body turned by ``r`` with G at ``x`` after step ``k``: its tilt, recorded at a sample, and the run's
-    largest tilt (where it leant then), slide and twist so far."""
-    tilt = _tilt(r, pose.up)
-    if tilt > tilt_max:
-        tilt_max, lean_peak = tilt, _lean(r, pose.up, tilt)
-    if k % n_sub == 0 and k // n_sub < hist.shape[0]:
-        _record(hist, k // n_sub, tilt, _lean(r, pose.up, tilt))
-    slide_max = max(slide_max, math.sqrt(x[0] * x[0] + x[1] * x[1]))
-    if _along(r, pose.up, 2) > 0.0:                             # the yaw of its x axis, from where it stood
-        turn = (_heading(r, pose.x_ref) - yaw + math.pi) % (2.0 * math.pi) - math.pi
-        twist_max = max(twist_max, abs(turn))
-    return tilt, tilt_max, lean_peak, slide_max, twist_max
-
-
 @jit_lean
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``) and
     after it until it rests or :data:`TAIL_S`: held at rest where the certificate allows (:func:`_rest_through`),
     else stepped (:func:`_advance`; in :data:`FINE_SUBSTEPS` parts at small tilts and around a flight), to lying on
-    a side or resting after the record; its tilt and lean at the samples into ``hist``. Returns a :class:`_Run`."""
-    size, z0 = _extent(pose.standing)
+    a side or resting after the record; its tilt and lean at the samples into ``hist`` (the outcome's without it)."""
+    size, z0 = extent(pose.standing)
     tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
     threshold = min(mu, tan_alpha)
     fine_low, fine_high = FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
@@ -598,12 +480,12 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         rotation(q, r)
         if n_c == 0 and _clear_of_ground(vertices, r, x[2]):
             flight, aloft = True, after_flight
-        tilt, tilt_max, lean_peak, slide_max, twist_max = _measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
+        tilt, tilt_max, lean_peak, slide_max, twist_max = measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
                                                                    lean_peak, slide_max, twist_max)
         energy_gain = energy_gain if during else max(energy_gain, _energy_now(q, r, v, w, inertia, x, g) - e_before)
         if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
-            _lie_down(hist, k // n_sub + 1, _lean(r, pose.up, tilt))
+            lie_down(hist, k // n_sub + 1, lean_of(r, pose.up, tilt))
             break
         if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
             _set_down(v, w, q, x, r, z0, impulses, pose)  # flat on its base and still: at rest
@@ -616,5 +498,5 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             if tilt > pose.toppled:                 # at rest on another face beyond its tipping: toppled
                 overturned, t_over, tilt_max = True, t_beyond, 0.5 * math.pi
             break                                   # at rest on three contacts or more, off its base
-    return _Run(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped, energy_gain,
-                integrated, sweeps, lean_peak, tilt)
+    return Contact3DOutcome(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped,
+                            energy_gain, integrated, sweeps, degrees(lean_peak), None, None, tilt)
