@@ -76,8 +76,17 @@ import numpy as np
 
 from ...compiled import jit, jit_inline
 from ..geometry import cylinder_p_e
-from ..numerics.rk import DOPRI54, next_step, rejected_step, rk_step
+from ..numerics.rk import next_step, rejected_step
 from .convex_body import ConvexBody, cylinder_body
+from .cylinder_kernel import (
+    derivatives,
+    dopri_step,
+    error_over_tolerance,
+    kinetic,
+    landing,
+    params_of,
+    rise,
+)
 from .handoff3d import CylinderHandoff, cylinder_handoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
 from .vec3 import (
@@ -85,7 +94,6 @@ from .vec3 import (
     FLAG_STEPS,
     Ground,
     effective_gravity,
-    error_norm,
     final_flag,
     first_below,
     friction_demand,
@@ -94,19 +102,15 @@ from .vec3 import (
 )
 from .vec3 import FLAG_SLIDE as FLAG_SLIDE
 from .vec3 import contact_flag as _contact_flag
-from .vec3 import cross as _cross
 from .vec3 import hermite as _hermite
-from .vec3 import solve_sym3 as _solve_sym3
 
 HALF_PI = 0.5 * math.pi
 
 # Step limits and events, named once (the step-size factors: ..numerics.rk)
 MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
-LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is taken to land flat, or starts
 REST_RATE = 1e-6                # a rebound slower than this x p alpha [rad s-1] ends the motion
 EVENT_BISECTIONS = 60           # bisections locating a landing inside a step
 SETTLE_TILT_ALPHA = 1e-3        # a tilt below this x alpha through a whole quiet sample interval is set at rest
-
 
 
 class Cylinder(NamedTuple):
@@ -184,23 +188,6 @@ class WobbleOutcome(NamedTuple):
     handoff: CylinderHandoff | None = None
 
 
-class Params(NamedTuple):
-    """A cylinder's constants, derived once for the compiled kernel (per unit mass)."""
-
-    a: float            # radius [m]
-    h: float            # half-height [m]
-    i1: float           # transverse moment of inertia about G [m2]
-    i3: float           # axial moment of inertia [m2]
-    alpha: float        # slenderness atan(a / h) [rad]
-    p: float            # frequency parameter sqrt(g R / (I_G + R^2)) [rad s-1]
-    scale: float        # the declared restitution over Housner's [-]
-    mu: float           # friction [-]
-    land: float         # the tilt taken as landed [rad]
-    atol_angle: float   # absolute tolerance on angles [rad]
-    atol_rate: float    # ... on rates [rad s-1]
-    rtol: float         # relative tolerance [-]
-
-
 def cylinder_from_corner(R_m: float, alpha: float, *, mu: float, restitution: float) -> Cylinder:
     """The :class:`Cylinder` of radius R sin(alpha) and half-height R cos(alpha) (a sampled block's terms)."""
     return Cylinder(radius_m=R_m * math.sin(alpha), half_height_m=R_m * math.cos(alpha), mu=mu,
@@ -217,141 +204,6 @@ def planar_inertia(radius_m: float, half_height_m: float) -> float:
     """The moment of inertia about a rim point for rocking in a plane, per unit mass ``I_G + R^2`` [m2]."""
     a, h = radius_m, half_height_m
     return a * a / 4.0 + h * h / 3.0 + a * a + h * h
-
-
-@jit
-def _inertia_about(e3x, e3y, e3z, rx, ry, rz, i1, i3):
-    """The symmetric inertia about a point at ``-r`` from G, per unit mass: I_G + |r|^2 1 - r r^T, with
-    I_G = i1 1 + (i3 - i1) e3 e3^T (axisymmetric)."""
-    d = i3 - i1
-    rr = rx * rx + ry * ry + rz * rz
-    return (i1 + d * e3x * e3x + rr - rx * rx, d * e3x * e3y - rx * ry, d * e3x * e3z - rx * rz,
-            i1 + d * e3y * e3y + rr - ry * ry, d * e3y * e3z - ry * rz, i1 + d * e3z * e3z + rr - rz * rz)
-
-
-@jit
-def _frame(th, ph, a, h):
-    """Axis e3, line of nodes e_n and r = G - P (and its partial derivatives in theta and phi)."""
-    st, ct, sp, cp = math.sin(th), math.cos(th), math.sin(ph), math.cos(ph)
-    lever = h * st - a * ct                  # = R sin(theta - alpha): G's horizontal offset from P
-    up = h * ct + a * st                     # = R cos(theta - alpha): G's height
-    return st, ct, sp, cp, lever, up
-
-
-@jit
-def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
-    """d/dt of the state (theta, phi, psi, theta', phi', psi') rolling on the rim, per unit mass, under the
-    effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); also returns the contact force per unit mass
-    (F_x, F_y, F_z) = a_G - g_eff."""
-    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
-    st, ct, sp, cp, lever, up = _frame(th, ph, a, h)
-    e3x, e3y, e3z = st * cp, st * sp, ct
-    enx, eny = -sp, cp
-    # omega = phi' e_z + theta' e_n + psi' e3
-    wx = tdot * enx + sdot * e3x
-    wy = tdot * eny + sdot * e3y
-    wz = pdot + sdot * e3z
-    rx, ry, rz = lever * cp, lever * sp, up
-    # r' = r_theta theta' + r_phi phi'
-    drx = up * cp * tdot - lever * sp * pdot
-    dry = up * sp * tdot + lever * cp * pdot
-    drz = (-h * st + a * ct) * tdot
-    # I_G omega, and the gyroscopic term omega x I_G omega
-    w3 = wx * e3x + wy * e3y + wz * e3z
-    lx, ly, lz = i1 * wx + (i3 - i1) * w3 * e3x, i1 * wy + (i3 - i1) * w3 * e3y, i1 * wz + (i3 - i1) * w3 * e3z
-    gyx, gyy, gyz = _cross(wx, wy, wz, lx, ly, lz)
-    wrx, wry, wrz = _cross(wx, wy, wz, drx, dry, drz)
-    c1x, c1y, c1z = _cross(rx, ry, rz, wrx, wry, wrz)
-    c2x, c2y, c2z = _cross(rx, ry, rz, gx, gy, gz)
-    m = _inertia_about(e3x, e3y, e3z, rx, ry, rz, i1, i3)
-    alx, aly, alz = _solve_sym3(m[0], m[1], m[2], m[3], m[4], m[5],
-                                -gyx - c1x + c2x, -gyy - c1y + c2y, -gyz - c1z + c2z)
-    # omega' = phi'' e_z + theta'' e_n + psi'' e3 + b, b = theta' phi' (e_z x e_n) + psi' (phi' e_z + theta' e_n) x e3
-    fx, fy, fz = _cross(tdot * enx, tdot * eny, pdot, e3x, e3y, e3z)
-    bx = tdot * pdot * (-cp) + sdot * fx
-    by = tdot * pdot * (-sp) + sdot * fy
-    bz = sdot * fz
-    ux, uy, uz = alx - bx, aly - by, alz - bz
-    tdd = ux * enx + uy * eny
-    ux, uy = ux - tdd * enx, uy - tdd * eny
-    sdd = (ux * cp + uy * sp) / st
-    pdd = uz - sdd * ct
-    out[0], out[1], out[2], out[3], out[4], out[5] = tdot, pdot, sdot, tdd, pdd, sdd
-    # the contact force per unit mass: a_G - g_eff, a_G = omega' x r + omega x r'
-    agx, agy, agz = _cross(alx, aly, alz, rx, ry, rz)
-    return agx + wrx - gx, agy + wry - gy, agz + wrz - gz
-
-
-@jit_inline
-def _rhs(t, y, args, out):
-    """f of the rolling cylinder (``args``: sample interval, ground, constants) at ``t`` into ``out``; returns the
-    contact force per unit mass (:func:`derivatives`)."""
-    i, grd, prm = args
-    gx, gy, gz = effective_gravity(t, i, grd)
-    return derivatives(y, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, out)
-
-
-@jit
-def dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err):
-    """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f
-    at the start, FSAL): the 5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in
-    ``k[6]``; returns the contact force per unit mass at the end."""
-    return rk_step(_rhs, (i, grd, prm), t, y, hh, k, tmp, y_new, err, DOPRI54)
-
-
-@jit
-def _landing(y, a, h, i1, i3, scale):
-    """The impact of a base landing flat (theta ~ 0): angular momentum about the new contact point conserved;
-    the new state rocks on the side the rebound tilts toward (the impulse's point found in two passes). Returns
-    the rebound's tilting rate [rad s-1]."""
-    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
-    st, ct, sp, cp, lever, up = _frame(th, ph, a, h)
-    e3x, e3y, e3z = st * cp, st * sp, ct
-    wx, wy, wz = -tdot * sp + sdot * e3x, tdot * cp + sdot * e3y, pdot + sdot * e3z
-    rx, ry, rz = lever * cp, lever * sp, up                       # r = G - P before
-    w3 = wx * e3x + wy * e3y + wz * e3z
-    lx, ly, lz = i1 * wx + (i3 - i1) * w3 * e3x, i1 * wy + (i3 - i1) * w3 * e3y, i1 * wz + (i3 - i1) * w3 * e3z
-    vx, vy, vz = _cross(wx, wy, wz, rx, ry, rz)                    # v_G before
-    new_ph = ph + math.pi
-    nx, ny, nz = 0.0, 0.0, 0.0
-    for _ in range(2):
-        # the new contact P' on the rim toward new_ph: r' = h e3 - a u(new_ph)
-        ux, uy, uz = ct * math.cos(new_ph), ct * math.sin(new_ph), -st
-        qx, qy, qz = h * e3x - a * ux, h * e3y - a * uy, h * e3z - a * uz
-        hx, hy, hz = _cross(qx, qy, qz, vx, vy, vz)
-        m = _inertia_about(e3x, e3y, e3z, qx, qy, qz, i1, i3)
-        nx, ny, nz = _solve_sym3(m[0], m[1], m[2], m[3], m[4], m[5], lx + hx, ly + hy, lz + hz)
-        if nx * nx + ny * ny > 0.0:
-            new_ph = math.atan2(-nx * scale, ny * scale)
-    nx, ny = nx * scale, ny * scale
-    rate = math.sqrt(nx * nx + ny * ny)
-    y[5] = nz                                   # the spin about the vertical, all in psi (phi' = 0)
-    y[2] = y[1] + y[2] - new_ph                 # R_z(phi + psi) kept at theta ~ 0
-    y[1] = new_ph
-    y[3] = rate
-    y[4] = 0.0
-    return rate
-
-
-@jit
-def _params(g, a, h, mu, scale, rtol, atol_alpha):
-    """The cylinder's :class:`Params` (radius and half height [m], friction, the restitution's scale, the
-    tolerances)."""
-    alpha = math.atan2(a, h)
-    big_r = math.hypot(a, h)
-    i1 = a * a / 4.0 + h * h / 3.0
-    p = math.sqrt(g * big_r / (i1 + big_r * big_r))
-    return Params(a, h, i1, a * a / 2.0, alpha, p, scale, mu,
-                  LAND_THETA_ALPHA * alpha, atol_alpha * alpha, atol_alpha * alpha * p, rtol)
-
-
-@jit
-def _error_norm(y, y_new, err, prm):
-    """The embedded error over the tolerance, the largest over the six states (NaN stays NaN: rejected). The
-    azimuth phi is held to the angles' tolerance even near the vertical, where an error in it moves the axis
-    little: it persists, and turns the rocking plane once the tilt grows (measured: weighting it by sin(theta)
-    let a motion excited in one plane leave it by 16 deg)."""
-    return error_norm(y, y_new, err, 3, prm.atol_angle, prm.atol_rate, prm.rtol)
 
 
 @jit
@@ -378,7 +230,7 @@ def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_o
     dopri_step(t, y, hl, i, grd, prm, k, tmp, y_new, err)
     _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])
     y[:] = y_new
-    rate = _landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
+    rate = landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
     y[0] = prm.land
     rests = rate < REST_RATE * prm.p * prm.alpha
     if rests:
@@ -445,7 +297,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     tilt and its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last
     state certified before the base would first slide or lift off (t NaN: never); returns (overturned, t_overturn,
     theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
-    grd, prm = Ground(ax, ay, az, dt, g), _params(g, a, h, mu, scale, rtol, atol_alpha)
+    grd, prm = Ground(ax, ay, az, dt, g), params_of(g, a, h, mu, scale, rtol, atol_alpha)
     n, (y, rocking) = ax.shape[0], _start_state(y0, prm.land)
     k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
@@ -470,7 +322,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             fresh = False
         hh = min(hh_next, (i + 1) * dt - t)
         force = dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err)
-        norm = _error_norm(y, y_new, err, prm)
+        norm = error_over_tolerance(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
             hh_next = rejected_step(hh, norm)
             continue
@@ -501,25 +353,6 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
 
 
 @jit
-def _rise(theta, prm):
-    """How much G rises from flat to the tilt ``theta`` <= alpha [m]: R cos(alpha - theta) - h."""
-    return math.hypot(prm.a, prm.h) * math.cos(prm.alpha - theta) - prm.h
-
-
-@jit
-def _kinetic(y, prm):
-    """The kinetic energy per unit mass of the cylinder rolling on its rim, about the contact point [m2 s-2]:
-    omega^T (I_G + |r|^2 1 - r r^T) omega / 2."""
-    th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
-    st, ct, sp, cp, lever, up = _frame(th, ph, prm.a, prm.h)
-    e3x, e3y, e3z = st * cp, st * sp, ct
-    wx, wy, wz = -tdot * sp + sdot * e3x, tdot * cp + sdot * e3y, pdot + sdot * e3z
-    m = _inertia_about(e3x, e3y, e3z, lever * cp, lever * sp, up, prm.i1, prm.i3)
-    return 0.5 * (m[0] * wx * wx + m[3] * wy * wy + m[5] * wz * wz
-                  + 2.0 * (m[1] * wx * wy + m[2] * wx * wz + m[4] * wy * wz))
-
-
-@jit
 def _settles(peak, settle, y, i, grd, prm):
     """A tilt that stayed below ``settle`` x alpha (:data:`SETTLE_TILT_ALPHA`) through sample interval ``i``, over
     which the ground could not lift the cylinder from rest (at both ends; the excess is convex in between): rolling on
@@ -527,7 +360,7 @@ def _settles(peak, settle, y, i, grd, prm):
     with less kinetic energy (about the contact) than would raise it to that tilt, is set at rest at the interval's
     end, as the planar kernel's tie rule holds a flat block (measured:
     docs/validation.md)."""
-    if peak >= settle * prm.alpha or _kinetic(y, prm) > grd.g * _rise(settle * prm.alpha, prm):
+    if peak >= settle * prm.alpha or kinetic(y, prm) > grd.g * rise(settle * prm.alpha, prm):
         return False
     t0, tan_a = i * grd.dt, prm.a / prm.h
     return (_excess(t0, t0, grd.dt, grd.ax[i], grd.ax[i + 1], grd.ay[i], grd.ay[i + 1], grd.az[i], grd.az[i + 1],
