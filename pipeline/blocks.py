@@ -358,6 +358,26 @@ def _cell(errors: list[str], where: str, column: str, value: str, rule: str, ok,
         return default
 
 
+#: Sizes typed in another unit than metres, and their factor to metres: a size above the largest in metres is read in
+#: each, and the readings that fall in the sizes' range are offered (the likeliest first: nearest to 1 m).
+SIZE_UNITS = (("millimetres", 1e-3), ("centimetres", 1e-2))
+
+
+def _unit_hint(cell: str) -> str:
+    """For a size cell above the largest size in metres, what it reads as in millimetres and in centimetres where
+    that is a size (e.g. 1850: '(in millimetres? 1.85 m; in centimetres? 18.5 m; sizes are in metres)'), else ''."""
+    lo, hi = SIZE_RANGE_M
+    try:
+        value = float(cell)
+    except ValueError:
+        return ""
+    readings = [(name, value * factor) for name, factor in SIZE_UNITS if value > hi and lo <= value * factor <= hi]
+    if not readings:
+        return ""
+    readings.sort(key=lambda r: abs(math.log10(r[1])))
+    return " (" + "; ".join(f"in {name}? {size:g} m" for name, size in readings) + "; sizes are in metres)"
+
+
 def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *, default_mu: float,
               extras: list[str]) -> None:
     """Append a row's cells (but its id) to ``rows``, each checked against its rule; a bad cell's problem goes to
@@ -371,13 +391,8 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
             errors.append(f"{where}, column {c!r}: missing; expected {size_rule}")
             rows[c].append(1.0)
         else:
-            rule = size_rule
-            try:
-                if float(rec[c]) > hi and lo <= float(rec[c]) / 100.0 <= hi:
-                    rule += f" (in centimetres? {float(rec[c]) / 100.0:g} m; sizes are in metres)"
-            except ValueError:
-                pass
-            rows[c].append(_cell(errors, where, c, rec[c], rule, lambda x: lo <= x <= hi, 1.0))
+            rows[c].append(_cell(errors, where, c, rec[c], size_rule + _unit_hint(rec[c]), lambda x: lo <= x <= hi,
+                                 1.0))
     mu = rec.get("mu", "")
     rows["mu"].append(default_mu if not mu else _cell(errors, where, "mu", mu,
                                                       "a friction coefficient > 0 (at most 5)",

@@ -49,3 +49,22 @@ def test_sizes_in_centimetres_are_named_and_nothing_claims_to_be_screened(tmp_pa
         read_inventory(tmp_path / "b.csv", default_mu=0.5)
     assert "in centimetres? 1.85 m" in str(err.value)
     assert "screened as given" not in caplog.text
+
+
+@pytest.mark.parametrize("typed, first, second", [
+    ("1850", "in millimetres? 1.85 m", "in centimetres? 18.5 m"),      # a statue's height in millimetres
+    ("185", "in centimetres? 1.85 m", "in millimetres? 0.185 m"),      # ... in centimetres
+])
+def test_a_size_in_another_unit_is_offered_in_each_the_likeliest_first(tmp_path, typed, first, second):
+    (tmp_path / "b.csv").write_text(f"id,height_m,width_m\nA,{typed},0.55\n")
+    with pytest.raises(InventoryError) as err:
+        read_inventory(tmp_path / "b.csv", default_mu=0.5)
+    message = str(err.value)
+    assert first in message and second in message and message.index(first) < message.index(second)
+
+
+def test_a_size_too_large_in_every_unit_gets_no_unit_hint(tmp_path):
+    (tmp_path / "b.csv").write_text("id,height_m,width_m\nA,500000,0.55\n")
+    with pytest.raises(InventoryError) as err:
+        read_inventory(tmp_path / "b.csv", default_mu=0.5)
+    assert "height_m" in str(err.value) and "?" not in str(err.value).split("height_m")[1].split("\n")[0]
