@@ -35,6 +35,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -46,7 +47,7 @@ from ..config import FIDELITY_TIERS, Config
 from ..errors import RockscreenError, UsageError
 from ..floors.motion import Building
 from ..floors.standing import floor_record
-from ..records.loader import find_records, read_declared_units
+from ..records.loader import Failure, find_records, read_declared_units
 from ..records.loader import read_inventory as read_station_inventory
 from ..records.record import Record
 from ..rocking.planner import Physics
@@ -71,8 +72,11 @@ class _Scene:
     is_pulse: int
 
 
-def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list[_Scene], float]:
-    sources, _ = find_records(records_dir, config=config)
+def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list[_Scene], float, list[Failure]]:
+    """Every record of ``records_dir`` loaded, with its pulses along the blocks' directions; the time that took
+    [s]; and the records that could not be (from the scan, or named with the reason they failed to load)."""
+    sources, failures = find_records(records_dir, config=config)
+    failures = list(failures)
     ctx = Context(str(records_dir), config, inventory, read_declared_units(records_dir, config),
                   read_station_inventory(records_dir))
     out, t_common = [], 0.0
@@ -82,12 +86,14 @@ def _load(records_dir: Path, inventory: Inventory, config: Config) -> tuple[list
             rec = ctx.load(src)
             values, blocks, _, directions = pulses_and_directions(rec, ctx)
             t_common += time.perf_counter() - t0
-        except RockscreenError:
+        except RockscreenError as exc:
+            failures.append(Failure(src.record_id, tuple(str(f) for f in src.files), str(exc), deterministic=True))
             continue
         out.append(_Scene(record=rec, blocks=blocks, directions=directions, is_pulse=int(values.get("is_pulse", -1))))
     if not out:
-        raise UsageError(f"{records_dir}: no record could be screened; nothing to benchmark")
-    return out, t_common
+        raise UsageError(f"{records_dir}: no record could be screened ("
+                         + "; ".join(f"{f.record_id}: {f.reason}" for f in failures[:5]) + "); nothing to benchmark")
+    return out, t_common, failures
 
 
 def _criterion(scenes: list[_Scene], inventory: Inventory, config: Config) -> tuple[np.ndarray, float]:
@@ -153,16 +159,24 @@ def _agreement(tier_verdict: np.ndarray, tier_theta: np.ndarray, ref: SceneColum
             "theta_error_median": float(np.median(err)) if err.size else np.nan}
 
 
+class Bench(NamedTuple):
+    """What ``screen bench`` measured: the rows of its table (:data:`COLUMNS`) and the records it could not use
+    (each with its reason; the bench measured the others)."""
+
+    rows: list[dict]
+    failures: list[Failure]
+
+
 def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, out_dir: str | Path,
-              settings_sweep: bool = True, progress=None) -> list[dict]:
+              settings_sweep: bool = True, progress=None) -> Bench:
     """Run every tier (and the settings sweep) and write bench.csv, bench.md and bench.png.
 
     ``progress``, when given, is called with a line before each measurement (each takes seconds to minutes).
 
     Returns
     -------
-    list of dict
-        The rows of the table (:data:`COLUMNS`).
+    Bench
+        The rows of the table and the records that failed.
     """
     records_dir, out_dir = Path(records_dir), Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -186,7 +200,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
     sampled = config if config.with_tier("full").sampling else Config().with_tier(config.fidelity.tier)
     config = config.with_uncertainty(samples=0)           # the tiers and settings compare nominal verdicts
     say("reading the records and extracting their pulses")
-    scenes, t_common = _load(records_dir, inventory, config)
+    scenes, t_common, failures = _load(records_dir, inventory, config)
     is_pulse = np.array([s.is_pulse for s in scenes])
     n_scenes = len(scenes) * len(inventory)
     say(f"the criterion on {n_scenes} scenes")
@@ -215,7 +229,7 @@ def run_bench(records_dir: str | Path, inventory: Inventory, config: Config, *, 
             rows += _uncertainty_rows(scenes, inventory, sampled, n_scenes, say)
     finally:                     # every finished section is written, also when interrupted
         _write(rows, out_dir)
-    return rows
+    return Bench(rows, failures)
 
 
 #: The bench's sections (each announced): the records, the criterion, the reference, the tiers and the slowest

@@ -111,7 +111,7 @@ def test_full_and_reference_tiers_simulate_every_scene(by_tier):
 def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config, by_tier, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
     said: list[str] = []
-    rows = run_bench(records, inventory, config, out_dir=tmp_path, settings_sweep=False, progress=said.append)
+    rows = run_bench(records, inventory, config, out_dir=tmp_path, settings_sweep=False, progress=said.append).rows
     assert [": ".join(x.split(": ")[:2]) for x in said] == [f"bench: section {k} of {len(said)}"
                                                              for k in range(1, len(said) + 1)]
     tiers = {r["value"]: r for r in rows if r["section"] == "tier"}
@@ -141,7 +141,7 @@ def test_bench_counts_equal_those_of_a_reference_run(records, blocks_csv, config
 def test_bench_settings_sweep_marks_defaults(records, blocks_csv, config, tmp_path):
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu).take(range(4))
     said: list[str] = []
-    rows = run_bench(records, inventory, config, out_dir=tmp_path, progress=said.append)
+    rows = run_bench(records, inventory, config, out_dir=tmp_path, progress=said.append).rows
     # every section is announced with its number, and the count announced is the count run
     total = int(said[0].split(" of ")[1].split(":")[0])
     assert [int(x.split("section ")[1].split(" of ")[0]) for x in said] == list(range(1, total + 1))
@@ -183,7 +183,7 @@ def test_criterion_miss_rate_printed_for_the_criterion_tier_is_measured(records_
     from pipeline.config import CRITERION_MEASURED_MISSES
 
     inventory = read_inventory(blocks_csv, default_mu=config.blocks.default_mu)
-    rows = run_bench(records_dir, inventory, config, out_dir=tmp_path, settings_sweep=False)
+    rows = run_bench(records_dir, inventory, config, out_dir=tmp_path, settings_sweep=False).rows
     tier = {r["value"]: r for r in rows if r["section"] == "tier"}
     crit, ref = tier["criterion"], tier["reference"]
     quoted = [int(x) for x in re.findall(r"\d+", CRITERION_MEASURED_MISSES.split("configs/blocks.csv")[1])]
@@ -194,3 +194,22 @@ def test_criterion_miss_rate_printed_for_the_criterion_tier_is_measured(records_
     assert main(["--samples", "0", "--records", str(records_dir), "--blocks", str(blocks_csv),
                  "--out", str(tmp_path / "o"), "-q", "--fidelity", "criterion", "--tolerate-failures"]) == 0
     assert "not conservative: " + CRITERION_MEASURED_MISSES in capsys.readouterr().err + caplog.text
+
+
+def test_bench_names_a_record_that_fails_and_exits_1_unless_told_to_tolerate(records_dir, tmp_path, capsys):
+    """A record that cannot be read is left out of the bench with its name and reason; the bench exits 1, and 0
+    with --tolerate-failures (as its help says)."""
+    import shutil
+
+    rec = tmp_path / "recs"
+    rec.mkdir()
+    shutil.copy(records_dir / "peer-at2" / "RSN77_SFERN_PUL164.AT2", rec)
+    (rec / "broken.AT2").write_text("PEER NGA STRONG MOTION DATABASE RECORD\nnot a record at all\n")
+    (tmp_path / "b.csv").write_text("id,height_m,width_m,mu\nC,1.0,0.2,0.6\n")
+    args = ["bench", "--records", str(rec), "--blocks", str(tmp_path / "b.csv"), "--tiers-only", "-q"]
+    assert main([*args, "--out", str(tmp_path / "o1")]) == 1
+    err = capsys.readouterr().err
+    assert "record broken failed and is not in the bench" in err
+    assert main([*args, "--out", str(tmp_path / "o2"), "--tolerate-failures"]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "o2" / "bench.csv")))
+    assert rows and rows[0]["scenes"] == "1"                # the good record's one scene was benchmarked
