@@ -14,6 +14,7 @@ the other records are unaffected.
 
 from __future__ import annotations
 
+import glob
 import hashlib
 import logging
 import os
@@ -156,7 +157,7 @@ def read_inventory(root: Path, extra: str | Path | None = None):
     inventory = None
     for p in paths:
         try:
-            inv = obspy.read_inventory(str(p))
+            inv = obspy.read_inventory(_literal(p))
         except Exception as exc:
             if extra is not None and Path(extra) == p:
                 raise UnitsError(f"{p}: not a readable StationXML inventory ({exc})") from exc
@@ -197,6 +198,12 @@ def _record_files(root: Path) -> list[Path]:
     return files
 
 
+def _literal(path: Path) -> str:
+    """``path`` as obspy's readers take it: obspy expands a path's wildcards (``*``, ``?``, ``[...]``) as a glob,
+    so a record named ``rec[1].AT2`` would be read as ``rec1.AT2``; escaped, the pattern matches the file itself."""
+    return glob.escape(str(path))
+
+
 def _read(path: Path, *, fmt: str | None = None, headonly: bool = False,
           max_rows: int = TABLE_MAX_ROWS) -> obspy.Stream:
     try:
@@ -210,11 +217,11 @@ def _read(path: Path, *, fmt: str | None = None, headonly: bool = False,
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             if fmt == TABLE_FORMAT:             # read as a stream by its own reader, gzip included
-                st = obspy.read(str(path), format=fmt, headonly=headonly, check_compression=False,
+                st = obspy.read(_literal(path), format=fmt, headonly=headonly, check_compression=False,
                                 max_rows=max_rows)
             else:
                 refuse_if_expands_beyond(path, file_size_limit(max_rows))
-                st = obspy.read(str(path), format=fmt, headonly=headonly)
+                st = obspy.read(_literal(path), format=fmt, headonly=headonly)
         for w in caught:
             if "end of file" in str(w.message).lower():
                 raise RecordFormatError(f"{path}: truncated ({w.message}); re-download the file")

@@ -168,3 +168,23 @@ def test_a_record_carries_the_station_and_earthquake_its_files_name(make_records
     """Records are known by their file names ('example', 'test'); the report also shows what the files say."""
     root = make_records(*files)
     assert load_record(find_records(root, config=config)[0][0], root=root, config=config).label == label
+
+
+@pytest.mark.parametrize("name", ["rec[1].AT2", "rec*.AT2", "rec?.AT2"])
+def test_a_record_whose_name_has_wildcards_is_read_as_itself(tmp_path, records_dir, config, name):
+    """obspy expands a path's wildcards: a record named with them is read as the file it is, not as the files its
+    name matches (here a second record beside it that the pattern would match too)."""
+    import shutil
+
+    shutil.copy(records_dir / "peer-at2/RSN1063_NORTHR_RRS228.AT2", tmp_path / name)
+    shutil.copy(records_dir / "peer-at2/RSN77_SFERN_PUL164.AT2", tmp_path / "rec1.AT2")
+    sources, failures = find_records(tmp_path, config=config)
+    assert failures == [] and len(sources) == 2
+    source = next(s for s in sources if any(str(f).endswith(name) for f in s.files))
+    rec = load_record(source, root=tmp_path, config=config)
+    plain = tmp_path / "plain"
+    plain.mkdir()
+    shutil.copy(records_dir / "peer-at2/RSN1063_NORTHR_RRS228.AT2", plain / "one.AT2")
+    direct = load_record(find_records(plain, config=config)[0][0], root=plain, config=config)
+    assert rec.horizontal_ms2.shape == direct.horizontal_ms2.shape
+    assert np.array_equal(rec.horizontal_ms2, direct.horizontal_ms2)
