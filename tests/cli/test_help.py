@@ -53,3 +53,17 @@ def test_stationxml_is_named_so_and_the_old_name_still_works(command):
 def test_every_subcommand_takes_quiet_and_verbose(command):
     text = _parser(command).format_help()
     assert "--quiet" in text and "--verbose" in text
+
+
+def test_the_guides_list_of_subcommands_is_the_commands_own():
+    """docs/user-guide.md lists every subcommand with the line ``screen --help`` gives it (generated, so that a new
+    subcommand cannot be left out)."""
+    import re
+    from pathlib import Path
+
+    from pipeline.cli.main import SUBCOMMAND_HELP
+
+    guide = (Path(__file__).resolve().parents[2] / "docs" / "user-guide.md").read_text()
+    listed = re.search(r"<!-- subcommands -->\n(.*?)\n<!-- /subcommands -->", guide, flags=re.S)
+    expected = "\n".join(f"- `screen {name}`: {line}" for name, line in SUBCOMMAND_HELP.items())
+    assert listed is not None and listed.group(1) == expected, f"paste into docs/user-guide.md:\n{expected}"
