@@ -24,70 +24,13 @@ way.
 
 from __future__ import annotations
 
-import math
-from typing import NamedTuple
-
-import numpy as np
-
-from ..records.record import Record, project
-from ..rocking.block import Block, BlockShape
-from ..rocking.codes import Verdict
-from ..rocking.orientation import Orientation, PlaneResult
+from ..rocking.block import BlockShape
 from ..rocking.scanned.hull3d import scaled_scan, scan_body, smallest_tipping
-from ..rocking.scene import Physics, Scene
 from ..rocking.settings import ScannedModel, SimulationConfig
-from ..rocking.solids.contact3d import Contact3DOutcome, pose, simulate_contact3d
-from ..rocking.solids.contact_scene import outcome_scene
-from ..rocking.solids.convex_body import ConvexBody, base_threshold
-from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability, one_plane
-from ..uncertainty.sampling import common_normals
-from ..uncertainty.scenes import Probability, sample_until_decided
-from ..uncertainty.settings import UncertaintyConfig
-from ..uncertainty.two_sided import draw_factors
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, claims_on_two_horizontals
-from .factor_sweep import factor_sweep
-from .solids import contact_warmup
-
-#: The yaws a body of unknown orientation is judged at [deg]
-YAW_STEP_DEG = 30.0
-
-
-class Frame(NamedTuple):
-    """A record in the contact model's frame: x toward compass ``x_deg``, y 90 deg counter-clockwise of it; the
-    yaws of the body's settled x axis from x to judge [deg]; whether the body's azimuth is given."""
-
-    ax: np.ndarray
-    ay: np.ndarray
-    av: np.ndarray | None
-    dt_s: float
-    x_deg: float
-    yaws_deg: np.ndarray
-    given: bool
-
-
-class Judged(NamedTuple):
-    """The worst yaw's scene, that yaw [deg], the contact model's outcome there and the runs."""
-
-    scene: Scene
-    yaw_deg: float
-    outcome: Contact3DOutcome
-    runs: int
-
-
-def frame(rec: Record, shape: BlockShape) -> Frame:
-    """The record in the contact model's frame for ``shape`` (see the module)."""
-    a0 = float(rec.azimuths_deg[0])
-    given = bool(rec.azimuth_known) and math.isfinite(shape.azimuth_deg)
-    x_deg = float(shape.azimuth_deg) if given else a0
-    h = np.atleast_2d(rec.horizontal_ms2)
-    if h.shape[0] == 1:
-        turn = math.radians(a0 - x_deg)
-        ax, ay = math.cos(turn) * h[0], -math.sin(turn) * h[0]
-    else:
-        ax, ay = project(h, a0, x_deg), project(h, a0, x_deg - 90.0)
-    yaws = np.zeros(1) if given else np.arange(0.0, 360.0, YAW_STEP_DEG)
-    return Frame(np.ascontiguousarray(ax, dtype=float), np.ascontiguousarray(ay, dtype=float), rec.vertical_ms2,
-                 float(rec.dt_s), x_deg, yaws, given)
+from ..rocking.solids.convex_body import ConvexBody
+from .contract import Placement
+from .convex3d import YAW_STEP_DEG as YAW_STEP_DEG  # the yaws of an unknown orientation, read here too
+from .convex3d import ConvexBodies, convex_model
 
 
 def body_of(shape: BlockShape, *, width: float = 1.0, height: float = 1.0, friction: float = 1.0) -> ConvexBody:
@@ -97,149 +40,10 @@ def body_of(shape: BlockShape, *, width: float = 1.0, height: float = 1.0, frict
     return scan_body(scan, mu=shape.mu * friction)
 
 
-def run(fr: Frame, body: ConvexBody, yaw_deg: float, *, g_ms2: float, amplitude: float = 1.0,
-        history: bool = False) -> Contact3DOutcome:
-    """One run of the contact model: the body at ``yaw_deg`` under the record times ``amplitude``."""
-    av = None if fr.av is None else amplitude * np.asarray(fr.av, dtype=float)
-    return simulate_contact3d(amplitude * fr.ax, amplitude * fr.ay, av, fr.dt_s, body, yaw_deg=yaw_deg, g_ms2=g_ms2,
-                              history=history)
-
-
-def judge(fr: Frame, body: ConvexBody, *, g_ms2: float, amplitude: float = 1.0) -> Judged:
-    """The worst of the frame's yaws (overturned first, then the largest tilt), stopping at the first that
-    overturns the body."""
-    worst: tuple[float, Contact3DOutcome] | None = None
-    runs = 0
-    for yaw in fr.yaws_deg:
-        out = run(fr, body, float(yaw), g_ms2=g_ms2, amplitude=amplitude)
-        runs += 1
-        if worst is None or (out.overturned, out.tilt_max_rad) > (worst[1].overturned, worst[1].tilt_max_rad):
-            worst = (float(yaw), out)
-        if out.overturned:
-            break
-    assert worst is not None
-    return Judged(outcome_scene(worst[1], body.tipping_rad), worst[0], worst[1], runs)
-
-
-def _lean_deg(fr: Frame, out: Contact3DOutcome) -> float:
-    """The compass azimuth the body leant toward at its peak (NaN: it never tilted)."""
-    return (fr.x_deg - out.lean_at_peak_deg) % 360.0 if out.tilt_max_rad > 0.0 else math.nan
-
-
-def _draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, bodies: dict[int, ConvexBody], *,
-           settings: UncertaintyConfig, g_ms2: float) -> Probability:
-    """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``; ``bodies`` keeps each
-    draw's stretched body (its tipping angle costs a search over the hull) for the other yaws' draws of the scene."""
-    def judge_draws(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
-        for k in range(sl.start, sl.stop):
-            f = draw_factors(z[k], settings)
-            if k not in bodies:
-                bodies[k] = body_of(shape, width=f.width, height=f.height, friction=f.friction)
-            out = run(fr, bodies[k], float(yaws[k % len(yaws)]), g_ms2=g_ms2, amplitude=f.amplitude)
-            verdicts[k] = Verdict.overturns if out.overturned else Verdict.stands
-            runs[k] = 1 if out.integrated_steps else 0
-
-    return sample_until_decided(len(z), judge_draws, settings=settings)
-
-
-def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float) -> BodyScene:
-    """The scanned body's scene in 3D on ``on`` (see the module)."""
-    rec, setup = on.record, on.setup
-    fr = frame(rec, shape)
-    j = judge(fr, body_of(shape), g_ms2=setup.g_ms2)
-    moved = j.outcome.integrated_steps > 0
-    res = PlaneResult(j.scene, _lean_deg(fr, j.outcome), j.runs if moved else 0, ())
-    code = (Orientation.given if fr.given else Orientation.single_component if rec.single_component
-            else Orientation.scanned if rec.azimuth_known else Orientation.scanned_relative)
-    orient = NOT_EVALUATED_ORIENTATION
-    if on.base is not None and on.draws is not None:
-        unc = setup.uncertainty
-        bodies: dict[int, ConvexBody] = {}
-        worst = _draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), bodies, settings=unc, g_ms2=setup.g_ms2)
-        if fr.given:
-            orient = one_plane(worst, res.azimuth_deg)
-        else:
-            rnd = _draws(fr, shape, on.draws[0], fr.yaws_deg, bodies, settings=unc, g_ms2=setup.g_ms2)
-            orient = OrientationProbability(worst, res.azimuth_deg, rnd.p, rnd.low, rnd.high,
-                                            worst.simulations + rnd.simulations)
-    yaws = "given" if fr.given else f"{j.runs} of {len(fr.yaws_deg)} yaws"
-    return BodyScene(res, orient, code,
-                     lambda: f"scanned body in 3D ({yaws}), leaning toward {res.azimuth_deg:.0f} deg")
-
-
-def _first_lift(fr: Frame, body: ConvexBody, g_ms2: float) -> float:
-    """The smallest factor on the record at which the ground's demand reaches the body's at-rest threshold
-    (nothing moves below it) [-]."""
-    threshold = base_threshold(pose(body.vertices, body.rest).standing, body.mu)
-    push = np.hypot(fr.ax, fr.ay) - (threshold * fr.av if fr.av is not None else 0.0)
-    if not np.any(push > 0.0):
-        return math.inf
-    return float(np.min(threshold * g_ms2 / push[push > 0.0]))
-
-
-def margin(fr: Frame, body: ConvexBody, yaw_deg: float, *, settings: SimulationConfig, g_ms2: float,
-           overturns_at_one: bool | None = None) -> tuple[float, int]:
-    """The first factor of the upward scan (:func:`~.factor_sweep.factor_sweep`) that overturns the body at
-    ``yaw_deg``, and the runs."""
-    first = _first_lift(fr, body, g_ms2)
-    if not math.isfinite(first):
-        return math.inf, 0
-
-    def verdict_at(factor: float) -> int:
-        return int(run(fr, body, yaw_deg, g_ms2=g_ms2, amplitude=factor).overturned)
-
-    return factor_sweep(first, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
-
-
-def margins(rec, shape: BlockShape, block: Block, direction_deg: float, *, setup: Setup, overturned: bool,
-            want_history: bool) -> Margin:
-    """The scanned body's margins in 3D on its governing record at its worst yaw: the margin, its history when at
-    risk (shape (2, n): tilt over the smallest tipping angle, and the compass azimuth it leans toward), and the
-    sampled margins (each draw's own body, as factors on the nominal record)."""
-    g, settings = setup.g_ms2, setup.settings
-    fr = frame(rec, shape)
-    body = body_of(shape)
-    yaw = judge(fr, body, g_ms2=g).yaw_deg
-    scale, runs = margin(fr, body, yaw, settings=settings, g_ms2=g, overturns_at_one=overturned)
-    history = None
-    if want_history or scale <= setup.history_below_scale:
-        out = run(fr, body, yaw, g_ms2=g, history=True)
-        if out.tilt_max_rad > 0.0 and out.tilt_rad is not None and out.lean_deg is not None:
-            history = np.vstack([out.tilt_rad / body.tipping_rad, (fr.x_deg - out.lean_deg) % 360.0])
-    n = setup.uncertainty.margin_samples if setup.sampling else 0
-    sampled = np.full(max(n, 0), np.nan)
-    if n > 0:
-        z = common_normals(setup.uncertainty.seed, n)
-        for k in range(n):
-            f = draw_factors(z[k], setup.uncertainty)
-            drawn = body_of(shape, width=f.width, height=f.height, friction=f.friction)
-            s_k, r = margin(fr._replace(ax=f.amplitude * fr.ax, ay=f.amplitude * fr.ay,
-                                        av=None if fr.av is None else f.amplitude * np.asarray(fr.av)),
-                            drawn, yaw, settings=settings, g_ms2=g)
-            sampled[k], runs = s_k * f.amplitude, runs + r
-    return Margin(scale, runs, history, rec.dt_s, sampled)
-
-
-def scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, settings: SimulationConfig,
-          g_ms2: float) -> float:
-    """The simulated margin at the worst yaw (on the record's horizontals: ``plane_deg`` is not used)."""
-    fr = frame(rec, shape)
-    body = body_of(shape)
-    return margin(fr, body, judge(fr, body, g_ms2=g_ms2).yaw_deg, settings=settings, g_ms2=g_ms2)[0]
-
-
-def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2: float) -> PulseJudge:
-    """A judge of one-directional pulses: along the direction the body tips in most easily, either way; two runs."""
+def weakest_deg(shape: BlockShape) -> float:
+    """The azimuth toward which the scan tips most easily, in its settled axes [deg]."""
     assert shape.scan is not None
-    body = body_of(shape)
-    weakest_deg = smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m)[1]
-
-    def judge_pulse(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
-        ah = np.ascontiguousarray(ah_ms2, dtype=float)
-        return any(simulate_contact3d(sense * ah, np.zeros_like(ah), None, dt_s, body, yaw_deg=-weakest_deg,
-                                      g_ms2=g_ms2).overturned for sense in (1.0, -1.0)), 2
-
-    return judge_pulse
+    return float(smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m)[1])
 
 
 def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
@@ -248,6 +52,4 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
 
 #: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it: its
 #: kernel is the contact model the cylinder and the box hand over to.
-SCANNED_3D = BodyModel(name="scanned body in 3D", physics=(Physics.contact3d,), claims=_claims,
-                       may_claim=claims_on_two_horizontals(_claims), scene=scene, margins=margins, scale=scale,
-                       pulse=pulse, warmup=None, shared_warmups=(contact_warmup,))
+SCANNED_3D = convex_model("scanned body in 3D", _claims, ConvexBodies(body_of, weakest_deg))

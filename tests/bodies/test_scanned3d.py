@@ -13,8 +13,8 @@ import pytest
 import trimesh
 
 from pipeline.bodies.contract import OnRecord, Setup
-from pipeline.bodies.scanned3d import YAW_STEP_DEG, body_of, frame, judge, pulse
-from pipeline.bodies.scanned3d import scene as scene3d
+from pipeline.bodies.convex3d import frame, judge
+from pipeline.bodies.scanned3d import SCANNED_3D, YAW_STEP_DEG, body_of
 from pipeline.constants import G
 from pipeline.records.record import Record
 from pipeline.rocking.block import BlockShape, ShapeKind
@@ -71,7 +71,7 @@ def test_a_box_mesh_pushed_along_its_given_azimuth_moves_as_the_box_along_its_wi
     one at 75): the box by its corners under the pulse along its width, nothing across. The same verdict, tilt and
     slide (to 1e-4: other principal axes), leaning along the pulse's line."""
     ah = _pulse(amp_g, period_s)
-    got = scene3d(_on(_record(ah, single=single)), _shape(box_scan, PUSH_DEG), None, 0.0)
+    got = SCANNED_3D.scene(_on(_record(ah, single=single)), _shape(box_scan, PUSH_DEG), None, 0.0)
     box = simulate_contact3d(ah, np.zeros_like(ah), None, DT, box_body(0.4, 0.6, 1.6, mu=0.6))
     tipping = math.atan2(0.2, 0.8)
     assert got.result.scene.overturned == box.overturned
@@ -100,7 +100,7 @@ def test_an_unknown_orientation_takes_the_first_yaw_that_overturns(box_scan):
 def test_a_pulse_is_judged_along_the_weakest_direction_either_way(box_scan):
     """The box tips most easily across its 0.4 m width: a pulse the box by its corners survives along its width
     either way is survived, one that overturns it either way overturns the mesh."""
-    judge_pulse = pulse(_shape(box_scan, math.nan), None, settings=SimulationConfig(), g_ms2=G)
+    judge_pulse = SCANNED_3D.pulse(_shape(box_scan, math.nan), None, settings=SimulationConfig(), g_ms2=G)
     for amp_g, period_s in ((0.3, 0.6), (0.6, 0.5)):
         ah = _pulse(amp_g, period_s)
         either = any(simulate_contact3d(s * ah, np.zeros_like(ah), None, DT, box_body(0.4, 0.6, 1.6, mu=0.6)
