@@ -41,6 +41,7 @@ from ..scene_table import SCENE
 from ..store import open_results, ragged_rows, replace_atomically, write_bytes_atomic, write_csv_atomic
 from ..uncertainty.robust import Robustness
 from . import figures
+from .decisions import first_screen, tally
 from .floor_figures import floor_figures
 
 log = logging.getLogger(__name__)
@@ -232,6 +233,7 @@ def build_report(results_path: str | Path, out_dir: str | Path | None = None, *,
     floors = floor_figures(assets, pulses, pulses_path, lambda *a, **k: _data_uri(cache.get(*a, **k)))
     stream = env.get_template("report.html.j2").stream(
         title=ds.attrs.get("title", "rockscreen"), attrs=ds.attrs, summary=summary, assets=assets,
+        decisions=first_screen(assets), decision_tally=tally(assets), more_assets=len(assets),
         records=records, record_figures=record_figures, chart=chart, floor_figures=floors)
     try:        # streamed to the file: the record figures are drawn and written one at a time
         html_path = replace_atomically(out_dir / "report.html",

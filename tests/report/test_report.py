@@ -8,6 +8,8 @@ import os
 import re
 import shutil
 import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -578,3 +580,21 @@ def test_the_report_never_prints_a_raw_nan_or_inf(screened):
     text = re.sub(r"<[^>]+>", " ", re.sub(r"data:image/[^\"]+|<svg.*?</svg>|<script.*?</script>", "", html,
                                           flags=re.S))
     assert not re.findall(r"\b(?:nan|inf)\b", text, flags=re.I)
+
+
+#: The project's measure of where a page's decision lands at a phone's width (kept beside the project, not in it)
+DECISION_FIRST_TOOL = Path(__file__).resolve().parents[3] / "shared" / "tools" / "decision_first.py"
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("width, height", [(390, 844), (1400, 900)])
+def test_the_decision_of_the_top_asset_is_in_the_first_screen(screened_sampled, width, height):
+    """The top asset's decision, in its words, starts within the first screen and ends inside the window, at a
+    phone's width and a laptop's, as ../shared/tools/decision_first.py measures it."""
+    chromium()
+    if not DECISION_FIRST_TOOL.is_file():
+        pytest.skip(f"DECISION-FIRST TOOL NOT FOUND at {DECISION_FIRST_TOOL}: the first screen was NOT measured")
+    run = subprocess.run([sys.executable, str(DECISION_FIRST_TOOL), str(screened_sampled / "report.html"),
+                          str(screened_sampled / "assets.csv"), str(width), str(height)],
+                         capture_output=True, text=True, timeout=180)
+    assert run.returncode == 0, run.stdout + run.stderr[-1000:]
