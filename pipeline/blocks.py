@@ -42,7 +42,11 @@ SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
 #: assets.csv and the report; ``lon`` and ``lat`` [decimal degrees] locate an asset for ``screen event``. Any other
 #: extra column is kept too, with a warning (a typo is likely).
-ASSET_COLUMNS = ("value", "location", "floor", "owner", "category", "lon", "lat")
+ASSET_COLUMNS = ("value", "location", "floor", "owner", "category", "lon", "lat", "object")
+#: The ``object`` column: what the block is, which decides the words of its recommendation (blank: an asset).
+#: ``natural``: a precariously balanced rock, a rock of a hazard study, which is monitored, never anchored.
+NATURAL = "natural"
+OBJECT_KINDS = ("asset", NATURAL)
 #: What a misspelt optional column costs until it is renamed (said with the suggestion)
 UNUSED = {"azimuth_deg": ": every block's azimuth is blank, so each is of unknown orientation (every plane scanned)",
           "mu": ": every block takes blocks.default_mu", "restitution": ": every block takes Housner's restitution",
@@ -416,6 +420,10 @@ def _read_row(rec: dict, where: str, rows: dict[str, list], errors: list[str], *
         lambda x: x >= 0, math.nan))
     for c in ("name", "site", "notes") + tuple(extras):
         rows[c].append(rec.get(c, ""))
+    kind = rec.get("object", "").strip().lower()
+    if kind and kind not in OBJECT_KINDS:
+        errors.append(f"{where}, column 'object': {rec['object']!r}; expected one of {', '.join(OBJECT_KINDS)} (blank: "
+                      "asset; natural: a rock in nature, monitored, never anchored)")
 
 
 def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str]) -> None:

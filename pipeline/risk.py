@@ -11,7 +11,8 @@ overturn or have no verdict (the unknown counted as overturning).
   for an asset that stands under its governing record means the record scaled down overturns it: a window
   of overturning below the nominal amplitude, flagged ``overturns_below_nominal``);
 * p >= :data:`P_RELOCATE`, a simulated margin <= :data:`RELOCATE_BELOW_SCALE` (<= 1 with p below
-  :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain, or relocate";
+  :data:`P_ANCHOR` included), or the paper's criterion says it overturns: "restrain" ("restrain, or move it to a
+  lower floor" on an upper floor of a building, where that lowers its motion);
 * stations whose records have no verdict (the ground fell faster than gravity, a model stopped where the base
   would slide, twist or lift off, or a cap), or samples without a verdict that could lift p to
   :data:`P_RELOCATE`: "at risk until judged", with how many and why, never "no action" nor "limit sliding";
@@ -20,6 +21,10 @@ overturn or have no verdict (the unknown counted as overturning).
 * the paper's criterion alone (fidelity ``criterion``, no simulation): "check by simulation", never "no action":
   the criterion misses most overturnings;
 * otherwise "no action".
+
+A natural object (the inventory's ``object`` column ``natural``: a precariously balanced rock, a rock of a hazard
+study) is never told to be anchored nor to limit its sliding: at risk it is "monitor", and otherwise a rock that
+stands "informs the site's hazard" (``screen constrain``).
 
 Every recommendation that counts the stations overturning the asset also counts those without a verdict. An
 asset with any station or sample without a verdict is never ``robust_stand`` and its simulated verdict never
@@ -38,6 +43,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .blocks import NATURAL
 from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
 from .scene_table import SCENE
@@ -46,7 +52,11 @@ from .uncertainty.robust import Robustness
 
 #: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
 P_ANCHOR = 0.5
-#: An asset is at risk ('restrain, or relocate' in the report; the margins stage keeps a history for it) when its
+#: What a natural object (the inventory's ``object`` natural) is told: it is never anchored. At risk, it is watched
+#: (its state recorded, a fall noticed); standing under every record, its age bounds the site's hazard.
+NATURAL_AT_RISK = "monitor (a natural rock)"
+NATURAL_STANDS = "no action: a rock that stands informs the site's hazard (screen constrain)"
+#: An asset is at risk ('restrain' in the report; the margins stage keeps a history for it) when its
 #: largest probability of overturning over the records reaches this [-] (the robust-stand bound of the default
 #: [uncertainty]) ...
 P_RELOCATE = 0.1
@@ -108,7 +118,7 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
                    stations: tuple[int, int] | None = None, p_words: str = "", slide_m: float = math.nan,
                    undecided: int = 0, undecided_why: str = "", failed: int = 0,
                    unknown_draws: tuple[int, int] = (0, 0), p_with_unknown: float = math.nan,
-                   criterion_only: bool = False) -> str:
+                   criterion_only: bool = False, natural: bool = False, upper_floor: bool = False) -> str:
     """The action for one asset and why, in words (see the module docstring for the rule).
 
     Parameters
@@ -145,6 +155,13 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         The largest over the records of the fraction of samples that overturn or have no verdict [-].
     criterion_only : bool
         The run judged by the paper's criterion alone (fidelity ``criterion``).
+    natural : bool
+        A natural object (the inventory's ``object`` is ``natural``: a precariously balanced rock, a rock of a
+        hazard study), which nobody anchors: where an asset would be restrained it is to be monitored, and a rock
+        that stands informs the site's hazard (``screen constrain``).
+    upper_floor : bool
+        The asset stands on an upper floor of a building, where moving it to a lower floor lowers its motion: the
+        remedy besides a restraint (on the ground, relocating it changes nothing).
     """
     if stations is not None and stations[1] == 0:
         return ("not screened: no record was screened" + (f" ({failed} failed; the report lists each failure and "
@@ -161,11 +178,12 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
             why.append("it stands under the record itself: overturning is not monotonic in amplitude")
-        return "restrain or anchor: " + "; ".join(why)
+        return (NATURAL_AT_RISK if natural else "restrain or anchor") + ": " + "; ".join(why)
     if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
         if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
             why.append("the paper's criterion predicts overturning")
-        return "restrain, or relocate: " + "; ".join(why)
+        action = NATURAL_AT_RISK if natural else "restrain, or move it to a lower floor" if upper_floor else "restrain"
+        return action + ": " + "; ".join(why)
     unknown_matters = undecided > 0 or (response == Response.free_flight and not sampled) or (
         np.isfinite(p_with_unknown) and p_with_unknown >= P_RELOCATE)
     if unknown_matters:
@@ -174,9 +192,11 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if criterion_only:
         return ("check by simulation: the paper's criterion alone finds no overturning, and it is not conservative "
                 "(it misses most overturnings the simulation finds); run the default fidelity; " + "; ".join(why))
-    if response in SLIDING_RESPONSES:
+    if response in SLIDING_RESPONSES and not natural:
         far = f" {slide_m:.2g} m" if np.isfinite(slide_m) and slide_m > 0 else ""
         return f"limit sliding (friction pads or a restraint): it slides{far} under {governing}"
+    if natural:
+        return NATURAL_STANDS + "; " + "; ".join(why)
     return "no action: " + "; ".join(why)
 
 
@@ -277,6 +297,18 @@ def _verdict_words(sim: int, response: int, slide_m: float, undecided: int, n_st
     gaps = ([f"not judged on {undecided} of {n_stations} stations"] if undecided else []) + (
         [f"{unknown_samples} samples without a verdict"] if unknown_samples else [])
     return f"unknown: {words} under the governing record; " + "; ".join(gaps) if gaps else words
+
+
+def _natural(ds: xr.Dataset, j: int) -> bool:
+    """The inventory says block ``j`` is a natural object (its ``object`` column: :data:`NATURAL`)."""
+    name = INVENTORY_PREFIX + "object"
+    return name in ds and str(ds[name].values[j]).strip().lower() == NATURAL
+
+
+def _upper_floor(ds: xr.Dataset, j: int) -> bool:
+    """Block ``j`` stands above the ground floor of a building."""
+    return ("building" in ds and bool(str(ds["building"].values[j])) and "floor_height" in ds
+            and float(ds["floor_height"].values[j]) > 0.0)
 
 
 def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
@@ -417,7 +449,8 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
                                              undecided=undecided, failed=int((~ok).sum()),
                                              undecided_why=undecided_causes(ds, ok & (verdict[:, j] < 0), j),
                                              unknown_draws=unknown[:2], p_with_unknown=unknown[2],
-                                             criterion_only=criterion_only),
+                                             criterion_only=criterion_only, natural=_natural(ds, j),
+                                             upper_floor=_upper_floor(ds, j)),
             "draws_without_verdict": unknown[0], "draws": unknown[1], "p_overturn_with_unknown": unknown[2],
             "inventory": {name[len(INVENTORY_PREFIX):]: str(ds[name].values[j]) for name in extra},
             **probabilities,

@@ -68,3 +68,12 @@ def test_a_size_too_large_in_every_unit_gets_no_unit_hint(tmp_path):
     with pytest.raises(InventoryError) as err:
         read_inventory(tmp_path / "b.csv", default_mu=0.5)
     assert "height_m" in str(err.value) and "?" not in str(err.value).split("height_m")[1].split("\n")[0]
+
+
+def test_the_object_column_takes_asset_or_natural_and_names_a_bad_value(tmp_path):
+    (tmp_path / "b.csv").write_text("id,height_m,width_m,object\nA,1.2,0.3,natural\nB,1.2,0.3,\nC,1.2,0.3,Asset\n")
+    inv = read_inventory(tmp_path / "b.csv", default_mu=0.5)
+    assert inv.extra["object"] == ("natural", "", "Asset")
+    (tmp_path / "bad.csv").write_text("id,height_m,width_m,object\nA,1.2,0.3,boulder\n")
+    with pytest.raises(InventoryError, match=r"line 2, column 'object': 'boulder'; expected one of asset, natural"):
+        read_inventory(tmp_path / "bad.csv", default_mu=0.5)

@@ -35,7 +35,7 @@ def reason_of(r: dict) -> str:
     margin = float(r.get("overturn_scale_simulated", math.nan))
     p = float(r.get("p_overturn", math.nan))
     chance = f"; in the worst case the chance it overturns is {round(100 * p)} %" if math.isfinite(p) else ""
-    if action.startswith("restrain"):
+    if action.startswith(("restrain", "monitor")):
         weaker = (f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking"
                   if math.isfinite(margin) and margin < 1.0 else "")
         stronger = (f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking"

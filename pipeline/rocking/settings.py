@@ -73,7 +73,7 @@ class SimulationConfig:
     #: The margin scan stops at this factor on the record (reported as "more than this") [-].
     margin_max_factor: float = 10.0
     #: ... in steps of ``margin_step`` up to this factor (the largest margin that changes a recommendation, the
-    #: report's 'restrain, or relocate' bound), then in steps doubling from ``margin_step`` up to
+    #: report's 'restrain' bound), then in steps doubling from ``margin_step`` up to
     #: ``margin_coarse_step``, a factor there that overturns bisected back to ``margin_step`` [-].
     margin_fine_to: float = 1.5
     margin_coarse_step: float = 0.1

@@ -159,8 +159,10 @@ def test_assets_csv_one_row_per_block_sorted_by_risk(screened, blocks_csv):
     for r in rows:
         m = float(r["overturn_scale_simulated"] or "nan")
         if m <= 1.0:
-            # a margin <= 1: it overturns, or a smaller factor does (a window below the nominal amplitude)
-            assert r["recommendation"].startswith("restrain or anchor")
+            # a margin <= 1: it overturns, or a smaller factor does (a window below the nominal amplitude); a
+            # natural rock is monitored, never anchored
+            assert r["recommendation"].startswith("monitor (a natural rock)" if r["object"] == "natural"
+                                                  else "restrain or anchor")
             assert r["verdict_simulation"] == "overturns" or "not monotonic" in r["recommendation"]
         if r["verdict_simulation"] == "overturns":
             assert m <= 1.0
@@ -216,7 +218,7 @@ def test_report_in_headless_chromium(run, request, tmp_path, blocks_csv):
     table = html.split('id="asset-table"')[1].split("</table>")[0]
     assert table.count('class="asset-row') == n_blocks
     assert 'data-dead-links="0"' in html
-    # every asset marked at risk (restrain or anchor; restrain, or relocate) has its rocking history on the page
+    # every asset marked at risk (restrain or anchor; restrain; monitor) has its rocking history on the page
     rows = re.findall(r'<tr class="asset-row ([^"]*)">.*?<b>([^<]+)</b>', table, re.S)
     at_risk = [block for cls, block in rows if cls.strip() in ("overturns", "restrain")]
     assert at_risk and all(f'id="asset-{block}"' in html for block in at_risk), at_risk
@@ -429,11 +431,11 @@ def test_the_recommendation_says_why_a_scene_has_no_verdict(physics, flight, wor
 
 @pytest.mark.parametrize("kw, start, words", [
     (dict(p_max=0.97, p_record="R1", sim_scale=0.8), "restrain or anchor", ["p = 0.97 under R1", "scaled by 0.80"]),
-    (dict(p_max=0.3, p_record="R2", sim_scale=0.95, overturned=True), "restrain, or relocate",
+    (dict(p_max=0.3, p_record="R2", sim_scale=0.95, overturned=True), "restrain",
      ["p = 0.30 under R2", "overturns under G scaled by 0.95"]),
     (dict(p_max=0.02, p_record="R3", sim_scale=math.inf), "no action", ["p = 0.02 under R3", "scan limit"]),
     (dict(sim_scale=0.9, overturned=False), "restrain or anchor", ["not monotonic"]),
-    (dict(sim_scale=1.3), "restrain, or relocate", ["scaled by 1.30"]),
+    (dict(sim_scale=1.3), "restrain", ["scaled by 1.30"]),
 ])
 def test_recommendation_weighs_probability_and_margin_and_says_why(kw, start, words):
     from pipeline.risk import recommendation
@@ -551,7 +553,7 @@ def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, re
 
 def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():
     """A block that stands nominally under its governing record, whose probability reaches P_RELOCATE under some
-    record, is at risk (the report says 'restrain, or relocate'); one whose probability stays below is not."""
+    record, is at risk (the report says 'restrain'); one whose probability stays below is not."""
     import xarray as xr
 
     from pipeline.risk import P_RELOCATE
@@ -598,3 +600,35 @@ def test_the_decision_of_the_top_asset_is_in_the_first_screen(screened_sampled, 
                           str(screened_sampled / "assets.csv"), str(width), str(height)],
                          capture_output=True, text=True, timeout=180)
     assert run.returncode == 0, run.stdout + run.stderr[-1000:]
+
+
+@pytest.mark.parametrize("kw, natural, upper, start", [
+    (dict(p_max=0.97, p_record="R1", sim_scale=0.8), True, False, "monitor (a natural rock)"),
+    (dict(p_max=0.3, p_record="R2", sim_scale=0.95), True, False, "monitor (a natural rock)"),
+    (dict(p_max=0.02, p_record="R3", sim_scale=math.inf), True, False,
+     "no action: a rock that stands informs the site's hazard"),
+    (dict(p_max=0.3, p_record="R2", sim_scale=0.95), False, True, "restrain, or move it to a lower floor"),
+    (dict(p_max=0.3, p_record="R2", sim_scale=0.95), False, False, "restrain"),
+    (dict(p_max=0.97, p_record="R1", sim_scale=0.8), False, True, "restrain or anchor"),
+])
+def test_the_words_fit_the_object(kw, natural, upper, start):
+    """A natural rock is never told to be anchored (monitored at risk; standing, it informs the hazard); moving to a
+    lower floor is offered only where the asset stands on an upper floor, where it lowers the motion."""
+    from pipeline.risk import recommendation
+
+    text = recommendation(crit_overturns=False, response=0, governing="G", stations=(2, 9), natural=natural,
+                          upper_floor=upper, **kw)
+    action = text.split(":")[0]
+    assert action == start or (start.startswith("no action") and text.startswith(start)), text
+    assert natural or "natural" not in text
+    assert not natural or ("anchor" not in action and "restrain" not in action and "limit sliding" not in text)
+
+
+def test_a_natural_rock_that_slides_is_not_told_to_limit_its_sliding():
+    from pipeline.risk import recommendation
+    from pipeline.rocking.planner import Response
+
+    text = recommendation(crit_overturns=False, response=int(Response.slide), governing="G", stations=(0, 9),
+                          p_max=0.0, p_record="R", sim_scale=math.inf, slide_m=0.3, natural=True)
+    assert text.startswith("no action: a rock that stands informs the site's hazard"), text
+
