@@ -27,7 +27,7 @@ import numpy as np
 
 from .constants import G
 from .errors import InventoryError
-from .rocking.block import Block, BlockShape, ShapeKind, dynamics
+from .rocking.block import OBJECT_KINDS, Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
 from .shapes.mesh_limits import DEFAULT_LIMITS, SIZE_RANGE_M, MeshLimits
 from .tables import close_match, parse_number, read_csv_table
@@ -43,10 +43,8 @@ SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: assets.csv and the report; ``lon`` and ``lat`` [decimal degrees] locate an asset for ``screen event``. Any other
 #: extra column is kept too, with a warning (a typo is likely).
 ASSET_COLUMNS = ("value", "location", "floor", "owner", "category", "lon", "lat", "object")
-#: The ``object`` column: what the block is, which decides the words of its recommendation (blank: an asset).
-#: ``natural``: a precariously balanced rock, a rock of a hazard study, which is monitored, never anchored.
-NATURAL = "natural"
-OBJECT_KINDS = ("asset", NATURAL)
+#: The ``object`` column's values (:data:`pipeline.rocking.block.OBJECT_KINDS`): what the block is, which decides
+#: the words of its recommendation (blank: an asset).
 #: What a misspelt optional column costs until it is renamed (said with the suggestion)
 UNUSED = {"azimuth_deg": ": every block's azimuth is blank, so each is of unknown orientation (every plane scanned)",
           "mu": ": every block takes blocks.default_mu", "restitution": ": every block takes Housner's restitution",

@@ -43,7 +43,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .blocks import NATURAL
+from .rocking.block import NATURAL
 from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
 from .scene_table import SCENE
@@ -55,6 +55,9 @@ P_ANCHOR = 0.5
 #: What a natural object (the inventory's ``object`` natural) is told: it is never anchored. At risk, it is watched
 #: (its state recorded, a fall noticed); standing under every record, its age bounds the site's hazard.
 NATURAL_AT_RISK = "monitor (a natural rock)"
+#: The remedy besides a restraint where the asset stands on an upper floor of a building: a lower floor moves less
+#: (on the ground, relocating it changes nothing).
+UPPER_FLOOR_REMEDY = "restrain, or move it to a lower floor"
 NATURAL_STANDS = "no action: a rock that stands informs the site's hazard (screen constrain)"
 #: An asset is at risk ('restrain' in the report; the margins stage keeps a history for it) when its
 #: largest probability of overturning over the records reaches this [-] (the robust-stand bound of the default
@@ -155,13 +158,8 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
         The largest over the records of the fraction of samples that overturn or have no verdict [-].
     criterion_only : bool
         The run judged by the paper's criterion alone (fidelity ``criterion``).
-    natural : bool
-        A natural object (the inventory's ``object`` is ``natural``: a precariously balanced rock, a rock of a
-        hazard study), which nobody anchors: where an asset would be restrained it is to be monitored, and a rock
-        that stands informs the site's hazard (``screen constrain``).
-    upper_floor : bool
-        The asset stands on an upper floor of a building, where moving it to a lower floor lowers its motion: the
-        remedy besides a restraint (on the ground, relocating it changes nothing).
+    natural, upper_floor : bool
+        A natural object (the inventory's ``object``), and an asset on an upper floor (their words: the module's).
     """
     if stations is not None and stations[1] == 0:
         return ("not screened: no record was screened" + (f" ({failed} failed; the report lists each failure and "
@@ -178,12 +176,11 @@ def recommendation(*, sim_scale: float, crit_overturns: bool, response: int, ove
     if (sampled and p_max >= P_ANCHOR) or (not sampled and np.isfinite(sim_scale) and sim_scale <= 1.0):
         if not sampled and not overturned:
             why.append("it stands under the record itself: overturning is not monotonic in amplitude")
-        return (NATURAL_AT_RISK if natural else "restrain or anchor") + ": " + "; ".join(why)
+        return _at_risk(natural, "restrain or anchor") + ": " + "; ".join(why)
     if (sampled and p_max >= P_RELOCATE) or small_margin or crit_overturns:
         if crit_overturns and not small_margin and not (sampled and p_max >= P_RELOCATE):
             why.append("the paper's criterion predicts overturning")
-        action = NATURAL_AT_RISK if natural else "restrain, or move it to a lower floor" if upper_floor else "restrain"
-        return action + ": " + "; ".join(why)
+        return _at_risk(natural, UPPER_FLOOR_REMEDY if upper_floor else "restrain") + ": " + "; ".join(why)
     unknown_matters = undecided > 0 or (response == Response.free_flight and not sampled) or (
         np.isfinite(p_with_unknown) and p_with_unknown >= P_RELOCATE)
     if unknown_matters:
@@ -297,6 +294,11 @@ def _verdict_words(sim: int, response: int, slide_m: float, undecided: int, n_st
     gaps = ([f"not judged on {undecided} of {n_stations} stations"] if undecided else []) + (
         [f"{unknown_samples} samples without a verdict"] if unknown_samples else [])
     return f"unknown: {words} under the governing record; " + "; ".join(gaps) if gaps else words
+
+
+def _at_risk(natural: bool, remedy: str) -> str:
+    """The action for an object at risk: ``remedy``, or a natural rock's (:data:`NATURAL_AT_RISK`)."""
+    return NATURAL_AT_RISK if natural else remedy
 
 
 def _natural(ds: xr.Dataset, j: int) -> bool:

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from collections import Counter
 
+from ..scene_table import SCENE
+
 #: The assets the first screen names one by one: every asset whose decision calls for something, at most this many
 #: (the rest are in the tally and the table).
 FIRST_SCREEN_ASSETS = 8
@@ -33,7 +35,7 @@ def reason_of(r: dict) -> str:
     """One sentence of why, from the asset's row (:func:`pipeline.risk.asset_rows`)."""
     action = action_of(r["recommendation"])
     margin = float(r.get("overturn_scale_simulated", math.nan))
-    p = float(r.get("p_overturn", math.nan))
+    p = float(r.get(SCENE.p_overturn, math.nan))
     chance = f"; in the worst case the chance it overturns is {round(100 * p)} %" if math.isfinite(p) else ""
     if action.startswith(("restrain", "monitor")):
         weaker = (f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking"

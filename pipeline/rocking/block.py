@@ -43,6 +43,12 @@ class ShapeKind(IntEnum):
     scanned = 2         # a body given by its scan (inventory column ``mesh``): planar, two-sided (rocking.scanned)
 
 
+#: The inventory's ``object`` column: an asset (blank or ``asset``), or ``natural``: a precariously balanced rock, a
+#: rock of a hazard study, which is monitored, never anchored (:mod:`pipeline.risk` words its recommendation so).
+NATURAL = "natural"
+OBJECT_KINDS = ("asset", NATURAL)
+
+
 @dataclass(frozen=True, kw_only=True)
 class BlockShape:
     """A block as the inventory describes it (nominal values; keyword-only).
