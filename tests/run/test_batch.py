@@ -85,6 +85,11 @@ def one_record(make_records):
     return make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
 
 
+def _new_row(csv_text: str, cells: str) -> str:
+    """An inventory row of ``cells``, padded with blank cells to the header of ``csv_text``."""
+    width = len(csv_text.splitlines()[0].split(","))
+    return cells + "," * (width - len(cells.split(",")))
+
 def test_rerun_with_nothing_new_skips_everything_and_says_so(one_record, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
     assert screen(one_record, blocks_csv, out) == EXIT_OK
@@ -105,7 +110,8 @@ def test_any_change_takes_the_full_path(one_record, blocks_csv, tmp_path, capsys
     out = tmp_path / "out"
     assert screen(one_record, blocks_csv, out) == EXIT_OK
     blocks = tmp_path / "blocks.csv"
-    blocks.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,,box,\n")
+    new = _new_row(blocks_csv.read_text(), "NEW-1,added drum,2.0,0.4,0.6,,,site,,box")
+    blocks.write_text(blocks_csv.read_text() + new + "\n")
     notes = one_record / "notes.txt"
     changes = [("record", lambda: notes.write_text("a note beside the records\n"), blocks_csv, []),
                ("inventory", lambda: None, blocks, []),
@@ -181,7 +187,7 @@ def test_inventory_edit_rescreens_only_affected_blocks(few_records, blocks_csv, 
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     rows = blocks_csv.read_text().splitlines()
     edited = [rows[0]] + [r.replace(",0.5,90,", ",0.45,90,") if r.startswith("STAT-02") else r
-                          for r in rows[2:]] + ["NEW-1,added column drum,2.0,0.4,0.6,,,site,,box,"]
+                          for r in rows[2:]] + [_new_row(rows[0], "NEW-1,added column drum,2.0,0.4,0.6,,,site,,box")]
     inv2 = tmp_path / "inventory-edited.csv"
     inv2.write_text("\n".join(edited) + "\n")
     capsys.readouterr()
@@ -614,7 +620,8 @@ def test_a_cached_record_whose_new_blocks_fail_is_a_failure_with_no_pulse_row(ma
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
     inv2 = tmp_path / "inventory-plus.csv"
-    inv2.write_text(blocks_csv.read_text() + "NEW-1,added drum,2.0,0.4,0.6,,,site,,box,\n")
+    new = _new_row(blocks_csv.read_text(), "NEW-1,added drum,2.0,0.4,0.6,,,site,,box")
+    inv2.write_text(blocks_csv.read_text() + new + "\n")
     real = batch._task
 
     def crash_one(item, ctx):
