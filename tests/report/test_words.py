@@ -41,3 +41,19 @@ def test_the_first_screen_names_the_assets_that_call_for_action_in_words():
     many = [row(f"X{i}", "restrain or anchor: p = 1.00", 3, 0.5, 1.0) for i in range(FIRST_SCREEN_ASSETS + 3)]
     assert len(first_screen(many)) == FIRST_SCREEN_ASSETS
     assert [d["block"] for d in first_screen([assets[3]])] == ["D"]          # nothing to do: the riskiest still shown
+
+
+def test_the_first_screen_says_why_two_records_are_named():
+    """Where the record of the highest chance is not the governing one (the smallest overturning factor), the
+    sentence names both and says which is which."""
+    from pipeline.report.decisions import reason_of
+
+    row = {"block": "S", "recommendation": "restrain or anchor: p = 1.00 under NGA", "stations_overturning": 13,
+           "stations_screened": 31, "overturn_scale_simulated": 0.96, "p_overturn": 1.0, "p_record": "NGA",
+           "governing_record": "RSN723"}
+    assert reason_of(row) == ("13 of the 31 stations' records overturn it; RSN723 overturns it at 0.96 times its "
+                              "shaking; in the worst case the chance it overturns is 100 %, under NGA: the record "
+                              "with the highest chance is not the one that overturns it at the smallest factor, "
+                              "RSN723.")
+    assert "not the one" not in reason_of(dict(row, p_record="RSN723"))
+
