@@ -43,6 +43,16 @@ def _unit(ds: xr.Dataset) -> tuple[str, float]:
     return UNIT_WORDS.get(label, label), 1.0 / to_si
 
 
+def _plain_log_ticks(axis) -> None:
+    """A logarithmic colour bar's ticks at 1, 2 and 5 of each decade, labelled as plain numbers, the rest unlabelled:
+    matplotlib labels every minor tick of a range under a decade, and at 1,400 px "3x10^0" ran into "4x10^0"."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def map_png(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[int]) -> bytes:
     """PNG of :func:`map_figure`."""
     return png_bytes(map_figure(ds, grid, inv, order))
@@ -74,8 +84,9 @@ def map_figure(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
     norm = LogNorm(vmin=max(positive.min(), positive.max() / 1e3), vmax=positive.max()) if positive.size else None
     mesh = ax.pcolormesh(grid.lon[ix], grid.lat[iy], np.where(values > 0, values, np.nan), shading="nearest",
                          cmap="viridis", norm=norm, rasterized=True)
-    fig.colorbar(mesh, ax=ax, label=f"ShakeMap {field} median [{label}]", shrink=0.85, location="bottom",
-                 aspect=40)
+    bar = fig.colorbar(mesh, ax=ax, label=f"ShakeMap {field} median [{label}]", shrink=0.85, location="bottom",
+                       aspect=40)
+    _plain_log_ticks(bar.ax.xaxis)
     lv = ds["level"].values.astype(int)
     for level in sorted(Level, key=lambda m: m.value):
         at = lv == level

@@ -412,6 +412,11 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
     assert len(labels) == min(10, event_html.MAP_LABELS)
     assert all(box.x1 <= lb.x0 and lb.x1 <= fig.bbox.x1 for lb in labels)   # beside the map, within the figure
     assert not any(a.overlaps(b) for i, a in enumerate(labels) for b in labels[i + 1:])
+    bar = fig.axes[-1]                                                    # the colour bar: its labels apart, plain
+    shown = [t for t in bar.get_xticklabels(minor=False) + bar.get_xticklabels(minor=True) if t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in shown]
+    assert shown and not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert not [t.get_text() for t in shown if "times" in t.get_text() or "^" in t.get_text()]
     page = (tmp_path / "out" / "event.html").read_text()
     ticks = re.findall(r'text-anchor="(?:start|middle|end)">([^<]+)</text>', page)
     assert ticks and not [t for t in ticks if "e+" in t or "e-" in t]
