@@ -36,17 +36,16 @@ def reason_of(r: dict) -> str:
     action = action_of(r["recommendation"])
     margin = float(r.get("overturn_scale_simulated", math.nan))
     p = float(r.get(SCENE.p_overturn, math.nan))
-    chance = f"; in the worst case the chance it overturns is {round(100 * p)} %" if math.isfinite(p) else ""
+    chance = f"; its highest chance of overturning over the records is {round(100 * p)} %" if math.isfinite(p) else ""
     p_record, governing = str(r.get("p_record", "") or ""), str(r.get("governing_record", "") or "")
     if chance and p_record and governing and p_record != governing:       # each record the worst by its own measure
         chance += (f", under {p_record}: the record with the highest chance is not the one that overturns it at the "
                    f"smallest factor, {governing}")
     if action.startswith(("restrain", "monitor")):
-        weaker = (f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking"
-                  if math.isfinite(margin) and margin < 1.0 else "")
-        stronger = (f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking"
-                    if math.isfinite(margin) and margin >= 1.0 and int(r["stations_overturning"]) == 0 else "")
-        return f"{_stations(r)}{weaker}{stronger}{chance}."
+        # the margin is said where it matters: a weaker record overturns it, or no record does as recorded
+        said = math.isfinite(margin) and (margin < 1.0 or int(r["stations_overturning"]) == 0)
+        scaled = f"; {r['governing_record']} overturns it at {margin:.2f} times its shaking" if said else ""
+        return f"{_stations(r)}{scaled}{chance}."
     if action == NO_ACTION:
         return f"{_stations(r)}{chance}."
     rest = r["recommendation"].split(":", 1)

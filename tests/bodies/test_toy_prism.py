@@ -89,16 +89,17 @@ def test_the_prism_is_judged_by_its_model_with_probabilities_and_a_report(screen
 
 def test_the_prisms_margin_is_at_least_where_the_ground_first_moves_it(screened, kocaeli, config):
     """Nothing moves a body standing on its base while the ground's demand |a_h| / (g + a_v) stays at or below
-    min(mu, tan alpha_min); for this prism tan alpha_min is the inradius over the height of G, a / (sqrt(3) h). So no
-    factor below the one that first reaches it can overturn the prism: its simulated margin is at least that."""
+    min(mu, tan alpha_min); for this prism tan alpha_min is the inradius over the height of G, a / (sqrt(3) h). The
+    record times f (its vertical too) first reaches it at the smallest f = t g / (|a_h| - t a_v) over the samples
+    (t the threshold), so no smaller factor can overturn the prism: its simulated margin is at least that."""
     from pipeline.records.loader import iter_records
 
     ds, _ = screened
     j = list(ds["block"].values).index("P")
     rec = next(iter_records(kocaeli, config=config))
     threshold = min(MU, SIDE_M / (math.sqrt(3.0) * HEIGHT_M))
-    demand = np.max(np.hypot(*rec.horizontal_ms2) / (G + (0.0 if rec.vertical_ms2 is None else rec.vertical_ms2)))
-    first_moves = threshold / demand
+    push = np.hypot(*rec.horizontal_ms2) - threshold * (0.0 if rec.vertical_ms2 is None else rec.vertical_ms2)
+    first_moves = float(np.min(threshold * G / push[push > 0]))
     margin = float(ds["overturn_scale_simulated"].values[j])
     assert margin >= first_moves * (1.0 - 1e-9)
 

@@ -32,7 +32,7 @@ def test_the_first_screen_names_the_assets_that_call_for_action_in_words():
     assert [d["block"] for d in first] == ["A", "B", "C"]                  # "no action" is in the tally only
     assert first[0]["decision"] == "restrain or anchor"
     assert first[0]["reason"] == ("24 of the 31 stations' records overturn it; RSN1063 overturns it at 0.24 times "
-                                  "its shaking; in the worst case the chance it overturns is 100 %.")
+                                  "its shaking; its highest chance of overturning over the records is 100 %.")
     assert first[1]["reason"].startswith("none of the 31 stations' records overturns it; RSN1063 overturns it at "
                                          "1.08 times its shaking")
     assert first[2]["reason"] == "it slides 0.35 m under RSN1063."
@@ -52,8 +52,8 @@ def test_the_first_screen_says_why_two_records_are_named():
            "stations_screened": 31, "overturn_scale_simulated": 0.96, "p_overturn": 1.0, "p_record": "NGA",
            "governing_record": "RSN723"}
     assert reason_of(row) == ("13 of the 31 stations' records overturn it; RSN723 overturns it at 0.96 times its "
-                              "shaking; in the worst case the chance it overturns is 100 %, under NGA: the record "
-                              "with the highest chance is not the one that overturns it at the smallest factor, "
-                              "RSN723.")
+                              "shaking; its highest chance of overturning over the records is 100 %, under NGA: "
+                              "the record with the highest chance is not the one that overturns it at the smallest "
+                              "factor, RSN723.")
     assert "not the one" not in reason_of(dict(row, p_record="RSN723"))
 

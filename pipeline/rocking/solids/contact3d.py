@@ -482,7 +482,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             flight, aloft = True, after_flight
         tilt, tilt_max, lean_peak, slide_max, twist_max = measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
                                                                    lean_peak, slide_max, twist_max)
-        energy_gain = energy_gain if during else max(energy_gain, _energy_now(q, r, v, w, inertia, x, g) - e_before)
+        energy_gain = energy_gain if during else max(energy_gain, energy(v, w, r, inertia, x[2], g) - e_before)
         if tilt >= 0.5 * math.pi - LYING_SLACK_RAD:
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
             lie_down(hist, k // n_sub + 1, lean_of(r, pose.up, tilt))
