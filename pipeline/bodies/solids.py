@@ -97,7 +97,7 @@ def solid_scale_simulated(rec, solid: Solid, *, settings, g_ms2: float,
 
     def verdict_at(factor: float) -> int:
         return judge_solid(h[0], h[1], rec.vertical_ms2, rec.dt_s, solid, settings=settings, g_ms2=g_ms2,
-                           amplitude=factor).scene.verdict
+                           amplitude=factor, verdict_only=True).scene.verdict
 
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=flat_below)
 

@@ -18,8 +18,11 @@ from ..block import BlockShape
 from ..geometry import effective_restitution
 from ..scene import Physics
 from ..settings import SimulationConfig
+from .alternate import alternate
 from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
 from .box_planar import planar_box_scene
+from .contact3d import Contact3DOutcome
+from .contact_start import Start
 from .family import SolidFamily
 
 
@@ -55,6 +58,14 @@ def _run(h1, h2, vertical, dt_s: float, box: Box, azimuth_deg: float, *, setting
                         dt_s, box, azimuth_deg=azimuth_deg, g_ms2=g_ms2, rtol=settings.rtol, atol_alpha=settings.atol)
 
 
+def _alternated(ax, ay, az, dt_s: float, box: Box, azimuth_deg: float, start: Start | None, *, g_ms2: float,
+                settings: SimulationConfig) -> Contact3DOutcome:
+    """The contact model handed back to the box's exact model on every edge it rocks on without slipping
+    (:func:`~.alternate.alternate`, the exact model at the settings' tolerances)."""
+    return alternate(ax, ay, az, dt_s, box, azimuth_deg, start, g_ms2=g_ms2, rtol=settings.rtol,
+                     atol_alpha=settings.atol)
+
+
 #: The boxes' family (:class:`~.family.SolidFamily`).
 BOX = SolidFamily(physics=Physics.rocking3d, tipping_tans=_tipping_tans, drawn=_drawn, run=_run,
-                  certified_scene=planar_box_scene)
+                  certified_scene=planar_box_scene, alternated=_alternated)

@@ -179,6 +179,14 @@ class Contact3DOutcome(NamedTuple):
     tilt_end_rad : float
         Its tilt where the run ended [rad]: at rest on its base (below :data:`REST_TILT_RAD`), at rest on another
         face (three contacts or more, still, after the record), lying on a side, or where the tail ended.
+    edge : int
+        With ``edges`` given (:func:`simulate_contact3d`), the one the body turned on without slipping when the run
+        stopped there, at ``t_end_s``; -1 where it did not stop so.
+    t_end_s : float
+        When the run ended [s].
+    q_end, rate_end_rad_s : ndarray or None
+        Where it stopped on an ``edge``: its orientation (unit quaternion (w, x, y, z), principal axes to the
+        ground's frame) and angular velocity in the ground's frame [rad s-1].
     """
 
     overturned: bool
@@ -197,14 +205,23 @@ class Contact3DOutcome(NamedTuple):
     tilt_rad: np.ndarray | None = None
     lean_deg: np.ndarray | None = None
     tilt_end_rad: float = math.nan
+    edge: int = -1
+    t_end_s: float = math.nan
+    q_end: np.ndarray | None = None
+    rate_end_rad_s: np.ndarray | None = None
 
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
-                       g_ms2: float = G, history: bool = False, start: Start | None = None) -> Contact3DOutcome:
+                       g_ms2: float = G, history: bool = False, start: Start | None = None,
+                       edges: np.ndarray | None = None) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
-    rest (the outcome counts what the start says came before: its largest tilt and its history)."""
+    rest (the outcome counts what the start says came before: its largest tilt and its history). With ``edges``
+    (pairs of vertex indices, shape (k, 2)), the run stops at the first sample of the record after a whole sampling
+    interval turning on one of them without slipping, both its vertices loaded and sticking, every other vertex
+    without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and ``rate_end_rad_s`` say where (an exact model
+    goes on from there: :mod:`.alternate`)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
@@ -212,11 +229,14 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     n_sub = max(1, int(math.ceil(dt_s / h - 1e-9)))
     hist = np.full((ax.size if history else 0, 2), math.nan)
     vertices = np.ascontiguousarray(body.vertices, dtype=float)
-    stance = pose(vertices, body.rest, body.tipping_rad)
+    stance, room = pose(vertices, body.rest, body.tipping_rad), _room(len(vertices))
+    pairs = np.zeros((0, 2), dtype=np.int64) if edges is None else np.ascontiguousarray(edges, dtype=np.int64)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
-               solvers(len(body.vertices)), hist, stance, _room(len(vertices)),
-               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist))
+               solvers(len(body.vertices)), hist, stance, room,
+               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs)
+    if out.edge >= 0:
+        out = out._replace(q_end=room.q.copy(), rate_end_rad_s=room.w.copy())
     return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
 
 
@@ -406,12 +426,13 @@ def _hold_calm(ax, ay, az, i, threshold, g, hist):
 @jit_inline
 def _set_down(v, w, q, x, r, z0, impulses, pose):
     """A body found at rest: still, set down as it stood (its heading and place kept), its next motion from no
-    impulse."""
+    impulse; True (it rests)."""
     v[:] = 0.0
     w[:] = 0.0
     headed(heading(r, pose.x_ref), pose.q_rest, q)
     x[2] = z0
     impulses[:] = 0.0
+    return True
 
 
 @jit_inline
@@ -433,6 +454,56 @@ def _rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist):
 
 
 @jit_inline
+def _on_edge(impulses, edges, mu):
+    """The pair of ``edges`` that alone carries the last step's impulses (every other vertex none), each of its two
+    with a normal impulse inside its friction cone (sticking: |P_t| < mu P_n); -1 where none."""
+    loaded, first, second = 0, -1, -1
+    for i in range(impulses.shape[0]):
+        if impulses[i, 0] != 0.0 or impulses[i, 1] != 0.0 or impulses[i, 2] != 0.0:
+            if impulses[i, 2] <= 0.0 or math.hypot(impulses[i, 0], impulses[i, 1]) >= mu * impulses[i, 2]:
+                return -1
+            loaded += 1
+            first, second = (i, second) if first < 0 else (first, i)
+    if loaded != 2:
+        return -1
+    for e in range(edges.shape[0]):
+        if (edges[e, 0] == first and edges[e, 1] == second) or (edges[e, 0] == second and edges[e, 1] == first):
+            return e
+    return -1
+
+
+@jit_inline
+def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub):
+    """The steps in a row on one edge of ``edges`` without slipping (:func:`_on_edge`), this one included where
+    it ``counts`` (a whole step during the record; else none), and the edge where that reaches a whole sampling
+    interval (``n_sub`` steps) ``at_sample`` (-1: not yet)."""
+    if not counts or edges.shape[0] == 0:
+        return 0, -1
+    on = _on_edge(impulses, edges, mu)
+    stuck = stuck + 1 if on >= 0 else 0
+    return stuck, on if stuck >= n_sub and at_sample else -1
+
+
+@jit_inline
+def _aloft(n_c, vertices, r, z_g, flight, aloft, after_flight):
+    """Whether the body has flown, and its fine steps left after a flight: :data:`AFTER_FLIGHT_S` worth
+    (``after_flight`` steps) from a step without contact that left it clear of the ground (:func:`_clear_of_ground`),
+    else ``aloft`` as counted."""
+    if n_c == 0 and _clear_of_ground(vertices, r, z_g):
+        return True, after_flight
+    return flight, aloft
+
+
+@jit_inline
+def _toppled(tilt, toppled, t_beyond, t_over, tilt_max):
+    """A body at rest after the record off its base: overturned (when it last passed its tipping angle
+    ``toppled``, its peak a side's) where it rests tilted beyond that angle, else as it was."""
+    if tilt > toppled:
+        return True, t_beyond, 0.5 * math.pi
+    return False, t_over, tilt_max
+
+
+@jit_inline
 def _energy_now(q, r, v, w, inertia, x, g):
     """Its energy per unit mass at orientation ``q`` (its rotation written into ``r``) [J kg-1]."""
     rotation(q, r)
@@ -440,19 +511,19 @@ def _energy_now(q, r, v, w, inertia, x, g):
 
 
 @jit_lean
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``) and
     after it until it rests or :data:`TAIL_S`: held at rest where the certificate allows (:func:`_rest_through`),
     else stepped (:func:`_advance`; in :data:`FINE_SUBSTEPS` parts at small tilts and around a flight), to lying on
-    a side or resting after the record; its tilt and lean at the samples into ``hist`` (the outcome's without it)."""
+    a side or resting after the record; its tilt and lean at the samples into ``hist`` (the outcome's without it);
+    with ``edges``, to where it turns on one without slipping (:func:`_handback`), its state left in ``room``."""
     size, z0 = extent(pose.standing)
     tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
     threshold = min(mu, tan_alpha)
     fine_low, fine_high = FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, vertices, z0, yaw, pose, begin)
-    resting = begin.k < 0
-    h, n = dt / n_sub, ax.size
+    resting, edge, stuck, h, n = begin.k < 0, -1, 0, dt / n_sub, ax.size
     aloft, after_flight = 0, int(AFTER_FLIGHT_S / h)                  # fine steps left after a flight
     tilt_max, slide_max, twist_max, energy_gain = begin.tilt_max, 0.0, 0.0, 0.0
     overturned, flight, flags, capped, t_over = False, False, 0, 0, math.nan
@@ -478,8 +549,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         capped, sweeps, integrated, aloft, lo = capped + capped_now, sweeps + taken, integrated + parts, aloft - 1, 0.0
         k, steps, t = k + 1, steps + 1, (k + 1) * h
         rotation(q, r)
-        if n_c == 0 and _clear_of_ground(vertices, r, x[2]):
-            flight, aloft = True, after_flight
+        flight, aloft = _aloft(n_c, vertices, r, x[2], flight, aloft, after_flight)
         tilt, tilt_max, lean_peak, slide_max, twist_max = measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
                                                                    lean_peak, slide_max, twist_max)
         energy_gain = energy_gain if during else max(energy_gain, energy(v, w, r, inertia, x[2], g) - e_before)
@@ -488,15 +558,16 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             lie_down(hist, k // n_sub + 1, lean_of(r, pose.up, tilt))
             break
         if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
-            _set_down(v, w, q, x, r, z0, impulses, pose)  # flat on its base and still: at rest
-            resting = True
+            resting = _set_down(v, w, q, x, r, z0, impulses, pose)      # flat on its base and still: at rest
             if not during:
                 break
-        t_beyond = t if tilt > pose.toppled >= tilt_before else t_beyond     # when it last passed its tipping angle
-        tilt_before = tilt
-        if not during and n_c >= 3 and _still(v, w, size):
-            if tilt > pose.toppled:                 # at rest on another face beyond its tipping: toppled
-                overturned, t_over, tilt_max = True, t_beyond, 0.5 * math.pi
-            break                                   # at rest on three contacts or more, off its base
+        t_beyond, tilt_before = t if tilt > pose.toppled >= tilt_before else t_beyond, tilt   # last past tipping
+        stuck, edge = _handback(impulses, edges, mu, stuck, during and parts == 1, k % n_sub == 0, n_sub)
+        if edge >= 0:
+            break
+        if not during and n_c >= 3 and _still(v, w, size):     # at rest on three contacts or more, off its base
+            overturned, t_over, tilt_max = _toppled(tilt, pose.toppled, t_beyond, t_over, tilt_max)
+            break
     return Contact3DOutcome(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped,
-                            energy_gain, integrated, sweeps, degrees(lean_peak), None, None, tilt)
+                            energy_gain, integrated, sweeps, degrees(lean_peak), None, None, tilt, edge, t, None,
+                            None)

@@ -17,6 +17,7 @@ count in any family (docs/validation.md).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -53,15 +54,22 @@ def handoff(exact: WobbleOutcome | BoxOutcome | None, body: Cylinder | Box, azim
 
 def contact_scene(h1, h2, vertical, dt_s: float, body: Cylinder | Box, azimuth_deg: float, alpha: float, *,
                   g_ms2: float, amplitude: float = 1.0, history: bool = False,
-                  exact: WobbleOutcome | BoxOutcome | None = None) -> tuple[Scene, Contact3DOutcome]:
+                  exact: WobbleOutcome | BoxOutcome | None = None,
+                  alternated: Callable[..., Contact3DOutcome] | None = None) -> tuple[Scene, Contact3DOutcome]:
     """The scene of ``body`` (its width axis at ``azimuth_deg`` in the models' frame: x the record's first
     horizontal, y its second reversed) under the record times ``amplitude``, by the contact model; theta_max (and
     with ``history`` theta_over_alpha) as a fraction of ``alpha``. With the contact model's outcome (where it leant:
-    ``lean_at_peak_deg``, with ``history`` ``lean_deg``, in the models' frame)."""
+    ``lean_at_peak_deg``, with ``history`` ``lean_deg``, in the models' frame). With ``alternated`` (its family's,
+    for a verdict only, no history), the contact model handed back to the exact model where it can go on
+    (:mod:`.alternate`)."""
     av = None if vertical is None or np.size(vertical) == 0 else amplitude * np.asarray(vertical, dtype=float)
-    out = simulate_contact3d(amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float), av,
-                             dt_s, convex_body(body), yaw_deg=azimuth_deg, g_ms2=g_ms2, history=history,
-                             start=handoff(exact, body, azimuth_deg, dt_s))
+    ax, ay = amplitude * np.asarray(h1, dtype=float), -amplitude * np.asarray(h2, dtype=float)
+    start = handoff(exact, body, azimuth_deg, dt_s)
+    if alternated is not None and not history:
+        out = alternated(ax, ay, av, dt_s, body, azimuth_deg, start, g_ms2=g_ms2)
+    else:
+        out = simulate_contact3d(ax, ay, av, dt_s, convex_body(body), yaw_deg=azimuth_deg, g_ms2=g_ms2,
+                                 history=history, start=start)
     return outcome_scene(out, alpha), out
 
 

@@ -36,6 +36,11 @@ class SolidFamily(NamedTuple):
         ``certified_scene(h1, h2, vertical, dt_s, body, azimuth_deg, *, settings, g_ms2, amplitude, history)``: a
         cheaper scene that stands for the 3D one where it is certified (a box's planar scene in the plane of its
         width, :mod:`.box_planar`); None where the family has none
+    alternated : callable or None
+        ``alternated(ax, ay, az, dt_s, body, azimuth_deg, start, *, g_ms2, settings)``: the contact model's outcome
+        of a scene the exact model left, handed back to the exact model wherever it can take the scene again (a
+        box on an edge, :mod:`.alternate`), for a verdict only; None where the family has none (the contact model
+        alone)
     """
 
     physics: Physics
@@ -43,3 +48,4 @@ class SolidFamily(NamedTuple):
     drawn: Callable[..., tuple[Any, float]]
     run: Callable[..., Any]
     certified_scene: Callable[..., Any] | None = None
+    alternated: Callable[..., Any] | None = None

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -180,8 +181,10 @@ def judge_solid(h1, h2, vertical, dt_s: float, solid: Solid, *, settings: Simula
     lean = np.where(out.theta > 0, np.degrees(out.azimuth), math.nan) if history else None
     scene = scene_of(out, solid, history=history)
     if settings.contact3d and scene.guard & (Guard.model_limit | Guard.held_past_alpha):
+        alternated = solid.family.alternated if verdict_only and settings.handback else None
         handed, c3 = contact_scene(h1, h2, vertical, dt_s, solid.body, solid.azimuth_deg, solid.alpha, g_ms2=g_ms2,
-                                   amplitude=amplitude, history=history, exact=out)
+                                   amplitude=amplitude, history=history, exact=out,
+                                   alternated=None if alternated is None else partial(alternated, settings=settings))
         return Judged(handed, c3.lean_at_peak_deg % 360.0 if c3.tilt_max_rad > 0 else math.nan, False, c3.lean_deg)
     return Judged(scene, out.azimuth_max_deg if out.theta_max_rad > 0 else math.nan, False, lean)
 

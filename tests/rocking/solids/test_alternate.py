@@ -1,0 +1,99 @@
+"""The hand-back to the box's exact model (:mod:`pipeline.rocking.solids.alternate`) against the contact model alone,
+a second algorithm for the same physics: the same verdicts and peaks on scenes where the box slides, then rocks on an
+edge without slipping again, at a fraction of the cost."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import pipeline.rocking.solids.alternate as alternate_module
+from pipeline.constants import G
+from pipeline.rocking.solids.alternate import BOX_EDGES, _corner, _exact_state, alternate
+from pipeline.rocking.solids.box3d import Box, simulate_box
+from pipeline.rocking.solids.contact3d import simulate_contact3d
+from pipeline.rocking.solids.contact_scene import contact_scene, handoff
+
+DT_S = 0.01
+CABINET = Box(0.3, 0.6, 1.05, 0.35)       # tan alpha 0.29 across its width, mu 0.35: it slides, then rocks
+
+
+def _sine(amplitude_g: float, frequency_hz: float, azimuth_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """Three seconds of a sine of the ground along ``azimuth_deg``, then 9 s still."""
+    t = np.arange(0.0, 12.0, DT_S)
+    a = amplitude_g * G * np.sin(2.0 * math.pi * frequency_hz * t) * (t < 3.0)
+    return a * math.cos(math.radians(azimuth_deg)), a * math.sin(math.radians(azimuth_deg))
+
+
+@pytest.fixture
+def exact_calls(monkeypatch) -> list[int]:
+    """The exact model's runs the alternation makes (a spy on its calls)."""
+    calls: list[int] = []
+    run = alternate_module.simulate_box
+
+    def spy(*args, **kwargs):
+        calls.append(1)
+        return run(*args, **kwargs)
+
+    monkeypatch.setattr(alternate_module, "simulate_box", spy)
+    return calls
+
+
+@pytest.mark.parametrize("amplitude_g, frequency_hz, azimuth_deg", [
+    (0.4, 1.0, 30.0), (0.4, 2.0, 30.0), (0.5, 1.0, 30.0), (0.6, 1.0, 0.0), (0.6, 2.0, 0.0), (0.6, 2.0, 30.0)])
+def test_as_the_contact_model_alone(amplitude_g, frequency_hz, azimuth_deg, exact_calls):
+    ax, ay = _sine(amplitude_g, frequency_hz, azimuth_deg)
+    exact = simulate_box(ax, ay, None, DT_S, CABINET)
+    assert exact.flag != 0                                       # the exact model stops: its base would slide
+    start = handoff(exact, CABINET, 0.0, DT_S)
+    handed = alternate(ax, ay, None, DT_S, CABINET, 0.0, start, g_ms2=G, rtol=1e-7, atol_alpha=1e-9)
+    alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
+    assert exact_calls                                           # handed back at least once
+    assert handed.overturned == alone.overturned
+    if not alone.overturned:
+        assert handed.tilt_max_rad == pytest.approx(alone.tilt_max_rad, rel=0.03)
+    assert handed.integrated_steps < alone.integrated_steps
+
+
+def test_a_cap_on_hand_backs_ends_with_the_contact_model(monkeypatch, exact_calls):
+    monkeypatch.setattr(alternate_module, "MAX_HANDBACKS", 1)
+    ax, ay = _sine(0.6, 2.0, 30.0)
+    start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
+    handed = alternate(ax, ay, None, DT_S, CABINET, 0.0, start, g_ms2=G, rtol=1e-7, atol_alpha=1e-9)
+    alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
+    assert len(exact_calls) == 1
+    assert handed.overturned == alone.overturned and handed.edge == -1
+
+
+def test_the_exact_state_lies_on_the_edge():
+    """Where the contact model stops on an edge, the exact model's state has that edge level and turns about it,
+    within the contact model's own resolution of where it was."""
+    ax, ay = _sine(0.6, 2.0, 0.0)
+    start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
+    out = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start, edges=BOX_EDGES)
+    assert out.edge >= 0 and out.t_end_s == pytest.approx(round(out.t_end_s / DT_S) * DT_S)
+    y = _exact_state(out, CABINET)
+    rot = Rotation.from_quat([y[1], y[2], y[3], y[0]])
+    a, b = rot.apply(_corner(CABINET, out.edge)), rot.apply(_corner(CABINET, (out.edge + 1) % 4))
+    assert np.linalg.norm(y[:4]) == pytest.approx(1.0, abs=1e-12)
+    assert a[2] == pytest.approx(b[2], abs=1e-12)                        # the edge level
+    assert np.linalg.norm(np.cross(y[4:], b - a)) <= 1e-12 * np.linalg.norm(y[4:]) * np.linalg.norm(b - a)
+    q = np.asarray(out.q_end)
+    moved = (rot * Rotation.from_quat([q[1], q[2], q[3], q[0]]).inv()).magnitude()
+    assert moved < 1e-4                                                  # levelled by less than a step's sink
+    assert np.linalg.norm(y[4:] - out.rate_end_rad_s) <= 1e-3 * np.linalg.norm(out.rate_end_rad_s)
+
+
+def test_a_history_is_the_contact_model_alone():
+    ax, ay = _sine(0.6, 2.0, 0.0)
+
+    def never(*args, **kwargs):
+        raise AssertionError("the alternation ran for a history")
+
+    exact = simulate_box(ax, ay, None, DT_S, CABINET)
+    scene, out = contact_scene(ax, -ay, None, DT_S, CABINET, 0.0, 0.28, g_ms2=G, history=True, exact=exact,
+                               alternated=never)
+    assert out.tilt_rad is not None and scene.theta_over_alpha is not None
