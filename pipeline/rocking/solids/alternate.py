@@ -1,11 +1,12 @@
 """A box's scene that left its exact model, run by the contact model and handed back to the exact model wherever it
 rocks on an edge without slipping again (the draws and the margin scan, which keep only the verdict).
 
-The contact model (:mod:`.contact3d`) follows every mode at once, at eight steps a sample; the exact model
+The contact model (:mod:`.contact3d`) follows every mode at once, in steps of at most 0.5 ms; the exact model
 (:mod:`.box3d`) follows a box on an edge or a corner whose contact holds, at the steps its error control allows.
 Once a box has slid, it mostly rocks on an edge again with that edge's two corners sticking: on 119 box draws of the
-bundled default, 72 % of the contact model's steps had exactly two corners on the ground, neither slipping. The contact model therefore stops at the first sample after a whole sampling interval turning on one base
-edge, both of its corners loaded and inside their friction cones and no other corner loaded (``edges`` of
+bundled default, 72 % of the contact model's steps had exactly two corners on the ground, neither slipping. The
+contact model therefore stops at the first sample after a whole sampling interval turning on one base edge, both of
+its corners loaded and inside their friction cones and no other corner loaded (``edges`` of
 :func:`~.contact3d.simulate_contact3d`), and the exact model goes on from there on that edge
 (:func:`_exact_state`: the edge levelled and the rate taken about it, both changes below the contact model's own
 resolution). Where the exact model stops again (its base would slide or lift off, or it falls past the tipping point
