@@ -44,6 +44,10 @@ def constrain_parser() -> argparse.ArgumentParser:
     p.add_argument("--hazard-scale", type=float, metavar="FACTOR",
                    help="a stated conversion where the hazard's component differs from the fragility's: levels x "
                         "FACTOR")
+    p.add_argument("--go-on", action="store_true",
+                   help="reweight even where a rock contradicts every branch (its best branch gives it less than a "
+                        "0.001 chance of having stood through its age): each such rock is then a warning; without "
+                        "it the run stops and names the rock")
     p.add_argument("--out", type=Path, default=Path("results/constrain"),
                    help="output directory (default: results/constrain/)")
     _add_output_options(p)
@@ -61,7 +65,7 @@ def cmd_constrain(args: argparse.Namespace, argv: list[str]) -> int:
         args.fragility, args.ages, args.branches, args.out, combine=Combine(args.combine), draws=args.draws,
         site=site, lonlat=lonlat, period_s=args.hazard_period,
         hazard_component=Component(args.hazard_component) if args.hazard_component else None,
-        hazard_scale=args.hazard_scale, command=("screen", *map(shlex.quote, argv)))
+        hazard_scale=args.hazard_scale, go_on=args.go_on, command=("screen", *map(shlex.quote, argv)))
     with _ticking(args.quiet) as say:
         result = constrain(request, say=say)
     ds = result.dataset

@@ -18,14 +18,17 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..constants import G
 from ..errors import ConstraintError
 from ..schema import CONSTRAIN, apply_schema
 from ..uncertainty.ages import Age, read_ages
 from ..uncertainty.branch_stats import common_levels, fractile_curve, level_at_rate, mean_curve, rates_on
 from ..uncertainty.branches import LogicTree, read_branches
 from ..uncertainty.constraint import (
+    CONTRADICTION_LIKELIHOOD,
     Combine,
     combine,
+    contradicting,
     posterior_weights,
     survival_likelihood,
 )
@@ -66,6 +69,9 @@ class ConstrainRequest:
     hazard_component: Component | None = None
     #: a stated conversion of the hazard's levels to the fragility's component
     hazard_scale: float | None = None
+    #: reweight even where a rock contradicts every branch (:func:`~pipeline.uncertainty.constraint.contradicting`;
+    #: each such rock is then a warning, not an error)
+    go_on: bool = False
     command: tuple = ()
 
 
@@ -96,7 +102,8 @@ def constrain(req: ConstrainRequest, *, say=None) -> ConstrainResult:
     rocks, warnings = _with_ages(rocks, ages, req.ages)
     warnings += _period_warnings(tree, rocks)
     say(f"the toppling rates of {len(rocks.ids)} rock(s) x {req.draws} draws on {len(tree.ids)} branches")
-    ds = compute(rocks, ages, tree, rule=req.combine)
+    ds = compute(rocks, ages, tree, rule=req.combine, go_on=req.go_on)
+    warnings += [w for w in ds.attrs.pop("contradictions", "").split("\n") if w]
     say("writing constrain.nc, constrain.html (its figure) and the reweighted curves")
     ds.attrs.update({"history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} {' '.join(req.command)}",
                      "fragility_source": rocks.source, "ages_file": str(req.ages), "branches_folder": tree.folder,
@@ -159,8 +166,15 @@ def _period_warnings(tree: LogicTree, rocks: Rocks) -> list[str]:
             if np.isfinite(p) and abs(np.log(tree_period / p)) > np.log(1.0 + PERIOD_TOLERANCE)]
 
 
-def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combine) -> xr.Dataset:
-    """The constraint as a dataset (:data:`pipeline.schema.CONSTRAIN`)."""
+def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combine, go_on: bool = False) -> xr.Dataset:
+    """The constraint as a dataset (:data:`pipeline.schema.CONSTRAIN`).
+
+    Raises
+    ------
+    ConstraintError
+        Where a rock contradicts every branch (:func:`_contradictions`), unless ``go_on`` (its text is then the
+        dataset's attribute ``contradictions``, one line a rock).
+    """
     nr, nb = len(rocks.ids), len(tree.ids)
     rate, upper, lik = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
     rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
@@ -174,6 +188,9 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
             rate_lo[i, sl], rate_hi[i, sl] = np.percentile(rates[:, :-1], [5, 95], axis=1)
             lik[i, sl] = survival_likelihood(rates[:, :-1], ages[rock])
             upper[i, sl] = annual_rates_upper(tree.curves[sl], frag.theta, frag.beta, frag.top_level)
+    contradictions = _contradictions(lik, rocks, ages, tree)
+    if contradictions and not go_on:
+        raise ConstraintError("\n".join(contradictions))
     combined, chosen = combine(lik, tree.weights, rule)
     post = posterior_weights(tree.weights, combined)
     per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])
@@ -196,8 +213,26 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
              "fragility_draws": int(len(rocks.fragility[0].theta_draws)),
              "branches_layout": tree.layout.value, "site": tree.curves[0].site,
              "refused": "\n".join(f"{r}: {why}" for r, why in rocks.refused.items()),
-             "notes": "\n".join((*rocks.notes, *tree.notes, *dict.fromkeys(n for c in tree.curves for n in c.notes)))}
+             "notes": "\n".join((*rocks.notes, *tree.notes, *dict.fromkeys(n for c in tree.curves for n in c.notes))),
+             "contradictions": "\n".join(contradictions)}
     return apply_schema(xr.Dataset(data, coords=coords, attrs=attrs), CONSTRAIN)
+
+
+def _contradictions(lik: np.ndarray, rocks: Rocks, ages: dict[str, Age], tree: LogicTree) -> list[str]:
+    """One line per rock that contradicts every branch (``lik``: rocks x branches): its best branch and chance of
+    having stood, and what to check."""
+    lines = []
+    for i in contradicting(lik):
+        rock, frag, b = rocks.ids[i], rocks.fragility[i], int(np.nanargmax(lik[i])) if np.any(lik[i] > 0) else 0
+        unit, factor = ("g", G) if IM_KIND[rocks.im] == "acceleration" else ("m/s", 1.0)
+        lines.append(
+            f"{rock}: contradicts every branch of the hazard model: under its most favourable branch ({tree.ids[b]}) "
+            f"the chance it stood through its age ({ages[rock].mean_yr:,.0f} yr) is {lik[i, b]:.1e}, below "
+            f"{CONTRADICTION_LIKELIHOOD:g}, so the posterior would rest on the least impossible branch, not on the "
+            f"rock. Check its fragility (median {frag.theta / factor:.3g} {unit} of {rocks.im} "
+            f"{rocks.component.value}: the IM, component and units), its age (years) and that it stands at this "
+            "site; --go-on reweights anyway")
+    return lines
 
 
 def _posterior_or_nan(prior: np.ndarray, likelihood: np.ndarray) -> np.ndarray:

@@ -35,6 +35,10 @@ import numpy as np
 from ..errors import ConstraintError
 from .ages import Age
 
+#: A rock contradicts the hazard model where even its most favourable branch gives it less than this probability
+#: of having stood through its age [-] (the best possible is 1: a branch under which it surely stands).
+CONTRADICTION_LIKELIHOOD = 1e-3
+
 
 class Combine(Enum):
     """How the rocks of one site combine into one likelihood per branch."""
@@ -101,3 +105,11 @@ def posterior_weights(prior: np.ndarray, likelihood: np.ndarray) -> np.ndarray:
                               "the rocks, their fragility or their ages contradict the whole hazard model; check the "
                               "ages' units (years) and the fragility's IM and component")
     return joint / total
+
+
+def contradicting(likelihoods: np.ndarray) -> np.ndarray:
+    """The rocks (rows of ``likelihoods``: rocks x branches) whose largest likelihood over the branches is below
+    :data:`CONTRADICTION_LIKELIHOOD`: under every branch they could hardly have stood through their ages, so that
+    the posterior would rest on whichever branch is least impossible, not on the rock's evidence. Their indices."""
+    best = np.max(np.asarray(likelihoods, dtype=float), axis=1)
+    return np.flatnonzero(~(best >= CONTRADICTION_LIKELIHOOD))

@@ -164,9 +164,9 @@ def test_curves_and_weights_in_and_out(tmp_path, capsys):
     --hazard-component; the posterior weights and curves are written as plain files the readers take back."""
     folder = tmp_path / "branches"
     folder.mkdir()
-    for name, scale in (("low.csv", 0.3), ("mid.csv", 1.0), ("high.csv", 3.0)):
+    for name, scale in (("low.csv", 0.3), ("mid.csv", 1.0), ("high.csv", 3.0)):   # the rocks likely stood in each
         levels = np.geomspace(0.01, 2.0, 25)
-        rows = "".join(f"{x:.6g},{scale * 1e-4 * x ** -2.2:.6g}\n" for x in levels)
+        rows = "".join(f"{x:.6g},{scale * 1e-6 * x ** -2.2:.6g}\n" for x in levels)
         (folder / name).write_text("pga_g,annual_rate\n" + rows)
     (folder / "weights.csv").write_text("file,weight\nlow.csv,0.3\nmid.csv,0.4\nhigh.csv,0.3\n")
     args = ["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
@@ -234,8 +234,8 @@ def test_an_sa_fragility_of_another_period_is_said(tmp_path, capsys):
     ds.to_netcdf(frag / "fragility.nc")
     folder = tmp_path / "branches"
     folder.mkdir()
-    for name, scale in (("a.csv", 0.5), ("b.csv", 2.0)):
-        rows = "".join(f"{x:.6g},{scale * 1e-4 * x ** -2.2:.6g}\n" for x in np.geomspace(0.01, 2.0, 25))
+    for name, scale in (("a.csv", 0.5), ("b.csv", 2.0)):                # rates under which the rocks likely stood
+        rows = "".join(f"{x:.6g},{scale * 1e-6 * x ** -2.2:.6g}\n" for x in np.geomspace(0.01, 2.0, 25))
         (folder / name).write_text("sa(1.0)_g_rotd50,annual_rate\n" + rows)
     (folder / "weights.csv").write_text("file,weight\na.csv,0.5\nb.csv,0.5\n")
     assert main(["constrain", "--fragility", str(frag), "--ages", str(ages_file(tmp_path, "AF")),
@@ -243,3 +243,49 @@ def test_an_sa_fragility_of_another_period_is_said(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "A: its fragility is on Sa(2 s), the branches on Sa(1 s) (ratio 0.50)" in err
     assert "F: its fragility is on Sa" not in err
+
+
+def _power_law_branches(folder: Path) -> Path:
+    """Three power-law branches (rates 1e-4 (x / 1 g)^-2.2 per year, x0.3, x1 and x3), weighted 0.3 / 0.4 / 0.3."""
+    folder.mkdir()
+    levels = np.geomspace(0.01, 2.0, 25)
+    for name, scale in (("low.csv", 0.3), ("mid.csv", 1.0), ("high.csv", 3.0)):
+        rows = "".join(f"{x:.6g},{scale * 1e-4 * x ** -2.2:.6g}\n" for x in levels)
+        (folder / name).write_text("pga_g_rotd50,annual_rate\n" + rows)
+    (folder / "weights.csv").write_text("file,weight\nlow.csv,0.3\nmid.csv,0.4\nhigh.csv,0.3\n")
+    return folder
+
+
+def test_a_rock_that_contradicts_every_branch_stops_the_run_unless_told_to_go_on(tmp_path, capsys):
+    """A rock that every branch says should have toppled (median 0.05 g, beta 0.3, exactly 10,000 years): under the
+    most favourable branch its toppling rate is about 0.3e-4 0.05^-2.2 exp(2.2^2 0.3^2 / 2) = 0.027 a year (Cornell's
+    form), so the chance it stood is about exp(-270), and nothing under the others; reweighting by it puts the whole
+    weight on the least impossible branch. It is named with what to check and the run stops; with --go-on it
+    reweights and the rock is a warning."""
+    frag = tmp_path / "fragility.csv"
+    frag.write_text("rock,im,component,median,unit,beta\nYOUNG,pga,rotd50,0.05,g,0.3\n")
+    ages = tmp_path / "ages.csv"
+    ages.write_text("rock,age_yr,age_sd_yr\nYOUNG,10000,0\n")
+    args = ["constrain", "--fragility", str(frag), "--ages", str(ages), "--hazard-branches",
+            str(_power_law_branches(tmp_path / "branches")), "--out", str(tmp_path / "out")]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "YOUNG: contradicts every branch" in err and "(low.csv)" in err
+    assert "Check its fragility" in err and "--go-on" in err
+    assert not (tmp_path / "out" / "constrain.nc").exists()
+    assert main([*args, "--go-on"]) == 0
+    err = capsys.readouterr().err
+    assert "WARNING: YOUNG: contradicts every branch" in err
+    ds = xr.open_dataset(tmp_path / "out" / "constrain.nc")
+    assert "YOUNG: contradicts every branch" in ds.attrs["warnings"]
+    lik = dict(zip(ds["branch"].values.tolist(), ds["likelihood_rock"].values[0]))
+    assert 0.0 < lik["low.csv"] < 1e-100 and lik["mid.csv"] == lik["high.csv"] == 0.0
+    assert dict(zip(ds["branch"].values.tolist(), ds["posterior_weight"].values))["low.csv"] == 1.0
+
+
+def test_the_example_rocks_contradict_no_branch(constrained):
+    """The shipped example's rocks are far from contradicting the model: each has a branch under which it likely
+    stood."""
+    ds = xr.open_dataset(constrained / "constrain.nc")
+    assert np.all(ds["likelihood_rock"].values.max(axis=1) > 0.1)
+    assert "contradicts" not in ds.attrs.get("warnings", "")
