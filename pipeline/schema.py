@@ -708,6 +708,8 @@ CONSTRAIN: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "fractile": (("fractile",), "1", "fractile of the branches' hazard", {}),
     "target_rate": (("target_rate",), "yr-1", "annual rate of exceedance at which the hazard's change is read", {}),
     "branch_path": (("branch",), None, "the branch's path through the logic tree, as the file gives it", {}),
+    "branch_name": (("branch",), None, "the branch's name: its branches' IDs in the logic-tree files beside an "
+                    "OpenQuake export (joined by ' · '), else its path", {}),
     "prior_weight": (("branch",), "1", "the branch's weight in the hazard model", {}),
     "posterior_weight": (("branch",), "1", "the branch's weight given that the rocks stood through their ages "
                          "(Bayes' rule)", {}),

@@ -85,6 +85,38 @@ def change_rows(ds: xr.Dataset) -> list[dict]:
     return rows
 
 
+#: The annual rate the headline reads the change at [1/yr] (the middle target rate).
+HEADLINE_RATE = 1e-4
+#: Branches the headline names as losing weight, at most.
+HEADLINE_BRANCHES = 2
+
+
+def headline(ds: xr.Dataset) -> dict:
+    """The page's first words: what the rocks do to the site's mean hazard at :data:`HEADLINE_RATE` (``change``),
+    and the branches that lose the most weight with their prior and posterior weights (``losers``)."""
+    unit, factor = display_unit(ds.attrs["im"])
+    k = int(np.argmin(np.abs(np.log(ds["target_rate"].values / HEADLINE_RATE))))
+    rate = f"{ds['target_rate'].values[k]:.0e}"
+    before, after = ds["mean_level_prior"].values[k], ds["mean_level_posterior"].values[k]
+    change = ds["mean_level_change"].values[k]
+    im = f"{ds.attrs['im'].upper()} ({ds.attrs['im_component']})"
+    if not (math.isfinite(before) and math.isfinite(after)):
+        text = f"The site's mean {im} hazard curve does not reach {rate} per year: its change there is not computed."
+    elif round(100 * change) == 0:
+        text = (f"The rocks leave the site's mean {im} at {rate} per year unchanged: "
+                f"{level_text(before, factor)} {unit}.")
+    else:
+        verb = "lower" if change < 0 else "raise"
+        text = (f"The rocks {verb} the site's mean {im} at {rate} per year by {abs(100 * change):.0f} %, from "
+                f"{level_text(before, factor)} to {level_text(after, factor)} {unit}.")
+    names = ds["branch_name"].values if "branch_name" in ds else ds["branch_path"].values
+    moved = ds["posterior_weight"].values - ds["prior_weight"].values
+    losers = [{"name": str(names[b]), "prior": f"{ds['prior_weight'].values[b]:.2f}",
+               "posterior": f"{ds['posterior_weight'].values[b]:.2f}"}
+              for b in np.argsort(moved)[:HEADLINE_BRANCHES] if moved[b] < -0.005]
+    return {"text": text, "losers": losers}
+
+
 def summary_lines(ds: xr.Dataset) -> list[str]:
     """One line per target rate: the mean and the 5-95 % range before and after."""
     unit = display_unit(ds.attrs["im"])[0]
@@ -111,7 +143,8 @@ def _rock_rows(ds: xr.Dataset, factor: float) -> list[dict]:
 
 def _branch_rows(ds: xr.Dataset) -> list[dict]:
     order = np.argsort(-ds["posterior_weight"].values)[:MAX_CURVES]
-    return [{"branch": str(ds["branch"].values[b]), "path": str(ds["branch_path"].values[b]),
+    names = ds["branch_name"].values if "branch_name" in ds else ds["branch_path"].values
+    return [{"branch": str(ds["branch"].values[b]), "name": str(names[b]), "path": str(ds["branch_path"].values[b]),
              "prior": f"{ds['prior_weight'].values[b]:.3f}", "likelihood": f"{ds['likelihood'].values[b]:.3g}",
              "posterior": f"{ds['posterior_weight'].values[b]:.3f}"} for b in order]
 
@@ -125,7 +158,7 @@ def constrain_page(ds: xr.Dataset) -> str:
                       autoescape=select_autoescape(["html", "j2"]))
     refused = [line.split(": ", 1) for line in ds.attrs.get("refused", "").splitlines() if line]
     return env.get_template("constrain.html.j2").render(
-        attrs=ds.attrs, unit=unit, changes=change_rows(ds), rocks=_rock_rows(ds, factor),
+        attrs=ds.attrs, unit=unit, changes=change_rows(ds), headline=headline(ds), rocks=_rock_rows(ds, factor),
         branches=_branch_rows(ds), refused=refused, figure=hazard_figure(ds), drawn=min(MAX_CURVES, ds.sizes["branch"]),
         n_branches=ds.sizes["branch"],
         notes=[n for n in ds.attrs.get("notes", "").splitlines() if n],

@@ -18,6 +18,7 @@ import xarray as xr
 from scipy.special import ndtr
 
 from ..blocks import Inventory
+from ..event.advice import advice_at, natural_rocks
 from ..event.assets import Basis, Level
 from ..event.shakemap import ShakeMapGrid
 from ..records.intensity import display_unit
@@ -28,6 +29,8 @@ from .mpl import new_figure
 
 #: Colour of each inspection level (map markers, table cells)
 LEVEL_COLOURS = {Level.high: "#d7301f", Level.medium: "#fc8d59", Level.low: "#fdd49e", Level.none: "#bdbdbd"}
+#: Assets whose decision the page's first screen gives, in priority order (the list follows)
+CARDS = 5
 #: Rows of the inspection list on the page (the whole list is inspection.csv)
 PAGE_ROWS = 500
 #: Assets named on the map, highest priority first
@@ -202,6 +205,7 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
     label, factor = _unit(ds)
     drawn = set(order[:max(curves, 0)])
     v = {name: ds[name].values for name in ds.data_vars}
+    natural = natural_rocks(inv.extra.get("object")) or [False] * len(inv.ids)
     rows = []
     for k in order[:PAGE_ROWS]:
         level = Level(int(v["level"][k]))
@@ -223,12 +227,13 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
             "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn,
             "record": str(v["station_record"][k]), "record_km": number_text(v["station_distance"][k], ".2f"),
             "p_record": f"{float(v['p_overturn_record'][k]):.2f}" if math.isfinite(v["p_overturn_record"][k]) else "",
-            "governs": "record" if v["governed_by"][k] else "shakemap"})
+            "governs": "record" if v["governed_by"][k] else "shakemap", "advice": advice_at(ds, k, natural=natural[k])})
     counts = {lv.name: int(np.sum(ds["level"].values == lv)) for lv in sorted(Level, key=lambda m: -m.value)}
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))
     return env.get_template("event.html.j2").render(
-        a=ds.attrs, rows=rows, n_assets=len(order), more=max(len(order) - PAGE_ROWS, 0), counts=counts,
+        a=ds.attrs, rows=rows, cards=rows[:CARDS], n_assets=len(order), more=max(len(order) - PAGE_ROWS, 0),
+        counts=counts,
         colours={lv.name: c for lv, c in LEVEL_COLOURS.items()}, unit=label, changed=changed,
         map_png="data:image/png;base64," + base64.b64encode(map_png(ds, grid, inv, order)).decode("ascii"),
         curves=[{"id": inv.ids[k], "name": inv.names[k], "p": _p_text(v, k), "svg": curve_svg(ds, k)}

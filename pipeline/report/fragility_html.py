@@ -39,7 +39,9 @@ FRAGILITY_ASSET_COLUMNS = ("rank", "block", "im", "im_component", "orientation",
                  "median_low_{im}_{unit}", "median_high_{im}_{unit}", "beta", "beta_low", "beta_high", "fit_status",
                  "annual_rate_overturn_per_yr", "p_overturn_50yr", "annual_rate_overturn_upper_per_yr",
                  "p_overturn_50yr_upper", "best_im", "best_im_beta", "velocity_ratio_rank",
-                 "velocity_ratio_beta", "im_ranking")
+                 "velocity_ratio_beta", "im_ranking", "recommendation")
+#: Assets whose fragility the page's first screen says in words, in the table's order (the table follows).
+CARDS = 5
 
 
 def asset_columns(ds: xr.Dataset) -> tuple[str, ...]:
@@ -157,9 +159,29 @@ def asset_rows(ds: xr.Dataset) -> list[dict]:
     # by the rate, or where none could be computed (nothing overturned up to the top level) by its upper bound
     rows.sort(key=lambda r: (-np.nan_to_num(r["annual_rate_overturn"] if np.isfinite(r["annual_rate_overturn"])
                                             else r["annual_rate_overturn_upper_per_yr"], nan=-1.0), r["median"]))
+    words = UNIT_WORDS.get(unit, ds.attrs.get("im_units", ""))
     for k, r in enumerate(rows, 1):
         r["rank"] = k
+        r["recommendation"] = fragility_words(r, im=ds.attrs["im"].upper(), unit=words)
     return rows
+
+
+def fragility_words(r: dict, *, im: str, unit: str) -> str:
+    """What an asset's fragility says, in plain words (the page's first screen and fragility_assets.csv's
+    ``recommendation``): its 50-year probability of overturning where a hazard curve was given, else the shaking at
+    which half of the records overturn it; an asset that cannot rock, or that no level overturned, said so."""
+    if not r["can_rock"]:
+        return "cannot overturn: too wide to rock, it slides or stands"
+    if r["fit_status"] == "none_overturn":
+        return "no level tested overturned it: raise the levels to bound its fragility"
+    if math.isfinite(r["p_overturn_50yr"]):
+        return (f"P = {r['p_overturn_50yr']:.2g} that it overturns in 50 years at this hazard (median {im} "
+                f"{r['median_shown']:.3g} {unit})")
+    if not math.isfinite(r["median_shown"]):
+        return "its median is not bounded by the levels tested: read its stripes"
+    interval = (f" ({r['median_low_shown']:.3g} to {r['median_high_shown']:.3g})"
+                if math.isfinite(r["median_low_shown"]) and math.isfinite(r["median_high_shown"]) else "")
+    return f"half of the records overturn it at {im} {r['median_shown']:.3g} {unit}{interval}"
 
 
 def _unjudged_row(ds: xr.Dataset, j: int, factor: float) -> dict:
@@ -197,7 +219,7 @@ def build_fragility_report(ds: xr.Dataset, out_dir: Path, *, hazard: HazardSet |
     env.filters["rate"] = rate_text
     ims = ds["im"].values.tolist()
     html = env.get_template("fragility.html.j2").render(
-        attrs=ds.attrs, assets=rows, hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
+        attrs=ds.attrs, assets=rows, cards=rows[:CARDS], hazard=hazard, levels=ds["im_level"].values.tolist(), ims=ims,
         levels_shown=(ds["im_level"].values / float(ds.attrs.get("im_display_factor", 1.0))).tolist(),
         unit_shown=UNIT_WORDS.get(ds.attrs.get("im_display_unit", ""), ds.attrs.get("im_units", "")),
         n_records=ds.sizes["record"], drawn=drawn, unjudged=sum(r["unjudged"] > 0 for r in rows),

@@ -202,6 +202,7 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
             "toppling_rate": (("rock", "branch"), rate), "toppling_rate_low": (("rock", "branch"), rate_lo),
             "toppling_rate_high": (("rock", "branch"), rate_hi), "toppling_rate_upper": (("rock", "branch"), upper),
             "branch_path": (("branch",), np.array(tree.paths, dtype=object)),
+            "branch_name": (("branch",), np.array(tree.labels, dtype=object)),
             "hazard_rate": (("branch", "im_level"), hazard),
             **_rock_variables(rocks, ages), **_summaries(grid, hazard, tree.weights, post)}
     coords = {"rock": np.array(rocks.ids, dtype=object), "branch": np.array(tree.ids, dtype=object),

@@ -20,6 +20,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import OutputError, RockscreenError
+from ..event.advice import advice_at, natural_rocks
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
@@ -43,7 +44,8 @@ OUTPUTS = ("event.nc", "inspection.csv", "event.html", "shakecast-facilities.xml
 #: The IMs of a fragility that a ShakeMap gives (as fields PGA, PGV, PSA..)
 SHAKEMAP_IMS = ("pga", "pgv", "sa")
 #: Columns of inspection.csv; ``{unit}`` is the unit of the shaking and the fragility median
-INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "sliding_risk", "p_overturn_event",
+INSPECTION_COLUMNS = ("priority", "block", "name", "site", "lon", "lat", "level", "recommendation", "sliding_risk",
+                      "p_overturn_event",
                       "p_overturn_event_low", "p_overturn_event_high", "basis", "shakemap_field",
                       "shaking_median_{unit}", "shaking_log_sd", "log_sd_source", "fragility_median_{unit}",
                       "fragility_beta", "fit_status", "epicentral_distance_km", "station_record",
@@ -392,13 +394,15 @@ def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[t
     factor = 1.0 / to_si
     columns = tuple(c.format(unit=label) for c in INSPECTION_COLUMNS)
     arrays = {name: ds[name].values for name in ds.data_vars}
+    natural = natural_rocks(inv.extra.get("object")) or [False] * len(inv.ids)
     rows = []
     for k in order:
         v = {name: a[k] for name, a in arrays.items()}
         prev = int(v["level_previous"])
         rows.append(dict(zip(columns, (
             int(v["priority"]), inv.ids[k], inv.names[k], inv.sites[k], f"{v['lon']:.5f}", f"{v['lat']:.5f}",
-            Level(int(v["level"])).name, "yes" if int(v["sliding_risk"]) == 1 else "",
+            Level(int(v["level"])).name, advice_at(ds, k, natural=natural[k]),
+            "yes" if int(v["sliding_risk"]) == 1 else "",
             _value(v["p_overturn_event"]), _value(v["p_overturn_event_low"]),
             _value(v["p_overturn_event_high"]), Basis(int(v["basis"])).name, str(v["shakemap_field"]),
             _value(v["shaking_median"] * factor), _value(v["shaking_log_sd"]),

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import ConstraintError
 from ..tables import read_csv_table
+from .branch_names import branch_names
 from .hazard import Component
 from .hazard_files import read_hazard
 
@@ -63,6 +64,14 @@ class LogicTree:
     #: OpenQuake's IMT name of the curves (``PGA``, ``SA(1.0)``) and the calculation id ("" if none)
     imt: str = ""
     calc_id: str = ""
+    #: a readable name per branch (OpenQuake: its branches' IDs in the logic-tree files, :mod:`.branch_names`; else
+    #: as ``paths``)
+    names: tuple = ()
+
+    @property
+    def labels(self) -> tuple:
+        """Each branch's readable name (:attr:`names`, else its path)."""
+        return self.names or self.paths
 
     @property
     def im(self) -> str:
@@ -132,8 +141,10 @@ def _openquake(folder: Path, tables: list[Path], *, im: str, period_s, **kw) -> 
         raise ConstraintError(f"{folder}: curve files of realizations {extra} not in {table.name}: a folder holds "
                               "one calculation's export")
     w, notes = _normalised(np.array(weights), where=str(table))
+    names, note = branch_names(folder, tuple(paths), weights)
     return LogicTree(tuple(f"rlz-{r:03d}" for r in rlzs), tuple(paths), tuple(curves), w, str(folder),
-                     TreeFormat.openquake, tuple(notes), imt=files[rlzs[0]][0], calc_id=calc_id)
+                     TreeFormat.openquake, (*notes, *([note] if note else [])), imt=files[rlzs[0]][0],
+                     calc_id=calc_id, names=names)
 
 
 def _realizations(table: Path):

@@ -137,8 +137,8 @@ def _finish(path: Path, im: str, levels, rates, *, notes: list[str], **kw) -> Ha
                           f"({rates[k - 1]:.4g}); rates of exceedance cannot increase with the level")
     zero = np.flatnonzero(rates == 0)
     if zero.size:
-        unit = "m s-2" if IM_KIND[im] == "acceleration" else "m s-1"
-        notes.append(f"the rate reaches 0 at {levels[zero[0]]:.4g} {unit}: the curve ends there "
+        unit, factor = ("g", G) if IM_KIND[im] == "acceleration" else ("cms", 0.01)     # the pages' units
+        notes.append(f"the rate reaches 0 at {levels[zero[0]] / factor:.4g} {unit}: the curve ends there "
                      f"({levels.size - zero[0]} level(s) of rate 0)")
         levels, rates = levels[:zero[0]], rates[:zero[0]]
         kw["ended_at_zero"] = True

@@ -4,6 +4,7 @@ ShakeCast export read back and checked against the format, and the page in a bro
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import math
 import os
@@ -16,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from browser import assert_reads_at, chromium
+from browser import assert_decision_first, assert_reads_at, chromium
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
@@ -306,6 +307,10 @@ def test_the_event_page_in_headless_chromium(shakemaps, tmp_path):
     assert int(got["page-width"]) <= 1400 and int(got["list-right"]) <= 1400, got
     assert dom.stdout.count('<figure id="curve-') == len(ids)
     assert_reads_at(page, tmp_path)                               # a phone (390 px) and a laptop (1400 px)
+    with open(tmp_path / "out" / "inspection.csv") as f:
+        first = next(csv.DictReader(f))
+    assert first["recommendation"].startswith(("inspect", "no inspection")), first["recommendation"]
+    assert_decision_first(page, tmp_path / "out" / "inspection.csv")   # the top asset's decision, first screen
 
 
 def test_event_nc_follows_the_schema_and_names_a_more_efficient_im(shakemaps, tmp_path):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser import assert_reads_at, chromium
+from browser import assert_decision_first, assert_reads_at, chromium
 from handoff import NO_HANDOFF
 
 from pipeline.blocks import geometry
@@ -549,6 +549,7 @@ def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, re
     assert "the fraction of records overturning at each level" in frag and "beta [-] of each IM" in frag
     assert not re.search(r"<figcaption>COL: pga=", frag)
     assert_reads_at(out / "fragility" / "fragility.html", tmp_path)   # a phone (390 px) and a laptop (1400 px)
+    assert_decision_first(out / "fragility" / "fragility.html", out / "fragility" / "fragility_assets.csv")
 
 
 def test_an_asset_at_risk_by_its_probability_alone_gets_a_history():

@@ -10,10 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from support.browser import assert_reads_at
+from support.browser import assert_decision_first, assert_reads_at
 
 from pipeline.cli import main
 from pipeline.constants import G
+from pipeline.report.constrain_html import headline
 from pipeline.schema import CONSTRAIN, check
 from pipeline.uncertainty.branches import read_branches
 from pipeline.uncertainty.fragility import FitStatus, fit_stripes
@@ -134,6 +135,34 @@ def test_the_rocks_lower_the_example_s_hazard_and_the_page_reads(constrained, tm
     fast = np.argmax(ds["toppling_rate"].values[0])
     assert ds["posterior_weight"].values[fast] < ds["prior_weight"].values[fast]
     assert_reads_at(constrained / "constrain.html", tmp_path)
+    # the page's decision is its headline: the measure finds the sentence's first words in the first screen
+    said = headline(ds)
+    assert said["text"].startswith("The rocks lower the site's mean PGA (rotd50) at 1e-04 per year by")
+    assert said["losers"] and all(" · " in b["name"] for b in said["losers"])    # the logic tree's branch names
+    decision = tmp_path / "decision.csv"
+    decision.write_text(f"rank,recommendation\n1,\"{said['text']}\"\n")
+    assert_decision_first(constrained / "constrain.html", decision)
+
+
+def test_the_branches_are_named_from_the_logic_tree_files():
+    """OpenQuake's codes B~A read against the example's two logic-tree files: the second source model (high) and
+    the first ground-motion model (bssa14); each name's weights multiply to the realization's (0.5 x 0.4 = 0.2)."""
+    tree = read_branches(EXAMPLE / "openquake", im="pga")
+    names = dict(zip(tree.paths, tree.names))
+    assert names == {"B~A": "high · bssa14", "B~B": "high · cb14", "B~C": "high · cy14", "A~A": "low · bssa14",
+                     "A~B": "low · cb14", "A~C": "low · cy14"}
+
+
+def test_branch_names_that_do_not_give_the_weights_keep_the_codes(tmp_path):
+    folder = tmp_path / "oq"
+    shutil.copytree(EXAMPLE / "openquake", folder)
+    gsim = (folder / "gsim_logic_tree.xml").read_text().replace("<uncertaintyWeight>0.4<", "<uncertaintyWeight>0.5<")
+    (folder / "gsim_logic_tree.xml").write_text(gsim.replace("<uncertaintyWeight>0.3<", "<uncertaintyWeight>0.25<"))
+    tree = read_branches(folder, im="pga")
+    assert tree.names == tree.paths and any("do not give realization" in n for n in tree.notes)
+    (folder / "gsim_logic_tree.xml").unlink()
+    tree = read_branches(folder, im="pga")
+    assert tree.names == tree.paths and any("no gsim_logic_tree.xml" in n for n in tree.notes)
 
 
 def test_a_component_mismatch_is_refused_with_the_fix(tmp_path, capsys):

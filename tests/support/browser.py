@@ -80,3 +80,22 @@ def assert_reads_at(page: Path, tmp: Path) -> None:
         assert got["tables-overflowing"] == 0 and got["broken-words"] == 0, (width, got)
         assert got["decision-top"] <= DECISION_TOP_MAX_PX[width], (width, got)      # every page marks its decision
         assert got.get("key-column-right", 0) <= got["window-width"], (width, got)
+
+
+#: The project's measure of where a page's decision lands (kept beside the project, in ../shared, not in it)
+DECISION_FIRST_TOOL = Path(__file__).resolve().parents[3] / "shared" / "tools" / "decision_first.py"
+#: The first screen of a phone and of a laptop [px]
+SCREENS = ((390, 844), (1400, 900))
+
+
+def assert_decision_first(page: Path, assets_csv: Path) -> None:
+    """At a phone's and a laptop's first screen, the decision of ``assets_csv``'s first row (its
+    ``recommendation``) starts within the screen and ends inside the window, as ../shared/tools/decision_first.py
+    measures it; skips loudly without the browser or the tool."""
+    chromium()
+    if not DECISION_FIRST_TOOL.is_file():
+        pytest.skip(f"DECISION-FIRST TOOL NOT FOUND at {DECISION_FIRST_TOOL}: the first screen was NOT measured")
+    for width, height in SCREENS:
+        run = subprocess.run([sys.executable, str(DECISION_FIRST_TOOL), str(page), str(assets_csv), str(width),
+                              str(height)], capture_output=True, text=True, timeout=180)
+        assert run.returncode == 0, (width, run.stdout + run.stderr[-1000:])
