@@ -18,9 +18,10 @@ that is not what rockscreen makes there:
 
 It runs when the output's lock is taken (every command that writes ``OUT`` takes it) and again before each publish
 and each clean-up, so a planted link is refused (:class:`~pipeline.errors.UnsafeOutputError`, exit 3) before anything
-is changed. What it cannot close: a process that plants a link *between* the check and a use, while rockscreen runs
-with the lock held, is met only by the ``O_NOFOLLOW`` of the lock and by ``shutil.rmtree``'s refusal of a link at the
-top of what it removes.
+is changed. A process that plants a link *between* the check and a use, while rockscreen runs with the lock held, is
+met by the ``O_NOFOLLOW`` of the lock and, in a publish, by every step's being taken relative to the folders'
+descriptors opened without following a link (:mod:`.dirfd`; tested by planting before each step). What that does
+not cover: the files a command writes into its staged set before the publish, and the caches, are written by path.
 """
 
 from __future__ import annotations

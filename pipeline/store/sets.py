@@ -38,8 +38,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..constants import STATE_DIR
-from ..errors import InterruptedAfterPublishing, OutputError
-from .guard import POINTER_SUFFIX, SETS, check_output_tree
+from ..errors import InterruptedAfterPublishing, OutputError, UnsafeOutputError
+from . import dirfd
+from .guard import POINTER_SUFFIX, SETS, TEMPORARY_LINK_SUFFIX, check_output_tree
 
 log = logging.getLogger(__name__)
 
@@ -150,7 +151,8 @@ def carry(stage: str | Path, out_dir: str | Path, names) -> list[str]:
 
 def publish(stage: str | Path, out_dir: str | Path, names, *, command: str = "") -> list[Path]:
     """Make the set staged in ``stage`` (by :func:`staging_dir`; it holds ``names``) the outputs of ``out_dir``, in
-    one atomic switch (see the module's description of the steps).
+    one atomic switch (see the module's description of the steps). Every step is taken relative to the folders'
+    descriptors, never through a link (:mod:`.dirfd`).
 
     Returns
     -------
@@ -162,29 +164,32 @@ def publish(stage: str | Path, out_dir: str | Path, names, *, command: str = "")
     OutputError
         When a file is missing from the stage, or a step before the switch fails; the outputs are then the
         previous set, unchanged, and the stage is removed.
+    UnsafeOutputError
+        Where a folder on the way is a link (planted under the output folder).
     """
     stage, out, names = Path(stage), Path(out_dir), list(names)
     family = stage.name.split(".", 1)[0]
     check_output_tree(out, output_names=[*names, *output_names(out)])
-    missing = [n for n in names if not (stage / n).is_file()]
-    if missing:
-        raise OutputError(f"{stage}: the staged set lacks {', '.join(missing)}; nothing was published")
-    try:
-        _record(stage, family, names, command)
-        _fsync_dir(stage)
-        _relink_copied_pointer(out, family)
-        _adopt_plain_files(out, family, names)
-        for name in names:
-            _ensure_link(out, family, name)
-        _fsync_dir(out)
-        _switch(pointer(out, family), Path(SETS) / stage.name)
-    except OSError as exc:
-        shutil.rmtree(stage, ignore_errors=True)
-        _remove_dangling(out, family)
-        raise OutputError(f"{out}: publishing the new results failed ({exc.strerror or exc}"
-                          f"{': ' + str(exc.filename) if exc.filename else ''}); the previous results are intact. "
-                          "Free disk space or fix the directory's permissions") from exc
-    _tidy(out, family, keep=stage.name)
+    with dirfd.open_tree(out, SETS, stage) as tree:
+        missing = [n for n in names if not dirfd.is_regular(tree.stage, n)]
+        if missing:
+            raise OutputError(f"{stage}: the staged set lacks {', '.join(missing)}; nothing was published")
+        try:
+            _record(tree.stage, family, names, command)
+            dirfd.fsync_dir(tree.stage)
+            _relink_copied_pointer(tree, family)
+            _adopt_plain_files(tree, family, names)
+            for name in names:
+                _ensure_link(tree, family, name)
+            dirfd.fsync_dir(tree.out)
+            _switch(tree, family, stage.name)
+        except OSError as exc:
+            dirfd.remove_tree(tree.sets, stage.name)
+            _remove_dangling(tree, family)
+            raise OutputError(f"{out}: publishing the new results failed ({exc.strerror or exc}"
+                              f"{': ' + str(exc.filename) if exc.filename else ''}); the previous results are "
+                              "intact. Free disk space or fix the directory's permissions") from exc
+        _tidy(tree, family, keep=stage.name, out=out)
     return [out / name for name in names]
 
 
@@ -255,49 +260,84 @@ def _name(family: Family | str) -> str:
     return family.value if isinstance(family, Family) else family
 
 
-def _record(stage: Path, family: str, names: list[str], command: str) -> None:
+def _record(set_fd: int, family: str, names: list[str], command: str) -> None:
+    """The set's record of itself (:data:`SET_RECORD`) in the set directory ``set_fd``."""
     doc = {"family": family, "names": names, "command": command,
            "published_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
-    path = stage / SET_RECORD
-    with open(path, "w", encoding="utf-8") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.flush()
-        os.fsync(fh.fileno())
+    dirfd.write_new(set_fd, SET_RECORD, json.dumps(doc, indent=1).encode("utf-8"))
 
 
-def _relink_copied_pointer(out: Path, family: str) -> None:
+def _pointer_name(family: str) -> str:
+    return f"{family}{POINTER_SUFFIX}"
+
+
+def _relink_copied_pointer(tree: dirfd.Tree, family: str) -> None:
     """A copy that followed links (``cp -r``, ``shutil.copytree``) made the pointer a directory and the outputs
     plain files: that directory becomes a set directory again, pointed at (the plain files are then adopted)."""
-    ptr = pointer(out, family)
-    if ptr.is_dir() and not ptr.is_symlink():
-        moved = state_dir(out) / SETS / f"{family}.copied-{os.getpid()}-{secrets.token_hex(3)}"
-        moved.parent.mkdir(parents=True, exist_ok=True)
-        os.replace(ptr, moved)
-        _switch(ptr, Path(SETS) / moved.name)
+    ptr = _pointer_name(family)
+    if dirfd.is_real_dir(tree.state, ptr):
+        moved = f"{family}.copied-{os.getpid()}-{secrets.token_hex(3)}"
+        os.replace(ptr, moved, src_dir_fd=tree.state, dst_dir_fd=tree.sets)
+        _switch(tree, family, moved)
 
 
-def _adopt_plain_files(out: Path, family: str, names: list[str]) -> None:
+def _current_set(tree: dirfd.Tree, family: str) -> str | None:
+    """The name of the set directory the pointer names (``sets/<name>``, a folder there), or None."""
+    target = dirfd.read_link(tree.state, _pointer_name(family))
+    if target is None or not target.startswith(f"{SETS}/"):
+        return None
+    name = target[len(SETS) + 1:]
+    return name if "/" not in name and name not in ("", ".", "..") and dirfd.is_real_dir(tree.sets, name) else None
+
+
+def _adopt_plain_files(tree: dirfd.Tree, family: str, names: list[str]) -> None:
     """Step 1: plain files among ``names``, the current set's own names and the family's names of before output
     sets (:data:`PLAIN_BEFORE_SETS`) join the current set (one is made
     for them when there is none, its record naming them all first, so that a publish killed half-way through
     adopting them is finished by the next), each then replaced by its link; what a reader sees is unchanged."""
-    ptr = pointer(out, family)
-    known = list(dict.fromkeys([*names, *_recorded_names(ptr), *PLAIN_BEFORE_SETS.get(Family(family), ())]))
-    plain = [n for n in known if (out / n).is_file() and not (out / n).is_symlink()]
+    current = _current_set(tree, family)
+    recorded = _recorded_in(tree, current)
+    known = list(dict.fromkeys([*names, *recorded, *PLAIN_BEFORE_SETS.get(Family(family), ())]))
+    plain = [n for n in known if dirfd.is_regular(tree.out, n)]
     if not plain:
         return
-    if not ptr.is_dir():
-        adopted = state_dir(out) / SETS / f"{family}.adopted-{os.getpid()}-{secrets.token_hex(3)}"
-        adopted.mkdir(parents=True)
-        _record(adopted, family, plain, "files found in place, written before output sets")
-        _switch(ptr, Path(SETS) / adopted.name)
-    current = ptr.resolve()
-    for name in plain:
-        tmp = current / f".{name}.adopt.tmp"
-        _remove_quietly(tmp)
-        os.link(out / name, tmp)
-        os.replace(tmp, current / name)
-        _symlink_over(out / name, link_target(family, name))
+    if current is None:
+        current = f"{family}.adopted-{os.getpid()}-{secrets.token_hex(3)}"
+        os.mkdir(current, dir_fd=tree.sets)
+        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
+        try:
+            _record(fd, family, plain, "files found in place, written before output sets")
+        finally:
+            os.close(fd)
+        _switch(tree, family, current)
+    fd = dirfd.open_dir(current, tree.sets, Path(SETS))
+    try:
+        for name in plain:
+            tmp = f".{name}.adopt.tmp"
+            dirfd.remove_quietly(fd, tmp)
+            os.link(name, tmp, src_dir_fd=tree.out, dst_dir_fd=fd, follow_symlinks=False)
+            os.replace(tmp, name, src_dir_fd=fd, dst_dir_fd=fd)
+            dirfd.symlink_over(tree.out, name, link_target(family, name))
+    finally:
+        os.close(fd)
+
+
+def _recorded_in(tree: dirfd.Tree, current: str | None) -> list[str]:
+    """The names the set directory ``current`` records of itself (none without one, or without a record)."""
+    if current is None:
+        return []
+    try:
+        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
+    except (OSError, UnsafeOutputError):
+        return []
+    try:
+        rfd = os.open(SET_RECORD, os.O_RDONLY | os.O_NOFOLLOW, dir_fd=fd)
+        with os.fdopen(rfd, encoding="utf-8") as fh:
+            return list(json.load(fh).get("names", []))
+    except (OSError, ValueError, AttributeError):
+        return []
+    finally:
+        os.close(fd)
 
 
 def _recorded_names(ptr: Path) -> list[str]:
@@ -308,59 +348,66 @@ def _recorded_names(ptr: Path) -> list[str]:
         return []
 
 
-def _ensure_link(out: Path, family: str, name: str) -> None:
+def _ensure_link(tree: dirfd.Tree, family: str, name: str) -> None:
     """Step 2: ``OUT/<name>`` links into the current set (made when missing or pointing elsewhere)."""
-    path, target = out / name, link_target(family, name)
-    if path.is_symlink() and os.readlink(path) == target:
+    target = link_target(family, name)
+    if dirfd.read_link(tree.out, name) == target:
         return
-    if path.is_dir() and not path.is_symlink():
-        raise IsADirectoryError(21, "an output name is a directory", str(path))
-    _symlink_over(path, target)
+    if dirfd.is_real_dir(tree.out, name):
+        raise IsADirectoryError(21, "an output name is a directory", name)
+    dirfd.symlink_over(tree.out, name, target)
 
 
-def _switch(ptr: Path, target: Path) -> None:
-    """Step 3: point ``ptr`` at ``target`` with one rename, then make the rename durable."""
-    _symlink_over(ptr, str(target))
-    _fsync_dir(ptr.parent)
+def _switch(tree: dirfd.Tree, family: str, set_name: str) -> None:
+    """Step 3: point the family's pointer at the set ``set_name`` with one rename, then make the rename durable."""
+    dirfd.symlink_over(tree.state, _pointer_name(family), f"{SETS}/{set_name}")
+    dirfd.fsync_dir(tree.state)
 
 
-def _symlink_over(path: Path, target: str) -> None:
-    """Create or replace the symbolic link ``path`` -> ``target`` atomically (a temporary link, then rename)."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.link.tmp")
-    _remove_quietly(tmp)
-    os.symlink(target, tmp)
-    try:
-        os.replace(tmp, path)
-    except OSError:
-        _remove_quietly(tmp)
-        raise
-
-
-def _tidy(out: Path, family: str, *, keep: str) -> None:
+def _tidy(tree: dirfd.Tree, family: str, *, keep: str, out: Path) -> None:
     """Step 4: remove the links to nothing, every set directory of ``family`` but ``keep``, and the temporary links
     of killed publishes; a failure here
     leaves the new set published (warned; the next publish tries again)."""
     try:
-        _remove_dangling(out, family)
-        for old in (state_dir(out) / SETS).glob(f"{family}.*"):
-            if old.name != keep:
-                shutil.rmtree(old, ignore_errors=True)
-        shutil.rmtree(state_dir(out) / OLD_STAGING, ignore_errors=True)
-        for where, pattern in ((out, ".*.link.tmp"), (state_dir(out), ".*.link.tmp"),
-                               (state_dir(out) / SETS / keep, ".*.adopt.tmp")):
-            for tmp in where.glob(pattern):          # a killed publish's (under the lock, no other is under way)
-                _remove_quietly(tmp)
+        _remove_dangling(tree, family)
+        for name in dirfd.names_in(tree.sets):
+            if name.startswith(f"{family}.") and name != keep:
+                dirfd.remove_tree(tree.sets, name)
+        dirfd.remove_tree(tree.state, OLD_STAGING)
+        for fd in (tree.out, tree.state):       # a killed publish's (under the lock, no other is under way)
+            for name in dirfd.names_in(fd):
+                if name.startswith(".") and name.endswith(TEMPORARY_LINK_SUFFIX):
+                    dirfd.remove_quietly(fd, name)
+        for name in dirfd.names_in(tree.stage):
+            if name.startswith(".") and name.endswith(".adopt.tmp"):
+                dirfd.remove_quietly(tree.stage, name)
     except OSError as exc:
         log.warning("%s: the new results are published, but tidying the old ones failed (%s); the next run "
                     "tries again", out, exc)
 
 
-def _remove_dangling(out: Path, family: str) -> None:
+def _remove_dangling(tree: dirfd.Tree, family: str) -> None:
     """Remove ``OUT``'s links into ``family``'s current set that point at nothing."""
     prefix = link_target(family, "")
-    for entry in os.scandir(out):
-        if entry.is_symlink() and os.readlink(entry.path).startswith(prefix) and not os.path.exists(entry.path):
-            _remove_quietly(entry.path)
+    for name in dirfd.names_in(tree.out):
+        target = dirfd.read_link(tree.out, name)
+        if target is not None and target.startswith(prefix) and not _resolves(tree, family, name):
+            dirfd.remove_quietly(tree.out, name)
+
+
+def _resolves(tree: dirfd.Tree, family: str, name: str) -> bool:
+    """The current set of ``family`` holds ``name`` (so that ``OUT/<name>``'s link leads to it)."""
+    current = _current_set(tree, family)
+    if current is None:
+        return False
+    try:
+        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
+    except (OSError, UnsafeOutputError):
+        return False
+    try:
+        return dirfd.lstat_at(fd, name) is not None
+    finally:
+        os.close(fd)
 
 
 def _link_or_copy(src: Path, dst: Path) -> None:
@@ -369,14 +416,6 @@ def _link_or_copy(src: Path, dst: Path) -> None:
         os.link(src, dst)
     except OSError:
         shutil.copy2(src, dst)
-
-
-def _fsync_dir(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
 
 
 def _remove_quietly(path) -> None:

@@ -407,10 +407,10 @@ def test_a_failed_write_of_any_output_leaves_the_previous_set_byte_identical(mak
     # the publication itself failing (the switch to the new set refused) restores the previous set too
     real_replace = atomic.os.replace
 
-    def refuse_switch(src, dst):
+    def refuse_switch(src, dst, **kw):
         if str(dst).endswith(".current"):
             raise OSError(13, "planted refusal", str(dst))
-        return real_replace(src, dst)
+        return real_replace(src, dst, **kw)
 
     monkeypatch.setattr(atomic.os, "replace", refuse_switch)
     assert main([*args, "--force"]) == 3
@@ -504,11 +504,11 @@ def _signal_at_every_rename(tmp_path, monkeypatch, names, real):
             (stage / n).write_text("new")
         calls: list = []
 
-        def replace(src, dst, calls=calls, at=at):
+        def replace(src, dst, calls=calls, at=at, **kw):
             if len(calls) == at:     # to this (the main) thread: a process-wide one may go to another thread
                 signal.pthread_kill(threading.get_ident(), signal.SIGINT)
             calls.append(dst)
-            return real(src, dst)
+            return real(src, dst, **kw)
 
         monkeypatch.setattr(sets.os, "replace", replace)
         published = False

@@ -132,10 +132,10 @@ def test_a_failed_switch_leaves_the_previous_set_and_removes_the_stage(tmp_path,
     stage = stage_set(out, {n: "new" for n in FIVE})
     real = os.replace
 
-    def refuse_pointer(src, dst):
+    def refuse_pointer(src, dst, **kw):
         if str(dst).endswith(sets.POINTER_SUFFIX):
             raise OSError(28, "No space left on device", str(dst))
-        return real(src, dst)
+        return real(src, dst, **kw)
 
     monkeypatch.setattr(sets.os, "replace", refuse_pointer)
     with pytest.raises(OutputError, match="previous results are intact"):
