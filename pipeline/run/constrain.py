@@ -30,6 +30,7 @@ from ..uncertainty.constraint import (
     combine,
     contradicting,
     posterior_weights,
+    survival_error,
     survival_likelihood,
 )
 from ..uncertainty.hazard import IM_KIND, Component, annual_rates, annual_rates_upper
@@ -176,7 +177,7 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
         dataset's attribute ``contradictions``, one line a rock).
     """
     nr, nb = len(rocks.ids), len(tree.ids)
-    rate, upper, lik = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
+    rate, upper, lik, mc_error = np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb)), np.empty((nr, nb))
     rate_lo, rate_hi = np.empty((nr, nb)), np.empty((nr, nb))
     for lo in range(0, nb, BRANCHES_AT_ONCE):                                        # memory bounded
         sl = slice(lo, min(lo + BRANCHES_AT_ONCE, nb))
@@ -187,6 +188,7 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
             rate[i, sl] = rates[:, -1]
             rate_lo[i, sl], rate_hi[i, sl] = np.percentile(rates[:, :-1], [5, 95], axis=1)
             lik[i, sl] = survival_likelihood(rates[:, :-1], ages[rock])
+            mc_error[i, sl] = survival_error(rates[:, :-1], ages[rock])
             upper[i, sl] = annual_rates_upper(tree.curves[sl], frag.theta, frag.beta, frag.top_level)
     contradictions = _contradictions(lik, rocks, ages, tree)
     if contradictions and not go_on:
@@ -196,6 +198,7 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
     per_rock = np.array([_posterior_or_nan(tree.weights, lik[i]) for i in range(nr)])
     grid = common_levels(tree.curves)
     hazard = np.array([rates_on(c, grid) for c in tree.curves])
+    notes = [*_grid_notes(tree, grid, rocks.im), *_error_notes(lik, mc_error, post, rocks, tree)]
     data = {"prior_weight": (("branch",), tree.weights), "posterior_weight": (("branch",), post),
             "likelihood": (("branch",), combined), "likelihood_rock": (("rock", "branch"), lik),
             "posterior_weight_rock": (("rock", "branch"), per_rock),
@@ -214,9 +217,48 @@ def compute(rocks: Rocks, ages: dict[str, Age], tree: LogicTree, *, rule: Combin
              "fragility_draws": int(len(rocks.fragility[0].theta_draws)),
              "branches_layout": tree.layout.value, "site": tree.curves[0].site,
              "refused": "\n".join(f"{r}: {why}" for r, why in rocks.refused.items()),
-             "notes": "\n".join((*rocks.notes, *tree.notes, *dict.fromkeys(n for c in tree.curves for n in c.notes))),
+             "notes": "\n".join((*rocks.notes, *tree.notes, *dict.fromkeys(n for c in tree.curves for n in c.notes),
+                                 *notes)),
              "contradictions": "\n".join(contradictions)}
     return apply_schema(xr.Dataset(data, coords=coords, attrs=attrs), CONSTRAIN)
+
+
+#: Branches whose posterior weight is below this are left out of the Monte Carlo error said [-].
+ERROR_WEIGHT_MIN = 0.01
+
+
+def _grid_notes(tree: LogicTree, grid: np.ndarray, im: str) -> list[str]:
+    """What the branches' common levels do to the outputs: where a branch ends before the others (the outputs end
+    there too), and each branch that lacks levels the others give (its rate read log-log between its own)."""
+    unit, factor = ("g", G) if IM_KIND[im] == "acceleration" else ("cms", 0.01)
+    notes = []
+    ends = [float(c.levels[-1]) for c in tree.curves]
+    if grid[-1] < max(ends) * (1 - 1e-9):
+        short = [tree.labels[b] for b, e in enumerate(ends) if e <= grid[-1] * (1 + 1e-9)
+                 and not tree.curves[b].ended_at_zero]
+        notes.append(f"the mean and fractile curves end at {grid[-1] / factor:.4g} {unit}, where the curve of "
+                     f"{', '.join(short[:3])}{' and others' if len(short) > 3 else ''} ends (the longest goes on to "
+                     f"{max(ends) / factor:.4g} {unit}); give every branch on the same levels for outputs above it")
+    for b, c in enumerate(tree.curves):
+        inside = grid[(grid >= c.levels[0]) & (grid <= c.levels[-1])]
+        missing = np.setdiff1d(inside, c.levels)
+        if missing.size:
+            notes.append(f"{tree.labels[b]}: no rate at {missing.size} level(s) the other branches give (from "
+                         f"{missing[0] / factor:.4g} {unit}): read log-log between its own levels")
+    return notes
+
+
+def _error_notes(lik: np.ndarray, error: np.ndarray, post: np.ndarray, rocks: Rocks, tree: LogicTree) -> list[str]:
+    """The largest Monte Carlo error of a likelihood relative to it, over the rocks and the branches that keep a
+    posterior weight of at least :data:`ERROR_WEIGHT_MIN`: what the draws leave uncertain."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where((lik > 0) & (post[None, :] >= ERROR_WEIGHT_MIN), error / lik, 0.0)
+    if not np.any(relative > 0):
+        return []
+    i, b = np.unravel_index(int(np.nanargmax(relative)), relative.shape)
+    draws = len(rocks.fragility[0].theta_draws)
+    return [f"Monte Carlo error of the likelihoods ({draws} fragility draws): at most {100 * relative[i, b]:.1f} % of "
+            f"one (rock {rocks.ids[i]}, branch {tree.labels[b]}); it falls as 1 / sqrt(--draws)"]
 
 
 def _contradictions(lik: np.ndarray, rocks: Rocks, ages: dict[str, Age], tree: LogicTree) -> list[str]:

@@ -73,6 +73,14 @@ def survival_likelihood(rates: np.ndarray, age: Age) -> np.ndarray:
     return np.mean(age.survival(rates), axis=-1)
 
 
+def survival_error(rates: np.ndarray, age: Age) -> np.ndarray:
+    """The Monte Carlo standard error of :func:`survival_likelihood` over the fragility's draws (last axis of
+    ``rates``): the draws' standard deviation of E_T[exp(-rate T)] over the square root of their number [-]."""
+    survival = age.survival(rates)
+    n = survival.shape[-1]
+    return np.std(survival, axis=-1, ddof=1) / np.sqrt(n) if n > 1 else np.zeros(survival.shape[:-1])
+
+
 def combine(likelihoods: np.ndarray, prior: np.ndarray, rule: Combine) -> tuple[np.ndarray, int]:
     """One likelihood per branch from every rock's (``likelihoods``: rocks x branches).
 

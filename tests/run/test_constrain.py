@@ -318,3 +318,34 @@ def test_the_example_rocks_contradict_no_branch(constrained):
     ds = xr.open_dataset(constrained / "constrain.nc")
     assert np.all(ds["likelihood_rock"].values.max(axis=1) > 0.1)
     assert "contradicts" not in ds.attrs.get("warnings", "")
+
+
+def test_a_short_branch_and_a_missing_level_are_noted(tmp_path):
+    """One branch's curve ending at 0.725 g cuts the outputs there, and a branch without a level the others give is
+    read between its own: both are said, with the level."""
+    folder = tmp_path / "branches"
+    folder.mkdir()
+    levels = np.geomspace(0.01, 2.0, 25)
+    for name, scale, keep in (("low.csv", 0.3, levels[levels != levels[5]]), ("mid.csv", 1.0, levels),
+                              ("high.csv", 3.0, levels[levels <= 0.73])):
+        rows = "".join(f"{x:.6g},{scale * 1e-6 * x ** -2.2:.6g}\n" for x in keep)
+        (folder / name).write_text("pga_g_rotd50,annual_rate\n" + rows)
+    (folder / "weights.csv").write_text("file,weight\nlow.csv,0.3\nmid.csv,0.4\nhigh.csv,0.3\n")
+    assert main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
+                 "--hazard-branches", str(folder), "--out", str(tmp_path / "out"), "-q"]) == 0
+    notes = xr.open_dataset(tmp_path / "out" / "constrain.nc").attrs["notes"]
+    end = float(levels[levels <= 0.73][-1])
+    assert f"the mean and fractile curves end at {end:.4g} g, where the curve of high.csv ends" in notes
+    assert f"low.csv: no rate at 1 level(s) the other branches give (from {levels[5]:.4g} g)" in notes
+
+
+def test_the_monte_carlo_error_said_falls_as_one_over_the_root_of_the_draws(tmp_path):
+    said = []
+    for draws in (200, 3200):
+        out = tmp_path / f"out{draws}"
+        assert main(["constrain", "--fragility", str(fragility_table(tmp_path)), "--ages", str(EXAMPLE / "ages.csv"),
+                     "--hazard-branches", str(EXAMPLE / "openquake"), "--out", str(out), "--draws", str(draws),
+                     "-q"]) == 0
+        notes = xr.open_dataset(out / "constrain.nc").attrs["notes"]
+        said.append(float(notes.split("Monte Carlo error of the likelihoods")[1].split("at most ")[1].split(" %")[0]))
+    assert said[1] == pytest.approx(said[0] / 4.0, rel=0.35)           # sqrt(3200 / 200) = 4
