@@ -38,7 +38,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .attitude import rotation, turned
-from .box3d import Box, BoxOutcome, simulate_box
+from .box3d import Box, BoxOutcome, BoxState, simulate_box
 from .box_kernel import EDGE
 from .contact3d import Contact3DOutcome, simulate_contact3d
 from .contact_start import Start
@@ -72,8 +72,7 @@ def alternate(ax, ay, az, dt_s: float, box: Box, azimuth_deg: float, start: Star
         handbacks += 1
         i = int(round(out.t_end_s / dt_s))
         exact = simulate_box(ax[i:], ay[i:], None if az is None else az[i:], dt_s, housner, g_ms2=g_ms2, rtol=rtol,
-                             atol_alpha=atol_alpha, initial=_exact_state(out, box), initial_mode=EDGE,
-                             initial_pivot=out.edge)
+                             atol_alpha=atol_alpha, start=_exact_state(out, box))
         peak = _peak(peak, exact.theta_max_rad, exact.azimuth_max_deg)
         if exact.overturned and exact.held == FLAG_NONE:
             return _whole(out, peak, costs, overturned_at=i * dt_s + exact.t_overturn_s)
@@ -118,10 +117,10 @@ def _whole(out: Contact3DOutcome, peak: tuple[float, float], costs: _Costs,
 
 def _at_rest(exact: BoxOutcome) -> bool:
     """The exact segment ran to the record's end and ended at rest, flat and still."""
-    return not np.any(np.asarray(exact.state_end)[4:]) and exact.theta[-1] == 0.0
+    return not np.any(exact.end.rate_rad_s) and exact.theta[-1] == 0.0
 
 
-def _exact_state(out: Contact3DOutcome, box: Box) -> np.ndarray:
+def _exact_state(out: Contact3DOutcome, box: Box) -> BoxState:
     """The exact model's state (q, omega) on edge ``out.edge`` where the contact model stopped: the orientation
     turned so that the edge lies level (the contact model lets a corner sink by up to a step's travel) and the rate
     about the edge alone (the two sticking corners leave only that, to the solver's tolerance)."""
@@ -131,14 +130,12 @@ def _exact_state(out: Contact3DOutcome, box: Box) -> np.ndarray:
     level = np.array([u[0], u[1], 0.0]) / math.hypot(u[0], u[1])
     axis = np.cross(u, level)
     sine = float(np.linalg.norm(axis))
-    y = np.empty(7)
+    levelled = q.copy()
     if sine > 0.0:
         turn = axis / sine * math.atan2(sine, float(np.dot(u, level)))
-        turned(q, turn[0], turn[1], turn[2], 1.0, y[:4])
-    else:
-        y[:4] = q
-    y[4:] = float(np.dot(np.asarray(out.rate_end_rad_s, dtype=float), level)) * level
-    return y
+        turned(q, turn[0], turn[1], turn[2], 1.0, levelled)
+    rate = float(np.dot(np.asarray(out.rate_end_rad_s, dtype=float), level)) * level
+    return BoxState(levelled, rate, EDGE, out.edge)
 
 
 def _rotation(q: np.ndarray) -> np.ndarray:
@@ -169,8 +166,8 @@ def _resume(exact: BoxOutcome, out: Contact3DOutcome, box: Box, t0_s: float, dt_
     if stopped:
         q_end, rate_end = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
         return Start(out.t_end_s, q_end, rate_end, _corner(box, out.edge), peak[0], lean), False
-    y = np.asarray(exact.state_end, dtype=float)
-    q = y[:4] / np.linalg.norm(y[:4])
+    q = exact.end.q / np.linalg.norm(exact.end.q)
     corners = np.array([_corner(box, k) for k in range(4)])
     low = int(np.argmin(corners @ _rotation(q)[2]))
-    return Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, y[4:].copy(), corners[low], peak[0], lean), True
+    return (Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, exact.end.rate_rad_s.copy(), corners[low], peak[0],
+                  lean), True)

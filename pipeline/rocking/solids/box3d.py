@@ -81,11 +81,11 @@ import numpy as np
 from .box_kernel import CORNER, EDGE, REST_RATE
 from .box_run import run_box
 from .convex_body import ConvexBody, box_body
-from .handoff3d import BoxHandoff, box_handoff
+from .handoff3d import BoxHandoff
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, ground_components
 
 __all__ = ["Box", "BoxOutcome", "FLAG_NONE", "FLAG_FLIGHT", "FLAG_SLIDE", "FLAG_STEPS", "CORNER", "EDGE",
-           "REST_RATE", "simulate_box", "housner_e_box", "box_from_corner", "box_energy"]
+           "REST_RATE", "simulate_box", "housner_e_box", "box_from_corner", "box_energy", "BoxState"]
 
 HALF_PI = 0.5 * math.pi
 
@@ -125,6 +125,27 @@ class Box(NamedTuple):
         return box_body(2.0 * self.half_width_m, 2.0 * self.half_depth_m, 2.0 * self.half_height_m, mu=self.mu)
 
 
+class BoxState(NamedTuple):
+    """A state of the box model (the kernel's ``y`` and contact, named).
+
+    Attributes
+    ----------
+    q : ndarray, shape (4,)
+        the orientation, a unit quaternion (w, x, y, z), body to world
+    rate_rad_s : ndarray, shape (3,)
+        the angular velocity in the world's axes [rad s-1]
+    mode : int
+        REST (flat), CORNER or EDGE (:mod:`.box_kernel`)
+    pivot : int
+        the corner it turns on (CORNER), the edge's first corner (EDGE)
+    """
+
+    q: np.ndarray
+    rate_rad_s: np.ndarray
+    mode: int = CORNER
+    pivot: int = 0
+
+
 class BoxOutcome(NamedTuple):
     """What a 3D box run gives.
 
@@ -145,8 +166,8 @@ class BoxOutcome(NamedTuple):
         time spent turning on a single corner [s]
     theta, azimuth : ndarray
         the tilt of the body's axis [rad] and its azimuth [rad] at the record's samples
-    state_end : ndarray
-        (q0, q1, q2, q3, omega_x, omega_y, omega_z) where the run ended
+    end : BoxState
+        where the run ended
     friction_demand : float
         the peak |F_h| / F_z while it rocked [-]
     held : int
@@ -171,7 +192,7 @@ class BoxOutcome(NamedTuple):
     corner_s: float
     theta: np.ndarray
     azimuth: np.ndarray
-    state_end: np.ndarray
+    end: BoxState
     friction_demand: float
     held: int
     steps: int = 0
@@ -193,11 +214,11 @@ def box_from_corner(R_m: float, alpha: float, depth_m: float, *, mu: float, rest
                mu=mu, restitution_ratio=restitution / e_h if e_h > 0.0 else 0.0)
 
 
-def box_energy(state, box: Box, *, g_ms2: float = 9.80665, pivot: int = -1) -> float:
+def box_energy(state: BoxState, box: Box, *, g_ms2: float = 9.80665, pivot: int = -1) -> float:
     """The mechanical energy per unit mass of a box turning about a fixed base corner [m2 s-2]: g times G's
     height above the ground (the lowest corner at the ground) plus the kinetic energy of the rotation about the
     pivot corner (``pivot``, default the lowest)."""
-    q0, q1, q2, q3, wx, wy, wz = (float(v) for v in state)
+    (q0, q1, q2, q3), (wx, wy, wz) = (float(v) for v in state.q), (float(v) for v in state.rate_rad_s)
     n = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
     q0, q1, q2, q3 = q0 / n, q1 / n, q2 / n, q3 / n
     rot = np.array([[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
@@ -215,7 +236,7 @@ def box_energy(state, box: Box, *, g_ms2: float = 9.80665, pivot: int = -1) -> f
 
 def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: float = 0.0,
                  g_ms2: float = 9.80665, rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA,
-                 initial=None, initial_mode: int = CORNER, initial_pivot: int = 0) -> BoxOutcome:
+                 start: BoxState | None = None) -> BoxOutcome:
     """Run a box on two horizontal components and the vertical of a record (the module's model).
 
     Parameters
@@ -233,9 +254,9 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
     rtol, atol_alpha : float
         tolerances of the step control (relative; absolute as a fraction of the smaller alpha, and of p alpha for
         rates)
-    initial : array_like of 7, optional
-        (q0, q1, q2, q3, omega_x, omega_y, omega_z) at the first sample, turning about ``initial_pivot`` in
-        ``initial_mode`` (CORNER, or EDGE with the edge's index); default at rest at ``azimuth_deg``
+    start : BoxState, optional
+        the state at the first sample (turning on its ``pivot`` in its ``mode``); default at rest at
+        ``azimuth_deg``
 
     Returns
     -------
@@ -246,12 +267,12 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
     dims = (box.half_width_m, box.half_depth_m, box.half_height_m)
     if not all(math.isfinite(v) and v > 0 for v in dims):
         raise ValueError(f"the box's half-dimensions are {dims} m; expected three positive finite lengths")
-    if initial is None:
+    if start is None:
         psi = math.radians(azimuth_deg)
         y0 = np.array([math.cos(psi / 2), 0.0, 0.0, math.sin(psi / 2), 0.0, 0.0, 0.0])
         mode, pivot = -1, 0
     else:
-        y0, mode, pivot = np.asarray(initial, dtype=float).copy(), int(initial_mode), int(initial_pivot)
+        y0, mode, pivot = np.concatenate([start.q, start.rate_rad_s]).astype(float), int(start.mode), int(start.pivot)
     tilt = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
     y_end, cert = np.empty(7), np.full(10, np.nan)
@@ -262,5 +283,13 @@ def simulate_box(ax_ms2, ay_ms2, az_ms2, dt_s: float, box: Box, *, azimuth_deg: 
         tilt[k:], azimuth[k:] = HALF_PI, r.azimuth_max
     return BoxOutcome(bool(r.overturned), float(r.t_overturn), float(r.tilt_max),
                       float(np.degrees(r.azimuth_max) % 360.0), int(r.flag), int(r.impacts), float(r.corner_s),
-                      tilt, azimuth, y_end, float(r.demand), int(r.held), int(r.steps), int(r.holds),
-                      box_handoff(cert))
+                      tilt, azimuth, BoxState(y_end[:4].copy(), y_end[4:].copy(), int(r.mode), int(r.pivot)),
+                      float(r.demand), int(r.held), int(r.steps), int(r.holds), _handoff(cert))
+
+
+def _handoff(cert: np.ndarray) -> BoxHandoff | None:
+    """The kernel's certified state (t, the 7 states, the mode, the pivot: :func:`~.box_run.certify`) as a
+    :class:`~.handoff3d.BoxHandoff` (None: t NaN, it never stopped nor held)."""
+    if not math.isfinite(cert[0]):
+        return None
+    return BoxHandoff(float(cert[0]), np.array(cert[1:5]), np.array(cert[5:8]), int(cert[8]), int(cert[9]))

@@ -59,6 +59,8 @@ class BoxRun(NamedTuple):
     held: int
     steps: int          # Runge-Kutta steps tried (accepted and rejected) and transitions
     holds: int          # cascades of flat landings held at rest to the next sample
+    mode: int           # the contact where the run ended (REST, CORNER, EDGE, ...)
+    pivot: int          # its corner or edge
 
 
 @jit

@@ -470,4 +470,4 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         _accept(y, y_new, k, force, force0)
     y_end[:] = y
     return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, final_flag(flag, held, t_over), impacts,
-                  corner_s, demand, held, steps, holds)
+                  corner_s, demand, held, steps, holds, mode, pivot)

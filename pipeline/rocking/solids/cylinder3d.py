@@ -87,7 +87,7 @@ from .cylinder_kernel import (
     params_of,
     rise,
 )
-from .handoff3d import CylinderHandoff, cylinder_handoff
+from .handoff3d import CylinderHandoff
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
 from .vec3 import (
     FLAG_NONE,
@@ -139,6 +139,18 @@ class Cylinder(NamedTuple):
         return cylinder_body(2.0 * self.radius_m, 2.0 * self.half_height_m, mu=self.mu)
 
 
+class CylinderState(NamedTuple):
+    """A state of the cylinder model (the kernel's ``y``, named): the tilt, the azimuth of the tilt and the spin
+    (ZYZ Euler angles) [rad] and their rates [rad s-1]."""
+
+    theta: float
+    phi: float
+    psi: float
+    theta_rate: float
+    phi_rate: float
+    psi_rate: float
+
+
 class WobbleOutcome(NamedTuple):
     """What a 3D cylinder run gives.
 
@@ -159,8 +171,8 @@ class WobbleOutcome(NamedTuple):
         tilt at the record's samples [rad]
     azimuth : ndarray
         the azimuth of the tilt at the samples [rad]
-    state_end : ndarray
-        (theta, phi, psi, theta', phi', psi') where the run ended
+    end : CylinderState
+        where the run ended
     friction_demand : float
         the peak |F_h| / F_z at the rim while it rocked [-]
     held : int
@@ -181,7 +193,7 @@ class WobbleOutcome(NamedTuple):
     impacts: int
     theta: np.ndarray
     azimuth: np.ndarray
-    state_end: np.ndarray
+    end: CylinderState
     friction_demand: float
     held: int
     holds: int = 0
@@ -414,7 +426,7 @@ ATOL_ALPHA = 1e-9
 
 
 def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *, g_ms2: float = 9.80665,
-                      rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA, initial=None,
+                      rtol: float = RTOL, atol_alpha: float = ATOL_ALPHA, start: CylinderState | None = None,
                       settle_tilt_alpha: float = SETTLE_TILT_ALPHA) -> WobbleOutcome:
     """Run a cylinder on two horizontal components and the vertical of a record (the module's model).
 
@@ -430,8 +442,8 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
         gravity [m s-2]
     rtol, atol_alpha : float
         tolerances of the step control (relative; absolute as a fraction of alpha, and of p alpha for rates)
-    initial : array_like of 6, optional
-        (theta, phi, psi [rad], their rates [rad s-1]) at the first sample; default at rest
+    start : CylinderState, optional
+        the state at the first sample; default at rest
     settle_tilt_alpha : float
         a tilt below this x alpha through a quiet sample interval is set at rest (0: never; what
         ``benchmarks/cylinder_settle.py`` measures)
@@ -442,7 +454,7 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
         After overturning the tilt reads pi/2; after a flag (flight, sliding, the step cap) NaN.
     """
     ax, ay, az = ground_components(ax_ms2, ay_ms2, az_ms2)
-    y0 = np.zeros(6) if initial is None else np.asarray(initial, dtype=float).copy()
+    y0 = np.zeros(6) if start is None else np.array(start, dtype=float)
     theta = np.full(ax.size, np.nan)
     azimuth = np.full(ax.size, np.nan)
     y_end, cert = np.empty(6), np.full(7, np.nan)
@@ -455,5 +467,13 @@ def simulate_cylinder(ax_ms2, ay_ms2, az_ms2, dt_s: float, cylinder: Cylinder, *
         k = int(np.ceil(t_over / dt_s))
         theta[k:], azimuth[k:] = HALF_PI, az_max
     return WobbleOutcome(bool(over), float(t_over), float(th_max), float(np.degrees(az_max) % 360.0), int(flag),
-                         int(impacts), theta, azimuth, y_end, float(demand), int(held), int(holds),
-                         cylinder_handoff(cert))
+                         int(impacts), theta, azimuth, CylinderState(*(float(v) for v in y_end)), float(demand),
+                         int(held), int(holds), _handoff(cert))
+
+
+def _handoff(cert: np.ndarray) -> CylinderHandoff | None:
+    """The kernel's certified state (t, the 6 states) as a :class:`~.handoff3d.CylinderHandoff` (None: t NaN, the
+    base never would slide nor lift off)."""
+    if not math.isfinite(cert[0]):
+        return None
+    return CylinderHandoff(*(float(v) for v in cert[:7]))

@@ -55,14 +55,6 @@ class BoxHandoff(NamedTuple):
         return np.asarray(self.q, dtype=float), np.asarray(self.rate_rad_s, dtype=float), pivot
 
 
-def box_handoff(cert: np.ndarray) -> BoxHandoff | None:
-    """The kernel's certified state (t, the 7 states, the mode, the pivot: :func:`~.box_run.certify`) as a
-    :class:`BoxHandoff` (None: t NaN, it never stopped nor held)."""
-    if not math.isfinite(cert[0]):
-        return None
-    return BoxHandoff(float(cert[0]), np.array(cert[1:5]), np.array(cert[5:8]), int(cert[8]), int(cert[9]))
-
-
 class CylinderHandoff(NamedTuple):
     """The last state the cylinder model certified before the base would first slide or lift off (the start of
     that step): where the 3D contact model goes on.
@@ -97,11 +89,3 @@ class CylinderHandoff(NamedTuple):
         pivot = rot.inv().apply(-np.array([lever * math.cos(ph), lever * math.sin(ph), up]))
         x, y, z, w = rot.as_quat()
         return np.array([w, x, y, z]), rate, pivot
-
-
-def cylinder_handoff(cert: np.ndarray) -> CylinderHandoff | None:
-    """The kernel's certified state (t, the 6 states) as a :class:`CylinderHandoff` (None: t NaN, the base never
-    would slide nor lift off)."""
-    if not math.isfinite(cert[0]):
-        return None
-    return CylinderHandoff(*(float(v) for v in cert[:7]))

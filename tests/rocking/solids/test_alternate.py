@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 import pipeline.rocking.solids.alternate as alternate_module
 from pipeline.constants import G
 from pipeline.rocking.solids.alternate import BOX_EDGES, _corner, _exact_state, alternate
-from pipeline.rocking.solids.box3d import Box, simulate_box
+from pipeline.rocking.solids.box3d import EDGE, Box, simulate_box
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.contact_scene import contact_scene, handoff
 
@@ -76,15 +76,17 @@ def test_the_exact_state_lies_on_the_edge():
     out = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start, edges=BOX_EDGES)
     assert out.edge >= 0 and out.t_end_s == pytest.approx(round(out.t_end_s / DT_S) * DT_S)
     y = _exact_state(out, CABINET)
-    rot = Rotation.from_quat([y[1], y[2], y[3], y[0]])
+    assert y.mode == EDGE and y.pivot == out.edge
+    rot = Rotation.from_quat([y.q[1], y.q[2], y.q[3], y.q[0]])
     a, b = rot.apply(_corner(CABINET, out.edge)), rot.apply(_corner(CABINET, (out.edge + 1) % 4))
-    assert np.linalg.norm(y[:4]) == pytest.approx(1.0, abs=1e-12)
+    assert np.linalg.norm(y.q) == pytest.approx(1.0, abs=1e-12)
     assert a[2] == pytest.approx(b[2], abs=1e-12)                        # the edge level
-    assert np.linalg.norm(np.cross(y[4:], b - a)) <= 1e-12 * np.linalg.norm(y[4:]) * np.linalg.norm(b - a)
+    rate = y.rate_rad_s
+    assert np.linalg.norm(np.cross(rate, b - a)) <= 1e-12 * np.linalg.norm(rate) * np.linalg.norm(b - a)
     q = np.asarray(out.q_end)
     moved = (rot * Rotation.from_quat([q[1], q[2], q[3], q[0]]).inv()).magnitude()
     assert moved < 1e-4                                                  # levelled by less than a step's sink
-    assert np.linalg.norm(y[4:] - out.rate_end_rad_s) <= 1e-3 * np.linalg.norm(out.rate_end_rad_s)
+    assert np.linalg.norm(rate - out.rate_end_rad_s) <= 1e-3 * np.linalg.norm(out.rate_end_rad_s)
 
 
 def test_a_history_is_the_contact_model_alone():

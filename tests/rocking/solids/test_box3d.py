@@ -18,6 +18,7 @@ from pipeline.rocking.solids.box3d import (
     FLAG_NONE,
     FLAG_SLIDE,
     Box,
+    BoxState,
     box_energy,
     housner_e_box,
     simulate_box,
@@ -111,11 +112,11 @@ def test_on_a_corner_without_excitation_energy_is_conserved(rates):
     about the corner is constant until a corner lands."""
     axis = np.array([1.0, -1.0, 0.0]) / math.sqrt(2)
     angle = -0.05                                          # corner 0 lowest
-    y = np.array([math.cos(angle / 2), *(math.sin(angle / 2) * axis), *rates])
+    y = BoxState(np.array([math.cos(angle / 2), *(math.sin(angle / 2) * axis)]), np.array(rates), CORNER, 0)
     n = 12
-    out = simulate_box(np.zeros(n), np.zeros(n), None, DT, SQUARE, initial=y, initial_mode=CORNER, initial_pivot=0)
+    out = simulate_box(np.zeros(n), np.zeros(n), None, DT, SQUARE, start=y)
     assert out.impacts == 0 and out.flag == FLAG_NONE and out.corner_s > 0.0
-    e0, e1 = box_energy(y, SQUARE, pivot=0), box_energy(out.state_end, SQUARE, pivot=0)
+    e0, e1 = box_energy(y, SQUARE, pivot=0), box_energy(out.end, SQUARE, pivot=0)
     assert abs(e1 - e0) < 1e-9 * e0
 
 

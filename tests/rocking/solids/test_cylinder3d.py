@@ -14,6 +14,7 @@ from pipeline.constants import G
 from pipeline.rocking.solids.cylinder3d import (
     FLAG_NONE,
     Cylinder,
+    CylinderState,
     housner_e,
     planar_inertia,
     simulate_cylinder,
@@ -123,10 +124,10 @@ def test_free_wobbling_conserves_energy(state):
     c = COLUMN
     n = 600
     z = np.zeros(n)
-    out = simulate_cylinder(z, z, None, DT, c, initial=state)
+    out = simulate_cylinder(z, z, None, DT, c, start=CylinderState(*state))
     assert out.impacts == 0 and out.flag == FLAG_NONE and not out.overturned
     assert np.nanmin(out.theta) > 0.01 and np.ptp(out.azimuth) > 1.0          # it wobbled: the tilt went round
-    e0, e1 = _energy(c, np.array(state)), _energy(c, out.state_end)
+    e0, e1 = _energy(c, np.array(state)), _energy(c, np.array(out.end))
     assert abs(e1 - e0) < 1e-7 * e0
 
 
@@ -135,12 +136,12 @@ def test_at_restitution_one_free_rocking_keeps_its_energy_through_impacts():
     n = 2000
     z = np.zeros(n)
     state = (0.6 * _alpha(c), 0.0, 0.0, 0.0, 0.0, 0.0)
-    out = simulate_cylinder(z, z, None, DT, c, initial=state)
+    out = simulate_cylinder(z, z, None, DT, c, start=CylinderState(*state))
     assert out.impacts >= 4
     peaks = [np.nanmax(out.theta[k:k + 300]) for k in range(0, n - 300, 300)]       # a peak each half period
     assert max(peaks) == pytest.approx(0.6 * _alpha(c), rel=1e-6)
     assert min(peaks) == pytest.approx(0.6 * _alpha(c), rel=1e-4)      # (the samples straddle the peaks)
-    assert abs(_energy(c, out.state_end) - _energy(c, np.array(state))) < 1e-7 * _energy(c, np.array(state))
+    assert abs(_energy(c, np.array(out.end)) - _energy(c, np.array(state))) < 1e-7 * _energy(c, np.array(state))
 
 
 @pytest.mark.parametrize("beta_deg", [30.0, 135.0, 270.0])
@@ -165,18 +166,18 @@ def test_a_tilt_too_small_to_matter_with_too_little_energy_to_grow_is_set_at_res
     set at rest at the end of the first sample interval (counted in holds); the same tilt with the contact running
     round the rim fast (kinetic energy above what would raise it to 1e-3 alpha) is followed, not held; and with the
     rule off (0) nothing is held."""
-    from pipeline.rocking.solids.cylinder3d import SETTLE_TILT_ALPHA, Cylinder, simulate_cylinder
+    from pipeline.rocking.solids.cylinder3d import SETTLE_TILT_ALPHA, Cylinder, CylinderState, simulate_cylinder
 
     c = Cylinder(radius_m=0.13, half_height_m=0.4, mu=0.7, restitution=0.9)
     alpha = math.atan2(c.radius_m, c.half_height_m)
     n, dt = 200, 0.01
     quiet = np.zeros(n)
     slow = [1e-4 * alpha, 0.3, 0.0, 0.0, 1e-3, 0.0]          # theta, phi, psi, and their rates
-    held = simulate_cylinder(quiet, quiet, None, dt, c, initial=slow)
+    held = simulate_cylinder(quiet, quiet, None, dt, c, start=CylinderState(*slow))
     assert held.holds >= 1 and not held.overturned and held.theta_max_rad < SETTLE_TILT_ALPHA * alpha
     assert np.all(held.theta[1:] == 0.0)
     fast = [1e-4 * alpha, 0.3, 0.0, 0.0, 300.0, 0.0]          # precessing at 300 rad/s
-    followed = simulate_cylinder(quiet, quiet, None, dt, c, initial=fast)
+    followed = simulate_cylinder(quiet, quiet, None, dt, c, start=CylinderState(*fast))
     assert followed.holds == 0
-    off = simulate_cylinder(quiet, quiet, None, dt, c, initial=slow, settle_tilt_alpha=0.0)
+    off = simulate_cylinder(quiet, quiet, None, dt, c, start=CylinderState(*slow), settle_tilt_alpha=0.0)
     assert off.holds == 0
