@@ -61,13 +61,18 @@ def _two(p: float) -> str:
     return "<0.01" if 0 < p < 0.005 else f"{p:.2f}"
 
 
-def advice_at(ds, k: int, *, natural: bool = False) -> str:
-    """Asset ``k``'s :func:`recommendation` from an event's dataset (event.nc's variables and its
-    ``shakemap_event_type``); ``natural`` for a natural rock."""
-    return recommendation(Level(int(ds["level"].values[k])), Basis(int(ds["basis"].values[k])),
-                          float(ds["p_overturn_event"].values[k]), float(ds["p_overturn_event_low"].values[k]),
-                          float(ds["p_overturn_event_high"].values[k]), slides=int(ds["sliding_risk"].values[k]) == 1,
-                          scenario=ds.attrs.get("shakemap_event_type", "") == "SCENARIO", natural=natural)
+def advice_at(v, k: int, *, scenario: bool, natural: bool = False) -> str:
+    """Asset ``k``'s :func:`recommendation` from an event's arrays ``v`` (event.nc's variables by name: ``level``,
+    ``basis``, ``p_overturn_event`` and its bounds, ``sliding_risk``); ``scenario`` for a ShakeMap scenario,
+    ``natural`` for a natural rock."""
+    return recommendation(Level(int(v["level"][k])), Basis(int(v["basis"][k])), float(v["p_overturn_event"][k]),
+                          float(v["p_overturn_event_low"][k]), float(v["p_overturn_event_high"][k]),
+                          slides=int(v["sliding_risk"][k]) == 1, scenario=scenario, natural=natural)
+
+
+def is_scenario(attrs) -> bool:
+    """Whether an event's attributes say its ShakeMap is a scenario."""
+    return attrs.get("shakemap_event_type", "") == "SCENARIO"
 
 
 def natural_rocks(objects) -> list[bool]:

@@ -109,12 +109,17 @@ def headline(ds: xr.Dataset) -> dict:
         verb = "lower" if change < 0 else "raise"
         text = (f"The rocks {verb} the site's mean {im} at {rate} per year by {abs(100 * change):.0f} %, from "
                 f"{level_text(before, factor)} to {level_text(after, factor)} {unit}.")
-    names = ds["branch_name"].values if "branch_name" in ds else ds["branch_path"].values
+    names = _branch_names(ds)
     moved = ds["posterior_weight"].values - ds["prior_weight"].values
     losers = [{"name": str(names[b]), "prior": f"{ds['prior_weight'].values[b]:.2f}",
                "posterior": f"{ds['posterior_weight'].values[b]:.2f}"}
               for b in np.argsort(moved)[:HEADLINE_BRANCHES] if moved[b] < -0.005]
     return {"text": text, "losers": losers}
+
+
+def _branch_names(ds: xr.Dataset) -> np.ndarray:
+    """Each branch's readable name (``branch_name``; its path in a dataset written before names were read)."""
+    return ds["branch_name"].values if "branch_name" in ds else ds["branch_path"].values
 
 
 def summary_lines(ds: xr.Dataset) -> list[str]:
@@ -143,7 +148,7 @@ def _rock_rows(ds: xr.Dataset, factor: float) -> list[dict]:
 
 def _branch_rows(ds: xr.Dataset) -> list[dict]:
     order = np.argsort(-ds["posterior_weight"].values)[:MAX_CURVES]
-    names = ds["branch_name"].values if "branch_name" in ds else ds["branch_path"].values
+    names = _branch_names(ds)
     return [{"branch": str(ds["branch"].values[b]), "name": str(names[b]), "path": str(ds["branch_path"].values[b]),
              "prior": f"{ds['prior_weight'].values[b]:.3f}", "likelihood": f"{ds['likelihood'].values[b]:.3g}",
              "posterior": f"{ds['posterior_weight'].values[b]:.3f}"} for b in order]

@@ -18,7 +18,7 @@ import xarray as xr
 from scipy.special import ndtr
 
 from ..blocks import Inventory
-from ..event.advice import advice_at, natural_rocks
+from ..event.advice import advice_at, is_scenario, natural_rocks
 from ..event.assets import Basis, Level
 from ..event.shakemap import ShakeMapGrid
 from ..records.intensity import display_unit
@@ -206,6 +206,7 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
     drawn = set(order[:max(curves, 0)])
     v = {name: ds[name].values for name in ds.data_vars}
     natural = natural_rocks(inv.extra.get("object")) or [False] * len(inv.ids)
+    scenario = is_scenario(ds.attrs)
     rows = []
     for k in order[:PAGE_ROWS]:
         level = Level(int(v["level"][k]))
@@ -227,7 +228,8 @@ def event_page(ds: xr.Dataset, grid: ShakeMapGrid, inv: Inventory, order: list[i
             "previous": Level(prev).name if prev >= 0 else "", "curve": k in drawn,
             "record": str(v["station_record"][k]), "record_km": number_text(v["station_distance"][k], ".2f"),
             "p_record": f"{float(v['p_overturn_record'][k]):.2f}" if math.isfinite(v["p_overturn_record"][k]) else "",
-            "governs": "record" if v["governed_by"][k] else "shakemap", "advice": advice_at(ds, k, natural=natural[k])})
+            "governs": "record" if v["governed_by"][k] else "shakemap",
+            "advice": advice_at(v, k, scenario=scenario, natural=natural[k])})
     counts = {lv.name: int(np.sum(ds["level"].values == lv)) for lv in sorted(Level, key=lambda m: -m.value)}
     env = Environment(loader=PackageLoader("pipeline.report", "templates"),
                       autoescape=select_autoescape(["html", "j2"]))

@@ -54,8 +54,9 @@ class SimulationConfig:
     contact3d: bool = True
     #: True (default): in the draws and the margin scan (which keep only the verdict), a box the contact model
     #: follows is handed back to its exact model wherever it rocks on an edge without slipping again
-    #: (:mod:`pipeline.rocking.solids.alternate`; the same verdicts but at chaotic boundaries, measured in
-    #: docs/validation.md). False: the contact model follows it to the end alone.
+    #: (:mod:`pipeline.rocking.solids.alternate`; on the bundled run 97.8 % of its box verdicts are the contact
+    #: model's alone, which agrees with itself at half its step in 97.5 %: docs/validation.md). False: the
+    #: contact model follows it to the end alone.
     handback: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].

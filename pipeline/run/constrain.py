@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..constants import G
 from ..errors import ConstraintError
+from ..records.intensity import display_unit
 from ..schema import CONSTRAIN, apply_schema
 from ..uncertainty.ages import Age, read_ages
 from ..uncertainty.branch_stats import common_levels, fractile_curve, level_at_rate, mean_curve, rates_on
@@ -230,7 +230,7 @@ ERROR_WEIGHT_MIN = 0.01
 def _grid_notes(tree: LogicTree, grid: np.ndarray, im: str) -> list[str]:
     """What the branches' common levels do to the outputs: where a branch ends before the others (the outputs end
     there too), and each branch that lacks levels the others give (its rate read log-log between its own)."""
-    unit, factor = ("g", G) if IM_KIND[im] == "acceleration" else ("cms", 0.01)
+    unit, factor = display_unit(im)
     notes = []
     ends = [float(c.levels[-1]) for c in tree.curves]
     if grid[-1] < max(ends) * (1 - 1e-9):
@@ -267,7 +267,7 @@ def _contradictions(lik: np.ndarray, rocks: Rocks, ages: dict[str, Age], tree: L
     lines = []
     for i in contradicting(lik):
         rock, frag, b = rocks.ids[i], rocks.fragility[i], int(np.nanargmax(lik[i])) if np.any(lik[i] > 0) else 0
-        unit, factor = ("g", G) if IM_KIND[rocks.im] == "acceleration" else ("m/s", 1.0)
+        unit, factor = display_unit(rocks.im)
         lines.append(
             f"{rock}: contradicts every branch of the hazard model: under its most favourable branch ({tree.ids[b]}) "
             f"the chance it stood through its age ({ages[rock].mean_yr:,.0f} yr) is {lik[i, b]:.1e}, below "

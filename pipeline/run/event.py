@@ -20,7 +20,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import OutputError, RockscreenError
-from ..event.advice import advice_at, natural_rocks
+from ..event.advice import advice_at, is_scenario, natural_rocks
 from ..event.assets import Basis, Fragilities, Level, event_risk, levels
 from ..event.shakecast import Facility, facility_xml, onset_level, overturning_level
 from ..event.shakemap import PSA_PERIODS, ShakeMapGrid, field_for, read_grid, sites_shaking
@@ -395,13 +395,14 @@ def inspection_rows(ds: xr.Dataset, inv: Inventory, order: list[int]) -> tuple[t
     columns = tuple(c.format(unit=label) for c in INSPECTION_COLUMNS)
     arrays = {name: ds[name].values for name in ds.data_vars}
     natural = natural_rocks(inv.extra.get("object")) or [False] * len(inv.ids)
+    scenario = is_scenario(ds.attrs)
     rows = []
     for k in order:
         v = {name: a[k] for name, a in arrays.items()}
         prev = int(v["level_previous"])
         rows.append(dict(zip(columns, (
             int(v["priority"]), inv.ids[k], inv.names[k], inv.sites[k], f"{v['lon']:.5f}", f"{v['lat']:.5f}",
-            Level(int(v["level"])).name, advice_at(ds, k, natural=natural[k]),
+            Level(int(v["level"])).name, advice_at(arrays, k, scenario=scenario, natural=natural[k]),
             "yes" if int(v["sliding_risk"]) == 1 else "",
             _value(v["p_overturn_event"]), _value(v["p_overturn_event_low"]),
             _value(v["p_overturn_event_high"]), Basis(int(v["basis"])).name, str(v["shakemap_field"]),

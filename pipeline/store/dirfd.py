@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import json
 import os
 import stat
 from collections.abc import Iterator
@@ -79,6 +80,22 @@ def open_dir(name: str, dir_fd: int, where: Path) -> int:
             raise UnsafeOutputError(f"{where / name}: a link or a file where rockscreen keeps a folder; nothing under "
                                     "the output folder is followed out of it: remove it and run again") from exc
         raise
+
+
+@contextlib.contextmanager
+def within(name: str, dir_fd: int, where: Path) -> Iterator[int]:
+    """The folder ``name`` in ``dir_fd`` opened as :func:`open_dir` opens it, closed when the block ends."""
+    fd = open_dir(name, dir_fd, where)
+    try:
+        yield fd
+    finally:
+        os.close(fd)
+
+
+def read_json(dir_fd: int, name: str):
+    """The JSON document in the file ``name`` of ``dir_fd``, read without following a link."""
+    with os.fdopen(os.open(name, os.O_RDONLY | os.O_NOFOLLOW, dir_fd=dir_fd), encoding="utf-8") as fh:
+        return json.load(fh)
 
 
 def lstat_at(dir_fd: int, name: str) -> os.stat_result | None:

@@ -304,22 +304,16 @@ def _adopt_plain_files(tree: dirfd.Tree, family: str, names: list[str]) -> None:
     if current is None:
         current = f"{family}.adopted-{os.getpid()}-{secrets.token_hex(3)}"
         os.mkdir(current, dir_fd=tree.sets)
-        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
-        try:
+        with dirfd.within(current, tree.sets, Path(SETS)) as fd:
             _record(fd, family, plain, "files found in place, written before output sets")
-        finally:
-            os.close(fd)
         _switch(tree, family, current)
-    fd = dirfd.open_dir(current, tree.sets, Path(SETS))
-    try:
+    with dirfd.within(current, tree.sets, Path(SETS)) as fd:
         for name in plain:
             tmp = f".{name}.adopt.tmp"
             dirfd.remove_quietly(fd, tmp)
             os.link(name, tmp, src_dir_fd=tree.out, dst_dir_fd=fd, follow_symlinks=False)
             os.replace(tmp, name, src_dir_fd=fd, dst_dir_fd=fd)
             dirfd.symlink_over(tree.out, name, link_target(family, name))
-    finally:
-        os.close(fd)
 
 
 def _recorded_in(tree: dirfd.Tree, current: str | None) -> list[str]:
@@ -327,24 +321,23 @@ def _recorded_in(tree: dirfd.Tree, current: str | None) -> list[str]:
     if current is None:
         return []
     try:
-        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
-    except (OSError, UnsafeOutputError):
+        with dirfd.within(current, tree.sets, Path(SETS)) as fd:
+            return _names_of(dirfd.read_json(fd, SET_RECORD))
+    except (OSError, ValueError, UnsafeOutputError):
         return []
-    try:
-        rfd = os.open(SET_RECORD, os.O_RDONLY | os.O_NOFOLLOW, dir_fd=fd)
-        with os.fdopen(rfd, encoding="utf-8") as fh:
-            return list(json.load(fh).get("names", []))
-    except (OSError, ValueError, AttributeError):
-        return []
-    finally:
-        os.close(fd)
+
+
+def _names_of(record) -> list[str]:
+    """The names a set's record (:data:`SET_RECORD`, parsed) lists; none where it lists none."""
+    names = record.get("names", []) if isinstance(record, dict) else []
+    return [str(n) for n in names] if isinstance(names, list) else []
 
 
 def _recorded_names(ptr: Path) -> list[str]:
     """The names the set at ``ptr`` records of itself (none when it has no record)."""
     try:
-        return list(json.loads((ptr / SET_RECORD).read_text()).get("names", []))
-    except (OSError, ValueError, AttributeError):
+        return _names_of(json.loads((ptr / SET_RECORD).read_text()))
+    except (OSError, ValueError):
         return []
 
 
@@ -387,27 +380,25 @@ def _tidy(tree: dirfd.Tree, family: str, *, keep: str, out: Path) -> None:
 
 
 def _remove_dangling(tree: dirfd.Tree, family: str) -> None:
-    """Remove ``OUT``'s links into ``family``'s current set that point at nothing."""
+    """Remove ``OUT``'s links into ``family``'s current set that point at nothing (a name the set does not hold)."""
     prefix = link_target(family, "")
+    held = _held_names(tree, family)
     for name in dirfd.names_in(tree.out):
         target = dirfd.read_link(tree.out, name)
-        if target is not None and target.startswith(prefix) and not _resolves(tree, family, name):
+        if target is not None and target.startswith(prefix) and target[len(prefix):] not in held:
             dirfd.remove_quietly(tree.out, name)
 
 
-def _resolves(tree: dirfd.Tree, family: str, name: str) -> bool:
-    """The current set of ``family`` holds ``name`` (so that ``OUT/<name>``'s link leads to it)."""
+def _held_names(tree: dirfd.Tree, family: str) -> set[str]:
+    """The names in ``family``'s current set directory (none without one)."""
     current = _current_set(tree, family)
     if current is None:
-        return False
+        return set()
     try:
-        fd = dirfd.open_dir(current, tree.sets, Path(SETS))
+        with dirfd.within(current, tree.sets, Path(SETS)) as fd:
+            return set(dirfd.names_in(fd))
     except (OSError, UnsafeOutputError):
-        return False
-    try:
-        return dirfd.lstat_at(fd, name) is not None
-    finally:
-        os.close(fd)
+        return set()
 
 
 def _link_or_copy(src: Path, dst: Path) -> None:

@@ -137,7 +137,8 @@ def _finish(path: Path, im: str, levels, rates, *, notes: list[str], **kw) -> Ha
                           f"({rates[k - 1]:.4g}); rates of exceedance cannot increase with the level")
     zero = np.flatnonzero(rates == 0)
     if zero.size:
-        unit, factor = ("g", G) if IM_KIND[im] == "acceleration" else ("cms", 0.01)     # the pages' units
+        unit = "g" if IM_KIND[im] == "acceleration" else "cms"                          # the pages' units
+        factor = UNITS[IM_KIND[im]][unit]
         notes.append(f"the rate reaches 0 at {levels[zero[0]] / factor:.4g} {unit}: the curve ends there "
                      f"({levels.size - zero[0]} level(s) of rate 0)")
         levels, rates = levels[:zero[0]], rates[:zero[0]]

@@ -38,11 +38,11 @@ from typing import NamedTuple
 import numpy as np
 
 from .attitude import rotation, turned
-from .box3d import Box, BoxOutcome, BoxState, simulate_box
+from .box3d import Box, BoxOutcome, simulate_box
 from .box_kernel import EDGE
 from .contact3d import Contact3DOutcome, simulate_contact3d
 from .contact_start import Start
-from .handoff3d import CORNER_SIGNS
+from .handoff3d import BoxState, base_corner
 from .vec3 import FLAG_NONE
 
 #: The base edges of :func:`~.convex_body.box_body`'s corners, in the exact model's order: edge k joins its corner k
@@ -125,7 +125,7 @@ def _exact_state(out: Contact3DOutcome, box: Box) -> BoxState:
     turned so that the edge lies level (the contact model lets a corner sink by up to a step's travel) and the rate
     about the edge alone (the two sticking corners leave only that, to the solver's tolerance)."""
     q = np.asarray(out.q_end, dtype=float)
-    u = _rotation(q) @ (_corner(box, (out.edge + 1) % 4) - _corner(box, out.edge))
+    u = _rotation(q) @ (base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge))
     u = u / np.linalg.norm(u)
     level = np.array([u[0], u[1], 0.0]) / math.hypot(u[0], u[1])
     axis = np.cross(u, level)
@@ -145,12 +145,6 @@ def _rotation(q: np.ndarray) -> np.ndarray:
     return r
 
 
-def _corner(box: Box, k: int) -> np.ndarray:
-    """Base corner ``k`` of the exact model (:data:`~.handoff3d.CORNER_SIGNS`) from G, in the box's axes [m]."""
-    sx, sy = CORNER_SIGNS[k]
-    return np.array([sx * box.half_width_m, sy * box.half_depth_m, -box.half_height_m])
-
-
 def _resume(exact: BoxOutcome, out: Contact3DOutcome, box: Box, t0_s: float, dt_s: float,
             peak: tuple[float, float]) -> tuple[Start, bool]:
     """Where the contact model goes on after an exact segment that began at ``t0_s`` [s] (``dt_s`` the record's
@@ -161,13 +155,13 @@ def _resume(exact: BoxOutcome, out: Contact3DOutcome, box: Box, t0_s: float, dt_
     lean = math.radians(peak[1])
     stopped = exact.flag != FLAG_NONE or exact.held != FLAG_NONE
     if stopped and exact.handoff is not None:
-        q, rate, pivot = exact.handoff.turning(box, 0.0)
+        q, rate, pivot = exact.handoff.state.turning(box, 0.0)
         return Start(t0_s + exact.handoff.t_s, q, rate, pivot, peak[0], lean), True
     if stopped:
         q_end, rate_end = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
-        return Start(out.t_end_s, q_end, rate_end, _corner(box, out.edge), peak[0], lean), False
+        return Start(out.t_end_s, q_end, rate_end, base_corner(box, out.edge), peak[0], lean), False
     q = exact.end.q / np.linalg.norm(exact.end.q)
-    corners = np.array([_corner(box, k) for k in range(4)])
+    corners = np.array([base_corner(box, k) for k in range(4)])
     low = int(np.argmin(corners @ _rotation(q)[2]))
     return (Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, exact.end.rate_rad_s.copy(), corners[low], peak[0],
                   lean), True)

@@ -81,7 +81,7 @@ import numpy as np
 from .box_kernel import CORNER, EDGE, REST_RATE
 from .box_run import run_box
 from .convex_body import ConvexBody, box_body
-from .handoff3d import BoxHandoff
+from .handoff3d import BoxHandoff, BoxState
 from .vec3 import FLAG_FLIGHT, FLAG_NONE, FLAG_SLIDE, FLAG_STEPS, ground_components
 
 __all__ = ["Box", "BoxOutcome", "FLAG_NONE", "FLAG_FLIGHT", "FLAG_SLIDE", "FLAG_STEPS", "CORNER", "EDGE",
@@ -123,27 +123,6 @@ class Box(NamedTuple):
         """The contact model's body of this box: its eight corners (plastic contacts, which give Housner's rule at a
         pivot)."""
         return box_body(2.0 * self.half_width_m, 2.0 * self.half_depth_m, 2.0 * self.half_height_m, mu=self.mu)
-
-
-class BoxState(NamedTuple):
-    """A state of the box model (the kernel's ``y`` and contact, named).
-
-    Attributes
-    ----------
-    q : ndarray, shape (4,)
-        the orientation, a unit quaternion (w, x, y, z), body to world
-    rate_rad_s : ndarray, shape (3,)
-        the angular velocity in the world's axes [rad s-1]
-    mode : int
-        REST (flat), CORNER or EDGE (:mod:`.box_kernel`)
-    pivot : int
-        the corner it turns on (CORNER), the edge's first corner (EDGE)
-    """
-
-    q: np.ndarray
-    rate_rad_s: np.ndarray
-    mode: int = CORNER
-    pivot: int = 0
 
 
 class BoxOutcome(NamedTuple):
@@ -292,4 +271,4 @@ def _handoff(cert: np.ndarray) -> BoxHandoff | None:
     :class:`~.handoff3d.BoxHandoff` (None: t NaN, it never stopped nor held)."""
     if not math.isfinite(cert[0]):
         return None
-    return BoxHandoff(float(cert[0]), np.array(cert[1:5]), np.array(cert[5:8]), int(cert[8]), int(cert[9]))
+    return BoxHandoff(float(cert[0]), BoxState(np.array(cert[1:5]), np.array(cert[5:8]), int(cert[8]), int(cert[9])))

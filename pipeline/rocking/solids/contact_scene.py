@@ -44,7 +44,7 @@ def handoff(exact: WobbleOutcome | BoxOutcome | None, body: Cylinder | Box, azim
     if exact is None or exact.handoff is None:
         return None
     state = exact.handoff
-    q, rate, pivot = state.turning(body, azimuth_deg)
+    q, rate, pivot = state.state.turning(body, azimuth_deg)
     upto = int(math.floor(state.t_s / dt_s + 1e-9)) + 1
     tilt = np.asarray(exact.theta[:upto], dtype=float)
     lean = np.where(tilt > 0.0, np.asarray(exact.azimuth[:upto], dtype=float), math.nan)

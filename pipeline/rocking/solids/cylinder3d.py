@@ -87,7 +87,7 @@ from .cylinder_kernel import (
     params_of,
     rise,
 )
-from .handoff3d import CylinderHandoff
+from .handoff3d import CylinderHandoff, CylinderState
 from .vec3 import FLAG_FLIGHT as FLAG_FLIGHT  # the flags, re-exported: callers read them here
 from .vec3 import (
     FLAG_NONE,
@@ -137,18 +137,6 @@ class Cylinder(NamedTuple):
         """The contact model's body of this cylinder: points of its two rims (plastic contacts, which give
         Housner's rule at a pivot)."""
         return cylinder_body(2.0 * self.radius_m, 2.0 * self.half_height_m, mu=self.mu)
-
-
-class CylinderState(NamedTuple):
-    """A state of the cylinder model (the kernel's ``y``, named): the tilt, the azimuth of the tilt and the spin
-    (ZYZ Euler angles) [rad] and their rates [rad s-1]."""
-
-    theta: float
-    phi: float
-    psi: float
-    theta_rate: float
-    phi_rate: float
-    psi_rate: float
 
 
 class WobbleOutcome(NamedTuple):
@@ -476,4 +464,4 @@ def _handoff(cert: np.ndarray) -> CylinderHandoff | None:
     base never would slide nor lift off)."""
     if not math.isfinite(cert[0]):
         return None
-    return CylinderHandoff(*(float(v) for v in cert[:7]))
+    return CylinderHandoff(float(cert[0]), CylinderState(*(float(v) for v in cert[1:7])))

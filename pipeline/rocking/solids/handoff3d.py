@@ -1,6 +1,7 @@
 """Where an exact 3D model hands its scene to the contact model (:mod:`.contact_scene`): the last state it
-certified, named (:class:`BoxHandoff` of :mod:`.box3d`, :class:`CylinderHandoff` of :mod:`.cylinder3d`), each able
-to say how the body turns there: its orientation, its rate and a point of it on the ground that does not slip.
+certified (:class:`BoxHandoff` of :mod:`.box3d`, :class:`CylinderHandoff` of :mod:`.cylinder3d`): a time and the
+model's named state (:class:`BoxState`, :class:`CylinderState`), each able to say how the body turns there: its
+orientation, its rate and a point of it on the ground that does not slip.
 
 A box turns about its pivot corner (a corner, or either corner of an edge, or the corner an edge turns on while the
 other slides); a cylinder rolls on the lowest point of its rim, whose arm from G is ``r`` = ((h sin theta - a cos
@@ -16,60 +17,50 @@ from typing import NamedTuple
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .box_kernel import REST
+from .box_kernel import CORNER, REST
 
 #: The base corners of the kernel, counter-clockwise from above: c_k = (s_x b_x, s_y b_y, -h).
 CORNER_SIGNS = ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0))
 
 
-class BoxHandoff(NamedTuple):
-    """The last state the model certified before it first stopped or held: where the 3D contact model goes on.
+def base_corner(box, k: int) -> np.ndarray:
+    """Base corner ``k`` of the box model (:data:`CORNER_SIGNS`) from G, in the box's axes [m]."""
+    sx, sy = CORNER_SIGNS[k % 4]
+    return np.array([sx * box.half_width_m, sy * box.half_depth_m, -box.half_height_m])
+
+
+class BoxState(NamedTuple):
+    """A state of the box model (:mod:`.box3d`; the kernel's ``y`` and contact, named).
 
     Attributes
     ----------
-    t_s : float
-        when [s] (from the record's first sample)
     q : ndarray, shape (4,)
         the orientation, a unit quaternion (w, x, y, z), body to world
     rate_rad_s : ndarray, shape (3,)
         the angular velocity in the world's axes [rad s-1]
     mode : int
-        REST (flat), CORNER or EDGE
+        REST (flat), CORNER or EDGE (:mod:`.box_kernel`)
     pivot : int
         the corner it turns on (CORNER), the edge's first corner (EDGE); at rest the corner taken as its pivot
     """
 
-    t_s: float
     q: np.ndarray
     rate_rad_s: np.ndarray
-    mode: int
-    pivot: int
+    mode: int = CORNER
+    pivot: int = 0
 
-    def turning(self, box,  azimuth_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def turning(self, box, azimuth_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The orientation, the rate [rad s-1] and the point of the box that does not slip (its pivot corner, in
         its principal axes from G [m]; corner 0 at rest) of this state; ``azimuth_deg``, the box's at rest, is
         already in the quaternion."""
-        k = 0 if self.mode == REST else self.pivot
-        sx, sy = CORNER_SIGNS[k % 4]
-        pivot = np.array([sx * box.half_width_m, sy * box.half_depth_m, -box.half_height_m])
+        pivot = base_corner(box, 0 if self.mode == REST else self.pivot)
         return np.asarray(self.q, dtype=float), np.asarray(self.rate_rad_s, dtype=float), pivot
 
 
-class CylinderHandoff(NamedTuple):
-    """The last state the cylinder model certified before the base would first slide or lift off (the start of
-    that step): where the 3D contact model goes on.
+class CylinderState(NamedTuple):
+    """A state of the cylinder model (:mod:`.cylinder3d`; the kernel's ``y``, named): the tilt, the azimuth of the
+    tilt and the spin (ZYZ Euler angles) [rad] and their rates [rad s-1]."""
 
-    Attributes
-    ----------
-    t_s : float
-        when [s] (from the record's first sample)
-    theta, phi, psi : float
-        the tilt, the azimuth of the tilt and the spin (ZYZ Euler angles) [rad]
-    theta_rate, phi_rate, psi_rate : float
-        their rates [rad s-1]
-    """
-
-    t_s: float
     theta: float
     phi: float
     psi: float
@@ -89,3 +80,21 @@ class CylinderHandoff(NamedTuple):
         pivot = rot.inv().apply(-np.array([lever * math.cos(ph), lever * math.sin(ph), up]))
         x, y, z, w = rot.as_quat()
         return np.array([w, x, y, z]), rate, pivot
+
+
+class BoxHandoff(NamedTuple):
+    """The last state the box model certified before it first stopped or held (the start of the step whose contact
+    force left the cone, or the instant at rest it would slide): where the 3D contact model goes on."""
+
+    #: when [s] (from the record's first sample)
+    t_s: float
+    state: BoxState
+
+
+class CylinderHandoff(NamedTuple):
+    """The last state the cylinder model certified before the base would first slide or lift off (the start of
+    that step): where the 3D contact model goes on."""
+
+    #: when [s] (from the record's first sample)
+    t_s: float
+    state: CylinderState

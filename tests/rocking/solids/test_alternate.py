@@ -12,10 +12,11 @@ from scipy.spatial.transform import Rotation
 
 import pipeline.rocking.solids.alternate as alternate_module
 from pipeline.constants import G
-from pipeline.rocking.solids.alternate import BOX_EDGES, _corner, _exact_state, alternate
+from pipeline.rocking.solids.alternate import BOX_EDGES, _exact_state, alternate
 from pipeline.rocking.solids.box3d import EDGE, Box, simulate_box
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.contact_scene import contact_scene, handoff
+from pipeline.rocking.solids.handoff3d import base_corner
 
 DT_S = 0.01
 CABINET = Box(0.3, 0.6, 1.05, 0.35)       # tan alpha 0.29 across its width, mu 0.35: it slides, then rocks
@@ -78,7 +79,7 @@ def test_the_exact_state_lies_on_the_edge():
     y = _exact_state(out, CABINET)
     assert y.mode == EDGE and y.pivot == out.edge
     rot = Rotation.from_quat([y.q[1], y.q[2], y.q[3], y.q[0]])
-    a, b = rot.apply(_corner(CABINET, out.edge)), rot.apply(_corner(CABINET, (out.edge + 1) % 4))
+    a, b = rot.apply(base_corner(CABINET, out.edge)), rot.apply(base_corner(CABINET, (out.edge + 1) % 4))
     assert np.linalg.norm(y.q) == pytest.approx(1.0, abs=1e-12)
     assert a[2] == pytest.approx(b[2], abs=1e-12)                        # the edge level
     rate = y.rate_rad_s

@@ -165,12 +165,12 @@ def _state_at(out, i, body, dt):
 
     end = out.end
     if not isinstance(body, Box):
-        return CylinderHandoff(i * dt, *end)
+        return CylinderHandoff(i * dt, end)
     q = end.q
     turn = Rotation.from_quat([q[1], q[2], q[3], q[0]])
     low = np.argmin([turn.apply([sx * body.half_width_m, sy * body.half_depth_m, -body.half_height_m])[2]
                      for sx, sy in CORNER_SIGNS])
-    return BoxHandoff(i * dt, np.array(q), np.array(end.rate_rad_s), CORNER, int(low))
+    return BoxHandoff(i * dt, end._replace(mode=CORNER, pivot=int(low)))
 
 
 @pytest.mark.parametrize("amp_g, period_s, cross_g", [(0.3, 0.5, 0.0), (0.3, 0.5, 0.1), (0.4, 0.4, 0.05)])
