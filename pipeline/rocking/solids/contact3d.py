@@ -131,6 +131,13 @@ AFTER_FLIGHT_S = 0.02
 #: any step without contact had only single steps, while 255 rose more than 0.1 mm.
 FLIGHT_CLEARANCE_M = 1e-5
 
+#: A vertex at most this far above the ground at a step's middle is a contact [m]: the body's height is a sum of
+#: rounded terms, so a base resting flat has its corners at +-1e-17 m, and a strict test of 0 let the rounding
+#: drop two of a sliding box's four corners at one step and tip it (1.8e-6 rad on Newmark's pulse at 0.5 ms steps).
+#: A contact that is not approaching takes no impulse, so a vertex so near counted as one only keeps it from
+#: passing into the ground.
+CONTACT_GAP_M = 1e-9
+
 #: The outcome's flags (bits).
 FLAG_SWEEP_CAP = 1          # a step's contact problem ended at MAX_SWEEPS
 FLAG_TAIL_CAP = 2           # still moving TAIL_S after the record
@@ -291,13 +298,13 @@ def _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, gz_total):
 
 @jit_inline
 def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p):
-    """The vertices at or below the ground at the step's middle (G at height ``z_g``): their arms from G, indices,
-    normal velocities before the step's forces (``dv_z`` the step's vertical change) and last impulses (the warm
-    start); how many."""
+    """The vertices at or below the ground at the step's middle, to within :data:`CONTACT_GAP_M` (G at height
+    ``z_g``): their arms from G, indices, normal velocities before the step's forces (``dv_z`` the step's vertical
+    change) and last impulses (the warm start); how many."""
     n_c = 0
     for i in range(vertices.shape[0]):
         r2 = rm[2, 0] * vertices[i, 0] + rm[2, 1] * vertices[i, 1] + rm[2, 2] * vertices[i, 2]
-        if z_g + r2 <= 0.0:                         # the height first: a scan's hull has hundreds of vertices
+        if z_g + r2 <= CONTACT_GAP_M:               # the height first: a scan's hull has hundreds of vertices
             r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
             r1 = rm[1, 0] * vertices[i, 0] + rm[1, 1] * vertices[i, 1] + rm[1, 2] * vertices[i, 2]
             arms[n_c, 0], arms[n_c, 1], arms[n_c, 2] = r0, r1, r2
