@@ -133,8 +133,8 @@ FLIGHT_CLEARANCE_M = 1e-5
 #: A vertex at most this far above the ground at a step's middle is a contact [m]: the body's height is a sum of
 #: rounded terms, so a base resting flat has its corners at +-1e-17 m, and a strict test of 0 let the rounding
 #: drop two of a sliding box's four corners at one step and tip it (1.8e-6 rad on Newmark's pulse at 0.5 ms steps).
-#: A contact that is not approaching takes no impulse, so a vertex so near counted as one only keeps it from
-#: passing into the ground.
+#: A contact takes an impulse only where the step would otherwise move it towards the ground, so a vertex this near,
+#: counted as one, is kept from passing into the ground at most this far early and is otherwise left free.
 CONTACT_GAP_M = 1e-9
 
 #: The outcome's flags (bits).

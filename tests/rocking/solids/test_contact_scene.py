@@ -161,15 +161,14 @@ def _state_at(out, i, body, dt):
 
     from pipeline.rocking.solids.box3d import Box
     from pipeline.rocking.solids.box_kernel import CORNER
-    from pipeline.rocking.solids.handoff3d import CORNER_SIGNS, BoxHandoff, CylinderHandoff
+    from pipeline.rocking.solids.handoff3d import BoxHandoff, CylinderHandoff, base_corner
 
     end = out.end
     if not isinstance(body, Box):
         return CylinderHandoff(i * dt, end)
     q = end.q
     turn = Rotation.from_quat([q[1], q[2], q[3], q[0]])
-    low = np.argmin([turn.apply([sx * body.half_width_m, sy * body.half_depth_m, -body.half_height_m])[2]
-                     for sx, sy in CORNER_SIGNS])
+    low = np.argmin([turn.apply(base_corner(body, k))[2] for k in range(4)])
     return BoxHandoff(i * dt, end._replace(mode=CORNER, pivot=int(low)))
 
 
