@@ -78,6 +78,67 @@ def rebound(f: Callable, **names) -> Callable:
     return _njit(nogil=True)(copy) if HAVE_NUMBA else copy
 
 
+def tuple_with(values: tuple, index: int, value) -> tuple:
+    """``values`` with its element ``index`` replaced by ``value``: a new tuple (compiled: numba's
+    ``tuple_setitem``, which a loop over a fixed-size tuple turns into registers once LLVM unrolls it)."""
+    return values[:index] + (value,) + values[index + 1:]
+
+
+def filled_like(value, like: tuple) -> tuple:
+    """A tuple of ``len(like)`` copies of ``value`` (compiled: its size is ``like``'s type's, known when compiling)."""
+    return (value,) * len(like)
+
+
+def array_as_tuple(values: np.ndarray, size: int) -> tuple:
+    """The first ``size`` elements of the array ``values`` as a tuple (compiled: ``size`` a constant, such as a
+    module's state size)."""
+    return tuple(values[:size])
+
+
+@jit_inline
+def store(out: np.ndarray, values: tuple) -> None:
+    """Write the tuple ``values`` into the first elements of the array ``out``."""
+    for q in range(len(values)):
+        out[q] = values[q]
+
+
+if HAVE_NUMBA:
+    from numba.core import types as _types
+    from numba.core.errors import TypingError as _TypingError
+    from numba.cpython.unsafe.tuple import tuple_setitem as _tuple_setitem
+    from numba.extending import intrinsic as _intrinsic
+    from numba.extending import overload as _overload
+
+    @_intrinsic
+    def _filled(typingctx, value, like):
+        if not isinstance(like, _types.BaseTuple):
+            return None
+        count = len(like)
+        result = _types.UniTuple(value, count)
+
+        def codegen(context, builder, signature, args):
+            for _ in range(count):                      # every element holds a reference to the borrowed value
+                context.nrt.incref(builder, value, args[0])
+            return context.make_tuple(builder, result, [args[0]] * count)
+        return result(value, like), codegen
+
+    @_overload(tuple_with)
+    def _compiled_tuple_with(values, index, value):
+        return lambda values, index, value: _tuple_setitem(values, index, value)  # type: ignore[call-arg]
+
+    @_overload(array_as_tuple)
+    def _compiled_array_as_tuple(values, size):
+        from numba.np.unsafe.ndarray import to_fixed_tuple
+        if not isinstance(size, _types.IntegerLiteral):
+            raise _TypingError(f"array_as_tuple: the size must be a constant, found {size}")
+        count = size.literal_value
+        return lambda values, size: to_fixed_tuple(values, count)  # type: ignore[call-arg]
+
+    @_overload(filled_like)
+    def _compiled_filled_like(value, like):
+        return lambda value, like: _filled(value, like)  # type: ignore[call-arg]
+
+
 def state_factory(dtype: np.dtype) -> Callable[[], np.ndarray]:
     """A function that returns a new zeroed one-element array of the record ``dtype``, whose element's fields
     are set by attribute (``state[0].t = ...``).

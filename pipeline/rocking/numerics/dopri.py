@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import math
 
-from ...compiled import jit
-from .rk import DOPRI54
+from ...compiled import jit, jit_inline
+from .rk import DOPRI54, rk_step
 
 # Event location and dense output, named once
 NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the step length
@@ -35,19 +35,6 @@ HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step tha
 CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
 CROSSING_BISECTIONS = 50        # ... then bisected this many times (2^-50 of the probe's span)
 PEAK_BISECTIONS = 40            # bisections locating the turning point of theta inside a step
-
-# The Dormand & Prince (1980) RK5(4)7M tableau (:data:`.rk.DOPRI54`) as scalars, for the step unrolled over a plane's
-# two states (:func:`dopri_step`)
-_T = DOPRI54
-C2, C3, C4, C5 = (float(c) for c in _T.nodes[:4])
-A21 = float(_T.rows[0, 0])
-A31, A32 = (float(a) for a in _T.rows[1, :2])
-A41, A42, A43 = (float(a) for a in _T.rows[2, :3])
-A51, A52, A53, A54 = (float(a) for a in _T.rows[3, :4])
-A61, A62, A63, A64, A65 = (float(a) for a in _T.rows[4, :5])
-B1, B3, B4, B5, B6 = (float(_T.b[j]) for j in (0, 2, 3, 4, 5))
-E1, E3, E4, E5, E6, E7 = (float(_T.e[j]) for j in (0, 2, 3, 4, 5, 6))
-
 
 @jit
 def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
@@ -82,48 +69,32 @@ def pivot_demand(sin_phi, cos_phi, om, acc, R, a_h, a_v, g):
     return abs(fx) / fz, False
 
 
+@jit_inline
+def _plane(t, y, args):
+    """f of a plane's (theta, omega) at ``t`` (``args``: the ground piece, pivot side, p^2, alpha, g, linear), as
+    :func:`rocking_accel` writes it; sin and cos of alpha s - theta kept (what the pivot's forces need)."""
+    pc, s, p2, alpha, g, linear = args
+    th, om = y
+    ah, av = pc.a0 + pc.sa * (t - pc.t0), pc.v0 + pc.sv * (t - pc.t0)
+    phi = alpha * s - th
+    sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+    acc = -p2 * ((1.0 + av / g) * phi + ah / g) if linear else accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g)
+    return (om, acc), (sin_phi, cos_phi)
+
+
 @jit
 def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
-    """One Dormand-Prince step of length ``h`` [s] from (t, theta, omega) on pivot side ``s`` under the ground
-    piece ``pc`` (:class:`~.structures.GroundPiece`); returns theta, omega, their error estimates, the
-    angular acceleration at the step's end, and sin and cos of alpha s - theta there (what the pivot's forces
-    need: computed once, the same doubles as :func:`rocking_accel`'s).
-
-    This is :func:`~.rk.rk_step` with :data:`~.rk.DOPRI54`, unrolled over the two scalar states and summed in its
-    order (the same doubles: tested): the planar kernel's hot path, where the loop over arrays measured 45 %
-    slower on the bundled records' rocking scenes."""
-    t0, a0, sa, v0, sv = pc.t0, pc.a0, pc.sa, pc.v0, pc.sv
-    k1t = om
-    k1o = rocking_accel(th, om, a0 + sa * (t - t0), v0 + sv * (t - t0), s, p2, alpha, g, linear)
-    y2t, y2o = th + h * (A21 * k1t), om + h * (A21 * k1o)
-    tt = t + C2 * h
-    k2t, k2o = y2o, rocking_accel(y2t, y2o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y3t = th + h * (A31 * k1t + A32 * k2t)
-    y3o = om + h * (A31 * k1o + A32 * k2o)
-    tt = t + C3 * h
-    k3t, k3o = y3o, rocking_accel(y3t, y3o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y4t = th + h * (A41 * k1t + A42 * k2t + A43 * k3t)
-    y4o = om + h * (A41 * k1o + A42 * k2o + A43 * k3o)
-    tt = t + C4 * h
-    k4t, k4o = y4o, rocking_accel(y4t, y4o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y5t = th + h * (A51 * k1t + A52 * k2t + A53 * k3t + A54 * k4t)
-    y5o = om + h * (A51 * k1o + A52 * k2o + A53 * k3o + A54 * k4o)
-    tt = t + C5 * h
-    k5t, k5o = y5o, rocking_accel(y5t, y5o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    y6t = th + h * (A61 * k1t + A62 * k2t + A63 * k3t + A64 * k4t + A65 * k5t)
-    y6o = om + h * (A61 * k1o + A62 * k2o + A63 * k3o + A64 * k4o + A65 * k5o)
-    tt = t + h
-    k6t, k6o = y6o, rocking_accel(y6t, y6o, a0 + sa * (tt - t0), v0 + sv * (tt - t0), s, p2, alpha, g, linear)
-    th1 = th + h * (B1 * k1t + B3 * k3t + B4 * k4t + B5 * k5t + B6 * k6t)
-    om1 = om + h * (B1 * k1o + B3 * k3o + B4 * k4o + B5 * k5o + B6 * k6o)
-    ah7, av7 = a0 + sa * (tt - t0), v0 + sv * (tt - t0)
-    phi7 = alpha * s - th1                          # rocking_accel at the step's end, its sin and cos kept
-    sin7, cos7 = math.sin(phi7), math.cos(phi7)
-    k7t = om1
-    k7o = -p2 * ((1.0 + av7 / g) * phi7 + ah7 / g) if linear else accel_nonlinear(sin7, cos7, ah7, av7, p2, g)
-    et = h * (E1 * k1t + E3 * k3t + E4 * k4t + E5 * k5t + E6 * k6t + E7 * k7t)
-    eo = h * (E1 * k1o + E3 * k3o + E4 * k4o + E5 * k5o + E6 * k6o + E7 * k7o)
-    return th1, om1, et, eo, k7o, sin7, cos7
+    """One Dormand-Prince step (:func:`~.rk.rk_step` with :data:`~.rk.DOPRI54`) of length ``h`` [s] from
+    (t, theta, omega) on pivot side ``s`` under the ground piece ``pc`` (:class:`~.structures.GroundPiece`);
+    returns theta, omega, their error estimates, the angular acceleration at the step's end, and sin and cos of
+    alpha s - theta there (what the pivot's forces need: computed once, the same doubles as
+    :func:`rocking_accel`'s)."""
+    args = (pc, s, p2, alpha, g, linear)
+    y = (th, om)
+    f, _ = _plane(t, y, args)
+    st = rk_step(_plane, args, t, y, f, h, DOPRI54)
+    (sin_end, cos_end) = st.kept
+    return st.y[0], st.y[1], st.err[0], st.err[1], st.f[1], sin_end, cos_end
 
 
 @jit

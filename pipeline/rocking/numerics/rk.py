@@ -8,9 +8,11 @@ For y' = f(t, y), a step of length h from (t, y) with the stages
     k_s = f(t + h, y_1)
     err = h sum_j e_j k_j               (e = b - b^*, the embedded lower-order solution's difference)
 
-as scipy's ``integrate/_ivp/rk.py`` writes ``rk_step`` with each method's tableau as class attributes. The model's
-right-hand side is passed in, compiled: ``fun(t, y, args, out)`` writes f into ``out`` and returns what the model
-wants kept at the step's end (the contact forces of the 3D models, the pivot's sin and cos of the planar one).
+as scipy's ``integrate/_ivp/rk.py`` writes ``rk_step`` with each method's tableau as class attributes. The state is
+a tuple of floats, so that a compiled step keeps it in registers whatever its size (a plane's two states, a box's
+seven); the model's right-hand side is passed in, compiled: ``fun(t, y, args)`` returns f (a tuple like ``y``) and
+what the model wants kept at the step's end (the contact forces of the 3D models, the pivot's sin and cos of the
+planar one). Every sum runs over j in order from 0.0, so that a step gives the same doubles wherever it is called.
 
 References
 ----------
@@ -24,9 +26,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numpy as np
-
-from ...compiled import jit_inline
+from ...compiled import filled_like, jit_inline, tuple_with
 
 # The step-size control of the 3D models, named once (as scipy's _ivp names its step factors): the next step is
 # h SAFETY err^ERROR_EXPONENT (the error of order 4 of DOPRI54 over the tolerance), within the factors below
@@ -36,65 +36,98 @@ ERROR_EXPONENT = -0.2           # -1 / (4 + 1)
 
 
 class Tableau(NamedTuple):
-    """An embedded explicit Runge-Kutta method (its Butcher tableau).
+    """An embedded explicit Runge-Kutta method (its Butcher tableau), as tuples (constants of the compiled step).
 
     Attributes
     ----------
-    nodes : ndarray, shape (s - 1,)
+    nodes : tuple of float, length s - 1
         c_2 .. c_s [-] (c_1 = 0)
-    rows : ndarray, shape (s - 2, s - 2)
+    rows : tuple of tuples of float, (s - 2) x (s - 2)
         a_ij of stages 2 .. s - 1, row i - 2 (zeros beyond the diagonal)
-    b : ndarray, shape (s,)
+    b : tuple of float, length s
         the weights of the solution kept
-    e : ndarray, shape (s,)
+    e : tuple of float, length s
         the weights of the error estimate
     """
 
-    nodes: np.ndarray
-    rows: np.ndarray
-    b: np.ndarray
-    e: np.ndarray
+    nodes: tuple
+    rows: tuple
+    b: tuple
+    e: tuple
 
 
 #: Dormand & Prince (1980) RK5(4)7M, first same as last (7 stages, the 7th at the new point).
 DOPRI54 = Tableau(
-    nodes=np.array([1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0]),
-    rows=np.array([[1 / 5, 0.0, 0.0, 0.0, 0.0],
-                   [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
-                   [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
-                   [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
-                   [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656]]),
-    b=np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0]),
-    e=np.array([71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40]),
+    nodes=(1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0),
+    rows=((1 / 5, 0.0, 0.0, 0.0, 0.0),
+          (3 / 40, 9 / 40, 0.0, 0.0, 0.0),
+          (44 / 45, -56 / 15, 32 / 9, 0.0, 0.0),
+          (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0),
+          (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656)),
+    b=(35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0),
+    e=(71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40),
 )
 
 
+class Step(NamedTuple):
+    """What one step returns.
+
+    Attributes
+    ----------
+    y : tuple of float
+        the solution at t + h (the higher order)
+    err : tuple of float
+        the error estimate of ``y``, per state
+    f : tuple of float
+        f(t + h, y): the next step's first stage
+    kept : object
+        what the model's right-hand side returned beside f at t + h
+    """
+
+    y: tuple
+    err: tuple
+    f: tuple
+    kept: object
+
+
 @jit_inline
-def rk_step(fun, args, t, y, h, k, tmp, y_new, err, tableau):
-    """One step of ``tableau`` of length ``h`` [s] from ``(t, y)`` for the model ``fun`` (with its ``args``):
-    ``k[0]`` holds f at the start; the solution in ``y_new``, the error estimate in ``err``, every stage's f in
-    ``k`` (f at the end in its last row); ``tmp`` is room for a stage's state. Returns what ``fun`` returns at the
-    step's end."""
-    n, stages = y.shape[0], tableau.b.shape[0]
-    for s in range(stages - 2):
-        for q in range(n):
-            acc = 0.0
-            for j in range(s + 1):
-                acc += tableau.rows[s, j] * k[j, q]
-            tmp[q] = y[q] + h * acc
-        fun(t + tableau.nodes[s] * h, tmp, args, k[s + 1])
-    for q in range(n):
+def _combined(y, h, weights, stages, count):
+    """y + h sum_{j < count} weights_j stages_j, per state (the sum from 0.0, in j's order)."""
+    out = y
+    for q in range(len(y)):
         acc = 0.0
-        for j in range(stages - 1):
-            acc += tableau.b[j] * k[j, q]
-        y_new[q] = y[q] + h * acc
-    kept = fun(t + h, y_new, args, k[stages - 1])
-    for q in range(n):
+        for j in range(count):
+            acc += weights[j] * stages[j][q]
+        out = tuple_with(out, q, y[q] + h * acc)
+    return out
+
+
+@jit_inline
+def _weighted(h, weights, stages):
+    """h sum_j weights_j stages_j, per state (the sum from 0.0, in j's order)."""
+    out = stages[0]
+    for q in range(len(out)):
         acc = 0.0
-        for j in range(stages):
-            acc += tableau.e[j] * k[j, q]
-        err[q] = h * acc
-    return kept
+        for j in range(len(weights)):
+            acc += weights[j] * stages[j][q]
+        out = tuple_with(out, q, h * acc)
+    return out
+
+
+@jit_inline
+def rk_step(fun, args, t, y, f, h, tableau):
+    """One step of ``tableau`` of length ``h`` [s] from ``(t, y)`` for the model ``fun`` with its ``args``, ``f``
+    being f(t, y); returns a :class:`Step`."""
+    stages = filled_like(f, tableau.b)
+    for s in range(len(tableau.rows)):
+        y_s = _combined(y, h, tableau.rows[s], stages, s + 1)
+        f_s, _ = fun(t + tableau.nodes[s] * h, y_s, args)
+        stages = tuple_with(stages, s + 1, f_s)
+    last = len(tableau.b) - 1
+    y_new = _combined(y, h, tableau.b, stages, last)
+    f_new, kept = fun(t + h, y_new, args)
+    stages = tuple_with(stages, last, f_new)
+    return Step(y_new, _weighted(h, tableau.e, stages), f_new, kept)
 
 
 @jit_inline

@@ -12,11 +12,12 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ...compiled import jit, jit_inline
+from ...compiled import array_as_tuple, jit, jit_inline, store
 from ..numerics.rk import DOPRI54, rk_step
 from .vec3 import cross, effective_gravity, error_norm, shifted, solve3, solve_sym3
 
 REST, CORNER, EDGE, TWIST_NEXT, TWIST_PREV = -1, 0, 1, 2, 3
+STATE_SIZE = 7                  # the quaternion and the angular velocity
 
 # Step limits and events, named once (the step-size factors: ..numerics.rk)
 MAX_STEPS_PER_SAMPLE = 2000     # steps allowed per record sample before the run ends, flagged
@@ -154,13 +155,13 @@ def edge_ends_hold(force, mu, ux, uy):
 
 
 @jit
-def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
+def derivatives(y, gx, gy, gz, prm, mode, pivot):
     """d/dt of the state on a corner, an edge, or a corner with the edge's other corner sliding (the module's
-    equations) under the effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); returns the contact force per
-    unit mass (F_x, F_y, F_z) and, on an edge, the normal forces at its two corners (N_1 at ``pivot``, N_2 at
-    ``pivot + 1``) and the second corner's force across the edge (along e_z x u: the yaw couple of the two corners,
-    from the contact's moment about the pivot, ``M_z / L``); with a corner sliding, the pivot's force, its normal
-    force and the sliding corner's (and 0)."""
+    equations) under the effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z), as a tuple like ``y``; and the
+    contact force per unit mass (F_x, F_y, F_z) and, on an edge, the normal forces at its two corners (N_1 at
+    ``pivot``, N_2 at ``pivot + 1``) and the second corner's force across the edge (along e_z x u: the yaw couple of
+    the two corners, from the contact's moment about the pivot, ``M_z / L``); with a corner sliding, the pivot's
+    force, its normal force and the sliding corner's (and 0)."""
     m = rotation(y)
     rx, ry, rz = lever(m, pivot, prm)
     ig = _inertia_g(m, prm)
@@ -193,41 +194,43 @@ def derivatives(y, gx, gy, gz, prm, mode, pivot, out):
         alx, aly, alz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], tx - gyx, ty - gyy, tz - gyz)
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
     cx, cy, cz = cross(wx, wy, wz, q1, q2, q3)
-    out[0] = -0.5 * (wx * q1 + wy * q2 + wz * q3)
-    out[1], out[2], out[3] = 0.5 * (q0 * wx + cx), 0.5 * (q0 * wy + cy), 0.5 * (q0 * wz + cz)
-    out[4], out[5], out[6] = alx, aly, alz
+    f = (-0.5 * (wx * q1 + wy * q2 + wz * q3), 0.5 * (q0 * wx + cx), 0.5 * (q0 * wy + cy), 0.5 * (q0 * wz + cz),
+         alx, aly, alz)
     vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
     ax1, ay1, az1 = cross(alx, aly, alz, rx, ry, rz)
     ax2, ay2, az2 = cross(wx, wy, wz, vx, vy, vz)
     fx, fy, fz = ax1 + ax2 - gx, ay1 + ay2 - gy, az1 + az2 - gz
     if twist:
-        return fx, fy, fz - n2, fz - n2, n2, 0.0      # the pivot's force, its normal force, the sliding corner's
+        return f, (fx, fy, fz - n2, fz - n2, n2, 0.0)  # the pivot's force, its normal force, the sliding corner's
     if mode == EDGE:
         mx, my, mz = _sym_apply(ip, alx, aly, alz)
         mx, my, mz = mx + gyx - tx, my + gyy - ty, mz + gyz - tz
         n2 = -(mx * -uy + my * ux) / length          # N_2 = -M_P . (e_z x w) / L
         n1 = fz - n2
-        return fx, fy, fz, n1, n2, mz / length       # F_2 . (e_z x u) = M_P,z / L (the edge on the ground)
-    return fx, fy, fz, n1, n2, 0.0
+        return f, (fx, fy, fz, n1, n2, mz / length)  # F_2 . (e_z x u) = M_P,z / L (the edge on the ground)
+    return f, (fx, fy, fz, n1, n2, 0.0)
 
 
 @jit_inline
-def _rhs(t, y, args, out):
-    """f of the box in ``mode`` on ``pivot`` (``args``: sample interval, ground, constants, mode, pivot) at ``t``
-    into ``out``; returns the contact forces (:func:`derivatives`)."""
+def _rhs(t, y, args):
+    """f of the box in ``mode`` on ``pivot`` (``args``: sample interval, ground, constants, mode, pivot) at ``t``,
+    and the contact forces (:func:`derivatives`)."""
     i, grd, prm, mode, pivot = args
     gx, gy, gz = effective_gravity(t, i, grd)
-    return derivatives(y, gx, gy, gz, prm, mode, pivot, out)
+    return derivatives(y, gx, gy, gz, prm, mode, pivot)
 
 
 @jit
-def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force):
+def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, y_new, err, force):
     """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f at the
     start): the 5th-order state in ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces
     there in ``force``."""
-    f = rk_step(_rhs, (i, grd, prm, mode, pivot), t, y, hh, k, tmp, y_new, err, DOPRI54)
-    for q in range(FORCE_SIZE):
-        force[q] = f[q]
+    st = rk_step(_rhs, (i, grd, prm, mode, pivot), t, array_as_tuple(y, STATE_SIZE), array_as_tuple(k[0], STATE_SIZE),
+                 hh, DOPRI54)
+    store(y_new, st.y)
+    store(err, st.err)
+    store(k[6], st.f)
+    store(force, st.kept)
 
 
 @jit

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ...compiled import jit, jit_inline
+from ...compiled import jit, jit_inline, store
 from ..numerics.rk import next_step, rejected_step
 from .box_kernel import (
     CORNER,
@@ -17,6 +17,7 @@ from .box_kernel import (
     MAX_STEPS_PER_SAMPLE,
     REST,
     REST_RATE,
+    STATE_SIZE,
     TWIST_NEXT,
     TWIST_PREV,
     BoxRun,
@@ -160,17 +161,17 @@ def _flat_landing(y, j, keep, prm):
 
 
 @jit
-def _lifts(y, t, i, grd, prm, keep, free, scratch):
+def _lifts(y, t, i, grd, prm, keep, free):
     """Whether corner ``free`` of an edge would rise with the box turning on corner ``keep`` alone (its vertical
     acceleration there > 0). With the edge's normal force at ``free`` <= 0 this is the consistent lift; where it
     would not rise, that corner can neither pull nor lift, and only a slip of it (a twist) resolves the contact."""
     gx, gy, gz = effective_gravity(t, i, grd)
-    derivatives(y, gx, gy, gz, prm, CORNER, keep, scratch)
+    f, _ = derivatives(y, gx, gy, gz, prm, CORNER, keep)
     m = rotation(y)
     ax_, ay_, az_ = corner(free, prm)
     bx_, by_, bz_ = corner(keep, prm)
     dx, dy, dz = _apply(m, ax_ - bx_, ay_ - by_, az_ - bz_)
-    a1 = cross(scratch[4], scratch[5], scratch[6], dx, dy, dz)
+    a1 = cross(f[4], f[5], f[6], dx, dy, dz)
     vx, vy, vz = cross(y[4], y[5], y[6], dx, dy, dz)
     a2 = cross(y[4], y[5], y[6], vx, vy, vz)
     return a1[2] + a2[2] > 0.0
@@ -210,10 +211,10 @@ def _rzz(y):
 
 
 @jit
-def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch):
+def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_out, azimuth_out, scratch):
     """Advance to the fraction ``x`` of the step (an exact Runge-Kutta step there); returns the new time."""
     hl = max(x * hh, 1e-15 * grd.dt)
-    dopri_step(t, y, hl, i, grd, prm, mode, pivot, k, tmp, y_new, err, force)
+    dopri_step(t, y, hl, i, grd, prm, mode, pivot, k, y_new, err, force)
     _fill(tilt_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0], scratch)
     y[:] = y_new
     return t + hl
@@ -257,13 +258,13 @@ def _fresh_pass(y, t, i, grd, prm, mode, pivot, k, force0):
     lifts (it would rise) or slides (it can neither press nor rise), and a sliding corner that is unloaded lifts.
     Returns (mode, pivot, whether they changed)."""
     gx, gy, gz = effective_gravity(t, i, grd)
-    f = derivatives(y, gx, gy, gz, prm, mode, pivot, k[0])
-    for q in range(FORCE_SIZE):
-        force0[q] = f[q]
+    f0, f = derivatives(y, gx, gy, gz, prm, mode, pivot)
+    store(k[0], f0)
+    store(force0, f)
     if mode == EDGE and min(f[3], f[4]) <= UNLOADED * grd.g and f[2] > 0.0:
         keep = pivot if f[4] <= f[3] else (pivot + 1) % 4
         free = (pivot + 1) % 4 if keep == pivot else pivot
-        if _lifts(y, t, i, grd, prm, keep, free, k[1]):
+        if _lifts(y, t, i, grd, prm, keep, free):
             return CORNER, keep, True
         return (TWIST_NEXT if keep == pivot else TWIST_PREV), keep, True
     if (mode == TWIST_NEXT or mode == TWIST_PREV) and f[4] <= 0.0 and f[2] > 0.0:
@@ -366,14 +367,14 @@ def _hold(y, i, dt, tilt_out, azimuth_out):
 
 
 @jit_inline
-def _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+def _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_out, azimuth_out,
             scratch, i_landed, landed_here):
     """A base corner lands at the fraction ``x`` of the step (corner ``kc``; another at ``x_next``): the state
     advanced there, the impact applied, and a cascade of flat landings in one sample interval held at rest
     (:func:`_hold`). Returns the time, the mode and pivot, the landings counted in this interval and whether it was
     held."""
     flat = mode != CORNER or (x_next - x) * hh <= TOGETHER_S
-    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch)
+    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_out, azimuth_out, scratch)
     mode, pivot = _after_landing(y, mode, pivot, kc, (x_next - x) * hh <= TOGETHER_S, prm)
     landed_here = landed_here + 1 if i == i_landed and flat else (1 if flat else 0)
     if landed_here > MAX_FLAT_LANDINGS_PER_SAMPLE and mode != REST:
@@ -383,11 +384,11 @@ def _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, tmp, y_new, er
 
 
 @jit_inline
-def _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out,
+def _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_out, azimuth_out,
                  scratch):
     """A contact event at the fraction ``x`` of the step (:func:`_contact_event`): the state advanced there and
     the sliding corner stuck where an edge follows. Returns the time, the mode that follows and the pivot."""
-    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force, tilt_out, azimuth_out, scratch)
+    t = _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_out, azimuth_out, scratch)
     if then == EDGE and mode != EDGE:
         pivot = _stick(y, mode, pivot, prm)
     return t, then, pivot
@@ -417,7 +418,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     rest): the tilt and azimuth at the samples, the last state, the last certified before a stop (:func:`certify`)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
     n, y, mode, pivot = ax.shape[0], _start_state(y0, mode0), mode0, pivot0
-    k, tmp, y_new, err = np.zeros((7, 7)), np.empty(7), np.empty(7), np.empty(7)
+    k, y_new, err = np.zeros((7, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
     force, force0, scratch = np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4)
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
     i_landed, landed_here, holds = -1, 0, 0
@@ -439,7 +440,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             if fresh:
                 continue        # the mode changed: f again
         hh = min(hh_next, (i + 1) * dt - t)
-        dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, tmp, y_new, err, force)
+        dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, y_new, err, force)
         norm = _error_norm(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
             hh_next = rejected_step(hh, norm)
@@ -450,14 +451,14 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             break
         x, kc, x_next = _landing(y, k[0], y_new, k[6], hh, mode, pivot, prm)
         if kc >= 0:
-            t, mode, pivot, landed_here, was_held = _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, tmp,
-                                                            y_new, err, force, tilt_out, azimuth_out, scratch,
+            t, mode, pivot, landed_here, was_held = _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, y_new,
+                                                            err, force, tilt_out, azimuth_out, scratch,
                                                             i_landed, landed_here)
             impacts, holds, i_landed, fresh = impacts + 1, holds + was_held, i, True
             continue
         x, then = _contact_event(y, y_new, force, force0, mode, held, prm)
         if x >= 0.0:        # an edge's unloaded corner: the fresh pass decides lift or slide
-            t, mode, pivot = _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, tmp, y_new, err, force,
+            t, mode, pivot = _event_taken(t, hh, x, then, i, grd, prm, mode, pivot, y, k, y_new, err, force,
                                           tilt_out, azimuth_out, scratch)
             fresh = True
             continue

@@ -74,11 +74,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline
+from ...compiled import jit, jit_inline, store
 from ..geometry import cylinder_p_e
 from ..numerics.rk import next_step, rejected_step
 from .convex_body import ConvexBody, cylinder_body
 from .cylinder_kernel import (
+    STATE_SIZE,
     derivatives,
     dopri_step,
     error_over_tolerance,
@@ -221,13 +222,13 @@ def _lift_off(t, i, grd, prm, y):
 
 
 @jit
-def _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out):
+def _land_inside(t, hh, i, grd, prm, y, k, y_new, err, theta_out, azimuth_out):
     """The base lands flat inside the step from ``t``: the landing located on the step's cubic, the state
     advanced to it (exact Runge-Kutta step) and the impact applied; returns the time, and whether the rebound is
     too slow to go on (rest)."""
     x = first_below(y[0], k[0, 0], y_new[0], k[6, 0], hh, prm.land)
     hl = max(x * hh, 1e-15 * grd.dt)
-    dopri_step(t, y, hl, i, grd, prm, k, tmp, y_new, err)
+    dopri_step(t, y, hl, i, grd, prm, k, y_new, err)
     _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])
     y[:] = y_new
     rate = landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
@@ -299,7 +300,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
     grd, prm = Ground(ax, ay, az, dt, g), params_of(g, a, h, mu, scale, rtol, atol_alpha)
     n, (y, rocking) = ax.shape[0], _start_state(y0, prm.land)
-    k, tmp, y_new, err = np.zeros((7, 6)), np.empty(6), np.empty(6), np.empty(6)
+    k, y_new, err = np.zeros((7, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
@@ -318,10 +319,10 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             break
         if fresh:
             gx, gy, gz = effective_gravity(t, i, grd)
-            derivatives(y, gx, gy, gz, a, h, prm.i1, prm.i3, k[0])
+            store(k[0], derivatives(y, gx, gy, gz, a, h, prm.i1, prm.i3)[0])
             fresh = False
         hh = min(hh_next, (i + 1) * dt - t)
-        force = dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err)
+        force = dopri_step(t, y, hh, i, grd, prm, k, y_new, err)
         norm = error_over_tolerance(y, y_new, err, prm)
         if not norm <= 1.0:          # rejected (NaN too)
             hh_next = rejected_step(hh, norm)
@@ -332,7 +333,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             break
         if y_new[0] < prm.land:                                  # the base lands flat inside the step
             impacts += 1
-            t, rests = _land_inside(t, hh, i, grd, prm, y, k, tmp, y_new, err, theta_out, azimuth_out)
+            t, rests = _land_inside(t, hh, i, grd, prm, y, k, y_new, err, theta_out, azimuth_out)
             rocking, fresh = not rests, True
             continue
         flag, held = _held_past_alpha(_flag_certified(force, mu, held, cert, t, y), held, y_new[0], y_new[3],

@@ -13,12 +13,13 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ...compiled import jit, jit_inline
+from ...compiled import array_as_tuple, jit, jit_inline, store
 from ..numerics.rk import DOPRI54, rk_step
 from .vec3 import cross as _cross
 from .vec3 import effective_gravity, error_norm
 from .vec3 import solve_sym3 as _solve_sym3
 
+STATE_SIZE = 6                  # the Euler angles and their rates
 LAND_THETA_ALPHA = 1e-9         # theta (fraction of alpha) at which the base is taken to land flat, or starts
 
 
@@ -59,10 +60,10 @@ def frame(th, ph, a, h):
 
 
 @jit
-def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
+def derivatives(y, gx, gy, gz, a, h, i1, i3):
     """d/dt of the state (theta, phi, psi, theta', phi', psi') rolling on the rim, per unit mass, under the
-    effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z); also returns the contact force per unit mass
-    (F_x, F_y, F_z) = a_G - g_eff."""
+    effective gravity (gx, gy, gz) = (-a_x, -a_y, -g - a_z), as a tuple like ``y``; and the contact force per unit
+    mass (F_x, F_y, F_z) = a_G - g_eff."""
     th, ph, tdot, pdot, sdot = y[0], y[1], y[3], y[4], y[5]
     st, ct, sp, cp, lever, up = frame(th, ph, a, h)
     e3x, e3y, e3z = st * cp, st * sp, ct
@@ -96,27 +97,31 @@ def derivatives(y, gx, gy, gz, a, h, i1, i3, out):
     ux, uy = ux - tdd * enx, uy - tdd * eny
     sdd = (ux * cp + uy * sp) / st
     pdd = uz - sdd * ct
-    out[0], out[1], out[2], out[3], out[4], out[5] = tdot, pdot, sdot, tdd, pdd, sdd
     # the contact force per unit mass: a_G - g_eff, a_G = omega' x r + omega x r'
     agx, agy, agz = _cross(alx, aly, alz, rx, ry, rz)
-    return agx + wrx - gx, agy + wry - gy, agz + wrz - gz
+    return (tdot, pdot, sdot, tdd, pdd, sdd), (agx + wrx - gx, agy + wry - gy, agz + wrz - gz)
 
 
 @jit_inline
-def _rhs(t, y, args, out):
-    """f of the rolling cylinder (``args``: sample interval, ground, constants) at ``t`` into ``out``; returns the
-    contact force per unit mass (:func:`derivatives`)."""
+def _rhs(t, y, args):
+    """f of the rolling cylinder (``args``: sample interval, ground, constants) at ``t``, and the contact force per
+    unit mass (:func:`derivatives`)."""
     i, grd, prm = args
     gx, gy, gz = effective_gravity(t, i, grd)
-    return derivatives(y, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3, out)
+    return derivatives(y, gx, gy, gz, prm.a, prm.h, prm.i1, prm.i3)
 
 
 @jit
-def dopri_step(t, y, hh, i, grd, prm, k, tmp, y_new, err):
+def dopri_step(t, y, hh, i, grd, prm, k, y_new, err):
     """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f
     at the start, FSAL): the 5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in
     ``k[6]``; returns the contact force per unit mass at the end."""
-    return rk_step(_rhs, (i, grd, prm), t, y, hh, k, tmp, y_new, err, DOPRI54)
+    st = rk_step(_rhs, (i, grd, prm), t, array_as_tuple(y, STATE_SIZE), array_as_tuple(k[0], STATE_SIZE), hh,
+                 DOPRI54)
+    store(y_new, st.y)
+    store(err, st.err)
+    store(k[6], st.f)
+    return st.kept
 
 
 @jit
