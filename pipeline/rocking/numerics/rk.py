@@ -1,12 +1,12 @@
-"""One explicit embedded Runge-Kutta step for every ODE model of the package, its method's coefficients as data.
+"""One explicit Runge-Kutta step for every ODE model of the package, its method's coefficients as data.
 
 For y' = f(t, y), a step of length h from (t, y) with the stages
 
-    k_1 = f(t, y)                       (given: the last step's k_s, "first same as last")
-    k_i = f(t + c_i h, y + h sum_{j<i} a_ij k_j),      i = 2 .. s - 1
-    y_1 = y + h sum_j b_j k_j
-    k_s = f(t + h, y_1)
-    err = h sum_j e_j k_j               (e = b - b^*, the embedded lower-order solution's difference)
+    k_1 = f(t, y)                       (given: a method "first same as last" has it from the last step's k_s)
+    k_i = f(t + c_i h, y + h sum_{j<i} a_ij k_j),      i = 2 .. r + 1   (the tableau's r rows)
+    y_1 = y + h sum_{j <= r + 1} b_j k_j
+    k_s = f(t + h, y_1)                 (first same as last only: s = r + 2 weights, b_s = 0)
+    err = h sum_j e_j k_j               (e = b - b^*, the embedded lower-order solution's difference; 0 without one)
 
 as scipy's ``integrate/_ivp/rk.py`` writes ``rk_step`` with each method's tableau as class attributes. The state is
 a tuple of floats, so that a compiled step keeps it in registers whatever its size (a plane's two states, a box's
@@ -19,7 +19,9 @@ References
 Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae. J. Comput. Appl. Math.
 6(1), 19-26.
 Hairer, E., Norsett, S. P. & Wanner, G. (1993). Solving Ordinary Differential Equations I, 2nd ed., Springer,
-section II.5 (embedded formulae, Table 5.2: DOPRI5).
+section II.1 (Table 1.2: the classical method) and II.5 (embedded formulae, Table 5.2: DOPRI5).
+Kutta, W. (1901). Beitrag zur naeherungsweisen Integration totaler Differentialgleichungen. Z. Math. Phys. 46,
+435-453.
 """
 
 from __future__ import annotations
@@ -40,14 +42,14 @@ class Tableau(NamedTuple):
 
     Attributes
     ----------
-    nodes : tuple of float, length s - 1
-        c_2 .. c_s [-] (c_1 = 0)
-    rows : tuple of tuples of float, (s - 2) x (s - 2)
-        a_ij of stages 2 .. s - 1, row i - 2 (zeros beyond the diagonal)
-    b : tuple of float, length s
+    nodes : tuple of float, length r (first same as last: r + 1)
+        c_2 .. c_{r+1} [-] (c_1 = 0; first same as last: then c_s = 1)
+    rows : tuple of tuples of float, r x r
+        a_ij of stages 2 .. r + 1, row i - 2 (zeros beyond the diagonal)
+    b : tuple of float, length s (r + 1, or r + 2 for a method first same as last, its last weight 0)
         the weights of the solution kept
     e : tuple of float, length s
-        the weights of the error estimate
+        the weights of the error estimate (zeros for a method without one)
     """
 
     nodes: tuple
@@ -68,6 +70,17 @@ DOPRI54 = Tableau(
     e=(71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40),
 )
 
+#: The classical Runge-Kutta method of order 4 (Kutta 1901; Hairer et al. 1993, Table 1.2), without an error
+#: estimate: for the fixed steps of the planar contact model.
+RK4 = Tableau(
+    nodes=(1 / 2, 1 / 2, 1.0),
+    rows=((1 / 2, 0.0, 0.0),
+          (0.0, 1 / 2, 0.0),
+          (0.0, 0.0, 1.0)),
+    b=(1 / 6, 1 / 3, 1 / 3, 1 / 6),
+    e=(0.0, 0.0, 0.0, 0.0),
+)
+
 
 class Step(NamedTuple):
     """What one step returns.
@@ -79,9 +92,9 @@ class Step(NamedTuple):
     err : tuple of float
         the error estimate of ``y``, per state
     f : tuple of float
-        f(t + h, y): the next step's first stage
+        a method first same as last: f(t + h, y), the next step's first stage; otherwise the last stage's f
     kept : object
-        what the model's right-hand side returned beside f at t + h
+        what the model's right-hand side returned beside f at its last evaluation (first same as last: at t + h)
     """
 
     y: tuple
@@ -121,12 +134,14 @@ def rk_step(fun, args, t, y, f, h, tableau):
     stages = filled_like(f, tableau.b)
     for s in range(len(tableau.rows)):
         y_s = _combined(y, h, tableau.rows[s], stages, s + 1)
-        f_s, _ = fun(t + tableau.nodes[s] * h, y_s, args)
+        f_s, kept = fun(t + tableau.nodes[s] * h, y_s, args)
         stages = tuple_with(stages, s + 1, f_s)
-    last = len(tableau.b) - 1
-    y_new = _combined(y, h, tableau.b, stages, last)
-    f_new, kept = fun(t + h, y_new, args)
-    stages = tuple_with(stages, last, f_new)
+    solved = len(tableau.rows) + 1
+    y_new = _combined(y, h, tableau.b, stages, solved)
+    f_new = stages[solved - 1]
+    if len(tableau.b) > solved:                     # first same as last: the last stage is f at the new point
+        f_new, kept = fun(t + h, y_new, args)
+        stages = tuple_with(stages, solved, f_new)
     return Step(y_new, _weighted(h, tableau.e, stages), f_new, kept)
 
 

@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import math
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 from ..codes import (
     FLIGHT,
     MODE_FLIGHT,
@@ -69,6 +69,7 @@ from ..codes import (
     SLIDE,
     SLIDE_ROCK,
 )
+from ..numerics.rk import RK4, rk_step
 from ..rules import rocks_compiled
 from .kernel import free_outcome
 
@@ -109,28 +110,24 @@ def accelerations(mode, c, sigma, theta, w, a, G, blk):
     return -a - sigma * mu * N, -G + N, aw, N, -sigma * mu * N
 
 
+@jit_inline
+def _motion(t, state, args):
+    """f of the state (x, y, theta, u, v, w) in the mode (``args``: mode, corner, slip sign, the ground piece's
+    t0, a0, sa, v0, sv, the block) at ``t``; the contact force per unit mass (N, F_x) kept."""
+    mode, c, sigma, t0, a0, sa, v0, sv, blk = args
+    _x, _y, th, u, v, w = state
+    ax, ay, aw, n, f = accelerations(mode, c, sigma, th, w, a0 + sa * (t - t0), blk.g + v0 + sv * (t - t0), blk)
+    return (u, v, w, ax, ay, aw), (n, f)
+
+
 @jit
 def _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk):
-    """One classical Runge-Kutta step of length ``hh`` from t; the ground is a0 + sa (t - t0), G likewise."""
-    g = blk.g
-    ax1, ay1, aw1, _n, _f = accelerations(mode, c, sigma, th, w, a0 + sa * (t - t0), g + v0 + sv * (t - t0), blk)
-    tm = t + 0.5 * hh
-    am, gm = a0 + sa * (tm - t0), g + v0 + sv * (tm - t0)
-    u2, v2, w2 = u + 0.5 * hh * ax1, v + 0.5 * hh * ay1, w + 0.5 * hh * aw1
-    ax2, ay2, aw2, _n, _f = accelerations(mode, c, sigma, th + 0.5 * hh * w, w2, am, gm, blk)
-    u3, v3, w3 = u + 0.5 * hh * ax2, v + 0.5 * hh * ay2, w + 0.5 * hh * aw2
-    ax3, ay3, aw3, _n, _f = accelerations(mode, c, sigma, th + 0.5 * hh * w2, w3, am, gm, blk)
-    u4, v4, w4 = u + hh * ax3, v + hh * ay3, w + hh * aw3
-    te = t + hh
-    ax4, ay4, aw4, _n, _f = accelerations(mode, c, sigma, th + hh * w3, w4, a0 + sa * (te - t0),
-                                          g + v0 + sv * (te - t0), blk)
-    x1 = x + hh / 6.0 * (u + 2.0 * u2 + 2.0 * u3 + u4)
-    y1 = y + hh / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
-    th1 = th + hh / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4)
-    u1 = u + hh / 6.0 * (ax1 + 2.0 * ax2 + 2.0 * ax3 + ax4)
-    v1 = v + hh / 6.0 * (ay1 + 2.0 * ay2 + 2.0 * ay3 + ay4)
-    w1 = w + hh / 6.0 * (aw1 + 2.0 * aw2 + 2.0 * aw3 + aw4)
-    return x1, y1, th1, u1, v1, w1
+    """One classical Runge-Kutta step (:func:`~..numerics.rk.rk_step` with :data:`~..numerics.rk.RK4`) of length
+    ``hh`` from t; the ground is a0 + sa (t - t0), G likewise. Returns the state (x, y, theta, u, v, w) at its end."""
+    args = (mode, c, sigma, t0, a0, sa, v0, sv, blk)
+    state = (x, y, th, u, v, w)
+    f, _ = _motion(t, state, args)
+    return rk_step(_motion, args, t, state, f, hh, RK4).y
 
 
 @jit

@@ -44,10 +44,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 from ...constants import G
 from ...shapes.hull import HullChain
 from ..codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_LIFTOFF
+from ..numerics.rk import RK4, rk_step
 
 #: Runge-Kutta steps per sample of the record
 SUBSTEPS = 4
@@ -132,16 +133,24 @@ def _contact(theta, omega, u, z, inertia, ah, gv, demand, status):
     return max(demand, abs(fx) / fz), status
 
 
+@jit_inline
+def _rolling(t, y, args):
+    """f of (theta, omega) on the pivot at (u, z) at ``t`` [s] into a step of length h, the ground going linearly
+    from a0 to a1 and g + a_v from v0 to v1 over it (``args``: u, z, inertia, a0, a1, v0, v1, h)."""
+    u, z, inertia, a0, a1, v0, v1, h = args
+    frac = t / h if h > 0.0 else 0.0
+    theta, omega = y
+    return (omega, _accel(theta, u, z, inertia, a0 + (a1 - a0) * frac, v0 + (v1 - v0) * frac)), 0.0
+
+
 @jit
 def _rk4(theta, omega, u, z, inertia, a0, a1, v0, v1, h):
-    """One Runge-Kutta step of length h [s], the ground going linearly from a0 to a1 and g + a_v from v0 to v1
-    [m s-2]."""
-    am, vm = 0.5 * (a0 + a1), 0.5 * (v0 + v1)
-    k1t, k1o = omega, _accel(theta, u, z, inertia, a0, v0)
-    k2t, k2o = omega + 0.5 * h * k1o, _accel(theta + 0.5 * h * k1t, u, z, inertia, am, vm)
-    k3t, k3o = omega + 0.5 * h * k2o, _accel(theta + 0.5 * h * k2t, u, z, inertia, am, vm)
-    k4t, k4o = omega + h * k3o, _accel(theta + h * k3t, u, z, inertia, a1, v1)
-    return theta + h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t), omega + h / 6.0 * (k1o + 2 * k2o + 2 * k3o + k4o)
+    """One classical Runge-Kutta step (:func:`~..numerics.rk.rk_step` with :data:`~..numerics.rk.RK4`) of length
+    h [s], the ground going linearly from a0 to a1 and g + a_v from v0 to v1 [m s-2]; returns (theta, omega)."""
+    args = (u, z, inertia, a0, a1, v0, v1, h)
+    y = (theta, omega)
+    f, _ = _rolling(0.0, y, args)
+    return rk_step(_rolling, args, 0.0, y, f, h, RK4).y
 
 
 @jit

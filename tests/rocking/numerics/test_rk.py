@@ -1,6 +1,7 @@
-"""The one Runge-Kutta step (pipeline.rocking.numerics.rk) against independent truth: the order of the method on an
-equation with a closed form, and scipy's own Dormand-Prince step (``scipy.integrate._ivp.rk.rk_step`` with RK45's
-tableau) on the oscillator and on the rocking equation the planar kernel steps."""
+"""The one Runge-Kutta step (pipeline.rocking.numerics.rk) against independent truth: the order of each method on an
+equation with a closed form, the classical method against Kutta's formula written out, and scipy's own
+Dormand-Prince step (``scipy.integrate._ivp.rk.rk_step`` with RK45's tableau) on the oscillator and on the rocking
+equation the planar kernel steps."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from scipy.integrate._ivp import rk as scipy_rk
 
 from pipeline.compiled import jit
 from pipeline.rocking.numerics.dopri import accel_nonlinear, dopri_step
-from pipeline.rocking.numerics.rk import DOPRI54, rk_step
+from pipeline.rocking.numerics.rk import DOPRI54, RK4, rk_step
 from pipeline.rocking.structures import GroundPiece
 
 
@@ -27,6 +28,12 @@ def _oscillator(t, y, args):
 def _step(t, y, h, args):
     f, _ = _oscillator(t, y, args)
     return rk_step(_oscillator, args, t, y, f, h, DOPRI54)
+
+
+@jit
+def _step_rk4(t, y, h, args):
+    f, _ = _oscillator(t, y, args)
+    return rk_step(_oscillator, args, t, y, f, h, RK4)
 
 
 def _scipy_step(fun, t, y, h):
@@ -51,6 +58,36 @@ def test_the_tableau_is_consistent_and_of_order_five():
             y = _step(i * h, y, h, (1.0, 0.0)).y
         errors.append(max(abs(y[0] - math.cos(2.0)), abs(y[1] + math.sin(2.0))))
     assert 2 ** 4.5 < errors[0] / errors[1] < 2 ** 5.5
+
+
+def test_the_classical_method_is_of_order_four_and_kuttas_step():
+    """RK4's rows sum to its nodes and its weights to 1; halving the step on y'' = -y divides the error at t = 2
+    by about 2^4; and one step is Kutta's formula y + h/6 (k1 + 2 k2 + 2 k3 + k4), written out here, to rounding."""
+    for row, node in zip(RK4.rows, RK4.nodes, strict=True):
+        assert sum(row) == pytest.approx(node, abs=1e-15)
+    assert sum(RK4.b) == pytest.approx(1.0, abs=1e-15)
+    errors = []
+    for h in (0.1, 0.05):
+        y = (1.0, 0.0)
+        for i in range(int(round(2.0 / h))):
+            y = _step_rk4(i * h, y, h, (1.0, 0.0)).y
+        errors.append(max(abs(y[0] - math.cos(2.0)), abs(y[1] + math.sin(2.0))))
+    assert 2 ** 3.5 < errors[0] / errors[1] < 2 ** 4.5
+    rng = np.random.default_rng(11)
+    for _ in range(100):
+        w, a, t, h = rng.uniform(0.5, 20), rng.normal(0, 5), rng.uniform(0, 10), rng.uniform(1e-4, 0.05)
+        y = np.array(rng.normal(0, 1, 2))
+
+        def f(t_, y_, w=w, a=a):
+            return np.array([y_[1], -w * w * y_[0] + a * t_])
+
+        k1 = f(t, y)
+        k2 = f(t + h / 2, y + h / 2 * k1)
+        k3 = f(t + h / 2, y + h / 2 * k2)
+        k4 = f(t + h, y + h * k3)
+        got = _step_rk4(t, tuple(y), h, (w, a))
+        assert np.allclose(got.y, y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4), rtol=1e-14, atol=1e-15)
+        assert got.err == (0.0, 0.0)
 
 
 def test_the_step_is_scipys_on_a_forced_oscillator():
