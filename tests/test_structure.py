@@ -166,3 +166,36 @@ def test_every_function_of_the_solids_and_contact_code_is_documented_and_short()
                 if lines > SOLIDS_MAX_FUNCTION_LINES or not ast.get_docstring(node):
                     long_or_bare.append(f"{rel}:{node.lineno} {node.name} ({lines} lines)")
     assert long_or_bare == [], "split it, or say what it does"
+
+
+#: The weights of the Runge-Kutta methods (numerics/rk.py's tableaux), as a step written out would spell them.
+RK_WEIGHTS = {35 / 384, 500 / 1113, 125 / 192, 2187 / 6784, 11 / 84, 71 / 57600, 9017 / 3168, 19372 / 6561}
+
+
+def _stages_written_out(function):
+    """The stage numbers a function assigns as a written-out step names its stages (k1, k2o, k3t ...)."""
+    numbers = set()
+    for node in ast.walk(function):
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            name = node.id
+            if len(name) in (2, 3) and name[0] == "k" and name[1] in "1234567" and name[2:] in ("", "t", "o"):
+                numbers.add(name[1])
+    return numbers
+
+
+def test_one_runge_kutta_step_in_the_tree():
+    """Every ODE model steps through numerics/rk.py's rk_step: no other function names three or more stages k1, k2,
+    k3 ... written out, and no other module spells a weight of the methods' tableaux (35 / 384 and the like)."""
+    found = []
+    for rel, tree in _modules():
+        if rel == "rocking/numerics/rk.py":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and len(_stages_written_out(node)) >= 3:
+                found.append(f"{rel}:{node.lineno} {node.name}")
+            if (isinstance(node, ast.BinOp) and isinstance(node.op, ast.Div)
+                    and all(isinstance(v, ast.Constant) and isinstance(v.value, (int, float))
+                            for v in (node.left, node.right))
+                    and node.right.value and node.left.value / node.right.value in RK_WEIGHTS):
+                found.append(f"{rel}:{node.lineno} {node.left.value} / {node.right.value}")
+    assert found == [], "step through pipeline.rocking.numerics.rk.rk_step with the method's tableau"
