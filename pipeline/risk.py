@@ -215,20 +215,22 @@ def _unknown_words(stations: tuple[int, int] | None, undecided: int, undecided_w
 
 def undecided_causes(ds: xr.Dataset, rows: np.ndarray, j: int) -> str:
     """Why the scenes ``rows`` (a mask over records) of block ``j`` have no verdict, in words: the ground falling
-    faster than gravity, a 3D model's base that would slide or lift off, or a simulator's cap."""
-    flight = ds[SCENE.free_flight].values[rows, j] == FreeFlight.ground_flight if SCENE.free_flight in ds else []
+    faster than gravity, where a body model stops (its :class:`~pipeline.bodies.contract.Stops` in the registry), or
+    a simulator's cap."""
+    from .bodies.registry import stops
+
+    flight = np.asarray(ds[SCENE.free_flight].values[rows, j] == FreeFlight.ground_flight if SCENE.free_flight in ds
+                        else np.zeros(int(np.sum(rows)), bool), dtype=bool)
     physics = ds[SCENE.physics].values[rows, j]
-    causes = []
-    if np.any(flight):
-        causes.append("the ground fell faster than gravity")
-    if np.any(np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)):
-        causes.append("the model stops where the base slides, twists or lifts off")
-    scanned = np.isin(physics, (Physics.two_sided, Physics.rolling)) & ~np.asarray(flight, dtype=bool)
+    causes = ["the ground fell faster than gravity"] if np.any(flight) else []
+    explained = flight.copy()
     left_out = _left_out(ds, rows, j)
-    if np.any(scanned & left_out):
-        causes.append("a scanned body's pivot would slip or lift off, which its model does not follow")
-    if np.any(~np.isin(physics, (Physics.wobbling, Physics.rocking3d)) & ~np.asarray(flight, dtype=bool)
-              & ~(scanned & left_out)):
+    for stop in stops():
+        theirs = np.isin(physics, stop.physics) & ~flight & (left_out if stop.flagged_only else True)
+        if np.any(theirs) and stop.words not in causes:
+            causes.append(stop.words)
+        explained |= theirs
+    if np.any(~explained):
         causes.append("the simulation stopped at a cap")
     return "; ".join(causes)
 

@@ -38,6 +38,9 @@ of block it has: it asks the registry for the first model that claims the block 
     scanned body in 3D), called once per warm-up whichever of those models it selects.
 ``versus_planar``
     Optional: how ``screen bench`` compares it with the planar model it replaces (:class:`VersusPlanar`).
+``stops``
+    Optional: why its scenes may end without a verdict, in words (:class:`Stops`), which the recommendations and the
+    run's summary read; a scene without a verdict that no model's stops explain was stopped at a cap.
 
 Written the way scipy's ``integrate/_ivp`` lists its solvers in one ``METHODS`` mapping, and as obspy's
 readers keep generic code from branching on a format.
@@ -221,6 +224,29 @@ class VersusPlanar(NamedTuple):
 PulseJudge = Callable[[np.ndarray, float], tuple[bool, int]]
 
 
+class Stops(NamedTuple):
+    """Where a body model stops without a verdict, as its scenes store it.
+
+    Attributes
+    ----------
+    physics : tuple of int
+        The :class:`~pipeline.rocking.scene.Physics` codes of the scenes these words explain.
+    words : str
+        Why such a scene has no verdict, as a recommendation says it.
+    flagged_only : bool
+        Only the scenes flagged for an effect the model leaves out (``friction_exceeded``, or the block lifting
+        itself off); its other scenes without a verdict were stopped at a cap.
+    contact3d_decides : bool
+        The 3D contact model takes such a scene over from the state where the model stopped, where
+        ``[simulation] contact3d`` is on (the default).
+    """
+
+    physics: tuple[int, ...]
+    words: str
+    flagged_only: bool = False
+    contact3d_decides: bool = False
+
+
 @dataclass(frozen=True)
 class BodyModel:
     """One entry of the registry: what a model judges and how (see the module's docstring)."""
@@ -236,3 +262,4 @@ class BodyModel:
     warmup: Callable[[], None] | None
     versus_planar: VersusPlanar | None = None
     shared_warmups: tuple[Callable[[], None], ...] = ()
+    stops: tuple[Stops, ...] = ()

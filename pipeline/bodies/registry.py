@@ -17,7 +17,7 @@ from collections.abc import Iterable
 from ..rocking import models as scene_models
 from ..rocking.block import BlockShape
 from ..rocking.settings import SimulationConfig
-from .contract import BodyModel, Placement
+from .contract import BodyModel, Placement, Stops
 from .planar import PLANAR
 from .scanned import SCANNED
 from .scanned3d import SCANNED_3D
@@ -54,3 +54,12 @@ def physics_reached(bodies: tuple[BodyModel, ...] | None = None) -> set[int]:
     through the planar model, the planar scene models'."""
     reached = {p for m in (BODIES if bodies is None else bodies) for p in m.physics}
     return reached | {m.physics for m in scene_models.MODELS}
+
+
+def stops(bodies: tuple[BodyModel, ...] | None = None) -> list[Stops]:
+    """Where the models of ``bodies`` (default: the registry) stop without a verdict, in the registry's order, each
+    wording once."""
+    out: list[Stops] = []
+    for model in BODIES if bodies is None else bodies:
+        out.extend(s for s in model.stops if s not in out)
+    return out

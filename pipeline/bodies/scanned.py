@@ -37,7 +37,17 @@ from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationPro
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import SceneMotion
 from ..uncertainty.two_sided import CANDIDATES, draw_factors, scanned_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, claims_on_two_horizontals
+from .contract import (
+    BodyModel,
+    BodyScene,
+    Margin,
+    OnRecord,
+    Placement,
+    PulseJudge,
+    Setup,
+    Stops,
+    claims_on_two_horizontals,
+)
 from .factor_sweep import factor_sweep
 
 
@@ -205,4 +215,7 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
 #: A body given by its scan, on any record, in its vertical planes (``scanned_model`` rolling or two_sided).
 SCANNED = BodyModel(name="scanned body", physics=(Physics.two_sided, Physics.rolling), claims=_claims,
                     may_claim=claims_on_two_horizontals(_claims), scene=scene, margins=scanned_margins, scale=scale,
-                    pulse=pulse, warmup=warmup)
+                    pulse=pulse, warmup=warmup,
+                    stops=(Stops((Physics.two_sided, Physics.rolling),
+                                 "a scanned body's pivot would slip or lift off, which its model does not follow",
+                                 flagged_only=True),))

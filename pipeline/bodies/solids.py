@@ -36,7 +36,17 @@ from ..rocking.solids.solid3d import (
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, one_plane
 from ..uncertainty.sampling import common_normals, sample_block
 from ..uncertainty.solids import solid_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, Setup, VersusPlanar, claims_on_two_horizontals
+from .contract import (
+    BodyModel,
+    BodyScene,
+    Margin,
+    OnRecord,
+    Placement,
+    Setup,
+    Stops,
+    VersusPlanar,
+    claims_on_two_horizontals,
+)
 from .factor_sweep import factor_sweep
 from .planar import planar_pulse
 
@@ -189,6 +199,9 @@ def _box_warmup() -> None:
     simulate_box(a, 0.5 * a, None, 0.01, Box(half_width_m=0.1, half_depth_m=0.15, half_height_m=0.5, mu=0.7))
 
 
+#: Where the exact 3D models stop: the base would slide, twist or lift off, which they do not follow.
+_EXACT_3D_STOP = "the model stops where the base slides, twists or lifts off"
+
 _cylinder_claims, _cylinder_may = _claims(Physics.wobbling)
 _box_claims, _box_may = _claims(Physics.rocking3d)
 
@@ -196,13 +209,13 @@ _box_claims, _box_may = _claims(Physics.rocking3d)
 CYLINDER = BodyModel(
     name="cylinder", physics=(Physics.wobbling, Physics.contact3d), claims=_cylinder_claims,
     may_claim=_cylinder_may, scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_cylinder_warmup,
-    shared_warmups=(contact_warmup,),
+    shared_warmups=(contact_warmup,), stops=(Stops((Physics.wobbling,), _EXACT_3D_STOP, contact3d_decides=True),),
     versus_planar=VersusPlanar("cylinders", "3D model (one run, no orientation scan)",
                                "planar scan of the same cylinders (worst plane; vs the 3D verdicts)", _cylinder_versus))
 #: A box with a depth and an azimuth on two horizontals of known azimuth: rocking in 3D.
 BOX = BodyModel(
     name="box in 3D", physics=(Physics.rocking3d, Physics.contact3d), claims=_box_claims, may_claim=_box_may,
     scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_box_warmup,
-    shared_warmups=(contact_warmup,),
+    shared_warmups=(contact_warmup,), stops=(Stops((Physics.rocking3d,), _EXACT_3D_STOP, contact3d_decides=True),),
     versus_planar=VersusPlanar("boxes in 3D", "3D model (one run at the box's azimuth, both horizontals)",
                                "planar scene in the plane of the width (vs the 3D verdicts)", _box_versus))

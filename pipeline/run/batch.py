@@ -35,6 +35,7 @@ import numpy as np
 import xarray as xr
 
 from ..blocks import Inventory
+from ..bodies.registry import stops
 from ..config import Config
 from ..errors import RockscreenError
 from ..floors.buildings import floor_groups, place_blocks
@@ -526,7 +527,8 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "sampled_simulations": int(np.sum(np.maximum(ds[SCENE.sample_simulations].values, 0))),
         "scenes_unjudged": scenes_without_verdict(ds),
         "scenes_unjudged_3d": int(np.sum((ds[SCENE.overturn_simulated].values == -1)
-                                         & np.isin(phys, (Physics.wobbling, Physics.rocking3d)))),
+                                         & np.isin(phys, [p for s in stops() if s.contact3d_decides
+                                                          for p in s.physics]))),
         "draws_unjudged": int(np.sum(np.maximum(ds[SCENE.samples_without_verdict].values, 0))),
         "draws_total": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
         "scenes_with_unjudged_draws": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),

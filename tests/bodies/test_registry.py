@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pipeline.bodies import registry
-from pipeline.bodies.contract import BodyModel, Placement
+from pipeline.bodies.contract import BodyModel, Placement, Stops
 from pipeline.bodies.planar import PLANAR, planar_margins, planar_pulse, planar_scale, planar_scene
 from pipeline.compiled import jit
 from pipeline.rocking import models
@@ -234,3 +234,25 @@ def test_a_model_that_needs_a_new_block_field_is_one_field_and_one_registration(
     (tmp_path / "bad.csv").write_text(header + "\nT,1.2,0.2,0.6,45,-1\n")
     with pytest.raises(blocks.InventoryError, match="anchor_kN.*an anchor's strength in kN >= 0"):
         blocks.read_inventory(tmp_path / "bad.csv", default_mu=0.6)
+
+
+def test_a_models_stops_reach_the_recommendation_by_one_registration(monkeypatch):
+    """Where a model stops without a verdict is its own fact: registered with its Stops, the recommendation's cause
+    of an unjudged scene of its physics is its words, where without it the same scene reads as a cap; a stop its
+    flag limits explains only the flagged scenes."""
+    import xarray as xr
+
+    from pipeline.risk import undecided_causes
+
+    ds = xr.Dataset({"physics": (("record", "block"), np.array([[Physics.contact3d], [Physics.contact3d]])),
+                     "free_flight": (("record", "block"), np.zeros((2, 1), dtype="i1")),
+                     "friction_exceeded": (("record", "block"), np.array([[1], [0]], dtype="i1"))})
+    rows = np.ones(2, dtype=bool)
+    assert undecided_causes(ds, rows, 0) == "the simulation stopped at a cap"
+    toy = dataclasses.replace(TOY_BODY, stops=(Stops((Physics.contact3d,), "the toy's base melts"),))
+    monkeypatch.setattr(registry, "BODIES", (toy, *registry.BODIES))           # one registration
+    assert undecided_causes(ds, rows, 0) == "the toy's base melts"
+    flagged = dataclasses.replace(TOY_BODY, stops=(Stops((Physics.contact3d,), "the toy's base melts",
+                                                         flagged_only=True),))
+    monkeypatch.setattr(registry, "BODIES", (flagged, *registry.BODIES[1:]))
+    assert undecided_causes(ds, rows, 0) == "the toy's base melts; the simulation stopped at a cap"
