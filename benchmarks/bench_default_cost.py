@@ -8,14 +8,16 @@ wall times and their ratio, and where the sampled planes go: per class of scene 
 the minimum the sequential rule needs (25 draws in one plane certify robust_stand or robust_overturn at 90 %).
 
 ``--bundled`` times the bundled records x configs/blocks.csv instead; ``--repeat K`` runs each command K times,
-alternating, and reports the medians.
+alternating, and reports the medians. ``--profile`` then runs each once more in one process (``-n 1``) under
+cProfile and prints the cumulative time of each stage (:data:`STAGES`) and its calls.
 
-Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1]``.
+Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1] [--profile]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import pstats
 import shutil
 import subprocess
 import sys
@@ -29,6 +31,13 @@ import xarray as xr
 ROOT = Path(__file__).resolve().parents[1]
 #: Draws in one plane that certify a robust class when every draw agrees (90 % Wilson): n z^2 / (n + z^2) ...
 MIN_ROBUST_DRAWS = 25
+#: The stages ``--profile`` prints: (label, the function whose cumulative time is the stage's).
+STAGES = (("pulses", "pulses_and_directions"), ("nominal scenes", "simulate_scene"),
+          ("draws in all", "_probability"), ("  draws of a blank azimuth", "orientation_probability"),
+          ("    the race over planes", "worst_orientation"), ("    the orientation at random", "random_orientation"),
+          ("  draws of a scene (any orientation)", "scene_probability"),
+          ("  compiled: sample_plane_outcomes", "sample_plane_outcomes"),
+          ("  compiled: sample_verdicts", "sample_verdicts"), ("margins", "factor_sweep"))
 
 
 def _records(dest: Path, n: int) -> int:
@@ -83,12 +92,28 @@ def _run(records: Path, blocks: Path, out: Path, *options: str) -> float:
     return time.perf_counter() - t0
 
 
+def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
+    """The command once in one process under cProfile: each stage's cumulative time and calls."""
+    prof = out.parent / f"{out.name}.prof"
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "cProfile", "-o", str(prof), "-m", "pipeline.cli", "--records",
+                    str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures", "-q",
+                    "-n", "1", *options], check=True)
+    print(f"  under cProfile, one process: {time.perf_counter() - t0:.1f} s")
+    stats = pstats.Stats(str(prof)).stats                   # type: ignore[attr-defined]
+    for label, function in STAGES:
+        rows = [v for k, v in stats.items() if k[2] == function]
+        if rows:
+            print(f"  {label:40s} {sum(r[3] for r in rows):7.1f} s in {sum(r[1] for r in rows)} calls")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--records", type=int, default=20)
     ap.add_argument("--blocks", type=int, default=200)
     ap.add_argument("--bundled", action="store_true", help="the bundled records x configs/blocks.csv")
     ap.add_argument("--repeat", type=int, default=1, help="runs of each command (alternating); medians reported")
+    ap.add_argument("--profile", action="store_true", help="then each command once under cProfile, by stage")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
@@ -109,6 +134,10 @@ def main() -> None:
             n_rec, args.blocks = ds.sizes["record"], ds.sizes["block"]
         sims, rob, orient = ds["sample_simulations"].values, ds["robustness"].values, ds["orientation"].values
         moving = ds["physics"].values > 0
+        if args.profile:
+            for name, options in (("nominal", ("--samples", "0")), ("default", ())):
+                print(f"{name}, by stage:")
+                _profile(records, blocks, root / f"{name}-profiled", *options)
     print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
           f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
           f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")

@@ -303,7 +303,9 @@ class DaskExecutor:
             return
         # hash=False: a fresh key per map, so a second map never races with the release of the first
         shared_future = self.client.scatter(shared, broadcast=True, hash=False)
-        futures = {self.client.submit(fn, item, shared_future, pure=False): k for k, item in enumerate(items)}
+        # the items' order is the caller's (largest record first): Dask's priority keeps it, as the pools' queues do
+        futures = {self.client.submit(fn, item, shared_future, pure=False, priority=len(items) - k): k
+                   for k, item in enumerate(items)}
         try:
             for fut in as_completed(futures):
                 item = items[futures[fut]]
