@@ -26,7 +26,7 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
     "pipeline.rocking.references.asymmetric", "pipeline.rocking.solids.solid3d",
     "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.shapes.plane",
     "pipeline.uncertainty.two_sided", "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull",
-    "pipeline.bodies.registry", "pipeline.bodies.warmup"])
+    "pipeline.bodies.registry", "pipeline.bodies.warmup", "pipeline.assemblies.stack"])
 def test_libraries_load_no_application_module(library):
     out = _loaded(library, APPLICATION)
     assert out == "", f"importing {library} loads {out}"
@@ -56,7 +56,8 @@ PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
            "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan", "pipeline.shapes.plane",
            "pipeline.rocking.scanned.two_sided", "pipeline.rocking.scanned.planes", "pipeline.uncertainty.two_sided",
-           "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull", "pipeline.bodies.registry")
+           "pipeline.rocking.scanned.rolling", "pipeline.shapes.hull", "pipeline.bodies.registry",
+           "pipeline.assemblies.stack")
 
 
 @pytest.mark.parametrize("library", PHYSICS)
