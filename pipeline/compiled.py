@@ -80,7 +80,7 @@ def rebound(f: Callable, **names) -> Callable:
 
 def tuple_with(values: tuple, index: int, value) -> tuple:
     """``values`` with its element ``index`` replaced by ``value``: a new tuple (compiled: numba's
-    ``tuple_setitem``, which a loop over a fixed-size tuple turns into registers once LLVM unrolls it)."""
+    ``tuple_setitem``, no array made)."""
     return values[:index] + (value,) + values[index + 1:]
 
 

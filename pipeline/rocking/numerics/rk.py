@@ -9,10 +9,11 @@ For y' = f(t, y), a step of length h from (t, y) with the stages
     err = h sum_j e_j k_j               (e = b - b^*, the embedded lower-order solution's difference; 0 without one)
 
 as scipy's ``integrate/_ivp/rk.py`` writes ``rk_step`` with each method's tableau as class attributes. The state is
-a tuple of floats, so that a compiled step keeps it in registers whatever its size (a plane's two states, a box's
-seven); the model's right-hand side is passed in, compiled: ``fun(t, y, args)`` returns f (a tuple like ``y``) and
-what the model wants kept at the step's end (the contact forces of the 3D models, the pivot's sin and cos of the
-planar one). Every sum runs over j in order from 0.0, so that a step gives the same doubles wherever it is called.
+a tuple of floats, so that the compiled step makes no array whatever its size (a plane's two states, a box's seven;
+measured at par with a step written out over a plane's two scalars, docs/validation.md). The model's right-hand side
+is passed in, compiled: ``fun(t, y, args)`` returns f (a tuple like ``y``) and what the model wants kept at the
+step's end (the contact forces of the 3D models, the pivot's sin and cos of the planar one). Every sum runs over j
+in order from 0.0, so that a step gives the same doubles wherever it is called.
 
 References
 ----------
@@ -38,12 +39,13 @@ ERROR_EXPONENT = -0.2           # -1 / (4 + 1)
 
 
 class Tableau(NamedTuple):
-    """An embedded explicit Runge-Kutta method (its Butcher tableau), as tuples (constants of the compiled step).
+    """An explicit Runge-Kutta method, embedded or not (its Butcher tableau), as tuples (constants of the compiled
+    step).
 
     Attributes
     ----------
-    nodes : tuple of float, length r (first same as last: r + 1)
-        c_2 .. c_{r+1} [-] (c_1 = 0; first same as last: then c_s = 1)
+    nodes : tuple of float, length r
+        c_2 .. c_{r+1} [-] (c_1 = 0; a method first same as last has its last stage at c_s = 1)
     rows : tuple of tuples of float, r x r
         a_ij of stages 2 .. r + 1, row i - 2 (zeros beyond the diagonal)
     b : tuple of float, length s (r + 1, or r + 2 for a method first same as last, its last weight 0)
