@@ -100,7 +100,7 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
                     str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures", "-q",
                     "-n", "1", *options], check=True)
     print(f"  under cProfile, one process: {time.perf_counter() - t0:.1f} s")
-    stats = pstats.Stats(str(prof)).stats                   # type: ignore[attr-defined]
+    stats = pstats.Stats(str(prof)).stats                   # {(file, line, function): (cc, calls, tt, ct, callers)}
     for label, function in STAGES:
         rows = [v for k, v in stats.items() if k[2] == function]
         if rows:

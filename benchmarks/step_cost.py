@@ -44,26 +44,25 @@ def _planar(records) -> int:
     return overturned
 
 
-def _box(records) -> int:
+def _solids(records, run) -> int:
+    """``run(h1, h2, av, dt_s, width_m, height_m)`` on both horizontals of every record, section and scale; how many
+    of its outcomes overturned."""
     overturned = 0
     for rec in records:
         h1, h2 = rec.horizontal_ms2
         for w, h in SECTIONS:
             for s in SCALES:
-                overturned += simulate_box(h1 * s, h2 * s, rec.vertical_ms2, rec.dt_s,
-                                           Box(w / 2, w / 2, h / 2, mu=MU)).overturned
+                overturned += run(h1 * s, h2 * s, rec.vertical_ms2, rec.dt_s, w, h).overturned
     return overturned
+
+
+def _box(records) -> int:
+    return _solids(records, lambda h1, h2, av, dt, w, h: simulate_box(h1, h2, av, dt, Box(w / 2, w / 2, h / 2, mu=MU)))
 
 
 def _cylinder(records) -> int:
-    overturned = 0
-    for rec in records:
-        h1, h2 = rec.horizontal_ms2
-        for w, h in SECTIONS:
-            for s in SCALES:
-                cyl = Cylinder(w / 2, h / 2, MU, housner_e(w / 2, h / 2))
-                overturned += simulate_cylinder(h1 * s, h2 * s, rec.vertical_ms2, rec.dt_s, cyl).overturned
-    return overturned
+    return _solids(records, lambda h1, h2, av, dt, w, h: simulate_cylinder(
+        h1, h2, av, dt, Cylinder(w / 2, h / 2, MU, housner_e(w / 2, h / 2))))
 
 
 MODELS = {"planar": _planar, "box": _box, "cylinder": _cylinder}

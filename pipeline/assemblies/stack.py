@@ -143,8 +143,9 @@ def _placements(bodies) -> tuple[list[float], list[float]]:
 
 
 def uplift_ratios(face: Interface) -> tuple[float, float]:
-    """The ground's a_h / (g + a_v) at which the part above ``face`` starts to tip (module's bounds): toward -x
-    (negative) and toward +x; Housner's -tan alpha, tan alpha for one block centred on its base."""
+    """The ground's a_h / (g + a_v) beyond which the part above ``face`` starts to tip (module's bounds): the lower
+    (the ground accelerating toward -x) tips it toward +x about the support's right end, the upper toward -x about
+    its left end; Housner's -tan alpha and tan alpha for one block centred on its base."""
     return (face.x_m - face.right_m) / face.z_m, (face.x_m - face.left_m) / face.z_m
 
 

@@ -58,7 +58,7 @@ def physics_reached(bodies: tuple[BodyModel, ...] | None = None) -> set[int]:
 
 def stops(bodies: tuple[BodyModel, ...] | None = None) -> list[Stops]:
     """Where the models of ``bodies`` (default: the registry) stop without a verdict, in the registry's order, each
-    wording once."""
+    :class:`~.contract.Stops` once."""
     out: list[Stops] = []
     for model in BODIES if bodies is None else bodies:
         out.extend(s for s in model.stops if s not in out)

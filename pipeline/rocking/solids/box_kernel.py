@@ -223,13 +223,13 @@ def _rhs(t, y, args):
 @jit
 def dopri_step(t, y, hh, i, grd, prm, mode, pivot, k, y_new, err, force):
     """One Dormand-Prince 5(4) step of ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f at the
-    start): the 5th-order state in ``y_new``, the error in ``err``, f at the end in ``k[6]`` and the contact forces
+    start): the 5th-order state in ``y_new``, the error in ``err``, f at the end in ``k[1]`` and the contact forces
     there in ``force``."""
     st = rk_step(_rhs, (i, grd, prm, mode, pivot), t, array_as_tuple(y, STATE_SIZE), array_as_tuple(k[0], STATE_SIZE),
                  hh, DOPRI54)
     store(y_new, st.y)
     store(err, st.err)
-    store(k[6], st.f)
+    store(k[1], st.f)
     store(force, st.kept)
 
 

@@ -184,7 +184,7 @@ def _fill(tilt_out, azimuth_out, dt, t, hh, y, k, y_new, n, scratch):
     while j < n and j * dt <= t + hh + 1e-12 * dt:
         x = (j * dt - t) / hh
         for q in range(4):
-            scratch[q] = hermite(y[q], k[0, q], y_new[q], k[6, q], hh, x)
+            scratch[q] = hermite(y[q], k[0, q], y_new[q], k[1, q], hh, x)
         tilt_out[j], azimuth_out[j] = tilt_of(scratch)
         j += 1
 
@@ -352,7 +352,7 @@ def _accept(y, y_new, k, force, force0):
     for q in range(4):
         y_new[q] /= nq
     y[:] = y_new
-    k[0, :] = k[6, :]
+    k[0, :] = k[1, :]
     for q in range(FORCE_SIZE):
         force0[q] = force[q]
 
@@ -418,7 +418,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
     rest): the tilt and azimuth at the samples, the last state, the last certified before a stop (:func:`certify`)."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
     n, y, mode, pivot = ax.shape[0], _start_state(y0, mode0), mode0, pivot0
-    k, y_new, err = np.zeros((7, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
+    k, y_new, err = np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
     force, force0, scratch = np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4)
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
     i_landed, landed_here, holds = -1, 0, 0
@@ -449,7 +449,7 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         if r1 <= 0.0:                                                # overturned: the axis reaches the horizontal
             t_over, tilt_max, az_max = t + r0 / (r0 - r1) * hh, 0.5 * math.pi, tilt_of(y_new)[1]
             break
-        x, kc, x_next = _landing(y, k[0], y_new, k[6], hh, mode, pivot, prm)
+        x, kc, x_next = _landing(y, k[0], y_new, k[1], hh, mode, pivot, prm)
         if kc >= 0:
             t, mode, pivot, landed_here, was_held = _landed(t, hh, x, x_next, kc, i, grd, prm, mode, pivot, y, k, y_new,
                                                             err, force, tilt_out, azimuth_out, scratch,

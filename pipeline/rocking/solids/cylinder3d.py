@@ -226,7 +226,7 @@ def _land_inside(t, hh, i, grd, prm, y, k, y_new, err, theta_out, azimuth_out):
     """The base lands flat inside the step from ``t``: the landing located on the step's cubic, the state
     advanced to it (exact Runge-Kutta step) and the impact applied; returns the time, and whether the rebound is
     too slow to go on (rest)."""
-    x = first_below(y[0], k[0, 0], y_new[0], k[6, 0], hh, prm.land)
+    x = first_below(y[0], k[0, 0], y_new[0], k[1, 0], hh, prm.land)
     hl = max(x * hh, 1e-15 * grd.dt)
     dopri_step(t, y, hl, i, grd, prm, k, y_new, err)
     _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])
@@ -300,7 +300,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
     grd, prm = Ground(ax, ay, az, dt, g), params_of(g, a, h, mu, scale, rtol, atol_alpha)
     n, (y, rocking) = ax.shape[0], _start_state(y0, prm.land)
-    k, y_new, err = np.zeros((7, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
+    k, y_new, err = np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
@@ -344,7 +344,7 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
             theta_max, az_max = y_new[0], y_new[1]
         t, hh_next = t + hh, next_step(hh, norm)
         y[:] = y_new
-        k[0, :] = k[6, :]
+        k[0, :] = k[1, :]
         interval_peak = max(interval_peak, y[0])
         if _settled(t, i, dt, interval_peak, settle, y, grd, prm, theta_out):
             rocking, fresh, holds = False, True, holds + 1
@@ -403,7 +403,7 @@ def _fill(theta_out, azimuth_out, dt, t, hh, y, k, y_new, n):
     j = int(t / dt + 1e-9) + 1
     while j < n and j * dt <= t + hh + 1e-12 * dt:
         x = (j * dt - t) / hh
-        theta_out[j] = _hermite(y[0], k[0, 0], y_new[0], k[6, 0], hh, x)
+        theta_out[j] = _hermite(y[0], k[0, 0], y_new[0], k[1, 0], hh, x)
         azimuth_out[j] = y[1] + x * (y_new[1] - y[1])
         j += 1
 

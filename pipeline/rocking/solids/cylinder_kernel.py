@@ -115,12 +115,12 @@ def _rhs(t, y, args):
 def dopri_step(t, y, hh, i, grd, prm, k, y_new, err):
     """One Dormand-Prince 5(4) step of length ``hh`` from ``(t, y)`` (:func:`~..numerics.rk.rk_step`; ``k[0]``: f
     at the start, FSAL): the 5th-order state in ``y_new``, the embedded error in ``err``, and f at the end in
-    ``k[6]``; returns the contact force per unit mass at the end."""
+    ``k[1]``; returns the contact force per unit mass at the end."""
     st = rk_step(_rhs, (i, grd, prm), t, array_as_tuple(y, STATE_SIZE), array_as_tuple(k[0], STATE_SIZE), hh,
                  DOPRI54)
     store(y_new, st.y)
     store(err, st.err)
-    store(k[6], st.f)
+    store(k[1], st.f)
     return st.kept
 
 
