@@ -1,0 +1,377 @@
+"""The time history of two stacked blocks rocking under a record (the equations of :mod:`.two_block`).
+
+The ground is linear between samples. From rest the first joint to open does so at the exact crossing of its
+lift-off condition on that piece (at rest the condition is linear in the ground's acceleration). While a joint is
+open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample;
+an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located by
+bisection on the step's length to :data:`EVENT_TIME_TOL_S`. An impact whose rebound is slower than
+:data:`REST_RATIO` p alpha shuts the joint (a plastic stop). A block falls when its rotation, or the upper block's
+rotation on the lower, reaches pi/2. After the record the free motion is followed until both joints are shut or a
+block falls, for at most :data:`TAIL_S`.
+
+The model holds while neither joint slides nor lifts off as a whole (Psycharis 1990 adds those modes): it is the
+planar two-block check of the assemblies, exact within its tolerances for rocking without sliding.
+
+References
+----------
+Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1),
+19-26.
+Psycharis, I. N. (1990). Dynamic behaviour of rocking two-block assemblies. Earthquake Engineering & Structural
+Dynamics 19(4), 555-575.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit
+from ..constants import G
+from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
+from .two_block import SHUT, Motion, TwoBlock, accelerations, opening, projected_rates
+
+# Step control, named once (as scipy's _ivp names its own)
+RTOL = 1e-8                 # relative tolerance of the error control [-]
+ATOL = 1e-10                # absolute tolerance as a fraction of alpha (rotations) and p alpha (rates) [-]
+MAX_STEP_P = 0.05           # largest step as a fraction of 1 / p [-]
+FIRST_STEP_FRACTION = 0.01  # the first step after a start or an event, as a fraction of the largest [-]
+EVENT_TIME_TOL_S = 1e-11    # an event located to this width of step [s]
+REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts the joint [-]
+TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
+MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
+MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
+HALF_PI = 0.5 * math.pi
+
+#: What falls: nothing, the upper block (off the lower one), the whole stack (the lower block on the ground).
+FALLS_NONE, FALLS_TOP, FALLS_STACK = 0, 1, 2
+#: Bits of :attr:`TwoBlockOutcome.modes`: the joints that opened (on the ground, between the blocks), and both at once.
+OPENED_GROUND, OPENED_JOINT, OPENED_BOTH = 1, 2, 4
+
+
+class TwoBlockOutcome(NamedTuple):
+    """A run's result.
+
+    Attributes
+    ----------
+    falls : int
+        :data:`FALLS_NONE`, :data:`FALLS_TOP` or :data:`FALLS_STACK`
+    t_fall_s : float
+        when [s] (NaN when nothing falls)
+    peak_phi1_rad, peak_phi2_rad, peak_psi_rad : float
+        the largest |phi_1|, |phi_2| and |phi_2 - phi_1| at the steps' ends [rad]
+    impacts, liftoffs : int
+        impacts at either joint; openings of a shut joint
+    modes : int
+        bits :data:`OPENED_GROUND`, :data:`OPENED_JOINT`, :data:`OPENED_BOTH`
+    status : int
+        :class:`~pipeline.rocking.codes.Status` bits: ground_flight (g + a_v reached 0: not followed), step_cap,
+        event_cap, tail_cap (the run ended there without a verdict unless a block had fallen)
+    final : Motion
+        the state where the run ended
+    """
+
+    falls: int
+    t_fall_s: float
+    peak_phi1_rad: float
+    peak_phi2_rad: float
+    peak_psi_rad: float
+    impacts: int
+    liftoffs: int
+    modes: int
+    status: int
+    final: Motion
+
+
+class Scales(NamedTuple):
+    """Each joint's rocking scales at rest on its + corner: the part above it rocking as one (alpha [rad], p [rad
+    s-1]); they set the tolerances and the rest threshold."""
+
+    alpha1: float
+    p1: float
+    alpha2: float
+    p2: float
+
+
+def scales(tb: TwoBlock) -> Scales:
+    """The :class:`Scales` of ``tb``."""
+    m = tb.m1 + tb.m2
+    xg = tb.m2 * tb.offset / m
+    zg = (tb.m1 * tb.h1 + tb.m2 * (2 * tb.h1 + tb.h2)) / m
+    r1 = math.hypot(tb.b1 - xg, zg)
+    i_o1 = (tb.i1 + tb.m1 * (tb.b1 ** 2 + tb.h1 ** 2)
+            + tb.i2 + tb.m2 * ((tb.b1 - tb.offset) ** 2 + (2 * tb.h1 + tb.h2) ** 2))
+    r2 = math.hypot(tb.right - tb.offset, tb.h2)
+    i_o2 = tb.i2 + tb.m2 * r2 * r2
+    return Scales(math.atan2(tb.b1 - xg, zg), math.sqrt(m * G * r1 / i_o1),
+                  math.atan2(tb.right - tb.offset, tb.h2), math.sqrt(tb.m2 * G * r2 / i_o2))
+
+
+class _Piece(NamedTuple):
+    """The ground's linear piece [t0, t0 + span]: its ends' horizontal and vertical accelerations [m s-2]."""
+
+    t0: float
+    span: float
+    a0: float
+    a1: float
+    v0: float
+    v1: float
+
+
+@jit
+def _ground(piece, t):
+    """(a_h, a_v) at t on the piece."""
+    x = (t - piece.t0) / piece.span if piece.span > 0.0 else 0.0
+    return piece.a0 + (piece.a1 - piece.a0) * x, piece.v0 + (piece.v1 - piece.v0) * x
+
+
+@jit
+def _rhs(t, y, args):
+    """The state's derivative (a tuple) in the mode ``args`` = (tb, j1, j2, piece)."""
+    tb, j1, j2, piece = args
+    ah, av = _ground(piece, t)
+    d1, d2 = accelerations(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+    return (y[2], y[3], d1, d2), 0.0
+
+
+@jit
+def _piece_at(ah, av, dt, t, t_rec, tail_end):
+    """The piece holding t (the next one when t is on its end); after the record one still piece to the tail's
+    end."""
+    n = ah.shape[0]
+    if t >= t_rec - 1e-12 * dt:
+        return _Piece(t_rec, tail_end - t_rec, 0.0, 0.0, 0.0, 0.0)
+    k = min(int(t / dt + 1e-9), n - 2)
+    if (k + 1) * dt <= t:
+        k = min(k + 1, n - 2)
+    v0 = av[k] if av.shape[0] > 0 else 0.0
+    v1 = av[k + 1] if av.shape[0] > 0 else 0.0
+    return _Piece(k * dt, dt, ah[k], ah[k + 1], v0, v1)
+
+
+@jit
+def _opening_at_rest(tb, piece, t):
+    """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
+    (NaN, 0, 0). At rest each lift-off condition is linear in the ground's acceleration, so its root on the piece is
+    exact."""
+    rest = Motion(0.0, 0.0, 0.0, 0.0)
+    t1 = piece.t0 + piece.span
+    ah0, av0 = _ground(piece, t)
+    ah1, av1 = _ground(piece, t1)
+    best_x, joint, corner = 2.0, 0, 0
+    for cand in range(4):
+        s = 1 if cand % 2 == 0 else -1
+        j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
+        d0 = accelerations(tb, rest, j1, j2, ah0, av0)
+        d1 = accelerations(tb, rest, j1, j2, ah1, av1)
+        i0 = s * d0[0] if cand < 2 else s * (d0[1] - d0[0])
+        i1 = s * d1[0] if cand < 2 else s * (d1[1] - d1[0])
+        x = 2.0
+        if i0 > 0.0:
+            x = 0.0
+        elif i1 > 0.0:
+            x = -i0 / (i1 - i0)
+        if x < best_x:
+            best_x, joint, corner = x, (1 if cand < 2 else 2), s
+    if joint == 0:
+        return math.nan, 0, 0
+    return t + best_x * (t1 - t), joint, corner
+
+
+@jit
+def _event(tb, y, j1, j2, piece, t):
+    """The event the state ``y`` at ``t`` is past: 3 a fall, 1 / 2 an impact at the ground / between the blocks, 4 a
+    shut joint lifting off; 0 none."""
+    psi = y[1] - y[0]
+    if abs(y[0]) >= HALF_PI or abs(y[1]) >= HALF_PI or abs(psi) >= HALF_PI:
+        return 3
+    if j1 != SHUT and j1 * y[0] <= 0.0:
+        return 1
+    if j2 != SHUT and j2 * psi <= 0.0:
+        return 2
+    if j1 == SHUT or j2 == SHUT:
+        ah, av = _ground(piece, t)
+        joint, _, _ = opening(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+        if joint != 0:
+            return 4
+    return 0
+
+
+@jit
+def _error_norm(err, y_old, y_new, sc):
+    """The step's error over the tolerance (max norm): rotations against sc[0] alpha, rates against sc[1] p alpha."""
+    worst = 0.0
+    for q in range(4):
+        base = sc[0] if q < 2 else sc[1]
+        tol = ATOL * base + RTOL * max(abs(y_old[q]), abs(y_new[q]))
+        worst = max(worst, abs(err[q]) / tol)
+    return worst
+
+
+@jit
+def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
+    n = ah.shape[0]
+    t_rec = (n - 1) * dt
+    tail_end = t_rec + TAIL_S
+    y = (0.0, 0.0, 0.0, 0.0)
+    j1, j2 = SHUT, SHUT
+    t = 0.0
+    h = h_max * FIRST_STEP_FRACTION
+    peak1, peak2, peak_psi = 0.0, 0.0, 0.0
+    impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
+    falls, t_fall = FALLS_NONE, math.nan
+    f = (0.0, 0.0, 0.0, 0.0)
+    fresh = True                                  # f must be evaluated before the next step
+    while True:
+        if steps >= MAX_STEPS:
+            status |= STATUS_STEP_CAP
+            break
+        if events >= MAX_EVENTS:
+            status |= STATUS_EVENT_CAP
+            break
+        if t >= tail_end:
+            status |= STATUS_TAIL_CAP
+            break
+        modes |= _mode_bits(j1, j2)
+        piece = _piece_at(ah, av, dt, t, t_rec, tail_end)
+        if G + piece.v0 <= 0.0 or G + piece.v1 <= 0.0:
+            status |= STATUS_GROUND_FLIGHT
+            break
+        t1 = piece.t0 + piece.span
+        if j1 == SHUT and j2 == SHUT:
+            if t >= t_rec:
+                break                               # at rest after the record: stands
+            t_open, joint, corner = _opening_at_rest(tb, piece, t)
+            if joint == 0:
+                t = t1
+                continue
+            t = t_open
+            if joint == 1:
+                j1 = corner
+            else:
+                j2 = corner
+            liftoffs += 1
+            events += 1
+            fresh = True
+            h = h_max * FIRST_STEP_FRACTION
+            continue
+        if fresh:
+            f, _ = _rhs(t, y, (tb, j1, j2, piece))
+            fresh = False
+            kind = _event(tb, y, j1, j2, piece, t)
+            if kind == 4:                           # a joint shut by an impact opens at once
+                y, j1, j2 = _open(tb, y, j1, j2, piece, t)
+                liftoffs += 1
+                events += 1
+                fresh = True
+                continue
+        hh = min(h, h_max, t1 - t)
+        st = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, hh, DOPRI54)
+        steps += 1
+        norm = _error_norm(st.err, y, st.y, sc)
+        if not norm <= 1.0:
+            h = rejected_step(hh, norm)
+            continue
+        kind = _event(tb, st.y, j1, j2, piece, t + hh)
+        if kind == 0:
+            t = t1 if hh == t1 - t else t + hh
+            y, f = st.y, st.f
+            peak1, peak2, peak_psi = max(peak1, abs(y[0])), max(peak2, abs(y[1])), max(peak_psi, abs(y[1] - y[0]))
+            h = next_step(hh, norm)
+            continue
+        # an event inside the step: bisect its length
+        lo, hi, y_hi = 0.0, hh, st.y
+        while hi - lo > EVENT_TIME_TOL_S:
+            mid = 0.5 * (lo + hi)
+            trial = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, mid, DOPRI54).y
+            steps += 1
+            if _event(tb, trial, j1, j2, piece, t + mid) != 0:
+                hi, y_hi = mid, trial
+            else:
+                lo = mid
+        kind = _event(tb, y_hi, j1, j2, piece, t + hi)
+        t += hi
+        y = y_hi
+        peak1, peak2, peak_psi = max(peak1, abs(y[0])), max(peak2, abs(y[1])), max(peak_psi, abs(y[1] - y[0]))
+        events += 1
+        fresh = True
+        h = max(hi, h_max * FIRST_STEP_FRACTION)
+        if kind == 3:
+            falls = FALLS_STACK if abs(y[0]) >= HALF_PI else FALLS_TOP
+            t_fall = t
+            break
+        if kind == 4:
+            y, j1, j2 = _open(tb, y, j1, j2, piece, t)
+            liftoffs += 1
+        else:
+            y, j1, j2 = _impact(tb, y, j1, j2, kind, rest1, rest2)
+            impacts += 1
+    return TwoBlockOutcome(falls, t_fall, peak1, peak2, peak_psi, impacts, liftoffs, modes, status,
+                           Motion(y[0], y[1], y[2], y[3]))
+
+
+@jit
+def _mode_bits(j1, j2):
+    """The :data:`OPENED_GROUND`, :data:`OPENED_JOINT` and :data:`OPENED_BOTH` bits of the joints' states."""
+    bits = (OPENED_GROUND if j1 != SHUT else 0) | (OPENED_JOINT if j2 != SHUT else 0)
+    return bits | (OPENED_BOTH if j1 != SHUT and j2 != SHUT else 0)
+
+
+@jit
+def _open(tb, y, j1, j2, piece, t):
+    """Open the shut joint whose lift-off condition holds at ``t`` on its corner."""
+    ah, av = _ground(piece, t)
+    joint, corner, _ = opening(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+    if joint == 1:
+        return y, corner, j2
+    if joint == 2:
+        return y, j1, corner
+    return y, j1, j2
+
+
+@jit
+def _impact(tb, y, j1, j2, joint, rest1, rest2):
+    """The impact at ``joint`` (1: the ground, 2: between the blocks): its rotation set to 0, its corner changed,
+    the rates projected (:func:`.two_block.projected_rates`); a rebound below the rest threshold shuts it."""
+    if joint == 1:
+        y = (0.0, 0.0 if j2 == SHUT else y[1], y[2], y[3])
+        after = (-j1, j2)
+    else:
+        y = (y[0], y[0], y[2], y[3])
+        after = (j1, -j2)
+    w1, w2 = projected_rates(tb, Motion(y[0], y[1], y[2], y[3]), (j1, j2), after)
+    y = (y[0], y[1], w1, w2)
+    k1, k2 = after
+    if joint == 1 and k1 * w1 <= rest1:
+        w1, w2 = projected_rates(tb, Motion(y[0], y[1], w1, w2), after, (SHUT, k2))
+        return (0.0, y[1], w1, w2), SHUT, k2
+    if joint == 2 and k2 * (w2 - w1) <= rest2:
+        w1, w2 = projected_rates(tb, Motion(y[0], y[1], w1, w2), after, (k1, SHUT))
+        return (y[0], y[0], w1, w2), k1, SHUT
+    return y, k1, k2
+
+
+def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
+                       rest_ratio: float = REST_RATIO) -> TwoBlockOutcome:
+    """Two stacked blocks at rest under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
+    vertical ``av_ms2`` [m s-2] when given), from the record's start to rest or a fall after its end; an impact whose
+    rebound is below ``rest_ratio`` p alpha [-] (each joint's scales, :func:`scales`) shuts its joint.
+
+    Returns
+    -------
+    TwoBlockOutcome
+    """
+    ah = np.ascontiguousarray(ah_ms2, dtype=np.float64)
+    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=np.float64)
+    if ah.ndim != 1 or ah.shape[0] < 2:
+        raise ValueError(f"ah_ms2: expected a record of at least 2 samples, found shape {ah.shape}")
+    if av.shape[0] not in (0, ah.shape[0]):
+        raise ValueError(f"av_ms2: {av.shape[0]} samples where the horizontal has {ah.shape[0]}; give them equal")
+    if not dt_s > 0:
+        raise ValueError(f"dt_s = {dt_s}: expected a positive sampling interval [s]")
+    s = scales(tb)
+    alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
+    return _run(tb, ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,
+                rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p)

@@ -1,0 +1,182 @@
+"""Two stacked blocks rocking (pipeline.assemblies.two_block*): against the single block of their outline (Housner's
+equation and impact, solved by the rocking kernel), against Lagrange's equations of their energy solved by scipy's
+DOP853 with events (tests/support/two_block_reference.py), and the invariants (mirror symmetry, energy never
+gained at an impact, the exact lift-off bound)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import two_block_reference as ref
+
+from pipeline.assemblies.stack import StackBody
+from pipeline.assemblies.two_block import Motion, projected_rates, two_block
+from pipeline.assemblies.two_block_run import (
+    FALLS_NONE,
+    FALLS_STACK,
+    FALLS_TOP,
+    OPENED_BOTH,
+    OPENED_GROUND,
+    OPENED_JOINT,
+    REST_RATIO,
+    scales,
+    simulate_two_block,
+)
+from pipeline.errors import BlockParameterError
+from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.simulate import rock
+
+G = 9.80665
+DT = 0.005
+TIMES = np.arange(0.0, 3.0, DT)
+RHO = 2500.0
+
+
+def _sine(ap, tp, phase=0.0):
+    """One cycle of a sine (phase 0) or cosine (phase pi/2) pulse [m s-2] of period ``tp`` [s]."""
+    return np.where(TIMES < tp, ap * np.sin(2 * np.pi * TIMES / tp + phase), 0.0)
+
+
+def _bodies(lower, upper, offset=0.0):
+    """(width, height) pairs to StackBody's of one density."""
+    return (StackBody(lower[0], lower[1], RHO * lower[0] * lower[1], 0.8),
+            StackBody(upper[0], upper[1], RHO * upper[0] * upper[1], 0.8, offset))
+
+
+# A statue on its plinth (the statue rocks first), a column of two drums (the pair rocks as one first), a squat
+# capital on a slender shaft
+STATUE, DRUMS, CAPITAL = ((0.6, 1.0), (0.3, 1.2)), ((0.5, 1.5), (0.5, 1.0)), ((0.4, 1.4), (0.36, 0.5))
+
+
+@pytest.mark.parametrize("ap, tp, phase", [(5.0, 0.3, 0.0), (6.0, 0.3, 0.0), (6.0, 0.6, 0.0), (6.0, 1.0, 0.0),
+                                           (8.0, 0.3, 0.0), (5.0, 0.6, math.pi / 2), (9.0, 0.4, math.pi / 2)])
+def test_a_thin_slab_on_a_block_rocks_as_the_block_of_their_outline(ap, tp, phase):
+    """A slab 0.05 m thick on a 0.5 x 1.0 m block of the same width and density: the joint stays shut (tan alpha of
+    the slab 10) and the pair is the 0.5 x 1.05 m block, the same mass about the same corner, its impact Housner's
+    (e = 1 - 1.5 sin^2 alpha). The rocking kernel on that block: the same verdict, peaks within 1e-4 alpha."""
+    lower, upper = _bodies((0.5, 1.0), (0.5, 0.05))
+    tb = two_block(lower, upper)
+    b, h = 0.25, 0.525
+    alpha, radius = math.atan(b / h), math.hypot(b, h)
+    a = _sine(ap, tp, phase)
+    out = simulate_two_block(tb, a, DT)
+    single = rock(a, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius,
+                  settings=SimulationConfig(rtol=1e-10, atol=1e-12), tail="integrate", t_end_s=TIMES[-1] + 60)
+    assert (out.falls == FALLS_STACK) == single.overturned
+    if not single.overturned:
+        assert out.peak_phi1_rad / alpha == pytest.approx(single.theta_max, abs=1e-4)
+        assert out.peak_psi_rad == 0.0 and out.modes == OPENED_GROUND
+
+
+@pytest.mark.parametrize("lower, upper", [STATUE, DRUMS, ((0.3, 1.2), (0.2, 0.6))])
+def test_an_impact_keeps_housners_share_of_the_rate(lower, upper):
+    """Housner (1963): a block's rate after an impact is (1 - 1.5 sin^2 alpha) of the rate before (its angular
+    momentum about the new corner kept). The upper block on the shut lower (alpha = atan(b2 / h2)); the pair of one
+    width and density rocking as one (alpha of their outline)."""
+    tb = two_block(*_bodies(lower, upper))
+    alpha2 = math.atan(upper[0] / upper[1])
+    w = projected_rates(tb, Motion(0.0, 0.0, 0.0, -1.3), (0, 1), (0, -1))
+    assert w == pytest.approx((0.0, -1.3 * (1 - 1.5 * math.sin(alpha2) ** 2)), rel=1e-13, abs=1e-15)
+    same = two_block(*_bodies((lower[0], lower[1]), (lower[0], upper[1])))
+    alpha = math.atan(lower[0] / (lower[1] + upper[1]))
+    w = projected_rates(same, Motion(0.0, 0.0, -0.7, -0.7), (1, 0), (-1, 0))
+    assert w == pytest.approx((-0.7 * (1 - 1.5 * math.sin(alpha) ** 2),) * 2, rel=1e-13)
+
+
+def _reference(lower, upper, a, offset=0.0):
+    tb = two_block(*_bodies(lower, upper, offset))
+    (b1, h1), (b2, h2) = (lower[0] / 2, lower[1] / 2), (upper[0] / 2, upper[1] / 2)
+    pair = ref.Pair(b1, h1, RHO * lower[0] * lower[1], b2, h2, RHO * upper[0] * upper[1], offset)
+    sc = scales(tb)
+    return simulate_two_block(tb, a, DT), ref.simulate(pair, a, DT, rest1=REST_RATIO * sc.p1 * sc.alpha1,
+                                                       rest2=REST_RATIO * sc.p2 * sc.alpha2)
+
+
+def _agree(out, truth, tb_scales):
+    """The same verdict and modes, peaks within 1 % (or 1e-4 alpha, for a lift-off of a few microradians)."""
+    assert out.falls == truth.falls
+    opened = ((OPENED_GROUND if any(g for g, _ in truth.modes) else 0)
+              | (OPENED_JOINT if any(j for _, j in truth.modes) else 0)
+              | (OPENED_BOTH if (True, True) in truth.modes else 0))
+    assert out.modes == opened
+    if out.falls == FALLS_NONE:
+        assert out.peak_phi1_rad == pytest.approx(truth.peak_phi1, rel=0.01, abs=1e-4 * tb_scales.alpha1)
+    if out.falls != FALLS_TOP:
+        assert out.peak_psi_rad == pytest.approx(truth.peak_psi, rel=0.01, abs=1e-4 * tb_scales.alpha2)
+
+
+#: Pulses and stacks of every mode: the statue rocks alone (on the shut plinth), then with it; the drums rock as
+#: one, then open; the top falls; the stack falls; an offset statue
+CASES = [(STATUE, 3.0, 0.4, 0.0, 0.0), (STATUE, 3.0, 0.8, 0.0, 0.0), (STATUE, 5.0, 0.4, 0.0, 0.0),
+         (STATUE, 5.0, 0.8, 0.0, 0.0), (STATUE, 8.0, 0.4, 0.0, 0.0), (STATUE, 8.0, 0.8, 0.0, 0.0),
+         (STATUE, 4.0, 0.6, math.pi / 2, 0.0), (STATUE, 4.0, 0.6, 0.0, 0.08),
+         (DRUMS, 3.0, 0.4, 0.0, 0.0), (DRUMS, 3.0, 0.8, 0.0, 0.0), (DRUMS, 5.0, 0.4, 0.0, 0.0),
+         (DRUMS, 5.0, 0.8, 0.0, 0.0), (DRUMS, 8.0, 0.4, 0.0, 0.0), (DRUMS, 8.0, 0.8, 0.0, 0.0),
+         (DRUMS, 6.0, 0.5, math.pi / 2, 0.0), (DRUMS, 7.0, 0.3, math.pi / 2, 0.0),
+         (CAPITAL, 3.0, 0.4, 0.0, 0.0), (CAPITAL, 3.0, 0.8, 0.0, 0.0), (CAPITAL, 5.0, 0.4, 0.0, 0.0),
+         (CAPITAL, 5.0, 0.8, 0.0, 0.0), (CAPITAL, 8.0, 0.4, 0.0, 0.0), (CAPITAL, 8.0, 0.8, 0.0, 0.0),
+         (CAPITAL, 6.0, 0.6, math.pi / 2, 0.0), (CAPITAL, 4.5, 0.5, 0.0, -0.02)]
+FAST = {1, 11, 13}
+
+
+@pytest.mark.parametrize("k", [pytest.param(k, marks=() if k in FAST else pytest.mark.slow) for k in range(len(CASES))])
+def test_the_model_agrees_with_lagranges_equations_solved_by_scipy(k):
+    """Verdicts and modes identical and peaks within 1 % against the independent solution (Lagrange's equations of
+    the blocks' energy, DOP853 with event location), on 24 pulses covering the modes: each joint open alone, both,
+    the top falling, the stack falling (three in ``make test``, all in the slow tests)."""
+    (lower, upper), ap, tp, phase, offset = CASES[k]
+    a = _sine(ap, tp, phase)
+    out, truth = _reference(lower, upper, a, offset)
+    _agree(out, truth, scales(two_block(*_bodies(lower, upper, offset))))
+
+
+@pytest.mark.slow
+def test_the_cases_cover_every_mode():
+    """The 24 cases open each joint alone, both at once, let the top fall and the stack fall."""
+    seen, falls = set(), set()
+    for (lower, upper), ap, tp, phase, offset in CASES:
+        out = simulate_two_block(two_block(*_bodies(lower, upper, offset)), _sine(ap, tp, phase), DT)
+        seen.add(out.modes)
+        falls.add(out.falls)
+    assert {OPENED_GROUND, OPENED_JOINT} <= seen and any(m & OPENED_BOTH for m in seen)
+    assert falls == {FALLS_NONE, FALLS_TOP, FALLS_STACK}
+
+
+@pytest.mark.parametrize("lower, upper", [STATUE, DRUMS, CAPITAL])
+@pytest.mark.parametrize("ap, tp", [(4.0, 0.5), (7.0, 0.4)])
+def test_a_mirrored_ground_mirrors_the_motion(lower, upper, ap, tp):
+    """A stack symmetric about its axis under -a_h: the same verdict and peaks (to rounding)."""
+    tb = two_block(*_bodies(lower, upper))
+    a = _sine(ap, tp)
+    one, other = simulate_two_block(tb, a, DT), simulate_two_block(tb, -a, DT)
+    assert (one.falls, one.impacts, one.modes) == (other.falls, other.impacts, other.modes)
+    assert (one.peak_phi1_rad, one.peak_psi_rad) == pytest.approx((other.peak_phi1_rad, other.peak_psi_rad),
+                                                                 rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("lower, upper", [STATUE, DRUMS])
+def test_at_rest_a_joint_opens_only_above_its_bound(lower, upper):
+    """A ground held at the stack's first lift-off bound (the statue's b2 / h2 g; the drums' pair b1 / z_G g) does not
+    move it; a rounding above it does."""
+    tb = two_block(*_bodies(lower, upper))
+    sc = scales(tb)
+    bound = G * min(math.tan(sc.alpha1), math.tan(sc.alpha2))
+    held = np.full(400, bound)
+    assert simulate_two_block(tb, held, DT).liftoffs == 0
+    assert simulate_two_block(tb, held * (1 + 1e-9), DT).liftoffs >= 1
+
+
+def test_a_ground_falling_faster_than_gravity_is_flagged_not_followed():
+    """g + a_v <= 0: the blocks leave the ground; the model does not follow them and says so."""
+    tb = two_block(*_bodies(*STATUE))
+    av = np.where(TIMES > 0.5, -1.2 * G, 0.0)
+    out = simulate_two_block(tb, _sine(3.0, 0.4), DT, av_ms2=av)
+    assert out.status & STATUS_GROUND_FLIGHT
+
+
+def test_a_pair_that_cannot_stand_is_a_named_error():
+    with pytest.raises(BlockParameterError, match="cannot stand at rest"):
+        two_block(*_bodies((0.4, 1.0), (0.3, 1.0), offset=0.4))
