@@ -109,6 +109,20 @@ def scales(tb: TwoBlock) -> Scales:
                   math.atan2(tb.right - tb.offset, tb.h2), math.sqrt(tb.m2 * G * r2 / i_o2))
 
 
+class Peaks(NamedTuple):
+    """The largest |phi_1|, |phi_2| and |phi_2 - phi_1| so far [rad]."""
+
+    phi1: float
+    phi2: float
+    psi: float
+
+
+@jit
+def _peaks(peaks, y):
+    """``peaks`` with the state ``y`` (phi_1, phi_2, rates)."""
+    return Peaks(max(peaks.phi1, abs(y[0])), max(peaks.phi2, abs(y[1])), max(peaks.psi, abs(y[1] - y[0])))
+
+
 class _Piece(NamedTuple):
     """The ground's linear piece [t0, t0 + span]: its ends' horizontal and vertical accelerations [m s-2]."""
 
@@ -219,20 +233,15 @@ def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
     j1, j2 = SHUT, SHUT
     t = 0.0
     h = h_max * FIRST_STEP_FRACTION
-    peak1, peak2, peak_psi = 0.0, 0.0, 0.0
+    peaks = Peaks(0.0, 0.0, 0.0)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
     falls, t_fall = FALLS_NONE, math.nan
     f = (0.0, 0.0, 0.0, 0.0)
     fresh = True                                  # f must be evaluated before the next step
     while True:
-        if steps >= MAX_STEPS:
-            status |= STATUS_STEP_CAP
-            break
-        if events >= MAX_EVENTS:
-            status |= STATUS_EVENT_CAP
-            break
-        if t >= tail_end:
-            status |= STATUS_TAIL_CAP
+        capped = _caps(steps, events, t, tail_end)
+        if capped:
+            status |= capped
             break
         modes |= _mode_bits(j1, j2)
         piece = _piece_at(ah, av, dt, t, t_rec, tail_end)
@@ -248,24 +257,16 @@ def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
                 t = t1
                 continue
             t = t_open
-            if joint == 1:
-                j1 = corner
-            else:
-                j2 = corner
-            liftoffs += 1
-            events += 1
-            fresh = True
+            j1, j2 = (corner, j2) if joint == 1 else (j1, corner)
+            liftoffs, events, fresh = liftoffs + 1, events + 1, True
             h = h_max * FIRST_STEP_FRACTION
             continue
         if fresh:
-            f, _ = _rhs(t, y, (tb, j1, j2, piece))
-            fresh = False
+            f, fresh = _rhs(t, y, (tb, j1, j2, piece))[0], False
             kind = _event(tb, y, j1, j2, piece, t)
             if kind == 4:                           # a joint shut by an impact opens at once
                 y, j1, j2 = _open(tb, y, j1, j2, piece, t)
-                liftoffs += 1
-                events += 1
-                fresh = True
+                liftoffs, events, fresh = liftoffs + 1, events + 1, True
                 continue
         hh = min(h, h_max, t1 - t)
         st = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, hh, DOPRI54)
@@ -278,29 +279,19 @@ def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
         if kind == 0:
             t = t1 if hh == t1 - t else t + hh
             y, f = st.y, st.f
-            peak1, peak2, peak_psi = max(peak1, abs(y[0])), max(peak2, abs(y[1])), max(peak_psi, abs(y[1] - y[0]))
+            peaks = _peaks(peaks, y)
             h = next_step(hh, norm)
             continue
-        # an event inside the step: bisect its length
-        lo, hi, y_hi = 0.0, hh, st.y
-        while hi - lo > EVENT_TIME_TOL_S:
-            mid = 0.5 * (lo + hi)
-            trial = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, mid, DOPRI54).y
-            steps += 1
-            if _event(tb, trial, j1, j2, piece, t + mid) != 0:
-                hi, y_hi = mid, trial
-            else:
-                lo = mid
-        kind = _event(tb, y_hi, j1, j2, piece, t + hi)
+        hi, y, tries = _locate(tb, y, f, j1, j2, piece, t, hh, st.y)
+        steps += tries
+        kind = _event(tb, y, j1, j2, piece, t + hi)
         t += hi
-        y = y_hi
-        peak1, peak2, peak_psi = max(peak1, abs(y[0])), max(peak2, abs(y[1])), max(peak_psi, abs(y[1] - y[0]))
+        peaks = _peaks(peaks, y)
         events += 1
         fresh = True
         h = max(hi, h_max * FIRST_STEP_FRACTION)
         if kind == 3:
-            falls = FALLS_STACK if abs(y[0]) >= HALF_PI else FALLS_TOP
-            t_fall = t
+            falls, t_fall = (FALLS_STACK if abs(y[0]) >= HALF_PI else FALLS_TOP), t
             break
         if kind == 4:
             y, j1, j2 = _open(tb, y, j1, j2, piece, t)
@@ -308,8 +299,34 @@ def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
         else:
             y, j1, j2 = _impact(tb, y, j1, j2, kind, rest1, rest2)
             impacts += 1
-    return TwoBlockOutcome(falls, t_fall, peak1, peak2, peak_psi, impacts, liftoffs, modes, status,
+    return TwoBlockOutcome(falls, t_fall, peaks.phi1, peaks.phi2, peaks.psi, impacts, liftoffs, modes, status,
                            Motion(y[0], y[1], y[2], y[3]))
+
+
+@jit
+def _caps(steps, events, t, tail_end):
+    """The status bit of the cap the run has reached (:data:`MAX_STEPS`, :data:`MAX_EVENTS`, :data:`TAIL_S`), or 0."""
+    if steps >= MAX_STEPS:
+        return STATUS_STEP_CAP
+    if events >= MAX_EVENTS:
+        return STATUS_EVENT_CAP
+    return STATUS_TAIL_CAP if t >= tail_end else 0
+
+
+@jit
+def _locate(tb, y, f, j1, j2, piece, t, hh, y_end):
+    """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: the step's length bisected to
+    :data:`EVENT_TIME_TOL_S`. Returns the length reaching the event, the state there and the steps tried."""
+    lo, hi, y_hi, tries = 0.0, hh, y_end, 0
+    while hi - lo > EVENT_TIME_TOL_S:
+        mid = 0.5 * (lo + hi)
+        trial = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, mid, DOPRI54).y
+        tries += 1
+        if _event(tb, trial, j1, j2, piece, t + mid) != 0:
+            hi, y_hi = mid, trial
+        else:
+            lo = mid
+    return hi, y_hi, tries
 
 
 @jit

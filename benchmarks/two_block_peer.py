@@ -1,0 +1,132 @@
+"""The planar two-block model (pipeline.assemblies.two_block_run) against PyBullet on the bundled records: a statue
+on its plinth and a column of two drums, each record's first horizontal in the stack's plane scaled to a PGA, no
+vertical, friction high enough that no joint slides (the model rocks without sliding: mu 2 in both engines' sense).
+PyBullet holds two deep boxes stacked on its floor, the ground's motion as a time-varying gravity (as the project's
+other peers, tests/support/rigid_body_peer.py). For each scene the verdict of each: what falls first (the top: its
+tilt reaches pi/2; the stack: the lower block's tilt reaches pi/2; PyBullet's by 0.02 rad less), or stands; and each
+disagreement re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's verdict
+holds in all three). Prints the counts and the time per scene of each, and of the rocking kernel on the single
+block of the stack's outline (the cost of a second body).
+
+Run: ``python benchmarks/two_block_peer.py [--pga 0.5] [--records 12]`` (the first records of at most 60 s;
+PyBullet is a test extra).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests" / "support"))
+
+from rigid_body_peer import STEP_S, TAIL_S, _free_body, _world, ground_at, pybullet  # noqa: E402
+
+from pipeline.assemblies.stack import StackBody  # noqa: E402
+from pipeline.assemblies.two_block import two_block  # noqa: E402
+from pipeline.assemblies.two_block_run import FALLS_NONE, FALLS_STACK, FALLS_TOP, simulate_two_block  # noqa: E402
+from pipeline.config import Config  # noqa: E402
+from pipeline.constants import G  # noqa: E402
+from pipeline.records.loader import iter_records  # noqa: E402
+from pipeline.rocking.simulate import rock  # noqa: E402
+
+RHO = 2500.0
+MU = 2.0
+#: name -> ((width, height) of the lower block, (width, height) of the upper) [m]
+STACKS = {"statue on plinth": ((0.6, 1.0), (0.3, 1.2)), "two drums": ((0.5, 1.5), (0.5, 1.0))}
+#: records longer than this are left out (PyBullet steps at 4 kHz) [s]
+MAX_DURATION_S = 60.0
+NAMES = {FALLS_NONE: "stands", FALLS_TOP: "top falls", FALLS_STACK: "stack falls"}
+
+
+def bullet_stack(ah: np.ndarray, dt: float, lower, upper, *, step_s: float = STEP_S, scale: float = 1.0) -> int:
+    """PyBullet's verdict (FALLS_*) on two deep boxes stacked, under ``ah`` [m s-2] along x."""
+    pb = pybullet()
+    cid = _world(pb, step_s)
+    try:
+        depth = 2.0 * max(lower[1] + upper[1], lower[0])
+        bodies = []
+        for (w, h), z in ((lower, lower[1] / 2), (upper, lower[1] + upper[1] / 2)):
+            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
+            body = pb.createMultiBody(RHO * w * h * depth, shape, basePosition=[0, 0, z], physicsClientId=cid)
+            _free_body(pb, body, MU, cid)
+            bodies.append(body)
+        ground = (scale * ah, None, None)
+        t_rec = (ah.size - 1) * dt
+        for i in range(int((t_rec + TAIL_S) / step_s)):
+            acc = ground_at(ground, i * step_s, dt)
+            pb.setGravity(-acc[0], 0.0, -G, physicsClientId=cid)
+            pb.stepSimulation(physicsClientId=cid)
+            if i % 8:
+                continue
+            tilts = []
+            for body in bodies:
+                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+                tilts.append(math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))))
+            if tilts[0] >= math.pi / 2 - 0.02:
+                return FALLS_STACK
+            if tilts[1] >= math.pi / 2 - 0.02:
+                return FALLS_TOP
+        return FALLS_NONE
+    finally:
+        pb.disconnect(cid)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--pga", type=float, default=0.5, help="each record scaled to this PGA [g]")
+    ap.add_argument("--records", type=int, default=12, help="the first N bundled records of at most 60 s")
+    args = ap.parse_args()
+    records = []
+    for r in iter_records(ROOT / "records", config=Config()):
+        if len(records) < args.records and r.horizontal_ms2[0].size * r.dt_s <= MAX_DURATION_S:
+            records.append(r)
+    print(f"{len(records)} bundled records of at most {MAX_DURATION_S:.0f} s, each scaled to PGA {args.pga} g")
+    agree, robust_miss, t_model, t_peer, t_single = 0, 0, [], [], []
+    for rec in records:
+        a = np.asarray(rec.horizontal_ms2[0], dtype=float)
+        a = a * (args.pga * G / np.max(np.abs(a)))
+        for name, (lower, upper) in STACKS.items():
+            tb = two_block(StackBody(lower[0], lower[1], RHO * lower[0] * lower[1], MU),
+                           StackBody(upper[0], upper[1], RHO * upper[0] * upper[1], MU))
+            t0 = time.perf_counter()
+            ours = simulate_two_block(tb, a, rec.dt_s).falls
+            t_model.append(time.perf_counter() - t0)
+            width, height = lower[0], lower[1] + upper[1]           # the outline (the wider lower block)
+            radius, alpha = math.hypot(width / 2, height / 2), math.atan(width / height)
+            t0 = time.perf_counter()
+            rock(a, rec.dt_s, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2,
+                 R_m=radius)
+            t_single.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            peer = bullet_stack(a, rec.dt_s, lower, upper)
+            t_peer.append(time.perf_counter() - t0)
+            note = ""
+            if ours == peer:
+                agree += 1
+            else:
+                checks = {bullet_stack(a, rec.dt_s, lower, upper, step_s=STEP_S / 2)} | {
+                    bullet_stack(a, rec.dt_s, lower, upper, scale=s) for s in (0.98, 1.02)}
+                robust = checks == {peer}
+                robust_miss += robust
+                note = f"  engine {'robust' if robust else 'not robust: ' + str(sorted(NAMES[c] for c in checks))}"
+            print(f"{rec.record_id[:40]:40s} {name:17s} rockscreen {NAMES[ours]:11s} PyBullet {NAMES[peer]:11s}{note}",
+                  flush=True)
+    n = len(t_model)
+    print(f"\n{agree} of {n} scenes agree; {robust_miss} disagreements where the engine's verdict is robust")
+    print(f"time a scene: rockscreen median {statistics.median(t_model):.4f} s (worst {max(t_model):.4f}); "
+          f"PyBullet median {statistics.median(t_peer):.2f} s (worst {max(t_peer):.2f}); the single block of the "
+          f"outline median {statistics.median(t_single):.4f} s")
+    ratios = [m / s for m, s in zip(t_model, t_single)]
+    print(f"two blocks / the single block of their outline, per scene: median {statistics.median(ratios):.2f}, "
+          f"worst {max(ratios):.2f}")
+
+
+if __name__ == "__main__":
+    main()
