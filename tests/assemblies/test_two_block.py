@@ -24,8 +24,9 @@ from pipeline.assemblies.two_block_run import (
     scales,
     simulate_two_block,
 )
+from pipeline.assemblies.two_block_verdicts import judge_two_block
 from pipeline.errors import BlockParameterError
-from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
+from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import rock
 
@@ -180,3 +181,52 @@ def test_a_ground_falling_faster_than_gravity_is_flagged_not_followed():
 def test_a_pair_that_cannot_stand_is_a_named_error():
     with pytest.raises(BlockParameterError, match="cannot stand at rest"):
         two_block(*_bodies((0.4, 1.0), (0.3, 1.0), offset=0.4))
+
+
+def _two_pulses(ap2):
+    """A pulse of 2.5 m s-2 and 1 s from 0 s, another of ``ap2`` [m s-2] and 1 s from 2.5 s; 5 s in all."""
+    t = np.arange(0.0, 5.0, DT)
+    first = np.where(t < 1.0, 2.5 * np.sin(2 * np.pi * t), 0.0)
+    return first + np.where((t >= 2.5) & (t < 3.5), ap2 * np.sin(2 * np.pi * (t - 2.5)), 0.0)
+
+
+@pytest.mark.parametrize("ap2", [0.0, 3.0, 4.0, 5.0, 7.0])
+def test_after_the_top_falls_the_lower_block_is_judged_alone(ap2):
+    """A slender light top (0.06 x 0.6 m) falls under a first pulse that leaves its 0.6 x 1.6 m plinth at rest; a
+    later pulse then meets the plinth alone. The plinth's verdict is the rocking kernel's on the plinth alone over the
+    whole record (it cannot have moved before: alone its bound, b1 / h1 g, is above the stack's)."""
+    lower, upper = _bodies((0.6, 1.6), (0.06, 0.6))
+    a = _two_pulses(ap2)
+    verdict = judge_two_block(two_block(lower, upper), a, DT)
+    assert verdict.run.falls == FALLS_TOP and verdict.run.peak_phi1_rad == 0.0 and verdict.run.t_fall_s < 2.5
+    assert verdict.upper == Verdict.overturns
+    alpha, radius = math.atan(0.3 / 0.8), math.hypot(0.3, 0.8)
+    alone = rock(a, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius)
+    assert verdict.lower == (Verdict.overturns if alone.overturned else Verdict.stands)
+
+
+def test_each_body_has_the_runs_verdict_where_nothing_or_the_stack_falls():
+    tb = two_block(*_bodies(*DRUMS))
+    assert judge_two_block(tb, _sine(2.0, 0.5), DT)[:2] == (Verdict.stands, Verdict.stands)
+    assert judge_two_block(tb, _sine(8.0, 0.8), DT)[:2] == (Verdict.overturns, Verdict.overturns)
+
+
+def test_a_run_without_a_verdict_leaves_both_bodies_unknown():
+    """The ground falling faster than gravity: no body is called standing."""
+    av = np.where(TIMES > 0.5, -1.2 * G, 0.0)
+    verdict = judge_two_block(two_block(*_bodies(*STATUE)), _sine(3.0, 0.4), DT, av_ms2=av)
+    assert (verdict.lower, verdict.upper) == (Verdict.no_verdict, Verdict.no_verdict)
+
+
+@pytest.mark.parametrize("ap, tp", [(3.0, 0.8), (4.0, 0.8), (5.0, 0.8), (4.0, 1.2), (6.0, 0.6), (3.5, 1.0)])
+def test_a_lower_block_rocking_when_the_top_falls_goes_on_as_itself(ap, tp):
+    """A top of a millionth of the lower block's mass leaves the lower's motion its own: the top falls while the
+    lower rocks (its rate not 0), and the lower's verdict, followed on from that state by the rocking kernel, is the
+    kernel's on the lower alone from the start."""
+    tb = two_block(StackBody(0.4, 1.6, 1000.0, 0.8), StackBody(0.05, 0.5, 1e-3, 0.8))
+    a = _sine(ap, tp)
+    verdict = judge_two_block(tb, a, DT)
+    assert verdict.run.falls == FALLS_TOP and verdict.run.final.w1 != 0.0
+    alpha, radius = math.atan(0.2 / 0.8), math.hypot(0.2, 0.8)
+    alone = rock(a, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius)
+    assert verdict.lower == (Verdict.overturns if alone.overturned else Verdict.stands)
