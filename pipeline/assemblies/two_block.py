@@ -18,22 +18,22 @@ directions (both joints open: the identity; the ground joint shut: (0, 1); the b
 block it is Housner's (1963) equation.
 
 At an impact the joint's rotation reaches 0 and its corner changes; every other joint keeps its state. The impulses
-act only at the contacts the new mode holds, so they do no work on its free directions (conservation of the angular
-momentum about the new corner for one block, Housner 1963; for two blocks the condition Psycharis (1990) writes per
-block):
+act only at the contacts the new mode holds, so they do no work on its free directions (for one block, the
+conservation of the angular momentum about the new corner of Housner 1963; the same principle for two blocks):
 
     S^T V_+^T B (V_+ S z'_+ - V_- q'_-) = 0,
 
 V being the map from q' to the blocks' velocities (the centres' and the rotation rates) with the corners before (-)
 and after (+), B = diag(m_1, m_1, I_1, m_2, m_2, I_2). The kinetic energy is B-orthogonally projected: never gained.
 A shut joint opens on the corner s where releasing it (every other joint as it is) would accelerate its rotation
-towards s (Housner's lift-off condition for one block).
+towards s (Housner's lift-off condition for one block). The joints' modes, each block on a corner of the one below,
+are those of Psycharis (1990); neither joint slides.
 
 References
 ----------
 Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. Bulletin of the
 Seismological Society of America 53(2), 403-417.
-Kane, T. R. & Levinson, D. A. (1985). Dynamics: Theory and Applications. McGraw-Hill, chapter 6.
+Kane, T. R. & Levinson, D. A. (1985). Dynamics: Theory and Applications. McGraw-Hill.
 Psycharis, I. N. (1990). Dynamic behaviour of rocking two-block assemblies. Earthquake Engineering & Structural
 Dynamics 19(4), 555-575.
 """

@@ -9,8 +9,8 @@ bisection on the step's length to :data:`EVENT_TIME_TOL_S`. An impact whose rebo
 rotation on the lower, reaches pi/2. After the record the free motion is followed until both joints are shut or a
 block falls, for at most :data:`TAIL_S`.
 
-The model holds while neither joint slides nor lifts off as a whole (Psycharis 1990 adds those modes): it is the
-planar two-block check of the assemblies, exact within its tolerances for rocking without sliding.
+The model holds while neither joint slides and no block leaves its support in flight; within its tolerances it
+solves the equations of :mod:`.two_block` (against an independent solution: docs/validation.md, "Assemblies").
 
 References
 ----------
