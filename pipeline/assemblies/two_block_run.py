@@ -165,30 +165,47 @@ def _piece_at(ah, av, dt, t, t_rec, tail_end):
     return _Piece(k * dt, dt, ah[k], ah[k + 1], v0, v1)
 
 
-@jit
-def _opening_at_rest(tb, piece, t):
-    """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
-    (NaN, 0, 0). At rest each lift-off condition is linear in the ground's acceleration, so its root on the piece is
-    exact."""
+class RestLift(NamedTuple):
+    """At rest, the lift-off condition of each joint on each corner, s x its rotation's acceleration were it
+    released, is a_h ch + (g + a_v) cg (linear: at rest M is constant and f linear in the ground); the four
+    candidates in the order (ground, +1), (ground, -1), (joint, +1), (joint, -1) [s-2 m-1 per m s-2]."""
+
+    ch: tuple
+    cg: tuple
+
+
+def rest_lift(tb: TwoBlock) -> RestLift:
+    """The :class:`RestLift` of ``tb``, from the accelerations at rest under a unit horizontal and a unit g + a_v."""
     rest = Motion(0.0, 0.0, 0.0, 0.0)
+    ch, cg = [], []
+    for cand in range(4):
+        s = 1 if cand % 2 == 0 else -1
+        j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
+        for out, (ah, gv) in ((ch, (1.0, 0.0)), (cg, (0.0, 1.0))):
+            d1, d2 = accelerations(tb, rest, j1, j2, ah, gv - G)
+            out.append(s * d1 if cand < 2 else s * (d2 - d1))
+    return RestLift((ch[0], ch[1], ch[2], ch[3]), (cg[0], cg[1], cg[2], cg[3]))
+
+
+@jit
+def _opening_at_rest(lift, piece, t):
+    """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
+    (NaN, 0, 0). Each condition is linear in the ground's acceleration (:class:`RestLift`), so its root on the piece
+    is exact."""
     t1 = piece.t0 + piece.span
     ah0, av0 = _ground(piece, t)
     ah1, av1 = _ground(piece, t1)
     best_x, joint, corner = 2.0, 0, 0
     for cand in range(4):
-        s = 1 if cand % 2 == 0 else -1
-        j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
-        d0 = accelerations(tb, rest, j1, j2, ah0, av0)
-        d1 = accelerations(tb, rest, j1, j2, ah1, av1)
-        i0 = s * d0[0] if cand < 2 else s * (d0[1] - d0[0])
-        i1 = s * d1[0] if cand < 2 else s * (d1[1] - d1[0])
+        i0 = lift.ch[cand] * ah0 + lift.cg[cand] * (G + av0)
+        i1 = lift.ch[cand] * ah1 + lift.cg[cand] * (G + av1)
         x = 2.0
         if i0 > 0.0:
             x = 0.0
         elif i1 > 0.0:
             x = -i0 / (i1 - i0)
         if x < best_x:
-            best_x, joint, corner = x, (1 if cand < 2 else 2), s
+            best_x, joint, corner = x, (1 if cand < 2 else 2), (1 if cand % 2 == 0 else -1)
     if joint == 0:
         return math.nan, 0, 0
     return t + best_x * (t1 - t), joint, corner
@@ -225,7 +242,7 @@ def _error_norm(err, y_old, y_new, sc):
 
 
 @jit
-def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
+def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
     n = ah.shape[0]
     t_rec = (n - 1) * dt
     tail_end = t_rec + TAIL_S
@@ -252,7 +269,7 @@ def _run(tb, ah, av, dt, sc, rest1, rest2, h_max):
         if j1 == SHUT and j2 == SHUT:
             if t >= t_rec:
                 break                               # at rest after the record: stands
-            t_open, joint, corner = _opening_at_rest(tb, piece, t)
+            t_open, joint, corner = _opening_at_rest(lift, piece, t)
             if joint == 0:
                 t = t1
                 continue
@@ -390,5 +407,5 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
         raise ValueError(f"dt_s = {dt_s}: expected a positive sampling interval [s]")
     s = scales(tb)
     alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
-    return _run(tb, ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,
+    return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,
                 rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p)
