@@ -177,7 +177,8 @@ class RestLift(NamedTuple):
 def rest_lift(tb: TwoBlock) -> RestLift:
     """The :class:`RestLift` of ``tb``, from the accelerations at rest under a unit horizontal and a unit g + a_v."""
     rest = Motion(0.0, 0.0, 0.0, 0.0)
-    ch, cg = [], []
+    ch: list[float] = []
+    cg: list[float] = []
     for cand in range(4):
         s = 1 if cand % 2 == 0 else -1
         j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
