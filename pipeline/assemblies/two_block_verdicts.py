@@ -5,7 +5,8 @@ The two-block run (:func:`.two_block_run.simulate_two_block`) ends at the first 
 alone, the lower block is followed from its state at that instant by the rocking kernel as a single block of its
 own (Housner's equation and impact; the fallen block assumed gone, no longer loading it), and judged by it. A run
 that ended without a verdict (the ground falling faster than gravity, a cap) gives both bodies none: unknown, never
-standing.
+standing; but a free motion after the record that outlasts its cap stands where its energy certifies it
+(:func:`energy_below_barrier`).
 
 References
 ----------
@@ -19,6 +20,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from ..constants import G
 from ..rocking.block import rigid_block
@@ -34,11 +36,17 @@ from ..rocking.planar import kernel
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from ..rocking.structures import RockingOutput, RockingState
-from .two_block import TwoBlock
+from .two_block import Motion, TwoBlock, kinetic_energy, potential_energy
 from .two_block_run import FALLS_NONE, FALLS_STACK, TwoBlockOutcome, simulate_two_block
 
 #: The two-block run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
+#: Points an edge of the grid the barrier is sought on [-]
+BARRIER_GRID = 2001
+#: The barrier's share kept off, for the grid and the search [-]
+BARRIER_MARGIN = 1e-6
+#: The box's corner kept this far inside |phi_2| < pi/2 [rad]
+BOX_CLEARANCE_RAD = 0.01
 #: The rocking kernel's status bits that leave the lower block's verdict open
 UNDECIDED_ALONE = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_STEP_UNDERFLOW
 
@@ -71,11 +79,72 @@ def judge_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np
     if run.falls == FALLS_STACK:
         return TwoBlockVerdict(Verdict.overturns, Verdict.overturns, run, 0)
     if run.falls == FALLS_NONE:
-        verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN else Verdict.stands
+        settled = run.status == STATUS_TAIL_CAP and energy_below_barrier(tb, run.final)
+        verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN and not settled else Verdict.stands
         return TwoBlockVerdict(verdict, verdict, run, 0)
     overturned, status = _lower_alone(tb, run, ah_ms2, av_ms2, dt_s, settings)
     lower = Verdict.overturns if overturned else (Verdict.no_verdict if status & UNDECIDED_ALONE else Verdict.stands)
     return TwoBlockVerdict(lower, Verdict.overturns, run, status)
+
+
+def energy_below_barrier(tb: TwoBlock, y: Motion) -> bool:
+    """Whether the free motion from ``y`` (no more ground motion) can never let a block fall.
+
+    It cannot where ``y`` is inside the box of each joint's tipping angles at rest, corner by corner
+    (:func:`tipping_angles`; the box kept inside |phi_2| < pi/2), and its energy (kinetic and potential above rest) is
+    below the least potential energy on the box's boundary: energy is never gained without ground motion (only impacts
+    and stops change it, and they lose it) and the rotations move continuously, so the motion stays in the box, where
+    nothing falls. The least energy on the boundary is found on a grid of :data:`BARRIER_GRID` points an edge, refined
+    to 1e-12 rad by a bounded search, less :data:`BARRIER_MARGIN` of itself.
+    """
+    (a1p, a1m), (a2p, a2m) = tipping_angles(tb)
+    a2p = min(a2p, 0.5 * math.pi - a1p - BOX_CLEARANCE_RAD)
+    a2m = min(a2m, 0.5 * math.pi - a1m - BOX_CLEARANCE_RAD)
+    inside = -a1m < y.phi1 < a1p and -a2m < y.phi2 - y.phi1 < a2p
+    if min(a1p, a1m, a2p, a2m) <= 0.0 or not inside:
+        return False
+    edges = [(lambda u: (a1p, a1p + u), -a2m, a2p), (lambda u: (-a1m, -a1m + u), -a2m, a2p),
+             (lambda u: (u, u + a2p), -a1m, a1p), (lambda u: (u, u - a2m), -a1m, a1p)]
+    barrier = math.inf
+    for point, lo, hi in edges:
+        grid = np.linspace(lo, hi, BARRIER_GRID)
+        values = [_potential(tb, *point(u)) for u in grid]
+        k = int(np.argmin(values))
+        best = minimize_scalar(lambda u, point=point: _potential(tb, *point(u)),
+                               bounds=(grid[max(k - 1, 0)], grid[min(k + 1, BARRIER_GRID - 1)]), method="bounded",
+                               options={"xatol": 1e-12})
+        barrier = min(barrier, values[k], float(best.fun))
+    return _energy(tb, y) < barrier * (1.0 - BARRIER_MARGIN)
+
+
+def tipping_angles(tb: TwoBlock) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Each joint's tipping angle at rest on its + and - corner [rad]: the part above it rocking as one until its
+    centre of mass is over the corner (the ground joint: both blocks; the blocks' joint: the upper)."""
+    m = tb.m1 + tb.m2
+    xg = tb.m2 * tb.offset / m
+    zg = (tb.m1 * tb.h1 + tb.m2 * (2.0 * tb.h1 + tb.h2)) / m
+    ground = (math.atan2(tb.b1 - xg, zg), math.atan2(tb.b1 + xg, zg))
+    joint = (math.atan2(tb.right - tb.offset, tb.h2), math.atan2(tb.offset - tb.left, tb.h2))
+    return ground, joint
+
+
+def _joint_states(y: Motion) -> tuple[int, int]:
+    """The joints' corners a state stands on (+1 at 0 rotation and rate)."""
+    psi, rate = y.phi2 - y.phi1, y.w2 - y.w1
+    j1 = 1 if (y.phi1 > 0 or (y.phi1 == 0 and y.w1 >= 0)) else -1
+    j2 = 1 if (psi > 0 or (psi == 0 and rate >= 0)) else -1
+    return j1, j2
+
+
+def _energy(tb: TwoBlock, y: Motion) -> float:
+    """Kinetic and potential energy above rest [J]."""
+    j1, j2 = _joint_states(y)
+    return float(kinetic_energy(tb, y, j1, j2) + potential_energy(tb, y, j1, j2))
+
+
+def _potential(tb: TwoBlock, phi1: float, phi2: float) -> float:
+    """The potential energy above rest at the rotations (phi_1, phi_2) [J]."""
+    return _energy(tb, Motion(phi1, phi2, 0.0, 0.0))
 
 
 def _lower_alone(tb: TwoBlock, run: TwoBlockOutcome, ah_ms2, av_ms2, dt_s: float,

@@ -1,5 +1,5 @@
-"""Hypothesis: an impact or a plastic stop between two stacked blocks never gains energy, and the equations conserve it
-in free motion."""
+"""Hypothesis: an impact or a plastic stop between two stacked blocks never gains energy, the equations conserve it
+in free motion, and any stack under any ground ends with a verdict or a flag."""
 
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from pipeline.assemblies.two_block import (
     projected_rates,
     two_block,
 )
+from pipeline.assemblies.two_block_run import FALLS_NONE, FALLS_STACK, FALLS_TOP, simulate_two_block
 from pipeline.errors import BlockParameterError
 
 sizes = st.floats(0.1, 2.0)
@@ -84,3 +85,23 @@ def test_free_motion_conserves_energy(j1, j2, phi, w):
     scale = kinetic_energy(tb, y, j1, j2) + 680.0 * 9.81 * 0.1 + 1.0
     assert abs(rate) <= 1e-6 * scale * max(1.0, math.hypot(w1, w2))
     assert np.isfinite(rate)
+
+
+@settings(max_examples=60, deadline=None)
+@given(w1=sizes, h1=sizes, w2=sizes, h2=sizes, share=st.floats(-1, 1), seed=st.integers(0, 2**31 - 1),
+       pga_g=st.floats(0.05, 2.0), vertical=st.booleans())
+def test_any_stack_under_any_ground_ends_with_a_verdict_or_a_flag(w1, h1, w2, h2, share, seed, pga_g, vertical):
+    """Random stacks under random grounds (white noise, 2 s at 100 Hz, a vertical of half the horizontal's peak or
+    none): every run ends (within the caps), a fall is one of the three outcomes, and a run that stands without a
+    flag ends at rest (both joints shut: the final rates 0)."""
+    tb = _pair(w1, h1, w2, h2, share)
+    if tb is None:
+        return
+    rng = np.random.default_rng(seed)
+    ah = rng.standard_normal(200)
+    ah *= pga_g * 9.80665 / np.max(np.abs(ah))
+    av = 0.5 * rng.standard_normal(200) * pga_g * 9.80665 / 3.0 if vertical else None
+    out = simulate_two_block(tb, ah, 0.01, av_ms2=av)
+    assert out.falls in (FALLS_NONE, FALLS_TOP, FALLS_STACK)
+    if out.falls == FALLS_NONE and out.status == 0:
+        assert (out.final.w1, out.final.w2) == (0.0, 0.0)

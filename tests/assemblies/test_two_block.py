@@ -24,9 +24,9 @@ from pipeline.assemblies.two_block_run import (
     scales,
     simulate_two_block,
 )
-from pipeline.assemblies.two_block_verdicts import judge_two_block
+from pipeline.assemblies.two_block_verdicts import energy_below_barrier, judge_two_block, tipping_angles
 from pipeline.errors import BlockParameterError
-from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict
+from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, STATUS_TAIL_CAP, Verdict
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import rock
 
@@ -230,3 +230,28 @@ def test_a_lower_block_rocking_when_the_top_falls_goes_on_as_itself(ap, tp):
     alpha, radius = math.atan(0.2 / 0.8), math.hypot(0.2, 0.8)
     alone = rock(a, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius)
     assert verdict.lower == (Verdict.overturns if alone.overturned else Verdict.stands)
+
+
+def test_a_free_motion_outlasting_its_cap_stands_where_its_energy_cannot_reach_a_fall():
+    """A wide slab on a narrow column (0.12 x 0.985 m under 1.2 x 1.06 m) rocks on after a record for more than the
+    60 s followed (the stack's impact keeps most of its rate): the run is capped, and its energy, far below the least
+    potential energy on the boundary of the tipping angles' box, gives both bodies a verdict. A state on that boundary
+    at rest, or at rest past the stack's tipping angle, is not certified; rest is."""
+    rng = np.random.default_rng(1)
+    lower, upper = StackBody(0.123, 0.985, 84.8, 0.8), StackBody(1.198, 1.063, 1146.2, 0.8, -0.009)
+    tb = two_block(lower, upper)
+    capped = None
+    for _ in range(40):
+        ah = rng.standard_normal(200)
+        ah *= 0.253 * G / np.max(np.abs(ah))
+        verdict = judge_two_block(tb, ah, 0.01)
+        if verdict.run.status == STATUS_TAIL_CAP:
+            capped = verdict
+            break
+    assert capped is not None and capped.run.falls == FALLS_NONE
+    assert (capped.lower, capped.upper) == (Verdict.stands, Verdict.stands)
+    (a1p, a1m), _ = tipping_angles(tb)
+    assert energy_below_barrier(tb, Motion(0.0, 0.0, 0.0, 0.0))
+    for a1 in (a1p, -a1m, 1.2 * a1p):
+        assert not energy_below_barrier(tb, Motion(a1, a1, 0.0, 0.0))
+    assert not energy_below_barrier(tb, Motion(3.0, 3.0, 0.0, 0.0))      # outside the box: low energy proves nothing
