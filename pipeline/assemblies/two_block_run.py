@@ -29,8 +29,10 @@ import numpy as np
 
 from ..compiled import jit
 from ..constants import G
+from ..errors import ParameterError
 from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
+from ..rocking.simulate import finite_series
 from .two_block import SHUT, Motion, TwoBlock, accelerations, opening, projected_rates
 
 # Step control, named once (as scipy's _ivp names its own)
@@ -397,15 +399,20 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
     Returns
     -------
     TwoBlockOutcome
+
+    Raises
+    ------
+    ParameterError
+        a series not 1-D, shorter than 2 samples or not finite (naming the first bad sample), the vertical's length
+        not the horizontal's, or ``dt_s`` not positive
     """
-    ah = np.ascontiguousarray(ah_ms2, dtype=np.float64)
-    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=np.float64)
-    if ah.ndim != 1 or ah.shape[0] < 2:
-        raise ValueError(f"ah_ms2: expected a record of at least 2 samples, found shape {ah.shape}")
+    ah = np.asarray(finite_series("horizontal acceleration", ah_ms2))
+    av = np.zeros(0) if av_ms2 is None else np.asarray(finite_series("vertical acceleration", av_ms2))
     if av.shape[0] not in (0, ah.shape[0]):
-        raise ValueError(f"av_ms2: {av.shape[0]} samples where the horizontal has {ah.shape[0]}; give them equal")
-    if not dt_s > 0:
-        raise ValueError(f"dt_s = {dt_s}: expected a positive sampling interval [s]")
+        raise ParameterError(f"vertical acceleration: {av.shape[0]} samples, expected {ah.shape[0]} as the "
+                             "horizontal")
+    if not (math.isfinite(dt_s) and dt_s > 0):
+        raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
     s = scales(tb)
     alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
     return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,

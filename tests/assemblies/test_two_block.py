@@ -25,7 +25,7 @@ from pipeline.assemblies.two_block_run import (
     simulate_two_block,
 )
 from pipeline.assemblies.two_block_verdicts import energy_below_barrier, judge_two_block, tipping_angles
-from pipeline.errors import BlockParameterError
+from pipeline.errors import BlockParameterError, ParameterError
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, STATUS_TAIL_CAP, Verdict
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import rock
@@ -255,3 +255,15 @@ def test_a_free_motion_outlasting_its_cap_stands_where_its_energy_cannot_reach_a
     for a1 in (a1p, -a1m, 1.2 * a1p):
         assert not energy_below_barrier(tb, Motion(a1, a1, 0.0, 0.0))
     assert not energy_below_barrier(tb, Motion(3.0, 3.0, 0.0, 0.0))      # outside the box: low energy proves nothing
+
+
+def test_a_record_with_a_gap_is_refused_by_name_not_judged():
+    """A NaN in the record would leave every lift-off test false (a silent 'stands'): it is refused, naming the
+    sample."""
+    tb = two_block(*_bodies(*STATUE))
+    a = _sine(3.0, 0.4)
+    a[37] = np.nan
+    with pytest.raises(ParameterError, match="sample 37"):
+        simulate_two_block(tb, a, DT)
+    with pytest.raises(ParameterError, match="expected 600 as the horizontal"):
+        simulate_two_block(tb, _sine(3.0, 0.4), DT, av_ms2=np.zeros(10))
