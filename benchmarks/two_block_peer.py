@@ -26,7 +26,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
-from rigid_body_peer import STEP_S, TAIL_S, _free_body, _world, ground_at, pybullet  # noqa: E402
+from rigid_body_peer import STEP_S, bullet_stack_falls  # noqa: E402
 
 from pipeline.assemblies.stack import StackBody  # noqa: E402
 from pipeline.assemblies.two_block import two_block  # noqa: E402
@@ -43,39 +43,6 @@ STACKS = {"statue on plinth": ((0.6, 1.0), (0.3, 1.2)), "two drums": ((0.5, 1.5)
 #: records longer than this are left out (PyBullet steps at 4 kHz) [s]
 MAX_DURATION_S = 60.0
 NAMES = {FALLS_NONE: "stands", FALLS_TOP: "top falls", FALLS_STACK: "stack falls"}
-
-
-def bullet_stack(ah: np.ndarray, dt: float, lower, upper, *, step_s: float = STEP_S, scale: float = 1.0) -> int:
-    """PyBullet's verdict (FALLS_*) on two deep boxes stacked, under ``ah`` [m s-2] along x."""
-    pb = pybullet()
-    cid = _world(pb, step_s)
-    try:
-        depth = 2.0 * max(lower[1] + upper[1], lower[0])
-        bodies = []
-        for (w, h), z in ((lower, lower[1] / 2), (upper, lower[1] + upper[1] / 2)):
-            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
-            body = pb.createMultiBody(RHO * w * h * depth, shape, basePosition=[0, 0, z], physicsClientId=cid)
-            _free_body(pb, body, MU, cid)
-            bodies.append(body)
-        ground = (scale * ah, None, None)
-        t_rec = (ah.size - 1) * dt
-        for i in range(int((t_rec + TAIL_S) / step_s)):
-            acc = ground_at(ground, i * step_s, dt)
-            pb.setGravity(-acc[0], 0.0, -G, physicsClientId=cid)
-            pb.stepSimulation(physicsClientId=cid)
-            if i % 8:
-                continue
-            tilts = []
-            for body in bodies:
-                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-                tilts.append(math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))))
-            if tilts[0] >= math.pi / 2 - 0.02:
-                return FALLS_STACK
-            if tilts[1] >= math.pi / 2 - 0.02:
-                return FALLS_TOP
-        return FALLS_NONE
-    finally:
-        pb.disconnect(cid)
 
 
 def main() -> None:
@@ -108,14 +75,14 @@ def main() -> None:
                  R_m=radius)
             t_single.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
-            peer = bullet_stack(a, rec.dt_s, lower, upper)
+            peer = bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO)
             t_peer.append(time.perf_counter() - t0)
             note = ""
             if ours == peer:
                 agree += 1
             else:
-                checks = {bullet_stack(a, rec.dt_s, lower, upper, step_s=STEP_S / 2)} | {
-                    bullet_stack(a, rec.dt_s, lower, upper, scale=s) for s in (0.98, 1.02)}
+                checks = {bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO, step_s=STEP_S / 2)} | {
+                    bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO, scale=s) for s in (0.98, 1.02)}
                 robust = checks == {peer}
                 robust_miss += robust
                 note = f"  engine {'robust' if robust else 'not robust: ' + str(sorted(NAMES[c] for c in checks))}"

@@ -132,3 +132,45 @@ def bullet_box_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np.ndar
         return _shake(pb, cid, body, scaled, dt_s, g_ms2=g_ms2, step_s=step_s, fallen_rad=math.pi / 2)
     finally:
         pb.disconnect(cid)
+
+
+#: What falls first in :func:`bullet_stack_falls`: nothing, the upper box, the lower one (the stack)
+STACK_STANDS, TOP_FALLS, STACK_FALLS = 0, 1, 2
+
+
+def bullet_stack_falls(ah_ms2: np.ndarray, dt_s: float, lower: tuple[float, float], upper: tuple[float, float], *,
+                       mu: float = 2.0, density: float = 2500.0, g_ms2: float = 9.80665, step_s: float = STEP_S,
+                       scale: float = 1.0) -> int:
+    """What falls first of two deep boxes stacked, centred, ((width, height) [m] each, the lower first), under a
+    horizontal ground motion along x (times ``scale``), by PyBullet: the same setting as :func:`bullet_overturns`
+    (time-varying gravity, restitution 0, friction mu x 1 on the floor and mu x mu between the boxes). A box falls when
+    its tilt reaches pi/2 - 0.02 rad; returns :data:`STACK_STANDS`, :data:`TOP_FALLS` or :data:`STACK_FALLS`."""
+    pb = pybullet()
+    cid = _world(pb, step_s)
+    try:
+        depth = 2.0 * max(lower[1] + upper[1], lower[0])        # deep: the stack rocks in its plane
+        bodies = []
+        for (w, h), z in ((lower, lower[1] / 2), (upper, lower[1] + upper[1] / 2)):
+            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
+            body = pb.createMultiBody(density * w * h * depth, shape, basePosition=[0, 0, z], physicsClientId=cid)
+            _free_body(pb, body, mu, cid)
+            bodies.append(body)
+        ground = (scale * np.asarray(ah_ms2), None, None)
+        t_rec = (ground[0].size - 1) * dt_s
+        for i in range(int((t_rec + TAIL_S) / step_s)):
+            acc = ground_at(ground, i * step_s, dt_s)
+            pb.setGravity(-acc[0], 0.0, -g_ms2, physicsClientId=cid)
+            pb.stepSimulation(physicsClientId=cid)
+            if i % 8:
+                continue
+            tilts = []
+            for body in bodies:
+                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+                tilts.append(math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))))
+            if tilts[0] >= math.pi / 2 - 0.02:
+                return STACK_FALLS
+            if tilts[1] >= math.pi / 2 - 0.02:
+                return TOP_FALLS
+        return STACK_STANDS
+    finally:
+        pb.disconnect(cid)
