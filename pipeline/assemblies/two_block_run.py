@@ -246,6 +246,7 @@ def _error_norm(err, y_old, y_new, sc):
 
 @jit
 def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
+    """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given) [SI units]."""
     n = ah.shape[0]
     t_rec = (n - 1) * dt
     tail_end = t_rec + TAIL_S
