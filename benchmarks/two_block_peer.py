@@ -6,7 +6,8 @@ other peers, tests/support/rigid_body_peer.py). For each scene the verdict of ea
 tilt reaches pi/2; the stack: the lower block's tilt reaches pi/2; PyBullet's by 0.02 rad less), or stands; and each
 disagreement re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's verdict
 holds in all three). Prints the counts and the time per scene of each, and of the rocking kernel on the single
-block of the stack's outline (the cost of a second body).
+block of the stack's outline and of the 3D box model on the box of that outline with a square base (the cost of a
+second body).
 
 Run: ``python benchmarks/two_block_peer.py [--pga 0.5] [--records 12]`` (the first records of at most 60 s;
 PyBullet is a test extra).
@@ -35,6 +36,7 @@ from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.simulate import rock  # noqa: E402
+from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
 
 RHO = 2500.0
 MU = 2.0
@@ -58,7 +60,8 @@ def main() -> None:
     warm = np.zeros(8)                                     # load both kernels before timing them
     simulate_two_block(two_block(StackBody(1, 1, 1, MU), StackBody(1, 1, 1, MU)), warm, 0.01)
     rock(warm, 0.01, p=1.0, alpha=0.3, e=0.9, R_m=1.0)
-    agree, robust_miss, t_model, t_peer, t_single = 0, 0, [], [], []
+    simulate_box(warm, warm, None, 0.01, Box(0.5, 0.5, 1.0, mu=MU))
+    agree, robust_miss, t_model, t_peer, t_single, t_box = 0, 0, [], [], [], []
     for rec in records:
         a = np.asarray(rec.horizontal_ms2[0], dtype=float)
         a = a * (args.pga * G / np.max(np.abs(a)))
@@ -74,6 +77,9 @@ def main() -> None:
             rock(a, rec.dt_s, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2,
                  R_m=radius)
             t_single.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            simulate_box(a, np.zeros_like(a), None, rec.dt_s, Box(width / 2, width / 2, height / 2, mu=MU))
+            t_box.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
             peer = bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO)
             t_peer.append(time.perf_counter() - t0)
@@ -93,9 +99,11 @@ def main() -> None:
     print(f"time a scene: rockscreen median {statistics.median(t_model):.4f} s (worst {max(t_model):.4f}); "
           f"PyBullet median {statistics.median(t_peer):.2f} s (worst {max(t_peer):.2f}); the single block of the "
           f"outline median {statistics.median(t_single):.4f} s")
-    ratios = [m / s for m, s in zip(t_model, t_single)]
-    print(f"two blocks / the single block of their outline, per scene: median {statistics.median(ratios):.2f}, "
-          f"worst {max(ratios):.2f}")
+    for what, times in (("the single block of their outline", t_single),
+                        ("the 3D box of their outline (a square base)", t_box)):
+        ratios = [m / s for m, s in zip(t_model, times)]
+        print(f"two blocks / {what}, per scene: median {statistics.median(ratios):.2f}, worst {max(ratios):.2f} "
+              f"(its median {statistics.median(times):.4f} s)")
 
 
 if __name__ == "__main__":
