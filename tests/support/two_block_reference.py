@@ -149,13 +149,16 @@ class Result:
     modes: set = None  # type: ignore[assignment]
 
 
-def simulate(pair: Pair, ah: np.ndarray, dt: float, *, rest1: float, rest2: float) -> Result:
-    """The stack at rest under ``ah`` [m s-2] (no vertical) to rest after the record or a fall."""
+def simulate(pair: Pair, ah: np.ndarray, dt: float, *, rest1: float, rest2: float, av: np.ndarray | None = None
+             ) -> Result:
+    """The stack at rest under ``ah`` [m s-2] (and the vertical ``av``, when given) to rest after the record or a
+    fall."""
     times = np.arange(ah.size) * dt
     t_rec = times[-1]
+    vertical = np.zeros(ah.size) if av is None else av
 
     def ground(t):
-        return float(np.interp(t, times, ah, right=0.0))
+        return float(np.interp(t, times, ah, right=0.0)), float(np.interp(t, times, vertical, right=0.0))
 
     out = Result(modes=set())
     mode, q, qd, t = Mode(0, 0), np.zeros(2), np.zeros(2), 0.0
@@ -179,7 +182,7 @@ def _first_opening(pair: Pair, q, ground, times, t):
     cands = [(j, s) for j in (1, 2) for s in (1, -1)]
 
     def indicator(tt, j, s):
-        return _release_rate(pair, Mode(0, 0), j, s, q, np.zeros(2), ground(tt), 0.0)
+        return _release_rate(pair, Mode(0, 0), j, s, q, np.zeros(2), *ground(tt))
 
     grid = np.concatenate([[t], times[times > t]])
     prev = [indicator(t, j, s) for j, s in cands]
@@ -201,7 +204,7 @@ def _first_opening(pair: Pair, q, ground, times, t):
 def _segment(pair: Pair, mode: Mode, q, qd, t, t_end, ground, out: Result, rest1, rest2):
     """One mode from t until an event: returns (t, q, qd, the next mode, fell)."""
     for j, s in [(1, s) for s in (1, -1) if not mode.j1] + [(2, s) for s in (1, -1) if not mode.j2]:
-        if _release_rate(pair, mode, j, s, q, qd, ground(t), 0.0) > 0:       # opens at once (after a stop)
+        if _release_rate(pair, mode, j, s, q, qd, *ground(t)) > 0:       # opens at once (after a stop)
             return t, q, qd, (Mode(s, mode.j2) if j == 1 else Mode(mode.j1, s)), False
     S = mode.S
     nz = S.shape[1]
@@ -211,7 +214,7 @@ def _segment(pair: Pair, mode: Mode, q, qd, t, t_end, ground, out: Result, rest1
 
     def rhs(tt, y):
         qq, qqd = unpack(y)
-        qdd = accelerations(pair, mode, qq, qqd, ground(tt), 0.0)
+        qdd = accelerations(pair, mode, qq, qqd, *ground(tt))
         return np.concatenate([y[nz:], mode.z(qdd)])
 
     events = []
@@ -237,7 +240,7 @@ def _segment(pair: Pair, mode: Mode, q, qd, t, t_end, ground, out: Result, rest1
     event(lambda tt, qq, qqd: math.pi / 2 - max(abs(qq[0]), abs(qq[1]), abs(qq[1] - qq[0])), -1)
     shut = [(1, s) for s in (1, -1) if not mode.j1] + [(2, s) for s in (1, -1) if not mode.j2]
     for j, s in shut:
-        event(lambda tt, qq, qqd, j=j, s=s: _release_rate(pair, mode, j, s, qq, qqd, ground(tt), 0.0), 1)
+        event(lambda tt, qq, qqd, j=j, s=s: _release_rate(pair, mode, j, s, qq, qqd, *ground(tt)), 1)
     y0 = np.concatenate([mode.z(q), mode.z(qd)])
     sol = solve_ivp(rhs, (t, t_end), y0, method="DOP853", rtol=1e-9, atol=1e-10, events=events,
                     dense_output=True, max_step=0.01)
