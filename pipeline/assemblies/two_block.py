@@ -104,6 +104,21 @@ def two_block(lower: StackBody, upper: StackBody, *, label: str = "two blocks") 
                     upper.offset_m, joint.left_m - lower.offset_m, joint.right_m - lower.offset_m)
 
 
+def centre_of_mass(tb: TwoBlock) -> tuple[float, float]:
+    """The pair's centre of mass at rest (x, z) [m], in the lower block's frame (origin: its base's centre)."""
+    m = tb.m1 + tb.m2
+    return tb.m2 * tb.offset / m, (tb.m1 * tb.h1 + tb.m2 * (2.0 * tb.h1 + tb.h2)) / m
+
+
+def tipping_angles(tb: TwoBlock) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Each joint's tipping angle at rest on its + and - corner [rad]: the part above it rocking as one until its
+    centre of mass is over the corner (the ground joint: both blocks; the blocks' joint: the upper)."""
+    xg, zg = centre_of_mass(tb)
+    ground = (math.atan2(tb.b1 - xg, zg), math.atan2(tb.b1 + xg, zg))
+    joint = (math.atan2(tb.right - tb.offset, tb.h2), math.atan2(tb.offset - tb.left, tb.h2))
+    return ground, joint
+
+
 @jit
 def _rot(phi, x, z):
     """R(phi) (x, z): a clockwise rotation by phi."""
@@ -191,9 +206,9 @@ def accelerations(tb, y, j1, j2, ah, av):
 
 @jit
 def opening(tb, y, j1, j2, ah, av):
-    """The shut joint that opens and its corner: (joint 1 or 2, corner) where releasing it on that corner (the
-    other joint as it is) accelerates its rotation towards the corner, the larger such acceleration where several
-    do; (0, 0) where none opens. Also returns that acceleration [rad s-2] (0 where none)."""
+    """The shut joint that opens and its corner: (joint 1 or 2, corner) where releasing it on that corner (the other
+    joint as it is) accelerates its rotation towards the corner (of several, the one accelerated most); (0, 0) where
+    none opens."""
     best, joint, corner = 0.0, 0, 0
     for s in (1, -1):
         if j1 == SHUT:
@@ -204,7 +219,7 @@ def opening(tb, y, j1, j2, ah, av):
             d1, d2 = accelerations(tb, y, j1, s, ah, av)
             if s * (d2 - d1) > best:
                 best, joint, corner = s * (d2 - d1), 2, s
-    return joint, corner, best
+    return joint, corner
 
 
 @jit

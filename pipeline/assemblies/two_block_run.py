@@ -33,7 +33,16 @@ from ..errors import ParameterError
 from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
-from .two_block import SHUT, Motion, TwoBlock, accelerations, opening, projected_rates
+from .two_block import (
+    SHUT,
+    Motion,
+    TwoBlock,
+    accelerations,
+    centre_of_mass,
+    opening,
+    projected_rates,
+    tipping_angles,
+)
 
 # Step control, named once (as scipy's _ivp names its own)
 RTOL = 1e-8                 # relative tolerance of the error control [-]
@@ -99,16 +108,14 @@ class Scales(NamedTuple):
 
 def scales(tb: TwoBlock) -> Scales:
     """The :class:`Scales` of ``tb``."""
-    m = tb.m1 + tb.m2
-    xg = tb.m2 * tb.offset / m
-    zg = (tb.m1 * tb.h1 + tb.m2 * (2 * tb.h1 + tb.h2)) / m
+    xg, zg = centre_of_mass(tb)
+    (alpha1, _), (alpha2, _) = tipping_angles(tb)
     r1 = math.hypot(tb.b1 - xg, zg)
     i_o1 = (tb.i1 + tb.m1 * (tb.b1 ** 2 + tb.h1 ** 2)
             + tb.i2 + tb.m2 * ((tb.b1 - tb.offset) ** 2 + (2 * tb.h1 + tb.h2) ** 2))
     r2 = math.hypot(tb.right - tb.offset, tb.h2)
     i_o2 = tb.i2 + tb.m2 * r2 * r2
-    return Scales(math.atan2(tb.b1 - xg, zg), math.sqrt(m * G * r1 / i_o1),
-                  math.atan2(tb.right - tb.offset, tb.h2), math.sqrt(tb.m2 * G * r2 / i_o2))
+    return Scales(alpha1, math.sqrt((tb.m1 + tb.m2) * G * r1 / i_o1), alpha2, math.sqrt(tb.m2 * G * r2 / i_o2))
 
 
 class Peaks(NamedTuple):
@@ -137,6 +144,12 @@ class _Piece(NamedTuple):
 
 
 @jit
+def _motion(y):
+    """The integrator's state tuple (phi_1, phi_2, rates) as a :class:`.two_block.Motion`."""
+    return Motion(y[0], y[1], y[2], y[3])
+
+
+@jit
 def _ground(piece, t):
     """(a_h, a_v) at t on the piece."""
     x = (t - piece.t0) / piece.span if piece.span > 0.0 else 0.0
@@ -148,7 +161,7 @@ def _rhs(t, y, args):
     """The state's derivative (a tuple) in the mode ``args`` = (tb, j1, j2, piece)."""
     tb, j1, j2, piece = args
     ah, av = _ground(piece, t)
-    d1, d2 = accelerations(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+    d1, d2 = accelerations(tb, _motion(y), j1, j2, ah, av)
     return (y[2], y[3], d1, d2), 0.0
 
 
@@ -227,7 +240,7 @@ def _event(tb, y, j1, j2, piece, t):
         return 2
     if j1 == SHUT or j2 == SHUT:
         ah, av = _ground(piece, t)
-        joint, _, _ = opening(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+        joint, _ = opening(tb, _motion(y), j1, j2, ah, av)
         if joint != 0:
             return 4
     return 0
@@ -321,7 +334,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
             y, j1, j2 = _impact(tb, y, j1, j2, kind, rest1, rest2)
             impacts += 1
     return TwoBlockOutcome(falls, t_fall, peaks.phi1, peaks.phi2, peaks.psi, impacts, liftoffs, modes, status,
-                           Motion(y[0], y[1], y[2], y[3]))
+                           _motion(y))
 
 
 @jit
@@ -361,7 +374,7 @@ def _mode_bits(j1, j2):
 def _open(tb, y, j1, j2, piece, t):
     """Open the shut joint whose lift-off condition holds at ``t`` on its corner."""
     ah, av = _ground(piece, t)
-    joint, corner, _ = opening(tb, Motion(y[0], y[1], y[2], y[3]), j1, j2, ah, av)
+    joint, corner = opening(tb, _motion(y), j1, j2, ah, av)
     if joint == 1:
         return y, corner, j2
     if joint == 2:
@@ -379,7 +392,7 @@ def _impact(tb, y, j1, j2, joint, rest1, rest2):
     else:
         y = (y[0], y[0], y[2], y[3])
         after = (j1, -j2)
-    w1, w2 = projected_rates(tb, Motion(y[0], y[1], y[2], y[3]), (j1, j2), after)
+    w1, w2 = projected_rates(tb, _motion(y), (j1, j2), after)
     y = (y[0], y[1], w1, w2)
     k1, k2 = after
     if joint == 1 and k1 * w1 <= rest1:

@@ -20,10 +20,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..constants import G
-from ..rocking.block import rigid_block
+from ..rocking.block import BlockShape, dynamics, rigid_block
 from ..rocking.codes import (
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
@@ -36,14 +35,14 @@ from ..rocking.planar import kernel
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from ..rocking.structures import RockingOutput, RockingState
-from .two_block import Motion, TwoBlock, kinetic_energy, potential_energy
+from .two_block import Motion, TwoBlock, kinetic_energy, potential_energy, tipping_angles
 from .two_block_run import FALLS_NONE, FALLS_STACK, TwoBlockOutcome, simulate_two_block
 
 #: The two-block run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
 #: Points an edge of the grid the barrier is sought on [-]
 BARRIER_GRID = 2001
-#: The barrier's share kept off, for the grid and the search [-]
+#: The barrier's share the energy must stay below it by, for the integration's error in the energy [-]
 BARRIER_MARGIN = 1e-6
 #: The box's corner kept this far inside |phi_2| < pi/2 [rad]
 BOX_CLEARANCE_RAD = 0.01
@@ -91,11 +90,12 @@ def energy_below_barrier(tb: TwoBlock, y: Motion) -> bool:
     """Whether the free motion from ``y`` (no more ground motion) can never let a block fall.
 
     It cannot where ``y`` is inside the box of each joint's tipping angles at rest, corner by corner
-    (:func:`tipping_angles`; the box kept inside |phi_2| < pi/2), and its energy (kinetic and potential above rest) is
-    below the least potential energy on the box's boundary: energy is never gained without ground motion (only impacts
-    and stops change it, and they lose it) and the rotations move continuously, so the motion stays in the box, where
-    nothing falls. The least energy on the boundary is found on a grid of :data:`BARRIER_GRID` points an edge, refined
-    to 1e-12 rad by a bounded search, less :data:`BARRIER_MARGIN` of itself.
+    (:func:`.two_block.tipping_angles`; the box kept inside |phi_2| < pi/2), and its energy (kinetic and potential
+    above rest) is below the least potential energy on the box's boundary: energy is never gained without ground
+    motion (only impacts and stops change it, and they lose it) and the rotations move continuously, so the motion
+    stays in the box, where nothing falls. The least potential energy on each edge is bounded below by its least value
+    on a grid of :data:`BARRIER_GRID` points less L h / 2, L bounding its slope (:func:`_slope_bound`) and h the
+    grid's spacing; the energy must stay :data:`BARRIER_MARGIN` of it below.
     """
     (a1p, a1m), (a2p, a2m) = tipping_angles(tb)
     a2p = min(a2p, 0.5 * math.pi - a1p - BOX_CLEARANCE_RAD)
@@ -107,25 +107,19 @@ def energy_below_barrier(tb: TwoBlock, y: Motion) -> bool:
              (lambda u: (u, u + a2p), -a1m, a1p), (lambda u: (u, u - a2m), -a1m, a1p)]
     barrier = math.inf
     for point, lo, hi in edges:
-        grid = np.linspace(lo, hi, BARRIER_GRID)
-        values = [_potential(tb, *point(u)) for u in grid]
-        k = int(np.argmin(values))
-        best = minimize_scalar(lambda u, point=point: _potential(tb, *point(u)),
-                               bounds=(grid[max(k - 1, 0)], grid[min(k + 1, BARRIER_GRID - 1)]), method="bounded",
-                               options={"xatol": 1e-12})
-        barrier = min(barrier, values[k], float(best.fun))
+        spacing = (hi - lo) / (BARRIER_GRID - 1)
+        least = min(_potential(tb, *point(u)) for u in np.linspace(lo, hi, BARRIER_GRID))
+        barrier = min(barrier, least - 0.5 * _slope_bound(tb) * spacing)
     return _energy(tb, y) < barrier * (1.0 - BARRIER_MARGIN)
 
 
-def tipping_angles(tb: TwoBlock) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Each joint's tipping angle at rest on its + and - corner [rad]: the part above it rocking as one until its
-    centre of mass is over the corner (the ground joint: both blocks; the blocks' joint: the upper)."""
-    m = tb.m1 + tb.m2
-    xg = tb.m2 * tb.offset / m
-    zg = (tb.m1 * tb.h1 + tb.m2 * (2.0 * tb.h1 + tb.h2)) / m
-    ground = (math.atan2(tb.b1 - xg, zg), math.atan2(tb.b1 + xg, zg))
-    joint = (math.atan2(tb.right - tb.offset, tb.h2), math.atan2(tb.offset - tb.left, tb.h2))
-    return ground, joint
+def _slope_bound(tb: TwoBlock) -> float:
+    """A bound on |dV/du| [J rad-1] along any edge of the box (u turning phi_2, or phi_1 and phi_2 together): g times
+    each mass times the largest distance of its centre from the corners it turns about."""
+    lever1 = math.hypot(tb.b1, tb.h1)
+    joint = 2.0 * math.hypot(tb.b1, tb.h1)                  # any corner of the lower's top from a ground corner
+    lever2 = max(math.hypot(tb.right - tb.offset, tb.h2), math.hypot(tb.offset - tb.left, tb.h2))
+    return G * (tb.m1 * lever1 + tb.m2 * (joint + lever2))
 
 
 def _joint_states(y: Motion) -> tuple[int, int]:
@@ -151,9 +145,9 @@ def _lower_alone(tb: TwoBlock, run: TwoBlockOutcome, ah_ms2, av_ms2, dt_s: float
                  settings: SimulationConfig) -> tuple[bool, int]:
     """The lower block as a single block from its state where the upper fell, to the record's end (the energy of
     its free motion deciding after it): (overturned, the kernel's status)."""
-    radius, alpha = math.hypot(tb.b1, tb.h1), math.atan2(tb.b1, tb.h1)
-    block = rigid_block(math.sqrt(0.75 * G / radius), alpha, 1.0 - 1.5 * math.sin(alpha) ** 2, radius, math.inf, G,
-                        float(settings.rest_ratio), False, math.inf)
+    alone = dynamics([BlockShape(height_m=2.0 * tb.h1, width_m=2.0 * tb.b1, mu=math.inf)])[0]
+    block = rigid_block(alone.p, alone.alpha, alone.e, alone.R_m, math.inf, G, float(settings.rest_ratio), False,
+                        math.inf)
     ah = np.ascontiguousarray(ah_ms2, dtype=np.float64)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=np.float64)
     t_rec = (ah.shape[0] - 1) * dt_s
