@@ -30,13 +30,15 @@ from .errors import InventoryError
 from .rocking.block import OBJECT_KINDS, Block, BlockShape, ShapeKind, dynamics
 from .rocking.geometry import ALPHA_MAX_ROCKING, Geometry, check_friction, geometry
 from .shapes.mesh_limits import DEFAULT_LIMITS, SIZE_RANGE_M, MeshLimits
+from .stacks import COLUMNS as STACK_COLUMNS
+from .stacks import build_stacks, read_stack_cells
 from .tables import close_match, parse_number, read_csv_table
 
 log = logging.getLogger(__name__)
 
 REQUIRED = ("id", "height_m", "width_m")
 OPTIONAL = ("name", "mu", "azimuth_deg", "restitution", "base_margin_m", "building", "floor_height_m", "site",
-            "notes", "shape", "depth_m", "mesh", "density_kg_m3", "mass_kg")
+            "notes", "shape", "depth_m", "mesh", "density_kg_m3", "mass_kg", *STACK_COLUMNS)
 #: The values of the ``shape`` column (blank: box)
 SHAPES = {"box": ShapeKind.box, "cylinder": ShapeKind.cylinder}
 #: Asset columns a risk report uses: kept as given and carried to screening.nc (``inventory_<column>``),
@@ -99,6 +101,13 @@ class Inventory:
     #: the fields of :class:`~pipeline.rocking.block.BlockShape` declared for a model beyond those above
     #: (:func:`declared_fields`), name -> one number per block; a field absent takes its default
     declared: dict = field(default_factory=dict)
+    #: each block's place in its stack (:class:`~pipeline.assemblies.stack.StackPlace`, None for a block that
+    #: stands alone; :mod:`pipeline.stacks`); empty: no block is in a stack
+    stacks: tuple = ()
+
+    def stack_of(self, j: int):
+        """Block ``j``'s place in its stack, or None."""
+        return self.stacks[j] if len(self.stacks) == len(self) else None
 
     def scan_of(self, j: int):
         """Block ``j``'s settled scan, or None."""
@@ -145,6 +154,7 @@ class Inventory:
         return BlockShape(height_m=float(self.height_m[j]), width_m=float(self.width_m[j]), mu=float(self.mu[j]),
                           restitution=float(self.restitution[j]), azimuth_deg=float(self.azimuth_deg[j]),
                           depth_m=float(self.depths()[j]), kind=ShapeKind(int(self.kinds()[j])), scan=self.scan_of(j),
+                          stack=self.stack_of(j),
                           **{name: float(values[j]) for name, values in self.declared.items()})
 
     def shapes(self) -> list[BlockShape]:
@@ -166,7 +176,8 @@ class Inventory:
                          base_margin_m=self.base_margins()[k], building=pick(self.buildings()),
                          floor_height_m=self.floor_heights()[k], kind=self.kinds()[k], depth_m=self.depths()[k],
                          scans=tuple(self.scan_of(int(i)) for i in k) if len(self.scans) == len(self) else (),
-                         declared={name: values[k] for name, values in self.declared.items()})
+                         declared={name: values[k] for name, values in self.declared.items()},
+                         stacks=tuple(self.stack_of(int(i)) for i in k) if len(self.stacks) == len(self) else ())
 
     def select(self, block_id: str) -> "Inventory":
         """The one-block inventory of ``block_id``.
@@ -199,6 +210,8 @@ class Inventory:
                 fields += (hashlib.sha256(scan.vertices_m.tobytes()).hexdigest(),)
             if self.buildings()[j]:             # a block in a building: its floor enters the computation
                 fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
+            if self.stack_of(j) is not None:     # a body of a stack: the whole stack enters its computation
+                fields += (repr(self.stack_of(j)),)
             fields += _declared_later(self.shape(j))
             out.append(hashlib.sha256(repr(tuple(map(str, fields))).encode()).hexdigest())
         return tuple(out)
@@ -216,7 +229,8 @@ class Inventory:
 
 #: The fields of :class:`~pipeline.rocking.block.BlockShape` the digest above names one by one; any other field a
 #: model declares there enters the digest by itself wherever it differs from its default (:func:`_declared_later`).
-DIGESTED_SHAPE_FIELDS = ("height_m", "width_m", "mu", "restitution", "azimuth_deg", "depth_m", "kind", "scan")
+DIGESTED_SHAPE_FIELDS = ("height_m", "width_m", "mu", "restitution", "azimuth_deg", "depth_m", "kind", "scan",
+                         "stack")
 
 
 def declared_fields() -> list[dataclasses.Field]:
@@ -300,6 +314,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
     rows: dict[str, list] = {c: [] for c in REQUIRED + OPTIONAL + tuple(extras) + ("scan",)}
     rows.update({f.name: [] for f in declared})
     seen: dict[str, int] = {}
+    wheres: list[str] = []
     implausible: list[str] = []
     for line, where, rec in records:
         try:
@@ -315,10 +330,13 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         rows["id"].append(bid)
         _read_row(rec, where, rows, errors, default_mu=default_mu, extras=extras)
         _read_declared(rec, where, declared, rows, errors)
-        _read_mesh(rec, where, path.parent, rows, errors, limits=mesh_limits)
+        _read_mesh(rec, where, path.parent, rows, errors, limits=mesh_limits, stacked="stands_on" in header)
+        read_stack_cells(rec, where, rows, errors)
+        wheres.append(where)
         if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
             implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1],
                                         height_typed=bool(rec.get("height_m", "").strip()))
+    stacks = build_stacks(rows, wheres, errors) if "stands_on" in header and not errors else ()
     if implausible and not errors:         # an inventory with errors is not screened: no "screened as given"
         log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
                     len(implausible), "\n  ".join(implausible))
@@ -336,7 +354,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         building=tuple(rows["building"]), floor_height_m=np.array(rows["floor_height_m"], dtype=float),
         kind=np.array(rows["shape"], dtype=np.int8), depth_m=np.array(rows["depth_m"], dtype=float),
         scans=tuple(rows["scan"]) if any(x is not None for x in rows["scan"]) else (),
-        declared={f.name: np.array(rows[f.name], dtype=float) for f in declared},
+        declared={f.name: np.array(rows[f.name], dtype=float) for f in declared}, stacks=stacks,
     )
 
 
@@ -443,10 +461,11 @@ def _read_shape(rec: dict, where: str, rows: dict[str, list], errors: list[str])
 
 
 def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], errors: list[str], *,
-               limits: MeshLimits = DEFAULT_LIMITS) -> None:
+               limits: MeshLimits = DEFAULT_LIMITS, stacked: bool = False) -> None:
     """The ``mesh`` cell (a scan, relative to the inventory's folder) with ``density_kg_m3`` or ``mass_kg``: the
     settled scan (:func:`pipeline.shapes.scan.read_scan`), the block's kind ``scanned``, its azimuth over 360 deg
-    (its two sides differ) and, where blank, its height and width from its equivalent rectangle."""
+    (its two sides differ) and, where blank, its height and width from its equivalent rectangle. ``stacked``: the
+    inventory has stacks, whose bodies' masses these columns give too (:mod:`pipeline.stacks`)."""
     from .errors import MeshError
     from .shapes.plane import equivalent_rectangle
     from .shapes.scan import read_scan
@@ -460,9 +479,9 @@ def _read_mesh(rec: dict, where: str, folder: Path, rows: dict[str, list], error
     rows["mass_kg"].append(mass)
     rows["scan"].append(None)
     if not mesh:
-        if math.isfinite(density) or math.isfinite(mass):
-            log.warning("%s: density_kg_m3 or mass_kg without a mesh is not used (it gives a scanned body's mass)",
-                        where)
+        if (math.isfinite(density) or math.isfinite(mass)) and not stacked:
+            log.warning("%s: density_kg_m3 or mass_kg without a mesh is not used (it gives a scanned body's mass, or "
+                        "a stacked body's: stands_on)", where)
         return
     if rec.get("shape", "").strip() or rec.get("depth_m", ""):
         errors.append(f"{where}, column 'mesh': {mesh!r} with a shape or depth_m; a mesh gives the body's own shape: "

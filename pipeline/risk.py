@@ -94,7 +94,11 @@ ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", 
                  SCENE.physics,
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
-                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio")
+                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio", "stands_on", "stack_id")
+
+
+#: The paper's criterion's words for a body of a stack: it judges a block alone on the ground, not a stack's body
+STACK_CRITERION = "not applicable (a body of a stack)"
 
 
 def factor_words(x: float) -> str:
@@ -327,6 +331,11 @@ def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
             "floor_pga_ratio": ratio}
 
 
+def _stack(ds: xr.Dataset, j: int) -> dict:
+    """The body block ``j`` stands on and its stack's bottom body ("" for a block that stands alone)."""
+    return {name: str(ds[name].values[j]) if name in ds else "" for name in ("stands_on", "stack_id")}
+
+
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:
     """A block's probabilities of overturning: the largest over the records (with its interval, record and
     robustness class; the governing record when it reaches the largest, so that the two read together), the
@@ -425,7 +434,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
             "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
-            **_floor(ds, i, j),
+            **_floor(ds, i, j), **_stack(ds, j),
             "height": float(ds["height"].values[j]), "width": float(ds["width"].values[j]),
             "corner_distance": float(ds["corner_distance"].values[j]),
             "slenderness": float(ds["slenderness"].values[j]),
@@ -436,7 +445,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
             "stations_without_verdict": undecided,
             "records_overturning_ids": ";".join(overturning),
             "governing_record": gov, SCENE.governing_azimuth: float(at(SCENE.governing_azimuth)),
-            "verdict_criterion": VERDICT[crit],
+            "verdict_criterion": VERDICT[crit] if not _stack(ds, j)["stack_id"] else STACK_CRITERION,
             "verdict_simulation": _verdict_words(sim, response, slide, undecided, n_stations, unknown[0]),
             SCENE.theta_max: float(at(SCENE.theta_max)), SCENE.response: RESPONSE_NAMES[response],
             SCENE.physics: PHYSICS_NAMES[int(at(SCENE.physics, -1))],

@@ -142,7 +142,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "overturn_criterion": (("record", "block"), None,
                            "overturning by the paper's criterion: uplift, velocity ratio >= 1, below the sliding line",
                            {**TRISTATE,
-                            "comment": "not_evaluated: no pulse, or block too squat for pure rocking"}),
+                            "comment": "not_evaluated: no pulse, or block too squat for pure rocking; a body of a "
+                                       "stack (stands_on): of the body alone on the ground, never its verdict"}),
     "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
                            TRISTATE),
     "criterion_scale": (("record", "block"), "1",
@@ -187,7 +188,10 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                             "roll, lift-off): a cylinder's or a box's scene its exact model stops (simulation."
                             "contact3d), or a body given by its scan with simulation.scanned_model contact3d "
                             "(theta_max: tilt over its smallest static tipping angle; governing_azimuth: where it "
-                            "leant)"}),
+                            "leant); stack: a body of a stack (inventory stands_on), the stack's blocks rocking "
+                            "together in a vertical plane, each joint shut or open on a corner (theta_max: the "
+                            "body's peak rotation on what it stands on over that joint's tipping angle at rest, to "
+                            "the first fall; no sliding: friction_exceeded -1)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "
@@ -337,6 +341,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "building": (("block",), None, "the building the block stands in (empty: on the ground)", {}),
     "floor_height": (("block",), "m", "height of its floor above the building's base (NaN: on the ground)", {}),
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
+    "stands_on": (("block",), None, "the body the block stands on (empty: the ground, or its floor)", {}),
+    "stack_id": (("block",), None, "the stack the block is a body of, named by its bottom body (empty: none)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),
     "critical_velocity": (("block",), "m s-1", "pulse velocity increment that overturns (Eq. 4)", {}),
     "transition_period": (("block",), "s", "the paper's transition period pi / p of a half-sine pulse (Eq. 9)", {}),

@@ -63,6 +63,24 @@ class StackBody(NamedTuple):
     offset_m: float = 0.0
 
 
+class StackPlace(NamedTuple):
+    """A body's place in its stack: the stack, bottom first, and which body it is (an inventory row's).
+
+    Attributes
+    ----------
+    bodies : tuple of StackBody
+        the stack's bodies, bottom first
+    position : int
+        this body's (0: the bottom)
+    ids : tuple of str
+        the bodies' ids, bottom first
+    """
+
+    bodies: tuple[StackBody, ...]
+    position: int
+    ids: tuple[str, ...]
+
+
 class Interface(NamedTuple):
     """What interface k must carry at rest: the part above it and the support the two faces share.
 

@@ -173,7 +173,7 @@ def _piece_at(ah, av, dt, t, t_rec, tail_end):
     if t >= t_rec - 1e-12 * dt:
         return _Piece(t_rec, tail_end - t_rec, 0.0, 0.0, 0.0, 0.0)
     k = min(int(t / dt + 1e-9), n - 2)
-    if (k + 1) * dt <= t:
+    if k * dt + dt <= t:                            # t on this piece's end as the run computes it: the next one
         k = min(k + 1, n - 2)
     v0 = av[k] if av.shape[0] > 0 else 0.0
     v1 = av[k + 1] if av.shape[0] > 0 else 0.0
@@ -261,7 +261,7 @@ def _error_norm(err, y_old, y_new, sc):
 def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
     """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given) [SI units]."""
     n = ah.shape[0]
-    t_rec = (n - 1) * dt
+    t_rec = (n - 2) * dt + dt                     # the last piece's end, as _piece_at computes it
     tail_end = t_rec + TAIL_S
     y = (0.0, 0.0, 0.0, 0.0)
     j1, j2 = SHUT, SHUT
@@ -288,6 +288,8 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
                 break                               # at rest after the record: stands
             t_open, joint, corner = _opening_at_rest(lift, piece, t)
             if joint == 0:
+                if t1 <= t:                         # no advance (never met): counted, so that the run ends
+                    events += 1
                 t = t1
                 continue
             t = t_open
@@ -344,7 +346,7 @@ def _caps(steps, events, t, tail_end):
         return STATUS_STEP_CAP
     if events >= MAX_EVENTS:
         return STATUS_EVENT_CAP
-    return STATUS_TAIL_CAP if t >= tail_end else 0
+    return STATUS_TAIL_CAP if t >= tail_end * (1.0 - 1e-15) else 0      # the tail piece's end, to an ulp
 
 
 @jit

@@ -17,6 +17,7 @@ from collections.abc import Iterable
 from ..rocking import models as scene_models
 from ..rocking.block import BlockShape
 from ..rocking.settings import SimulationConfig
+from .assembly import STACK
 from .contract import BodyModel, Placement, Stops
 from .planar import PLANAR
 from .scanned import SCANNED
@@ -24,7 +25,7 @@ from .scanned3d import SCANNED_3D
 from .solids import BOX, CYLINDER
 
 #: Every body model, in the order they are asked: a block goes to the first that claims it; the last claims all.
-BODIES: tuple[BodyModel, ...] = (SCANNED_3D, SCANNED, CYLINDER, BOX, PLANAR)
+BODIES: tuple[BodyModel, ...] = (STACK, SCANNED_3D, SCANNED, CYLINDER, BOX, PLANAR)
 
 
 def body_model(shape: BlockShape, placement: Placement, settings: SimulationConfig,

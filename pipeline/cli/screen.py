@@ -70,7 +70,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if flights:
         print(f"free flight: {flights} scene(s) where the ground's g + a_v reached 0 "
               "before any overturning have no verdict (response free_flight: with simulation.contact_model off, or "
-              "a body given by its scan, whose two-sided model does not follow a flight)",
+              "a body given by its scan or a body of a stack, whose models do not follow a flight)",
               file=sys.stderr)
 
     if s.get("not_records"):

@@ -32,6 +32,7 @@ from .geometry import effective_restitution, geometry
 from .structures import RigidBlock
 
 if TYPE_CHECKING:
+    from ..assemblies.stack import StackPlace
     from ..shapes.scan import ScannedShape
 
 
@@ -71,6 +72,8 @@ class BlockShape:
     scan : ScannedShape or None
         The settled scan of a ``scanned`` body (its height and width are then its equivalent rectangle's:
         :func:`pipeline.shapes.plane.equivalent_rectangle`).
+    stack : StackPlace or None
+        The stack the block is a body of, and which body (None: it stands alone on its base).
     """
 
     height_m: float
@@ -81,6 +84,7 @@ class BlockShape:
     depth_m: float = math.nan
     kind: ShapeKind = ShapeKind.box
     scan: ScannedShape | None = field(default=None, compare=False)
+    stack: StackPlace | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, kw_only=True)

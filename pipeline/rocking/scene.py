@@ -43,6 +43,7 @@ class Physics(IntEnum):
     rolling = 8           # a body given by its scan rolling on its convex hull in a vertical plane (rocking.rolling)
     contact3d = 9         # a cylinder or a box by the 3D contact model where its exact model stopped
                           # (rocking.solids.contact_scene; [simulation] contact3d = true)
+    stack = 10            # a body of a stack of two blocks rocking in a vertical plane (assemblies.two_block_run)
 
 
 class Response(IntEnum):
@@ -79,8 +80,8 @@ class Guard(IntEnum):
     step_cap = 8          # the step budget ran out: ended there with the verdict of the state reached
     tail_cap = 16         # the motion after the record outlasted its cap (general model): stopped, standing
     model_limit = 32      # the 3D model stopped where its base would slide or lift off (not modeled), or at its step
-                          # cap; or the two-sided or rolling model of a scanned body met a free flight of the ground,
-                          # its step or event cap or its free motion's cap: no verdict
+                          # cap; or the two-sided or rolling model of a scanned body, or the model of a stack, met a
+                          # free flight of the ground, its step or event cap or its free motion's cap: no verdict
     held_past_alpha = 64  # the 3D model's base would slide or lift off while it fell past alpha: followed with the
                           # rim held; its overturning kept (it had no verdict otherwise)
 

@@ -52,6 +52,7 @@ from ..schema import (
     parse_floor_key,
     result_table,
 )
+from ..stacks import stack_ids, stands_on_ids
 from ..uncertainty.orientations import (
     OrientationProbability,
     average_normals,
@@ -470,13 +471,15 @@ def _verdicts(data_vars: dict, inventory: Inventory, geom, margin: np.ndarray, c
         g_ms2=config.records.g_ms2, form=config.criteria.form)
     out = {name: (("record", "block"), arr) for name, arr in scenes.items()}
     simulated = data_vars[SCENE.response][1] >= 0
+    alone = stack_ids(inventory.stacks, len(inventory))[None, :] == ""     # a stack's body: never by the body alone
+    criterion = np.where(alone, scenes["overturn_criterion"], -1)
     out["overturn"] = (("record", "block"), np.where(simulated, data_vars[SCENE.overturn_simulated][1],
-                                                     scenes["overturn_criterion"]).astype("i1"))
+                                                     criterion).astype("i1"))
     slid = np.nan_to_num(data_vars[SCENE.sliding_max][1], nan=0.0) > margin[None, :]
     out["slides_off_base"] = (("record", "block"), np.where(
         simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
     out["verdict_source"] = (("record", "block"), np.where(
-        simulated, 1, np.where(scenes["overturn_criterion"] >= 0, 0, -1)).astype("i1"))
+        simulated, 1, np.where(criterion >= 0, 0, -1)).astype("i1"))
     return out
 
 
@@ -502,6 +505,8 @@ def _inventory_variables(inventory: Inventory, geom, margin: np.ndarray, config:
         "mu": (("block",), inventory.mu),
         "block_sha256": (("block",), np.array(inventory.digests(), dtype=object)),
         "block_azimuth": (("block",), inventory.azimuth_deg),
+        "stands_on": (("block",), stands_on_ids(inventory.stacks, nb)),
+        "stack_id": (("block",), stack_ids(inventory.stacks, nb)),
         "base_margin": (("block",), margin),
         "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
                                            for p in placements] if placements else [""] * nb, dtype=object)),

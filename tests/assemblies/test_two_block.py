@@ -196,6 +196,17 @@ def test_a_ground_falling_faster_than_gravity_is_flagged_not_followed():
     assert out.status & STATUS_GROUND_FLIGHT
 
 
+@pytest.mark.parametrize("n, dt", [(13000, 0.005), (12999, 0.005), (18000, 0.005), (4001, 0.01), (9999, 0.02),
+                                   (30001, 0.004)])
+def test_a_stack_at_rest_to_the_records_end_stands_without_a_cap(n, dt):
+    """A ground below every lift-off bound to the record's end, on records whose last sample's time the run reaches
+    by adding pieces (64.99 + 0.005 is not 12999 x 0.005 in floating point: the run once stood still there): the
+    stack stands, nothing opened, no cap met."""
+    tb = two_block(*_bodies(*STATUE))
+    out = simulate_two_block(tb, 0.01 * np.sin(np.arange(n) * dt), dt)
+    assert (out.falls, out.liftoffs, out.status) == (FALLS_NONE, 0, 0)
+
+
 def test_a_pair_that_cannot_stand_is_a_named_error():
     with pytest.raises(BlockParameterError, match="cannot stand at rest"):
         two_block(*_bodies((0.4, 1.0), (0.3, 1.0), offset=0.4))

@@ -1,0 +1,88 @@
+"""A body of a stack under a record in one vertical plane: its :class:`~pipeline.rocking.scene.Scene`.
+
+Where the stack's certificate holds (:func:`.stack.stays_shut`: no interface lifts off nor slips at any sample, the
+ground linear between samples) nothing is integrated: every body stands at rest (physics ``none``). Otherwise the
+two-block model (:mod:`.two_block_run`) runs and each body is judged (:func:`.two_block_verdicts.judge_two_block`):
+the body's scene reads its own verdict, its peak rotation on what it stands on (the lower block on the ground, the
+upper on the lower) over that joint's smaller tipping angle at rest, to the first fall, and the run's impacts. The
+model leaves out sliding at either joint and flight off a support: a scene's friction demand is not computed
+(``friction_exceeded`` -1); the ground falling faster than gravity, or a cap met without a verdict, leaves the
+scene without one.
+
+References
+----------
+Psycharis, I. N. (1990). Dynamic behaviour of rocking two-block assemblies. Earthquake Engineering & Structural
+Dynamics 19(4), 555-575.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..rocking.codes import (
+    STATUS_EVENT_CAP,
+    STATUS_GROUND_FLIGHT,
+    STATUS_STEP_CAP,
+    STATUS_TAIL_CAP,
+    ContactMode,
+    Verdict,
+)
+from ..rocking.scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
+from ..rocking.settings import SimulationConfig
+from .stack import StackPlace, stays_shut
+from .two_block import TwoBlock, tipping_angles, two_block
+from .two_block_run import FALLS_STACK
+from .two_block_verdicts import TwoBlockVerdict, judge_two_block
+
+
+def stack_blocks(place: StackPlace) -> TwoBlock:
+    """The two-block model of ``place``'s stack (two bodies: :data:`pipeline.stacks.MAX_BODIES`)."""
+    lower, upper = place.bodies
+    return two_block(lower, upper, label=f"stack {' < '.join(reversed(place.ids))}")
+
+
+def body_verdict(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
+                 tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()) -> int:
+    """The :class:`~pipeline.rocking.codes.Verdict` of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``)
+    [m s-2], ``dt_s`` [s] apart; ``tb``: the stack's model when already built."""
+    return _verdict(body_scene(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings))
+
+
+def _verdict(sc: Scene) -> int:
+    return int(Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0 else Verdict.stands)
+
+
+def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
+               tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()) -> Scene:
+    """The scene of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``) [m s-2], samples ``dt_s`` [s] apart
+    (the module's rules); ``tb``: the stack's model when already built; ``settings``: the rocking kernel's tolerances
+    for the lower block left alone."""
+    if stays_shut(place.bodies, ah_ms2, av_ms2):
+        return REST_SCENE
+    tb = stack_blocks(place) if tb is None else tb
+    return scene_of(tb, judge_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings), place.position)
+
+
+def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int) -> Scene:
+    """Body ``index``'s (0 the lower) :class:`~pipeline.rocking.scene.Scene` from the stack's verdicts."""
+    run = judged.run
+    verdict = judged.lower if index == 0 else judged.upper
+    ground, joint = tipping_angles(tb)
+    theta_max = run.peak_phi1_rad / min(ground) if index == 0 else run.peak_psi_rad / min(joint)
+    overturned = verdict == Verdict.overturns
+    flight = bool(run.status & STATUS_GROUND_FLIGHT) and not overturned
+    response = (Response.overturn if overturned else Response.free_flight if flight
+                else Response.rock if run.modes else Response.rest)
+    guard = ((Guard.step_cap if run.status & STATUS_STEP_CAP else 0)
+             | (Guard.event_cap if run.status & STATUS_EVENT_CAP else 0)
+             | (Guard.tail_cap if run.status & STATUS_TAIL_CAP else 0)
+             | (Guard.model_limit if verdict == Verdict.no_verdict and not flight else 0))
+    fell_together = run.falls == FALLS_STACK or index == 1
+    return Scene(physics=Physics.stack, response=response, overturned=overturned, theta_max=float(theta_max),
+                 n_impacts=int(run.impacts), t_overturn=float(run.t_fall_s) if overturned and fell_together
+                 else math.nan, friction_demand=math.nan, sliding_max_m=math.nan,
+                 free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
+                 chatter=bool(run.status & STATUS_EVENT_CAP), friction_exceeded=-1,
+                 contact_modes=int(ContactMode.rock) if run.modes else 0, guard=int(guard))

@@ -1,0 +1,153 @@
+"""Assemblies in the block inventory: bodies that stand on other bodies (a statue on its plinth, a drum on a drum).
+
+A row whose ``stands_on`` names another row's id stands on that body instead of on the ground (or its floor);
+``offset_m`` places its base's centre from the centre of the body's top, in the rocking plane [m] (blank: 0). The
+rows so linked form a stack, bottom first, judged together (:mod:`pipeline.bodies.assembly`): each row keeps its own
+verdict. Each body's mass is its ``mass_kg``, else its ``density_kg_m3`` (blank: the same for every body of the
+stack) times its volume, width x height x depth (``depth_m``; blank: its width, a square plan): only the bodies'
+ratios of mass enter the motion.
+
+The stack's model is planar (:mod:`pipeline.assemblies.two_block`): every body a box in the one rocking plane, so
+the bodies of a stack share their ``azimuth_deg``, ``building`` and ``floor_height_m``; a stack holds at most
+:data:`MAX_BODIES` bodies, each carrying at most one; and a stack that cannot stand at rest (the centre of mass of the
+part above an interface outside its support) is an error (:func:`pipeline.assemblies.stack.interfaces`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .assemblies.stack import StackBody, StackPlace, interfaces
+from .errors import BlockParameterError
+from .rocking.block import ShapeKind
+from .tables import parse_number
+
+#: The most bodies a stack may hold: the planar model of two stacked blocks (:mod:`pipeline.assemblies.two_block`)
+MAX_BODIES = 2
+#: The inventory's columns for stacks
+COLUMNS = ("stands_on", "offset_m")
+
+
+def read_stack_cells(rec: dict, where: str, rows: dict[str, list], errors: list[str]) -> None:
+    """Append a row's ``stands_on`` (stripped; blank: "") and ``offset_m`` (blank: 0) to ``rows``, a bad offset's
+    problem to ``errors``."""
+    rows["stands_on"].append(rec.get("stands_on", "").strip())
+    cell = rec.get("offset_m", "")
+    if not cell:
+        rows["offset_m"].append(0.0)
+        return
+    try:
+        rows["offset_m"].append(parse_number(cell, where=where, column="offset_m", rule="a distance in metres "
+                                             "(blank: 0, the body centred on the one below)", ok=math.isfinite))
+    except ValueError as exc:
+        errors.append(str(exc))
+        rows["offset_m"].append(0.0)
+    if not rows["stands_on"][-1] and rows["offset_m"][-1] != 0.0:
+        errors.append(f"{where}, column 'offset_m': {cell!r} on a row that stands on no body; an offset places a "
+                      "body on the one it stands on (fill stands_on, or leave offset_m blank)")
+
+
+def build_stacks(rows: dict[str, list], lines: list[str], errors: list[str]) -> tuple:
+    """Each row's :class:`~pipeline.assemblies.stack.StackPlace` (None for a row in no stack), every problem added
+    to ``errors`` with its line (``lines[k]``: row k's ``"<path>, line <n>"``).
+
+    ``rows`` holds the inventory's columns, one entry per row (``id``, ``stands_on``, ``offset_m``, sizes, ``mu``,
+    ``azimuth_deg``, ``shape``, ``scan``, ``depth_m``, ``density_kg_m3``, ``mass_kg``, ``building``,
+    ``floor_height_m``).
+    """
+    ids = rows["id"]
+    index = {b: k for k, b in enumerate(ids)}
+    below = rows["stands_on"]
+    above: dict[int, int] = {}
+    for k, name in enumerate(below):
+        if not name:
+            continue
+        if name not in index:
+            errors.append(f"{lines[k]}, column 'stands_on': {name!r} is not the id of a row; name the body this one "
+                          "stands on (blank: the ground)")
+        elif index[name] == k:
+            errors.append(f"{lines[k]}, column 'stands_on': the row stands on itself; name the body below it")
+        elif index[name] in above:
+            errors.append(f"{lines[k]}, column 'stands_on': {name!r} already carries {ids[above[index[name]]]!r}; "
+                          "a body carries at most one body (a stack, bottom first)")
+        else:
+            above[index[name]] = k
+    if errors:
+        return ()
+    places: list[StackPlace | None] = [None] * len(ids)
+    placed: set[int] = set()
+    for bottom in (k for k in range(len(ids)) if not below[k] and k in above):
+        chain = [bottom]
+        while chain[-1] in above:               # each body carries at most one: the chain ends
+            chain.append(above[chain[-1]])
+        placed.update(chain)
+        place = _stack(chain, rows, lines, errors)
+        for j, k in enumerate(chain):
+            places[k] = None if place is None else place._replace(position=j)
+    for k in range(len(ids)):
+        if below[k] and k not in placed:
+            errors.append(f"{lines[k]}, column 'stands_on': the bodies it stands on stand on each other in a loop; "
+                          "the bottom body of a stack stands on the ground (blank stands_on)")
+    return tuple(places) if any(p is not None for p in places) else ()
+
+
+def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: list[str]) -> StackPlace | None:
+    """The stack of the rows ``chain`` (bottom first), or None with its problems added to ``errors``."""
+    ids = tuple(rows["id"][k] for k in chain)
+    where = lines[chain[0]]
+    before = len(errors)
+    if len(chain) > MAX_BODIES:
+        errors.append(f"{where}: the stack {' < '.join(reversed(ids))} has {len(chain)} bodies; the assembly model "
+                      f"takes stacks of at most {MAX_BODIES} (two stacked blocks in a plane); screen the bodies above "
+                      f"the {MAX_BODIES}nd as their own stack, or as one block with the one below")
+    for k in chain:
+        if rows["shape"][k] != int(ShapeKind.box) or rows["scan"][k] is not None:
+            errors.append(f"{lines[k]}: a body of the stack {ids} is a cylinder or a scan; the assembly model takes "
+                          "boxes in a plane (height_m, width_m in the rocking plane): leave shape and mesh blank")
+        for column, same in (("azimuth_deg", _same_number), ("building", str.__eq__),
+                             ("floor_height_m", _same_number)):
+            if not same(rows[column][k], rows[column][chain[0]]):
+                errors.append(f"{lines[k]}, column {column!r}: {rows[column][k]!r} differs from the bottom body "
+                              f"{ids[0]!r}'s {rows[column][chain[0]]!r}; a stack's bodies share their rocking plane "
+                              "and what they stand on: give every body of the stack the same value")
+    if len(errors) > before:
+        return None
+    bodies = tuple(StackBody(width_m=float(rows["width_m"][k]), height_m=float(rows["height_m"][k]),
+                             mass_kg=_mass(rows, k, chain), mu=float(rows["mu"][k]),
+                             offset_m=float(rows["offset_m"][k])) for k in chain)
+    try:
+        interfaces(bodies, label=f"{where} (stack {' < '.join(reversed(ids))})")
+    except BlockParameterError as exc:
+        errors.append(str(exc))
+        return None
+    return StackPlace(bodies, 0, ids)
+
+
+def _same_number(a: float, b: float) -> bool:
+    """Equal, or both blank (NaN)."""
+    return (math.isnan(a) and math.isnan(b)) or a == b
+
+
+def _mass(rows: dict[str, list], k: int, chain: list[int]) -> float:
+    """Body ``k``'s mass [kg]: its ``mass_kg``, else its density times its volume (depth blank: its width); a blank
+    density is the first density given in the stack ``chain`` (none given: 1, every body the same)."""
+    if math.isfinite(rows["mass_kg"][k]):
+        return float(rows["mass_kg"][k])
+    given = [rows["density_kg_m3"][j] for j in chain if math.isfinite(rows["density_kg_m3"][j])]
+    density = rows["density_kg_m3"][k] if math.isfinite(rows["density_kg_m3"][k]) else (given[0] if given else 1.0)
+    depth = rows["depth_m"][k] if math.isfinite(rows["depth_m"][k]) else rows["width_m"][k]
+    return float(density * rows["width_m"][k] * rows["height_m"][k] * depth)
+
+
+def stack_ids(places: tuple, n: int) -> np.ndarray:
+    """Each of the ``n`` rows' stack as the id of its bottom body ("" for a row in no stack; ``places`` empty: no
+    row is)."""
+    return np.array(["" if not places or places[k] is None else places[k].ids[0] for k in range(n)], dtype=object)
+
+
+def stands_on_ids(places: tuple, n: int) -> np.ndarray:
+    """The id of the body each of the ``n`` rows stands on ("" on the ground or its floor)."""
+    return np.array(["" if not places or places[k] is None or places[k].position == 0
+                     else places[k].ids[places[k].position - 1] for k in range(n)], dtype=object)
