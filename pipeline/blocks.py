@@ -256,9 +256,10 @@ def _declared_later(shape: BlockShape) -> tuple:
 
 
 def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu: float, *,
-                 height_typed: bool = True) -> list[str]:
+                 height_typed: bool = True, stacked: bool = False) -> list[str]:
     """Warnings for values a real free-standing object does not have (a unit typed wrong, a typo); the height's only
-    where it was typed (``height_typed``; a scan's own height is held to the columns' range when it is read)."""
+    where it was typed (``height_typed``; a scan's own height is held to the columns' range when it is read). A body of
+    a stack (``stacked``) may be squat: its stack's model judges it."""
     out = []
     if height_typed and height_m > PLAUSIBLE_HEIGHT_M:
         out.append(f"{where} ({block_id}): height_m {height_m:g} m is above {PLAUSIBLE_HEIGHT_M:g} m (centimetres "
@@ -267,7 +268,7 @@ def _implausible(where: str, block_id: str, height_m: float, width_m: float, mu:
         out.append(f"{where} ({block_id}): mu {mu:g} is above {PLAUSIBLE_MU:g}, more than the static friction "
                    "measured for stone, wood, steel or concrete (about 0.3-1.0)")
     alpha = math.atan2(width_m / 2.0, height_m / 2.0)
-    if alpha > ALPHA_MAX_ROCKING:
+    if alpha > ALPHA_MAX_ROCKING and not stacked:
         out.append(f"{where} ({block_id}): width_m/height_m {width_m / height_m:.3g} gives slenderness "
                    f"{math.degrees(alpha):.1f} deg, above {math.degrees(ALPHA_MAX_ROCKING):.1f} deg: it cannot "
                    "rock, only slide or stand, and is screened for sliding (if height and width are swapped, fix "
@@ -315,7 +316,7 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
     rows.update({f.name: [] for f in declared})
     seen: dict[str, int] = {}
     wheres: list[str] = []
-    implausible: list[str] = []
+    typed: list[bool] = []
     for line, where, rec in records:
         try:
             bid = rec["id"]
@@ -333,13 +334,10 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         _read_mesh(rec, where, path.parent, rows, errors, limits=mesh_limits, stacked="stands_on" in header)
         read_stack_cells(rec, where, rows, errors)
         wheres.append(where)
-        if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
-            implausible += _implausible(where, bid, rows["height_m"][-1], rows["width_m"][-1], rows["mu"][-1],
-                                        height_typed=bool(rec.get("height_m", "").strip()))
+        typed.append(bool(rec.get("height_m", "").strip()))
     stacks = build_stacks(rows, wheres, errors) if "stands_on" in header and not errors else ()
-    if implausible and not errors:         # an inventory with errors is not screened: no "screened as given"
-        log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
-                    len(implausible), "\n  ".join(implausible))
+    if not errors:                          # an inventory with errors is not screened: no "screened as given"
+        _warn_implausible(path, rows, wheres, typed, stacks, warn_for)
     if errors:
         raise InventoryError(f"{path}: {len(errors)} problem(s):\n  " + "\n  ".join(errors))
     if not rows["id"]:
@@ -356,6 +354,20 @@ def read_inventory(path: str | Path, *, default_mu: float, warn_for: str | None 
         scans=tuple(rows["scan"]) if any(x is not None for x in rows["scan"]) else (),
         declared={f.name: np.array(rows[f.name], dtype=float) for f in declared}, stacks=stacks,
     )
+
+
+def _warn_implausible(path: Path, rows: dict[str, list], wheres: list[str], typed: list[bool], stacks: tuple,
+                      warn_for: str | None) -> None:
+    """One warning listing the values of every row (of ``warn_for`` alone where given) a real object does not have
+    (:func:`_implausible`); ``typed``: each row's height was typed; ``stacks``: each row's place in its stack."""
+    implausible: list[str] = []
+    for k, bid in enumerate(rows["id"]):
+        if warn_for is None or bid == warn_for:        # a command about one block warns about that block alone
+            implausible += _implausible(wheres[k], bid, rows["height_m"][k], rows["width_m"][k], rows["mu"][k],
+                                        height_typed=typed[k], stacked=bool(stacks) and stacks[k] is not None)
+    if implausible:
+        log.warning("%s: %d value(s) outside what real objects have; screened as given, check them:\n  %s", path,
+                    len(implausible), "\n  ".join(implausible))
 
 
 def _read_declared(rec: dict, where: str, declared: list[dataclasses.Field], rows: dict[str, list],

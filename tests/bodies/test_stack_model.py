@@ -1,0 +1,102 @@
+"""The stack body model (pipeline.bodies.assembly) in `screen`: a stack whose joint never opens is screened as the
+block of its outline by the planar models (an independent solver), every body of every scene gets a verdict of its
+own, the paper's criterion never stands in for a stack's body, and the bound the margin scan starts from is exact."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pipeline.assemblies.stack import StackBody, StackPlace, stays_shut
+from pipeline.bodies.assembly import STACK, lift_factor
+from pipeline.bodies.contract import Placement
+from pipeline.bodies.registry import body_model
+from pipeline.cli import main
+from pipeline.rocking.block import BlockShape
+from pipeline.rocking.scene import Physics
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.store import open_results
+
+#: A 0.5 x 1.05 m block alone, and the same outline as a 0.5 x 1.0 m block under a 0.05 m slab of its width: the
+#: slab's joint cannot open before the stack's (its bound, b / h = 0.25 / 0.025, is far above), so the stack is the
+#: block; and a statue on its plinth. mu 2: no sliding in the planar models either.
+INVENTORY = """id,height_m,width_m,mu,azimuth_deg,stands_on
+OUTLINE,1.05,0.5,2.0,20,
+BASE,1.0,0.5,2.0,20,
+SLAB,0.05,0.5,2.0,20,BASE
+PLINTH,1.0,0.7,0.6,,
+STATUE,1.7,0.45,0.6,,PLINTH
+"""
+RECORDS = ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2",
+           "peer-at2/RSN1063_NORTHR_RRS-UP.AT2", "peer-at2/RSN77_SFERN_PUL164.AT2",
+           "peer-at2/RSN1086_NORTHR_SYL090.AT2", "peer-at2/RSN1086_NORTHR_SYL360.AT2")
+
+
+@pytest.fixture(scope="module")
+def screened(tmp_path_factory, records_dir):
+    """The inventory screened on the records, nominal, at the full and the criterion tier."""
+    import shutil
+
+    root = tmp_path_factory.mktemp("stack-records")
+    for rel in RECORDS:
+        shutil.copy(records_dir / rel, root / rel.split("/")[-1])
+    shutil.copy(records_dir / "units.toml", root)
+    blocks = root.parent / "stack-blocks.csv"
+    blocks.write_text(INVENTORY)
+    out = {}
+    for tier in ("full", "criterion"):
+        d = tmp_path_factory.mktemp(tier)
+        assert main(["--samples", "0", "--records", str(root), "--blocks", str(blocks), "--out", str(d), "-q",
+                     "--fidelity", tier]) == 0
+        out[tier] = open_results(d / "screening.nc")
+    return out
+
+
+def test_a_stack_whose_joint_stays_shut_is_screened_as_the_block_of_its_outline(screened):
+    ds = screened["full"]
+    outline, base, slab = (ds.sel(block=b) for b in ("OUTLINE", "BASE", "SLAB"))
+    assert (base.physics.values == Physics.stack).any()
+    np.testing.assert_array_equal(base.overturn.values, outline.overturn.values)
+    np.testing.assert_array_equal(slab.overturn.values, outline.overturn.values)
+    standing = outline.overturn.values == 0
+    np.testing.assert_allclose(base.theta_max.values[standing], outline.theta_max.values[standing], rtol=1e-3,
+                               atol=1e-6)
+
+
+def test_every_body_of_every_scene_is_judged_by_the_stack(screened):
+    ds = screened["full"]
+    bodies = ds.sel(block=["BASE", "SLAB", "PLINTH", "STATUE"])
+    assert set(np.unique(bodies.physics.values)) <= {int(Physics.none), int(Physics.stack)}
+    assert (bodies.overturn.values >= 0).all()
+    assert list(ds.stands_on.values) == ["", "", "BASE", "", "PLINTH"]
+    assert list(ds.stack_id.values) == ["", "BASE", "BASE", "PLINTH", "PLINTH"]
+
+
+def test_the_criterion_never_gives_a_stacks_body_its_verdict(screened):
+    ds = screened["criterion"]
+    bodies = ds.sel(block=["BASE", "SLAB", "PLINTH", "STATUE"])
+    assert (bodies.overturn.values == -1).all() and (bodies.verdict_source.values == -1).all()
+    alone = ds.sel(block="OUTLINE")
+    np.testing.assert_array_equal(alone.overturn.values, alone.overturn_criterion.values)
+
+
+def test_a_stacks_body_goes_to_the_stack_model_on_any_record():
+    place = StackPlace((StackBody(0.7, 1.0, 1.0, 0.6), StackBody(0.45, 1.7, 0.5, 0.6)), 1, ("P", "S"))
+    shape = BlockShape(height_m=1.7, width_m=0.45, mu=0.6, stack=place)
+    for placement in (Placement(True, 0.0, False), Placement(False, 30.0, True)):
+        assert body_model(shape, placement, SimulationConfig()) is STACK
+    assert body_model(BlockShape(height_m=1.7, width_m=0.45, mu=0.6), Placement(True, 0.0, False),
+                      SimulationConfig()) is not STACK
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.08, -0.05])
+def test_the_margin_scan_starts_where_the_stack_first_lifts(offset):
+    """Below the factor the scan starts from, the stack's certificate holds; just above, it fails."""
+    place = StackPlace((StackBody(0.7, 1.0, 1.0, 2.0), StackBody(0.45, 1.7, 0.5, 2.0, offset)), 0, ("P", "S"))
+    t = np.arange(0.0, 4.0, 0.01)
+    ah = 1.5 * np.sin(2 * np.pi * t) * np.exp(-0.3 * t)
+    av = 0.8 * np.cos(3 * np.pi * t)
+    f = lift_factor(place, ah, av)
+    assert np.isfinite(f)
+    assert stays_shut(place.bodies, f * (1 - 1e-9) * ah, f * (1 - 1e-9) * av)
+    assert not stays_shut(place.bodies, f * (1 + 1e-9) * ah, f * (1 + 1e-9) * av)

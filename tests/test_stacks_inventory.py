@@ -1,0 +1,79 @@
+"""Stacks in the inventory (pipeline.stacks): each bad stack a named error with its line, the masses the motion
+reads, and a stack's body recomputed when any body of its stack changes."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from pipeline.blocks import read_inventory
+from pipeline.errors import InventoryError
+
+HEADER = "id,height_m,width_m,mu,azimuth_deg,shape,depth_m,mass_kg,density_kg_m3,stands_on,offset_m\n"
+PLINTH = "PL,1.0,0.8,0.6,,,,,,,\n"
+STATUE = "ST,1.6,0.5,0.6,,,,,,PL,\n"
+
+
+def _read(tmp_path, rows: str):
+    path = tmp_path / "blocks.csv"
+    path.write_text(HEADER + rows)
+    return read_inventory(path, default_mu=0.6)
+
+
+def test_a_statue_on_its_plinth_is_one_stack_bottom_first(tmp_path):
+    inv = _read(tmp_path, PLINTH + STATUE + "SOLO,1.0,0.3,0.6,,,,,,,\n")
+    plinth, statue, solo = (inv.shape(k) for k in range(3))
+    assert solo.stack is None
+    assert plinth.stack is not None and statue.stack is not None
+    assert plinth.stack.ids == statue.stack.ids == ("PL", "ST")
+    assert (plinth.stack.position, statue.stack.position) == (0, 1)
+    assert [b.height_m for b in statue.stack.bodies] == [1.0, 1.6]
+
+
+def test_masses_follow_the_volumes_of_one_density_unless_given(tmp_path):
+    """Blank mass and density: one density, a square plan where no depth is given (0.8 x 1.0 x 0.8 against
+    0.5 x 1.6 x 0.5); a given mass, or a density given on one body, wins."""
+    bodies = _read(tmp_path, PLINTH + STATUE).shape(0).stack.bodies
+    assert bodies[0].mass_kg / bodies[1].mass_kg == pytest.approx(0.64 / 0.4)
+    given = _read(tmp_path, "PL,1.0,0.8,0.6,,,0.4,,2400,,\n" "ST,1.6,0.5,0.6,,,,300,,PL,\n").shape(0).stack.bodies
+    assert (given[0].mass_kg, given[1].mass_kg) == (pytest.approx(2400 * 0.8 * 1.0 * 0.4), 300.0)
+
+
+def test_the_offset_places_the_upper_body(tmp_path):
+    inv = _read(tmp_path, PLINTH + "ST,1.6,0.5,0.6,,,,,,PL,0.1\n")
+    assert inv.shape(1).stack.bodies[1].offset_m == 0.1
+
+
+@pytest.mark.parametrize("rows, found", [
+    (PLINTH + "ST,1.6,0.5,0.6,,,,,,PLX,\n", r"line 3, column 'stands_on': 'PLX' is not the id of a row"),
+    (PLINTH + "ST,1.6,0.5,0.6,,,,,,ST,\n", "line 3, column 'stands_on': the row stands on itself"),
+    ("A,1,0.3,0.5,,,,,,B,\nB,1,0.3,0.5,,,,,,A,\n", "line 2, column 'stands_on': .* in a loop"),
+    (PLINTH + STATUE + "ST2,1.0,0.3,0.6,,,,,,PL,\n", "'PL' already carries 'ST'"),
+    (PLINTH + STATUE + "TOP,0.5,0.3,0.6,,,,,,ST,\n", "has 3 bodies; the assembly model takes stacks of at most 2"),
+    (PLINTH + "ST,1.6,0.5,0.6,,cylinder,,,,PL,\n", "line 3: a body of the stack .* is a cylinder or a scan"),
+    ("PL,1.0,0.8,0.6,30,,,,,,\nST,1.6,0.5,0.6,,,,,,PL,\n", "line 3, column 'azimuth_deg': nan differs from the bottom"),
+    (PLINTH + "ST,1.6,0.5,0.6,,,,,,PL,0.45\n", "cannot stand at rest"),
+    (PLINTH + "ST,1.6,0.5,0.6,,,,,,,0.1\n", "line 3, column 'offset_m': '0.1' on a row that stands on no body"),
+    (PLINTH + "ST,1.6,0.5,0.6,,,,,,PL,x\n", "line 3, column 'offset_m'"),
+])
+def test_a_bad_stack_is_a_named_error_with_its_line(tmp_path, rows, found):
+    with pytest.raises(InventoryError, match=found):
+        _read(tmp_path, rows)
+
+
+def test_a_body_is_recomputed_when_its_stack_changes(tmp_path):
+    """The statue's digest (what the scene cache keys on) changes with its plinth's width, its own row unchanged."""
+    before = _read(tmp_path, PLINTH + STATUE).digests()
+    after = _read(tmp_path, "PL,1.0,0.7,0.6,,,,,,,\n" + STATUE).digests()
+    assert before[1] != after[1] and before[0] != after[0]
+    same = _read(tmp_path, PLINTH + STATUE).digests()
+    assert same == before
+
+
+def test_a_sub_inventory_keeps_each_bodys_stack(tmp_path):
+    """A task screening some blocks (Inventory.take) judges a body with its whole stack, even without the others."""
+    inv = _read(tmp_path, PLINTH + STATUE + "SOLO,1.0,0.3,0.6,,,,,,,\n")
+    sub = inv.take([1, 2])
+    assert sub.shape(0).stack == inv.shape(1).stack and sub.shape(1).stack is None
+    assert math.isclose(sub.shape(0).stack.bodies[0].width_m, 0.8)
