@@ -144,6 +144,12 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                            {**TRISTATE,
                             "comment": "not_evaluated: no pulse, or block too squat for pure rocking; a body of a "
                                        "stack (stands_on): of the body alone on the ground, never its verdict"}),
+    "stack_overturn": (("record", "block"), None, "a body of the block's stack overturns (stands_on)",
+                       {**TRISTATE, "comment": "the same on every body of a stack; not_evaluated: the block is in no "
+                                               "stack, or no body overturns and one has no verdict"}),
+    "stack_collapse": (("record", "block"), None, "the bottom body of the block's stack overturns: nothing stands",
+                       {**TRISTATE, "comment": "the same on every body of a stack; not_evaluated: in no stack, or the "
+                                               "bottom body has no verdict"}),
     "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
                            TRISTATE),
     "criterion_scale": (("record", "block"), "1",

@@ -151,3 +151,21 @@ def stands_on_ids(places: tuple, n: int) -> np.ndarray:
     """The id of the body each of the ``n`` rows stands on ("" on the ground or its floor)."""
     return np.array(["" if not places or places[k] is None or places[k].position == 0
                      else places[k].ids[places[k].position - 1] for k in range(n)], dtype=object)
+
+
+def stack_verdicts(overturn: np.ndarray, places: tuple) -> dict[str, tuple]:
+    """Each stack's verdicts under each record, on every row of its bodies, from the bodies' ``overturn`` (records x
+    rows: 1 overturns, 0 stands, -1 no verdict): ``stack_overturn``, any body falls (1 where one does; -1 where none
+    does and one has no verdict), and ``stack_collapse``, the bottom body falls, so that nothing stands. -1 for a row
+    in no stack."""
+    n_records, n = overturn.shape
+    anybody = np.full((n_records, n), -1, dtype="i1")
+    collapse = np.full((n_records, n), -1, dtype="i1")
+    ids = stack_ids(places, n)
+    for bottom in {b for b in ids if b}:
+        rows = np.flatnonzero(ids == bottom)
+        v = overturn[:, rows]
+        anybody[:, rows] = np.where((v == 1).any(axis=1), 1, np.where((v < 0).any(axis=1), -1, 0))[:, None]
+        first = rows[[places[k].position for k in rows].index(0)]
+        collapse[:, rows] = overturn[:, first][:, None]
+    return {"stack_overturn": (("record", "block"), anybody), "stack_collapse": (("record", "block"), collapse)}

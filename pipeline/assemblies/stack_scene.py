@@ -33,7 +33,7 @@ from ..rocking.scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Sc
 from ..rocking.settings import SimulationConfig
 from .stack import StackPlace, stays_shut
 from .two_block import TwoBlock, tipping_angles, two_block
-from .two_block_run import FALLS_STACK
+from .two_block_run import FALLS_STACK, simulate_two_block
 from .two_block_verdicts import TwoBlockVerdict, judge_two_block
 
 
@@ -86,3 +86,15 @@ def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int) -> Scene:
                  free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
                  chatter=bool(run.status & STATUS_EVENT_CAP), friction_exceeded=-1,
                  contact_modes=int(ContactMode.rock) if run.modes else 0, guard=int(guard))
+
+
+def body_history(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
+                 tb: TwoBlock | None = None) -> np.ndarray:
+    """The body's rotation on what it stands on over that joint's smaller tipping angle at rest [-], at every sample
+    of the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, to the stack's first fall (NaN after it)."""
+    tb = stack_blocks(place) if tb is None else tb
+    hist = np.full((2, np.asarray(ah_ms2).shape[0]), np.nan)
+    hist[:, 0] = 0.0
+    simulate_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, history=hist)
+    ground, joint = tipping_angles(tb)
+    return hist[0] / min(ground) if place.position == 0 else hist[1] / min(joint)

@@ -258,8 +258,19 @@ def _error_norm(err, y_old, y_new, sc):
 
 
 @jit
-def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
-    """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given) [SI units]."""
+def _keep(hist, t, t1, dt, y):
+    """Where ``t`` [s] is the piece's end ``t1`` (a sample), the rotations phi_1 and psi = phi_2 - phi_1 [rad] there
+    into ``hist`` (2 x n; 2 x 0: no history kept)."""
+    k = int(t / dt + 0.5)
+    if t == t1 and hist.shape[1] > 0 and 0 <= k < hist.shape[1]:
+        hist[0, k] = y[0]
+        hist[1, k] = y[1] - y[0]
+
+
+@jit
+def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
+    """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given; ``hist``: the
+    history's array, :func:`_keep`) [SI units]."""
     n = ah.shape[0]
     t_rec = (n - 2) * dt + dt                     # the last piece's end, as _piece_at computes it
     tail_end = t_rec + TAIL_S
@@ -288,9 +299,9 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
                 break                               # at rest after the record: stands
             t_open, joint, corner = _opening_at_rest(lift, piece, t)
             if joint == 0:
-                if t1 <= t:                         # no advance (never met): counted, so that the run ends
-                    events += 1
+                events += 1 if t1 <= t else 0       # no advance (never met): counted, so that the run ends
                 t = t1
+                _keep(hist, t, t1, dt, y)
                 continue
             t = t_open
             j1, j2 = (corner, j2) if joint == 1 else (j1, corner)
@@ -316,6 +327,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
             t = t1 if hh == t1 - t else t + hh
             y, f = st.y, st.f
             peaks = _peaks(peaks, y)
+            _keep(hist, t, t1, dt, y)
             h = next_step(hh, norm)
             continue
         hi, y, tries = _locate(tb, y, f, j1, j2, piece, t, hh, st.y)
@@ -323,8 +335,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max):
         kind = _event(tb, y, j1, j2, piece, t + hi)
         t += hi
         peaks = _peaks(peaks, y)
-        events += 1
-        fresh = True
+        events, fresh = events + 1, True
         h = max(hi, h_max * FIRST_STEP_FRACTION)
         if kind == 3:
             falls, t_fall = (FALLS_STACK if abs(y[0]) >= HALF_PI else FALLS_TOP), t
@@ -407,10 +418,12 @@ def _impact(tb, y, j1, j2, joint, rest1, rest2):
 
 
 def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-                       rest_ratio: float = REST_RATIO) -> TwoBlockOutcome:
+                       rest_ratio: float = REST_RATIO, history: np.ndarray | None = None) -> TwoBlockOutcome:
     """Two stacked blocks at rest under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given), from the record's start to rest or a fall after its end; an impact whose
-    rebound is below ``rest_ratio`` p alpha [-] (each joint's scales, :func:`scales`) shuts its joint.
+    rebound is below ``rest_ratio`` p alpha [-] (each joint's scales, :func:`scales`) shuts its joint. ``history``:
+    an array (2, samples) that receives phi_1 and psi = phi_2 - phi_1 [rad] at each sample the run reaches (left
+    as given after a fall).
 
     Returns
     -------
@@ -431,5 +444,8 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
         raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
     s = scales(tb)
     alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
+    hist = np.zeros((2, 0)) if history is None else history
+    if hist.shape not in ((2, 0), (2, ah.shape[0])):
+        raise ParameterError(f"history: shape {hist.shape}, expected (2, {ah.shape[0]}), one column a sample")
     return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,
-                rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p)
+                rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist)

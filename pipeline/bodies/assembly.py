@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ..assemblies.stack import StackPlace, interfaces, uplift_ratios
-from ..assemblies.stack_scene import body_scene, body_verdict, stack_blocks
+from ..assemblies.stack_scene import body_history, body_scene, body_verdict, stack_blocks
 from ..assemblies.two_block_verdicts import judge_two_block
 from ..constants import G
 from ..rocking.block import Block, BlockShape
@@ -125,10 +125,11 @@ def stack_scale(place: StackPlace, ah_ms2: np.ndarray, av_ms2, dt_s: float, *, s
 
 def stack_margins(rec, shape: BlockShape, block: Block, direction_deg: float, *, setup: Setup, overturned: bool,
                   want_history: bool) -> Margin:
-    """The body's margins in its governing plane (``direction_deg``) of its governing record; no history (the
-    stack's model keeps none)."""
+    """The body's margins in its governing plane (``direction_deg``) of its governing record, and its history there
+    (:func:`~pipeline.assemblies.stack_scene.body_history`) where at risk."""
     place, ah, av = _place(shape), rec.along(direction_deg), rec.vertical_ms2
     scale, runs = stack_scale(place, ah, av, rec.dt_s, settings=setup.settings, overturns_at_one=overturned)
+    history = body_history(place, ah, av, rec.dt_s) if want_history or scale <= setup.history_below_scale else None
     unc = setup.uncertainty
     n = unc.margin_samples if setup.sampling else 0
     sampled = np.full(max(n, 0), np.nan)
@@ -138,7 +139,7 @@ def stack_margins(rec, shape: BlockShape, block: Block, direction_deg: float, *,
         s, more = stack_scale(drawn_stack(place, z[k], unc), eps * ah, None if av is None else eps * av, rec.dt_s,
                               settings=setup.settings)
         sampled[k], runs = s * eps, runs + more
-    return Margin(scale, runs, None, rec.dt_s, sampled)
+    return Margin(scale, runs, history, rec.dt_s, sampled)
 
 
 def scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, settings: SimulationConfig,

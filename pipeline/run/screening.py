@@ -52,7 +52,7 @@ from ..schema import (
     parse_floor_key,
     result_table,
 )
-from ..stacks import stack_ids, stands_on_ids
+from ..stacks import stack_ids, stack_verdicts, stands_on_ids
 from ..uncertainty.orientations import (
     OrientationProbability,
     average_normals,
@@ -480,6 +480,7 @@ def _verdicts(data_vars: dict, inventory: Inventory, geom, margin: np.ndarray, c
         simulated & np.isfinite(margin)[None, :], slid, -1).astype("i1"))
     out["verdict_source"] = (("record", "block"), np.where(
         simulated, 1, np.where(criterion >= 0, 0, -1)).astype("i1"))
+    out.update(stack_verdicts(out["overturn"][1], inventory.stacks))
     return out
 
 

@@ -296,3 +296,21 @@ def test_a_record_with_a_gap_is_refused_by_name_not_judged():
         simulate_two_block(tb, a, DT)
     with pytest.raises(ParameterError, match="expected 600 as the horizontal"):
         simulate_two_block(tb, _sine(3.0, 0.4), DT, av_ms2=np.zeros(10))
+
+
+@pytest.mark.parametrize("ap, tp", [(3.0, 0.8), (6.0, 0.6), (8.0, 0.8)])
+def test_the_history_is_the_runs_state_at_each_sample(ap, tp):
+    """Kept at every sample: its peaks are the run's (the run's are at steps' ends, every sample one of them), it
+    starts at rest and stops at a fall."""
+    tb = two_block(*_bodies(*STATUE))
+    a = _sine(ap, tp)
+    hist = np.full((2, a.size), np.nan)
+    hist[:, 0] = 0.0
+    out = simulate_two_block(tb, a, DT, history=hist)
+    kept = np.isfinite(hist[0])
+    assert kept[0] and (np.flatnonzero(~kept).size == 0 or out.falls != FALLS_NONE)
+    assert np.nanmax(np.abs(hist[0])) <= out.peak_phi1_rad and np.nanmax(np.abs(hist[1])) <= out.peak_psi_rad
+    if out.falls == FALLS_NONE:
+        assert np.nanmax(np.abs(hist[1])) == pytest.approx(out.peak_psi_rad, rel=0.05, abs=1e-12)
+    else:
+        assert not kept[int(out.t_fall_s / DT) + 2:].any()

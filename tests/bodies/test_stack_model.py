@@ -100,3 +100,19 @@ def test_the_margin_scan_starts_where_the_stack_first_lifts(offset):
     assert np.isfinite(f)
     assert stays_shut(place.bodies, f * (1 - 1e-9) * ah, f * (1 - 1e-9) * av)
     assert not stays_shut(place.bodies, f * (1 + 1e-9) * ah, f * (1 + 1e-9) * av)
+
+
+def test_each_stack_has_its_own_verdicts_on_every_body(screened):
+    """Any body falls, and the bottom body falls (nothing stands): the same on each body of a stack, from the
+    bodies' own verdicts; a block in no stack has neither."""
+    ds = screened["full"]
+    for bottom, top in (("BASE", "SLAB"), ("PLINTH", "STATUE")):
+        pair = ds.sel(block=[bottom, top])
+        anybody = pair.overturn.values.max(axis=1)
+        for body in (bottom, top):
+            np.testing.assert_array_equal(ds.stack_overturn.sel(block=body).values, anybody)
+            np.testing.assert_array_equal(ds.stack_collapse.sel(block=body).values,
+                                          ds.overturn.sel(block=bottom).values)
+    assert (ds.stack_overturn.sel(block="OUTLINE").values == -1).all()
+    statue = ds.sel(block="STATUE")
+    assert ((statue.stack_overturn.values == 1) & (statue.stack_collapse.values == 0)).any()   # the top alone
