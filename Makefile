@@ -32,6 +32,8 @@ demo: $(VENV)/.installed
 	$(BIN)/screen --records records --blocks configs/blocks.csv --out results --tolerate-failures
 	$(BIN)/screen chart --block COL-1 --blocks configs/blocks.csv --results results/screening.nc \
 	    --out results/chart-COL-1.nc
+	$(BIN)/screen --records records --blocks examples/assemblies/blocks.csv --out results/assemblies \
+	    --tolerate-failures
 
 # After an earthquake: fragilities of the example inventory from the bundled records (on PGV, the component
 # ShakeMap reports), then the scenario ShakeMap -> results/event/event.html, inspection.csv, event.nc

@@ -56,3 +56,33 @@ def test_the_readmes_rows_of_assets_csv_are_the_runs(demo):
         assert row["recommendation"].split(":")[0] == cells[5].split(":")[0], block
         slid = re.search(r"slides ([\d.]+) m", cells[5])
         assert slid is None or slid.group(1) in row["recommendation"], block
+
+
+@pytest.fixture(scope="module")
+def stacks_demo(tmp_path_factory, records_dir):
+    out = tmp_path_factory.mktemp("assemblies")
+    blocks = Path(__file__).resolve().parents[1] / "examples" / "assemblies" / "blocks.csv"
+    assert main(["--records", str(records_dir), "--blocks", str(blocks), "--out", str(out), "-q",
+                 "--tolerate-failures"]) == 0
+    with open(out / "assets.csv") as f:
+        return {r["block"]: r for r in csv.DictReader(f)}
+
+
+@pytest.mark.slow                   # the bundled default run of the stacks' example, about 25 s on 2 cores
+def test_the_readmes_stacks_are_the_runs(stacks_demo):
+    """The worked example's sentence on the two stacks: records overturning each, and the margins it quotes."""
+    text = " ".join(README.read_text().split())
+    quoted = re.search(r"statue on its plinth falls under (\d+) of the (\d+) records, alone on the floor under (\d+), "
+                       r"yet on its plinth it needs (\S+) scaled by only ([\d.]+), alone by ([\d.]+); the top drum of a "
+                       r"two-drum column falls under (\d+) records at ([\d.]+) of Rinaldi, the column as one block "
+                       r"under (\d+) and at ([\d.]+)", text)
+    assert quoted is not None
+    statue, alone, drum, column = (stacks_demo[b] for b in ("STAT-05", "STAT-05-ALONE", "DRUM-2", "COLUMN-AS-ONE"))
+    got = (statue["records_overturning"], statue["records_screened"], alone["records_overturning"],
+           statue["recommendation"].split("overturns under ")[1].split(" scaled")[0],
+           f"{float(statue['overturn_scale_simulated']):.2f}", f"{float(alone['overturn_scale_simulated']):.2f}",
+           drum["records_overturning"], f"{float(drum['overturn_scale_simulated']):.2f}",
+           column["records_overturning"], f"{float(column['overturn_scale_simulated']):.2f}")
+    assert got == quoted.groups()
+    assert "RSN1063_NORTHR_RRS scaled" in drum["recommendation"]          # Rinaldi
+    assert alone["recommendation"].split("overturns under ")[1].startswith(quoted.group(4))
