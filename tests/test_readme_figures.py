@@ -74,8 +74,8 @@ def test_the_readmes_stacks_are_the_runs(stacks_demo):
     text = " ".join(README.read_text().split())
     quoted = re.search(r"statue on its plinth falls under (\d+) of the (\d+) records, alone on the floor under (\d+), "
                        r"yet on its plinth it needs (\S+) scaled by only ([\d.]+), alone by ([\d.]+); the top drum "
-                       r"of a two-drum column falls under (\d+) records at ([\d.]+) of Rinaldi, the column as one block "
-                       r"under (\d+) and at ([\d.]+)", text)
+                       r"of a two-drum column falls under (\d+) records at ([\d.]+) of Rinaldi, the column as one "
+                       r"block under (\d+) and at ([\d.]+)", text)
     assert quoted is not None
     statue, alone, drum, column = (stacks_demo[b] for b in ("STAT-05", "STAT-05-ALONE", "DRUM-2", "COLUMN-AS-ONE"))
     got = (statue["records_overturning"], statue["records_screened"], alone["records_overturning"],
