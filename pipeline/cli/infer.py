@@ -40,7 +40,13 @@ def cmd_infer(args: argparse.Namespace, argv: list[str]) -> int:
     ds, out, figure = write_inference(args.observed, inventory, shape=args.pulse, config=config, out_dir=args.out,
                                       history=f"screen {shlex.join(argv)}", progress=_progress(args.quiet))
     g = config.records.g_ms2
+    skipped = [b for b in str(ds.attrs.get("criterion_not_applied", "")).split(", ") if b]
+    if skipped:
+        print(f"criterion: not applied to the bodies of stacks ({', '.join(skipped)}): it judges a block alone on "
+              "the ground; the simulation judges them with their stacks")
     for method, info in summarize(ds).items():
+        if method == "criterion" and len(skipped) == ds.sizes["observation"]:
+            continue                                    # nothing the criterion judges
         if info["consistent"]:
             tp = info["tp_range_s"]
             print(f"{method}: every observation holds for t_p {tp[0]:.3g}-{tp[1]:.3g} s, "

@@ -49,6 +49,7 @@ from ..config import Config
 from ..errors import InventoryError
 from ..rocking.references.excitation import pulse
 from ..schema import INFER, apply_schema
+from ..stacks import stack_ids
 from ..tables import parse_number, read_csv_table
 
 OUTCOMES = ("toppled", "standing")
@@ -237,6 +238,8 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
     if accelerations_ms2 is not None:
         ap = np.asarray(accelerations_ms2, dtype=float)
     crit = consistency(criterion_overturns(inv, tp, ap, az, shape=shape, config=config), obs, az, config)
+    stacked = stack_ids(inv.stacks, len(inv)) != ""
+    crit[stacked] = True          # the criterion judges a block alone on the ground: a stack's body it leaves free
     t0 = time.perf_counter()
     sim_over, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config, progress=progress)
     t_sim = time.perf_counter() - t0
@@ -258,7 +261,8 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
                 "duration": ("duration", tp), "acceleration": ("acceleration", ap)},
         attrs={"Conventions": "CF-1.11", "title": "rockscreen: pulses consistent with observed toppling",
                "pulse": shape, "pulse_beta": PULSE_BETA[shape], "simulation_runs": runs,
-               "simulation_time_s": round(t_sim, 3), "observations_file": obs.source})
+               "simulation_time_s": round(t_sim, 3), "observations_file": obs.source,
+               "criterion_not_applied": ", ".join(np.asarray(inv.ids, dtype=object)[stacked].tolist())})
     return apply_schema(ds, INFER)
 
 

@@ -147,3 +147,28 @@ def test_bad_observations_name_the_line(tmp_path, text, message, capsys):
     assert main(["infer", "--blocks", str(tmp_path / "site.csv"), "--observed", str(path), "--out",
                  str(tmp_path / "o")]) == 2
     assert message.split(":")[0] in capsys.readouterr().err
+
+
+def test_a_statue_found_fallen_off_its_standing_plinth_is_inferred_with_its_stack(tmp_path):
+    """Observed: the statue toppled off its plinth, the plinth standing. The simulation judges both with the stack
+    (the two-block model), so every pulse it keeps leaves the plinth standing and topples the statue when the
+    pair is judged directly (assemblies.two_block_verdicts, on the same pulse); the paper's criterion, which judges
+    a block alone on the ground, is not applied to them and says so."""
+    from pipeline.assemblies.stack_scene import stack_blocks
+    from pipeline.assemblies.two_block_verdicts import judge_two_block
+    from pipeline.rocking.codes import Verdict
+
+    path = tmp_path / "stack.csv"
+    path.write_text("id,height_m,width_m,mu,stands_on\nPL,1.0,0.7,0.6,\nST,1.7,0.45,0.6,PL\n")
+    inv = read_inventory(path, default_mu=0.6)
+    ds = infer(_observe(inv, [False, True], tmp_path), config=Config())
+    assert ds.attrs["criterion_not_applied"] == "PL, ST"
+    assert ds.observation_holds_criterion.values.all()
+    kept = np.argwhere(ds.consistent_simulation.values[0])
+    assert len(kept) > 0
+    tb = stack_blocks(inv.stack_of(0))
+    for k, m in kept[:: max(1, len(kept) // 6)]:
+        unit, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=2 * float(ds.duration.values[k]),
+                         samples_per_period=Config().infer.samples_per_period)
+        judged = judge_two_block(tb, float(ds.acceleration.values[m]) * unit, dt)
+        assert (judged.lower, judged.upper) == (Verdict.stands, Verdict.overturns)
