@@ -331,9 +331,17 @@ def _floor(ds: xr.Dataset, i: int | None, j: int) -> dict:
             "floor_pga_ratio": ratio}
 
 
-def _stack(ds: xr.Dataset, j: int) -> dict:
-    """The body block ``j`` stands on and its stack's bottom body ("" for a block that stands alone)."""
-    return {name: str(ds[name].values[j]) if name in ds else "" for name in ("stands_on", "stack_id")}
+def _stack(ds: xr.Dataset, j: int, i: int | None = None) -> dict:
+    """The body block ``j`` stands on and its stack's bottom body ("" for a block that stands alone), and what the
+    stack does under the record ``i`` in words (``stack_outcome``: "" without one)."""
+    out = {name: str(ds[name].values[j]) if name in ds else "" for name in ("stands_on", "stack_id")}
+    words = ""
+    if out["stack_id"] and i is not None and "stack_overturn" in ds:
+        anybody, collapse = int(ds["stack_overturn"].values[i, j]), int(ds["stack_collapse"].values[i, j])
+        words = ("the whole stack falls" if collapse == 1 else "a body falls off, the bottom body stands"
+                 if anybody == 1 and collapse == 0 else "every body stands" if anybody == 0
+                 else "not every body has a verdict")
+    return {**out, "stack_outcome": words}
 
 
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:
@@ -434,7 +442,7 @@ def asset_rows(ds: xr.Dataset, *, station_of: dict[str, str] | None = None, crit
         below = int(ds["overturns_below_nominal"].values[j]) if "overturns_below_nominal" in ds else -1
         rows.append({
             "block": block, "block_name": str(ds["block_name"].values[j]), "site": str(ds["site"].values[j]),
-            **_floor(ds, i, j), **_stack(ds, j),
+            **_floor(ds, i, j), **_stack(ds, j, i),
             "height": float(ds["height"].values[j]), "width": float(ds["width"].values[j]),
             "corner_distance": float(ds["corner_distance"].values[j]),
             "slenderness": float(ds["slenderness"].values[j]),

@@ -55,14 +55,58 @@ def _verdict(sc: Scene) -> int:
 
 
 def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
-               tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()) -> Scene:
+               tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig(),
+               memo: RunMemo | None = None, key: tuple | None = None) -> Scene:
     """The scene of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``) [m s-2], samples ``dt_s`` [s] apart
     (the module's rules); ``tb``: the stack's model when already built; ``settings``: the rocking kernel's tolerances
-    for the lower block left alone."""
-    if stays_shut(place.bodies, ah_ms2, av_ms2):
+    for the lower block left alone. ``memo`` and ``key``: the stack's run is kept in ``memo`` under ``key`` (what
+    makes the ground, for one record) with the stack's bodies, so that the other body of the stack reads it."""
+    shared = memo is not None and key is not None
+    full_key = (place.bodies, *key) if key is not None else ()
+    judged = memo.get(full_key) if memo is not None and shared else None
+    if judged is None:
+        judged = stack_run(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings)
+        if memo is not None and shared:
+            memo.put(full_key, judged)
+    if judged is AT_REST:
         return REST_SCENE
+    return scene_of(stack_blocks(place) if tb is None else tb, judged, place.position)
+
+
+#: A stack's run where its certificate holds: nothing integrated, every body at rest
+AT_REST = "at rest"
+
+
+def stack_run(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
+              tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()):
+    """The stack's verdicts under the ground (:class:`~.two_block_verdicts.TwoBlockVerdict`), or :data:`AT_REST`
+    where its certificate holds."""
+    if stays_shut(place.bodies, ah_ms2, av_ms2):
+        return AT_REST
     tb = stack_blocks(place) if tb is None else tb
-    return scene_of(tb, judge_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings), place.position)
+    return judge_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings)
+
+
+class RunMemo:
+    """The stack runs of one record, shared between the bodies of each stack: at most ``capacity`` kept, the
+    oldest dropped first (memory stays bounded whatever the inventory)."""
+
+    def __init__(self, capacity: int = 4096) -> None:
+        self.capacity = capacity
+        self._runs: dict = {}
+        self.hits = 0
+
+    def get(self, key: tuple):
+        """The run kept under ``key``, or None."""
+        run = self._runs.get(key)
+        self.hits += run is not None
+        return run
+
+    def put(self, key: tuple, run) -> None:
+        """Keep ``run`` under ``key``, dropping the oldest beyond the capacity."""
+        self._runs[key] = run
+        if len(self._runs) > self.capacity:
+            del self._runs[next(iter(self._runs))]
 
 
 def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int) -> Scene:

@@ -55,7 +55,8 @@ def stack_scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: fl
     worst: tuple[Scene, float] | None = None
     responses: list[tuple[float, float]] = []
     for az in azimuths:
-        sc = body_scene(place, on.planes.along(az), on.planes.vertical, rec.dt_s, tb=tb, settings=setup.settings)
+        sc = body_scene(place, on.planes.along(az), on.planes.vertical, rec.dt_s, tb=tb, settings=setup.settings,
+                        memo=on.memo, key=("plane", float(az)))
         if sc.physics != Physics.none:
             responses.append((az % 180.0, sc.theta_max))
         if worst is None or _rank(sc) > _rank(worst[0]):
@@ -82,11 +83,11 @@ def _probability(on: OnRecord, place: StackPlace, *, code: int, plane_deg: float
     unc, settings = on.setup.uncertainty, on.setup.settings
     given = code == Orientation.given
     prob = stack_probability(on.base, z, place, plane_deg=plane_deg, given_azimuth=given, random_orientation=False,
-                             settings=unc, simulation=settings)
+                             settings=unc, simulation=settings, memo=on.memo)
     if given or on.base.single or code == Orientation.single_component:
         return one_plane(prob, plane_deg)
     rand = stack_probability(on.base, z_average, place, plane_deg=plane_deg, given_azimuth=False,
-                             random_orientation=True, settings=unc, simulation=settings)
+                             random_orientation=True, settings=unc, simulation=settings, memo=on.memo)
     if prob.drawn == 0:
         return NOT_EVALUATED_ORIENTATION
     return OrientationProbability(prob, plane_deg, rand.p, rand.low, rand.high, prob.simulations + rand.simulations)

@@ -54,6 +54,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..assemblies.stack_scene import RunMemo
 from ..records.record import Record
 from ..rocking.block import Block, BlockShape
 from ..rocking.orientation import PlaneResult, Planes
@@ -143,6 +144,8 @@ class OnRecord(NamedTuple):
     scan : bool
         Scan the planes of a block whose rocking plane is unknown (False: the pulse axis only, as ``screen bench``
         compares).
+    memo : RunMemo or None
+        The record's stack runs, shared by the bodies of each stack (None: nothing shared).
     """
 
     record: Record
@@ -152,6 +155,7 @@ class OnRecord(NamedTuple):
     grid_deg: np.ndarray
     setup: Setup
     scan: bool = True
+    memo: RunMemo | None = None
 
 
 class BodyScene(NamedTuple):

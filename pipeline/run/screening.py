@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from .. import __version__, criteria
+from ..assemblies.stack_scene import RunMemo
 from ..blocks import Inventory
 from ..bodies.contract import OnRecord, Placement, Setup
 from ..bodies.registry import body_model
@@ -264,7 +265,8 @@ def on_record(rec: Record, cfg: Config, *, scan: bool = True) -> OnRecord:
     setup = setup_of(cfg)
     base = motion(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, rec.dt_s) if z is not None else None
     planes = Planes(rec.horizontal_ms2, rec.azimuths_deg[0], rec.vertical_ms2, g_ms2=cfg.records.g_ms2)
-    return OnRecord(rec, base, draws, planes, plane_grid(setup.settings.orientation_step_deg), setup, scan)
+    return OnRecord(rec, base, draws, planes, plane_grid(setup.settings.orientation_step_deg), setup, scan,
+                    RunMemo())
 
 
 def setup_of(cfg: Config) -> Setup:

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from ..assemblies.stack import StackPlace
-from ..assemblies.stack_scene import body_scene
+from ..assemblies.stack_scene import RunMemo, body_scene
 from ..records.record import project
 from ..rocking.codes import Verdict
 from ..rocking.scene import Physics
@@ -44,7 +44,7 @@ def uniform_plane_deg(z_azimuth: float) -> float:
 
 def stack_probability(m: SceneMotion, z: np.ndarray, place: StackPlace, *, plane_deg: float,
                       given_azimuth: bool, random_orientation: bool, settings: UncertaintyConfig,
-                      simulation: SimulationConfig = SimulationConfig()) -> Probability:
+                      simulation: SimulationConfig = SimulationConfig(), memo: RunMemo | None = None) -> Probability:
     """Sample the body of ``place`` until its robustness class is decided or ``z`` is used up.
 
     Parameters
@@ -62,6 +62,8 @@ def stack_probability(m: SceneMotion, z: np.ndarray, place: StackPlace, *, plane
         Draw the plane about a given azimuth; or draw it uniform (the random orientation).
     settings, simulation : UncertaintyConfig, SimulationConfig
         The spreads and the stopping rule; the simulator's settings.
+    memo : RunMemo, optional
+        The record's stack runs, shared with the stack's other body (a draw's run is the same for both).
     """
     vertical = m.vertical if m.vertical.size else None
     rows = m.h1[None, :] if m.single else np.vstack((m.h1, m.h2))
@@ -73,7 +75,7 @@ def stack_probability(m: SceneMotion, z: np.ndarray, place: StackPlace, *, plane
             amplitude = float(lognormal_factor(z[r, 0], settings.amplitude_cov))
             ah = amplitude * project(rows, m.azimuth0_deg, az)
             sc = body_scene(drawn_stack(place, z[r], settings), ah, None if vertical is None else amplitude * vertical,
-                            m.dt_s, settings=simulation)
+                            m.dt_s, settings=simulation, memo=memo, key=("draw", az, amplitude))
             verdicts[r] = (Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0
                            else Verdict.stands)
             runs[r] = 0 if sc.physics == Physics.none else 1

@@ -116,3 +116,58 @@ def test_each_stack_has_its_own_verdicts_on_every_body(screened):
     assert (ds.stack_overturn.sel(block="OUTLINE").values == -1).all()
     statue = ds.sel(block="STATUE")
     assert ((statue.stack_overturn.values == 1) & (statue.stack_collapse.values == 0)).any()   # the top alone
+
+
+def test_the_report_says_what_the_stack_does_under_the_governing_record(screened):
+    from pipeline.risk import asset_rows
+
+    ds = screened["full"]
+    rows = {r["block"]: r for r in asset_rows(ds)}
+    for body in ("PLINTH", "STATUE", "BASE", "SLAB"):
+        row = rows[body]
+        i = list(ds.record.values).index(row["governing_record"])
+        collapse, anybody = int(ds.stack_collapse.sel(block=body).values[i]), \
+            int(ds.stack_overturn.sel(block=body).values[i])
+        assert row["stack_outcome"] == {(1, 1): "the whole stack falls", (0, 1): "a body falls off, the bottom body "
+                                        "stands", (0, 0): "every body stands"}[(collapse, anybody)]
+    assert rows["OUTLINE"]["stack_outcome"] == "" and rows["OUTLINE"]["verdict_criterion"] != "" \
+        and rows["STATUE"]["verdict_criterion"].startswith("not applicable")
+
+
+def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
+    """The second body of a stack reads the runs the first kept (the record's memo), with the scene and the
+    probability it would have computed alone; a memo never answers another stack."""
+    import dataclasses
+    import math
+
+    from pipeline.bodies.assembly import stack_scene
+    from pipeline.config import Config
+    from pipeline.records.loader import find_records, load_record, read_declared_units
+    from pipeline.run.screening import on_record
+
+    cfg = Config()
+    sources, _ = find_records(records_dir, config=cfg)
+    source = next(s for s in sources if s.record_id == "RSN1063_NORTHR_RRS")
+    rec = load_record(source, root=records_dir, config=cfg, declared=read_declared_units(records_dir, cfg))
+    lower, upper = StackBody(0.7, 1.0, 1.0, 0.6), StackBody(0.45, 1.7, 0.5, 0.6)
+    shapes = [BlockShape(height_m=b.height_m, width_m=b.width_m, mu=0.6,
+                         stack=StackPlace((lower, upper), k, ("P", "S"))) for k, b in enumerate((lower, upper))]
+    other = dataclasses.replace(shapes[1], stack=StackPlace((lower, upper._replace(width_m=0.4)), 1, ("P", "S")))
+    shared = on_record(rec, cfg)
+    got = [stack_scene(shared, shape, None, 30.0) for shape in (*shapes, other)]
+    assert shared.memo.hits > 0
+    for shape, scene in zip((*shapes, other), got):
+        alone = stack_scene(on_record(rec, cfg)._replace(memo=None), shape, None, 30.0)
+        assert scene.result.scene == alone.result.scene and scene.result.azimuth_deg == alone.result.azimuth_deg
+        p, q = scene.probability, alone.probability
+        assert (p.worst.drawn, p.worst.overturned) == (q.worst.drawn, q.worst.overturned)
+        assert p.random == q.random or (math.isnan(p.random) and math.isnan(q.random))
+
+
+def test_a_memo_drops_its_oldest_runs_beyond_its_capacity():
+    from pipeline.assemblies.stack_scene import RunMemo
+
+    memo = RunMemo(capacity=3)
+    for k in range(5):
+        memo.put((k,), k)
+    assert [memo.get((k,)) for k in range(5)] == [None, None, 2, 3, 4] and memo.hits == 3
