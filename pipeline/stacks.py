@@ -15,6 +15,7 @@ part above an interface outside its support) is an error (:func:`pipeline.assemb
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -23,6 +24,8 @@ from .assemblies.stack import StackBody, StackPlace, interfaces
 from .errors import BlockParameterError
 from .rocking.block import ShapeKind
 from .tables import parse_number
+
+log = logging.getLogger(__name__)
 
 #: The most bodies a stack may hold: the planar model of two stacked blocks (:mod:`pipeline.assemblies.two_block`)
 MAX_BODIES = 2
@@ -114,6 +117,10 @@ def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: li
                               "and what they stand on: give every body of the stack the same value")
     if len(errors) > before:
         return None
+    given = [ids[j] for j, k in enumerate(chain) if math.isfinite(rows["restitution"][k])]
+    if given:
+        log.warning("%s: restitution given for %s, bodies of a stack: not used (a stack's impacts lose what its impact "
+                    "law loses: Housner's for a body rocking alone); leave it blank", where, ", ".join(given))
     bodies = tuple(StackBody(width_m=float(rows["width_m"][k]), height_m=float(rows["height_m"][k]),
                              mass_kg=_mass(rows, k, chain), mu=float(rows["mu"][k]),
                              offset_m=float(rows["offset_m"][k])) for k in chain)

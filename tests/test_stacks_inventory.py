@@ -77,3 +77,10 @@ def test_a_sub_inventory_keeps_each_bodys_stack(tmp_path):
     sub = inv.take([1, 2])
     assert sub.shape(0).stack == inv.shape(1).stack and sub.shape(1).stack is None
     assert math.isclose(sub.shape(0).stack.bodies[0].width_m, 0.8)
+
+
+def test_a_restitution_given_to_a_stacks_body_is_named_as_not_used(tmp_path, caplog):
+    path = tmp_path / "blocks.csv"
+    path.write_text("id,height_m,width_m,restitution,stands_on\nPL,1.0,0.8,,\nST,1.6,0.5,0.8,PL\n")
+    read_inventory(path, default_mu=0.6)
+    assert "restitution given for ST, bodies of a stack: not used" in caplog.text
