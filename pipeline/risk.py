@@ -341,7 +341,8 @@ def _stack(ds: xr.Dataset, j: int, i: int | None = None) -> dict:
         words = ("the whole stack falls" if collapse == 1 else "a body falls off, the bottom body stands"
                  if anybody == 1 and collapse == 0 else "every body stands" if anybody == 0
                  else "not every body has a verdict")
-    return {**out, "stack_outcome": words}
+    slips = int(np.sum(ds[SCENE.friction_exceeded].values[:, j] == 1)) if out["stack_id"] else 0
+    return {**out, "stack_outcome": words, "stack_slips": slips}
 
 
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:

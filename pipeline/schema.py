@@ -197,7 +197,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                             "leant); stack: a body of a stack (inventory stands_on), the stack's blocks rocking "
                             "together in a vertical plane, each joint shut or open on a corner (theta_max: the "
                             "body's peak rotation on what it stands on over that joint's tipping angle at rest, to "
-                            "the first fall; no sliding: friction_exceeded -1)"}),
+                            "the first fall; no sliding: friction_exceeded flags a joint needing more friction "
+                            "than it has, the verdict assuming the joint holds)"}),
     "response": (("record", "block"), None, "simulated response class",
                  {**flags(Response),
                   "comment": "slide_rock: slide-rock occurred (physics general); with simulation.contact_model "

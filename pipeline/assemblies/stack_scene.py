@@ -5,9 +5,10 @@ ground linear between samples) nothing is integrated: every body stands at rest 
 two-block model (:mod:`.two_block_run`) runs and each body is judged (:func:`.two_block_verdicts.judge_two_block`):
 the body's scene reads its own verdict, its peak rotation on what it stands on (the lower block on the ground, the
 upper on the lower) over that joint's smaller tipping angle at rest, to the first fall, and the run's impacts. The
-model leaves out sliding at either joint and flight off a support: a scene's friction demand is not computed
-(``friction_exceeded`` -1); the ground falling faster than gravity, or a cap met without a verdict, leaves the
-scene without one.
+model does not slide nor follow flight off a support: the friction its joint needs (|F_t| / F_n, inside the tipping
+angles: :func:`.two_block.demands`) is the scene's ``friction_demand``, flagged where it exceeds the body's mu
+(``friction_exceeded``; response slide or slide_rock), the verdict there assuming the joint holds; the ground
+falling faster than gravity, or a cap met without a verdict, leaves the scene without one.
 
 References
 ----------
@@ -70,7 +71,8 @@ def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None,
             memo.put(full_key, judged)
     if judged is AT_REST:
         return REST_SCENE
-    return scene_of(stack_blocks(place) if tb is None else tb, judged, place.position)
+    return scene_of(stack_blocks(place) if tb is None else tb, judged, place.position,
+                    place.bodies[place.position].mu)
 
 
 #: A stack's run where its certificate holds: nothing integrated, every body at rest
@@ -109,8 +111,9 @@ class RunMemo:
             del self._runs[next(iter(self._runs))]
 
 
-def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int) -> Scene:
-    """Body ``index``'s (0 the lower) :class:`~pipeline.rocking.scene.Scene` from the stack's verdicts."""
+def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int, mu: float = math.inf) -> Scene:
+    """Body ``index``'s (0 the lower) :class:`~pipeline.rocking.scene.Scene` from the stack's verdicts; ``mu``: the
+    friction at the body's lower face [-], against which its joint's friction demand is flagged."""
     run = judged.run
     verdict = judged.lower if index == 0 else judged.upper
     ground, joint = tipping_angles(tb)
@@ -124,11 +127,15 @@ def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int) -> Scene:
              | (Guard.tail_cap if run.status & STATUS_TAIL_CAP else 0)
              | (Guard.model_limit if verdict == Verdict.no_verdict and not flight else 0))
     fell_together = run.falls == FALLS_STACK or index == 1
+    demand = run.demand_ground if index == 0 else run.demand_joint
+    exceeded = demand > mu
+    if exceeded and response in (Response.rest, Response.rock):
+        response = Response.slide_rock if response == Response.rock else Response.slide
     return Scene(physics=Physics.stack, response=response, overturned=overturned, theta_max=float(theta_max),
                  n_impacts=int(run.impacts), t_overturn=float(run.t_fall_s) if overturned and fell_together
-                 else math.nan, friction_demand=math.nan, sliding_max_m=math.nan,
+                 else math.nan, friction_demand=float(demand), sliding_max_m=math.nan,
                  free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
-                 chatter=bool(run.status & STATUS_EVENT_CAP), friction_exceeded=-1,
+                 chatter=bool(run.status & STATUS_EVENT_CAP), friction_exceeded=int(exceeded),
                  contact_modes=int(ContactMode.rock) if run.modes else 0, guard=int(guard))
 
 

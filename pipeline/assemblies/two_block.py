@@ -205,6 +205,30 @@ def accelerations(tb, y, j1, j2, ah, av):
 
 
 @jit
+def demands(tb, y, j1, j2, ah, av):
+    """The friction demand |F_t| / F_n at the ground joint and at the blocks' joint [-] in the mode (j1, j2) at the
+    state ``y``: F the contact force that joint carries, sum m_k (C_k'' + (a_h, g + a_v)) over the blocks above it
+    (Newton's second law of the part above, in the ground's accelerating frame), F_t and F_n its components along
+    and across the face below (the ground's; the lower block's top, turned by phi_1). inf where F_n <= 0 (the face
+    would pull)."""
+    s1, s2 = pivots(j1, j2)
+    d1, d2 = accelerations(tb, y, j1, j2, ah, av)
+    a1, g1, a2 = levers(tb, s1, s2)
+    u1, v1, u2 = _jacobians(tb, y.phi1, y.phi2, s1, s2)
+    r1 = _rot(y.phi1, a1[0], a1[1])
+    rg = _rot(y.phi1, g1[0], g1[1])
+    r2 = _rot(y.phi2, a2[0], a2[1])
+    w1s, w2s, gv = y.w1 * y.w1, y.w2 * y.w2, G + av
+    f2x = tb.m2 * (v1[0] * d1 + u2[0] * d2 - rg[0] * w1s - r2[0] * w2s + ah)
+    f2z = tb.m2 * (v1[1] * d1 + u2[1] * d2 - rg[1] * w1s - r2[1] * w2s + gv)
+    fgx = f2x + tb.m1 * (u1[0] * d1 - r1[0] * w1s + ah)
+    fgz = f2z + tb.m1 * (u1[1] * d1 - r1[1] * w1s + gv)
+    c, s = math.cos(y.phi1), math.sin(y.phi1)
+    ft, fn = c * f2x - s * f2z, s * f2x + c * f2z
+    return (abs(fgx) / fgz if fgz > 0.0 else math.inf), (abs(ft) / fn if fn > 0.0 else math.inf)
+
+
+@jit
 def opening(tb, y, j1, j2, ah, av):
     """The shut joint that opens and its corner: (joint 1 or 2, corner) where releasing it on that corner (the other
     joint as it is) accelerates its rotation towards the corner (of several, the one accelerated most); (0, 0) where

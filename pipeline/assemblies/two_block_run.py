@@ -39,6 +39,7 @@ from .two_block import (
     TwoBlock,
     accelerations,
     centre_of_mass,
+    demands,
     opening,
     projected_rates,
     tipping_angles,
@@ -82,6 +83,10 @@ class TwoBlockOutcome(NamedTuple):
         event_cap, tail_cap (the run ended there without a verdict unless a block had fallen)
     final : Motion
         the state where the run ended
+    demand_ground, demand_joint : float
+        the largest friction demand |F_t| / F_n at the ground joint and at the blocks' joint [-], at rest (at the
+        samples) and in motion (at the steps' ends and events), to the run's end or first fall; inf where a face
+        would pull
     """
 
     falls: int
@@ -94,6 +99,8 @@ class TwoBlockOutcome(NamedTuple):
     modes: int
     status: int
     final: Motion
+    demand_ground: float = 0.0
+    demand_joint: float = 0.0
 
 
 class Scales(NamedTuple):
@@ -119,17 +126,35 @@ def scales(tb: TwoBlock) -> Scales:
 
 
 class Peaks(NamedTuple):
-    """The largest |phi_1|, |phi_2| and |phi_2 - phi_1| so far [rad]."""
+    """The largest |phi_1|, |phi_2| and |phi_2 - phi_1| so far [rad], and the largest friction demand at the ground
+    joint and at the blocks' joint [-] (:func:`.two_block.demands`)."""
 
     phi1: float
     phi2: float
     psi: float
+    demand1: float
+    demand2: float
 
 
 @jit
-def _peaks(peaks, y):
-    """``peaks`` with the state ``y`` (phi_1, phi_2, rates)."""
-    return Peaks(max(peaks.phi1, abs(y[0])), max(peaks.phi2, abs(y[1])), max(peaks.psi, abs(y[1] - y[0])))
+def _peaks(tb, peaks, y, j1, j2, piece, t, sc):
+    """``peaks`` with the state ``y`` (phi_1, phi_2, rates) in the mode (j1, j2) at ``t`` on the ground's piece; the
+    demands only inside the joints' smaller tipping angles at rest (``sc[2]``, ``sc[3]``): beyond, a body is
+    falling, its demand no longer bearing on whether it falls (the rocking kernel's is likewise followed no further)."""
+    ah, av = _ground(piece, t)
+    d1, d2 = 0.0, 0.0
+    if abs(y[0]) < sc[2] and abs(y[1] - y[0]) < sc[3]:
+        d1, d2 = demands(tb, _motion(y), j1, j2, ah, av)
+    return Peaks(max(peaks.phi1, abs(y[0])), max(peaks.phi2, abs(y[1])), max(peaks.psi, abs(y[1] - y[0])),
+                 max(peaks.demand1, d1), max(peaks.demand2, d2))
+
+
+@jit
+def _rest_demand(peaks, piece):
+    """``peaks`` with the demand of the stack at rest, |a_h| / (g + a_v) at both joints, at the piece's ends (linear
+    between them: the largest ratio is at an end)."""
+    d = max(abs(piece.a0) / (G + piece.v0), abs(piece.a1) / (G + piece.v1))
+    return Peaks(peaks.phi1, peaks.phi2, peaks.psi, max(peaks.demand1, d), max(peaks.demand2, d))
 
 
 class _Piece(NamedTuple):
@@ -248,7 +273,8 @@ def _event(tb, y, j1, j2, piece, t):
 
 @jit
 def _error_norm(err, y_old, y_new, sc):
-    """The step's error over the tolerance (max norm): rotations against sc[0] alpha, rates against sc[1] p alpha."""
+    """The step's error over the tolerance (max norm): rotations against sc[0] alpha, rates against sc[1] p alpha
+    (``sc``: the run's scales, also the joints' smaller tipping angles, sc[2] and sc[3])."""
     worst = 0.0
     for q in range(4):
         base = sc[0] if q < 2 else sc[1]
@@ -278,7 +304,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
     j1, j2 = SHUT, SHUT
     t = 0.0
     h = h_max * FIRST_STEP_FRACTION
-    peaks = Peaks(0.0, 0.0, 0.0)
+    peaks = Peaks(0.0, 0.0, 0.0, 0.0, 0.0)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
     falls, t_fall = FALLS_NONE, math.nan
     f = (0.0, 0.0, 0.0, 0.0)
@@ -300,7 +326,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
             t_open, joint, corner = _opening_at_rest(lift, piece, t)
             if joint == 0:
                 events += 1 if t1 <= t else 0       # no advance (never met): counted, so that the run ends
-                t = t1
+                t, peaks = t1, _rest_demand(peaks, piece)
                 _keep(hist, t, t1, dt, y)
                 continue
             t = t_open
@@ -326,7 +352,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
         if kind == 0:
             t = t1 if hh == t1 - t else t + hh
             y, f = st.y, st.f
-            peaks = _peaks(peaks, y)
+            peaks = _peaks(tb, peaks, y, j1, j2, piece, t, sc)
             _keep(hist, t, t1, dt, y)
             h = next_step(hh, norm)
             continue
@@ -334,7 +360,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
         steps += tries
         kind = _event(tb, y, j1, j2, piece, t + hi)
         t += hi
-        peaks = _peaks(peaks, y)
+        peaks = _peaks(tb, peaks, y, j1, j2, piece, t, sc)
         events, fresh = events + 1, True
         h = max(hi, h_max * FIRST_STEP_FRACTION)
         if kind == 3:
@@ -347,7 +373,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
             y, j1, j2 = _impact(tb, y, j1, j2, kind, rest1, rest2)
             impacts += 1
     return TwoBlockOutcome(falls, t_fall, peaks.phi1, peaks.phi2, peaks.psi, impacts, liftoffs, modes, status,
-                           _motion(y))
+                           _motion(y), peaks.demand1, peaks.demand2)
 
 
 @jit
@@ -444,8 +470,9 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
         raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
     s = scales(tb)
     alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
+    (g1, g2), (k1, k2) = tipping_angles(tb)
     hist = np.zeros((2, 0)) if history is None else history
     if hist.shape not in ((2, 0), (2, ah.shape[0])):
         raise ParameterError(f"history: shape {hist.shape}, expected (2, {ah.shape[0]}), one column a sample")
-    return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha), rest_ratio * s.p1 * s.alpha1,
-                rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist)
+    return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha, min(g1, g2), min(k1, k2)),
+                rest_ratio * s.p1 * s.alpha1, rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist)

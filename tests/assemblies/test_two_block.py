@@ -314,3 +314,30 @@ def test_the_history_is_the_runs_state_at_each_sample(ap, tp):
         assert np.nanmax(np.abs(hist[1])) == pytest.approx(out.peak_psi_rad, rel=0.05, abs=1e-12)
     else:
         assert not kept[int(out.t_fall_s / DT) + 2:].any()
+
+
+@pytest.mark.parametrize("ap, tp", [(5.0, 0.3), (6.0, 0.6), (8.0, 0.3), (5.0, 0.6), (7.0, 0.4)])
+def test_the_ground_joints_friction_demand_is_the_outline_blocks(ap, tp):
+    """A 0.05 m slab on a 0.5 x 1.0 m block rocks as the 0.5 x 1.05 m block of their outline: the friction its base
+    needs while rocking is the rocking kernel's friction demand on that block (Housner's equation; the demand from
+    its own pivot force), where the kernel's block rocks and stands."""
+    tb = two_block(*_bodies((0.5, 1.0), (0.5, 0.05)))
+    a = _sine(ap, tp)
+    out = simulate_two_block(tb, a, DT)
+    alpha, radius = math.atan(0.25 / 0.525), math.hypot(0.25, 0.525)
+    alone = rock(a, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius)
+    assert not alone.overturned and alone.friction_demand > 0 and out.falls == FALLS_NONE
+    assert out.demand_ground == pytest.approx(alone.friction_demand, rel=1e-4)
+
+
+@pytest.mark.parametrize("ratio", [0.05, 0.12, 0.2])
+def test_at_rest_the_friction_demand_is_the_grounds_ratio(ratio):
+    """A stack at rest moves with the ground: each joint carries what is above it at the ground's acceleration, so
+    each needs |a_h| / (g + a_v), the largest over the samples (by hand: ``ratio`` g over g - 0.1 g)."""
+    tb = two_block(*_bodies(*STATUE))
+    a = ratio * G * np.sin(2 * np.pi * TIMES)
+    av = np.full(TIMES.size, -0.1 * G)
+    out = simulate_two_block(tb, a, DT, av_ms2=av)
+    assert out.liftoffs == 0
+    expected = ratio * np.max(np.abs(np.sin(2 * np.pi * TIMES))) / 0.9
+    assert out.demand_ground == pytest.approx(expected, rel=1e-12) and out.demand_joint == out.demand_ground

@@ -171,3 +171,20 @@ def test_a_memo_drops_its_oldest_runs_beyond_its_capacity():
     for k in range(5):
         memo.put((k,), k)
     assert [memo.get((k,)) for k in range(5)] == [None, None, 2, 3, 4] and memo.hits == 3
+
+
+@pytest.mark.parametrize("mu, flagged", [(0.2, 1), (5.0, 0)])
+def test_a_joint_needing_more_friction_than_it_has_is_flagged(mu, flagged):
+    """The model does not slide: where the statue's joint on its plinth needs more friction than it has, its scene
+    says so (friction_exceeded, response slide_rock), the demand the run's; the plinth's own joint is its own."""
+    from pipeline.assemblies.stack_scene import body_scene
+    from pipeline.rocking.scene import Response
+
+    bodies = (StackBody(0.7, 1.0, 1.0, 5.0), StackBody(0.45, 1.7, 0.5, mu))
+    t = np.arange(0.0, 3.0, 0.005)
+    ah = np.where(t < 0.5, 4.0 * np.sin(2 * np.pi * t / 0.5), 0.0)
+    statue = body_scene(StackPlace(bodies, 1, ("P", "S")), ah, None, 0.005)
+    plinth = body_scene(StackPlace(bodies, 0, ("P", "S")), ah, None, 0.005)
+    assert statue.physics == Physics.stack and statue.friction_demand > 0.2
+    assert statue.friction_exceeded == flagged and plinth.friction_exceeded == 0
+    assert (statue.response == Response.slide_rock) == bool(flagged) and not statue.overturned
