@@ -110,7 +110,9 @@ def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: li
             errors.append(f"{lines[k]}: a body of the stack {ids} is a cylinder or a scan; the assembly model takes "
                           "boxes in a plane (height_m, width_m in the rocking plane): leave shape and mesh blank")
         for column, same in (("azimuth_deg", _same_number), ("building", str.__eq__),
-                             ("floor_height_m", _same_number)):
+                             ("floor_height_m", _same_number), ("floor", str.__eq__)):
+            if column not in rows:
+                continue
             if not same(rows[column][k], rows[column][chain[0]]):
                 errors.append(f"{lines[k]}, column {column!r}: {rows[column][k]!r} differs from the bottom body "
                               f"{ids[0]!r}'s {rows[column][chain[0]]!r}; a stack's bodies share their rocking plane "

@@ -62,6 +62,13 @@ def test_a_bad_stack_is_a_named_error_with_its_line(tmp_path, rows, found):
         _read(tmp_path, rows)
 
 
+def test_the_bodies_of_a_stack_stand_on_one_floor(tmp_path):
+    path = tmp_path / "blocks.csv"
+    path.write_text("id,height_m,width_m,building,floor,stands_on\nPL,1.0,0.8,MUSEUM,2,\nST,1.6,0.5,MUSEUM,3,PL\n")
+    with pytest.raises(InventoryError, match="line 3, column 'floor': '3' differs from the bottom body 'PL'"):
+        read_inventory(path, default_mu=0.6)
+
+
 def test_a_body_is_recomputed_when_its_stack_changes(tmp_path):
     """The statue's digest (what the scene cache keys on) changes with its plinth's width, its own row unchanged."""
     before = _read(tmp_path, PLINTH + STATUE).digests()
