@@ -10,9 +10,9 @@ import numpy as np
 
 from ..blocks import Inventory
 from ..config import Config
-from ..rocking.rules import rocks
 from ..uncertainty.fragility import FitStatus
 from ..uncertainty.hazard import Component, HazardSet, annual_rate, annual_rate_upper, probability_in
+from .fragility_levels import can_rock_blocks
 
 
 def hazard_and_component(paths: list, *, im: str, site: str | None, lonlat: tuple[float, float] | None,
@@ -60,9 +60,8 @@ def hazard_variables(hazard: HazardSet, fit, inventory: Inventory, config: Confi
 
 
 def can_rock(inventory: Inventory, config: Config) -> np.ndarray:
-    """Whether each block can rock (:func:`~pipeline.rocking.rules.rocks`): one that cannot never overturns."""
-    geom = inventory.geometry(g_ms2=config.records.g_ms2)
-    return np.array([rocks(float(geom.alpha[j]), float(inventory.mu[j])) for j in range(len(inventory))], dtype=bool)
+    """Whether each block can rock (:func:`~.fragility_levels.can_rock_blocks`)."""
+    return can_rock_blocks(inventory, g_ms2=config.records.g_ms2)
 
 
 def rates_of_overturning(chosen: list, fit, inventory: Inventory, config: Config, levels: np.ndarray

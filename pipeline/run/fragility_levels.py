@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from .. import criteria
+from ..assemblies.stack import interfaces, uplift_ratios
 from ..blocks import Inventory
 from ..config import Config
 from ..errors import UsageError
@@ -28,12 +29,24 @@ AUTO_STEP, AUTO_ROUNDS, AUTO_MAX_LEVELS = 2.0, 4, 10
 AUTO_BRACKET = (0.1, 0.9)
 
 
+def can_rock_blocks(inventory: Inventory, *, g_ms2: float) -> np.ndarray:
+    """Whether each block can rock (:func:`~pipeline.rocking.rules.rocks`): one that cannot never overturns. A body
+    of a stack can: its stack's model rocks it whatever its own friction and slenderness (its joints do not slide)."""
+    geo = inventory.geometry(g_ms2=g_ms2)
+    return np.array([inventory.stack_of(j) is not None or rocks(float(geo.alpha[j]), float(inventory.mu[j]))
+                     for j in range(len(inventory))], dtype=bool)
+
+
 def capacities(inventory: Inventory, im: str, *, g_ms2: float) -> np.ndarray:
     """Each block's capacity in the IM's SI unit, where its stripes start (NaN for a block that cannot rock)."""
     geo = inventory.geometry(g_ms2=g_ms2)
-    can = np.array([rocks(float(a), float(m)) for a, m in zip(geo.alpha, inventory.mu)])
+    can = can_rock_blocks(inventory, g_ms2=g_ms2)
     if im in ("pga", "sa", "ap"):
         c = g_ms2 * np.minimum(np.tan(geo.alpha), inventory.mu)             # uplift (Housner 1963)
+        for j in range(len(inventory)):                                      # a stack's body: its stack's first
+            place = inventory.stack_of(j)                                    # lift-off (stack.uplift_ratios)
+            if place is not None:
+                c[j] = g_ms2 * min(min(-low, high) for low, high in map(uplift_ratios, interfaces(place.bodies)))
     elif im == "pgv":
         c = criteria.critical_velocity(geo.R, geo.alpha, g_ms2=g_ms2)
     elif im == "velocity_ratio":
