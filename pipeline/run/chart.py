@@ -289,6 +289,11 @@ def write_chart(request: ChartRequest, *, progress=None) -> tuple[Path, Path, fl
     from .batch import run
 
     config, block = request.config, request.block
+    place = block.stack_of(0)
+    if place is not None:
+        raise UsageError(f"{block.ids[0]}: a body of the stack {' < '.join(reversed(place.ids))}; a stability chart "
+                         "(the criterion's and the closed forms' boundaries) is of a block alone on the ground; its "
+                         "verdicts with its stack are in screening.nc and the report")
     chart = stability_chart(float(block.height_m[0]), float(block.width_m[0]), mu=float(block.mu[0]),
                             pulse=request.pulse, periods_s=request.periods_s, g_ms2=config.records.g_ms2,
                             form=config.criteria.form)

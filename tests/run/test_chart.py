@@ -163,3 +163,14 @@ def test_isolated_overturning_window_of_the_half_metre_block():
     assert over(first) and not over(first + 0.002) and not over(0.16)
     assert all(over(a) for a in (0.18, 0.19, 0.2))
 
+
+
+def test_a_stacks_body_has_no_stability_chart_of_its_own(tmp_path, capsys):
+    """The chart's boundaries are a block's alone on the ground: for a body of a stack the command refuses, naming
+    the stack and where its verdicts are (exit 2)."""
+    from pipeline.cli import main
+
+    blocks = tmp_path / "stack.csv"
+    blocks.write_text("id,height_m,width_m,stands_on\nPL,1.0,0.7,\nST,1.7,0.45,PL\n")
+    assert main(["chart", "--block", "ST", "--blocks", str(blocks), "--out", str(tmp_path / "c.nc")]) == 2
+    assert "a body of the stack ST < PL" in capsys.readouterr().err
