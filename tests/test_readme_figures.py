@@ -73,9 +73,9 @@ def test_the_readmes_stacks_are_the_runs(stacks_demo):
     """The worked example's sentence on the two stacks: records overturning each, and the margins it quotes."""
     text = " ".join(README.read_text().split())
     quoted = re.search(r"statue on its plinth falls under (\d+) of the (\d+) records, alone on the floor under (\d+), "
-                       r"yet on its plinth it needs (\S+) scaled by only ([\d.]+), alone by ([\d.]+); the top drum "
-                       r"of a two-drum column falls under (\d+) records at ([\d.]+) of Rinaldi, the column as one "
-                       r"block under (\d+) and at ([\d.]+)", text)
+                       r"yet on its plinth it needs (\S+) scaled by only (\d+\.\d+), alone by (\d+\.\d+); the top drum "
+                       r"of a two-drum column falls under (\d+) records at (\d+\.\d+) of Rinaldi, the column as one "
+                       r"block under (\d+) and at (\d+\.\d+)", text)
     assert quoted is not None
     statue, alone, drum, column = (stacks_demo[b] for b in ("STAT-05", "STAT-05-ALONE", "DRUM-2", "COLUMN-AS-ONE"))
     got = (statue["records_overturning"], statue["records_screened"], alone["records_overturning"],
