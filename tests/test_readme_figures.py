@@ -75,14 +75,15 @@ def test_the_readmes_stacks_are_the_runs(stacks_demo):
     quoted = re.search(r"statue on its plinth falls under (\d+) of the (\d+) records, alone on the floor under (\d+), "
                        r"yet on its plinth it needs (\S+) scaled by only (\d+\.\d+), alone by (\d+\.\d+); the top drum "
                        r"of a two-drum column falls under (\d+) records at (\d+\.\d+) of Rinaldi, the column as one "
-                       r"block under (\d+) and at (\d+\.\d+)", text)
+                       r"block under (\d+) and at (\d+\.\d+) of (\S+)\.", text)
     assert quoted is not None
     statue, alone, drum, column = (stacks_demo[b] for b in ("STAT-05", "STAT-05-ALONE", "DRUM-2", "COLUMN-AS-ONE"))
     got = (statue["records_overturning"], statue["records_screened"], alone["records_overturning"],
            statue["recommendation"].split("overturns under ")[1].split(" scaled")[0],
            f"{float(statue['overturn_scale_simulated']):.2f}", f"{float(alone['overturn_scale_simulated']):.2f}",
            drum["records_overturning"], f"{float(drum['overturn_scale_simulated']):.2f}",
-           column["records_overturning"], f"{float(column['overturn_scale_simulated']):.2f}")
+           column["records_overturning"], f"{float(column['overturn_scale_simulated']):.2f}",
+           column["recommendation"].split("overturns under ")[1].split(" scaled")[0])
     assert got == quoted.groups()
     assert "RSN1063_NORTHR_RRS scaled" in drum["recommendation"]          # Rinaldi
     assert alone["recommendation"].split("overturns under ")[1].startswith(quoted.group(4))
