@@ -48,11 +48,7 @@ def body_verdict(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | Non
                  tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()) -> int:
     """The :class:`~pipeline.rocking.codes.Verdict` of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``)
     [m s-2], ``dt_s`` [s] apart; ``tb``: the stack's model when already built."""
-    return _verdict(body_scene(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings))
-
-
-def _verdict(sc: Scene) -> int:
-    return int(Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0 else Verdict.stands)
+    return body_scene(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings).verdict     # Scene.verdict's codes
 
 
 def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
@@ -62,12 +58,11 @@ def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None,
     (the module's rules); ``tb``: the stack's model when already built; ``settings``: the rocking kernel's tolerances
     for the lower block left alone. ``memo`` and ``key``: the stack's run is kept in ``memo`` under ``key`` (what
     makes the ground, for one record) with the stack's bodies, so that the other body of the stack reads it."""
-    shared = memo is not None and key is not None
-    full_key = (place.bodies, *key) if key is not None else ()
-    judged = memo.get(full_key) if memo is not None and shared else None
+    full_key = None if key is None else (place.bodies, *key)
+    judged = None if memo is None or full_key is None else memo.get(full_key)
     if judged is None:
         judged = stack_run(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings)
-        if memo is not None and shared:
+        if memo is not None and full_key is not None:
             memo.put(full_key, judged)
     if judged is AT_REST:
         return REST_SCENE

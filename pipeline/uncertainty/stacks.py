@@ -19,7 +19,6 @@ import numpy as np
 from ..assemblies.stack import StackPlace
 from ..assemblies.stack_scene import RunMemo, body_scene
 from ..records.record import project
-from ..rocking.codes import Verdict
 from ..rocking.scene import Physics
 from ..rocking.settings import SimulationConfig
 from .sampling import lognormal_factor
@@ -76,8 +75,7 @@ def stack_probability(m: SceneMotion, z: np.ndarray, place: StackPlace, *, plane
             ah = amplitude * project(rows, m.azimuth0_deg, az)
             sc = body_scene(drawn_stack(place, z[r], settings), ah, None if vertical is None else amplitude * vertical,
                             m.dt_s, settings=simulation, memo=memo, key=("draw", az, amplitude))
-            verdicts[r] = (Verdict.overturns if sc.overturned else Verdict.no_verdict if sc.verdict < 0
-                           else Verdict.stands)
+            verdicts[r] = sc.verdict            # Scene.verdict's codes are Verdict's
             runs[r] = 0 if sc.physics == Physics.none else 1
 
     return sample_until_decided(len(z), judge, settings=settings)
