@@ -3,9 +3,11 @@ edge or a corner, lift-off, free flight and landing, by Moreau-Jean time steppin
 
 The body is its convex hull's vertices (a box exactly by its eight corners; a cylinder by points of its rims) about
 its centre of mass G, with its principal inertias per unit mass. Each vertex at or below the ground at the middle
-of a step is a contact with Coulomb friction (the isotropic cone, ``|P_t| <= mu P_n``). The contact impulses of
-the step solve the velocity-level complementarity problem of Moreau (1988) and Jean (1999): a contact keeps its
-normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or separates with no impulse;
+of a step is a contact (looked for among a list of the vertices near the ground, kept between steps, that gives
+exactly the same contacts: :mod:`.near_ground`) with Coulomb friction (the isotropic cone, ``|P_t| <= mu P_n``).
+The contact impulses of the step solve the velocity-level complementarity problem of Moreau (1988) and Jean
+(1999): a contact keeps its normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or
+separates with no impulse;
 it sticks, or slides with the largest friction against its slip. The problem is solved by projected Gauss-Seidel
 over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, started from a
 Newton solve of all the contacts together where at most eight touch (:mod:`.contact_problem`), to a stated
@@ -90,6 +92,7 @@ from .contact_problem import MAX_SWEEPS
 from .contact_reduced import solve_step, solvers
 from .contact_start import Start, begin
 from .convex_body import ConvexBody, base_threshold
+from .near_ground import listed, near
 
 #: The largest step [s]: a sampling interval is taken in the fewest equal steps of at most this.
 MAX_STEP_S = 5e-4
@@ -234,7 +237,7 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     n_sub = steps_per_sample(dt_s)
     hist = np.full((ax.size if history else 0, 2), math.nan)
     vertices = np.ascontiguousarray(body.vertices, dtype=float)
-    stance, room = pose(vertices, body.rest, body.tipping_rad), _room(len(vertices))
+    stance, room = pose(vertices, body.rest, body.tipping_rad), _room(vertices)
     pairs = np.zeros((0, 2), dtype=np.int64) if edges is None else np.ascontiguousarray(edges, dtype=np.int64)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
@@ -252,9 +255,10 @@ def steps_per_sample(dt_s: float) -> int:
 
 class _Room(NamedTuple):
     """The arrays the kernel works in, made once per run (the kernel makes none: :func:`~pipeline.compiled.jit_lean`):
-    ``contact`` the last impulse per vertex (the warm start) and room for the contacts' arms, indices, velocities
-    and impulses; ``frames`` room for a step's middle quaternion, rotation and world inverse inertia; ``r`` the
-    rotation at a step's end; the body's place ``x``, orientation ``q``, velocity ``v`` and rate ``w``."""
+    ``contact`` the last impulse per vertex (the warm start), room for the contacts' arms, indices, velocities
+    and impulses, and the vertices near the ground (:class:`~.near_ground.Near`); ``frames`` room for a step's
+    middle quaternion, rotation and world inverse inertia; ``r`` the rotation at a step's end; the body's place
+    ``x``, orientation ``q``, velocity ``v`` and rate ``w``."""
 
     contact: tuple
     frames: tuple
@@ -265,11 +269,13 @@ class _Room(NamedTuple):
     w: np.ndarray
 
 
-def _room(n_v: int) -> _Room:
-    """The kernel's arrays for a body of ``n_v`` vertices (:class:`_Room`), the warm start at zero."""
+def _room(vertices: np.ndarray) -> _Room:
+    """The kernel's arrays for a body of ``vertices`` (:class:`_Room`), the warm start at zero, no list of the
+    vertices near the ground yet."""
+    n_v = len(vertices)
     return _Room((np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v),
-                  np.empty((n_v, 3))), (np.empty(4), np.empty((3, 3)), np.empty((3, 3))), np.empty((3, 3)),
-                 np.empty(3), np.empty(4), np.empty(3), np.empty(3))
+                  np.empty((n_v, 3)), near(vertices)), (np.empty(4), np.empty((3, 3)), np.empty((3, 3))),
+                 np.empty((3, 3)), np.empty(3), np.empty(4), np.empty(3), np.empty(3))
 
 
 @jit_inline
@@ -300,12 +306,14 @@ def _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, gz_total):
 
 
 @jit_inline
-def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p):
+def _contacts(vertices, rm, z_g, v, w, dv_z, impulses, arms, index, u_before, p, nr):
     """The vertices at or below the ground at the step's middle, to within :data:`CONTACT_GAP_M` (G at height
-    ``z_g``): their arms from G, indices, normal velocities before the step's forces (``dv_z`` the step's vertical
+    ``z_g``), looked for among those :func:`~.near_ground.listed` in ``nr`` (the same, in the same order, as among
+    all): their arms from G, indices, normal velocities before the step's forces (``dv_z`` the step's vertical
     change) and last impulses (the warm start); how many."""
-    n_c = 0
-    for i in range(vertices.shape[0]):
+    n_c, n_look = 0, listed(vertices, rm, z_g, CONTACT_GAP_M, nr)
+    for j in range(vertices.shape[0] if n_look < 0 else n_look):
+        i = j if n_look < 0 else nr.members[j]
         r2 = rm[2, 0] * vertices[i, 0] + rm[2, 1] * vertices[i, 1] + rm[2, 2] * vertices[i, 2]
         if z_g + r2 <= CONTACT_GAP_M:               # the height first: a scan's hull has hundreds of vertices
             r0 = rm[0, 0] * vertices[i, 0] + rm[0, 1] * vertices[i, 1] + rm[0, 2] * vertices[i, 2]
@@ -326,7 +334,7 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
     warm start, replaced by this step's) and room for the contacts' arms, indices, normal velocities and impulses;
     ``ground``: its acceleration at the middle. Returns the contacts and the sweeps taken (-1: at the cap)."""
     qm, rm, inv_i = frames
-    impulses, arms, index, u_before, p = contact
+    impulses, arms, index, u_before, p, nr = contact
     gx, gy, gz = ground
     for i in range(3):                                          # Moreau's midpoint
         x[i] += 0.5 * h * v[i]
@@ -334,7 +342,7 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
     rotation(qm, rm)
     world_inverse_inertia(rm, inertia, inv_i)
     _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
-    n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p)
+    n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p, nr)
     taken = 0 if n_c == 0 else solve_step(v, w, inv_i, arms, n_c, u_before, mu, e_n, g * h, p, work)
     impulses[:] = 0.0
     for c in range(n_c):
