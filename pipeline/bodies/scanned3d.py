@@ -43,13 +43,16 @@ def body_of(shape: BlockShape, *, width: float = 1.0, height: float = 1.0, frict
 def weakest_deg(shape: BlockShape) -> float:
     """The azimuth toward which the scan tips most easily, in its settled axes [deg]."""
     assert shape.scan is not None
-    return float(smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m)[1])
+    return float(smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m, rings=shape.scan.outlines)[1])
 
 
 def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
     return shape.scan is not None and settings.scanned_model == ScannedModel.contact3d
 
 
+#: How an inventory row given by its scan becomes the contact model's body.
+SCANNED_BODIES = ConvexBodies(body_of, weakest_deg)
+
 #: A body given by its scan, in 3D on its hull, where ``[simulation] scanned_model = "contact3d"`` chooses it: its
 #: kernel is the contact model the cylinder and the box hand over to.
-SCANNED_3D = convex_model("scanned body in 3D", _claims, ConvexBodies(body_of, weakest_deg))
+SCANNED_3D = convex_model("scanned body in 3D", _claims, SCANNED_BODIES)

@@ -53,6 +53,8 @@ TIPPING_GRID_DEG = 0.01
 TIPPING_BISECTIONS = 60
 #: The footprint's default tolerance above the lowest point of the settled base [m]
 FOOTPRINT_TOL_M = 0.002
+#: The grid of horizontal directions a scan's outlines are kept on (:attr:`ScannedShape.outlines`) [deg]
+OUTLINE_STEP_DEG = 1.0
 SUFFIXES = (".obj", ".ply", ".stl")
 
 
@@ -77,6 +79,11 @@ class ScannedShape(NamedTuple):
         How far the scan turned to stand [deg].
     from_points : bool
         Meshed from a point cloud by its convex hull.
+    outlines : tuple of ndarray
+        For each direction of the :data:`OUTLINE_STEP_DEG` grid, the hull's outline in that vertical plane: indices
+        into ``hull_m``, counter-clockwise (:func:`outline_rings`). A stretch of the hull, horizontally by one factor
+        and vertically by another (a draw of its sizes), keeps them: the outline of the stretched hull is the
+        stretched outline.
     """
 
     path: str
@@ -88,6 +95,7 @@ class ScannedShape(NamedTuple):
     mass_kg: float
     settle_deg: float
     from_points: bool
+    outlines: tuple = ()
 
 
 class Pivots(NamedTuple):
@@ -252,7 +260,20 @@ def _read(path: Path, *, density_kg_m3: float, mass_kg: float, limits: MeshLimit
     check_sizes(path, float(extents[2]), (float(extents[0]), float(extents[1])), limits)
     mass = mass_kg if math.isfinite(mass_kg) else density_kg_m3 * volume
     return ScannedShape(str(path), settled, settled_hull, -base, volume, rot @ inertia @ rot.T, float(mass), angle,
-                        from_points)
+                        from_points, outline_rings(settled_hull))
+
+
+def outline_rings(hull_m: np.ndarray, *, step_deg: float = OUTLINE_STEP_DEG) -> tuple[np.ndarray, ...]:
+    """For each horizontal direction every ``step_deg`` from x toward y [deg], the vertices of the hull's outline in
+    that vertical plane (the hull's points projected on it), counter-clockwise: indices into ``hull_m`` [m]."""
+    from scipy.spatial import ConvexHull
+
+    rings = []
+    for az in np.arange(0.0, 360.0, step_deg):
+        phi = math.radians(float(az))
+        u = hull_m[:, 0] * math.cos(phi) + hull_m[:, 1] * math.sin(phi)
+        rings.append(np.asarray(ConvexHull(np.column_stack([u, hull_m[:, 2]])).vertices, dtype=np.int64))
+    return tuple(rings)
 
 
 def _tipping(u: np.ndarray, w: np.ndarray) -> float:

@@ -29,26 +29,34 @@ import math
 
 import numpy as np
 
-from ...shapes.scan import ScannedShape
+from ...shapes.scan import OUTLINE_STEP_DEG, ScannedShape
 from ..solids.convex_body import ConvexBody
 
-#: The grid of horizontal directions over which the smallest static tipping angle is sought [deg]
-TIPPING_STEP_DEG = 1.0
+#: The grid of horizontal directions over which the smallest static tipping angle is sought [deg]: that of the
+#: outlines a scan keeps
+TIPPING_STEP_DEG = OUTLINE_STEP_DEG
 
 
-def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float) -> float:
+def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float, *, ring: np.ndarray | None = None
+                ) -> float:
     """The static tipping angle of a body standing on its hull toward the horizontal direction ``azimuth_deg`` (from
     x toward y) [rad]: the tilt at which G passes over the lowest point, walking the hull's outline in that vertical
     plane from the base outward (each vertex is the lowest from the tilt its previous edge lies flat to the tilt its
-    next edge does; G passes over it at the angle of its arm from the downward vertical); pi/2 at most."""
-    from scipy.spatial import ConvexHull
-
+    next edge does; G passes over it at the angle of its arm from the downward vertical); pi/2 at most. ``ring``: that
+    outline's vertices, counter-clockwise (indices into ``hull_m``; :attr:`~pipeline.shapes.scan.ScannedShape.
+    outlines`), else found here."""
     phi = math.radians(azimuth_deg)
     u = hull_m[:, 0] * math.cos(phi) + hull_m[:, 1] * math.sin(phi)
     w = hull_m[:, 2] - com_height_m
     pts = np.column_stack([u, w])
-    ring = pts[ConvexHull(pts).vertices]                    # counter-clockwise: from the base up the +u side
-    tol = 1e-12 * float(np.max(np.abs(pts)))
+    if ring is None:
+        from scipy.spatial import ConvexHull
+        ring = ConvexHull(pts).vertices
+    return _walk(pts[ring], 1e-12 * float(np.max(np.abs(pts))))
+
+
+def _walk(ring: np.ndarray, tol: float) -> float:
+    """:func:`tipping_rad`'s walk over the outline ``ring`` (points relative to G, counter-clockwise) [rad]."""
     low = np.flatnonzero(ring[:, 1] <= ring[:, 1].min() + tol)
     k = int(low[np.argmax(ring[low, 0])])                   # the base's end toward +u
     flat = 0.0
@@ -62,12 +70,14 @@ def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float) -> 
     return 0.5 * math.pi
 
 
-def smallest_tipping(hull_m: np.ndarray, com_height_m: float, *, step_deg: float = TIPPING_STEP_DEG
-                     ) -> tuple[float, float]:
+def smallest_tipping(hull_m: np.ndarray, com_height_m: float, *, step_deg: float = TIPPING_STEP_DEG,
+                     rings: tuple = ()) -> tuple[float, float]:
     """The least static tipping angle over the horizontal directions every ``step_deg`` [rad], and that direction
-    [deg, from x toward y]."""
+    [deg, from x toward y]; ``rings``: the hull's outline in each of those directions (:func:`tipping_rad`), else
+    found here."""
     azimuths = np.arange(0.0, 360.0, step_deg)
-    angles = [tipping_rad(hull_m, com_height_m, float(az)) for az in azimuths]
+    outlines = rings if len(rings) == len(azimuths) else (None,) * len(azimuths)
+    angles = [tipping_rad(hull_m, com_height_m, float(az), ring=ring) for az, ring in zip(azimuths, outlines)]
     k = int(np.argmin(angles))
     return float(angles[k]), float(azimuths[k])
 
@@ -96,7 +106,7 @@ def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> Co
         axes[:, 2] = -axes[:, 2]
     about_g = np.asarray(shape.hull_m, dtype=float) - np.array([0.0, 0.0, shape.com_height_m])
     return ConvexBody(np.ascontiguousarray(about_g @ axes), moments, float(mu), float(restitution), rest=axes,
-                      tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m)[0])
+                      tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m, rings=shape.outlines)[0])
 
 
 def scaled_scan(shape: ScannedShape, width_factor: float, height_factor: float) -> ScannedShape:
