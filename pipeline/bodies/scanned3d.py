@@ -43,7 +43,7 @@ def body_of(shape: BlockShape, *, width: float = 1.0, height: float = 1.0, frict
 def weakest_deg(shape: BlockShape) -> float:
     """The azimuth toward which the scan tips most easily, in its settled axes [deg]."""
     assert shape.scan is not None
-    return float(smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m, rings=shape.scan.outlines)[1])
+    return float(smallest_tipping(shape.scan.hull_m, shape.scan.com_height_m, outlines=shape.scan.outlines)[1])
 
 
 def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:

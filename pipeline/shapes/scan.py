@@ -79,11 +79,10 @@ class ScannedShape(NamedTuple):
         How far the scan turned to stand [deg].
     from_points : bool
         Meshed from a point cloud by its convex hull.
-    outlines : tuple of ndarray
-        For each direction of the :data:`OUTLINE_STEP_DEG` grid, the hull's outline in that vertical plane: indices
-        into ``hull_m``, counter-clockwise (:func:`outline_rings`). A stretch of the hull, horizontally by one factor
-        and vertically by another (a draw of its sizes), keeps them: the outline of the stretched hull is the
-        stretched outline.
+    outlines : Outlines or None
+        The hull's outline in the vertical plane of each direction of the :data:`OUTLINE_STEP_DEG` grid
+        (:func:`outline_rings`). A stretch of the hull, horizontally by one factor and vertically by another (a draw
+        of its sizes), keeps them: the outline of the stretched hull is the stretched outline.
     """
 
     path: str
@@ -95,7 +94,25 @@ class ScannedShape(NamedTuple):
     mass_kg: float
     settle_deg: float
     from_points: bool
-    outlines: tuple = ()
+    outlines: Outlines | None = None
+
+
+class Outlines(NamedTuple):
+    """A hull's outline in the vertical plane of each direction of a grid (:func:`outline_rings`).
+
+    Attributes
+    ----------
+    azimuths_deg : ndarray
+        The directions, from x toward y [deg].
+    vertices : ndarray of int64
+        The outlines' vertices one after the other, each outline counter-clockwise: indices into the hull's.
+    starts : ndarray of int64
+        Where each outline begins in ``vertices``, and its end (one more than the directions).
+    """
+
+    azimuths_deg: np.ndarray
+    vertices: np.ndarray
+    starts: np.ndarray
 
 
 class Pivots(NamedTuple):
@@ -263,17 +280,18 @@ def _read(path: Path, *, density_kg_m3: float, mass_kg: float, limits: MeshLimit
                         from_points, outline_rings(settled_hull))
 
 
-def outline_rings(hull_m: np.ndarray, *, step_deg: float = OUTLINE_STEP_DEG) -> tuple[np.ndarray, ...]:
+def outline_rings(hull_m: np.ndarray, *, step_deg: float = OUTLINE_STEP_DEG) -> Outlines:
     """For each horizontal direction every ``step_deg`` from x toward y [deg], the vertices of the hull's outline in
-    that vertical plane (the hull's points projected on it), counter-clockwise: indices into ``hull_m`` [m]."""
+    that vertical plane (the hull's points ``hull_m`` [m] projected on it), counter-clockwise (:class:`Outlines`)."""
     from scipy.spatial import ConvexHull
 
+    azimuths = np.arange(0.0, 360.0, step_deg)
     rings = []
-    for az in np.arange(0.0, 360.0, step_deg):
+    for az in azimuths:
         phi = math.radians(float(az))
         u = hull_m[:, 0] * math.cos(phi) + hull_m[:, 1] * math.sin(phi)
         rings.append(np.asarray(ConvexHull(np.column_stack([u, hull_m[:, 2]])).vertices, dtype=np.int64))
-    return tuple(rings)
+    return Outlines(azimuths, np.concatenate(rings), np.concatenate([[0], np.cumsum([len(r) for r in rings])]))
 
 
 def _tipping(u: np.ndarray, w: np.ndarray) -> float:

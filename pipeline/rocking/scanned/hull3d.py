@@ -29,7 +29,8 @@ import math
 
 import numpy as np
 
-from ...shapes.scan import OUTLINE_STEP_DEG, ScannedShape
+from ...compiled import jit
+from ...shapes.scan import OUTLINE_STEP_DEG, Outlines, ScannedShape, outline_rings
 from ..solids.convex_body import ConvexBody
 
 #: The grid of horizontal directions over which the smallest static tipping angle is sought [deg]: that of the
@@ -37,49 +38,74 @@ from ..solids.convex_body import ConvexBody
 TIPPING_STEP_DEG = OUTLINE_STEP_DEG
 
 
-def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float, *, ring: np.ndarray | None = None
-                ) -> float:
+def tipping_rad(hull_m: np.ndarray, com_height_m: float, azimuth_deg: float) -> float:
     """The static tipping angle of a body standing on its hull toward the horizontal direction ``azimuth_deg`` (from
     x toward y) [rad]: the tilt at which G passes over the lowest point, walking the hull's outline in that vertical
     plane from the base outward (each vertex is the lowest from the tilt its previous edge lies flat to the tilt its
-    next edge does; G passes over it at the angle of its arm from the downward vertical); pi/2 at most. ``ring``: that
-    outline's vertices, counter-clockwise (indices into ``hull_m``; :attr:`~pipeline.shapes.scan.ScannedShape.
-    outlines`), else found here."""
+    next edge does; G passes over it at the angle of its arm from the downward vertical); pi/2 at most."""
+    from scipy.spatial import ConvexHull
+
     phi = math.radians(azimuth_deg)
     u = hull_m[:, 0] * math.cos(phi) + hull_m[:, 1] * math.sin(phi)
     w = hull_m[:, 2] - com_height_m
-    pts = np.column_stack([u, w])
-    if ring is None:
-        from scipy.spatial import ConvexHull
-        ring = ConvexHull(pts).vertices
-    return _walk(pts[ring], 1e-12 * float(np.max(np.abs(pts))))
+    ring = ConvexHull(np.column_stack([u, w])).vertices
+    return float(_walk(np.ascontiguousarray(u[ring]), np.ascontiguousarray(w[ring]),
+                       1e-12 * max(float(np.max(np.abs(u))), float(np.max(np.abs(w))))))
 
 
-def _walk(ring: np.ndarray, tol: float) -> float:
-    """:func:`tipping_rad`'s walk over the outline ``ring`` (points relative to G, counter-clockwise) [rad]."""
-    low = np.flatnonzero(ring[:, 1] <= ring[:, 1].min() + tol)
-    k = int(low[np.argmax(ring[low, 0])])                   # the base's end toward +u
+@jit
+def _walk(u, w, tol):
+    """:func:`tipping_rad`'s walk over an outline: its points' offsets ``u`` toward the direction and heights ``w``
+    relative to G [m], counter-clockwise; the base's lowest points within ``tol`` [m] [rad]."""
+    n = u.size
+    low = np.min(w)
+    k = -1
+    for j in range(n):                                      # the base's end toward +u (the first of equals)
+        if w[j] <= low + tol and (k < 0 or u[j] > u[k]):
+            k = j
     flat = 0.0
-    for _ in range(len(ring)):
-        nxt = ring[(k + 1) % len(ring)]
-        edge = math.atan2(nxt[1] - ring[k, 1], nxt[0] - ring[k, 0])
-        arm = math.atan2(ring[k, 0], -ring[k, 1])
+    for _ in range(n):
+        nxt = (k + 1) % n
+        edge = math.atan2(w[nxt] - w[k], u[nxt] - u[k])
+        arm = math.atan2(u[k], -w[k])
         if arm <= edge or edge >= 0.5 * math.pi:
             return min(max(flat, arm), 0.5 * math.pi)
-        flat, k = edge, (k + 1) % len(ring)
+        flat, k = edge, nxt
     return 0.5 * math.pi
 
 
+@jit
+def _smallest_on(hull_m, com_height_m, azimuths_deg, vertices, starts):
+    """:func:`smallest_tipping` on the outlines (:class:`~pipeline.shapes.scan.Outlines`' arrays)."""
+    best, best_k = math.inf, 0
+    for a in range(azimuths_deg.size):
+        phi = math.radians(azimuths_deg[a])
+        c, s = math.cos(phi), math.sin(phi)
+        big = 0.0
+        for i in range(hull_m.shape[0]):
+            big = max(big, abs(hull_m[i, 0] * c + hull_m[i, 1] * s), abs(hull_m[i, 2] - com_height_m))
+        m = starts[a + 1] - starts[a]
+        u, w = np.empty(m), np.empty(m)
+        for j in range(m):
+            i = vertices[starts[a] + j]
+            u[j], w[j] = hull_m[i, 0] * c + hull_m[i, 1] * s, hull_m[i, 2] - com_height_m
+        angle = _walk(u, w, 1e-12 * big)
+        if angle < best:
+            best, best_k = angle, a
+    return best, azimuths_deg[best_k]
+
+
 def smallest_tipping(hull_m: np.ndarray, com_height_m: float, *, step_deg: float = TIPPING_STEP_DEG,
-                     rings: tuple = ()) -> tuple[float, float]:
+                     outlines: Outlines | None = None) -> tuple[float, float]:
     """The least static tipping angle over the horizontal directions every ``step_deg`` [rad], and that direction
-    [deg, from x toward y]; ``rings``: the hull's outline in each of those directions (:func:`tipping_rad`), else
-    found here."""
-    azimuths = np.arange(0.0, 360.0, step_deg)
-    outlines = rings if len(rings) == len(azimuths) else (None,) * len(azimuths)
-    angles = [tipping_rad(hull_m, com_height_m, float(az), ring=ring) for az, ring in zip(azimuths, outlines)]
-    k = int(np.argmin(angles))
-    return float(angles[k]), float(azimuths[k])
+    [deg, from x toward y] (the first of equals); ``outlines``: the hull's outline in each of those directions
+    (:attr:`~pipeline.shapes.scan.ScannedShape.outlines`), else found here."""
+    hull = np.ascontiguousarray(hull_m, dtype=float)
+    if outlines is None or len(outlines.azimuths_deg) != len(np.arange(0.0, 360.0, step_deg)):
+        outlines = outline_rings(hull, step_deg=step_deg)
+    angle, azimuth = _smallest_on(hull, float(com_height_m), outlines.azimuths_deg, outlines.vertices,
+                                  outlines.starts)
+    return float(angle), float(azimuth)
 
 
 def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> ConvexBody:
@@ -106,7 +132,7 @@ def scan_body(shape: ScannedShape, *, mu: float, restitution: float = 0.0) -> Co
         axes[:, 2] = -axes[:, 2]
     about_g = np.asarray(shape.hull_m, dtype=float) - np.array([0.0, 0.0, shape.com_height_m])
     return ConvexBody(np.ascontiguousarray(about_g @ axes), moments, float(mu), float(restitution), rest=axes,
-                      tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m, rings=shape.outlines)[0])
+                      tipping_rad=smallest_tipping(shape.hull_m, shape.com_height_m, outlines=shape.outlines)[0])
 
 
 def scaled_scan(shape: ScannedShape, width_factor: float, height_factor: float) -> ScannedShape:
