@@ -96,9 +96,11 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
     """The command once in one process under cProfile: each stage's cumulative time and calls."""
     prof = out.parent / f"{out.name}.prof"
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "cProfile", "-o", str(prof), "-m", "pipeline.cli", "--records",
-                    str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures", "-q",
-                    "-n", "1", *options], check=True)
+    argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
+            "-q", "-n", "1", *options]
+    # main(argv) returns its code; the console script's own ending (os._exit) would leave no profile written
+    subprocess.run([sys.executable, "-c", "import cProfile, sys; from pipeline.cli import main; "
+                    f"cProfile.run('main({argv!r})', {str(prof)!r})"], check=True)
     print(f"  under cProfile, one process: {time.perf_counter() - t0:.1f} s")
     stats = pstats.Stats(str(prof)).stats                   # {(file, line, function): (cc, calls, tt, ct, callers)}
     for label, function in STAGES:

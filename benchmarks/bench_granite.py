@@ -22,12 +22,15 @@ and ``overturning_planes_deg`` the planes that overturn it (a false alarm's ``wh
 adds the verdicts if the orientation were known, estimated by leave-one-motion-out (the baseline's protocol, one
 parameter).
 
-``--model contact3d`` moves each rock in 3D on its hull (:func:`pipeline.rocking.scanned.hull3d.scan_body`, the
-3D contact model :mod:`pipeline.rocking.solids.contact3d`: sliding, twisting, rocking on an edge or a corner,
-rolling over the hull's facets, lift-off), the table's shaking axis at every yaw of a ``--yaw-step`` grid in the
-rock's settled frame (the pose on the table is not recorded), friction ``--mu`` (not recorded either:
-:data:`TABLE_MU`, declared before any run), plastic contacts. ``overturn_nominal`` is the worst yaw's verdict,
-``p_overturn`` the share of yaws that overturn it (the probability under a yaw at random on the grid); a rock
+``--model contact3d`` judges each rock as ``screen`` judges a body given by its mesh with a blank azimuth with
+``scanned_model = "contact3d"`` (:mod:`pipeline.bodies.convex3d`): in 3D on its hull (the 3D contact model
+:mod:`pipeline.rocking.solids.contact3d`: sliding, twisting, rocking on an edge or a corner, rolling over the hull's
+facets, lift-off), the table's shaking axis at every yaw of a ``--yaw-step`` grid in the rock's settled frame (the
+pose on the table is not recorded), friction ``--mu`` (not recorded either: :data:`TABLE_MU`, declared before any
+run), plastic contacts. ``overturn_nominal`` is the worst yaw's verdict (overturned first, then the largest tilt);
+``p_overturn`` (``--p-from draws``, the default) ``screen``'s: the worst yaw's under the declared uncertainty's draws,
+stopped by the sequential rule; with ``--p-from yaws`` the share of the yaws that overturn it, which is also
+``p_random_orientation`` in both (the probability under a yaw at random on the grid; ``screen`` draws it). A rock
 overturns when it lies on a side or comes to rest after the record on another face of its hull, tilted beyond its
 smallest static tipping angle.
 
@@ -62,6 +65,7 @@ from typing import NamedTuple
 import numpy as np
 import obspy
 
+from pipeline.bodies import convex3d, scanned3d
 from pipeline.bodies.contract import Setup
 from pipeline.bodies.scanned import scanned_scene
 from pipeline.config import Config
@@ -71,11 +75,10 @@ from pipeline.records.record import Record
 from pipeline.records.settings import ProcessingConfig
 from pipeline.rocking.block import BlockShape, ShapeKind
 from pipeline.rocking.orientation import plane_grid
-from pipeline.rocking.scanned.hull3d import scan_body
 from pipeline.rocking.scanned.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.rocking.settings import ScannedModel, SimulationConfig
 from pipeline.rocking.simulate import step_control
-from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, pose, simulate_contact3d
+from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, pose
 from pipeline.rocking.solids.convex_body import ConvexBody, base_threshold
 from pipeline.shapes.hull import hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body
@@ -206,31 +209,60 @@ def _one_test_rolling(job) -> list[dict]:
     return rows
 
 
-def rocks_3d(data: Path, mu: float) -> dict[str, tuple[ConvexBody, float]]:
-    """Each rock as the 3D contact model's body, and the table acceleration below which it cannot move [g]."""
+class Rock3D(NamedTuple):
+    """A rock as ``screen`` takes a body given by its mesh with a blank azimuth, judged in 3D (``scanned_model =
+    "contact3d"``, friction ``mu``), the contact model's body of it, and the table acceleration below which it
+    cannot move [g]."""
+
+    shape: BlockShape
+    body: ConvexBody
+    uplift_g: float
+
+
+def rocks_3d(data: Path, mu: float) -> dict[str, Rock3D]:
+    """Each rock as the 3D contact model's body (:class:`Rock3D`)."""
     out = {}
     for rock, scan in SCANS.items():
-        body = scan_body(read_scan(data / "geometry" / scan), mu=mu)
-        out[rock] = (body, float(base_threshold(pose(body.vertices, body.rest).standing, mu)))
+        mesh = read_scan(data / "geometry" / scan)
+        height, width = equivalent_rectangle(mesh)
+        shape = BlockShape(height_m=height, width_m=width, mu=mu, kind=ShapeKind.scanned, scan=mesh)
+        body = scanned3d.body_of(shape)
+        out[rock] = Rock3D(shape, body, float(base_threshold(pose(body.vertices, body.rest).standing, mu)))
     return out
 
 
+#: Each worker's drawn bodies of each rock, draw k's under :func:`~pipeline.uncertainty.sampling.common_normals`
+#: (the same draws for every test, as ``screen`` draws the same for every record): a stretched hull's tipping angle
+#: is a search, done once per draw and rock in a worker rather than once per test
+_DRAWN: dict[str, dict[int, ConvexBody]] = {}
+
+
 def _one_test_3d(job) -> list[dict]:
-    """Every rock of one test by the 3D contact model, the table's axis at every yaw of the grid (the rock's x axis
-    at -yaw from the table's): the worst yaw's verdict and the share of yaws that overturn it."""
-    data, test, geo, _samples, yaw_step = job
+    """Every rock of one test as ``screen`` judges a body given by its scan with a blank azimuth in 3D
+    (:mod:`pipeline.bodies.convex3d`): the table's axis at every yaw of the grid, the worst yaw's verdict (overturned
+    first, then the largest tilt) and, with ``--p-from draws``, ``screen``'s probabilities: the worst yaw's under the
+    declared uncertainty's draws (amplitude, the scan's sizes about G, friction), stopped by the sequential rule;
+    with ``--p-from yaws``, the share of the yaws that overturn it. ``p_random_orientation`` is that share in both
+    (``screen`` draws it, the draws cycling over the grid: as many runs again)."""
+    data, test, geo, samples, (yaw_step, p_from) = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
-    yaws = np.arange(0.0, 360.0, yaw_step)
+    rec = Record(record_id=test["test"], dt_s=dt, horizontal_ms2=ah[None, :], azimuths_deg=(0.0,),
+                 azimuth_known=False, vertical_ms2=None, files=(), formats=("TABLE",), component_codes=("X",),
+                 processing_level="uncorrected")
+    unc = dataclasses.replace(UncertaintyConfig(), samples=samples)
+    z = common_normals(unc.seed, samples)
     rows = []
-    for rock, (body, uplift_g) in geo.items():
-        outs = [simulate_contact3d(ah, np.zeros_like(ah), None, dt, body, yaw_deg=-float(y)) for y in yaws]
+    for rock, (shape, body, uplift_g) in geo.items():
+        fr = convex3d.frame(rec, shape)._replace(yaws_deg=np.arange(0.0, 360.0, yaw_step))
+        outs = [convex3d.run(fr, body, float(y), g_ms2=G) for y in fr.yaws_deg]
         over = [o.overturned for o in outs]
+        worst = max(range(len(outs)), key=lambda k: (outs[k].overturned, outs[k].tilt_max_rad, -k))
         row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
                "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
                "observed": int(test[f"{rock.lower()}_overturned"]), "overturn_nominal": int(any(over)),
-               "verdict_unknown": 0, "orientations_overturning": float(np.mean(over)), "planes": len(yaws),
-               "overturning_planes_deg": ";".join(f"{y:g}" for y, o in zip(yaws, over) if o),
-               "p_overturn": float(np.mean(over)), "p_random_orientation": float(np.mean(over)),
+               "verdict_unknown": 0, "orientations_overturning": float(np.mean(over)), "planes": len(outs),
+               "overturning_planes_deg": ";".join(f"{y:g}" for y, o in zip(fr.yaws_deg, over) if o),
+               "p_overturn": float(np.mean(over)), "p_random_orientation": float(np.mean(over)), "draws": 0,
                "capped_runs": sum(o.capped_steps > 0 for o in outs),
                "tail_capped_runs": sum(bool(o.flags & FLAG_TAIL_CAP) for o in outs),
                "toppled_on_a_face": sum(o.overturned and o.tilt_end_rad < 1.5 for o in outs),
@@ -238,6 +270,12 @@ def _one_test_3d(job) -> list[dict]:
                "slide_max_m": max(o.slide_max_m for o in outs), "twist_max_deg": math.degrees(max(o.twist_max_rad
                                                                                               for o in outs)),
                "table_pga_g": float(np.max(np.abs(ah)) / G), "uplift_pga_g": uplift_g, "undecided_draws": 0}
+        if p_from == "draws":
+            drawn = _DRAWN.setdefault(rock, {})
+            family = scanned3d.SCANNED_BODIES
+            at_worst = convex3d.yaw_draws(fr, shape, z, fr.yaws_deg[worst:worst + 1], drawn, family=family,
+                                       settings=unc, g_ms2=G)
+            row.update(p_overturn=at_worst.p, draws=at_worst.drawn, undecided_draws=at_worst.without_verdict)
         row["why"] = why(row)
         rows.append(row)
     return rows
@@ -329,7 +367,8 @@ def summary(rows: list[dict]) -> list[dict]:
         preds = {"always_stands": (np.zeros(len(sel), int), np.zeros(len(sel))),
                  "logistic_lomo": (np.array([r["p_logistic_lomo"] >= 0.5 for r in sel], int),
                                    np.array([r["p_logistic_lomo"] for r in sel])),
-                 ("rockscreen 3D contact model (worst yaw, p over yaws)" if "tilt_end_deg" in sel[0]
+                 ("rockscreen 3D contact model (worst yaw, "
+                  + ("its p)" if any(r["draws"] for r in sel) else "p over yaws)") if "tilt_end_deg" in sel[0]
                   else "rockscreen (worst orientation, its p)" if "orientations_overturning" in sel[0]
                   else "rockscreen (worst pose; p over poses)"): (np.array([r["overturn_nominal"] for r in sel]),
                                                            np.array([r["p_overturn"] for r in sel]))}
@@ -422,6 +461,8 @@ def main() -> None:
     ap.add_argument("--mu", type=float, default=TABLE_MU, help="contact3d: friction on the table (default %(default)s)")
     ap.add_argument("--yaw-step", type=float, default=30.0,
                     help="contact3d: the grid of the rock's yaw on the table [deg] (default %(default)s)")
+    ap.add_argument("--p-from", choices=("draws", "yaws"), default="draws",
+                    help="contact3d: p_overturn from screen's draws at the worst yaw (default) or the yaws' share")
     ap.add_argument("--model", choices=("rolling", "two_sided", "contact3d"), default="rolling",
                     help="rolling (screen's default): the body rolls on its convex hull, every plane of the "
                          "--orientation-step grid, as screen judges a mesh with a blank azimuth; two_sided: one "
@@ -434,10 +475,11 @@ def main() -> None:
     step = args.orientation_step
     if args.model == "contact3d":
         geo: dict = rocks_3d(args.data, args.mu)
-        task, step = _one_test_3d, args.yaw_step
-        for rock, (body, uplift_g) in geo.items():
+        task, step = _one_test_3d, (args.yaw_step, args.p_from)
+        for rock, (_shape, body, uplift_g) in geo.items():
             print(f"{rock}: {len(body.vertices)} hull vertices in 3D, mu {args.mu:g}, moves from {uplift_g:.3f} g, "
-                  f"smallest static tipping angle {math.degrees(body.tipping_rad):.1f} deg; yaws every {step:g} deg")
+                  f"smallest static tipping angle {math.degrees(body.tipping_rad):.1f} deg; "
+                  f"yaws every {args.yaw_step:g} deg")
     elif args.model == "rolling":
         geo = scans(args.data, args.orientation_step)
         task = _one_test_rolling

@@ -143,11 +143,11 @@ def _lean_deg(fr: Frame, out: Contact3DOutcome) -> float:
     return (fr.x_deg - out.lean_at_peak_deg) % 360.0 if out.tilt_max_rad > 0.0 else math.nan
 
 
-def _draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, drawn: dict[int, ConvexBody], *,
+def yaw_draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, drawn: dict[int, ConvexBody], *,
            family: ConvexBodies, settings: UncertaintyConfig, g_ms2: float) -> Probability:
-    """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``; ``bodies`` keeps each
-    draw's stretched body (its tipping angle costs a search over the hull) in ``drawn`` for the other yaws' draws of
-    the scene."""
+    """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``, stopped by the sequential
+    rule (:func:`~pipeline.uncertainty.scenes.sample_until_decided`); each draw's stretched body (its tipping angle
+    costs a search over the hull) is kept in ``drawn`` under k, for the other draws of the same k."""
     def judge_draws(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
         for k in range(sl.start, sl.stop):
             f = draw_factors(z[k], settings)
@@ -173,12 +173,12 @@ def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float, *
     if on.base is not None and on.draws is not None:
         unc = setup.uncertainty
         drawn: dict[int, ConvexBody] = {}
-        worst = _draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), drawn, family=bodies, settings=unc,
+        worst = yaw_draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), drawn, family=bodies, settings=unc,
                        g_ms2=setup.g_ms2)
         if fr.given:
             orient = one_plane(worst, res.azimuth_deg)
         else:
-            rnd = _draws(fr, shape, on.draws[0], fr.yaws_deg, drawn, family=bodies, settings=unc, g_ms2=setup.g_ms2)
+            rnd = yaw_draws(fr, shape, on.draws[0], fr.yaws_deg, drawn, family=bodies, settings=unc, g_ms2=setup.g_ms2)
             orient = OrientationProbability(worst, res.azimuth_deg, rnd.p, rnd.low, rnd.high,
                                             worst.simulations + rnd.simulations)
     yaws = "given" if fr.given else f"{j.runs} of {len(fr.yaws_deg)} yaws"
