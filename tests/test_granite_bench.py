@@ -58,13 +58,14 @@ def test_the_orientation_is_chosen_without_the_motions_own_tests(bench):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("model", ["two_sided", "rolling", "contact3d"])
-def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monkeypatch, model):
+@pytest.mark.parametrize("model, p_from", [("two_sided", "draws"), ("rolling", "draws"), ("contact3d", "yaws"),
+                                           ("contact3d", "draws")])
+def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monkeypatch, model, p_from):
     if not (GRANITE / "tests.csv").is_file():
         pytest.skip(f"the granite shake-table data is not at {GRANITE} (GPL-3: kept in ../shared, never copied)")
     monkeypatch.setattr(sys, "argv", ["bench_granite.py", str(GRANITE), "--out", str(tmp_path), "--limit", "24",
                                       "--samples", "5", "--model", model, "--orientation-step", "30",
-                                      "--yaw-step", "90"])
+                                      "--yaw-step", "90", "--p-from", p_from])
     bench.main()
     rows = list(csv.DictReader((tmp_path / "predictions.csv").open()))
     assert len(rows) == 48 and {r["rock"] for r in rows} == {"SP1", "SP2"}
@@ -75,8 +76,15 @@ def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monk
     summary = list(csv.DictReader((tmp_path / "summary.csv").open()))
     assert {s["predictor"] for s in summary} >= {"always_stands", "logistic_lomo"}
     assert (tmp_path / "reliability.png").stat().st_size > 0 and (tmp_path / "boundary.png").stat().st_size > 0
-    if model == "contact3d":                    # four yaws: p is the share of them that overturn the rock
+    if model == "contact3d":                    # four yaws: p_random_orientation is the share that overturn the rock
         for r in rows:
-            assert r["planes"] == "4" and float(r["p_overturn"]) * 4 == pytest.approx(
+            assert r["planes"] == "4" and float(r["p_random_orientation"]) * 4 == pytest.approx(
                 len([y for y in r["overturning_planes_deg"].split(";") if y]))
-            assert (r["overturn_nominal"] == "1") == (float(r["p_overturn"]) > 0)
+            assert (r["overturn_nominal"] == "1") == (float(r["p_random_orientation"]) > 0)
+            if p_from == "yaws":                # ... and so is p_overturn
+                assert float(r["p_overturn"]) * 4 == pytest.approx(
+                    len([y for y in r["overturning_planes_deg"].split(";") if y]))
+                assert (r["overturn_nominal"] == "1") == (float(r["p_overturn"]) > 0)
+            else:                               # p_overturn: the worst yaw's draws, one batch of 5 at least
+                assert int(r["draws"]) == 5 and float(r["p_overturn"]) * 5 == pytest.approx(
+                    round(float(r["p_overturn"]) * 5))
