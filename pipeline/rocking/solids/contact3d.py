@@ -2,18 +2,18 @@
 edge or a corner, lift-off, free flight and landing, by Moreau-Jean time stepping (compiled).
 
 The body is its convex hull's vertices (a box exactly by its eight corners; a cylinder by points of its rims) about
-its centre of mass G, with its principal inertias per unit mass. Each vertex at or below the ground at the middle
-of a step is a contact (looked for among a list of the vertices near the ground, kept between steps, that gives
-exactly the same contacts: :mod:`.near_ground`) with Coulomb friction (the isotropic cone, ``|P_t| <= mu P_n``).
-The contact impulses of the step solve the velocity-level complementarity problem of Moreau (1988) and Jean
-(1999): a contact keeps its normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or
-separates with no impulse;
-it sticks, or slides with the largest friction against its slip. The problem is solved by projected Gauss-Seidel
-over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone, started from a
-Newton solve of all the contacts together where at most eight touch (:mod:`.contact_problem`), to a stated
-tolerance or a cap of sweeps (the step is then flagged, never silently accepted). Where more touch (a cylinder's
-base flat on its 32 rim points), it is first solved on the eight extreme ones, and that solution is kept where every
-other contact, without impulse, does not approach the ground: then it solves the whole step (:mod:`.contact_reduced`).
+its centre of mass G, with its principal inertias per unit mass. Each vertex at or below the ground at the middle of
+a step is a contact (looked for among a list of the vertices near the ground, kept between steps, that gives exactly
+the same contacts: :mod:`.near_ground`) with Coulomb friction (the isotropic cone, ``|P_t| <= mu P_n``). The contact
+impulses of the step solve the velocity-level complementarity problem of Moreau (1988) and Jean (1999): a contact
+keeps its normal velocity at ``-e_n`` times its value before (``e_n = 0``: a plastic impact) or separates with no
+impulse; it sticks, or slides with the largest friction against its slip. The problem is solved by projected
+Gauss-Seidel over the contacts (Jean 1999), each contact by De Saxce and Feng's (1998) fixed point on the cone,
+started from a Newton solve of all the contacts together where at most eight touch (:mod:`.contact_problem`), to a
+stated tolerance or a cap of sweeps (the step is then flagged, never silently accepted). Where more touch (a
+cylinder's base flat on its 32 rim points), it is first solved on the eight extreme ones, and that solution is kept
+where every other contact, without impulse, does not approach the ground: then it solves the whole step
+(:mod:`.contact_reduced`).
 
 **Overturned** is the body lying on a side: its axis tilted to within :data:`LYING_SLACK_RAD` of the horizontal.
 A box that falls lands on its side face at a tilt of pi/2 less what the landing step lets it sink into the ground

@@ -14,10 +14,11 @@ Any other vertex has u_0 . v_i > c, and since |(u - u_0) . v_i| <= |u - u_0| |v_
 
     z_G + u . v_i > z_G + c - |u - u_0| rho,      rho = max_j |v_j|.
 
-Where that bound is above ``gap`` no vertex outside the list is a contact, and the list, kept in the vertices'
-order, gives the same contacts in the same order as a look at every vertex: the steps are the same to the last bit.
-Where it is not, the list is made again at this step; where even the new list's bound is not above ``gap`` (a body
-sunk deeper than the band), every vertex is looked at.
+Where that bound is above ``gap`` (with :data:`ROUNDING` of rho kept for the rounding of the products) no vertex
+outside the list is a contact, and the list, kept in the vertices' order, gives the same contacts in the same order
+as a look at every vertex: the steps are the same to the last bit. Where it is not, the list is made again at this
+step; where even the new list's bound is not above ``gap`` (a body sunk deeper than the band), every vertex is
+looked at.
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ from ...compiled import jit_inline
 #: The band above the lowest vertex a list holds, as a fraction of the body's reach rho [-]: the list is made again
 #: once the body has turned by about this many radians since (a wider band makes it less often but longer).
 BAND_OF_REACH = 0.02
+#: What the bound keeps for the rounding of the heights' products, as a fraction of the body's reach rho [-]
+ROUNDING = 1e-12
 
 
 class Near(NamedTuple):
@@ -63,7 +66,7 @@ def near(vertices: np.ndarray) -> Near:
 def _bound(rm, z_g, state):
     """The least height any vertex outside the list can have (rotation ``rm``, G at height ``z_g``) [m]."""
     d0, d1, d2 = rm[2, 0] - state[0], rm[2, 1] - state[1], rm[2, 2] - state[2]
-    return z_g + state[3] - math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) * state[4]
+    return z_g + state[3] - (math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + ROUNDING) * state[4]
 
 
 @jit_inline
