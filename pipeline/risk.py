@@ -94,7 +94,8 @@ ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", 
                  SCENE.physics,
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
-                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio", "stands_on", "stack_id")
+                 "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio", "stands_on", "stack_id",
+                 "joint_opening_g", "stack_opens_first")
 
 
 #: The paper's criterion's words for a body of a stack: it judges a block alone on the ground, not a stack's body
@@ -342,7 +343,19 @@ def _stack(ds: xr.Dataset, j: int, i: int | None = None) -> dict:
                  if anybody == 1 and collapse == 0 else "every body stands" if anybody == 0
                  else "not every body has a verdict")
     slips = int(np.sum(ds[SCENE.friction_exceeded].values[:, j] == 1)) if out["stack_id"] else 0
-    return {**out, "stack_outcome": words, "stack_slips": slips}
+    return {**out, "stack_outcome": words, "stack_slips": slips, **_joints(ds, j, out["stack_id"])}
+
+
+def _joints(ds: xr.Dataset, j: int, stack_id: str) -> dict:
+    """Where the joint under block ``j`` starts to open at rest (``joint_opening_g``: the ground's horizontal
+    acceleration in g without vertical shaking; NaN: not a stack's body) and the body of its stack whose joint opens
+    first (``stack_opens_first``: "" for none)."""
+    if not stack_id or "joint_opening" not in ds:
+        return {"joint_opening_g": math.nan, "stack_opens_first": ""}
+    opening = ds["joint_opening"].values
+    rows = np.flatnonzero(ds["stack_id"].values == stack_id)
+    first = rows[int(np.argmin(opening[rows]))]
+    return {"joint_opening_g": float(opening[j]), "stack_opens_first": str(ds["block"].values[first])}
 
 
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from .assemblies.stack import StackBody, StackPlace, interfaces
+from .assemblies.stack import StackBody, StackPlace, interfaces, opening_ratio
 from .errors import BlockParameterError
 from .rocking.block import ShapeKind
 from .tables import parse_number
@@ -160,6 +160,17 @@ def stands_on_ids(places: tuple, n: int) -> np.ndarray:
     """The id of the body each of the ``n`` rows stands on ("" on the ground or its floor)."""
     return np.array(["" if not places or places[k] is None or places[k].position == 0
                      else places[k].ids[places[k].position - 1] for k in range(n)], dtype=object)
+
+
+def joint_openings(places: tuple, n: int) -> np.ndarray:
+    """The ground's |a_h| / (g + a_v) at which the joint under each of the ``n`` rows starts to open at rest, the
+    bodies above with it (:func:`~.assemblies.stack.opening_ratio`; NaN for a row in no stack) [-]."""
+    out = np.full(n, np.nan)
+    for k in range(n):
+        place = places[k] if places else None
+        if place is not None:
+            out[k] = opening_ratio(interfaces(place.bodies, label=place.ids[0])[place.position])
+    return out
 
 
 def stack_verdicts(overturn: np.ndarray, places: tuple) -> dict[str, tuple]:

@@ -167,6 +167,13 @@ def uplift_ratios(face: Interface) -> tuple[float, float]:
     return (face.x_m - face.right_m) / face.z_m, (face.x_m - face.left_m) / face.z_m
 
 
+def opening_ratio(face: Interface) -> float:
+    """The least |a_h| / (g + a_v) of the ground at which the part above ``face`` starts to tip at rest, either way
+    (:func:`uplift_ratios`; Housner's tan alpha for one block centred on its base) [-]."""
+    low, high = uplift_ratios(face)
+    return min(-low, high)
+
+
 def stays_shut(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
                g_ms2: float = G) -> bool:
     """Whether the ground (a_h, a_v) [m s-2] at its samples (linear between them) leaves every interface of the

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.assemblies.stack import StackBody, interfaces, stays_shut, uplift_ratios
+from pipeline.assemblies.stack import StackBody, interfaces, opening_ratio, stays_shut, uplift_ratios
 from pipeline.errors import BlockParameterError
 
 G = 9.80665
@@ -42,6 +42,12 @@ def test_a_statue_on_its_plinth_worked_by_hand():
     assert not stays_shut([PLINTH, STATUE], 0.251 * G * ramp)
     slippery = [PLINTH, STATUE._replace(mu=0.2)]
     assert stays_shut(slippery, 0.199 * G * ramp) and not stays_shut(slippery, 0.201 * G * ramp)
+    # where each joint starts to open, either way: the nearer of its support's two ends
+    assert opening_ratio(joint) == pytest.approx(0.25, rel=1e-15)
+    assert opening_ratio(base) == pytest.approx(0.5 / (430.0 / 600.0), rel=1e-15)
+    # the statue 0.4 m off centre overhangs the plinth: its support is [0.2, 0.5] m, G at 0.4 m, 0.1 m from its end
+    overhung = interfaces([PLINTH, STATUE._replace(offset_m=0.4)])[1]
+    assert opening_ratio(overhung) == pytest.approx(0.1 / 0.8, rel=1e-14)
 
 
 def test_an_offset_statue_on_a_narrow_pedestal_is_bound_by_the_overlap():

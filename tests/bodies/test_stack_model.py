@@ -4,6 +4,8 @@ own, the paper's criterion never stands in for a stack's body, and the bound the
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -132,6 +134,26 @@ def test_the_report_says_what_the_stack_does_under_the_governing_record(screened
                                         "stands", (0, 0): "every body stands"}[(collapse, anybody)]
     assert rows["OUTLINE"]["stack_outcome"] == "" and rows["OUTLINE"]["verdict_criterion"] != "" \
         and rows["STATUE"]["verdict_criterion"].startswith("not applicable")
+
+
+def test_the_report_says_where_each_joint_opens_and_which_first(screened):
+    """At rest each joint opens where the part above tips about the nearer end of its support, by hand (one density:
+    the masses are the volumes, the depth the width): the statue at 0.225 / 0.85; the plinth with the statue on it at
+    0.35 m over their centre of mass's height, (0.49 x 0.5 + 0.34425 x 1.85) / 0.83425 m; the block under the slab
+    at the Housner bound of the block of their outline, tan alpha."""
+    from pipeline.risk import asset_rows
+
+    ds = screened["full"]
+    rows = {r["block"]: r for r in asset_rows(ds)}
+    plinth_zg = (0.49 * 0.5 + 0.34425 * 1.85) / 0.83425
+    assert rows["STATUE"]["joint_opening_g"] == pytest.approx(0.225 / 0.85, rel=1e-12)
+    assert rows["PLINTH"]["joint_opening_g"] == pytest.approx(0.35 / plinth_zg, rel=1e-12)
+    outline_tan_alpha = math.tan(float(ds.slenderness.sel(block="OUTLINE")))
+    assert rows["BASE"]["joint_opening_g"] == pytest.approx(outline_tan_alpha, rel=1e-12)
+    assert rows["SLAB"]["joint_opening_g"] == pytest.approx(0.25 / 0.025, rel=1e-12)
+    assert [rows[b]["stack_opens_first"] for b in ("STATUE", "PLINTH", "BASE", "SLAB")] == ["STATUE", "STATUE",
+                                                                                            "BASE", "BASE"]
+    assert math.isnan(rows["OUTLINE"]["joint_opening_g"]) and rows["OUTLINE"]["stack_opens_first"] == ""
 
 
 def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
