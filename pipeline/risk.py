@@ -351,11 +351,40 @@ def _joints(ds: xr.Dataset, j: int, stack_id: str) -> dict:
     acceleration in g without vertical shaking; NaN: not a stack's body) and the body of its stack whose joint opens
     first (``stack_opens_first``: "" for none)."""
     if not stack_id or "joint_opening" not in ds:
-        return {"joint_opening_g": math.nan, "stack_opens_first": ""}
+        return {"joint_opening_g": math.nan, "stack_opens_first": "", "stack_drawing": None}
     opening = ds["joint_opening"].values
     rows = np.flatnonzero(ds["stack_id"].values == stack_id)
     first = rows[int(np.argmin(opening[rows]))]
-    return {"joint_opening_g": float(opening[j]), "stack_opens_first": str(ds["block"].values[first])}
+    return {"joint_opening_g": float(opening[j]), "stack_opens_first": str(ds["block"].values[first]),
+            "stack_drawing": _drawing(ds, stack_id)}
+
+
+def _drawing(ds: xr.Dataset, stack_id: str) -> dict:
+    """The stack at rest in its rocking plane as the report draws it (an SVG's coordinates: x to the right, y down,
+    in metres): ``bodies``, bottom first, each one's ``id``, ``x``, ``y`` (its top left corner), ``width`` and
+    ``height``; ``view_box`` around them and the ground; ``font`` a label's size."""
+    ids, on = ds["block"].values, ds["stands_on"].values
+    index = {str(b): k for k, b in enumerate(ids)}
+    offset = ds["stack_offset"].values if "stack_offset" in ds else np.zeros(len(ids))
+    bodies: list[dict] = []
+    body, x, z = stack_id, 0.0, 0.0
+    for _ in range(len(ids)):                       # a stack holds each body once (the inventory refuses a loop)
+        if not body:
+            break
+        k = index[body]
+        width, height = 2.0 * float(ds["half_width"].values[k]), 2.0 * float(ds["half_height"].values[k])
+        x += float(offset[k]) if bodies else 0.0
+        bodies.append({"id": body, "x": x - 0.5 * width, "y": -(z + height), "width": width, "height": height})
+        z += height
+        above = [str(ids[m]) for m in np.flatnonzero(on == body)]
+        body = above[0] if above else ""
+    left = min(b["x"] for b in bodies)
+    right = max(b["x"] + b["width"] for b in bodies)
+    font = 0.06 * max(z, right - left)
+    labels = 0.65 * font * max(len(b["id"]) for b in bodies)     # each body's id to its right
+    return {"bodies": tuple(bodies), "font": font,
+            "view_box": f"{left - font:.4g} {-z - font:.4g} {right - left + 2.5 * font + labels:.4g} "
+                        f"{z + 2 * font:.4g}"}
 
 
 def _probabilities(ds: xr.Dataset, ok: np.ndarray, j: int, stations: np.ndarray, governing: int | None) -> dict:

@@ -350,6 +350,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
     "stands_on": (("block",), None, "the body the block stands on (empty: the ground, or its floor)", {}),
     "stack_id": (("block",), None, "the stack the block is a body of, named by its bottom body (empty: none)", {}),
+    "stack_offset": (("block",), "m", "a stack's body: its base's centre from the centre of the top of the body "
+                     "below, in its rocking plane (0: the bottom body; NaN: not a stack's body)", {}),
     "joint_opening": (("block",), "1", "a stack's body: the ground's |a_h| / (g + a_v) at which the joint under it "
                       "starts to open at rest, the bodies above with it (NaN: not a stack's body)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),

@@ -162,6 +162,17 @@ def stands_on_ids(places: tuple, n: int) -> np.ndarray:
                      else places[k].ids[places[k].position - 1] for k in range(n)], dtype=object)
 
 
+def stack_offsets(places: tuple, n: int) -> np.ndarray:
+    """Each of the ``n`` rows' ``offset_m`` in its stack: its base's centre from the centre of the top of the body
+    below [m] (0 for the bottom body; NaN for a row in no stack)."""
+    out = np.full(n, np.nan)
+    for k in range(n):
+        place = places[k] if places else None
+        if place is not None:
+            out[k] = place.bodies[place.position].offset_m if place.position > 0 else 0.0
+    return out
+
+
 def joint_openings(places: tuple, n: int) -> np.ndarray:
     """The ground's |a_h| / (g + a_v) at which the joint under each of the ``n`` rows starts to open at rest, the
     bodies above with it (:func:`~.assemblies.stack.opening_ratio`; NaN for a row in no stack) [-]."""

@@ -154,6 +154,12 @@ def test_the_report_says_where_each_joint_opens_and_which_first(screened):
     assert [rows[b]["stack_opens_first"] for b in ("STATUE", "PLINTH", "BASE", "SLAB")] == ["STATUE", "STATUE",
                                                                                             "BASE", "BASE"]
     assert math.isnan(rows["OUTLINE"]["joint_opening_g"]) and rows["OUTLINE"]["stack_opens_first"] == ""
+    # the report's drawing at rest (x right, y down, metres): the plinth on the ground, the statue centred on it
+    drawn = rows["STATUE"]["stack_drawing"]["bodies"]
+    assert [b["id"] for b in drawn] == ["PLINTH", "STATUE"] and rows["PLINTH"]["stack_drawing"]["bodies"] == drawn
+    assert [v for b in drawn for v in (b["x"], b["y"], b["width"], b["height"])] == pytest.approx(
+        [-0.35, -1.0, 0.7, 1.0, -0.225, -2.7, 0.45, 1.7], rel=1e-12)
+    assert rows["OUTLINE"]["stack_drawing"] is None
 
 
 def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
