@@ -48,6 +48,7 @@ from .rocking.orientation import Orientation
 from .rocking.planner import FreeFlight, Physics, Response
 from .scene_table import SCENE
 from .schema import INVENTORY_PREFIX
+from .stacks import RULE_WORDS, StackRule
 from .uncertainty.robust import Robustness
 
 #: A probability of overturning at or above this (under some record) calls for restraint or anchoring [-].
@@ -95,7 +96,7 @@ ASSETS_CSV_COLUMNS = ("rank", "block", "block_name", "site", "height", "width", 
                  "overturn_scale", "overturn_scale_simulated", "overturns_below_nominal", "p_overturn_governing",
                  "overturn_scale_median", "recommendation",
                  "records_overturning_ids", "building", "floor_height_m", "floor_pga_ratio", "stands_on", "stack_id",
-                 "joint_opening_g", "stack_opens_first")
+                 "joint_opening_g", "stack_opens_first", "stack_rule", "stack_records_failing")
 
 
 #: The paper's criterion's words for a body of a stack: it judges a block alone on the ground, not a stack's body
@@ -343,7 +344,11 @@ def _stack(ds: xr.Dataset, j: int, i: int | None = None) -> dict:
                  if anybody == 1 and collapse == 0 else "every body stands" if anybody == 0
                  else "not every body has a verdict")
     slips = int(np.sum(ds[SCENE.friction_exceeded].values[:, j] == 1)) if out["stack_id"] else 0
-    return {**out, "stack_outcome": words, "stack_slips": slips, **_joints(ds, j, out["stack_id"])}
+    rule = str(ds["stack_rule"].values[j]) if out["stack_id"] and "stack_rule" in ds else ""
+    failing = int(np.sum(ds["stack_fails"].values[:, j] == 1)) if rule else 0
+    return {**out, "stack_outcome": words, "stack_slips": slips, **_joints(ds, j, out["stack_id"]),
+            "stack_rule": rule, "stack_rule_words": RULE_WORDS[StackRule[rule]] if rule else "",
+            "stack_records_failing": failing}
 
 
 def _joints(ds: xr.Dataset, j: int, stack_id: str) -> dict:

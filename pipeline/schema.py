@@ -150,6 +150,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "stack_collapse": (("record", "block"), None, "the bottom body of the block's stack overturns: nothing stands",
                        {**TRISTATE, "comment": "the same on every body of a stack; not_evaluated: in no stack, or the "
                                                "bottom body has no verdict"}),
+    "stack_fails": (("record", "block"), None, "the block's stack fails by its own rule (stack_rule)",
+                    {**TRISTATE, "comment": "the same on every body of a stack: stack_overturn, the top body's "
+                                            "verdict or stack_collapse; not_evaluated: in no stack, or no verdict"}),
     "above_sliding_line": (("record", "block"), None, "pulse peak acceleration exceeds mu g (the paper's line)",
                            TRISTATE),
     "criterion_scale": (("record", "block"), "1",
@@ -352,6 +355,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "stack_id": (("block",), None, "the stack the block is a body of, named by its bottom body (empty: none)", {}),
     "stack_offset": (("block",), "m", "a stack's body: its base's centre from the centre of the top of the body "
                      "below, in its rocking plane (0: the bottom body; NaN: not a stack's body)", {}),
+    "stack_rule": (("block",), None, "what fails the block's stack as a whole (inventory stack_verdict): any (a "
+                   "body falls), top (the top body falls) or collapse (the bottom body falls); empty: in no stack",
+                   {}),
     "joint_opening": (("block",), "1", "a stack's body: the ground's |a_h| / (g + a_v) at which the joint under it "
                       "starts to open at rest, the bodies above with it (NaN: not a stack's body)", {}),
     "uplift_acceleration": (("block",), "m s-2", "ground acceleration that starts rocking (Eq. 1)", {}),

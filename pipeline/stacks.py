@@ -15,6 +15,7 @@ part above an interface outside its support) is an error (:func:`pipeline.assemb
 
 from __future__ import annotations
 
+import enum
 import logging
 import math
 
@@ -30,13 +31,35 @@ log = logging.getLogger(__name__)
 #: The most bodies a stack may hold: the planar model of two stacked blocks (:mod:`pipeline.assemblies.two_block`)
 MAX_BODIES = 2
 #: The inventory's columns for stacks
-COLUMNS = ("stands_on", "offset_m")
+COLUMNS = ("stands_on", "offset_m", "stack_verdict")
+
+
+class StackRule(enum.IntEnum):
+    """What fails a stack as a whole (inventory column ``stack_verdict``, on any of its rows; blank: ``any``)."""
+
+    #: any body falls
+    any = 0
+    #: the top body falls
+    top = 1
+    #: the bottom body falls, so that nothing stands
+    collapse = 2
+
+
+#: Each rule in words, as the report says it
+RULE_WORDS = {StackRule.any: "a body falls", StackRule.top: "the top body falls",
+              StackRule.collapse: "the whole stack falls"}
 
 
 def read_stack_cells(rec: dict, where: str, rows: dict[str, list], errors: list[str]) -> None:
-    """Append a row's ``stands_on`` (stripped; blank: "") and ``offset_m`` (blank: 0) to ``rows``, a bad offset's
-    problem to ``errors``."""
+    """Append a row's ``stands_on`` (stripped; blank: ""), ``stack_verdict`` (blank: "") and ``offset_m`` (blank: 0)
+    to ``rows``, a bad rule's or offset's problem to ``errors``."""
     rows["stands_on"].append(rec.get("stands_on", "").strip())
+    rule = rec.get("stack_verdict", "").strip()
+    rows["stack_verdict"].append(rule)
+    if rule and rule not in StackRule.__members__:
+        errors.append(f"{where}, column 'stack_verdict': {rule!r} is not a rule; use "
+                      f"{', '.join(StackRule.__members__)} (what fails the stack: a body falls, the top body falls, "
+                      "the whole stack falls; blank: any)")
     cell = rec.get("offset_m", "")
     if not cell:
         rows["offset_m"].append(0.0)
@@ -90,6 +113,9 @@ def build_stacks(rows: dict[str, list], lines: list[str], errors: list[str]) -> 
         for j, k in enumerate(chain):
             places[k] = None if place is None else place._replace(position=j)
     for k in range(len(ids)):
+        if rows["stack_verdict"][k] and k not in placed:
+            errors.append(f"{lines[k]}, column 'stack_verdict': {rows['stack_verdict'][k]!r} on a row in no stack; the "
+                          "rule judges a stack as a whole (fill stands_on, or leave stack_verdict blank)")
         if below[k] and k not in placed:
             errors.append(f"{lines[k]}, column 'stands_on': the bodies it stands on stand on each other in a loop; "
                           "the bottom body of a stack stands on the ground (blank stands_on)")
@@ -117,6 +143,10 @@ def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: li
                 errors.append(f"{lines[k]}, column {column!r}: {rows[column][k]!r} differs from the bottom body "
                               f"{ids[0]!r}'s {rows[column][chain[0]]!r}; a stack's bodies share their rocking plane "
                               "and what they stand on: give every body of the stack the same value")
+    rules = {rows["stack_verdict"][k] for k in chain} - {""}
+    if len(rules) > 1:
+        errors.append(f"{where}, column 'stack_verdict': the stack {' < '.join(reversed(ids))} is given the rules "
+                      f"{sorted(rules)}; a stack has one: give it on one body, or the same on every body")
     if len(errors) > before:
         return None
     given = [ids[j] for j, k in enumerate(chain) if math.isfinite(rows["restitution"][k])]
@@ -131,7 +161,7 @@ def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: li
     except BlockParameterError as exc:
         errors.append(str(exc))
         return None
-    return StackPlace(bodies, 0, ids)
+    return StackPlace(bodies, 0, ids, int(StackRule[rules.pop()]) if rules else int(StackRule.any))
 
 
 def _same_number(a: float, b: float) -> bool:
@@ -188,15 +218,24 @@ def stack_verdicts(overturn: np.ndarray, places: tuple) -> dict[str, tuple]:
     """Each stack's verdicts under each record, on every row of its bodies, from the bodies' ``overturn`` (records x
     rows: 1 overturns, 0 stands, -1 no verdict): ``stack_overturn``, any body falls (1 where one does; -1 where none
     does and one has no verdict), and ``stack_collapse``, the bottom body falls, so that nothing stands. -1 for a row
-    in no stack."""
+    in no stack; and ``stack_fails``, the verdict of the stack's own rule (:class:`StackRule`: any body, the top body,
+    the bottom body), with the rule on each row (``stack_rule``, "" for a row in no stack)."""
     n_records, n = overturn.shape
     anybody = np.full((n_records, n), -1, dtype="i1")
     collapse = np.full((n_records, n), -1, dtype="i1")
+    fails = np.full((n_records, n), -1, dtype="i1")
+    rule_names = np.full(n, "", dtype=object)
     ids = stack_ids(places, n)
     for bottom in {b for b in ids if b}:
         rows = np.flatnonzero(ids == bottom)
         v = overturn[:, rows]
         anybody[:, rows] = np.where((v == 1).any(axis=1), 1, np.where((v < 0).any(axis=1), -1, 0))[:, None]
-        first = rows[[places[k].position for k in rows].index(0)]
-        collapse[:, rows] = overturn[:, first][:, None]
-    return {"stack_overturn": (("record", "block"), anybody), "stack_collapse": (("record", "block"), collapse)}
+        positions = [places[k].position for k in rows]
+        collapse[:, rows] = overturn[:, rows[positions.index(0)]][:, None]
+        rule = StackRule(places[rows[0]].rule)
+        top = overturn[:, rows[positions.index(max(positions))]]
+        fails[:, rows] = {StackRule.any: anybody[:, rows[0]], StackRule.top: top,
+                          StackRule.collapse: collapse[:, rows[0]]}[rule][:, None]
+        rule_names[rows] = rule.name
+    return {"stack_overturn": (("record", "block"), anybody), "stack_collapse": (("record", "block"), collapse),
+            "stack_fails": (("record", "block"), fails), "stack_rule": (("block",), rule_names)}

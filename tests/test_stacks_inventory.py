@@ -52,6 +52,43 @@ def test_the_offset_places_the_upper_body(tmp_path):
     assert openings[1] == pytest.approx(0.25 / 0.8, rel=1e-12) and math.isnan(openings[2])
 
 
+def _rules(tmp_path, rows: str):
+    path = tmp_path / "rules.csv"
+    path.write_text(HEADER.rstrip("\n") + ",stack_verdict\n" + rows)
+    return read_inventory(path, default_mu=0.6)
+
+
+def test_a_stack_is_failed_by_its_own_rule(tmp_path):
+    """The rule given on any body is the stack's (blank: any body falls); each body's verdicts under each record
+    give the stack's: any body, the top body, the bottom body (a body falling first, then no verdict)."""
+    import numpy as np
+
+    from pipeline.stacks import StackRule, stack_verdicts
+
+    assert _read(tmp_path, PLINTH + STATUE).stacks[0].rule == StackRule.any
+    # records: the statue falls alone; both fall; nothing falls; the statue has no verdict, the plinth stands
+    overturn = np.array([[0, 1], [1, 1], [0, 0], [0, -1]])
+    expected = {"any": [1, 1, 0, -1], "top": [1, 1, 0, -1], "collapse": [0, 1, 0, 0]}
+    for rule, fails in expected.items():
+        inv = _rules(tmp_path, f"PL,1.0,0.8,0.6,,,,,,,,{rule}\n" + STATUE.rstrip("\n") + ",\n")
+        assert inv.stacks[1].rule == StackRule[rule]
+        got = stack_verdicts(overturn, inv.stacks)
+        assert got["stack_fails"][1].T.tolist() == [fails, fails], rule
+        assert list(got["stack_rule"][1]) == [rule, rule]
+
+
+@pytest.mark.parametrize("rows, found", [
+    ("PL,1.0,0.8,0.6,,,,,,,,all\n" + STATUE.rstrip("\n") + ",\n",
+     r"line 2, column 'stack_verdict': 'all' is not a rule"),
+    ("PL,1.0,0.8,0.6,,,,,,,,top\n" + STATUE.rstrip("\n") + ",collapse\n",
+     r"is given the rules \['collapse', 'top'\]; a stack has one"),
+    ("SOLO,1.0,0.3,0.6,,,,,,,,top\n", r"line 2, column 'stack_verdict': 'top' on a row in no stack"),
+])
+def test_a_bad_stack_rule_is_a_named_error(tmp_path, rows, found):
+    with pytest.raises(InventoryError, match=found):
+        _rules(tmp_path, rows)
+
+
 @pytest.mark.parametrize("rows, found", [
     (PLINTH + "ST,1.6,0.5,0.6,,,,,,PLX,\n", r"line 3, column 'stands_on': 'PLX' is not the id of a row"),
     (PLINTH + "ST,1.6,0.5,0.6,,,,,,ST,\n", "line 3, column 'stands_on': the row stands on itself"),

@@ -74,11 +74,14 @@ class StackPlace(NamedTuple):
         this body's (0: the bottom)
     ids : tuple of str
         the bodies' ids, bottom first
+    rule : int
+        what fails the stack as a whole (:class:`pipeline.stacks.StackRule`; 0: any body falls)
     """
 
     bodies: tuple[StackBody, ...]
     position: int
     ids: tuple[str, ...]
+    rule: int = 0
 
 
 class Interface(NamedTuple):

@@ -160,6 +160,11 @@ def test_the_report_says_where_each_joint_opens_and_which_first(screened):
     assert [v for b in drawn for v in (b["x"], b["y"], b["width"], b["height"])] == pytest.approx(
         [-0.35, -1.0, 0.7, 1.0, -0.225, -2.7, 0.45, 1.7], rel=1e-12)
     assert rows["OUTLINE"]["stack_drawing"] is None
+    # no stack_verdict column: a stack fails where any body falls
+    for body in ("STATUE", "PLINTH"):
+        assert rows[body]["stack_rule"] == "any" and rows[body]["stack_records_failing"] == int(
+            (ds.stack_overturn.sel(block=body).values == 1).sum())
+    assert rows["OUTLINE"]["stack_rule"] == "" and rows["OUTLINE"]["stack_records_failing"] == 0
 
 
 def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
