@@ -90,28 +90,37 @@ def make_blocks(path: Path, n_blocks: int, seed: int = 20261122) -> None:
 
 
 def timed_run(args: list[str]) -> dict:
-    """Run ``screen`` in a fresh process; wall time and peak RSS (largest process, tree total)."""
+    """Run ``screen`` in a fresh process; wall time, CPU time of the whole process tree (user and system, each
+    process's as last seen every 50 ms: the workers are not all reaped by the command itself) and peak RSS (largest
+    process, tree total)."""
     import psutil
 
     cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
+    cpu_of: dict[int, float] = {}
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     ps = psutil.Process(proc.pid)
     peak_one = peak_sum = 0
     while proc.poll() is None:
+        rss = []
         try:
-            rss = [p.memory_info().rss for p in [ps, *ps.children(recursive=True)]]
+            for p in [ps, *ps.children(recursive=True)]:
+                rss.append(p.memory_info().rss)
+                times = p.cpu_times()
+                cpu_of[p.pid] = times.user + times.system
         except psutil.Error:
-            rss = []
+            pass
         if rss:
             peak_one, peak_sum = max(peak_one, max(rss)), max(peak_sum, sum(rss))
         time.sleep(0.05)
     wall = time.perf_counter() - t0
+    cpu = sum(cpu_of.values())
     err = proc.stderr.read()
     if proc.returncode not in (0, 1):
         raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
     summary = "\n    ".join(line for line in err.splitlines() if line.startswith(("records:", "margins:")))
-    return {"wall_s": wall, "peak_one_mb": peak_one / 2**20, "peak_sum_mb": peak_sum / 2**20, "summary": summary}
+    return {"wall_s": wall, "cpu_s": cpu, "peak_one_mb": peak_one / 2**20, "peak_sum_mb": peak_sum / 2**20,
+            "summary": summary}
 
 
 def criterion_rate(results: Path, repeat: int = 20) -> tuple[int, float]:

@@ -242,9 +242,9 @@ def _one_test_3d(job) -> list[dict]:
     (:mod:`pipeline.bodies.convex3d`): the table's axis at every yaw of the grid, the worst yaw's verdict (overturned
     first, then the largest tilt) and, with ``--p-from draws``, ``screen``'s probabilities: the worst yaw's under the
     declared uncertainty's draws (amplitude, the scan's sizes about G, friction), stopped by the sequential rule;
-    with ``--p-from yaws``, the share of the yaws that overturn it. ``p_random_orientation`` is that share in both
-    (``screen`` draws it, the draws cycling over the grid: as many runs again)."""
-    data, test, geo, samples, (yaw_step, p_from) = job
+    with ``--p-from yaws``, the share of the yaws that overturn it. ``p_random_orientation`` is that share in both,
+    or with ``--random-draws`` ``screen``'s: the draws cycling over the grid (as many runs again)."""
+    data, test, geo, samples, (yaw_step, p_from, random_draws) = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
     rec = Record(record_id=test["test"], dt_s=dt, horizontal_ms2=ah[None, :], azimuths_deg=(0.0,),
                  azimuth_known=False, vertical_ms2=None, files=(), formats=("TABLE",), component_codes=("X",),
@@ -276,6 +276,11 @@ def _one_test_3d(job) -> list[dict]:
             at_worst = convex3d.yaw_draws(fr, shape, z, fr.yaws_deg[worst:worst + 1], drawn, family=family,
                                        settings=unc, g_ms2=G)
             row.update(p_overturn=at_worst.p, draws=at_worst.drawn, undecided_draws=at_worst.without_verdict)
+            if random_draws:                    # screen's p_random_orientation: the draws cycling over the yaws
+                at_random = convex3d.yaw_draws(fr, shape, z, fr.yaws_deg, drawn, family=family, settings=unc,
+                                               g_ms2=G)
+                row.update(p_random_orientation=at_random.p, draws=at_worst.drawn + at_random.drawn,
+                           undecided_draws=at_worst.without_verdict + at_random.without_verdict)
         row["why"] = why(row)
         rows.append(row)
     return rows
@@ -463,6 +468,8 @@ def main() -> None:
                     help="contact3d: the grid of the rock's yaw on the table [deg] (default %(default)s)")
     ap.add_argument("--p-from", choices=("draws", "yaws"), default="draws",
                     help="contact3d: p_overturn from screen's draws at the worst yaw (default) or the yaws' share")
+    ap.add_argument("--random-draws", action="store_true",
+                    help="contact3d, --p-from draws: p_random_orientation from screen's draws over the yaws too")
     ap.add_argument("--model", choices=("rolling", "two_sided", "contact3d"), default="rolling",
                     help="rolling (screen's default): the body rolls on its convex hull, every plane of the "
                          "--orientation-step grid, as screen judges a mesh with a blank azimuth; two_sided: one "
@@ -475,7 +482,7 @@ def main() -> None:
     step = args.orientation_step
     if args.model == "contact3d":
         geo: dict = rocks_3d(args.data, args.mu)
-        task, step = _one_test_3d, (args.yaw_step, args.p_from)
+        task, step = _one_test_3d, (args.yaw_step, args.p_from, args.random_draws)
         for rock, (_shape, body, uplift_g) in geo.items():
             print(f"{rock}: {len(body.vertices)} hull vertices in 3D, mu {args.mu:g}, moves from {uplift_g:.3f} g, "
                   f"smallest static tipping angle {math.degrees(body.tipping_rad):.1f} deg; "

@@ -2,9 +2,9 @@
 
 For each (records, blocks) of the grid, the real command runs in a fresh process into an empty
 output with the default executor (and ``--samples`` when given), and the script prints: wall
-time, the screening stage's and the margins stage's own times (from the command's summary), the
-rest (imports, writing, report), records/s and scenes/s over the whole command, and peak memory
-(largest process and the sum over the process tree). Records and blocks are made as in
+time, CPU time (the whole process tree), the screening stage's and the margins stage's own times
+(from the command's summary), the rest (imports, writing, report), records/s and scenes/s over the
+whole command, and peak memory (largest process and the sum over the process tree). Records and blocks are made as in
 bench_batch.py (bundled records, then retitled AT2 copies; blocks drawn with a fixed seed,
 half with a blank azimuth, so the orientation scan runs for them).
 
@@ -53,15 +53,16 @@ def main() -> None:
         # numba's and the imports' caches, on two records x two blocks (not a full run of the first row)
         timed_run(["--records", str(tmp / "records-warm"), "--blocks", str(tmp / "blocks-warm.csv"),
                    "--out", str(tmp / "warm"), *extra])
-        print(f"{'records':>7s} {'blocks':>6s} {'wall s':>7s} {'screen s':>8s} {'margins s':>9s} {'rest s':>6s} "
-              f"{'records/s':>9s} {'scenes/s':>9s} {'peak MB (largest / total)':>26s}")
+        print(f"{'records':>7s} {'blocks':>6s} {'wall s':>7s} {'CPU s':>7s} {'screen s':>8s} {'margins s':>9s} "
+              f"{'rest s':>6s} {'records/s':>9s} {'scenes/s':>9s} {'peak MB (largest / total)':>26s}")
         for nr in n_records:
             for nb in n_blocks:
                 r = timed_run(["--records", str(recs[nr]), "--blocks", str(blocks[nb]),
                                "--out", str(tmp / f"out-{nr}-{nb}"), *extra])
                 screen_s, margins_s = stage_times(r["summary"])
                 rest = r["wall_s"] - screen_s - margins_s
-                print(f"{nr:7d} {nb:6d} {r['wall_s']:7.1f} {screen_s:8.1f} {margins_s:9.1f} {rest:6.1f} "
+                print(f"{nr:7d} {nb:6d} {r['wall_s']:7.1f} {r['cpu_s']:7.1f} {screen_s:8.1f} {margins_s:9.1f} "
+                      f"{rest:6.1f} "
                       f"{nr / r['wall_s']:9.2f} {nr * nb / r['wall_s']:9.0f} "
                       f"{r['peak_one_mb']:12.0f} / {r['peak_sum_mb']:.0f}", flush=True)
 
