@@ -84,6 +84,7 @@ from pipeline.shapes.hull import hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body
 from pipeline.shapes.scan import FOOTPRINT_TOL_M, read_scan
 from pipeline.store import write_csv_atomic
+from pipeline.ticker import Ticker
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.scenes import motion as scene_motion
 from pipeline.uncertainty.settings import UncertaintyConfig
@@ -504,12 +505,13 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     rows: list[dict] = []
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+    done = [0]                                          # tests finished, read by the ticker's thread
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool, \
+            Ticker(lambda s: print(f"{done[0]}/{len(tests)} tests, {s:.0f} s", flush=True), every_s=2.0):
         jobs = [(args.data, t, geo, args.samples, step) for t in tests]
-        for n, got in enumerate(pool.map(task, jobs), 1):
+        for got in pool.map(task, jobs):
             rows.extend(got)
-            if n % 20 == 0 or n == len(tests):
-                print(f"{n}/{len(tests)} tests, {time.perf_counter() - t0:.0f} s", flush=True)
+            done[0] += 1
     for row, p in zip(rows, logistic_lomo(rows)):
         row["p_logistic_lomo"] = float(p)
     _write(args.out / "predictions.csv", rows)

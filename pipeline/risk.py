@@ -346,16 +346,16 @@ def _stack(ds: xr.Dataset, j: int, i: int | None = None) -> dict:
     slips = int(np.sum(ds[SCENE.friction_exceeded].values[:, j] == 1)) if out["stack_id"] else 0
     rule = str(ds["stack_rule"].values[j]) if out["stack_id"] and "stack_rule" in ds else ""
     failing = int(np.sum(ds["stack_fails"].values[:, j] == 1)) if rule else 0
-    return {**out, "stack_outcome": words, "stack_slips": slips, **_joints(ds, j, out["stack_id"]),
+    return {**out, "stack_outcome": words, "stack_slips": slips, **_stack_statics(ds, j, out["stack_id"]),
             "stack_rule": rule, "stack_rule_words": RULE_WORDS[StackRule[rule]] if rule else "",
             "stack_records_failing": failing}
 
 
-def _joints(ds: xr.Dataset, j: int, stack_id: str) -> dict:
-    """Where the joint under block ``j`` starts to open at rest (``joint_opening_g``: the ground's horizontal
-    acceleration in g without vertical shaking; NaN: not a stack's body) and the body of its stack whose joint opens
-    first (``stack_opens_first``: "" for none)."""
-    if not stack_id or "joint_opening" not in ds:
+def _stack_statics(ds: xr.Dataset, j: int, stack_id: str) -> dict:
+    """Block ``j``'s stack at rest: where the joint under the block starts to open (``joint_opening_g``: the ground's
+    horizontal acceleration in g without vertical shaking; NaN: not a stack's body), the body whose joint opens first
+    (``stack_opens_first``: "" for none) and the report's drawing (``stack_drawing``, :func:`_drawing`; None)."""
+    if not stack_id or "joint_opening" not in ds or "stack_base_height" not in ds:
         return {"joint_opening_g": math.nan, "stack_opens_first": "", "stack_drawing": None}
     opening = ds["joint_opening"].values
     rows = np.flatnonzero(ds["stack_id"].values == stack_id)
@@ -366,23 +366,18 @@ def _joints(ds: xr.Dataset, j: int, stack_id: str) -> dict:
 
 def _drawing(ds: xr.Dataset, stack_id: str) -> dict:
     """The stack at rest in its rocking plane as the report draws it (an SVG's coordinates: x to the right, y down,
-    in metres): ``bodies``, bottom first, each one's ``id``, ``x``, ``y`` (its top left corner), ``width`` and
-    ``height``; ``view_box`` around them and the ground; ``font`` a label's size."""
-    ids, on = ds["block"].values, ds["stands_on"].values
-    index = {str(b): k for k, b in enumerate(ids)}
-    offset = ds["stack_offset"].values if "stack_offset" in ds else np.zeros(len(ids))
+    in metres; the bodies placed by ``stack_base_centre`` and ``stack_base_height``): ``bodies``, bottom first, each
+    one's ``id``, ``x``, ``y`` (its top left corner), ``width`` and ``height``; ``view_box`` around them and the
+    ground; ``font`` a label's size."""
+    rows = np.flatnonzero(ds["stack_id"].values == stack_id)
+    rows = rows[np.argsort(ds["stack_base_height"].values[rows])]          # bottom first
     bodies: list[dict] = []
-    body, x, z = stack_id, 0.0, 0.0
-    for _ in range(len(ids)):                       # a stack holds each body once (the inventory refuses a loop)
-        if not body:
-            break
-        k = index[body]
+    for k in rows:
         width, height = 2.0 * float(ds["half_width"].values[k]), 2.0 * float(ds["half_height"].values[k])
-        x += float(offset[k]) if bodies else 0.0
-        bodies.append({"id": body, "x": x - 0.5 * width, "y": -(z + height), "width": width, "height": height})
-        z += height
-        above = [str(ids[m]) for m in np.flatnonzero(on == body)]
-        body = above[0] if above else ""
+        base = float(ds["stack_base_height"].values[k])
+        bodies.append({"id": str(ds["block"].values[k]), "x": float(ds["stack_base_centre"].values[k]) - 0.5 * width,
+                       "y": -(base + height), "width": width, "height": height})
+    z = -min(b["y"] for b in bodies)
     left = min(b["x"] for b in bodies)
     right = max(b["x"] + b["width"] for b in bodies)
     font = 0.06 * max(z, right - left)

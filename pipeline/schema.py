@@ -353,8 +353,10 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "block_azimuth": (("block",), "degree", "rocking direction clockwise from north (NaN: worst orientation)", {}),
     "stands_on": (("block",), None, "the body the block stands on (empty: the ground, or its floor)", {}),
     "stack_id": (("block",), None, "the stack the block is a body of, named by its bottom body (empty: none)", {}),
-    "stack_offset": (("block",), "m", "a stack's body: its base's centre from the centre of the top of the body "
-                     "below, in its rocking plane (0: the bottom body; NaN: not a stack's body)", {}),
+    "stack_base_centre": (("block",), "m", "a stack's body at rest: its base's centre in its rocking plane, from the "
+                          "bottom body's (NaN: not a stack's body)", {}),
+    "stack_base_height": (("block",), "m", "a stack's body at rest: its base's height above the stack's (NaN: not a "
+                          "stack's body)", {}),
     "stack_rule": (("block",), None, "what fails the block's stack as a whole (inventory stack_verdict): any (a "
                    "body falls), top (the top body falls) or collapse (the bottom body falls); empty: in no stack",
                    {}),

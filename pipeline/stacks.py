@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .assemblies.stack import StackBody, StackPlace, interfaces, opening_ratio
+from .assemblies.stack import StackBody, StackPlace, interfaces, opening_ratio, placements
 from .errors import BlockParameterError
 from .rocking.block import ShapeKind
 from .tables import parse_number
@@ -192,26 +192,28 @@ def stands_on_ids(places: tuple, n: int) -> np.ndarray:
                      else places[k].ids[places[k].position - 1] for k in range(n)], dtype=object)
 
 
-def stack_offsets(places: tuple, n: int) -> np.ndarray:
-    """Each of the ``n`` rows' ``offset_m`` in its stack: its base's centre from the centre of the top of the body
-    below [m] (0 for the bottom body; NaN for a row in no stack)."""
+def _per_row(places: tuple, n: int, value) -> np.ndarray:
+    """``value(place)`` for each of the ``n`` rows in a stack (its :class:`~.assemblies.stack.StackPlace`), NaN for a
+    row in no stack."""
     out = np.full(n, np.nan)
     for k in range(n):
         place = places[k] if places else None
         if place is not None:
-            out[k] = place.bodies[place.position].offset_m if place.position > 0 else 0.0
+            out[k] = value(place)
     return out
+
+
+def stack_placements(places: tuple, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each of the ``n`` rows' base centre and base height in its stack at rest (:func:`~.assemblies.stack.placements`;
+    NaN for a row in no stack) [m]."""
+    return (_per_row(places, n, lambda p: placements(p.bodies)[0][p.position]),
+            _per_row(places, n, lambda p: placements(p.bodies)[1][p.position]))
 
 
 def joint_openings(places: tuple, n: int) -> np.ndarray:
     """The ground's |a_h| / (g + a_v) at which the joint under each of the ``n`` rows starts to open at rest, the
     bodies above with it (:func:`~.assemblies.stack.opening_ratio`; NaN for a row in no stack) [-]."""
-    out = np.full(n, np.nan)
-    for k in range(n):
-        place = places[k] if places else None
-        if place is not None:
-            out[k] = opening_ratio(interfaces(place.bodies, label=place.ids[0])[place.position])
-    return out
+    return _per_row(places, n, lambda p: opening_ratio(interfaces(p.bodies, label=p.ids[0])[p.position]))
 
 
 def stack_verdicts(overturn: np.ndarray, places: tuple) -> dict[str, tuple]:

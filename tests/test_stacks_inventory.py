@@ -41,12 +41,13 @@ def test_masses_follow_the_volumes_of_one_density_unless_given(tmp_path):
 
 
 def test_the_offset_places_the_upper_body(tmp_path):
-    from pipeline.stacks import joint_openings, stack_offsets
+    from pipeline.stacks import joint_openings, stack_placements
 
     inv = _read(tmp_path, PLINTH + "ST,1.6,0.5,0.6,,,,,,PL,0.1\n" + "SOLO,1.0,0.3,0.6,,,,,,,\n")
     assert inv.shape(1).stack.bodies[1].offset_m == 0.1
-    offsets = stack_offsets(inv.stacks, len(inv))
-    assert list(offsets[:2]) == [0.0, 0.1] and math.isnan(offsets[2])
+    centres, bases = stack_placements(inv.stacks, len(inv))        # the statue 0.1 m aside on the 1.0 m plinth
+    assert list(centres[:2]) == [0.0, 0.1] and list(bases[:2]) == [0.0, 1.0]
+    assert math.isnan(centres[2]) and math.isnan(bases[2])
     # the statue 0.1 m off centre, fully on the plinth: its joint opens at the nearer end of its own base, 0.25 / 0.8
     openings = joint_openings(inv.stacks, len(inv))
     assert openings[1] == pytest.approx(0.25 / 0.8, rel=1e-12) and math.isnan(openings[2])

@@ -116,7 +116,7 @@ def interfaces(bodies: tuple[StackBody, ...] | list[StackBody], *, label: str = 
         of mass of the part above an interface is not strictly inside its support (named, with by how much).
     """
     _check_bodies(bodies, label)
-    centres, bases = _placements(bodies)
+    centres, bases = placements(bodies)
     out = []
     for k, b in enumerate(bodies):
         above = bodies[k:]
@@ -151,8 +151,9 @@ def _check_bodies(bodies, label: str) -> None:
             raise BlockParameterError(f"{label}, body {k}: offset_m = {b.offset_m}: expected a finite number")
 
 
-def _placements(bodies) -> tuple[list[float], list[float]]:
-    """Each body's base centre [m] and base height [m], at rest."""
+def placements(bodies) -> tuple[list[float], list[float]]:
+    """Each body's base centre [m] (each ``offset_m`` from the centre of the top below) and base height [m], at rest,
+    bottom first."""
     centres, bases = [], []
     x, z = 0.0, 0.0
     for b in bodies:

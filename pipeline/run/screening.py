@@ -53,7 +53,7 @@ from ..schema import (
     parse_floor_key,
     result_table,
 )
-from ..stacks import joint_openings, stack_ids, stack_offsets, stack_verdicts, stands_on_ids
+from ..stacks import joint_openings, stack_ids, stack_placements, stack_verdicts, stands_on_ids
 from ..uncertainty.orientations import (
     OrientationProbability,
     average_normals,
@@ -511,7 +511,8 @@ def _inventory_variables(inventory: Inventory, geom, margin: np.ndarray, config:
         "stands_on": (("block",), stands_on_ids(inventory.stacks, nb)),
         "stack_id": (("block",), stack_ids(inventory.stacks, nb)),
         "joint_opening": (("block",), joint_openings(inventory.stacks, nb)),
-        "stack_offset": (("block",), stack_offsets(inventory.stacks, nb)),
+        **dict(zip(("stack_base_centre", "stack_base_height"),
+                   ((("block",), v) for v in stack_placements(inventory.stacks, nb)))),
         "base_margin": (("block",), margin),
         "building": (("block",), np.array([p.building.building_id if p.building is not None else ""
                                            for p in placements] if placements else [""] * nb, dtype=object)),
