@@ -99,8 +99,8 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
     argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
             "-q", "-n", "1", *options]
     # main(argv) returns its code; the console script's own ending (os._exit) would leave no profile written
-    subprocess.run([sys.executable, "-c", "import cProfile, sys; from pipeline.cli import main; "
-                    f"cProfile.run('main({argv!r})', {str(prof)!r})"], check=True)
+    code = f"import cProfile, sys; from pipeline.cli import main; cProfile.run('main(sys.argv[1:])', {str(prof)!r})"
+    subprocess.run([sys.executable, "-c", code, *argv], check=True)
     print(f"  under cProfile, one process: {time.perf_counter() - t0:.1f} s")
     stats = pstats.Stats(str(prof)).stats                   # {(file, line, function): (cc, calls, tt, ct, callers)}
     for label, function in STAGES:
