@@ -7,7 +7,8 @@ verdict. Each body's mass is its ``mass_kg``, else its ``density_kg_m3`` (blank:
 stack) times its volume, width x height x depth (``depth_m``; blank: its width, a square plan): only the bodies'
 ratios of mass enter the motion.
 
-The stack's model is planar (:mod:`pipeline.assemblies.two_block`): every body a box in the one rocking plane, so
+The stack's model is planar (:mod:`pipeline.assemblies.two_block` for two bodies, :mod:`pipeline.assemblies.n_block`
+for more): every body a box in the one rocking plane, so
 the bodies of a stack share their ``azimuth_deg``, ``building`` and ``floor_height_m``; a stack holds at most
 :data:`MAX_BODIES` bodies, each carrying at most one; and a stack that cannot stand at rest (the centre of mass of the
 part above an interface outside its support) is an error (:func:`pipeline.assemblies.stack.interfaces`).
@@ -21,6 +22,7 @@ import math
 
 import numpy as np
 
+from .assemblies.n_block import MAX_BODIES as N_BLOCK_MAX
 from .assemblies.stack import StackBody, StackPlace, interfaces, opening_ratio, placements
 from .errors import BlockParameterError
 from .rocking.block import ShapeKind
@@ -28,8 +30,8 @@ from .tables import parse_number
 
 log = logging.getLogger(__name__)
 
-#: The most bodies a stack may hold: the planar model of two stacked blocks (:mod:`pipeline.assemblies.two_block`)
-MAX_BODIES = 2
+#: The most bodies a stack may hold (the planar n-block model's, :mod:`pipeline.assemblies.n_block`)
+MAX_BODIES = N_BLOCK_MAX
 #: The inventory's columns for stacks
 COLUMNS = ("stands_on", "offset_m", "stack_verdict")
 
@@ -129,8 +131,8 @@ def _stack(chain: list[int], rows: dict[str, list], lines: list[str], errors: li
     before = len(errors)
     if len(chain) > MAX_BODIES:
         errors.append(f"{where}: the stack {' < '.join(reversed(ids))} has {len(chain)} bodies; the assembly model "
-                      f"takes stacks of at most {MAX_BODIES} (two stacked blocks in a plane); screen the bodies above "
-                      f"the {MAX_BODIES}nd as their own stack, or as one block with the one below")
+                      f"takes stacks of at most {MAX_BODIES} bodies in a plane; screen the bodies above the "
+                      f"{MAX_BODIES}th as their own stack, or join two bodies into one block")
     for k in chain:
         if rows["shape"][k] != int(ShapeKind.box) or rows["scan"][k] is not None:
             errors.append(f"{lines[k]}: a body of the stack {ids} is a cylinder or a scan; the assembly model takes "

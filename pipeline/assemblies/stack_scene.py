@@ -2,9 +2,11 @@
 
 Where the stack's certificate holds (:func:`.stack.stays_shut`: no interface lifts off nor slips at any sample, the
 ground linear between samples) nothing is integrated: every body stands at rest (physics ``none``). Otherwise the
-two-block model (:mod:`.two_block_run`) runs and each body is judged (:func:`.two_block_verdicts.judge_two_block`):
-the body's scene reads its own verdict, its peak rotation on what it stands on (the lower block on the ground, the
-upper on the lower) over that joint's smaller tipping angle at rest, to the first fall, and the run's impacts. The
+stack's model runs and each body is judged: two blocks by the two-block model
+(:func:`.two_block_verdicts.judge_two_block`), three to :data:`.n_block.MAX_BODIES` by the n-block model
+(:func:`.n_block_verdicts.judge_n_block`). The body's scene reads its own verdict, its peak rotation on what it
+stands on (the bottom block on the ground, each other on the block below) over that joint's smaller tipping angle at
+rest, and the runs' impacts. The
 model does not slide nor follow flight off a support: the friction its joint needs (|F_t| / F_n, inside the tipping
 angles: :func:`.two_block.demands`) is the scene's ``friction_demand``, flagged where it exceeds the body's mu
 (``friction_exceeded``; response slide or slide_rock), the verdict there assuming the joint holds; the ground
@@ -33,26 +35,62 @@ from ..rocking.codes import (
 from ..rocking.scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
 from ..rocking.settings import SimulationConfig
 from .stack import StackPlace, stays_shut
-from .two_block import TwoBlock, tipping_angles, two_block
-from .two_block_run import FALLS_STACK, simulate_two_block
+from . import n_block as n_blocks
+from . import two_block
+from .n_block import NBlock
+from .n_block_run import simulate_n_block
+from .n_block_verdicts import StackVerdicts, judge_n_block
+from .two_block import TwoBlock
+from .two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
 from .two_block_verdicts import TwoBlockVerdict, judge_two_block
 
+#: A stack's model: two blocks, or three and more
+StackModel = TwoBlock | NBlock
 
-def stack_blocks(place: StackPlace) -> TwoBlock:
-    """The two-block model of ``place``'s stack (two bodies: :data:`pipeline.stacks.MAX_BODIES`)."""
-    lower, upper = place.bodies
-    return two_block(lower, upper, label=f"stack {' < '.join(reversed(place.ids))}")
+
+def stack_blocks(place: StackPlace) -> StackModel:
+    """The model of ``place``'s stack: the two-block model for two bodies, the n-block model for more."""
+    label = f"stack {' < '.join(reversed(place.ids))}"
+    if len(place.bodies) == 2:
+        lower, upper = place.bodies
+        return two_block.two_block(lower, upper, label=label)
+    return n_blocks.n_block(place.bodies, label=label)
+
+
+def tipping_angles(model: StackModel) -> tuple:
+    """Each joint's tipping angles at rest on its + and - corner [rad], bottom first."""
+    return two_block.tipping_angles(model) if isinstance(model, TwoBlock) else n_blocks.tipping_angles(model)
+
+
+def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
+          settings: SimulationConfig = SimulationConfig()) -> StackVerdicts:
+    """Each body's verdict under the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, by the stack's
+    model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone."""
+    if isinstance(model, TwoBlock):
+        return from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
+    return judge_n_block(model, ah_ms2, dt_s, av_ms2=av_ms2)
+
+
+def from_two_block(judged: TwoBlockVerdict) -> StackVerdicts:
+    """The two-block verdicts as :class:`.n_block_verdicts.StackVerdicts` (its peaks are the first run's, to the
+    first fall; the upper's time of fall is the run's, the lower's only where it fell with the upper)."""
+    run = judged.run
+    t_upper = run.t_fall_s if run.falls in (FALLS_STACK, FALLS_TOP) else math.nan
+    t_lower = run.t_fall_s if run.falls == FALLS_STACK else math.nan
+    return StackVerdicts((int(judged.lower), int(judged.upper)), (run.peak_phi1_rad, run.peak_psi_rad),
+                         (t_lower, t_upper), int(run.impacts), run.modes != 0, int(run.status),
+                         (run.demand_ground, run.demand_joint))
 
 
 def body_verdict(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
-                 tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()) -> int:
+                 tb: StackModel | None = None, settings: SimulationConfig = SimulationConfig()) -> int:
     """The :class:`~pipeline.rocking.codes.Verdict` of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``)
     [m s-2], ``dt_s`` [s] apart; ``tb``: the stack's model when already built."""
     return body_scene(place, ah_ms2, av_ms2, dt_s, tb=tb, settings=settings).verdict     # Scene.verdict's codes
 
 
 def body_scene(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
-               tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig(),
+               tb: StackModel | None = None, settings: SimulationConfig = SimulationConfig(),
                memo: RunMemo | None = None, key: tuple | None = None) -> Scene:
     """The scene of ``place``'s body under the ground (``ah_ms2``, ``av_ms2``) [m s-2], samples ``dt_s`` [s] apart
     (the module's rules); ``tb``: the stack's model when already built; ``settings``: the rocking kernel's tolerances
@@ -75,13 +113,13 @@ AT_REST = "at rest"
 
 
 def stack_run(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
-              tb: TwoBlock | None = None, settings: SimulationConfig = SimulationConfig()):
-    """The stack's verdicts under the ground (:class:`~.two_block_verdicts.TwoBlockVerdict`), or :data:`AT_REST`
+              tb: StackModel | None = None, settings: SimulationConfig = SimulationConfig()):
+    """The stack's verdicts under the ground (:class:`~.n_block_verdicts.StackVerdicts`), or :data:`AT_REST`
     where its certificate holds."""
     if stays_shut(place.bodies, ah_ms2, av_ms2):
         return AT_REST
     tb = stack_blocks(place) if tb is None else tb
-    return judge_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings)
+    return judge(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings)
 
 
 class RunMemo:
@@ -106,41 +144,42 @@ class RunMemo:
             del self._runs[next(iter(self._runs))]
 
 
-def scene_of(tb: TwoBlock, judged: TwoBlockVerdict, index: int, mu: float = math.inf) -> Scene:
-    """Body ``index``'s (0 the lower) :class:`~pipeline.rocking.scene.Scene` from the stack's verdicts; ``mu``: the
+def scene_of(tb: StackModel, judged: StackVerdicts, index: int, mu: float = math.inf) -> Scene:
+    """Body ``index``'s (0 the bottom) :class:`~pipeline.rocking.scene.Scene` from the stack's verdicts; ``mu``: the
     friction at the body's lower face [-], against which its joint's friction demand is flagged."""
-    run = judged.run
-    verdict = judged.lower if index == 0 else judged.upper
-    ground, joint = tipping_angles(tb)
-    theta_max = run.peak_phi1_rad / min(ground) if index == 0 else run.peak_psi_rad / min(joint)
+    verdict = judged.verdicts[index]
+    theta_max = judged.peak_psi_rad[index] / min(tipping_angles(tb)[index])
     overturned = verdict == Verdict.overturns
-    flight = bool(run.status & STATUS_GROUND_FLIGHT) and not overturned
+    flight = bool(judged.status & STATUS_GROUND_FLIGHT) and not overturned
     response = (Response.overturn if overturned else Response.free_flight if flight
-                else Response.rock if run.modes else Response.rest)
-    guard = ((Guard.step_cap if run.status & STATUS_STEP_CAP else 0)
-             | (Guard.event_cap if run.status & STATUS_EVENT_CAP else 0)
-             | (Guard.tail_cap if run.status & STATUS_TAIL_CAP else 0)
+                else Response.rock if judged.opened else Response.rest)
+    guard = ((Guard.step_cap if judged.status & STATUS_STEP_CAP else 0)
+             | (Guard.event_cap if judged.status & STATUS_EVENT_CAP else 0)
+             | (Guard.tail_cap if judged.status & STATUS_TAIL_CAP else 0)
              | (Guard.model_limit if verdict == Verdict.no_verdict and not flight else 0))
-    fell_together = run.falls == FALLS_STACK or index == 1
-    demand = run.demand_ground if index == 0 else run.demand_joint
+    demand = judged.demand[index]
     exceeded = demand > mu
     if exceeded and response in (Response.rest, Response.rock):
         response = Response.slide_rock if response == Response.rock else Response.slide
+    t_fall = judged.t_fall_s[index]
     return Scene(physics=Physics.stack, response=response, overturned=overturned, theta_max=float(theta_max),
-                 n_impacts=int(run.impacts), t_overturn=float(run.t_fall_s) if overturned and fell_together
-                 else math.nan, friction_demand=float(demand), sliding_max_m=math.nan,
+                 n_impacts=int(judged.impacts), t_overturn=float(t_fall) if overturned else math.nan,
+                 friction_demand=float(demand), sliding_max_m=math.nan,
                  free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
-                 chatter=bool(run.status & STATUS_EVENT_CAP), friction_exceeded=int(exceeded),
-                 contact_modes=int(ContactMode.rock) if run.modes else 0, guard=int(guard))
+                 chatter=bool(judged.status & STATUS_EVENT_CAP), friction_exceeded=int(exceeded),
+                 contact_modes=int(ContactMode.rock) if judged.opened else 0, guard=int(guard))
 
 
 def body_history(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
-                 tb: TwoBlock | None = None) -> np.ndarray:
+                 tb: StackModel | None = None) -> np.ndarray:
     """The body's rotation on what it stands on over that joint's smaller tipping angle at rest [-], at every sample
     of the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, to the stack's first fall (NaN after it)."""
     tb = stack_blocks(place) if tb is None else tb
-    hist = np.full((2, np.asarray(ah_ms2).shape[0]), np.nan)
+    n = len(place.bodies)
+    hist = np.full((n, np.asarray(ah_ms2).shape[0]), np.nan)
     hist[:, 0] = 0.0
-    simulate_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, history=hist)
-    ground, joint = tipping_angles(tb)
-    return hist[0] / min(ground) if place.position == 0 else hist[1] / min(joint)
+    if isinstance(tb, TwoBlock):
+        simulate_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, history=hist)   # rows phi_1 and psi: the joints'
+    else:
+        simulate_n_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, history=hist)
+    return hist[place.position] / min(tipping_angles(tb)[place.position])

@@ -19,7 +19,6 @@ import numpy as np
 
 from ..assemblies.stack import StackPlace, interfaces, uplift_ratios
 from ..assemblies.stack_scene import body_history, body_scene, body_verdict, stack_blocks
-from ..assemblies.two_block_verdicts import judge_two_block
 from ..constants import G
 from ..rocking.block import Block, BlockShape
 from ..rocking.codes import Verdict
@@ -161,15 +160,17 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
 
 
 def warmup() -> None:
-    """The two-block run and the kernel that continues the lower block alone, on a tiny stack that lets its top
-    fall."""
+    """The two-block run and the kernel that continues the lower block alone, and the n-block run, on tiny stacks
+    that let their top fall."""
     from ..assemblies.stack import StackBody
-    from ..assemblies.two_block import two_block
+    from ..assemblies.stack_scene import judge
 
-    tb = two_block(StackBody(0.6, 0.6, 1.0, 0.6), StackBody(0.1, 0.8, 0.2, 0.6))
+    base, top = StackBody(0.6, 0.6, 1.0, 0.6), StackBody(0.1, 0.8, 0.2, 0.6)
     t = np.linspace(0.0, 1.0, 101)
-    for av in (None, 0.1 * np.sin(2.0 * np.pi * t)):
-        judge_two_block(tb, 6.0 * np.sin(2.0 * np.pi * t), 0.01, av_ms2=av)
+    for bodies in ((base, top), (base, StackBody(0.4, 0.3, 0.5, 0.6), top)):
+        place = StackPlace(bodies, 0, tuple(f"b{k}" for k in range(len(bodies))))
+        for av in (None, 0.1 * np.sin(2.0 * np.pi * t)):
+            judge(stack_blocks(place), 6.0 * np.sin(2.0 * np.pi * t), 0.01, av_ms2=av)
 
 
 def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:

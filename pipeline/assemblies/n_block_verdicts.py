@@ -1,0 +1,92 @@
+"""Each body's verdict for a stack of n blocks under a record: a body falls with the lowest block that falls under
+it, or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
+
+The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
+above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
+of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. A run
+that ended without a verdict (the ground falling faster than gravity, a cap on steps, events or the free motion after
+the record) leaves the bodies still standing then without one: unknown, never standing.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP, Verdict
+from .n_block import MAX_BODIES, NBlock
+from .n_block_run import FALLS_NONE, simulate_n_block
+
+#: The run's status bits that leave its verdict open
+UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
+
+
+class StackVerdicts(NamedTuple):
+    """Each body's verdict and what the stack's runs saw (bottom first; the same fields for any stack model).
+
+    Attributes
+    ----------
+    verdicts : tuple of int
+        each body's :class:`~pipeline.rocking.codes.Verdict`
+    peak_psi_rad : tuple of float
+        each joint's largest |rotation| of its body on what it stands on [rad], over every run
+    t_fall_s : tuple of float
+        when each body fell [s] (NaN: it did not, or the model does not say when)
+    impacts : int
+        impacts at any joint, over every run
+    opened : bool
+        a joint opened
+    status : int
+        the runs' :class:`~pipeline.rocking.codes.Status` bits
+    demand : tuple of float
+        each joint's largest friction demand |F_t| / F_n [-] (:attr:`.n_block_run.NBlockOutcome.demand`)
+    """
+
+    verdicts: tuple
+    peak_psi_rad: tuple
+    t_fall_s: tuple
+    impacts: int
+    opened: bool
+    status: int
+    demand: tuple
+
+
+def lower_part(nb: NBlock, count: int) -> NBlock:
+    """The stack of ``nb``'s lowest ``count`` blocks."""
+    def cut(values: tuple) -> tuple:
+        return tuple(values[:count]) + (0.0,) * (MAX_BODIES - count)
+
+    return NBlock(count, cut(nb.b), cut(nb.h), cut(nb.m), cut(nb.i), cut(nb.lo), cut(nb.hi), cut(nb.off))
+
+
+def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *,
+                  av_ms2: np.ndarray | None = None) -> StackVerdicts:
+    """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
+    vertical ``av_ms2`` [m s-2] when given), by the module's rules."""
+    n = nb.n
+    verdicts = [int(Verdict.no_verdict)] * n
+    t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
+    impacts, opened, status = 0, False, 0
+    part, start, t0 = nb, None, 0.0
+    while True:
+        run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0)
+        for k in range(part.n):
+            peaks[k] = max(peaks[k], run.peak_psi_rad[k])
+            demand[k] = max(demand[k], run.demand[k])
+        impacts, opened, status = impacts + run.impacts, opened or run.modes != 0, status | run.status
+        if run.falls == FALLS_NONE:
+            verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN else Verdict.stands
+            verdicts[:part.n] = [int(verdict)] * part.n
+            break
+        for k in range(run.falls, part.n):
+            verdicts[k], t_fall[k] = int(Verdict.overturns), run.t_fall_s
+        if run.falls == 0:
+            break
+        count = run.falls
+        state = run.final
+        start = tuple(state[:count]) + (0.0,) * (MAX_BODIES - count) + tuple(
+            state[MAX_BODIES:MAX_BODIES + count]) + (0.0,) * (MAX_BODIES - count)
+        part, t0 = lower_part(part, count), run.t_fall_s
+    return StackVerdicts(tuple(verdicts), tuple(peaks), tuple(t_fall), impacts, opened, status, tuple(demand))

@@ -1,0 +1,174 @@
+"""n stacked blocks rocking (pipeline.assemblies.n_block*): for two blocks against the two-block model (its
+equations, impacts, lift-off tests and runs, written out for two blocks), for one block against Housner's equation
+solved by the rocking kernel, for three to five against Lagrange's equations of their energy
+(tests/support/n_block_reference.py), and the invariants (energy never gained at an impact, mirror symmetry)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import n_block_reference as ref
+import numpy as np
+import pytest
+
+from pipeline.assemblies import n_block as nbm
+from pipeline.assemblies import two_block as tbm
+from pipeline.assemblies.n_block_run import FALLS_NONE, simulate_n_block
+from pipeline.assemblies.n_block_verdicts import judge_n_block
+from pipeline.assemblies.stack import StackBody
+from pipeline.assemblies.two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
+from pipeline.errors import BlockParameterError
+from pipeline.rocking.codes import Verdict
+from pipeline.rocking.settings import SimulationConfig
+from pipeline.rocking.simulate import rock
+
+DT = 0.005
+G = 9.80665
+TIMES = np.arange(0.0, 3.0, DT)
+N = nbm.MAX_BODIES
+PAIRS = [(StackBody(0.6, 1.2, 3.0, 0.6), StackBody(0.4, 0.9, 1.0, 0.6, 0.05)),
+         (StackBody(0.3, 1.0, 2.0, 0.6), StackBody(0.3, 1.0, 2.0, 0.6)),
+         (StackBody(1.0, 0.5, 5.0, 0.6), StackBody(0.2, 1.0, 0.5, 0.6))]
+DRUMS = [StackBody(0.5, 0.8, 2.0, 0.6), StackBody(0.48, 0.7, 1.6, 0.6, 0.01), StackBody(0.46, 0.6, 1.3, 0.6, -0.02),
+         StackBody(0.44, 0.5, 1.0, 0.6), StackBody(0.6, 0.25, 0.9, 0.6)]
+
+
+def _sine(ap, tp, phase=0.0):
+    """One cycle of a sine (phase 0) or cosine (phase pi/2) pulse [m s-2] of period ``tp`` [s]."""
+    return np.where(TIMES < tp, ap * np.sin(2 * np.pi * TIMES / tp + phase), 0.0)
+
+
+def _state(psi, rates):
+    return tuple(psi) + (0.0,) * (N - len(psi)) + tuple(rates) + (0.0,) * (N - len(rates))
+
+
+def _modes(n):
+    return [tuple(m) + (0,) * (N - n) for m in itertools.product((-1, 0, 1), repeat=n)]
+
+
+@pytest.mark.parametrize("pair", PAIRS)
+def test_two_blocks_have_the_two_block_models_equations(pair):
+    """Accelerations, contact demands, energies, lift-off and the impact law of two blocks, in every mode and for
+    every mode after, at random states: the same as the two-block model's to rounding."""
+    rng = np.random.default_rng(7)
+    tb, nb, wk = tbm.two_block(*pair), nbm.n_block(pair), nbm.work()
+    for _ in range(20):
+        p1, p2 = rng.normal(0, 0.05, 2)
+        w1, w2 = rng.normal(0, 0.3, 2)
+        ah, av = rng.normal(0, 3, 2)
+        for js in _modes(2):
+            j1, j2 = js[:2]
+            psi = (p1 if j1 else 0.0, p2 if j2 else 0.0)
+            rate = (w1 if j1 else 0.0, w2 if j2 else 0.0)
+            y2 = tbm.Motion(psi[0], psi[0] + psi[1], rate[0], rate[0] + rate[1])
+            y = _state(psi, rate)
+            nbm.accelerations(nb, y, js, ah, av, wk)
+            np.testing.assert_allclose(wk.qdd[:2], tbm.accelerations(tb, y2, j1, j2, ah, av), rtol=1e-12, atol=1e-12)
+            nbm.demands(nb, y, js, ah, av, wk)
+            np.testing.assert_allclose(wk.d[:2], tbm.demands(tb, y2, j1, j2, ah, av), rtol=1e-10)
+            assert nbm.kinetic_energy(nb, y, js, wk) == pytest.approx(tbm.kinetic_energy(tb, y2, j1, j2), abs=1e-12)
+            assert nbm.potential_energy(nb, y, js, wk) == pytest.approx(tbm.potential_energy(tb, y2, j1, j2),
+                                                                        abs=1e-12)
+            joint, corner = nbm.opening(nb, y, js, ah, av, wk)
+            assert (joint + 1, corner) == tbm.opening(tb, y2, j1, j2, ah, av)
+            for after in _modes(2):
+                nbm.projected_rates(nb, y, js, after, wk)
+                np.testing.assert_allclose(wk.qdd[:2], tbm.projected_rates(tb, y2, (j1, j2), after[:2]),
+                                           rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("pair", PAIRS)
+@pytest.mark.parametrize("ap, tp", [(4.0, 0.3), (6.0, 0.6), (9.0, 1.0), (6.0, 0.3)])
+def test_two_blocks_run_as_the_two_block_run(pair, ap, tp):
+    """The n-block run of two blocks: the same fall, impacts and peaks as the two-block run."""
+    ah = _sine(ap, tp)
+    a = simulate_two_block(tbm.two_block(*pair), ah, DT)
+    b = simulate_n_block(nbm.n_block(pair), ah, DT)
+    assert b.falls == {0: FALLS_NONE, FALLS_TOP: 1, FALLS_STACK: 0}[a.falls]
+    assert (b.impacts, b.liftoffs, b.status) == (a.impacts, a.liftoffs, a.status)
+    assert b.peak_psi_rad[:2] == pytest.approx((a.peak_phi1_rad, a.peak_psi_rad), abs=1e-9)
+
+
+@pytest.mark.parametrize("ap, tp, phase", [(3.0, 0.5, 0.0), (4.0, 1.0, 0.0), (4.0, 0.8, math.pi / 2), (2.5, 2.0, 0)])
+def test_one_block_is_housners(ap, tp, phase):
+    """One block: the rocking kernel's verdict and peak rotation (Housner's equation and impact), to 1e-4 alpha."""
+    body = StackBody(0.4, 2.0, 1.0, 0.6)
+    ah = _sine(ap, tp, phase)
+    run = simulate_n_block(nbm.n_block([body]), ah, DT)
+    alpha, radius = math.atan(0.2), math.hypot(0.2, 1.0)
+    alone = rock(ah, DT, p=math.sqrt(0.75 * G / radius), alpha=alpha, e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius,
+                 settings=SimulationConfig())
+    assert (run.falls == 0) == bool(alone.overturned)
+    if not alone.overturned:
+        assert run.peak_psi_rad[0] / alpha == pytest.approx(alone.theta_max, abs=1e-4)
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_three_to_five_blocks_follow_lagranges_equations(n):
+    """At random states in every mode, the accelerations equal those of Lagrange's equations of the stack's energy
+    formed independently (finite differences of the positions and the energy, tests/support/n_block_reference.py)."""
+    rng = np.random.default_rng(n)
+    bodies = DRUMS[:n]
+    nb, wk = nbm.n_block(bodies), nbm.work()
+    stack = ref.Stack([x.width_m / 2 for x in bodies], [x.height_m / 2 for x in bodies],
+                      [x.mass_kg for x in bodies], [0.0] + [x.offset_m for x in bodies[1:]])
+    modes = _modes(n)
+    for js in [modes[k] for k in rng.choice(len(modes), 12, replace=False)]:
+        psi = [rng.normal(0, 0.05) if js[k] else 0.0 for k in range(n)]
+        rate = [rng.normal(0, 0.3) if js[k] else 0.0 for k in range(n)]
+        ah, av = rng.normal(0, 3, 2)
+        nbm.accelerations(nb, _state(psi, rate), js, ah, av, wk)
+        expected = ref.accelerations(stack, js[:n], np.array(psi), np.array(rate), ah, av)
+        np.testing.assert_allclose(wk.qdd[:n], expected, rtol=1e-5, atol=1e-5 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_an_impact_never_gains_energy(n):
+    """At random states, every impact and every stop at any joint leaves the kinetic energy at most what it was."""
+    rng = np.random.default_rng(10 + n)
+    nb, wk = nbm.n_block(DRUMS[:n]), nbm.work()
+    for _ in range(40):
+        js = tuple(int(v) for v in rng.choice([-1, 1], n)) + (0,) * (N - n)
+        psi = [abs(rng.normal(0, 0.05)) * js[k] for k in range(n)]
+        rate = list(rng.normal(0, 0.5, n))
+        k = int(rng.integers(n))
+        psi[k] = 0.0
+        y = _state(psi, rate)
+        before = nbm.kinetic_energy(nb, y, js, wk)
+        for after in (nbm.tuple_set(js, k, -js[k]), nbm.tuple_set(js, k, 0)):
+            nbm.projected_rates(nb, y, js, after, wk)
+            qd = wk.qdd[:n].copy()
+            rel = np.diff(np.concatenate([[0.0], qd]))
+            after_energy = nbm.kinetic_energy(nb, _state(psi, rel), after, wk)
+            assert after_energy <= before * (1 + 1e-12) + 1e-15
+
+
+@pytest.mark.parametrize("ap, tp", [(5.0, 0.5), (8.0, 0.8), (12.0, 0.4)])
+def test_a_mirrored_ground_mirrors_a_symmetric_stack(ap, tp):
+    """Centred drums (a stack symmetric about its axis): the ground reversed gives the same falls and peaks."""
+    bodies = [b._replace(offset_m=0.0) for b in DRUMS[:3]]
+    nb = nbm.n_block(bodies)
+    a, b = judge_n_block(nb, _sine(ap, tp), DT), judge_n_block(nb, -_sine(ap, tp), DT)
+    assert a.verdicts == b.verdicts
+    assert a.peak_psi_rad == pytest.approx(b.peak_psi_rad, rel=1e-6, abs=1e-9)
+
+
+def test_every_drum_has_a_verdict_and_a_fall_takes_what_stands_on_it():
+    """A three-drum column under growing pulses: every drum judged; a drum overturns only with every drum above it;
+    the drums under a fall keep rocking to a verdict of their own."""
+    nb = nbm.n_block(DRUMS[:3])
+    seen = set()
+    for ap in np.linspace(2.0, 14.0, 13):
+        for tp in (0.3, 0.6, 1.2):
+            got = judge_n_block(nb, _sine(ap, tp), DT)
+            assert all(v in (Verdict.stands, Verdict.overturns) for v in got.verdicts)
+            falls = [v == Verdict.overturns for v in got.verdicts]
+            assert falls == sorted(falls), "a drum fell with one under it standing"
+            seen.add(sum(falls))
+    assert seen >= {0, 3} and len(seen) >= 3, seen
+
+
+def test_more_than_five_bodies_is_a_named_error():
+    with pytest.raises(BlockParameterError, match="at most 5"):
+        nbm.n_block(DRUMS + [DRUMS[0]])
