@@ -70,12 +70,14 @@ def stacks_demo(tmp_path_factory, records_dir):
 
 @pytest.mark.slow                   # the bundled default run of the stacks' example, about 25 s on 2 cores
 def test_the_readmes_stacks_are_the_runs(stacks_demo):
-    """The worked example's sentence on the two stacks: records overturning each, and the margins it quotes."""
+    """The worked example's sentence on the stacks: records overturning each, and the margins it quotes."""
     text = " ".join(README.read_text().split())
     quoted = re.search(r"statue on its plinth falls under (\d+) of the (\d+) records, alone on the floor under (\d+), "
                        r"yet on its plinth it needs (\S+) scaled by only (\d+\.\d+), alone by (\d+\.\d+); the top drum "
                        r"of a two-drum column falls under (\d+) records at (\d+\.\d+) of Rinaldi, the column as one "
-                       r"block under (\d+) and at (\d+\.\d+) of (\S+)\.", text)
+                       r"block under (\d+) and at (\d+\.\d+) of (\S+) \(as one block, a stack is judged wrong both "
+                       r"ways\); of a three-drum column, the top drum under (\d+) records, the lowest under (\d+)\.",
+                       text)
     assert quoted is not None
     statue, alone, drum, column = (stacks_demo[b] for b in ("STAT-05", "STAT-05-ALONE", "DRUM-2", "COLUMN-AS-ONE"))
     got = (statue["records_overturning"], statue["records_screened"], alone["records_overturning"],
@@ -83,7 +85,8 @@ def test_the_readmes_stacks_are_the_runs(stacks_demo):
            f"{float(statue['overturn_scale_simulated']):.2f}", f"{float(alone['overturn_scale_simulated']):.2f}",
            drum["records_overturning"], f"{float(drum['overturn_scale_simulated']):.2f}",
            column["records_overturning"], f"{float(column['overturn_scale_simulated']):.2f}",
-           column["recommendation"].split("overturns under ")[1].split(" scaled")[0])
+           column["recommendation"].split("overturns under ")[1].split(" scaled")[0],
+           stacks_demo["COL3-3"]["records_overturning"], stacks_demo["COL3-1"]["records_overturning"])
     assert got == quoted.groups()
     assert "RSN1063_NORTHR_RRS scaled" in drum["recommendation"]          # Rinaldi
     assert alone["recommendation"].split("overturns under ")[1].startswith(quoted.group(4))

@@ -53,7 +53,7 @@ import numpy as np
 
 from ..compiled import jit_lean
 from ..constants import G
-from .stack import StackBody, interfaces, placements
+from .stack import interfaces, placements
 
 #: The most blocks a stack may hold (the state is a tuple of 2 x MAX_BODIES floats, unused joints held at 0)
 MAX_BODIES = 5

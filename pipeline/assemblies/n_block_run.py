@@ -33,10 +33,11 @@ from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
 from .n_block import (
-    absolute,
     MAX_BODIES,
     SHUT,
     NBlock,
+    Work,
+    absolute,
     accelerations,
     demands,
     opening,
@@ -44,11 +45,10 @@ from .n_block import (
     relative,
     scales,
     tipping_angles,
-    Work,
     tuple_set,
     work,
 )
-from .two_block_run import _ground, _Piece, _piece_at
+from .two_block_run import _ground, _piece_at
 
 # Step control, named once (as scipy's _ivp names its own); the two-block run's
 RTOL = 1e-8                 # relative tolerance of the error control [-]

@@ -34,12 +34,12 @@ from ..rocking.codes import (
 )
 from ..rocking.scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene
 from ..rocking.settings import SimulationConfig
-from .stack import StackPlace, stays_shut
 from . import n_block as n_blocks
 from . import two_block
 from .n_block import NBlock
 from .n_block_run import simulate_n_block
 from .n_block_verdicts import StackVerdicts, judge_n_block
+from .stack import StackPlace, stays_shut
 from .two_block import TwoBlock
 from .two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
 from .two_block_verdicts import TwoBlockVerdict, judge_two_block

@@ -43,7 +43,7 @@ class Physics(IntEnum):
     rolling = 8           # a body given by its scan rolling on its convex hull in a vertical plane (rocking.rolling)
     contact3d = 9         # a cylinder or a box by the 3D contact model where its exact model stopped
                           # (rocking.solids.contact_scene; [simulation] contact3d = true)
-    stack = 10            # a body of a stack of two blocks rocking in a vertical plane (assemblies.two_block_run)
+    stack = 10            # a body of a stack of blocks rocking in a vertical plane (assemblies.stack_scene)
 
 
 class Response(IntEnum):

@@ -14,7 +14,7 @@ import pytest
 
 from pipeline.assemblies import n_block as nbm
 from pipeline.assemblies import two_block as tbm
-from pipeline.assemblies.n_block_run import FALLS_NONE, simulate_n_block
+from pipeline.assemblies.n_block_run import FALLS_NONE, REST_RATIO, simulate_n_block
 from pipeline.assemblies.n_block_verdicts import judge_n_block
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
@@ -172,3 +172,47 @@ def test_every_drum_has_a_verdict_and_a_fall_takes_what_stands_on_it():
 def test_more_than_five_bodies_is_a_named_error():
     with pytest.raises(BlockParameterError, match="at most 5"):
         nbm.n_block(DRUMS + [DRUMS[0]])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("tp, phase", [(0.2, 0.0), (0.2, math.pi / 2), (0.3, 0.0), (0.3, math.pi / 2)])
+def test_three_drums_run_as_lagranges_equations_solved_by_scipy(tp, phase):
+    """Three drums under a 4 m s-2 sine or cosine pulse, to 0.3 s after it: the run against Lagrange's equations
+    solved by scipy's DOP853 with its event location (tests/support/n_block_reference.py; its lift-offs, impacts and
+    stops by the same rules, its own code): the same verdicts, each joint's peak within 1 % or 1e-4 of its tipping
+    angle. (The reference takes 5-40 s a pulse; stronger pulses, with their impacts, take it minutes.)"""
+    bodies = DRUMS[:3]
+    nb = nbm.n_block(bodies)
+    sc = nbm.scales(nb)
+    stack = ref.Stack([x.width_m / 2 for x in bodies], [x.height_m / 2 for x in bodies],
+                      [x.mass_kg for x in bodies], [0.0] + [x.offset_m for x in bodies[1:]])
+    times = np.arange(0.0, 1.0, DT)
+    ah = np.where(times < tp, 4.0 * np.sin(2 * np.pi * times / tp + phase), 0.0)
+    expected = ref.simulate(stack, ah, DT, rest=[REST_RATIO * a * p for a, p in zip(sc.alpha, sc.p)], tail_s=0.3)
+    got = simulate_n_block(nb, ah, DT)
+    assert got.falls == expected.falls
+    tips = [min(t) for t in nbm.tipping_angles(nb)]
+    for k in range(3):
+        assert got.peak_psi_rad[k] == pytest.approx(expected.peaks[k], rel=0.01, abs=1e-4 * tips[k])
+    assert expected.peaks[0] > 0.02 * tips[0] and expected.peaks[1] > 0.0, "the pulse leaves the joints shut"
+
+
+@pytest.mark.parametrize("n", [3, 5])
+@pytest.mark.parametrize("ap, tp, phase", [(5.0, 0.3, 0.0), (6.0, 0.6, 0.0), (6.0, 1.0, 0.0), (8.0, 0.3, 0.0),
+                                           (5.0, 0.6, math.pi / 2), (9.0, 0.4, math.pi / 2)])
+def test_thin_slabs_on_a_block_rock_as_the_block_of_their_outline(n, ap, tp, phase):
+    """n - 1 slabs 0.025 m thick on a 0.5 x 1.0 m block, all of its width and density: no joint above the ground
+    opens (tan alpha of a slab 10 and more) and the stack is the block of their outline, the same mass about the
+    same corner, its impact Housner's. The rocking kernel on that block: the same verdict, peaks within 1e-4 alpha."""
+    slab = 0.025
+    bodies = [StackBody(0.5, 1.0, 2500.0 * 0.5, 0.6)] + [StackBody(0.5, slab, 2500.0 * 0.5 * slab, 0.6)] * (n - 1)
+    out = simulate_n_block(nbm.n_block(bodies), _sine(ap, tp, phase), DT)
+    b, h = 0.25, 0.5 + 0.5 * slab * (n - 1)
+    alpha, radius = math.atan(b / h), math.hypot(b, h)
+    single = rock(_sine(ap, tp, phase), DT, p=math.sqrt(0.75 * G / radius), alpha=alpha,
+                  e=1 - 1.5 * math.sin(alpha) ** 2, R_m=radius, settings=SimulationConfig(rtol=1e-10, atol=1e-12),
+                  tail="integrate", t_end_s=TIMES[-1] + 60)
+    assert (out.falls == 0) == single.overturned
+    if not single.overturned:
+        assert out.peak_psi_rad[0] / alpha == pytest.approx(single.theta_max, abs=1e-4)
+        assert out.peak_psi_rad[1:n] == (0.0,) * (n - 1) and out.modes == 1

@@ -136,25 +136,39 @@ def bullet_box_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np.ndar
 
 #: What falls first in :func:`bullet_stack_falls`: nothing, the upper box, the lower one (the stack)
 STACK_STANDS, TOP_FALLS, STACK_FALLS = 0, 1, 2
+#: :func:`bullet_first_fall` when no box falls
+NONE_FALLS = -1
 
 
 def bullet_stack_falls(ah_ms2: np.ndarray, dt_s: float, lower: tuple[float, float], upper: tuple[float, float], *,
                        mu: float = 2.0, density: float = 2500.0, g_ms2: float = 9.80665, step_s: float = STEP_S,
                        scale: float = 1.0) -> int:
     """What falls first of two deep boxes stacked, centred, ((width, height) [m] each, the lower first), under a
-    horizontal ground motion along x (times ``scale``), by PyBullet: the same setting as :func:`bullet_overturns`
-    (time-varying gravity, restitution 0, friction mu x 1 on the floor and mu x mu between the boxes). A box falls when
-    its tilt reaches pi/2 - 0.02 rad; returns :data:`STACK_STANDS`, :data:`TOP_FALLS` or :data:`STACK_FALLS`."""
+    horizontal ground motion along x (times ``scale``), by PyBullet (:func:`bullet_first_fall`): returns
+    :data:`STACK_STANDS`, :data:`TOP_FALLS` or :data:`STACK_FALLS`."""
+    first = bullet_first_fall(ah_ms2, dt_s, [lower, upper], mu=mu, density=density, g_ms2=g_ms2, step_s=step_s,
+                              scale=scale)
+    return {NONE_FALLS: STACK_STANDS, 1: TOP_FALLS, 0: STACK_FALLS}[first]
+
+
+def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0, density: float = 2500.0,
+                      g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0) -> int:
+    """The lowest box that has fallen when a box of a stack first falls, or :data:`NONE_FALLS`: deep boxes stacked,
+    centred, ((width, height) [m] each, bottom first), under a horizontal ground motion along x (times ``scale``), by
+    PyBullet: the same setting as :func:`bullet_overturns` (time-varying gravity, restitution 0, friction mu x 1 on
+    the floor and mu x mu between the boxes). A box has fallen when its tilt reaches pi/2 - 0.02 rad."""
     pb = pybullet()
     cid = _world(pb, step_s)
     try:
-        depth = 2.0 * max(lower[1] + upper[1], lower[0])        # deep: the stack rocks in its plane
-        bodies = []
-        for (w, h), z in ((lower, lower[1] / 2), (upper, lower[1] + upper[1] / 2)):
+        depth = 2.0 * max(sum(h for _, h in boxes), max(w for w, _ in boxes))   # deep: the stack rocks in its plane
+        bodies, base = [], 0.0
+        for w, h in boxes:
             shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
-            body = pb.createMultiBody(density * w * h * depth, shape, basePosition=[0, 0, z], physicsClientId=cid)
+            body = pb.createMultiBody(density * w * h * depth, shape, basePosition=[0, 0, base + h / 2],
+                                      physicsClientId=cid)
             _free_body(pb, body, mu, cid)
             bodies.append(body)
+            base += h
         ground = (scale * np.asarray(ah_ms2), None, None)
         t_rec = (ground[0].size - 1) * dt_s
         for i in range(int((t_rec + TAIL_S) / step_s)):
@@ -163,14 +177,10 @@ def bullet_stack_falls(ah_ms2: np.ndarray, dt_s: float, lower: tuple[float, floa
             pb.stepSimulation(physicsClientId=cid)
             if i % 8:
                 continue
-            tilts = []
-            for body in bodies:
+            for k, body in enumerate(bodies):
                 _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-                tilts.append(math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))))
-            if tilts[0] >= math.pi / 2 - 0.02:
-                return STACK_FALLS
-            if tilts[1] >= math.pi / 2 - 0.02:
-                return TOP_FALLS
-        return STACK_STANDS
+                if math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))) >= math.pi / 2 - 0.02:
+                    return k
+        return NONE_FALLS
     finally:
         pb.disconnect(cid)

@@ -1,0 +1,75 @@
+"""The planar n-block model (pipeline.assemblies.n_block_run) against PyBullet on the bundled records: columns of three
+and five drums, each record's first horizontal in the column's plane scaled to a PGA, no vertical, friction high
+enough that no joint slides (mu 2 in both engines' sense). PyBullet holds deep boxes stacked on its floor, the
+ground's motion as a time-varying gravity (tests/support/rigid_body_peer.py). For each scene the lowest drum that has
+fallen at the first fall (none; the top; a middle drum with those above it; the whole column), and each disagreement
+re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's verdict holds in all
+three). Prints the counts, the agreement, and the time per scene of each engine.
+
+Run: ``python benchmarks/n_block_peer.py [--pga 0.5] [--records 21]`` (the first records of at most 60 s; PyBullet
+is a test extra).
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests" / "support"))
+sys.path.insert(0, str(ROOT / "tests" / "assemblies"))
+
+from rigid_body_peer import STEP_S, bullet_first_fall  # noqa: E402
+from test_n_block_peer import COLUMNS, MU, RHO  # noqa: E402
+
+from pipeline.assemblies.n_block import n_block  # noqa: E402
+from pipeline.assemblies.n_block_run import simulate_n_block  # noqa: E402
+from pipeline.assemblies.stack import StackBody  # noqa: E402
+from pipeline.config import Config  # noqa: E402
+from pipeline.constants import G  # noqa: E402
+from pipeline.records.loader import iter_records  # noqa: E402
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--pga", type=float, default=0.5, help="each record scaled to this PGA [g]")
+    ap.add_argument("--records", type=int, default=21, help="the first N bundled records of at most 60 s")
+    args = ap.parse_args()
+    records = [r for r in iter_records(ROOT / "records", config=Config())
+               if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
+    for family, boxes in COLUMNS.items():
+        nb = n_block([StackBody(w, h, RHO * w * h, MU) for w, h in boxes])
+        simulate_n_block(nb, records[0].horizontal_ms2[0], records[0].dt_s)       # compiled before timing
+        ours_s, engine_s, counts, differ = [], [], collections.Counter(), []
+        for rec in records:
+            a = rec.horizontal_ms2[0] * (args.pga * G / abs(rec.horizontal_ms2[0]).max())
+            t0 = time.perf_counter()
+            ours = simulate_n_block(nb, a, rec.dt_s).falls
+            t1 = time.perf_counter()
+            engine = bullet_first_fall(a, rec.dt_s, boxes, mu=MU, density=RHO)
+            t2 = time.perf_counter()
+            ours_s.append(t1 - t0)
+            engine_s.append(t2 - t1)
+            counts[(ours, engine)] += 1
+            if ours != engine:
+                checks = {bullet_first_fall(a, rec.dt_s, boxes, mu=MU, density=RHO, step_s=STEP_S / 2)}
+                checks |= {bullet_first_fall(a, rec.dt_s, boxes, mu=MU, density=RHO, scale=s) for s in (0.98, 1.02)}
+                differ.append((rec.record_id, ours, engine, sorted(checks), "robust" if checks == {engine}
+                               else "not robust"))
+            print(f"  {family}, {rec.record_id}: rockscreen {ours}, PyBullet {engine}", flush=True)
+        agree = sum(v for (o, e), v in counts.items() if o == e)
+        print(f"{family} at {args.pga} g: {agree} of {len(records)} agree; first fall (rockscreen, PyBullet) -> "
+              f"scenes: {dict(sorted(counts.items()))} (-1 none, k the lowest drum fallen)")
+        for d in differ:
+            print(f"  differs: {d[0]}: rockscreen {d[1]}, PyBullet {d[2]}; PyBullet at half step and 0.98 / 1.02 of "
+                  f"the record: {d[3]} ({d[4]})")
+        print(f"  a scene: rockscreen median {1e3 * statistics.median(ours_s):.1f} ms (worst "
+              f"{1e3 * max(ours_s):.0f} ms), PyBullet median {statistics.median(engine_s):.2f} s")
+
+
+if __name__ == "__main__":
+    main()
