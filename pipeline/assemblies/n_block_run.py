@@ -3,13 +3,15 @@
 The ground is linear between samples. From rest the first joint to open does so at the exact crossing of its
 lift-off condition on that piece (at rest the condition is linear in the ground's acceleration). While a joint is
 open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample;
-an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located by
-bisection on the step's length to :data:`EVENT_TIME_TOL_S`. An impact whose rebound is slower than
-:data:`REST_RATIO` p alpha (the joint's scales) shuts the joint (a plastic stop). Block k falls when its rotation,
-or its rotation on the block below, reaches pi/2; the blocks above it fall with it. After the record the free motion
-is followed until every joint is shut or a block falls, for at most :data:`TAIL_S`.
+an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located on
+the step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method, any other event by bisection. An
+impact whose rebound is slower than :data:`REST_RATIO` p alpha (the joint's scales) shuts the joint (a plastic stop).
+Block k falls when its rotation, or its rotation on the block below, reaches pi/2; the blocks above it fall with it.
+After the record the free motion is followed until every joint is shut or a block falls, for at most
+:data:`TAIL_S`.
 
-The run may start from a moving state (the blocks left standing when those above them fell, :mod:`.n_block_verdicts`).
+The run may start from a moving state (the blocks left standing when those above them fell,
+:mod:`.n_block_verdicts`).
 The model holds while no joint slides and no block leaves its support in flight (its friction demands are kept, for
 the caller to flag); for two blocks it is the two-block run (:mod:`.two_block_run`), which the tests compare.
 
@@ -17,6 +19,8 @@ References
 ----------
 Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1),
 19-26.
+Dowell, M. & Jarratt, P. (1971). A modified regula falsi method for computing the root of an equation. BIT 11(2),
+168-174.
 """
 
 from __future__ import annotations
@@ -60,6 +64,7 @@ REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts
 TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
 MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
 MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
+MAX_ROOT_TRIES = 60         # steps tried by the Illinois method before an impact falls back to bisection [-]
 HALF_PI = 0.5 * math.pi
 #: No block falls (:attr:`NBlockOutcome.falls`)
 FALLS_NONE = -1
@@ -268,9 +273,17 @@ def _caps(steps, events, t, tail_end):
 
 @jit
 def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
-    """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: the step's length bisected to
-    :data:`EVENT_TIME_TOL_S`. Returns the length reaching the event, the state there and the steps tried."""
-    lo, hi, y_hi, tries = 0.0, hh, y_end, 0
+    """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: an impact alone at the step's end
+    by the Illinois method on the joint's rotation (:func:`_impact_root`), else, or where that finds another event
+    first, the step's length bisected to :data:`EVENT_TIME_TOL_S`. Returns the length reaching the event, the state
+    there and the steps tried."""
+    kind, joint = _event(nb, y_end, js, piece, t + hh, wk)
+    tries = 0
+    if kind == EV_IMPACT:
+        ok, hi, y_hi, tries = _impact_root(nb, y, f, js, piece, t, hh, y_end, joint, wk)
+        if ok:
+            return hi, y_hi, tries
+    lo, hi, y_hi = 0.0, hh, y_end
     while hi - lo > EVENT_TIME_TOL_S:
         mid = 0.5 * (lo + hi)
         trial = rk_step(_rhs, (nb, js, piece, wk), t, y, f, mid, DOPRI54).y
@@ -280,6 +293,36 @@ def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
         else:
             lo = mid
     return hi, y_hi, tries
+
+
+@jit
+def _impact_root(nb, y, f, js, piece, t, hh, y_end, joint, wk):
+    """The step's length at which ``joint``'s rotation reaches 0, bracketed to :data:`EVENT_TIME_TOL_S` by the
+    Illinois method (regula falsi, the end kept twice running having its value halved; Dowell & Jarratt 1971) on
+    g(h) = corner x its rotation after a step of h. Returns (ok, the length past the root, the state there, the steps
+    tried); ok is False where the bracket's near end is past another event (the caller then bisects)."""
+    s = js[joint]
+    lo, g_lo, hi, g_hi, y_hi, y_lo = 0.0, s * y[joint], hh, s * y_end[joint], y_end, y
+    kept, tries = 0, 0
+    while hi - lo > EVENT_TIME_TOL_S and tries < MAX_ROOT_TRIES:
+        mid = hi - g_hi * (hi - lo) / (g_hi - g_lo)
+        if not lo < mid < hi:
+            mid = 0.5 * (lo + hi)
+        trial = rk_step(_rhs, (nb, js, piece, wk), t, y, f, mid, DOPRI54).y
+        tries += 1
+        g = s * trial[joint]
+        if g <= 0.0:
+            hi, g_hi, y_hi = mid, g, trial
+            if kept == 1:
+                g_lo *= 0.5
+            kept = 1
+        else:
+            lo, g_lo, y_lo = mid, g, trial
+            if kept == -1:
+                g_hi *= 0.5
+            kept = -1
+    ok = hi - lo <= EVENT_TIME_TOL_S and _event(nb, y_lo, js, piece, t + lo, wk)[0] == EV_NONE
+    return ok, hi, y_hi, tries
 
 
 @jit_lean
