@@ -436,3 +436,43 @@ def potential_energy(nb, y, js, wk):
         z += wk.kin[5, k]
         z0 += 2.0 * nb.h[k]
     return out
+
+
+@jit_lean
+def may_open(nb, y, js, ah, av, wk):
+    """Whether a shut joint would open at the state ``y`` in the mode ``js``: the test of :func:`opening` by one
+    solve of the current mode instead of one per shut joint and corner.
+
+    A shut joint k carries the contact moment M_s about each corner s of its support that the part above it needs,
+    sum over j >= k of (C_j - P_s) x m_j (C_j'' + (a_h, g + a_v)) + I_j phi_j'' (clockwise, in the ground's
+    accelerating frame). Released on corner s, the joint's rotation accelerates by -M_s / (e^T M^-1 e) along it
+    (M_s is the multiplier of its constraint, e its direction), so it opens towards s exactly where s M_s < 0: where
+    the contact would have to pull (Housner's condition for one block)."""
+    accelerations(nb, y, js, ah, av, wk)
+    n, pos = nb.n, wk.kin2
+    px, pz = 0.0, 0.0                             # the corners from joint 0's, block by block
+    for j in range(n):
+        pos[0, j], pos[1, j] = px + wk.kin[0, j], pz + wk.kin[1, j]
+        bx, bz = wk.bias[0, j], wk.bias[1, j]
+        for i in range(j + 1):
+            bx += _column(wk.kin, j, i, 0) * wk.qdd[i]
+            bz += _column(wk.kin, j, i, 1) * wk.qdd[i]
+        pos[2, j], pos[3, j] = nb.m[j] * bx, nb.m[j] * bz
+        px += wk.kin[4, j]
+        pz += wk.kin[5, j]
+    fx, fz, moment = 0.0, 0.0, 0.0                # the part above: its force and moment about the origin
+    for k in range(n - 1, -1, -1):
+        fx += pos[2, k]
+        fz += pos[3, k]
+        moment += pos[1, k] * pos[2, k] - pos[0, k] * pos[3, k] + nb.i[k] * wk.qdd[k]
+        if js[k] != SHUT:
+            continue
+        c, s = math.cos(wk.phi[k]), math.sin(wk.phi[k])
+        for corner in (1, -1):
+            x = nb.hi[k] if corner > 0 else nb.lo[k]
+            ox, oz = -x, nb.h[k]                  # the centre from the corner, in the block's frame
+            cx = pos[0, k] - (c * ox + s * oz)
+            cz = pos[1, k] - (-s * ox + c * oz)
+            if corner * (moment - (cz * fx - cx * fz)) < 0.0:
+                return True
+    return False

@@ -44,6 +44,7 @@ from .n_block import (
     absolute,
     accelerations,
     demands,
+    may_open,
     opening,
     projected_rates,
     relative,
@@ -148,9 +149,10 @@ def _event(nb, y, js, piece, t, wk):
     for k in range(nb.n):
         if js[k] == SHUT:
             ah, av = _ground(piece, t)
-            joint, _ = opening(nb, y, js, ah, av, wk)
-            if joint >= 0:
-                return EV_LIFT, joint
+            if may_open(nb, y, js, ah, av, wk):             # one solve; which joint opens, only where one does
+                joint, _ = opening(nb, y, js, ah, av, wk)
+                if joint >= 0:
+                    return EV_LIFT, joint
             break
     return EV_NONE, -1
 
