@@ -183,6 +183,12 @@ class Work(NamedTuple):
     qdd: np.ndarray
     rel: np.ndarray
     d: np.ndarray
+    #: the inputs (y, js, a_h, a_v) of the accelerations now held (:func:`accelerations`); NaN first: none
+    key: np.ndarray
+
+
+#: The length of :attr:`Work.key`
+KEY = 3 * MAX_BODIES + 2
 
 
 def work() -> Work:
@@ -190,7 +196,7 @@ def work() -> Work:
     nb_, sq = MAX_BODIES, (MAX_BODIES, MAX_BODIES)
     return Work(np.zeros(nb_), np.zeros(nb_), np.zeros((8, nb_)), np.zeros((8, nb_)), np.zeros(sq), np.zeros(sq),
                 np.zeros(nb_), np.zeros((2, nb_)), np.zeros(sq), np.zeros(sq), np.zeros(nb_), np.zeros(nb_),
-                np.zeros(nb_), np.zeros(nb_))
+                np.zeros(nb_), np.zeros(nb_), np.full(KEY, np.nan))
 
 
 @jit_lean
@@ -329,12 +335,35 @@ def _reduced(n, js, mm, rhs, wk):
 
 @jit_lean
 def accelerations(nb, y, js, ah, av, wk):
-    """The absolute accelerations q'' [rad s-2] in the mode ``js`` at the state ``y`` into ``wk.qdd``."""
+    """The absolute accelerations q'' [rad s-2] in the mode ``js`` at the state ``y`` into ``wk.qdd`` (with the
+    rotations, rates, levers and biases they come from); not computed again where ``wk`` holds those of the same
+    inputs (a step's last stage, then its events and demands, are at one state)."""
     absolute(y, nb.n, wk)
+    if _held(wk.key, y, js, ah, av):
+        return
     kinematics(nb, wk.phi, js, wk.kin)
     mass_matrix(nb, wk.kin, wk.kin, wk.mm)
     forces(nb, wk.kin, wk.w, ah, av, wk)
     _reduced(nb.n, js, wk.mm, wk.f, wk)
+    for q in range(2 * MAX_BODIES):
+        wk.key[q] = y[q]
+    for q in range(MAX_BODIES):
+        wk.key[2 * MAX_BODIES + q] = js[q]
+    wk.key[3 * MAX_BODIES], wk.key[3 * MAX_BODIES + 1] = ah, av
+
+
+@jit_lean
+def _held(key, y, js, ah, av):
+    """Whether ``key`` holds these inputs."""
+    if key[3 * MAX_BODIES] != ah or key[3 * MAX_BODIES + 1] != av:
+        return False
+    for q in range(MAX_BODIES):
+        if key[2 * MAX_BODIES + q] != js[q]:
+            return False
+    for q in range(2 * MAX_BODIES):
+        if key[q] != y[q]:
+            return False
+    return True
 
 
 @jit_lean
@@ -375,6 +404,7 @@ def projected_rates(nb, y, before, after, wk):
     """The absolute rates q' after an impulse at the contacts of the mode ``after`` from the rates of ``y`` in the
     mode ``before`` (the module's impact law; also a shut joint's plastic stop where ``after`` shuts it), in
     ``wk.qdd``."""
+    wk.key[0] = math.nan                           # the levers and wk.qdd are no longer accelerations'
     absolute(y, nb.n, wk)
     kinematics(nb, wk.phi, before, wk.kin2)
     kinematics(nb, wk.phi, after, wk.kin)
@@ -414,6 +444,7 @@ def demands(nb, y, js, ah, av, wk):
 @jit_lean
 def kinetic_energy(nb, y, js, wk):
     """The blocks' kinetic energy [J] (the mode's corners)."""
+    wk.key[0] = math.nan
     absolute(y, nb.n, wk)
     kinematics(nb, wk.phi, js, wk.kin)
     mass_matrix(nb, wk.kin, wk.kin, wk.mm)
@@ -428,6 +459,7 @@ def kinetic_energy(nb, y, js, wk):
 def potential_energy(nb, y, js, wk):
     """The blocks' potential energy in gravity above rest [J]: each centre's height less its height at rest (the sum
     of the heights of the blocks below and its half-height)."""
+    wk.key[0] = math.nan
     absolute(y, nb.n, wk)
     kinematics(nb, wk.phi, js, wk.kin)
     out, z, z0 = 0.0, 0.0, 0.0

@@ -37,6 +37,7 @@ from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
 from .n_block import (
+    KEY,
     MAX_BODIES,
     SHUT,
     NBlock,
@@ -97,6 +98,8 @@ class NBlockOutcome(NamedTuple):
         each joint's largest friction demand |F_t| / F_n [-], at rest (at the samples) and in motion (at the steps'
         ends and events, inside the joints' smaller tipping angles), to the run's end or first fall; inf where a face
         would pull
+    steps : int
+        steps tried, accepted or not, locating events included
     """
 
     falls: int
@@ -108,6 +111,7 @@ class NBlockOutcome(NamedTuple):
     status: int
     final: tuple
     demand: tuple
+    steps: int = 0
 
 
 class _Tol(NamedTuple):
@@ -222,7 +226,8 @@ def _scratch():
     sq = (MAX_BODIES, MAX_BODIES)
     return Work(np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros((8, MAX_BODIES)), np.zeros((8, MAX_BODIES)),
                 np.zeros(sq), np.zeros(sq), np.zeros(MAX_BODIES), np.zeros((2, MAX_BODIES)), np.zeros(sq),
-                np.zeros(sq), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES))
+                np.zeros(sq), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES),
+                np.full(KEY, np.nan))
 
 
 @jit
@@ -450,7 +455,7 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
             y, js = _impact(nb, y, js, joint, tol, wk)
             impacts += 1
     return NBlockOutcome(falls, t_fall, (peak[0], peak[1], peak[2], peak[3], peak[4]), impacts, liftoffs, modes,
-                         status, y, (demand[0], demand[1], demand[2], demand[3], demand[4]))
+                         status, y, (demand[0], demand[1], demand[2], demand[3], demand[4]), steps)
 
 
 def run_tolerances(nb: NBlock, rest_ratio: float = REST_RATIO) -> tuple[_Tol, float]:
