@@ -54,7 +54,7 @@ from .n_block import (
     tuple_set,
     work,
 )
-from .two_block_run import _ground, _piece_at
+from .two_block_run import ground_on, piece_at
 
 # Step control, named once (as scipy's _ivp names its own); the two-block run's
 RTOL = 1e-8                 # relative tolerance of the error control [-]
@@ -128,7 +128,7 @@ class _Tol(NamedTuple):
 def _rhs(t, y, args):
     """The state's derivative (a tuple) in the mode ``args`` = (nb, js, piece)."""
     nb, js, piece, wk = args
-    ah, av = _ground(piece, t)
+    ah, av = ground_on(piece, t)
     accelerations(nb, y, js, ah, av, wk)
     relative(wk.qdd, nb.n, wk)
     rel = wk.rel
@@ -152,7 +152,7 @@ def _event(nb, y, js, piece, t, wk):
             return EV_IMPACT, k
     for k in range(nb.n):
         if js[k] == SHUT:
-            ah, av = _ground(piece, t)
+            ah, av = ground_on(piece, t)
             if may_open(nb, y, js, ah, av, wk):             # one solve; which joint opens, only where one does
                 joint, _ = opening(nb, y, js, ah, av, wk)
                 if joint >= 0:
@@ -182,7 +182,7 @@ def _peaks(nb, peak, demand, y, js, piece, t, tol, wk):
     for k in range(nb.n):
         inside = inside and abs(y[k]) < tol.tip[k]
     if inside:
-        ah, av = _ground(piece, t)
+        ah, av = ground_on(piece, t)
         demands(nb, y, js, ah, av, wk)
         for k in range(nb.n):
             demand[k] = max(demand[k], wk.d[k])
@@ -202,8 +202,8 @@ def _opening_at_rest(ch, cg, n, piece, t):
     (NaN, -1, 0). Each condition, s psi_k'' were joint k released on corner s, is ch a_h + cg (g + a_v) (rows
     2k and 2k + 1 for s = +1, -1): linear, so its root on the piece is exact."""
     t1 = piece.t0 + piece.span
-    ah0, av0 = _ground(piece, t)
-    ah1, av1 = _ground(piece, t1)
+    ah0, av0 = ground_on(piece, t)
+    ah1, av1 = ground_on(piece, t1)
     best_x, joint, corner = 2.0, -1, 0
     for cand in range(2 * n):
         i0 = ch[cand] * ah0 + cg[cand] * (G + av0)
@@ -360,7 +360,7 @@ def _impact(nb, y, js, joint, tol, wk):
 @jit_lean
 def _open(nb, y, js, piece, t, wk):
     """Open the shut joint whose lift-off condition holds at ``t`` on its corner."""
-    ah, av = _ground(piece, t)
+    ah, av = ground_on(piece, t)
     joint, corner = opening(nb, y, js, ah, av, wk)
     return js if joint < 0 else tuple_set(js, joint, corner)
 
@@ -397,7 +397,7 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
         for k in range(nb.n):
             if js[k] != SHUT:
                 modes |= 1 << k
-        piece = _piece_at(ah, av, dt, t, t_rec, tail_end)
+        piece = piece_at(ah, av, dt, t, t_rec, tail_end)
         if G + piece.v0 <= 0.0 or G + piece.v1 <= 0.0:
             status |= STATUS_GROUND_FLIGHT
             break

@@ -141,7 +141,7 @@ def _peaks(tb, peaks, y, j1, j2, piece, t, sc):
     """``peaks`` with the state ``y`` (phi_1, phi_2, rates) in the mode (j1, j2) at ``t`` on the ground's piece; the
     demands only inside the joints' smaller tipping angles at rest (``sc[2]``, ``sc[3]``): beyond, a body is
     falling, its demand no longer bearing on whether it falls (the rocking kernel's is likewise followed no further)."""
-    ah, av = _ground(piece, t)
+    ah, av = ground_on(piece, t)
     d1, d2 = 0.0, 0.0
     if abs(y[0]) < sc[2] and abs(y[1] - y[0]) < sc[3]:
         d1, d2 = demands(tb, _motion(y), j1, j2, ah, av)
@@ -175,7 +175,7 @@ def _motion(y):
 
 
 @jit
-def _ground(piece, t):
+def ground_on(piece, t):
     """(a_h, a_v) at t on the piece."""
     x = (t - piece.t0) / piece.span if piece.span > 0.0 else 0.0
     return piece.a0 + (piece.a1 - piece.a0) * x, piece.v0 + (piece.v1 - piece.v0) * x
@@ -185,13 +185,13 @@ def _ground(piece, t):
 def _rhs(t, y, args):
     """The state's derivative (a tuple) in the mode ``args`` = (tb, j1, j2, piece)."""
     tb, j1, j2, piece = args
-    ah, av = _ground(piece, t)
+    ah, av = ground_on(piece, t)
     d1, d2 = accelerations(tb, _motion(y), j1, j2, ah, av)
     return (y[2], y[3], d1, d2), 0.0
 
 
 @jit
-def _piece_at(ah, av, dt, t, t_rec, tail_end):
+def piece_at(ah, av, dt, t, t_rec, tail_end):
     """The piece holding t (the next one when t is on its end); after the record one still piece to the tail's
     end."""
     n = ah.shape[0]
@@ -234,8 +234,8 @@ def _opening_at_rest(lift, piece, t):
     (NaN, 0, 0). Each condition is linear in the ground's acceleration (:class:`RestLift`), so its root on the piece
     is exact."""
     t1 = piece.t0 + piece.span
-    ah0, av0 = _ground(piece, t)
-    ah1, av1 = _ground(piece, t1)
+    ah0, av0 = ground_on(piece, t)
+    ah1, av1 = ground_on(piece, t1)
     best_x, joint, corner = 2.0, 0, 0
     for cand in range(4):
         i0 = lift.ch[cand] * ah0 + lift.cg[cand] * (G + av0)
@@ -264,7 +264,7 @@ def _event(tb, y, j1, j2, piece, t):
     if j2 != SHUT and j2 * psi <= 0.0:
         return 2
     if j1 == SHUT or j2 == SHUT:
-        ah, av = _ground(piece, t)
+        ah, av = ground_on(piece, t)
         joint, _ = opening(tb, _motion(y), j1, j2, ah, av)
         if joint != 0:
             return 4
@@ -298,7 +298,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
     """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given; ``hist``: the
     history's array, :func:`_keep`) [SI units]."""
     n = ah.shape[0]
-    t_rec = (n - 2) * dt + dt                     # the last piece's end, as _piece_at computes it
+    t_rec = (n - 2) * dt + dt                     # the last piece's end, as piece_at computes it
     tail_end = t_rec + TAIL_S
     y = (0.0, 0.0, 0.0, 0.0)
     j1, j2 = SHUT, SHUT
@@ -315,7 +315,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
             status |= capped
             break
         modes |= _mode_bits(j1, j2)
-        piece = _piece_at(ah, av, dt, t, t_rec, tail_end)
+        piece = piece_at(ah, av, dt, t, t_rec, tail_end)
         if G + piece.v0 <= 0.0 or G + piece.v1 <= 0.0:
             status |= STATUS_GROUND_FLIGHT
             break
@@ -412,7 +412,7 @@ def _mode_bits(j1, j2):
 @jit
 def _open(tb, y, j1, j2, piece, t):
     """Open the shut joint whose lift-off condition holds at ``t`` on its corner."""
-    ah, av = _ground(piece, t)
+    ah, av = ground_on(piece, t)
     joint, corner = opening(tb, _motion(y), j1, j2, ah, av)
     if joint == 1:
         return y, corner, j2
