@@ -123,11 +123,18 @@ def tipping_angles(nb: NBlock) -> tuple[tuple[float, float], ...]:
     centre of mass is over the corner."""
     out = []
     for k in range(nb.n):
-        mass = sum(nb.m[j] for j in range(k, nb.n))
-        xg, zg = (sum(nb.m[j] * c for j, c in zip(range(k, nb.n), part)) / mass
-                  for part in zip(*_centres_at_rest(nb, k)))
+        xg, zg = part_centre(nb, k)
         out.append((math.atan2(nb.hi[k] - xg, zg), math.atan2(xg - nb.lo[k], zg)))
     return tuple(out)
+
+
+def part_centre(nb: NBlock, k: int) -> tuple[float, float]:
+    """The centre of mass of the part above joint k (blocks k .. n - 1) at rest, in block k's frame (origin: its
+    base's centre) [m]."""
+    part = _centres_at_rest(nb, k)
+    mass = sum(nb.m[j] for j in range(k, nb.n))
+    return (sum(nb.m[j] * c[0] for j, c in zip(range(k, nb.n), part)) / mass,
+            sum(nb.m[j] * c[1] for j, c in zip(range(k, nb.n), part)) / mass)
 
 
 def _centres_at_rest(nb: NBlock, k: int) -> list[tuple[float, float]]:
@@ -155,8 +162,7 @@ def scales(nb: NBlock) -> Scales:
     for k in range(nb.n):
         part = _centres_at_rest(nb, k)
         mass = sum(nb.m[j] for j in range(k, nb.n))
-        xg = sum(nb.m[j] * c[0] for j, c in zip(range(k, nb.n), part)) / mass
-        zg = sum(nb.m[j] * c[1] for j, c in zip(range(k, nb.n), part)) / mass
+        xg, zg = part_centre(nb, k)
         corner = nb.hi[k]
         i_o = sum(nb.i[j] + nb.m[j] * ((c[0] - corner) ** 2 + c[1] ** 2) for j, c in zip(range(k, nb.n), part))
         r = math.hypot(corner - xg, zg)

@@ -37,16 +37,15 @@ from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
 from .n_block import (
-    KEY,
     MAX_BODIES,
     SHUT,
     NBlock,
-    Work,
     absolute,
     accelerations,
     demands,
     may_open,
     opening,
+    part_centre,
     projected_rates,
     relative,
     scales,
@@ -220,33 +219,19 @@ def _opening_at_rest(ch, cg, n, piece, t):
     return t + best_x * (t1 - t), joint, corner
 
 
-@jit
-def _scratch():
-    """A :class:`.n_block.Work` made in compiled code."""
-    sq = (MAX_BODIES, MAX_BODIES)
-    return Work(np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros((8, MAX_BODIES)), np.zeros((8, MAX_BODIES)),
-                np.zeros(sq), np.zeros(sq), np.zeros(MAX_BODIES), np.zeros((2, MAX_BODIES)), np.zeros(sq),
-                np.zeros(sq), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES),
-                np.full(KEY, np.nan))
-
-
-@jit
-def rest_lift(nb):
-    """At rest, each joint's lift-off condition on each corner, s psi_k'' were it released, as ch a_h + cg (g + a_v)
-    (at rest M is constant and f linear in the ground): (ch, cg), rows 2k (s = +1) and 2k + 1 (s = -1)."""
-    rest = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    wk = _scratch()
+def rest_lift(nb: NBlock) -> tuple[np.ndarray, np.ndarray]:
+    """At rest, each joint's lift-off condition on each corner as ch a_h + cg (g + a_v) > 0 (rows 2k for corner +1,
+    2k + 1 for -1): the statics of the interface, the stack at rest being one rigid body (the part above joint k
+    tips about the corner its resultant passes, where a_h / (g + a_v) falls below (x_G - hi) / z_G or rises above
+    (x_G - lo) / z_G, (x_G, z_G) its centre of mass over the joint's support [lo, hi]: Housner's bound
+    -tan alpha, tan alpha for one block). The sign of s psi_k'' were joint k released on corner s is the sign of
+    this condition; stated by the statics, a ground exactly at a bound does not open the joint (tie rule 2) whatever
+    the rounding of the equations of motion."""
     ch, cg = np.zeros(2 * nb.n), np.zeros(2 * nb.n)
     for k in range(nb.n):
-        for c in range(2):
-            s = 1 if c == 0 else -1
-            js = tuple_set((SHUT, SHUT, SHUT, SHUT, SHUT), k, s)
-            accelerations(nb, rest, js, 1.0, -G, wk)
-            relative(wk.qdd, nb.n, wk)
-            ch[2 * k + c] = s * wk.rel[k]
-            accelerations(nb, rest, js, 0.0, 0.0, wk)
-            relative(wk.qdd, nb.n, wk)
-            cg[2 * k + c] = s * wk.rel[k] / G
+        xg, zg = part_centre(nb, k)
+        ch[2 * k], cg[2 * k] = -1.0, (xg - nb.hi[k]) / zg
+        ch[2 * k + 1], cg[2 * k + 1] = 1.0, -(xg - nb.lo[k]) / zg
     return ch, cg
 
 

@@ -216,3 +216,61 @@ def test_thin_slabs_on_a_block_rock_as_the_block_of_their_outline(n, ap, tp, pha
     if not single.overturned:
         assert out.peak_psi_rad[0] / alpha == pytest.approx(single.theta_max, abs=1e-4)
         assert out.peak_psi_rad[1:n] == (0.0,) * (n - 1) and out.modes == 1
+
+
+@pytest.mark.parametrize("bodies", [DRUMS[:3], DRUMS[:5], [StackBody(0.8, 1.0, 2.0, 0.6), StackBody(0.3, 1.2, 0.5, 0.6),
+                                                           StackBody(0.3, 0.2, 0.1, 0.6, 0.05)]])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_at_rest_a_joint_opens_only_above_its_bound(bodies, sign):
+    """A ground held at the stack's first lift-off bound does not move it; a rounding above it does (tie rule 2:
+    motion only where the demand exceeds). The bound is the statics of each interface (the part above tips where the
+    ground's a_h / g passes (x_G - support end) / z_G: `stack.uplift_ratios`), not the model's equations."""
+    from pipeline.assemblies.stack import interfaces, uplift_ratios
+
+    low, high = zip(*(uplift_ratios(face) for face in interfaces(bodies)))
+    ratio = max(low) if sign < 0 else min(high)
+    nb = nbm.n_block(bodies)
+    held = np.full(400, ratio * G)
+    assert simulate_n_block(nb, held, DT).liftoffs == 0
+    assert simulate_n_block(nb, held * (1 + 1e-9), DT).liftoffs >= 1
+
+
+def test_a_ground_falling_faster_than_gravity_is_flagged_not_followed():
+    """g + a_v <= 0: the blocks leave the ground; the model does not follow them, says so, and no body stands."""
+    from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
+
+    nb = nbm.n_block(DRUMS[:3])
+    av = np.where(TIMES > 0.5, -1.2 * G, 0.0)
+    out = simulate_n_block(nb, _sine(3.0, 0.4), DT, av_ms2=av)
+    assert out.status & STATUS_GROUND_FLIGHT
+    got = judge_n_block(nb, _sine(3.0, 0.4), DT, av_ms2=av)
+    assert all(v == Verdict.no_verdict for v in got.verdicts)
+
+
+@pytest.mark.parametrize("n, dt", [(13000, 0.005), (12999, 0.005), (4001, 0.01), (30001, 0.004)])
+def test_a_stack_at_rest_to_the_records_end_stands_without_a_cap(n, dt):
+    """A ground below every lift-off bound to the record's end (the run reaches the last sample's time by adding
+    pieces): every drum stands, nothing opened, no cap met."""
+    out = simulate_n_block(nbm.n_block(DRUMS[:3]), 0.01 * np.sin(np.arange(n) * dt), dt)
+    assert (out.falls, out.liftoffs, out.status) == (FALLS_NONE, 0, 0)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5])
+def test_at_rest_the_statics_bound_is_the_released_joints_acceleration(n):
+    """At rest the run opens a joint by the statics of its interface (`n_block_run.rest_lift`); releasing the joint
+    on that corner in the equations of motion accelerates it that way exactly where the statics say so (grounds
+    away from the bound by more than 1e-9 of g)."""
+    from pipeline.assemblies.n_block_run import rest_lift
+
+    nb, wk = nbm.n_block(DRUMS[:n]), nbm.work()
+    ch, cg = rest_lift(nb)
+    rest = (0.0,) * (2 * N)
+    rng = np.random.default_rng(n)
+    for ah, av in rng.normal(0.0, 4.0, (200, 2)):
+        for k in range(n):
+            for c, s in enumerate((1, -1)):
+                condition = ch[2 * k + c] * ah + cg[2 * k + c] * (G + av)
+                nbm.accelerations(nb, rest, nbm.tuple_set((0,) * N, k, s), ah, av, wk)
+                nbm.relative(wk.qdd, n, wk)
+                if abs(condition) > 1e-9 * G:
+                    assert (s * wk.rel[k] > 0) == (condition > 0), (k, s, ah, av)
