@@ -18,13 +18,14 @@ import collections
 import statistics
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 sys.path.insert(0, str(ROOT / "tests" / "assemblies"))
 
-from rigid_body_peer import STEP_S, bullet_first_fall  # noqa: E402
+from rigid_body_peer import bullet_first_fall, perturbed_verdicts  # noqa: E402
 from test_n_block_peer import COLUMNS, MU, RHO  # noqa: E402
 
 from pipeline.assemblies.n_block import n_block  # noqa: E402
@@ -67,8 +68,7 @@ def main() -> None:
             engine_s.append(t2 - t1)
             counts[(ours, engine)] += 1
             if ours != engine:
-                checks = {bullet_first_fall(a, rec.dt_s, boxes, mu=MU, density=RHO, step_s=STEP_S / 2)}
-                checks |= {bullet_first_fall(a, rec.dt_s, boxes, mu=MU, density=RHO, scale=s) for s in (0.98, 1.02)}
+                checks = perturbed_verdicts(partial(bullet_first_fall, a, rec.dt_s, boxes, mu=MU, density=RHO))
                 differ.append((rec.record_id, ours, engine, sorted(checks), "robust" if checks == {engine}
                                else "not robust"))
             print(f"  {family}, {rec.record_id}: rockscreen {ours}, PyBullet {engine}", flush=True)

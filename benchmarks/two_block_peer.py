@@ -20,6 +20,7 @@ import math
 import statistics
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
-from rigid_body_peer import STEP_S, bullet_stack_falls  # noqa: E402
+from rigid_body_peer import bullet_stack_falls, perturbed_verdicts  # noqa: E402
 
 from pipeline.assemblies.stack import StackBody  # noqa: E402
 from pipeline.assemblies.two_block import two_block  # noqa: E402
@@ -87,8 +88,7 @@ def main() -> None:
             if ours == peer:
                 agree += 1
             else:
-                checks = {bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO, step_s=STEP_S / 2)} | {
-                    bullet_stack_falls(a, rec.dt_s, lower, upper, mu=MU, density=RHO, scale=s) for s in (0.98, 1.02)}
+                checks = perturbed_verdicts(partial(bullet_stack_falls, a, rec.dt_s, lower, upper, mu=MU, density=RHO))
                 robust = checks == {peer}
                 robust_miss += robust
                 note = f"  engine {'robust' if robust else 'not robust: ' + str(sorted(NAMES[c] for c in checks))}"

@@ -53,6 +53,7 @@ import numpy as np
 
 from ..compiled import jit_lean
 from ..constants import G
+from ..errors import BlockParameterError
 from .stack import interfaces, placements
 
 #: The most blocks a stack may hold (the state is a tuple of 2 x MAX_BODIES floats, unused joints held at 0)
@@ -102,8 +103,6 @@ def n_block(bodies, *, label: str = "stack") -> NBlock:
         a size or mass not positive, the stack cannot stand at rest (:func:`.stack.interfaces`), or more than
         :data:`MAX_BODIES` bodies.
     """
-    from ..errors import BlockParameterError
-
     bodies = tuple(bodies)
     faces = interfaces(bodies, label=label)
     if len(bodies) > MAX_BODIES:

@@ -33,7 +33,7 @@ import numpy as np
 from ..compiled import jit, jit_lean, tuple_with
 from ..constants import G
 from ..errors import ParameterError
-from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.codes import STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
 from .n_block import (
@@ -53,20 +53,23 @@ from .n_block import (
     tuple_set,
     work,
 )
-from .two_block_run import ground_on, piece_at
+from .stepping import (
+    ATOL,
+    EVENT_TIME_TOL_S,
+    FIRST_STEP_FRACTION,
+    HALF_PI,
+    MAX_STEP_P,
+    REST_RATIO,
+    RTOL,
+    TAIL_S,
+    caps,
+    first_crossing,
+    ground_on,
+    piece_at,
+)
 
-# Step control, named once (as scipy's _ivp names its own); the two-block run's
-RTOL = 1e-8                 # relative tolerance of the error control [-]
-ATOL = 1e-10                # absolute tolerance as a fraction of alpha (rotations) and p alpha (rates) [-]
-MAX_STEP_P = 0.05           # largest step as a fraction of 1 / p [-]
-FIRST_STEP_FRACTION = 0.01  # the first step after a start or an event, as a fraction of the largest [-]
-EVENT_TIME_TOL_S = 1e-11    # an event located to this width of step [s]
-REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts the joint [-]
-TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
-MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
-MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
-MAX_ROOT_TRIES = 60         # steps tried by the Illinois method before an impact falls back to bisection [-]
-HALF_PI = 0.5 * math.pi
+#: Steps tried by the Illinois method before an impact falls back to bisection [-]
+MAX_ROOT_TRIES = 60
 #: No block falls (:attr:`NBlockOutcome.falls`)
 FALLS_NONE = -1
 #: The events a state can be past (:func:`_event`)
@@ -198,25 +201,12 @@ def _rest_demand(nb, demand, piece):
 @jit_lean
 def _opening_at_rest(ch, cg, n, piece, t):
     """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
-    (NaN, -1, 0). Each condition, s psi_k'' were joint k released on corner s, is ch a_h + cg (g + a_v) (rows
-    2k and 2k + 1 for s = +1, -1): linear, so its root on the piece is exact."""
-    t1 = piece.t0 + piece.span
-    ah0, av0 = ground_on(piece, t)
-    ah1, av1 = ground_on(piece, t1)
-    best_x, joint, corner = 2.0, -1, 0
-    for cand in range(2 * n):
-        i0 = ch[cand] * ah0 + cg[cand] * (G + av0)
-        i1 = ch[cand] * ah1 + cg[cand] * (G + av1)
-        x = 2.0
-        if i0 > 0.0:
-            x = 0.0
-        elif i1 > 0.0:
-            x = -i0 / (i1 - i0)
-        if x < best_x:
-            best_x, joint, corner = x, cand // 2, (1 if cand % 2 == 0 else -1)
-    if joint < 0:
+    (NaN, -1, 0) (:func:`.stepping.first_crossing` on :func:`rest_lift`'s conditions, rows 2k and 2k + 1 for joint
+    k's corners +1 and -1)."""
+    t_open, cand = first_crossing(ch, cg, 2 * n, piece, t)
+    if cand < 0:
         return math.nan, -1, 0
-    return t + best_x * (t1 - t), joint, corner
+    return t_open, cand // 2, (1 if cand % 2 == 0 else -1)
 
 
 def rest_lift(nb: NBlock) -> tuple[np.ndarray, np.ndarray]:
@@ -225,8 +215,9 @@ def rest_lift(nb: NBlock) -> tuple[np.ndarray, np.ndarray]:
     tips about the corner its resultant passes, where a_h / (g + a_v) falls below (x_G - hi) / z_G or rises above
     (x_G - lo) / z_G, (x_G, z_G) its centre of mass over the joint's support [lo, hi]: Housner's bound
     -tan alpha, tan alpha for one block). The sign of s psi_k'' were joint k released on corner s is the sign of
-    this condition; stated by the statics, a ground exactly at a bound does not open the joint (tie rule 2) whatever
-    the rounding of the equations of motion."""
+    this condition (tested away from the bound); stated by the statics, a ground held at a bound of
+    :func:`.stack.uplift_ratios` does not open the joint (tie rule 2; tested on three stacks), whatever the rounding
+    of the equations of motion."""
     ch, cg = np.zeros(2 * nb.n), np.zeros(2 * nb.n)
     for k in range(nb.n):
         xg, zg = part_centre(nb, k)
@@ -251,16 +242,6 @@ def _keep(hist, t, t1, dt, y, n):
     if t == t1 and hist.shape[1] > 0 and 0 <= k < hist.shape[1]:
         for j in range(n):
             hist[j, k] = y[j]
-
-
-@jit_lean
-def _caps(steps, events, t, tail_end):
-    """The status bit of the cap the run has reached, or 0."""
-    if steps >= MAX_STEPS:
-        return STATUS_STEP_CAP
-    if events >= MAX_EVENTS:
-        return STATUS_EVENT_CAP
-    return STATUS_TAIL_CAP if t >= tail_end * (1.0 - 1e-15) else 0
 
 
 @jit
@@ -375,7 +356,7 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
     f = y
     fresh = True
     while True:
-        capped = _caps(steps, events, t, tail_end)
+        capped = caps(steps, events, t, tail_end)
         if capped:
             status |= capped
             break

@@ -30,9 +30,23 @@ import numpy as np
 from ..compiled import jit
 from ..constants import G
 from ..errors import ParameterError
-from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.codes import STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
+from .stepping import (
+    ATOL,
+    EVENT_TIME_TOL_S,
+    FIRST_STEP_FRACTION,
+    HALF_PI,
+    MAX_STEP_P,
+    REST_RATIO,
+    RTOL,
+    TAIL_S,
+    caps,
+    first_crossing,
+    ground_on,
+    piece_at,
+)
 from .two_block import (
     SHUT,
     Motion,
@@ -44,18 +58,6 @@ from .two_block import (
     projected_rates,
     tipping_angles,
 )
-
-# Step control, named once (as scipy's _ivp names its own)
-RTOL = 1e-8                 # relative tolerance of the error control [-]
-ATOL = 1e-10                # absolute tolerance as a fraction of alpha (rotations) and p alpha (rates) [-]
-MAX_STEP_P = 0.05           # largest step as a fraction of 1 / p [-]
-FIRST_STEP_FRACTION = 0.01  # the first step after a start or an event, as a fraction of the largest [-]
-EVENT_TIME_TOL_S = 1e-11    # an event located to this width of step [s]
-REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts the joint [-]
-TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
-MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
-MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
-HALF_PI = 0.5 * math.pi
 
 #: What falls: nothing, the upper block (off the lower one), the whole stack (the lower block on the ground).
 FALLS_NONE, FALLS_TOP, FALLS_STACK = 0, 1, 2
@@ -157,28 +159,10 @@ def _rest_demand(peaks, piece):
     return Peaks(peaks.phi1, peaks.phi2, peaks.psi, max(peaks.demand1, d), max(peaks.demand2, d))
 
 
-class _Piece(NamedTuple):
-    """The ground's linear piece [t0, t0 + span]: its ends' horizontal and vertical accelerations [m s-2]."""
-
-    t0: float
-    span: float
-    a0: float
-    a1: float
-    v0: float
-    v1: float
-
-
 @jit
 def _motion(y):
     """The integrator's state tuple (phi_1, phi_2, rates) as a :class:`.two_block.Motion`."""
     return Motion(y[0], y[1], y[2], y[3])
-
-
-@jit
-def ground_on(piece, t):
-    """(a_h, a_v) at t on the piece."""
-    x = (t - piece.t0) / piece.span if piece.span > 0.0 else 0.0
-    return piece.a0 + (piece.a1 - piece.a0) * x, piece.v0 + (piece.v1 - piece.v0) * x
 
 
 @jit
@@ -188,21 +172,6 @@ def _rhs(t, y, args):
     ah, av = ground_on(piece, t)
     d1, d2 = accelerations(tb, _motion(y), j1, j2, ah, av)
     return (y[2], y[3], d1, d2), 0.0
-
-
-@jit
-def piece_at(ah, av, dt, t, t_rec, tail_end):
-    """The piece holding t (the next one when t is on its end); after the record one still piece to the tail's
-    end."""
-    n = ah.shape[0]
-    if t >= t_rec - 1e-12 * dt:
-        return _Piece(t_rec, tail_end - t_rec, 0.0, 0.0, 0.0, 0.0)
-    k = min(int(t / dt + 1e-9), n - 2)
-    if k * dt + dt <= t:                            # t on this piece's end as the run computes it: the next one
-        k = min(k + 1, n - 2)
-    v0 = av[k] if av.shape[0] > 0 else 0.0
-    v1 = av[k + 1] if av.shape[0] > 0 else 0.0
-    return _Piece(k * dt, dt, ah[k], ah[k + 1], v0, v1)
 
 
 class RestLift(NamedTuple):
@@ -231,25 +200,11 @@ def rest_lift(tb: TwoBlock) -> RestLift:
 @jit
 def _opening_at_rest(lift, piece, t):
     """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
-    (NaN, 0, 0). Each condition is linear in the ground's acceleration (:class:`RestLift`), so its root on the piece
-    is exact."""
-    t1 = piece.t0 + piece.span
-    ah0, av0 = ground_on(piece, t)
-    ah1, av1 = ground_on(piece, t1)
-    best_x, joint, corner = 2.0, 0, 0
-    for cand in range(4):
-        i0 = lift.ch[cand] * ah0 + lift.cg[cand] * (G + av0)
-        i1 = lift.ch[cand] * ah1 + lift.cg[cand] * (G + av1)
-        x = 2.0
-        if i0 > 0.0:
-            x = 0.0
-        elif i1 > 0.0:
-            x = -i0 / (i1 - i0)
-        if x < best_x:
-            best_x, joint, corner = x, (1 if cand < 2 else 2), (1 if cand % 2 == 0 else -1)
-    if joint == 0:
+    (NaN, 0, 0) (:func:`.stepping.first_crossing` on the :class:`RestLift`'s four conditions)."""
+    t_open, cand = first_crossing(lift.ch, lift.cg, 4, piece, t)
+    if cand < 0:
         return math.nan, 0, 0
-    return t + best_x * (t1 - t), joint, corner
+    return t_open, (1 if cand < 2 else 2), (1 if cand % 2 == 0 else -1)
 
 
 @jit
@@ -310,7 +265,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
     f = (0.0, 0.0, 0.0, 0.0)
     fresh = True                                  # f must be evaluated before the next step
     while True:
-        capped = _caps(steps, events, t, tail_end)
+        capped = caps(steps, events, t, tail_end)
         if capped:
             status |= capped
             break
@@ -374,16 +329,6 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
             impacts += 1
     return TwoBlockOutcome(falls, t_fall, peaks.phi1, peaks.phi2, peaks.psi, impacts, liftoffs, modes, status,
                            _motion(y), peaks.demand1, peaks.demand2)
-
-
-@jit
-def _caps(steps, events, t, tail_end):
-    """The status bit of the cap the run has reached (:data:`MAX_STEPS`, :data:`MAX_EVENTS`, :data:`TAIL_S`), or 0."""
-    if steps >= MAX_STEPS:
-        return STATUS_STEP_CAP
-    if events >= MAX_EVENTS:
-        return STATUS_EVENT_CAP
-    return STATUS_TAIL_CAP if t >= tail_end * (1.0 - 1e-15) else 0      # the tail piece's end, to an ulp
 
 
 @jit

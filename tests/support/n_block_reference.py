@@ -11,6 +11,7 @@ import cmath
 import math
 
 import numpy as np
+from two_block_reference import TerminalEvent
 
 G = 9.80665
 DIFF = 1e-6
@@ -232,19 +233,13 @@ def _segment(stack: Stack, joints, psi, rate, t, t_end, ground, out: Result, res
         rel = np.diff(np.concatenate([[0.0], qdd]))
         return np.concatenate([y[nz:], rel[open_]])
 
-    class Event:
-        terminal = True
+    def event(fun, direction):
+        return TerminalEvent(fun, direction, unpack)
 
-        def __init__(self, fun, direction):
-            self.fun, self.direction = fun, direction
-
-        def __call__(self, tt, y):
-            return self.fun(tt, *unpack(y))
-
-    events = [Event(lambda tt, p, r, k=k: joints[k] * p[k], -1) for k in open_]
-    events.append(Event(lambda tt, p, r: math.pi / 2 - max(np.abs(np.cumsum(p)).max(), np.abs(p).max()), -1))
+    events = [event(lambda tt, p, r, k=k: joints[k] * p[k], -1) for k in open_]
+    events.append(event(lambda tt, p, r: math.pi / 2 - max(np.abs(np.cumsum(p)).max(), np.abs(p).max()), -1))
     shut = [(k, s) for k in range(stack.n) if not joints[k] for s in (1, -1)]
-    events += [Event(lambda tt, p, r, k=k, s=s: _release(stack, joints, k, s, p, r, *ground(tt)), 1)
+    events += [event(lambda tt, p, r, k=k, s=s: _release(stack, joints, k, s, p, r, *ground(tt)), 1)
                for k, s in shut]
     sol = solve_ivp(rhs, (t, t_end), np.concatenate([psi[open_], rate[open_]]), method="DOP853", rtol=1e-9,
                     atol=1e-10, events=events, dense_output=True, max_step=0.01)

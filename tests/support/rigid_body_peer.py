@@ -134,6 +134,12 @@ def bullet_box_overturns(ax_ms2: np.ndarray, ay_ms2: np.ndarray, az_ms2: np.ndar
         pb.disconnect(cid)
 
 
+def perturbed_verdicts(judge) -> set:
+    """The engine's verdicts at half its step and at 0.98 and 1.02 of the record (``judge(step_s=..., scale=...)``
+    one run): a verdict is robust in the engine where these are all its verdict at its own step and scale 1."""
+    return {judge(step_s=STEP_S / 2, scale=1.0)} | {judge(step_s=STEP_S, scale=s) for s in (0.98, 1.02)}
+
+
 #: What falls first in :func:`bullet_stack_falls`: nothing, the upper box, the lower one (the stack)
 STACK_STANDS, TOP_FALLS, STACK_FALLS = 0, 1, 2
 #: :func:`bullet_first_fall` when no box falls

@@ -201,6 +201,18 @@ def _first_opening(pair: Pair, q, ground, times, t):
     return times[-1], None
 
 
+class TerminalEvent:
+    """A terminal event of solve_ivp (its attributes ``terminal`` and ``direction``): ``fun(t, *unpack(y))``."""
+
+    terminal = True
+
+    def __init__(self, fun, direction, unpack):
+        self.fun, self.direction, self.unpack = fun, direction, unpack
+
+    def __call__(self, tt, y):
+        return self.fun(tt, *self.unpack(y))
+
+
 def _segment(pair: Pair, mode: Mode, q, qd, t, t_end, ground, out: Result, rest1, rest2):
     """One mode from t until an event: returns (t, q, qd, the next mode, fell)."""
     for j, s in [(1, s) for s in (1, -1) if not mode.j1] + [(2, s) for s in (1, -1) if not mode.j2]:
@@ -219,19 +231,8 @@ def _segment(pair: Pair, mode: Mode, q, qd, t, t_end, ground, out: Result, rest1
 
     events = []
 
-    class Event:
-        """A terminal event of solve_ivp (its attributes ``terminal`` and ``direction``)."""
-
-        terminal = True
-
-        def __init__(self, fun, direction):
-            self.fun, self.direction = fun, direction
-
-        def __call__(self, tt, y):
-            return self.fun(tt, *unpack(y))
-
     def event(fun, direction):
-        events.append(Event(fun, direction))
+        events.append(TerminalEvent(fun, direction, unpack))
 
     if mode.j1:
         event(lambda tt, qq, qqd: mode.j1 * qq[0], -1)

@@ -1,0 +1,94 @@
+"""What the stacks' runs (:mod:`.two_block_run`, :mod:`.n_block_run`) share: the step control, the ground as linear
+pieces between its samples, the caps that end a run, and the first instant at which a resting stack's joint opens.
+
+At rest each joint's lift-off condition on each corner is a linear function of the ground's acceleration,
+ch a_h + cg (g + a_v) > 0; the ground being linear on a piece, so is the condition, and its root on the piece is
+exact (:func:`first_crossing`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from ..compiled import jit
+from ..constants import G
+from ..rocking.codes import STATUS_EVENT_CAP, STATUS_STEP_CAP, STATUS_TAIL_CAP
+
+# Step control, named once (as scipy's _ivp names its own)
+RTOL = 1e-8                 # relative tolerance of the error control [-]
+ATOL = 1e-10                # absolute tolerance as a fraction of alpha (rotations) and p alpha (rates) [-]
+MAX_STEP_P = 0.05           # largest step as a fraction of 1 / p [-]
+FIRST_STEP_FRACTION = 0.01  # the first step after a start or an event, as a fraction of the largest [-]
+EVENT_TIME_TOL_S = 1e-11    # an event located to this width of step [s]
+REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts the joint [-]
+TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
+MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
+MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
+HALF_PI = 0.5 * math.pi
+
+
+class Piece(NamedTuple):
+    """The ground's linear piece [t0, t0 + span]: its ends' horizontal and vertical accelerations [m s-2]."""
+
+    t0: float
+    span: float
+    a0: float
+    a1: float
+    v0: float
+    v1: float
+
+
+@jit
+def ground_on(piece, t):
+    """(a_h, a_v) at t on the piece."""
+    x = (t - piece.t0) / piece.span if piece.span > 0.0 else 0.0
+    return piece.a0 + (piece.a1 - piece.a0) * x, piece.v0 + (piece.v1 - piece.v0) * x
+
+
+@jit
+def piece_at(ah, av, dt, t, t_rec, tail_end):
+    """The piece holding t (the next one when t is on its end); after the record one still piece to the tail's
+    end."""
+    n = ah.shape[0]
+    if t >= t_rec - 1e-12 * dt:
+        return Piece(t_rec, tail_end - t_rec, 0.0, 0.0, 0.0, 0.0)
+    k = min(int(t / dt + 1e-9), n - 2)
+    if k * dt + dt <= t:                            # t on this piece's end as the run computes it: the next one
+        k = min(k + 1, n - 2)
+    v0 = av[k] if av.shape[0] > 0 else 0.0
+    v1 = av[k + 1] if av.shape[0] > 0 else 0.0
+    return Piece(k * dt, dt, ah[k], ah[k + 1], v0, v1)
+
+
+@jit
+def caps(steps, events, t, tail_end):
+    """The status bit of the cap the run has reached (:data:`MAX_STEPS`, :data:`MAX_EVENTS`, :data:`TAIL_S`), or 0."""
+    if steps >= MAX_STEPS:
+        return STATUS_STEP_CAP
+    if events >= MAX_EVENTS:
+        return STATUS_EVENT_CAP
+    return STATUS_TAIL_CAP if t >= tail_end * (1.0 - 1e-15) else 0      # the tail piece's end, to an ulp
+
+
+@jit
+def first_crossing(ch, cg, count, piece, t):
+    """The first instant in [t, piece's end] where one of the ``count`` lift-off conditions ch a_h + cg (g + a_v)
+    turns positive (the first of equal ones): (t_open, its index), or (NaN, -1)."""
+    t1 = piece.t0 + piece.span
+    ah0, av0 = ground_on(piece, t)
+    ah1, av1 = ground_on(piece, t1)
+    best_x, best = 2.0, -1
+    for cand in range(count):
+        i0 = ch[cand] * ah0 + cg[cand] * (G + av0)
+        i1 = ch[cand] * ah1 + cg[cand] * (G + av1)
+        x = 2.0
+        if i0 > 0.0:
+            x = 0.0
+        elif i1 > 0.0:
+            x = -i0 / (i1 - i0)
+        if x < best_x:
+            best_x, best = x, cand
+    if best < 0:
+        return math.nan, -1
+    return t + best_x * (t1 - t), best
