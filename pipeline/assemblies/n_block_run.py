@@ -102,6 +102,9 @@ class NBlockOutcome(NamedTuple):
         would pull
     steps : int
         steps tried, accepted or not, locating events included
+    t_end_s : float
+        where the run ended [s]: the fall, the start of the ground's piece that falls faster than gravity, a cap, or
+        rest after the record
     """
 
     falls: int
@@ -114,6 +117,7 @@ class NBlockOutcome(NamedTuple):
     final: tuple
     demand: tuple
     steps: int = 0
+    t_end_s: float = math.nan
 
 
 class _Tol(NamedTuple):
@@ -421,7 +425,7 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
             y, js = _impact(nb, y, js, joint, tol, wk)
             impacts += 1
     return NBlockOutcome(falls, t_fall, (peak[0], peak[1], peak[2], peak[3], peak[4]), impacts, liftoffs, modes,
-                         status, y, (demand[0], demand[1], demand[2], demand[3], demand[4]), steps)
+                         status, y, (demand[0], demand[1], demand[2], demand[3], demand[4]), steps, t)
 
 
 def run_tolerances(nb: NBlock, rest_ratio: float = REST_RATIO) -> tuple[_Tol, float]:

@@ -3,9 +3,12 @@ it, or stands; the blocks below a fall go on rocking, as a stack of their own, t
 
 The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
 above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
-of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. A run
-that ended without a verdict (the ground falling faster than gravity, a cap on steps, events or the free motion after
-the record) leaves the bodies still standing then without one: unknown, never standing.
+of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where the ground falls faster than gravity (and the blocks' friction is given), the stack is followed from
+that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until
+it is at rest again, when the exact model goes on from rest with the blocks where they slid to, or to the end of the
+record's free motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps, events or
+the free motion after the record, or a flight without the friction to follow it) leaves the bodies still standing
+then without one: unknown, never standing.
 """
 
 from __future__ import annotations
@@ -18,9 +21,12 @@ import numpy as np
 from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP, Verdict
 from .n_block import MAX_BODIES, NBlock
 from .n_block_run import FALLS_NONE, simulate_n_block
+from .stack_contact import shifted, simulate_stack_contact
 
 #: The run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
+#: Hand-overs to the contact model and back per stack and record; beyond, a flight leaves the verdict open
+MAX_HANDOVERS = 1000
 
 
 class StackVerdicts(NamedTuple):
@@ -61,14 +67,15 @@ def lower_part(nb: NBlock, count: int) -> NBlock:
     return NBlock(count, cut(nb.b), cut(nb.h), cut(nb.m), cut(nb.i), cut(nb.lo), cut(nb.hi), cut(nb.off))
 
 
-def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *,
-                  av_ms2: np.ndarray | None = None) -> StackVerdicts:
+def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
+                  mu: tuple | None = None) -> StackVerdicts:
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
-    vertical ``av_ms2`` [m s-2] when given), by the module's rules."""
+    vertical ``av_ms2`` [m s-2] when given), by the module's rules; ``mu``: each block's friction at its base [-],
+    with which the ground's flight is followed (None: a flight leaves the run without a verdict)."""
     n = nb.n
     verdicts = [int(Verdict.no_verdict)] * n
     t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
-    impacts, opened, status = 0, False, 0
+    impacts, opened, status, handovers = 0, False, 0, 0
     part, start, t0 = nb, None, 0.0
     while True:
         run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0)
@@ -76,6 +83,26 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *,
             peaks[k] = max(peaks[k], run.peak_psi_rad[k])
             demand[k] = max(demand[k], run.demand[k])
         impacts, opened, status = impacts + run.impacts, opened or run.modes != 0, status | run.status
+        if (run.falls == FALLS_NONE and run.status & UNDECIDED_RUN == STATUS_GROUND_FLIGHT and mu is not None
+                and handovers < MAX_HANDOVERS):
+            handovers += 1
+            flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
+                                            t0_s=run.t_end_s)
+            back = shifted(part, flight.offsets_m, flight.count) if flight.rested else None
+            if flight.rested and back is None:      # at rest where the exact model's stack could not stand
+                flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
+                                                t0_s=run.t_end_s, stop_at_rest=False)
+            opened, status = True, status | flight.status
+            for k in range(part.n):
+                peaks[k] = max(peaks[k], flight.peak_rad[k])
+                if not math.isnan(flight.t_fall_s[k]):
+                    verdicts[k], t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
+            if back is not None:
+                part, start, t0 = back, None, flight.t_end_s
+                continue
+            if flight.rested:                       # at rest after the record
+                verdicts[:flight.count] = [int(Verdict.stands)] * flight.count
+            break
         if run.falls == FALLS_NONE:
             verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN else Verdict.stands
             verdicts[:part.n] = [int(verdict)] * part.n

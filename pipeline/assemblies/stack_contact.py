@@ -1,0 +1,522 @@
+"""A stack of rigid blocks in a vertical plane with every contact mode at each interface and on the ground: stick,
+slide, rock, lift-off, free flight and landing, by Moreau-Jean time stepping (compiled).
+
+Each block k (k = 0 the bottom) has its centre (x_k, z_k) in the ground's frame, its rotation phi_k (clockwise
+positive: a positive rotation tips it towards +x, as in :mod:`.n_block`) and their rates v = (u, w, omega). Over a
+step of length h the velocities jump by the contacts' impulses P (Moreau 1988; Jean 1999):
+
+    q_m = q + h/2 v-,      M (v+ - v-) = h f(t_m) + H(q_m)^T P,      q+ = q_m + h/2 v+,
+
+f = -m (a_h, g + a_v, 0) the gravity and the ground's inertial force at the step's middle t_m, M = diag(m, m, I)
+per block. A contact is a corner of a block at or below a face it may touch at q_m: block 0's base corners against
+the ground; at each joint the upper block's base corners against the lower's top face, and the lower's top corners
+against the upper's base (a corner that meets a corner of the other block counted once). Each contact's normal and
+tangential relative velocities after the step U = H v+ obey the plastic impact law and Coulomb's friction
+
+    0 <= P_n  _|_  U_n >= 0,      |P_t| <= mu P_n,  U_t = 0 where |P_t| < mu P_n,  else P_t U_t < 0,
+
+mu the friction of the upper face of the contact (the block's own ``mu`` at its base). The impulses are found by
+projected Gauss-Seidel over the contacts, each contact's 2 x 2 problem solved exactly (no contact, stick, or slide
+either way), started from the impulses of the step before; a step whose sweeps reach :data:`MAX_SWEEPS` keeps its
+last iterate and is counted (:attr:`StackContactOutcome.unconverged`). A plastic impact at a new sticking corner is
+Housner's (1963) for a single block: the angular momentum about the new corner is kept and the old one lifts.
+
+A block **falls** where its rotation, or its rotation on the block under it, reaches pi / 2 (:mod:`.n_block`'s
+rule), or where its centre has dropped below the top of the block it stood on (it left its support); the blocks
+above it fall with it, and the blocks below go on. **At rest** is every block's speed below :data:`REST_SPEED`
+(its rotation rate times its half-diagonal included), both ends of every face carrying a normal impulse in the step,
+and each block's rotation on what it stands on below :data:`REST_TILT_RAD` (a velocity-level step stops a landing
+corner from sinking further, not from having sunk within its step), on a ground not falling faster than gravity: the run then stops (``rested``), so that the
+exact model (:mod:`.n_block_run`) goes on from rest with the blocks' offsets where they slid to
+(:func:`shifted`). After the record the ground is still, and the motion is followed for at most
+:data:`~.stepping.TAIL_S`.
+
+References
+----------
+Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics. In Nonsmooth Mechanics and
+Applications, CISM Courses and Lectures 302, 1-82. Springer.
+Jean, M. (1999). The non-smooth contact dynamics method. Computer Methods in Applied Mechanics and Engineering
+177(3-4), 235-257.
+Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. Bulletin of the
+Seismological Society of America 53(2), 403-417.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit_lean
+from ..constants import G
+from ..rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from .n_block import MAX_BODIES, NBlock
+from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
+
+# Step control, named once
+MAX_STEP_S = 2.5e-4          # the longest step [s]: the record's interval in the fewest equal parts of at most this
+MAX_SWEEPS = 400             # Gauss-Seidel sweeps per step [-]
+SWEEP_TOL_MS = 1e-9          # a sweep that changes no contact's velocity by more than this ends them [m s-1]
+REST_SPEED = 1e-5            # every block's speed below this [m s-1], both ends of every face pressed ...
+REST_TILT_RAD = 1e-3         # ... and its rotation on its support below this [rad]: at rest (the rotation a landing
+#                              leaves where one corner sank further than the other in its step, dropped)
+MAX_CONTACT_STEPS = 2_000_000   # steps per run [-]: the cap ends the run without a verdict
+WITHIN = 1e-9                # a corner within this fraction of the two blocks' sizes of a face (its plane, its end)
+#                              counts as on it (their rest positions are sums of rounded lengths)
+#: The most contacts: two on the ground, four at each joint
+MAX_CONTACTS = 2 + 4 * (MAX_BODIES - 1)
+#: A contact's slot: the ground's two corners, then per joint the upper's two corners and the lower's two
+NO_BODY = -1
+
+
+class StackContactOutcome(NamedTuple):
+    """A run's result.
+
+    Attributes
+    ----------
+    count : int
+        the blocks still standing at the run's end (the lowest ``count``)
+    t_fall_s : tuple of float
+        when each block fell [s] (NaN: it did not)
+    peak_rad : tuple of float
+        each block's largest |rotation on what it stands on| [rad]
+    rested : bool
+        the run stopped at rest (the module's rule), during the record (where asked) or after it; else at the tail's
+        end, a cap, or every block fallen
+    t_end_s : float
+        where the run stopped [s]
+    offsets_m : tuple of float
+        each block's base centre from the centre of the top of the block under it, in that block's frame, where
+        the run stopped [m] (block 0: 0)
+    status : int
+        :class:`~pipeline.rocking.codes.Status` bits: ground_flight (the ground fell faster than gravity in the run),
+        step_cap, tail_cap
+    steps : int
+        steps taken
+    unconverged : int
+        steps whose Gauss-Seidel sweeps reached :data:`MAX_SWEEPS`
+    peak_slide_m : tuple of float
+        each joint's largest |offset change| from where the run started [m]
+    peak_lift_m : float
+        the largest height of block 0's lower base corner above the ground [m] (a flight's)
+    """
+
+    count: int
+    t_fall_s: tuple
+    peak_rad: tuple
+    rested: bool
+    t_end_s: float
+    offsets_m: tuple
+    status: int
+    steps: int
+    unconverged: int
+    peak_slide_m: tuple
+    peak_lift_m: float
+
+
+class Bodies(NamedTuple):
+    """The blocks of a run (tuples of :data:`MAX_BODIES`): half-width, half-height [m], mass [kg], moment of inertia
+    about the centre [kg m2], friction at the base [-]."""
+
+    n: int
+    b: tuple
+    h: tuple
+    m: tuple
+    i: tuple
+    mu: tuple
+
+
+class Work(NamedTuple):
+    """Scratch arrays made once per run: the contacts' bodies, Jacobian rows (per contact: normal then tangent,
+    each the two bodies' three entries), slots, the Delassus matrix, the free velocities' relative velocities, the
+    impulses, and the impulses kept per slot between steps."""
+
+    body: np.ndarray
+    jac: np.ndarray
+    slot: np.ndarray
+    w: np.ndarray
+    rhs: np.ndarray
+    p: np.ndarray
+    kept: np.ndarray
+    kept_next: np.ndarray
+
+
+def work() -> Work:
+    """A :class:`Work` for any stack of up to :data:`MAX_BODIES` blocks."""
+    c = MAX_CONTACTS
+    return Work(np.zeros((c, 2), dtype=np.int64), np.zeros((c, 2, 6)), np.zeros(c, dtype=np.int64),
+                np.zeros((2 * c, 2 * c)), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c))
+
+
+@jit_lean
+def _corner(q, k, rx, rz):
+    """Block k's point at (rx, rz) from its centre in its frame, in the ground's frame."""
+    c, s = math.cos(q[2, k]), math.sin(q[2, k])
+    return q[0, k] + c * rx + s * rz, q[1, k] - s * rx + c * rz
+
+
+@jit_lean
+def _local(q, k, px, pz):
+    """The point (px, pz) in block k's frame (origin its centre)."""
+    c, s = math.cos(q[2, k]), math.sin(q[2, k])
+    dx, dz = px - q[0, k], pz - q[1, k]
+    return c * dx - s * dz, s * dx + c * dz
+
+
+@jit_lean
+def _add(wk, count, a, b, nx, nz, px, pz, q, slot):
+    """Contact ``count`` of body a on body b (NO_BODY: the ground) at (px, pz), b's face normal (nx, nz) pointing to
+    a: its Jacobian rows (U = J v, a's entries then b's)."""
+    tx, tz = nz, -nx
+    wk.body[count, 0], wk.body[count, 1], wk.slot[count] = a, b, slot
+    for j in range(2):
+        ex, ez = (nx, nz) if j == 0 else (tx, tz)
+        dx, dz = px - q[0, a], pz - q[1, a]
+        wk.jac[count, j, 0], wk.jac[count, j, 1], wk.jac[count, j, 2] = ex, ez, ex * dz - ez * dx
+        if b == NO_BODY:
+            wk.jac[count, j, 3], wk.jac[count, j, 4], wk.jac[count, j, 5] = 0.0, 0.0, 0.0
+        else:
+            dx, dz = px - q[0, b], pz - q[1, b]
+            wk.jac[count, j, 3], wk.jac[count, j, 4], wk.jac[count, j, 5] = -ex, -ez, -(ex * dz - ez * dx)
+    return count + 1
+
+
+@jit_lean
+def _contacts(bd, n, q, wk):
+    """The contacts at the configuration q (3, n): their count, their rows in ``wk``."""
+    count = 0
+    for side in range(2):
+        s = 2.0 * side - 1.0
+        px, pz = _corner(q, 0, s * bd.b[0], -bd.h[0])
+        if pz <= WITHIN * bd.h[0]:
+            count = _add(wk, count, 0, NO_BODY, 0.0, 1.0, px, pz, q, side)
+    for k in range(1, n):
+        lo, up = k - 1, k
+        tol, gap_tol = WITHIN * (bd.b[lo] + bd.b[up]), WITHIN * (bd.h[lo] + bd.h[up])
+        met = 0
+        for side in range(2):
+            s = 2.0 * side - 1.0
+            px, pz = _corner(q, up, s * bd.b[up], -bd.h[up])
+            lx, lz = _local(q, lo, px, pz)
+            if lz - bd.h[lo] <= gap_tol and abs(lx) <= bd.b[lo] + tol:
+                c, sn = math.cos(q[2, lo]), math.sin(q[2, lo])
+                count = _add(wk, count, up, lo, sn, c, px, pz, q, 2 + 4 * (k - 1) + side)
+                met |= 1 << side
+        for side in range(2):
+            if met & (1 << side):
+                continue                            # the two corners meet: counted once
+            s = 2.0 * side - 1.0
+            px, pz = _corner(q, lo, s * bd.b[lo], bd.h[lo])
+            ux, uz = _local(q, up, px, pz)
+            if -bd.h[up] - uz <= gap_tol and abs(ux) <= bd.b[up] + tol:
+                c, sn = math.cos(q[2, up]), math.sin(q[2, up])
+                count = _add(wk, count, up, lo, sn, c, px, pz, q, 4 + 4 * (k - 1) + side)
+    return count
+
+
+@jit_lean
+def _delassus(bd, count, wk):
+    """W = H M^-1 H^T of the ``count`` contacts."""
+    for i in range(count):
+        for ri in range(2):
+            for j in range(count):
+                for rj in range(2):
+                    acc = 0.0
+                    for ei in range(2):
+                        bi = wk.body[i, ei]
+                        if bi == NO_BODY:
+                            continue
+                        for ej in range(2):
+                            if wk.body[j, ej] != bi:
+                                continue
+                            inv = (1.0 / bd.m[bi], 1.0 / bd.m[bi], 1.0 / bd.i[bi])
+                            for d in range(3):
+                                acc += wk.jac[i, ri, 3 * ei + d] * inv[d] * wk.jac[j, rj, 3 * ej + d]
+                    wk.w[2 * i + ri, 2 * j + rj] = acc
+
+
+@jit_lean
+def _relative(count, v, wk):
+    """The contacts' relative velocities (normal, tangent) under the velocities v (3, n) into ``wk.rhs``."""
+    for i in range(count):
+        for r in range(2):
+            acc = 0.0
+            for e in range(2):
+                b = wk.body[i, e]
+                if b != NO_BODY:
+                    for d in range(3):
+                        acc += wk.jac[i, r, 3 * e + d] * v[d, b]
+            wk.rhs[2 * i + r] = acc
+
+
+@jit_lean
+def _local_solve(wnn, wnt, wtn, wtt, qn, qt, mu):
+    """The impulse (P_n, P_t) of one contact given the rest: U = W P + q, the plastic impact law and Coulomb."""
+    if qn >= 0.0:
+        return 0.0, 0.0
+    det = wnn * wtt - wnt * wtn
+    if det > 0.0:
+        pn = (-qn * wtt + qt * wnt) / det
+        pt = (-qt * wnn + qn * wtn) / det
+        if pn >= 0.0 and abs(pt) <= mu * pn:
+            return pn, pt
+    for k in range(2):
+        sgn = 1.0 - 2.0 * k                          # slides towards sgn: friction -sgn mu P_n
+        den = wnn - sgn * mu * wnt
+        if den > 0.0:
+            pn = -qn / den
+            pt = -sgn * mu * pn
+            ut = wtn * pn + wtt * pt + qt
+            if pn >= 0.0 and sgn * ut >= 0.0:
+                return pn, pt
+    pn = -qn / wnn
+    return pn, max(-mu * pn, min(mu * pn, -qt / wtt if wtt > 0.0 else 0.0))
+
+
+@jit_lean
+def _solve(bd, count, wk):
+    """The step's impulses into ``wk.p`` by projected Gauss-Seidel; True where the sweeps converged."""
+    for i in range(count):
+        wk.p[2 * i], wk.p[2 * i + 1] = wk.kept[2 * wk.slot[i]], wk.kept[2 * wk.slot[i] + 1]
+    for _ in range(MAX_SWEEPS):
+        change = 0.0
+        for i in range(count):
+            qn, qt = wk.rhs[2 * i], wk.rhs[2 * i + 1]
+            for j in range(count):
+                if j != i:
+                    qn += wk.w[2 * i, 2 * j] * wk.p[2 * j] + wk.w[2 * i, 2 * j + 1] * wk.p[2 * j + 1]
+                    qt += wk.w[2 * i + 1, 2 * j] * wk.p[2 * j] + wk.w[2 * i + 1, 2 * j + 1] * wk.p[2 * j + 1]
+            mu = bd.mu[wk.body[i, 0]]
+            pn, pt = _local_solve(wk.w[2 * i, 2 * i], wk.w[2 * i, 2 * i + 1], wk.w[2 * i + 1, 2 * i],
+                                  wk.w[2 * i + 1, 2 * i + 1], qn, qt, mu)
+            change = max(change, wk.w[2 * i, 2 * i] * abs(pn - wk.p[2 * i]),
+                         wk.w[2 * i + 1, 2 * i + 1] * abs(pt - wk.p[2 * i + 1]))
+            wk.p[2 * i], wk.p[2 * i + 1] = pn, pt
+        if change <= SWEEP_TOL_MS:
+            return True
+    return False
+
+
+@jit_lean
+def _apply(bd, count, v, wk):
+    """v += M^-1 H^T P."""
+    for i in range(count):
+        for e in range(2):
+            b = wk.body[i, e]
+            if b == NO_BODY:
+                continue
+            inv = (1.0 / bd.m[b], 1.0 / bd.m[b], 1.0 / bd.i[b])
+            for d in range(3):
+                v[d, b] += inv[d] * (wk.jac[i, 0, 3 * e + d] * wk.p[2 * i] + wk.jac[i, 1, 3 * e + d] * wk.p[2 * i + 1])
+
+
+@jit_lean
+def _tilt(q, k):
+    """Block k's rotation on what it stands on [rad]."""
+    return q[2, k] - (q[2, k - 1] if k > 0 else 0.0)
+
+
+@jit_lean
+def _fallen(bd, n, q):
+    """The lowest block that has fallen (the module's rule), or n."""
+    for k in range(n):
+        if abs(q[2, k]) >= HALF_PI or abs(_tilt(q, k)) >= HALF_PI:
+            return k
+        if k > 0:
+            _, lz = _local(q, k - 1, q[0, k], q[1, k])
+            if lz < bd.h[k - 1]:
+                return k
+    return n
+
+
+@jit_lean
+def _pressed(count, n, wk):
+    """Both ends of every face (the ground's and each joint's) carried a normal impulse in the step."""
+    ends = np.uint64(0)
+    for i in range(count):
+        if wk.p[2 * i] > 0.0:
+            sl = wk.slot[i]
+            if sl < 2:
+                ends |= np.uint64(1) << np.uint64(sl)
+            else:
+                joint, side = (sl - 2) // 4 + 1, (sl - 2) % 2
+                ends |= np.uint64(1) << np.uint64(2 * joint + side)
+    return ends == (np.uint64(1) << np.uint64(2 * n)) - np.uint64(1)
+
+
+@jit_lean
+def _at_rest(bd, n, q, v):
+    """Every block still and nearly flat on its support (the module's rule, its faces' pressure aside)."""
+    for k in range(n):
+        reach = math.hypot(bd.b[k], bd.h[k])
+        if (abs(v[0, k]) >= REST_SPEED or abs(v[1, k]) >= REST_SPEED or abs(v[2, k]) * reach >= REST_SPEED
+                or abs(_tilt(q, k)) >= REST_TILT_RAD):
+            return False
+    return True
+
+
+@jit_lean
+def _offset(bd, q, k):
+    """Block k's base centre from the centre of the top of block k - 1, in its frame [m]."""
+    px, pz = _corner(q, k, 0.0, -bd.h[k])
+    lx, _ = _local(q, k - 1, px, pz)
+    return lx
+
+
+@jit_lean
+def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
+    """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak and slide."""
+    n_samples = ah.shape[0]
+    t_rec = (n_samples - 2) * dt + dt
+    tail_end = t_rec + TAIL_S
+    parts = max(1, int(math.ceil(dt / MAX_STEP_S - 1e-9)))
+    n = bd.n
+    status, steps, unconverged = 0, 0, 0
+    rested = False
+    lift = 0.0
+    for i in range(wk.kept.shape[0]):
+        wk.kept[i] = 0.0
+    while n > 0:
+        if steps >= MAX_CONTACT_STEPS:
+            status |= STATUS_STEP_CAP
+            break
+        if t >= tail_end * (1.0 - 1e-15):
+            status |= STATUS_TAIL_CAP
+            break
+        piece = piece_at(ah, av, dt, t, t_rec, tail_end)
+        after = t >= t_rec - 1e-12 * dt
+        hh = min(piece.span / parts, MAX_STEP_S) if after else piece.span / parts
+        t_end_piece = piece.t0 + piece.span
+        if t + hh > t_end_piece:
+            hh = t_end_piece - t
+        if hh <= 0.0:
+            hh = piece.span / parts
+        a_h, a_v = ground_on(piece, t + 0.5 * hh)
+        if G + a_v <= 0.0:
+            status |= STATUS_GROUND_FLIGHT
+        # q_m = q + h/2 v-
+        for k in range(n):
+            for d in range(3):
+                q[d, k] += 0.5 * hh * v[d, k]
+            v[0, k] -= hh * a_h
+            v[1, k] -= hh * (G + a_v)
+        count = _contacts(bd, n, q, wk)
+        for i in range(wk.kept_next.shape[0]):
+            wk.kept_next[i] = 0.0
+        if count > 0:
+            _delassus(bd, count, wk)
+            _relative(count, v, wk)
+            if not _solve(bd, count, wk):
+                unconverged += 1
+            _apply(bd, count, v, wk)
+            for i in range(count):
+                wk.kept_next[2 * wk.slot[i]], wk.kept_next[2 * wk.slot[i] + 1] = wk.p[2 * i], wk.p[2 * i + 1]
+        for i in range(wk.kept.shape[0]):
+            wk.kept[i] = wk.kept_next[i]
+        for k in range(n):
+            for d in range(3):
+                q[d, k] += 0.5 * hh * v[d, k]
+        t = t_end_piece if hh == t_end_piece - t else t + hh
+        steps += 1
+        _, z_left = _corner(q, 0, -bd.b[0], -bd.h[0])
+        _, z_right = _corner(q, 0, bd.b[0], -bd.h[0])
+        lift = max(lift, min(z_left, z_right))
+        for k in range(n):
+            peak[k] = max(peak[k], abs(_tilt(q, k)))
+            if k > 0:
+                slide[k] = max(slide[k], abs(_offset(bd, q, k) - off0[k]))
+        fell = _fallen(bd, n, q)
+        if fell < n:
+            for k in range(fell, n):
+                t_fall[k] = t
+            n = fell
+            continue
+        if ((allow_rest or t >= t_rec) and G + a_v > 0.0 and count > 0 and _pressed(count, n, wk)
+                and _at_rest(bd, n, q, v)):
+            rested = True
+            break
+    return n, t, rested, status, steps, unconverged, lift
+
+
+def bodies_of(nb: NBlock, mu) -> Bodies:
+    """The :class:`Bodies` of the stack ``nb`` with each block's friction at its base ``mu`` [-]."""
+    pad = (0.0,) * (MAX_BODIES - nb.n)
+    return Bodies(nb.n, nb.b, nb.h, nb.m, nb.i, tuple(float(x) for x in mu[:nb.n]) + pad)
+
+
+def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks' centres and rotations q (3, n) and their rates v (3, n) in the ground's frame (its origin the
+    centre of block 0's base at rest) from the n-block model's state ``y`` (:mod:`.n_block`: each joint's psi, then
+    its rate; an open joint turns about its corner on the side of its rotation, or of its rate at psi = 0)."""
+    n = nb.n
+    q, v = np.zeros((3, n)), np.zeros((3, n))
+    px, pz = 0.0, 0.0                                     # joint k's corner in the ground's frame
+    vx, vz = 0.0, 0.0                                     # its velocity
+    phi, rate = 0.0, 0.0
+    for k in range(n):
+        psi, psid = float(y[k]), float(y[MAX_BODIES + k])
+        corner = nb.hi[k] if (psi > 0.0 or (psi == 0.0 and psid >= 0.0)) else nb.lo[k]
+        phi, rate = phi + psi, rate + psid
+        c, s = math.cos(phi), math.sin(phi)
+        if k == 0:
+            px, pz = corner, 0.0
+        ax, az = -corner, nb.h[k]                        # from the corner to the centre, in the block's frame
+        q[0, k], q[1, k], q[2, k] = px + c * ax + s * az, pz - s * ax + c * az, phi
+        v[0, k], v[1, k], v[2, k] = vx + rate * (-s * ax + c * az), vz + rate * (-c * ax - s * az), rate
+        if k + 1 < n:
+            nxt = nb.hi[k + 1] if (float(y[k + 1]) > 0.0 or (float(y[k + 1]) == 0.0
+                                                              and float(y[MAX_BODIES + k + 1]) >= 0.0)) \
+                else nb.lo[k + 1]
+            lx, lz = nxt + nb.off[k + 1] - corner, 2.0 * nb.h[k]
+            px, pz = px + c * lx + s * lz, pz - s * lx + c * lz
+            vx, vz = vx + rate * (-s * lx + c * lz), vz + rate * (-c * lx - s * lz)
+    return q, v
+
+
+def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
+    """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
+    the top of the block under it; None where a block's base no longer overlaps its support or the part above a
+    joint would not stand at rest on it (its centre of mass outside the overlap)."""
+    b, h = nb.b[:count], nb.h[:count]
+    off = (0.0,) + tuple(float(x) for x in offsets_m[1:count])
+    lo, hi = [-b[0]], [b[0]]
+    for k in range(1, count):
+        lo.append(max(-b[k], -b[k - 1] - off[k]))
+        hi.append(min(b[k], b[k - 1] - off[k]))
+        if hi[k] <= lo[k]:
+            return None
+    pad = (0.0,) * (MAX_BODIES - count)
+    out = NBlock(count, tuple(b) + pad, tuple(h) + pad, tuple(nb.m[:count]) + pad, tuple(nb.i[:count]) + pad,
+                 tuple(lo) + pad, tuple(hi) + pad, off + pad)
+    from .n_block import part_centre
+    for k in range(count):
+        xg, _ = part_centre(out, k)
+        if not lo[k] < xg < hi[k]:
+            return None
+    return out
+
+
+def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
+                           start: tuple | None = None, t0_s: float = 0.0,
+                           stop_at_rest: bool = True) -> StackContactOutcome:
+    """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
+    (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
+    model. The run stops at rest after the record (the module's rule); with ``stop_at_rest`` also at rest during
+    it."""
+    ah = np.ascontiguousarray(ah_ms2, dtype=float)
+    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
+    y = (0.0,) * (2 * MAX_BODIES) if start is None else start
+    q, v = state_of(nb, y)
+    bd = bodies_of(nb, mu)
+    t_fall, peak, slide = np.full(MAX_BODIES, np.nan), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
+    off0 = np.array([0.0] + [_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
+    for k in range(nb.n):
+        peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
+    count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
+                                                            bool(stop_at_rest), work(), t_fall, peak, slide, off0)
+    offsets = tuple([0.0] + [_offset(bd, q, k) for k in range(1, count)]) + (0.0,) * (MAX_BODIES - max(count, 1))
+    return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
+                               bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
+                               tuple(float(x) for x in slide), float(lift))
+
