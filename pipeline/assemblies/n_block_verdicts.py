@@ -1,15 +1,15 @@
-"""Each body's verdict for a stack of n blocks under a record: a body falls with the lowest block that falls under
-it, or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
+"""Each body's verdict for a stack of n blocks under a record: a body falls with the lowest block that falls under it,
+or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
 
 The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
 above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
-of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where the ground falls faster than gravity (and the blocks' friction is given), the stack is followed from
-that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until
-it is at rest again, when the exact model goes on from rest with the blocks where they slid to, or to the end of the
-record's free motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps, events or
-the free motion after the record, or a flight without the friction to follow it) leaves the bodies still standing
-then without one: unknown, never standing.
-"""
+of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where
+the ground falls faster than gravity (and the blocks' friction is given), the stack is followed from that instant by
+the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until it is at rest
+again, when the exact model goes on from rest with the blocks where they slid to, or to the end of the record's free
+motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps, events or the free motion
+after the record, or a flight without the friction to follow it) leaves the bodies still standing then without one:
+unknown, never standing."""
 
 from __future__ import annotations
 
@@ -88,7 +88,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
             handovers += 1
             flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                             t0_s=run.t_end_s)
-            back = shifted(part, flight.offsets_m, flight.count) if flight.rested else None
+            back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
             if flight.rested and back is None:      # at rest where the exact model's stack could not stand
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                                 t0_s=run.t_end_s, stop_at_rest=False)
@@ -101,7 +101,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 part, start, t0 = back, None, flight.t_end_s
                 continue
             if flight.rested:                       # at rest after the record
-                verdicts[:flight.count] = [int(Verdict.stands)] * flight.count
+                verdicts[:flight.standing] = [int(Verdict.stands)] * flight.standing
             break
         if run.falls == FALLS_NONE:
             verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN else Verdict.stands

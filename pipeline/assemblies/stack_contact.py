@@ -7,9 +7,9 @@ step of length h the velocities jump by the contacts' impulses P (Moreau 1988; J
 
     q_m = q + h/2 v-,      M (v+ - v-) = h f(t_m) + H(q_m)^T P,      q+ = q_m + h/2 v+,
 
-f = -m (a_h, g + a_v, 0) the gravity and the ground's inertial force at the step's middle t_m, M = diag(m, m, I)
-per block. A contact is a corner of a block at or below a face it may touch at q_m: block 0's base corners against
-the ground; at each joint the upper block's base corners against the lower's top face, and the lower's top corners
+f = -m (a_h, g + a_v, 0) the gravity and the ground's inertial force at the step's middle t_m, M = diag(m, m, I) per
+block. A contact is a corner of a block at or below a face it may touch at q_m: block 0's base corners against the
+ground; at each joint the upper block's base corners against the lower's top face, and the lower's top corners
 against the upper's base (a corner that meets a corner of the other block counted once). Each contact's normal and
 tangential relative velocities after the step U = H v+ obey the plastic impact law and Coulomb's friction
 
@@ -23,12 +23,12 @@ Housner's (1963) for a single block: the angular momentum about the new corner i
 
 A block **falls** where its rotation, or its rotation on the block under it, reaches pi / 2 (:mod:`.n_block`'s
 rule), or where its centre has dropped below the top of the block it stood on (it left its support); the blocks
-above it fall with it, and the blocks below go on. **At rest** is every block's speed below :data:`REST_SPEED`
-(its rotation rate times its half-diagonal included), both ends of every face carrying a normal impulse in the step,
-and each block's rotation on what it stands on below :data:`REST_TILT_RAD` (a velocity-level step stops a landing
-corner from sinking further, not from having sunk within its step), on a ground not falling faster than gravity: the run then stops (``rested``), so that the
-exact model (:mod:`.n_block_run`) goes on from rest with the blocks' offsets where they slid to
-(:func:`shifted`). After the record the ground is still, and the motion is followed for at most
+above it fall with it, and the blocks below go on. **At rest** is every block's speed below :data:`REST_SPEED` (its
+rotation rate times its half-diagonal included), both ends of every face carrying a normal impulse in the step, and
+each block's rotation on what it stands on below :data:`REST_TILT_RAD` (a velocity-level step stops a landing corner
+from sinking further, not from having sunk within its step), on a ground not falling faster than gravity: the run
+then stops (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from rest with the blocks' offsets
+where they slid to (:func:`shifted`). After the record the ground is still, and the motion is followed for at most
 :data:`~.stepping.TAIL_S`.
 
 References
@@ -66,7 +66,8 @@ WITHIN = 1e-9                # a corner within this fraction of the two blocks' 
 #                              counts as on it (their rest positions are sums of rounded lengths)
 #: The most contacts: two on the ground, four at each joint
 MAX_CONTACTS = 2 + 4 * (MAX_BODIES - 1)
-#: A contact's slot: the ground's two corners, then per joint the upper's two corners and the lower's two
+#: The ground, as the second body of a contact (a contact's slot, which keeps its impulse to the next step: the
+#: ground's two corners, then per joint the upper's two corners and the lower's two)
 NO_BODY = -1
 
 
@@ -75,8 +76,8 @@ class StackContactOutcome(NamedTuple):
 
     Attributes
     ----------
-    count : int
-        the blocks still standing at the run's end (the lowest ``count``)
+    standing : int
+        how many blocks still stand at the run's end (the lowest ones)
     t_fall_s : tuple of float
         when each block fell [s] (NaN: it did not)
     peak_rad : tuple of float
@@ -102,7 +103,7 @@ class StackContactOutcome(NamedTuple):
         the largest height of block 0's lower base corner above the ground [m] (a flight's)
     """
 
-    count: int
+    standing: int
     t_fall_s: tuple
     peak_rad: tuple
     rested: bool

@@ -7,10 +7,12 @@ stack's model runs and each body is judged: two blocks by the two-block model
 (:func:`.n_block_verdicts.judge_n_block`). The body's scene reads its own verdict, its peak rotation on what it
 stands on (the bottom block on the ground, each other on the block below) over that joint's smaller tipping angle at
 rest, and the runs' impacts. The
-model does not slide nor follow flight off a support: the friction its joint needs (|F_t| / F_n, inside the tipping
-angles: :func:`.two_block.demands`) is the scene's ``friction_demand``, flagged where it exceeds the body's mu
-(``friction_exceeded``; response slide or slide_rock), the verdict there assuming the joint holds; the ground
-falling faster than gravity, or a cap met without a verdict, leaves the scene without one.
+exact models do not slide nor follow flight off a support: the friction its joint needs (|F_t| / F_n, inside the
+tipping angles: :func:`.two_block.demands`) is the scene's ``friction_demand``, flagged where it exceeds the body's
+mu (``friction_exceeded``; response slide or slide_rock), the verdict there assuming the joint holds. Where the
+ground falls faster than gravity the stack's contact model follows it (:mod:`.stack_contact`, through
+:func:`.n_block_verdicts.judge_n_block`), and the scene keeps its verdict with the flight flagged (``free_flight``);
+a cap met without a verdict leaves the scene without one.
 
 References
 ----------
@@ -164,7 +166,8 @@ def scene_of(tb: StackModel, judged: StackVerdicts, index: int, mu: float = math
     theta_max = judged.peak_psi_rad[index] / min(tipping_angles(tb)[index])
     overturned = verdict == Verdict.overturns
     flight = bool(judged.status & STATUS_GROUND_FLIGHT) and not overturned
-    response = (Response.overturn if overturned else Response.free_flight if flight
+    unfollowed = flight and verdict == Verdict.no_verdict        # a flight followed leaves a verdict
+    response = (Response.overturn if overturned else Response.free_flight if unfollowed
                 else Response.rock if judged.opened else Response.rest)
     guard = ((Guard.step_cap if judged.status & STATUS_STEP_CAP else 0)
              | (Guard.event_cap if judged.status & STATUS_EVENT_CAP else 0)

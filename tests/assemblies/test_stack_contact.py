@@ -50,7 +50,7 @@ def test_where_no_joint_slides_it_follows_the_exact_model(bodies, joints, ap, tp
     exact = simulate_n_block(nb, _sine(ap, tp), DT)
     got = simulate_stack_contact(nb, _mu(bodies), _sine(ap, tp), DT, stop_at_rest=False)
     falls = exact.falls if exact.falls != FALLS_NONE else nb.n
-    assert got.count == falls
+    assert got.standing == falls
     tips = [min(t) for t in nbm.tipping_angles(nb)]
     for k in range(min(falls, joints)):
         assert abs(got.peak_rad[k] - exact.peak_psi_rad[k]) <= 0.03 * tips[k], k
@@ -81,7 +81,7 @@ def test_a_stack_thrown_up_flies_its_parabola_and_lands():
     height = np.cumsum(rate) * 1e-6
     assert out.status & STATUS_GROUND_FLIGHT
     assert out.peak_lift_m == pytest.approx(height.max(), rel=1e-2)
-    assert out.count == 3 and out.rested and max(out.peak_rad[:3]) < 1e-6
+    assert out.standing == 3 and out.rested and max(out.peak_rad[:3]) < 1e-6
 
 
 @pytest.mark.parametrize("bodies", [DRUMS[:2], DRUMS[:3], DRUMS[:5], STATUE])
