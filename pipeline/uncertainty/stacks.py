@@ -4,8 +4,9 @@ Draw k of every scene uses row k of the common random numbers (:mod:`.sampling`)
 one factor on every body's height and one on every body's width (the bodies' sizes drawn together, their masses'
 ratios kept); the rocking plane is the given azimuth drawn about its value, the nominal governing plane of a stack of
 unknown orientation, or, for the random orientation, a plane uniform on [0, 180) deg from the draw's azimuth normal.
-The stack's model has no friction and no restitution of its own (its joints do not slide; its impacts lose what the
-impact law loses), so the draws of those are not used. Each draw is judged by
+The stack's exact models have no friction and no restitution of their own (their joints do not slide; their impacts
+lose what the impact law loses), and the contact model that follows a flight takes each body's nominal mu, so the
+draws of those are not used. Each draw is judged by
 :func:`pipeline.assemblies.stack_scene.body_verdict` (a draw whose stack stays shut stands without a run), with the
 sampling and stopping rule of every other scene (:func:`.scenes.sample_until_decided`).
 """
