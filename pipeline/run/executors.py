@@ -119,11 +119,26 @@ class ProcessExecutor:
         while pending or suspects or in_flight:
             if not in_flight and suspects:
                 item = suspects.popleft()
-                in_flight[pool.submit(fn, item, shared)] = item
-                alone = True
-            while not alone and pending and len(in_flight) < limit:
-                item = pending.popleft()
-                in_flight[pool.submit(fn, item, shared)] = item
+                try:
+                    in_flight[pool.submit(fn, item, shared)] = item
+                    alone = True
+                except BrokenProcessPool:       # lost with no task in flight: a new pool, the task not yet run
+                    suspects.appendleft(item)
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    self._pool = pool = self._new_pool()
+                    continue
+            try:
+                while not alone and pending and len(in_flight) < limit:
+                    item = pending.popleft()
+                    in_flight[pool.submit(fn, item, shared)] = item
+            except BrokenProcessPool:
+                # a worker died after the last wait: this task never ran; the ones in flight report the loss (none
+                # in flight: an idle worker died, and a new pool takes the work)
+                pending.appendleft(item)
+                if not in_flight:
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    self._pool = pool = self._new_pool()
+                    continue
             done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
             broken = False
             for fut in done:

@@ -158,11 +158,13 @@ def bullet_stack_falls(ah_ms2: np.ndarray, dt_s: float, lower: tuple[float, floa
 
 
 def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0, density: float = 2500.0,
-                      g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0) -> int:
+                      g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0,
+                      av_ms2: np.ndarray | None = None) -> int:
     """The lowest box that has fallen when a box of a stack first falls, or :data:`NONE_FALLS`: deep boxes stacked,
-    centred, ((width, height) [m] each, bottom first), under a horizontal ground motion along x (times ``scale``), by
-    PyBullet: the same setting as :func:`bullet_overturns` (time-varying gravity, restitution 0, friction mu x 1 on
-    the floor and mu x mu between the boxes). A box has fallen when its tilt reaches pi/2 - 0.02 rad."""
+    centred, ((width, height) [m] each, bottom first), under a horizontal ground motion along x and the vertical
+    ``av_ms2`` where given (both times ``scale``), by PyBullet: the same setting as :func:`bullet_overturns`
+    (time-varying gravity, restitution 0, friction mu x 1 on the floor and mu x mu between the boxes). A box has
+    fallen when its tilt reaches pi/2 - 0.02 rad."""
     pb = pybullet()
     cid = _world(pb, step_s)
     try:
@@ -175,11 +177,11 @@ def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0
             _free_body(pb, body, mu, cid)
             bodies.append(body)
             base += h
-        ground = (scale * np.asarray(ah_ms2), None, None)
+        ground = (scale * np.asarray(ah_ms2), None, None if av_ms2 is None else scale * np.asarray(av_ms2))
         t_rec = (ground[0].size - 1) * dt_s
         for i in range(int((t_rec + TAIL_S) / step_s)):
             acc = ground_at(ground, i * step_s, dt_s)
-            pb.setGravity(-acc[0], 0.0, -g_ms2, physicsClientId=cid)
+            pb.setGravity(-acc[0], 0.0, -(g_ms2 + acc[2]), physicsClientId=cid)
             pb.stepSimulation(physicsClientId=cid)
             if i % 8:
                 continue
