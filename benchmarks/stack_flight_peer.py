@@ -7,7 +7,8 @@ reaches -1.53 g), in four planes each; four stacks of deep boxes (a statue on it
 five drums), friction mu on the floor and mu^2 between the boxes in both engines (PyBullet combines the two bodies'
 friction as their product). For each scene the lowest box that has fallen at the first fall (none, or the box), and
 each disagreement re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's
-verdict holds in all three). Prints the counts, the agreement and each engine's time per scene.
+verdict holds in all three), and by rockscreen at 0.98 and 1.02. Prints the counts, the agreement and each
+engine's time per scene.
 
 Run: ``python benchmarks/stack_flight_peer.py [--families statue,two,three,five] [--planes 0,45,90,135]``
 (PyBullet is a test extra).
@@ -22,53 +23,15 @@ import time
 from functools import partial
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
-from rigid_body_peer import NONE_FALLS, bullet_first_fall, perturbed_verdicts  # noqa: E402
+from rigid_body_peer import bullet_first_fall, perturbed_verdicts  # noqa: E402
+from stack_flights import MU, RHO, STACKS, first_fall, flight_records, stack  # noqa: E402
 
-from pipeline.assemblies.n_block import n_block  # noqa: E402
 from pipeline.assemblies.n_block_verdicts import judge_n_block  # noqa: E402
-from pipeline.assemblies.stack import StackBody  # noqa: E402
-from pipeline.config import Config  # noqa: E402
-from pipeline.constants import G  # noqa: E402
-from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.records.record import project  # noqa: E402
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict  # noqa: E402
-
-#: each record's vertical scaled down to this below gravity [g], where MAX_SCALE allows
-VERTICAL_G = 1.2
-MAX_SCALE = 2.2
-#: friction of the boxes in PyBullet's sense: mu on the floor, mu^2 between two boxes [-]
-MU = 0.8
-RHO = 2500.0
-#: family -> (width, height) of each box, bottom first [m]
-STACKS = {"statue": ((0.70, 1.00), (0.45, 1.70)),
-          "two": ((0.60, 1.50), (0.55, 1.20)),
-          "three": ((0.62, 1.10), (0.60, 1.10), (0.58, 1.00)),
-          "five": ((0.7, 0.8), (0.7, 0.8), (0.7, 0.8), (0.7, 0.8), (0.7, 0.6))}
-
-
-def flight_records() -> list[tuple[str, np.ndarray, np.ndarray, float, float, float]]:
-    """(id, horizontals, vertical, first horizontal's azimuth, dt, scale) of each bundled record whose vertical,
-    scaled by at most MAX_SCALE, falls to VERTICAL_G below gravity (none scaled down)."""
-    out = []
-    for r in iter_records(ROOT / "records", config=Config()):
-        if r.vertical_ms2 is None or not r.vertical_ms2.size or r.horizontal_ms2.shape[0] < 2:
-            continue
-        scale = max(1.0, VERTICAL_G * G / -r.vertical_ms2.min())
-        if scale <= MAX_SCALE:
-            out.append((r.record_id, r.horizontal_ms2 * scale, r.vertical_ms2 * scale, float(r.azimuths_deg[0]),
-                        r.dt_s, scale))
-    return out
-
-
-def first_fall(judged) -> int:
-    """The lowest body fallen at the first fall of rockscreen's verdicts, or NONE_FALLS."""
-    times = [(t, k) for k, (v, t) in enumerate(zip(judged.verdicts, judged.t_fall_s)) if v == Verdict.overturns]
-    return min(times)[1] if times else NONE_FALLS
 
 
 def main() -> None:
@@ -76,13 +39,12 @@ def main() -> None:
     ap.add_argument("--families", default=",".join(STACKS))
     ap.add_argument("--planes", default="0,45,90,135", help="azimuths of the planes [deg]")
     args = ap.parse_args()
-    records = flight_records()
+    records = flight_records(ROOT / "records")
     planes = [float(p) for p in args.planes.split(",")]
     print(f"{len(records)} records: " + ", ".join(f"{r[0]} x{r[5]:.2f}" for r in records))
     for family in args.families.split(","):
         boxes = STACKS[family]
-        bodies = [StackBody(w, h, RHO * w * h, MU if k == 0 else MU * MU) for k, (w, h) in enumerate(boxes)]
-        nb, mu = n_block(bodies), tuple(b.mu for b in bodies)
+        nb, mu = stack(family)
         agree, flights, differ, ours_s, engine_s = 0, 0, [], [], []
         for rid, hz, av, az0, dt, _scale in records:
             for az in planes:
@@ -101,8 +63,10 @@ def main() -> None:
                     continue
                 judge = partial(bullet_first_fall, a, dt, boxes, mu=MU, density=RHO, av_ms2=av)
                 robust = perturbed_verdicts(judge) == {engine}
-                differ.append(f"{rid} @ {az:g}: rockscreen {ours}, PyBullet {engine}"
-                              f"{' (robust in the engine)' if robust else ' (not robust in the engine)'}")
+                ours_robust = {first_fall(judge_n_block(nb, s * a, dt, av_ms2=s * av, mu=mu))
+                               for s in (0.98, 1.02)} == {ours}
+                differ.append(f"{rid} @ {az:g}: rockscreen {ours} ({'' if ours_robust else 'not '}robust at 0.98 "
+                              f"and 1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine)")
                 print("  ", family, differ[-1], flush=True)
         n = len(ours_s)
         print(f"{family}: {agree} of {n} agree ({flights} met a flight); rockscreen "

@@ -2,18 +2,18 @@
 
 The ground is linear between samples. From rest the first joint to open does so at the exact crossing of its
 lift-off condition on that piece (at rest the condition is linear in the ground's acceleration). While a joint is
-open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample;
-an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located on
-the step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method, any other event by bisection. An
-impact whose rebound is slower than :data:`REST_RATIO` p alpha (the joint's scales) shuts the joint (a plastic stop).
-Block k falls when its rotation, or its rotation on the block below, reaches pi/2; the blocks above it fall with it.
-After the record the free motion is followed until every joint is shut or a block falls, for at most
-:data:`TAIL_S`.
+open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample; an
+event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located on the
+step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method, any other event by bisection. An impact
+whose rebound is slower than :data:`REST_RATIO` p alpha (the joint's scales) shuts the joint (a plastic stop). Block
+k falls when its rotation, or its rotation on the block below, reaches pi/2; the blocks above it fall with it. After
+the record the free motion is followed until every joint is shut or a block falls, for at most :data:`TAIL_S`.
 
 The run may start from a moving state (the blocks left standing when those above them fell,
-:mod:`.n_block_verdicts`).
-The model holds while no joint slides and no block leaves its support in flight (its friction demands are kept, for
-the caller to flag); for two blocks it is the two-block run (:mod:`.two_block_run`), which the tests compare.
+:mod:`.n_block_verdicts`). The model holds while no joint slides and no block leaves its support in flight (its
+friction demands are kept, for the caller to flag; given the blocks' friction, the run stops where a joint would
+slip, for the caller to follow it with the stack's contact model, :mod:`.stack_contact`); for two blocks it is the
+two-block run (:mod:`.two_block_run`), which the tests compare.
 
 References
 ----------
@@ -33,7 +33,7 @@ import numpy as np
 from ..compiled import jit, jit_lean, tuple_with
 from ..constants import G
 from ..errors import ParameterError
-from ..rocking.codes import STATUS_GROUND_FLIGHT
+from ..rocking.codes import STATUS_FRICTION, STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from ..rocking.simulate import finite_series
 from .n_block import (
@@ -203,6 +203,33 @@ def _rest_demand(nb, demand, piece):
 
 
 @jit_lean
+def _slip_at_rest(mu, piece, t):
+    """The first instant in [t, piece's end] where the resting stack's demand |a_h| / (g + a_v) passes ``mu`` (the
+    smallest of its joints' friction), or NaN: each sign of a_h - mu (g + a_v) is linear on the piece."""
+    t1 = piece.t0 + piece.span
+    ah0, av0 = ground_on(piece, t)
+    ah1, av1 = ground_on(piece, t1)
+    first = math.nan
+    for sign in (1.0, -1.0):
+        f0, f1 = sign * ah0 - mu * (G + av0), sign * ah1 - mu * (G + av1)
+        if f0 > 0.0:
+            return t
+        if f1 > 0.0:
+            root = t + (t1 - t) * f0 / (f0 - f1)
+            first = root if math.isnan(first) else min(first, root)
+    return first
+
+
+@jit_lean
+def _slips(nb, mu, wk):
+    """A joint's demand in ``wk.d`` (the last :func:`_peaks`) above its friction ``mu``."""
+    for k in range(nb.n):
+        if wk.d[k] > mu[k]:
+            return True
+    return False
+
+
+@jit_lean
 def _opening_at_rest(ch, cg, n, piece, t):
     """The first instant in [t, piece's end] where a joint of the resting stack opens: (t_open, joint, corner), or
     (NaN, -1, 0) (:func:`.stepping.first_crossing` on :func:`rest_lift`'s conditions, rows 2k and 2k + 1 for joint
@@ -347,12 +374,15 @@ def _start_modes(y, n):
 
 
 @jit
-def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
+def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu):
     """The run of :func:`simulate_n_block` from the state ``y`` at ``t`` [SI units]."""
     n = ah.shape[0]
     t_rec = (n - 2) * dt + dt                     # the last piece's end, as _piece_at computes it
     tail_end = t_rec + TAIL_S
     js = _start_modes(y, nb.n)
+    mu_rest = math.inf
+    for k in range(nb.n):
+        mu_rest = min(mu_rest, mu[k])
     h = h_max * FIRST_STEP_FRACTION
     peak, demand = np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
@@ -376,6 +406,12 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
             if t >= t_rec:
                 break                               # at rest after the record: stands
             t_open, joint, corner = _opening_at_rest(ch, cg, nb.n, piece, t)
+            t_slip = _slip_at_rest(mu_rest, piece, t)
+            if t_slip <= t_open or (joint < 0 and not math.isnan(t_slip)):
+                _rest_demand(nb, demand, piece)
+                t = t_slip
+                status |= STATUS_FRICTION                   # a joint slips first: the caller follows it
+                break
             if joint < 0:
                 events += 1 if t1 <= t else 0       # no advance (never met): counted, so that the run ends
                 t = t1
@@ -402,9 +438,12 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk):
             continue
         kind, _ = _event(nb, st.y, js, piece, t + hh, wk)
         if kind == EV_NONE:
-            t = t1 if hh == t1 - t else t + hh
-            y, f = st.y, st.f
-            _peaks(nb, peak, demand, y, js, piece, t, tol, wk)
+            t_new = t1 if hh == t1 - t else t + hh
+            _peaks(nb, peak, demand, st.y, js, piece, t_new, tol, wk)
+            if _slips(nb, mu, wk):
+                status |= STATUS_FRICTION                   # from the step's start the caller follows the slip
+                break
+            t, y, f = t_new, st.y, st.f
             _keep(hist, t, t1, dt, y, nb.n)
             h = next_step(hh, norm)
             continue
@@ -441,12 +480,14 @@ def run_tolerances(nb: NBlock, rest_ratio: float = REST_RATIO) -> tuple[_Tol, fl
 
 def simulate_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                      rest_ratio: float = REST_RATIO, history: np.ndarray | None = None,
-                     start: tuple | None = None, t0_s: float = 0.0) -> NBlockOutcome:
+                     start: tuple | None = None, t0_s: float = 0.0, stop_mu: tuple | None = None) -> NBlockOutcome:
     """The stack ``nb`` under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the vertical
     ``av_ms2`` [m s-2] when given), from rest at the record's start (or from the state ``start`` at ``t0_s`` [s]) to
     rest or a fall after its end; an impact whose rebound is below ``rest_ratio`` p alpha [-] (each joint's scales)
     shuts its joint. ``history``: an array (n, samples) that receives each joint's psi [rad] at each sample the run
-    reaches.
+    reaches. ``stop_mu``: each block's friction at its base [-]; the run then stops (status ``friction``) where a
+    joint would slip: at rest at the instant the ground's |a_h| / (g + a_v) passes the smallest, in motion at the
+    start of the step at whose end a joint's demand passes its own (a face that would pull included).
 
     Raises
     ------
@@ -467,4 +508,6 @@ def simulate_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.
     tol, h_max = run_tolerances(nb, rest_ratio)
     ch, cg = rest_lift(nb)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else tuple(float(v) for v in start)
-    return _run(nb, ch, cg, ah, av, float(dt_s), tol, h_max, hist, y, float(t0_s), work())
+    mu = (math.inf,) * MAX_BODIES if stop_mu is None else tuple(float(x) for x in stop_mu[:nb.n]) + (
+        math.inf,) * (MAX_BODIES - nb.n)
+    return _run(nb, ch, cg, ah, av, float(dt_s), tol, h_max, hist, y, float(t0_s), work(), mu)

@@ -4,12 +4,12 @@ or stands; the blocks below a fall go on rocking, as a stack of their own, to th
 The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
 above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
 of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where
-the ground falls faster than gravity (and the blocks' friction is given), the stack is followed from that instant by
-the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until it is at rest
-again, when the exact model goes on from rest with the blocks where they slid to, or to the end of the record's free
-motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps, events or the free motion
-after the record, or a flight without the friction to follow it) leaves the bodies still standing then without one:
-unknown, never standing."""
+the ground falls faster than gravity or a joint would slip (the blocks' friction given), the stack is followed from
+that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint),
+until it is at rest again, when the exact model goes on from rest with the blocks where they slid to, or to the end
+of the record's free motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps,
+events or the free motion after the record, or a flight without the friction to follow it) leaves the bodies still
+standing then without one: unknown, never standing."""
 
 from __future__ import annotations
 
@@ -18,7 +18,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..rocking.codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP, Verdict
+from ..rocking.codes import (
+    STATUS_EVENT_CAP,
+    STATUS_FRICTION,
+    STATUS_GROUND_FLIGHT,
+    STATUS_STEP_CAP,
+    STATUS_TAIL_CAP,
+    Verdict,
+)
 from .n_block import MAX_BODIES, NBlock
 from .n_block_run import FALLS_NONE, simulate_n_block
 from .stack_contact import shifted, simulate_stack_contact
@@ -27,6 +34,9 @@ from .stack_contact import shifted, simulate_stack_contact
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
 #: Hand-overs to the contact model and back per stack and record; beyond, a flight leaves the verdict open
 MAX_HANDOVERS = 1000
+#: What the contact model follows (the ground's flight, a joint's slip); the caps that end a run without it
+FOLLOWED = STATUS_GROUND_FLIGHT | STATUS_FRICTION
+CAPS = STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
 
 
 class StackVerdicts(NamedTuple):
@@ -48,6 +58,9 @@ class StackVerdicts(NamedTuple):
         the runs' :class:`~pipeline.rocking.codes.Status` bits
     demand : tuple of float
         each joint's largest friction demand |F_t| / F_n [-] (:attr:`.n_block_run.NBlockOutcome.demand`)
+    slide_m : tuple of float
+        each joint's largest slip [m] in the contact model's runs (:attr:`.stack_contact.StackContactOutcome.
+        peak_slide_m`); empty where none ran
     """
 
     verdicts: tuple
@@ -57,6 +70,7 @@ class StackVerdicts(NamedTuple):
     opened: bool
     status: int
     demand: tuple
+    slide_m: tuple = ()
 
 
 def lower_part(nb: NBlock, count: int) -> NBlock:
@@ -76,14 +90,16 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     verdicts = [int(Verdict.no_verdict)] * n
     t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
     impacts, opened, status, handovers = 0, False, 0, 0
+    slides: list[float] = []
     part, start, t0 = nb, None, 0.0
     while True:
-        run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0)
+        run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0,
+                               stop_mu=None if mu is None else tuple(mu[:part.n]))
         for k in range(part.n):
             peaks[k] = max(peaks[k], run.peak_psi_rad[k])
             demand[k] = max(demand[k], run.demand[k])
         impacts, opened, status = impacts + run.impacts, opened or run.modes != 0, status | run.status
-        if (run.falls == FALLS_NONE and run.status & UNDECIDED_RUN == STATUS_GROUND_FLIGHT and mu is not None
+        if (run.falls == FALLS_NONE and run.status & FOLLOWED and not run.status & CAPS and mu is not None
                 and handovers < MAX_HANDOVERS):
             handovers += 1
             flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
@@ -93,8 +109,10 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                                 t0_s=run.t_end_s, stop_at_rest=False)
             opened, status = True, status | flight.status
+            slides = slides or [0.0] * n
             for k in range(part.n):
                 peaks[k] = max(peaks[k], flight.peak_rad[k])
+                slides[k] = max(slides[k], flight.peak_slide_m[k])
                 if not math.isnan(flight.t_fall_s[k]):
                     verdicts[k], t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
             if back is not None:
@@ -104,7 +122,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 verdicts[:flight.standing] = [int(Verdict.stands)] * flight.standing
             break
         if run.falls == FALLS_NONE:
-            verdict = Verdict.no_verdict if run.status & UNDECIDED_RUN else Verdict.stands
+            verdict = Verdict.no_verdict if run.status & (UNDECIDED_RUN | STATUS_FRICTION) else Verdict.stands
             verdicts[:part.n] = [int(verdict)] * part.n
             break
         for k in range(run.falls, part.n):
@@ -116,4 +134,5 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
         start = tuple(state[:count]) + (0.0,) * (MAX_BODIES - count) + tuple(
             state[MAX_BODIES:MAX_BODIES + count]) + (0.0,) * (MAX_BODIES - count)
         part, t0 = lower_part(part, count), run.t_fall_s
-    return StackVerdicts(tuple(verdicts), tuple(peaks), tuple(t_fall), impacts, opened, status, tuple(demand))
+    return StackVerdicts(tuple(verdicts), tuple(peaks), tuple(t_fall), impacts, opened, status, tuple(demand),
+                         tuple(slides))

@@ -98,7 +98,8 @@ class StackContactOutcome(NamedTuple):
     unconverged : int
         steps whose Gauss-Seidel sweeps reached :data:`MAX_SWEEPS`
     peak_slide_m : tuple of float
-        each joint's largest |offset change| from where the run started [m]
+        each joint's largest |offset change| from where the run started [m] (block 0: its base centre's on the
+        ground)
     peak_lift_m : float
         the largest height of block 0's lower base corner above the ground [m] (a flight's)
     """
@@ -427,6 +428,9 @@ def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
             peak[k] = max(peak[k], abs(_tilt(q, k)))
             if k > 0:
                 slide[k] = max(slide[k], abs(_offset(bd, q, k) - off0[k]))
+            else:
+                base_x, _ = _corner(q, 0, 0.0, -bd.h[0])
+                slide[0] = max(slide[0], abs(base_x - off0[0]))
         fell = _fallen(bd, n, q)
         if fell < n:
             for k in range(fell, n):
@@ -511,7 +515,8 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     q, v = state_of(nb, y)
     bd = bodies_of(nb, mu)
     t_fall, peak, slide = np.full(MAX_BODIES, np.nan), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
-    off0 = np.array([0.0] + [_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
+    base_x = q[0, 0] + math.sin(q[2, 0]) * -nb.h[0]             # block 0's base centre on the ground
+    off0 = np.array([base_x] + [_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,

@@ -6,11 +6,10 @@ stack's model runs and each body is judged: two blocks by the two-block model
 (:func:`.two_block_verdicts.judge_two_block`), three to :data:`.n_block.MAX_BODIES` by the n-block model
 (:func:`.n_block_verdicts.judge_n_block`). The body's scene reads its own verdict, its peak rotation on what it
 stands on (the bottom block on the ground, each other on the block below) over that joint's smaller tipping angle at
-rest, and the runs' impacts. The
-exact models do not slide nor follow flight off a support: the friction its joint needs (|F_t| / F_n, inside the
-tipping angles: :func:`.two_block.demands`) is the scene's ``friction_demand``, flagged where it exceeds the body's
-mu (``friction_exceeded``; response slide or slide_rock), the verdict there assuming the joint holds. Where the
-ground falls faster than gravity the stack's contact model follows it (:mod:`.stack_contact`, through
+rest, and the runs' impacts. The exact models do not slide nor follow flight off a support: the friction its joint
+needs (|F_t| / F_n, inside the tipping angles: :func:`.two_block.demands`) is the scene's ``friction_demand``,
+flagged where it exceeds the body's mu (``friction_exceeded``; response slide or slide_rock). Where a joint would
+slip or the ground falls faster than gravity the stack's contact model follows it (:mod:`.stack_contact`, through
 :func:`.n_block_verdicts.judge_n_block`), and the scene keeps its verdict with the flight flagged (``free_flight``);
 a cap met without a verdict leaves the scene without one.
 
@@ -69,11 +68,11 @@ def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndar
     """Each body's verdict under the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, by the stack's
     model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``mu``: each
     body's friction at its base [-], with which a flight of the ground is followed (:mod:`.stack_contact`; None:
-    the flight leaves the verdict open). Two blocks whose run meets a flight are judged again as an n-block stack,
-    which follows it."""
+    the flight leaves the verdict open), and so is a joint's slip. Two blocks whose run meets a flight, or needs
+    more friction than a joint has, are judged again as an n-block stack, which follows them."""
     if isinstance(model, TwoBlock):
         judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
-        if mu is None or not judged.status & STATUS_GROUND_FLIGHT:
+        if mu is None or not (judged.status & STATUS_GROUND_FLIGHT or any(d > m for d, m in zip(judged.demand, mu))):
             return judged
         model = two_as_n_block(model)
     return judge_n_block(model, ah_ms2, dt_s, av_ms2=av_ms2, mu=mu)
@@ -180,7 +179,8 @@ def scene_of(tb: StackModel, judged: StackVerdicts, index: int, mu: float = math
     t_fall = judged.t_fall_s[index]
     return Scene(physics=Physics.stack, response=response, overturned=overturned, theta_max=float(theta_max),
                  n_impacts=int(judged.impacts), t_overturn=float(t_fall) if overturned else math.nan,
-                 friction_demand=float(demand), sliding_max_m=math.nan,
+                 friction_demand=float(demand),
+                 sliding_max_m=float(judged.slide_m[index]) if judged.slide_m else math.nan,
                  free_flight=FreeFlight.ground_flight if flight else FreeFlight.none,
                  chatter=bool(judged.status & STATUS_EVENT_CAP), friction_exceeded=int(exceeded),
                  contact_modes=int(ContactMode.rock) if judged.opened else 0, guard=int(guard))

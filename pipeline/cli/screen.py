@@ -53,6 +53,10 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               f"{general['ground_flight'] + general['block_liftoff']} (the ground's g + a_v reached 0 in "
               f"{general['ground_flight']}, the block lifted itself off in {general['block_liftoff']}); physics "
               "general, the modes in contact_modes", file=sys.stderr)
+    if s.get("stack_flights"):
+        print(f"stacks: {s['stack_flights']} body scene(s) met a ground falling faster than gravity, followed by the "
+              "stack's contact model (flight, landing, sliding at the joints) until the stack rested again "
+              "(free_flight in screening.nc)", file=sys.stderr)
     guarded = s.get("guarded_scenes", [])
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
@@ -70,7 +74,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
     if flights:
         print(f"free flight: {flights} scene(s) where the ground's g + a_v reached 0 "
               "before any overturning have no verdict (response free_flight: with simulation.contact_model off, or "
-              "a body given by its scan or a body of a stack, whose models do not follow a flight)",
+              "a body given by its scan, whose models do not follow a flight)",
               file=sys.stderr)
 
     if s.get("not_records"):

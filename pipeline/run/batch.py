@@ -510,8 +510,9 @@ def _say_what_the_plan_keeps(the_plan: Plan, records_dir) -> None:
 
 def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
     """The scenes of the results by physics, response, orientation and robustness class, the planes and samples
-    integrated, the scenes the general contact model decided, those that met a guard and those that slid off
-    their base, and the boxes (judged in one plane of their base): the closing summary's counts."""
+    integrated, the scenes the general contact model decided, the stacks' bodies whose ground flew, those that met
+    a guard and those that slid off their base, and the boxes (judged in one plane of their base): the closing
+    summary's counts."""
     from ..report.html import planar_boxes
 
     phys, resp = ds[SCENE.physics].values, ds[SCENE.response].values
@@ -533,6 +534,8 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "draws_total": int(np.sum(np.maximum(ds[SCENE.samples_drawn].values, 0))),
         "scenes_with_unjudged_draws": int(np.sum(ds[SCENE.samples_without_verdict].values > 0)),
         "general_scenes": _general_reasons(ds),
+        "stack_flights": int(np.sum((phys == Physics.stack)
+                                    & (ds[SCENE.free_flight].values == FreeFlight.ground_flight))),
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),

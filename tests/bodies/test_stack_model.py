@@ -207,9 +207,10 @@ def test_a_memo_drops_its_oldest_runs_beyond_its_capacity():
 
 
 @pytest.mark.parametrize("mu, flagged", [(0.2, 1), (5.0, 0)])
-def test_a_joint_needing_more_friction_than_it_has_is_flagged(mu, flagged):
-    """The model does not slide: where the statue's joint on its plinth needs more friction than it has, its scene
-    says so (friction_exceeded, response slide_rock), the demand the run's; the plinth's own joint is its own."""
+def test_a_joint_needing_more_friction_than_it_has_slides_and_says_so(mu, flagged):
+    """Where the statue's joint on its plinth needs more friction than it has, the stack's contact model follows the
+    slip: its scene says so (friction_exceeded, response slide or slide_rock, the distance slid), the demand the
+    run's; the plinth's own joint is its own, and it does not slide on the ground."""
     from pipeline.assemblies.stack_scene import body_scene
     from pipeline.rocking.scene import Response
 
@@ -220,4 +221,8 @@ def test_a_joint_needing_more_friction_than_it_has_is_flagged(mu, flagged):
     plinth = body_scene(StackPlace(bodies, 0, ("P", "S")), ah, None, 0.005)
     assert statue.physics == Physics.stack and statue.friction_demand > 0.2
     assert statue.friction_exceeded == flagged and plinth.friction_exceeded == 0
-    assert (statue.response == Response.slide_rock) == bool(flagged) and not statue.overturned
+    assert (statue.response in (Response.slide, Response.slide_rock)) == bool(flagged) and not statue.overturned
+    if flagged:
+        assert statue.sliding_max_m > 1e-3 and plinth.sliding_max_m < 1e-6
+    else:
+        assert np.isnan(statue.sliding_max_m)

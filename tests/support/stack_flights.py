@@ -1,0 +1,56 @@
+"""Stacks on grounds that fall faster than gravity, for the stack contact model's peer comparisons (the slow test
+tests/assemblies/test_stack_flight_peer.py and benchmarks/stack_flight_peer.py): the bundled records whose vertical
+reaches VERTICAL_G below gravity at a scale of at most MAX_SCALE, the stacks compared, and rockscreen's first fall."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from rigid_body_peer import NONE_FALLS
+
+from pipeline.assemblies.n_block import NBlock, n_block
+from pipeline.assemblies.stack import StackBody
+from pipeline.config import Config
+from pipeline.constants import G
+from pipeline.records.loader import iter_records
+from pipeline.rocking.codes import Verdict
+
+#: each record's vertical scaled down to this below gravity [g], where MAX_SCALE allows
+VERTICAL_G = 1.2
+MAX_SCALE = 2.2
+#: friction of the boxes in PyBullet's sense: mu on the floor, mu^2 between two boxes [-]
+MU = 0.8
+RHO = 2500.0
+#: family -> (width, height) of each box, bottom first [m]
+STACKS = {"statue": ((0.70, 1.00), (0.45, 1.70)),
+          "two": ((0.60, 1.50), (0.55, 1.20)),
+          "three": ((0.62, 1.10), (0.60, 1.10), (0.58, 1.00)),
+          "five": ((0.7, 0.8), (0.7, 0.8), (0.7, 0.8), (0.7, 0.8), (0.7, 0.6))}
+
+
+def flight_records(records_dir: Path) -> list[tuple[str, np.ndarray, np.ndarray, float, float, float]]:
+    """(id, horizontals, vertical, first horizontal's azimuth, dt, scale) of each record whose vertical, scaled by
+    at most MAX_SCALE, falls to VERTICAL_G below gravity (none scaled down)."""
+    out = []
+    for r in iter_records(records_dir, config=Config()):
+        if r.vertical_ms2 is None or not r.vertical_ms2.size or r.horizontal_ms2.shape[0] < 2:
+            continue
+        scale = max(1.0, VERTICAL_G * G / -r.vertical_ms2.min())
+        if scale <= MAX_SCALE:
+            out.append((r.record_id, r.horizontal_ms2 * scale, r.vertical_ms2 * scale, float(r.azimuths_deg[0]),
+                        r.dt_s, scale))
+    return out
+
+
+def stack(family: str) -> tuple[NBlock, tuple]:
+    """The family's stack for rockscreen (masses of boxes of one depth) and each box's friction at its base: mu on
+    the floor, mu^2 on a box, as PyBullet combines them."""
+    bodies = [StackBody(w, h, RHO * w * h, MU if k == 0 else MU * MU) for k, (w, h) in enumerate(STACKS[family])]
+    return n_block(bodies), tuple(b.mu for b in bodies)
+
+
+def first_fall(judged) -> int:
+    """The lowest body fallen at the first fall of rockscreen's verdicts, or NONE_FALLS."""
+    times = [(t, k) for k, (v, t) in enumerate(zip(judged.verdicts, judged.t_fall_s)) if v == Verdict.overturns]
+    return min(times)[1] if times else NONE_FALLS
