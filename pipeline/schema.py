@@ -240,7 +240,9 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
                           TRISTATE),
     "sliding_max": (("record", "block"), "m", "peak sliding displacement relative to the ground",
                     {"comment": "sliding scenes: the Coulomb slip; general scenes: the net slip of the base (the "
-                                "contact point's slip in slide and slide-rock, the base's travel in flight)"}),
+                                "contact point's slip in slide and slide-rock, the base's travel in flight); a body "
+                                "of a stack: its base's slip on what it stands on in the stack's contact model (NaN: "
+                                "that model did not run)"}),
     "free_flight": (("record", "block"), None, "loss of contact with the base",
                     {**flags(FreeFlight),
                      "comment": "ground_flight: the ground's g + a_v reached 0; block_liftoff: the block's own "

@@ -53,10 +53,11 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               f"{general['ground_flight'] + general['block_liftoff']} (the ground's g + a_v reached 0 in "
               f"{general['ground_flight']}, the block lifted itself off in {general['block_liftoff']}); physics "
               "general, the modes in contact_modes", file=sys.stderr)
-    if s.get("stack_flights"):
-        print(f"stacks: {s['stack_flights']} body scene(s) met a ground falling faster than gravity, followed by the "
-              "stack's contact model (flight, landing, sliding at the joints) until the stack rested again "
-              "(free_flight in screening.nc)", file=sys.stderr)
+    if s.get("stack_contact"):
+        print(f"stacks: {s['stack_contact']} body scene(s) where a joint would slip or the ground fell faster than "
+              f"gravity ({s.get('stack_flights', 0)}) were followed by the stack's contact model (flight, landing, "
+              "sliding at the joints) until the stack rested again (sliding_max and free_flight in screening.nc)",
+              file=sys.stderr)
     guarded = s.get("guarded_scenes", [])
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "

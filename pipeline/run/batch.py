@@ -536,6 +536,7 @@ def _scene_counts(ds: xr.Dataset, config: Config) -> dict:
         "general_scenes": _general_reasons(ds),
         "stack_flights": int(np.sum((phys == Physics.stack)
                                     & (ds[SCENE.free_flight].values == FreeFlight.ground_flight))),
+        "stack_contact": int(np.sum((phys == Physics.stack) & np.isfinite(ds[SCENE.sliding_max].values))),
         "guarded_scenes": [f"{r} x {b}: {names}" for r, b, names in guarded_scenes(
             ds[SCENE.simulation_guard].values, ds["record"].values, ds["block"].values)],
         "slides_off_base": int(np.sum(ds["slides_off_base"].values == 1)),
