@@ -221,6 +221,45 @@ def _slip_at_rest(mu, piece, t):
 
 
 @jit_lean
+def _open_bits(js, n):
+    """Bit k set for each open joint k of the modes ``js``."""
+    bits = 0
+    for k in range(n):
+        if js[k] != SHUT:
+            bits |= 1 << k
+    return bits
+
+
+@jit_lean
+def _least(values, n):
+    """The least of the first n values."""
+    out = math.inf
+    for k in range(n):
+        out = min(out, values[k])
+    return out
+
+
+#: What a resting stack meets first on a piece (:func:`_rest_piece`): nothing, a joint opening, a joint slipping
+REST_HOLDS, REST_OPENS, REST_SLIPS = 0, 1, 2
+
+
+@jit_lean
+def _rest_piece(nb, ch, cg, mu_rest, demand, piece, t):
+    """What the resting stack meets first on the piece from t: (REST_SLIPS, the instant, -1, 0), (REST_OPENS, the
+    instant, the joint, its corner) or (REST_HOLDS, the piece's end, -1, 0); the piece's demands where it rests or
+    slips on it."""
+    t_open, joint, corner = _opening_at_rest(ch, cg, nb.n, piece, t)
+    t_slip = _slip_at_rest(mu_rest, piece, t)
+    if t_slip <= t_open or (joint < 0 and not math.isnan(t_slip)):
+        _rest_demand(nb, demand, piece)
+        return REST_SLIPS, t_slip, -1, 0
+    if joint < 0:
+        _rest_demand(nb, demand, piece)
+        return REST_HOLDS, piece.t0 + piece.span, -1, 0
+    return REST_OPENS, t_open, joint, corner
+
+
+@jit_lean
 def _slips(nb, mu, wk):
     """A joint's demand in ``wk.d`` (the last :func:`_peaks`) above its friction ``mu``."""
     for k in range(nb.n):
@@ -376,27 +415,20 @@ def _start_modes(y, n):
 @jit
 def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu):
     """The run of :func:`simulate_n_block` from the state ``y`` at ``t`` [SI units]."""
-    n = ah.shape[0]
-    t_rec = (n - 2) * dt + dt                     # the last piece's end, as _piece_at computes it
+    t_rec = (ah.shape[0] - 2) * dt + dt           # the last piece's end, as _piece_at computes it
     tail_end = t_rec + TAIL_S
     js = _start_modes(y, nb.n)
-    mu_rest = math.inf
-    for k in range(nb.n):
-        mu_rest = min(mu_rest, mu[k])
-    h = h_max * FIRST_STEP_FRACTION
+    mu_rest, h = _least(mu, nb.n), h_max * FIRST_STEP_FRACTION
     peak, demand = np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
     falls, t_fall = FALLS_NONE, math.nan
-    f = y
-    fresh = True
+    f, fresh = y, True
     while True:
         capped = caps(steps, events, t, tail_end)
         if capped:
             status |= capped
             break
-        for k in range(nb.n):
-            if js[k] != SHUT:
-                modes |= 1 << k
+        modes |= _open_bits(js, nb.n)
         piece = piece_at(ah, av, dt, t, t_rec, tail_end)
         if G + piece.v0 <= 0.0 or G + piece.v1 <= 0.0:
             status |= STATUS_GROUND_FLIGHT
@@ -405,20 +437,16 @@ def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu):
         if _all_shut(js, nb.n):
             if t >= t_rec:
                 break                               # at rest after the record: stands
-            t_open, joint, corner = _opening_at_rest(ch, cg, nb.n, piece, t)
-            t_slip = _slip_at_rest(mu_rest, piece, t)
-            if t_slip <= t_open or (joint < 0 and not math.isnan(t_slip)):
-                _rest_demand(nb, demand, piece)
-                t = t_slip
-                status |= STATUS_FRICTION                   # a joint slips first: the caller follows it
+            kind, t_next, joint, corner = _rest_piece(nb, ch, cg, mu_rest, demand, piece, t)
+            if kind == REST_SLIPS:
+                t, status = t_next, status | STATUS_FRICTION      # a joint slips first: the caller follows it
                 break
-            if joint < 0:
+            if kind == REST_HOLDS:
                 events += 1 if t1 <= t else 0       # no advance (never met): counted, so that the run ends
                 t = t1
-                _rest_demand(nb, demand, piece)
                 _keep(hist, t, t1, dt, y, nb.n)
                 continue
-            t = t_open
+            t = t_next
             js = tuple_set(js, joint, corner)
             liftoffs, events, fresh = liftoffs + 1, events + 1, True
             h = h_max * FIRST_STEP_FRACTION

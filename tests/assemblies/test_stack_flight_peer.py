@@ -2,7 +2,7 @@
 flights the stack's contact model follows (tests/support/stack_flights.py: the bundled records whose vertical
 reaches 1.2 g below gravity at a scale of at most 2.2, in four planes each; friction mu on the floor and mu^2
 between the boxes in both engines). The lowest box fallen at the first fall (none, or the box) agrees in at least 85
-% of each family's scenes (the issue's goal of 90 % is not met in flight: docs/validation.md), every scene has a
+% of each family's scenes (90 % is not met in flight: docs/validation.md), every scene has a
 verdict, and no scene the engine overturns robustly (its verdict the same with its step halved and the record scaled
 by 0.98 and 1.02) stands in rockscreen at 1, 0.98 and 1.02 of the record. Slow."""
 
