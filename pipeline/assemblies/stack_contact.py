@@ -26,7 +26,8 @@ rule), or where its centre has dropped below the top of the block it stood on (i
 above it fall with it, and the blocks below go on. **At rest** is every block's speed below :data:`REST_SPEED` (its
 rotation rate times its half-diagonal included), both ends of every face carrying a normal impulse in the step, and
 each block's rotation on what it stands on below :data:`REST_TILT_RAD` (a velocity-level step stops a landing corner
-from sinking further, not from having sunk within its step), on a ground not falling faster than gravity: the run
+from sinking further, not from having sunk within its step), on a ground not falling faster than gravity nor asking
+for more friction than the stack's least: the run
 then stops (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from rest with the blocks' offsets
 where they slid to (:func:`shifted`). After the record the ground is still, and the motion is followed for at most
 :data:`~.stepping.TAIL_S`.
@@ -359,6 +360,17 @@ def _at_rest(bd, n, q, v):
 
 
 @jit_lean
+def _holds(bd, n, piece, t):
+    """The ground at t neither falls faster than gravity nor asks a resting stack's joints for more friction than
+    the least they have (so that the exact model, handed the stack at rest, goes on from there)."""
+    a_h, a_v = ground_on(piece, t)
+    least = math.inf
+    for k in range(n):
+        least = min(least, bd.mu[k])
+    return G + a_v > 0.0 and abs(a_h) <= least * (G + a_v)
+
+
+@jit_lean
 def _offset(bd, q, k):
     """Block k's base centre from the centre of the top of block k - 1, in its frame [m]."""
     px, pz = _corner(q, k, 0.0, -bd.h[k])
@@ -437,7 +449,7 @@ def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
                 t_fall[k] = t
             n = fell
             continue
-        if ((allow_rest or t >= t_rec) and G + a_v > 0.0 and count > 0 and _pressed(count, n, wk)
+        if ((allow_rest or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _pressed(count, n, wk)
                 and _at_rest(bd, n, q, v)):
             rested = True
             break
