@@ -116,7 +116,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 if not math.isnan(flight.t_fall_s[k]):
                     verdicts[k], t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
             if back is not None:
-                part, start, t0 = back, None, flight.t_end_s
+                part, start, t0 = back, flight.handback, flight.t_end_s
                 continue
             if flight.rested:                       # at rest after the record
                 verdicts[:flight.standing] = [int(Verdict.stands)] * flight.standing

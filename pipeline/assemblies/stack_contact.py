@@ -63,6 +63,8 @@ REST_SPEED = 1e-5            # every block's speed below this [m s-1], both ends
 REST_TILT_RAD = 1e-3         # ... and its rotation on its support below this [rad]: at rest (the rotation a landing
 #                              leaves where one corner sank further than the other in its step, dropped)
 MAX_CONTACT_STEPS = 2_000_000   # steps per run [-]: the cap ends the run without a verdict
+HANDBACK_STEPS = 8           # steps in a row in which every joint is shut or turns on a sticking corner: handed back
+STICKING = 0.9               # a pressed corner sticks where its friction is at most this share of mu P_n [-]
 WITHIN = 1e-9                # a corner within this fraction of the two blocks' sizes of a face (its plane, its end)
 #                              counts as on it (their rest positions are sums of rounded lengths)
 #: The most contacts: two on the ground, four at each joint
@@ -103,6 +105,9 @@ class StackContactOutcome(NamedTuple):
         ground)
     peak_lift_m : float
         the largest height of block 0's lower base corner above the ground [m] (a flight's)
+    handback : tuple of float
+        where the run handed back (``rested``): the n-block state of the lowest ``standing`` blocks with the
+        offsets ``offsets_m`` (:mod:`.n_block`'s: each joint's psi, then its rate; a shut joint's 0)
     """
 
     standing: int
@@ -116,6 +121,7 @@ class StackContactOutcome(NamedTuple):
     unconverged: int
     peak_slide_m: tuple
     peak_lift_m: float
+    handback: tuple = (0.0,) * (2 * MAX_BODIES)
 
 
 class Bodies(NamedTuple):
@@ -360,6 +366,40 @@ def _at_rest(bd, n, q, v):
 
 
 @jit_lean
+def _joint_modes(bd, n, q, v, count, wk, modes):
+    """Each joint's mode into ``modes`` (0 shut: both ends of its face pressed, the joint still and flat within the
+    rest thresholds; +1 or -1: turning on that end's corner alone, the corner sticking, the rotation towards it);
+    False where a joint is neither (flying, slipping, or pressed on the side it turns away from)."""
+    ends = modes                                    # first each joint's ends pressed, as bits
+    for k in range(n):
+        ends[k] = 0
+    for i in range(count):
+        pn, pt = wk.p[2 * i], wk.p[2 * i + 1]
+        if pn <= 0.0:
+            continue
+        if abs(pt) > STICKING * bd.mu[wk.body[i, 0]] * pn:
+            return False
+        sl = wk.slot[i]
+        joint, side = (0, sl) if sl < 2 else ((sl - 2) // 4 + 1, (sl - 2) % 2)
+        ends[joint] |= 1 << side
+    for k in range(n):
+        bits, tilt = ends[k], _tilt(q, k)
+        rate = v[2, k] - (v[2, k - 1] if k > 0 else 0.0)
+        if bits == 3:
+            if abs(tilt) >= REST_TILT_RAD or abs(rate) * math.hypot(bd.b[k], bd.h[k]) >= REST_SPEED:
+                return False
+            modes[k] = 0
+        elif bits == 0:
+            return False
+        else:
+            side = 1 if bits == 2 else -1
+            if tilt * side <= 0.0:
+                return False
+            modes[k] = side
+    return True
+
+
+@jit_lean
 def _holds(bd, n, piece, t):
     """The ground at t neither falls faster than gravity nor asks a resting stack's joints for more friction than
     the least they have (so that the exact model, handed the stack at rest, goes on from there)."""
@@ -379,8 +419,9 @@ def _offset(bd, q, k):
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
-    """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak and slide."""
+def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0, modes):
+    """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak, slide and, where it hands
+    back, the joints' modes."""
     n_samples = ah.shape[0]
     t_rec = (n_samples - 2) * dt + dt
     tail_end = t_rec + TAIL_S
@@ -388,7 +429,7 @@ def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
     n = bd.n
     status, steps, unconverged = 0, 0, 0
     rested = False
-    lift = 0.0
+    lift, ready = 0.0, 0
     for i in range(wk.kept.shape[0]):
         wk.kept[i] = 0.0
     while n > 0:
@@ -449,10 +490,14 @@ def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0):
                 t_fall[k] = t
             n = fell
             continue
-        if ((allow_rest or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _pressed(count, n, wk)
-                and _at_rest(bd, n, q, v)):
-            rested = True
-            break
+        if (allow_rest or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _joint_modes(
+                bd, n, q, v, count, wk, modes):
+            ready += 1
+            if ready >= HANDBACK_STEPS:
+                rested = True
+                break
+        else:
+            ready = 0
     return n, t, rested, status, steps, unconverged, lift
 
 
@@ -531,10 +576,35 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     off0 = np.array([base_x] + [_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
+    modes = np.zeros(MAX_BODIES, dtype=np.int64)
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
-                                                            bool(stop_at_rest), work(), t_fall, peak, slide, off0)
-    offsets = tuple([0.0] + [_offset(bd, q, k) for k in range(1, count)]) + (0.0,) * (MAX_BODIES - max(count, 1))
+                                                            bool(stop_at_rest), work(), t_fall, peak, slide, off0,
+                                                            modes)
+    offsets, y = _handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
-                               tuple(float(x) for x in slide), float(lift))
+                               tuple(float(x) for x in slide), float(lift), y)
 
+
+def _handback(bd: Bodies, q: np.ndarray, v: np.ndarray, modes: np.ndarray, count: int) -> tuple[tuple, tuple]:
+    """Each block's offset [m] (its base centre from the centre of the top below, as if the joint were shut: a joint
+    turning on a corner placed by where that corner meets the other face) and the n-block state of ``modes``."""
+    offsets, psi, rate = [0.0] * MAX_BODIES, [0.0] * MAX_BODIES, [0.0] * MAX_BODIES
+    for k in range(count):
+        side = int(modes[k])
+        if side != 0:
+            psi[k] = float(_tilt(q, k))
+            rate[k] = float(v[2, k] - (v[2, k - 1] if k > 0 else 0.0))
+        if k == 0:
+            continue
+        offsets[k] = float(_offset(bd, q, k))
+        if side != 0:
+            px, pz = _corner(q, k, side * bd.b[k], -bd.h[k])          # the upper's corner on the lower's face
+            lx, _ = _local(q, k - 1, px, pz)
+            if abs(lx) <= bd.b[k - 1]:
+                offsets[k] = float(lx - side * bd.b[k])
+            else:                                                       # the lower's corner on the upper's face
+                px, pz = _corner(q, k - 1, side * bd.b[k - 1], bd.h[k - 1])
+                ux, _ = _local(q, k, px, pz)
+                offsets[k] = float(side * bd.b[k - 1] - ux)
+    return tuple(offsets), tuple(psi) + tuple(rate)
