@@ -6,10 +6,10 @@ above it overturn. Where blocks are left below it, they are followed from their 
 of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where
 the ground falls faster than gravity or a joint would slip (the blocks' friction given), the stack is followed from
 that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint),
-until it is at rest again, when the exact model goes on from rest with the blocks where they slid to, or to the end
-of the record's free motion; a body that falls in it falls. A run that ended without a verdict (a cap on steps,
-events or the free motion after the record, or a flight without the friction to follow it) leaves the bodies still
-standing then without one: unknown, never standing."""
+until every joint is shut or turns on a sticking corner again, when the exact model goes on from that state with the
+blocks where they slid to, or to the end of the record's free motion; a body that falls in it falls. A run that
+ended without a verdict (a cap on steps, events or the free motion after the record, or a flight without the
+friction to follow it) leaves the bodies still standing then without one: unknown, never standing."""
 
 from __future__ import annotations
 
@@ -107,7 +107,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
             back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
             if flight.rested and back is None:      # at rest where the exact model's stack could not stand
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
-                                                t0_s=run.t_end_s, stop_at_rest=False)
+                                                t0_s=run.t_end_s, hand_back=False)
             opened, status = True, status | flight.status
             slides = slides or [0.0] * n
             for k in range(part.n):

@@ -23,14 +23,15 @@ Housner's (1963) for a single block: the angular momentum about the new corner i
 
 A block **falls** where its rotation, or its rotation on the block under it, reaches pi / 2 (:mod:`.n_block`'s
 rule), or where its centre has dropped below the top of the block it stood on (it left its support); the blocks
-above it fall with it, and the blocks below go on. **At rest** is every block's speed below :data:`REST_SPEED` (its
-rotation rate times its half-diagonal included), both ends of every face carrying a normal impulse in the step, and
-each block's rotation on what it stands on below :data:`REST_TILT_RAD` (a velocity-level step stops a landing corner
-from sinking further, not from having sunk within its step), on a ground not falling faster than gravity nor asking
-for more friction than the stack's least: the run
-then stops (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from rest with the blocks' offsets
-where they slid to (:func:`shifted`). After the record the ground is still, and the motion is followed for at most
-:data:`~.stepping.TAIL_S`.
+above it fall with it, and the blocks below go on. **Handing back**: once every joint (the ground's included) is,
+for :data:`HANDBACK_STEPS` steps in a row, either shut (both ends of its face pressed, its rotation below
+:data:`REST_TILT_RAD` and its rate times the block's half-diagonal below :data:`REST_SPEED`) or turning on one
+corner alone, that corner sticking (its friction at most :data:`STICKING` of mu P_n) and the rotation towards it, on
+a ground not falling faster than gravity nor asking a resting stack for more friction than its least, the run stops
+(``rested``), so that the exact model (:mod:`.n_block_run`) goes on from that state with the blocks' offsets where
+they slid to (:func:`shifted`); a shut joint's rotation is dropped (a velocity-level step stops a landing corner
+from sinking further, not from having sunk within its step). After the record the ground is still, and the motion is
+followed for at most :data:`~.stepping.TAIL_S`.
 
 References
 ----------
@@ -59,9 +60,9 @@ from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
 MAX_STEP_S = 2.5e-4          # the longest step [s]: the record's interval in the fewest equal parts of at most this
 MAX_SWEEPS = 400             # Gauss-Seidel sweeps per step [-]
 SWEEP_TOL_MS = 1e-9          # a sweep that changes no contact's velocity by more than this ends them [m s-1]
-REST_SPEED = 1e-5            # every block's speed below this [m s-1], both ends of every face pressed ...
-REST_TILT_RAD = 1e-3         # ... and its rotation on its support below this [rad]: at rest (the rotation a landing
-#                              leaves where one corner sank further than the other in its step, dropped)
+REST_SPEED = 1e-5            # a shut joint's rate times the block's half-diagonal below this [m s-1] ...
+REST_TILT_RAD = 1e-3         # ... and its rotation below this [rad] (the rotation a landing leaves where one corner
+#                              sank further than the other in its step, dropped at the hand-back)
 MAX_CONTACT_STEPS = 2_000_000   # steps per run [-]: the cap ends the run without a verdict
 HANDBACK_STEPS = 8           # steps in a row in which every joint is shut or turns on a sticking corner: handed back
 STICKING = 0.9               # a pressed corner sticks where its friction is at most this share of mu P_n [-]
@@ -86,8 +87,8 @@ class StackContactOutcome(NamedTuple):
     peak_rad : tuple of float
         each block's largest |rotation on what it stands on| [rad]
     rested : bool
-        the run stopped at rest (the module's rule), during the record (where asked) or after it; else at the tail's
-        end, a cap, or every block fallen
+        the run handed back (the module's rule; without ``hand_back``, at rest after the record); else it stopped at
+        the tail's end, a cap, or every block fallen
     t_end_s : float
         where the run stopped [s]
     offsets_m : tuple of float
@@ -340,32 +341,6 @@ def _fallen(bd, n, q):
 
 
 @jit_lean
-def _pressed(count, n, wk):
-    """Both ends of every face (the ground's and each joint's) carried a normal impulse in the step."""
-    ends = np.uint64(0)
-    for i in range(count):
-        if wk.p[2 * i] > 0.0:
-            sl = wk.slot[i]
-            if sl < 2:
-                ends |= np.uint64(1) << np.uint64(sl)
-            else:
-                joint, side = (sl - 2) // 4 + 1, (sl - 2) % 2
-                ends |= np.uint64(1) << np.uint64(2 * joint + side)
-    return ends == (np.uint64(1) << np.uint64(2 * n)) - np.uint64(1)
-
-
-@jit_lean
-def _at_rest(bd, n, q, v):
-    """Every block still and nearly flat on its support (the module's rule, its faces' pressure aside)."""
-    for k in range(n):
-        reach = math.hypot(bd.b[k], bd.h[k])
-        if (abs(v[0, k]) >= REST_SPEED or abs(v[1, k]) >= REST_SPEED or abs(v[2, k]) * reach >= REST_SPEED
-                or abs(_tilt(q, k)) >= REST_TILT_RAD):
-            return False
-    return True
-
-
-@jit_lean
 def _joint_modes(bd, n, q, v, count, wk, modes):
     """Each joint's mode into ``modes`` (0 shut: both ends of its face pressed, the joint still and flat within the
     rest thresholds; +1 or -1: turning on that end's corner alone, the corner sticking, the rotation towards it);
@@ -400,6 +375,15 @@ def _joint_modes(bd, n, q, v, count, wk, modes):
 
 
 @jit_lean
+def _all_shut(modes, n):
+    """Every joint shut: the stack at rest."""
+    for k in range(n):
+        if modes[k] != 0:
+            return False
+    return True
+
+
+@jit_lean
 def _holds(bd, n, piece, t):
     """The ground at t neither falls faster than gravity nor asks a resting stack's joints for more friction than
     the least they have (so that the exact model, handed the stack at rest, goes on from there)."""
@@ -419,7 +403,7 @@ def _offset(bd, q, k):
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0, modes):
+def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, modes):
     """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak, slide and, where it hands
     back, the joints' modes."""
     n_samples = ah.shape[0]
@@ -490,8 +474,8 @@ def _run(bd, ah, av, dt, t, q, v, allow_rest, wk, t_fall, peak, slide, off0, mod
                 t_fall[k] = t
             n = fell
             continue
-        if (allow_rest or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _joint_modes(
-                bd, n, q, v, count, wk, modes):
+        if (hand_back or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _joint_modes(
+                bd, n, q, v, count, wk, modes) and (hand_back or _all_shut(modes, n)):
             ready += 1
             if ready >= HANDBACK_STEPS:
                 rested = True
@@ -561,11 +545,11 @@ def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
 
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                            start: tuple | None = None, t0_s: float = 0.0,
-                           stop_at_rest: bool = True) -> StackContactOutcome:
+                           hand_back: bool = True) -> StackContactOutcome:
     """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
     (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
-    model. The run stops at rest after the record (the module's rule); with ``stop_at_rest`` also at rest during
-    it."""
+    model. With ``hand_back`` the run hands back where the module's rule says so; without, it stops only at rest
+    (every joint shut) after the record."""
     ah = np.ascontiguousarray(ah_ms2, dtype=float)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else start
@@ -578,7 +562,7 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     modes = np.zeros(MAX_BODIES, dtype=np.int64)
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
-                                                            bool(stop_at_rest), work(), t_fall, peak, slide, off0,
+                                                            bool(hand_back), work(), t_fall, peak, slide, off0,
                                                             modes)
     offsets, y = _handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),

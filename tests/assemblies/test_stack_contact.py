@@ -48,7 +48,7 @@ def test_where_no_joint_slides_it_follows_the_exact_model(bodies, joints, ap, tp
     shut joint open in an impact, the n-block model's keeps it shut), and so do the upper peaks."""
     nb = nbm.n_block(bodies)
     exact = simulate_n_block(nb, _sine(ap, tp), DT)
-    got = simulate_stack_contact(nb, _mu(bodies), _sine(ap, tp), DT, stop_at_rest=False)
+    got = simulate_stack_contact(nb, _mu(bodies), _sine(ap, tp), DT, hand_back=False)
     falls = exact.falls if exact.falls != FALLS_NONE else nb.n
     assert got.standing == falls
     tips = [min(t) for t in nbm.tipping_angles(nb)]
@@ -63,7 +63,7 @@ def test_a_block_slides_on_the_block_under_it_as_coulomb_says():
     t = np.arange(0.0, 1.0 + DT / 2, DT)
     bodies = [StackBody(2.0, 0.4, 5.0, STICKY), StackBody(1.0, 0.2, 1.0, 0.2)]
     out = simulate_stack_contact(nbm.n_block(bodies), _mu(bodies), np.full(t.size, 0.3 * G), DT,
-                                 stop_at_rest=False)
+                                 hand_back=False)
     expected = 0.5 * 0.1 * G * 1.0 ** 2 + 0.1 * G * 1.0 * (0.1 * G * 1.0) / (2 * 0.2 * G)   # speeding, then braking
     assert out.peak_slide_m[1] == pytest.approx(expected, rel=5e-3)
     assert out.peak_rad[0] < 1e-6 and out.peak_rad[1] < 1e-6
@@ -75,7 +75,7 @@ def test_a_stack_thrown_up_flies_its_parabola_and_lands():
     t = np.arange(0.0, 2.0, DT)
     av = np.where(t < 0.1 - DT / 2, -2.0 * G, 0.0)
     nb = nbm.n_block(DRUMS[:3])
-    out = simulate_stack_contact(nb, _mu(DRUMS[:3]), np.zeros(t.size), DT, av_ms2=av, stop_at_rest=False)
+    out = simulate_stack_contact(nb, _mu(DRUMS[:3]), np.zeros(t.size), DT, av_ms2=av, hand_back=False)
     fine = np.arange(0.0, 0.5, 1e-6)
     rate = np.cumsum(-(G + np.interp(fine, t, av))) * 1e-6
     height = np.cumsum(rate) * 1e-6
@@ -160,7 +160,7 @@ def test_handing_back_to_the_exact_model_keeps_the_contact_models_verdicts(bodie
     nb = nbm.n_block(bodies)
     ah, av = _flight_ground(ap, t_flight, 0.05)
     got = judge_n_block(nb, ah, DT, av_ms2=av, mu=_mu(bodies))
-    whole = simulate_stack_contact(nb, _mu(bodies), ah, DT, av_ms2=av, stop_at_rest=False)
+    whole = simulate_stack_contact(nb, _mu(bodies), ah, DT, av_ms2=av, hand_back=False)
     assert tuple(int(Verdict.overturns if not math.isnan(t) else Verdict.stands)
                  for t in whole.t_fall_s[:nb.n]) == tuple(got.verdicts)
 
