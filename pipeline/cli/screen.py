@@ -55,10 +55,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               "general, the modes in contact_modes", file=sys.stderr)
     if s.get("stack_contact"):
         print(f"stacks: {s['stack_contact']} body scene(s) where a joint would slip or the ground fell faster than "
-              f"gravity ({s.get('stack_flights', 0)}) were followed by the stack's contact model (flight, landing, "
-              "sliding at the joints) until every joint was shut or turned on a sticking corner again (sliding_max and "
-              "free_flight in screening.nc)",
-              file=sys.stderr)
+              f"gravity ({s.get('stack_flights', 0)}) were followed by the stack's contact model (sliding_max, "
+              "free_flight)", file=sys.stderr)
     guarded = s.get("guarded_scenes", [])
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "
