@@ -28,7 +28,8 @@ from ..rocking.codes import (
 )
 from .n_block import MAX_BODIES, NBlock
 from .n_block_run import FALLS_NONE, simulate_n_block
-from .stack_contact import shifted, simulate_stack_contact
+from .stack_contact import simulate_stack_contact
+from .stack_pose import shifted
 
 #: The run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP

@@ -54,6 +54,7 @@ from ..compiled import jit_lean
 from ..constants import G
 from ..rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
 from .n_block import MAX_BODIES, NBlock
+from .stack_pose import base_offset, bodies_of, corner_point, handback, local_point, state_of, tilt
 from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
 
 # Step control, named once
@@ -125,18 +126,6 @@ class StackContactOutcome(NamedTuple):
     handback: tuple = (0.0,) * (2 * MAX_BODIES)
 
 
-class Bodies(NamedTuple):
-    """The blocks of a run (tuples of :data:`MAX_BODIES`): half-width, half-height [m], mass [kg], moment of inertia
-    about the centre [kg m2], friction at the base [-]."""
-
-    n: int
-    b: tuple
-    h: tuple
-    m: tuple
-    i: tuple
-    mu: tuple
-
-
 class Work(NamedTuple):
     """Scratch arrays made once per run: the contacts' bodies, Jacobian rows (per contact: normal then tangent,
     each the two bodies' three entries), slots, the Delassus matrix, the free velocities' relative velocities, the
@@ -157,21 +146,6 @@ def work() -> Work:
     c = MAX_CONTACTS
     return Work(np.zeros((c, 2), dtype=np.int64), np.zeros((c, 2, 6)), np.zeros(c, dtype=np.int64),
                 np.zeros((2 * c, 2 * c)), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c))
-
-
-@jit_lean
-def _corner(q, k, rx, rz):
-    """Block k's point at (rx, rz) from its centre in its frame, in the ground's frame."""
-    c, s = math.cos(q[2, k]), math.sin(q[2, k])
-    return q[0, k] + c * rx + s * rz, q[1, k] - s * rx + c * rz
-
-
-@jit_lean
-def _local(q, k, px, pz):
-    """The point (px, pz) in block k's frame (origin its centre)."""
-    c, s = math.cos(q[2, k]), math.sin(q[2, k])
-    dx, dz = px - q[0, k], pz - q[1, k]
-    return c * dx - s * dz, s * dx + c * dz
 
 
 @jit_lean
@@ -198,7 +172,7 @@ def _contacts(bd, n, q, wk):
     count = 0
     for side in range(2):
         s = 2.0 * side - 1.0
-        px, pz = _corner(q, 0, s * bd.b[0], -bd.h[0])
+        px, pz = corner_point(q, 0, s * bd.b[0], -bd.h[0])
         if pz <= WITHIN * bd.h[0]:
             count = _add(wk, count, 0, NO_BODY, 0.0, 1.0, px, pz, q, side)
     for k in range(1, n):
@@ -207,8 +181,8 @@ def _contacts(bd, n, q, wk):
         met = 0
         for side in range(2):
             s = 2.0 * side - 1.0
-            px, pz = _corner(q, up, s * bd.b[up], -bd.h[up])
-            lx, lz = _local(q, lo, px, pz)
+            px, pz = corner_point(q, up, s * bd.b[up], -bd.h[up])
+            lx, lz = local_point(q, lo, px, pz)
             if lz - bd.h[lo] <= gap_tol and abs(lx) <= bd.b[lo] + tol:
                 c, sn = math.cos(q[2, lo]), math.sin(q[2, lo])
                 count = _add(wk, count, up, lo, sn, c, px, pz, q, 2 + 4 * (k - 1) + side)
@@ -217,8 +191,8 @@ def _contacts(bd, n, q, wk):
             if met & (1 << side):
                 continue                            # the two corners meet: counted once
             s = 2.0 * side - 1.0
-            px, pz = _corner(q, lo, s * bd.b[lo], bd.h[lo])
-            ux, uz = _local(q, up, px, pz)
+            px, pz = corner_point(q, lo, s * bd.b[lo], bd.h[lo])
+            ux, uz = local_point(q, up, px, pz)
             if -bd.h[up] - uz <= gap_tol and abs(ux) <= bd.b[up] + tol:
                 c, sn = math.cos(q[2, up]), math.sin(q[2, up])
                 count = _add(wk, count, up, lo, sn, c, px, pz, q, 4 + 4 * (k - 1) + side)
@@ -322,19 +296,13 @@ def _apply(bd, count, v, wk):
 
 
 @jit_lean
-def _tilt(q, k):
-    """Block k's rotation on what it stands on [rad]."""
-    return q[2, k] - (q[2, k - 1] if k > 0 else 0.0)
-
-
-@jit_lean
 def _fallen(bd, n, q):
     """The lowest block that has fallen (the module's rule), or n."""
     for k in range(n):
-        if abs(q[2, k]) >= HALF_PI or abs(_tilt(q, k)) >= HALF_PI:
+        if abs(q[2, k]) >= HALF_PI or abs(tilt(q, k)) >= HALF_PI:
             return k
         if k > 0:
-            _, lz = _local(q, k - 1, q[0, k], q[1, k])
+            _, lz = local_point(q, k - 1, q[0, k], q[1, k])
             if lz < bd.h[k - 1]:
                 return k
     return n
@@ -358,17 +326,17 @@ def _joint_modes(bd, n, q, v, count, wk, modes):
         joint, side = (0, sl) if sl < 2 else ((sl - 2) // 4 + 1, (sl - 2) % 2)
         ends[joint] |= 1 << side
     for k in range(n):
-        bits, tilt = ends[k], _tilt(q, k)
+        bits, turn = ends[k], tilt(q, k)
         rate = v[2, k] - (v[2, k - 1] if k > 0 else 0.0)
         if bits == 3:
-            if abs(tilt) >= REST_TILT_RAD or abs(rate) * math.hypot(bd.b[k], bd.h[k]) >= REST_SPEED:
+            if abs(turn) >= REST_TILT_RAD or abs(rate) * math.hypot(bd.b[k], bd.h[k]) >= REST_SPEED:
                 return False
             modes[k] = 0
         elif bits == 0:
             return False
         else:
             side = 1 if bits == 2 else -1
-            if tilt * side <= 0.0:
+            if turn * side <= 0.0:
                 return False
             modes[k] = side
     return True
@@ -392,14 +360,6 @@ def _holds(bd, n, piece, t):
     for k in range(n):
         least = min(least, bd.mu[k])
     return G + a_v > 0.0 and abs(a_h) <= least * (G + a_v)
-
-
-@jit_lean
-def _offset(bd, q, k):
-    """Block k's base centre from the centre of the top of block k - 1, in its frame [m]."""
-    px, pz = _corner(q, k, 0.0, -bd.h[k])
-    lx, _ = _local(q, k - 1, px, pz)
-    return lx
 
 
 @jit_lean
@@ -458,15 +418,15 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
                 q[d, k] += 0.5 * hh * v[d, k]
         t = t_end_piece if hh == t_end_piece - t else t + hh
         steps += 1
-        _, z_left = _corner(q, 0, -bd.b[0], -bd.h[0])
-        _, z_right = _corner(q, 0, bd.b[0], -bd.h[0])
+        _, z_left = corner_point(q, 0, -bd.b[0], -bd.h[0])
+        _, z_right = corner_point(q, 0, bd.b[0], -bd.h[0])
         lift = max(lift, min(z_left, z_right))
         for k in range(n):
-            peak[k] = max(peak[k], abs(_tilt(q, k)))
+            peak[k] = max(peak[k], abs(tilt(q, k)))
             if k > 0:
-                slide[k] = max(slide[k], abs(_offset(bd, q, k) - off0[k]))
+                slide[k] = max(slide[k], abs(base_offset(bd, q, k) - off0[k]))
             else:
-                base_x, _ = _corner(q, 0, 0.0, -bd.h[0])
+                base_x, _ = corner_point(q, 0, 0.0, -bd.h[0])
                 slide[0] = max(slide[0], abs(base_x - off0[0]))
         fell = _fallen(bd, n, q)
         if fell < n:
@@ -485,64 +445,6 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
     return n, t, rested, status, steps, unconverged, lift
 
 
-def bodies_of(nb: NBlock, mu) -> Bodies:
-    """The :class:`Bodies` of the stack ``nb`` with each block's friction at its base ``mu`` [-]."""
-    pad = (0.0,) * (MAX_BODIES - nb.n)
-    return Bodies(nb.n, nb.b, nb.h, nb.m, nb.i, tuple(float(x) for x in mu[:nb.n]) + pad)
-
-
-def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
-    """The blocks' centres and rotations q (3, n) and their rates v (3, n) in the ground's frame (its origin the
-    centre of block 0's base at rest) from the n-block model's state ``y`` (:mod:`.n_block`: each joint's psi, then
-    its rate; an open joint turns about its corner on the side of its rotation, or of its rate at psi = 0)."""
-    n = nb.n
-    q, v = np.zeros((3, n)), np.zeros((3, n))
-    px, pz = 0.0, 0.0                                     # joint k's corner in the ground's frame
-    vx, vz = 0.0, 0.0                                     # its velocity
-    phi, rate = 0.0, 0.0
-    for k in range(n):
-        psi, psid = float(y[k]), float(y[MAX_BODIES + k])
-        corner = nb.hi[k] if (psi > 0.0 or (psi == 0.0 and psid >= 0.0)) else nb.lo[k]
-        phi, rate = phi + psi, rate + psid
-        c, s = math.cos(phi), math.sin(phi)
-        if k == 0:
-            px, pz = corner, 0.0
-        ax, az = -corner, nb.h[k]                        # from the corner to the centre, in the block's frame
-        q[0, k], q[1, k], q[2, k] = px + c * ax + s * az, pz - s * ax + c * az, phi
-        v[0, k], v[1, k], v[2, k] = vx + rate * (-s * ax + c * az), vz + rate * (-c * ax - s * az), rate
-        if k + 1 < n:
-            nxt = nb.hi[k + 1] if (float(y[k + 1]) > 0.0 or (float(y[k + 1]) == 0.0
-                                                              and float(y[MAX_BODIES + k + 1]) >= 0.0)) \
-                else nb.lo[k + 1]
-            lx, lz = nxt + nb.off[k + 1] - corner, 2.0 * nb.h[k]
-            px, pz = px + c * lx + s * lz, pz - s * lx + c * lz
-            vx, vz = vx + rate * (-s * lx + c * lz), vz + rate * (-c * lx - s * lz)
-    return q, v
-
-
-def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
-    """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
-    the top of the block under it; None where a block's base no longer overlaps its support or the part above a
-    joint would not stand at rest on it (its centre of mass outside the overlap)."""
-    b, h = nb.b[:count], nb.h[:count]
-    off = (0.0,) + tuple(float(x) for x in offsets_m[1:count])
-    lo, hi = [-b[0]], [b[0]]
-    for k in range(1, count):
-        lo.append(max(-b[k], -b[k - 1] - off[k]))
-        hi.append(min(b[k], b[k - 1] - off[k]))
-        if hi[k] <= lo[k]:
-            return None
-    pad = (0.0,) * (MAX_BODIES - count)
-    out = NBlock(count, tuple(b) + pad, tuple(h) + pad, tuple(nb.m[:count]) + pad, tuple(nb.i[:count]) + pad,
-                 tuple(lo) + pad, tuple(hi) + pad, off + pad)
-    from .n_block import part_centre
-    for k in range(count):
-        xg, _ = part_centre(out, k)
-        if not lo[k] < xg < hi[k]:
-            return None
-    return out
-
-
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                            start: tuple | None = None, t0_s: float = 0.0,
                            hand_back: bool = True) -> StackContactOutcome:
@@ -557,38 +459,15 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     bd = bodies_of(nb, mu)
     t_fall, peak, slide = np.full(MAX_BODIES, np.nan), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
     base_x = q[0, 0] + math.sin(q[2, 0]) * -nb.h[0]             # block 0's base centre on the ground
-    off0 = np.array([base_x] + [_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
+    off0 = np.array([base_x] + [base_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     modes = np.zeros(MAX_BODIES, dtype=np.int64)
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
                                                             bool(hand_back), work(), t_fall, peak, slide, off0,
                                                             modes)
-    offsets, y = _handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
+    offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
                                tuple(float(x) for x in slide), float(lift), y)
 
-
-def _handback(bd: Bodies, q: np.ndarray, v: np.ndarray, modes: np.ndarray, count: int) -> tuple[tuple, tuple]:
-    """Each block's offset [m] (its base centre from the centre of the top below, as if the joint were shut: a joint
-    turning on a corner placed by where that corner meets the other face) and the n-block state of ``modes``."""
-    offsets, psi, rate = [0.0] * MAX_BODIES, [0.0] * MAX_BODIES, [0.0] * MAX_BODIES
-    for k in range(count):
-        side = int(modes[k])
-        if side != 0:
-            psi[k] = float(_tilt(q, k))
-            rate[k] = float(v[2, k] - (v[2, k - 1] if k > 0 else 0.0))
-        if k == 0:
-            continue
-        offsets[k] = float(_offset(bd, q, k))
-        if side != 0:
-            px, pz = _corner(q, k, side * bd.b[k], -bd.h[k])          # the upper's corner on the lower's face
-            lx, _ = _local(q, k - 1, px, pz)
-            if abs(lx) <= bd.b[k - 1]:
-                offsets[k] = float(lx - side * bd.b[k])
-            else:                                                       # the lower's corner on the upper's face
-                px, pz = _corner(q, k - 1, side * bd.b[k - 1], bd.h[k - 1])
-                ux, _ = _local(q, k, px, pz)
-                offsets[k] = float(side * bd.b[k - 1] - ux)
-    return tuple(offsets), tuple(psi) + tuple(rate)

@@ -189,7 +189,9 @@ def scene_of(tb: StackModel, judged: StackVerdicts, index: int, mu: float = math
 def body_history(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,
                  tb: StackModel | None = None) -> np.ndarray:
     """The body's rotation on what it stands on over that joint's smaller tipping angle at rest [-], at every sample
-    of the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, to the stack's first fall (NaN after it)."""
+    of the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, by the exact model alone: to the stack's first
+    fall or the ground's first flight (NaN after it), through a joint's slip as if it held (the verdict follows both
+    with the stack's contact model, whose motion this history does not show)."""
     tb = stack_blocks(place) if tb is None else tb
     n = len(place.bodies)
     hist = np.full((n, np.asarray(ah_ms2).shape[0]), np.nan)

@@ -15,7 +15,8 @@ from pipeline.assemblies import two_block as tbm
 from pipeline.assemblies.n_block_run import FALLS_NONE, simulate_n_block
 from pipeline.assemblies.n_block_verdicts import judge_n_block
 from pipeline.assemblies.stack import StackBody
-from pipeline.assemblies.stack_contact import shifted, simulate_stack_contact, state_of
+from pipeline.assemblies.stack_contact import simulate_stack_contact
+from pipeline.assemblies.stack_pose import bodies_of, handback, shifted, state_of
 from pipeline.assemblies.stack_scene import judge, two_as_n_block
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict
 
@@ -182,8 +183,6 @@ def test_the_state_it_hands_back_is_the_one_it_started_from(bodies):
     """Round trip: an n-block state (random psi of random signs, a shut joint among them, random rates) made into the
     blocks' positions and back (:func:`state_of`, then the hand-back's offsets and state) is that state and the
     stack's own offsets, to 1e-12 (a wide top on a narrow block turns on the lower's corner)."""
-    from pipeline.assemblies.stack_contact import _handback, bodies_of
-
     nb = nbm.n_block(bodies)
     rng = np.random.default_rng(11)
     for _ in range(10):
@@ -193,6 +192,6 @@ def test_the_state_it_hands_back_is_the_one_it_started_from(bodies):
         q, v = state_of(nb, y)
         modes = np.zeros(N, dtype=np.int64)
         modes[:nb.n] = np.sign(psi)
-        offsets, back = _handback(bodies_of(nb, _mu(bodies)), q, v, modes, nb.n)
+        offsets, back = handback(bodies_of(nb, _mu(bodies)), q, v, modes, nb.n)
         np.testing.assert_allclose(back, y, atol=1e-12)
         np.testing.assert_allclose(offsets[1:nb.n], nb.off[1:nb.n], atol=1e-12)

