@@ -86,7 +86,8 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                   mu: tuple | None = None) -> StackVerdicts:
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given), by the module's rules; ``mu``: each block's friction at its base [-],
-    with which the ground's flight is followed (None: a flight leaves the run without a verdict)."""
+    with which the ground's flight and a joint's slip are followed (None: the joints hold, their demands kept, and a
+    flight leaves the run without a verdict)."""
     n = nb.n
     verdicts = [int(Verdict.no_verdict)] * n
     t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
@@ -106,7 +107,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
             flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                             t0_s=run.t_end_s)
             back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
-            if flight.rested and back is None:      # at rest where the exact model's stack could not stand
+            if flight.rested and back is None:      # handed back where the exact model's stack could not stand
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                                 t0_s=run.t_end_s, hand_back=False)
             opened, status = True, status | flight.status
