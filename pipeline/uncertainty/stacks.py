@@ -1,15 +1,14 @@
 """The probability of a stack's body overturning under the declared uncertainty (:mod:`pipeline.stacks`).
 
-Draw k of every scene uses row k of the common random numbers (:mod:`.sampling`): the record's amplitude factor, and
-one factor on every body's height and one on every body's width (the bodies' sizes drawn together, their masses'
-ratios kept); the rocking plane is the given azimuth drawn about its value, the nominal governing plane of a stack of
-unknown orientation, or, for the random orientation, a plane uniform on [0, 180) deg from the draw's azimuth normal.
-The stack's exact models have no friction and no restitution of their own (their joints do not slide; their impacts
-lose what the impact law loses), and the contact model that follows a flight takes each body's nominal mu, so the
-draws of those are not used. Each draw is judged by
-:func:`pipeline.assemblies.stack_scene.body_verdict` (a draw whose stack stays shut stands without a run), with the
-sampling and stopping rule of every other scene (:func:`.scenes.sample_until_decided`).
-"""
+Draw k of every scene uses row k of the common random numbers (:mod:`.sampling`): the record's amplitude factor, one
+factor on every body's height and one on every body's width (the bodies' sizes drawn together, their masses' ratios
+kept), and one on every body's friction; the rocking plane is the given azimuth drawn about its value, the nominal
+governing plane of a stack of unknown orientation, or, for the random orientation, a plane uniform on [0, 180) deg
+from the draw's azimuth normal. The friction decides where a joint slips (the stack's contact model then follows
+it); the models have no restitution of their own (their impacts lose what their impact law loses), so that draw is
+not used. Each draw is judged by :func:`pipeline.assemblies.stack_scene.body_verdict` (a draw whose stack stays shut
+stands without a run), with the sampling and stopping rule of every other scene
+(:func:`.scenes.sample_until_decided`)."""
 
 from __future__ import annotations
 
@@ -28,12 +27,13 @@ from .settings import UncertaintyConfig
 
 
 def drawn_stack(place: StackPlace, z_row: np.ndarray, settings: UncertaintyConfig) -> StackPlace:
-    """``place`` with its bodies' heights and widths (and offsets, with the widths) scaled by draw ``z_row``'s
-    factors."""
+    """``place`` with its bodies' heights and widths (and offsets, with the widths) and their friction scaled by draw
+    ``z_row``'s factors."""
     fh = float(lognormal_factor(z_row[3], settings.size_cov))
     fw = float(lognormal_factor(z_row[4], settings.size_cov))
-    bodies = tuple(b._replace(height_m=b.height_m * fh, width_m=b.width_m * fw, offset_m=b.offset_m * fw)
-                   for b in place.bodies)
+    fmu = float(lognormal_factor(z_row[2], settings.friction_cov))
+    bodies = tuple(b._replace(height_m=b.height_m * fh, width_m=b.width_m * fw, offset_m=b.offset_m * fw,
+                              mu=b.mu * fmu) for b in place.bodies)
     return place._replace(bodies=bodies)
 
 
