@@ -16,10 +16,11 @@ tangential relative velocities after the step U = H v+ obey the plastic impact l
     0 <= P_n  _|_  U_n >= 0,      |P_t| <= mu P_n,  U_t = 0 where |P_t| < mu P_n,  else P_t U_t < 0,
 
 mu the friction of the upper face of the contact (the block's own ``mu`` at its base). The impulses are found by
-projected Gauss-Seidel over the contacts, each contact's 2 x 2 problem solved exactly (no contact, stick, or slide
-either way), started from the impulses of the step before; a step whose sweeps reach :data:`MAX_SWEEPS` keeps its
-last iterate and is counted (:attr:`StackContactOutcome.unconverged`). A plastic impact at a new sticking corner is
-Housner's (1963) for a single block: the angular momentum about the new corner is kept and the old one lifts.
+projected Gauss-Seidel over the contacts, each contact's 2 x 2 problem solved by its cases (no contact, stick, or
+slide either way), started from the impulses of the step before; a step whose sweeps reach :data:`MAX_SWEEPS` keeps
+its last iterate and is counted (:attr:`StackContactOutcome.unconverged`). For one block a plastic impact at a new
+sticking corner is, in the limit of short steps, Housner's (1963) (the angular momentum about the new corner kept,
+the old one lifting); the tests compare one block's runs with the exact model's, which uses Housner's impact.
 
 A block **falls** where its rotation, or its rotation on the block under it, reaches pi / 2 (:mod:`.n_block`'s
 rule), or where its centre has dropped below the top of the block it stood on (it left its support); the blocks
@@ -458,7 +459,7 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     q, v = state_of(nb, y)
     bd = bodies_of(nb, mu)
     t_fall, peak, slide = np.full(MAX_BODIES, np.nan), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
-    base_x = q[0, 0] + math.sin(q[2, 0]) * -nb.h[0]             # block 0's base centre on the ground
+    base_x, _ = corner_point(q, 0, 0.0, -nb.h[0])               # block 0's base centre on the ground
     off0 = np.array([base_x] + [base_offset(bd, q, k) for k in range(1, nb.n)] + [0.0] * (MAX_BODIES - nb.n))
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))

@@ -64,25 +64,19 @@ def tipping_angles(model: StackModel) -> tuple:
 
 
 def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-          settings: SimulationConfig = SimulationConfig(), mu: tuple | None = None) -> StackVerdicts:
+          settings: SimulationConfig = SimulationConfig(), bodies: tuple | None = None) -> StackVerdicts:
     """Each body's verdict under the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, by the stack's
-    model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``mu``: each
-    body's friction at its base [-], with which a flight of the ground is followed (:mod:`.stack_contact`; None:
-    the flight leaves the verdict open), and so is a joint's slip. Two blocks whose run meets a flight, or needs
-    more friction than a joint has, are judged again as an n-block stack, which follows them."""
+    model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``bodies``: the
+    stack's :class:`~.stack.StackBody` rows, whose friction follows a flight of the ground or a joint's slip
+    (:mod:`.stack_contact`; None: the joints hold and a flight leaves the verdict open). Two blocks whose run meets
+    a flight, or needs more friction than a joint has, are judged again as the n-block stack of those bodies."""
+    mu = None if bodies is None else tuple(b.mu for b in bodies)
     if isinstance(model, TwoBlock):
         judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
         if mu is None or not (judged.status & STATUS_GROUND_FLIGHT or any(d > m for d, m in zip(judged.demand, mu))):
             return judged
-        model = two_as_n_block(model)
+        model = n_blocks.n_block(bodies)
     return judge_n_block(model, ah_ms2, dt_s, av_ms2=av_ms2, mu=mu)
-
-
-def two_as_n_block(tb: TwoBlock) -> NBlock:
-    """The two-block stack ``tb`` as an :class:`~.n_block.NBlock` (the same blocks and joint)."""
-    pad = (0.0,) * (n_blocks.MAX_BODIES - 2)
-    return NBlock(2, (tb.b1, tb.b2) + pad, (tb.h1, tb.h2) + pad, (tb.m1, tb.m2) + pad, (tb.i1, tb.i2) + pad,
-                  (-tb.b1, tb.left - tb.offset) + pad, (tb.b1, tb.right - tb.offset) + pad, (0.0, tb.offset) + pad)
 
 
 def from_two_block(judged: TwoBlockVerdict) -> StackVerdicts:
@@ -133,7 +127,7 @@ def stack_run(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, 
     if stays_shut(place.bodies, ah_ms2, av_ms2):
         return AT_REST
     tb = stack_blocks(place) if tb is None else tb
-    return judge(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings, mu=tuple(b.mu for b in place.bodies))
+    return judge(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings, bodies=place.bodies)
 
 
 class RunMemo:
