@@ -114,6 +114,7 @@ def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     # the paper's criterion rules the true pulse out: it says COL-S2 (a_up 0.19 g) would fall
     crit = ds.consistent_criterion.values.astype(bool)
     assert crit.any() and not crit[:, k - 1:k + 2, m - 1:m + 2].any()
+    _readme_quotes_the_region(ds, sim, crit)
     assert (out / "infer.png").read_bytes()[:4] == b"\x89PNG"
     # the figure's legend names every block and both regions, outside the axes (no label over another or a line)
     from figure_checks import legend_boxes_clear
@@ -129,6 +130,23 @@ def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     from pipeline import schema
 
     assert schema.check(ds, schema.INFER) == []
+
+
+def _readme_quotes_the_region(ds, sim, crit) -> None:
+    """The README's sentence on this example quotes the regions the command found."""
+    import re
+
+    text = (PROJECT / "README.md").read_text()
+    quoted = re.search(r"finds a_p ([\d.]+)-([\d.]+) g, t_p from ([\d.]+) s, axis N(\d+)E-N(\d+)E by the "
+                       r"simulation, and only ([\d.]+) g by the paper's criterion", text)
+    assert quoted is not None
+    g_sim = ds.acceleration.values[sim.any(axis=(0, 1))] / G
+    found = (f"{g_sim.min():.3f}", f"{g_sim.max():.3f}", f"{ds.duration.values[sim.any(axis=(0, 2))].min():.2f}")
+    axes = ds.azimuth.values[sim.any(axis=(1, 2))]
+    assert found == quoted.groups()[:3]
+    assert (int(axes.min()), int(axes.max())) == (int(quoted.group(4)), int(quoted.group(5)))
+    assert np.unique(np.round(ds.acceleration.values[crit.any(axis=(0, 1))] / G, 3)).tolist() == [
+        float(quoted.group(6))]
 
 
 @pytest.mark.parametrize("text, message", [

@@ -493,8 +493,8 @@ def _on_edge(impulses, edges, mu):
 @jit_inline
 def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub):
     """The steps in a row on one edge of ``edges`` without slipping (:func:`_on_edge`), this one included where
-    it ``counts`` (a whole step during the record; else none), and the edge where that reaches a whole sampling
-    interval (``n_sub`` steps) ``at_sample`` (-1: not yet)."""
+    it ``counts`` (a step during the record, whole or in parts: the impulses of its last part; else none), and the
+    edge where that reaches a whole sampling interval (``n_sub`` steps) ``at_sample`` (-1: not yet)."""
     if not counts or edges.shape[0] == 0:
         return 0, -1
     on = _on_edge(impulses, edges, mu)
@@ -580,7 +580,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             if not during:
                 break
         t_beyond, tilt_before = t if tilt > pose.toppled >= tilt_before else t_beyond, tilt   # last past tipping
-        stuck, edge = _handback(impulses, edges, mu, stuck, during and parts == 1, k % n_sub == 0, n_sub)
+        stuck, edge = _handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub)
         if edge >= 0:
             break
         if not during and n_c >= 3 and _still(v, w, size):     # at rest on three contacts or more, off its base
