@@ -18,7 +18,8 @@ tangential relative velocities after the step U = H v+ obey the plastic impact l
 mu the friction of the upper face of the contact (the block's own ``mu`` at its base). The impulses are found by
 projected Gauss-Seidel over the contacts, each contact's 2 x 2 problem solved by its cases (no contact, stick, or
 slide either way), started from the impulses of the step before; a step whose sweeps reach :data:`MAX_SWEEPS` keeps
-its last iterate and is counted (:attr:`StackContactOutcome.unconverged`). For one block a plastic impact at a new
+its last iterate, is counted (:attr:`StackContactOutcome.unconverged`) and flags the run step_cap (its verdict is
+kept, the scene flagged: ``simulation_guard``). For one block a plastic impact at a new
 sticking corner is, in the limit of short steps, Housner's (1963) (the angular momentum about the new corner kept,
 the old one lifting); the tests compare one block's runs with the exact model's, which uses Housner's impact.
 
@@ -98,7 +99,7 @@ class StackContactOutcome(NamedTuple):
         the run stopped [m] (block 0: 0)
     status : int
         :class:`~pipeline.rocking.codes.Status` bits: ground_flight (the ground fell faster than gravity in the run),
-        step_cap, tail_cap
+        step_cap (the run reached :data:`MAX_CONTACT_STEPS`, or a step's sweeps :data:`MAX_SWEEPS`), tail_cap
     steps : int
         steps taken
     unconverged : int
@@ -409,6 +410,7 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
             _relative(count, v, wk)
             if not _solve(bd, count, wk):
                 unconverged += 1
+                status |= STATUS_STEP_CAP
             _apply(bd, count, v, wk)
             for i in range(count):
                 wk.kept_next[2 * wk.slot[i]], wk.kept_next[2 * wk.slot[i] + 1] = wk.p[2 * i], wk.p[2 * i + 1]
