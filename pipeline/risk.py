@@ -105,8 +105,8 @@ STACK_CRITERION = "not applicable (a body of a stack)"
 
 def _col(ds: xr.Dataset, name: str) -> np.ndarray:
     """The array of ``ds``'s variable ``name``, read from its variable: ``ds[name]`` builds a DataArray each time
-    (about 50 us, 150 times the look-up), and an asset's row reads some 40 (3.4 s of a 1,000-block report under
-    cProfile)."""
+    (about 50 us, 150 times the look-up), and an asset's row reads some 40 (the rows of 1,000 blocks on 10 records:
+    0.23-0.26 s, against 1.8-1.9 s through ``ds[name]``, the same rows)."""
     return ds.variables[name].values
 
 
