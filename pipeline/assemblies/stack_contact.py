@@ -409,8 +409,7 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
             _delassus(bd, count, wk)
             _relative(count, v, wk)
             if not _solve(bd, count, wk):
-                unconverged += 1
-                status |= STATUS_STEP_CAP
+                unconverged, status = unconverged + 1, status | STATUS_STEP_CAP
             _apply(bd, count, v, wk)
             for i in range(count):
                 wk.kept_next[2 * wk.slot[i]], wk.kept_next[2 * wk.slot[i] + 1] = wk.p[2 * i], wk.p[2 * i + 1]
