@@ -1,4 +1,5 @@
-"""Where the box's exact model parts from the contact model: a ground moving in a circle.
+"""A box rolling from corner to corner: a ground moving in a circle, by the box's exact model, the contact model and
+PyBullet.
 
 Three seconds of a circular ground motion (a_x = a sin(2 pi f t), a_y = a cos(2 pi f t)), then nine still, under a
 box of 0.6 x 0.6 x 2.1 m and one of 0.6 x 1.2 x 2.1 m with friction 2 (no corner slips): each scene by the box's
@@ -9,7 +10,7 @@ model's verdict and peak tilt [rad], the exact model's flag (0: it followed the 
 impacts, and the contact model's twist.
 
 The ground's demand turns with it, so a box that lifts leans in a direction that turns too: it rolls from corner to
-corner. Where the exact model follows such a scene to the end (flag 0), its peak can be a tenth of the others'.
+corner, which the exact model follows by turning the box on a landing corner alone where the old pivot then rises.
 
 ``--records`` then runs the bundled records' two-component scenes of the four boxes of
 ``tests/rocking/solids/test_box_peer.py`` at friction 2 and compares, on the scenes the exact model follows to the

@@ -31,8 +31,12 @@ corner's friction couples the two: sticking needs a pull, lifting would push it 
 without friction while the box turns on the other corner (``omega = s u + psi' e_z``, u along the edge: the Euler
 equation with that corner's normal force solved for ``s'``, ``psi''`` and the force) until the force falls to
 zero (it lifts) or the twist stops (it sticks again where it can). On a corner, an adjacent corner that reaches
-the ground lands: the impulses act on the new edge's axis, so the angular momentum about that axis is conserved
-and ``s+ = u . I_P omega- / (u^T I_P u)``. On an edge, the base that lands flat rocks on the opposite edge with
+the ground lands. Where the box can go on turning on it alone, it does: the impulse acts at that corner, so the
+angular momentum about it is conserved (Housner's rule about a point, ``omega+ = I_Q^-1 (I_G omega- + r_Q x v_G-)``),
+and this holds where the impulse presses, inside the corner's friction cone, and the old pivot rises (faster than
+:data:`REST_RATE` x ``p alpha`` x the base's smaller half side): a box that rolls from corner to corner as the ground
+turns (``benchmarks/box_circular.py``). Otherwise the impulses act on the new edge's axis, so the angular momentum
+about that axis is conserved and ``s+ = u . I_P omega- / (u^T I_P u)``. On an edge, the base that lands flat rocks on the opposite edge with
 the angular momentum about it conserved (Housner 1963): ``s+ = u' . (I_G omega- + r' x (omega- x r)) / (u'^T I_P'
 u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)`` in the plane; a declared restitution scales it by its ratio
 to Housner's value (:attr:`Box.restitution_ratio`). When both corners next to the pivot land together (a box turning

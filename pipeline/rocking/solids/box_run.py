@@ -111,6 +111,34 @@ def _corner_lands(y, pivot, kc, prm):
 
 
 @jit
+def _corner_passes(y, pivot, kc, prm):
+    """A corner adjacent to the pivot lands and takes over alone: the box turns on it with its angular momentum about
+    it conserved (the impulse acts at it; Housner's rule about a point), where that is consistent: the landing corner
+    pressed (its impulse up, inside its friction cone) and the old pivot rising (faster than :data:`REST_RATE` p alpha
+    times the base's smaller half side, so that a grazing landing, where rounding would choose, stays on the edge).
+    Returns whether it is (the state then updated; else unchanged, and the box turns on the edge the two share:
+    :func:`_corner_lands`)."""
+    m = rotation(y)
+    wx, wy, wz = y[4], y[5], y[6]
+    rx, ry, rz = lever(m, pivot, prm)
+    ig = _inertia_g(m, prm)
+    gx, gy, gz = _sym_apply(ig, wx, wy, wz)
+    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
+    sx, sy, sz = lever(m, kc, prm)
+    hx, hy, hz = cross(sx, sy, sz, vx, vy, vz)
+    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], sx, sy, sz)
+    nx, ny, nz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], gx + hx, gy + hy, gz + hz)
+    ux, uy, uz = cross(nx, ny, nz, sx, sy, sz)             # G's velocity after, turning on the landing corner
+    px, py, pz = ux - vx, uy - vy, uz - vz                 # the impulse at it, per unit mass
+    old = cross(nx, ny, nz, sx - rx, sy - ry, sz - rz)     # the old pivot's velocity after
+    rising = REST_RATE * prm.p * prm.alpha * min(prm.bx, prm.by)      # below it the old pivot stays (an edge)
+    if pz <= 0.0 or math.hypot(px, py) > prm.mu * pz or old[2] <= rising:
+        return False
+    y[4], y[5], y[6] = nx, ny, nz
+    return True
+
+
+@jit
 def _diagonal_landing(y, pivot, prm):
     """Both corners adjacent to the pivot land together (the base lands flat while turning on a corner): the box
     turns on the opposite corner with its angular momentum about that corner conserved (Housner's rule about a
@@ -279,6 +307,8 @@ def _after_landing(y, mode, pivot, kc, together, prm):
         rests = _diagonal_landing(y, pivot, prm)
         return (REST if rests else CORNER), (pivot + 2) % 4
     if mode == CORNER:
+        if _corner_passes(y, pivot, kc, prm):
+            return CORNER, kc
         return EDGE, _corner_lands(y, pivot, kc, prm)
     j = edge_of(mode, pivot)
     rests = _flat_landing(y, j, pivot, prm)

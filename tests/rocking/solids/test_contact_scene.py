@@ -20,23 +20,23 @@ from pipeline.rocking.solids.contact_scene import handoff
 from pipeline.rocking.solids.convex_body import box_body
 from pipeline.rocking.solids.solid3d import judge_solid, run, solid_of
 
-SYLMAR = ("RSN1086_NORTHR_SYL090.AT2", "RSN1086_NORTHR_SYL360.AT2", "RSN1086_NORTHR_SYL-UP.AT2")
+RINALDI = ("RSN1063_NORTHR_RRS228.AT2", "RSN1063_NORTHR_RRS318.AT2", "RSN1063_NORTHR_RRS-UP.AT2")
 #: A square statue 0.5 x 0.5 x 2.0 m, friction 0.7, its width facing azimuth 50 deg.
 STATUE = BlockShape(height_m=2.0, width_m=0.5, mu=0.7, azimuth_deg=50.0, depth_m=0.5)
 
 
 @pytest.fixture(scope="module")
-def sylmar(records_dir, tmp_path_factory):
-    return copy_bundled(records_dir, tmp_path_factory.mktemp("sylmar"), *SYLMAR)
+def rinaldi(records_dir, tmp_path_factory):
+    return copy_bundled(records_dir, tmp_path_factory.mktemp("rinaldi"), *RINALDI)
 
 
 @pytest.fixture(scope="module")
-def record(sylmar):
-    return next(iter(iter_records(sylmar, config=Config())))
+def record(rinaldi):
+    return next(iter(iter_records(rinaldi, config=Config())))
 
 
 def test_a_scene_the_exact_model_stops_is_decided_by_the_contact_model(record):
-    """Northridge at Sylmar (RSN1086) and the statue: the box model stops where a corner would slip (no verdict);
+    """Northridge at Rinaldi (RSN1063) and the statue: the box model stops where a corner would slip (no verdict);
     the contact model, started from the box model's last certified state, overturns it, as the contact model
     alone does on the same record in the box's frame from rest, and as the hand-off's two steps do taken apart."""
     solid = solid_of(STATUE, record_azimuth_deg=float(record.azimuths_deg[0]), known_azimuth=True)
@@ -59,7 +59,7 @@ def test_a_scene_the_exact_model_stops_is_decided_by_the_contact_model(record):
 
 
 @pytest.mark.slow          # about 40 s: each margin factor and draw that the box model stops is run again
-def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_verdict(sylmar, tmp_path, capsys):
+def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_verdict(rinaldi, tmp_path, capsys):
     from pipeline.cli import main
     from pipeline.store import open_results
 
@@ -68,7 +68,7 @@ def test_screen_with_the_setting_gives_the_scene_its_probabilities_and_margin_a_
     for on in (False, True):
         (tmp_path / f"c{on}.toml").write_text(f"[simulation]\ncontact3d = {str(on).lower()}\n")
         out = tmp_path / f"out{on}"
-        assert main(["--records", str(sylmar), "--blocks", str(tmp_path / "b.csv"), "--out", str(out),
+        assert main(["--records", str(rinaldi), "--blocks", str(tmp_path / "b.csv"), "--out", str(out),
                      "--samples", "8", "--config", str(tmp_path / f"c{on}.toml")]) == 0
         runs[on] = open_results(out / "screening.nc")
         said = capsys.readouterr().err
