@@ -38,10 +38,11 @@ and this holds where the impulse presses, inside the corner's friction cone, and
 turns (``benchmarks/box_circular.py``). Otherwise the impulses act on the new edge's axis, so the angular momentum
 about that axis is conserved and ``s+ = u . I_P omega- / (u^T I_P u)``. On an edge, the base that lands flat rocks
 on the opposite edge with the angular momentum about it conserved (Housner 1963):
-``s+ = u' . (I_G omega- + r' x (omega- x r)) / (u'^T I_P' u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)`` in the plane; a declared restitution scales it by its ratio
-to Housner's value (:attr:`Box.restitution_ratio`). When both corners next to the pivot land together (a box turning
-on a corner along its diagonal lands flat), it turns on the opposite corner with its angular momentum about that
-corner conserved, the same rule about a point; a single corner landing on an edge is not scaled. A rebound slower
+``s+ = u' . (I_G omega- + r' x (omega- x r)) / (u'^T I_P' u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)``
+in the plane; a declared restitution scales it by its ratio to Housner's value (:attr:`Box.restitution_ratio`).
+When both corners next to the pivot land together (a box turning on a corner along its diagonal lands flat), it
+turns on the opposite corner with its angular momentum about that corner conserved, the same rule about a point; a
+single corner landing is not scaled. A rebound slower
 than :data:`REST_RATE` x ``p alpha`` rests; more than :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` flat landings
 inside one sample interval (a cascade at the threshold of uplift, its rebounds too small to show at the samples)
 hold the box at rest to the next sample, as the planar kernel's tie rule holds a flat block (counted: ``holds``).
