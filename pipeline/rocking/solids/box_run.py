@@ -111,23 +111,31 @@ def _corner_lands(y, pivot, kc, prm):
 
 
 @jit
-def _corner_passes(y, pivot, kc, prm):
-    """A corner adjacent to the pivot lands and takes over alone: the box turns on it with its angular momentum about
-    it conserved (the impulse acts at it; Housner's rule about a point), where that is consistent: the landing corner
-    pressed (its impulse up, inside its friction cone) and the old pivot rising (faster than :data:`REST_RATE` p alpha
-    times the base's smaller half side, so that a grazing landing, where rounding would choose, stays on the edge).
-    Returns whether it is (the state then updated; else unchanged, and the box turns on the edge the two share:
-    :func:`_corner_lands`)."""
+def _about_point(y, pivot, other, prm):
+    """Turning on corner ``pivot``, the box lands on corner ``other`` alone: its rate after, the angular momentum about
+    ``other`` conserved (the impulse acts there; Housner's rule about a point), ``omega+ = I_Q^-1 (I_G omega- + s x
+    v_G-)`` with ``s = G - Q``; returned with G's velocity before and the levers ``r = G - pivot`` and ``s``."""
     m = rotation(y)
     wx, wy, wz = y[4], y[5], y[6]
-    rx, ry, rz = lever(m, pivot, prm)
+    r = lever(m, pivot, prm)
     ig = _inertia_g(m, prm)
     gx, gy, gz = _sym_apply(ig, wx, wy, wz)
-    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
-    sx, sy, sz = lever(m, kc, prm)
-    hx, hy, hz = cross(sx, sy, sz, vx, vy, vz)
+    v = cross(wx, wy, wz, r[0], r[1], r[2])
+    sx, sy, sz = lever(m, other, prm)
+    hx, hy, hz = cross(sx, sy, sz, v[0], v[1], v[2])
     ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], sx, sy, sz)
-    nx, ny, nz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], gx + hx, gy + hy, gz + hz)
+    n = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], gx + hx, gy + hy, gz + hz)
+    return n, v, r, (sx, sy, sz)
+
+
+@jit
+def _corner_passes(y, pivot, kc, prm):
+    """A corner adjacent to the pivot lands and takes over alone (:func:`_about_point`), where that is consistent:
+    the landing corner pressed (its impulse up, inside its friction cone) and the old pivot rising (faster than
+    :data:`REST_RATE` p alpha times the base's smaller half side, so that a grazing landing, where rounding would
+    choose, stays on the edge). Returns whether it is (the state then updated; else unchanged, and the box turns on
+    the edge the two share: :func:`_corner_lands`)."""
+    (nx, ny, nz), (vx, vy, vz), (rx, ry, rz), (sx, sy, sz) = _about_point(y, pivot, kc, prm)
     ux, uy, uz = cross(nx, ny, nz, sx, sy, sz)             # G's velocity after, turning on the landing corner
     px, py, pz = ux - vx, uy - vy, uz - vz                 # the impulse at it, per unit mass
     old = cross(nx, ny, nz, sx - rx, sy - ry, sz - rz)     # the old pivot's velocity after
@@ -141,18 +149,9 @@ def _corner_passes(y, pivot, kc, prm):
 @jit
 def _diagonal_landing(y, pivot, prm):
     """Both corners adjacent to the pivot land together (the base lands flat while turning on a corner): the box
-    turns on the opposite corner with its angular momentum about that corner conserved (Housner's rule about a
-    point), scaled by the declared restitution; returns whether the rebound is too slow to go on (rest)."""
-    m = rotation(y)
-    wx, wy, wz = y[4], y[5], y[6]
-    rx, ry, rz = lever(m, pivot, prm)
-    ig = _inertia_g(m, prm)
-    gx, gy, gz = _sym_apply(ig, wx, wy, wz)
-    vx, vy, vz = cross(wx, wy, wz, rx, ry, rz)
-    sx, sy, sz = lever(m, pivot + 2, prm)
-    hx, hy, hz = cross(sx, sy, sz, vx, vy, vz)
-    ip = shifted(ig[0], ig[1], ig[2], ig[3], ig[4], ig[5], sx, sy, sz)
-    nx, ny, nz = solve_sym3(ip[0], ip[1], ip[2], ip[3], ip[4], ip[5], gx + hx, gy + hy, gz + hz)
+    turns on the opposite corner (:func:`_about_point`), scaled by the declared restitution; returns whether the
+    rebound is too slow to go on (rest)."""
+    (nx, ny, nz), _, _, _ = _about_point(y, pivot, pivot + 2, prm)
     flatten(y)
     if math.hypot(nx, ny) * prm.scale < REST_RATE * prm.p * prm.alpha:
         y[4], y[5], y[6] = 0.0, 0.0, 0.0
