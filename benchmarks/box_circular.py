@@ -5,7 +5,8 @@ Three seconds of a circular ground motion (a_x = a sin(2 pi f t), a_y = a cos(2 
 box of 0.6 x 0.6 x 2.1 m and one of 0.6 x 1.2 x 2.1 m with friction 2 (no corner slips): each scene by the box's
 exact model (:func:`pipeline.rocking.solids.box3d.simulate_box`, Housner's restitution as the contact model's plastic
 contacts give), by the contact model alone (:func:`pipeline.rocking.solids.contact3d.simulate_contact3d`), and by
-PyBullet (``tests/support/rigid_body_peer.py``, both senses of the circle) where it is installed. Prints each
+PyBullet (``tests/support/rigid_body_peer.py``, both senses of the circle) and MuJoCo
+(``contact3d_second_engine.py``: both senses, its step and half of it) where they are installed. Prints each
 model's verdict and peak tilt [rad], the exact model's flag (0: it followed the whole record itself) and its
 impacts, and the contact model's twist.
 
@@ -61,10 +62,23 @@ def _peer():
     return bullet_box_overturns
 
 
+def _second():
+    """MuJoCo's box verdict (``benchmarks/contact3d_second_engine.py``), or None where it is not installed."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    try:
+        import mujoco  # noqa: F401
+        from contact3d_second_engine import mujoco_overturns
+    except Exception:  # noqa: BLE001 - an optional peer: its absence is said below
+        return None
+    return mujoco_overturns
+
+
 def main() -> None:
-    peer = _peer()
+    peer, second = _peer(), _second()
     if peer is None:
         print("PyBullet is not installed: its column is left out (pip install pybullet)")
+    if second is None:
+        print("MuJoCo is not installed: its column is left out (pip install mujoco)")
     for b, d, h in BOXES:
         box = Box(b, d, h, mu=MU, restitution_ratio=1.0)
         for amplitude_g, frequency_hz in GROUNDS:
@@ -79,6 +93,10 @@ def main() -> None:
                 both = [peer(*circle(amplitude_g, frequency_hz, sense), None, DT_S, width_m=2 * b, depth_m=2 * d,
                              height_m=2 * h, mu=MU) for sense in (1.0, -1.0)]
                 line += "  PyBullet " + ", ".join(f"{v!s:5} {tilt:6.3f}" for v, tilt in both)
+            if second is not None:
+                over = [second("box", 2 * b, 2 * d, 2 * h, MU, *circle(amplitude_g, frequency_hz, sense), None, DT_S,
+                               **step) for sense in (1.0, -1.0) for step in ({}, {"step_s": 5e-5})]
+                line += "  MuJoCo overturns (each sense, its step and half) " + "/".join(str(int(v)) for v in over)
             print(line, flush=True)
 
 
