@@ -31,7 +31,7 @@ import numpy as np
 from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.loader import iter_records
-from pipeline.rocking.solids.box3d import Box, simulate_box
+from pipeline.rocking.solids.box3d import FLAG_NONE, Box, simulate_box
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 
 DT_S = 0.01
@@ -110,7 +110,7 @@ def on_records() -> None:
         for w, d, h in RECORD_BOXES:
             box = Box(w / 2, d / 2, h / 2, mu=MU, restitution_ratio=1.0)
             exact = simulate_box(h1, h2, rec.vertical_ms2, rec.dt_s, box)
-            if exact.flag != 0 or exact.held != 0:
+            if exact.flag != FLAG_NONE or exact.held != FLAG_NONE:
                 continue
             alone = simulate_contact3d(h1, h2, rec.vertical_ms2, rec.dt_s, box.convex())
             alpha = math.atan2(w, h)

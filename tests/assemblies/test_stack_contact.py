@@ -18,7 +18,7 @@ from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_contact import simulate_stack_contact
 from pipeline.assemblies.stack_pose import bodies_of, handback, shifted, state_of
 from pipeline.assemblies.stack_scene import judge
-from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict
+from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, Verdict
 
 DT = 0.005
 G = 9.80665
@@ -56,6 +56,7 @@ def test_where_no_joint_slides_it_follows_the_exact_model(bodies, joints, ap, tp
     for k in range(min(falls, joints)):
         assert abs(got.peak_rad[k] - exact.peak_psi_rad[k]) <= 0.03 * tips[k], k
     assert got.unconverged <= 0.01 * got.steps
+    assert bool(got.status & STATUS_STEP_CAP) == (got.unconverged > 0)      # a capped step flags the run, no other
 
 
 def test_a_block_slides_on_the_block_under_it_as_coulomb_says():

@@ -30,22 +30,22 @@ force falls to zero lifts, and the box turns on the other corner, when it would 
 corner's friction couples the two: sticking needs a pull, lifting would push it down), it slides on the ground
 without friction while the box turns on the other corner (``omega = s u + psi' e_z``, u along the edge: the Euler
 equation with that corner's normal force solved for ``s'``, ``psi''`` and the force) until the force falls to
-zero (it lifts) or the twist stops (it sticks again where it can). On a corner, an adjacent corner that reaches
-the ground lands. Where the box can go on turning on it alone, it does: the impulse acts at that corner, so the
-angular momentum about it is conserved (Housner's rule about a point, ``omega+ = I_Q^-1 (I_G omega- + r_Q x v_G-)``),
-and this holds where the impulse presses, inside the corner's friction cone, and the old pivot rises (faster than
-:data:`REST_RATE` x ``p alpha`` x the base's smaller half side): a box that rolls from corner to corner as the ground
-turns (``benchmarks/box_circular.py``). Otherwise the impulses act on the new edge's axis, so the angular momentum
-about that axis is conserved and ``s+ = u . I_P omega- / (u^T I_P u)``. On an edge, the base that lands flat rocks
-on the opposite edge with the angular momentum about it conserved (Housner 1963):
-``s+ = u' . (I_G omega- + r' x (omega- x r)) / (u'^T I_P' u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)``
-in the plane; a declared restitution scales it by its ratio to Housner's value (:attr:`Box.restitution_ratio`).
-When both corners next to the pivot land together (a box turning on a corner along its diagonal lands flat), it
-turns on the opposite corner with its angular momentum about that corner conserved, the same rule about a point; a
-single corner landing is not scaled. A rebound slower
-than :data:`REST_RATE` x ``p alpha`` rests; more than :data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` flat landings
-inside one sample interval (a cascade at the threshold of uplift, its rebounds too small to show at the samples)
-hold the box at rest to the next sample, as the planar kernel's tie rule holds a flat block (counted: ``holds``).
+zero (it lifts) or the twist stops (it sticks again where it can). On a corner, an adjacent corner that reaches the
+ground lands. Where the box can go on turning on it alone, it does: the impulse acts at that corner, so the angular
+momentum about it is conserved (Housner's rule about a point, ``omega+ = I_Q^-1 (I_G omega- + r_Q x v_G-)``,
+``r_Q = G - Q``), and this holds where the impulse presses, inside the corner's friction cone, and the old pivot rises
+(faster than :data:`REST_RATE` x ``p alpha`` x the base's smaller half side): a box that rolls from corner to corner
+as the ground turns (``benchmarks/box_circular.py``). Otherwise the impulses act on the new edge's axis, so the
+angular momentum about that axis is conserved and ``s+ = u . I_P omega- / (u^T I_P u)``. On an edge, the base that
+lands flat rocks on the opposite edge with the angular momentum about it conserved (Housner 1963):
+``s+ = u' . (I_G omega- + r' x (omega- x r)) / (u'^T I_P' u')``, which is Housner's ``e = 1 - 3/2 sin^2(alpha)`` in
+the plane; a declared restitution scales it by its ratio to Housner's value (:attr:`Box.restitution_ratio`). When both
+corners next to the pivot land together (a box turning on a corner along its diagonal lands flat), it turns on the
+opposite corner with its angular momentum about that corner conserved, the same rule about a point; a single corner
+landing is not scaled. A rebound slower than :data:`REST_RATE` x ``p alpha`` rests; more than
+:data:`~.box_run.MAX_FLAT_LANDINGS_PER_SAMPLE` flat landings inside one sample interval (a cascade at the threshold of
+uplift, its rebounds too small to show at the samples) hold the box at rest to the next sample, as the planar kernel's
+tie rule holds a flat block (counted: ``holds``).
 Landings are located on the step's cubic of the corner's height; a corner that has just lifted lands where it
 returns to the ground.
 

@@ -95,8 +95,9 @@ def _landing(y, k0, y_new, k6, hh, mode, pivot, prm):
 
 @jit
 def _corner_lands(y, pivot, kc, prm):
-    """A corner adjacent to the pivot lands: the box turns on the edge they share, its angular momentum about that
-    edge's axis conserved (the impulses act on the axis). Returns the edge."""
+    """A corner adjacent to the pivot lands and cannot take over alone (:func:`_corner_passes`): the box turns on the
+    edge they share, its angular momentum about that edge's axis conserved (the impulses act on the axis). Returns
+    the edge."""
     j = pivot if kc == (pivot + 1) % 4 else kc
     m = rotation(y)
     rx, ry, rz = lever(m, pivot, prm)

@@ -159,6 +159,45 @@ def test_a_box_rolling_from_corner_to_corner_as_the_contact_model_has_it(amplitu
     assert exact.theta_max_rad == pytest.approx(alone.tilt_max_rad, rel=0.05)
 
 
+def _kinetic(rate: np.ndarray, corner_from_g: np.ndarray, inertia: np.ndarray) -> float:
+    """The kinetic energy per unit mass [J kg-1] of a box turning at ``rate`` [rad s-1] about a corner at rest, the
+    corner at ``corner_from_g`` from G [m], ``inertia`` about G per unit mass in the same axes [m2]."""
+    v_g = np.cross(rate, -corner_from_g)
+    return float(0.5 * v_g @ v_g + 0.5 * rate @ inertia @ rate)
+
+
+def test_a_corner_taking_over_never_gains_energy():
+    """Where a landing corner takes over alone (``box_run._corner_passes``), its impulse stops it dead (a plastic,
+    sticking impact at one point), so the kinetic energy cannot grow (Kelvin): checked with the energy computed
+    here from the box's own inertia (not the kernel's), on 400 random tilted states and rates."""
+    from scipy.spatial.transform import Rotation
+
+    from pipeline.rocking.solids.box_kernel import _params
+    from pipeline.rocking.solids.box_run import _corner_passes
+
+    rng = np.random.default_rng(20261203)
+    signs = ((1, 1), (-1, 1), (-1, -1), (1, -1))                     # the kernel's corners, counter-clockwise
+    passed = 0
+    for _ in range(400):
+        a, b, c = rng.uniform(0.1, 0.5), rng.uniform(0.1, 0.5), rng.uniform(0.5, 1.5)
+        prm = _params(G, a, b, c, 2.0, 1.0, 1e-7, 1e-9)
+        rot = Rotation.from_rotvec(np.append(rng.normal(0.0, 0.15, 2), rng.uniform(-np.pi, np.pi)))
+        x, y_, z, w = rot.as_quat()
+        omega = rng.normal(0.0, 1.0, 3)
+        pivot = int(rng.integers(4))
+        landing = (pivot + int(rng.choice([1, 3]))) % 4
+        state = np.array([w, x, y_, z, *omega])
+        m = rot.as_matrix()
+        inertia = m @ np.diag([(b * b + c * c) / 3, (a * a + c * c) / 3, (a * a + b * b) / 3]) @ m.T
+        corner = [m @ np.array([sx * a, sy * b, -c]) for sx, sy in signs]
+
+        before = _kinetic(omega, corner[pivot], inertia)
+        if _corner_passes(state, pivot, landing, prm):
+            passed += 1
+            assert _kinetic(state[4:], corner[landing], inertia) <= before * (1.0 + 1e-12)
+    assert passed >= 20, passed
+
+
 def test_the_mirror_image_of_the_record_gives_the_mirror_image_of_the_motion():
     """The box is symmetric about its x axis: a_y -> -a_y gives the same tilts and mirrored azimuths."""
     ax, ay = _two_components()
