@@ -10,8 +10,9 @@ import numpy as np
 from ..constants import M_TO_CM
 from ..errors import PulseError
 from ..records.record import Record
+from .along import extract_along
 from .characterize import Lobe, dominant_lobe, record_peak_in
-from .shahi_baker import PulseResult, classify, extract_along
+from .shahi_baker import PulseResult, classify
 
 __all__ = ["RecordPulse", "analyze", "classify", "dominant_lobe", "Lobe"]
 

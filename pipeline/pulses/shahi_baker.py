@@ -9,10 +9,10 @@ scale, classified by the pulse indicator PI and the late-arrival rule.
 
 Speed (against a straightforward port that repeats one FFT convolution per
 scale at every step): each component is transformed once at the 51 scales;
-the transform along any orientation is the cos/sin combination of those;
 the scale refinement evaluates three integer scales at a single time; each
 of the ten iterations transforms the residual at one scale over the search
-window only.
+window only. The pulse along other orientations (the blocks' azimuths) is
+in :mod:`.along`.
 
 Units: velocity in cm/s inside the classifier (its PI constants use cm/s).
 
@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import pywt
@@ -93,6 +94,8 @@ class PulseResult:
     dt_s: float = math.nan
     #: strongest points of the two-component transform, for :func:`extract_along` (built on first use)
     _strongest: tuple | None = field(default=None, repr=False, compare=False)
+    #: the components' transforms shared by every orientation (:class:`.along.AlongCache`, built on first use)
+    _along: Any = field(default=None, repr=False, compare=False)
 
     @property
     def best(self) -> Candidate:
@@ -279,67 +282,6 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
     is_pulse = any(c.is_pulse for c in candidates)
     return PulseResult(is_pulse, candidates[chosen].tp_s if is_pulse else math.nan, candidates,
                        chosen, method, flags, v, coeffs, scales, dt_s)
-
-
-def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, int]:
-    """(row, column) of the largest (ca C1 + sa C2)^2, ties in MATLAB's column-major order.
-
-    Exact and cheap for many orientations: the projection of a point never
-    exceeds its amplitude C1^2 + C2^2. For a head of k points (the k largest
-    amplitudes, found by partial selection, not a full sort), the best
-    projection in the head is the maximum over the whole transform as soon as
-    it beats the largest amplitude outside the head; otherwise k grows 4x.
-    Heads are built once per transform and size (every orientation shares them).
-    """
-    c = result.coeffs
-    assert c is not None                                 # set by classify
-    n_rows, n_cols = c.shape[1], c.shape[2]
-    if result._strongest is None:
-        result._strongest = ((c[0] ** 2 + c[1] ** 2).ravel(), {})
-    amp, heads = result._strongest
-    k = 1024
-    while True:
-        if k not in heads:
-            if k < amp.size:
-                part = np.argpartition(-amp, k)               # [:k] the k largest, [k] the largest of the rest
-                head, bound = part[:k], float(amp[part[k]])
-            else:
-                head, bound = np.arange(amp.size), -math.inf
-            rows, cols = np.divmod(head, n_cols)
-            heads[k] = (c[0].ravel()[head], c[1].ravel()[head], cols * n_rows + rows, bound)
-        c1, c2, f_index, bound = heads[k]
-        proj = (ca * c1 + sa * c2) ** 2
-        best = float(np.max(proj))
-        if bound == -math.inf or best > bound * (1.0 + 1e-12):   # margin: rounding of the projection
-            break
-        k *= 4
-    flat = int(np.min(f_index[proj == best]))
-    return flat % n_rows, flat // n_rows
-
-
-def extract_along(result: PulseResult, angle_rad: float) -> tuple[np.ndarray, np.ndarray]:
-    """Extract the largest pulse along ``angle_rad`` from the first component.
-
-    The transform is linear, so the coefficients along any orientation are
-    ``cos * C1 + sin * C2`` of the cached component transforms: no new
-    transform of the record is needed. Returns (velocity, pulse) along that
-    orientation [cm/s]. A single-component record returns its own pulse.
-    """
-    v, c = result.velocity_cms, result.coeffs
-    assert v is not None and c is not None and result.scales is not None      # set by classify
-    if c.shape[0] == 1:
-        best = result.best
-        assert best.velocity_cms is not None and best.pulse_cms is not None
-        return best.velocity_cms, best.pulse_cms
-    ca, sa = math.cos(angle_rad), math.sin(angle_rad)
-    row, col = _strongest_point(result, ca, sa)
-    v_phi = ca * v[0] + sa * v[1]
-
-    def column_coef(a: int) -> float:
-        return cwt_point(v_phi, a, col)
-
-    _, pulse, _, _ = extract(v_phi, column_coef, column=col, row=row, scales=result.scales)
-    return v_phi, pulse
 
 
 def _baker_late(velocity: np.ndarray, pulse: np.ndarray) -> bool:

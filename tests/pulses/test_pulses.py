@@ -12,8 +12,9 @@ from handoff import NO_HANDOFF
 from pipeline.cli import main
 from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
+from pipeline.pulses.along import _strongest_point, extract_along
 from pipeline.pulses.cwt import cwt, cwt_point, cwt_window, scales_for
-from pipeline.pulses.shahi_baker import _strongest_point, extract_along, wavelet_on_grid
+from pipeline.pulses.shahi_baker import wavelet_on_grid
 from pipeline.records.loader import find_records, load_record
 from pipeline.store import open_results
 
