@@ -31,6 +31,7 @@ from ..rocking.codes import (
     STATUS_TAIL_CAP,
     Verdict,
 )
+from ..rocking.numerics.ground import NO_QUIET
 from ..rocking.planar import kernel
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
@@ -153,5 +154,5 @@ def _lower_alone(tb: TwoBlock, run: TwoBlockOutcome, ah_ms2, av_ms2, dt_s: float
     t_rec = (ah.shape[0] - 1) * dt_s
     start = RockingState(theta=float(run.final.phi1), omega=float(run.final.w1), t=min(float(run.t_fall_s), t_rec))
     o = kernel.rock(ah, av, float(dt_s), t_rec, block, step_control(settings), start, True,
-                    RockingOutput(theta=kernel.empty_theta(), impacts=kernel.empty_impacts()))
+                    RockingOutput(theta=kernel.empty_theta(), impacts=kernel.empty_impacts()), NO_QUIET)
     return bool(o.overturned), int(o.status)

@@ -6,7 +6,8 @@ azimuth of the inventory. Each repetition transforms the residual ten times; her
 everything it is applied to, so no transform of the record is repeated:
 
 * the coefficients of v(phi) are cos C1 + sin C2 of the components' transforms (the strongest point,
-  :func:`_strongest_point`; the scale refinement's single coefficients, cached per scale and sample);
+  :func:`_strongest_point`); the scale refinement's coefficients at one sample are computed for all its
+  scales in one compiled loop (:func:`.cwt.column_coefficients`);
 * the residual after m wavelets is v(phi) minus m db4 wavelets of one scale a at integer positions p_i:
   C_res(a, k) = cos W1(a, k) + sin W2(a, k) - sum_i c_i R_a(k - p_i), where W1, W2 are the components'
   rows at scale a (one transform each per record and scale) and R_a the transform of a unit wavelet at that
@@ -30,12 +31,13 @@ from functools import lru_cache
 import numpy as np
 from scipy import fft as sfft
 
-from .cwt import cwt_point, cwt_window, kernel
+from .cwt import column_coefficients, cwt_point, cwt_window, kernel
 from .shahi_baker import N_WAVELETS, WINDOW_FRACTION, PulseResult, _add_wavelet, _wavefun4, extract
 
 
 class AlongCache:
-    """What every orientation of one record shares: the components' rows and single coefficients per scale.
+    """What every orientation of one record shares: the components' rows per scale, and the transforms of
+    wavelets cut by the record's ends.
 
     Parameters
     ----------
@@ -46,7 +48,6 @@ class AlongCache:
     def __init__(self, velocity_cms: np.ndarray) -> None:
         self.v = velocity_cms
         self._rows: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._points: dict[tuple[int, int], tuple[float, float]] = {}
         self._cut: dict[tuple[int, int], tuple[int, np.ndarray]] = {}
 
     def rows(self, scale: int) -> tuple[np.ndarray, np.ndarray]:
@@ -55,13 +56,6 @@ class AlongCache:
             n = self.v.shape[1]
             self._rows[scale] = (cwt_window(self.v[0], scale, 0, n - 1), cwt_window(self.v[1], scale, 0, n - 1))
         return self._rows[scale]
-
-    def point(self, scale: int, column: int) -> tuple[float, float]:
-        """Both components' coefficient at ``scale`` and sample ``column``."""
-        key = (scale, column)
-        if key not in self._points:
-            self._points[key] = (cwt_point(self.v[0], scale, column), cwt_point(self.v[1], scale, column))
-        return self._points[key]
 
 
     def cut(self, scale: int, position: int) -> tuple[int, np.ndarray]:
@@ -130,7 +124,7 @@ def _residual_window(cache: AlongCache, base: np.ndarray, scale: int, lo: int, h
     return c
 
 
-def extract_linear(cache: AlongCache, ca: float, sa: float, *, column: int, row: int,
+def extract_linear(cache: AlongCache, ca: float, sa: float, v_phi: np.ndarray, *, column: int, row: int,
                    scales: np.ndarray) -> np.ndarray:
     """The pulse of v(phi) = ca v1 + sa v2 [cm/s]: :func:`.shahi_baker.extract` by superposition.
 
@@ -140,6 +134,8 @@ def extract_linear(cache: AlongCache, ca: float, sa: float, *, column: int, row:
         The record's shared transforms.
     ca, sa : float
         cos and sin of the orientation from the first component.
+    v_phi : ndarray
+        ca v1 + sa v2 [cm/s].
     column, row : int
         The strongest point of v(phi)'s transform (sample, index in ``scales``).
     scales : ndarray
@@ -148,9 +144,8 @@ def extract_linear(cache: AlongCache, ca: float, sa: float, *, column: int, row:
     n = cache.v.shape[1]
     lo_s = scales[max(0, row - 1)]
     hi_s = scales[min(len(scales) - 1, row + 1)]
-    refined = np.arange(lo_s, hi_s + 1)
-    values = [abs(ca * p1 + sa * p2) for p1, p2 in (cache.point(int(a), column) for a in refined)]
-    scale = int(refined[int(np.argmax(values))])
+    values = np.abs(column_coefficients(v_phi, int(lo_s), int(hi_s), column))
+    scale = int(lo_s) + int(np.argmax(values))
     half = int(math.ceil(WINDOW_FRACTION * scale))
     w1, w2 = cache.rows(scale)
     pulse = np.zeros(n)
@@ -228,7 +223,7 @@ def extract_along(result: PulseResult, angle_rad: float, *, superpose: bool = Tr
     if superpose:
         if result._along is None:
             result._along = AlongCache(v)
-        return v_phi, extract_linear(result._along, ca, sa, column=col, row=row, scales=result.scales)
+        return v_phi, extract_linear(result._along, ca, sa, v_phi, column=col, row=row, scales=result.scales)
 
     def column_coef(a: int) -> float:
         return cwt_point(v_phi, a, col)

@@ -29,6 +29,7 @@ import numpy as np
 import pywt
 from scipy import fft as sfft
 
+from ..compiled import jit
 from ..errors import PulseError
 
 #: db4 support length [in units of the scale].
@@ -146,6 +147,44 @@ def cwt_point(signal: np.ndarray, scale: int, column: int) -> float:
     # s[j] pairs with g[k + 1 - j]: j = j0..j1 -> g indices k+1-j0 down to k+1-j1
     taps = g[k + 1 - j1:k + 2 - j0][::-1]
     return float(-np.sqrt(scale) * np.dot(signal[j0:j1 + 1], taps))
+
+
+def column_coefficients(signal: np.ndarray, first_scale: int, last_scale: int, column: int) -> np.ndarray:
+    """The coefficients of ``signal`` at one output sample ``column`` for every integer scale from
+    ``first_scale`` to ``last_scale``: :func:`cwt_point` at each (to rounding), in one compiled loop over the
+    scales' kernel steps (built once per range). The scale refinement of the pulse along each block's azimuth
+    evaluates one column at dozens of scales, a different column for each azimuth."""
+    flat, offsets = _step_bank(int(first_scale), int(last_scale))
+    return _column_coefficients(np.ascontiguousarray(signal, dtype=np.float64), flat, offsets,
+                                int(first_scale), int(column))
+
+
+@lru_cache(maxsize=32)
+def _step_bank(first_scale: int, last_scale: int) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel steps (:func:`_kernel_step`) of scales first..last, each reversed, end to end, and where each
+    starts."""
+    steps = [_kernel_step(a)[::-1] for a in range(first_scale, last_scale + 1)]
+    offsets = np.concatenate([[0], np.cumsum([g.size for g in steps])]).astype(np.int64)
+    flat = np.concatenate(steps)
+    flat.setflags(write=False)
+    offsets.setflags(write=False)
+    return flat, offsets
+
+
+@jit
+def _column_coefficients(signal, flat, offsets, first_scale, column):
+    n = signal.size
+    out = np.empty(offsets.size - 1)
+    for i in range(out.size):
+        r = flat[offsets[i]:offsets[i + 1]]              # g reversed: g[k + 1 - j] = r[L - k - 1 + j]
+        L = r.size - 1                                   # the kernel's length
+        k = (L - 2) // 2 + column                        # _first_kept(n, L) + column
+        j0, j1 = max(0, k + 1 - L), min(n - 1, k + 1)
+        acc = 0.0
+        if j1 >= j0:                                     # sum of s[j] g[k + 1 - j]
+            acc = np.dot(signal[j0:j1 + 1], r[L - k - 1 + j0:L - k + j1])
+        out[i] = -np.sqrt(first_scale + i) * acc
+    return out
 
 
 def scales_for(dt_s: float, *, tp_min_s: float = 0.25, tp_max_s: float = 15.0, n_scales: int = 50) -> np.ndarray:

@@ -39,6 +39,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .block import Block
+from .numerics.ground import QuietTable
 from .scene import Scene
 from .settings import SimulationConfig
 from .structures import RockingOutput, RockingState
@@ -91,6 +92,9 @@ class SceneInput:
         The simulator's settings.
     history : bool
         Keep theta(t) / alpha at every sample.
+    quiet : QuietTable or None
+        The plane's :class:`~.numerics.ground.QuietTable` of ``ah_ms2`` and ``av_ms2``, where the caller has one
+        (the rocking kernel reads it; the outcome is the same without it).
     """
 
     ah_ms2: np.ndarray
@@ -100,6 +104,7 @@ class SceneInput:
     block: Block
     settings: SimulationConfig
     history: bool
+    quiet: QuietTable | None = None
 
 
 class PlaneSample(NamedTuple):

@@ -40,6 +40,7 @@ from ..constants import G
 from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
 from .contract import SceneFacts, SceneInput, SceneModel, always, never
+from .numerics.ground import QuietTable
 from .planar.handoff import continue_rocking, from_rest, stopped_short
 from .planar.kernel import rock as rock_compiled
 from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene, general_scene, rocking_scene
@@ -155,7 +156,8 @@ def keeps_vertical(facts: SceneFacts) -> bool:
 def _rocking_in(scene: SceneInput, physics: int, av_ms2) -> Scene:
     b, settings = scene.block, scene.settings
     rr = rock(scene.ah_ms2, scene.dt_s, p=b.p, alpha=b.alpha, e=b.e, R_m=b.R_m, av_ms2=av_ms2, g_ms2=b.g_ms2,
-              settings=settings, history=scene.history, stop_mu=b.mu if settings.contact_model else math.inf)
+              settings=settings, history=scene.history, stop_mu=b.mu if settings.contact_model else math.inf,
+              quiet=scene.quiet)
     if settings.contact_model:
         cont = continued(scene.ah_ms2, av_ms2, scene.dt_s, rr, block=b, settings=settings)
         if cont is not None:
@@ -177,7 +179,8 @@ def _rocking_twin(facts, x, block, control, w):
     """Rock the sample in its plane (the vertical in ``x.av_s``); with the contact model, the general model
     continues where pure rocking stops (no_verdict without it, where the ground reached free flight)."""
     _project(x)
-    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, True, w.no_output)
+    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, True, w.no_output,
+                        QuietTable(w.none, w.none))
     if res.overturned:
         return OVERTURNS, True
     if x.contact_model:

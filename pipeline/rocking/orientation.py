@@ -42,6 +42,7 @@ import numpy as np
 from ..constants import G
 from ..records.record import project
 from .block import Block
+from .numerics.ground import QuietTable, quiet_table
 from .planner import REST_SCENE, Response, Scene, demand_ratio, motion_threshold, simulate_scene
 from .settings import SimulationConfig
 from .simulate import FiniteSeries, finite_series
@@ -94,6 +95,7 @@ class Planes:
         self.g = g_ms2
         self._along: dict[float, np.ndarray] = {}
         self._ratio: dict[float, float] = {}
+        self._quiet: dict[float, QuietTable] = {}
         self._vector_ratio: float | None = None
         self._orders: dict[tuple, tuple[list[float], np.ndarray]] = {}
 
@@ -110,6 +112,14 @@ class Planes:
             self._along[k] = np.ascontiguousarray(project(self.h, self.az0, float(azimuth_deg)),
                                                   dtype=np.float64).view(FiniteSeries)
         return self._along[k]
+
+    def quiet(self, azimuth_deg: float) -> QuietTable:
+        """The plane's :class:`~.numerics.ground.QuietTable` (with the vertical, where recorded), built once and
+        shared by every block simulated in it."""
+        k = self.key(azimuth_deg)
+        if k not in self._quiet:
+            self._quiet[k] = quiet_table(self.along(azimuth_deg), self.vertical)
+        return self._quiet[k]
 
     def ratio(self, azimuth_deg: float) -> float:
         """Demand ratio max |a| / (g + a_v) in that plane (:func:`planner.demand_ratio`)."""
@@ -193,7 +203,8 @@ def worst_plane(planes: Planes, azimuths_deg, dt_s: float, *, block: Block,
         ordered, ratios = planes.by_demand(candidates)
         moving = int(np.count_nonzero(ratios > thr))        # sorted by decreasing ratio: a prefix moves
         for k, ratio in zip(ordered[:moving], ratios[:moving].tolist()):
-            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, block=block, settings=settings)
+            sc = simulate_scene(planes.along(k), planes.vertical, dt_s, ratio=ratio, block=block, settings=settings,
+                                quiet=planes.quiet(k))
             guard |= sc.guard
             responses.append((k, float(sc.theta_max)))
             n = state.planes_simulated + 1

@@ -57,6 +57,7 @@ from .block import Block
 from .codes import ContactMode
 from .contract import SceneFacts, SceneInput
 from .models import by_physics, choose
+from .numerics.ground import QuietTable
 from .rules import motion_threshold, rocks, vertical_kept
 from .scene import (
     REST_SCENE,
@@ -132,7 +133,8 @@ def plan(ah_ms2: np.ndarray, av_ms2: np.ndarray | None, *, alpha: float, mu: flo
 
 
 def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: SimulationConfig = SimulationConfig(),
-                   physics: int | None = None, ratio: float | None = None, history: bool = False) -> Scene:
+                   physics: int | None = None, ratio: float | None = None, history: bool = False,
+                   quiet: QuietTable | None = None) -> Scene:
     """Plan and run one scene: the registered model whose certificate holds first, or the model ``physics``.
 
     Parameters
@@ -153,9 +155,11 @@ def simulate_scene(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings: Simul
         The scene's :func:`demand_ratio`, when already known.
     history : bool
         Keep theta(t)/alpha at every sample (rocking scenes).
+    quiet : QuietTable, optional
+        The :class:`~.numerics.ground.QuietTable` of ``ah_ms2`` and ``av_ms2`` (:meth:`.orientation.Planes.quiet`).
     """
     facts = scene_facts(ah_ms2, av_ms2, alpha=block.alpha, mu=block.mu, g_ms2=block.g_ms2,
                         vertical_fraction=settings.vertical_fraction, ratio=ratio)
     model = choose(facts) if physics is None else by_physics(physics)
     return model.simulate(SceneInput(ah_ms2=ah_ms2, av_ms2=av_ms2, vertical_ms2=av_ms2 if facts.vertical else None,
-                                     dt_s=dt_s, block=block, settings=settings, history=history))
+                                     dt_s=dt_s, block=block, settings=settings, history=history, quiet=quiet))

@@ -14,6 +14,7 @@ import numpy as np
 from ..constants import G
 from ..errors import ParameterError
 from .block import rigid_block
+from .numerics.ground import NO_QUIET, QuietTable
 from .planar import handoff, kernel, sliding
 from .settings import SimulationConfig
 from .structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
@@ -154,7 +155,7 @@ def _positive(**values) -> None:
 def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, av_ms2=None, g_ms2: float = G,
          settings: SimulationConfig = SimulationConfig(), linear: bool = False, t_end_s: float | None = None,
          tail: str = "energy", theta0: float = 0.0, omega0: float = 0.0, history: bool = False,
-         log_impacts: int = 0, stop_mu: float = math.inf) -> RockResult:
+         log_impacts: int = 0, stop_mu: float = math.inf, quiet: QuietTable | None = None) -> RockResult:
     """Rocking response of a rectangular block to a sampled ground acceleration.
 
     Parameters
@@ -188,6 +189,9 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
     stop_mu : float
         Stop where the friction demand exceeds ``stop_mu`` or the pivot lifts off, for the general
         contact model to continue (default ``inf``: pure rocking throughout, the demand recorded).
+    quiet : QuietTable, optional
+        The :class:`~.numerics.ground.QuietTable` of ``ah_ms2`` and ``av_ms2`` (a plane's, shared by the blocks
+        simulated in it): the same result, the samples that cannot lift the block passed over in runs.
 
     Raises
     ------
@@ -212,7 +216,8 @@ def rock(ah_ms2, dt_s: float, *, p: float, alpha: float, e: float, R_m: float, a
                     rigid_block(float(p), float(alpha), float(e), float(R_m), float(stop_mu), float(g_ms2),
                                 float(settings.rest_ratio), bool(linear), float(stop_mu)),
                     step_control(settings), RockingState(theta=float(theta0), omega=float(omega0), t=0.0),
-                    tail == "energy", RockingOutput(theta=theta_out, impacts=impacts_out))
+                    tail == "energy", RockingOutput(theta=theta_out, impacts=impacts_out),
+                    NO_QUIET if quiet is None else quiet)
     return RockResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad) / alpha, int(o.n_impacts),
                       float(o.friction_max), int(o.status), float(o.t_stop), float(o.theta_end), float(o.omega_end),
                       int(o.mode_end), int(o.n_uplifts), float(o.t_first_impact), theta_out if history else None,

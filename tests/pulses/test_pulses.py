@@ -13,7 +13,7 @@ from pipeline.cli import main
 from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
 from pipeline.pulses.along import _strongest_point, extract_along
-from pipeline.pulses.cwt import cwt, cwt_point, cwt_window, scales_for
+from pipeline.pulses.cwt import column_coefficients, cwt, cwt_point, cwt_window, scales_for
 from pipeline.pulses.shahi_baker import wavelet_on_grid
 from pipeline.records.loader import find_records, load_record
 from pipeline.store import open_results
@@ -243,3 +243,15 @@ def test_pulse_series_file_and_plot(make_records, blocks_csv, tmp_path):
     assert np.max(np.abs(v - p)) < 0.6 * np.max(np.abs(v))
     png = plot_pulse(v, p, float(ps.dt[0]), title="Rinaldi", path=tmp_path / "p.png", tp_s=1.246)
     assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("n", [40, 3000, 18000])
+def test_column_coefficients_equal_the_dot_product_at_each_scale(n):
+    """The compiled loop over a range of scales against :func:`cwt_point` scale by scale, at both edges and
+    inside, on ranges from the smallest scales to the largest the search reaches."""
+    x = np.random.default_rng(n).normal(size=n)
+    for first, last in ((1, 4), (15, 60), (290, 310), (2180, 2186)):
+        for col in (0, 1, n // 3, n - 2, n - 1):
+            want = np.array([cwt_point(x, a, col) for a in range(first, last + 1)])
+            got = column_coefficients(x, first, last, col)
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-10 * max(np.abs(want).max(), 1e-300))

@@ -3,10 +3,15 @@
 Every model of :mod:`pipeline.rocking` takes the ground acceleration as linear between samples. On one
 piece, the start of motion from rest (|a_h| reaching (g + a_v) tan(alpha), or mu for slip) and the loss of
 contact with a ground falling faster than gravity (g + a_v reaching 0) are the roots of linear functions,
-found exactly here rather than by stepping.
+found exactly here rather than by stepping; a plane's :class:`QuietTable` lets a block at rest pass over
+the samples that cannot lift it in runs.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
 
 from ...compiled import jit
 
@@ -40,3 +45,52 @@ def flight_fraction(v0, v1, g):
     if l1 <= 0.0:
         return l0 / (l0 - l1)
     return -1.0
+
+
+#: Samples per entry of a :class:`QuietTable`
+QUIET_CHUNK = 64
+
+
+class QuietTable(NamedTuple):
+    """Per run of :data:`QUIET_CHUNK` samples of one plane's ground, what bounds the uplift test there.
+
+    A block at rest cannot lift at sample j while |a_h[j]| <= (g + a_v[j]) thr and g + a_v[j] > 0; a chunk
+    with ``peak_ah_ms2 <= (g + least_av_ms2) thr`` and ``g + least_av_ms2 > 0`` passes that test at every
+    sample (rounding is monotonic, so the bound holds in floating point too): the rocking kernel skips it
+    whole instead of testing each sample (:func:`pipeline.rocking.planar.kernel._quiet_until`). Shared by
+    every block simulated in the plane; empty arrays: no table.
+
+    Attributes
+    ----------
+    peak_ah_ms2 : ndarray
+        max |a_h| over each chunk [m s-2].
+    least_av_ms2 : ndarray
+        min a_v over each chunk [m s-2] (zeros where the record has no vertical).
+    """
+
+    peak_ah_ms2: np.ndarray
+    least_av_ms2: np.ndarray
+
+
+#: No table: the kernel tests every sample
+NO_QUIET = QuietTable(np.zeros(0), np.zeros(0))
+
+
+def quiet_table(ah_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
+    """The :class:`QuietTable` of a plane's horizontal ``ah_ms2`` and the record's vertical ``av_ms2`` [m s-2]."""
+    n = ah_ms2.shape[0]
+    n_chunks = -(-n // QUIET_CHUNK)
+    pad = n_chunks * QUIET_CHUNK - n
+    peak = np.pad(np.abs(ah_ms2), (0, pad)).reshape(n_chunks, QUIET_CHUNK).max(axis=1)
+    if av_ms2 is None:
+        return QuietTable(np.ascontiguousarray(peak), np.zeros(n_chunks))
+    least = np.pad(np.asarray(av_ms2, dtype=np.float64), (0, pad), mode="edge").reshape(n_chunks, QUIET_CHUNK)
+    return QuietTable(np.ascontiguousarray(peak), np.ascontiguousarray(least.min(axis=1)))
+
+
+@jit
+def chunk_quiet(table, c, g, thr, has_v):
+    """True when no sample of chunk ``c`` of a :class:`QuietTable` can lift a block at rest (``thr``: tan
+    alpha, or alpha for the linear model; ``has_v``: the simulation keeps the vertical)."""
+    gv = g + table.least_av_ms2[c] if has_v else g
+    return gv > 0.0 and table.peak_ah_ms2[c] <= gv * thr

@@ -25,6 +25,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from ...compiled import jit
 from ..codes import (
     FLIGHT,
@@ -41,6 +43,7 @@ from ..codes import (
     STATUS_STEP_CAP,
     STATUS_TIE_HOLD,
 )
+from ..numerics.ground import QuietTable
 from ..structures import RigidBlock, RockingOutcome, RockingOutput, RockingState, StepControl
 from . import contact
 from .contact import ContactOutcome, ContactState
@@ -133,7 +136,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
         theta = end.theta if end.mode == ROCK else 0.0
         omega = end.w if end.mode == ROCK else 0.0
         restart = RockingState(theta=theta, omega=omega, t=end.t)
-        o = rock(ah, av, dt, t_end, blk, control, restart, tail_energy, no_output)
+        o = rock(ah, av, dt, t_end, blk, control, restart, tail_energy, no_output, QuietTable(np.zeros(0), np.zeros(0)))
         theta_max = max(theta_max, o.theta_max_rad)
         n_imp += o.n_impacts
         status |= kernel_guards(o.status)

@@ -64,7 +64,7 @@ from ..numerics.dopri import (
     locate_impact,
     pivot_demand,
 )
-from ..numerics.ground import exceed_fraction, flight_fraction
+from ..numerics.ground import QUIET_CHUNK, chunk_quiet, exceed_fraction, flight_fraction
 from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from ..structures import GroundPiece, RockingOutcome
 from .chatter import chatter, take_impact
@@ -252,22 +252,38 @@ def _piece(ah, av, has_v, dt, t, t_end):
 
 
 @jit_inline
-def _quiet_until(ah, av, has_v, k, g, thr):
-    """The last sample j >= k such that no piece between samples k and j can lift the block (linear pieces:
-    below the threshold at both ends means below it throughout)."""
-    n = ah.shape[0]
-    j = k
-    while j + 1 < n:
-        gj = g + (av[j] if has_v else 0.0)
-        gj1 = g + (av[j + 1] if has_v else 0.0)
-        if abs(ah[j]) > gj * thr or abs(ah[j + 1]) > gj1 * thr or gj <= 0.0 or gj1 <= 0.0:
-            break
-        j += 1
-    return j
+def _loud(ah, av, has_v, j, g, thr):
+    """True when sample j can lift the block at rest (or the ground falls faster than gravity there)."""
+    gj = g + (av[j] if has_v else 0.0)
+    return abs(ah[j]) > gj * thr or gj <= 0.0
 
 
 @jit_inline
-def _from_rest(ah, av, has_v, dt, t_end, pc, g, lim, progress, theta_out):
+def _quiet_until(ah, av, has_v, k, g, thr, quiet):
+    """The last sample j >= k such that no piece between samples k and j can lift the block (linear pieces:
+    below the threshold at both ends means below it throughout). The chunks of the plane's ``quiet`` table
+    (:class:`~.numerics.ground.QuietTable`, empty: none) that pass as a whole are skipped unread."""
+    n = ah.shape[0]
+    use = quiet.peak_ah_ms2.shape[0] == (n + QUIET_CHUNK - 1) // QUIET_CHUNK
+    m = k                               # the first sample from k on that can lift the block
+    while m < n:
+        if use and m % QUIET_CHUNK == 0:
+            c = m // QUIET_CHUNK
+            while c * QUIET_CHUNK < n and chunk_quiet(quiet, c, g, thr, has_v):
+                c += 1
+            if c * QUIET_CHUNK > m:
+                m = c * QUIET_CHUNK
+                continue
+        if _loud(ah, av, has_v, m, g, thr):
+            break
+        m += 1
+    if m >= n:
+        return n - 1
+    return k if m == k else m - 1
+
+
+@jit_inline
+def _from_rest(ah, av, has_v, dt, t_end, pc, g, lim, progress, theta_out, quiet):
     """Advance a block at rest: over the samples that cannot lift it, then to its uplift (rocking away from
     a_h), to the loss of contact, or to the piece's end. Returns whether the scene goes on."""
     pr = progress[0]
@@ -276,7 +292,7 @@ def _from_rest(ah, av, has_v, dt, t_end, pc, g, lim, progress, theta_out):
         pr.t = t_end
         return False
     if t == t0 and pc.k + 1 < ah.shape[0]:
-        j = _quiet_until(ah, av, has_v, pc.k, g, lim.thr)
+        j = _quiet_until(ah, av, has_v, pc.k, g, lim.thr, quiet)
         if j > pc.k:
             while pr.out_k < theta_out.shape[0] and pr.out_k <= j:
                 theta_out[pr.out_k] = 0.0
@@ -487,7 +503,7 @@ def _outcome(progress):
 
 
 @jit
-def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
+def rock(ah, av, dt, t_end, block, control, start, tail_energy, out, quiet):
     """Integrate rocking under a sampled ground motion.
 
     Parameters
@@ -509,6 +525,9 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
         After the record, decide by :func:`free_outcome` instead of integrating.
     out : RockingOutput
         Arrays to fill (theta at the samples, the impact log); empty arrays skip them.
+    quiet : QuietTable
+        The plane's :class:`~.numerics.ground.QuietTable` of ``ah`` and ``av`` (``NO_QUIET``: none); the
+        outcome is the same with or without it.
 
     Returns
     -------
@@ -524,7 +543,7 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out):
         if pc.k >= n - 1 and tail_energy and progress[0].t >= lim.t_rec:
             break
         if progress[0].mode == REST:
-            if not _from_rest(ah, av, has_v, dt, t_end, pc, block.g, lim, progress, out.theta):
+            if not _from_rest(ah, av, has_v, dt, t_end, pc, block.g, lim, progress, out.theta, quiet):
                 break
         elif not _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
             break
