@@ -19,6 +19,7 @@ from pipeline.cli import main
 from pipeline.errors import ParameterError
 from pipeline.rocking import codes, rules
 from pipeline.rocking.block import rigid_block
+from pipeline.rocking.numerics.ground import NO_QUIET
 from pipeline.rocking.orientation import Planes, plane_grid, worst_plane
 from pipeline.rocking.planar import contact, contact_laws, handoff, kernel
 from pipeline.rocking.planner import FreeFlight, Guard, Physics, simulate_scene
@@ -235,7 +236,7 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
     a = np.full(400, 0.5 * G)
     o = rock_py(a, np.zeros(0), 0.01, 3.99, rigid_block(3.0, 0.2, 0.9, 1.0, math.inf, G, 1e-6),
                 step_control(SimulationConfig()), RockingState(0.0, 0.0, 0.0), True,
-                RockingOutput(np.zeros(0), np.zeros((0, 3))))
+                RockingOutput(np.zeros(0), np.zeros((0, 3))), NO_QUIET)
     assert o.status & kernel.STATUS_STEP_CAP and o.t_stop < 3.99
     # a few steps after the uplift the block is barely tilted and slow: its free rocking from there cannot reach
     # the saddle (Housner 1963: energy is only lost after the record), so the state's verdict is to stand
