@@ -31,13 +31,14 @@ from functools import lru_cache
 import numpy as np
 from scipy import fft as sfft
 
-from .cwt import column_coefficients, cwt_point, cwt_window, kernel
+from .cwt import column_coefficients, cwt_point, cwt_window, kernel, step_bank
 from .shahi_baker import N_WAVELETS, WINDOW_FRACTION, PulseResult, _add_wavelet, _wavefun4, extract
 
 
 class AlongCache:
-    """What every orientation of one record shares: the components' rows per scale, and the transforms of
-    wavelets cut by the record's ends.
+    """What every orientation of one record shares: the components' rows per scale, the scale refinement's kernel
+    steps, and the transforms of wavelets cut by the record's ends (kept with the record's result, and freed
+    with it).
 
     Parameters
     ----------
@@ -49,6 +50,7 @@ class AlongCache:
         self.v = velocity_cms
         self._rows: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._cut: dict[tuple[int, int], tuple[int, np.ndarray]] = {}
+        self._banks: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     def rows(self, scale: int) -> tuple[np.ndarray, np.ndarray]:
         """Both components' coefficients at ``scale``, every sample."""
@@ -57,6 +59,13 @@ class AlongCache:
             self._rows[scale] = (cwt_window(self.v[0], scale, 0, n - 1), cwt_window(self.v[1], scale, 0, n - 1))
         return self._rows[scale]
 
+
+    def bank(self, first_scale: int, last_scale: int) -> tuple[np.ndarray, np.ndarray]:
+        """The kernel steps of a refinement's scales (:func:`.cwt.step_bank`), kept for the record."""
+        key = (first_scale, last_scale)
+        if key not in self._banks:
+            self._banks[key] = step_bank(first_scale, last_scale)
+        return self._banks[key]
 
     def cut(self, scale: int, position: int) -> tuple[int, np.ndarray]:
         """The transform at ``scale`` of a unit wavelet cut by the record's ends, on the samples within two
@@ -76,7 +85,7 @@ def _support(scale: int, position: int) -> tuple[float, float]:
     return (x[0] - centre) * scale + position, (x[-1] - centre) * scale + position
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=16)
 def unit_response(scale: int) -> tuple[np.ndarray, int]:
     """The transform at ``scale`` of a unit wavelet of that scale, against k - p (output sample minus the
     wavelet's position): (values, offset), values[offset + d] at k - p = d, for |d| up to the wavelet's
@@ -144,7 +153,7 @@ def extract_linear(cache: AlongCache, ca: float, sa: float, v_phi: np.ndarray, *
     n = cache.v.shape[1]
     lo_s = scales[max(0, row - 1)]
     hi_s = scales[min(len(scales) - 1, row + 1)]
-    values = np.abs(column_coefficients(v_phi, int(lo_s), int(hi_s), column))
+    values = np.abs(column_coefficients(v_phi, int(lo_s), int(hi_s), column, cache.bank(int(lo_s), int(hi_s))))
     scale = int(lo_s) + int(np.argmax(values))
     half = int(math.ceil(WINDOW_FRACTION * scale))
     w1, w2 = cache.rows(scale)

@@ -149,20 +149,21 @@ def cwt_point(signal: np.ndarray, scale: int, column: int) -> float:
     return float(-np.sqrt(scale) * np.dot(signal[j0:j1 + 1], taps))
 
 
-def column_coefficients(signal: np.ndarray, first_scale: int, last_scale: int, column: int) -> np.ndarray:
+def column_coefficients(signal: np.ndarray, first_scale: int, last_scale: int, column: int,
+                        bank: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """The coefficients of ``signal`` at one output sample ``column`` for every integer scale from
     ``first_scale`` to ``last_scale``: :func:`cwt_point` at each (to rounding), in one compiled loop over the
-    scales' kernel steps (built once per range). The scale refinement of the pulse along each block's azimuth
-    evaluates one column at dozens of scales, a different column for each azimuth."""
-    flat, offsets = _step_bank(int(first_scale), int(last_scale))
+    scales' kernel steps (``bank``: :func:`step_bank` of the range, when the caller keeps it). The scale refinement
+    of the pulse along each block's azimuth evaluates one column at dozens of scales, a different column for each
+    azimuth."""
+    flat, offsets = step_bank(int(first_scale), int(last_scale)) if bank is None else bank
     return _column_coefficients(np.ascontiguousarray(signal, dtype=np.float64), flat, offsets,
                                 int(first_scale), int(column))
 
 
-@lru_cache(maxsize=32)
-def _step_bank(first_scale: int, last_scale: int) -> tuple[np.ndarray, np.ndarray]:
+def step_bank(first_scale: int, last_scale: int) -> tuple[np.ndarray, np.ndarray]:
     """The kernel steps (:func:`_kernel_step`) of scales first..last, each reversed, end to end, and where each
-    starts."""
+    starts (about 7 (first + last) (last - first + 1) / 2 values)."""
     steps = [_kernel_step(a)[::-1] for a in range(first_scale, last_scale + 1)]
     offsets = np.concatenate([[0], np.cumsum([g.size for g in steps])]).astype(np.int64)
     flat = np.concatenate(steps)
