@@ -120,6 +120,9 @@ class InferConfig:
     fall_tolerance_deg: float = 20.0
     #: Samples per period T = 2 t_p of the simulated idealized pulse [-].
     samples_per_period: int = 200
+    #: A body observed ``displaced`` holds where it stands with a residual offset on what it stands on of at least
+    #: this [m].
+    displaced_min_m: float = 0.01
 
 
 @dataclass(frozen=True)

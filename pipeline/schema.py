@@ -601,6 +601,8 @@ INFER: dict[str, tuple[tuple[str, ...], str | None, str, dict]] = {
     "observations_holding_simulation": (_INFER_DIMS[1:], "1",
                                         "number of observations that hold, by the rocking simulation", {}),
     "toppled": (("observation",), None, "the block toppled", TRUE_FALSE),
+    "displaced": (("observation",), None, "the body was found standing, moved on what it stands on by at least the "
+                  "attribute displaced_min_m", TRUE_FALSE),
     "fall_azimuth": (("observation",), "degree", "observed fall azimuth, mod 180", {}),
     "height": (("observation",), "m", "full block height", {}),
     "width": (("observation",), "m", "full base width", {}),

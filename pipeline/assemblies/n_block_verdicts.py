@@ -62,6 +62,11 @@ class StackVerdicts(NamedTuple):
     slide_m : tuple of float
         each joint's largest slip [m] in the contact model's runs (:attr:`.stack_contact.StackContactOutcome.
         peak_slide_m`); empty where none ran
+    offset_m : tuple of float
+        each standing body's residual offset on what it stands on where the runs ended [m]: the bottom body's base
+        moved along the ground, each other body's base centre from the centre of the top of the body under it
+        (0 where its joint never slipped; NaN for a body that fell or without a verdict); empty where the
+        model does not say
     """
 
     verdicts: tuple
@@ -72,6 +77,7 @@ class StackVerdicts(NamedTuple):
     status: int
     demand: tuple
     slide_m: tuple = ()
+    offset_m: tuple = ()
 
 
 def lower_part(nb: NBlock, count: int) -> NBlock:
@@ -93,6 +99,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
     impacts, opened, status, handovers = 0, False, 0, 0
     slides: list[float] = []
+    offsets, base = [0.0] * n, 0.0
     part, start, t0 = nb, None, 0.0
     while True:
         run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0,
@@ -111,6 +118,8 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                                 t0_s=run.t_end_s, hand_back=False)
             opened, status = True, status | flight.status
+            base += flight.base_shift_m
+            offsets[1:part.n] = flight.offsets_m[1:part.n]
             slides = slides or [0.0] * n
             for k in range(part.n):
                 peaks[k] = max(peaks[k], flight.peak_rad[k])
@@ -136,5 +145,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
         start = tuple(state[:count]) + (0.0,) * (MAX_BODIES - count) + tuple(
             state[MAX_BODIES:MAX_BODIES + count]) + (0.0,) * (MAX_BODIES - count)
         part, t0 = lower_part(part, count), run.t_fall_s
+    offsets[0] = base
+    residual = tuple(x if v == Verdict.stands else math.nan for x, v in zip(offsets, verdicts))
     return StackVerdicts(tuple(verdicts), tuple(peaks), tuple(t_fall), impacts, opened, status, tuple(demand),
-                         tuple(slides))
+                         tuple(slides), residual)

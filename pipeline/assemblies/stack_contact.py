@@ -26,9 +26,11 @@ the old one lifting); the tests compare one block's runs with the exact model's,
 A block **falls** where its rotation, or its rotation on the block under it, reaches pi / 2 (:mod:`.n_block`'s
 rule), or where its centre has dropped below the top of the block it stood on (it left its support); the blocks
 above it fall with it, and the blocks below go on. **Handing back**: once every joint (the ground's included) is,
-for :data:`HANDBACK_STEPS` steps in a row, either shut (both ends of its face pressed, its rotation below
-:data:`REST_TILT_RAD` and its rate times the block's half-diagonal below :data:`REST_SPEED`) or turning on one
-corner alone, that corner sticking (its friction at most :data:`STICKING` of mu P_n) and the rotation towards it, on
+for :data:`HANDBACK_STEPS` steps in a row, sticking (the friction of its pressed ends together at most
+:data:`STICKING` of mu times their P_n together: how the two ends of a shut face share a friction force is not
+determined, and the sweeps may leave them opposed) and either shut (both ends of its face pressed, its rotation
+below :data:`REST_TILT_RAD` and its rate times the block's half-diagonal below :data:`REST_SPEED`) or turning on
+one corner alone, the rotation towards it, on
 a ground not falling faster than gravity nor asking a resting stack for more friction than its least, the run stops
 (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from that state with the blocks' offsets where
 they slid to (:func:`shifted`); a shut joint's rotation is dropped (a velocity-level step stops a landing corner
@@ -68,7 +70,7 @@ REST_TILT_RAD = 1e-3         # ... and its rotation below this [rad] (the rotati
 #                              sank further than the other in its step, dropped at the hand-back)
 MAX_CONTACT_STEPS = 2_000_000   # steps per run [-]: the cap ends the run without a verdict
 HANDBACK_STEPS = 8           # steps in a row in which every joint is shut or turns on a sticking corner: handed back
-STICKING = 0.9               # a pressed corner sticks where its friction is at most this share of mu P_n [-]
+STICKING = 0.9               # a joint sticks where its pressed ends' friction is at most this share of mu P_n [-]
 WITHIN = 1e-9                # a corner within this fraction of the two blocks' sizes of a face (its plane, its end)
 #                              counts as on it (their rest positions are sums of rounded lengths)
 #: The most contacts: two on the ground, four at each joint
@@ -112,6 +114,8 @@ class StackContactOutcome(NamedTuple):
     handback : tuple of float
         where the run handed back (``rested``): the n-block state of the lowest ``standing`` blocks with the
         offsets ``offsets_m`` (:mod:`.n_block`'s: each joint's psi, then its rate; a shut joint's 0)
+    base_shift_m : float
+        how far block 0's base centre moved on the ground from the run's start to its end [m]
     """
 
     standing: int
@@ -126,6 +130,7 @@ class StackContactOutcome(NamedTuple):
     peak_slide_m: tuple
     peak_lift_m: float
     handback: tuple = (0.0,) * (2 * MAX_BODIES)
+    base_shift_m: float = 0.0
 
 
 class Work(NamedTuple):
@@ -313,20 +318,23 @@ def _fallen(bd, n, q):
 @jit_lean
 def _joint_modes(bd, n, q, v, count, wk, modes):
     """Each joint's mode into ``modes`` (0 shut: both ends of its face pressed, the joint still and flat within the
-    rest thresholds; +1 or -1: turning on that end's corner alone, the corner sticking, the rotation towards it);
+    rest thresholds; +1 or -1: turning on that end's corner alone, the rotation towards it), each sticking (the
+    friction of its pressed ends together within :data:`STICKING` of the cone of their normal impulses together);
     False where a joint is neither (flying, slipping, or pressed on the side it turns away from)."""
     ends = modes                                    # first each joint's ends pressed, as bits
     for k in range(n):
         ends[k] = 0
-    for i in range(count):
-        pn, pt = wk.p[2 * i], wk.p[2 * i + 1]
-        if pn <= 0.0:
-            continue
-        if abs(pt) > STICKING * bd.mu[wk.body[i, 0]] * pn:
+    for k in range(n):
+        normal, tangent = 0.0, 0.0
+        for i in range(count):
+            pn, sl = wk.p[2 * i], wk.slot[i]
+            joint, side = (0, sl) if sl < 2 else ((sl - 2) // 4 + 1, (sl - 2) % 2)
+            if pn <= 0.0 or joint != k:
+                continue
+            ends[k] |= 1 << side
+            normal, tangent = normal + pn, tangent + wk.p[2 * i + 1]
+        if abs(tangent) > STICKING * bd.mu[k] * normal:
             return False
-        sl = wk.slot[i]
-        joint, side = (0, sl) if sl < 2 else ((sl - 2) // 4 + 1, (sl - 2) % 2)
-        ends[joint] |= 1 << side
     for k in range(n):
         bits, turn = ends[k], tilt(q, k)
         rate = v[2, k] - (v[2, k - 1] if k > 0 else 0.0)
@@ -469,7 +477,8 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
                                                             bool(hand_back), work(), t_fall, peak, slide, off0,
                                                             modes)
     offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
+    base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
-                               tuple(float(x) for x in slide), float(lift), y)
+                               tuple(float(x) for x in slide), float(lift), y, float(base_end - off0[0]))
 

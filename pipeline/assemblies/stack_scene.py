@@ -81,13 +81,15 @@ def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndar
 
 def from_two_block(judged: TwoBlockVerdict) -> StackVerdicts:
     """The two-block verdicts as :class:`.n_block_verdicts.StackVerdicts` (its peaks are the first run's, to the
-    first fall; the upper's time of fall is the run's, the lower's only where it fell with the upper)."""
+    first fall; the upper's time of fall is the run's, the lower's only where it fell with the upper; its joints
+    never slip, so a standing body's residual offset is 0)."""
     run = judged.run
     t_upper = run.t_fall_s if run.falls in (FALLS_STACK, FALLS_TOP) else math.nan
     t_lower = run.t_fall_s if run.falls == FALLS_STACK else math.nan
-    return StackVerdicts((int(judged.lower), int(judged.upper)), (run.peak_phi1_rad, run.peak_psi_rad),
-                         (t_lower, t_upper), int(run.impacts), run.modes != 0, int(run.status),
-                         (run.demand_ground, run.demand_joint))
+    verdicts = (int(judged.lower), int(judged.upper))
+    return StackVerdicts(verdicts, (run.peak_phi1_rad, run.peak_psi_rad), (t_lower, t_upper), int(run.impacts),
+                         run.modes != 0, int(run.status), (run.demand_ground, run.demand_joint),
+                         offset_m=tuple(0.0 if v == Verdict.stands else math.nan for v in verdicts))
 
 
 def body_verdict(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, dt_s: float, *,

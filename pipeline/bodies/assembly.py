@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ..assemblies.stack import StackPlace, interfaces, uplift_ratios
-from ..assemblies.stack_scene import body_history, body_scene, body_verdict, stack_blocks
+from ..assemblies.stack_scene import AT_REST, body_history, body_scene, body_verdict, stack_blocks, stack_run
 from ..constants import G
 from ..rocking.block import Block, BlockShape
 from ..rocking.codes import Verdict
@@ -28,7 +28,7 @@ from ..rocking.settings import SimulationConfig
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability, one_plane
 from ..uncertainty.sampling import common_normals, lognormal_factor
 from ..uncertainty.stacks import drawn_stack, stack_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, Stops
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, PulseOutcome, Setup, Stops
 from .factor_sweep import factor_sweep
 from .planar import scene_planes
 
@@ -149,12 +149,18 @@ def scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, settings: S
 
 
 def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2: float) -> PulseJudge:
-    """A judge of one-directional pulses in the stack's plane: one run of the stack each."""
+    """A judge of one-directional pulses in the stack's plane: one run of the stack each, with the body's residual
+    offset on what it stands on."""
     place = _place(shape)
     tb = stack_blocks(place)
 
-    def judge(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
-        return body_verdict(place, ah_ms2, None, dt_s, tb=tb, settings=settings) == Verdict.overturns, 1
+    def judge(ah_ms2: np.ndarray, dt_s: float) -> PulseOutcome:
+        judged = stack_run(place, ah_ms2, None, dt_s, tb=tb, settings=settings)
+        if judged is AT_REST:
+            return PulseOutcome(False, 1, 0.0)
+        verdict = judged.verdicts[place.position]
+        offset = judged.offset_m[place.position] if judged.offset_m else math.nan
+        return PulseOutcome(verdict == Verdict.overturns, 1, float(offset))
 
     return judge
 

@@ -48,6 +48,7 @@ readers keep generic code from branching on a format.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -225,7 +226,28 @@ class VersusPlanar(NamedTuple):
     planar: Callable[[OnRecord, BlockShape, Block], PlaneResult]
 
 
-PulseJudge = Callable[[np.ndarray, float], tuple[bool, int]]
+class PulseOutcome(NamedTuple):
+    """A body under one idealized pulse (``screen infer``).
+
+    Attributes
+    ----------
+    overturned : bool
+        The body fell.
+    runs : int
+        Simulations run.
+    offset_m : float
+        The body's residual offset on what it stands on where the run ended [m] (0: its joint never slipped), where
+        its model follows a joint's slip (the bodies of a stack); NaN otherwise, and for a body that fell or has no
+        verdict.
+    """
+
+    overturned: bool
+    runs: int
+    offset_m: float = math.nan
+
+
+#: ``judge(ah_ms2, dt_s) -> PulseOutcome``: one idealized pulse along a line [m s-2], sampled ``dt_s`` [s] apart
+PulseJudge = Callable[[np.ndarray, float], PulseOutcome]
 
 
 class Stops(NamedTuple):

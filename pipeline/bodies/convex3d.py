@@ -42,7 +42,17 @@ from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import Probability, sample_until_decided
 from ..uncertainty.settings import UncertaintyConfig
 from ..uncertainty.two_sided import draw_factors
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup, claims_on_two_horizontals
+from .contract import (
+    BodyModel,
+    BodyScene,
+    Margin,
+    OnRecord,
+    Placement,
+    PulseJudge,
+    PulseOutcome,
+    Setup,
+    claims_on_two_horizontals,
+)
 from .factor_sweep import factor_sweep
 from .solids import contact_warmup
 
@@ -253,10 +263,11 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
     body = bodies.body_of(shape)
     weakest_deg = bodies.weakest_deg(shape)
 
-    def judge_pulse(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
+    def judge_pulse(ah_ms2: np.ndarray, dt_s: float) -> PulseOutcome:
         ah = np.ascontiguousarray(ah_ms2, dtype=float)
-        return any(simulate_contact3d(sense * ah, np.zeros_like(ah), None, dt_s, body, yaw_deg=-weakest_deg,
-                                      g_ms2=g_ms2).overturned for sense in (1.0, -1.0)), 2
+        return PulseOutcome(any(simulate_contact3d(sense * ah, np.zeros_like(ah), None, dt_s, body,
+                                                   yaw_deg=-weakest_deg, g_ms2=g_ms2).overturned
+                                for sense in (1.0, -1.0)), 2)
 
     return judge_pulse
 

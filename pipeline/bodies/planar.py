@@ -31,7 +31,7 @@ from ..uncertainty.orientations import (
 )
 from ..uncertainty.sampling import common_normals, sample_block
 from ..uncertainty.scenes import SceneMotion, scene_probability
-from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, Setup
+from .contract import BodyModel, BodyScene, Margin, OnRecord, Placement, PulseJudge, PulseOutcome, Setup
 from .factor_sweep import factor_sweep
 
 
@@ -199,8 +199,8 @@ def planar_scale(rec, shape: BlockShape, block: Block, plane_deg: float, *, sett
 
 def planar_pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2: float) -> PulseJudge:
     """A judge of one-directional pulses in the block's plane: one simulation each."""
-    def judge(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
-        return bool(simulate_scene(ah_ms2, None, dt_s, block=block, settings=settings).overturned), 1
+    def judge(ah_ms2: np.ndarray, dt_s: float) -> PulseOutcome:
+        return PulseOutcome(bool(simulate_scene(ah_ms2, None, dt_s, block=block, settings=settings).overturned), 1)
 
     return judge
 

@@ -44,6 +44,7 @@ from .contract import (
     OnRecord,
     Placement,
     PulseJudge,
+    PulseOutcome,
     Setup,
     Stops,
     claims_on_two_horizontals,
@@ -192,9 +193,10 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
     assert shape.scan is not None
     body = plane_geometry(shape.scan, weakest_plane(shape.scan), settings)
 
-    def judge(ah_ms2: np.ndarray, dt_s: float) -> tuple[bool, int]:
-        return any(plane_scene(sense * ah_ms2, None, dt_s, body, restitution=shape.restitution, mu=shape.mu,
-                               settings=settings, g_ms2=g_ms2).overturned for sense in (1.0, -1.0)), 2
+    def judge(ah_ms2: np.ndarray, dt_s: float) -> PulseOutcome:
+        return PulseOutcome(any(plane_scene(sense * ah_ms2, None, dt_s, body, restitution=shape.restitution,
+                                            mu=shape.mu, settings=settings, g_ms2=g_ms2).overturned
+                                for sense in (1.0, -1.0)), 2)
 
     return judge
 

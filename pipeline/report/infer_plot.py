@@ -49,8 +49,8 @@ def inference_figure(ds: xr.Dataset, *, g_ms2: float = 9.80665):
         geo = geometry(float(ds["height"][k]), float(ds["width"][k]), g_ms2=g_ms2)
         curve = criteria.critical_acceleration(tp, geo.R, geo.alpha, beta, g_ms2=g_ms2) / g_ms2
         toppled = bool(ds["toppled"][k])
-        ax.plot(tp, curve, lw=1.2, ls="-" if toppled else "--",
-                label=f"{bid} ({'toppled' if toppled else 'standing'}): its criterion boundary")
+        seen = "toppled" if toppled else "displaced" if "displaced" in ds and bool(ds["displaced"][k]) else "standing"
+        ax.plot(tp, curve, lw=1.2, ls="-" if toppled else "--", label=f"{bid} ({seen}): its criterion boundary")
     handles, _labels = ax.get_legend_handles_labels()
     regions = [Patch(facecolor="tab:green", alpha=0.45, label="consistent with every observation: simulation"),
                Patch(fill=False, hatch="//", edgecolor="k", label="consistent with every observation: criterion")]

@@ -42,7 +42,7 @@ import xarray as xr
 
 from .. import criteria
 from ..blocks import Inventory
-from ..bodies.contract import Placement
+from ..bodies.contract import Placement, PulseOutcome
 from ..bodies.registry import body_model
 from ..closed_forms import PULSE_BETA
 from ..config import Config
@@ -52,7 +52,7 @@ from ..schema import INFER, apply_schema
 from ..stacks import stack_ids
 from ..tables import parse_number, read_csv_table
 
-OUTCOMES = ("toppled", "standing")
+OUTCOMES = ("toppled", "standing", "displaced")
 #: Shapes an inference can assume (half pulses, as in the paper).
 INFER_SHAPES = ("half-sine", "step", "linear", "parabolic")
 
@@ -65,6 +65,7 @@ class Observations:
     toppled: np.ndarray          #: bool per block
     fall_azimuth_deg: np.ndarray  #: fall azimuth mod 180 [deg] (NaN: not observed)
     source: str
+    displaced: np.ndarray        #: bool per block: found standing, moved on what it stands on (a body of a stack)
 
 
 #: Where an idealized pulse acts: one horizontal (the models of blocks judged in 3D on two horizontals take the pulse
@@ -72,7 +73,8 @@ class Observations:
 ONE_DIRECTION = Placement(single_component=True, azimuth_deg=0.0, azimuth_known=True)
 
 def read_observations(path: str | Path, inventory: Inventory) -> Observations:
-    """Read ``id,outcome[,fall_azimuth_deg]`` (outcome: toppled | standing).
+    """Read ``id,outcome[,fall_azimuth_deg]`` (outcome: toppled | standing | displaced; displaced: a body of a stack
+    found standing but moved on what it stands on).
 
     Raises
     ------
@@ -88,6 +90,8 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
     picked: list[int] = []
     toppled: list[bool] = []
     fall: list[float] = []
+    displaced: list[bool] = []
+    stacked = stack_ids(inventory.stacks, len(inventory)) != ""
     seen: dict[str, int] = {}
     for line, where, rec in records:
         bid = rec.get("id", "")
@@ -98,7 +102,13 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
         seen[bid] = line
         outcome = rec.get("outcome", "").lower()
         if outcome not in OUTCOMES:
-            raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected toppled or standing")
+            raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected toppled, standing or "
+                                 "displaced")
+        if outcome == "displaced" and not stacked[index[bid]]:
+            raise InventoryError(f"{where}, column 'outcome': 'displaced' for {bid!r}, a single block; displaced is "
+                                 "judged for the bodies of a stack (its joints' slip is followed, a single block's "
+                                 "sliding is not); observe it as standing, or give the body it stands on "
+                                 "(stands_on) in the inventory")
         az = rec.get("fall_azimuth_deg", "")
         fall_deg = math.nan
         if az:
@@ -109,10 +119,12 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
                                     ok=lambda x: 0 <= x <= 360) % 180.0
         picked.append(index[bid])
         toppled.append(outcome == "toppled")
+        displaced.append(outcome == "displaced")
         fall.append(fall_deg)
     if not picked:
-        raise InventoryError(f"{path}: no observations; add one line per block 'id,toppled' or 'id,standing'")
-    return Observations(inventory.take(picked), np.array(toppled), np.array(fall), str(path))
+        raise InventoryError(f"{path}: no observations; add one line per block 'id,toppled', 'id,standing' or "
+                             "'id,displaced'")
+    return Observations(inventory.take(picked), np.array(toppled), np.array(fall), str(path), np.array(displaced))
 
 
 def grid(inv: Inventory, *, shape: str, config: Config, oriented: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -150,17 +162,20 @@ def criterion_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
 
 
 def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config: Config,
-                        progress=None) -> tuple[np.ndarray, int]:
-    """Overturning by the nonlinear simulation of the idealized pulse, and the number of runs (``progress``: the
-    command's progress display, told of each block done)."""
+                        progress=None) -> tuple[np.ndarray, np.ndarray, int]:
+    """Overturning by the nonlinear simulation of the idealized pulse, each body's residual offset on what it stands
+    on [m] (:attr:`~pipeline.bodies.contract.PulseOutcome.offset_m`: NaN where its model does not say), both
+    (block, azimuth, duration, acceleration), and the number of runs (``progress``: the command's progress display,
+    told of each block done)."""
     rocking_blocks = inv.rocking_blocks(g_ms2=config.records.g_ms2)
     felt = _felt(inv, azimuths)
     out = np.zeros((len(inv), azimuths.size, tp.size, ap.size), dtype=bool)
+    offset = np.full(out.shape, np.nan)
     runs = 0
     settings = config.simulation_settings()
     blocks = range(len(inv))
     for j in (progress(blocks, total=len(inv), label="blocks simulated") if progress is not None else blocks):
-        memo: dict[tuple, bool] = {}
+        memo: dict[tuple, PulseOutcome] = {}
         body = inv.shape(j)
         overturns = body_model(body, ONE_DIRECTION, settings).pulse(body, rocking_blocks[j], settings=settings,
                                                           g_ms2=config.records.g_ms2)      # once per block
@@ -172,10 +187,10 @@ def simulated_overturns(inv: Inventory, tp, ap, azimuths, *, shape: str, config:
                     amp = float(a * felt[j, q])
                     key = (k, round(amp, 12))
                     if key not in memo:
-                        memo[key], n_runs = overturns(amp * unit, dt)
-                        runs += n_runs
-                    out[j, q, k, m] = memo[key]
-    return out, runs
+                        memo[key] = overturns(amp * unit, dt)
+                        runs += memo[key].runs
+                    out[j, q, k, m], offset[j, q, k, m] = memo[key].overturned, memo[key].offset_m
+    return out, offset, runs
 
 
 def _fall_ok(obs: Observations, azimuths: np.ndarray, tolerance_deg: float) -> np.ndarray:
@@ -186,9 +201,15 @@ def _fall_ok(obs: Observations, azimuths: np.ndarray, tolerance_deg: float) -> n
     return np.where(np.isnan(fall) | ~free, True, diff <= tolerance_deg)
 
 
-def consistency(overturns: np.ndarray, obs: Observations, azimuths: np.ndarray, config: Config) -> np.ndarray:
-    """Per observation: where it holds, (observation, azimuth, duration, acceleration)."""
+def consistency(overturns: np.ndarray, obs: Observations, azimuths: np.ndarray, config: Config,
+                offset_m: np.ndarray | None = None) -> np.ndarray:
+    """Per observation: where it holds, (observation, azimuth, duration, acceleration). A displaced body holds where it
+    stands with a residual offset ``offset_m`` [m] of at least ``infer.displaced_min_m`` (None: nowhere)."""
     holds = np.where(obs.toppled[:, None, None, None], overturns, ~overturns)
+    if obs.displaced.any():
+        moved = np.zeros(overturns.shape, dtype=bool) if offset_m is None else \
+            np.abs(np.nan_to_num(offset_m, nan=0.0)) >= config.infer.displaced_min_m
+        holds = np.where(obs.displaced[:, None, None, None], holds & moved, holds)
     return holds & _fall_ok(obs, azimuths, config.infer.fall_tolerance_deg)[:, :, None, None]
 
 
@@ -241,9 +262,9 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
     stacked = stack_ids(inv.stacks, len(inv)) != ""
     crit[stacked] = True          # the criterion judges a block alone on the ground: a stack's body it leaves free
     t0 = time.perf_counter()
-    sim_over, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config, progress=progress)
+    sim_over, sim_offset, runs = simulated_overturns(inv, tp, ap, az, shape=shape, config=config, progress=progress)
     t_sim = time.perf_counter() - t0
-    sim = consistency(sim_over, obs, az, config)
+    sim = consistency(sim_over, obs, az, config, sim_offset)
     dims = ("observation", "azimuth", "duration", "acceleration")
     ds = xr.Dataset(
         {"observation_holds_criterion": (dims, crit.astype("i1")),
@@ -252,6 +273,7 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
          "consistent_simulation": (dims[1:], sim.all(axis=0).astype("i1")),
          "observations_holding_simulation": (dims[1:], sim.sum(axis=0).astype("i4")),
          "toppled": (("observation",), obs.toppled.astype("i1")),
+         "displaced": (("observation",), obs.displaced.astype("i1")),
          "fall_azimuth": (("observation",), obs.fall_azimuth_deg),
          "height": (("observation",), inv.height_m),
          "width": (("observation",), inv.width_m),
@@ -262,6 +284,7 @@ def infer(obs: Observations, *, shape: str = "half-sine", config: Config, durati
         attrs={"Conventions": "CF-1.11", "title": "rockscreen: pulses consistent with observed toppling",
                "pulse": shape, "pulse_beta": PULSE_BETA[shape], "simulation_runs": runs,
                "simulation_time_s": round(t_sim, 3), "observations_file": obs.source,
+               "displaced_min_m": config.infer.displaced_min_m,
                "criterion_not_applied": ", ".join(np.asarray(inv.ids, dtype=object)[stacked].tolist())})
     return apply_schema(ds, INFER)
 

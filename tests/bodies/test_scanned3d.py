@@ -105,7 +105,8 @@ def test_a_pulse_is_judged_along_the_weakest_direction_either_way(box_scan):
         ah = _pulse(amp_g, period_s)
         either = any(simulate_contact3d(s * ah, np.zeros_like(ah), None, DT, box_body(0.4, 0.6, 1.6, mu=0.6)
                                         ).overturned for s in (1.0, -1.0))
-        assert judge_pulse(ah, DT) == (either, 2)
+        got = judge_pulse(ah, DT)
+        assert (got.overturned, got.runs) == (either, 2) and math.isnan(got.offset_m)   # a single body: no offset
 
 
 @pytest.mark.slow

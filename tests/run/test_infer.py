@@ -151,7 +151,8 @@ def _readme_quotes_the_region(ds, sim, crit) -> None:
 
 @pytest.mark.parametrize("text, message", [
     ("id,outcome\nNOPE,toppled\n", "line 2, column 'id': 'NOPE' is not in the inventory"),
-    ("id,outcome\nB0,fell\n", "line 2, column 'outcome': 'fell'; expected toppled or standing"),
+    ("id,outcome\nB0,fell\n", "line 2, column 'outcome': 'fell'; expected toppled, standing or displaced"),
+    ("id,outcome\nB0,displaced\n", "line 2, column 'outcome': 'displaced' for 'B0', a single block"),
     ("id,outcome,fall_azimuth_deg\nB0,standing,30\n", "only for a toppled block"),
     ("id,outcome\nB0,toppled\nB0,standing\n", "observed twice"),
     ("id,result\nB0,toppled\n", "line 1: header"),
@@ -190,3 +191,36 @@ def test_a_statue_found_fallen_off_its_standing_plinth_is_inferred_with_its_stac
                          samples_per_period=Config().infer.samples_per_period)
         judged = judge_two_block(tb, float(ds.acceleration.values[m]) * unit, dt)
         assert (judged.lower, judged.upper) == (Verdict.stands, Verdict.overturns)
+
+
+def test_drums_found_displaced_bound_the_pulse_from_below_by_their_joints_friction(tmp_path):
+    """Three drums, the upper joints of friction 0.3: the middle drum was found moved on the lowest, the others in
+    place. The column tips as a whole first, at 0.34 g (its half width 0.425 m over its centre's height 1.25 m; its
+    joints at 0.53 and 1.13 g); below that it moves with the ground, so a joint slips only where a_p exceeds its
+    friction times g (closed form): every pulse the simulation keeps has a_p above 0.3 g, the
+    true one (0.4 g, 1.0 s, which moves the middle drum 11.8 cm) among them, and without the displacement observed
+    (every drum standing) the weak pulses are kept too. The criterion judges no stacked body."""
+    from pipeline.assemblies.stack_scene import stack_run
+
+    path = tmp_path / "drums.csv"
+    path.write_text("id,height_m,width_m,mu,shape,depth_m,stands_on\nD1,0.9,0.85,0.7,box,0.85,\n"
+                    "D2,0.85,0.85,0.3,box,0.85,D1\nD3,0.75,0.85,0.3,box,0.85,D2\n")
+    inv = read_inventory(path, default_mu=0.6)
+    seen = tmp_path / "seen.csv"
+    seen.write_text("id,outcome\nD1,standing\nD2,displaced\nD3,standing\n")
+    obs = read_observations(seen, inv)
+    assert obs.displaced.tolist() == [False, True, False]
+    durations, accelerations = np.array([0.5, 1.0, 1.5]), G * np.array([0.15, 0.25, 0.29, 0.32, 0.4, 0.5, 0.7])
+    ds = infer(obs, config=Config(), durations_s=durations, accelerations_ms2=accelerations)
+    kept = ds.consistent_simulation.values[0]
+    assert kept[1, 4]                                                  # the true pulse
+    assert not kept[:, accelerations <= 0.3 * G].any() and kept.any()
+    unit, dt = pulse("half-sine", amplitude_ms2=1.0, period_s=2.0, samples_per_period=Config().infer.samples_per_period)
+    judged = stack_run(inv.stack_of(1), 0.4 * G * unit, None, dt)
+    assert abs(judged.offset_m[1]) >= Config().infer.displaced_min_m
+    assert ds.displaced.values.tolist() == [0, 1, 0] and ds.attrs["displaced_min_m"] == 0.01
+    assert ds.observation_holds_criterion.values.all()
+    seen.write_text("id,outcome\nD1,standing\nD2,standing\nD3,standing\n")
+    undisplaced = infer(read_observations(seen, inv), config=Config(), durations_s=durations,
+                        accelerations_ms2=accelerations).consistent_simulation.values[0]
+    assert undisplaced[:, accelerations <= 0.3 * G].all()
