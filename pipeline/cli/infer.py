@@ -19,11 +19,13 @@ def infer_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="screen infer", formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog=_epilog("infer", "plain"),
                                 description="Archaeoseismology: the pulses (a_p, t_p, orientation) consistent with "
-                                            "which blocks toppled and which stood, by the paper's criterion and by "
-                                            "simulation; conflicting observations are reported.")
+                                            "which blocks toppled, which stood and which stacked bodies stood "
+                                            "displaced, by the paper's criterion and by simulation; conflicting "
+                                            "observations are reported.")
     p.add_argument("--blocks", required=True, type=Path, help="inventory CSV of the observed blocks")
     p.add_argument("--observed", required=True, type=Path,
-                   help="CSV id,outcome[,fall_azimuth_deg] with outcome toppled or standing")
+                   help="CSV id,outcome[,fall_azimuth_deg] with outcome toppled, standing or displaced (a "
+                        "body of a stack)")
     p.add_argument("--pulse", default="half-sine", choices=INFER_SHAPES, help="assumed pulse shape")
     p.add_argument("--out", type=Path, default=Path("results/infer"),
                    help="output directory (default: results/infer/)")

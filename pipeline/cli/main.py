@@ -37,7 +37,8 @@ SUBCOMMAND_HELP = {
     "chart": "stability chart of one block (the paper's Figs. 2a and 4), records as points, --simulate",
     "report": "rebuild report.html and assets.csv from a screening.nc",
     "bench": "what accuracy costs: every fidelity tier and setting against the reference, measured",
-    "infer": "archaeoseismology: the pulses consistent with which blocks toppled and which stood",
+    "infer": "archaeoseismology: the pulses consistent with which blocks toppled, which stood and which stacked "
+             "bodies stood displaced",
     "fragility": "fragility curves by multiple-stripe analysis, the IMs that predict overturning, hazard",
     "event": "after an earthquake: P(overturn) per asset from the ShakeMap, an inspection list and map",
     "constrain": "fragile rocks that stood reweight a hazard model's branches: the site's hazard before and after",

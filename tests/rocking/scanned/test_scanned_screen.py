@@ -160,6 +160,6 @@ def test_the_inference_grid_of_a_rectangle_given_as_a_mesh_is_the_rectangles(sca
     config = dataclasses.replace(base, infer=dataclasses.replace(base.infer, n_durations=6, n_accelerations=8),
                                  simulation=dataclasses.replace(base.simulation, scanned_model=model))
     tp, ap, az = grid(inv, shape="half-sine", config=config, oriented=False)
-    got, _runs = simulated_overturns(inv, tp, ap, az, shape="half-sine", config=config)
+    got, _offsets, _runs = simulated_overturns(inv, tp, ap, az, shape="half-sine", config=config)
     assert got[1].any() and not got[1].all()                  # the grid spans standing and overturning
     assert (got[0] == got[1]).all()
