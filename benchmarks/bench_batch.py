@@ -97,8 +97,11 @@ def timed_run(args: list[str]) -> dict:
 
     cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
     cpu_of: dict[int, float] = {}
+    # stderr to a file, not a pipe: a pipe nobody reads while the run is polled fills up (64 KiB of progress
+    # lines) and blocks the command, which then never ends
+    log = tempfile.TemporaryFile(mode="w+")
     t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(cmd, stderr=log, text=True)
     ps = psutil.Process(proc.pid)
     peak_one = peak_sum = 0
     while proc.poll() is None:
@@ -115,7 +118,9 @@ def timed_run(args: list[str]) -> dict:
         time.sleep(0.05)
     wall = time.perf_counter() - t0
     cpu = sum(cpu_of.values())
-    err = proc.stderr.read()
+    log.seek(0)
+    err = log.read()
+    log.close()
     if proc.returncode not in (0, 1):
         raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
     summary = "\n    ".join(line for line in err.splitlines() if line.startswith(("records:", "margins:")))
