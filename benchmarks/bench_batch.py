@@ -89,20 +89,13 @@ def make_blocks(path: Path, n_blocks: int, seed: int = 20261122) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def timed_run(args: list[str]) -> dict:
-    """Run ``screen`` in a fresh process; wall time, CPU time of the whole process tree (user and system, each
-    process's as last seen every 50 ms: the workers are not all reaped by the command itself) and peak RSS (largest
-    process, tree total)."""
+def _watch(proc) -> tuple[float, int, int]:
+    """Poll ``proc`` every 50 ms until it ends: the CPU time of its process tree [s] (each process's as last seen:
+    the workers are not all reaped by the command itself) and its peak RSS, largest process and tree total [B]."""
     import psutil
 
-    cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
-    cpu_of: dict[int, float] = {}
-    # stderr to a file, not a pipe: a pipe nobody reads while the run is polled fills up (64 KiB of progress
-    # lines) and blocks the command, which then never ends
-    log = tempfile.TemporaryFile(mode="w+")
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, stderr=log, text=True)
     ps = psutil.Process(proc.pid)
+    cpu_of: dict[int, float] = {}
     peak_one = peak_sum = 0
     while proc.poll() is None:
         rss = []
@@ -116,11 +109,22 @@ def timed_run(args: list[str]) -> dict:
         if rss:
             peak_one, peak_sum = max(peak_one, max(rss)), max(peak_sum, sum(rss))
         time.sleep(0.05)
-    wall = time.perf_counter() - t0
-    cpu = sum(cpu_of.values())
-    log.seek(0)
-    err = log.read()
-    log.close()
+    return sum(cpu_of.values()), peak_one, peak_sum
+
+
+def timed_run(args: list[str]) -> dict:
+    """Run ``screen`` in a fresh process; wall time, CPU time of the whole process tree (user and system) and peak
+    RSS (largest process, tree total)."""
+    cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
+    # stderr to a file, not a pipe: a pipe nobody reads while the run is polled fills up (64 KiB of progress
+    # lines) and blocks the command, which then never ends
+    with tempfile.TemporaryFile(mode="w+") as log:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stderr=log, text=True)
+        cpu, peak_one, peak_sum = _watch(proc)
+        wall = time.perf_counter() - t0
+        log.seek(0)
+        err = log.read()
     if proc.returncode not in (0, 1):
         raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
     summary = "\n    ".join(line for line in err.splitlines() if line.startswith(("records:", "margins:")))

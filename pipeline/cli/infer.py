@@ -14,7 +14,7 @@ from .progress import _progress
 
 def infer_parser() -> argparse.ArgumentParser:
     """Parser of ``screen infer``."""
-    from ..run.infer import INFER_SHAPES
+    from ..run.infer import INFER_SHAPES, OUTCOME_WORDS
 
     p = argparse.ArgumentParser(prog="screen infer", formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog=_epilog("infer", "plain"),
@@ -24,8 +24,8 @@ def infer_parser() -> argparse.ArgumentParser:
                                             "observations are reported.")
     p.add_argument("--blocks", required=True, type=Path, help="inventory CSV of the observed blocks")
     p.add_argument("--observed", required=True, type=Path,
-                   help="CSV id,outcome[,fall_azimuth_deg] with outcome toppled, standing or displaced (a "
-                        "body of a stack)")
+                   help=f"CSV id,outcome[,fall_azimuth_deg] with outcome {OUTCOME_WORDS} (displaced: a body of "
+                        "a stack)")
     p.add_argument("--pulse", default="half-sine", choices=INFER_SHAPES, help="assumed pulse shape")
     p.add_argument("--out", type=Path, default=Path("results/infer"),
                    help="output directory (default: results/infer/)")

@@ -53,6 +53,8 @@ from ..stacks import stack_ids
 from ..tables import parse_number, read_csv_table
 
 OUTCOMES = ("toppled", "standing", "displaced")
+#: The outcomes as a reader is asked for them.
+OUTCOME_WORDS = f"{', '.join(OUTCOMES[:-1])} or {OUTCOMES[-1]}"
 #: Shapes an inference can assume (half pulses, as in the paper).
 INFER_SHAPES = ("half-sine", "step", "linear", "parabolic")
 
@@ -102,8 +104,7 @@ def read_observations(path: str | Path, inventory: Inventory) -> Observations:
         seen[bid] = line
         outcome = rec.get("outcome", "").lower()
         if outcome not in OUTCOMES:
-            raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected toppled, standing or "
-                                 "displaced")
+            raise InventoryError(f"{where}, column 'outcome': {rec.get('outcome')!r}; expected {OUTCOME_WORDS}")
         if outcome == "displaced" and not stacked[index[bid]]:
             raise InventoryError(f"{where}, column 'outcome': 'displaced' for {bid!r}, a single block; displaced is "
                                  "judged for the bodies of a stack (its joints' slip is followed, a single block's "

@@ -15,7 +15,9 @@ from pipeline.records.loader import find_records, load_record
 
 TWO_HORIZONTALS = [
     ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2"),   # Rinaldi: a strong pulse
-    ("peer-at2/RSN1492_CHICHI_TCU052-N.AT2", "peer-at2/RSN1492_CHICHI_TCU052-E.AT2"),
+    # 12 s of the one-by-one reference: in make test-slow, so that make test stays under 5 min
+    pytest.param(("peer-at2/RSN1492_CHICHI_TCU052-N.AT2", "peer-at2/RSN1492_CHICHI_TCU052-E.AT2"),
+                 marks=pytest.mark.slow),
     ("knet/AOM0170806140843.NS", "knet/AOM0170806140843.EW"),                          # no pulse
 ]
 

@@ -833,7 +833,8 @@ def test_margins_split_into_tasks_of_a_few_blocks_give_the_same_margins(few_reco
         open_results(whole / "histories.nc").equals(open_results(split / "histories.nc"))
 
 
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+# SIGHUP's run (5-7 s) in make test-slow, with the other signals' runs: make test keeps under 5 min
+@pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGHUP, marks=pytest.mark.slow)])
 def test_a_signal_after_the_report_is_written_exits_130(make_records, tmp_path, sig):
     """What a scheduler sends may arrive after the command's last line, while the interpreter winds down (here an
     exit function that takes a second, as a cluster's clean-up may): the process still ends with 130, as documented
