@@ -9,10 +9,13 @@ scale, classified by the pulse indicator PI and the late-arrival rule.
 
 Speed (against a straightforward port that repeats one FFT convolution per
 scale at every step): each component is transformed once at the 51 scales;
-the scale refinement evaluates three integer scales at a single time; each
-of the ten iterations transforms the residual at one scale over the search
-window only. The pulse along other orientations (the blocks' azimuths) is
-in :mod:`.along`.
+the scale refinement evaluates three integer scales at a single time; the
+ten iterations transform the residual at one scale over the search window
+only, and only when the window moves (the first two iterations at most):
+the transform is linear, so each later iteration subtracts the coefficients
+of the wavelet just added, a shift of the unit wavelet's response computed
+once per scale (equal to transforming the residual, to rounding; tested).
+The pulse along other orientations (the blocks' azimuths) is in :mod:`.along`.
 
 Units: velocity in cm/s inside the classifier (its PI constants use cm/s).
 
@@ -191,9 +194,11 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
     pulse = np.zeros(n)
     positions, coefs = [], []
     centre = column
+    window, c = (-1, -1), np.zeros(0)
     for i in range(N_WAVELETS):
         lo, hi = max(0, centre - half), min(n - 1, centre + half)
-        c = cwt_window(velocity - pulse, scale, lo, hi)
+        if (lo, hi) != window:     # the residual transformed over a new window (the first two iterations at most)
+            window, c = (lo, hi), cwt_window(velocity - pulse, scale, lo, hi)
         k = int(np.argmax(np.abs(c)))
         pos, coef = lo + k, float(c[k])
         if i == 0:
@@ -201,7 +206,41 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
         _add_wavelet(pulse, coef, scale, pos)
         positions.append(pos)
         coefs.append(coef)
+        if i + 1 < N_WAVELETS and (max(0, centre - half), min(n - 1, centre + half)) == window:
+            c = c - _window_response(coef, scale, pos, lo, hi, n)   # the residual's coefficients, the wavelet removed
     return scale, pulse, positions, coefs
+
+
+def _window_response(coef: float, scale: int, position: int, lo: int, hi: int, n: int) -> np.ndarray:
+    """The coefficients at ``scale`` over output samples ``lo..hi`` of the wavelet ``coef`` at ``position`` on a
+    record of ``n`` samples (:func:`wavelet_on_grid`): the transform is linear, so the residual's coefficients
+    over a window are the previous ones less this. A wavelet inside the record is a shift of the unit wavelet
+    (its samples depend on sample - position only), whose response is computed once per scale
+    (:func:`_unit_response`); one cut by the record's ends is transformed itself."""
+    psi, x, centre = _wavefun4()
+    first, last = (x[0] - centre) * scale + position, (x[-1] - centre) * scale + position
+    if first < 0 or last > n - 1:
+        return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
+    response, reach = _unit_response(scale)
+    d0, d1 = lo - position, hi - position
+    if d0 < -reach or d1 > reach:          # not within the search window's span: transform it
+        return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
+    return coef * response[d0 + reach:d1 + reach + 1]
+
+
+@lru_cache(maxsize=128)
+def _unit_response(scale: int) -> tuple[np.ndarray, int]:
+    """The coefficients at ``scale`` of the unit wavelet (coefficient 1) at offsets -reach..reach from its
+    position, and reach = twice the search window's half-width (a window holds the wavelet's position, so no
+    offset within it is farther); read-only."""
+    psi, x, centre = _wavefun4()
+    reach = 2 * int(math.ceil(WINDOW_FRACTION * scale))
+    below, above = int(math.ceil((centre - x[0]) * scale)), int(math.ceil((x[-1] - centre) * scale))
+    at = reach + below + 1                                 # the unit wavelet's position in a buffer that holds it
+    u = wavelet_on_grid(1.0, scale, at, at + above + reach + 2)
+    response = cwt_window(u, scale, at - reach, at + reach)
+    response.setflags(write=False)
+    return response, reach
 
 
 def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_baker_2014",

@@ -119,6 +119,23 @@ def test_cwt_window_equals_full_transform():
     np.testing.assert_allclose(cwt_window(x, 57, 1000, 1200), full[1000:1201], rtol=1e-10, atol=1e-10)
 
 
+@pytest.mark.parametrize("n, scale, position", [(3000, 57, 1500), (3000, 57, 30), (3000, 57, 2990),
+                                                 (20000, 700, 9000), (20000, 1500, 2000), (5000, 3, 2500)])
+def test_a_wavelets_window_response_is_its_own_transform(n, scale, position):
+    """The extraction's iterations subtract each wavelet's coefficients from the residual's over the search window
+    (the transform is linear): the shifted unit response, or for a wavelet cut by the record's ends its own
+    transform, against the FFT transform of the wavelet itself, over every window that holds its position."""
+    from pipeline.pulses.shahi_baker import WINDOW_FRACTION, _window_response
+
+    half = int(np.ceil(WINDOW_FRACTION * scale))
+    wavelet = wavelet_on_grid(-1234.5, scale, position, n)
+    for lo in (position - 2 * half, position - half, position):
+        lo, hi = max(0, lo), min(n - 1, lo + 2 * half)
+        expected = cwt_window(wavelet, scale, lo, hi)
+        np.testing.assert_allclose(_window_response(-1234.5, scale, position, lo, hi, n), expected,
+                                   rtol=0, atol=1e-9 * np.max(np.abs(expected)))
+
+
 @pytest.mark.parametrize("n, scale", [(40, 3), (3000, 57), (3000, 700), (20000, 1500)])
 def test_cwt_point_equals_the_full_transform(n, scale):
     """The dot-product coefficient against the FFT transform, at both edges and inside."""

@@ -550,6 +550,24 @@ def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     assert_same_record_results(serial, _by_record(got))
 
 
+def _worker_settings(keys: tuple) -> dict:
+    import dask
+
+    return {k: dask.config.get(k) for k in keys}
+
+
+@pytest.mark.slow
+def test_dask_local_cluster_workers_run_with_its_quiet_housekeeping():
+    """The LocalCluster's workers (not only the process that starts them) hold LOCAL_CLUSTER_CONFIG: the nannies
+    hand it on; a worker at Dask's defaults profiles itself every 10 ms."""
+    from pipeline.run.executors import LOCAL_CLUSTER_CONFIG
+
+    with DaskExecutor("local", n_workers=1) as ex:
+        seen = ex.client.run(_worker_settings, tuple(LOCAL_CLUSTER_CONFIG))
+    assert len(seen) == 1
+    assert next(iter(seen.values())) == LOCAL_CLUSTER_CONFIG
+
+
 def test_same_name_in_two_directories_stays_two_records(make_records, blocks_csv, tmp_path, capsys):
     # same file name and samples, different bytes (another title line): two records with two ids and cache entries
     root = make_records("peer-at2/RSN77_SFERN_PUL164.AT2")
