@@ -8,7 +8,7 @@ whole command, and peak memory (largest process and the sum over the process tre
 bench_batch.py (bundled records, then retitled AT2 copies; blocks drawn with a fixed seed,
 half with a blank azimuth, so the orientation scan runs for them).
 
-Run: python benchmarks/bench_scale.py [--records 10,100] [--blocks 10,100,1000] [--samples N]
+Run: python benchmarks/bench_scale.py [--records 10,100] [--blocks 10,100,1000] [--samples N] [--scheduler local -n N]
 """
 
 from __future__ import annotations
@@ -36,10 +36,14 @@ def main() -> None:
     ap.add_argument("--records", default="10,100")
     ap.add_argument("--blocks", default="10,100,1000")
     ap.add_argument("--samples", type=int, default=None, help="--samples for every run (default: the config's)")
+    ap.add_argument("--scheduler", default=None, help="--scheduler for every run (e.g. local: a Dask LocalCluster)")
+    ap.add_argument("-n", type=int, default=None, help="-n for every run (default: the command's)")
     a = ap.parse_args()
     n_records = [int(x) for x in a.records.split(",")]
     n_blocks = [int(x) for x in a.blocks.split(",")]
     extra = [] if a.samples is None else ["--samples", str(a.samples)]
+    extra += [] if a.scheduler is None else ["--scheduler", a.scheduler]
+    extra += [] if a.n is None else ["-n", str(a.n)]
     with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
         tmp = Path(tmp)
         recs = {n: tmp / f"records-{n}" for n in n_records}
