@@ -89,39 +89,52 @@ def make_blocks(path: Path, n_blocks: int, seed: int = 20261122) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def _watch(proc) -> tuple[float, int, int]:
+#: Polls of the watched command between two readings of its proportional set size (PSS reads each process's page
+#: map, far dearer than its RSS)
+PSS_EVERY = 10
+
+
+def _watch(proc) -> tuple[float, int, int, int]:
     """Poll ``proc`` every 50 ms until it ends: the CPU time of its process tree [s] (each process's as last seen:
-    the workers are not all reaped by the command itself) and its peak RSS, largest process and tree total [B]."""
+    the workers are not all reaped by the command itself), its peak RSS, largest process and tree total [B], and the
+    peak of the tree's total PSS [B], read every :data:`PSS_EVERY` polls (the memory the tree holds: each shared
+    page counted once, split between the processes that map it; RSS counts it in each, so the RSS total overstates
+    the tree; 0 where the system does not give PSS)."""
     import psutil
 
     ps = psutil.Process(proc.pid)
     cpu_of: dict[int, float] = {}
-    peak_one = peak_sum = 0
+    peak_one = peak_sum = peak_pss = 0
+    polls = 0
     while proc.poll() is None:
-        rss = []
+        rss, pss = [], []
         try:
             for p in [ps, *ps.children(recursive=True)]:
                 rss.append(p.memory_info().rss)
+                if polls % PSS_EVERY == 0:
+                    pss.append(getattr(p.memory_full_info(), "pss", 0))
                 times = p.cpu_times()
                 cpu_of[p.pid] = times.user + times.system
         except psutil.Error:
             pass
         if rss:
             peak_one, peak_sum = max(peak_one, max(rss)), max(peak_sum, sum(rss))
+        peak_pss = max(peak_pss, sum(pss))
+        polls += 1
         time.sleep(0.05)
-    return sum(cpu_of.values()), peak_one, peak_sum
+    return sum(cpu_of.values()), peak_one, peak_sum, peak_pss
 
 
 def timed_run(args: list[str]) -> dict:
     """Run ``screen`` in a fresh process; wall time, CPU time of the whole process tree (user and system) and peak
-    RSS (largest process, tree total)."""
+    RSS (largest process, tree total) and PSS (tree total)."""
     cmd = [sys.executable, "-m", "pipeline", *args, "--tolerate-failures"]   # not -q: the summary is parsed
     # stderr to a file, not a pipe: a pipe nobody reads while the run is polled fills up (64 KiB of progress
     # lines) and blocks the command, which then never ends
     with tempfile.TemporaryFile(mode="w+") as log:
         t0 = time.perf_counter()
         proc = subprocess.Popen(cmd, stderr=log, text=True)
-        cpu, peak_one, peak_sum = _watch(proc)
+        cpu, peak_one, peak_sum, peak_pss = _watch(proc)
         wall = time.perf_counter() - t0
         log.seek(0)
         err = log.read()
@@ -129,7 +142,7 @@ def timed_run(args: list[str]) -> dict:
         raise SystemExit(f"screen failed ({proc.returncode}):\n{err}")
     summary = "\n    ".join(line for line in err.splitlines() if line.startswith(("records:", "margins:")))
     return {"wall_s": wall, "cpu_s": cpu, "peak_one_mb": peak_one / 2**20, "peak_sum_mb": peak_sum / 2**20,
-            "summary": summary}
+            "peak_pss_mb": peak_pss / 2**20, "summary": summary}
 
 
 def criterion_rate(results: Path, repeat: int = 20) -> tuple[int, float]:

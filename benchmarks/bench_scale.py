@@ -4,7 +4,8 @@ For each (records, blocks) of the grid, the real command runs in a fresh process
 output with the default executor (and ``--samples`` when given), and the script prints: wall
 time, CPU time (the whole process tree), the screening stage's and the margins stage's own times
 (from the command's summary), the rest (imports, writing, report), records/s and scenes/s over the
-whole command, and peak memory (largest process and the sum over the process tree). Records and blocks are made as in
+whole command, and peak memory (the RSS of the largest process and summed over the process tree, and
+the tree's summed PSS: its shared pages counted once). Records and blocks are made as in
 bench_batch.py (bundled records, then retitled AT2 copies; blocks drawn with a fixed seed,
 half with a blank azimuth, so the orientation scan runs for them).
 
@@ -58,7 +59,8 @@ def main() -> None:
         timed_run(["--records", str(tmp / "records-warm"), "--blocks", str(tmp / "blocks-warm.csv"),
                    "--out", str(tmp / "warm"), *extra])
         print(f"{'records':>7s} {'blocks':>6s} {'wall s':>7s} {'CPU s':>7s} {'screen s':>8s} {'margins s':>9s} "
-              f"{'rest s':>6s} {'records/s':>9s} {'scenes/s':>9s} {'peak MB (largest / total)':>26s}")
+              f"{'rest s':>6s} {'records/s':>9s} {'scenes/s':>9s} {'peak RSS MB (largest / total)':>30s} "
+              f"{'peak PSS MB (total)':>19s}")
         for nr in n_records:
             for nb in n_blocks:
                 r = timed_run(["--records", str(recs[nr]), "--blocks", str(blocks[nb]),
@@ -68,7 +70,7 @@ def main() -> None:
                 print(f"{nr:7d} {nb:6d} {r['wall_s']:7.1f} {r['cpu_s']:7.1f} {screen_s:8.1f} {margins_s:9.1f} "
                       f"{rest:6.1f} "
                       f"{nr / r['wall_s']:9.2f} {nr * nb / r['wall_s']:9.0f} "
-                      f"{r['peak_one_mb']:12.0f} / {r['peak_sum_mb']:.0f}", flush=True)
+                      f"{r['peak_one_mb']:16.0f} / {r['peak_sum_mb']:<11.0f} {r['peak_pss_mb']:19.0f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -39,6 +39,12 @@ log = logging.getLogger(__name__)
 #: How many times a task may kill its worker, running alone, before it is given up.
 MAX_TASK_ATTEMPTS = 3
 
+#: Modules the process pool's forkserver imports before it forks a worker: the record task's whole stack (numpy,
+#: scipy, obspy, numba, xarray and the pipeline). Each worker imported them itself before; forked from the server,
+#: the workers share those pages with it and with each other (the memory a process tree holds, its summed PSS, is
+#: measured in docs/validation.md). The server starts with the first pool of a process and keeps what it imported.
+FORKSERVER_PRELOAD = ("pipeline.run.batch",)
+
 #: Dask settings of the LocalCluster (``--scheduler local``): its periodic housekeeping made rarer. With one worker
 #: per core, every cycle a worker's other threads or its nanny spend is taken from a record task: at Dask's defaults
 #: the record tasks of a 10-record run spent 44.0 s of wall time for 39.2 s of their own thread's CPU (the worker's
@@ -98,8 +104,11 @@ class ProcessExecutor:
         self._entered = False
 
     def _new_pool(self) -> ProcessPoolExecutor:
-        # forkserver: workers never inherit the parent's threads (progress bar, Dask client)
-        return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=multiprocessing.get_context("forkserver"),
+        # forkserver: workers never inherit the parent's threads (progress bar, Dask client); the server imports the
+        # tasks' modules once (FORKSERVER_PRELOAD), and the workers forked from it share those pages
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(list(FORKSERVER_PRELOAD))
+        return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=context,
                                    initializer=_worker_init, initargs=(os.getpid(),))
 
     def __enter__(self):
