@@ -57,7 +57,7 @@ constrain-demo: $(VENV)/.installed
 # a test file's tests stay on one worker (--dist loadfile), so a module's shared screenings run once, not on each
 # worker (169 s against 211-222 s for the suite, measured)
 test: $(VENV)/.installed-test browser
-	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 45 s the first time)"
+	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 90 s the first time)"
 	@$(PYTHON) tools/ticking.py "compiling the simulator" -- sh -c '\
 	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(share=(0, 2))" \
 	& pid=$$!; \

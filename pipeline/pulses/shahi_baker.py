@@ -194,9 +194,13 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
     pulse = np.zeros(n)
     positions, coefs = [], []
     centre = column
+
+    def search_window(at: int) -> tuple[int, int]:
+        return max(0, at - half), min(n - 1, at + half)
+
     window, c = (-1, -1), np.zeros(0)
     for i in range(N_WAVELETS):
-        lo, hi = max(0, centre - half), min(n - 1, centre + half)
+        lo, hi = search_window(centre)
         if (lo, hi) != window:     # the residual transformed over a new window (the first two iterations at most)
             window, c = (lo, hi), cwt_window(velocity - pulse, scale, lo, hi)
         k = int(np.argmax(np.abs(c)))
@@ -206,7 +210,7 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
         _add_wavelet(pulse, coef, scale, pos)
         positions.append(pos)
         coefs.append(coef)
-        if i + 1 < N_WAVELETS and (max(0, centre - half), min(n - 1, centre + half)) == window:
+        if i + 1 < N_WAVELETS and search_window(centre) == window:
             c = c - _window_response(coef, scale, pos, lo, hi, n)   # the residual's coefficients, the wavelet removed
     return scale, pulse, positions, coefs
 
@@ -216,16 +220,15 @@ def _window_response(coef: float, scale: int, position: int, lo: int, hi: int, n
     record of ``n`` samples (:func:`wavelet_on_grid`): the transform is linear, so the residual's coefficients
     over a window are the previous ones less this. A wavelet inside the record is a shift of the unit wavelet
     (its samples depend on sample - position only), whose response is computed once per scale
-    (:func:`_unit_response`); one cut by the record's ends is transformed itself."""
-    psi, x, centre = _wavefun4()
-    first, last = (x[0] - centre) * scale + position, (x[-1] - centre) * scale + position
-    if first < 0 or last > n - 1:
-        return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
-    response, reach = _unit_response(scale)
-    d0, d1 = lo - position, hi - position
-    if d0 < -reach or d1 > reach:          # not within the search window's span: transform it
-        return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
-    return coef * response[d0 + reach:d1 + reach + 1]
+    (:func:`_unit_response`); one cut by the record's ends, or a window wider than the search's, is transformed
+    itself."""
+    _, x, centre = _wavefun4()
+    if (x[0] - centre) * scale + position >= 0 and (x[-1] - centre) * scale + position <= n - 1:
+        response, reach = _unit_response(scale)
+        d0, d1 = lo - position, hi - position
+        if -reach <= d0 and d1 <= reach:
+            return coef * response[d0 + reach:d1 + reach + 1]
+    return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
 
 
 @lru_cache(maxsize=128)
@@ -233,7 +236,7 @@ def _unit_response(scale: int) -> tuple[np.ndarray, int]:
     """The coefficients at ``scale`` of the unit wavelet (coefficient 1) at offsets -reach..reach from its
     position, and reach = twice the search window's half-width (a window holds the wavelet's position, so no
     offset within it is farther); read-only."""
-    psi, x, centre = _wavefun4()
+    _, x, centre = _wavefun4()
     reach = 2 * int(math.ceil(WINDOW_FRACTION * scale))
     below, above = int(math.ceil((centre - x[0]) * scale)), int(math.ceil((x[-1] - centre) * scale))
     at = reach + below + 1                                 # the unit wavelet's position in a buffer that holds it

@@ -50,8 +50,9 @@ FORKSERVER_PRELOAD = ("pipeline.run.batch",)
 #: the record tasks of a 10-record run spent 44.0 s of wall time for 39.2 s of their own thread's CPU (the worker's
 #: statistical profiler samples every 10 ms, the event loop ticks every 20 ms, the nanny reads the worker's memory
 #: every 100 ms); with these, 40.3 s for 39.4 s, as in the process pool (40.1 s for 39.0 s). What they give up:
-#: the dashboard's profile and its refresh, and the nanny's memory limit is checked every 2 s instead of 0.1 s. A
-#: remote cluster keeps its own configuration (docs/user-guide.md says how to set the same there).
+#: the dashboard's profile and its refresh, the nanny's memory limit checked every 2 s instead of 0.1 s, and the
+#: scheduler's work stealing every 1 s instead of 0.1 s (a task is a whole record). A remote cluster keeps its own
+#: configuration (docs/user-guide.md says how to set the same there).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",

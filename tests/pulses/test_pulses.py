@@ -120,18 +120,21 @@ def test_cwt_window_equals_full_transform():
 
 
 @pytest.mark.parametrize("n, scale, position", [(3000, 57, 1500), (3000, 57, 30), (3000, 57, 2990),
-                                                 (20000, 700, 9000), (20000, 1500, 2000), (5000, 3, 2500)])
+                                                 (20000, 700, 9000), (20000, 1500, 2000), (20000, 1500, 10000),
+                                                 (5000, 3, 2500)])
 def test_a_wavelets_window_response_is_its_own_transform(n, scale, position):
     """The extraction's iterations subtract each wavelet's coefficients from the residual's over the search window
-    (the transform is linear): the shifted unit response, or for a wavelet cut by the record's ends its own
-    transform, against the FFT transform of the wavelet itself, over every window that holds its position."""
+    (the transform is linear): the shifted unit response, or for a wavelet cut by the record's ends or a window
+    wider than the search's its own FFT transform, against a second algorithm, the wavelet's coefficients as
+    direct dot products (:func:`cwt_point`), over windows that hold its position."""
     from pipeline.pulses.shahi_baker import WINDOW_FRACTION, _window_response
 
     half = int(np.ceil(WINDOW_FRACTION * scale))
     wavelet = wavelet_on_grid(-1234.5, scale, position, n)
-    for lo in (position - 2 * half, position - half, position):
-        lo, hi = max(0, lo), min(n - 1, lo + 2 * half)
-        expected = cwt_window(wavelet, scale, lo, hi)
+    for start, width in ((position - 2 * half, 2 * half), (position - half, 2 * half), (position, 2 * half),
+                         (position - 2 * half, 4 * half)):
+        lo, hi = max(0, start), min(n - 1, start + width)
+        expected = np.array([cwt_point(wavelet, scale, col) for col in range(lo, hi + 1)])
         np.testing.assert_allclose(_window_response(-1234.5, scale, position, lo, hi, n), expected,
                                    rtol=0, atol=1e-9 * np.max(np.abs(expected)))
 
