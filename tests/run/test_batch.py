@@ -484,6 +484,19 @@ def test_a_task_that_always_kills_its_worker_fails_alone():
     assert sorted(r for _, r in out if not isinstance(r, TaskLost)) == [int(signal.SIGKILL)] * 12
 
 
+def test_process_workers_hold_the_pools_environment():
+    """Each worker of the process pool runs with one BLAS/OpenMP thread and glibc's malloc trimming freed memory
+    above 64 KiB, as Dask's Nanny sets its workers (a value the user set is kept: the workers see this process's)."""
+    from pipeline.run.executors import MALLOC_VARIABLES, THREAD_VARIABLES
+
+    names = (*THREAD_VARIABLES, *MALLOC_VARIABLES) * 3
+    with ProcessExecutor(2) as ex:
+        expected = {n: os.environ[n] for n in names}
+        seen = list(ex.map_unordered(os.getenv, names, None))
+    assert len(seen) == len(names)
+    assert all(value == expected[n] for n, value in seen)
+
+
 @pytest.fixture
 def dask_cluster():
     distributed = pytest.importorskip("distributed")
