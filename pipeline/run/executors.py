@@ -60,13 +60,14 @@ LOCAL_CLUSTER_CONFIG = {
     "distributed.worker.memory.monitor-interval": "2s",
     "distributed.scheduler.work-stealing-interval": "1s",
 }
-#: Thread-pool sizes set to 1 for process workers (unless already set).
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
-#: glibc's malloc settings of the process workers (unless already set), as Dask's Nanny sets them for its workers
-#: (``distributed.nanny.pre-spawn-environ``): memory a worker frees at the end of a record goes back to the system
-#: instead of staying in the worker's heap for the next record (docs/validation.md measures the process tree's
-#: memory with and without it).
-MALLOC_VARIABLES = {"MALLOC_TRIM_THRESHOLD_": "65536"}
+#: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
+#: (``distributed.nanny.pre-spawn-environ``; the numba pool's size is this one's own): one thread per BLAS, OpenMP
+#: or numba pool (N workers with a pool of threads each oversubscribe the cores: -n 2 ran 2.6x slower than serial
+#: without it), and glibc's malloc trimming the top of a worker's heap whenever more than 64 KiB is free there, so
+#: that more of what a worker frees after a record goes back to the system (docs/validation.md measures the
+#: process tree's memory with and without it).
+WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                      "NUMBA_NUM_THREADS": "1", "MALLOC_TRIM_THRESHOLD_": "65536"}
 
 
 class TaskLost(TaskFailure):
@@ -118,12 +119,8 @@ class ProcessExecutor:
                                    initializer=_worker_init, initargs=(os.getpid(),))
 
     def __enter__(self):
-        # One BLAS/OpenMP thread per worker, as Dask's Nanny does: N workers with a BLAS pool each
-        # oversubscribe the cores (measured: -n 2 ran 2.6x slower than serial without this). The
-        # forkserver reads the environment when it starts; a value the user set is kept.
-        for name in THREAD_VARIABLES:
-            os.environ.setdefault(name, "1")
-        for name, value in MALLOC_VARIABLES.items():
+        # the forkserver reads the environment when it starts; the workers it forks inherit it
+        for name, value in WORKER_ENVIRONMENT.items():
             os.environ.setdefault(name, value)
         self._entered = True
         return self

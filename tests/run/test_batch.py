@@ -484,17 +484,22 @@ def test_a_task_that_always_kills_its_worker_fails_alone():
     assert sorted(r for _, r in out if not isinstance(r, TaskLost)) == [int(signal.SIGKILL)] * 12
 
 
-def test_process_workers_hold_the_pools_environment():
-    """Each worker of the process pool runs with one BLAS/OpenMP thread and glibc's malloc trimming freed memory
-    above 64 KiB, as Dask's Nanny sets its workers (a value the user set is kept: the workers see this process's)."""
-    from pipeline.run.executors import MALLOC_VARIABLES, THREAD_VARIABLES
+def test_process_workers_hold_what_dasks_nanny_gives_its_workers():
+    """Each worker of the process pool runs with the variables Dask's Nanny sets for its workers at Dask's values
+    (one BLAS/OpenMP thread, glibc's trim threshold), unless the user set them: then with the user's."""
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("distributed")
+    from pipeline.run.executors import WORKER_ENVIRONMENT
 
-    names = (*THREAD_VARIABLES, *MALLOC_VARIABLES) * 3
+    nanny = {k: str(v) for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()}
+    assert set(nanny) <= set(WORKER_ENVIRONMENT)
+    users = {n: os.environ[n] for n in WORKER_ENVIRONMENT if n in os.environ}
+    names = tuple(WORKER_ENVIRONMENT) * 3
     with ProcessExecutor(2) as ex:
-        expected = {n: os.environ[n] for n in names}
         seen = list(ex.map_unordered(os.getenv, names, None))
     assert len(seen) == len(names)
-    assert all(value == expected[n] for n, value in seen)
+    for name, value in seen:
+        assert value == users.get(name, nanny.get(name, "1")), name
 
 
 @pytest.fixture
