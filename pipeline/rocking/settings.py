@@ -52,11 +52,11 @@ class SimulationConfig:
     #: probabilities and margins too (0.005 s per such run, median on the bundled run; docs/validation.md). False:
     #: a stopped scene has no verdict (unknown), a held fall keeps the exact model's overturning (held_past_alpha).
     contact3d: bool = True
-    #: True (default): in the draws and the margin scan (which keep only the verdict), a box the contact model
-    #: follows is handed back to its exact model wherever it rocks on an edge without slipping again
-    #: (:mod:`pipeline.rocking.solids.alternate`; on the bundled run 97.8 % of its box verdicts are the contact
-    #: model's alone, which agrees with itself at half its step in 97.5 %: docs/validation.md). False: the
-    #: contact model follows it to the end alone.
+    #: True (default): in the draws and the margin scan (which keep only the verdict), a box or a cylinder the
+    #: contact model follows is handed back to its exact model wherever it turns on its base without slipping again
+    #: (:mod:`pipeline.rocking.solids.alternate`; on the bundled run 97.8 % of its box verdicts and 97.0 % of its
+    #: cylinder verdicts are the contact model's alone, which agrees with itself at half its step in 98.4 % and
+    #: 99.3 %: docs/validation.md). False: the contact model follows it to the end alone.
     handback: bool = True
     #: A block with a blank azimuth (or any block on a record of unknown absolute azimuth) is
     #: simulated in every rocking plane k * orientation_step_deg that moves it (worst plane) [deg].

@@ -1,85 +1,144 @@
-"""A box's scene that left its exact model, run by the contact model and handed back to the exact model wherever it
-rocks on an edge without slipping again (the draws and the margin scan, which keep only the verdict).
+"""A 3D body's scene that left its exact model, run by the contact model and handed back to the exact model wherever
+it turns on its base without slipping again (the draws and the margin scan, which keep only the verdict).
 
-The contact model (:mod:`.contact3d`) follows every mode at once, in steps of at most 0.5 ms; the exact model
-(:mod:`.box3d`) follows a box on an edge or a corner whose contact holds, at the steps its error control allows.
-Once a box has slid, it mostly rocks on an edge again with that edge's two corners sticking (handing it back there,
-the bundled default's box runs take 0.52 of the contact model's time alone: docs/validation.md). The contact model
-therefore stops at the first sample after a whole sampling interval turning on one base edge, both of its corners
-loaded and inside their friction cones and no other corner loaded, a step taken in parts judged by its last part
-(``edges`` of :func:`~.contact3d.simulate_contact3d`), and the exact model goes on from there on that edge
-(:func:`_exact_state`: the edge levelled and the rate taken about it, both changes below the contact model's own
-resolution). Where the exact model stops again (its base would slide or lift off, or it falls past the tipping point
-with its contact held), the contact model goes on from the exact model's last certified state, as in
-:mod:`.contact_scene`. Where the record ends while the box still moves, the contact model follows it to rest or to
-its side (its tail). After :data:`MAX_HANDBACKS` hand-backs the contact model runs to the end alone: the run always
-ends, with the contact model's verdict.
+The contact model (:mod:`.contact3d`) follows every mode at once, in steps of at most 0.5 ms; an exact model (a box
+on an edge or a corner, :mod:`.box3d`; a cylinder rolling on its rim, :mod:`.cylinder3d`) follows the body while its
+contact holds, at the steps its error control allows. Once a body has slid, it mostly rocks on its base again with the
+contact sticking. The contact model therefore stops at the first sample after a whole sampling interval turning on
+one of the places the exact model can take it (:class:`ExactModel`'s ``edges``: a box's base edges, both corners
+loaded; a cylinder's rim, one point or two neighbours loaded), every loaded vertex inside its friction cone and no
+other vertex loaded, a step taken in parts judged by its last part (``edges`` of
+:func:`~.contact3d.simulate_contact3d`), and the exact model goes on from there (its ``state_at``: the contact model's
+state, changed by less than its own resolution). Where the exact model stops again (the base would slide or lift
+off, or it falls past the tipping point with its contact held), the contact model goes on from the exact model's last
+certified state, as in :mod:`.contact_scene`. Where the record ends while the body still moves, it stands if its
+energy is below the least it needs to tip over (:func:`cannot_tip_over`: the ground is then still and the contacts
+only take energy away), else the contact model follows it to rest or to its side (its tail). After
+:data:`MAX_HANDBACKS` hand-backs the contact model runs to the end alone: the run always ends, with the contact
+model's verdict.
 
 The impacts: the contact model's plastic contacts give Housner's (1963) rule at a pivot, so the exact model runs with
-Housner's restitution (``restitution_ratio`` 1), the same physics; a declared restitution is the contact model's
-(which does not read it) wherever this alternation runs.
+Housner's restitution, the same physics; a declared restitution is the contact model's (which does not read it)
+wherever this alternation runs.
 
-Where the models meet, the verdict can differ from the contact model's alone where the scene is chaotic: on the
-bundled default's 2,133 box runs, in 2.2 % of them, against 1.6 % between the contact model and itself at half its
-step (docs/validation.md). Only the verdict, the peak tilt and where it leant, the time of
-overturning and the costs are kept: not the sliding distance nor the histories (the nominal scene, which reports
-them, runs the contact model alone).
+Where the models meet, the verdict can differ from the contact model's alone where the scene is chaotic
+(docs/validation.md measures how often, against the contact model and itself at half its step). Only the verdict,
+the peak tilt and where it leant, the time of overturning and the costs are kept: not the sliding distance nor the
+histories (the nominal scene, which reports them, runs the contact model alone).
 
 References
 ----------
 Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417.
+Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics. In Nonsmooth Mechanics and
+Applications, CISM Courses and Lectures 302, 1-82. Springer.
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from .attitude import rotation, turned
-from .box3d import Box, BoxOutcome, simulate_box
-from .box_kernel import EDGE
+from .attitude import rotation
 from .contact3d import Contact3DOutcome, simulate_contact3d
 from .contact_start import Start
-from .handoff3d import BoxState, base_corner
+from .convex_body import ConvexBody
 from .vec3 import FLAG_NONE
 
-#: The base edges of :func:`~.convex_body.box_body`'s corners, in the exact model's order: edge k joins its corner k
-#: to corner k + 1 (:data:`~.handoff3d.CORNER_SIGNS`), given as the contact model's vertex indices.
-BOX_EDGES = np.array([[3, 2], [2, 0], [0, 1], [1, 3]], dtype=np.int64)
 #: Hand-backs to the exact model at most in one scene; then the contact model goes on alone [-].
 MAX_HANDBACKS = 50
+#: A body still moving at the record's end stands where its energy is below the least it needs to tip over by at least
+#: this fraction of that [-] (the rounding of the energy's terms).
+ENERGY_MARGIN = 1e-9
+
+#: How a body turns at a state: its orientation (unit quaternion (w, x, y, z)), its rate in the ground's frame
+#: [rad s-1] and a point of it on the ground that does not slip (in its principal axes from G [m]).
+Turning = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-def alternate(ax, ay, az, dt_s: float, box: Box, azimuth_deg: float, start: Start | None, *, g_ms2: float,
-              rtol: float, atol_alpha: float) -> Contact3DOutcome:
-    """The box (width axis at ``azimuth_deg`` in the models' frame) under the ground (ax, ay, az) [m s-2] (az None:
-    none) sampled at ``dt_s``, from ``start`` (None: at rest), by the contact model handed back to the exact model
-    (tolerances ``rtol``, ``atol_alpha``) on every edge it rocks on without slipping; the contact model's outcome
-    with the verdict, peak and costs of the whole run."""
+class ExactModel(NamedTuple):
+    """A body's exact model as the alternation uses it (a family's :func:`~.box_handback.box_model`,
+    :func:`~.cylinder_handback.cylinder_model`).
+
+    Attributes
+    ----------
+    body : ConvexBody
+        the contact model's body
+    edges : ndarray of int, shape (k, 2)
+        where the exact model can take the body: the pairs of the contact model's vertices it turns on (a pair
+        (i, i): the vertex i alone)
+    run : callable
+        ``run(ax, ay, az, state)``: the exact model from ``state`` at the first sample of the ground given [m s-2]
+        (az None: none); an outcome with ``overturned``, ``t_overturn_s``, ``theta_max_rad``, ``azimuth_max_deg``,
+        ``flag``, ``held``, ``handoff`` (whose ``state`` :attr:`turning` reads) and ``end``
+    state_at : callable
+        ``state_at(out)``: the exact model's state where the contact model's outcome ``out`` stopped on ``out.edge``
+    turning : callable
+        ``turning(state)``: how the body turns at one of the exact model's states (:data:`Turning`)
+    ending : callable
+        ``ending(outcome)``: how it turns where an exact run reached the record's end still moving
+    at_rest : callable
+        ``at_rest(outcome)``: the exact run reached the record's end at rest, flat and still
+    barrier_m : float
+        the least height G must rise to as the body tips over [m]: its distance to the nearest line of its base's
+        edges (a box's sqrt(b^2 + h^2) over its narrower side, a cylinder's sqrt(a^2 + h^2))
+    """
+
+    body: ConvexBody
+    edges: np.ndarray
+    run: Callable[..., Any]
+    state_at: Callable[[Contact3DOutcome], Any]
+    turning: Callable[[Any], Turning]
+    ending: Callable[[Any], Turning]
+    at_rest: Callable[[Any], bool]
+    barrier_m: float
+
+
+def alternate(ax, ay, az, dt_s: float, model: ExactModel, azimuth_deg: float, start: Start | None, *,
+              g_ms2: float) -> Contact3DOutcome:
+    """The body (its x axis at ``azimuth_deg`` in the models' frame) under the ground (ax, ay, az) [m s-2] (az None:
+    none) sampled at ``dt_s``, from ``start`` (None: at rest), by the contact model handed back to ``model`` wherever
+    it turns on one of its ``edges`` without slipping; the contact model's outcome with the verdict, peak and costs
+    of the whole run."""
     ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
     az = None if az is None or np.size(az) == 0 else np.asarray(az, dtype=float)
-    housner = box._replace(restitution_ratio=1.0)
-    body, peak, costs = box.convex(), (0.0, math.nan), _Costs()
+    peak, costs = (0.0, math.nan), _Costs()
     handbacks = 0
     while True:
-        out = simulate_contact3d(ax, ay, az, dt_s, body, yaw_deg=azimuth_deg, g_ms2=g_ms2, start=start,
-                                 edges=BOX_EDGES if handbacks < MAX_HANDBACKS else None)
+        out = simulate_contact3d(ax, ay, az, dt_s, model.body, yaw_deg=azimuth_deg, g_ms2=g_ms2, start=start,
+                                 edges=model.edges if handbacks < MAX_HANDBACKS else None)
         peak, costs = _peak(peak, out.tilt_max_rad, out.lean_at_peak_deg), costs.add(out)
         if out.edge < 0:
             return _whole(out, peak, costs)
         handbacks += 1
         i = int(round(out.t_end_s / dt_s))
-        exact = simulate_box(ax[i:], ay[i:], None if az is None else az[i:], dt_s, housner, g_ms2=g_ms2, rtol=rtol,
-                             atol_alpha=atol_alpha, start=_exact_state(out, box))
+        exact = model.run(ax[i:], ay[i:], None if az is None else az[i:], model.state_at(out))
         peak = _peak(peak, exact.theta_max_rad, exact.azimuth_max_deg)
         if exact.overturned and exact.held == FLAG_NONE:
             return _whole(out, peak, costs, overturned_at=i * dt_s + exact.t_overturn_s)
-        if exact.flag == FLAG_NONE and exact.held == FLAG_NONE and _at_rest(exact):
+        if exact.flag == FLAG_NONE and exact.held == FLAG_NONE and (
+                model.at_rest(exact) or cannot_tip_over(model.ending(exact), model, g_ms2)):
             return _whole(out, peak, costs)
-        start, certified = _resume(exact, out, box, i * dt_s, dt_s, peak)
+        start, certified = _resume(exact, out, model, i * dt_s, dt_s, peak)
         handbacks = handbacks if certified else MAX_HANDBACKS
+
+
+def cannot_tip_over(turning: Turning, model: ExactModel, g_ms2: float) -> bool:
+    """The body turning so (its orientation, rate and non-slipping point on the ground) on a ground at rest cannot tip
+    over: its energy per unit mass, ``|v_G|^2 / 2 + omega . I omega / 2 + g z_G``, is below ``g`` times the least
+    height G must rise to (``model.barrier_m``) by :data:`ENERGY_MARGIN` of it. On a still ground the contacts only
+    take energy away (Moreau 1988), so G never rises that high: the body neither lies on a side nor leaves its base
+    for another face."""
+    q, rate, pivot = (np.asarray(v, dtype=float) for v in turning)
+    r = np.empty((3, 3))
+    rotation(q / np.linalg.norm(q), r)
+    arm = -(r @ pivot)                                  # G from the non-slipping point, in the ground's frame
+    v_g = np.cross(rate, arm)
+    spin = r.T @ rate
+    kinetic = 0.5 * float(v_g @ v_g) + 0.5 * float(spin @ (model.body.inertia * spin))
+    return kinetic + g_ms2 * float(arm[2]) < (1.0 - ENERGY_MARGIN) * g_ms2 * model.barrier_m
 
 
 class _Costs(NamedTuple):
@@ -115,53 +174,21 @@ def _whole(out: Contact3DOutcome, peak: tuple[float, float], costs: _Costs,
                         edge=-1, q_end=None, rate_end_rad_s=None, **costs._asdict())
 
 
-def _at_rest(exact: BoxOutcome) -> bool:
-    """The exact segment ran to the record's end and ended at rest, flat and still."""
-    return not np.any(exact.end.rate_rad_s) and exact.theta[-1] == 0.0
-
-
-def _exact_state(out: Contact3DOutcome, box: Box) -> BoxState:
-    """The exact model's state (q, omega) on edge ``out.edge`` where the contact model stopped: the orientation
-    turned so that the edge lies level (the contact model lets a corner sink by up to a step's travel) and the rate
-    about the edge alone (the two sticking corners leave only that, to the solver's tolerance)."""
-    q = np.asarray(out.q_end, dtype=float)
-    u = _rotation(q) @ (base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge))
-    u = u / np.linalg.norm(u)
-    level = np.array([u[0], u[1], 0.0]) / math.hypot(u[0], u[1])
-    axis = np.cross(u, level)
-    sine = float(np.linalg.norm(axis))
-    levelled = q.copy()
-    if sine > 0.0:
-        turn = axis / sine * math.atan2(sine, float(np.dot(u, level)))
-        turned(q, turn[0], turn[1], turn[2], 1.0, levelled)
-    rate = float(np.dot(np.asarray(out.rate_end_rad_s, dtype=float), level)) * level
-    return BoxState(levelled, rate, EDGE, out.edge)
-
-
-def _rotation(q: np.ndarray) -> np.ndarray:
-    """The rotation matrix of the unit quaternion ``q`` (w, x, y, z)."""
-    r = np.empty((3, 3))
-    rotation(np.asarray(q, dtype=float), r)
-    return r
-
-
-def _resume(exact: BoxOutcome, out: Contact3DOutcome, box: Box, t0_s: float, dt_s: float,
+def _resume(exact, out: Contact3DOutcome, model: ExactModel, t0_s: float, dt_s: float,
             peak: tuple[float, float]) -> tuple[Start, bool]:
     """Where the contact model goes on after an exact segment that began at ``t0_s`` [s] (``dt_s`` the record's
     sampling [s]), and whether the exact model may take the scene again: its certified state where it stopped; where
     it stopped without one (its step cap), the contact model's own state where it handed the scene over (and the
-    contact model goes on alone); where the record ended while the box still moved, its last state turning on its
-    lowest corner (the contact model's tail)."""
+    contact model goes on alone); where the record ended while the body still moved, its last state (the contact
+    model's tail)."""
     lean = math.radians(peak[1])
     stopped = exact.flag != FLAG_NONE or exact.held != FLAG_NONE
     if stopped and exact.handoff is not None:
-        q, rate, pivot = exact.handoff.state.turning(box, 0.0)
+        q, rate, pivot = model.turning(exact.handoff.state)
         return Start(t0_s + exact.handoff.t_s, q, rate, pivot, peak[0], lean), True
     if stopped:
         q_end, rate_end = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
-        return Start(out.t_end_s, q_end, rate_end, base_corner(box, out.edge), peak[0], lean), False
-    q = exact.end.q / np.linalg.norm(exact.end.q)
-    corners = np.array([base_corner(box, k) for k in range(4)])
-    low = int(np.argmin(corners @ _rotation(q)[2]))
-    return (Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, exact.end.rate_rad_s.copy(), corners[low], peak[0],
-                  lean), True)
+        pivot = np.asarray(model.body.vertices[model.edges[out.edge, 0]], dtype=float)
+        return Start(out.t_end_s, q_end, rate_end, pivot, peak[0], lean), False
+    q, rate, pivot = model.ending(exact)
+    return Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, rate, pivot, peak[0], lean), True

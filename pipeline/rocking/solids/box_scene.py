@@ -20,6 +20,7 @@ from ..scene import Physics
 from ..settings import SimulationConfig
 from .alternate import alternate
 from .box3d import Box, BoxOutcome, box_from_corner, housner_e_box, simulate_box
+from .box_handback import box_model
 from .box_planar import planar_box_scene
 from .contact3d import Contact3DOutcome
 from .contact_start import Start
@@ -62,8 +63,8 @@ def _alternated(ax, ay, az, dt_s: float, box: Box, azimuth_deg: float, start: St
                 settings: SimulationConfig) -> Contact3DOutcome:
     """The contact model handed back to the box's exact model on every edge it rocks on without slipping
     (:func:`~.alternate.alternate`, the exact model at the settings' tolerances)."""
-    return alternate(ax, ay, az, dt_s, box, azimuth_deg, start, g_ms2=g_ms2, rtol=settings.rtol,
-                     atol_alpha=settings.atol)
+    model = box_model(box, dt_s=dt_s, g_ms2=g_ms2, rtol=settings.rtol, atol_alpha=settings.atol)
+    return alternate(ax, ay, az, dt_s, model, azimuth_deg, start, g_ms2=g_ms2)
 
 
 #: The boxes' family (:class:`~.family.SolidFamily`).

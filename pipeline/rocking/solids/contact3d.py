@@ -227,10 +227,10 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
     rest (the outcome counts what the start says came before: its largest tilt and its history). With ``edges``
-    (pairs of vertex indices, shape (k, 2)), the run stops at the first sample of the record after a whole sampling
-    interval turning on one of them without slipping, both its vertices loaded and sticking, every other vertex
-    without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and ``rate_end_rad_s`` say where (an exact model
-    goes on from there: :mod:`.alternate`)."""
+    (pairs of vertex indices, shape (k, 2); a pair (i, i) the vertex i alone), the run stops at the first sample of
+    the record after a whole sampling interval turning on them without slipping, the vertices of one pair loaded and
+    sticking, every other vertex without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and
+    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
@@ -474,7 +474,8 @@ def _rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist):
 @jit_inline
 def _on_edge(impulses, edges, mu):
     """The pair of ``edges`` that alone carries the last step's impulses (every other vertex none), each of its two
-    with a normal impulse inside its friction cone (sticking: |P_t| < mu P_n); -1 where none."""
+    with a normal impulse inside its friction cone (sticking: |P_t| < mu P_n), or the pair (i, i) where the vertex i
+    alone carries them so; -1 where none."""
     loaded, first, second = 0, -1, -1
     for i in range(impulses.shape[0]):
         if impulses[i, 0] != 0.0 or impulses[i, 1] != 0.0 or impulses[i, 2] != 0.0:
@@ -482,7 +483,9 @@ def _on_edge(impulses, edges, mu):
                 return -1
             loaded += 1
             first, second = (i, second) if first < 0 else (first, i)
-    if loaded != 2:
+    if loaded == 1:
+        second = first
+    elif loaded != 2:
         return -1
     for e in range(edges.shape[0]):
         if (edges[e, 0] == first and edges[e, 1] == second) or (edges[e, 0] == second and edges[e, 1] == first):
@@ -492,7 +495,7 @@ def _on_edge(impulses, edges, mu):
 
 @jit_inline
 def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub):
-    """The steps in a row on one edge of ``edges`` without slipping (:func:`_on_edge`), this one included where
+    """The steps in a row turning on a pair of ``edges`` without slipping (:func:`_on_edge`), this one included where
     it ``counts`` (a step during the record, whole or in parts: the impulses of its last part; else none), and the
     edge where that reaches a whole sampling interval (``n_sub`` steps) ``at_sample`` (-1: not yet)."""
     if not counts or edges.shape[0] == 0:

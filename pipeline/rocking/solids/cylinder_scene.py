@@ -18,7 +18,11 @@ from ..block import BlockShape
 from ..geometry import cylinder_p_e, effective_restitution
 from ..scene import Physics
 from ..settings import SimulationConfig
+from .alternate import alternate
+from .contact3d import Contact3DOutcome
+from .contact_start import Start
 from .cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder, WobbleOutcome, cylinder_from_corner, simulate_cylinder
+from .cylinder_handback import cylinder_model
 from .family import SolidFamily
 
 
@@ -63,5 +67,15 @@ def _run(h1, h2, vertical, dt_s: float, cylinder: Cylinder, azimuth_deg: float, 
     return run_on_record(h1, h2, vertical, dt_s, cylinder, settings=settings, g_ms2=g_ms2, amplitude=amplitude)
 
 
+def _alternated(ax, ay, az, dt_s: float, cylinder: Cylinder, azimuth_deg: float, start: Start | None, *,
+                g_ms2: float, settings: SimulationConfig) -> Contact3DOutcome:
+    """The contact model handed back to the cylinder's exact model wherever it rolls on its rim without slipping
+    (:func:`~.alternate.alternate`, the exact model at the settings' tolerances)."""
+    model = cylinder_model(cylinder, azimuth_deg, dt_s=dt_s, g_ms2=g_ms2, rtol=settings.rtol,
+                           atol_alpha=settings.atol)
+    return alternate(ax, ay, az, dt_s, model, azimuth_deg, start, g_ms2=g_ms2)
+
+
 #: The cylinders' family (:class:`~.family.SolidFamily`).
-CYLINDER = SolidFamily(physics=Physics.wobbling, tipping_tans=_tipping_tans, drawn=_drawn, run=_run)
+CYLINDER = SolidFamily(physics=Physics.wobbling, tipping_tans=_tipping_tans, drawn=_drawn, run=_run,
+                       alternated=_alternated)

@@ -9,11 +9,14 @@ import math
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from support.spies import count_calls
 
 import pipeline.rocking.solids.alternate as alternate_module
+import pipeline.rocking.solids.box_handback as box_handback
 from pipeline.constants import G
-from pipeline.rocking.solids.alternate import BOX_EDGES, _exact_state, alternate
+from pipeline.rocking.solids.alternate import alternate, cannot_tip_over
 from pipeline.rocking.solids.box3d import EDGE, Box, simulate_box
+from pipeline.rocking.solids.box_handback import BOX_EDGES, box_model, edge_state
 from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.contact_scene import contact_scene, handoff
 from pipeline.rocking.solids.handoff3d import base_corner
@@ -29,18 +32,15 @@ def _sine(amplitude_g: float, frequency_hz: float, azimuth_deg: float) -> tuple[
     return a * math.cos(math.radians(azimuth_deg)), a * math.sin(math.radians(azimuth_deg))
 
 
+def _model():
+    """The cabinet's exact model as the alternation takes it."""
+    return box_model(CABINET, dt_s=DT_S, g_ms2=G, rtol=1e-7, atol_alpha=1e-9)
+
+
 @pytest.fixture
 def exact_calls(monkeypatch) -> list[int]:
     """The exact model's runs the alternation makes (a spy on its calls)."""
-    calls: list[int] = []
-    run = alternate_module.simulate_box
-
-    def spy(*args, **kwargs):
-        calls.append(1)
-        return run(*args, **kwargs)
-
-    monkeypatch.setattr(alternate_module, "simulate_box", spy)
-    return calls
+    return count_calls(monkeypatch, box_handback, "simulate_box")
 
 
 @pytest.mark.parametrize("amplitude_g, frequency_hz, azimuth_deg", [
@@ -50,7 +50,7 @@ def test_as_the_contact_model_alone(amplitude_g, frequency_hz, azimuth_deg, exac
     exact = simulate_box(ax, ay, None, DT_S, CABINET)
     assert exact.flag != 0                                       # the exact model stops: its base would slide
     start = handoff(exact, CABINET, 0.0, DT_S)
-    handed = alternate(ax, ay, None, DT_S, CABINET, 0.0, start, g_ms2=G, rtol=1e-7, atol_alpha=1e-9)
+    handed = alternate(ax, ay, None, DT_S, _model(), 0.0, start, g_ms2=G)
     alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
     assert exact_calls                                           # handed back at least once
     assert handed.overturned == alone.overturned
@@ -63,7 +63,7 @@ def test_a_cap_on_hand_backs_ends_with_the_contact_model(monkeypatch, exact_call
     monkeypatch.setattr(alternate_module, "MAX_HANDBACKS", 1)
     ax, ay = _sine(0.6, 2.0, 30.0)
     start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
-    handed = alternate(ax, ay, None, DT_S, CABINET, 0.0, start, g_ms2=G, rtol=1e-7, atol_alpha=1e-9)
+    handed = alternate(ax, ay, None, DT_S, _model(), 0.0, start, g_ms2=G)
     alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
     assert len(exact_calls) == 1
     assert handed.overturned == alone.overturned and handed.edge == -1
@@ -76,7 +76,7 @@ def test_the_exact_state_lies_on_the_edge():
     start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
     out = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start, edges=BOX_EDGES)
     assert out.edge >= 0 and out.t_end_s == pytest.approx(round(out.t_end_s / DT_S) * DT_S)
-    y = _exact_state(out, CABINET)
+    y = edge_state(out, CABINET)
     assert y.mode == EDGE and y.pivot == out.edge
     rot = Rotation.from_quat([y.q[1], y.q[2], y.q[3], y.q[0]])
     a, b = rot.apply(base_corner(CABINET, out.edge)), rot.apply(base_corner(CABINET, (out.edge + 1) % 4))
@@ -100,3 +100,18 @@ def test_a_history_is_the_contact_model_alone():
     scene, out = contact_scene(ax, -ay, None, DT_S, CABINET, 0.0, 0.28, g_ms2=G, history=True, exact=exact,
                                alternated=never)
     assert out.tilt_rad is not None and scene.theta_over_alpha is not None
+
+
+@pytest.mark.parametrize("share", [0.98, 1.02])
+def test_the_end_of_record_certificate_is_housners_free_rocking_threshold(share):
+    """The cabinet upright turning about an edge of its narrower side at ``share`` of the rate whose kinetic energy
+    lifts G from h to R = sqrt(b^2 + h^2) (Housner 1963: ``I_O w^2 / 2 = g (R - h)``, ``I_O = 4 R^2 / 3`` for a box)
+    cannot tip over below it and can above it; turning about its wider side at that rate it may (the certificate
+    takes the lowest barrier)."""
+    b, d, h = CABINET.half_width_m, CABINET.half_depth_m, CABINET.half_height_m
+    big_r = math.hypot(b, h)
+    rate = share * math.sqrt(2.0 * G * (big_r - h) / (4.0 * big_r ** 2 / 3.0))
+    q, corner = np.array([1.0, 0.0, 0.0, 0.0]), base_corner(CABINET, 0)            # corner 0 at (+b, +d, -h)
+    assert b < d and cannot_tip_over((q, np.array([0.0, rate, 0.0]), corner), _model(), G) == (share < 1.0)
+    wide = math.sqrt(2.0 * G * (math.hypot(d, h) - h) / (4.0 * (d * d + h * h) / 3.0))
+    assert not cannot_tip_over((q, np.array([-0.99 * wide, 0.0, 0.0]), corner), _model(), G)
