@@ -15,6 +15,7 @@ About 2.5 minutes on 2 cores (one process).
 from __future__ import annotations
 
 import argparse
+import math
 import tempfile
 import time
 from collections import defaultdict
@@ -34,7 +35,7 @@ FINE_RIM_POINTS = 128
 
 def finer(body: ConvexBody) -> ConvexBody:
     """The contact model's cylinder of ``body`` (points on its two rims) with FINE_RIM_POINTS points a rim."""
-    radius, half_height = float(abs(complex(*body.vertices[0, :2]))), float(abs(body.vertices[0, 2]))
+    radius, half_height = math.hypot(*body.vertices[0, :2]), float(abs(body.vertices[0, 2]))
     return cylinder_body(2.0 * radius, 2.0 * half_height, mu=body.mu, rim_points=FINE_RIM_POINTS)
 
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ...compiled import jit_inline
 
 
@@ -17,6 +19,13 @@ def rotation(q, r):
     r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
     r[1, 0], r[1, 1], r[1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
     r[2, 0], r[2, 1], r[2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+
+
+def rotation_matrix(q) -> np.ndarray:
+    """The rotation matrix of the unit quaternion q = (w, x, y, z), a new array (for callers in Python)."""
+    r = np.empty((3, 3))
+    rotation(np.asarray(q, dtype=float), r)
+    return r
 
 
 @jit_inline

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from .alternate import ExactModel, Turning
-from .attitude import rotation, turned
+from .attitude import rotation_matrix, turned
 from .box3d import Box, BoxOutcome, simulate_box
 from .box_kernel import EDGE
 from .contact3d import Contact3DOutcome
@@ -32,9 +32,10 @@ def box_model(box: Box, *, dt_s: float, g_ms2: float, rtol: float, atol_alpha: f
         """The exact model from ``state`` at the first sample of the ground (ax, ay, az) [m s-2]."""
         return simulate_box(ax, ay, az, dt_s, housner, g_ms2=g_ms2, rtol=rtol, atol_alpha=atol_alpha, start=state)
 
-    return ExactModel(box.convex(), BOX_EDGES, run, lambda out: edge_state(out, box),
-                      lambda state: state.turning(box, 0.0), lambda exact: _ending(exact, box), _at_rest,
-                      math.hypot(min(box.half_width_m, box.half_depth_m), box.half_height_m))
+    return ExactModel(body=box.convex(), edges=BOX_EDGES, run=run, state_at=lambda out: edge_state(out, box),
+                      turning=lambda state: state.turning(box, 0.0), ending=lambda exact: _ending(exact, box),
+                      at_rest=_at_rest,
+                      barrier_m=math.hypot(min(box.half_width_m, box.half_depth_m), box.half_height_m))
 
 
 def edge_state(out: Contact3DOutcome, box: Box) -> BoxState:
@@ -42,7 +43,7 @@ def edge_state(out: Contact3DOutcome, box: Box) -> BoxState:
     turned so that the edge lies level (the contact model lets a corner sink by up to a step's travel) and the rate
     about the edge alone (the two sticking corners leave only that, to the solver's tolerance)."""
     q = np.asarray(out.q_end, dtype=float)
-    u = _rotation(q) @ (base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge))
+    u = rotation_matrix(q) @ (base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge))
     u = u / np.linalg.norm(u)
     level = np.array([u[0], u[1], 0.0]) / math.hypot(u[0], u[1])
     axis = np.cross(u, level)
@@ -64,12 +65,5 @@ def _ending(exact: BoxOutcome, box: Box) -> Turning:
     """Where an exact segment reached the record's end still moving: its last state, turning on its lowest corner."""
     q = exact.end.q / np.linalg.norm(exact.end.q)
     corners = np.array([base_corner(box, k) for k in range(4)])
-    low = int(np.argmin(corners @ _rotation(q)[2]))
+    low = int(np.argmin(corners @ rotation_matrix(q)[2]))
     return q, exact.end.rate_rad_s.copy(), corners[low]
-
-
-def _rotation(q: np.ndarray) -> np.ndarray:
-    """The rotation matrix of the unit quaternion ``q`` (w, x, y, z)."""
-    r = np.empty((3, 3))
-    rotation(np.asarray(q, dtype=float), r)
-    return r

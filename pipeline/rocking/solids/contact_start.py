@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .attitude import rotation
+from .attitude import rotation_matrix
 
 
 class Start(NamedTuple):
@@ -77,8 +77,7 @@ def begin(start: Start | None, h: float, dt: float, up: np.ndarray, hist: np.nda
     k = int(math.floor(start.t_s / h))
     lo = start.t_s / h - k
     k, lo = (k + 1, 0.0) if lo > 1.0 - 1e-9 else (k, lo)
-    upright = np.empty((3, 3))
-    rotation(q, upright)
+    upright = rotation_matrix(q)
     tilt = math.acos(min(1.0, max(-1.0, float(upright[2] @ up))))
     if hist.shape[0]:
         last = min(int(math.floor(start.t_s / dt + 1e-9)), hist.shape[0] - 1)

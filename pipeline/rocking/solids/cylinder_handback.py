@@ -44,9 +44,10 @@ def cylinder_model(cylinder: Cylinder, azimuth_deg: float, *, dt_s: float, g_ms2
         """How the cylinder turns at ``state`` (:meth:`~.handoff3d.CylinderState.turning`)."""
         return state.turning(cylinder, azimuth_deg)
 
-    return ExactModel(body, rim_edges(len(body.vertices) // 2), run, lambda out: rim_state(out, azimuth_deg),
-                      turning, lambda exact: turning(exact.end), _at_rest,
-                      math.hypot(cylinder.radius_m, cylinder.half_height_m))
+    return ExactModel(body=body, edges=rim_edges(len(body.vertices) // 2), run=run,
+                      state_at=lambda out: rim_state(out, azimuth_deg), turning=turning,
+                      ending=lambda exact: turning(exact.end), at_rest=_at_rest,
+                      barrier_m=math.hypot(cylinder.radius_m, cylinder.half_height_m))
 
 
 def rim_edges(rim_points: int) -> np.ndarray:
@@ -60,8 +61,9 @@ def rim_state(out: Contact3DOutcome, azimuth_deg: float) -> CylinderState:
     """The exact model's state where the contact model stopped on the rim (its ``q_end``, ``rate_end_rad_s``), the
     cylinder's x axis at ``azimuth_deg`` at rest (see the module)."""
     w, x, y, z = (float(v) for v in np.asarray(out.q_end, dtype=float))
-    phi, theta, spin = Rotation.from_quat([x, y, z, w]).as_euler("ZYZ")
-    e3 = Rotation.from_quat([x, y, z, w]).apply([0.0, 0.0, 1.0])
+    attitude = Rotation.from_quat([x, y, z, w])
+    phi, theta, spin = attitude.as_euler("ZYZ")
+    e3 = attitude.apply([0.0, 0.0, 1.0])
     omega = np.asarray(out.rate_end_rad_s, dtype=float)
     theta_rate = float(omega @ np.array([-math.sin(phi), math.cos(phi), 0.0]))
     along_z, along_axis = float(omega[2]), float(omega @ e3)
