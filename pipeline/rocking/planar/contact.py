@@ -9,12 +9,15 @@ The model's equations, events, transitions and impact law are in :mod:`.contact_
 
 Integration: the classical fourth-order Runge-Kutta method on steps that never cross a sample (the
 ground is linear between samples), of at most dt / STEPS_PER_SAMPLE and MAX_STEP_P / p; events are
-located by bisection on the step length. After the record, the ground is still: the motion is followed
-until the block rests, overturns, or rocks on a sticking pivot, whose fate the energy of free rocking
-decides as in :mod:`.kernel`.
+located on the step length to a bracket of the step times 2^-48 by the ITP method (Oliveira & Takahashi 2020,
+:mod:`..numerics.itp`: the bracket bisection's 48 halvings leave, in a few evaluations where the event's
+indicator is smooth). After the record, the ground is still: the motion is followed until the block rests,
+overturns, or rocks on a sticking pivot, whose fate the energy of free rocking decides as in :mod:`.kernel`.
 
 References
 ----------
+Oliveira, I. F. D. & Takahashi, R. H. C. (2020). An enhancement of the bisection method average performance
+preserving minmax optimality. ACM Transactions on Mathematical Software 47(1), 5:1-5:24.
 Housner, G. W. (1963). The behavior of inverted pendulum structures during earthquakes. BSSA 53(2), 403-417
 (the energy of free rocking after the record). The model's own references are in :mod:`.contact_laws`.
 """
@@ -44,6 +47,7 @@ from ..codes import (
 )
 from ..numerics.dopri import HISTORY_TIME_TOL_S
 from ..numerics.ground import exceed_fraction, flight_fraction
+from ..numerics.itp import EXTRA_GUARD, evaluations_cap, itp_point
 from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
 from ..structures import ContactOutcome, ContactState, GroundPiece
 from .contact_laws import (
@@ -67,7 +71,7 @@ __all__ = ["ContactOutcome", "ContactState", "move"]
 # Step and event control, named once
 STEPS_PER_SAMPLE = 2          # Runge-Kutta steps per sample interval, at least
 MAX_STEP_P = 0.02             # largest step as a fraction of 1/p
-BISECTIONS = 48               # bisections locating an event inside a step
+EVENT_BRACKET_BITS = 48       # an event is located inside a step to a bracket of the step's length times 2^-this
 MAX_EVENTS = 20000            # cap on transitions and impacts
 MAX_TAIL_PERIODS = 200.0      # motion followed after the record, in units of 2 pi / p
 MAX_STEPS_PER_SAMPLE = 1000   # step budget: step attempts per sample of the record (with the tail's steps), plus
@@ -305,21 +309,30 @@ def _lose_contact(progress):
 
 
 @jit_inline
-def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, pc, blk):
-    """The length of a step from t that ends at the mode's first event inside ``hh`` (bisection on the
-    step length: the event function is negative at its end)."""
+def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, f_hh, pc, blk):
+    """The length of a step from t that ends at the mode's first event inside ``hh`` (the event function is
+    negative at its end, ``f_hh``): located on the step length by ITP (:mod:`..numerics.itp`) to a bracket of
+    ``hh`` 2^-:data:`EVENT_BRACKET_BITS`, its end returned (where the event has happened)."""
     g, t0 = blk.g, pc.t0
     lo, hi = 0.0, hh
-    for _ in range(BISECTIONS):
-        mid = 0.5 * (lo + hi)
+    f_lo = max(_event(mode, c, sigma, x, y, th, u, v, w, pc.a0 + pc.sa * (t - t0), g + pc.v0 + pc.sv * (t - t0), blk),
+               0.0)                                     # no event yet at the step's start (a rounding below 0: 0)
+    f_hi = f_hh
+    width = hh * 2.0 ** -EVENT_BRACKET_BITS
+    n_max = evaluations_cap(hh, width)
+    j = 0
+    while hi - lo > width and j < n_max + EXTRA_GUARD:
+        mid = itp_point(lo, hi, f_lo, f_hi, j, n_max, width, hh)
         xm_, ym_, thm, um, vm, wm = _rk4(mode, c, sigma, x, y, th, u, v, w, t, mid, t0, pc.a0, pc.sa, pc.v0, pc.sv,
                                          blk)
         tm = t + mid
-        if _event(mode, c, sigma, xm_, ym_, thm, um, vm, wm, pc.a0 + pc.sa * (tm - t0), g + pc.v0 + pc.sv * (tm - t0),
-                  blk) < 0.0:
-            hi = mid
+        fm = _event(mode, c, sigma, xm_, ym_, thm, um, vm, wm, pc.a0 + pc.sa * (tm - t0), g + pc.v0 + pc.sv * (tm - t0),
+                    blk)
+        if fm < 0.0:
+            hi, f_hi = mid, fm
         else:
-            lo = mid
+            lo, f_lo = mid, fm
+        j += 1
     return hi
 
 
@@ -339,7 +352,7 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
     ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, pc.a0 + pc.sa * (te - t0), g + pc.v0 + pc.sv * (te - t0),
                 blk)
     if ev < 0.0:
-        hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, pc, blk)
+        hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, ev, pc, blk)
         te = t + hh
         x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, pc.a0, pc.sa, pc.v0, pc.sv, blk)
     if abs(th1) >= HALF_PI:

@@ -55,6 +55,7 @@ J. Eng. Mech. 127(5), 473-483.
 from __future__ import annotations
 
 import math
+import sys
 
 from ...compiled import jit, jit_inline
 from ..codes import (
@@ -75,6 +76,7 @@ from .kernel import free_outcome
 
 PAINLEVE_MIN = 1e-6           # a slide-rock normal-force denominator below this is inconsistent
 FLAT_ANGLE_ALPHA = 1e-9       # |theta| below this fraction of alpha counts as flat
+FORCE_TIE = sys.float_info.min  # a contact force of exactly 0 gives this negative event indicator [m s-2]
 
 
 @jit
@@ -133,8 +135,10 @@ def _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk):
 @jit
 def _contact_kept(force):
     """Event indicator of a contact force (apparent gravity or normal force): negative where it is <= 0, so that
-    contact is lost where the force reaches 0 exactly (tie rule 3 of :mod:`.rules`)."""
-    return force if force > 0.0 else -1.0
+    contact is lost where the force reaches 0 exactly (tie rule 3 of :mod:`.rules`); the force itself elsewhere
+    (:data:`FORCE_TIE` below 0 at 0), continuous through the root, as the event's location by interpolation
+    wants it."""
+    return force if force > 0.0 else min(force, -FORCE_TIE)
 
 
 @jit
