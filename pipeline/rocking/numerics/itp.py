@@ -14,9 +14,11 @@ Takahashi 2020) evaluates at
     r = (width / 2) 2^(n_max - j) - (hi - lo) / 2                     n_max = n_bisect + N0, j the evaluations
                                                                       made, w0 the first bracket's width
 
-so that it never needs more than N0 evaluations beyond the n_bisect = ceil(log2(w0 / width)) that bisection needs
-(its minmax optimality), and converges superlinearly where f is smooth near its root (an indicator in one mode:
-a few evaluations instead of 48).
+so that in exact arithmetic it never needs more than N0 evaluations beyond the n_bisect = ceil(log2(w0 / width))
+that bisection needs (its minmax optimality; rounding at a bracket of a few ulps has cost one more, within the
+caller's guard of EXTRA_GUARD), and converges superlinearly where f is smooth near its root: 8 to 10 evaluations instead
+of 48 on the smooth functions of the tests, 18 on average on the planar contact model's events, whose last
+halvings meet the rounding of the event's indicator.
 
 References
 ----------
