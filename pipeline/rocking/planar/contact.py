@@ -10,8 +10,8 @@ The model's equations, events, transitions and impact law are in :mod:`.contact_
 Integration: the classical fourth-order Runge-Kutta method on steps that never cross a sample (the
 ground is linear between samples), of at most dt / STEPS_PER_SAMPLE and MAX_STEP_P / p; events are
 located on the step length to a bracket of the step times 2^-48 by the ITP method (Oliveira & Takahashi 2020,
-:mod:`..numerics.itp`: the bracket bisection's 48 halvings leave, in a few evaluations where the event's
-indicator is smooth). After the record, the ground is still: the motion is followed until the block rests,
+:mod:`..numerics.itp`: the bracket bisection's 48 halvings leave, in 18 evaluations on average on the events
+measured). After the record, the ground is still: the motion is followed until the block rests,
 overturns, or rocks on a sticking pivot, whose fate the energy of free rocking decides as in :mod:`.kernel`.
 
 References

@@ -136,8 +136,8 @@ def _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, a0, sa, v0, sv, blk):
 def _contact_kept(force):
     """Event indicator of a contact force (apparent gravity or normal force): negative where it is <= 0, so that
     contact is lost where the force reaches 0 exactly (tie rule 3 of :mod:`.rules`); the force itself elsewhere
-    (:data:`FORCE_TIE` below 0 at 0), continuous through the root, as the event's location by interpolation
-    wants it."""
+    (:data:`FORCE_TIE` below 0 at 0), so that, but for that step of one smallest double at 0, it is continuous
+    through its root, as the event's location by interpolation wants it."""
     return force if force > 0.0 else min(force, -FORCE_TIE)
 
 

@@ -118,10 +118,16 @@ def alternate(ax, ay, az, dt_s: float, model: ExactModel, azimuth_deg: float, st
         peak = _peak(peak, exact.theta_max_rad, exact.azimuth_max_deg)
         if exact.overturned and exact.held == FLAG_NONE:
             return _whole(out, peak, costs, overturned_at=i * dt_s + exact.t_overturn_s)
-        if exact.flag == FLAG_NONE and exact.held == FLAG_NONE and (
-                model.at_rest(exact) or cannot_tip_over(model.ending(exact), model, g_ms2)):
-            return _whole(out, peak, costs)
-        start, certified = _resume(exact, out, model, i * dt_s, dt_s, peak)
+        lean = math.radians(peak[1])
+        if exact.flag == FLAG_NONE and exact.held == FLAG_NONE:     # the exact segment ran to the record's end
+            if model.at_rest(exact):
+                return _whole(out, peak, costs)
+            ending = model.ending(exact)
+            if cannot_tip_over(ending, model, g_ms2):
+                return _whole(out, peak, costs)
+            start = Start(i * dt_s + (np.size(exact.theta) - 1) * dt_s, *ending, peak[0], lean)    # the tail
+            continue
+        start, certified = _resume(exact, out, model, i * dt_s, peak[0], lean)
         handbacks = handbacks if certified else MAX_HANDBACKS
 
 
@@ -172,21 +178,15 @@ def _whole(out: Contact3DOutcome, peak: tuple[float, float], costs: _Costs,
                         edge=-1, q_end=None, rate_end_rad_s=None, **costs._asdict())
 
 
-def _resume(exact, out: Contact3DOutcome, model: ExactModel, t0_s: float, dt_s: float,
-            peak: tuple[float, float]) -> tuple[Start, bool]:
-    """Where the contact model goes on after an exact segment that began at ``t0_s`` [s] (``dt_s`` the record's
-    sampling [s]), and whether the exact model may take the scene again: its certified state where it stopped; where
-    it stopped without one (its step cap), the contact model's own state where it handed the scene over (and the
-    contact model goes on alone); where the record ended while the body still moved, its last state (the contact
-    model's tail)."""
-    lean = math.radians(peak[1])
-    stopped = exact.flag != FLAG_NONE or exact.held != FLAG_NONE
-    if stopped and exact.handoff is not None:
+def _resume(exact, out: Contact3DOutcome, model: ExactModel, t0_s: float, tilt_rad: float,
+            lean_rad: float) -> tuple[Start, bool]:
+    """Where the contact model goes on after an exact segment that began at ``t0_s`` [s] and stopped before the
+    record's end (the peak so far ``tilt_rad`` toward ``lean_rad``), and whether the exact model may take the scene
+    again: its certified state where it stopped; where it stopped without one (its step cap), the contact model's own
+    state where it handed the scene over (and the contact model goes on alone)."""
+    if exact.handoff is not None:
         q, rate, pivot = model.turning(exact.handoff.state)
-        return Start(t0_s + exact.handoff.t_s, q, rate, pivot, peak[0], lean), True
-    if stopped:
-        q_end, rate_end = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
-        pivot = np.asarray(model.body.vertices[model.edges[out.edge, 0]], dtype=float)
-        return Start(out.t_end_s, q_end, rate_end, pivot, peak[0], lean), False
-    q, rate, pivot = model.ending(exact)
-    return Start(t0_s + (np.size(exact.theta) - 1) * dt_s, q, rate, pivot, peak[0], lean), True
+        return Start(t0_s + exact.handoff.t_s, q, rate, pivot, tilt_rad, lean_rad), True
+    q_end, rate_end = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
+    pivot = np.asarray(model.body.vertices[model.edges[out.edge, 0]], dtype=float)
+    return Start(out.t_end_s, q_end, rate_end, pivot, tilt_rad, lean_rad), False

@@ -9,7 +9,7 @@ import math
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_itp import BITS, itp_root
+from itp_driver import BITS, itp_root
 
 from pipeline.rocking.numerics.itp import EXTRA_GUARD, evaluations_cap
 

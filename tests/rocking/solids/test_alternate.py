@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from support.alternation import DT_S, handed_and_alone, sine_then_still
 from support.spies import count_calls
 
 import pipeline.rocking.solids.alternate as alternate_module
@@ -21,15 +22,7 @@ from pipeline.rocking.solids.contact3d import simulate_contact3d
 from pipeline.rocking.solids.contact_scene import contact_scene, handoff
 from pipeline.rocking.solids.handoff3d import base_corner
 
-DT_S = 0.01
 CABINET = Box(0.3, 0.6, 1.05, 0.35)       # tan alpha 0.29 across its width, mu 0.35: it slides, then rocks
-
-
-def _sine(amplitude_g: float, frequency_hz: float, azimuth_deg: float) -> tuple[np.ndarray, np.ndarray]:
-    """Three seconds of a sine of the ground along ``azimuth_deg``, then 9 s still."""
-    t = np.arange(0.0, 12.0, DT_S)
-    a = amplitude_g * G * np.sin(2.0 * math.pi * frequency_hz * t) * (t < 3.0)
-    return a * math.cos(math.radians(azimuth_deg)), a * math.sin(math.radians(azimuth_deg))
 
 
 def _model():
@@ -46,12 +39,10 @@ def exact_calls(monkeypatch) -> list[int]:
 @pytest.mark.parametrize("amplitude_g, frequency_hz, azimuth_deg", [
     (0.4, 1.0, 30.0), (0.4, 2.0, 30.0), (0.5, 1.0, 30.0), (0.6, 1.0, 0.0), (0.6, 2.0, 0.0), (0.6, 2.0, 30.0)])
 def test_as_the_contact_model_alone(amplitude_g, frequency_hz, azimuth_deg, exact_calls):
-    ax, ay = _sine(amplitude_g, frequency_hz, azimuth_deg)
+    ax, ay = sine_then_still(amplitude_g, frequency_hz, azimuth_deg)
     exact = simulate_box(ax, ay, None, DT_S, CABINET)
     assert exact.flag != 0                                       # the exact model stops: its base would slide
-    start = handoff(exact, CABINET, 0.0, DT_S)
-    handed = alternate(ax, ay, None, DT_S, _model(), 0.0, start, g_ms2=G)
-    alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
+    handed, alone = handed_and_alone(ax, ay, CABINET, exact, _model())
     assert exact_calls                                           # handed back at least once
     assert handed.overturned == alone.overturned
     if not alone.overturned:
@@ -61,7 +52,7 @@ def test_as_the_contact_model_alone(amplitude_g, frequency_hz, azimuth_deg, exac
 
 def test_a_cap_on_hand_backs_ends_with_the_contact_model(monkeypatch, exact_calls):
     monkeypatch.setattr(alternate_module, "MAX_HANDBACKS", 1)
-    ax, ay = _sine(0.6, 2.0, 30.0)
+    ax, ay = sine_then_still(0.6, 2.0, 30.0)
     start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
     handed = alternate(ax, ay, None, DT_S, _model(), 0.0, start, g_ms2=G)
     alone = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start)
@@ -72,7 +63,7 @@ def test_a_cap_on_hand_backs_ends_with_the_contact_model(monkeypatch, exact_call
 def test_the_exact_state_lies_on_the_edge():
     """Where the contact model stops on an edge, the exact model's state has that edge level and turns about it,
     within the contact model's own resolution of where it was."""
-    ax, ay = _sine(0.6, 2.0, 0.0)
+    ax, ay = sine_then_still(0.6, 2.0, 0.0)
     start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
     out = simulate_contact3d(ax, ay, None, DT_S, CABINET.convex(), start=start, edges=BOX_EDGES)
     assert out.edge >= 0 and out.t_end_s == pytest.approx(round(out.t_end_s / DT_S) * DT_S)
@@ -91,7 +82,7 @@ def test_the_exact_state_lies_on_the_edge():
 
 
 def test_a_history_is_the_contact_model_alone():
-    ax, ay = _sine(0.6, 2.0, 0.0)
+    ax, ay = sine_then_still(0.6, 2.0, 0.0)
 
     def never(*args, **kwargs):
         raise AssertionError("the alternation ran for a history")

@@ -10,11 +10,12 @@ import math
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from support.alternation import DT_S, handed_and_alone, sine_then_still
 from support.spies import count_calls
 
 import pipeline.rocking.solids.cylinder_handback as cylinder_handback
 from pipeline.constants import G
-from pipeline.rocking.solids.alternate import alternate, cannot_tip_over
+from pipeline.rocking.solids.alternate import cannot_tip_over
 from pipeline.rocking.solids.contact3d import Contact3DOutcome, simulate_contact3d
 from pipeline.rocking.solids.contact_scene import handoff
 from pipeline.rocking.solids.contact_start import Start
@@ -22,16 +23,8 @@ from pipeline.rocking.solids.cylinder3d import Cylinder, housner_e, planar_inert
 from pipeline.rocking.solids.cylinder_handback import cylinder_model, rim_edges, rim_state
 from pipeline.rocking.solids.handoff3d import CylinderState
 
-DT_S = 0.01
 #: tan alpha 0.33 and mu 0.35: under these sines the base slides, then the vase rocks and rolls on its rim
 VASE = Cylinder(0.2, 0.6, 0.35, housner_e(0.2, 0.6))
-
-
-def _sine(amplitude_g: float, frequency_hz: float, azimuth_deg: float) -> tuple[np.ndarray, np.ndarray]:
-    """Three seconds of a sine of the ground along ``azimuth_deg``, then 9 s still."""
-    t = np.arange(0.0, 12.0, DT_S)
-    a = amplitude_g * G * np.sin(2.0 * math.pi * frequency_hz * t) * (t < 3.0)
-    return a * math.cos(math.radians(azimuth_deg)), a * math.sin(math.radians(azimuth_deg))
 
 
 def _model(cylinder: Cylinder = VASE):
@@ -50,12 +43,10 @@ def test_as_the_contact_model_alone(amplitude_g, frequency_hz, azimuth_deg, exac
     """The verdicts of the contact model alone, from the state where the exact model's base would first slip, at a
     fraction of its steps (the peaks are not compared: where the exact model's circular rim rolls, the contact
     model's rim of 32 points can land and rock in its plane; the alternation keeps only the verdict)."""
-    ax, ay = _sine(amplitude_g, frequency_hz, azimuth_deg)
+    ax, ay = sine_then_still(amplitude_g, frequency_hz, azimuth_deg)
     exact = simulate_cylinder(ax, ay, None, DT_S, VASE)
     assert exact.flag != 0                                       # the exact model stops: its base would slide
-    start = handoff(exact, VASE, 0.0, DT_S)
-    handed = alternate(ax, ay, None, DT_S, _model(), 0.0, start, g_ms2=G)
-    alone = simulate_contact3d(ax, ay, None, DT_S, VASE.convex(), start=start)
+    handed, alone = handed_and_alone(ax, ay, VASE, exact, _model())
     assert exact_calls                                           # handed back at least once
     assert handed.overturned == alone.overturned
     assert handed.integrated_steps < alone.integrated_steps
@@ -85,7 +76,7 @@ def test_the_contact_model_stops_on_one_point_of_the_rim():
     """With the rim's points as its ``edges``, the contact model stops where one point (or two neighbours) alone
     carries the vase without slipping; there the exact state leans toward that point of the rim, within the angle
     between two of its points."""
-    ax, ay = _sine(0.4, 2.0, 30.0)
+    ax, ay = sine_then_still(0.4, 2.0, 30.0)
     start = handoff(simulate_cylinder(ax, ay, None, DT_S, VASE), VASE, 0.0, DT_S)
     body = VASE.convex()
     out = simulate_contact3d(ax, ay, None, DT_S, body, start=start, edges=rim_edges(32))
