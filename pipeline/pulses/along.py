@@ -34,6 +34,9 @@ from .shahi_baker import PulseResult, extract
 #: the azimuths come in order, so neighbours share them, and memory stays bounded (a bank of the largest scales at
 #: dt = 0.005 s is about 10 MB)
 BANKS_KEPT = 2
+#: A head of the strongest points is selected row by row where its k + 1 points are less than 1 / ROW_HEADS_BELOW of
+#: a row: the rows' heads together are then less than that fraction of the transform [-]
+ROW_HEADS_BELOW = 8
 
 
 class AlongCache:
@@ -60,27 +63,21 @@ def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, in
 
     Exact and cheap for many orientations: the projection of a point never
     exceeds its amplitude C1^2 + C2^2. For a head of k points (the k largest
-    amplitudes, found by partial selection, not a full sort), the best
-    projection in the head is the maximum over the whole transform as soon as
-    it beats the largest amplitude outside the head; otherwise k grows 4x.
-    Heads are built once per transform and size (every orientation shares them).
+    amplitudes), the best projection in the head is the maximum over the whole
+    transform as soon as it beats the largest amplitude outside the head;
+    otherwise k grows 4x. Heads are built once per transform and size (every
+    orientation shares them) by :func:`_head`; the amplitudes are not kept.
     """
     c = result.coeffs
     assert c is not None                                 # set by classify
-    n_rows, n_cols = c.shape[1], c.shape[2]
+    n_rows = c.shape[1]
     if result._strongest is None:
-        result._strongest = ((c[0] ** 2 + c[1] ** 2).ravel(), {})
-    amp, heads = result._strongest
+        result._strongest = {}
+    heads = result._strongest
     k = 1024
     while True:
         if k not in heads:
-            if k < amp.size:
-                part = np.argpartition(-amp, k)               # [:k] the k largest, [k] the largest of the rest
-                head, bound = part[:k], float(amp[part[k]])
-            else:
-                head, bound = np.arange(amp.size), -math.inf
-            rows, cols = np.divmod(head, n_cols)
-            heads[k] = (c[0].ravel()[head], c[1].ravel()[head], cols * n_rows + rows, bound)
+            heads[k] = _head(c, k)
         c1, c2, f_index, bound = heads[k]
         proj = (ca * c1 + sa * c2) ** 2
         best = float(np.max(proj))
@@ -89,6 +86,38 @@ def _strongest_point(result: PulseResult, ca: float, sa: float) -> tuple[int, in
         k *= 4
     flat = int(np.min(f_index[proj == best]))
     return flat % n_rows, flat // n_rows
+
+
+def _head(c: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The k points of largest amplitude C1^2 + C2^2 of the transform ``c`` (2, rows, columns): their C1, C2 and
+    column-major flat index, and the largest amplitude of the points left out (-inf when none is).
+
+    The k largest of the whole are among the k + 1 largest of each row, so where those are a small part of a row
+    each row is partitioned alone (by partial selection, not a full sort) and the union of the rows' heads
+    partitioned again: the same amplitudes as a selection over the whole transform, with arrays of one row's size
+    and of the union (less than 1 / :data:`ROW_HEADS_BELOW` of the transform). Otherwise the whole transform's
+    amplitudes are partitioned at once.
+    """
+    n_rows, n_cols = c.shape[1], c.shape[2]
+    if k >= n_rows * n_cols:
+        rows, cols = np.divmod(np.arange(n_rows * n_cols), n_cols)
+        return c[0].ravel(), c[1].ravel(), cols * n_rows + rows, -math.inf
+    if (k + 1) * ROW_HEADS_BELOW >= n_cols:
+        amp = (c[0] ** 2 + c[1] ** 2).ravel()
+        part = np.argpartition(-amp, k)                  # [:k] the k largest, [k] the largest of the rest
+        rows, cols = np.divmod(part[:k], n_cols)
+        return c[0, rows, cols], c[1, rows, cols], cols * n_rows + rows, float(amp[part[k]])
+    rows_of, cols_of, amps = [], [], []
+    for r in range(n_rows):
+        amp = c[0, r] ** 2 + c[1, r] ** 2
+        top = np.argpartition(-amp, k)[:k + 1]
+        rows_of.append(np.full(top.size, r))
+        cols_of.append(top)
+        amps.append(amp[top])
+    rows, cols, amp = np.concatenate(rows_of), np.concatenate(cols_of), np.concatenate(amps)
+    part = np.argpartition(-amp, k)
+    rows, cols = rows[part[:k]], cols[part[:k]]
+    return c[0, rows, cols], c[1, rows, cols], cols * n_rows + rows, float(amp[part[k]])
 
 
 def extract_along(result: PulseResult, angle_rad: float, *, compiled: bool = True) -> tuple[np.ndarray, np.ndarray]:

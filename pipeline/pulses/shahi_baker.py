@@ -95,8 +95,9 @@ class PulseResult:
     coeffs: np.ndarray | None = None         #: their transforms, (n_c, 51, N)
     scales: np.ndarray | None = None
     dt_s: float = math.nan
-    #: strongest points of the two-component transform, for :func:`extract_along` (built on first use)
-    _strongest: tuple | None = field(default=None, repr=False, compare=False)
+    #: the two-component transform's heads of strongest points by size, for :func:`extract_along` (built on
+    #: first use)
+    _strongest: dict | None = field(default=None, repr=False, compare=False)
     #: the components' transforms shared by every orientation (:class:`.along.AlongCache`, built on first use)
     _along: Any = field(default=None, repr=False, compare=False)
 
@@ -279,7 +280,9 @@ def classify(velocity_cms: np.ndarray, dt_s: float, *, method: str = "shahi_bake
     if v.shape[0] == 1:
         flags.append("single-component extraction")
     coeffs = cwt(v[:1] if single else v, scales)       # (n_c, 51, N)
-    energy = np.sum(coeffs**2, axis=0)
+    energy = coeffs[0] ** 2                             # the sum over the components, without a squared copy
+    for component in coeffs[1:]:
+        energy += component**2
     n_cand = 1 if method == "baker_2007" else N_CANDIDATES
     candidates = []
     for _ in range(n_cand):

@@ -21,6 +21,9 @@ Dask best practices (coarse tasks, load data inside tasks) and
 
 from __future__ import annotations
 
+import ctypes
+import functools
+import gc
 import logging
 import multiprocessing
 import os
@@ -93,6 +96,9 @@ class SerialExecutor:
         for item in items:
             yield item, fn(item, shared)
 
+    def release(self) -> None:
+        """Nothing to end: the tasks ran in this process."""
+
 
 class ProcessExecutor:
     """A local process pool with a bounded number of tasks in flight.
@@ -131,6 +137,13 @@ class ProcessExecutor:
         self._pool = None
         self._entered = False
 
+    def release(self) -> None:
+        """End the workers now, their memory returned to the system (a later map starts a new pool): a run's last
+        tasks done, the main process assembles and writes without idle workers beside it."""
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+
     def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
         if not self._entered:
             raise RuntimeError("ProcessExecutor.map_unordered outside its 'with' block")
@@ -149,7 +162,7 @@ class ProcessExecutor:
             if not in_flight and suspects:
                 item = suspects.popleft()
                 try:
-                    in_flight[pool.submit(fn, item, shared)] = item
+                    in_flight[pool.submit(trimmed, fn, item, shared)] = item
                     alone = True
                 except BrokenProcessPool:       # lost with no task in flight: a new pool, the task not yet run
                     suspects.appendleft(item)
@@ -159,7 +172,7 @@ class ProcessExecutor:
             try:
                 while not alone and pending and len(in_flight) < limit:
                     item = pending.popleft()
-                    in_flight[pool.submit(fn, item, shared)] = item
+                    in_flight[pool.submit(trimmed, fn, item, shared)] = item
             except BrokenProcessPool:
                 # a worker died after the last wait: this task never ran; the ones in flight report the loss (none
                 # in flight: an idle worker died, and a new pool takes the work)
@@ -256,7 +269,11 @@ EXIT_ORPHANED = 70
 def _worker_init(parent_pid: int) -> None:
     """Each worker of the process pool: ignore Ctrl-C and a closed terminal's SIGHUP, which reach the whole process
     group (the parent handles them, cancels the pool and keeps what was done; SIGTERM keeps its default, which the
-    pool uses to end its workers when one of them dies), and end when the run that started it is gone."""
+    pool uses to end its workers when one of them dies), end when the run that started it is gone, and leave the
+    objects it was forked with (the forkserver's imports) out of its garbage collections: a collection writes to
+    every object it visits, so each worker's first full collection copied about 40 MB of the pages it shares with
+    the server (``gc.freeze``; measured in docs/validation.md)."""
+    gc.freeze()
     for sig in (signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, signal.SIG_IGN)
     threading.Thread(target=_end_with, args=(parent_pid,), name="rockscreen-parent-watch", daemon=True).start()
@@ -269,6 +286,36 @@ def _end_with(parent_pid: int) -> None:
         time.sleep(PARENT_POLL_S)
         if not process_alive(parent_pid):
             os._exit(EXIT_ORPHANED)
+
+
+def trimmed(fn: Callable, item, shared):
+    """``fn(item, shared)`` in a pool worker, then every free page of the worker's heap handed back to the system
+    (:func:`trim_heap`), so that what a record's task freed is not held while the worker waits or starts the next.
+    """
+    try:
+        return fn(item, shared)
+    finally:
+        trim_heap()
+
+
+def trim_heap() -> bool:
+    """Hand every free page of this process's malloc heaps back to the system (glibc's ``malloc_trim(0)``: the free
+    pages inside the heap too, where the trim threshold of :data:`WORKER_ENVIRONMENT` releases its top only); a
+    few ms. Returns whether anything was released; False where the C library has no ``malloc_trim`` (not glibc).
+    """
+    trim = _malloc_trim()
+    return bool(trim(0)) if trim is not None else False
+
+
+@functools.lru_cache(maxsize=1)
+def _malloc_trim():
+    """glibc's ``malloc_trim``, or None where the C library has none."""
+    try:
+        trim = ctypes.CDLL(None).malloc_trim         # the C library the interpreter runs on
+    except (OSError, AttributeError):
+        return None
+    trim.argtypes, trim.restype = [ctypes.c_size_t], ctypes.c_int
+    return trim
 
 
 def process_alive(pid: int) -> bool:
@@ -340,6 +387,9 @@ class DaskExecutor:
         if self.cluster is not None:
             self.cluster.close()
         self.client = self.cluster = None
+
+    def release(self) -> None:
+        """Nothing ended: a cluster's workers are its own (a LocalCluster's end with the executor)."""
 
     def map_unordered(self, fn: Callable, items: Iterable, shared) -> Iterator[tuple]:
         from distributed import as_completed

@@ -12,9 +12,9 @@ from handoff import NO_HANDOFF
 from pipeline.cli import main
 from pipeline.errors import PulseError
 from pipeline.pulses import analyze, classify, dominant_lobe
-from pipeline.pulses.along import _strongest_point, extract_along
+from pipeline.pulses.along import _head, _strongest_point, extract_along
 from pipeline.pulses.cwt import column_coefficients, cwt, cwt_point, cwt_window, scales_for
-from pipeline.pulses.shahi_baker import wavelet_on_grid
+from pipeline.pulses.shahi_baker import PulseResult, wavelet_on_grid
 from pipeline.records.loader import find_records, load_record
 from pipeline.store import open_results
 
@@ -162,6 +162,41 @@ def test_strongest_point_along_any_orientation_is_the_brute_force_argmax(example
     first = res.candidates[0]
     _, pulse = extract_along(res, first.angle_rad)
     np.testing.assert_allclose(pulse, first.pulse_cms, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("rows, cols, k", [(51, 9000, 1024), (51, 9000, 1100), (4, 20000, 64), (1, 9000, 1024),
+                                            (51, 3000, 1024), (3, 200, 4096), (5, 40, 199), (5, 40, 200)])
+def test_a_head_built_row_by_row_is_the_transforms_k_largest(rows, cols, k):
+    """The selection (row by row where the head is a small part of a row, else over the whole) against a sort of
+    the whole transform's amplitudes: the same k amplitudes, the largest left out as its bound, and each point's
+    C1, C2 and column-major index its own."""
+    c = np.random.default_rng(rows * cols + k).normal(size=(2, rows, cols))
+    c[:, :, cols // 2] = 3.0                     # ties: one column of equal amplitudes in every row
+    amp = (c[0] ** 2 + c[1] ** 2).ravel()
+    ordered = np.sort(amp)[::-1]
+    c1, c2, f_index, bound = _head(c, k)
+    r, col = f_index % rows, f_index // rows
+    assert np.array_equal(c1, c[0, r, col]) and np.array_equal(c2, c[1, r, col])
+    if k >= amp.size:
+        assert bound == -math.inf and np.array_equal(np.sort(f_index), np.arange(amp.size))
+    else:
+        np.testing.assert_array_equal(np.sort(c1 ** 2 + c2 ** 2)[::-1], ordered[:k])
+        assert bound == ordered[k]
+
+
+def test_the_strongest_point_beyond_the_first_head_is_found():
+    """Points of large amplitude across the orientation asked for (more than the first head holds) push the best
+    projection out of it: the head grows until the bound proves its maximum, the brute-force argmax."""
+    rng = np.random.default_rng(7)
+    c = rng.normal(scale=0.1, size=(2, 51, 400))
+    c[1, :, :100] = 5.0 + rng.random((51, 100))     # 5,100 points strong along C2 only
+    c[0, 20, 300] = 4.0                              # the strongest along C1, weaker than all of them
+    res = PulseResult(False, math.nan, [], 0, "shahi_baker_2014", [], None, c, np.arange(51), 0.01)
+    for deg in (0.0, 1.0, 90.0, 135.0):
+        ca, sa = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+        flat = int(np.argmax(((ca * c[0] + sa * c[1]) ** 2).ravel(order="F")))
+        assert _strongest_point(res, ca, sa) == (flat % 51, flat // 51), deg
+    assert max(res._strongest) > 1024                # the search grew its head
 
 
 def test_scales_worked_values():
