@@ -300,8 +300,9 @@ def trimmed(fn: Callable, item, shared):
 
 def trim_heap() -> bool:
     """Hand every free page of this process's malloc heaps back to the system (glibc's ``malloc_trim(0)``: the free
-    pages inside the heap too, where the trim threshold of :data:`WORKER_ENVIRONMENT` releases its top only); a
-    few ms. Returns whether anything was released; False where the C library has no ``malloc_trim`` (not glibc).
+    pages inside the heap too, where the trim threshold of :data:`WORKER_ENVIRONMENT` releases its top only);
+    0.5-7 ms after a record of the scale benchmark. Returns whether anything was released; False where the C library
+    has no ``malloc_trim`` (not glibc).
     """
     trim = _malloc_trim()
     return bool(trim(0)) if trim is not None else False

@@ -176,7 +176,9 @@ def add_margins(ds: xr.Dataset, sources: dict[str, RecordSource], ctx: Context, 
 
     RecordJobs(executor, progress=progress, label="margin tasks done").run(margin_task, tasks, ctx, done=done,
                                                                             failed=failed)
-    executor.release()          # the run's last tasks: no idle worker holds memory while the datasets are built
+    # screen's last tasks: its workers end here, so that none holds memory while the datasets are built (a later map
+    # on the executor would start new ones)
+    executor.release()
     computed = sum(len(blocks) for _, blocks in tasks)
     return apply_schema(_with_margins(ds, rec_index, got, ctx)), history_dataset(got.histories), {
         "simulations": int(got.runs[got.runs > 0].sum()), "reused": reused, "computed": computed,
