@@ -2,10 +2,10 @@
 against the contact model alone, on every draw and margin run of the bundled default that the contact model decides.
 
 Runs ``screen`` on the bundled records in one process. Each scene the hand-back decides is run again by the contact
-model alone from the same start, at its step and at half its step (the contact model's own resolution: how often
-its verdict turns with the step); a cylinder also on a rim of FINE_RIM_POINTS points at half the step (the contact
-model's cylinder is a polygon of 32, the exact model's a circle). Prints, for the boxes and for the cylinders, the
-runs, the verdicts that agree pairwise, and the time of each side.
+model alone from the same start, at its step and at half its step, its long steps halved with it (the contact
+model's own resolution: how often its verdict turns with the step); a cylinder also on a rim of FINE_RIM_POINTS
+points at half the step (the contact model's cylinder is a polygon of 32, the exact model's a circle). Prints, for
+the boxes and for the cylinders, the runs, the verdicts that agree pairwise, and the time of each side.
 
     python benchmarks/contact3d_handback.py [--records records] [--blocks configs/blocks.csv]
 
@@ -23,7 +23,7 @@ from typing import Any
 
 import pipeline.rocking.solids.contact3d as contact3d
 from pipeline import cli
-from pipeline.rocking.solids import box_scene, cylinder_scene
+from pipeline.rocking.solids import box_scene, cylinder_scene, long_steps
 from pipeline.rocking.solids.alternate import ExactModel
 from pipeline.rocking.solids.convex_body import ConvexBody, cylinder_body
 
@@ -49,11 +49,13 @@ def main() -> None:
     original = {name: module.alternate for name, module in FAMILIES.items()}
 
     def alone(ax, ay, az, dt_s, body: ConvexBody, azimuth_deg, start, g_ms2, step_s):
-        kept, contact3d.MAX_STEP_S = contact3d.MAX_STEP_S, step_s
+        """The contact model alone with its steps scaled to ``step_s`` [s], its long steps with them."""
+        kept = contact3d.MAX_STEP_S, long_steps.LONG_STEP_S
+        contact3d.MAX_STEP_S, long_steps.LONG_STEP_S = step_s, kept[1] * step_s / kept[0]
         try:
             return plain(ax, ay, az, dt_s, body, yaw_deg=azimuth_deg, g_ms2=g_ms2, start=start)
         finally:
-            contact3d.MAX_STEP_S = kept
+            contact3d.MAX_STEP_S, long_steps.LONG_STEP_S = kept
 
     def both(name: str):
         def run(ax, ay, az, dt_s, model: ExactModel, azimuth_deg, start, *, g_ms2):

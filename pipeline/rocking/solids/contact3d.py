@@ -36,7 +36,8 @@ is resolved within one step, and at a small tilt the rate at impact is small aga
 1.1e-3 rad/s in 0.5 ms). While the tilt is between :data:`FINE_TILT_FROM` and :data:`FINE_TILT_TO` times the
 smallest static tipping angle, each step is therefore taken as :data:`FINE_SUBSTEPS` steps (that cylinder then
 peaks at 0.27 alpha; docs/validation.md), and so is every step while the body flies and for :data:`AFTER_FLIGHT_S`
-after.
+after. Where the body tilts beyond :data:`FINE_TILT_TO` alpha, is not around a flight and no vertex clear of the
+ground could reach it soon, a few steps are taken as one of at most ``LONG_STEP_S`` (:mod:`.long_steps`).
 
 The ground is the plane z = 0 of the ground's frame, which moves with the record: the body feels gravity and the
 inertial force -a_g (x, y the record's two horizontals, z up).
@@ -92,6 +93,7 @@ from .contact_problem import MAX_SWEEPS
 from .contact_reduced import solve_step, solvers
 from .contact_start import Start, begin
 from .convex_body import ConvexBody, base_threshold
+from .long_steps import impact_ahead, last_passed, steps_merged
 from .near_ground import listed, near
 
 #: The largest step [s]: a sampling interval is taken in the fewest equal steps of at most this.
@@ -242,7 +244,7 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
                solvers(len(body.vertices)), hist, stance, room,
-               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs)
+               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub))
     if out.edge >= 0:
         out = out._replace(q_end=room.q.copy(), rate_end_rad_s=room.w.copy())
     return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
@@ -355,14 +357,15 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
 
 @jit_inline
 def _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k, n_sub, during, parts,
-             work, lo):
-    """Step ``k`` of the run from the fraction ``lo`` of it on (:func:`_moreau_step`), as ``parts`` steps of
-    h (1 - lo) / parts each, the ground at each one's middle (``during`` the record; else none). The fewest contacts
-    of a part, the sweeps taken (MAX_SWEEPS for a part at the cap) and the parts at the cap."""
+             work, lo, span):
+    """Steps ``k`` to ``k + span`` of the run (``span`` of them as one: :mod:`.long_steps`) from the fraction
+    ``lo`` of the first on (:func:`_moreau_step`), as ``parts`` steps of h (span - lo) / parts each, the ground at
+    each one's middle (``during`` the record; else none). The fewest contacts of a part, the sweeps taken
+    (MAX_SWEEPS for a part at the cap) and the parts at the cap."""
     least, sweeps, capped = vertices.shape[0], 0, 0
     for j in range(parts):                  # (the fractions written so that lo = 0 rounds as a whole step does)
-        ground = _ground(ax, ay, az, k, n_sub, lo + (j + 0.5) * (1.0 - lo) / parts) if during else (0.0, 0.0, 0.0)
-        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h * (1.0 - lo) / parts,
+        ground = _ground(ax, ay, az, k, n_sub, lo + (j + 0.5) * (span - lo) / parts) if during else (0.0, 0.0, 0.0)
+        n_c, taken = _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h * (span - lo) / parts,
                                   ground, work)
         least = min(least, n_c)
         sweeps += MAX_SWEEPS if taken < 0 else taken
@@ -494,14 +497,15 @@ def _on_edge(impulses, edges, mu):
 
 
 @jit_inline
-def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub):
-    """The steps in a row turning on a pair of ``edges`` without slipping (:func:`_on_edge`), this one included where
-    it ``counts`` (a step during the record, whole or in parts: the impulses of its last part; else none), and the
-    edge where that reaches a whole sampling interval (``n_sub`` steps) ``at_sample`` (-1: not yet)."""
+def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub, span):
+    """The steps in a row turning on a pair of ``edges`` without slipping (:func:`_on_edge`), this one (``span``
+    steps taken as one) included where it ``counts`` (a step during the record, whole or in parts: the impulses of its
+    last part; else none), and the edge where that reaches a whole sampling interval (``n_sub`` steps) ``at_sample``
+    (-1: not yet)."""
     if not counts or edges.shape[0] == 0:
         return 0, -1
     on = _on_edge(impulses, edges, mu)
-    stuck = stuck + 1 if on >= 0 else 0
+    stuck = stuck + span if on >= 0 else 0
     return stuck, on if stuck >= n_sub and at_sample else -1
 
 
@@ -513,6 +517,20 @@ def _aloft(n_c, vertices, r, z_g, flight, aloft, after_flight):
     if n_c == 0 and _clear_of_ground(vertices, r, z_g):
         return True, after_flight
     return flight, aloft
+
+
+@jit_inline
+def _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, q, r, x, v, w, nr, h):
+    """How step ``k`` (of ``h`` [s], from its fraction ``lo`` on) is taken: in :data:`FINE_SUBSTEPS` parts where the
+    tilt is within the fine band (``fine_low``, ``fine_high``) or the body is ``aloft`` (or just was), and as one
+    with the ``merge`` - 1 after it where the body tilts beyond the band, the step is whole and at a multiple of
+    ``merge``, and no impact is ahead (:func:`~.long_steps.impact_ahead`). Returns (parts, steps taken as one)."""
+    if fine_low < tilt < fine_high or aloft > 0:
+        return FINE_SUBSTEPS, 1
+    if (merge > 1 and tilt >= fine_high and k % merge == 0 and lo == 0.0
+            and not impact_ahead(vertices, q, r, x, v, w, nr, CONTACT_GAP_M, merge * h)):
+        return 1, merge
+    return 1, 1
 
 
 @jit_inline
@@ -532,12 +550,12 @@ def _energy_now(q, r, v, w, inertia, x, g):
 
 
 @jit_lean
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges):
-    """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``) and
-    after it until it rests or :data:`TAIL_S`: held at rest where the certificate allows (:func:`_rest_through`),
-    else stepped (:func:`_advance`; in :data:`FINE_SUBSTEPS` parts at small tilts and around a flight), to lying on
-    a side or resting after the record; its tilt and lean at the samples into ``hist`` (the outcome's without it);
-    with ``edges``, to where it turns on one without slipping (:func:`_handback`), its state left in ``room``."""
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge):
+    """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``, taken as
+    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest where the certificate allows
+    (:func:`_rest_through`), else stepped (:func:`_advance`), to lying on a side or resting after the record; its tilt
+    and lean at the samples into ``hist`` (the outcome's without it); with ``edges``, to where it turns on one without
+    slipping (:func:`_handback`), its state left in ``room``."""
     size, z0 = extent(pose.standing)
     tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
     threshold = min(mu, tan_alpha)
@@ -563,12 +581,12 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
                 continue
         during = k < (n - 1) * n_sub
         e_before = 0.0 if during else _energy_now(q, r, v, w, inertia, x, g)   # checked after the record
-        parts = FINE_SUBSTEPS if fine_low < tilt < fine_high or aloft > 0 else 1
+        parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, q, r, x, v, w, contact[5], h)
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
-                                          n_sub, during, parts, work, lo)
+                                          n_sub, during, parts, work, lo, float(span))
         flags |= FLAG_SWEEP_CAP if capped_now else 0
         capped, sweeps, integrated, aloft, lo = capped + capped_now, sweeps + taken, integrated + parts, aloft - 1, 0.0
-        k, steps, t = k + 1, steps + 1, (k + 1) * h
+        t_step, k, steps, t = t, k + span, steps + span, (k + span) * h
         rotation(q, r)
         flight, aloft = _aloft(n_c, vertices, r, x[2], flight, aloft, after_flight)
         tilt, tilt_max, lean_peak, slide_max, twist_max = measure(r, x, pose, yaw, hist, k, n_sub, tilt_max,
@@ -582,8 +600,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             resting = _set_down(v, w, q, x, r, z0, impulses, pose)      # flat on its base and still: at rest
             if not during:
                 break
-        t_beyond, tilt_before = t if tilt > pose.toppled >= tilt_before else t_beyond, tilt   # last past tipping
-        stuck, edge = _handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub)
+        t_beyond, tilt_before = last_passed(t_step, t, tilt_before, tilt, pose.toppled, t_beyond), tilt
+        stuck, edge = _handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub, span)
         if edge >= 0:
             break
         if not during and n_c >= 3 and _still(v, w, size):     # at rest on three contacts or more, off its base

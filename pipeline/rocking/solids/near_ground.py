@@ -86,6 +86,12 @@ def _make(vertices, rm, nr):
 
 
 @jit_inline
+def least_outside(rm, z_g, nr):
+    """The least height any vertex outside ``nr``'s list can have (rotation ``rm``, G at height ``z_g``) [m]."""
+    return _bound(rm, z_g, nr.state)
+
+
+@jit_inline
 def listed(vertices, rm, z_g, gap, nr):
     """How many vertices to look at for contacts at this step (rotation ``rm``, G at height ``z_g``, contacts
     within ``gap`` [m]): the list's first ``n_listed`` (``nr.members``), made again where a vertex outside it could
