@@ -176,8 +176,9 @@ class Contact3DOutcome(NamedTuple):
         The largest energy gained over one step while the ground stood still after the record [J kg-1] (0 when
         none: the contacts only dissipate).
     integrated_steps : int
-        Steps integrated, a step taken in :data:`FINE_SUBSTEPS` parts counted as that many (the rest are steps held
-        at rest by the exact at-rest certificate).
+        Steps integrated, a step taken in :data:`FINE_SUBSTEPS` parts counted as that many and a long step (several
+        taken as one, :mod:`.long_steps`) as one (``steps`` counts it as those several; the rest of ``steps`` are
+        held at rest by the exact at-rest certificate).
     sweeps : int
         Gauss-Seidel sweeps over all steps (the cost of the contact problems).
     lean_at_peak_deg : float

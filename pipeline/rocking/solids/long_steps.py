@@ -14,11 +14,12 @@ ground at ``z`` above it and moving down at ``u`` (its vertical velocity, G's an
     z + S m h min(u, 0) <= gap,      S = :data:`IMPACT_SAFETY`,
 
 and for every other vertex by the list's own bound on their height less ``S m h (|v| + |w| rho)`` (rho the body's
-reach): a body whose next pivot is about to land is stepped finely through its landing, where a plastic impact at
-a new contact is resolved (Housner's rule; Moreau 1988).
+reach): a body whose next pivot is about to land keeps its short steps through the landing, where a plastic impact
+at a new contact is resolved (Housner's rule; Moreau 1988).
 
 The time a body passes an angle (its smallest static tipping angle, for a body found toppled after the record) is
-taken linear between the ends of the step that passed it, so that it does not depend on how long that step is.
+taken linear between the ends of the step that passed it, rather than at the step's end, which a long step puts up
+to :data:`LONG_STEP_S` later.
 
 References
 ----------
