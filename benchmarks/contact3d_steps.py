@@ -105,6 +105,14 @@ def _relative(res, ref, i, least):
     return f"median {np.median(rel):.3f}, 90th percentile {np.quantile(rel, 0.9):.3f}"
 
 
+def _worst(runs) -> dict:
+    """Each key's verdict over its runs: overturned where any run overturns (the worst of a rock's yaws)."""
+    out: dict = {}
+    for key, overturned, *_ in runs:
+        out[key] = out.get(key, False) or overturned
+    return out
+
+
 def _report(title, runs, group):
     """Each way of stepping against the first (the reference); the last also against the second (every step
     short)."""
@@ -116,8 +124,7 @@ def _report(title, runs, group):
             line += (f"; verdicts differing {sum(a[1] != b[1] for a, b in zip(res, ref))}; peak tilt rel. difference "
                      f"{_relative(res, ref, 2, 1e-3)}; largest slide [m] {_relative(res, ref, 3, 1e-3)}")
             if group:
-                worst = lambda rr: {k: any(r[1] for r in rr if r[0] == k) for k, *_ in rr}  # noqa: E731
-                mine, theirs = worst(res), worst(ref)
+                mine, theirs = _worst(res), _worst(ref)
                 line += f"; worst-of-{len(YAWS_DEG)} verdicts differing {sum(mine[k] != theirs[k] for k in mine)} " \
                         f"of {len(mine)}"
         if res is runs[-1][1][0]:

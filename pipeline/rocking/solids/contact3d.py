@@ -37,7 +37,8 @@ is resolved within one step, and at a small tilt the rate at impact is small aga
 smallest static tipping angle, each step is therefore taken as :data:`FINE_SUBSTEPS` steps (that cylinder then
 peaks at 0.27 alpha; docs/validation.md), and so is every step while the body flies and for :data:`AFTER_FLIGHT_S`
 after. Where the body tilts beyond :data:`FINE_TILT_TO` alpha, is not around a flight and no vertex clear of the
-ground could reach it soon, a few steps are taken as one of at most ``LONG_STEP_S`` (:mod:`.long_steps`).
+ground would reach it within twice the longer step at its present speed, a few steps are taken as one of at most
+``LONG_STEP_S`` (:mod:`.long_steps`).
 
 The ground is the plane z = 0 of the ground's frame, which moves with the record: the body feels gravity and the
 inertial force -a_g (x, y the record's two horizontals, z up).
@@ -521,15 +522,16 @@ def _aloft(n_c, vertices, r, z_g, flight, aloft, after_flight):
 
 
 @jit_inline
-def _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, q, r, x, v, w, nr, h):
+def _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v, w, nr, h):
     """How step ``k`` (of ``h`` [s], from its fraction ``lo`` on) is taken: in :data:`FINE_SUBSTEPS` parts where the
     tilt is within the fine band (``fine_low``, ``fine_high``) or the body is ``aloft`` (or just was), and as one
     with the ``merge`` - 1 after it where the body tilts beyond the band, the step is whole and at a multiple of
-    ``merge``, and no impact is ahead (:func:`~.long_steps.impact_ahead`). Returns (parts, steps taken as one)."""
+    ``merge``, and no impact is ahead (:func:`~.long_steps.impact_ahead`; ``r`` the body's rotation now: the last
+    step's, or the start's). Returns (parts, steps taken as one)."""
     if fine_low < tilt < fine_high or aloft > 0:
         return FINE_SUBSTEPS, 1
     if (merge > 1 and tilt >= fine_high and k % merge == 0 and lo == 0.0
-            and not impact_ahead(vertices, q, r, x, v, w, nr, CONTACT_GAP_M, merge * h)):
+            and not impact_ahead(vertices, r, x, v, w, nr, CONTACT_GAP_M, merge * h)):
         return 1, merge
     return 1, 1
 
@@ -582,7 +584,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
                 continue
         during = k < (n - 1) * n_sub
         e_before = 0.0 if during else _energy_now(q, r, v, w, inertia, x, g)   # checked after the record
-        parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, q, r, x, v, w, contact[5], h)
+        parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v, w, contact[5], h)
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work, lo, float(span))
         flags |= FLAG_SWEEP_CAP if capped_now else 0

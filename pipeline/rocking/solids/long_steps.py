@@ -2,10 +2,10 @@
 
 The contact model (:mod:`.contact3d`) steps the record's interval in equal steps h of at most its ``MAX_STEP_S``.
 Where the body tilts beyond ``FINE_TILT_TO`` times its smallest static tipping angle, is not around a flight and no
-vertex clear of the ground could reach it within the longer step, ``m`` of those steps are taken as one
-Moreau-Jean step of m h, the ground at its middle (linear between samples, as for every step): ``m`` is the
-largest divisor of the steps a sampling interval is taken in with m h <= :data:`LONG_STEP_S`, and a long step
-starts only at a multiple of ``m``, so that it never straddles a sample. Below that tilt, around a flight and
+vertex clear of the ground would reach it within twice the longer step at its present speed, ``m`` of those steps
+are taken as one Moreau-Jean step of m h, the ground at its middle (linear between samples, as for every step):
+``m`` is the largest divisor of the steps a sampling interval is taken in with m h <= :data:`LONG_STEP_S`, and a
+long step starts only at a multiple of ``m``, so that it never straddles a sample. Below that tilt, around a flight and
 wherever an impact could come within the long step, every step is the one the model takes without them.
 
 An impact ahead is looked for among the vertices near the ground (:mod:`.near_ground`), each vertex clear of the
@@ -33,11 +33,10 @@ from __future__ import annotations
 import math
 
 from ...compiled import jit_inline
-from .attitude import rotation
 from .near_ground import least_outside
 
 #: The longest step [s] the contact model takes where the body rocks with no impact ahead (chosen by measurement
-#: against every step at 0.1 ms on the peer families and the granite rocks' tests, docs/validation.md).
+#: against steps a fifth to a tenth as long on the peer families and the granite rocks' tests, docs/validation.md).
 LONG_STEP_S = 1.3e-3
 #: How many times a long step's length an impact ahead is looked for [-]: a vertex that would reach the ground
 #: within IMPACT_SAFETY m h at its present speed keeps the steps short.
@@ -48,17 +47,15 @@ def steps_merged(n_sub: int, h_s: float) -> int:
     """The steps of ``h_s`` [s] taken as one where the body rocks with no impact ahead: the largest divisor ``m`` of
     ``n_sub`` (the steps a sampling interval is taken in) with ``m h_s <= LONG_STEP_S``; at least 1."""
     most = min(n_sub, int(LONG_STEP_S * (1.0 + 1e-9) / h_s))
-    return max((m for m in range(1, most + 1) if n_sub % m == 0 and m * h_s <= LONG_STEP_S * (1.0 + 1e-9)),
-               default=1)
+    return max((m for m in range(1, most + 1) if n_sub % m == 0), default=1)
 
 
 @jit_inline
-def impact_ahead(vertices, q, r, x, v, w, nr, gap, span_s):
+def impact_ahead(vertices, r, x, v, w, nr, gap, span_s):
     """Whether a vertex clear of the ground (more than ``gap`` [m] above it) could reach it within
-    :data:`IMPACT_SAFETY` times ``span_s`` [s] at its present speed: the body at ``x`` (G), ``q`` (its rotation
-    written into ``r``), moving at ``v``, ``w``; its vertices near the ground listed in ``nr``
+    :data:`IMPACT_SAFETY` times ``span_s`` [s] at its present speed: the body at ``x`` (G), turned by ``r`` (its
+    rotation now), moving at ``v``, ``w``; its vertices near the ground listed in ``nr``
     (:class:`~.near_ground.Near`; with no list, an impact is taken to be ahead)."""
-    rotation(q, r)
     n = nr.n_listed[0]
     if n < 0:
         return True
