@@ -25,14 +25,16 @@ parameter).
 ``--model contact3d`` judges each rock as ``screen`` judges a body given by its mesh with a blank azimuth with
 ``scanned_model = "contact3d"`` (:mod:`pipeline.bodies.convex3d`): in 3D on its hull (the 3D contact model
 :mod:`pipeline.rocking.solids.contact3d`: sliding, twisting, rocking on an edge or a corner, rolling over the hull's
-facets, lift-off), the table's shaking axis at every yaw of a ``--yaw-step`` grid in the rock's settled frame (the
-pose on the table is not recorded), friction ``--mu`` (not recorded either: :data:`TABLE_MU`, declared before any
-run), plastic contacts. ``overturn_nominal`` is the worst yaw's verdict (overturned first, then the largest tilt);
-``p_overturn`` (``--p-from draws``, the default) ``screen``'s: the worst yaw's under the declared uncertainty's draws,
-stopped by the sequential rule; with ``--p-from yaws`` the share of the yaws that overturn it, which is also
-``p_random_orientation`` in both (the probability under a yaw at random on the grid; ``screen`` draws it). A rock
-overturns when it lies on a side or comes to rest after the record on another face of its hull, tilted beyond its
-smallest static tipping angle.
+facets, lift-off), the table's shaking axis at the yaws of a ``--yaw-step`` grid in the rock's settled frame (the
+pose on the table is not recorded) until one overturns the rock, as ``screen`` stops, friction ``--mu`` (not
+recorded either: :data:`TABLE_MU`, declared before any run), plastic contacts. ``overturn_nominal`` is the worst
+yaw's verdict (overturned first, then the largest tilt); ``p_overturn`` (``--p-from draws``, the default)
+``screen``'s: the worst yaw's under the declared uncertainty's draws, stopped by the sequential rule. With
+``--every-yaw`` every yaw is run (``yaws_run`` says how many were), for the yaws' columns: the share that overturn
+it (``p_random_orientation``, the probability under a yaw at random on the grid; ``screen`` draws it instead,
+``--random-draws``), which overturn it, each one's final tilt, and the orientation chosen leave-one-motion-out;
+``--p-from yaws`` runs every yaw and takes that share as ``p_overturn`` too. A rock overturns when it lies on a side
+or comes to rest after the record on another face of its hull, tilted beyond its smallest static tipping angle.
 
 ``--model two_sided`` rocks each rock on one pivot per side (:mod:`pipeline.shapes.plane`,
 :mod:`pipeline.rocking.scanned.two_sided`): the footprint's extreme points within ``--footprint-mm`` (default
@@ -78,7 +80,7 @@ from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.scanned.two_sided import rock_two_sided_compiled, two_sided_block
 from pipeline.rocking.settings import ScannedModel, SimulationConfig
 from pipeline.rocking.simulate import step_control
-from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, pose
+from pipeline.rocking.solids.contact3d import FLAG_TAIL_CAP, Contact3DOutcome, pose
 from pipeline.rocking.solids.convex_body import ConvexBody, base_threshold
 from pipeline.shapes.hull import hull_chain
 from pipeline.shapes.plane import PivotRule, PlaneBody, equivalent_rectangle, plane_body
@@ -240,12 +242,13 @@ _DRAWN: dict[str, dict[int, ConvexBody]] = {}
 
 def _one_test_3d(job) -> list[dict]:
     """Every rock of one test as ``screen`` judges a body given by its scan with a blank azimuth in 3D
-    (:mod:`pipeline.bodies.convex3d`): the table's axis at every yaw of the grid, the worst yaw's verdict (overturned
-    first, then the largest tilt) and, with ``--p-from draws``, ``screen``'s probabilities: the worst yaw's under the
-    declared uncertainty's draws (amplitude, the scan's sizes about G, friction), stopped by the sequential rule;
-    with ``--p-from yaws``, the share of the yaws that overturn it. ``p_random_orientation`` is that share in both,
-    or with ``--random-draws`` ``screen``'s: the draws cycling over the grid (as many runs again)."""
-    data, test, geo, samples, (yaw_step, p_from, random_draws) = job
+    (:mod:`pipeline.bodies.convex3d`): the table's axis at the yaws of the grid until one overturns the rock
+    (:func:`~pipeline.bodies.convex3d.judge`), the worst yaw's verdict (overturned first, then the largest tilt) and
+    ``screen``'s probability: the worst yaw's under the declared uncertainty's draws (amplitude, the scan's sizes
+    about G, friction), stopped by the sequential rule. With ``every_yaw`` (or ``--p-from yaws``: p the share of the
+    yaws that overturn it) every yaw is run, for the yaws' columns; ``p_random_orientation`` is then that share, or
+    with ``--random-draws`` ``screen``'s: the draws cycling over the grid (as many runs again)."""
+    data, test, geo, samples, (yaw_step, p_from, random_draws, every_yaw) = job
     ah, dt = motion(data / "motions" / f"{test['test']}.acc.gz")
     rec = Record(record_id=test["test"], dt_s=dt, horizontal_ms2=ah[None, :], azimuths_deg=(0.0,),
                  azimuth_known=False, vertical_ms2=None, files=(), formats=("TABLE",), component_codes=("X",),
@@ -255,27 +258,26 @@ def _one_test_3d(job) -> list[dict]:
     rows = []
     for rock, (shape, body, uplift_g) in geo.items():
         fr = convex3d.frame(rec, shape)._replace(yaws_deg=np.arange(0.0, 360.0, yaw_step))
-        outs = [convex3d.run(fr, body, float(y), g_ms2=G) for y in fr.yaws_deg]
-        over = [o.overturned for o in outs]
-        worst = max(range(len(outs)), key=lambda k: (outs[k].overturned, outs[k].tilt_max_rad, -k))
         row = {"test": test["test"], "rock": rock, "motion_id": test["motion_id"],
                "pga_g": float(test["scaled_pga_g"]), "pgv_pga_s": float(test["pgv_pga_s"]),
-               "observed": int(test[f"{rock.lower()}_overturned"]), "overturn_nominal": int(any(over)),
-               "verdict_unknown": 0, "orientations_overturning": float(np.mean(over)), "planes": len(outs),
-               "overturning_planes_deg": ";".join(f"{y:g}" for y, o in zip(fr.yaws_deg, over) if o),
-               "p_overturn": float(np.mean(over)), "p_random_orientation": float(np.mean(over)), "draws": 0,
-               "capped_runs": sum(o.capped_steps > 0 for o in outs),
-               "tail_capped_runs": sum(bool(o.flags & FLAG_TAIL_CAP) for o in outs),
-               "toppled_on_a_face": sum(o.overturned and o.tilt_end_rad < 1.5 for o in outs),
-               "tilt_end_deg": ";".join(f"{math.degrees(o.tilt_end_rad):.0f}" for o in outs),
-               "slide_max_m": max(o.slide_max_m for o in outs), "twist_max_deg": math.degrees(max(o.twist_max_rad
-                                                                                              for o in outs)),
+               "observed": int(test[f"{rock.lower()}_overturned"]), "verdict_unknown": 0, "planes": len(fr.yaws_deg),
                "table_pga_g": float(np.max(np.abs(ah)) / G), "uplift_pga_g": uplift_g, "undecided_draws": 0}
+        if every_yaw or p_from == "yaws":
+            worst_yaw, worst_out = _every_yaw(fr, body, row)
+        else:
+            judged = convex3d.judge(fr, body, g_ms2=G)
+            worst_yaw, worst_out = judged.yaw_deg, judged.outcome
+            row.update(overturn_nominal=int(worst_out.overturned), yaws_run=judged.runs,
+                       p_overturn=float(worst_out.overturned), p_random_orientation=math.nan, draws=0,
+                       capped_runs=int(worst_out.capped_steps > 0),
+                       tail_capped_runs=int(bool(worst_out.flags & FLAG_TAIL_CAP)),
+                       toppled_on_a_face=int(worst_out.overturned and worst_out.tilt_end_rad < 1.5),
+                       slide_max_m=worst_out.slide_max_m, twist_max_deg=math.degrees(worst_out.twist_max_rad))
         if p_from == "draws":
             drawn = _DRAWN.setdefault(rock, {})
             family = scanned3d.SCANNED_BODIES
-            at_worst = convex3d.yaw_draws(fr, shape, z, fr.yaws_deg[worst:worst + 1], drawn, family=family,
-                                       settings=unc, g_ms2=G)
+            at_worst = convex3d.yaw_draws(fr, shape, z, np.array([worst_yaw]), drawn, family=family, settings=unc,
+                                          g_ms2=G)
             row.update(p_overturn=at_worst.p, draws=at_worst.drawn, undecided_draws=at_worst.without_verdict)
             if random_draws:                    # screen's p_random_orientation: the draws cycling over the yaws
                 at_random = convex3d.yaw_draws(fr, shape, z, fr.yaws_deg, drawn, family=family, settings=unc,
@@ -285,6 +287,24 @@ def _one_test_3d(job) -> list[dict]:
         row["why"] = why(row)
         rows.append(row)
     return rows
+
+
+def _every_yaw(fr: convex3d.Frame, body: ConvexBody, row: dict) -> tuple[float, Contact3DOutcome]:
+    """Every yaw of the grid run, the yaws' columns into ``row``; the worst yaw (overturned first, then the largest
+    tilt, the first of equals: :func:`~pipeline.bodies.convex3d.judge`'s) and its outcome."""
+    outs = [convex3d.run(fr, body, float(y), g_ms2=G) for y in fr.yaws_deg]
+    over = [o.overturned for o in outs]
+    worst = max(range(len(outs)), key=lambda k: (outs[k].overturned, outs[k].tilt_max_rad, -k))
+    row.update(overturn_nominal=int(any(over)), yaws_run=len(outs), orientations_overturning=float(np.mean(over)),
+               overturning_planes_deg=";".join(f"{y:g}" for y, o in zip(fr.yaws_deg, over) if o),
+               p_overturn=float(np.mean(over)), p_random_orientation=float(np.mean(over)), draws=0,
+               capped_runs=sum(o.capped_steps > 0 for o in outs),
+               tail_capped_runs=sum(bool(o.flags & FLAG_TAIL_CAP) for o in outs),
+               toppled_on_a_face=sum(o.overturned and o.tilt_end_rad < 1.5 for o in outs),
+               tilt_end_deg=";".join(f"{math.degrees(o.tilt_end_rad):.0f}" for o in outs),
+               slide_max_m=max(o.slide_max_m for o in outs),
+               twist_max_deg=math.degrees(max(o.twist_max_rad for o in outs)))
+    return float(fr.yaws_deg[worst]), outs[worst]
 
 
 def why(row: dict) -> str:
@@ -374,7 +394,7 @@ def summary(rows: list[dict]) -> list[dict]:
                  "logistic_lomo": (np.array([r["p_logistic_lomo"] >= 0.5 for r in sel], int),
                                    np.array([r["p_logistic_lomo"] for r in sel])),
                  ("rockscreen 3D contact model (worst yaw, "
-                  + ("its p)" if any(r["draws"] for r in sel) else "p over yaws)") if "tilt_end_deg" in sel[0]
+                  + ("its p)" if any(r["draws"] for r in sel) else "p over yaws)") if "yaws_run" in sel[0]
                   else "rockscreen (worst orientation, its p)" if "orientations_overturning" in sel[0]
                   else "rockscreen (worst pose; p over poses)"): (np.array([r["overturn_nominal"] for r in sel]),
                                                            np.array([r["p_overturn"] for r in sel]))}
@@ -384,9 +404,11 @@ def summary(rows: list[dict]) -> list[dict]:
             preds["rockscreen, no verdict counted as overturning (the report's reading)"] = (
                 np.array([r["overturn_nominal"] for r in sel]) | unknown, p_own)
         preds["rockscreen, p >= 0.5 (the report's threshold)"] = ((p_own >= 0.5).astype(int), p_own)
-        if "overturning_planes_deg" in sel[0]:
+        p_random = np.array([r.get("p_random_orientation", math.nan) for r in sel])
+        if np.all(np.isfinite(p_random)):             # (screen's first overturning yaw alone: no random one)
             preds["rockscreen (worst orientation, p of a random one)"] = (
-                np.array([r["overturn_nominal"] for r in sel]), np.array([r["p_random_orientation"] for r in sel]))
+                np.array([r["overturn_nominal"] for r in sel]), p_random)
+        if "overturning_planes_deg" in sel[0]:
             v = orientation_lomo(sel)
             preds["rockscreen, orientation chosen leave-one-motion-out"] = (v, v.astype(float))
         for label, _a, _s in POSES:
@@ -471,6 +493,9 @@ def main() -> None:
                     help="contact3d: p_overturn from screen's draws at the worst yaw (default) or the yaws' share")
     ap.add_argument("--random-draws", action="store_true",
                     help="contact3d, --p-from draws: p_random_orientation from screen's draws over the yaws too")
+    ap.add_argument("--every-yaw", action="store_true",
+                    help="contact3d: run every yaw (the yaws' columns and scores), not screen's stop at the first "
+                         "that overturns the rock")
     ap.add_argument("--model", choices=("rolling", "two_sided", "contact3d"), default="rolling",
                     help="rolling (screen's default): the body rolls on its convex hull, every plane of the "
                          "--orientation-step grid, as screen judges a mesh with a blank azimuth; two_sided: one "
@@ -483,7 +508,7 @@ def main() -> None:
     step = args.orientation_step
     if args.model == "contact3d":
         geo: dict = rocks_3d(args.data, args.mu)
-        task, step = _one_test_3d, (args.yaw_step, args.p_from, args.random_draws)
+        task, step = _one_test_3d, (args.yaw_step, args.p_from, args.random_draws, args.every_yaw)
         for rock, (_shape, body, uplift_g) in geo.items():
             print(f"{rock}: {len(body.vertices)} hull vertices in 3D, mu {args.mu:g}, moves from {uplift_g:.3f} g, "
                   f"smallest static tipping angle {math.degrees(body.tipping_rad):.1f} deg; "

@@ -65,7 +65,7 @@ def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monk
         pytest.skip(f"the granite shake-table data is not at {GRANITE} (GPL-3: kept in ../shared, never copied)")
     monkeypatch.setattr(sys, "argv", ["bench_granite.py", str(GRANITE), "--out", str(tmp_path), "--limit", "24",
                                       "--samples", "5", "--model", model, "--orientation-step", "30",
-                                      "--yaw-step", "90", "--p-from", p_from])
+                                      "--yaw-step", "90", "--p-from", p_from, "--every-yaw"])
     bench.main()
     rows = list(csv.DictReader((tmp_path / "predictions.csv").open()))
     assert len(rows) == 48 and {r["rock"] for r in rows} == {"SP1", "SP2"}
@@ -88,3 +88,25 @@ def test_a_run_on_the_granite_tests_writes_the_predictions(bench, tmp_path, monk
             else:                               # p_overturn: the worst yaw's draws, one batch of 5 at least
                 assert int(r["draws"]) == 5 and float(r["p_overturn"]) * 5 == pytest.approx(
                     round(float(r["p_overturn"]) * 5))
+
+
+@pytest.mark.slow
+def test_stopping_at_the_first_overturning_yaw_keeps_the_worst_yaws_verdict_and_p(bench, tmp_path, monkeypatch):
+    """``screen``'s path (the yaws until one overturns the rock) against every yaw run: the same worst yaw, so the
+    same verdict and the same draws there; every yaw run where none overturns it, fewer where one does."""
+    if not (GRANITE / "tests.csv").is_file():
+        pytest.skip(f"the granite shake-table data is not at {GRANITE} (GPL-3: kept in ../shared, never copied)")
+    got = {}
+    for name, extra in (("screen", []), ("every", ["--every-yaw"])):
+        monkeypatch.setattr(sys, "argv", ["bench_granite.py", str(GRANITE), "--out", str(tmp_path / name), "--limit",
+                                          "18", "--samples", "5", "--model", "contact3d", "--yaw-step", "90", *extra])
+        bench.main()
+        got[name] = list(csv.DictReader((tmp_path / name / "predictions.csv").open()))
+    assert len(got["screen"]) == len(got["every"]) == 36
+    for s, e in zip(got["screen"], got["every"]):
+        assert (s["test"], s["rock"]) == (e["test"], e["rock"])
+        assert (s["overturn_nominal"], s["p_overturn"], s["draws"]) == (e["overturn_nominal"], e["p_overturn"],
+                                                                         e["draws"])
+        assert e["yaws_run"] == "4" and (s["yaws_run"] == "4" if s["overturn_nominal"] == "0" else
+                                         1 <= int(s["yaws_run"]) <= 4)
+    assert any(s["overturn_nominal"] == "1" for s in got["screen"])

@@ -1,6 +1,7 @@
 """A rigid convex body for the 3D contact model (:mod:`.contact3d`), per unit mass: its hull's vertices about its
 centre of mass G in its principal axes, its principal inertias, friction and restitution; the uniform box and
-cylinder; and the exact at-rest threshold of the body standing on its base (:func:`base_threshold`).
+cylinder; and the at-rest threshold of the body standing on its base (:func:`base_threshold`) or resting on
+other contacts (:func:`support_threshold`).
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit
+from ...compiled import jit, jit_inline
 
 
 class ConvexBody(NamedTuple):
@@ -75,24 +76,46 @@ def base_threshold(vertices, mu):
     size = 0.0
     for i in range(n):
         size = max(size, abs(vertices[i, 0]), abs(vertices[i, 1]), abs(vertices[i, 2]))
-    tol = 1e-12 * size
+    return min(mu, inscribed(vertices, n, zmin + 1e-12 * size, 1e-12 * size) / -zmin)
+
+
+@jit_inline
+def support_threshold(arms, n, mu):
+    """min(mu, tan alpha) of a body resting on the contacts at the first ``n`` rows of ``arms`` (their positions
+    from G in the ground's axes, z up [m]): the demand ratio at or below which it neither slides nor tips about the
+    edge of the polygon they span nearest below G (tan alpha = that distance over G's height above the lowest) [-];
+    0 where G is not above the polygon's inside."""
+    height, size = 0.0, 0.0
+    for i in range(n):
+        height = max(height, -arms[i, 2])
+        size = max(size, abs(arms[i, 0]), abs(arms[i, 1]), abs(arms[i, 2]))
+    if height <= 0.0:
+        return 0.0
+    return min(mu, inscribed(arms, n, math.inf, 1e-12 * size) / height)
+
+
+@jit_inline
+def inscribed(points, n, z_keep, tol):
+    """The distance [m] from the origin to the nearest edge of the convex hull, seen from above, of the first ``n``
+    ``points`` at or below the height ``z_keep`` (``tol`` [m]: points this near a line are on it); 0 where the origin
+    is not inside that hull."""
     nearest = math.inf
     for i in range(n):
-        if vertices[i, 2] > zmin + tol:
+        if points[i, 2] > z_keep:
             continue
         for j in range(n):
-            if j == i or vertices[j, 2] > zmin + tol:
+            if j == i or points[j, 2] > z_keep:
                 continue
-            ex, ey = vertices[j, 0] - vertices[i, 0], vertices[j, 1] - vertices[i, 1]
+            ex, ey = points[j, 0] - points[i, 0], points[j, 1] - points[i, 1]
             length = math.sqrt(ex * ex + ey * ey)
             if length <= tol:
                 continue
-            side = 0                            # a hull edge: every base vertex on one side of it
+            side = 0                            # a hull edge: every kept point on one side of it
             ok = True
             for m in range(n):
-                if vertices[m, 2] > zmin + tol:
+                if points[m, 2] > z_keep:
                     continue
-                cr = ex * (vertices[m, 1] - vertices[i, 1]) - ey * (vertices[m, 0] - vertices[i, 0])
+                cr = ex * (points[m, 1] - points[i, 1]) - ey * (points[m, 0] - points[i, 0])
                 if abs(cr) <= tol * length:
                     continue
                 sgn = 1 if cr > 0 else -1
@@ -102,5 +125,8 @@ def base_threshold(vertices, mu):
                     ok = False
                     break
             if ok:
-                nearest = min(nearest, abs(ex * (-vertices[i, 1]) - ey * (-vertices[i, 0])) / length)
-    return min(mu, nearest / -zmin)
+                origin = ex * (-points[i, 1]) - ey * (-points[i, 0])      # the origin's side, times the length
+                if side != 0 and origin * side < 0.0:
+                    return 0.0
+                nearest = min(nearest, abs(origin) / length)
+    return nearest if math.isfinite(nearest) else 0.0

@@ -1,5 +1,5 @@
 """Property tests of the 3D contact model's at-rest holding over random ground motions: a sampling interval it holds
-at once (``_calm_until``) holds the body at every step's middle in it by the per-step certificate, checked step by
+at once (``calm_until``) holds the body at every step's middle in it by the per-step certificate, checked step by
 step (a second algorithm, the one the kernel applies where it does not skip), so that skipping holds the same
 steps."""
 
@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pipeline.constants import G
-from pipeline.rocking.solids import contact3d as c3
+from pipeline.rocking.solids import at_rest
 
 SETTINGS = settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 
@@ -33,7 +33,7 @@ def test_a_calm_interval_holds_at_every_steps_middle(seed, n, n_sub, threshold, 
     ax, ay = (level * threshold * G * rng.uniform(-1.0, 1.0, n) for _ in range(2))
     az = vertical * G * rng.uniform(-1.0, 1.0, n)
     for start in range(n - 1):
-        calm_to = c3._calm_until(ax, ay, az, start, threshold, G)
+        calm_to = at_rest.calm_until(ax, ay, az, start, threshold, G)
         assert start <= calm_to <= n - 1
         for k in range(start * n_sub, calm_to * n_sub):
             assert _step_holds(ax, ay, az, k, n_sub, threshold), (start, calm_to, k)
@@ -44,5 +44,5 @@ def test_the_calm_edges_at_an_exact_tie_are_checked_step_by_step():
     threshold = 0.5
     ax = np.array([0.0, threshold * G, 0.0])
     zeros = np.zeros(3)
-    assert c3._calm_until(ax, zeros, zeros, 0, threshold, G) == 0
-    assert c3._calm_until(ax * (1.0 - 2.0 * c3.CALM_MARGIN), zeros, zeros, 0, threshold, G) == 2
+    assert at_rest.calm_until(ax, zeros, zeros, 0, threshold, G) == 0
+    assert at_rest.calm_until(ax * (1.0 - 2.0 * at_rest.CALM_MARGIN), zeros, zeros, 0, threshold, G) == 2
