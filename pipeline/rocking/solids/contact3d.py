@@ -469,6 +469,24 @@ def _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v,
 
 
 @jit_inline
+def _bounds(standing, mu):
+    """The body's size and G's height as it stands (:func:`~.contact_pose.extent`), its at-rest threshold
+    min(mu, tan alpha_min) on its base, and the tilts [rad] the fine band runs between (FINE_TILT_FROM and
+    FINE_TILT_TO times alpha_min)."""
+    size, z0 = extent(standing)
+    tan_alpha = base_threshold(standing, math.inf)                    # of the smallest static tipping angle
+    return size, z0, min(mu, tan_alpha), FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
+
+
+@jit_inline
+def _on_face(v, w, impulses, arms, n_c, mu, r, up, tilt):
+    """A body found still off its base, on the ``n_c`` contacts at ``arms``: held where it lies
+    (:func:`~.at_rest.set_still`); True (it rests), the threshold of those contacts
+    (:func:`~.convex_body.support_threshold`), its tilt and lean [rad]."""
+    return set_still(v, w, impulses), support_threshold(arms, n_c, mu), tilt, lean_of(r, up, tilt)
+
+
+@jit_inline
 def _toppled(tilt, toppled, t_beyond, t_over, tilt_max):
     """A body at rest after the record off its base: overturned (when it last passed its tipping angle
     ``toppled``, its peak a side's) where it rests tilted beyond that angle, else as it was."""
@@ -487,19 +505,16 @@ def _energy_now(q, r, v, w, inertia, x, g):
 @jit_lean
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``, taken as
-    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest, on its base or on another
-    face, where the certificate allows (:func:`~.at_rest.rest_through`), else stepped (:func:`_advance`), to lying
-    on a side or resting after the record; its tilt and lean at the samples into ``hist`` (the outcome's without
-    it); with ``edges``, to where it turns on one without slipping (:func:`_handback`), its state left in ``room``."""
-    size, z0 = extent(pose.standing)
-    tan_alpha = base_threshold(pose.standing, math.inf)               # of the smallest static tipping angle
-    threshold = min(mu, tan_alpha)
-    fine_low, fine_high = FINE_TILT_FROM * math.atan(tan_alpha), FINE_TILT_TO * math.atan(tan_alpha)
+    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest on its base or on another
+    face where the certificate allows (:func:`~.at_rest.rest_through`; ``held``: its threshold), else stepped
+    (:func:`_advance`), to lying on a side or resting after the record; its tilt and lean at the samples into
+    ``hist`` (the outcome's without it); with ``edges``, to where it turns on one without slipping
+    (:func:`_handback`), its state left in ``room``."""
+    size, z0, threshold, fine_low, fine_high = _bounds(pose.standing, mu)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = _start(room, vertices, z0, yaw, pose, begin)
     resting, edge, stuck, h, n = begin.k < 0, -1, 0, dt / n_sub, ax.size
-    held, tilt_held, lean_held = threshold, 0.0, math.nan              # the hold's threshold, tilt and lean
-    aloft, after_flight = 0, int(AFTER_FLIGHT_S / h)                  # fine steps left after a flight
+    aloft, after_flight, held, tilt_held, lean_held = 0, int(AFTER_FLIGHT_S / h), threshold, 0.0, math.nan
     tilt_max, slide_max, twist_max, energy_gain = begin.tilt_max, 0.0, 0.0, 0.0
     overturned, flight, flags, capped, t_over = False, False, 0, 0, math.nan
     t, k, tail_steps, integrated, sweeps, lo = begin.t, max(begin.k, 0), int(TAIL_S / h), 0, 0, begin.lo
@@ -511,9 +526,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         if resting:
             k_held, resting, ended = rest_through(ax, ay, az, k, n_sub, n, held, g, hist, tilt_held, lean_held)
             k, steps = k_held, steps + (k_held - k)
-            if ended:
-                if tilt_held > 0.0:                                     # at rest after the record, off its base
-                    overturned, t_over, tilt_max = _toppled(tilt, pose.toppled, t_beyond, t_over, tilt_max)
+            if ended:                           # at rest after the record: toppled where on a face beyond alpha
+                overturned, t_over, tilt_max = _toppled(tilt_held, pose.toppled, t_beyond, t_over, tilt_max)
                 break
             if resting:
                 continue
@@ -522,7 +536,6 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
         parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v, w, contact[5], h)
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work, lo, float(span))
-        flags |= FLAG_SWEEP_CAP if capped_now else 0
         capped, sweeps, integrated, aloft, lo = capped + capped_now, sweeps + taken, integrated + parts, aloft - 1, 0.0
         t_step, k, steps, t = t, k + span, steps + span, (k + span) * h
         rotation(q, r)
@@ -535,8 +548,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             lie_down(hist, k // n_sub + 1, lean_of(r, pose.up, tilt))
             break
         if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
-            resting = set_down(v, w, q, x, r, z0, impulses, pose)       # flat on its base and still: at rest
-            held, tilt_held, lean_held = threshold, 0.0, math.nan
+            resting, held, tilt_held, lean_held = set_down(v, w, q, x, r, z0, impulses, pose), threshold, 0.0, math.nan
             if not during:
                 break
         t_beyond, tilt_before = last_passed(t_step, t, tilt_before, tilt, pose.toppled, t_beyond), tilt
@@ -547,8 +559,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             if not during:
                 overturned, t_over, tilt_max = _toppled(tilt, pose.toppled, t_beyond, t_over, tilt_max)
                 break
-            resting = set_still(v, w, impulses)                         # held where it is, as on its base
-            held, tilt_held, lean_held = support_threshold(contact[1], n_c, mu), tilt, lean_of(r, pose.up, tilt)
-    return Contact3DOutcome(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps, flags, capped,
-                            energy_gain, integrated, sweeps, degrees(lean_peak), None, None, tilt, edge, k * h, None,
-                            None)
+            resting, held, tilt_held, lean_held = _on_face(v, w, impulses, contact[1], n_c, mu, r, pose.up, tilt)
+    return Contact3DOutcome(overturned, t_over, tilt_max, slide_max, twist_max, flight, steps,
+                            flags | (FLAG_SWEEP_CAP if capped else 0), capped, energy_gain, integrated, sweeps,
+                            degrees(lean_peak), None, None, tilt, edge, k * h, None, None)
