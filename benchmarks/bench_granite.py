@@ -269,10 +269,7 @@ def _one_test_3d(job) -> list[dict]:
             worst_yaw, worst_out = judged.yaw_deg, judged.outcome
             row.update(overturn_nominal=int(worst_out.overturned), yaws_run=judged.runs,
                        p_overturn=float(worst_out.overturned), p_random_orientation=math.nan, draws=0,
-                       capped_runs=int(worst_out.capped_steps > 0),
-                       tail_capped_runs=int(bool(worst_out.flags & FLAG_TAIL_CAP)),
-                       toppled_on_a_face=int(worst_out.overturned and worst_out.tilt_end_rad < 1.5),
-                       slide_max_m=worst_out.slide_max_m, twist_max_deg=math.degrees(worst_out.twist_max_rad))
+                       **_run_columns([worst_out]))         # (judge keeps the worst run's outcome only)
         if p_from == "draws":
             drawn = _DRAWN.setdefault(rock, {})
             family = scanned3d.SCANNED_BODIES
@@ -298,13 +295,18 @@ def _every_yaw(fr: convex3d.Frame, body: ConvexBody, row: dict) -> tuple[float, 
     row.update(overturn_nominal=int(any(over)), yaws_run=len(outs), orientations_overturning=float(np.mean(over)),
                overturning_planes_deg=";".join(f"{y:g}" for y, o in zip(fr.yaws_deg, over) if o),
                p_overturn=float(np.mean(over)), p_random_orientation=float(np.mean(over)), draws=0,
-               capped_runs=sum(o.capped_steps > 0 for o in outs),
-               tail_capped_runs=sum(bool(o.flags & FLAG_TAIL_CAP) for o in outs),
-               toppled_on_a_face=sum(o.overturned and o.tilt_end_rad < 1.5 for o in outs),
-               tilt_end_deg=";".join(f"{math.degrees(o.tilt_end_rad):.0f}" for o in outs),
-               slide_max_m=max(o.slide_max_m for o in outs),
-               twist_max_deg=math.degrees(max(o.twist_max_rad for o in outs)))
+               tilt_end_deg=";".join(f"{math.degrees(o.tilt_end_rad):.0f}" for o in outs), **_run_columns(outs))
     return float(fr.yaws_deg[worst]), outs[worst]
+
+
+def _run_columns(outs: list[Contact3DOutcome]) -> dict:
+    """The runs' columns: how many had a step at the sweeps' cap, ran to the tail's cap, or toppled onto a face
+    short of lying on a side; the largest slide [m] and twist [deg]."""
+    return {"capped_runs": sum(o.capped_steps > 0 for o in outs),
+            "tail_capped_runs": sum(bool(o.flags & FLAG_TAIL_CAP) for o in outs),
+            "toppled_on_a_face": sum(o.overturned and o.tilt_end_rad < 1.5 for o in outs),
+            "slide_max_m": max(o.slide_max_m for o in outs),
+            "twist_max_deg": math.degrees(max(o.twist_max_rad for o in outs))}
 
 
 def why(row: dict) -> str:

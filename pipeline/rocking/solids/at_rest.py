@@ -91,13 +91,10 @@ def rest_through(ax, ay, az, k, n_sub, n, threshold, g, hist, tilt, lean):
 @jit_inline
 def set_down(v, w, q, x, r, z0, impulses, pose):
     """A body found at rest on its base: still, set down as it stood (its heading and place kept), its next motion
-    from no impulse; True (it rests)."""
-    v[:] = 0.0
-    w[:] = 0.0
+    from no impulse (:func:`set_still`); True (it rests)."""
     headed(heading(r, pose.x_ref), pose.q_rest, q)
     x[2] = z0
-    impulses[:] = 0.0
-    return True
+    return set_still(v, w, impulses)
 
 
 @jit_inline

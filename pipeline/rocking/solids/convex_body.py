@@ -98,8 +98,8 @@ def support_threshold(arms, n, mu):
 def inscribed(points, n, z_keep, tol):
     """The distance [m] from the origin to the nearest edge of the convex hull, seen from above, of the first ``n``
     ``points`` at or below the height ``z_keep`` (``tol`` [m]: points this near a line are on it); 0 where the origin
-    is not inside that hull."""
-    nearest = math.inf
+    is not inside that hull, or the points span no area (a line: an edge holds nothing)."""
+    nearest, spanned = math.inf, False
     for i in range(n):
         if points[i, 2] > z_keep:
             continue
@@ -128,5 +128,6 @@ def inscribed(points, n, z_keep, tol):
                 origin = ex * (-points[i, 1]) - ey * (-points[i, 0])      # the origin's side, times the length
                 if side != 0 and origin * side < 0.0:
                     return 0.0
+                spanned = spanned or side != 0
                 nearest = min(nearest, abs(origin) / length)
-    return nearest if math.isfinite(nearest) else 0.0
+    return nearest if spanned else 0.0

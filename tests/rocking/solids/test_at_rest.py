@@ -48,6 +48,7 @@ def test_the_threshold_of_a_triangle_is_its_nearest_edge_over_the_height():
 @pytest.mark.parametrize("xy", [
     [(0.1, -0.1), (0.5, -0.1), (0.3, 0.3)],     # G's foot outside the triangle
     [(-0.2, 0.0), (0.2, 0.0)],                  # an edge: no inside
+    [(-0.2, 0.1), (0.0, 0.1), (0.2, 0.1)],      # three on a line beside G's foot: an edge still
 ])
 def test_contacts_that_cannot_hold_the_body_give_no_threshold(xy):
     assert support_threshold(_arms(xy, 0.3), len(xy), 2.0) == 0.0
