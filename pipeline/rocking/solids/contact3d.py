@@ -56,6 +56,9 @@ where it lies, against the threshold of the polygon those contacts span (:mod:`.
 come to rest there and the run ends. On 984 runs of the granite rocks on their shake-table tests this left every
 verdict as it was and integrated 12 % fewer steps, 43 % fewer on the runs that overturn (docs/validation.md).
 
+A run kept for its verdict only (a convex body's draws and margin scan) stops once the record has ended where the
+body's energy shows it can never tilt as far as an overturning (``barrier``: :mod:`.tip_barrier`).
+
 ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
 true`` the scenes they stop are handed to this model, which goes on from the exact model's last certified state
 (:mod:`.contact_scene`; a :class:`~.contact_start.Start` instead of rest).
@@ -81,10 +84,9 @@ import numpy as np
 from ...compiled import jit_inline, jit_lean
 from ...constants import G
 from .at_rest import ground_at, rest_through, set_down, set_still
-from .attitude import energy, headed, rotation, turned, world_inverse_inertia
+from .attitude import energy, rotation, turned, world_inverse_inertia
 from .contact_pose import (
     LYING_SLACK_RAD,
-    along,
     degrees,
     extent,
     lean_of,
@@ -95,10 +97,12 @@ from .contact_pose import (
 )
 from .contact_problem import MAX_SWEEPS
 from .contact_reduced import solve_step, solvers
-from .contact_start import Start, begin
+from .contact_start import Start, begin, place
 from .convex_body import ConvexBody, base_threshold, support_threshold
+from .edge_stop import handback
 from .long_steps import impact_ahead, last_passed, steps_merged
 from .near_ground import listed, near
+from .tip_barrier import NO_BARRIER, TipBarrier, below_barrier, tip_barrier
 
 #: The largest step [s]: a sampling interval is taken in the fewest equal steps of at most this.
 MAX_STEP_S = 5e-4
@@ -223,7 +227,7 @@ class Contact3DOutcome(NamedTuple):
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
                        g_ms2: float = G, history: bool = False, start: Start | None = None,
-                       edges: np.ndarray | None = None) -> Contact3DOutcome:
+                       edges: np.ndarray | None = None, barrier: TipBarrier = NO_BARRIER) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
@@ -231,7 +235,10 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     (pairs of vertex indices, shape (k, 2); a pair (i, i) the vertex i alone), the run stops at the first sample of
     the record after a whole sampling interval turning on them without slipping, the vertices of one pair loaded and
     sticking, every other vertex without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and
-    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`)."""
+    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`). With ``barrier``
+    (:func:`overturn_barrier` of the body), once the record has ended the run stops where the body's energy shows it
+    can never tilt as far as an overturning: for runs that keep only the verdict (it stands; its steps, tilt at the
+    end and ``t_end_s`` are where it stopped, and its largest tilt is the one reached until then)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
@@ -243,10 +250,20 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
                solvers(len(body.vertices)), hist, stance, room,
-               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub))
+               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub),
+               barrier)
     if out.edge >= 0:
         out = out._replace(q_end=room.q.copy(), rate_end_rad_s=room.w.copy())
     return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
+
+
+def overturn_barrier(body: ConvexBody) -> TipBarrier:
+    """What ``body`` needs to tilt as far as the contact model's overturning (:class:`~.contact_pose.Pose`'s
+    ``toppled``: its smallest static tipping angle, or lying on a side), from its standing pose
+    (:func:`~.tip_barrier.tip_barrier`)."""
+    stance = pose(np.ascontiguousarray(body.vertices, dtype=float), body.rest, body.tipping_rad)
+    return tip_barrier(stance.standing, np.asarray(body.inertia, dtype=float), stance.toppled,
+                       tipping_rad=math.atan(base_threshold(stance.standing, math.inf)))
 
 
 def steps_per_sample(dt_s: float) -> int:
@@ -383,67 +400,6 @@ def _still(v, w, size):
 
 
 @jit_inline
-def _start(room, vertices, z0, yaw, pose, begin):
-    """The body standing still on its base at ``yaw`` [rad], G at height ``z0``, or (``begin.k`` >= 0) turned to
-    ``begin.q`` at the rate ``begin.w`` about its non-slipping ``begin.pivot`` with its lowest vertex on the ground
-    and that point where it stood; no impulse yet: its place, orientation, velocity and rate (``room``'s arrays)."""
-    room.contact[0][:, :] = 0.0
-    x, q, v, w, r = room.x, room.q, room.v, room.w, room.r
-    x[0], x[1], x[2] = 0.0, 0.0, z0
-    headed(yaw, pose.q_rest, q)
-    v[:] = 0.0
-    w[:] = 0.0
-    if begin.k < 0:
-        return x, q, v, w
-    rotation(q, r)                                      # where the pivot stood
-    p0, p1 = along(r, begin.pivot, 0), along(r, begin.pivot, 1)
-    for i in range(4):
-        q[i] = begin.q[i]
-    for i in range(3):
-        w[i] = begin.w[i]
-    rotation(q, r)
-    a0, a1, a2 = along(r, begin.pivot, 0), along(r, begin.pivot, 1), along(r, begin.pivot, 2)
-    x[0], x[1], x[2] = p0 - a0, p1 - a1, -lowest(vertices, r)
-    v[0], v[1], v[2] = a1 * w[2] - a2 * w[1], a2 * w[0] - a0 * w[2], a0 * w[1] - a1 * w[0]   # (R pivot) x w
-    return x, q, v, w
-
-
-@jit_inline
-def _on_edge(impulses, edges, mu):
-    """The pair of ``edges`` that alone carries the last step's impulses (every other vertex none), each of its two
-    with a normal impulse inside its friction cone (sticking: |P_t| < mu P_n), or the pair (i, i) where the vertex i
-    alone carries them so; -1 where none."""
-    loaded, first, second = 0, -1, -1
-    for i in range(impulses.shape[0]):
-        if impulses[i, 0] != 0.0 or impulses[i, 1] != 0.0 or impulses[i, 2] != 0.0:
-            if impulses[i, 2] <= 0.0 or math.hypot(impulses[i, 0], impulses[i, 1]) >= mu * impulses[i, 2]:
-                return -1
-            loaded += 1
-            first, second = (i, second) if first < 0 else (first, i)
-    if loaded == 1:
-        second = first
-    elif loaded != 2:
-        return -1
-    for e in range(edges.shape[0]):
-        if (edges[e, 0] == first and edges[e, 1] == second) or (edges[e, 0] == second and edges[e, 1] == first):
-            return e
-    return -1
-
-
-@jit_inline
-def _handback(impulses, edges, mu, stuck, counts, at_sample, n_sub, span):
-    """The steps in a row turning on a pair of ``edges`` without slipping (:func:`_on_edge`), this one (``span``
-    steps taken as one) included where it ``counts`` (a step during the record, whole or in parts: the impulses of its
-    last part; else none), and the edge where that reaches a whole sampling interval (``n_sub`` steps) ``at_sample``
-    (-1: not yet)."""
-    if not counts or edges.shape[0] == 0:
-        return 0, -1
-    on = _on_edge(impulses, edges, mu)
-    stuck = stuck + span if on >= 0 else 0
-    return stuck, on if stuck >= n_sub and at_sample else -1
-
-
-@jit_inline
 def _aloft(n_c, vertices, r, z_g, flight, aloft, after_flight):
     """Whether the body has flown, and its fine steps left after a flight: :data:`AFTER_FLIGHT_S` worth
     (``after_flight`` steps) from a step without contact that left it clear of the ground (:func:`_clear_of_ground`),
@@ -503,20 +459,18 @@ def _energy_now(q, r, v, w, inertia, x, g):
 
 
 @jit_lean
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge, tip):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``, taken as
-    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest on its base or on another
-    face where the certificate allows (:func:`~.at_rest.rest_through`; ``held``: its threshold), else stepped
-    (:func:`_advance`), to lying on a side or resting after the record; its tilt and lean at the samples into
-    ``hist`` (the outcome's without it); with ``edges``, to where it turns on one without slipping
-    (:func:`_handback`), its state left in ``room``."""
+    :func:`_stepping` says) and after it until it rests, :data:`TAIL_S` or its energy is below the ``tip`` barrier
+    (:func:`~.tip_barrier.below_barrier`): held at rest on its base or a face where :func:`~.at_rest.rest_through`
+    allows (``held``: its threshold), else stepped (:func:`_advance`); its tilt and lean at the samples into ``hist``;
+    with ``edges``, to where it turns on one without slipping (:func:`~.edge_stop.handback`)."""
     size, z0, threshold, fine_low, fine_high = _bounds(pose.standing, mu)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
-    x, q, v, w = _start(room, vertices, z0, yaw, pose, begin)
-    resting, edge, stuck, h, n = begin.k < 0, -1, 0, dt / n_sub, ax.size
+    x, q, v, w = place(room, vertices, z0, yaw, pose, begin)
+    resting, edge, stuck, h, n, flags, capped, t_over = begin.k < 0, -1, 0, dt / n_sub, ax.size, 0, 0, math.nan
     aloft, after_flight, held, tilt_held, lean_held = 0, int(AFTER_FLIGHT_S / h), threshold, 0.0, math.nan
-    tilt_max, slide_max, twist_max, energy_gain = begin.tilt_max, 0.0, 0.0, 0.0
-    overturned, flight, flags, capped, t_over = False, False, 0, 0, math.nan
+    tilt_max, slide_max, twist_max, energy_gain, overturned, flight = begin.tilt_max, 0.0, 0.0, 0.0, False, False
     t, k, tail_steps, integrated, sweeps, lo = begin.t, max(begin.k, 0), int(TAIL_S / h), 0, 0, begin.lo
     tilt, lean_peak, tilt_before, t_beyond, steps = begin.tilt, begin.lean_peak, begin.tilt, math.nan, k
     while True:
@@ -533,6 +487,8 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
                 continue
         during = k < (n - 1) * n_sub
         e_before = 0.0 if during else _energy_now(q, r, v, w, inertia, x, g)   # checked after the record
+        if not during and below_barrier(e_before, tilt, g, h, tip, (n - 1) * n_sub + tail_steps - k):
+            break                                   # it stands: it can never tilt beyond the barrier's angle
         parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v, w, contact[5], h)
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work, lo, float(span))
@@ -552,7 +508,7 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             if not during:
                 break
         t_beyond, tilt_before = last_passed(t_step, t, tilt_before, tilt, pose.toppled, t_beyond), tilt
-        stuck, edge = _handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub, span)
+        stuck, edge = handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub, span)
         if edge >= 0:
             break
         if not resting and n_c >= 3 and _still(v, w, size):     # at rest on three contacts or more, off its base

@@ -17,7 +17,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .attitude import rotation_matrix
+from ...compiled import jit_inline
+from .attitude import headed, rotation, rotation_matrix
+from .contact_pose import along, lowest
 
 
 class Start(NamedTuple):
@@ -86,3 +88,30 @@ def begin(start: Start | None, h: float, dt: float, up: np.ndarray, hist: np.nda
                 hist[:last + 1, col] = np.asarray(series, dtype=float)[:last + 1]
     return Begin(k, lo, q, np.asarray(start.rate_rad_s, dtype=float), np.asarray(start.pivot_m, dtype=float), tilt,
                   max(float(start.tilt_max_rad), tilt), float(start.lean_at_peak_rad), float(start.t_s))
+
+
+@jit_inline
+def place(room, vertices, z0, yaw, pose, start):
+    """Where the kernel's run starts (``start``: :func:`begin`'s), into ``room``'s arrays (:mod:`.contact3d`): the
+    body standing still on its base at ``yaw`` [rad], G at height ``z0``, or (``start.k`` >= 0) turned to
+    ``start.q`` at the rate ``start.w`` about its non-slipping ``start.pivot`` with its lowest vertex on the ground
+    and that point where it stood; no impulse yet: its place, orientation, velocity and rate."""
+    room.contact[0][:, :] = 0.0
+    x, q, v, w, r = room.x, room.q, room.v, room.w, room.r
+    x[0], x[1], x[2] = 0.0, 0.0, z0
+    headed(yaw, pose.q_rest, q)
+    v[:] = 0.0
+    w[:] = 0.0
+    if start.k < 0:
+        return x, q, v, w
+    rotation(q, r)                                      # where the pivot stood
+    p0, p1 = along(r, start.pivot, 0), along(r, start.pivot, 1)
+    for i in range(4):
+        q[i] = start.q[i]
+    for i in range(3):
+        w[i] = start.w[i]
+    rotation(q, r)
+    a0, a1, a2 = along(r, start.pivot, 0), along(r, start.pivot, 1), along(r, start.pivot, 2)
+    x[0], x[1], x[2] = p0 - a0, p1 - a1, -lowest(vertices, r)
+    v[0], v[1], v[2] = a1 * w[2] - a2 * w[1], a2 * w[0] - a0 * w[2], a0 * w[1] - a1 * w[0]   # (R pivot) x w
+    return x, q, v, w
