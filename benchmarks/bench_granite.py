@@ -237,7 +237,7 @@ def rocks_3d(data: Path, mu: float) -> dict[str, Rock3D]:
 #: Each worker's drawn bodies of each rock, draw k's under :func:`~pipeline.uncertainty.sampling.common_normals`
 #: (the same draws for every test, as ``screen`` draws the same for every record): a stretched hull's tipping angle
 #: is a search, done once per draw and rock in a worker rather than once per test
-_DRAWN: dict[str, dict[int, convex3d.Drawn]] = {}
+_DRAWN: dict[str, dict[int, ConvexBody]] = {}
 
 
 def _one_test_3d(job) -> list[dict]:

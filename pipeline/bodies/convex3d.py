@@ -12,9 +12,7 @@ otherwise it is judged at every yaw of a :data:`YAW_STEP_DEG` grid, in turn, unt
 overturned first, then the largest tilt). **Probabilities**: each draw of the declared uncertainty (amplitude, the
 body's width and height about G, friction; :func:`~pipeline.uncertainty.two_sided.draw_factors`) is one run, at the
 worst yaw (``p_overturn``) and, where the yaw is not known, at the grid's yaws in turn (``p_random_orientation``: the
-draws cycle over the grid), each for its verdict only (after the record it stops where the body's energy shows it
-can no longer overturn: :func:`~pipeline.rocking.solids.contact3d.overturn_barrier`). The restitution draw does not
-apply: the contacts are plastic (Housner's rule at a
+draws cycle over the grid). The restitution draw does not apply: the contacts are plastic (Housner's rule at a
 pivot). **Margins**: the first factor on the record that overturns the body at the worst yaw in the upward scan of
 :func:`~.factor_sweep.factor_sweep` (steps of ``margin_step``), from the factor at which the ground's demand first
 reaches the at-rest threshold min(mu, tan alpha_min) (:func:`~pipeline.rocking.solids.convex_body.base_threshold`).
@@ -36,10 +34,9 @@ from ..rocking.codes import Verdict
 from ..rocking.orientation import Orientation, PlaneResult
 from ..rocking.scene import Physics, Scene
 from ..rocking.settings import SimulationConfig
-from ..rocking.solids.contact3d import Contact3DOutcome, overturn_barrier, pose, simulate_contact3d
+from ..rocking.solids.contact3d import Contact3DOutcome, pose, simulate_contact3d
 from ..rocking.solids.contact_scene import outcome_scene
 from ..rocking.solids.convex_body import ConvexBody, base_threshold
-from ..rocking.solids.tip_barrier import NO_BARRIER, TipBarrier
 from ..uncertainty.orientations import NOT_EVALUATED_ORIENTATION, OrientationProbability, one_plane
 from ..uncertainty.sampling import common_normals
 from ..uncertainty.scenes import Probability, sample_until_decided
@@ -128,20 +125,11 @@ def tipping_angle(body: ConvexBody) -> float:
 
 
 def run(fr: Frame, body: ConvexBody, yaw_deg: float, *, g_ms2: float, amplitude: float = 1.0,
-        history: bool = False, barrier: TipBarrier = NO_BARRIER) -> Contact3DOutcome:
-    """One run of the contact model: the body at ``yaw_deg`` under the record times ``amplitude`` (with ``barrier``,
-    :func:`~pipeline.rocking.solids.contact3d.overturn_barrier`'s: for the verdict only)."""
+        history: bool = False) -> Contact3DOutcome:
+    """One run of the contact model: the body at ``yaw_deg`` under the record times ``amplitude``."""
     av = None if fr.av is None else amplitude * np.asarray(fr.av, dtype=float)
     return simulate_contact3d(amplitude * fr.ax, amplitude * fr.ay, av, fr.dt_s, body, yaw_deg=yaw_deg, g_ms2=g_ms2,
-                              history=history, barrier=barrier)
-
-
-class Drawn(NamedTuple):
-    """A draw's stretched body and what it needs to overturn (:func:`~pipeline.rocking.solids.contact3d.
-    overturn_barrier`)."""
-
-    body: ConvexBody
-    barrier: TipBarrier
+                              history=history)
 
 
 def judge(fr: Frame, body: ConvexBody, *, g_ms2: float, amplitude: float = 1.0) -> Judged:
@@ -165,20 +153,17 @@ def _lean_deg(fr: Frame, out: Contact3DOutcome) -> float:
     return (fr.x_deg - out.lean_at_peak_deg) % 360.0 if out.tilt_max_rad > 0.0 else math.nan
 
 
-def yaw_draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, drawn: dict[int, Drawn], *,
-              family: ConvexBodies, settings: UncertaintyConfig, g_ms2: float) -> Probability:
+def yaw_draws(fr: Frame, shape: BlockShape, z: np.ndarray, yaws: np.ndarray, drawn: dict[int, ConvexBody], *,
+           family: ConvexBodies, settings: UncertaintyConfig, g_ms2: float) -> Probability:
     """The probability of overturning over the draws ``z``, draw k at ``yaws[k % len(yaws)]``, stopped by the sequential
     rule (:func:`~pipeline.uncertainty.scenes.sample_until_decided`); each draw's stretched body (its tipping angle
-    costs a search over the hull) is kept in ``drawn`` under k, for the other draws of the same k. A draw keeps only
-    its verdict: after the record it stops where the body's energy shows it stands (``barrier`` of :func:`run`)."""
+    costs a search over the hull) is kept in ``drawn`` under k, for the other draws of the same k."""
     def judge_draws(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
         for k in range(sl.start, sl.stop):
             f = draw_factors(z[k], settings)
             if k not in drawn:
-                body = family.body_of(shape, width=f.width, height=f.height, friction=f.friction)
-                drawn[k] = Drawn(body, overturn_barrier(body))
-            out = run(fr, drawn[k].body, float(yaws[k % len(yaws)]), g_ms2=g_ms2, amplitude=f.amplitude,
-                      barrier=drawn[k].barrier)
+                drawn[k] = family.body_of(shape, width=f.width, height=f.height, friction=f.friction)
+            out = run(fr, drawn[k], float(yaws[k % len(yaws)]), g_ms2=g_ms2, amplitude=f.amplitude)
             verdicts[k] = Verdict.overturns if out.overturned else Verdict.stands
             runs[k] = 1 if out.integrated_steps else 0
 
@@ -197,7 +182,7 @@ def scene(on: OnRecord, shape: BlockShape, block: Block, direction_deg: float, *
     orient = NOT_EVALUATED_ORIENTATION
     if on.base is not None and on.draws is not None:
         unc = setup.uncertainty
-        drawn: dict[int, Drawn] = {}
+        drawn: dict[int, ConvexBody] = {}
         worst = yaw_draws(fr, shape, on.draws[0], np.array([j.yaw_deg]), drawn, family=bodies, settings=unc,
                        g_ms2=setup.g_ms2)
         if fr.given:
@@ -224,14 +209,13 @@ def _first_lift(fr: Frame, body: ConvexBody, g_ms2: float) -> float:
 def margin(fr: Frame, body: ConvexBody, yaw_deg: float, *, settings: SimulationConfig, g_ms2: float,
            overturns_at_one: bool | None = None) -> tuple[float, int]:
     """The first factor of the upward scan (:func:`~.factor_sweep.factor_sweep`) that overturns the body at
-    ``yaw_deg``, and the runs (each for its verdict only: ``barrier`` of :func:`run`)."""
+    ``yaw_deg``, and the runs."""
     first = _first_lift(fr, body, g_ms2)
     if not math.isfinite(first):
         return math.inf, 0
-    barrier = overturn_barrier(body)
 
     def verdict_at(factor: float) -> int:
-        return int(run(fr, body, yaw_deg, g_ms2=g_ms2, amplitude=factor, barrier=barrier).overturned)
+        return int(run(fr, body, yaw_deg, g_ms2=g_ms2, amplitude=factor).overturned)
 
     return factor_sweep(first, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 

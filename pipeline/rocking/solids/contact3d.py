@@ -56,9 +56,6 @@ where it lies, against the threshold of the polygon those contacts span (:mod:`.
 come to rest there and the run ends. On 984 runs of the granite rocks on their shake-table tests this left every
 verdict as it was and integrated 12 % fewer steps, 43 % fewer on the runs that overturn (docs/validation.md).
 
-A run kept for its verdict only (a convex body's draws and margin scan) stops once the record has ended where the
-body's energy shows it can never tilt as far as an overturning (``barrier``: :mod:`.tip_barrier`).
-
 ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
 true`` the scenes they stop are handed to this model, which goes on from the exact model's last certified state
 (:mod:`.contact_scene`; a :class:`~.contact_start.Start` instead of rest).
@@ -102,7 +99,6 @@ from .convex_body import ConvexBody, base_threshold, support_threshold
 from .edge_stop import handback
 from .long_steps import impact_ahead, last_passed, steps_merged
 from .near_ground import listed, near
-from .tip_barrier import NO_BARRIER, TipBarrier, below_barrier, tip_barrier
 
 #: The largest step [s]: a sampling interval is taken in the fewest equal steps of at most this.
 MAX_STEP_S = 5e-4
@@ -227,7 +223,7 @@ class Contact3DOutcome(NamedTuple):
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
                        g_ms2: float = G, history: bool = False, start: Start | None = None,
-                       edges: np.ndarray | None = None, barrier: TipBarrier = NO_BARRIER) -> Contact3DOutcome:
+                       edges: np.ndarray | None = None) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
@@ -235,10 +231,7 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     (pairs of vertex indices, shape (k, 2); a pair (i, i) the vertex i alone), the run stops at the first sample of
     the record after a whole sampling interval turning on them without slipping, the vertices of one pair loaded and
     sticking, every other vertex without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and
-    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`). With ``barrier``
-    (:func:`overturn_barrier` of the body), once the record has ended the run stops where the body's energy shows it
-    can never tilt as far as an overturning: for runs that keep only the verdict (it stands; its steps, tilt at the
-    end and ``t_end_s`` are where it stopped, and its largest tilt is the one reached until then)."""
+    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
@@ -250,20 +243,10 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
                solvers(len(body.vertices)), hist, stance, room,
-               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub),
-               barrier)
+               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub))
     if out.edge >= 0:
         out = out._replace(q_end=room.q.copy(), rate_end_rad_s=room.w.copy())
     return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
-
-
-def overturn_barrier(body: ConvexBody) -> TipBarrier:
-    """What ``body`` needs to tilt as far as the contact model's overturning (:class:`~.contact_pose.Pose`'s
-    ``toppled``: its smallest static tipping angle, or lying on a side), from its standing pose
-    (:func:`~.tip_barrier.tip_barrier`)."""
-    stance = pose(np.ascontiguousarray(body.vertices, dtype=float), body.rest, body.tipping_rad)
-    return tip_barrier(stance.standing, np.asarray(body.inertia, dtype=float), stance.toppled,
-                       tipping_rad=math.atan(base_threshold(stance.standing, math.inf)))
 
 
 def steps_per_sample(dt_s: float) -> int:
@@ -459,12 +442,12 @@ def _energy_now(q, r, v, w, inertia, x, g):
 
 
 @jit_lean
-def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge, tip):
+def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``, taken as
-    :func:`_stepping` says) and after it until it rests, :data:`TAIL_S` or its energy is below the ``tip`` barrier
-    (:func:`~.tip_barrier.below_barrier`): held at rest on its base or a face where :func:`~.at_rest.rest_through`
-    allows (``held``: its threshold), else stepped (:func:`_advance`); its tilt and lean at the samples into ``hist``;
-    with ``edges``, to where it turns on one without slipping (:func:`~.edge_stop.handback`)."""
+    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest on its base or on another
+    face where :func:`~.at_rest.rest_through` allows (``held``: its threshold), else stepped (:func:`_advance`); its
+    tilt and lean at the samples into ``hist``; with ``edges``, to where it turns on one without slipping
+    (:func:`~.edge_stop.handback`)."""
     size, z0, threshold, fine_low, fine_high = _bounds(pose.standing, mu)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = place(room, vertices, z0, yaw, pose, begin)
@@ -487,8 +470,6 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
                 continue
         during = k < (n - 1) * n_sub
         e_before = 0.0 if during else _energy_now(q, r, v, w, inertia, x, g)   # checked after the record
-        if not during and below_barrier(e_before, tilt, g, h, tip, (n - 1) * n_sub + tail_steps - k):
-            break                                   # it stands: it can never tilt beyond the barrier's angle
         parts, span = _stepping(tilt, fine_low, fine_high, aloft, merge, k, lo, vertices, r, x, v, w, contact[5], h)
         n_c, taken, capped_now = _advance(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, ax, ay, az, k,
                                           n_sub, during, parts, work, lo, float(span))
