@@ -36,6 +36,9 @@ of block it has: it asks the registry for the first model that claims the block 
 ``shared_warmups``
     Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder, the box and the
     scanned body in 3D), called once per warm-up whichever of those models it selects.
+``draws_warmups``
+    Optional: warm-ups of kernels only its draws call (the probabilities under the declared uncertainty), made only
+    for a run that samples.
 ``versus_planar``
     Optional: how ``screen bench`` compares it with the planar model it replaces (:class:`VersusPlanar`).
 ``stops``
@@ -289,3 +292,4 @@ class BodyModel:
     versus_planar: VersusPlanar | None = None
     shared_warmups: tuple[Callable[[], None], ...] = ()
     stops: tuple[Stops, ...] = ()
+    draws_warmups: tuple[Callable[[], None], ...] = ()

@@ -206,9 +206,13 @@ def planar_pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig,
 
 
 def warmup() -> None:
-    """The planar scene models' kernels and the sampled kernels of the probabilities, each on a tiny scene."""
+    """The planar scene models' kernels, each on a tiny scene."""
     for model in scene_models.MODELS:           # the registry as it stands
         model.warmup()
+
+
+def draws_warmup() -> None:
+    """The sampled kernels of the probabilities (the planar draws), on a tiny scene with and without a vertical."""
     a = 3.0 * np.sin(2.0 * np.pi * np.linspace(0.0, 2.0, 201))
     one = np.ones(1)
     out = np.zeros(1, dtype=np.int64)
@@ -232,4 +236,5 @@ def _always(shape: BlockShape, settings: SimulationConfig) -> bool:
 
 #: The planar body model: every block no other model claims.
 PLANAR = BodyModel(name="planar", physics=(), claims=_everywhere, may_claim=_always, scene=planar_scene,
-                   margins=planar_margins, scale=planar_scale, pulse=planar_pulse, warmup=warmup)
+                   margins=planar_margins, scale=planar_scale, pulse=planar_pulse, warmup=warmup,
+                   draws_warmups=(draws_warmup,))

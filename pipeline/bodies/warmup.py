@@ -24,7 +24,8 @@ REPEAT_S = 2.0
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: Iterable[BlockShape] | None = None,
-                    settings: SimulationConfig | None = None, share: tuple[int, int] = (0, 1)) -> float:
+                    settings: SimulationConfig | None = None, sampling: bool = True,
+                    share: tuple[int, int] = (0, 1)) -> float:
     """Call the compiled kernels of every body model of the registry (:data:`.registry.BODIES`) once on a tiny
     scene; return the seconds it took.
 
@@ -39,6 +40,10 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
         without a cylinder never compiles the cylinder's kernel (about 10 s on a fresh install).
     settings : SimulationConfig, optional
         The run's simulator settings, which choose between some models (``scanned_model``); default: the defaults.
+    sampling : bool
+        Whether the run samples (probabilities under the declared uncertainty): only then are the kernels only the
+        draws call warmed up (the models' ``draws_warmups``: the planar draws' are about half the compilation of a
+        fresh install).
     share : (int, int)
         ``(k, n)``: make the warm-up calls at positions k, k + n, k + 2n, ... of those of the selected models (each
         model's own, then the kernels they share, each once), so that n processes started together each compile a
@@ -49,9 +54,11 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
         return 0.0
     k, n = share
     models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
-    # each model's own kernels, then the kernels some of them share, each once (dict keeps the order)
+    # each model's own kernels, then the kernels some of them share, then the draws' where the run samples, each
+    # once (dict keeps the order)
     own = [m.warmup for m in models if m.warmup is not None]
-    calls = list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups]))[k::n]
+    draws = [f for m in models for f in m.draws_warmups] if sampling else []
+    calls = list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups] + draws))[k::n]
     compiles = CompileCounter()
 
     def tell(elapsed_s: float) -> None:

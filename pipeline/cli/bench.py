@@ -47,7 +47,7 @@ def cmd_bench(args: argparse.Namespace, argv: list[str]) -> int:
     from ..run.accuracy import markdown, run_bench
 
     config, inventory = _config_and_inventory(args)
-    _compile_simulator(args, inventory, config.simulation_settings())
+    _compile_simulator(args, inventory, config)
     with _ticking(args.quiet) as say:
         bench = run_bench(_records_dir(args.records), inventory, config, out_dir=args.out,
                           settings_sweep=not args.tiers_only, progress=say)

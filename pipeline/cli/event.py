@@ -75,7 +75,7 @@ def cmd_event(args: argparse.Namespace, argv: list[str]) -> int:
     n = _workers(args)
     if args.records is not None:
         _records_dir(args.records)
-        _compile_simulator(args, inventory, config.simulation_settings())
+        _compile_simulator(args, inventory, config)
     out = screen_event(EventRequest(args.shakemap, inventory, args.fragility, args.out, config,
                                     uncertainty=args.uncertainty, sites=args.sites, k_sigma=args.k_sigma,
                                     shakemap_scale=args.shakemap_scale, records=args.records,

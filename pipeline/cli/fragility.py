@@ -90,7 +90,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     hazard, component = _hazard_and_component(args)
     n = _workers(args)
     if config.fidelity.tier != "criterion":
-        _compile_simulator(args, inventory, config.simulation_settings())
+        _compile_simulator(args, inventory, config)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
                                hazard=hazard, component=component,
                                level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),

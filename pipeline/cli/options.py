@@ -181,10 +181,11 @@ def _say(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def _compile_simulator(args: argparse.Namespace, inventory, settings) -> None:
+def _compile_simulator(args: argparse.Namespace, inventory, config) -> None:
     """Compile the simulator in this process before the workers start (announced when it takes a while: the
     first run of an install): the kernels of the models that may judge a block of the inventory under the
-    simulator's ``settings``."""
+    configuration's simulator settings, and their draws' where it samples."""
     from ..run.stages import compile_simulator
 
-    compile_simulator(inventory, settings=settings, announce=None if getattr(args, "quiet", False) else _say)
+    compile_simulator(inventory, settings=config.simulation_settings(), sampling=config.sampling,
+                      announce=None if getattr(args, "quiet", False) else _say)

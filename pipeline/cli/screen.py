@@ -110,7 +110,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
 
     preflight(records_dir, args.out)             # an empty --records or an unwritable --out: said at once
     if config.fidelity.tier != "criterion":
-        _compile_simulator(args, inventory, config.simulation_settings())
+        _compile_simulator(args, inventory, config)
 
     request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
                             config=config, out_dir=args.out, stationxml=args.inventory,

@@ -145,13 +145,14 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
-def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, announce=None) -> float:
+def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, sampling: bool, announce=None) -> float:
     """Compile the simulator in this process before any worker needs it: the kernels of every body model that may
-    claim a block of ``inventory`` under the simulator's ``settings`` (:func:`pipeline.bodies.warmup.compile_kernels`;
-    ``announce`` is told when it takes a while: the first run of an install); seconds taken."""
+    claim a block of ``inventory`` under the simulator's ``settings``, those of its draws only where the run
+    ``sampling`` (:func:`pipeline.bodies.warmup.compile_kernels`; ``announce`` is told when it takes a while: the
+    first run of an install); seconds taken."""
     from ..bodies.warmup import compile_kernels
 
-    return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings)
+    return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings, sampling=sampling)
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:

@@ -56,12 +56,35 @@ def test_the_shares_make_every_warm_up_once_and_a_model_without_kernels_takes_no
         return lambda: made.append(name)
 
     shared = call("shared")
-    models = [SimpleNamespace(warmup=None, shared_warmups=(shared,)),
-              SimpleNamespace(warmup=call("a"), shared_warmups=()),
-              SimpleNamespace(warmup=call("b"), shared_warmups=(shared,)),
-              SimpleNamespace(warmup=call("c"), shared_warmups=())]
+    models = [SimpleNamespace(warmup=None, shared_warmups=(shared,), draws_warmups=()),
+              SimpleNamespace(warmup=call("a"), shared_warmups=(), draws_warmups=()),
+              SimpleNamespace(warmup=call("b"), shared_warmups=(shared,), draws_warmups=()),
+              SimpleNamespace(warmup=call("c"), shared_warmups=(), draws_warmups=())]
     monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
     warmup.compile_kernels(share=(0, 2))
     first = list(made)
     warmup.compile_kernels(share=(1, 2))
     assert first == ["a", "c"] and made[len(first):] == ["b", "shared"]
+
+
+def test_a_run_without_draws_does_not_compile_the_draws_kernels(monkeypatch):
+    """The planar draws' sampled kernels (about half of a fresh install's compilation: 25 of 45 s for a box on
+    2 cores) are called by the warm-up of a run that samples, and not by one with ``--samples 0``, which never
+    calls them (its scenes are the planar scene models')."""
+    from pipeline.bodies import planar
+    from pipeline.compiled import HAVE_NUMBA
+    from pipeline.rocking.block import BlockShape
+
+    if not HAVE_NUMBA:
+        return
+    called: list[str] = []
+
+    def recorder(name):
+        return lambda *args: called.append(name)
+
+    monkeypatch.setattr(planar, "kernels", lambda: (recorder("sample_verdicts"), recorder("sample_plane_outcomes")))
+    box = [BlockShape(height_m=3.0, width_m=1.5, mu=0.5)]
+    warmup.compile_kernels(shapes=box, sampling=False)
+    assert called == []
+    warmup.compile_kernels(shapes=box, sampling=True)
+    assert set(called) == {"sample_verdicts", "sample_plane_outcomes"}
