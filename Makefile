@@ -53,16 +53,13 @@ constrain-demo: $(VENV)/.installed
 	    --hazard-branches examples/constrain/openquake --out results/constrain
 
 # the simulator is compiled (or loaded from numba's cache) once before the two test workers start, not by each,
-# in two processes at once, each warming up every other model of the registry;
+# in two processes at once, each taking the next kernel not yet taken (pipeline/bodies/compile_share.py);
 # a test file's tests stay on one worker (--dist loadfile), so a module's shared screenings run once, not on each
 # worker (169 s against 211-222 s for the suite, measured)
 test: $(VENV)/.installed-test browser
-	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 90 s the first time)"
-	@$(PYTHON) tools/ticking.py "compiling the simulator" -- sh -c '\
-	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(share=(0, 2))" \
-	& pid=$$!; \
-	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(share=(1, 2))" \
-	&& wait $$pid'
+	@echo "compiling the simulator for the tests, or loading it from numba's cache (about 80 s the first time)"
+	@$(PYTHON) tools/ticking.py "compiling the simulator" -- \
+	$(BIN)/python -c "from pipeline.bodies.warmup import compile_kernels as c; c(helpers=1)"
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not slow and not soak" $(PYTEST_ARGS)
 
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured

@@ -1,9 +1,10 @@
-"""Compile the simulator once, in one process, before any worker needs it.
+"""Compile the simulator once, before any worker needs it.
 
 numba compiles the kernels on their first call and keeps them on disk (``cache=True``), so only the first run
 of an install pays for it. :func:`compile_kernels` makes that first call on a tiny scene, in the calling
-process, so that the workers of a run load the compiled kernels instead of each compiling them, and so that
-the caller can say what is happening.
+process (with helper processes taking some of the calls where it compiles: :mod:`.compile_share`), so that the
+workers of a run load the compiled kernels instead of each compiling them, and so that the caller can say what is
+happening.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from ..rocking.block import BlockShape
 from ..rocking.settings import SimulationConfig
 from ..ticker import Ticker
 from . import registry
+from .compile_share import SharedCalls, take
 
 #: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
 #: lines while it goes on.
@@ -25,7 +27,7 @@ REPEAT_S = 2.0
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: Iterable[BlockShape] | None = None,
                     settings: SimulationConfig | None = None, sampling: bool = True,
-                    share: tuple[int, int] = (0, 1)) -> float:
+                    helpers: int = 0) -> float:
     """Call the compiled kernels of every body model of the registry (:data:`.registry.BODIES`) once on a tiny
     scene; return the seconds it took.
 
@@ -44,28 +46,26 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
         Whether the run samples (probabilities under the declared uncertainty): only then are the kernels only the
         draws call warmed up (the models' ``draws_warmups``: the planar draws' are about half the compilation of a
         fresh install).
-    share : (int, int)
-        ``(k, n)``: make the warm-up calls at positions k, k + n, k + 2n, ... of those of the selected models (each
-        model's own, then the kernels they share, each once), so that n processes started together each compile a
-        share (numba caches each function on disk on its own).
+    helpers : int
+        Processes that may take warm-up calls beside this one once it is compiling (a first run; a cache that loads
+        starts none): each call is made by whichever process is free (:mod:`.compile_share`), then this process
+        makes the calls it did not make itself, loading what the helpers compiled.
     """
     t0 = time.perf_counter()
     if not HAVE_NUMBA:
         return 0.0
-    k, n = share
-    models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
-    # each model's own kernels, then the kernels some of them share, then the draws' where the run samples, each
-    # once (dict keeps the order)
-    own = [m.warmup for m in models if m.warmup is not None]
-    draws = [f for m in models for f in m.draws_warmups] if sampling else []
-    calls = list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups] + draws))[k::n]
+    shapes = None if shapes is None else list(shapes)
+    shared = SharedCalls(warmup_calls(shapes, settings, sampling), helpers=helpers, target=_helper,
+                         args=(shapes, settings, sampling))
     compiles = CompileCounter()
 
     def tell(elapsed_s: float) -> None:
+        started = shared.start_helpers() if compiles.n else 0          # a first run: compile beside helpers
         if announce is None:
             return
         if not ticker.spoke:
-            announce("compiling the simulator (numba, once per install; later runs load it from disk) ..."
+            where = f", in {started + 1} processes" if started else ""
+            announce(f"compiling the simulator (numba, once per install{where}; later runs load it from disk) ..."
                      if compiles.n else "loading the simulator (numba's cache on disk) ...")
         else:
             announce(f"{'compiling' if compiles.n else 'loading'} the simulator ... {elapsed_s:.0f} s")
@@ -73,12 +73,29 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
     ticker = Ticker(tell, every_s=REPEAT_S, first_after_s=ANNOUNCE_AFTER_S)      # bound before its thread starts
     with ticker:
         with compiles.listening():
-            for call in calls:
-                call()
+            shared.run_here()
     elapsed = time.perf_counter() - t0
     if ticker.spoke and announce is not None:
         announce(f"{'compiled' if compiles.n else 'loaded'} the simulator in {elapsed:.0f} s")
     return elapsed
+
+
+def warmup_calls(shapes: list[BlockShape] | None, settings: SimulationConfig | None,
+                 sampling: bool) -> list[Callable[[], None]]:
+    """The warm-up calls of :func:`compile_kernels` (its parameters), in order: each selected model's own, then the
+    kernels some of them share, then the draws' where the run samples, each once."""
+    models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
+    own = [m.warmup for m in models if m.warmup is not None]
+    draws = [f for m in models for f in m.draws_warmups] if sampling else []
+    return list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups] + draws))
+
+
+def _helper(shapes, settings, sampling, claims, who: int) -> None:
+    """A helper process of :func:`compile_kernels`: the same warm-up calls, each taken when free
+    (:func:`.compile_share.take`) until none is left."""
+    calls = warmup_calls(shapes, settings, sampling)
+    while (i := take(claims, who)) >= 0:
+        calls[i]()
 
 
 class CompileCounter:

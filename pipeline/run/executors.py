@@ -234,6 +234,11 @@ def default_workers() -> int:
         if n < 1:
             raise UsageError(f"{WORKERS_ENV}={value!r}: expected a positive integer (the default of -n)")
         return n
+    return available_cores()
+
+
+def available_cores() -> int:
+    """The cores this process may run on."""
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux

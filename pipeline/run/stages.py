@@ -145,14 +145,16 @@ def package_versions() -> str:
     return json.dumps(out, sort_keys=True)
 
 
-def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, sampling: bool, announce=None) -> float:
+def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, sampling: bool, announce=None,
+                      processes: int = 1) -> float:
     """Compile the simulator in this process before any worker needs it: the kernels of every body model that may
     claim a block of ``inventory`` under the simulator's ``settings``, those of its draws only where the run
     ``sampling`` (:func:`pipeline.bodies.warmup.compile_kernels`; ``announce`` is told when it takes a while: the
-    first run of an install); seconds taken."""
+    first run of an install), with ``processes`` - 1 helpers where it compiles; seconds taken."""
     from ..bodies.warmup import compile_kernels
 
-    return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings, sampling=sampling)
+    return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings, sampling=sampling,
+                           helpers=max(0, processes - 1))
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:

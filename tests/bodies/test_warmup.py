@@ -40,10 +40,9 @@ def test_the_counter_sees_a_compilation_and_not_a_call_of_compiled_code():
     assert compiled >= 1 and counter.n == compiled
 
 
-def test_the_shares_make_every_warm_up_once_and_a_model_without_kernels_takes_no_share(monkeypatch):
-    """Two processes' shares: each model's own warm-up and each shared one exactly once between them; a model whose
-    kernels are all shared (warmup None, as the scanned body in 3D) adds no call, so the calls alternate as if it
-    were not there."""
+def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monkeypatch):
+    """Each model's own warm-up, then each shared one, each exactly once; a model whose kernels are all shared
+    (warmup None, as the scanned body in 3D) adds no call."""
     from types import SimpleNamespace
 
     from pipeline.compiled import HAVE_NUMBA
@@ -61,10 +60,8 @@ def test_the_shares_make_every_warm_up_once_and_a_model_without_kernels_takes_no
               SimpleNamespace(warmup=call("b"), shared_warmups=(shared,), draws_warmups=()),
               SimpleNamespace(warmup=call("c"), shared_warmups=(), draws_warmups=())]
     monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
-    warmup.compile_kernels(share=(0, 2))
-    first = list(made)
-    warmup.compile_kernels(share=(1, 2))
-    assert first == ["a", "c"] and made[len(first):] == ["b", "shared"]
+    warmup.compile_kernels()
+    assert made == ["a", "b", "c", "shared"]
 
 
 def test_a_run_without_draws_does_not_compile_the_draws_kernels(monkeypatch):
@@ -88,3 +85,63 @@ def test_a_run_without_draws_does_not_compile_the_draws_kernels(monkeypatch):
     assert called == []
     warmup.compile_kernels(shapes=box, sampling=True)
     assert set(called) == {"sample_verdicts", "sample_plane_outcomes"}
+
+
+def test_helpers_take_the_calls_each_once_and_the_caller_ends_holding_every_one(tmp_path):
+    """Calls of 0.3 s, one helper started at once: each call is taken by exactly one process, the helper takes some
+    (it is free while the caller makes one), and the caller then makes every call it did not make itself (each
+    loading what a helper compiled), so that it ends holding all of them."""
+    import os
+
+    from shared_calls import calls, helper, made_by
+
+    from pipeline.bodies.compile_share import SharedCalls
+
+    log, n = tmp_path / "made.txt", 12
+    shared = SharedCalls(calls(log, n, 0.3), helpers=1, target=helper, args=(log, n, 0.3))
+    assert shared.start_helpers() == 1 and shared.start_helpers() == 0          # once
+    shared.run_here()
+    made = made_by(log)
+    here = [i for i, p in made if p == os.getpid()]
+    there = [i for i, p in made if p != os.getpid()]
+    assert there and len(set(there)) == len(there) and len(there) < n      # the helper took some, each once
+    taken_here, loaded_here = here[:len(here) - len(there)], here[len(here) - len(there):]
+    assert not set(taken_here) & set(there)                                # no call taken by both
+    assert loaded_here == sorted(there)                                    # then made here: held here
+    assert sorted(here) == list(range(n))
+    assert shared.made_here == set(range(n))
+
+
+def test_a_helper_that_took_no_call_is_ended_and_none_starts_after_the_end(tmp_path):
+    """Calls quicker than a helper starts (a warm cache): the caller takes them all, ends the helper, which never
+    made one, and starts none after the end."""
+    import time
+
+    from shared_calls import calls, helper
+
+    from pipeline.bodies.compile_share import SharedCalls
+
+    log = tmp_path / "made.txt"
+    shared = SharedCalls(calls(log, 3, 0.0), helpers=1, target=helper, args=(log, 3, 0.0))
+    shared.start_helpers()
+    t0 = time.monotonic()
+    shared.run_here()
+    assert time.monotonic() - t0 < 5.0
+    assert shared.made_here == {0, 1, 2} and not shared._processes[0].is_alive()
+    assert shared.start_helpers() == 0
+
+
+def test_screen_compiles_with_a_helper_for_each_worker_beyond_the_first_on_the_cores_it_has(kocaeli, tmp_path,
+                                                                                              monkeypatch):
+    """``-n 1`` compiles in its one process; ``-n 2`` with one helper where two cores are there (none on one)."""
+    from pipeline.cli import main
+    from pipeline.run.executors import available_cores
+
+    seen: list[int] = []
+    monkeypatch.setattr(warmup, "compile_kernels", lambda **kw: seen.append(kw["helpers"]) or 0.0)
+    blocks = tmp_path / "b.csv"
+    blocks.write_text("id,height_m,width_m,mu\nA,1.0,0.25,0.7\n")
+    for n in (1, 2):
+        assert main(["--records", str(kocaeli), "--blocks", str(blocks), "--out", str(tmp_path / f"out{n}"),
+                     "--samples", "0", "-n", str(n), "-q"]) == 0
+    assert seen == [0, min(2, available_cores()) - 1]

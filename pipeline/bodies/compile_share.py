@@ -1,0 +1,131 @@
+"""The warm-up calls of a first run shared with helper processes, each call taken by whichever process is free.
+
+numba compiles a kernel on its first call and caches it on disk, each function on its own, so processes started
+together can each compile some of the kernels. A fresh install's warm-up is a list of calls of very unequal cost
+(the planar rocking kernel with a vertical alone takes about a third of it), so the calls are not dealt out in
+advance: each process takes the next call not yet taken, from one counter under a lock, until none is left. The
+calling process takes calls too; its helpers are started only once it is compiling (a warm cache loads every kernel
+in well under a second, less than a helper takes to start), are spawned (a fresh interpreter: nothing of the caller's
+threads or state), and a helper that has taken no call when the list runs out is ended. The caller then makes every
+call it did not make itself: each loads the kernel a helper compiled (or compiles it, where a helper failed), so that
+the calling process holds every kernel, as without helpers.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import threading
+from collections.abc import Callable, Sequence
+from typing import Final
+
+#: How helpers are started: a fresh interpreter (neither fork, which would copy the caller's threads, nor the
+#: process pool's forkserver, whose modules are set when the pool starts it).
+START_METHOD: Final = "spawn"
+
+log = logging.getLogger(__name__)
+
+
+class SharedCalls:
+    """A list of warm-up calls taken one at a time by the calling process and up to ``helpers`` helpers.
+
+    Parameters
+    ----------
+    calls : sequence of callables
+        The warm-up calls, in order.
+    helpers : int
+        Helper processes to start (:meth:`start_helpers`); 0: the caller makes every call.
+    target : callable
+        What a helper runs: ``target(*args, claims, who)`` (a module-level function, as spawn requires), which
+        makes the same list of calls and takes them with :func:`take` until it returns -1.
+    args : tuple
+        The arguments the helper's ``target`` needs to make that list, passed before the claims.
+    """
+
+    def __init__(self, calls: Sequence[Callable[[], None]], *, helpers: int, target: Callable[..., None],
+                 args: tuple = ()) -> None:
+        self.calls, self.helpers, self.target, self.args = list(calls), max(0, int(helpers)), target, args
+        #: the shared claims once helpers start (the next call not taken, its lock, per helper whether it is making
+        #: a call, the number of calls); before, the next call is counted here alone
+        self.claims: tuple | None = None
+        self._next = 0
+        self._processes: list = []
+        self._guard = threading.Lock()          # the ticker's thread starts the helpers, the caller takes calls
+        self._ended = False
+        self.made_here: set[int] = set()
+
+    def start_helpers(self) -> int:
+        """Start the helpers (once; not after :meth:`finish`, nor in a helper or a process being spawned); how many
+        were started. A helper that cannot be started is left out: the caller makes its calls."""
+        with self._guard:
+            if self._ended or self._processes or self.helpers == 0 or multiprocessing.parent_process() is not None:
+                return 0
+            ctx = multiprocessing.get_context(START_METHOD)
+            self.claims = (ctx.Value("i", self._next, lock=False), ctx.Lock(), ctx.Array("b", self.helpers,
+                                                                                          lock=False), len(self.calls))
+            for who in range(self.helpers):
+                p = ctx.Process(target=self.target, args=(*self.args, self.claims, who), daemon=True)
+                try:
+                    p.start()
+                except (OSError, RuntimeError) as exc:       # no process to spare, or a main module not guarded
+                    log.debug("no helper to compile with: %s", exc)
+                    break
+                self._processes.append(p)
+            return len(self._processes)
+
+    def _take_here(self) -> int:
+        """The next call for this process (-1: none left)."""
+        with self._guard:
+            if self.claims is not None:
+                return take(self.claims, -1)
+            if self._next >= len(self.calls):
+                return -1
+            self._next += 1
+            return self._next - 1
+
+    def run_here(self) -> None:
+        """Make calls in this process until none is left to take, then :meth:`finish`."""
+        while (i := self._take_here()) >= 0:
+            self.calls[i]()
+            self.made_here.add(i)
+        self.finish()
+
+    def finish(self) -> None:
+        """No call is taken any more; wait for the helpers making one, end the others, then make here every call
+        not made here (each loads what a helper compiled)."""
+        with self._guard:
+            self._ended = True
+            if self.claims is not None:
+                next_call, lock, busy, n = self.claims
+                with lock:
+                    next_call.value = n
+                    making = [bool(busy[k]) for k in range(len(self._processes))]
+                for p, still in zip(self._processes, making):
+                    if not still:
+                        p.terminate()
+                    p.join()
+        for i, call in enumerate(self.calls):
+            if i not in self.made_here:
+                call()
+                self.made_here.add(i)
+
+    @property
+    def started(self) -> int:
+        """Helpers started."""
+        return len(self._processes)
+
+
+def take(claims, who: int) -> int:
+    """The index of the next call not yet taken (-1 when none is left); ``who`` >= 0, a helper, is marked as making
+    it (or as idle when none is left)."""
+    next_call, lock, busy, n = claims
+    with lock:
+        i = next_call.value
+        if i >= n:
+            if who >= 0:
+                busy[who] = 0
+            return -1
+        next_call.value = i + 1
+        if who >= 0:
+            busy[who] = 1
+        return i
