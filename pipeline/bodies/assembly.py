@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from ..assemblies.stack import StackPlace, interfaces, uplift_ratios
+from ..assemblies.stack import StackBody, StackPlace, interfaces, uplift_ratios
 from ..assemblies.stack_scene import AT_REST, body_history, body_scene, body_verdict, stack_blocks, stack_run
 from ..constants import G
 from ..rocking.block import Block, BlockShape
@@ -165,18 +165,25 @@ def pulse(shape: BlockShape, block: Block, *, settings: SimulationConfig, g_ms2:
     return judge
 
 
-def warmup() -> None:
-    """The two-block run and the kernel that continues the lower block alone, and the n-block run, on tiny stacks
-    that let their top fall."""
-    from ..assemblies.stack import StackBody
+def _warm_stacks(*bodies: StackBody) -> None:
+    """The stack of ``bodies`` judged on a tiny record that lets its top fall, with and without a vertical."""
     from ..assemblies.stack_scene import judge
 
-    base, top = StackBody(0.6, 0.6, 1.0, 0.6), StackBody(0.1, 0.8, 0.2, 0.6)
     t = np.linspace(0.0, 1.0, 101)
-    for bodies in ((base, top), (base, StackBody(0.4, 0.3, 0.5, 0.6), top)):
-        place = StackPlace(bodies, 0, tuple(f"b{k}" for k in range(len(bodies))))
-        for av in (None, 0.1 * np.sin(2.0 * np.pi * t)):
-            judge(stack_blocks(place), 6.0 * np.sin(2.0 * np.pi * t), 0.01, av_ms2=av)
+    place = StackPlace(bodies, 0, tuple(f"b{k}" for k in range(len(bodies))))
+    for av in (None, 0.1 * np.sin(2.0 * np.pi * t)):
+        judge(stack_blocks(place), 6.0 * np.sin(2.0 * np.pi * t), 0.01, av_ms2=av)
+
+
+def warmup() -> None:
+    """The two-block run and the kernel that continues the lower block alone, on a tiny stack that lets its top
+    fall."""
+    _warm_stacks(StackBody(0.6, 0.6, 1.0, 0.6), StackBody(0.1, 0.8, 0.2, 0.6))
+
+
+def _n_block_warmup() -> None:
+    """The n-block run, on a tiny stack of three that lets its top fall."""
+    _warm_stacks(StackBody(0.6, 0.6, 1.0, 0.6), StackBody(0.4, 0.3, 0.5, 0.6), StackBody(0.1, 0.8, 0.2, 0.6))
 
 
 def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig) -> bool:
@@ -190,6 +197,6 @@ def _may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
 #: The stack model: every body of a stack, on any record.
 STACK = BodyModel(
     name="stack", physics=(Physics.stack,), claims=_claims, may_claim=_may_claim, scene=stack_scene,
-    margins=stack_margins, scale=scale, pulse=pulse, warmup=warmup,
+    margins=stack_margins, scale=scale, pulse=pulse, warmup=warmup, part_warmups=(_n_block_warmup,),
     stops=(Stops((Physics.stack,), "the stack's model met the ground falling faster than gravity, or a cap on its "
                  "steps, its impacts or its free motion after the record (it leaves out sliding and flight)"),))

@@ -82,10 +82,11 @@ def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: It
 
 def warmup_calls(shapes: list[BlockShape] | None, settings: SimulationConfig | None,
                  sampling: bool) -> list[Callable[[], None]]:
-    """The warm-up calls of :func:`compile_kernels` (its parameters), in order: each selected model's own, then the
-    kernels some of them share, then the draws' where the run samples, each once."""
+    """The warm-up calls of :func:`compile_kernels` (its parameters), in order: each selected model's own (its
+    ``warmup``, then its ``part_warmups``), then the kernels some of them share, then the draws' where the run
+    samples, each once."""
     models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
-    own = [m.warmup for m in models if m.warmup is not None]
+    own = [f for m in models for f in ((m.warmup,) if m.warmup is not None else ()) + m.part_warmups]
     draws = [f for m in models for f in m.draws_warmups] if sampling else []
     return list(dict.fromkeys(own + [f for m in models for f in m.shared_warmups] + draws))
 

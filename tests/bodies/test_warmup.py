@@ -41,8 +41,8 @@ def test_the_counter_sees_a_compilation_and_not_a_call_of_compiled_code():
 
 
 def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monkeypatch):
-    """Each model's own warm-up, then each shared one, each exactly once; a model whose kernels are all shared
-    (warmup None, as the scanned body in 3D) adds no call."""
+    """Each model's own warm-ups (its warmup, then its parts), then each shared one, each exactly once; a model whose
+    kernels are all shared (warmup None, as the scanned body in 3D) adds no call."""
     from types import SimpleNamespace
 
     from pipeline.compiled import HAVE_NUMBA
@@ -55,13 +55,14 @@ def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monk
         return lambda: made.append(name)
 
     shared = call("shared")
-    models = [SimpleNamespace(warmup=None, shared_warmups=(shared,), draws_warmups=()),
-              SimpleNamespace(warmup=call("a"), shared_warmups=(), draws_warmups=()),
-              SimpleNamespace(warmup=call("b"), shared_warmups=(shared,), draws_warmups=()),
-              SimpleNamespace(warmup=call("c"), shared_warmups=(), draws_warmups=())]
+    models = [SimpleNamespace(warmup=None, part_warmups=(), shared_warmups=(shared,), draws_warmups=()),
+              SimpleNamespace(warmup=call("a"), part_warmups=(), shared_warmups=(), draws_warmups=()),
+              SimpleNamespace(warmup=call("b"), part_warmups=(call("b2"),), shared_warmups=(shared,),
+                              draws_warmups=()),
+              SimpleNamespace(warmup=call("c"), part_warmups=(), shared_warmups=(), draws_warmups=())]
     monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
     warmup.compile_kernels()
-    assert made == ["a", "b", "c", "shared"]
+    assert made == ["a", "b", "b2", "c", "shared"]
 
 
 def test_a_run_without_draws_does_not_compile_the_draws_kernels(monkeypatch):
