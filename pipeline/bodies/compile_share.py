@@ -9,14 +9,22 @@ in well under a second, less than a helper takes to start), are spawned (a fresh
 threads or state), and a helper that has taken no call when the list runs out is ended. The caller then makes every
 call it did not make itself: each loads the kernel a helper compiled (or compiles it, where a helper failed), so that
 the calling process holds every kernel, as without helpers.
+
+A spawned process imports the caller's main module before it runs (Python's multiprocessing does, unless the module
+is a package's ``__main__``): a program that does not keep its work under ``if __name__ == "__main__":`` would run
+again in the helper. Helpers are therefore started only where that cannot happen (:func:`spawn_safe`); elsewhere the
+caller compiles alone, as it would without helpers.
 """
 
 from __future__ import annotations
 
 import logging
 import multiprocessing
+import re
+import sys
 import threading
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Final
 
 #: How helpers are started: a fresh interpreter (neither fork, which would copy the caller's threads, nor the
@@ -24,6 +32,26 @@ from typing import Final
 START_METHOD: Final = "spawn"
 
 log = logging.getLogger(__name__)
+#: The guard that keeps a program's work from running when its module is imported.
+_MAIN_GUARD = re.compile(r"""^\s*if\s+__name__\s*==\s*['"]__main__['"]\s*:""", re.MULTILINE)
+
+
+def spawn_safe() -> bool:
+    """Whether a spawned process can start without running this program again: its main module is a package's
+    ``__main__`` (``python -m``; multiprocessing does not import it again), has no file (``python -c``, an
+    interactive session), or guards its work with ``if __name__ == "__main__":`` (as the console scripts pip writes
+    do)."""
+    main = sys.modules.get("__main__")
+    name = getattr(getattr(main, "__spec__", None), "name", None)
+    if name is not None and (name == "__main__" or name.endswith(".__main__")):
+        return True
+    path = getattr(main, "__file__", None)
+    if path is None:
+        return name is None
+    try:
+        return bool(_MAIN_GUARD.search(Path(path).read_text(encoding="utf-8", errors="replace")))
+    except OSError:
+        return False
 
 
 class SharedCalls:
@@ -58,7 +86,8 @@ class SharedCalls:
         """Start the helpers (once; not after :meth:`finish`, nor in a helper or a process being spawned); how many
         were started. A helper that cannot be started is left out: the caller makes its calls."""
         with self._guard:
-            if self._ended or self._processes or self.helpers == 0 or multiprocessing.parent_process() is not None:
+            if (self._ended or self._processes or self.helpers == 0 or multiprocessing.parent_process() is not None
+                    or not spawn_safe()):
                 return 0
             ctx = multiprocessing.get_context(START_METHOD)
             self.claims = (ctx.Value("i", self._next, lock=False), ctx.Lock(), ctx.Array("b", self.helpers,

@@ -1,6 +1,9 @@
-"""The simulator is compiled once in the calling process, and a compilation that takes a while is announced."""
+"""The simulator is compiled once before the workers start (with helper processes on a first run), and a compilation
+that takes a while is announced."""
 
 from __future__ import annotations
+
+import pytest
 
 from pipeline.bodies import warmup
 
@@ -146,3 +149,27 @@ def test_screen_compiles_with_a_helper_for_each_worker_beyond_the_first_on_the_c
         assert main(["--records", str(kocaeli), "--blocks", str(blocks), "--out", str(tmp_path / f"out{n}"),
                      "--samples", "0", "-n", str(n), "-q"]) == 0
     assert seen == [0, min(2, available_cores()) - 1]
+
+
+@pytest.mark.parametrize("how, expected", [("script with the guard", True), ("script without it", False),
+                                           ("python -c", True), ("package's __main__", True),
+                                           ("module without the guard, -m", False)])
+def test_helpers_start_only_where_the_program_would_not_run_again_in_them(tmp_path, how, expected):
+    """A spawned helper imports the caller's main module (unless it is a package's ``__main__``), so a program
+    without ``if __name__ == "__main__":`` would run again in it: there no helper starts and the caller compiles
+    alone."""
+    import subprocess
+    import sys
+
+    code = "from pipeline.bodies.compile_share import spawn_safe\nprint(spawn_safe())\n"
+    guarded = "if __name__ == '__main__':\n" + "".join(f"    {line}\n" for line in code.splitlines())
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "__init__.py").write_text("")
+    (tmp_path / "pkg" / "__main__.py").write_text(code)
+    (tmp_path / "plain.py").write_text(code)
+    (tmp_path / "prog.py").write_text(guarded)
+    argv = {"script with the guard": [str(tmp_path / "prog.py")], "script without it": [str(tmp_path / "plain.py")],
+            "python -c": ["-c", code], "package's __main__": ["-m", "pkg"],
+            "module without the guard, -m": ["-m", "plain"]}[how]
+    out = subprocess.run([sys.executable, *argv], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    assert out.strip() == str(expected)
