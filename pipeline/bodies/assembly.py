@@ -197,6 +197,6 @@ def _may_claim(shape: BlockShape, settings: SimulationConfig) -> bool:
 #: The stack model: every body of a stack, on any record.
 STACK = BodyModel(
     name="stack", physics=(Physics.stack,), claims=_claims, may_claim=_may_claim, scene=stack_scene,
-    margins=stack_margins, scale=scale, pulse=pulse, warmup=warmup, part_warmups=(_n_block_warmup,),
+    margins=stack_margins, scale=scale, pulse=pulse, warmups=(warmup, _n_block_warmup),
     stops=(Stops((Physics.stack,), "the stack's model met the ground falling faster than gravity, or a cap on its "
                  "steps, its impacts or its free motion after the record (it leaves out sliding and flight)"),))

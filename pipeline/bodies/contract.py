@@ -30,12 +30,11 @@ of block it has: it asks the registry for the first model that claims the block 
     The simulated margin alone, in a given record direction (``screen bench``'s margin sweep).
 ``pulse(shape, block, *, settings, g_ms2) -> Callable[[ah_ms2, dt_s], tuple[bool, int]]``
     A judge of one-directional pulses (``screen infer``): whether the pulse overturns the block, and the runs.
-``warmup()``
-    Calls its compiled kernels once on a tiny scene, so that numba compiles them before any worker needs them
-    (None: it has no kernels of its own, only shared ones).
-``part_warmups``
-    Optional: warm-ups of more kernels of its own, each a call of its own, so that processes compiling together
-    can each take one (the stack's n-block run beside its two-block run: 19 and 17 s to compile).
+``warmups``
+    Optional: calls that each call some of its compiled kernels once on a tiny scene, so that numba compiles them
+    before any worker needs them; a call each for kernels that compile apart, so that processes compiling together
+    can each take one (the stack's two-block run and n-block run: 17 and 19 s to compile); none where it has no
+    kernels of its own, only shared ones.
 ``shared_warmups``
     Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder, the box and the
     scanned body in 3D), called once per warm-up whichever of those models it selects.
@@ -291,9 +290,8 @@ class BodyModel:
     margins: Callable[..., Margin]
     scale: Callable[..., float]
     pulse: Callable[..., PulseJudge]
-    warmup: Callable[[], None] | None
     versus_planar: VersusPlanar | None = None
     shared_warmups: tuple[Callable[[], None], ...] = ()
     stops: tuple[Stops, ...] = ()
     draws_warmups: tuple[Callable[[], None], ...] = ()
-    part_warmups: tuple[Callable[[], None], ...] = ()
+    warmups: tuple[Callable[[], None], ...] = ()

@@ -279,4 +279,4 @@ def convex_model(name: str, claims: Callable[[BlockShape, Placement, SimulationC
     return BodyModel(name=name, physics=(Physics.contact3d,), claims=claims,
                      may_claim=claims_on_two_horizontals(claims), scene=partial(scene, bodies=bodies),
                      margins=partial(margins, bodies=bodies), scale=partial(scale, bodies=bodies),
-                     pulse=partial(pulse, bodies=bodies), warmup=None, shared_warmups=(contact_warmup,))
+                     pulse=partial(pulse, bodies=bodies), shared_warmups=(contact_warmup,))

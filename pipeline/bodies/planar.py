@@ -236,5 +236,5 @@ def _always(shape: BlockShape, settings: SimulationConfig) -> bool:
 
 #: The planar body model: every block no other model claims.
 PLANAR = BodyModel(name="planar", physics=(), claims=_everywhere, may_claim=_always, scene=planar_scene,
-                   margins=planar_margins, scale=planar_scale, pulse=planar_pulse, warmup=warmup,
+                   margins=planar_margins, scale=planar_scale, pulse=planar_pulse, warmups=(warmup,),
                    draws_warmups=(draws_warmup,))

@@ -217,7 +217,7 @@ def _claims(shape: BlockShape, placement: Placement, settings: SimulationConfig)
 #: A body given by its scan, on any record, in its vertical planes (``scanned_model`` rolling or two_sided).
 SCANNED = BodyModel(name="scanned body", physics=(Physics.two_sided, Physics.rolling), claims=_claims,
                     may_claim=claims_on_two_horizontals(_claims), scene=scene, margins=scanned_margins, scale=scale,
-                    pulse=pulse, warmup=warmup,
+                    pulse=pulse, warmups=(warmup,),
                     stops=(Stops((Physics.two_sided, Physics.rolling),
                                  "a scanned body's pivot would slip or lift off, which its model does not follow",
                                  flagged_only=True),))

@@ -208,14 +208,14 @@ _box_claims, _box_may = _claims(Physics.rocking3d)
 #: A solid cylinder on two horizontals: wobbling in 3D.
 CYLINDER = BodyModel(
     name="cylinder", physics=(Physics.wobbling, Physics.contact3d), claims=_cylinder_claims,
-    may_claim=_cylinder_may, scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_cylinder_warmup,
+    may_claim=_cylinder_may, scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmups=(_cylinder_warmup,),
     shared_warmups=(contact_warmup,), stops=(Stops((Physics.wobbling,), _EXACT_3D_STOP, contact3d_decides=True),),
     versus_planar=VersusPlanar("cylinders", "3D model (one run, no orientation scan)",
                                "planar scan of the same cylinders (worst plane; vs the 3D verdicts)", _cylinder_versus))
 #: A box with a depth and an azimuth on two horizontals of known azimuth: rocking in 3D.
 BOX = BodyModel(
     name="box in 3D", physics=(Physics.rocking3d, Physics.contact3d), claims=_box_claims, may_claim=_box_may,
-    scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmup=_box_warmup,
+    scene=scene, margins=margins, scale=scale, pulse=planar_pulse, warmups=(_box_warmup,),
     shared_warmups=(contact_warmup,), stops=(Stops((Physics.rocking3d,), _EXACT_3D_STOP, contact3d_decides=True),),
     versus_planar=VersusPlanar("boxes in 3D", "3D model (one run at the box's azimuth, both horizontals)",
                                "planar scene in the plane of the width (vs the 3D verdicts)", _box_versus))

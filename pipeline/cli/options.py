@@ -186,9 +186,9 @@ def _compile_simulator(args: argparse.Namespace, inventory, config) -> None:
     first run of an install), with as many processes as the run's workers on the cores it may use: the kernels of
     the models that may judge a block of the inventory under the configuration's simulator settings, and their
     draws' where it samples."""
-    from ..run.executors import available_cores, workers
+    from ..run.executors import workers
     from ..run.stages import compile_simulator
 
-    processes = min(workers(getattr(args, "num_processes", None)), available_cores())
     compile_simulator(inventory, settings=config.simulation_settings(), sampling=config.sampling,
-                      announce=None if getattr(args, "quiet", False) else _say, processes=processes)
+                      announce=None if getattr(args, "quiet", False) else _say,
+                      workers=workers(getattr(args, "num_processes", None)))

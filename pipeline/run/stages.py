@@ -146,15 +146,17 @@ def package_versions() -> str:
 
 
 def compile_simulator(inventory: Inventory, *, settings: SimulationConfig, sampling: bool, announce=None,
-                      processes: int = 1) -> float:
+                      workers: int = 1) -> float:
     """Compile the simulator in this process before any worker needs it: the kernels of every body model that may
     claim a block of ``inventory`` under the simulator's ``settings``, those of its draws only where the run
     ``sampling`` (:func:`pipeline.bodies.warmup.compile_kernels`; ``announce`` is told when it takes a while: the
-    first run of an install), with ``processes`` - 1 helpers where it compiles; seconds taken."""
+    first run of an install), where it compiles with a helper for each of the run's ``workers`` beyond the first
+    that has a core of its own; seconds taken."""
     from ..bodies.warmup import compile_kernels
+    from .executors import available_cores
 
     return compile_kernels(announce=announce, shapes=inventory.shapes(), settings=settings, sampling=sampling,
-                           helpers=max(0, processes - 1))
+                           helpers=min(workers, available_cores()) - 1)
 
 
 def buildings_of(path: Path | None, inventory: Inventory) -> dict:

@@ -139,8 +139,7 @@ TOY_BODY = BodyModel(
     margins=lambda rec, shape, block, direction, **kw: planar_margins(rec, _wide(shape), _wide_block(shape), direction,
                                                                        **kw),
     scale=lambda rec, shape, block, plane, **kw: planar_scale(rec, _wide(shape), _wide_block(shape), plane, **kw),
-    pulse=lambda shape, block, **kw: planar_pulse(_wide(shape), _wide_block(shape), **kw),
-    warmup=lambda: None)
+    pulse=lambda shape, block, **kw: planar_pulse(_wide(shape), _wide_block(shape), **kw))
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)

@@ -98,6 +98,7 @@ def test_fall_azimuths_constrain_the_pulse_axis(tmp_path):
     assert 105.0 in axes and 0.0 not in axes
 
 
+@pytest.mark.slow                    # 16 s alone: make test-slow keeps make test under 5 min from a fresh clone
 def test_worked_example_recovers_the_pulse_it_was_made_with(tmp_path):
     """configs/colonnade-*.csv: outcomes made with a half-sine of 0.25 g, t_p = 1.4 s, axis 40 deg."""
     out = tmp_path / "infer"
@@ -168,6 +169,7 @@ def test_bad_observations_name_the_line(tmp_path, text, message, capsys):
     assert message.split(":")[0] in capsys.readouterr().err
 
 
+@pytest.mark.slow                    # 7.6 s alone: make test-slow keeps make test under 5 min from a fresh clone
 def test_a_statue_found_fallen_off_its_standing_plinth_is_inferred_with_its_stack(tmp_path):
     """Observed: the statue toppled off its plinth, the plinth standing. The simulation judges both with the stack
     (the two-block model), so every pulse it keeps leaves the plinth standing and topples the statue when the

@@ -7,7 +7,7 @@ import os
 import time
 from pathlib import Path
 
-from pipeline.bodies.compile_share import take
+from pipeline.bodies.compile_share import work_through
 
 
 def calls(log: Path, n: int, pause_s: float) -> list:
@@ -21,10 +21,8 @@ def calls(log: Path, n: int, pause_s: float) -> list:
 
 
 def helper(log: Path, n: int, pause_s: float, claims, who: int) -> None:
-    """A helper's target: the same calls, each taken when free."""
-    made = calls(log, n, pause_s)
-    while (i := take(claims, who)) >= 0:
-        made[i]()
+    """A helper's target: its share of the same calls."""
+    work_through(calls(log, n, pause_s), claims, who)
 
 
 def made_by(log: Path) -> list[tuple[int, int]]:
