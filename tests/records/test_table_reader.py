@@ -156,3 +156,74 @@ def test_the_run_reads_a_table_to_its_max_samples(tmp_path):
     sources, failures = find_records(root, config=cfg)
     assert not sources and len(failures) == 1
     assert "long.txt: more than 1,000 rows" in failures[0].reason
+
+
+def _rows_text(n: int, *, two: bool = True, seed: int = 1) -> list[str]:
+    rng = np.random.default_rng(seed)
+    return [f"{0.01 * i:.2f},{x:.7f}" if two else f"{x:.7f}" for i, x in enumerate(rng.uniform(-1, 1, n))]
+
+
+def _edge_cases() -> dict[str, tuple[bytes, str]]:
+    """Tables whose lines the block reader must take as the line-by-line reader does: the bytes, and what the file
+    gives (``rows``, or the start of the error's message after the file's name)."""
+    rows = _rows_text(20_000)
+    body = "\n".join(rows) + "\n"
+    bad, narrow = list(rows), list(rows)
+    bad[17_777], narrow[12_345] = "1.0,abc", "0.5"
+    one = "".join(f"{x}\n" for x in _rows_text(9_000, two=False))
+    return {
+        "names and two columns": (("time,acc\n" + body).encode(), "rows"),
+        "CRLF line ends": (("# units=g\n" + body).replace("\n", "\r\n").encode(), "rows"),
+        "Fortran D exponents": (("# dt_s=0.01\n" + one.replace("e", "D")).encode(), "rows"),
+        "a header line and a blank line among the rows": (("# units=g\n" + "\n".join(rows[:15_000]) + "\n# dt=1\n\n"
+                                                           + "\n".join(rows[15_000:]) + "\n").encode(), "rows"),
+        "a bad number far down": (("# units=g\n" + "\n".join(bad) + "\n").encode(), ", line 17779: '1.0,abc'"),
+        "one number where two were": (("# units=g\n" + "\n".join(narrow) + "\n").encode(), ", line 12347: '0.5'"),
+        "no newline at the end": (("# units=g\n" + body.rstrip("\n")).encode(), "rows"),
+        "separators after the last column": (("# units=g\n" + body.replace("\n", ",\n")).encode(), "rows"),
+        "a byte-order mark": (b"\xef\xbb\xbf" + ("# dt_s=0.01\n" + one).encode(), "rows"),
+        "a no-break space after each number": (("# dt_s=0.01\n" + one.replace("\n", "\xa0\n")).encode("latin-1"),
+                                               "rows"),
+        "a line of 4,095 bytes and its newline": (("# dt_s=0.01\n" + "1\n" * 100 + "2" * 4095 + "\n1\n").encode(),
+                                                  "rows"),
+        "a line of 4,096 bytes and its newline": (("# dt_s=0.01\n" + "1\n" * 100 + "2" * 4096 + "\n1\n").encode(),
+                                                  ", line 102: longer than 4,096 bytes"),
+        "a last line of 4,096 bytes": (("# dt_s=0.01\n" + "1\n" * 100 + "2" * 4096).encode(), "rows"),
+        "a last line of 4,097 bytes": (("# dt_s=0.01\n" + "1\n" * 100 + "2" * 4097).encode(),
+                                       ", line 102: longer than 4,096 bytes"),
+        "a line that never ends": (("# dt_s=0.01\n" + "1\n" * 30_000 + "3" * 200_000).encode(),
+                                   ", line 30002: longer than 4,096 bytes"),
+        "more rows than the limit": (("# dt_s=0.01\n" + "0.1\n" * 70_000).encode(), ": more than 65,000 rows"),
+    }
+
+
+@pytest.mark.parametrize("case", list(_edge_cases()))
+@pytest.mark.parametrize("packed", [False, True])
+def test_blocks_of_rows_read_as_the_same_lines_one_by_one(tmp_path, case, packed):
+    """The reader takes a block of plain rows in one pass and anything else line by line: every table reads as
+    its lines taken one by one (the same values to the bit, header, width, first line and time stamps), and a bad
+    line is refused with its own line number."""
+    from table_lines import by_blocks, by_lines
+
+    data, expected = _edge_cases()[case]
+    data = gzip.compress(data) if packed else data
+    path = tmp_path / ("t.txt.gz" if packed else "t.txt")
+    path.write_bytes(data)
+    got = by_blocks(path, max_rows=65_000)
+    assert got == by_lines(data, str(path), max_rows=65_000)
+    if expected == "rows":
+        assert got[0] == "rows" and len(got[1]) > 0
+    else:
+        assert got[0] == "error" and got[1].startswith(str(path) + expected), got[1]
+
+
+@pytest.mark.slow                       # 25 s: the 246 motions read line by line
+def test_the_granite_motions_read_as_their_lines_one_by_one():
+    """Every shake-table motion of the granite tests (246 gzip tables of 1,000-32,000 rows) reads as its lines
+    taken one at a time."""
+    from table_lines import by_blocks, by_lines
+
+    if not GRANITE.is_dir():
+        pytest.skip(f"{GRANITE} not found: the granite shake-table tests are read from ../shared (not shipped)")
+    for path in sorted(GRANITE.iterdir()):
+        assert by_blocks(path) == by_lines(path.read_bytes(), str(path)), path.name
