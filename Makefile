@@ -65,7 +65,10 @@ test: $(VENV)/.installed-test browser
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
 # figures quoted to users; the process pools against serial, 7-8 s each; and whole screen runs of 4-9 s each
 # whose check a faster test also makes on fewer files or models: every bundled file, the pulse parity through the
-# command, a model added to the registry, four of the five outputs' failed writes); CI runs them after make test
+# command, a model added to the registry, four of the five outputs' failed writes; and nine checks of 2.6-5.3 s
+# each, moved here because make test from a fresh clone, its install and compilation included, took 299 s: a
+# signal at exit, margins split into tasks, a stack's shared runs, the run layer against its stages, a fragility
+# link, the constrain page, a units.toml line, make's ticker, bench's failing record); CI runs them after make test
 test-slow: $(VENV)/.installed-test peers
 	$(BIN)/python -m pytest -n 2 -m "slow and not soak" $(PYTEST_ARGS)
 

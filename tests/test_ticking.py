@@ -7,9 +7,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 TICKING = Path(__file__).resolve().parents[1] / "tools" / "ticking.py"
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_a_silent_command_is_announced_and_its_output_and_exit_code_kept():
     out = subprocess.run([sys.executable, str(TICKING), "installing", "--", "sh", "-c",
                           "echo first; sleep 2.6; echo last; exit 3"], capture_output=True, text=True, timeout=30)

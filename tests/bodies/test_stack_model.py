@@ -167,6 +167,8 @@ def test_the_report_says_where_each_joint_opens_and_which_first(screened):
     assert rows["OUTLINE"]["stack_rule"] == "" and rows["OUTLINE"]["stack_records_failing"] == 0
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
     """The second body of a stack reads the runs the first kept (the record's memo), with the scene and the
     probability it would have computed alone; a memo never answers another stack."""

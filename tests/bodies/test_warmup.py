@@ -44,8 +44,8 @@ def test_the_counter_sees_a_compilation_and_not_a_call_of_compiled_code():
 
 
 def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monkeypatch):
-    """Each model's own warm-ups in order, then each shared one, each exactly once; a model whose kernels are all
-    shared (no warm-up of its own, as the scanned body in 3D) adds no call."""
+    """Each shared warm-up first (the longest compilations), then each model's own in order, each exactly once; a
+    model whose kernels are all shared (no warm-up of its own, as the scanned body in 3D) adds no call."""
     from types import SimpleNamespace
 
     from pipeline.compiled import HAVE_NUMBA
@@ -64,7 +64,7 @@ def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monk
               SimpleNamespace(warmups=(call("c"),), shared_warmups=(), draws_warmups=())]
     monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
     warmup.compile_kernels()
-    assert made == ["a", "b", "b2", "c", "shared"]
+    assert made == ["shared", "a", "b", "b2", "c"]
 
 
 def test_a_run_without_draws_does_not_compile_the_draws_kernels(monkeypatch):

@@ -223,6 +223,8 @@ def test_pulses_in_chunks_smaller_than_a_record_read_back_exactly(make_records, 
         np.testing.assert_array_equal(streamed[name].values, whole[name].values.astype(streamed[name].dtype))
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_run_layer_equals_the_stages_called_one_by_one(make_records, blocks_csv, config, tmp_path):
     """pipeline.run.stages orchestrates the libraries without changing a result: the same stages called by
     hand (screening, margins) give identical datasets."""

@@ -525,6 +525,8 @@ def test_markup_in_a_record_file_name_or_an_inventory_name_reaches_the_page_esca
     assert 'id="same-recordings"' in page and "<i>again<i>" not in page   # the list of one recording's files
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_the_main_report_links_a_fragility_run_in_its_default_place(screened, records_dir, tmp_path):
     """``screen fragility`` writes to OUT/fragility/ by default: the main report finds it there and links it; the
     fragility page's figures are in the unit of the levels, with the tested levels as ticks."""

@@ -735,6 +735,8 @@ def test_the_plan_reads_only_the_keys_of_the_previous_results(one_record, blocks
         xr.testing.assert_identical(small[name], whole[name])
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_a_units_toml_line_recomputes_only_the_records_it_names(make_records, blocks_csv, tmp_path, capsys):
     import re
 
@@ -850,6 +852,8 @@ def test_a_run_killed_with_sigkill_leaves_no_process_behind(records_dir, blocks_
     assert not [p for p in below if process_alive(p)]
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_margins_split_into_tasks_of_a_few_blocks_give_the_same_margins(few_records, blocks_csv, tmp_path,
                                                                        monkeypatch):
     """The margins of a record's blocks are scanned in tasks of at most MARGIN_TASK_BLOCKS blocks (so that a large
@@ -869,8 +873,9 @@ def test_margins_split_into_tasks_of_a_few_blocks_give_the_same_margins(few_reco
         open_results(whole / "histories.nc").equals(open_results(split / "histories.nc"))
 
 
-# SIGHUP's run (5-7 s) in make test-slow, with the other signals' runs: make test keeps under 5 min
-@pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGHUP, marks=pytest.mark.slow)])
+# each signal's run (5-7 s) in make test-slow, with the other signals' runs: make test keeps under 5 min
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
 def test_a_signal_after_the_report_is_written_exits_130(make_records, tmp_path, sig):
     """What a scheduler sends may arrive after the command's last line, while the interpreter winds down (here an
     exit function that takes a second, as a cluster's clean-up may): the process still ends with 130, as documented

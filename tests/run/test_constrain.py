@@ -128,6 +128,8 @@ def test_the_reweighted_curves_are_written_as_openquake_writes_them(constrained,
     assert again.weights == pytest.approx(ds["posterior_weight"].values, rel=1e-6)
 
 
+# make test keeps under 5 min from a fresh clone; CI runs it in make test-slow
+@pytest.mark.slow
 def test_the_rocks_lower_the_example_s_hazard_and_the_page_reads(constrained, tmp_path):
     ds = xr.open_dataset(constrained / "constrain.nc")
     # the branches that topple the rocks fastest lose weight: the posterior mean is lower at every target rate
