@@ -7,8 +7,9 @@ reaches -1.53 g), in four planes each; four stacks of deep boxes (a statue on it
 five drums), friction mu on the floor and mu^2 between the boxes in both engines (PyBullet combines the two bodies'
 friction as their product). For each scene the lowest box that has fallen at the first fall (none, or the box), and
 each disagreement re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's
-verdict holds in all three), and by rockscreen at 0.98 and 1.02. Prints the counts, the agreement and each
-engine's time per scene.
+verdict holds in all three), and by rockscreen at 0.98 and 1.02; where the engine overturns a box robustly,
+rockscreen's probability and class for that box under the default draws (``screen``'s, the plane a given azimuth).
+Prints the counts, the agreement and each engine's time per scene.
 
 Run: ``python benchmarks/stack_flight_peer.py [--families statue,two,three,five] [--planes 0,45,90,135]``
 (PyBullet is a test extra).
@@ -26,12 +27,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
-from rigid_body_peer import bullet_first_fall, perturbed_verdicts  # noqa: E402
-from stack_flights import MU, RHO, STACKS, first_fall, flight_records, stack  # noqa: E402
+from rigid_body_peer import NONE_FALLS, bullet_first_fall, perturbed_verdicts  # noqa: E402
+from stack_flights import MU, RHO, STACKS, drawn_class, first_fall, flight_records, stack  # noqa: E402
 
 from pipeline.assemblies.n_block_verdicts import judge_n_block  # noqa: E402
 from pipeline.records.record import project  # noqa: E402
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict  # noqa: E402
+from pipeline.uncertainty.robust import Robustness  # noqa: E402
 
 
 def main() -> None:
@@ -65,8 +67,13 @@ def main() -> None:
                 robust = perturbed_verdicts(judge) == {engine}
                 ours_robust = {first_fall(judge_n_block(nb, s * a, dt, av_ms2=s * av, mu=mu))
                                for s in (0.98, 1.02)} == {ours}
+                drawn = ""
+                if robust and engine != NONE_FALLS:
+                    prob = drawn_class(family, engine, hz, av, az0, dt, az)
+                    drawn = f"; rockscreen's box {engine} under the draws: p {prob.p:.2f}, " \
+                            f"{Robustness(prob.robustness).name if prob.robustness >= 0 else 'undetermined'}"
                 differ.append(f"{rid} @ {az:g}: rockscreen {ours} ({'' if ours_robust else 'not '}robust at 0.98 "
-                              f"and 1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine)")
+                              f"and 1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine){drawn}")
                 print("  ", family, differ[-1], flush=True)
         n = len(ours_s)
         print(f"{family}: {agree} of {n} agree ({flights} met a flight); rockscreen "

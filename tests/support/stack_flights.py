@@ -10,11 +10,15 @@ import numpy as np
 from rigid_body_peer import NONE_FALLS
 
 from pipeline.assemblies.n_block import NBlock, n_block
-from pipeline.assemblies.stack import StackBody
+from pipeline.assemblies.stack import StackBody, StackPlace
 from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.loader import iter_records
 from pipeline.rocking.codes import Verdict
+from pipeline.uncertainty.sampling import common_normals
+from pipeline.uncertainty.scenes import Probability, motion
+from pipeline.uncertainty.settings import UncertaintyConfig
+from pipeline.uncertainty.stacks import stack_probability
 
 #: each record's vertical scaled down to this below gravity [g], where MAX_SCALE allows
 VERTICAL_G = 1.2
@@ -43,11 +47,29 @@ def flight_records(records_dir: Path) -> list[tuple[str, np.ndarray, np.ndarray,
     return out
 
 
+def bodies(family: str) -> tuple[StackBody, ...]:
+    """The family's boxes as the stack's bodies, bottom first (masses of boxes of one depth), each box's friction at
+    its base: mu on the floor, mu^2 on a box, as PyBullet combines them."""
+    return tuple(StackBody(w, h, RHO * w * h, MU if k == 0 else MU * MU) for k, (w, h) in enumerate(STACKS[family]))
+
+
 def stack(family: str) -> tuple[NBlock, tuple]:
-    """The family's stack for rockscreen (masses of boxes of one depth) and each box's friction at its base: mu on
-    the floor, mu^2 on a box, as PyBullet combines them."""
-    bodies = [StackBody(w, h, RHO * w * h, MU if k == 0 else MU * MU) for k, (w, h) in enumerate(STACKS[family])]
-    return n_block(bodies), tuple(b.mu for b in bodies)
+    """The family's stack for rockscreen (:func:`bodies`) and each box's friction at its base."""
+    boxes = bodies(family)
+    return n_block(boxes), tuple(b.mu for b in boxes)
+
+
+def drawn_class(family: str, position: int, horizontal_ms2: np.ndarray, vertical_ms2: np.ndarray,
+                azimuth0_deg: float, dt_s: float, plane_deg: float) -> Probability:
+    """The probability and robustness class ``screen`` gives body ``position`` of the family's stack (0: the bottom)
+    rocking in ``plane_deg`` (a given azimuth, drawn about it) under the declared uncertainty's default draws
+    (:func:`pipeline.uncertainty.stacks.stack_probability`, the default :class:`UncertaintyConfig`)."""
+    unc = UncertaintyConfig()
+    boxes = bodies(family)
+    place = StackPlace(boxes, position, tuple(f"{family}{k}" for k in range(len(boxes))))
+    base = motion(horizontal_ms2, azimuth0_deg, vertical_ms2, dt_s)
+    return stack_probability(base, common_normals(unc.seed, unc.samples), place, plane_deg=plane_deg,
+                             given_azimuth=True, random_orientation=False, settings=unc)
 
 
 def first_fall(judged) -> int:
