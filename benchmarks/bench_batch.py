@@ -41,7 +41,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def make_records(dest: Path, n_records: int) -> int:
     """The bundled records, then AT2 copies in sub-directories until ``n_records``; returns the count."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records
+    from pipeline.records.listing import find_records
 
     shutil.copytree(ROOT / "records", dest)
     cfg = Config()

@@ -42,7 +42,7 @@ STAGES = (("pulses", "pulses_and_directions"), ("nominal scenes", "simulate_scen
 
 def _records(dest: Path, n: int) -> int:
     from pipeline.config import Config
-    from pipeline.records.loader import find_records
+    from pipeline.records.listing import find_records
 
     sources, _ = find_records(ROOT / "records", config=Config())
     picked = 0

@@ -63,7 +63,7 @@ print(n)
 def two_component_groups() -> list[list[Path]]:
     """The bundled AT2 records with two horizontals: their two horizontal files."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records
+    from pipeline.records.listing import find_records
 
     groups = []
     for src in find_records(ROOT / "records" / "peer-at2", config=Config())[0]:

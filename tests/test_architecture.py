@@ -17,7 +17,8 @@ APPLICATION = ("pipeline.cli", "pipeline.run", "pipeline.config", "pipeline.repo
 
 @pytest.mark.parametrize("library", [
     "pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline.rocking.references.reference",
-    "pipeline.records.loader", "pipeline.pulses", "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
+    "pipeline.records.loader", "pipeline.records.listing", "pipeline.records.side_files", "pipeline.records.streams",
+    "pipeline.pulses", "pipeline.criteria", "pipeline.closed_forms", "pipeline.blocks",
     "pipeline.rocking.planar.sampled", "pipeline.records.intensity", "pipeline.uncertainty.scenes",
     "pipeline.uncertainty.fragility", "pipeline.uncertainty.hazard", "pipeline.uncertainty.sampling",
     "pipeline.rocking.rules", "pipeline.rocking.block", "pipeline.records.duplicates", "pipeline.records.common",
@@ -51,7 +52,8 @@ def _loaded(library: str, prefixes: tuple[str, ...]) -> str:
 PHYSICS = ("pipeline.rocking.planner", "pipeline.rocking.orientation", "pipeline.rocking.rules",
            "pipeline.rocking.planar.sampled", "pipeline.rocking.planar.contact", "pipeline.rocking.planar.handoff",
            "pipeline.rocking.geometry", "pipeline.criteria", "pipeline.closed_forms", "pipeline.pulses",
-           "pipeline.records.loader", "pipeline.records.coordinates", "pipeline.uncertainty.scenes",
+           "pipeline.records.loader", "pipeline.records.listing", "pipeline.records.side_files",
+           "pipeline.records.streams", "pipeline.records.coordinates", "pipeline.uncertainty.scenes",
            "pipeline.uncertainty.orientations", "pipeline.uncertainty.fragility", "pipeline.uncertainty.sampling",
            "pipeline.floors.model", "pipeline.floors.motion", "pipeline.floors.buildings", "pipeline.event.assets",
            "pipeline.event.shakemap", "pipeline.event.shakecast", "pipeline.shapes.scan", "pipeline.shapes.plane",

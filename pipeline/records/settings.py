@@ -62,7 +62,7 @@ class ProcessingConfig:
 
 
 class ReaderSettings(Protocol):
-    """What :func:`pipeline.records.loader.load_record` and :func:`~pipeline.records.loader.scan` read."""
+    """What :func:`pipeline.records.loader.load_record` and :func:`~pipeline.records.listing.list_directory` read."""
 
     @property
     def records(self) -> RecordsConfig: ...

@@ -47,9 +47,10 @@ from ..config import FIDELITY_TIERS, Config
 from ..errors import RockscreenError, UsageError
 from ..floors.motion import Building
 from ..floors.standing import floor_record
-from ..records.loader import Failure, find_records, read_declared_units
-from ..records.loader import read_inventory as read_station_inventory
+from ..records.listing import Failure, find_records
 from ..records.record import Record
+from ..records.side_files import read_declared_units
+from ..records.side_files import read_inventory as read_station_inventory
 from ..rocking.planner import Physics
 from ..scene_progress import SceneProgress
 from ..scene_table import SCENE, SceneColumns

@@ -40,7 +40,8 @@ from ..config import Config
 from ..errors import RockscreenError
 from ..floors.buildings import floor_groups, place_blocks
 from ..floors.motion import describe
-from ..records.loader import Failure, Listing, RecordSource, list_directory, read_declared_units, units_toml_lines
+from ..records.listing import Failure, Listing, RecordSource, list_directory, units_toml_lines
+from ..records.side_files import read_declared_units
 from ..records.units import declared_units_for
 from ..risk import scenes_without_verdict
 from ..rocking.block import ShapeKind
@@ -286,7 +287,7 @@ class BatchOutcome:
     cache : SceneCache or None
         The scene cache (its margin cache is used by the margins stage; pruned after the write).
     sources : dict
-        Record id -> :class:`~pipeline.records.loader.RecordSource` of this run.
+        Record id -> :class:`~pipeline.records.listing.RecordSource` of this run.
     context : Context
         The tasks' shared context.
     """
@@ -323,7 +324,7 @@ def run(records_dir: str | Path, inventory: Inventory, config: Config, *, out_di
     progress : callable, optional
         ``progress(iterable, total)`` wrapping the stream of finished tasks.
     listing : Listing, optional
-        The directory's scan when the caller has it (:func:`~pipeline.records.loader.list_directory`).
+        The directory's scan when the caller has it (:func:`~pipeline.records.listing.list_directory`).
     buildings : dict, optional
         Building id -> :class:`~pipeline.floors.motion.Building`, for blocks on a floor.
 

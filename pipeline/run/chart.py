@@ -282,8 +282,8 @@ class ChartRequest:
 def write_chart(request: ChartRequest, *, progress=None) -> tuple[Path, Path, float]:
     """Build, write and draw a stability chart (:func:`stability_chart`, with the simulated boundary when asked
     and the records' pulses as points); the netCDF, the figure and the block's transition period [s]."""
-    from ..records.loader import read_declared_units
-    from ..records.loader import read_inventory as read_station_inventory
+    from ..records.side_files import read_declared_units
+    from ..records.side_files import read_inventory as read_station_inventory
     from ..report.stability_plot import plot_stability_chart
     from ..store import open_results, write_atomic
     from .batch import run

@@ -4,11 +4,11 @@ The commands differ in what a record's task computes and in how its result is ca
 the rest, which lives here: the tasks ordered with the largest records first, run on an executor, with the
 workers' scene progress shown beside the progress bar. A task that returns a :class:`~pipeline.errors.TaskFailure`
 (``screen fragility``'s) and a worker the executor lost both come back as one value, a
-:class:`~pipeline.records.loader.Failure` that names the record and its files. ``screen``'s task returns its
+:class:`~pipeline.records.listing.Failure` that names the record and its files. ``screen``'s task returns its
 record's failed row instead (the row goes into ``screening.nc``), built from the same value
 (:func:`~pipeline.run.screening.failed_result`).
 
-A run goes: scan the directory once (:func:`~pipeline.records.loader.list_directory`), then
+A run goes: scan the directory once (:func:`~pipeline.records.listing.list_directory`), then
 :meth:`RecordJobs.run`, the one record-job loop of ``screen``, ``screen fragility`` and the margins stage: each job
 looked up in the command's cache, the rest run on the executor under one failure policy (:class:`Guarded`: any
 exception a task raises comes back as a :class:`~pipeline.errors.TaskFailure`, and a lost worker as one too), every
@@ -26,14 +26,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import RockscreenError, TaskFailure
-from ..records.loader import Failure, RecordSource
+from ..records.listing import Failure, RecordSource
 from ..scene_progress import SceneProgress, running
 
 log = logging.getLogger(__name__)
 
 
 def largest_first(tasks: list[tuple]) -> list[tuple]:
-    """The tasks (each a tuple whose first item is its :class:`~pipeline.records.loader.RecordSource`) by
+    """The tasks (each a tuple whose first item is its :class:`~pipeline.records.listing.RecordSource`) by
     decreasing size of their records' files: the longest records start first, so that no worker is left with a
     long record while the others idle (measured on the bundled records with 2 workers: the nominal run 10.2 s in
     scan order, 7.7-8.1 s largest first)."""
@@ -152,11 +152,11 @@ class RecordJobs:
             done: Callable[[tuple, Any, bool], None], failed: Callable[[tuple, Failure], None],
             cached: Callable[[tuple], Any] | None = None) -> JobCounts:
         """Run the jobs (each a tuple whose first item is its record's
-        :class:`~pipeline.records.loader.RecordSource`), the largest records first.
+        :class:`~pipeline.records.listing.RecordSource`), the largest records first.
 
         ``cached(job)`` answers a job from the command's cache (None: compute it); ``done(job, result, reused)``
         collects each result as it arrives (a cached one with ``reused`` True); ``failed(job, failure)`` each
-        :class:`~pipeline.records.loader.Failure` (the task's own, under :class:`Guarded`, or a lost worker's).
+        :class:`~pipeline.records.listing.Failure` (the task's own, under :class:`Guarded`, or a lost worker's).
         """
         counts = JobCounts()
         todo = []

@@ -20,7 +20,9 @@ from ..blocks import Inventory
 from ..config import Config
 from ..errors import RockscreenError
 from ..records.coordinates import distance_km
-from ..records.loader import find_records, read_inventory, station_of
+from ..records.listing import find_records
+from ..records.loader import station_of
+from ..records.side_files import read_inventory
 from ..scene_table import SCENE
 from .stages import ScreenRequest, screen
 

@@ -28,7 +28,7 @@ from ..blocks import Inventory
 from ..config import Config
 from ..errors import UsageError
 from ..records.intensity import COMPONENT_IMS
-from ..records.loader import list_directory
+from ..records.listing import list_directory
 from ..uncertainty.hazard import Component, HazardSet
 from .fragility_assembly import ORIENTATIONS, assemble_fragility, fits_probabilities, stripe_warnings
 from .fragility_levels import auto_stripes
@@ -93,7 +93,8 @@ def fragility(request: FragilityRequest, *, progress=None, say=None) -> dict:
     dict
         Counts, paths and warnings for the closing summary.
     """
-    from ..records.loader import files_sha256, read_inventory, stationxml_paths
+    from ..records.listing import files_sha256
+    from ..records.side_files import read_inventory, stationxml_paths
     from ..report.fragility_html import build_fragility_report
     from ..store import Family, OutputLock, publish_staged, write_atomic
     from ..store.exports import left_out, write_exports

@@ -26,7 +26,8 @@ from ..constants import STATE_DIR
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..records.intensity import record_measures, scale_factors
-from ..records.loader import Failure, Listing, list_directory, read_declared_units
+from ..records.listing import Failure, Listing, list_directory
+from ..records.side_files import read_declared_units
 from ..rocking.scene import Response
 from ..scene_table import SCENE
 from ..uncertainty.hazard import Component
@@ -206,7 +207,7 @@ def run_stripes(records_dir: Path, inventory: Inventory, config: Config, *, im: 
     results : list of dict
         Per record (sorted by id): ``verdict`` and ``p`` (levels, blocks), ``factor``, ``im.<name>``.
     failures : list of Failure
-        The records that produced no stripes (:class:`~pipeline.records.loader.Failure`: from the scan, from
+        The records that produced no stripes (:class:`~pipeline.records.listing.Failure`: from the scan, from
         their task, or from a lost worker).
     counts : dict
         ``records_computed``, ``records_reused``, ``wall_time_s``.

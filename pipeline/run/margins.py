@@ -52,7 +52,7 @@ from ..bodies.contract import Placement
 from ..bodies.registry import body_model
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
-from ..records.loader import Failure, RecordSource
+from ..records.listing import Failure, RecordSource
 from ..risk import P_RELOCATE, p_with_unknown
 from ..scene_table import SCENE
 from ..schema import HISTORY_SERIES, apply_schema

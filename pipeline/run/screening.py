@@ -30,7 +30,8 @@ from ..errors import PulseError, TaskFailure
 from ..floors.buildings import place_blocks
 from ..floors.standing import FloorMotions
 from ..pulses import analyze
-from ..records.loader import Failure, RecordSource, load_record
+from ..records.listing import Failure, RecordSource
+from ..records.loader import load_record
 from ..records.record import Record
 from ..risk import RELOCATE_BELOW_SCALE
 from ..rocking.block import Block

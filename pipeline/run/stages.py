@@ -24,8 +24,9 @@ from ..blocks import Inventory
 from ..config import Config
 from ..constants import REFERENCE_PAPER
 from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
-from ..records.loader import files_sha256, list_directory, read_declared_units, stationxml_paths
-from ..records.loader import read_inventory as read_station_inventory
+from ..records.listing import files_sha256, list_directory
+from ..records.side_files import read_declared_units, stationxml_paths
+from ..records.side_files import read_inventory as read_station_inventory
 from ..report.html import build_report
 from ..rocking.settings import SimulationConfig
 from ..store import (

@@ -177,7 +177,9 @@ def test_the_bodies_of_a_stack_share_its_runs_and_nothing_else(records_dir):
 
     from pipeline.bodies.assembly import stack_scene
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record, read_declared_units
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
+    from pipeline.records.side_files import read_declared_units
     from pipeline.run.screening import on_record
 
     cfg = Config()

@@ -119,7 +119,8 @@ def test_inventory_flag_supplies_the_response(make_records, blocks_csv, tmp_path
 
 def test_processing_history_is_reproducible(make_records, config):
     """obspy's history names the StationXML inventory with a memory address; two loads must read the same."""
-    from pipeline.records.loader import iter_records, read_inventory
+    from pipeline.records.loader import iter_records
+    from pipeline.records.side_files import read_inventory
 
     root = make_records("mseed/CI.CCC..HNE.mseed", "mseed/CI.CCC..HNN.mseed", "mseed/CI.CCC..HNZ.mseed",
                         "mseed/CI.CCC.xml")

@@ -132,7 +132,8 @@ def test_a_block_on_the_ground_floor_is_screened_exactly_as_on_the_ground(tmp_pa
     """Similitude: z = 0 is the ground (phi_i(0) = 0), so every per-scene value is identical, bit for bit."""
     import dataclasses
 
-    from pipeline.records.loader import find_records, read_declared_units
+    from pipeline.records.listing import find_records
+    from pipeline.records.side_files import read_declared_units
     from pipeline.run.screening import Context, screen_record
     from pipeline.schema import PROBABILITY_VARS, PULSE_BLOCK_VARS, SIMULATION_VARS
 

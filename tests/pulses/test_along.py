@@ -11,7 +11,8 @@ import pytest
 from pipeline.pulses import analyze
 from pipeline.pulses.along import extract_along
 from pipeline.pulses.shahi_baker import classify, wavelet_on_grid
-from pipeline.records.loader import find_records, load_record
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
 
 TWO_HORIZONTALS = [
     ("peer-at2/RSN1063_NORTHR_RRS228.AT2", "peer-at2/RSN1063_NORTHR_RRS318.AT2"),   # Rinaldi: a strong pulse

@@ -15,7 +15,8 @@ from pipeline.pulses import analyze, classify, dominant_lobe
 from pipeline.pulses.along import _head, _strongest_point, extract_along
 from pipeline.pulses.cwt import column_coefficients, cwt, cwt_point, cwt_window, scales_for
 from pipeline.pulses.shahi_baker import PulseResult, wavelet_on_grid
-from pipeline.records.loader import find_records, load_record
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
 from pipeline.store import open_results
 
 PROJECT_CONFIGS = __import__("pathlib").Path(__file__).resolve().parents[2] / "configs"

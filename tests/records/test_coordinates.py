@@ -6,7 +6,9 @@ from __future__ import annotations
 import pytest
 
 from pipeline.config import Config
-from pipeline.records.loader import find_records, read_inventory, station_of
+from pipeline.records.listing import find_records
+from pipeline.records.loader import station_of
+from pipeline.records.side_files import read_inventory
 
 #: record id -> (lat, lon) as the file prints it, and the header it comes from
 EXPECTED = {

@@ -15,7 +15,7 @@ import pytest
 from pipeline.config import Config
 from pipeline.errors import RecordFormatError
 from pipeline.records.compressed import refuse_if_expands_beyond
-from pipeline.records.loader import find_records
+from pipeline.records.listing import find_records
 
 ROWS = "".join(f"{0.01 * (k % 7):.4f}\n" for k in range(2000))
 

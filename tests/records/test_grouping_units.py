@@ -7,7 +7,8 @@ import pytest
 
 from pipeline.config import config_from_dict
 from pipeline.errors import RecordGroupingError, UnitsError
-from pipeline.records.loader import find_records, load_record
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
 from pipeline.records.orientation import orientation_from_code
 from pipeline.records.units import FACTORS_TO_MS2, canonical_units, factor_to_ms2
 

@@ -11,7 +11,8 @@ from obspy import read
 
 from pipeline.config import Config, config_from_dict
 from pipeline.errors import ConfigError, RecordFormatError
-from pipeline.records.loader import find_records, load_record
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
 from pipeline.records.plausibility import ImplausibleRecordError
 
 PACOIMA = "peer-at2/RSN77_SFERN_PUL164.AT2"          # a real AT2 in g: NPTS= 4172, DT= .0100 SEC
@@ -98,8 +99,8 @@ def test_the_bundled_records_are_plausible(records_dir):
     """Every bundled record passes the default limits (their peaks are at most 1.2 g, their intervals 0.0024-0.02
     s, their lengths at most 32,000 samples): none fails as implausible."""
     from pipeline.errors import RockscreenError
-    from pipeline.records.loader import read_declared_units
-    from pipeline.records.loader import read_inventory as read_station_inventory
+    from pipeline.records.side_files import read_declared_units
+    from pipeline.records.side_files import read_inventory as read_station_inventory
 
     config = Config()
     sources, _ = find_records(records_dir, config=config)
@@ -144,7 +145,7 @@ def test_a_file_larger_than_any_plausible_record_is_refused_before_it_is_read(re
     def no_reading(*args, **kwargs):
         raise AssertionError("the file was read")
 
-    monkeypatch.setattr(loader, "_read", no_reading)
+    monkeypatch.setattr(loader, "read_stream", no_reading)
     with pytest.raises(ImplausibleRecordError, match=rf"{size:,} bytes, more than a file of 3 components of 100 "
                                                      r"samples takes \(24,000 bytes; \[records\] max_samples\)"):
         load_record(sources[0], root=root, config=config)

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
-from pipeline.records.loader import find_records, read_declared_units
+from pipeline.records.listing import find_records
+from pipeline.records.side_files import read_declared_units
 from pipeline.run.screening import Context, failure_result, screen_record
 
 RECORDS = Path(__file__).resolve().parents[2] / "records"

@@ -9,7 +9,9 @@ import pytest
 from pipeline.constants import G
 from pipeline.errors import RecordFormatError
 from pipeline.records import at2
-from pipeline.records.loader import find_records, load_record, read_declared_units, read_inventory
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
+from pipeline.records.side_files import read_declared_units, read_inventory
 from pipeline.run.screening import Context, screen_record
 
 FORMATS = {

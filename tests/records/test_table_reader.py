@@ -151,7 +151,7 @@ def test_the_run_reads_a_table_to_its_max_samples(tmp_path):
     (root / "long.txt").write_text("# dt_s=0.01 units=g\n" + "0.001\n" * 2000)
     cfg = Config()
     cfg = dataclasses.replace(cfg, records=dataclasses.replace(cfg.records, max_samples=1000))
-    from pipeline.records.loader import find_records
+    from pipeline.records.listing import find_records
 
     sources, failures = find_records(root, config=cfg)
     assert not sources and len(failures) == 1

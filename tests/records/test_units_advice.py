@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 from pipeline.errors import UnitsError
-from pipeline.records.loader import find_records, load_record, read_declared_units
+from pipeline.records.listing import find_records
+from pipeline.records.loader import load_record
+from pipeline.records.side_files import read_declared_units
 from pipeline.records.units import common_glob, plausible_units, suggest_declarations
 
 G = 9.80665

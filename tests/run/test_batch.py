@@ -27,7 +27,8 @@ from handoff import NO_HANDOFF
 
 from pipeline.blocks import read_inventory
 from pipeline.cli import EXIT_LOCKED, EXIT_OK, EXIT_OUTPUT, main
-from pipeline.records.loader import find_records, read_declared_units
+from pipeline.records.listing import find_records
+from pipeline.records.side_files import read_declared_units
 from pipeline.run.batch import _task, plan
 from pipeline.run.executors import DaskExecutor, ProcessExecutor, SerialExecutor, TaskLost
 from pipeline.run.screening import Context

@@ -13,7 +13,8 @@ import pytest
 from pipeline.blocks import read_inventory
 from pipeline.bodies.planar import overturn_scale_simulated
 from pipeline.constants import G
-from pipeline.records.loader import find_records, read_declared_units
+from pipeline.records.listing import find_records
+from pipeline.records.side_files import read_declared_units
 from pipeline.rocking.block import Block
 from pipeline.rocking.orientation import Orientation, Planes, plane_grid, worst_plane
 from pipeline.rocking.planner import Physics, Response, plan, simulate_scene

@@ -145,7 +145,7 @@ def test_harmonic_near_its_chaotic_threshold_is_sensitive():
 
 def test_unit_factors_reproduce_the_nominal_orientation_scan(records_dir, config):
     """With every spread 0, each sample is the nominal block: its verdict is worst_plane's on the grid."""
-    from pipeline.records.loader import list_directory
+    from pipeline.records.listing import list_directory
     from pipeline.run.screening import Context
 
     scanned = list_directory(records_dir / "peer-at2", config=config)

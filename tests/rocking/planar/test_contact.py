@@ -227,7 +227,8 @@ def test_a_block_that_slides_farther_than_its_base_margin_slides_off(tmp_path, r
     import shutil
 
     from pipeline.blocks import read_inventory
-    from pipeline.records.loader import find_records, read_declared_units
+    from pipeline.records.listing import find_records
+    from pipeline.records.side_files import read_declared_units
     from pipeline.run.screening import Context, assemble, screen_record
 
     (tmp_path / "fn-ascii").mkdir()

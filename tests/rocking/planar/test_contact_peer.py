@@ -17,9 +17,10 @@ from rigid_body_peer import bullet_overturns, pybullet
 
 from pipeline.blocks import read_inventory
 from pipeline.constants import G
-from pipeline.records.loader import find_records, read_declared_units
-from pipeline.records.loader import read_inventory as read_stations
+from pipeline.records.listing import find_records
 from pipeline.records.record import project
+from pipeline.records.side_files import read_declared_units
+from pipeline.records.side_files import read_inventory as read_stations
 from pipeline.rocking.planner import Physics, simulate_scene
 from pipeline.rocking.simulate import rock
 from pipeline.run.screening import Context, screen_record

@@ -75,7 +75,8 @@ def test_a_box_whose_other_axis_is_certified_keeps_its_planar_scene_which_is_the
     """CERTIFIED rocks (its planar scene) and its 4 m depth cannot lift: orientation given_certified, the planar
     physics, and the 3D model's run of the same scene (a second algorithm) stays on its edges with the same peak."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.solid3d import run, solid_of
@@ -126,7 +127,8 @@ def test_the_margin_of_a_3d_box_comes_from_its_3d_model(screened, kocaeli):
     """The simulated margin of a box judged in 3D is the 3D scene's (the exact model's, or the contact model's where
     it is handed over): overturning at the margin's factor."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
     from pipeline.rocking.block import BlockShape
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.solid3d import judge_solid, solid_of

@@ -143,7 +143,8 @@ def test_small_rocking_on_a_real_record_follows_the_exact_cylinder_model_while_i
     tilt is the exact model's to 10 % (with every step 0.5 ms it was 0.008 alpha against 0.28: the coarse steps
     damped the small rocking away)."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
     from pipeline.rocking.solids.cylinder3d import Cylinder, housner_e, simulate_cylinder
 
     sources, _ = find_records(kocaeli, config=Config())
@@ -165,7 +166,8 @@ def test_a_cylinder_that_flies_on_a_real_record_overturns_as_both_engines_have_i
     contact3d_second_engine.py). With every step 0.5 ms the contact model stood at 1; taken finely while it flies
     and for AFTER_FLIGHT_S after, it overturns, as it does with every step at 50 or 20 us."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
 
     root = make_records(*(f"peer-at2/RSN181_IMPVALL.H_H-E06{c}.AT2" for c in ("140", "230", "-UP")))
     sources, _ = find_records(root, config=Config())

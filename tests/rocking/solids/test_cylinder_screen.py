@@ -94,7 +94,8 @@ def test_without_the_vertical_the_cylinder_overturns(el_centro_6):
     slide while it falls (held: the fall kept), and it overturns at 8.7 s, where the planar scan's worst plane
     reached 0.016 alpha."""
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.solids.cylinder3d import FLAG_NONE, FLAG_SLIDE, Cylinder
     from pipeline.rocking.solids.cylinder_scene import run_on_record
@@ -171,7 +172,8 @@ def test_screen_bench_compares_the_3d_cylinders_with_their_planar_scan(el_centro
     from types import SimpleNamespace
 
     from pipeline.config import Config
-    from pipeline.records.loader import find_records, load_record
+    from pipeline.records.listing import find_records
+    from pipeline.records.loader import load_record
     from pipeline.run.bench_solids import solid_rows
 
     cfg = Config()
