@@ -157,6 +157,55 @@ def bullet_stack_falls(ah_ms2: np.ndarray, dt_s: float, lower: tuple[float, floa
     return {NONE_FALLS: STACK_STANDS, 1: TOP_FALLS, 0: STACK_FALLS}[first]
 
 
+def _stack_bodies(pb, cid: int, boxes, mu: float, density: float) -> list[int]:
+    """Deep boxes stacked, centred, ((width, height) [m] each, bottom first), each of friction ``mu``: their ids."""
+    depth = 2.0 * max(sum(h for _, h in boxes), max(w for w, _ in boxes))   # deep: the stack rocks in its plane
+    bodies, base = [], 0.0
+    for w, h in boxes:
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
+        body = pb.createMultiBody(density * w * h * depth, shape, basePosition=[0, 0, base + h / 2],
+                                  physicsClientId=cid)
+        _free_body(pb, body, mu, cid)
+        bodies.append(body)
+        base += h
+    return bodies
+
+
+def bullet_stack_fallen(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0, density: float = 2500.0,
+                        g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0,
+                        av_ms2: np.ndarray | None = None) -> tuple[bool, ...]:
+    """Which boxes of a stack have fallen by the end of the record and :data:`TAIL_S` after it (bottom first), in
+    the setting of :func:`bullet_first_fall`: a box has fallen once its tilt reaches pi/2 - 0.02 rad, whatever it
+    does after, or when at the end its centre is below its place in the stack at rest by more than half its height
+    (it left the box under it)."""
+    pb = pybullet()
+    cid = _world(pb, step_s)
+    try:
+        bodies = _stack_bodies(pb, cid, boxes, mu, density)
+        rest_z = np.cumsum([h for _, h in boxes]) - 0.5 * np.array([h for _, h in boxes])
+        fallen = [False] * len(boxes)
+        ground = (scale * np.asarray(ah_ms2), None, None if av_ms2 is None else scale * np.asarray(av_ms2))
+        t_rec = (ground[0].size - 1) * dt_s
+        for i in range(int((t_rec + TAIL_S) / step_s)):
+            acc = ground_at(ground, i * step_s, dt_s)
+            pb.setGravity(-acc[0], 0.0, -(g_ms2 + acc[2]), physicsClientId=cid)
+            pb.stepSimulation(physicsClientId=cid)
+            if i % 8:
+                continue
+            for k, body in enumerate(bodies):
+                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+                fallen[k] = fallen[k] or math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))) >= \
+                    math.pi / 2 - 0.02
+            if all(fallen):
+                break
+        for k, body in enumerate(bodies):
+            pos, _ = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+            fallen[k] = fallen[k] or pos[2] < rest_z[k] - 0.5 * boxes[k][1]
+        return tuple(fallen)
+    finally:
+        pb.disconnect(cid)
+
+
 def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0, density: float = 2500.0,
                       g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0,
                       av_ms2: np.ndarray | None = None) -> int:
@@ -168,15 +217,7 @@ def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0
     pb = pybullet()
     cid = _world(pb, step_s)
     try:
-        depth = 2.0 * max(sum(h for _, h in boxes), max(w for w, _ in boxes))   # deep: the stack rocks in its plane
-        bodies, base = [], 0.0
-        for w, h in boxes:
-            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[w / 2, depth / 2, h / 2], physicsClientId=cid)
-            body = pb.createMultiBody(density * w * h * depth, shape, basePosition=[0, 0, base + h / 2],
-                                      physicsClientId=cid)
-            _free_body(pb, body, mu, cid)
-            bodies.append(body)
-            base += h
+        bodies = _stack_bodies(pb, cid, boxes, mu, density)
         ground = (scale * np.asarray(ah_ms2), None, None if av_ms2 is None else scale * np.asarray(av_ms2))
         t_rec = (ground[0].size - 1) * dt_s
         for i in range(int((t_rec + TAIL_S) / step_s)):

@@ -47,29 +47,30 @@ def flight_records(records_dir: Path) -> list[tuple[str, np.ndarray, np.ndarray,
     return out
 
 
-def bodies(family: str) -> tuple[StackBody, ...]:
+def bodies(family: str, mu: float = MU) -> tuple[StackBody, ...]:
     """The family's boxes as the stack's bodies, bottom first (masses of boxes of one depth), each box's friction at
-    its base: mu on the floor, mu^2 on a box, as PyBullet combines them."""
-    return tuple(StackBody(w, h, RHO * w * h, MU if k == 0 else MU * MU) for k, (w, h) in enumerate(STACKS[family]))
+    its base: ``mu`` on the floor, mu^2 on a box, as PyBullet combines them."""
+    return tuple(StackBody(w, h, RHO * w * h, mu if k == 0 else mu * mu) for k, (w, h) in enumerate(STACKS[family]))
 
 
-def stack(family: str) -> tuple[NBlock, tuple]:
+def stack(family: str, mu: float = MU) -> tuple[NBlock, tuple]:
     """The family's stack for rockscreen (:func:`bodies`) and each box's friction at its base."""
-    boxes = bodies(family)
+    boxes = bodies(family, mu)
     return n_block(boxes), tuple(b.mu for b in boxes)
 
 
-def drawn_class(family: str, position: int, horizontal_ms2: np.ndarray, vertical_ms2: np.ndarray,
-                azimuth0_deg: float, dt_s: float, plane_deg: float) -> Probability:
+def drawn_class(family: str, position: int, horizontal_ms2: np.ndarray, vertical_ms2: np.ndarray | None,
+                azimuth0_deg: float, dt_s: float, plane_deg: float, mu: float = MU) -> Probability:
     """The probability and robustness class ``screen`` gives body ``position`` of the family's stack (0: the bottom)
-    rocking in ``plane_deg`` (a given azimuth, drawn about it) under the declared uncertainty's default draws
-    (:func:`pipeline.uncertainty.stacks.stack_probability`, the default :class:`UncertaintyConfig`)."""
+    rocking in ``plane_deg`` (on two horizontals a given azimuth, drawn about it; on one, its plane) under the
+    declared uncertainty's default draws (:func:`pipeline.uncertainty.stacks.stack_probability`, the default
+    :class:`UncertaintyConfig`)."""
     unc = UncertaintyConfig()
-    boxes = bodies(family)
+    boxes = bodies(family, mu)
     place = StackPlace(boxes, position, tuple(f"{family}{k}" for k in range(len(boxes))))
     base = motion(horizontal_ms2, azimuth0_deg, vertical_ms2, dt_s)
     return stack_probability(base, common_normals(unc.seed, unc.samples), place, plane_deg=plane_deg,
-                             given_azimuth=True, random_orientation=False, settings=unc)
+                             given_azimuth=not base.single, random_orientation=False, settings=unc)
 
 
 def first_fall(judged) -> int:
