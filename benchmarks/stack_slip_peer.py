@@ -9,8 +9,8 @@ box that has fallen at the first fall (none, or the box), whether any box falls 
 ``screen``'s default rule), which boxes have fallen by the end (each body's verdict; PyBullet's run followed to its
 end, :func:`rigid_body_peer.bullet_stack_fallen`), rockscreen's largest slip at a joint; each disagreement on the
 first fall re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's verdict holds
-in all three) and by rockscreen at 0.98 and 1.02; where the engine overturns a box robustly and rockscreen has it
-stand, rockscreen's probability and class for that box under the default draws. Prints the counts, the agreement
+in all three) and by rockscreen at 0.98 and 1.02; where the engine overturns a box robustly and rockscreen has every
+box stand, rockscreen's probability and class for that box under the default draws. Prints the counts, the agreement
 and each engine's time per scene (PyBullet's to the first fall).
 
 Run: ``python benchmarks/stack_slip_peer.py [--mu 0.6] [--pga 0.5] [--records 21] [--families statue,two,three,five]``

@@ -4,8 +4,9 @@
 drums (tests/support/stack_flights.py), friction 0.5 on the floor and 0.25 between the boxes in both engines, so that
 a joint slips where the ground passes 0.25 g. In at least 80 % of the scenes a joint slips by more than 1 mm; every
 scene has a verdict; every box's verdict (fallen or not by the end of the engine's run) and whether any box falls
-agree in at least 90 % of each family's scenes; no box the engine overturns robustly (its first fall the same with
-its step halved and the record scaled by 0.98 and 1.02) is robust_stand in rockscreen under the default draws.
+agree in at least 90 % of each family's scenes; where rockscreen has every box standing and the engine overturns one
+robustly (its first fall the same with its step halved and the record scaled by 0.98 and 1.02), that box is not
+robust_stand in rockscreen under the default draws.
 benchmarks/stack_slip_peer.py runs every record and the two other families. Slow."""
 
 from __future__ import annotations
