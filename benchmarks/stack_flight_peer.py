@@ -64,6 +64,7 @@ def main() -> None:
                 any_agree += (ours == NONE_FALLS) == (engine == NONE_FALLS)
                 if ours == engine:
                     agree += 1
+                    print(f"   {family} {rid} @ {az:g}: the first fall {ours} in both", flush=True)
                     continue
                 judge = partial(bullet_first_fall, a, dt, boxes, mu=MU, density=RHO, av_ms2=av)
                 robust = perturbed_verdicts(judge) == {engine}
