@@ -11,10 +11,12 @@ end, :func:`rigid_body_peer.bullet_stack_fallen`), rockscreen's largest slip at 
 first fall re-run by PyBullet at half its step and at 0.98 and 1.02 of the record (robust: the engine's verdict holds
 in all three) and by rockscreen at 0.98 and 1.02; where the engine overturns a box robustly and rockscreen has every
 box stand, rockscreen's probability and class for that box under the default draws. Prints the counts, the agreement
-and each engine's time per scene (PyBullet's to the first fall).
+and each engine's time per scene (PyBullet's to the first fall), and rockscreen's time over the 3D box model's on the
+box of the stack's outline with a square base and the floor's friction (the single body a 3D scene of the stack is
+measured against; ``--cost-only``: that alone, without PyBullet).
 
-Run: ``python benchmarks/stack_slip_peer.py [--mu 0.6] [--pga 0.5] [--records 21] [--families statue,two,three,five]``
-(PyBullet is a test extra).
+Run: ``python benchmarks/stack_slip_peer.py [--mu 0.6] [--pga 0.5] [--records 21] [--families statue,two,three,five]
+[--cost-only]`` (PyBullet is a test extra).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.codes import Verdict  # noqa: E402
+from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
 from pipeline.uncertainty.robust import Robustness  # noqa: E402
 
 #: a joint has slipped where rockscreen's largest slip there passes this [m]
@@ -49,6 +52,7 @@ def main() -> None:
     ap.add_argument("--pga", type=float, default=0.5, help="each record scaled to this PGA [g]")
     ap.add_argument("--records", type=int, default=21, help="the first N bundled records of at most 60 s")
     ap.add_argument("--families", default=",".join(STACKS))
+    ap.add_argument("--cost-only", action="store_true", help="time rockscreen and the 3D box only (no PyBullet)")
     args = ap.parse_args()
     records = [r for r in iter_records(ROOT / "records", config=Config())
                if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
@@ -56,13 +60,22 @@ def main() -> None:
         nb, mu = stack(family, args.mu)
         boxes = STACKS[family]
         agree, any_agree, bodies_agree, slipped, differ, ours_s, engine_s = 0, 0, 0, 0, [], [], []
+        width, height = max(w for w, _ in boxes), sum(h for _, h in boxes)
+        outline, box_s = Box(width / 2, width / 2, height / 2, mu=args.mu), []
+        judge_n_block(nb, records[0].horizontal_ms2[0][:200], records[0].dt_s, mu=mu)     # compiled before timing
+        simulate_box(records[0].horizontal_ms2[0][:8], records[0].horizontal_ms2[0][:8] * 0, None, 0.01, outline)
         for rec in records:
             scale = args.pga * G / abs(rec.horizontal_ms2[0]).max()
             a = rec.horizontal_ms2[0] * scale
             t0 = time.perf_counter()
             judged = judge_n_block(nb, a, rec.dt_s, mu=mu)
             ours_s.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            simulate_box(a, a * 0.0, None, rec.dt_s, outline)
+            box_s.append(time.perf_counter() - t0)
             assert all(v != Verdict.no_verdict for v in judged.verdicts), (rec.record_id, judged)
+            if args.cost_only:
+                continue
             slipped += bool(judged.slide_m) and max(judged.slide_m) > SLIPPED_M
             ours = first_fall(judged)
             judge = partial(bullet_first_fall, a, rec.dt_s, boxes, mu=args.mu, density=RHO)
@@ -89,6 +102,12 @@ def main() -> None:
                           f"1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine){drawn}")
             print("  ", family, differ[-1], flush=True)
         n = len(ours_s)
+        ratios = [o / b for o, b in zip(ours_s, box_s)]
+        print(f"{family}: a scene, rockscreen / the 3D box of its outline: median {statistics.median(ratios):.2f}, "
+              f"worst {max(ratios):.1f} (rockscreen median {1e3 * statistics.median(ours_s):.1f} ms, the box "
+              f"{1e3 * statistics.median(box_s):.1f} ms)", flush=True)
+        if args.cost_only:
+            continue
         print(f"{family} at mu {args.mu:g}, {args.pga:g} g: {agree} of {n} agree on the first fall, {any_agree} of {n} "
               f"on whether any box falls, {bodies_agree} of {n} on every box's verdict; a joint slipped more than "
               f"{1e3 * SLIPPED_M:g} mm in {slipped} (rockscreen); rockscreen {1e3 * statistics.median(ours_s):.1f} ms "
