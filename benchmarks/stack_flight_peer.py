@@ -29,12 +29,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
 from rigid_body_peer import NONE_FALLS, bullet_first_fall, perturbed_verdicts  # noqa: E402
-from stack_flights import MU, RHO, STACKS, drawn_class, first_fall, flight_records, stack  # noqa: E402
+from stack_flights import MU, RHO, STACKS, difference, drawn_class, first_fall, flight_records, stack  # noqa: E402
 
 from pipeline.assemblies.n_block_verdicts import judge_n_block  # noqa: E402
 from pipeline.records.record import project  # noqa: E402
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT, Verdict  # noqa: E402
-from pipeline.uncertainty.robust import Robustness  # noqa: E402
 
 
 def main() -> None:
@@ -70,13 +69,8 @@ def main() -> None:
                 robust = perturbed_verdicts(judge) == {engine}
                 ours_robust = {first_fall(judge_n_block(nb, s * a, dt, av_ms2=s * av, mu=mu))
                                for s in (0.98, 1.02)} == {ours}
-                drawn = ""
-                if robust and engine != NONE_FALLS:
-                    prob = drawn_class(family, engine, hz, av, az0, dt, az)
-                    drawn = f"; rockscreen's box {engine} under the draws: p {prob.p:.2f}, " \
-                            f"{Robustness(prob.robustness).name if prob.robustness >= 0 else 'undetermined'}"
-                differ.append(f"{rid} @ {az:g}: rockscreen {ours} ({'' if ours_robust else 'not '}robust at 0.98 "
-                              f"and 1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine){drawn}")
+                drawn = drawn_class(family, engine, hz, av, az0, dt, az) if robust and engine != NONE_FALLS else None
+                differ.append(difference(f"{rid} @ {az:g}", ours, ours_robust, engine, robust, drawn))
                 print("  ", family, differ[-1], flush=True)
         n = len(ours_s)
         print(f"{family}: {agree} of {n} agree on the first fall, {any_agree} of {n} on whether any box falls "

@@ -4,7 +4,9 @@ a joint needs more friction than it has, on grounds without a vertical (no fligh
 The bundled records of at most 60 s, each first horizontal scaled to a PGA, in the stacks' plane; the four stacks of
 deep boxes of tests/support/stack_flights.py (a statue on its plinth, columns of two, three and five drums), friction
 mu on the floor and mu^2 between the boxes in both engines (PyBullet combines the two bodies' friction as their
-product), so that at mu 0.6 a joint slips where the ground's acceleration passes 0.36 g. For each scene the lowest
+product), so that at mu 0.6 a joint slips where the ground's acceleration passes 0.36 g; rockscreen judges each stack
+as ``screen`` does (tests/support/stack_flights.screen_verdicts: the rest certificate, the two-block model for two
+bodies, the n-block model and the stack's contact model where a joint slips). For each scene the lowest
 box that has fallen at the first fall (none, or the box), whether any box falls (the stack's verdict under
 ``screen``'s default rule), which boxes have fallen by the end (each body's verdict; PyBullet's run followed to its
 end, :func:`rigid_body_peer.bullet_stack_fallen`), rockscreen's largest slip at a joint; each disagreement on the
@@ -13,15 +15,18 @@ in all three) and by rockscreen at 0.98 and 1.02; where the engine overturns a b
 box stand, rockscreen's probability and class for that box under the default draws. Prints the counts, the agreement
 and each engine's time per scene (PyBullet's to the first fall), and rockscreen's time over the 3D box model's on the
 box of the stack's outline with a square base and the floor's friction (the single body a 3D scene of the stack is
-measured against; ``--cost-only``: that alone, without PyBullet).
+measured against; ``--cost-only``: that alone, without PyBullet; ``--profile``: where rockscreen's time goes, by
+cProfile around its runs alone).
 
 Run: ``python benchmarks/stack_slip_peer.py [--mu 0.6] [--pga 0.5] [--records 21] [--families statue,two,three,five]
-[--cost-only]`` (PyBullet is a test extra).
+[--cost-only] [--profile]`` (PyBullet is a test extra).
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
+import pstats
 import statistics
 import sys
 import time
@@ -32,15 +37,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
 from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts  # noqa: E402
-from stack_flights import RHO, STACKS, drawn_class, first_fall, stack  # noqa: E402
+from stack_flights import RHO, STACKS, difference, drawn_class, first_fall, screen_verdicts  # noqa: E402
 
-from pipeline.assemblies.n_block_verdicts import judge_n_block  # noqa: E402
 from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
 from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.codes import Verdict  # noqa: E402
 from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
-from pipeline.uncertainty.robust import Robustness  # noqa: E402
 
 #: a joint has slipped where rockscreen's largest slip there passes this [m]
 SLIPPED_M = 1e-3
@@ -53,22 +56,27 @@ def main() -> None:
     ap.add_argument("--records", type=int, default=21, help="the first N bundled records of at most 60 s")
     ap.add_argument("--families", default=",".join(STACKS))
     ap.add_argument("--cost-only", action="store_true", help="time rockscreen and the 3D box only (no PyBullet)")
+    ap.add_argument("--profile", action="store_true", help="profile rockscreen's runs of each family")
     args = ap.parse_args()
     records = [r for r in iter_records(ROOT / "records", config=Config())
                if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
     for family in args.families.split(","):
-        nb, mu = stack(family, args.mu)
         boxes = STACKS[family]
         agree, any_agree, bodies_agree, slipped, differ, ours_s, engine_s = 0, 0, 0, 0, [], [], []
         width, height = max(w for w, _ in boxes), sum(h for _, h in boxes)
         outline, box_s = Box(width / 2, width / 2, height / 2, mu=args.mu), []
-        judge_n_block(nb, records[0].horizontal_ms2[0][:200], records[0].dt_s, mu=mu)     # compiled before timing
+        screen_verdicts(family, records[0].horizontal_ms2[0][:200], records[0].dt_s, mu=args.mu)   # compiled
         simulate_box(records[0].horizontal_ms2[0][:8], records[0].horizontal_ms2[0][:8] * 0, None, 0.01, outline)
+        profile = cProfile.Profile() if args.profile else None
         for rec in records:
             scale = args.pga * G / abs(rec.horizontal_ms2[0]).max()
             a = rec.horizontal_ms2[0] * scale
             t0 = time.perf_counter()
-            judged = judge_n_block(nb, a, rec.dt_s, mu=mu)
+            if profile:
+                profile.enable()
+            judged = screen_verdicts(family, a, rec.dt_s, mu=args.mu)
+            if profile:
+                profile.disable()
             ours_s.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
             simulate_box(a, a * 0.0, None, rec.dt_s, outline)
@@ -92,20 +100,19 @@ def main() -> None:
                 agree += 1
                 continue
             robust = perturbed_verdicts(judge) == {engine}
-            ours_robust = {first_fall(judge_n_block(nb, s * a, rec.dt_s, mu=mu)) for s in (0.98, 1.02)} == {ours}
-            drawn = ""
-            if robust and engine != NONE_FALLS and ours == NONE_FALLS:
-                prob = drawn_class(family, engine, a[None, :], None, 0.0, rec.dt_s, 0.0, args.mu)
-                drawn = f"; rockscreen's box {engine} under the draws: p {prob.p:.2f}, " \
-                        f"{Robustness(prob.robustness).name if prob.robustness >= 0 else 'undetermined'}"
-            differ.append(f"{rec.record_id}: rockscreen {ours} ({'' if ours_robust else 'not '}robust at 0.98 and "
-                          f"1.02), PyBullet {engine} ({'' if robust else 'not '}robust in the engine){drawn}")
+            ours_robust = {first_fall(screen_verdicts(family, s * a, rec.dt_s, mu=args.mu))
+                           for s in (0.98, 1.02)} == {ours}
+            drawn = (drawn_class(family, engine, a[None, :], None, 0.0, rec.dt_s, 0.0, args.mu)
+                     if robust and engine != NONE_FALLS and ours == NONE_FALLS else None)
+            differ.append(difference(rec.record_id, ours, ours_robust, engine, robust, drawn))
             print("  ", family, differ[-1], flush=True)
         n = len(ours_s)
         ratios = [o / b for o, b in zip(ours_s, box_s)]
         print(f"{family}: a scene, rockscreen / the 3D box of its outline: median {statistics.median(ratios):.2f}, "
               f"worst {max(ratios):.1f} (rockscreen median {1e3 * statistics.median(ours_s):.1f} ms, the box "
               f"{1e3 * statistics.median(box_s):.1f} ms)", flush=True)
+        if profile:
+            pstats.Stats(profile).sort_stats("tottime").print_stats(6)
         if args.cost_only:
             continue
         print(f"{family} at mu {args.mu:g}, {args.pga:g} g: {agree} of {n} agree on the first fall, {any_agree} of {n} "

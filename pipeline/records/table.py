@@ -136,15 +136,6 @@ def _is_table(filename) -> bool:
     return rows >= MIN_ROWS
 
 
-def _header(lines: list[str]) -> dict[str, str]:
-    """The ``key=value`` pairs of the ``#`` lines (lower-case keys)."""
-    pairs: dict[str, str] = {}
-    for line in lines:
-        if line.lstrip().startswith("#"):
-            pairs.update({k.lower(): v for k, v in _PAIR.findall(line)})
-    return pairs
-
-
 def _interval(times: np.ndarray, *, name: str, first_line: int, text: list[str]) -> float:
     """The mean step of a time column, checked uniform to its printed precision."""
     n = times.size
@@ -152,7 +143,7 @@ def _interval(times: np.ndarray, *, name: str, first_line: int, text: list[str])
         raise RecordFormatError(f"{name}: one sample; expected a time series")
     dt = (times[-1] - times[0]) / (n - 1)
     check_interval(dt, name=name, where="the time column")
-    decimals = max((len(t.split(".")[1].split("e")[0].split("E")[0]) if "." in t else 0) for t in text[:200])
+    decimals = max((len(t.split(".")[1].split("e")[0].split("E")[0]) if "." in t else 0) for t in text[:TIME_TEXT_ROWS])
     allowed = max(0.5 * 10.0 ** -decimals, 1e-6 * dt) * 1.001
     dev = np.abs(times - (times[0] + dt * np.arange(n)))
     k = int(np.argmax(dev))

@@ -2,11 +2,11 @@
 (pipeline.assemblies.stack_contact) where a joint needs more friction than it has, on the bundled records of at most
 60 s, each first horizontal scaled to 0.5 g, no vertical (no flight); a statue on its plinth and a column of three
 drums (tests/support/stack_flights.py), friction 0.5 on the floor and 0.25 between the boxes in both engines, so that
-a joint slips where the ground passes 0.25 g. In at least 80 % of the scenes a joint slips by more than 1 mm; every
-scene has a verdict; every box's verdict (fallen or not by the end of the engine's run) and whether any box falls
-agree in at least 90 % of each family's scenes; where rockscreen has every box standing and the engine overturns one
-robustly (its first fall the same with its step halved and the record scaled by 0.98 and 1.02), that box is not
-robust_stand in rockscreen under the default draws.
+a joint slips where the ground passes 0.25 g; rockscreen judges the stacks as ``screen`` does. In at least 80 % of
+the scenes a joint slips by more than 1 mm; every scene has a verdict; every box's verdict (fallen or not by the end
+of the engine's run) and whether any box falls agree in at least 90 % of each family's scenes; where rockscreen has
+every box standing and the engine overturns one robustly (its first fall the same with its step halved and the
+record scaled by 0.98 and 1.02), that box is not robust_stand in rockscreen under the default draws.
 benchmarks/stack_slip_peer.py runs every record and the two other families. Slow."""
 
 from __future__ import annotations
@@ -15,9 +15,8 @@ from functools import partial
 
 import pytest
 from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts
-from stack_flights import RHO, STACKS, drawn_class, stack
+from stack_flights import RHO, STACKS, drawn_class, screen_verdicts
 
-from pipeline.assemblies.n_block_verdicts import judge_n_block
 from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.loader import iter_records
@@ -32,14 +31,13 @@ SLIP, AGREE = 0.8, 0.9
 @pytest.mark.slow
 @pytest.mark.parametrize("family", ["statue", "three"])
 def test_stacks_whose_joints_slip_agree_with_pybullet(records_dir, family):
-    nb, mu = stack(family, MU)
     boxes = STACKS[family]
     records = [r for r in iter_records(records_dir, config=Config())
                if r.horizontal_ms2[0].size * r.dt_s <= MAX_DURATION_S][::2]
     slipped, bodies_agree, any_agree, differ = 0, 0, 0, []
     for rec in records:
         a = rec.horizontal_ms2[0] * (PGA_G * G / abs(rec.horizontal_ms2[0]).max())
-        judged = judge_n_block(nb, a, rec.dt_s, mu=mu)
+        judged = screen_verdicts(family, a, rec.dt_s, mu=MU)
         assert all(v != Verdict.no_verdict for v in judged.verdicts), (rec.record_id, judged)
         slipped += bool(judged.slide_m) and max(judged.slide_m) > 1e-3
         ours_fallen = tuple(v == Verdict.overturns for v in judged.verdicts)

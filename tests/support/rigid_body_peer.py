@@ -171,37 +171,44 @@ def _stack_bodies(pb, cid: int, boxes, mu: float, density: float) -> list[int]:
     return bodies
 
 
+#: A box of a stack has fallen once its tilt reaches this [rad]
+FALLEN_TILT_RAD = math.pi / 2 - 0.02
+
+
+def _stack_tilts(pb, cid: int, bodies: list[int], ground: tuple, dt_s: float, *, g_ms2: float, step_s: float):
+    """Step a stack's world under the ground's (a_x, a_y, a_v) [m s-2] as a time-varying gravity, through the record
+    and :data:`TAIL_S` after it, yielding every 8 steps each body's tilt [rad], bottom first."""
+    t_rec = (ground[0].size - 1) * dt_s
+    for i in range(int((t_rec + TAIL_S) / step_s)):
+        acc = ground_at(ground, i * step_s, dt_s)
+        pb.setGravity(-acc[0], 0.0, -(g_ms2 + acc[2]), physicsClientId=cid)
+        pb.stepSimulation(physicsClientId=cid)
+        if i % 8 == 0:
+            yield [math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(
+                pb.getBasePositionAndOrientation(body, physicsClientId=cid)[1])[8]))) for body in bodies]
+
+
 def bullet_stack_fallen(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0, density: float = 2500.0,
                         g_ms2: float = 9.80665, step_s: float = STEP_S, scale: float = 1.0,
                         av_ms2: np.ndarray | None = None) -> tuple[bool, ...]:
     """Which boxes of a stack have fallen by the end of the record and :data:`TAIL_S` after it (bottom first), in
-    the setting of :func:`bullet_first_fall`: a box has fallen once its tilt reaches pi/2 - 0.02 rad, whatever it
-    does after, or when at the end its centre is below its place in the stack at rest by more than half its height
-    (it left the box under it)."""
+    the setting of :func:`bullet_first_fall`: a box has fallen once its tilt reaches :data:`FALLEN_TILT_RAD`,
+    whatever it does after, or when at the end its centre is below its place in the stack at rest by more than half
+    its height (it left the box under it)."""
     pb = pybullet()
     cid = _world(pb, step_s)
     try:
         bodies = _stack_bodies(pb, cid, boxes, mu, density)
-        rest_z = np.cumsum([h for _, h in boxes]) - 0.5 * np.array([h for _, h in boxes])
+        heights = np.array([h for _, h in boxes])
+        rest_z = np.cumsum(heights) - 0.5 * heights
         fallen = [False] * len(boxes)
         ground = (scale * np.asarray(ah_ms2), None, None if av_ms2 is None else scale * np.asarray(av_ms2))
-        t_rec = (ground[0].size - 1) * dt_s
-        for i in range(int((t_rec + TAIL_S) / step_s)):
-            acc = ground_at(ground, i * step_s, dt_s)
-            pb.setGravity(-acc[0], 0.0, -(g_ms2 + acc[2]), physicsClientId=cid)
-            pb.stepSimulation(physicsClientId=cid)
-            if i % 8:
-                continue
-            for k, body in enumerate(bodies):
-                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-                fallen[k] = fallen[k] or math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))) >= \
-                    math.pi / 2 - 0.02
+        for tilts in _stack_tilts(pb, cid, bodies, ground, dt_s, g_ms2=g_ms2, step_s=step_s):
+            fallen = [f or tilt >= FALLEN_TILT_RAD for f, tilt in zip(fallen, tilts)]
             if all(fallen):
                 break
-        for k, body in enumerate(bodies):
-            pos, _ = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-            fallen[k] = fallen[k] or pos[2] < rest_z[k] - 0.5 * boxes[k][1]
-        return tuple(fallen)
+        ends = [pb.getBasePositionAndOrientation(body, physicsClientId=cid)[0][2] for body in bodies]
+        return tuple(f or z < z0 - 0.5 * h for f, z, z0, h in zip(fallen, ends, rest_z, heights))
     finally:
         pb.disconnect(cid)
 
@@ -213,23 +220,16 @@ def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0
     centred, ((width, height) [m] each, bottom first), under a horizontal ground motion along x and the vertical
     ``av_ms2`` where given (both times ``scale``), by PyBullet: the same setting as :func:`bullet_overturns`
     (time-varying gravity, restitution 0, friction mu x 1 on the floor and mu x mu between the boxes). A box has
-    fallen when its tilt reaches pi/2 - 0.02 rad."""
+    fallen when its tilt reaches :data:`FALLEN_TILT_RAD`."""
     pb = pybullet()
     cid = _world(pb, step_s)
     try:
         bodies = _stack_bodies(pb, cid, boxes, mu, density)
         ground = (scale * np.asarray(ah_ms2), None, None if av_ms2 is None else scale * np.asarray(av_ms2))
-        t_rec = (ground[0].size - 1) * dt_s
-        for i in range(int((t_rec + TAIL_S) / step_s)):
-            acc = ground_at(ground, i * step_s, dt_s)
-            pb.setGravity(-acc[0], 0.0, -(g_ms2 + acc[2]), physicsClientId=cid)
-            pb.stepSimulation(physicsClientId=cid)
-            if i % 8:
-                continue
-            for k, body in enumerate(bodies):
-                _, q = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
-                if math.acos(max(-1.0, min(1.0, pb.getMatrixFromQuaternion(q)[8]))) >= math.pi / 2 - 0.02:
-                    return k
+        for tilts in _stack_tilts(pb, cid, bodies, ground, dt_s, g_ms2=g_ms2, step_s=step_s):
+            fallen = [k for k, tilt in enumerate(tilts) if tilt >= FALLEN_TILT_RAD]
+            if fallen:
+                return fallen[0]
         return NONE_FALLS
     finally:
         pb.disconnect(cid)

@@ -1,20 +1,25 @@
-"""Stacks on grounds that fall faster than gravity, for the stack contact model's peer comparisons (the slow test
-tests/assemblies/test_stack_flight_peer.py and benchmarks/stack_flight_peer.py): the bundled records whose vertical
-reaches VERTICAL_G below gravity at a scale of at most MAX_SCALE, the stacks compared, and rockscreen's first fall."""
+"""Stacks for the stack contact model's peer comparisons (the slow tests tests/assemblies/test_stack_flight_peer.py
+and test_stack_slip_peer.py, benchmarks/stack_flight_peer.py and stack_slip_peer.py): the bundled records whose
+vertical reaches VERTICAL_G below gravity at a scale of at most MAX_SCALE, the stacks compared, rockscreen's first
+fall, its class of a body under the default draws, and a disagreement in words."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 from rigid_body_peer import NONE_FALLS
 
 from pipeline.assemblies.n_block import NBlock, n_block
+from pipeline.assemblies.n_block_verdicts import StackVerdicts
 from pipeline.assemblies.stack import StackBody, StackPlace
+from pipeline.assemblies.stack_scene import AT_REST, stack_run
 from pipeline.config import Config
 from pipeline.constants import G
 from pipeline.records.loader import iter_records
 from pipeline.rocking.codes import Verdict
+from pipeline.uncertainty.robust import Robustness
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.scenes import Probability, motion
 from pipeline.uncertainty.settings import UncertaintyConfig
@@ -59,6 +64,19 @@ def stack(family: str, mu: float = MU) -> tuple[NBlock, tuple]:
     return n_block(boxes), tuple(b.mu for b in boxes)
 
 
+def screen_verdicts(family: str, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
+                    mu: float = MU) -> StackVerdicts:
+    """The family's stack judged as ``screen`` judges it (:func:`pipeline.assemblies.stack_scene.stack_run`: the rest
+    certificate, then the two-block model for two bodies, judged again as the n-block stack where it meets a slip or
+    a flight, and the n-block model for more), every body standing where the certificate holds."""
+    boxes = bodies(family, mu)
+    run = stack_run(StackPlace(boxes, 0, tuple(f"{family}{k}" for k in range(len(boxes)))), ah_ms2, av_ms2, dt_s)
+    if run is AT_REST:
+        n = len(boxes)
+        return StackVerdicts((int(Verdict.stands),) * n, (0.0,) * n, (math.nan,) * n, 0, False, 0, (0.0,) * n)
+    return run
+
+
 def drawn_class(family: str, position: int, horizontal_ms2: np.ndarray, vertical_ms2: np.ndarray | None,
                 azimuth0_deg: float, dt_s: float, plane_deg: float, mu: float = MU) -> Probability:
     """The probability and robustness class ``screen`` gives body ``position`` of the family's stack (0: the bottom)
@@ -77,3 +95,16 @@ def first_fall(judged) -> int:
     """The lowest body fallen at the first fall of rockscreen's verdicts, or NONE_FALLS."""
     times = [(t, k) for k, (v, t) in enumerate(zip(judged.verdicts, judged.t_fall_s)) if v == Verdict.overturns]
     return min(times)[1] if times else NONE_FALLS
+
+
+def difference(scene: str, ours: int, ours_robust: bool, engine: int, robust: bool,
+               drawn: Probability | None = None) -> str:
+    """A disagreement on the first fall in words: each engine's lowest box fallen (:data:`NONE_FALLS`: none),
+    whether rockscreen's holds at 0.98 and 1.02 of the record and the engine's at its half step and both scales, and
+    rockscreen's probability and class under the draws of the box the engine overturns, where given."""
+    text = (f"{scene}: rockscreen {ours} ({'' if ours_robust else 'not '}robust at 0.98 and 1.02), PyBullet {engine} "
+            f"({'' if robust else 'not '}robust in the engine)")
+    if drawn is not None:
+        name = Robustness(drawn.robustness).name if drawn.robustness >= 0 else "undetermined"
+        text += f"; rockscreen's box {engine} under the draws: p {drawn.p:.2f}, {name}"
+    return text
