@@ -65,7 +65,9 @@ def main() -> None:
         agree, any_agree, bodies_agree, slipped, differ, ours_s, engine_s = 0, 0, 0, 0, [], [], []
         width, height = max(w for w, _ in boxes), sum(h for _, h in boxes)
         outline, box_s = Box(width / 2, width / 2, height / 2, mu=args.mu), []
-        screen_verdicts(family, records[0].horizontal_ms2[0][:200], records[0].dt_s, mu=args.mu)   # compiled
+        for rec in records[:2]:     # compiled, and loaded: the models a slipping scene calls (the level slip's too)
+            screen_verdicts(family, rec.horizontal_ms2[0] * args.pga * G / abs(rec.horizontal_ms2[0]).max(),
+                            rec.dt_s, mu=args.mu)
         simulate_box(records[0].horizontal_ms2[0][:8], records[0].horizontal_ms2[0][:8] * 0, None, 0.01, outline)
         profile = cProfile.Profile() if args.profile else None
         for rec in records:

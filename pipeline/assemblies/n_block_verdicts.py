@@ -4,12 +4,15 @@ or stands; the blocks below a fall go on rocking, as a stack of their own, to th
 The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
 above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
 of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where
-the ground falls faster than gravity or a joint would slip (the blocks' friction given), the stack is followed from
-that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint),
-until every joint is shut or turns on a sticking corner again, when the exact model goes on from that state with the
-blocks where they slid to, or to the end of the record's free motion; a body that falls in it falls. A run that
-ended without a verdict (a cap on steps, events or the free motion after the record, or a flight without the
-friction to follow it) leaves the bodies still standing then without one: unknown, never standing."""
+a joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on
+their joints without rotating, exact) follows it to where every joint sticks again, and the exact model goes on from
+there with the blocks where they slid to; where that model does not hold (a joint would open), where the ground
+falls faster than gravity, or where a joint would slip while the stack rocks (the blocks' friction given), the
+stack is followed from that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking
+at every joint), until every joint is shut or turns on a sticking corner again, when the exact model goes on from
+that state with the blocks where they slid to, or to the end of the record's free motion; a body that falls in it
+falls. A run that ended without a verdict (a cap on steps, events or the free motion after the record, or a flight
+without the friction to follow it) leaves the bodies still standing then without one: unknown, never standing."""
 
 from __future__ import annotations
 
@@ -26,6 +29,8 @@ from ..rocking.codes import (
     STATUS_TAIL_CAP,
     Verdict,
 )
+from ..rocking.simulate import finite_series
+from .flat_slip import STUCK, simulate_flat_slip
 from .n_block import MAX_BODIES, NBlock
 from .n_block_run import FALLS_NONE, simulate_n_block
 from .stack_contact import simulate_stack_contact
@@ -60,8 +65,9 @@ class StackVerdicts(NamedTuple):
     demand : tuple of float
         each joint's largest friction demand |F_t| / F_n [-] (:attr:`.n_block_run.NBlockOutcome.demand`)
     slide_m : tuple of float
-        each joint's largest slip [m] in the contact model's runs (:attr:`.stack_contact.StackContactOutcome.
-        peak_slide_m`); empty where none ran
+        each joint's largest slip from where it stood at the record's start [m] (the bottom body's along the
+        ground), over the runs that follow slips (:mod:`.flat_slip`'s and the contact model's); empty where none
+        ran
     offset_m : tuple of float
         each standing body's residual offset on what it stands on where the runs ended [m]: the bottom body's base
         moved along the ground, each other body's base centre from the centre of the top of the body under it
@@ -88,6 +94,21 @@ def lower_part(nb: NBlock, count: int) -> NBlock:
     return NBlock(count, cut(nb.b), cut(nb.h), cut(nb.m), cut(nb.i), cut(nb.lo), cut(nb.hi), cut(nb.off))
 
 
+def _level_slip(part: NBlock, mu: tuple, ah_ms2: np.ndarray, dt_s: float, av_ms2: np.ndarray | None, run,
+                slid: tuple):
+    """Where the exact model's ``run`` stopped at rest because a joint slips: the level stack's slip followed by
+    :mod:`.flat_slip` to where every joint sticks again, as (the stack where its blocks slid to, the slip's
+    outcome); None where the run was in motion, or the slip leaves that model (the contact model follows it).
+    ``slid``: each joint's slip so far [m], from which its largest slip is measured."""
+    if run.status & STATUS_GROUND_FLIGHT or any(run.final):
+        return None
+    level = simulate_flat_slip(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, t0_s=run.t_end_s, slid_m=slid)
+    if level.end != STUCK:
+        return None
+    back = shifted(part, level.offsets_m, part.n)
+    return None if back is None else (back, level)
+
+
 def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                   mu: tuple | None = None) -> StackVerdicts:
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
@@ -95,6 +116,8 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     with which the ground's flight and a joint's slip are followed (None: the joints hold, their demands kept, and a
     flight leaves the run without a verdict)."""
     n = nb.n
+    ah_ms2 = finite_series("horizontal acceleration", ah_ms2)        # checked once for the runs below
+    av_ms2 = None if av_ms2 is None else finite_series("vertical acceleration", av_ms2)
     verdicts = [int(Verdict.no_verdict)] * n
     t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
     impacts, opened, status, handovers = 0, False, 0, 0
@@ -111,12 +134,23 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
         if (run.falls == FALLS_NONE and run.status & FOLLOWED and not run.status & CAPS and mu is not None
                 and handovers < MAX_HANDOVERS):
             handovers += 1
+            slid = (base,) + tuple(part.off[k] - nb.off[k] for k in range(1, part.n))
+            level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)
+            if level is not None:
+                back, level_run = level
+                base += level_run.base_shift_m
+                offsets[1:part.n] = level_run.offsets_m[1:part.n]
+                slides = slides or [0.0] * n
+                for k in range(part.n):
+                    slides[k] = max(slides[k], level_run.peak_slide_m[k])
+                part, start, t0 = back, None, level_run.t_end_s
+                continue
             flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
-                                            t0_s=run.t_end_s)
+                                            t0_s=run.t_end_s, slid_m=slid)
             back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
             if flight.rested and back is None:      # handed back where the exact model's stack could not stand
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
-                                                t0_s=run.t_end_s, hand_back=False)
+                                                t0_s=run.t_end_s, hand_back=False, slid_m=slid)
             opened, status = True, status | flight.status
             base += flight.base_shift_m
             offsets[1:part.n] = flight.offsets_m[1:part.n]

@@ -192,3 +192,22 @@ def stays_shut(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=N
         if np.any(ah < low * gv) or np.any(ah > high * gv) or np.any(np.abs(ah) > face.mu * gv):
             return False                            # uplift or slip starts where the demand exceeds (tie rule 2)
     return True
+
+
+def slips_at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
+                  g_ms2: float = G) -> bool:
+    """Whether a joint of the stack needs more friction than it has while the whole stack is still at rest: at the
+    first sample where the ground's |a_h| / (g + a_v) passes a body's mu, no sample up to it has lifted any part of
+    the stack (its :func:`uplift_ratios`) nor let the ground fall faster than gravity (the ground linear between
+    samples, so that the stack rests on every piece up to that sample)."""
+    ah = np.asarray(ah_ms2, dtype=float)
+    gv = g_ms2 + (np.zeros_like(ah) if av_ms2 is None else np.asarray(av_ms2, dtype=float))
+    faces = interfaces(bodies)
+    slips = np.zeros(ah.shape, dtype=bool)
+    moves = gv <= 0.0
+    for face in faces:
+        low, high = uplift_ratios(face)
+        slips |= np.abs(ah) > face.mu * gv
+        moves |= (ah < low * gv) | (ah > high * gv)
+    first = int(np.argmax(slips))
+    return bool(slips[first]) and not bool(np.any(moves[:first + 1]))

@@ -107,8 +107,8 @@ class StackContactOutcome(NamedTuple):
     unconverged : int
         steps whose Gauss-Seidel sweeps reached :data:`MAX_SWEEPS`
     peak_slide_m : tuple of float
-        each joint's largest |offset change| from where the run started [m] (block 0: its base centre's on the
-        ground)
+        each joint's largest |offset change| from where the run started, or from where it stood before the slips
+        ``slid_m`` given to the run [m] (block 0: its base centre's on the ground)
     peak_lift_m : float
         the largest height of block 0's lower base corner above the ground [m] (a flight's)
     handback : tuple of float
@@ -373,7 +373,7 @@ def _holds(bd, n, piece, t):
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, modes):
+def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes):
     """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak, slide and, where it hands
     back, the joints' modes."""
     n_samples = ah.shape[0]
@@ -434,10 +434,10 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
         for k in range(n):
             peak[k] = max(peak[k], abs(tilt(q, k)))
             if k > 0:
-                slide[k] = max(slide[k], abs(base_offset(bd, q, k) - off0[k]))
+                slide[k] = max(slide[k], abs(base_offset(bd, q, k) - origin[k]))
             else:
                 base_x, _ = corner_point(q, 0, 0.0, -bd.h[0])
-                slide[0] = max(slide[0], abs(base_x - off0[0]))
+                slide[0] = max(slide[0], abs(base_x - origin[0]))
         fell = _fallen(bd, n, q)
         if fell < n:
             for k in range(fell, n):
@@ -457,11 +457,12 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, off0, mode
 
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                            start: tuple | None = None, t0_s: float = 0.0,
-                           hand_back: bool = True) -> StackContactOutcome:
+                           hand_back: bool = True, slid_m: tuple | None = None) -> StackContactOutcome:
     """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
     (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
     model. With ``hand_back`` the run hands back where the module's rule says so; without, it stops only at rest
-    (every joint shut) after the record."""
+    (every joint shut) after the record. ``slid_m``: each joint's slip before the run [m] (block 0's along the
+    ground), from which its largest slip is measured (None: 0, from where the run starts)."""
     ah = np.ascontiguousarray(ah_ms2, dtype=float)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else start
@@ -473,8 +474,13 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     modes = np.zeros(MAX_BODIES, dtype=np.int64)
+    origin = off0.copy()
+    if slid_m is not None:
+        origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
+    for k in range(nb.n):
+        slide[k] = abs(off0[k] - origin[k])
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
-                                                            bool(hand_back), work(), t_fall, peak, slide, off0,
+                                                            bool(hand_back), work(), t_fall, peak, slide, origin,
                                                             modes)
     offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])

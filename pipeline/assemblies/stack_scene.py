@@ -40,7 +40,7 @@ from . import two_block
 from .n_block import NBlock
 from .n_block_run import simulate_n_block
 from .n_block_verdicts import StackVerdicts, judge_n_block
-from .stack import StackPlace, stays_shut
+from .stack import StackPlace, slips_at_rest, stays_shut
 from .two_block import TwoBlock
 from .two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
 from .two_block_verdicts import TwoBlockVerdict, judge_two_block
@@ -69,8 +69,11 @@ def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndar
     model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``bodies``: the
     stack's :class:`~.stack.StackBody` rows, whose friction follows a flight of the ground or a joint's slip
     (:mod:`.stack_contact`; None: the joints hold and a flight leaves the verdict open). Two blocks whose run meets
-    a flight, or needs more friction than a joint has, are judged again as the n-block stack of those bodies."""
+    a flight, or needs more friction than a joint has, are judged again as the n-block stack of those bodies, and
+    are judged so at once where a joint slips while the stack is still at rest (:func:`.stack.slips_at_rest`)."""
     mu = None if bodies is None else tuple(b.mu for b in bodies)
+    if isinstance(model, TwoBlock) and bodies is not None and slips_at_rest(bodies, ah_ms2, av_ms2):
+        model = n_blocks.n_block(bodies)            # the two-block run would need more friction than a joint has
     if isinstance(model, TwoBlock):
         judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
         if mu is None or not (judged.status & STATUS_GROUND_FLIGHT or any(d > m for d, m in zip(judged.demand, mu))):

@@ -8,7 +8,9 @@ when installed, as :mod:`.kernel`.
 The model's equations, events, transitions and impact law are in :mod:`.contact_laws`.
 
 Integration: the classical fourth-order Runge-Kutta method on steps that never cross a sample (the
-ground is linear between samples), of at most dt / STEPS_PER_SAMPLE and MAX_STEP_P / p; events are
+ground is linear between samples), of at most dt / STEPS_PER_SAMPLE and MAX_STEP_P / p, but for the slide mode,
+whose slip is cubic in time on a piece (the step exact for it): one step to the piece's end, cut where the slip rate
+would dip to 0 inside it (its lowest point known in closed form); events are
 located on the step length to a bracket of the step times 2^-48 by the ITP method (Oliveira & Takahashi 2020,
 :mod:`..numerics.itp`: the bracket bisection's 48 halvings leave, in 18 evaluations on average on the events
 measured). After the record, the ground is still: the motion is followed until the block rests,
@@ -36,6 +38,7 @@ from ..codes import (
     OVERTURNED,
     REST,
     ROCK,
+    SLIDE,
     STATUS_ENDED,
     STATUS_EVENT_CAP,
     STATUS_GROUND_FLIGHT,
@@ -345,8 +348,11 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
     t, mode, c, sigma = pr.t, pr.mode, pr.corner, pr.sigma
     x, y, th, u, v, w = pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w
     g, t0 = blk.g, pc.t0
-    hh = min(lim.h_max, pc.t1 - t, t_stop - t)
+    # sliding, the step is exact whatever its length (the slip is cubic on the piece): one step to the piece's end
+    hh = min(pc.t1 - t if mode == SLIDE else lim.h_max, pc.t1 - t, t_stop - t)
     pr.n_steps += 1
+    if mode == SLIDE:
+        hh = _slide_dip(sigma, u, t, hh, pc, blk)
     x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, pc.a0, pc.sa, pc.v0, pc.sv, blk)
     te = t + hh
     ev = _event(mode, c, sigma, x1, y1, th1, u1, v1s, w1, pc.a0 + pc.sa * (te - t0), g + pc.v0 + pc.sv * (te - t0),
@@ -370,6 +376,20 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
     if ev >= 0.0:
         return True
     return _after_event(pc, t_stop, hand_back, dt, blk, progress)
+
+
+@jit_inline
+def _slide_dip(sigma, u, t, hh, pc, blk):
+    """A sliding step of length ``hh`` from t cut where its slip rate sigma u, positive at both ends, would dip to 0
+    inside it: sigma u is a quadratic in time (its rate -sigma a - mu G is linear on the piece), so its lowest point
+    is known; the step ends there when that is at most 0 (the event, located inside by :func:`_event_step`), else it
+    stays ``hh``. A step checked at its end alone would pass over such a stop."""
+    s0 = -sigma * (pc.a0 + pc.sa * (t - pc.t0)) - blk.mu * (blk.g + pc.v0 + pc.sv * (t - pc.t0))
+    s1 = -sigma * (pc.a0 + pc.sa * (t + hh - pc.t0)) - blk.mu * (blk.g + pc.v0 + pc.sv * (t + hh - pc.t0))
+    if not (sigma * u > 0.0 and s0 < 0.0 < s1):     # a slip that starts here (sigma u = 0) grows first
+        return hh
+    tau = hh * s0 / (s0 - s1)
+    return tau if sigma * u + 0.5 * s0 * tau <= 0.0 else hh
 
 
 @jit_inline
