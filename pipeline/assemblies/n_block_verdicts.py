@@ -38,7 +38,9 @@ from .stack_pose import shifted
 
 #: The run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
-#: Hand-overs to the contact model and back per stack and record; beyond, a flight leaves the verdict open
+#: Hand-overs to the slip's and flight's models and back per stack and record, beyond one a sample of the record (a
+#: slip from rest starts where the ground's |a_h| / (g + a_v) rises through a mu, at most once on a linear piece);
+#: beyond them the verdict is left open
 MAX_HANDOVERS = 1000
 #: What the contact model follows (the ground's flight, a joint's slip); the caps that end a run without it
 FOLLOWED = STATUS_GROUND_FLIGHT | STATUS_FRICTION
@@ -132,7 +134,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
             demand[k] = max(demand[k], run.demand[k])
         impacts, opened, status = impacts + run.impacts, opened or run.modes != 0, status | run.status
         if (run.falls == FALLS_NONE and run.status & FOLLOWED and not run.status & CAPS and mu is not None
-                and handovers < MAX_HANDOVERS):
+                and handovers < MAX_HANDOVERS + ah_ms2.shape[0]):
             handovers += 1
             slid = (base,) + tuple(part.off[k] - nb.off[k] for k in range(1, part.n))
             level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)

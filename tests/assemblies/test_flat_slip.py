@@ -144,3 +144,15 @@ def test_a_ground_falling_faster_than_gravity_is_left_to_the_contact_model():
     out = simulate_flat_slip(nbm.n_block([PLINTH, STATUE]), (PLINTH.mu, STATUE.mu), ah, DT, av_ms2=av)
     assert out.end == UNFINISHED
     assert out.t_end_s <= 0.3 + 1e-12
+
+
+def test_a_long_record_of_many_slips_keeps_its_verdict():
+    """300 s of a 2 Hz, 0.3 g sine: the statue slips 1,200 times from rest, beyond the 1,000 hand-overs a stack is
+    allowed regardless of its record's length (one more a sample); it stands, slid as one Coulomb block."""
+    dt = 0.01
+    t = np.arange(0.0, 300.0, dt)
+    ah = np.where(t < t[-1], 0.3 * G * np.sin(2 * np.pi * 2.0 * t), 0.0)
+    verdicts = judge_n_block(nbm.n_block([PLINTH, STATUE]), ah, dt, mu=(PLINTH.mu, STATUE.mu))
+    want = _slide_end(ah, dt, STATUE.mu)
+    assert verdicts.verdicts == (int(Verdict.stands),) * 2
+    assert abs(verdicts.offset_m[1] - want) <= 1e-9 + 1e-7 * abs(want)
