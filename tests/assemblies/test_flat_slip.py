@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from pipeline.assemblies import n_block as nbm
-from pipeline.assemblies import n_block_verdicts
+from pipeline.assemblies import n_block_verdicts, stack_scene
 from pipeline.assemblies.flat_slip import UNFINISHED, simulate_flat_slip
 from pipeline.assemblies.n_block_verdicts import judge_n_block
-from pipeline.assemblies.stack import StackBody
+from pipeline.assemblies.stack import StackBody, StackPlace, slips_at_rest
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.codes import Verdict
@@ -156,3 +156,18 @@ def test_a_long_record_of_many_slips_keeps_its_verdict():
     want = _slide_end(ah, dt, STATUE.mu)
     assert verdicts.verdicts == (int(Verdict.stands),) * 2
     assert abs(verdicts.offset_m[1] - want) <= 1e-9 + 1e-7 * abs(want)
+
+
+def test_two_bodies_that_slip_at_rest_skip_only_a_run_that_would_hand_over(grounds, monkeypatch):
+    """Where a joint of two bodies slips while the stack is still at rest (`stack.slips_at_rest`), the stack goes to
+    the n-block path at once: the verdicts are those of running the two-block model first, which meets the same slip
+    and hands the stack over (every field the same)."""
+    plinth, statue = StackBody(0.7, 1.0, 1750.0, 0.5), StackBody(0.45, 1.7, 1912.5, 0.25)
+    bodies = (plinth, statue)
+    model = stack_scene.stack_blocks(StackPlace(bodies, 1, ("plinth", "statue")))
+    shortcut = [stack_scene.judge(model, ah, dt, bodies=bodies) for _, ah, dt in grounds]
+    taken = [slips_at_rest(bodies, ah) for _, ah, dt in grounds]
+    monkeypatch.setattr(stack_scene, "slips_at_rest", lambda *args: False)
+    for (rid, ah, dt), fast in zip(grounds, shortcut):
+        assert fast == stack_scene.judge(model, ah, dt, bodies=bodies), rid
+    assert sum(taken) >= 4
