@@ -1,5 +1,5 @@
 """A stack whose joints stay shut while they slip: every block level, each joint sticking or sliding (a chain of
-Coulomb sliders on a moving ground), exact between the ground's samples (compiled).
+Coulomb sliders on a moving ground), its events located in closed form between the ground's samples (compiled).
 
 Block k (k = 0 the bottom, mass m_k) moves along the ground only: u_k is its displacement in the ground's frame. Joint
 j is block j's base on what it stands on (the ground for j = 0); F_j is the horizontal force across it on the part
@@ -18,7 +18,8 @@ stops, or a sticking force that reaches mu_j N_j, is the root of a quadratic or 
 the joints' modes are chosen again, as the ones whose sticking forces stay inside their limits and whose new slips
 move the way their friction opposes, just after the instant. The normal forces do not depend on the accelerations
 and the mass matrix is positive definite, so these accelerations are the unique minimiser of a convex problem
-(Moreau 1988): the chosen modes are the chain's motion.
+(Moreau 1988): the chosen modes are the chain's motion, to the rounding allowances :data:`FORCE_TOL` and
+:data:`ACC_TOL` on a limit.
 
 The model holds while every joint stays shut: the resultant of the normal force at each joint, from the blocks
 above it in their motion, lies inside the joint's support (the overlap of the block's base with what it stands on),
@@ -46,10 +47,8 @@ import numpy as np
 
 from ..compiled import jit
 from ..constants import G
-from ..errors import ParameterError
-from ..rocking.simulate import finite_series
 from .n_block import MAX_BODIES, NBlock
-from .stepping import TAIL_S, ground_on, piece_at
+from .stepping import TAIL_S, ground_on, ground_series, piece_at
 
 # Event control, named once
 MAX_EVENTS = 100_000         # events (slips that stop or start) per run; the cap ends it unfinished [-]
@@ -125,14 +124,21 @@ def _rate(acc, j):
 
 
 @jit
+def _limits(nb, mu, gv0, gv1, above, j):
+    """Joint j's friction limits mu N at the instant and at the piece's end [N], and the rounding allowance on
+    them."""
+    cap0, cap1 = mu[j] * gv0 * above[j], mu[j] * gv1 * above[j]
+    return cap0, cap1, FORCE_TOL * max(cap0, cap1, nb.m[j] * G)
+
+
+@jit
 def _holds(nb, mu, mode, free, gv0, gv1, above, acc0, force0, acc1, force1):
     """Whether ``mode`` is the chain's just after the instant of ``acc0``, ``force0`` (the same mode's values at the
     piece's end: ``acc1``, ``force1``, linear in between): each sticking joint's force inside its limit (or on it
     and turning inwards), each joint that starts to slip (``free``: its slip rate is 0) accelerating its own way."""
     for j in range(nb.n):
         if mode[j] == 0:
-            cap0, cap1 = mu[j] * gv0 * above[j], mu[j] * gv1 * above[j]
-            tol = FORCE_TOL * max(cap0, cap1, nb.m[j] * G)
+            cap0, cap1, tol = _limits(nb, mu, gv0, gv1, above, j)
             g0 = abs(force0[j]) - cap0
             if g0 > tol:
                 return False
@@ -250,17 +256,15 @@ def _margin(nb, x, acc, ah, gv, above, base):
 
 
 @jit
-def _excursion(nb, v, acc0, acc1, gv0, gv1, sv, tau):
+def _excursion(nb, v, acc0, acc1, gv0, gv1, sv, tau, total):
     """A bound on how far :func:`_margin` strays from its chord over a step of ``tau`` [s]: its terms are linear in
-    time but for g + a_v times a position, whose second derivative is at most 2 |a_v'| |u'| + (g + a_v) |u''|."""
+    time but for g + a_v times a position, whose second derivative is at most 2 |a_v'| |u'| + (g + a_v) |u''|;
+    ``total``: the stack's mass [kg]."""
     curv = 0.0
     gmax = max(gv0, gv1)
     for k in range(nb.n):
         amax = max(abs(acc0[k]), abs(acc1[k]))
         curv = max(curv, 2.0 * abs(sv) * (abs(v[k]) + amax * tau) + gmax * amax)
-    total = 0.0
-    for k in range(nb.n):
-        total += nb.m[k]
     return 2.0 * total * curv * tau * tau / 8.0      # the resultant's moment and the support's, each at most this
 
 
@@ -314,15 +318,15 @@ def _run(nb, mu, ah, av, dt, t0, slid):
             if mode[j] != 0:
                 r = _first_zero(w[j], _rate(acc0, j), _rate(acc1, j), span, float(mode[j]))
             else:
-                cap0, cap1 = mu[j] * gv0 * above[j], mu[j] * gv1 * above[j]
-                r = _first_limit(force0[j], force1[j], cap0, cap1, span,
-                                 FORCE_TOL * max(cap0, cap1, nb.m[j] * G))
+                cap0, cap1, tol = _limits(nb, mu, gv0, gv1, above, j)
+                r = _first_limit(force0[j], force1[j], cap0, cap1, span, tol)
             if r <= tau:
                 tau, which = r, j
         frac = tau / span
         for k in range(n):
             acc_e[k] = acc0[k] + (acc1[k] - acc0[k]) * frac
-        bound = _excursion(nb, v, acc0, acc_e, gv0, gv0 + (gv1 - gv0) * frac, (av1 - av0) / span, tau)
+        bound = _excursion(nb, v, acc0, acc_e, gv0, gv0 + (gv1 - gv0) * frac, (av1 - av0) / span, tau,
+                           above[0])
         vel = 0.0
         for j in range(n):
             if mode[j] != 0:
@@ -359,14 +363,7 @@ def simulate_flat_slip(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms
     ParameterError
         a series not finite, the vertical's length not the horizontal's, or ``dt_s`` not positive
     """
-    ah = np.ascontiguousarray(finite_series("horizontal acceleration", ah_ms2), dtype=float)
-    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(finite_series("vertical acceleration", av_ms2),
-                                                                 dtype=float)
-    if av.shape[0] not in (0, ah.shape[0]):
-        raise ParameterError(f"vertical acceleration: {av.shape[0]} samples, expected {ah.shape[0]} as the "
-                             "horizontal")
-    if not (math.isfinite(dt_s) and dt_s > 0):
-        raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
+    ah, av = ground_series(ah_ms2, av_ms2, dt_s)
     mus = tuple(float(m) for m in mu[:nb.n]) + (0.0,) * (MAX_BODIES - nb.n)
     slid = np.zeros(MAX_BODIES)
     if slid_m is not None:

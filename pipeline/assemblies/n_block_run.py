@@ -35,7 +35,6 @@ from ..constants import G
 from ..errors import ParameterError
 from ..rocking.codes import STATUS_FRICTION, STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
-from ..rocking.simulate import finite_series
 from .n_block import (
     MAX_BODIES,
     SHUT,
@@ -65,6 +64,7 @@ from .stepping import (
     caps,
     first_crossing,
     ground_on,
+    ground_series,
     piece_at,
 )
 
@@ -523,13 +523,7 @@ def simulate_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.
         a series not 1-D, shorter than 2 samples or not finite (naming the first bad sample), the vertical's length
         not the horizontal's, ``dt_s`` not positive, or ``history`` of the wrong shape
     """
-    ah = np.asarray(finite_series("horizontal acceleration", ah_ms2))
-    av = np.zeros(0) if av_ms2 is None else np.asarray(finite_series("vertical acceleration", av_ms2))
-    if av.shape[0] not in (0, ah.shape[0]):
-        raise ParameterError(f"vertical acceleration: {av.shape[0]} samples, expected {ah.shape[0]} as the "
-                             "horizontal")
-    if not (math.isfinite(dt_s) and dt_s > 0):
-        raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
+    ah, av = ground_series(ah_ms2, av_ms2, dt_s)
     hist = np.zeros((nb.n, 0)) if history is None else history
     if hist.shape not in ((nb.n, 0), (nb.n, ah.shape[0])):
         raise ParameterError(f"history: shape {hist.shape}, expected ({nb.n}, {ah.shape[0]}), one column a sample")

@@ -2,17 +2,18 @@
 or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
 
 The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
-above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack
-of those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where
-a joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on
-their joints without rotating, exact) follows it to where every joint sticks again, and the exact model goes on from
-there with the blocks where they slid to; where that model does not hold (a joint would open), where the ground
-falls faster than gravity, or where a joint would slip while the stack rocks (the blocks' friction given), the
-stack is followed from that instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking
-at every joint), until every joint is shut or turns on a sticking corner again, when the exact model goes on from
-that state with the blocks where they slid to, or to the end of the record's free motion; a body that falls in it
-falls. A run that ended without a verdict (a cap on steps, events or the free motion after the record, or a flight
-without the friction to follow it) leaves the bodies still standing then without one: unknown, never standing."""
+above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack of
+those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where a
+joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on their
+joints without rotating, each slip's stop and start located in closed form) follows it to where every joint sticks
+again, and the exact model goes on from there with the blocks where they slid to; where that model does not hold (a
+joint would open), where the ground falls faster than gravity, or where a joint would slip while the stack rocks (the
+blocks' friction given), the stack is followed from that instant by the contact model (:mod:`.stack_contact`: flight,
+landing, sliding and rocking at every joint), until every joint is shut or turns on a sticking corner again, when the
+exact model goes on from that state with the blocks where they slid to, or to the end of the record's free motion; a
+body that falls in it falls. A run that ended without a verdict (a cap on steps, events or the free motion after the
+record, or a flight without the friction to follow it) leaves the bodies still standing then without one: unknown,
+never standing."""
 
 from __future__ import annotations
 
@@ -111,6 +112,17 @@ def _level_slip(part: NBlock, mu: tuple, ah_ms2: np.ndarray, dt_s: float, av_ms2
     return None if back is None else (back, level)
 
 
+def _slid(outcome, count: int, base: float, offsets: list, slides: list, n: int) -> tuple[float, list]:
+    """A run that followed a slip (:class:`.flat_slip.FlatSlipOutcome` or :class:`.stack_contact.
+    StackContactOutcome`) taken into the stack's record: the bottom body's total shift along the ground and the
+    joints' largest slips are returned, the offsets of the lowest ``count`` joints set in ``offsets`` in place."""
+    offsets[1:count] = outcome.offsets_m[1:count]
+    slides = slides or [0.0] * n
+    for k in range(count):
+        slides[k] = max(slides[k], outcome.peak_slide_m[k])
+    return base + outcome.base_shift_m, slides
+
+
 def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                   mu: tuple | None = None) -> StackVerdicts:
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
@@ -140,11 +152,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
             level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)
             if level is not None:
                 back, level_run = level
-                base += level_run.base_shift_m
-                offsets[1:part.n] = level_run.offsets_m[1:part.n]
-                slides = slides or [0.0] * n
-                for k in range(part.n):
-                    slides[k] = max(slides[k], level_run.peak_slide_m[k])
+                base, slides = _slid(level_run, part.n, base, offsets, slides, n)
                 part, start, t0 = back, None, level_run.t_end_s
                 continue
             flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
@@ -154,12 +162,9 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                 flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
                                                 t0_s=run.t_end_s, hand_back=False, slid_m=slid)
             opened, status = True, status | flight.status
-            base += flight.base_shift_m
-            offsets[1:part.n] = flight.offsets_m[1:part.n]
-            slides = slides or [0.0] * n
+            base, slides = _slid(flight, part.n, base, offsets, slides, n)
             for k in range(part.n):
                 peaks[k] = max(peaks[k], flight.peak_rad[k])
-                slides[k] = max(slides[k], flight.peak_slide_m[k])
                 if not math.isnan(flight.t_fall_s[k]):
                     verdicts[k], t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
             if back is not None:

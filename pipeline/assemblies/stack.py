@@ -178,20 +178,29 @@ def opening_ratio(face: Interface) -> float:
     return min(-low, high)
 
 
+def _rest_breaks(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2, g_ms2: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """At each sample of the ground (a_h, a_v) [m s-2], whether the stack at rest would slip at an interface
+    (|a_h| > mu (g + a_v)), and whether it would lift at one or lose the ground (g + a_v <= 0): the module's
+    conditions, motion only where a demand exceeds (tie rule 2)."""
+    ah = np.asarray(ah_ms2, dtype=float)
+    gv = g_ms2 + (np.zeros_like(ah) if av_ms2 is None else np.asarray(av_ms2, dtype=float))
+    slips = np.zeros(ah.shape, dtype=bool)
+    moves = gv <= 0.0
+    for face in interfaces(bodies):
+        low, high = uplift_ratios(face)
+        slips |= np.abs(ah) > face.mu * gv
+        moves |= (ah < low * gv) | (ah > high * gv)
+    return slips, moves
+
+
 def stays_shut(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
                g_ms2: float = G) -> bool:
     """Whether the ground (a_h, a_v) [m s-2] at its samples (linear between them) leaves every interface of the
     stack shut and stuck, so that the stack stays at rest: the module's certificate. False does not mean that it
     moves by much; it means that this certificate does not decide it."""
-    ah = np.asarray(ah_ms2, dtype=float)
-    gv = g_ms2 + (np.zeros_like(ah) if av_ms2 is None else np.asarray(av_ms2, dtype=float))
-    if not np.all(gv > 0.0):
-        return False                                # the ground falls faster than gravity: contact is lost
-    for face in interfaces(bodies):
-        low, high = uplift_ratios(face)
-        if np.any(ah < low * gv) or np.any(ah > high * gv) or np.any(np.abs(ah) > face.mu * gv):
-            return False                            # uplift or slip starts where the demand exceeds (tie rule 2)
-    return True
+    slips, moves = _rest_breaks(bodies, ah_ms2, av_ms2, g_ms2)
+    return not (slips.any() or moves.any())
 
 
 def slips_at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
@@ -200,14 +209,6 @@ def slips_at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms
     first sample where the ground's |a_h| / (g + a_v) passes a body's mu, no sample up to it has lifted any part of
     the stack (its :func:`uplift_ratios`) nor let the ground fall faster than gravity (the ground linear between
     samples, so that the stack rests on every piece up to that sample)."""
-    ah = np.asarray(ah_ms2, dtype=float)
-    gv = g_ms2 + (np.zeros_like(ah) if av_ms2 is None else np.asarray(av_ms2, dtype=float))
-    faces = interfaces(bodies)
-    slips = np.zeros(ah.shape, dtype=bool)
-    moves = gv <= 0.0
-    for face in faces:
-        low, high = uplift_ratios(face)
-        slips |= np.abs(ah) > face.mu * gv
-        moves |= (ah < low * gv) | (ah > high * gv)
+    slips, moves = _rest_breaks(bodies, ah_ms2, av_ms2, g_ms2)
     first = int(np.argmax(slips))
-    return bool(slips[first]) and not bool(np.any(moves[:first + 1]))
+    return bool(slips[first]) and not bool(moves[:first + 1].any())

@@ -474,11 +474,10 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     modes = np.zeros(MAX_BODIES, dtype=np.int64)
-    origin = off0.copy()
+    origin = off0.copy()                                        # where each joint stood before any slip
     if slid_m is not None:
         origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
-    for k in range(nb.n):
-        slide[k] = abs(off0[k] - origin[k])
+        slide[:nb.n] = np.abs(off0[:nb.n] - origin[:nb.n])
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
                                                             bool(hand_back), work(), t_fall, peak, slide, origin,
                                                             modes)

@@ -11,9 +11,13 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from ..compiled import jit
 from ..constants import G
+from ..errors import ParameterError
 from ..rocking.codes import STATUS_EVENT_CAP, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.simulate import finite_series
 
 # Step control, named once (as scipy's _ivp names its own)
 RTOL = 1e-8                 # relative tolerance of the error control [-]
@@ -26,6 +30,25 @@ TAIL_S = 60.0               # the free motion after the record followed for at m
 MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
 MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
 HALF_PI = 0.5 * math.pi
+
+
+def ground_series(ah_ms2, av_ms2, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """A run's ground checked: (a_h, a_v) [m s-2] as contiguous float arrays (a_v empty where not given).
+
+    Raises
+    ------
+    ParameterError
+        a series not 1-D, shorter than 2 samples or not finite (naming the first bad sample), the vertical's length
+        not the horizontal's, or ``dt_s`` not positive
+    """
+    ah = np.asarray(finite_series("horizontal acceleration", ah_ms2))
+    av = np.zeros(0) if av_ms2 is None else np.asarray(finite_series("vertical acceleration", av_ms2))
+    if av.shape[0] not in (0, ah.shape[0]):
+        raise ParameterError(f"vertical acceleration: {av.shape[0]} samples, expected {ah.shape[0]} as the "
+                             "horizontal")
+    if not (math.isfinite(dt_s) and dt_s > 0):
+        raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
+    return ah, av
 
 
 class Piece(NamedTuple):

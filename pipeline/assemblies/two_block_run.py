@@ -32,7 +32,6 @@ from ..constants import G
 from ..errors import ParameterError
 from ..rocking.codes import STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
-from ..rocking.simulate import finite_series
 from .stepping import (
     ATOL,
     EVENT_TIME_TOL_S,
@@ -45,6 +44,7 @@ from .stepping import (
     caps,
     first_crossing,
     ground_on,
+    ground_series,
     piece_at,
 )
 from .two_block import (
@@ -406,13 +406,7 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
         a series not 1-D, shorter than 2 samples or not finite (naming the first bad sample), the vertical's length
         not the horizontal's, or ``dt_s`` not positive
     """
-    ah = np.asarray(finite_series("horizontal acceleration", ah_ms2))
-    av = np.zeros(0) if av_ms2 is None else np.asarray(finite_series("vertical acceleration", av_ms2))
-    if av.shape[0] not in (0, ah.shape[0]):
-        raise ParameterError(f"vertical acceleration: {av.shape[0]} samples, expected {ah.shape[0]} as the "
-                             "horizontal")
-    if not (math.isfinite(dt_s) and dt_s > 0):
-        raise ParameterError(f"dt_s = {dt_s!r}: expected a positive, finite sampling interval [s]")
+    ah, av = ground_series(ah_ms2, av_ms2, dt_s)
     s = scales(tb)
     alpha, p = min(s.alpha1, s.alpha2), max(s.p1, s.p2)
     (g1, g2), (k1, k2) = tipping_angles(tb)

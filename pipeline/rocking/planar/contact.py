@@ -349,7 +349,7 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
     x, y, th, u, v, w = pr.x, pr.y, pr.theta, pr.u, pr.v, pr.w
     g, t0 = blk.g, pc.t0
     # sliding, the step is exact whatever its length (the slip is cubic on the piece): one step to the piece's end
-    hh = min(pc.t1 - t if mode == SLIDE else lim.h_max, pc.t1 - t, t_stop - t)
+    hh = min(pc.t1 - t, t_stop - t) if mode == SLIDE else min(lim.h_max, pc.t1 - t, t_stop - t)
     pr.n_steps += 1
     if mode == SLIDE:
         hh = _slide_dip(sigma, u, t, hh, pc, blk)
