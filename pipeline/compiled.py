@@ -96,6 +96,21 @@ def array_as_tuple(values: np.ndarray, size: int) -> tuple:
 
 
 @jit_inline
+def copy_into(out: np.ndarray, values: np.ndarray) -> None:
+    """``out[:] = values`` for arrays of one dimension, element by element (a slice assignment needs numba's
+    reference counting, which :func:`jit_lean` code goes without)."""
+    for q in range(out.shape[0]):
+        out[q] = values[q]
+
+
+@jit_inline
+def fill_with(out: np.ndarray, value: float) -> None:
+    """``out[:] = value`` for an array of one dimension, element by element (see :func:`copy_into`)."""
+    for q in range(out.shape[0]):
+        out[q] = value
+
+
+@jit_inline
 def store(out: np.ndarray, values: tuple) -> None:
     """Write the tuple ``values`` into the first elements of the array ``out``."""
     for q in range(len(values)):
@@ -117,8 +132,9 @@ if HAVE_NUMBA:
         result = _types.UniTuple(value, count)
 
         def codegen(context, builder, signature, args):
-            for _ in range(count):                      # every element holds a reference to the borrowed value
-                context.nrt.incref(builder, value, args[0])
+            if context.enable_nrt:                      # every element holds a reference to the borrowed value
+                for _ in range(count):
+                    context.nrt.incref(builder, value, args[0])
             return context.make_tuple(builder, result, [args[0]] * count)
         return result(value, like), codegen
 

@@ -314,7 +314,7 @@ def _keep(hist, t, t1, dt, y, n):
             hist[j, k] = y[j]
 
 
-@jit
+@jit_lean
 def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
     """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: an impact alone at the step's end
     by the Illinois method on the joint's rotation (:func:`_impact_root`), else, or where that finds another event
@@ -338,7 +338,7 @@ def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
     return hi, y_hi, tries
 
 
-@jit
+@jit_lean
 def _impact_root(nb, y, f, js, piece, t, hh, y_end, joint, wk):
     """The step's length at which ``joint``'s rotation reaches 0, bracketed to :data:`EVENT_TIME_TOL_S` by the
     Illinois method (regula falsi, the end kept twice running having its value halved; Dowell & Jarratt 1971) on
@@ -415,11 +415,16 @@ def _start_modes(y, n):
 @jit
 def _run(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu):
     """The run of :func:`simulate_n_block` from the state ``y`` at ``t`` [SI units]."""
+    return _run_loop(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu, np.zeros(MAX_BODIES), np.zeros(MAX_BODIES))
+
+
+@jit_lean
+def _run_loop(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu, peak, demand):
+    """:func:`_run`'s loop on the peaks' and demands' arrays it made."""
     t_rec = (ah.shape[0] - 2) * dt + dt           # the last piece's end, as _piece_at computes it
     tail_end = t_rec + TAIL_S
     js = _start_modes(y, nb.n)
     mu_rest, h = _least(mu, nb.n), h_max * FIRST_STEP_FRACTION
-    peak, demand = np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
     falls, t_fall = FALLS_NONE, math.nan
     f, fresh = y, True

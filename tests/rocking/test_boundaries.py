@@ -229,6 +229,8 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
     monkeypatch.setattr(kernel, "MAX_STEPS_PER_SAMPLE", 0)
     monkeypatch.setattr(kernel, "MAX_STEPS_FIXED", 5)
     rock_py = kernel.rock.py_func if hasattr(kernel.rock, "py_func") else kernel.rock
+    if hasattr(kernel._rock, "py_func"):                # the loop too, so that it reads the patched budget
+        monkeypatch.setattr(kernel, "_rock", kernel._rock.py_func)
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.rocking.simulate import step_control
     from pipeline.rocking.structures import RockingOutput, RockingState

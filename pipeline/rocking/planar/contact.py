@@ -31,7 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline, state_factory
+from ...compiled import jit, jit_inline, jit_lean, state_factory
 from ..codes import (
     FLIGHT,
     MODE_FLIGHT,
@@ -163,11 +163,16 @@ def move(ah, av, dt, blk, start, tail_energy, t_stop=math.inf, hand_back=False, 
     -------
     ContactOutcome
     """
+    hist = theta_out if theta_out is not None else np.empty(0)
+    return _move(ah, av, dt, blk, start, tail_energy, t_stop, hand_back, hist, new_motion())
+
+
+@jit_lean
+def _move(ah, av, dt, blk, start, tail_energy, t_stop, hand_back, hist, progress):
+    """:func:`move`'s loop on the history and progress record it made."""
     n = ah.shape[0]
     has_v = av.shape[0] == n
     lim = _limits(blk, n, dt, MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED, MAX_EVENTS)
-    hist = theta_out if theta_out is not None else np.empty(0)
-    progress = new_motion()
     _begin(progress, start, dt, blk, hist)
     while progress[0].mode != OVERTURNED and progress[0].t < t_stop and _within_caps(lim, progress):
         pc = _piece(ah, av, has_v, dt, progress[0].t, lim.h_max)

@@ -42,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import HAVE_NUMBA, jit, jit_inline, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
+from ...compiled import HAVE_NUMBA, jit, jit_inline, jit_lean, state_factory  # noqa: F401  (HAVE_NUMBA: read by the tests as kernel.*)
 from ..codes import (  # noqa: F401  (the status bits and modes the kernel's callers read as kernel.*)
     OVERTURNED,
     REST,
@@ -78,6 +78,9 @@ ERROR_EXPONENT = -0.2           # -1 / (q + 1), q = 4 the order of the embedded 
 MIN_FACTOR = 0.2                # after an accepted step the next is at least this fraction of it
 MAX_FACTOR = 5.0                # ... and at most this multiple of it
 MIN_FACTOR_REJECTED = 0.1       # a rejected step shrinks at most to this fraction
+#: Below this error norm SAFETY err^ERROR_EXPONENT exceeds MAX_FACTOR by more than 0.2 %, whatever pow's rounding:
+#: the next step grows by MAX_FACTOR without evaluating the power (the same doubles)
+GROWTH_CERTAIN_BELOW = 0.99 * (MAX_FACTOR / SAFETY) ** (1.0 / ERROR_EXPONENT)
 MIN_STEP_S = 1e-14              # smallest step [s] near t = 0; rules.min_advance(t) later: a step this small
                                 # is accepted (STATUS_STEP_UNDERFLOW), so every accepted step advances time
 MAX_STEPS_PER_SAMPLE = 1000     # step budget of a scene: this many step attempts per sample of the record, plus
@@ -414,7 +417,10 @@ def _accept(hh, th1, om1, err, dt, progress, theta_out):
     pr.theta_max = max(pr.theta_max, abs(th1))
     pr.out_k = fill_hermite(theta_out, pr.out_k, dt, t, hh, th, om, th1, om1, t + hh)
     pr.t, pr.theta, pr.omega = t + hh, th1, om1
-    pr.h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
+    if err > 0 and not err < GROWTH_CERTAIN_BELOW:
+        pr.h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT))
+    else:
+        pr.h = hh * MAX_FACTOR
 
 
 @jit_inline
@@ -533,10 +539,15 @@ def rock(ah, av, dt, t_end, block, control, start, tail_energy, out, quiet):
     -------
     RockingOutcome
     """
+    return _rock(ah, av, dt, t_end, block, control, start, tail_energy, out, quiet, new_progress())
+
+
+@jit_lean
+def _rock(ah, av, dt, t_end, block, control, start, tail_energy, out, quiet, progress):
+    """:func:`rock`'s loop on the progress record it made."""
     n = ah.shape[0]
     has_v = av.shape[0] == n
     lim = _limits(block, control, n, dt, MAX_STEPS_PER_SAMPLE * n + MAX_STEPS_FIXED)
-    progress = new_progress()
     _begin(progress, start, dt, lim, out.theta)
     while progress[0].t < t_end:
         pc = _piece(ah, av, has_v, dt, progress[0].t, t_end)

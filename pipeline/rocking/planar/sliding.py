@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline, state_factory
+from ...compiled import jit, jit_inline, jit_lean, state_factory
 from ..numerics.ground import exceed_fraction, flight_fraction
 from .kernel import TINY
 
@@ -80,9 +80,14 @@ def slide(ah, av, dt, mu, g):
     -------
     SlideOutcome
     """
+    return _slide(ah, av, dt, mu, g, new_slip_state())
+
+
+@jit_lean
+def _slide(ah, av, dt, mu, g, state):
+    """:func:`slide`'s loop on the slip state it made."""
     n = ah.shape[0]
     has_v = av.shape[0] == n
-    state = new_slip_state()
     t_flight = math.nan
     capped = 0
     for k in range(n - 1):

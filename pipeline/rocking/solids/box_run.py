@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ...compiled import jit, jit_inline, store
+from ...compiled import copy_into, jit, jit_inline, jit_lean, store
 from ..numerics.rk import next_step, rejected_step
 from .box_kernel import (
     CORNER,
@@ -244,7 +244,7 @@ def _partial(t, hh, x, i, grd, prm, mode, pivot, y, k, y_new, err, force, tilt_o
     hl = max(x * hh, 1e-15 * grd.dt)
     dopri_step(t, y, hl, i, grd, prm, mode, pivot, k, y_new, err, force)
     _fill(tilt_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0], scratch)
-    y[:] = y_new
+    copy_into(y, y_new)
     return t + hl
 
 
@@ -381,8 +381,8 @@ def _accept(y, y_new, k, force, force0):
     nq = math.sqrt(y_new[0] ** 2 + y_new[1] ** 2 + y_new[2] ** 2 + y_new[3] ** 2)
     for q in range(4):
         y_new[q] /= nq
-    y[:] = y_new
-    k[0, :] = k[1, :]
+    copy_into(y, y_new)
+    copy_into(k[0], k[1])
     for q in range(FORCE_SIZE):
         force0[q] = force[q]
 
@@ -446,10 +446,17 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
             y_end, cert):
     """Run a box on the ground ``ax, ay, az`` [m s-2] at ``dt`` [s] from ``y0`` in ``mode0`` on ``pivot0`` (REST: at
     rest): the tilt and azimuth at the samples, the last state, the last certified before a stop (:func:`certify`)."""
+    return _run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, _start_state(y0, mode0), mode0,
+                    pivot0, tilt_out, azimuth_out, y_end, cert, np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE),
+                    np.empty(STATE_SIZE), np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4))
+
+
+@jit_lean
+def _run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y, mode0, pivot0, tilt_out, azimuth_out,
+             y_end, cert, k, y_new, err, force, force0, scratch):
+    """:func:`run_box`'s loop on the arrays it made."""
     grd, prm = Ground(ax, ay, az, dt, g), _params(g, bx, by, hz, mu, scale, rtol, atol_alpha)
-    n, y, mode, pivot = ax.shape[0], _start_state(y0, mode0), mode0, pivot0
-    k, y_new, err = np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
-    force, force0, scratch = np.zeros(FORCE_SIZE), np.zeros(FORCE_SIZE), np.empty(4)
+    n, mode, pivot = ax.shape[0], mode0, pivot0
     t, t_end, hh_next, steps, stalled, t_last = 0.0, (n - 1) * dt, dt, 0, 0, -1.0
     i_landed, landed_here, holds = -1, 0, 0
     tilt_max, az_max, flag, impacts, t_over, demand, held, corner_s = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, 0, 0.0
@@ -499,6 +506,6 @@ def run_box(ax, ay, az, dt, g, bx, by, hz, mu, scale, rtol, atol_alpha, y0, mode
         corner_s += hh if mode == CORNER else 0.0
         t, hh_next = t + hh, next_step(hh, norm)
         _accept(y, y_new, k, force, force0)
-    y_end[:] = y
+    copy_into(y_end, y)
     return BoxRun(not math.isnan(t_over), t_over, tilt_max, az_max, final_flag(flag, held, t_over), impacts,
                   corner_s, demand, held, steps, holds, mode, pivot)

@@ -74,7 +74,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline, store
+from ...compiled import copy_into, fill_with, jit, jit_inline, jit_lean, store
 from ..geometry import cylinder_p_e
 from ..numerics.rk import next_step, rejected_step
 from .convex_body import ConvexBody, cylinder_body
@@ -216,7 +216,7 @@ def _lift_off(t, i, grd, prm, y):
                     grd.az[i + 1], grd.g, prm.a / prm.h)
     if start >= 0.0:
         gx, gy, _ = effective_gravity(start, i, grd)
-        y[:] = 0.0
+        fill_with(y, 0.0)
         y[0], y[1] = 2.0 * prm.land, math.atan2(gy, gx)
     return start
 
@@ -230,7 +230,7 @@ def _land_inside(t, hh, i, grd, prm, y, k, y_new, err, theta_out, azimuth_out):
     hl = max(x * hh, 1e-15 * grd.dt)
     dopri_step(t, y, hl, i, grd, prm, k, y_new, err)
     _fill(theta_out, azimuth_out, grd.dt, t, hl, y, k, y_new, grd.ax.shape[0])
-    y[:] = y_new
+    copy_into(y, y_new)
     rate = landing(y, prm.a, prm.h, prm.i1, prm.i3, prm.scale)
     y[0] = prm.land
     rests = rate < REST_RATE * prm.p * prm.alpha
@@ -275,7 +275,7 @@ def _settled(t, i, dt, interval_peak, settle, y, grd, prm, theta_out):
     """At the end of sample interval ``i``, a tilt that stayed small through it set at rest (:func:`_settles`);
     whether it was."""
     if abs(t - (i + 1) * dt) <= 1e-12 * dt and _settles(interval_peak, settle, y, i, grd, prm):
-        y[:] = 0.0
+        fill_with(y, 0.0)
         theta_out[i + 1] = 0.0
         return True
     return False
@@ -287,7 +287,7 @@ def _start_state(y0, land):
     y = y0.copy()
     rocking = y[0] > land
     if not rocking:
-        y[:] = 0.0
+        fill_with(y, 0.0)
     return y, rocking
 
 
@@ -298,9 +298,17 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     tilt and its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last
     state certified before the base would first slide or lift off (t NaN: never); returns (overturned, t_overturn,
     theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
+    y, rocking = _start_state(y0, params_of(g, a, h, mu, scale, rtol, atol_alpha).land)
+    return _wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y, rocking, theta_out, azimuth_out, y_end,
+                   settle, cert, np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE))
+
+
+@jit_lean
+def _wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y, rocking, theta_out, azimuth_out, y_end, settle,
+            cert, k, y_new, err):
+    """:func:`wobble`'s loop on the arrays it made."""
     grd, prm = Ground(ax, ay, az, dt, g), params_of(g, a, h, mu, scale, rtol, atol_alpha)
-    n, (y, rocking) = ax.shape[0], _start_state(y0, prm.land)
-    k, y_new, err = np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE)
+    n = ax.shape[0]
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
     theta_out[0], azimuth_out[0] = y[0], y[1]
@@ -343,12 +351,12 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
         if y_new[0] > theta_max:
             theta_max, az_max = y_new[0], y_new[1]
         t, hh_next = t + hh, next_step(hh, norm)
-        y[:] = y_new
-        k[0, :] = k[1, :]
+        copy_into(y, y_new)
+        copy_into(k[0], k[1])
         interval_peak = max(interval_peak, y[0])
         if _settled(t, i, dt, interval_peak, settle, y, grd, prm, theta_out):
             rocking, fresh, holds = False, True, holds + 1
-    y_end[:] = y
+    copy_into(y_end, y)
     flag = final_flag(flag, held, t_over)       # held past alpha, and it did not overturn: no verdict
     return not math.isnan(t_over), t_over, theta_max, az_max, flag, impacts, demand, held, holds
 
