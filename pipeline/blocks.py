@@ -200,16 +200,18 @@ class Inventory:
         A block whose digest is unchanged between two runs keeps its results.
         """
         out = []
+        kinds, depths, buildings, floor_heights = self.kinds(), self.depths(), self.buildings(), self.floor_heights()
+        floors = self.extra.get("floor", ("",) * len(self))
         for j, bid in enumerate(self.ids):
             fields: tuple = (bid, self.height_m[j], self.width_m[j], self.mu[j], self.azimuth_deg[j],
                              self.restitution[j])
-            if self.kinds()[j] != ShapeKind.box or not np.isnan(self.depths()[j]):   # a shape or depth enters it
-                fields += (int(self.kinds()[j]), self.depths()[j])
+            if kinds[j] != ShapeKind.box or not np.isnan(depths[j]):   # a shape or depth enters it
+                fields += (int(kinds[j]), depths[j])
             scan = self.scan_of(j)
             if scan is not None:                # a scanned body: its mesh's content
                 fields += (hashlib.sha256(scan.vertices_m.tobytes()).hexdigest(),)
-            if self.buildings()[j]:             # a block in a building: its floor enters the computation
-                fields += (self.buildings()[j], self.floor_heights()[j], self.extra.get("floor", ("",) * len(self))[j])
+            if buildings[j]:                    # a block in a building: its floor enters the computation
+                fields += (buildings[j], floor_heights[j], floors[j])
             if self.stack_of(j) is not None:     # a body of a stack: the whole stack enters its computation
                 fields += (repr(self.stack_of(j)),)
             fields += _declared_later(self.shape(j))

@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...compiled import jit, jit_inline
+from ...compiled import jit, jit_inline, jit_lean
 from ...constants import G
 from ...shapes.hull import HullChain
 from ..codes import STATUS_EVENT_CAP, STATUS_GROUND_FLIGHT, STATUS_LIFTOFF
@@ -181,7 +181,7 @@ def _ground(ah, av, i, n, g):
     return ah[i], g + (av[i] if len(av) else 0.0)
 
 
-@jit
+@jit_lean
 def _roll(ah, av, dt, pivots, bounds, rest, inertia, g, factor, theta_out):
     n, npiv = len(ah), len(pivots)
     steps = n - 1 + int(TAIL_S / dt)
