@@ -26,6 +26,7 @@ Dowell, M. & Jarratt, P. (1971). A modified regula falsi method for computing th
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -70,6 +71,8 @@ from .stepping import (
 
 #: Steps tried by the Illinois method before an impact falls back to bisection [-]
 MAX_ROOT_TRIES = 60
+#: Stacks whose run set-up (:func:`_setup`) is kept [-]
+SETUPS_KEPT = 64
 #: No block falls (:attr:`NBlockOutcome.falls`)
 FALLS_NONE = -1
 #: The events a state can be past (:func:`_event`)
@@ -511,6 +514,15 @@ def run_tolerances(nb: NBlock, rest_ratio: float = REST_RATIO) -> tuple[_Tol, fl
     return tol, MAX_STEP_P / p
 
 
+@lru_cache(maxsize=SETUPS_KEPT)
+def _setup(nb: NBlock, rest_ratio: float) -> tuple[_Tol, float, np.ndarray, np.ndarray]:
+    """A stack's tolerances, largest step and lift-off conditions (:func:`run_tolerances`, :func:`rest_lift`), made
+    once per stack: a stack slipping from rest runs hundreds of short runs (the arrays are only read by the run)."""
+    tol, h_max = run_tolerances(nb, rest_ratio)
+    ch, cg = rest_lift(nb)
+    return tol, h_max, ch, cg
+
+
 def simulate_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                      rest_ratio: float = REST_RATIO, history: np.ndarray | None = None,
                      start: tuple | None = None, t0_s: float = 0.0, stop_mu: tuple | None = None) -> NBlockOutcome:
@@ -532,8 +544,7 @@ def simulate_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.
     hist = np.zeros((nb.n, 0)) if history is None else history
     if hist.shape not in ((nb.n, 0), (nb.n, ah.shape[0])):
         raise ParameterError(f"history: shape {hist.shape}, expected ({nb.n}, {ah.shape[0]}), one column a sample")
-    tol, h_max = run_tolerances(nb, rest_ratio)
-    ch, cg = rest_lift(nb)
+    tol, h_max, ch, cg = _setup(nb, rest_ratio)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else tuple(float(v) for v in start)
     mu = (math.inf,) * MAX_BODIES if stop_mu is None else tuple(float(x) for x in stop_mu[:nb.n]) + (
         math.inf,) * (MAX_BODIES - nb.n)
