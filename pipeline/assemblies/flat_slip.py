@@ -47,6 +47,7 @@ import numpy as np
 
 from ..compiled import jit
 from ..constants import G
+from ..rocking.planar.sliding import first_stop
 from .n_block import MAX_BODIES, NBlock
 from .stepping import TAIL_S, ground_on, ground_series, piece_at
 
@@ -190,7 +191,9 @@ def _choose(nb, mu, w, mode, gv0, gv1, ah0, ah1, above, acc0, force0, acc1, forc
 @jit
 def _first_zero(w0, d0, d1, span, s):
     """The first tau in (0, span] where the slip rate w0 + d0 tau + (d1 - d0) tau^2 / (2 span), of sign s at 0 (or 0
-    and starting in that direction), reaches 0; math.inf where it does not."""
+    and starting in that direction), reaches 0; math.inf where it does not. A slip under way ends where Coulomb
+    sliding's does (:func:`~pipeline.rocking.planar.sliding.first_stop`); one that starts here, by the modes'
+    rule (:data:`ACC_TOL`)."""
     qa, qb, qc = s * (d1 - d0) / (2.0 * span), s * d0, s * w0       # s w(tau) = qa tau^2 + qb tau + qc
     if qc < 0.0:
         return 0.0
@@ -201,21 +204,8 @@ def _first_zero(w0, d0, d1, span, s):
         if qb == 0.0 and qa <= 0.0:
             return 0.0
         return -qb / qa if qa < 0.0 and -qb / qa <= span else math.inf
-    if s * (w0 + 0.5 * (d0 + d1) * span) > 0.0 and qb >= 0.0 and qb + 2.0 * qa * span >= 0.0:
-        return math.inf                             # positive at the end and never decreasing
-    best = math.inf
-    if qa == 0.0:
-        if qb < 0.0:
-            best = -qc / qb
-    else:
-        disc = qb * qb - 4.0 * qa * qc
-        if disc >= 0.0:
-            root = math.sqrt(disc)
-            q = -0.5 * (qb + (root if qb >= 0.0 else -root))       # the two roots without cancellation
-            for r in (q / qa, qc / q if q != 0.0 else math.inf):
-                if 0.0 < r < best:
-                    best = r
-    return best if best <= span else math.inf
+    r = first_stop(w0, d0, (d1 - d0) / span, span, s)      # a slip under way: where its rate first falls to 0
+    return r if r >= 0.0 else math.inf
 
 
 @jit

@@ -194,13 +194,28 @@ def _rest_breaks(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2
     return slips, moves
 
 
+class AtRest(NamedTuple):
+    """What the ground does to the stack at rest (:func:`at_rest`): both questions from one pass over the record."""
+
+    #: no interface lifts off nor slips at any sample (:func:`stays_shut`)
+    stays_shut: bool
+    #: a joint slips before any part lifts (:func:`slips_at_rest`)
+    slips_at_rest: bool
+
+
+def at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *, g_ms2: float = G) -> AtRest:
+    """:func:`stays_shut` and :func:`slips_at_rest` of the ground (a_h, a_v) [m s-2] together."""
+    slips, moves = _rest_breaks(bodies, ah_ms2, av_ms2, g_ms2)
+    first = int(np.argmax(slips))
+    return AtRest(not (slips.any() or moves.any()), bool(slips[first]) and not bool(moves[:first + 1].any()))
+
+
 def stays_shut(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
                g_ms2: float = G) -> bool:
     """Whether the ground (a_h, a_v) [m s-2] at its samples (linear between them) leaves every interface of the
     stack shut and stuck, so that the stack stays at rest: the module's certificate. False does not mean that it
     moves by much; it means that this certificate does not decide it."""
-    slips, moves = _rest_breaks(bodies, ah_ms2, av_ms2, g_ms2)
-    return not (slips.any() or moves.any())
+    return at_rest(bodies, ah_ms2, av_ms2, g_ms2=g_ms2).stays_shut
 
 
 def slips_at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms2=None, *,
@@ -209,6 +224,4 @@ def slips_at_rest(bodies: tuple[StackBody, ...] | list[StackBody], ah_ms2, av_ms
     first sample where the ground's |a_h| / (g + a_v) passes a body's mu, no sample up to it has lifted any part of
     the stack (its :func:`uplift_ratios`) nor let the ground fall faster than gravity (the ground linear between
     samples, so that the stack rests on every piece up to that sample)."""
-    slips, moves = _rest_breaks(bodies, ah_ms2, av_ms2, g_ms2)
-    first = int(np.argmax(slips))
-    return bool(slips[first]) and not bool(moves[:first + 1].any())
+    return at_rest(bodies, ah_ms2, av_ms2, g_ms2=g_ms2).slips_at_rest

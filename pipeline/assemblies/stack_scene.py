@@ -40,7 +40,7 @@ from . import two_block
 from .n_block import NBlock
 from .n_block_run import simulate_n_block
 from .n_block_verdicts import StackVerdicts, judge_n_block
-from .stack import StackPlace, slips_at_rest, stays_shut
+from .stack import StackPlace, at_rest, slips_at_rest
 from .two_block import TwoBlock
 from .two_block_run import FALLS_STACK, FALLS_TOP, simulate_two_block
 from .two_block_verdicts import TwoBlockVerdict, judge_two_block
@@ -64,15 +64,18 @@ def tipping_angles(model: StackModel) -> tuple:
 
 
 def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-          settings: SimulationConfig = SimulationConfig(), bodies: tuple | None = None) -> StackVerdicts:
+          settings: SimulationConfig = SimulationConfig(), bodies: tuple | None = None,
+          slips_first: bool | None = None) -> StackVerdicts:
     """Each body's verdict under the ground (``ah_ms2``, ``av_ms2``) [m s-2], ``dt_s`` [s] apart, by the stack's
     model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``bodies``: the
     stack's :class:`~.stack.StackBody` rows, whose friction follows a flight of the ground or a joint's slip
     (:mod:`.stack_contact`; None: the joints hold and a flight leaves the verdict open). Two blocks whose run meets
     a flight, or needs more friction than a joint has, are judged again as the n-block stack of those bodies, and
-    are judged so at once where a joint slips while the stack is still at rest (:func:`.stack.slips_at_rest`)."""
+    are judged so at once where a joint slips while the stack is still at rest (:func:`.stack.slips_at_rest`;
+    ``slips_first``: its answer, when already known)."""
     mu = None if bodies is None else tuple(b.mu for b in bodies)
-    if isinstance(model, TwoBlock) and bodies is not None and slips_at_rest(bodies, ah_ms2, av_ms2):
+    if isinstance(model, TwoBlock) and bodies is not None and (
+            slips_at_rest(bodies, ah_ms2, av_ms2) if slips_first is None else slips_first):
         model = n_blocks.n_block(bodies)            # the two-block run would need more friction than a joint has
     if isinstance(model, TwoBlock):
         judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
@@ -129,10 +132,12 @@ def stack_run(place: StackPlace, ah_ms2: np.ndarray, av_ms2: np.ndarray | None, 
               tb: StackModel | None = None, settings: SimulationConfig = SimulationConfig()):
     """The stack's verdicts under the ground (:class:`~.n_block_verdicts.StackVerdicts`), or :data:`AT_REST`
     where its certificate holds."""
-    if stays_shut(place.bodies, ah_ms2, av_ms2):
+    rest = at_rest(place.bodies, ah_ms2, av_ms2)
+    if rest.stays_shut:
         return AT_REST
     tb = stack_blocks(place) if tb is None else tb
-    return judge(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings, bodies=place.bodies)
+    return judge(tb, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings, bodies=place.bodies,
+                 slips_first=rest.slips_at_rest)
 
 
 class RunMemo:

@@ -138,7 +138,7 @@ def _slide_sample(a0, a1, v0, v1, dt, mu, g, state):
         c0 = -ax - st.d * mu * (g + vx)
         c1 = -ka - st.d * mu * kv
         rem = dt - x
-        tau = _first_stop(st.v, c0, c1, rem, st.d)
+        tau = first_stop(st.v, c0, c1, rem, st.d)
         if tau < 0.0:
             st.u = st.u + st.v * rem + c0 * rem * rem / 2 + c1 * rem ** 3 / 6
             st.v = st.v + c0 * rem + c1 * rem * rem / 2
@@ -161,7 +161,7 @@ def _slide_sample(a0, a1, v0, v1, dt, mu, g, state):
 
 
 @jit
-def _first_stop(v, c0, c1, rem, d):
+def first_stop(v, c0, c1, rem, d):
     """First tau in [0, rem] where d * v(tau) falls to 0, v(tau) = v + c0 tau + c1 tau^2 / 2; -1 if none.
 
     d * v starts at 0 (a slip starting, ``v`` exactly 0) or above it (a slip under way, or, by a rounding, a
