@@ -5,13 +5,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..constants import M_TO_CM
 from ..errors import PulseError
 from ..records.record import Record
 from .along import extract_along
-from .characterize import Lobe, dominant_lobe, record_peak_in
+from .characterize import Lobe, dominant_lobe, pulse_lobe, record_peak_in
 from .shahi_baker import PulseResult, classify
 
 __all__ = ["RecordPulse", "analyze", "classify", "dominant_lobe", "Lobe"]
@@ -45,7 +43,7 @@ class RecordPulse:
         """(Lobe, record peak in it) of the pulse extracted along ``azimuth_deg``."""
         phi = math.radians(azimuth_deg - record.azimuths_deg[0])
         _, pulse_cms = extract_along(self.result, phi)
-        lobe = dominant_lobe(np.gradient(pulse_cms / CM, record.dt_s), record.dt_s)
+        lobe = pulse_lobe(pulse_cms / CM, record.dt_s)
         return lobe, record_peak_in(record.along(azimuth_deg), record.dt_s, lobe)
 
 
@@ -65,7 +63,6 @@ def analyze(record: Record, *, method: str = "shahi_baker_2014", tp_min_s: float
     best = res.best
     azimuth = (record.azimuths_deg[0] + math.degrees(best.angle_rad)) % 180.0
     assert best.pulse_cms is not None                    # classify fills the chosen candidate's series
-    acc = np.gradient(best.pulse_cms / CM, record.dt_s)
-    lobe = dominant_lobe(acc, record.dt_s)
+    lobe = pulse_lobe(best.pulse_cms / CM, record.dt_s)
     rec_ap = record_peak_in(record.along(azimuth), record.dt_s, lobe)
     return RecordPulse(res, azimuth, lobe, rec_ap)

@@ -49,7 +49,7 @@ class Lobe:
     t_end_s: float
 
 
-def dominant_lobe(acc_ms2: np.ndarray, dt_s: float) -> Lobe:
+def dominant_lobe(acc_ms2: np.ndarray, dt_s: float, *, first_sample: int = 0) -> Lobe:
     """Return the single-sign acceleration lobe with the largest |velocity change|.
 
     Parameters
@@ -58,6 +58,9 @@ def dominant_lobe(acc_ms2: np.ndarray, dt_s: float) -> Lobe:
         Acceleration samples [m s-2], linearly interpolated between samples.
     dt_s : float
         Sampling interval [s].
+    first_sample : int, optional
+        The index of ``acc_ms2[0]`` in a longer series that is zero outside it (the lobe's times are then on that
+        series' clock, the same values as from the whole series: :func:`pulse_lobe`).
     """
     a = np.asarray(acc_ms2, dtype=float)
     n = a.size
@@ -68,21 +71,36 @@ def dominant_lobe(acc_ms2: np.ndarray, dt_s: float) -> Lobe:
     # zero crossings: sample k where a changes sign towards k+1, at fraction tau
     k = np.flatnonzero((a[:-1] * a[1:] < 0))
     tau = a[k] / (a[k] - a[k + 1])
-    t_cross = (k + tau) * dt_s
+    t_cross = (k + first_sample + tau) * dt_s
     F_cross = F[k] + 0.5 * a[k] * tau * dt_s           # triangle from a[k] down to zero
     zeros = np.flatnonzero(a == 0.0)
-    t_b = np.concatenate([[0.0], t_cross, zeros * dt_s, [(n - 1) * dt_s]])
+    t_b = np.concatenate([[first_sample * dt_s], t_cross, (zeros + first_sample) * dt_s,
+                          [(first_sample + n - 1) * dt_s]])
     F_b = np.concatenate([[0.0], F_cross, F[zeros], [F[-1]]])
     order = np.argsort(t_b, kind="stable")
     t_b, F_b = t_b[order], F_b[order]
     dv = np.diff(F_b)
     j = int(np.argmax(np.abs(dv)))
     t0, t1 = float(t_b[j]), float(t_b[j + 1])
-    inside = slice(int(np.floor(t0 / dt_s + 1e-9)), int(np.ceil(t1 / dt_s - 1e-9)) + 1)
+    inside = slice(int(np.floor(t0 / dt_s + 1e-9)) - first_sample, int(np.ceil(t1 / dt_s - 1e-9)) + 1 - first_sample)
     ap = float(np.max(np.abs(a[inside])))
     tp = t1 - t0
     beta = abs(float(dv[j])) / (ap * tp) if ap > 0 and tp > 0 else float("nan")
     return Lobe(ap, tp, beta, float(dv[j]), t0, t1)
+
+
+def pulse_lobe(pulse_ms: np.ndarray, dt_s: float) -> Lobe:
+    """The dominant lobe of a pulse's acceleration (``np.gradient`` of its velocity [m s-1]): the same values as
+    :func:`dominant_lobe` of the whole series, computed over the pulse's support only (a sum of wavelets is zero
+    outside it; two zeros are kept on either side, so the gradient and the lobes' bounds there are unchanged)."""
+    v = np.asarray(pulse_ms, dtype=float)
+    nonzero = np.flatnonzero(v)
+    if nonzero.size == 0:
+        return dominant_lobe(np.zeros(v.size), dt_s)
+    start, stop = max(0, int(nonzero[0]) - 2), min(v.size, int(nonzero[-1]) + 3)
+    if stop - start < 2:
+        return dominant_lobe(np.gradient(v, dt_s), dt_s)
+    return dominant_lobe(np.gradient(v[start:stop], dt_s), dt_s, first_sample=start)
 
 
 def record_peak_in(acc_ms2: np.ndarray, dt_s: float, lobe: Lobe) -> float:

@@ -154,6 +154,19 @@ def _add_wavelet(out: np.ndarray, coef: float, scale: int, position: int) -> np.
     return out
 
 
+@lru_cache(maxsize=8)
+def unit_wavelet(scale: int) -> tuple[int, np.ndarray]:
+    """The wavelet of coefficient 1 at ``scale`` positioned at sample 0 (:func:`wavelet_on_grid`): the offset of its
+    first sample from the position and its samples (read-only). A wavelet at ``position`` is this shifted, cut by
+    the record's ends (equal to :func:`wavelet_on_grid` times its coefficient, to rounding)."""
+    psi, x, centre = _wavefun4()
+    t = (x - centre) * scale
+    first, last = int(math.ceil(t[0])), int(math.floor(t[-1]))
+    values = np.interp(np.arange(first, last + 1, dtype=float), t, psi / math.sqrt(scale))
+    values.setflags(write=False)
+    return first, values
+
+
 @lru_cache(maxsize=1)
 def _wavefun4() -> tuple[np.ndarray, np.ndarray, float]:
     """db4's wavelet function at level 4: (psi, x, median of x), computed once."""
@@ -161,8 +174,8 @@ def _wavefun4() -> tuple[np.ndarray, np.ndarray, float]:
     return psi, x, float(np.median(x))
 
 
-def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
-            scales: np.ndarray) -> tuple[int, np.ndarray, list[int], list[float]]:
+def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int, scales: np.ndarray,
+            steps: ExtractionSteps | None = None) -> tuple[int, np.ndarray, list[int], list[float]]:
     """Extract the pulse of a candidate from ``velocity`` (the record along its orientation).
 
     Parameters
@@ -175,6 +188,8 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
         Location of the candidate (0-based sample, index in ``scales``).
     scales : ndarray
         The searched scales.
+    steps : ExtractionSteps, optional
+        How the iterations transform the residual and add a wavelet (default: on the residual itself).
 
     Returns
     -------
@@ -193,27 +208,50 @@ def extract(velocity: np.ndarray, c_theta_column, *, column: int, row: int,
     scale = int(refined[int(np.argmax(values))])
     half = int(math.ceil(WINDOW_FRACTION * scale))
     pulse = np.zeros(n)
-    positions, coefs = [], []
+    positions: list[int] = []
+    coefs: list[float] = []
     centre = column
 
     def search_window(at: int) -> tuple[int, int]:
         return max(0, at - half), min(n - 1, at + half)
 
+    ops = steps if steps is not None else ExtractionSteps()
     window, c = (-1, -1), np.zeros(0)
     for i in range(N_WAVELETS):
         lo, hi = search_window(centre)
         if (lo, hi) != window:     # the residual transformed over a new window (the first two iterations at most)
-            window, c = (lo, hi), cwt_window(velocity - pulse, scale, lo, hi)
+            window, c = (lo, hi), ops.residual_window(velocity, pulse, list(zip(coefs, positions)), scale, lo, hi)
         k = int(np.argmax(np.abs(c)))
         pos, coef = lo + k, float(c[k])
         if i == 0:
             centre = pos  # MATLAB overwrites col(1): later windows centre on this
-        _add_wavelet(pulse, coef, scale, pos)
+        ops.add(pulse, coef, scale, pos)
         positions.append(pos)
         coefs.append(coef)
         if i + 1 < N_WAVELETS and search_window(centre) == window:
-            c = c - _window_response(coef, scale, pos, lo, hi, n)   # the residual's coefficients, the wavelet removed
+            c = c - ops.response(coef, scale, pos, lo, hi, n)   # the residual's coefficients, the wavelet removed
     return scale, pulse, positions, coefs
+
+
+class ExtractionSteps:
+    """The three operations of :func:`extract`'s iterations, on the residual itself: its transform over a window,
+    a wavelet's coefficients over a window (:func:`_window_response`), and a wavelet added to the pulse
+    (:func:`_add_wavelet`). :class:`.along.SharedSteps` computes the same from what every orientation of a record
+    shares."""
+
+    def residual_window(self, velocity: np.ndarray, pulse: np.ndarray, wavelets: list[tuple[float, int]],
+                        scale: int, lo: int, hi: int) -> np.ndarray:
+        """The coefficients of ``velocity - pulse`` at ``scale`` over output samples ``lo..hi`` (``wavelets``: the
+        (coefficient, position) of the wavelets in ``pulse``)."""
+        return cwt_window(velocity - pulse, scale, lo, hi)
+
+    def response(self, coef: float, scale: int, position: int, lo: int, hi: int, n: int) -> np.ndarray:
+        """:func:`_window_response`."""
+        return _window_response(coef, scale, position, lo, hi, n)
+
+    def add(self, pulse: np.ndarray, coef: float, scale: int, position: int) -> None:
+        """:func:`_add_wavelet`, in place."""
+        _add_wavelet(pulse, coef, scale, position)
 
 
 def _window_response(coef: float, scale: int, position: int, lo: int, hi: int, n: int) -> np.ndarray:
@@ -223,13 +261,22 @@ def _window_response(coef: float, scale: int, position: int, lo: int, hi: int, n
     (its samples depend on sample - position only), whose response is computed once per scale
     (:func:`_unit_response`); one cut by the record's ends, or a window wider than the search's, is transformed
     itself."""
+    shifted = shifted_response(coef, scale, position, lo, hi, n)
+    if shifted is not None:
+        return shifted
+    return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
+
+
+def shifted_response(coef: float, scale: int, position: int, lo: int, hi: int, n: int) -> np.ndarray | None:
+    """:func:`_window_response` where it is a shift of the unit wavelet's response (the wavelet inside the record,
+    the window within reach); None elsewhere."""
     _, x, centre = _wavefun4()
     if (x[0] - centre) * scale + position >= 0 and (x[-1] - centre) * scale + position <= n - 1:
         response, reach = _unit_response(scale)
         d0, d1 = lo - position, hi - position
         if -reach <= d0 and d1 <= reach:
             return coef * response[d0 + reach:d1 + reach + 1]
-    return cwt_window(wavelet_on_grid(coef, scale, position, n), scale, lo, hi)
+    return None
 
 
 @lru_cache(maxsize=128)

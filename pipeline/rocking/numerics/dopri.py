@@ -3,8 +3,9 @@
 The equation of motion of a rocking block (:func:`rocking_accel`) is integrated by the embedded
 Dormand-Prince 5(4) pair (:func:`dopri_step`, which also returns the error estimate the step control of
 :mod:`.kernel` reads). Within an accepted step, theta is the cubic Hermite interpolant of the step's ends
-(:func:`hermite`): it finds where theta changes sign (:func:`first_crossing`), the turning point's |theta|
-(:func:`hermite_peak`) and the history at the samples (:func:`fill_hermite`); :func:`locate_impact` then
+(:func:`hermite`): it finds where theta changes sign (:func:`first_crossing`, safeguarded Newton on the cubic), the
+turning point's |theta| (:func:`hermite_peak`, the root of the cubic's rate in closed form) and the history at the
+samples (:func:`fill_hermite`); :func:`locate_impact` then
 refines an impact on the Runge-Kutta solution itself by Newton iterations on the step length.
 
 References
@@ -19,6 +20,9 @@ Makris, N. & Roussos, Y. (2000). Rocking response of rigid blocks under near-sou
 Geotechnique 50(3), 243-262 (the equation of motion, eqs. 1-3 and 8-9).
 Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes.
 Earthquake Eng. Struct. Dyn. 8(6), 565-587 (the vertical acceleration in the equation of motion).
+Press, W. H., Teukolsky, S. A., Vetterling, W. T. & Flannery, B. P. (2007). Numerical Recipes, 3rd ed., Cambridge
+University Press, sections 5.6 (the quadratic's roots without cancellation) and 9.4 (Newton's method safeguarded
+by bisection).
 """
 
 from __future__ import annotations
@@ -33,8 +37,9 @@ NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the st
 NEWTON_TOL_ALPHA = 1e-13        # |theta| accepted as the impact, as a fraction of alpha
 HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step that ends within this of it [s]
 CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
-CROSSING_BISECTIONS = 50        # ... then bisected this many times (2^-50 of the probe's span)
-PEAK_BISECTIONS = 40            # bisections locating the turning point of theta inside a step
+CROSSING_ITERATIONS = 60        # ... then safeguarded Newton iterations in the probes' bracket, at most (a step
+                                # that is not Newton's is a bisection: 2^-56 of the probe's span within this many)
+CROSSING_TOL = 4.0 * 2.0 ** -52  # the crossing is taken where an iteration moves it by less than this fraction
 
 @jit
 def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
@@ -108,22 +113,45 @@ def hermite(th0, om0, th1, om1, h, x):
 
 @jit
 def first_crossing(th0, om0, th1, om1, h, s):
-    """Fraction of the step where s*theta first drops below 0 on the Hermite cubic, or -1."""
+    """Fraction of the step where s*theta first drops below 0 on the Hermite cubic, or -1: the first of
+    :data:`CROSSING_PROBES` probes below 0 brackets it, then :func:`_bracketed_root`."""
     prev = 0.0
     for i in range(1, CROSSING_PROBES + 1):
         x = i / CROSSING_PROBES
         v = s * hermite(th0, om0, th1, om1, h, x)
         if v < 0.0:
-            lo, hi = prev, x
-            for _ in range(CROSSING_BISECTIONS):
-                mid = 0.5 * (lo + hi)
-                if s * hermite(th0, om0, th1, om1, h, mid) < 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            return 0.5 * (lo + hi)
+            return _bracketed_root(th0, om0, th1, om1, h, s, prev, x)
         prev = x
     return -1.0
+
+
+@jit
+def _bracketed_root(th0, om0, th1, om1, h, s, lo, hi):
+    """The root of the Hermite cubic between ``lo`` (s*theta >= 0) and ``hi`` (s*theta < 0): Newton's iterations
+    on the cubic, the bracket narrowed by every evaluation; a Newton step that would leave the bracket, or that is
+    not at most half the step before the last, is a bisection instead (safeguarded Newton, ``rtsafe`` of Press et
+    al. 2007, section 9.4)."""
+    dx_old = dx = hi - lo
+    x = 0.5 * (lo + hi)
+    for _ in range(CROSSING_ITERATIONS):
+        v = s * hermite(th0, om0, th1, om1, h, x)
+        if v == 0.0:
+            return x
+        if v < 0.0:
+            hi = x
+        else:
+            lo = x
+        rate = s * hermite_rate(th0, om0, th1, om1, h, x)
+        dx_old, newton = dx, x - v / rate if rate != 0.0 else math.nan
+        if lo < newton < hi and abs(2.0 * v) <= abs(dx_old * rate):
+            dx = v / rate
+            x = newton
+        else:
+            dx = 0.5 * (hi - lo)
+            x = lo + dx
+        if abs(dx) <= CROSSING_TOL * x:
+            return x
+    return x
 
 
 @jit
@@ -135,17 +163,29 @@ def hermite_rate(th0, om0, th1, om1, h, x):
 
 @jit
 def hermite_peak(th0, om0, th1, om1, h):
-    """Largest |theta| of the Hermite cubic inside a step where omega changes sign."""
+    """Largest |theta| of the Hermite cubic inside a step where omega changes sign: at the turning point, the
+    root in [0, 1] of the cubic's rate, a quadratic A x^2 + B x + C whose values at 0 and 1 (h omega0, h omega1)
+    differ in sign, so that it has exactly one root there (the quadratic formula in its cancellation-free form;
+    Press et al. 2007, section 5.6)."""
     best = max(abs(th0), abs(th1))
-    lo, hi = 0.0, 1.0
-    # the cubic's rate keeps the sign of omega0 until the turning point: bisection on it
-    for _ in range(PEAK_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if hermite_rate(th0, om0, th1, om1, h, mid) * om0 > 0:
-            lo = mid
-        else:
-            hi = mid
-    return max(best, abs(hermite(th0, om0, th1, om1, h, 0.5 * (lo + hi))))
+    d, a0, a1 = th0 - th1, h * om0, h * om1
+    qa, qb, qc = 6.0 * d + 3.0 * a0 + 3.0 * a1, -6.0 * d - 4.0 * a0 - 2.0 * a1, a0
+    x = _unit_root(qa, qb, qc)
+    return max(best, abs(hermite(th0, om0, th1, om1, h, x)))
+
+
+@jit
+def _unit_root(qa, qb, qc):
+    """The root in [0, 1] of A x^2 + B x + C, whose values at 0 and 1 differ in sign (clamped to [0, 1] against
+    rounding)."""
+    disc = max(qb * qb - 4.0 * qa * qc, 0.0)
+    q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))
+    x = math.nan
+    if q != 0.0:
+        x = qc / q
+    if qa != 0.0 and not 0.0 <= x <= 1.0:
+        x = q / qa
+    return min(max(x, 0.0), 1.0) if x == x else 0.5
 
 
 @jit
