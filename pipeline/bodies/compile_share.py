@@ -121,18 +121,20 @@ class SharedCalls:
 
     def finish(self) -> None:
         """No call is taken any more; wait for the helpers making one, end the others, then make here every call
-        not made here (each loads what a helper compiled)."""
+        not made here (each loads what a helper compiled). The wait holds no lock the ticker's thread takes
+        (:meth:`start_helpers` returns at once after the end), so that the wait is announced as it goes on."""
         with self._guard:
             self._ended = True
-            if self.claims is not None:
-                next_call, lock, busy, n = self.claims
-                with lock:
-                    next_call.value = n
-                    making = [bool(busy[k]) for k in range(len(self._processes))]
-                for p, still in zip(self._processes, making):
-                    if not still:
-                        p.terminate()
-                    p.join()
+            processes, claims = list(self._processes), self.claims
+        if claims is not None:
+            next_call, lock, busy, n = claims
+            with lock:
+                next_call.value = n
+                making = [bool(busy[k]) for k in range(len(processes))]
+            for p, still in zip(processes, making):
+                if not still:
+                    p.terminate()
+                p.join()
         for i, call in enumerate(self.calls):
             if i not in self.made_here:
                 call()

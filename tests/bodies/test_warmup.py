@@ -135,6 +135,35 @@ def test_a_helper_that_took_no_call_is_ended_and_none_starts_after_the_end(tmp_p
     assert shared.start_helpers() == 0
 
 
+def test_the_wait_for_a_helper_leaves_the_announcements_free(tmp_path):
+    """While the caller waits for a helper still making a call (a long compilation), the ticker's thread asks
+    :meth:`start_helpers` on every line it says: that answers at once (the wait holds no lock it needs), so the
+    lines go on during the wait. The caller's call takes 1.5 s, the helper's 3 s."""
+    import os
+    import threading
+    import time
+
+    from shared_calls import calls, helper, made_by
+
+    from pipeline.bodies.compile_share import SharedCalls
+
+    log, pauses = tmp_path / "made.txt", (1.5, 3.0)
+    shared = SharedCalls(calls(log, 2, pauses), helpers=1, target=helper, args=(log, 2, pauses))
+    assert shared.start_helpers() == 1
+    t_start = time.perf_counter()
+    waiting = threading.Thread(target=shared.run_here)
+    waiting.start()
+    while not (log.exists() and any(p != os.getpid() for _, p in made_by(log))):
+        assert time.perf_counter() - t_start < 10.0, "the helper took no call"
+        time.sleep(0.05)
+    time.sleep(max(0.0, t_start + 1.7 - time.perf_counter()))    # the caller's call is made: it waits
+    t0 = time.perf_counter()
+    assert shared.start_helpers() == 0
+    answered_s = time.perf_counter() - t0
+    waiting.join()
+    assert answered_s < 0.5 and shared.made_here == {0, 1}
+
+
 def test_screen_compiles_with_a_helper_for_each_worker_beyond_the_first_on_the_cores_it_has(kocaeli, tmp_path,
                                                                                               monkeypatch):
     """``-n 1`` compiles in its one process; ``-n 2`` with one helper where two cores are there (none on one)."""

@@ -10,12 +10,13 @@ from pathlib import Path
 from pipeline.bodies.compile_share import work_through
 
 
-def calls(log: Path, n: int, pause_s: float) -> list:
+def calls(log: Path, n: int, pause_s: float | tuple[float, ...]) -> list:
+    """``n`` calls, call ``i`` waiting ``pause_s`` (or ``pause_s[i]``) after it is logged."""
     def call(i):
         def made() -> None:
             with open(log, "a") as f:
                 f.write(f"{i} {os.getpid()}\n")
-            time.sleep(pause_s)
+            time.sleep(pause_s if isinstance(pause_s, (int, float)) else pause_s[i])
         return made
     return [call(i) for i in range(n)]
 
