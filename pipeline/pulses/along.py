@@ -110,7 +110,7 @@ class SharedSteps(ExtractionSteps):
     """The extraction's iterations along one orientation (ca, sa) from what the record's orientations share: the
     residual's coefficients over a window are ca C1 + sa C2 of the components' (kept per window) less those of the
     wavelets already in the pulse (the transform is linear); a wavelet's are the unit response's shift, or for one
-    cut by the record's ends, the unit coefficient's kept per (scale, position, window), times its coefficient; a
+    cut by the record's ends, the unit wavelet's own (:meth:`AlongCache.cut_response`), times its coefficient; a
     wavelet added is :func:`.shahi_baker.unit_wavelet` shifted. Equal to transforming the residual (the base
     class) to rounding."""
 
