@@ -18,6 +18,7 @@ import numpy as np
 from ..constants import G
 from ..rocking import models as scene_models
 from ..rocking.block import Block, BlockShape
+from ..rocking.numerics.ground import quiet_table, scaled_quiet_table
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planar.sampled import SampledBlocks, SampledMotion, SampleRules, kernels
 from ..rocking.planner import ContactMode, Physics, guard_names, rocks, simulate_scene
@@ -144,10 +145,12 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
     if not np.any(lift > 0):
         return math.inf, 0
     f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
+    table = quiet_table(ah_ms2, av_ms2)
 
     def verdict_at(factor: float) -> int:
         av = None if av_ms2 is None else factor * av_ms2
-        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings).verdict
+        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings,
+                              quiet=scaled_quiet_table(table, factor)).verdict
 
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
 

@@ -88,6 +88,13 @@ def quiet_table(ah_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
     return QuietTable(np.ascontiguousarray(peak), np.ascontiguousarray(least.min(axis=1)))
 
 
+def scaled_quiet_table(table: QuietTable, factor: float) -> QuietTable:
+    """The :class:`QuietTable` of the same ground scaled by ``factor`` > 0 (the margin's scan): the table's values
+    times the factor, equal to :func:`quiet_table` of the scaled series (a product with a positive factor is
+    rounded monotonically, so the chunk's max and min commute with it)."""
+    return QuietTable(factor * table.peak_ah_ms2, factor * table.least_av_ms2)
+
+
 @jit
 def chunk_quiet(table, c, g, thr, has_v):
     """True when no sample of chunk ``c`` of a :class:`QuietTable` can lift a block at rest (``thr``: tan
