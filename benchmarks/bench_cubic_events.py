@@ -110,9 +110,11 @@ def main() -> None:
     worst = int(np.argmax(np.abs(x_new - x_old)))
     th0, om0, th1, om1, h = cross[worst]
     scale = max(abs(th0), abs(th1), abs(h * om0), abs(h * om1))
-    print(f"  there |theta| / the step's scale: solved {abs(hermite(th0, om0, th1, om1, h, x_new[worst])) / scale:.1e}, "
-          f"bisected {abs(hermite(th0, om0, th1, om1, h, x_old[worst])) / scale:.1e}; the cubic's slope / scale "
-          f"{abs(hermite_rate(th0, om0, th1, om1, h, x_new[worst])) / scale:.1e}")
+    at_new = abs(hermite(th0, om0, th1, om1, h, x_new[worst])) / scale
+    at_old = abs(hermite(th0, om0, th1, om1, h, x_old[worst])) / scale
+    slope = abs(hermite_rate(th0, om0, th1, om1, h, x_new[worst])) / scale
+    print(f"  there |theta| / the step's scale: solved {at_new:.1e}, bisected {at_old:.1e}; the cubic's slope / scale "
+          f"{slope:.1e}")
     turn = _cases(args.steps, rng, crossing=False)
     p_new, t_new = _timed(_peaks, turn, True)
     p_old, t_old = _timed(_peaks, turn, False)
