@@ -6,7 +6,9 @@ For every scene of a blank-azimuth block on a two-component record (the bundled 
 the reference worst orientation is the largest per-plane p (biased upward by the noise of 200 draws: about +0.03
 at p = 0.5 among 36 planes), and the reference random orientation is the mean over the grid.
 
-Given the screening.nc of one or more runs (``--compare base.nc new.nc``), it prints per run: the class agreement
+Given the screening.nc of one or more runs (``--compare base.nc new.nc``), it prints per run, over the scenes the
+run judged by the planar draws over the grid (orientation ``scanned`` or ``scanned_relative``; a cylinder is judged
+in 3D, and a scene at rest has no draws): the class agreement
 (the reference's class from its worst-orientation p: below 0.1 robust_stand, above 0.9 robust_overturn, else
 sensitive), the error of the worst-orientation p and of the random-orientation p, and how often the random
 orientation's 90 % interval covers the reference mean. The reference is cached in ``--cache`` (npz).
@@ -85,10 +87,15 @@ def _class(p: float) -> int:
 def compare(ref: dict, path: Path) -> None:
     ds = xr.open_dataset(path)
     rec, blk = list(ds["record"].values), list(ds["block"].values)
+    codes = dict(zip(ds["orientation"].attrs["flag_meanings"].split(), ds["orientation"].attrs["flag_values"]))
+    planar = (codes["scanned"], codes["scanned_relative"])   # judged by the planar draws over the grid's planes
     agree = n = cover = n_avg = 0
-    err_w, err_a, changed = [], [], []
+    err_w, err_a, changed, other = [], [], [], 0
     for (rid, bid), outcomes in ref.items():
         i, j = rec.index(rid), blk.index(bid)
+        if int(ds["orientation"].values[i, j]) not in planar:
+            other += 1                                  # a cylinder in 3D, or a scene at rest: not this reference's
+            continue
         judged = (outcomes >= 0).sum(axis=0)
         per_plane = np.where(judged > 0, (outcomes == 1).sum(axis=0) / np.maximum(judged, 1), np.nan)
         if not np.isfinite(per_plane).any() or not np.isfinite(float(ds["p_overturn"].values[i, j])):
@@ -109,7 +116,8 @@ def compare(ref: dict, path: Path) -> None:
             err_a.append(float(ds["p_overturn_random_orientation"].values[i, j]) - ref_avg)
     err_w, err_a = np.abs(err_w), np.abs(err_a)
     sims = ds["sample_simulations"].values
-    scanned = np.isin(ds["orientation"].values, (1, 2))
+    scanned = np.isin(ds["orientation"].values, planar)
+    print(f"{path}: {other} of the reference's {len(ref)} scenes judged by another model (3D, or at rest) left out")
     print(f"{path}: classes agree with the reference in {agree} of {n} scenes; worst-orientation p error: median "
           f"{np.median(err_w):.3f}, 90th percentile {np.quantile(err_w, 0.9):.3f}, max {err_w.max():.3f}; "
           f"random orientation: error median {np.median(err_a):.3f}, max {err_a.max():.3f}, its 90 % interval "
