@@ -98,8 +98,6 @@ def pulse_lobe(pulse_ms: np.ndarray, dt_s: float) -> Lobe:
     if nonzero.size == 0:
         return dominant_lobe(np.zeros(v.size), dt_s)
     start, stop = max(0, int(nonzero[0]) - 2), min(v.size, int(nonzero[-1]) + 3)
-    if stop - start < 2:
-        return dominant_lobe(np.gradient(v, dt_s), dt_s)
     return dominant_lobe(np.gradient(v[start:stop], dt_s), dt_s, first_sample=start)
 
 

@@ -138,7 +138,8 @@ def test_a_helper_that_took_no_call_is_ended_and_none_starts_after_the_end(tmp_p
 def test_the_wait_for_a_helper_leaves_the_announcements_free(tmp_path):
     """While the caller waits for a helper still making a call (a long compilation), the ticker's thread asks
     :meth:`start_helpers` on every line it says: that answers at once (the wait holds no lock it needs), so the
-    lines go on during the wait. The caller's call takes 1.5 s, the helper's 3 s."""
+    lines go on during the wait. The helper takes the first call (3 s) before the caller starts; the caller makes
+    the second (0.1 s), then waits."""
     import os
     import threading
     import time
@@ -147,21 +148,22 @@ def test_the_wait_for_a_helper_leaves_the_announcements_free(tmp_path):
 
     from pipeline.bodies.compile_share import SharedCalls
 
-    log, pauses = tmp_path / "made.txt", (1.5, 3.0)
+    log, pauses = tmp_path / "made.txt", (3.0, 0.1)
     shared = SharedCalls(calls(log, 2, pauses), helpers=1, target=helper, args=(log, 2, pauses))
     assert shared.start_helpers() == 1
     t_start = time.perf_counter()
+    while not (log.exists() and any(p != os.getpid() for _, p in made_by(log))):
+        assert time.perf_counter() - t_start < 30.0, "the helper took no call"
+        time.sleep(0.05)
     waiting = threading.Thread(target=shared.run_here)
     waiting.start()
-    while not (log.exists() and any(p != os.getpid() for _, p in made_by(log))):
-        assert time.perf_counter() - t_start < 10.0, "the helper took no call"
-        time.sleep(0.05)
-    time.sleep(max(0.0, t_start + 1.7 - time.perf_counter()))    # the caller's call is made: it waits
+    time.sleep(0.6)                       # the caller has made its 0.1 s call and waits for the helper's 3 s one
     t0 = time.perf_counter()
     assert shared.start_helpers() == 0
     answered_s = time.perf_counter() - t0
     waiting.join()
     assert answered_s < 0.5 and shared.made_here == {0, 1}
+    assert made_by(log)[0][1] != os.getpid()          # the first call was the helper's
 
 
 def test_screen_compiles_with_a_helper_for_each_worker_beyond_the_first_on_the_cores_it_has(kocaeli, tmp_path,

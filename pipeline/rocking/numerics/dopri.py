@@ -37,8 +37,7 @@ NEWTON_ITERATIONS = 8           # Newton iterations locating an impact on the st
 NEWTON_TOL_ALPHA = 1e-13        # |theta| accepted as the impact, as a fraction of alpha
 HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step that ends within this of it [s]
 CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
-CROSSING_ITERATIONS = 60        # ... then safeguarded Newton iterations in the probes' bracket, at most (a step
-                                # that is not Newton's is a bisection: 2^-56 of the probe's span within this many)
+CROSSING_ITERATIONS = 60        # ... then at most this many safeguarded Newton iterations in the probes' bracket
 CROSSING_TOL = 4.0 * 2.0 ** -52  # the crossing is taken where an iteration moves it by less than this fraction
 
 @jit
@@ -129,8 +128,9 @@ def first_crossing(th0, om0, th1, om1, h, s):
 def _bracketed_root(th0, om0, th1, om1, h, s, lo, hi):
     """The root of the Hermite cubic between ``lo`` (s*theta >= 0) and ``hi`` (s*theta < 0): Newton's iterations
     on the cubic, the bracket narrowed by every evaluation; a Newton step that would leave the bracket, or that is
-    not at most half the step before the last, is a bisection instead (safeguarded Newton, ``rtsafe`` of Press et
-    al. 2007, section 9.4)."""
+    more than half the last step, is a bisection instead (safeguarded Newton, after ``rtsafe`` of Press et al. 2007,
+    section 9.4). Ends where a step moves the root by less than :data:`CROSSING_TOL` of it, or after
+    :data:`CROSSING_ITERATIONS` (the last estimate, inside the bracket)."""
     dx_old = dx = hi - lo
     x = 0.5 * (lo + hi)
     for _ in range(CROSSING_ITERATIONS):

@@ -298,16 +298,16 @@ def wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y0, theta_out, 
     tilt and its azimuth at the samples, the last state in ``y_end`` and in ``cert`` (t, the 6 states) the last
     state certified before the base would first slide or lift off (t NaN: never); returns (overturned, t_overturn,
     theta_max, its azimuth [rad], flag, impacts, the peak |F_h| / F_z while rocking, the flag held past alpha)."""
-    y, rocking = _start_state(y0, params_of(g, a, h, mu, scale, rtol, atol_alpha).land)
-    return _wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y, rocking, theta_out, azimuth_out, y_end,
-                   settle, cert, np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE))
+    prm = params_of(g, a, h, mu, scale, rtol, atol_alpha)
+    y, rocking = _start_state(y0, prm.land)
+    return _wobble(ax, ay, az, dt, g, a, h, mu, prm, y, rocking, theta_out, azimuth_out, y_end, settle, cert,
+                   np.zeros((2, STATE_SIZE)), np.empty(STATE_SIZE), np.empty(STATE_SIZE))
 
 
 @jit_lean
-def _wobble(ax, ay, az, dt, g, a, h, mu, scale, rtol, atol_alpha, y, rocking, theta_out, azimuth_out, y_end, settle,
-            cert, k, y_new, err):
-    """:func:`wobble`'s loop on the arrays it made."""
-    grd, prm = Ground(ax, ay, az, dt, g), params_of(g, a, h, mu, scale, rtol, atol_alpha)
+def _wobble(ax, ay, az, dt, g, a, h, mu, prm, y, rocking, theta_out, azimuth_out, y_end, settle, cert, k, y_new, err):
+    """:func:`wobble`'s loop on the parameters (:func:`.cylinder_kernel.params_of`) and arrays it made."""
+    grd = Ground(ax, ay, az, dt, g)
     n = ax.shape[0]
     t, t_end, hh_next, steps = 0.0, (n - 1) * dt, dt, 0
     theta_max, az_max, flag, impacts, t_over, demand, held = 0.0, 0.0, FLAG_NONE, 0, math.nan, 0.0, FLAG_NONE
