@@ -2,7 +2,9 @@
 
 The equation of motion of a rocking block (:func:`rocking_accel`) is integrated by the embedded
 Dormand-Prince 5(4) pair (:func:`dopri_step`, which also returns the error estimate the step control of
-:mod:`.kernel` reads). Within an accepted step, theta is the cubic Hermite interpolant of the step's ends
+:mod:`.kernel` reads). The seven stages of a step need sin and cos of alpha s - theta: they are taken by
+math.sin and math.cos at the step's two ends, and inside it rotated from the start's by the stage's change of theta
+(:func:`_rotated`), which is small. Within an accepted step, theta is the cubic Hermite interpolant of the step's ends
 (:func:`hermite`): it finds where theta changes sign (:func:`first_crossing`, safeguarded Newton on the cubic), the
 turning point's |theta| (:func:`hermite_peak`, the root of the cubic's rate in closed form) and the history at the
 samples (:func:`fill_hermite`); :func:`locate_impact` then
@@ -20,6 +22,8 @@ Makris, N. & Roussos, Y. (2000). Rocking response of rigid blocks under near-sou
 Geotechnique 50(3), 243-262 (the equation of motion, eqs. 1-3 and 8-9).
 Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes.
 Earthquake Eng. Struct. Dyn. 8(6), 565-587 (the vertical acceleration in the equation of motion).
+Abramowitz, M. & Stegun, I. A. (1964). Handbook of Mathematical Functions. National Bureau of Standards,
+formulas 4.3.16-4.3.17 (the sine and cosine of a difference) and 4.3.65-4.3.66 (their power series).
 Press, W. H., Teukolsky, S. A., Vetterling, W. T. & Flannery, B. P. (2007). Numerical Recipes, 3rd ed., Cambridge
 University Press, sections 5.6 (the quadratic's roots without cancellation) and 9.4 (Newton's method safeguarded
 by bisection).
@@ -39,6 +43,10 @@ HISTORY_TIME_TOL_S = 1e-12      # a history sample at k dt belongs to a step tha
 CROSSING_PROBES = 16            # a step's Hermite cubic is probed at this many points for theta's sign change
 CROSSING_ITERATIONS = 60        # ... then at most this many safeguarded Newton iterations in the probes' bracket
 CROSSING_TOL = 4.0 * 2.0 ** -52  # the crossing is taken where an iteration moves it by less than this fraction
+#: Inside a step, sin and cos of alpha s - theta at a stage are those of the step's start rotated by the stage's
+#: change d of theta (Taylor series of sin d to d^7 and cos d to d^6) where |d| is at most this [rad]: the first
+#: terms left out, d^9 / 9! and d^8 / 8!, are then below 1e-19; beyond it math.sin and math.cos are called
+ROTATION_MAX_RAD = 1.0 / 64.0
 
 @jit
 def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
@@ -86,19 +94,51 @@ def _plane(t, y, args):
     return (om, acc), (sin_phi, cos_phi)
 
 
+@jit_inline
+def _rotated(sin0, cos0, d):
+    """sin and cos of phi0 - d from those of phi0, for |d| <= :data:`ROTATION_MAX_RAD`: the angle-difference
+    identities (Abramowitz & Stegun 1964, 4.3.16-17) with the series of sin d and cos d (4.3.65-66) by Horner's
+    scheme in d^2. Within a few units in the last place of math.sin and math.cos of phi0 - d
+    (``tests/rocking/numerics/test_properties_rotated.py``)."""
+    d2 = d * d
+    sin_d = d * (1.0 + d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 + d2 * (-1.0 / 5040.0))))
+    cos_d = 1.0 + d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0)))
+    return sin0 * cos_d - cos0 * sin_d, cos0 * cos_d + sin0 * sin_d
+
+
+@jit_inline
+def _plane_near(t, y, args):
+    """:func:`_plane` at a stage of a step from theta0, whose sin and cos of alpha s - theta0 are known
+    (``args``: _plane's, then theta0 and them): rotated by the stage's change of theta (:func:`_rotated`)."""
+    pc, s, p2, alpha, g, linear, th0, sin0, cos0 = args
+    th, om = y
+    ah, av = pc.a0 + pc.sa * (t - pc.t0), pc.v0 + pc.sv * (t - pc.t0)
+    phi = alpha * s - th
+    d = th - th0
+    if abs(d) <= ROTATION_MAX_RAD:
+        sin_phi, cos_phi = _rotated(sin0, cos0, d)
+    else:
+        sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+    acc = -p2 * ((1.0 + av / g) * phi + ah / g) if linear else accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g)
+    return (om, acc), (sin_phi, cos_phi)
+
+
 @jit
 def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
     """One Dormand-Prince step (:func:`~.rk.rk_step` with :data:`~.rk.DOPRI54`) of length ``h`` [s] from
     (t, theta, omega) on pivot side ``s`` under the ground piece ``pc`` (:class:`~.structures.GroundPiece`);
     returns theta, omega, their error estimates, the angular acceleration at the step's end, and sin and cos of
-    alpha s - theta there (what the pivot's forces need: computed once, the same doubles as
-    :func:`rocking_accel`'s)."""
-    args = (pc, s, p2, alpha, g, linear)
+    alpha s - theta there (what the pivot's forces need).
+
+    The stages inside the step rotate the start's sin and cos by their change of theta (:func:`_plane_near`):
+    one call of math.sin and math.cos at each end of the step instead of one at each of the seven stages. The
+    step's ends are :func:`rocking_accel`'s own doubles."""
     y = (th, om)
-    f, _ = _plane(t, y, args)
-    st = rk_step(_plane, args, t, y, f, h, DOPRI54)
-    (sin_end, cos_end) = st.kept
-    return st.y[0], st.y[1], st.err[0], st.err[1], st.f[1], sin_end, cos_end
+    args = (pc, s, p2, alpha, g, linear)
+    f, (sin0, cos0) = _plane(t, y, args)
+    st = rk_step(_plane_near, (pc, s, p2, alpha, g, linear, th, sin0, cos0), t, y, f, h, DOPRI54)
+    f_end, (sin_end, cos_end) = _plane(t + h, st.y, args)
+    return st.y[0], st.y[1], st.err[0], st.err[1], f_end[1], sin_end, cos_end
 
 
 @jit
