@@ -24,8 +24,11 @@ Samples are spent only where they decide something.
 **A random orientation** (:func:`random_orientation`): each draw is simulated in one plane of the grid, taken by
 cycling random permutations of the grid (a fixed seed, the same for every scene), so that the fraction of draws
 that overturn is an unbiased estimate of the average over orientations uniform on [0, 180); cells already
-simulated by the worst orientation's selection are reused. Its Wilson interval stops the draws at a half-width of
-``orientation_average_halfwidth`` or ``orientation_average_samples`` draws.
+simulated by the worst orientation's selection are reused. Its interval stops the draws at a half-width of
+``orientation_average_halfwidth`` or ``orientation_average_samples`` draws: Wilson's, or, once every plane of the
+grid has a draw and every draw a verdict, the stratified mean's by successive differences over the planes
+(:mod:`.stratified`) where that is narrower (the draws are a sample stratified by plane: where the probability
+changes with the orientation, their mean varies far less than a binomial's).
 
 References
 ----------
@@ -53,6 +56,7 @@ from .robust import Robustness, spanning_interval, wilson_interval
 from .sampling import common_normals, sample_block
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, scene_probability
 from .settings import UncertaintyConfig
+from .stratified import StratifiedMean, successive_difference_interval
 
 #: Offset of the seed of the independent draws that estimate the worst orientation's probability (the
 #: orientation is chosen on the first draws; estimating it on the same draws would bias it upward).
@@ -303,8 +307,9 @@ def _refine(cells: _Cells, chosen_deg: float, drawn: int, alive: np.ndarray, gov
 
 def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, grid_deg: np.ndarray,
                        cells: _Cells | None = None) -> tuple[float, float, float, int]:
-    """P(overturn) for a uniformly random orientation, its Wilson interval and the planes integrated: draw k in
-    grid plane ``order[k]`` (:func:`plane_order`), reusing the selection ``cells`` where they hold that cell."""
+    """P(overturn) for a uniformly random orientation, its interval (the module's: Wilson's, or the stratified
+    mean's where that is narrower) and the planes integrated: draw k in grid plane ``order[k]``
+    (:func:`plane_order`), reusing the selection ``cells`` where they hold that cell."""
     u = blk.settings
     grid = np.asarray(grid_deg, dtype=float)
     n_max = len(z_average)
@@ -333,10 +338,24 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
         # the draws without a verdict are unknown: the interval spans them (standing below, overturning above)
         mean = k / (drawn - unknown)
         low, high = spanning_interval(k, unknown, drawn, confidence=u.confidence)
+        if unknown == 0 and drawn >= grid.size > 1:
+            by_plane = _by_plane(v, order[:drawn], grid, confidence=u.confidence)
+            if by_plane.high - by_plane.low < high - low:
+                mean, low, high = by_plane
         sampling_halfwidth = (high - low - unknown / drawn) / 2.0      # the unknown draws' share is no sampling error
         if drawn >= SELECTION_BATCHES * batch and sampling_halfwidth <= u.orientation_average_halfwidth:
             break
     return mean, low, high, sims
+
+
+def _by_plane(outcome: np.ndarray, planes: np.ndarray, grid_deg: np.ndarray, *, confidence: float) -> StratifiedMean:
+    """The draws' mean (``outcome`` 1 or 0, draw k in grid plane ``planes[k]``, every plane drawn) and its interval
+    by successive differences over the planes in azimuth order (:mod:`.stratified`)."""
+    counts = np.bincount(planes, minlength=grid_deg.size)
+    overturned = np.bincount(planes, weights=(outcome == Verdict.overturns), minlength=grid_deg.size)
+    by_azimuth = np.argsort(np.asarray(grid_deg) % 180.0, kind="stable")
+    return successive_difference_interval(overturned[by_azimuth] / counts[by_azimuth], counts[by_azimuth],
+                                          confidence=confidence)
 
 
 def plane_order(n_planes: int, n_draws: int) -> np.ndarray:

@@ -73,7 +73,7 @@ def wilson_interval(k, n, *, confidence: float = 0.90) -> tuple[np.ndarray, np.n
     """
     k = np.asarray(k, dtype=float)
     n = np.asarray(n, dtype=float)
-    z = _normal_quantile(0.5 + confidence / 2.0)
+    z = normal_quantile(0.5 + confidence / 2.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         centre = (k + z * z / 2.0) / (n + z * z)
         half = z * np.sqrt(k * (n - k) / n + z * z / 4.0) / (n + z * z)
@@ -109,7 +109,7 @@ def spanning_interval(k: int, unknown: int, drawn: int, *, confidence: float = 0
 
 
 @lru_cache(maxsize=8)
-def _normal_quantile(q: float) -> float:
+def normal_quantile(q: float) -> float:
     """The standard normal quantile of ``q`` (computed once per confidence)."""
     return NormalDist().inv_cdf(q)
 

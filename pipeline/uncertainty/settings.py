@@ -47,7 +47,8 @@ class UncertaintyConfig:
     orientation_step_deg: float = 0.0
     #: A block of unknown orientation: the probability for a uniformly random orientation is estimated on draws
     #: of one grid plane each (random permutations of the grid, the same for every scene), until half its 90 %
-    #: Wilson interval is at most ``orientation_average_halfwidth`` or this many draws are in [-].
+    #: interval (Wilson's, or the stratified mean's over the planes where narrower) is at most
+    #: ``orientation_average_halfwidth`` or this many draws are in [-].
     orientation_average_samples: int = 120
     #: ... the precision target of that average [-] (0.10 gave rare errors of 0.28; 0.07 none over 0.2,
     #: docs/validation.md).

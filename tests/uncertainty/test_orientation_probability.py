@@ -171,3 +171,29 @@ def test_a_standing_nominal_races_only_its_candidates(threshold):
                                   nominal_overturned=False, ranked_deg=ranked)
     assert out.worst_azimuth_deg in (45.0, 25.0, 35.0, 20.0)
     assert out.worst_azimuth_deg in (25.0, 35.0)                  # the nearest the polarization among them
+
+
+def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monkeypatch):
+    """The nearly deterministic scene (13 of 36 planes overturn): the first two batches of 20 draws cover every
+    plane, the stratified mean's interval is then about +-0.05 and stops the draws, where Wilson's (+-0.12 at
+    p = 0.36) would have drawn on to the 120 allowed. The interval covers the grid's 13 / 36."""
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.uncertainty import orientations
+    from pipeline.uncertainty.robust import wilson_interval
+
+    settings = dataclasses.replace(_settings(0.001, 40), batch=20, orientation_average_samples=120,
+                                   orientation_average_halfwidth=0.07)
+    h, dt = _polarized(1.2 * threshold)
+    grid = plane_grid(5.0)
+    m = motion(h, 0.0, None, dt, planes_deg=grid)
+    blk = orientations._Block(BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), settings, SimulationConfig(), G)
+    drawn: list[int] = []
+    simulate = orientations.simulate_cells
+    monkeypatch.setattr(orientations, "simulate_cells", lambda m_, z_, p_, b_: drawn.append(len(z_)) or
+                        simulate(m_, z_, p_, b_))
+    mean, low, high, _ = orientations.random_orientation(m, orientations.average_normals(settings), blk,
+                                                         grid_deg=grid)
+    assert sum(drawn) == 40
+    assert (high - low) / 2 <= 0.07 and low <= 13 / 36 <= high
+    w_low, w_high = wilson_interval(round(mean * 40), 40, confidence=settings.confidence)
+    assert (w_high - w_low) / 2 > 0.07
