@@ -90,6 +90,8 @@ FIRST_STEP_FRACTION = 0.1       # first step, as a fraction of min(largest step,
 UPLIFT_STEP_FRACTION = 0.01     # first step after an uplift from rest, the same way
 MIN_STEP_AFTER_IMPACT_P = 1e-6  # smallest step kept across an impact, as a fraction of 1/p
 SAMPLE_INDEX_TOL = 1e-9         # rounding allowance when t / dt falls on a sample [-]
+CAP_TOL = 1e-8                  # a piece is at most dt (1 + CAP_TOL) long, SAMPLE_INDEX_TOL's rounding included;
+                                # the same margin keeps _next_step's bound on the error norm clear of rounding [-]
 TAIL_TIME_TOL_S = 1e-9          # the record has ended within this of its last sample [s]
 TINY = 1e-300                   # guards a division by a difference of |theta| that can be 0
 
@@ -408,7 +410,7 @@ def _pivot_holds(sin1, cos1, om1, acc1, hh, pc, block, progress):
 
 
 @jit_inline
-def _accept(hh, th1, om1, err, dt, progress, theta_out):
+def _accept(hh, th1, om1, err, dt, h_max, progress, theta_out):
     """Take an accepted step without events: the peak inside it, the history, and the next step's size."""
     pr = progress[0]
     t, th, om = pr.t, pr.theta, pr.omega
@@ -417,10 +419,24 @@ def _accept(hh, th1, om1, err, dt, progress, theta_out):
     pr.theta_max = max(pr.theta_max, abs(th1))
     pr.out_k = fill_hermite(theta_out, pr.out_k, dt, t, hh, th, om, th1, om1, t + hh)
     pr.t, pr.theta, pr.omega = t + hh, th1, om1
+    pr.h = _next_step(hh, err, dt, h_max)
+
+
+@jit_inline
+def _next_step(hh, err, dt, h_max):
+    """The step the error control asks for after an accepted step of ``hh`` [s] with error norm ``err`` <= 1.
+
+    The next step is min(this, h_max, what is left of its piece), and a piece is at most ``dt`` long within
+    :data:`SAMPLE_INDEX_TOL`; where this is certainly at least that cap (err <= (SAFETY hh / cap)^5, with a margin
+    far beyond the power's rounding), the cap is returned in its place: the next step is the same double, and
+    err^ERROR_EXPONENT is not evaluated."""
     if err > 0 and not err < GROWTH_CERTAIN_BELOW:
-        pr.h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT))
-    else:
-        pr.h = hh * MAX_FACTOR
+        cap = min(h_max, dt * (1.0 + CAP_TOL))
+        r = SAFETY * hh / cap
+        if hh * MAX_FACTOR >= cap and err <= r * r * r * r * r * (1.0 - CAP_TOL):
+            return cap
+        return hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT))
+    return hh * MAX_FACTOR
 
 
 @jit_inline
@@ -479,7 +495,7 @@ def _rocking_step(has_v, dt, pc, block, control, lim, progress, out):
     if abs(th1) < block.alpha and not _pivot_holds(sin1, cos1, om1, acc1, hh, pc, block, progress):
         pr.handed_off = True
         return False
-    _accept(hh, th1, om1, err, dt, progress, out.theta)
+    _accept(hh, th1, om1, err, dt, lim.h_max, progress, out.theta)
     return True
 
 

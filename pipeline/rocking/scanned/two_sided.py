@@ -57,18 +57,15 @@ from ..codes import (
 from ..numerics.dopri import dopri_step, fill_hermite, hermite_peak, locate_impact, pivot_demand
 from ..numerics.ground import flight_fraction
 from ..planar.kernel import (
-    ERROR_EXPONENT,
     FIRST_STEP_FRACTION,
-    MAX_FACTOR,
     MAX_STEPS_FIXED,
     MAX_STEPS_PER_SAMPLE,
-    MIN_FACTOR,
     MIN_STEP_AFTER_IMPACT_P,
     MIN_STEP_S,
-    SAFETY,
     TINY,
     UPLIFT_STEP_FRACTION,
     _impact_fraction,
+    _next_step,
     _piece,
     reject,
     step_error,
@@ -339,7 +336,7 @@ def _rocking_step(has_v, dt, pc, b, control, lim, progress, theta_out):
     _note_peak(progress, peak)
     pr.out_k = fill_hermite(theta_out, pr.out_k, dt, t, hh, th, om, th1, om1, t + hh)
     pr.t, pr.theta, pr.omega = t + hh, th1, om1
-    pr.h = hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)) if err > 0 else hh * MAX_FACTOR
+    pr.h = _next_step(hh, err, dt, lim.h_max)
     return True
 
 
