@@ -340,8 +340,8 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
         low, high = spanning_interval(k, unknown, drawn, confidence=u.confidence)
         if unknown == 0 and drawn >= grid.size > 1:
             by_plane = _by_plane(v, order[:drawn], grid, confidence=u.confidence)
-            if by_plane.high - by_plane.low < high - low:
-                mean, low, high = by_plane
+            if by_plane.high - by_plane.low < high - low:      # its mean is k / drawn: only the bounds differ
+                low, high = by_plane.low, by_plane.high
         sampling_halfwidth = (high - low - unknown / drawn) / 2.0      # the unknown draws' share is no sampling error
         if drawn >= SELECTION_BATCHES * batch and sampling_halfwidth <= u.orientation_average_halfwidth:
             break

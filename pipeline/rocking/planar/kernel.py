@@ -426,10 +426,10 @@ def _accept(hh, th1, om1, err, dt, h_max, progress, theta_out):
 def _next_step(hh, err, dt, h_max):
     """The step the error control asks for after an accepted step of ``hh`` [s] with error norm ``err`` <= 1.
 
-    The next step is min(this, h_max, what is left of its piece), and a piece is at most ``dt`` long within
-    :data:`SAMPLE_INDEX_TOL`; where this is certainly at least that cap (err <= (SAFETY hh / cap)^5, with a margin
-    far beyond the power's rounding), the cap is returned in its place: the next step is the same double, and
-    err^ERROR_EXPONENT is not evaluated."""
+    The next step is min(this, h_max, what is left of its piece), and a piece is at most dt (1 + :data:`CAP_TOL`)
+    long, the rounding :data:`SAMPLE_INDEX_TOL` allows included; where this is certainly at least that cap
+    (err <= (SAFETY hh / cap)^5, with a margin far beyond the power's rounding), the cap is returned in its place:
+    the next step is the same double, and err^ERROR_EXPONENT is not evaluated."""
     if err > 0 and not err < GROWTH_CERTAIN_BELOW:
         cap = min(h_max, dt * (1.0 + CAP_TOL))
         r = SAFETY * hh / cap
