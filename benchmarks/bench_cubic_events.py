@@ -90,10 +90,12 @@ def _cases(n: int, rng: np.random.Generator, *, crossing: bool) -> np.ndarray:
     return np.ascontiguousarray(np.column_stack([th0, om0, th1, om1, h]))
 
 
-def _timed(f, cases, solved) -> tuple[np.ndarray, float]:
-    f(cases[:10], solved)                                   # compile outside the timing
+def time_per_case(f, cases, variant) -> tuple[np.ndarray, float]:
+    """``f(cases, variant)``'s output and its time per case [s], compiled outside the timing (also used by
+    bench_step_trig.py)."""
+    f(cases[:10], variant)
     t0 = time.perf_counter()
-    out = f(cases, solved)
+    out = f(cases, variant)
     return out, (time.perf_counter() - t0) / cases.shape[0]
 
 
@@ -103,8 +105,8 @@ def main() -> None:
     args = ap.parse_args()
     rng = np.random.default_rng(2026)
     cross = _cases(args.steps, rng, crossing=True)
-    x_new, t_new = _timed(_crossings, cross, True)
-    x_old, t_old = _timed(_crossings, cross, False)
+    x_new, t_new = time_per_case(_crossings, cross, True)
+    x_old, t_old = time_per_case(_crossings, cross, False)
     print(f"crossings ({args.steps} steps): solved {1e6 * t_new:.3f} us, bisected {1e6 * t_old:.3f} us a call "
           f"({t_old / t_new:.1f}x); largest difference {np.max(np.abs(x_new - x_old)):.2e} of the step")
     worst = int(np.argmax(np.abs(x_new - x_old)))
@@ -116,8 +118,8 @@ def main() -> None:
     print(f"  there |theta| / the step's scale: solved {at_new:.1e}, bisected {at_old:.1e}; the cubic's slope / scale "
           f"{slope:.1e}")
     turn = _cases(args.steps, rng, crossing=False)
-    p_new, t_new = _timed(_peaks, turn, True)
-    p_old, t_old = _timed(_peaks, turn, False)
+    p_new, t_new = time_per_case(_peaks, turn, True)
+    p_old, t_old = time_per_case(_peaks, turn, False)
     rel = np.abs(p_new - p_old) / np.maximum(np.abs(p_old), 1e-300)
     print(f"turning points ({args.steps} steps): solved {1e6 * t_new:.4f} us, bisected {1e6 * t_old:.3f} us a call "
           f"({t_old / t_new:.0f}x); largest relative difference of the peak {np.max(rel):.2e}")

@@ -31,7 +31,7 @@ import xarray as xr
 from pipeline.blocks import read_inventory
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
-from pipeline.rocking.orientation import plane_grid
+from pipeline.rocking.orientation import Orientation, plane_grid
 from pipeline.uncertainty.orientations import _Block, simulate_cells
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.scenes import motion
@@ -87,8 +87,7 @@ def _class(p: float) -> int:
 def compare(ref: dict, path: Path) -> None:
     ds = xr.open_dataset(path)
     rec, blk = list(ds["record"].values), list(ds["block"].values)
-    codes = dict(zip(ds["orientation"].attrs["flag_meanings"].split(), ds["orientation"].attrs["flag_values"]))
-    planar = (codes["scanned"], codes["scanned_relative"])   # judged by the planar draws over the grid's planes
+    planar = (Orientation.scanned, Orientation.scanned_relative)   # judged by the planar draws over the grid's planes
     agree = n = cover = n_avg = 0
     err_w, err_a, changed, other = [], [], [], 0
     for (rid, bid), outcomes in ref.items():

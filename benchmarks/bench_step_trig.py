@@ -14,10 +14,10 @@ Run: .venv/bin/python benchmarks/bench_step_trig.py [--steps N]
 from __future__ import annotations
 
 import argparse
-import time
 
 import numba
 import numpy as np
+from bench_cubic_events import time_per_case
 
 from pipeline.rocking.numerics.dopri import _plane, dopri_step
 from pipeline.rocking.numerics.rk import DOPRI54, rk_step
@@ -64,20 +64,13 @@ def _cases(n: int, rng: np.random.Generator) -> np.ndarray:
                                                  alpha]))
 
 
-def _timed(cases, rotated) -> tuple[np.ndarray, float]:
-    _steps(cases[:10], rotated)                              # compile outside the timing
-    t0 = time.perf_counter()
-    out = _steps(cases, rotated)
-    return out, (time.perf_counter() - t0) / cases.shape[0]
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=1_000_000)
     args = ap.parse_args()
     cases = _cases(args.steps, np.random.default_rng(2026))
-    new, t_new = _timed(cases, True)
-    old, t_old = _timed(cases, False)
+    new, t_new = time_per_case(_steps, cases, True)
+    old, t_old = time_per_case(_steps, cases, False)
     scale = np.abs(cases[:, 2]) + np.abs(cases[:, 4] * cases[:, 3])
     d_theta = np.max(np.abs(new[:, 0] - old[:, 0]) / scale)
     d_omega = np.max(np.abs(new[:, 1] - old[:, 1]) / (np.abs(cases[:, 3]) + cases[:, 4] * cases[:, 9]))

@@ -28,7 +28,8 @@ simulated by the worst orientation's selection are reused. Its interval stops th
 ``orientation_average_halfwidth`` or ``orientation_average_samples`` draws: Wilson's, or, once every plane of the
 grid has a draw and every draw a verdict, the stratified mean's by successive differences over the planes
 (:mod:`.stratified`) where that is narrower (the draws are a sample stratified by plane: where the probability
-changes with the orientation, their mean varies far less than a binomial's).
+changes with the orientation, their mean varies less than a binomial's; below half of it in
+``tests/uncertainty/test_stratified.py``).
 
 References
 ----------

@@ -4,11 +4,12 @@ The equation of motion of a rocking block (:func:`rocking_accel`) is integrated 
 Dormand-Prince 5(4) pair (:func:`dopri_step`, which also returns the error estimate the step control of
 :mod:`.kernel` reads). The seven stages of a step need sin and cos of alpha s - theta: they are taken by
 math.sin and math.cos at the step's two ends, and inside it rotated from the start's by the stage's change of theta
-(:func:`_rotated`), which is small. Within an accepted step, theta is the cubic Hermite interpolant of the step's ends
-(:func:`hermite`): it finds where theta changes sign (:func:`first_crossing`, safeguarded Newton on the cubic), the
-turning point's |theta| (:func:`hermite_peak`, the root of the cubic's rate in closed form) and the history at the
-samples (:func:`fill_hermite`); :func:`locate_impact` then
-refines an impact on the Runge-Kutta solution itself by Newton iterations on the step length.
+(:func:`_rotated`) where that change is at most :data:`ROTATION_MAX_RAD`. Within an accepted step, theta is the
+cubic Hermite interpolant of the step's ends (:func:`hermite`): it finds where theta changes sign
+(:func:`first_crossing`, safeguarded Newton on the cubic), the turning point's |theta| (:func:`hermite_peak`, the
+root of the cubic's rate in closed form) and the history at the samples (:func:`fill_hermite`);
+:func:`locate_impact` then refines an impact on the Runge-Kutta solution itself by Newton iterations on the step
+length.
 
 References
 ----------
@@ -130,9 +131,11 @@ def dopri_step(t, th, om, h, pc, s, p2, alpha, g, linear):
     returns theta, omega, their error estimates, the angular acceleration at the step's end, and sin and cos of
     alpha s - theta there (what the pivot's forces need).
 
-    The stages inside the step rotate the start's sin and cos by their change of theta (:func:`_plane_near`):
-    one call of math.sin and math.cos at each end of the step instead of one at each of the seven stages. The
-    step's ends are :func:`rocking_accel`'s own doubles."""
+    The stages inside the step rotate the start's sin and cos by their change of theta (:func:`_plane_near`)
+    where it is at most :data:`ROTATION_MAX_RAD`: then math.sin and math.cos are called at the step's two ends
+    only, not at each of its seven stages. The last stage, rotated, enters the error estimate; the values returned
+    at the end are evaluated once more by math.sin and math.cos, so that they are :func:`rocking_accel`'s own
+    doubles."""
     y = (th, om)
     args = (pc, s, p2, alpha, g, linear)
     f, (sin0, cos0) = _plane(t, y, args)
