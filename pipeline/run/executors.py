@@ -48,6 +48,20 @@ MAX_TASK_ATTEMPTS = 3
 #: measured in docs/validation.md). The server starts with the first pool of a process and keeps what it imported.
 FORKSERVER_PRELOAD = ("pipeline.run.batch",)
 
+#: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
+#: (``distributed.nanny.pre-spawn-environ``; the numba pool's size and the mmap threshold are this one's own): one
+#: thread per BLAS, OpenMP or numba pool (N workers with a pool of threads each oversubscribe the cores: -n 2 ran 2.6x
+#: slower than serial without it); glibc's malloc trimming the top of a worker's heap whenever more than 64 KiB is
+#: free there, so that more of what a worker frees after a record goes back to the system (docs/validation.md
+#: measures the process tree's memory with and without it); and, since setting a trim threshold turns off glibc's
+#: adjustment of its mmap threshold, that threshold fixed at glibc's largest adjusted value, 32 MiB: at its
+#: 128 KiB start every array of a long record's length is mapped and unmapped again at each use, and each of its
+#: pages faulted in afresh (on the bundled default run the workers took 2.1-2.2 s of system time each, with 1.2
+#: million page faults, against 0.5-0.6 s and 0.2 million with it; docs/validation.md).
+WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                      "NUMBA_NUM_THREADS": "1", "MALLOC_TRIM_THRESHOLD_": "65536",
+                      "MALLOC_MMAP_THRESHOLD_": str(32 * 2**20)}
+
 #: Dask settings of the LocalCluster (``--scheduler local``): its periodic housekeeping made rarer. With one worker
 #: per core, every cycle a worker's other threads or its nanny spend is taken from a record task: at Dask's defaults
 #: the record tasks of a 10-record run spent 44.0 s of wall time for 39.2 s of their own thread's CPU (the worker's
@@ -55,22 +69,17 @@ FORKSERVER_PRELOAD = ("pipeline.run.batch",)
 #: every 100 ms); with these, 40.3 s for 39.4 s, as in the process pool (40.1 s for 39.0 s). What they give up:
 #: the dashboard's profile and its refresh, the nanny's memory limit checked every 2 s instead of 0.1 s, and the
 #: scheduler's work stealing every 1 s instead of 0.1 s (a task is a whole record). A remote cluster keeps its own
-#: configuration (docs/user-guide.md says how to set the same there).
+#: configuration (docs/user-guide.md says how to set the same there). The nannies give their workers the process
+#: workers' environment (:data:`WORKER_ENVIRONMENT`, which holds Dask's own at Dask's values; a variable the user set
+#: keeps the user's value).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
     "distributed.worker.memory.monitor-interval": "2s",
     "distributed.scheduler.work-stealing-interval": "1s",
+    "distributed.nanny.pre-spawn-environ": dict(WORKER_ENVIRONMENT),
 }
-#: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
-#: (``distributed.nanny.pre-spawn-environ``; the numba pool's size is this one's own): one thread per BLAS, OpenMP
-#: or numba pool (N workers with a pool of threads each oversubscribe the cores: -n 2 ran 2.6x slower than serial
-#: without it), and glibc's malloc trimming the top of a worker's heap whenever more than 64 KiB is free there, so
-#: that more of what a worker frees after a record goes back to the system (docs/validation.md measures the
-#: process tree's memory with and without it).
-WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-                      "NUMBA_NUM_THREADS": "1", "MALLOC_TRIM_THRESHOLD_": "65536"}
 
 
 class TaskLost(TaskFailure):
@@ -372,7 +381,9 @@ class DaskExecutor:
         # distributed sets its own loggers to INFO on import; follow the application's verbosity instead
         logging.getLogger("distributed").setLevel(max(logging.getLogger().getEffectiveLevel(), logging.INFO))
         if self.scheduler == "local":
-            with dask.config.set(LOCAL_CLUSTER_CONFIG):        # the nannies hand it to their workers
+            environ = {n: os.environ.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}    # the user's values first
+            with dask.config.set({**LOCAL_CLUSTER_CONFIG, "distributed.nanny.pre-spawn-environ": environ}):
+                # the nannies hand it to their workers
                 self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
                                             host="127.0.0.1", dashboard_address=":0")
             self.client = Client(self.cluster)

@@ -487,20 +487,22 @@ def test_a_task_that_always_kills_its_worker_fails_alone():
 
 def test_process_workers_hold_what_dasks_nanny_gives_its_workers():
     """Each worker of the process pool runs with the variables Dask's Nanny sets for its workers at Dask's values
-    (one BLAS/OpenMP thread, glibc's trim threshold), unless the user set them: then with the user's."""
+    (one BLAS/OpenMP thread, glibc's trim threshold) and the pool's own (one numba thread, the mmap threshold a trim
+    threshold leaves fixed), unless the user set them: then with the user's."""
     dask = pytest.importorskip("dask")
     pytest.importorskip("distributed")
     from pipeline.run.executors import WORKER_ENVIRONMENT
 
     nanny = {k: str(v) for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()}
-    assert set(nanny) <= set(WORKER_ENVIRONMENT)
+    assert {k: WORKER_ENVIRONMENT[k] for k in nanny} == nanny
+    assert WORKER_ENVIRONMENT["MALLOC_MMAP_THRESHOLD_"] == str(32 * 1024 * 1024)     # glibc's largest adjusted value
     users = {n: os.environ[n] for n in WORKER_ENVIRONMENT if n in os.environ}
     names = tuple(WORKER_ENVIRONMENT) * 3
     with ProcessExecutor(2) as ex:
         seen = list(ex.map_unordered(os.getenv, names, None))
     assert len(seen) == len(names)
     for name, value in seen:
-        assert value == users.get(name, nanny.get(name, "1")), name
+        assert value == users.get(name, WORKER_ENVIRONMENT[name]), name
 
 
 @pytest.fixture
@@ -569,6 +571,10 @@ def test_dask_worker_killed_mid_run_still_gives_complete_results(tasks):
     assert_same_record_results(serial, _by_record(got))
 
 
+def _worker_environment(names: tuple) -> dict:
+    return {n: os.environ.get(n) for n in names}
+
+
 def _worker_settings(keys: tuple) -> dict:
     import dask
 
@@ -578,13 +584,18 @@ def _worker_settings(keys: tuple) -> dict:
 @pytest.mark.slow
 def test_dask_local_cluster_workers_run_with_its_quiet_housekeeping():
     """The LocalCluster's workers (not only the process that starts them) hold LOCAL_CLUSTER_CONFIG: the nannies
-    hand it on; a worker at Dask's defaults profiles itself every 10 ms."""
-    from pipeline.run.executors import LOCAL_CLUSTER_CONFIG
+    hand it on (a worker at Dask's defaults profiles itself every 10 ms), and with it the process workers'
+    environment, a variable the user set at the user's value."""
+    from pipeline.run.executors import LOCAL_CLUSTER_CONFIG, WORKER_ENVIRONMENT
 
     with DaskExecutor("local", n_workers=1) as ex:
         seen = ex.client.run(_worker_settings, tuple(LOCAL_CLUSTER_CONFIG))
+        environment = ex.client.run(_worker_environment, tuple(WORKER_ENVIRONMENT))
+    users = {n: os.environ[n] for n in WORKER_ENVIRONMENT if n in os.environ}
     assert len(seen) == 1
-    assert next(iter(seen.values())) == LOCAL_CLUSTER_CONFIG
+    assert next(iter(seen.values())) == {**LOCAL_CLUSTER_CONFIG, "distributed.nanny.pre-spawn-environ":
+                                         {n: users.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}}
+    assert next(iter(environment.values())) == {n: users.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}
 
 
 def test_same_name_in_two_directories_stays_two_records(make_records, blocks_csv, tmp_path, capsys):

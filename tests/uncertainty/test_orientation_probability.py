@@ -22,6 +22,7 @@ from scipy.stats import norm
 
 from pipeline.blocks import geometry
 from pipeline.rocking.block import BlockShape
+from pipeline.rocking.codes import Verdict
 from pipeline.rocking.orientation import plane_grid
 from pipeline.rocking.references.excitation import pulse
 from pipeline.rocking.references.reference import rock_reference
@@ -197,3 +198,27 @@ def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monke
     assert (high - low) / 2 <= 0.07 and low <= 13 / 36 <= high
     w_low, w_high = wilson_interval(round(mean * 40), 40, confidence=settings.confidence)
     assert (w_high - w_low) / 2 > 0.07
+
+
+OV, ST, UN = int(Verdict.overturns), int(Verdict.stands), int(Verdict.no_verdict)
+
+
+@pytest.mark.parametrize(("columns", "kept"), [
+    # 10 common draws per plane: the leader overturns in 9; one fewer stays, two fewer leaves
+    (([OV] * 9 + [ST], [OV] * 8 + [ST] * 2, [OV] * 7 + [ST] * 3), [True, True, False]),
+    # a plane's draws without a verdict count as overturning: 6 + 2 is one short of the leader's 9
+    (([OV] * 9 + [ST], [OV] * 6 + [UN] * 2 + [ST] * 2), [True, True]),
+    (([OV] * 9 + [ST], [OV] * 6 + [UN] + [ST] * 3), [True, False]),
+    # every plane tied: none leaves
+    (([OV] * 10, [OV] * 10, [OV] * 10), [True, True, True]),
+    # far behind by Wilson's bounds too: 10 of 10 against 0 of 10
+    (([OV] * 10, [ST] * 10), [True, False]),
+])
+def test_the_race_drops_a_plane_more_than_the_margin_behind_on_the_same_draws(columns, kept):
+    """Which planes stay in the race: counted on the same draws, against the plane that overturned in most
+    (RACE_MARGIN = 1), the planes' draws without a verdict taken as overturning; the leader always stays."""
+    from pipeline.uncertainty.orientations import RACE_MARGIN, racing
+
+    assert RACE_MARGIN == 1
+    outcome = np.array(columns, dtype=np.int8).T
+    assert racing(outcome, confidence=0.90).tolist() == kept
