@@ -69,17 +69,21 @@ WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_
 #: every 100 ms); with these, 40.3 s for 39.4 s, as in the process pool (40.1 s for 39.0 s). What they give up:
 #: the dashboard's profile and its refresh, the nanny's memory limit checked every 2 s instead of 0.1 s, and the
 #: scheduler's work stealing every 1 s instead of 0.1 s (a task is a whole record). A remote cluster keeps its own
-#: configuration (docs/user-guide.md says how to set the same there). The nannies give their workers the process
-#: workers' environment (:data:`WORKER_ENVIRONMENT`, which holds Dask's own at Dask's values; a variable the user set
-#: keeps the user's value).
+#: configuration (docs/user-guide.md says how to set the same there). Its nannies give their workers the process
+#: workers' environment besides (:func:`worker_environment`).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
     "distributed.worker.memory.monitor-interval": "2s",
     "distributed.scheduler.work-stealing-interval": "1s",
-    "distributed.nanny.pre-spawn-environ": dict(WORKER_ENVIRONMENT),
 }
+
+
+def worker_environment() -> dict[str, str]:
+    """The environment a worker runs with: :data:`WORKER_ENVIRONMENT` (which holds the variables Dask's nanny sets, at
+    Dask's values), each variable the user set at the user's value."""
+    return {name: os.environ.get(name, value) for name, value in WORKER_ENVIRONMENT.items()}
 
 
 class TaskLost(TaskFailure):
@@ -135,8 +139,7 @@ class ProcessExecutor:
 
     def __enter__(self):
         # the forkserver reads the environment when it starts; the workers it forks inherit it
-        for name, value in WORKER_ENVIRONMENT.items():
-            os.environ.setdefault(name, value)
+        os.environ.update(worker_environment())
         self._entered = True
         return self
 
@@ -381,9 +384,8 @@ class DaskExecutor:
         # distributed sets its own loggers to INFO on import; follow the application's verbosity instead
         logging.getLogger("distributed").setLevel(max(logging.getLogger().getEffectiveLevel(), logging.INFO))
         if self.scheduler == "local":
-            environ = {n: os.environ.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}    # the user's values first
-            with dask.config.set({**LOCAL_CLUSTER_CONFIG, "distributed.nanny.pre-spawn-environ": environ}):
-                # the nannies hand it to their workers
+            with dask.config.set({**LOCAL_CLUSTER_CONFIG, "distributed.nanny.pre-spawn-environ": worker_environment()}):
+                # the nannies hand both to their workers
                 self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
                                             host="127.0.0.1", dashboard_address=":0")
             self.client = Client(self.cluster)

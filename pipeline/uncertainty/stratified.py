@@ -6,7 +6,9 @@ has the variance sum_j w_j^2 sigma_j^2 / n_j, which is small wherever the probab
 (a plateau of planes that overturn beside planes that stand), where the binomial p (1 - p) / n of Wilson's
 interval is not. With one or a few draws a plane, sigma_j^2 / n_j is estimated from neighbouring planes: the
 planes in azimuth order (cyclic: 180 deg is 0 deg), Var(ybar_j) ~ (ybar_j - ybar_{j+1})^2 / 2, which is
-unbiased where neighbours have the same probability and too large (conservative) where they differ.
+unbiased where neighbours have the same probability and too large (conservative) where they differ. Where every
+plane's fraction is the same it is 0, and the interval is the mean alone (the random orientation then keeps
+Wilson's interval).
 
 References
 ----------

@@ -593,8 +593,7 @@ def test_dask_local_cluster_workers_run_with_its_quiet_housekeeping():
         environment = ex.client.run(_worker_environment, tuple(WORKER_ENVIRONMENT))
     users = {n: os.environ[n] for n in WORKER_ENVIRONMENT if n in os.environ}
     assert len(seen) == 1
-    assert next(iter(seen.values())) == {**LOCAL_CLUSTER_CONFIG, "distributed.nanny.pre-spawn-environ":
-                                         {n: users.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}}
+    assert next(iter(seen.values())) == LOCAL_CLUSTER_CONFIG
     assert next(iter(environment.values())) == {n: users.get(n, v) for n, v in WORKER_ENVIRONMENT.items()}
 
 

@@ -200,6 +200,30 @@ def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monke
     assert (w_high - w_low) / 2 > 0.07
 
 
+def test_where_every_plane_agrees_the_random_orientation_keeps_wilsons_interval(threshold, monkeypatch):
+    """Half the overturning amplitude, nothing overturns in any plane: the stratified estimate's variance is 0 and
+    says nothing, so the draws go on to Wilson's half-width, 0 of n giving [0, z^2 / (n + z^2)]: 0.02 at n = 65."""
+    from pipeline.rocking.settings import SimulationConfig
+    from pipeline.uncertainty import orientations
+    from pipeline.uncertainty.robust import normal_quantile
+
+    settings = dataclasses.replace(_settings(0.001, 40), batch=5, orientation_average_samples=120,
+                                   orientation_average_halfwidth=0.02)
+    h, dt = _polarized(0.5 * threshold)
+    grid = plane_grid(5.0)
+    m = motion(h, 0.0, None, dt, planes_deg=grid)
+    blk = orientations._Block(BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), settings, SimulationConfig(), G)
+    drawn: list[int] = []
+    simulate = orientations.simulate_cells
+    monkeypatch.setattr(orientations, "simulate_cells", lambda m_, z_, p_, b_: drawn.append(len(z_)) or
+                        simulate(m_, z_, p_, b_))
+    mean, low, high, _ = orientations.random_orientation(m, orientations.average_normals(settings), blk,
+                                                         grid_deg=grid)
+    z2 = normal_quantile(0.95) ** 2
+    assert sum(drawn) == 65 and mean == 0.0 and low == 0.0
+    assert high == pytest.approx(z2 / (65 + z2), rel=1e-12)
+
+
 OV, ST, UN = int(Verdict.overturns), int(Verdict.stands), int(Verdict.no_verdict)
 
 

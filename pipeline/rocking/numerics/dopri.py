@@ -59,7 +59,7 @@ def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
     """
     phi = alpha * s - theta
     if linear:
-        return -p2 * ((1.0 + av / g) * phi + ah / g)
+        return accel_linear(phi, ah, av, p2, g)
     return accel_nonlinear(math.sin(phi), math.cos(phi), ah, av, p2, g)
 
 
@@ -67,6 +67,12 @@ def rocking_accel(theta, omega, ah, av, s, p2, alpha, g, linear):
 def accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g):
     """:func:`rocking_accel` of the nonlinear model from sin and cos of phi = alpha s - theta."""
     return -p2 * ((1.0 + av / g) * sin_phi + (ah / g) * cos_phi)
+
+
+@jit
+def accel_linear(phi, ah, av, p2, g):
+    """:func:`rocking_accel` of the linearised model from phi = alpha s - theta."""
+    return -p2 * ((1.0 + av / g) * phi + ah / g)
 
 
 @jit
@@ -88,11 +94,17 @@ def _plane(t, y, args):
     :func:`rocking_accel` writes it; sin and cos of alpha s - theta kept (what the pivot's forces need)."""
     pc, s, p2, alpha, g, linear = args
     th, om = y
-    ah, av = pc.a0 + pc.sa * (t - pc.t0), pc.v0 + pc.sv * (t - pc.t0)
     phi = alpha * s - th
     sin_phi, cos_phi = math.sin(phi), math.cos(phi)
-    acc = -p2 * ((1.0 + av / g) * phi + ah / g) if linear else accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g)
-    return (om, acc), (sin_phi, cos_phi)
+    return (om, _accel_at(t, phi, sin_phi, cos_phi, pc, p2, g, linear)), (sin_phi, cos_phi)
+
+
+@jit_inline
+def _accel_at(t, phi, sin_phi, cos_phi, pc, p2, g, linear):
+    """:func:`rocking_accel` at ``t`` under the ground piece ``pc`` (linear between its samples), from
+    phi = alpha s - theta and its sin and cos."""
+    ah, av = pc.a0 + pc.sa * (t - pc.t0), pc.v0 + pc.sv * (t - pc.t0)
+    return accel_linear(phi, ah, av, p2, g) if linear else accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g)
 
 
 @jit_inline
@@ -113,15 +125,13 @@ def _plane_near(t, y, args):
     (``args``: _plane's, then theta0 and them): rotated by the stage's change of theta (:func:`_rotated`)."""
     pc, s, p2, alpha, g, linear, th0, sin0, cos0 = args
     th, om = y
-    ah, av = pc.a0 + pc.sa * (t - pc.t0), pc.v0 + pc.sv * (t - pc.t0)
     phi = alpha * s - th
     d = th - th0
     if abs(d) <= ROTATION_MAX_RAD:
         sin_phi, cos_phi = _rotated(sin0, cos0, d)
     else:
         sin_phi, cos_phi = math.sin(phi), math.cos(phi)
-    acc = -p2 * ((1.0 + av / g) * phi + ah / g) if linear else accel_nonlinear(sin_phi, cos_phi, ah, av, p2, g)
-    return (om, acc), (sin_phi, cos_phi)
+    return (om, _accel_at(t, phi, sin_phi, cos_phi, pc, p2, g, linear)), (sin_phi, cos_phi)
 
 
 @jit
