@@ -56,6 +56,12 @@ where it lies, against the threshold of the polygon those contacts span (:mod:`.
 come to rest there and the run ends. On 984 runs of the granite rocks on their shake-table tests this left every
 verdict as it was and integrated 12 % fewer steps, 43 % fewer on the runs that overturn (docs/validation.md).
 
+A body flat on its base beyond that threshold, sticking or sliding without turning, is stepped as the translation
+it is for as long as the impulses that keep it flat exist (the centre of the normal impulses its friction needs in
+its base's polygon, g + a_v > 0: :mod:`.flat_slide`); that step is Moreau's for the plastic contacts, the contact
+problem solved by hand. Against every step solved, on the bundled records' sliding boxes, docs/validation.md says
+what it changed.
+
 ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
 true`` the scenes they stop are handed to this model, which goes on from the exact model's last certified state
 (:mod:`.contact_scene`; a :class:`~.contact_start.Start` instead of rest).
@@ -80,7 +86,7 @@ import numpy as np
 
 from ...compiled import jit_inline, jit_lean
 from ...constants import G
-from .at_rest import ground_at, rest_through, set_down, set_still
+from .at_rest import ground_at, set_down, set_still
 from .attitude import energy, rotation, turned, world_inverse_inertia
 from .contact_pose import (
     LYING_SLACK_RAD,
@@ -97,6 +103,7 @@ from .contact_reduced import solve_step, solvers
 from .contact_start import Start, begin, place
 from .convex_body import ConvexBody, base_threshold, support_threshold
 from .edge_stop import handback
+from .flat_slide import flat_and_sliding, held_through, set_flat
 from .long_steps import impact_ahead, last_passed, steps_merged
 from .near_ground import listed, near
 
@@ -223,7 +230,7 @@ class Contact3DOutcome(NamedTuple):
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
                        g_ms2: float = G, history: bool = False, start: Start | None = None,
-                       edges: np.ndarray | None = None) -> Contact3DOutcome:
+                       edges: np.ndarray | None = None, flat_slides: bool = True) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
@@ -231,14 +238,17 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     (pairs of vertex indices, shape (k, 2); a pair (i, i) the vertex i alone), the run stops at the first sample of
     the record after a whole sampling interval turning on them without slipping, the vertices of one pair loaded and
     sticking, every other vertex without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and
-    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`)."""
+    ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`). With ``flat_slides`` (and
+    plastic contacts), a body flat on its base is stepped as the translation it is while each step's impulses allow
+    it (:mod:`.flat_slide`); without, every step is the contact problem's."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
     n_sub = steps_per_sample(dt_s)
     hist = np.full((ax.size if history else 0, 2), math.nan)
     vertices = np.ascontiguousarray(body.vertices, dtype=float)
-    stance, room = pose(vertices, body.rest, body.tipping_rad), _room(vertices)
+    stance = pose(vertices, body.rest, body.tipping_rad, base=flat_slides and float(body.restitution) == 0.0)
+    room = _room(vertices)
     pairs = np.zeros((0, 2), dtype=np.int64) if edges is None else np.ascontiguousarray(edges, dtype=np.int64)
     out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
                float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
@@ -425,6 +435,27 @@ def _on_face(v, w, impulses, arms, n_c, mu, r, up, tilt):
     return set_still(v, w, impulses), support_threshold(arms, n_c, mu), tilt, lean_of(r, up, tilt)
 
 
+#: How a step left the body (:func:`_on_base`).
+OFF_BASE = 0                # neither still nor flat on its base
+STILL = 1                   # still on its base: set down there (:func:`~.at_rest.set_down`)
+FLAT = 2                    # moving flat on its base: set flat (:func:`~.flat_slide.set_flat`)
+
+
+@jit_inline
+def _on_base(n_c, tilt, v, w, q, x, r, z0, impulses, loaded, pose, size, aloft):
+    """Where a step left the body on ``n_c`` contacts, tilted ``tilt`` [rad], moving at (``v``, ``w``): still on
+    its base (set down: :func:`~.at_rest.set_down`), moving flat on it with a base to take flat steps on and no fine
+    steps after a flight due (``aloft``; set flat: :func:`~.flat_slide.set_flat`), or neither; which."""
+    if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
+        set_down(v, w, q, x, r, z0, impulses, pose)
+        return STILL
+    if pose.n_base > 0 and aloft <= 0 and flat_and_sliding(n_c, tilt, REST_TILT_RAD, v, w, size, REST_SPEED, impulses,
+                                                           loaded):
+        set_flat(v, w, q, x, r, z0, impulses, pose)
+        return FLAT
+    return OFF_BASE
+
+
 @jit_inline
 def _toppled(tilt, toppled, t_beyond, t_over, tilt_max):
     """A body at rest after the record off its base: overturned (when it last passed its tipping angle
@@ -444,25 +475,26 @@ def _energy_now(q, r, v, w, inertia, x, g):
 @jit_lean
 def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, pose, room, begin, edges, merge):
     """The body from ``begin`` (at rest: still at ``yaw``) through the record (steps of ``dt`` / ``n_sub``, taken as
-    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held at rest on its base or on another
-    face where :func:`~.at_rest.rest_through` allows (``held``: its threshold), else stepped (:func:`_advance`); its
-    tilt and lean at the samples into ``hist``; with ``edges``, to where it turns on one without slipping
-    (:func:`~.edge_stop.handback`)."""
+    :func:`_stepping` says) and after it until it rests or :data:`TAIL_S`: held still or flat on its base where
+    :func:`~.flat_slide.held_through` allows (``held``: the at-rest threshold; flat on the base of ``pose``), else
+    stepped (:func:`_advance`); its tilt and lean at the samples into ``hist``; with ``edges``, to where it turns on
+    one without slipping (:func:`~.edge_stop.handback`)."""
     size, z0, threshold, fine_low, fine_high = _bounds(pose.standing, mu)
     contact, frames, r, impulses = room.contact, room.frames, room.r, room.contact[0]
     x, q, v, w = place(room, vertices, z0, yaw, pose, begin)
     resting, edge, stuck, h, n, flags, capped, t_over = begin.k < 0, -1, 0, dt / n_sub, ax.size, 0, 0, math.nan
     aloft, after_flight, held, tilt_held, lean_held = 0, int(AFTER_FLIGHT_S / h), threshold, 0.0, math.nan
     tilt_max, slide_max, twist_max, energy_gain, overturned, flight = begin.tilt_max, 0.0, 0.0, 0.0, False, False
-    t, k, tail_steps, integrated, sweeps, lo = begin.t, max(begin.k, 0), int(TAIL_S / h), 0, 0, begin.lo
+    t, k, k_end, integrated, sweeps, lo = begin.t, max(begin.k, 0), (n - 1) * n_sub + int(TAIL_S / h), 0, 0, begin.lo
     tilt, lean_peak, tilt_before, t_beyond, steps = begin.tilt, begin.lean_peak, begin.tilt, math.nan, k
     while True:
-        if k >= (n - 1) * n_sub + tail_steps:
+        if k >= k_end:
             flags |= FLAG_TAIL_CAP
             break
-        if resting:
-            k_held, resting, ended = rest_through(ax, ay, az, k, n_sub, n, held, g, hist, tilt_held, lean_held)
-            k, steps = k_held, steps + (k_held - k)
+        if resting:                             # held still, or flat on its base (on it: tilt_held 0)
+            k, resting, ended, steps, integrated, slide_max = held_through(
+                ax, ay, az, k, n_sub, k_end, held, g, hist, tilt_held, lean_held, x, v, mu, h, z0, r, pose.x_ref,
+                pose.base, pose.n_base if tilt_held == 0.0 else 0, slide_max, steps, integrated)
             if ended:                           # at rest after the record: toppled where on a face beyond alpha
                 overturned, t_over, tilt_max = _toppled(tilt_held, pose.toppled, t_beyond, t_over, tilt_max)
                 break
@@ -484,9 +516,10 @@ def _run(ax, ay, az, dt, n_sub, vertices, inertia, mu, e_n, yaw, g, work, hist, 
             overturned, t_over, tilt_max = True, t, 0.5 * math.pi            # it lies on a side
             lie_down(hist, k // n_sub + 1, lean_of(r, pose.up, tilt))
             break
-        if n_c > 0 and tilt < REST_TILT_RAD and _still(v, w, size):
-            resting, held, tilt_held, lean_held = set_down(v, w, q, x, r, z0, impulses, pose), threshold, 0.0, math.nan
-            if not during:
+        base = _on_base(n_c, tilt, v, w, q, x, r, z0, impulses, contact[6], pose, size, aloft)
+        if base != OFF_BASE:                    # set down on its base, still or moving flat
+            resting, held, tilt_held, lean_held = True, threshold, 0.0, math.nan
+            if base == STILL and not during:
                 break
         t_beyond, tilt_before = last_passed(t_step, t, tilt_before, tilt, pose.toppled, t_beyond), tilt
         stuck, edge = handback(impulses, edges, mu, stuck, during, k % n_sub == 0, n_sub, span)

@@ -18,35 +18,47 @@ from ...compiled import jit, jit_inline
 #: (h times the landing speed over the body's size: 1.6e-4 rad measured, a 0.5 x 0.5 x 1.5 m box on a real record);
 #: at that tilt the centre of mass of a box or cylinder less slender than 89.4 deg is beyond its pivot.
 LYING_SLACK_RAD = 1e-2
+#: Its base: the vertices within this fraction of the body's size above its lowest as it stands [-].
+BASE_TOL = 1e-9
 
 
 class Pose(NamedTuple):
     """How the body stands, for the kernel: its principal axes' orientation as it stands (unit quaternion (w, x, y,
-    z)), the body-axis vectors that point up and along x as it stands, its vertices in those standing axes, and the
-    tilt beyond which a rest on another face is an overturning [rad]."""
+    z)), the body-axis vectors that point up and along x as it stands, its vertices in those standing axes, the
+    tilt beyond which a rest on another face is an overturning [rad], and its base's polygon seen from above: its
+    edges' outward normals and distances from G's foot (rows (nx, ny, d), :func:`base_edges`) and how many
+    (``n_base``; 0: none taken, then its flat steps are off: :mod:`.flat_slide`)."""
 
     q_rest: np.ndarray
     up: np.ndarray
     x_ref: np.ndarray
     standing: np.ndarray
     toppled: float
+    base: np.ndarray
+    n_base: int
 
 
-def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = math.nan) -> Pose:
-    """The kernel's :class:`Pose` of a body whose principal axes turn by ``rest`` into the axes it stands in."""
+def pose(vertices: np.ndarray, rest: np.ndarray | None, tipping_rad: float = math.nan, *, base: bool = True) -> Pose:
+    """The kernel's :class:`Pose` of a body whose principal axes turn by ``rest`` into the axes it stands in (with
+    ``base``, its base's polygon; without, none)."""
     toppled = 0.5 * math.pi - LYING_SLACK_RAD if math.isnan(tipping_rad) else float(tipping_rad)
     if rest is None:
-        return Pose(np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]), vertices,
-                    toppled)
-    rot = np.asarray(rest, dtype=float)
-    if not (np.allclose(rot @ rot.T, np.eye(3), atol=1e-9) and np.linalg.det(rot) > 0.0):
-        raise ValueError(f"rest is not a rotation matrix (R R^T - I up to {np.abs(rot @ rot.T - np.eye(3)).max():.2g},"
-                         f" det {np.linalg.det(rot):.6g}); give the principal axes' orientation as it stands")
-    from scipy.spatial.transform import Rotation
+        q_rest, up, x_ref, standing = np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.array(
+            [1.0, 0.0, 0.0]), vertices
+    else:
+        rot = np.asarray(rest, dtype=float)
+        if not (np.allclose(rot @ rot.T, np.eye(3), atol=1e-9) and np.linalg.det(rot) > 0.0):
+            raise ValueError(f"rest is not a rotation matrix (R R^T - I up to "
+                             f"{np.abs(rot @ rot.T - np.eye(3)).max():.2g}, det {np.linalg.det(rot):.6g}); give the "
+                             "principal axes' orientation as it stands")
+        from scipy.spatial.transform import Rotation
 
-    x, y, z, w = Rotation.from_matrix(rot).as_quat()
-    return Pose(np.array([w, x, y, z]), np.ascontiguousarray(rot[2]), np.ascontiguousarray(rot[0]),
-                np.ascontiguousarray(vertices @ rot.T), toppled)
+        x, y, z, w = Rotation.from_matrix(rot).as_quat()
+        q_rest, up, x_ref = np.array([w, x, y, z]), np.ascontiguousarray(rot[2]), np.ascontiguousarray(rot[0])
+        standing = np.ascontiguousarray(vertices @ rot.T)
+    edges = np.empty((len(standing), 3))
+    n_base = base_edges(standing, extent(standing)[0], edges) if base else 0
+    return Pose(q_rest, up, x_ref, standing, toppled, edges, int(n_base))
 
 
 @jit
@@ -58,6 +70,50 @@ def extent(vertices):
         size = max(size, math.sqrt(vertices[i, 0] ** 2 + vertices[i, 1] ** 2 + vertices[i, 2] ** 2))
         z0 = max(z0, -vertices[i, 2])
     return size, z0
+
+
+@jit
+def base_edges(standing, size, out):
+    """The edges of the base's polygon seen from above (the vertices ``standing``, in the axes the body stands in,
+    within :data:`BASE_TOL` of ``size`` of the lowest) into the rows of ``out``: the outward unit normal (nx, ny) and
+    the distance d of the edge's line from G's foot, inside where nx x + ny y <= d; how many (0: the base spans no
+    area, or G's foot is not inside it)."""
+    n = standing.shape[0]
+    zmin = math.inf
+    for i in range(n):
+        zmin = min(zmin, standing[i, 2])
+    keep, tol, m = zmin + BASE_TOL * size, BASE_TOL * size, 0
+    for i in range(n):
+        if standing[i, 2] > keep:
+            continue
+        for j in range(i + 1, n):
+            if standing[j, 2] > keep:
+                continue
+            ex, ey = standing[j, 0] - standing[i, 0], standing[j, 1] - standing[i, 1]
+            length = math.sqrt(ex * ex + ey * ey)
+            if length <= tol:
+                continue
+            side = 0
+            for k in range(n):
+                if standing[k, 2] > keep:
+                    continue
+                cr = ex * (standing[k, 1] - standing[i, 1]) - ey * (standing[k, 0] - standing[i, 0])
+                if abs(cr) <= tol * length:
+                    continue
+                sgn = 1 if cr > 0 else -1
+                if side == 0:
+                    side = sgn
+                elif sgn != side:
+                    side = 2
+                    break
+            if side == 1 or side == -1:             # a hull edge; the others lie on the side of sign ``side``
+                nx, ny = side * ey / length, -side * ex / length
+                d = nx * standing[i, 0] + ny * standing[i, 1]
+                if d <= 0.0:
+                    return 0
+                out[m, 0], out[m, 1], out[m, 2] = nx, ny, d
+                m += 1
+    return m
 
 
 @jit_inline

@@ -95,7 +95,8 @@ def place(room, vertices, z0, yaw, pose, start):
     """Where the kernel's run starts (``start``: :func:`begin`'s), into ``room``'s arrays (:mod:`.contact3d`): the
     body standing still on its base at ``yaw`` [rad], G at height ``z0``, or (``start.k`` >= 0) turned to
     ``start.q`` at the rate ``start.w`` about its non-slipping ``start.pivot`` with its lowest vertex on the ground
-    and that point where it stood; no impulse yet: its place, orientation, velocity and rate."""
+    and that point where it stood; no impulse yet: its place, orientation, velocity and rate (its rotation into
+    ``room.r``)."""
     room.contact[0][:, :] = 0.0
     x, q, v, w, r = room.x, room.q, room.v, room.w, room.r
     x[0], x[1], x[2] = 0.0, 0.0, z0
@@ -103,6 +104,7 @@ def place(room, vertices, z0, yaw, pose, start):
     v[:] = 0.0
     w[:] = 0.0
     if start.k < 0:
+        rotation(q, r)                                  # as it stands: a flat step reads its heading from r
         return x, q, v, w
     rotation(q, r)                                      # where the pivot stood
     p0, p1 = along(r, start.pivot, 0), along(r, start.pivot, 1)
