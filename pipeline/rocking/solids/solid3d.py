@@ -30,6 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...compiled import jit
 from ...constants import G
 from ..block import BlockShape, ShapeKind
 from ..codes import ContactMode
@@ -292,9 +293,36 @@ def stays_at_rest(h1, h2, vertical, solid: Solid, *, g_ms2: float = G, amplitude
     """Whether the record (times ``amplitude``) leaves the solid at rest throughout, as its 3D model would: at no
     sample does the ground lift it (:func:`lift_factor`'s condition), slide its base (|a_h| > mu (g + a_z)) or fall
     away (g + a_z <= 0). Exact: the ground is linear between samples and each margin is convex there, so its peak
-    is at a sample; the boundaries hold, as in the models."""
-    x, y, v = _components(h1, h2, vertical, amplitude)
-    gv = g_ms2 + v
-    if np.any(gv <= 0.0) or np.any(np.hypot(x, y) > solid.body.mu * gv):
-        return False
-    return not any(np.any(push > gv * tan_b) for push, tan_b in _pushes(x, y, solid))
+    is at a sample; the boundaries hold, as in the models. Compiled, and it stops at the first sample that moves
+    the solid (:func:`_quiet_throughout`)."""
+    tans = _tipping_tans(solid)
+    v = _NO_VERTICAL if vertical is None or np.size(vertical) == 0 else np.asarray(vertical, dtype=float)
+    c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
+    return _quiet_throughout(np.asarray(h1, dtype=float), np.asarray(h2, dtype=float), v, float(amplitude),
+                             float(g_ms2), float(solid.body.mu), c, s, tans[0], tans[-1], len(tans) == 1)
+
+
+_NO_VERTICAL = np.zeros(0)
+
+
+@jit
+def _quiet_throughout(h1, h2, vertical, amplitude, g, mu, c, s, tan_w, tan_d, round_base):
+    """The samples' test of :func:`stays_at_rest`, in the models' frame (x the first horizontal, y the second
+    reversed, :func:`_components`): g + a_z > 0, |a_h| <= mu (g + a_z), and the push against each way it can lift
+    within (g + a_z) times that way's tan (:func:`_pushes`: a cylinder's |a_h| against tan alpha; a box's
+    acceleration along and across its width, at ``c``, ``s`` the cosine and sine of its azimuth, against ``tan_w``
+    and ``tan_d``), each term as :func:`_pushes` forms it; False at the first sample that fails."""
+    for i in range(h1.size):
+        x, y = amplitude * h1[i], -amplitude * h2[i]
+        gv = g + (amplitude * vertical[i] if vertical.size else 0.0)
+        radial = math.hypot(x, y)
+        if gv <= 0.0 or radial > mu * gv:
+            return False
+        if round_base:
+            if radial > gv * tan_w:
+                return False
+        else:
+            along, across = c * x + s * y, -s * x + c * y
+            if along > gv * tan_w or -along > gv * tan_w or across > gv * tan_d or -across > gv * tan_d:
+                return False
+    return True

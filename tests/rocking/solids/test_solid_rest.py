@@ -83,3 +83,35 @@ def test_a_scene_left_at_rest_is_judged_without_a_run():
     got = judge_solid(h1, h2, v, DT, solid, amplitude=0.9 * f, history=True)
     assert got.scene.theta_max == 0.0 and not got.scene.overturned and got.scene.physics == 0
     assert got.scene.theta_over_alpha is not None and not np.any(got.scene.theta_over_alpha)
+
+
+def _moves_somewhere(h1, h2, v, solid: Solid, amplitude: float, g_ms2: float = G) -> bool:
+    """The rest check's conditions stated on whole arrays: some sample where the ground falls away, slides the base
+    or pushes the solid past a tipping tan (a cylinder: |a_h| over tan alpha; a box: along or across its width)."""
+    x, y = amplitude * h1, -amplitude * h2
+    gv = g_ms2 + (amplitude * v if v is not None else 0.0)
+    radial = np.hypot(x, y)
+    if np.any(gv <= 0.0) or np.any(radial > solid.body.mu * gv):
+        return True
+    if isinstance(solid.body, Cylinder):
+        return bool(np.any(radial > gv * solid.body.radius_m / solid.body.half_height_m))
+    b = solid.body
+    c, s = math.cos(math.radians(solid.azimuth_deg)), math.sin(math.radians(solid.azimuth_deg))
+    along, across = c * x + s * y, -s * x + c * y
+    return bool(np.any(np.abs(along) > gv * b.half_width_m / b.half_height_m)
+                or np.any(np.abs(across) > gv * b.half_depth_m / b.half_height_m))
+
+
+@pytest.mark.parametrize("name", list(SOLIDS))
+@pytest.mark.parametrize("vertical", [True, False])
+def test_the_compiled_rest_check_is_its_conditions_on_whole_arrays(name, vertical):
+    """The check stops at the first sample that moves the solid: it says at rest exactly where no sample moves it,
+    on records scaled from well below to well above their thresholds (lift, slide, and a vertical reaching -g)."""
+    solid = SOLIDS[name]
+    for seed in range(4):
+        h1, h2, v = _record(seed)
+        v = (3.0 * v if vertical else None)
+        f = lift_factor(h1, h2, v, solid)
+        for amplitude in (0.3 * f, 0.9 * f, 0.999 * f, 1.001 * f, 2.0 * f, 8.0 * f):
+            assert stays_at_rest(h1, h2, v, solid, amplitude=amplitude) is not _moves_somewhere(h1, h2, v, solid,
+                                                                                                  amplitude)
