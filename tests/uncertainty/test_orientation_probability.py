@@ -174,17 +174,13 @@ def test_a_standing_nominal_races_only_its_candidates(threshold):
     assert out.worst_azimuth_deg in (25.0, 35.0)                  # the nearest the polarization among them
 
 
-def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monkeypatch):
-    """The nearly deterministic scene (13 of 36 planes overturn): the first two batches of 20 draws cover every
-    plane, the stratified mean's interval is then about +-0.05 and stops the draws, where Wilson's (+-0.12 at
-    p = 0.36) would have drawn on to the 120 allowed. The interval covers the grid's 13 / 36."""
+def _random_orientation_drawn(amplitude, settings, monkeypatch):
+    """The random orientation of the module's block on the polarized record at ``amplitude`` [m s-2], on the 5-deg
+    grid under ``settings``: its mean and bounds, and the draws it simulated."""
     from pipeline.rocking.settings import SimulationConfig
     from pipeline.uncertainty import orientations
-    from pipeline.uncertainty.robust import wilson_interval
 
-    settings = dataclasses.replace(_settings(0.001, 40), batch=20, orientation_average_samples=120,
-                                   orientation_average_halfwidth=0.07)
-    h, dt = _polarized(1.2 * threshold)
+    h, dt = _polarized(amplitude)
     grid = plane_grid(5.0)
     m = motion(h, 0.0, None, dt, planes_deg=grid)
     blk = orientations._Block(BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), settings, SimulationConfig(), G)
@@ -194,7 +190,19 @@ def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monke
                         simulate(m_, z_, p_, b_))
     mean, low, high, _ = orientations.random_orientation(m, orientations.average_normals(settings), blk,
                                                          grid_deg=grid)
-    assert sum(drawn) == 40
+    return mean, low, high, sum(drawn)
+
+
+def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monkeypatch):
+    """The nearly deterministic scene (13 of 36 planes overturn): the first two batches of 20 draws cover every
+    plane, the stratified mean's interval is then about +-0.05 and stops the draws, where Wilson's (+-0.12 at
+    p = 0.36) would have drawn on to the 120 allowed. The interval covers the grid's 13 / 36."""
+    from pipeline.uncertainty.robust import wilson_interval
+
+    settings = dataclasses.replace(_settings(0.001, 40), batch=20, orientation_average_samples=120,
+                                   orientation_average_halfwidth=0.07)
+    mean, low, high, drawn = _random_orientation_drawn(1.2 * threshold, settings, monkeypatch)
+    assert drawn == 40
     assert (high - low) / 2 <= 0.07 and low <= 13 / 36 <= high
     w_low, w_high = wilson_interval(round(mean * 40), 40, confidence=settings.confidence)
     assert (w_high - w_low) / 2 > 0.07
@@ -203,24 +211,13 @@ def test_the_random_orientation_stops_once_the_planes_decide_it(threshold, monke
 def test_where_every_plane_agrees_the_random_orientation_keeps_wilsons_interval(threshold, monkeypatch):
     """Half the overturning amplitude, nothing overturns in any plane: the stratified estimate's variance is 0 and
     says nothing, so the draws go on to Wilson's half-width, 0 of n giving [0, z^2 / (n + z^2)]: 0.02 at n = 65."""
-    from pipeline.rocking.settings import SimulationConfig
-    from pipeline.uncertainty import orientations
     from pipeline.uncertainty.robust import normal_quantile
 
     settings = dataclasses.replace(_settings(0.001, 40), batch=5, orientation_average_samples=120,
                                    orientation_average_halfwidth=0.02)
-    h, dt = _polarized(0.5 * threshold)
-    grid = plane_grid(5.0)
-    m = motion(h, 0.0, None, dt, planes_deg=grid)
-    blk = orientations._Block(BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), settings, SimulationConfig(), G)
-    drawn: list[int] = []
-    simulate = orientations.simulate_cells
-    monkeypatch.setattr(orientations, "simulate_cells", lambda m_, z_, p_, b_: drawn.append(len(z_)) or
-                        simulate(m_, z_, p_, b_))
-    mean, low, high, _ = orientations.random_orientation(m, orientations.average_normals(settings), blk,
-                                                         grid_deg=grid)
+    mean, low, high, drawn = _random_orientation_drawn(0.5 * threshold, settings, monkeypatch)
     z2 = normal_quantile(0.95) ** 2
-    assert sum(drawn) == 65 and mean == 0.0 and low == 0.0
+    assert drawn == 65 and mean == 0.0 and low == 0.0
     assert high == pytest.approx(z2 / (65 + z2), rel=1e-12)
 
 

@@ -58,9 +58,9 @@ verdict as it was and integrated 12 % fewer steps, 43 % fewer on the runs that o
 
 A body flat on its base beyond that threshold, sticking or sliding without turning, is stepped as the translation
 it is for as long as the impulses that keep it flat exist (the centre of the normal impulses its friction needs in
-its base's polygon, g + a_v > 0: :mod:`.flat_slide`); that step is Moreau's for the plastic contacts, the contact
-problem solved by hand. Against every step solved, on the bundled records' sliding boxes, docs/validation.md says
-what it changed.
+its base's polygon, g + a_v > 0: :mod:`.flat_slide`): a solution of Moreau's step for plastic contacts, written
+out, which the solver is measured to find too. Against every step solved, on the bundled records, docs/validation.md
+says what it changed.
 
 ``screen`` judges cylinders and boxes by the exact models of :mod:`.solid3d`; with ``[simulation] contact3d =
 true`` the scenes they stop are handed to this model, which goes on from the exact model's last certified state

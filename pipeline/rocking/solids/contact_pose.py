@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...compiled import jit, jit_inline
+from .convex_body import hull_side
 
 #: The body lies on a side once its tilt is within this of pi/2 [rad]: more than the overlap of a landing step
 #: (h times the landing speed over the body's size: 1.6e-4 rad measured, a 0.5 x 0.5 x 1.5 m box on a real record);
@@ -75,9 +76,9 @@ def extent(vertices):
 @jit
 def base_edges(standing, size, out):
     """The edges of the base's polygon seen from above (the vertices ``standing``, in the axes the body stands in,
-    within :data:`BASE_TOL` of ``size`` of the lowest) into the rows of ``out``: the outward unit normal (nx, ny) and
-    the distance d of the edge's line from G's foot, inside where nx x + ny y <= d; how many (0: the base spans no
-    area, or G's foot is not inside it)."""
+    within :data:`BASE_TOL` of ``size`` of the lowest; :func:`~.convex_body.hull_side`) into the rows of ``out``: the
+    outward unit normal (nx, ny) and the distance d of the edge's line from G's foot, inside where nx x + ny y <= d;
+    how many (0: the base spans no area, or G's foot is not inside it)."""
     n = standing.shape[0]
     zmin = math.inf
     for i in range(n):
@@ -89,23 +90,7 @@ def base_edges(standing, size, out):
         for j in range(i + 1, n):
             if standing[j, 2] > keep:
                 continue
-            ex, ey = standing[j, 0] - standing[i, 0], standing[j, 1] - standing[i, 1]
-            length = math.sqrt(ex * ex + ey * ey)
-            if length <= tol:
-                continue
-            side = 0
-            for k in range(n):
-                if standing[k, 2] > keep:
-                    continue
-                cr = ex * (standing[k, 1] - standing[i, 1]) - ey * (standing[k, 0] - standing[i, 0])
-                if abs(cr) <= tol * length:
-                    continue
-                sgn = 1 if cr > 0 else -1
-                if side == 0:
-                    side = sgn
-                elif sgn != side:
-                    side = 2
-                    break
+            side, ex, ey, length = hull_side(standing, n, i, j, keep, tol)
             if side == 1 or side == -1:             # a hull edge; the others lie on the side of sign ``side``
                 nx, ny = side * ey / length, -side * ex / length
                 d = nx * standing[i, 0] + ny * standing[i, 1]

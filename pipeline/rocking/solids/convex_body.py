@@ -95,6 +95,31 @@ def support_threshold(arms, n, mu):
 
 
 @jit_inline
+def hull_side(points, n, i, j, z_keep, tol):
+    """Whether the line from ``points[i]`` to ``points[j]``, seen from above, is an edge of the convex hull of the
+    first ``n`` points at or below the height ``z_keep`` (``tol`` [m]: points this near the line are on it): the side
+    every other such point lies on (1 left, -1 right, 0 all on the line), or 2 where they lie on both sides or the two
+    points are nearer than ``tol`` (no edge); with the line's direction (ex, ey) and length [m]."""
+    ex, ey = points[j, 0] - points[i, 0], points[j, 1] - points[i, 1]
+    length = math.sqrt(ex * ex + ey * ey)
+    if length <= tol:
+        return 2, ex, ey, length
+    side = 0
+    for m in range(n):
+        if points[m, 2] > z_keep:
+            continue
+        cr = ex * (points[m, 1] - points[i, 1]) - ey * (points[m, 0] - points[i, 0])
+        if abs(cr) <= tol * length:
+            continue
+        sgn = 1 if cr > 0 else -1
+        if side == 0:
+            side = sgn
+        elif sgn != side:
+            return 2, ex, ey, length
+    return side, ex, ey, length
+
+
+@jit_inline
 def inscribed(points, n, z_keep, tol):
     """The distance [m] from the origin to the nearest edge of the convex hull, seen from above, of the first ``n``
     ``points`` at or below the height ``z_keep`` (``tol`` [m]: points this near a line are on it); 0 where the origin
@@ -106,28 +131,12 @@ def inscribed(points, n, z_keep, tol):
         for j in range(n):
             if j == i or points[j, 2] > z_keep:
                 continue
-            ex, ey = points[j, 0] - points[i, 0], points[j, 1] - points[i, 1]
-            length = math.sqrt(ex * ex + ey * ey)
-            if length <= tol:
+            side, ex, ey, length = hull_side(points, n, i, j, z_keep, tol)
+            if side == 2:
                 continue
-            side = 0                            # a hull edge: every kept point on one side of it
-            ok = True
-            for m in range(n):
-                if points[m, 2] > z_keep:
-                    continue
-                cr = ex * (points[m, 1] - points[i, 1]) - ey * (points[m, 0] - points[i, 0])
-                if abs(cr) <= tol * length:
-                    continue
-                sgn = 1 if cr > 0 else -1
-                if side == 0:
-                    side = sgn
-                elif sgn != side:
-                    ok = False
-                    break
-            if ok:
-                origin = ex * (-points[i, 1]) - ey * (-points[i, 0])      # the origin's side, times the length
-                if side != 0 and origin * side < 0.0:
-                    return 0.0
-                spanned = spanned or side != 0
-                nearest = min(nearest, abs(origin) / length)
+            origin = ex * (-points[i, 1]) - ey * (-points[i, 0])      # the origin's side, times the length
+            if side != 0 and origin * side < 0.0:
+                return 0.0
+            spanned = spanned or side != 0
+            nearest = min(nearest, abs(origin) / length)
     return nearest if spanned else 0.0

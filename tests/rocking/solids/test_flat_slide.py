@@ -143,3 +143,19 @@ def test_on_real_records_as_with_every_step_solved(two_records, width, depth, he
             tilts, slides = [o.tilt_max_rad for o in solved], [o.slide_max_m for o in solved]
             assert min(tilts) - 1e-3 * alpha <= got.tilt_max_rad <= max(tilts) + 1e-3 * alpha
             assert min(slides) - 1e-3 <= got.slide_max_m <= max(slides) + 1e-3
+
+
+@pytest.mark.parametrize("push_g", [0.26, 0.4])
+def test_at_mu_equal_to_tan_alpha_a_box_slides_flat_with_its_load_on_the_edge(push_g):
+    """mu = tan alpha across the width (0.25): a box sliding across it has its normal impulses centred exactly on
+    the base's edge, the boundary where it neither tips nor needs to; the flat steps leave those steps to the contact
+    problem (their margin). Pushed just above mu g and well above it, it slides flat the closed form's distance, and
+    as every step solved has it to 1e-9."""
+    mu, t = 0.25, 0.5
+    ax, ay = _push(push_g, 0.0, t)
+    body = box_body(*CABINET, mu=mu)
+    got = simulate_contact3d(ax, ay, None, DT, body)
+    solved = simulate_contact3d(ax, ay, None, DT, body, flat_slides=False)
+    assert got.tilt_max_rad == 0.0 and solved.tilt_max_rad == 0.0 and not got.overturned
+    assert got.slide_max_m == pytest.approx(_slide_after_push(push_g * G, mu * G, t - DT, DT), rel=1e-3)
+    assert got.slide_max_m == pytest.approx(solved.slide_max_m, rel=1e-9)
