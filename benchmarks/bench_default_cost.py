@@ -9,9 +9,12 @@ the minimum the sequential rule needs (25 draws in one plane certify robust_stan
 
 ``--bundled`` times the bundled records x configs/blocks.csv instead; ``--repeat K`` runs each command K times,
 alternating, and reports the medians. ``--profile`` then runs each once more in one process (``-n 1``) under
-cProfile and prints the cumulative time of each stage (:data:`STAGES`) and its calls.
+cProfile and prints the cumulative time of each stage (:data:`STAGES`) and its calls. ``--by-class`` runs the default
+once more in one process, without a profiler, and prints the time of each scene's draws by the model family that
+judged it and its robustness class (:data:`BY_CLASS`: the three functions that draw a scene, timed around their calls).
 
-Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1] [--profile]``.
+Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1] [--profile]
+[--by-class]``.
 """
 
 from __future__ import annotations
@@ -31,13 +34,47 @@ import xarray as xr
 ROOT = Path(__file__).resolve().parents[1]
 #: Draws in one plane that certify a robust class when every draw agrees (90 % Wilson): n z^2 / (n + z^2) ...
 MIN_ROBUST_DRAWS = 25
-#: The stages ``--profile`` prints: (label, the function whose cumulative time is the stage's).
+#: The stages ``--profile`` prints: (label, the function whose cumulative time is the stage's: its name, or the end of
+#: its file's path and its name, ``file.py:name``, where the name alone is ambiguous).
 STAGES = (("pulses", "pulses_and_directions"), ("nominal scenes", "simulate_scene"),
-          ("draws in all", "_probability"), ("  draws of a blank azimuth", "orientation_probability"),
+          ("planar draws in all", "bodies/planar.py:_probability"),
+          ("  draws of a blank azimuth", "orientation_probability"),
           ("    the race over planes", "worst_orientation"), ("    the orientation at random", "random_orientation"),
           ("  draws of a scene (any orientation)", "scene_probability"),
           ("  compiled: sample_plane_outcomes", "sample_plane_outcomes"),
-          ("  compiled: sample_verdicts", "sample_verdicts"), ("margins", "factor_sweep"))
+          ("  compiled: sample_verdicts", "sample_verdicts"),
+          ("  draws of a 3D body", "solid_probability"),
+          ("  compiled: the 3D contact model's loop", "contact3d.py:_run"),
+          ("  compiled: the exact box model", "run_box"), ("  compiled: the exact cylinder model", "wobble"),
+          ("margins", "factor_sweep"))
+#: What ``--by-class`` times: (family, the module that calls it, the function drawing a scene).
+BY_CLASS = (("3D solid", "pipeline.bodies.solids", "solid_probability"),
+            ("planar, one plane", "pipeline.bodies.planar", "scene_probability"),
+            ("planar, blank azimuth", "pipeline.bodies.planar", "orientation_probability"))
+#: The one-process run of ``--by-class``: each function of :data:`BY_CLASS` wrapped where its caller looks it up, the
+#: seconds of its calls summed by (family, the class it returned), printed at the end.
+_BY_CLASS_CODE = """
+import collections, importlib, sys, time
+from pipeline.cli import main
+spent = collections.defaultdict(lambda: [0, 0.0])
+def timed(family, f):
+    def run(*a, **k):
+        t0 = time.perf_counter()
+        r = f(*a, **k)
+        cls = int(r.robustness if hasattr(r, 'robustness') else r.worst.robustness)
+        spent[family, cls][0] += 1
+        spent[family, cls][1] += time.perf_counter() - t0
+        return r
+    return run
+for family, module, name in FAMILIES:
+    m = importlib.import_module(module)
+    setattr(m, name, timed(family, getattr(m, name)))
+t0 = time.perf_counter()
+main(sys.argv[1:])
+print(f'  one process: {time.perf_counter() - t0:.1f} s, of which the draws {sum(v[1] for v in spent.values()):.1f} s')
+for (family, cls), (n, sec) in sorted(spent.items()):
+    print(f'  {family:24s} {CLASSES.get(cls, cls)!s:16s} {n:5d} scenes {sec:7.2f} s')
+"""
 
 
 def _records(dest: Path, n: int) -> int:
@@ -104,9 +141,19 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
     print(f"  under cProfile, one process: {time.perf_counter() - t0:.1f} s")
     stats = pstats.Stats(str(prof)).stats                   # {(file, line, function): (cc, calls, tt, ct, callers)}
     for label, function in STAGES:
-        rows = [v for k, v in stats.items() if k[2] == function]
+        where, _, name = function.rpartition(":")
+        rows = [v for k, v in stats.items() if k[2] == name and k[0].endswith(where)]
         if rows:
             print(f"  {label:40s} {sum(r[3] for r in rows):7.1f} s in {sum(r[1] for r in rows)} calls")
+
+
+def _by_class(records: Path, blocks: Path, out: Path) -> None:
+    """The default once in one process: its draws' seconds by family and class (:data:`BY_CLASS`)."""
+    classes = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn", -1: "not evaluated"}
+    code = f"FAMILIES = {BY_CLASS!r}\nCLASSES = {classes!r}\n" + _BY_CLASS_CODE
+    argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
+            "-q", "-n", "1"]
+    subprocess.run([sys.executable, "-c", code, *argv], check=True)
 
 
 def main() -> None:
@@ -116,6 +163,8 @@ def main() -> None:
     ap.add_argument("--bundled", action="store_true", help="the bundled records x configs/blocks.csv")
     ap.add_argument("--repeat", type=int, default=1, help="runs of each command (alternating); medians reported")
     ap.add_argument("--profile", action="store_true", help="then each command once under cProfile, by stage")
+    ap.add_argument("--by-class", action="store_true", help="then the default once in one process: its draws' time "
+                    "by model family and robustness class")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
@@ -140,6 +189,9 @@ def main() -> None:
             for name, options in (("nominal", ("--samples", "0")), ("default", ())):
                 print(f"{name}, by stage:")
                 _profile(records, blocks, root / f"{name}-profiled", *options)
+        if args.by_class:
+            print("the default's draws in one process, by family and class:")
+            _by_class(records, blocks, root / "by-class")
     print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
           f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
           f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")
