@@ -44,6 +44,7 @@ dropped once its upper confidence bound falls below the leader's lower one).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -56,7 +57,7 @@ from ..rocking.planar.sampled import SampledMotion, SampleRules, kernels, sample
 from ..rocking.settings import SimulationConfig
 from ..rocking.simulate import step_control
 from .robust import Robustness, spanning_interval, wilson_interval
-from .sampling import common_normals, sample_block
+from .sampling import SampledBlock, common_normals, sample_block
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, scene_probability
 from .settings import UncertaintyConfig
 from .stratified import StratifiedMean, successive_difference_interval
@@ -138,6 +139,10 @@ class _Block:
     simulation: SimulationConfig
     g_ms2: float
 
+    def sample(self, z: np.ndarray) -> SampledBlock:
+        """The blocks of the draws ``z`` (:func:`~.sampling.sample_block`)."""
+        return sample_block(z, self.shape, settings=self.settings, g_ms2=self.g_ms2)
+
 
 class _Cells:
     """Outcomes of (draw, plane) cells on the selection draws: 1 overturns, 0 stands, -1 no verdict (free flight),
@@ -147,6 +152,11 @@ class _Cells:
         self.m, self.z, self.planes_deg, self.blk = m, z, planes_deg, blk
         self.outcome = np.full((len(z), planes_deg.size), NOT_SIMULATED, dtype=np.int8)
         self.simulations = 0
+
+    @functools.cached_property
+    def draws(self) -> SampledBlock:
+        """Every selection draw's block, made once (at the first cells simulated)."""
+        return self.blk.sample(self.z)
 
     def index(self, azimuth_deg: float) -> int:
         """The column of a plane, or -1."""
@@ -166,8 +176,8 @@ class _Cells:
         rows = np.asarray([r for r in rows if np.any(self.outcome[r, cols] == NOT_SIMULATED)], dtype=int)
         if rows.size == 0 or cols.size == 0:
             return
-        outcome, integrated = simulate_cells(self.m, self.z[rows],
-                                             np.broadcast_to(self.planes_deg[cols], (rows.size, cols.size)), self.blk)
+        outcome, integrated = simulate_sampled(self.m, self.draws.rows(rows),
+                                               np.broadcast_to(self.planes_deg[cols], (rows.size, cols.size)), self.blk)
         self.outcome[np.ix_(rows, cols)] = outcome
         self.simulations += integrated
 
@@ -175,7 +185,12 @@ class _Cells:
 def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _Block) -> tuple[np.ndarray, int]:
     """Outcomes (1, 0, -1) of each draw of ``z`` in each plane of its row of ``planes_deg`` [deg], and the planes
     integrated."""
-    sb = sample_block(z, blk.shape, settings=blk.settings, g_ms2=blk.g_ms2)
+    return simulate_sampled(m, blk.sample(z), planes_deg, blk)
+
+
+def simulate_sampled(m: SceneMotion, sb: SampledBlock, planes_deg: np.ndarray,
+                     blk: _Block) -> tuple[np.ndarray, int]:
+    """:func:`simulate_cells` of the draws' blocks ``sb`` (:meth:`_Block.sample`)."""
     phi = np.deg2rad(np.asarray(planes_deg, dtype=float) - m.azimuth0_deg)
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
@@ -347,11 +362,12 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
                 outcome[k] = cells.outcome[k, c]
     sims, drawn, batch = 0, 0, max(1, u.batch)
     mean = low = high = math.nan
+    draws = blk.sample(z_average)                      # every draw's block, made once
     while drawn < n_max:
         rows = np.arange(drawn, min(drawn + batch, n_max))
         todo = rows[outcome[rows] == NOT_SIMULATED]
         if todo.size:
-            drawn_cells, integrated = simulate_cells(m, z_average[todo], grid[order[todo]][:, None], blk)
+            drawn_cells, integrated = simulate_sampled(m, draws.rows(todo), grid[order[todo]][:, None], blk)
             outcome[todo] = drawn_cells[:, 0]
             sims += integrated
         drawn = int(rows[-1]) + 1

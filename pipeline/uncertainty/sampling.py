@@ -65,6 +65,13 @@ class SampledBlock:
     #: gravity [m s-2]
     g_ms2: float = G
 
+    def rows(self, index) -> SampledBlock:
+        """The samples ``index`` (a slice or an array of row numbers) of these: each derived value depends on its own
+        row of the common random numbers alone, so that they equal :func:`sample_block` of those rows."""
+        return SampledBlock(amplitude=self.amplitude[index], p=self.p[index], alpha=self.alpha[index],
+                            R_m=self.R_m[index], e=self.e[index], mu=self.mu[index],
+                            azimuth_deg=self.azimuth_deg[index], g_ms2=self.g_ms2)
+
     def block(self, k: int) -> Block:
         """Sample ``k`` as the planar simulator takes it."""
         return Block(p=float(self.p[k]), alpha=float(self.alpha[k]), e=float(self.e[k]), R_m=float(self.R_m[k]),

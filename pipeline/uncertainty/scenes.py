@@ -109,8 +109,10 @@ def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, setti
     g_ms2 : float
         Gravity [m s-2].
     """
+    draws = sample_block(z, shape, settings=settings, g_ms2=g_ms2)     # every draw's block, made once
+
     def judge(sl: slice, verdicts: np.ndarray, planes: np.ndarray) -> None:
-        sb = sample_block(z[sl], shape, settings=settings, g_ms2=g_ms2)
+        sb = draws.rows(sl)
         n_rows = sl.stop - sl.start
         if m.single:
             phi = np.zeros((n_rows, 1))

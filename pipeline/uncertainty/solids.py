@@ -29,8 +29,10 @@ def solid_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, solid: S
     """Sample a solid's 3D scene until its robustness class is decided or ``z`` is used up (parameters as
     :func:`~.scenes.scene_probability`; ``m`` must hold two horizontals, the first at compass
     ``record_azimuth_deg``)."""
+    draws = sample_block(z, shape, settings=settings, g_ms2=g_ms2)     # every draw's block, made once
+
     def judge(sl: slice, verdicts: np.ndarray, runs: np.ndarray) -> None:
-        sb = sample_block(z[sl], shape, settings=settings, g_ms2=g_ms2)
+        sb = draws.rows(sl)
         for r in range(sl.stop - sl.start):
             az = None if np.isnan(sb.azimuth_deg[r]) else float(sb.azimuth_deg[r])
             body = drawn(solid, R_m=float(sb.R_m[r]), alpha=float(sb.alpha[r]), mu=float(sb.mu[r]),

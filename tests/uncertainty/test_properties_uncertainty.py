@@ -91,3 +91,29 @@ def test_lognormal_factor_has_median_one_and_is_positive(cov, z):
     assert lognormal_factor(np.array([0.0]), cov)[0] == 1.0
     f = lognormal_factor(np.array([z, -z]), cov)
     assert np.all(f > 0) and f[0] * f[1] == pytest.approx(1.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), n=st.integers(1, 130), data=st.data(),
+       height=st.floats(0.2, 30.0), slenderness=st.floats(0.03, 1.2), mu=st.floats(0.05, 1.5),
+       cylinder=st.booleans(), azimuth=st.one_of(st.just(float("nan")), st.floats(0.0, 180.0)),
+       restitution=st.one_of(st.just(float("nan")), st.floats(0.0, 1.0)))
+def test_rows_of_the_draws_are_the_draws_of_those_rows(seed, n, data, height, slenderness, mu, cylinder, azimuth,
+                                                       restitution):
+    """A scene's draws are made once and read by row (SampledBlock.rows): each row's block is, double for double,
+    the one sample_block makes from that row of the common random numbers alone (a slice or any rows)."""
+    from pipeline.rocking.block import BlockShape, ShapeKind
+    from pipeline.uncertainty.sampling import common_normals, sample_block
+
+    shape = BlockShape(height_m=height, width_m=height * np.tan(slenderness), mu=mu, restitution=restitution,
+                       azimuth_deg=azimuth, kind=ShapeKind.cylinder if cylinder else ShapeKind.box)
+    u = UncertaintyConfig()
+    z = common_normals(seed, n)
+    whole = sample_block(z, shape, settings=u)
+    start = data.draw(st.integers(0, n - 1))
+    rows = np.asarray(data.draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=n)))
+    for index in (slice(start, n), slice(start, start + 1), rows):
+        alone = sample_block(z[index], shape, settings=u)
+        picked = whole.rows(index)
+        for field in ("amplitude", "p", "alpha", "R_m", "e", "mu", "azimuth_deg"):
+            assert np.array_equal(getattr(picked, field), getattr(alone, field), equal_nan=True), field
