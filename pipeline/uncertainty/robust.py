@@ -103,9 +103,22 @@ def spanning_interval(k: int, unknown: int, drawn: int, *, confidence: float = 0
         The lower Wilson bound of k / drawn (the unknown draws counted as standing) and the upper one of
         (k + unknown) / drawn (counted as overturning); NaN where nothing was drawn.
     """
-    low, _ = wilson_interval(k, drawn, confidence=confidence)
-    _, high = wilson_interval(k + unknown, drawn, confidence=confidence)
-    return float(low), float(high)
+    z = normal_quantile(0.5 + confidence / 2.0)
+    return _wilson_bound(float(k), float(drawn), z, upper=False), _wilson_bound(float(k + unknown), float(drawn), z,
+                                                                                upper=True)
+
+
+def _wilson_bound(k: float, n: float, z: float, *, upper: bool) -> float:
+    """One bound of :func:`wilson_interval` for one scene, in scalars: the same operations in the same order, so the
+    same double (the sequential rule asks for it after every batch of every scene, where numpy's per-call cost on
+    scalars was 4 % of the draws' time at scale)."""
+    if not n > 0:
+        return math.nan
+    if (k >= n) if upper else (k <= 0):
+        return 1.0 if upper else 0.0
+    centre = (k + z * z / 2.0) / (n + z * z)
+    half = z * math.sqrt(k * (n - k) / n + z * z / 4.0) / (n + z * z)
+    return min(max(centre + half if upper else centre - half, 0.0), 1.0)
 
 
 @lru_cache(maxsize=8)

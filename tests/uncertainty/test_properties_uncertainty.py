@@ -117,3 +117,19 @@ def test_rows_of_the_draws_are_the_draws_of_those_rows(seed, n, data, height, sl
         picked = whole.rows(index)
         for field in ("amplitude", "p", "alpha", "R_m", "e", "mu", "azimuth_deg"):
             assert np.array_equal(getattr(picked, field), getattr(alone, field), equal_nan=True), field
+
+
+@settings(max_examples=300, deadline=None)
+@given(drawn=st.integers(0, 400), data=st.data(), conf=st.sampled_from([0.8, 0.9, 0.95, 0.99]))
+def test_spanning_interval_is_wilsons_double_for_double(drawn, data, conf):
+    """The sequential rule's interval for one scene (scalars) is wilson_interval's (arrays), to the double: the lower
+    bound of k / drawn and the upper one of (k + unknown) / drawn, NaN where nothing was drawn."""
+    from pipeline.uncertainty.robust import spanning_interval
+
+    k = data.draw(st.integers(0, drawn))
+    unknown = data.draw(st.integers(0, drawn - k))
+    low, high = spanning_interval(k, unknown, drawn, confidence=conf)
+    low_w, _ = wilson_interval(k, drawn, confidence=conf)
+    _, high_w = wilson_interval(k + unknown, drawn, confidence=conf)
+    assert np.array_equal([low, high], [float(low_w), float(high_w)], equal_nan=True)
+    assert all(isinstance(b, float) for b in (low, high))
