@@ -58,7 +58,7 @@ def _reference(args) -> tuple[str, str, np.ndarray]:
     blk = _Block(shape, u, config.simulation_settings(), config.records.g_ms2)
     grid = plane_grid(config.simulation.orientation_step_deg)
     z = common_normals(u.seed, draws)
-    return rid, bid, simulate_cells(m, z, np.broadcast_to(grid, (draws, grid.size)), blk)[0]
+    return rid, bid, simulate_cells(m, blk.sample(z), np.broadcast_to(grid, (draws, grid.size)), blk)[0]
 
 
 def reference(records_dir: Path, blocks_csv: Path, draws: int, cache: Path, workers: int) -> dict:

@@ -176,21 +176,16 @@ class _Cells:
         rows = np.asarray([r for r in rows if np.any(self.outcome[r, cols] == NOT_SIMULATED)], dtype=int)
         if rows.size == 0 or cols.size == 0:
             return
-        outcome, integrated = simulate_sampled(self.m, self.draws.rows(rows),
-                                               np.broadcast_to(self.planes_deg[cols], (rows.size, cols.size)), self.blk)
+        outcome, integrated = simulate_cells(self.m, self.draws.rows(rows),
+                                             np.broadcast_to(self.planes_deg[cols], (rows.size, cols.size)), self.blk)
         self.outcome[np.ix_(rows, cols)] = outcome
         self.simulations += integrated
 
 
-def simulate_cells(m: SceneMotion, z: np.ndarray, planes_deg: np.ndarray, blk: _Block) -> tuple[np.ndarray, int]:
-    """Outcomes (1, 0, -1) of each draw of ``z`` in each plane of its row of ``planes_deg`` [deg], and the planes
-    integrated."""
-    return simulate_sampled(m, blk.sample(z), planes_deg, blk)
-
-
-def simulate_sampled(m: SceneMotion, sb: SampledBlock, planes_deg: np.ndarray,
-                     blk: _Block) -> tuple[np.ndarray, int]:
-    """:func:`simulate_cells` of the draws' blocks ``sb`` (:meth:`_Block.sample`)."""
+def simulate_cells(m: SceneMotion, sb: SampledBlock, planes_deg: np.ndarray,
+                   blk: _Block) -> tuple[np.ndarray, int]:
+    """Outcomes (1, 0, -1) of each draw's block of ``sb`` (:meth:`_Block.sample`) in each plane of its row of
+    ``planes_deg`` [deg], and the planes integrated."""
     phi = np.deg2rad(np.asarray(planes_deg, dtype=float) - m.azimuth0_deg)
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
@@ -367,7 +362,7 @@ def random_orientation(m: SceneMotion, z_average: np.ndarray, blk: _Block, *, gr
         rows = np.arange(drawn, min(drawn + batch, n_max))
         todo = rows[outcome[rows] == NOT_SIMULATED]
         if todo.size:
-            drawn_cells, integrated = simulate_sampled(m, draws.rows(todo), grid[order[todo]][:, None], blk)
+            drawn_cells, integrated = simulate_cells(m, draws.rows(todo), grid[order[todo]][:, None], blk)
             outcome[todo] = drawn_cells[:, 0]
             sims += integrated
         drawn = int(rows[-1]) + 1

@@ -185,9 +185,9 @@ def _random_orientation_drawn(amplitude, settings, monkeypatch):
     m = motion(h, 0.0, None, dt, planes_deg=grid)
     blk = orientations._Block(BlockShape(height_m=HEIGHT, width_m=WIDTH, mu=MU), settings, SimulationConfig(), G)
     drawn: list[int] = []
-    simulate = orientations.simulate_sampled
-    monkeypatch.setattr(orientations, "simulate_sampled", lambda m_, sb_, p_, b_: drawn.append(len(sb_.amplitude))
-                        or simulate(m_, sb_, p_, b_))
+    simulate = orientations.simulate_cells
+    monkeypatch.setattr(orientations, "simulate_cells", lambda m_, sb_, p_, b_: drawn.append(len(sb_.amplitude)) or
+                        simulate(m_, sb_, p_, b_))
     mean, low, high, _ = orientations.random_orientation(m, orientations.average_normals(settings), blk,
                                                          grid_deg=grid)
     return mean, low, high, sum(drawn)

@@ -123,7 +123,10 @@ def test_rows_of_the_draws_are_the_draws_of_those_rows(seed, n, data, height, sl
 @given(drawn=st.integers(0, 400), data=st.data(), conf=st.sampled_from([0.8, 0.9, 0.95, 0.99]))
 def test_spanning_interval_is_wilsons_double_for_double(drawn, data, conf):
     """The sequential rule's interval for one scene (scalars) is wilson_interval's (arrays), to the double: the lower
-    bound of k / drawn and the upper one of (k + unknown) / drawn, NaN where nothing was drawn."""
+    bound of k / drawn and the upper one of (k + unknown) / drawn, NaN where nothing was drawn; and it is Wilson's
+    interval as scipy computes it (binomtest's, another implementation) to rounding."""
+    from scipy.stats import binomtest
+
     from pipeline.uncertainty.robust import spanning_interval
 
     k = data.draw(st.integers(0, drawn))
@@ -133,3 +136,7 @@ def test_spanning_interval_is_wilsons_double_for_double(drawn, data, conf):
     _, high_w = wilson_interval(k + unknown, drawn, confidence=conf)
     assert np.array_equal([low, high], [float(low_w), float(high_w)], equal_nan=True)
     assert all(isinstance(b, float) for b in (low, high))
+    if drawn:
+        ref_low = binomtest(k, drawn).proportion_ci(confidence_level=conf, method="wilson").low
+        ref_high = binomtest(k + unknown, drawn).proportion_ci(confidence_level=conf, method="wilson").high
+        assert (low, high) == (pytest.approx(ref_low, abs=1e-12), pytest.approx(ref_high, abs=1e-12))
