@@ -48,7 +48,16 @@ def _run_exit(records_failed: int, args: argparse.Namespace, *, records_ok: int 
 INTERRUPT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
+#: A ``KeyboardInterrupt`` swallowed where Python cannot raise it (a finalizer: a weak reference's callback, a
+#: ``__del__``) is raised again by sending its signal again after REDELIVER_S [s], at most MAX_REDELIVERIES times in
+#: a command (each lands at Python's next check of its signals, almost always outside a finalizer).
+REDELIVER_S = 0.01
+MAX_REDELIVERIES = 100
+
+
 def _raise_interrupt(signum, frame) -> None:
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise KeyboardInterrupt(f"signal {signal.Signals(signum).name}")
 
 
@@ -56,9 +65,11 @@ def _raise_interrupt(signum, frame) -> None:
 def _signals_interrupt(*, to_the_end: bool = False, received: list[int] | None = None):
     """While a command runs (in the main thread), :data:`INTERRUPT_SIGNALS` raise ``KeyboardInterrupt`` as Ctrl-C
     does; the previous handlers are restored after, or, with ``to_the_end`` (the console command), those signals and
-    Ctrl-C are only noted from then on, for :func:`finish_console` to find. Every signal is noted in ``received``
-    (yielded): one whose ``KeyboardInterrupt`` was swallowed where Python cannot raise it (a finalizer) is still
-    there, and the command is then reported interrupted."""
+    Ctrl-C are only noted from then on, for :func:`finish_console` to find. Every signal, Ctrl-C included (unless it
+    is ignored, as in a background job), is noted in ``received`` (yielded). One whose ``KeyboardInterrupt`` Python
+    swallowed (raised in a finalizer, where it is only reported) is sent again (:data:`REDELIVER_S`), so that the
+    command stops as interrupted rather than run on; still swallowed at the end, it is in ``received``, and the
+    command is then reported interrupted."""
     received = [] if received is None else received
     if threading.current_thread() is not threading.main_thread():
         yield received
@@ -68,16 +79,42 @@ def _signals_interrupt(*, to_the_end: bool = False, received: list[int] | None =
         received.append(signum)
         _raise_interrupt(signum, frame)
 
-    previous = {s: signal.signal(s, interrupt) for s in INTERRUPT_SIGNALS}
+    handled = (*INTERRUPT_SIGNALS, *([signal.SIGINT] if signal.getsignal(signal.SIGINT) is signal.default_int_handler
+                                     else []))
+    previous = {s: signal.signal(s, interrupt) for s in handled}
+    previous_hook, timers = sys.unraisablehook, list[threading.Timer]()
+    sys.unraisablehook = _redelivering(received, previous_hook, timers)
     try:
         yield received
     finally:
+        sys.unraisablehook = previous_hook
+        for timer in timers:             # a signal sent again after the command would reach its caller
+            timer.cancel()
         if to_the_end:                   # the disposition is the process's: no thread may die of one from here
             for s in (*INTERRUPT_SIGNALS, signal.SIGINT):
                 signal.signal(s, lambda signum, frame: received.append(signum))
         else:
             for s, handler in previous.items():
                 signal.signal(s, handler)
+
+
+def _redelivering(received: list[int], previous_hook, timers: list[threading.Timer]):
+    """A ``sys.unraisablehook`` that, for a ``KeyboardInterrupt`` of :func:`_signals_interrupt` swallowed in a
+    finalizer, sends the last signal noted in ``received`` to this process again after :data:`REDELIVER_S` (at most
+    :data:`MAX_REDELIVERIES` times; each timer in ``timers``), instead of printing it; every other report goes to
+    ``previous_hook``."""
+
+    def hook(unraisable) -> None:
+        if not (isinstance(unraisable.exc_value, KeyboardInterrupt) and received):
+            previous_hook(unraisable)
+            return
+        if len(timers) < MAX_REDELIVERIES:
+            timer = threading.Timer(REDELIVER_S, os.kill, (os.getpid(), received[-1]))
+            timer.daemon = True
+            timers.append(timer)
+            timer.start()
+
+    return hook
 
 
 def finish_console(code: int, received: list[int]) -> NoReturn:

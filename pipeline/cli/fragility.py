@@ -79,6 +79,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     fragility_assets.csv."""
     from ..levels import levels_unit, parse_levels
     from ..records.intensity import display_unit
+    from ..run.executors import start_workers_early
     from ..run.fragility import FragilityRequest, fragility
 
     config, inventory = _config_and_inventory(args)
@@ -89,6 +90,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
         raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
     hazard, component = _hazard_and_component(args)
     n = _workers(args)
+    start_workers_early(n_workers=n, scheduler=args.scheduler)     # its imports beside this process's
     if config.fidelity.tier != "criterion":
         _compile_simulator(args, inventory, config)
     request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,

@@ -96,6 +96,7 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
 def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     """The main job: screen records against blocks and write results (incrementally)."""
     from ..run import uptodate
+    from ..run.executors import start_workers_early
 
     config, inventory = _config_and_inventory(args)
     records_dir = _records_dir(args.records)
@@ -104,6 +105,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                                force=args.force)
     if last is not None:
         return _report_up_to_date(args, last, config)
+    start_workers_early(n_workers=_workers(args), scheduler=args.scheduler)   # its imports beside this process's
 
     from ..run import RunInterrupted, ScreenRequest, screen
     from ..run.stages import preflight

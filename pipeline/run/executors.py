@@ -39,6 +39,10 @@ from ..errors import DependencyError, SchedulerError, TaskFailure, UsageError
 
 log = logging.getLogger(__name__)
 
+#: Ctrl-C and a closed terminal's SIGHUP reach the whole process group: the run's own process handles them (it
+#: cancels the pool and keeps what was done); the pool's forkserver and workers ignore them.
+PARENT_SIGNALS = (signal.SIGINT, signal.SIGHUP)
+
 #: How many times a task may kill its worker, running alone, before it is given up.
 MAX_TASK_ATTEMPTS = 3
 
@@ -46,7 +50,7 @@ MAX_TASK_ATTEMPTS = 3
 #: scipy, obspy, numba, xarray and the pipeline). Each worker imported them itself before; forked from the server,
 #: the workers share those pages with it and with each other (the memory a process tree holds, its summed PSS, is
 #: measured in docs/validation.md). The server starts with the first pool of a process and keeps what it imported.
-FORKSERVER_PRELOAD = ("pipeline.run.batch",)
+FORKSERVER_PRELOAD = ("pipeline.run.quiet_server", "pipeline.run.batch")
 
 #: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
 #: (``distributed.nanny.pre-spawn-environ``; the numba pool's size and the mmap threshold are this one's own): one
@@ -132,9 +136,7 @@ class ProcessExecutor:
     def _new_pool(self) -> ProcessPoolExecutor:
         # forkserver: workers never inherit the parent's threads (progress bar, Dask client); the server imports the
         # tasks' modules once (FORKSERVER_PRELOAD), and the workers forked from it share those pages
-        context = multiprocessing.get_context("forkserver")
-        context.set_forkserver_preload(list(FORKSERVER_PRELOAD))
-        return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=context,
+        return ProcessPoolExecutor(max_workers=self.n_workers, mp_context=_forkserver_context(),
                                    initializer=_worker_init, initargs=(os.getpid(),))
 
     def __enter__(self):
@@ -283,6 +285,50 @@ PARENT_POLL_S = 1.0
 EXIT_ORPHANED = 70
 
 
+def _forkserver_context():
+    """The forkserver's multiprocessing context, its server started (:func:`_start_server`) to import
+    :data:`FORKSERVER_PRELOAD`."""
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(list(FORKSERVER_PRELOAD))
+    _start_server()
+    return context
+
+
+def _start_server() -> None:
+    """Start the forkserver (and multiprocessing's resource tracker) unless it runs, :data:`PARENT_SIGNALS` ignored
+    in it from its first instruction: ignored here for the instant of the start (an ignored signal stays ignored
+    across exec, and Python keeps it so), and blocked meanwhile, so that one that arrives then reaches this process's
+    own handler after it. Where this is not the main thread (which alone may set handlers), the server is started as
+    it is, and ignores them from its first import (:mod:`.quiet_server`)."""
+    from multiprocessing import forkserver
+
+    if threading.current_thread() is not threading.main_thread():
+        forkserver.ensure_running()
+        return
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, PARENT_SIGNALS)
+    handlers = {sig: signal.signal(sig, signal.SIG_IGN) for sig in PARENT_SIGNALS}
+    try:
+        forkserver.ensure_running()
+    finally:
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
+
+
+def start_workers_early(*, n_workers: int, scheduler: str | None) -> bool:
+    """Start the process pool's forkserver now, where the run will use the pool (:func:`make_executor` gives a
+    :class:`ProcessExecutor`), and return at once: the server imports the tasks' modules
+    (:data:`FORKSERVER_PRELOAD`, over a second) while this process reads the inventory and loads the simulator,
+    instead of after, when the first task starts the pool. The environment the workers run with
+    (:func:`worker_environment`) is set first, as :meth:`ProcessExecutor.__enter__` sets it; the pool then forks its
+    workers from this server. True where it was started (or already running)."""
+    if not isinstance(make_executor(n_workers=n_workers, scheduler=scheduler), ProcessExecutor):
+        return False
+    os.environ.update(worker_environment())
+    _forkserver_context()
+    return True
+
+
 def _worker_init(parent_pid: int) -> None:
     """Each worker of the process pool: ignore Ctrl-C and a closed terminal's SIGHUP, which reach the whole process
     group (the parent handles them, cancels the pool and keeps what was done; SIGTERM keeps its default, which the
@@ -291,7 +337,7 @@ def _worker_init(parent_pid: int) -> None:
     every object it visits, so each worker's first full collection copied about 40 MB of the pages it shares with
     the server (``gc.freeze``; measured in docs/validation.md)."""
     gc.freeze()
-    for sig in (signal.SIGINT, signal.SIGHUP):
+    for sig in PARENT_SIGNALS:
         signal.signal(sig, signal.SIG_IGN)
     threading.Thread(target=_end_with, args=(parent_pid,), name="rockscreen-parent-watch", daemon=True).start()
 

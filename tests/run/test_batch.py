@@ -435,6 +435,25 @@ def test_killed_or_interrupted_run_loses_nothing(records_dir, blocks_csv, tmp_pa
         "small_angle"
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("after_s", [0.5, 1.0, 1.5, 2.0, 2.5, 3.0])
+def test_ctrl_c_to_the_whole_group_while_the_workers_start(records_dir, blocks_csv, tmp_path, after_s):
+    """Ctrl-C from a terminal reaches every process of the command's group: the run's own process, and the pool's
+    forkserver and resource tracker while they start and import (the first seconds of a run). The run stops as
+    interrupted (130) and no process prints a traceback (the forkserver, interrupted in its imports, printed a
+    KeyboardInterrupt's, and a Ctrl-C that Python swallowed in a finalizer let the run finish with 0)."""
+    cmd = [sys.executable, "-m", "pipeline", "--samples", "0", "-n", "2", "--records", str(records_dir), "--blocks",
+           str(blocks_csv), "--out", str(tmp_path / "out"), "--tolerate-failures", "-q"]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(after_s)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    # stopped where it was, or (a Ctrl-C Python swallowed in a finalizer, sent again too late to stop it) at its end
+    assert ("interrupted:" in err or "interrupted as the command ended:" in err) and "Traceback" not in err, err
+
+
 # -- executors -----------------------------------------------------------------------------------------
 
 @pytest.fixture
