@@ -3,8 +3,9 @@
 A task (one record and its blocks) tells its :class:`SceneProgress` when each scene starts and ends. The state is
 kept in memory and written, at most every :data:`FLUSH_S` seconds and only while it changes, by a small thread
 of the worker to one file per process in a directory the run owns, so that a scene that never returns is still
-named; the parent's progress line reads the directory (:func:`running`). A scene far slower than the record's
-others is named in the log when it ends (:meth:`SceneProgress.scene_done`).
+named; the parent's progress line reads the directory (:func:`running`). The thread runs while its record does
+(each task a worker takes is given its reporter anew), and ends with it or with the run that owned the directory.
+A scene far slower than the record's others is named in the log when it ends (:meth:`SceneProgress.scene_done`).
 
 Workers on other machines (a remote Dask scheduler) cannot write there; their records show as running without
 scene detail.
@@ -25,6 +26,8 @@ log = logging.getLogger(__name__)
 
 #: Seconds between writes of a worker's state (while it changes)
 FLUSH_S = 0.5
+#: The name of the thread that writes them
+WRITER_THREAD = "rockscreen-scene-progress"
 #: A record running at least this long gets its scene detail on the progress line [s]
 DETAIL_AFTER_S = 3.0
 #: A scene is named in the log when it takes at least this long (a long record with sampling takes 5-7 s in an
@@ -50,13 +53,15 @@ class SceneProgress:
     _times: list = field(default_factory=list, init=False, repr=False, compare=False)
     _lock: threading.Lock | None = field(default=None, init=False, repr=False, compare=False)
     _changed: bool = field(default=False, init=False, repr=False, compare=False)
+    #: set when the record is done: its writer thread ends
+    _stop: threading.Event | None = field(default=None, init=False, repr=False, compare=False)
 
     def __getstate__(self):
         return {"directory": self.directory}
 
     def __setstate__(self, state):
         self.directory = state["directory"]
-        self._state, self._times, self._lock, self._changed = {}, [], None, False
+        self._state, self._times, self._lock, self._changed, self._stop = {}, [], None, False, None
 
     def record(self, record_id: str, n_scenes: int) -> None:
         """A record's screening starts, with ``n_scenes`` scenes (blocks) to simulate."""
@@ -79,8 +84,10 @@ class SceneProgress:
         self._set(done=self._state.get("done", 0) + 1, block="")
 
     def finished(self) -> None:
-        """The record is done: its state is removed at once."""
+        """The record is done: its state is removed at once, and its writer thread ends."""
         self._set(record="")
+        if self._stop is not None:
+            self._stop.set()
         if self.directory:
             try:
                 os.remove(Path(self.directory) / f"{os.getpid()}.json")
@@ -93,15 +100,16 @@ class SceneProgress:
             return
         if self._lock is None:
             self._lock = threading.Lock()
-            threading.Thread(target=self._flush_loop, daemon=True).start()
+        if self._stop is None or self._stop.is_set():       # a record starts: its writer
+            self._stop = threading.Event()
+            threading.Thread(target=self._flush_loop, args=(self._stop,), name=WRITER_THREAD, daemon=True).start()
         with self._lock:
             self._state.update(values)
             self._changed = True
 
-    def _flush_loop(self) -> None:
+    def _flush_loop(self, stop: threading.Event) -> None:
         path = Path(self.directory) / f"{os.getpid()}.json"
-        while True:
-            time.sleep(FLUSH_S)
+        while not stop.wait(FLUSH_S):
             if not path.parent.is_dir():     # the run that owned the directory has ended: so does this thread
                 return
             assert self._lock is not None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import os
 import pickle
 import time
 
@@ -58,3 +59,28 @@ def test_the_writer_thread_ends_with_the_run_that_owned_its_directory(tmp_path):
     shutil.rmtree(d)
     time.sleep(3 * scene_progress.FLUSH_S)
     assert threading.active_count() == before
+
+
+def _writers() -> int:
+    import threading
+
+    return sum(t.name == scene_progress.WRITER_THREAD for t in threading.enumerate())
+
+
+def test_a_worker_s_writer_threads_end_with_their_records(tmp_path):
+    """Each task a worker takes unpickles its reporter anew; a record's writer ends when the record does, so that a
+    worker does not gather one thread per record it screened. A reporter used for the next record (the serial
+    executor keeps one) writes again."""
+    before = _writers()
+    for k in range(5):
+        prog = pickle.loads(pickle.dumps(SceneProgress(str(tmp_path))))      # as a worker receives each task
+        prog.record(f"R{k}", 1)
+        prog.finished()
+    time.sleep(3 * scene_progress.FLUSH_S)
+    assert _writers() == before
+    prog.record("again", 2)
+    prog.scene("B")
+    time.sleep(3 * scene_progress.FLUSH_S)
+    assert _writers() == before + 1
+    assert (tmp_path / f"{os.getpid()}.json").exists()
+    prog.finished()
