@@ -49,7 +49,9 @@ MAX_TASK_ATTEMPTS = 3
 #: Modules the process pool's forkserver imports before it forks a worker: the record task's whole stack (numpy,
 #: scipy, obspy, numba, xarray and the pipeline). Each worker imported them itself before; forked from the server,
 #: the workers share those pages with it and with each other (the memory a process tree holds, its summed PSS, is
-#: measured in docs/validation.md). The server starts with the first pool of a process and keeps what it imported.
+#: measured in docs/validation.md). The first module ignores, in the server, the signals the run's process handles.
+#: The server starts once a run knows it uses the pool (:func:`start_workers_early`), or with the first pool of a
+#: process, and keeps what it imported.
 FORKSERVER_PRELOAD = ("pipeline.run.quiet_server", "pipeline.run.batch")
 
 #: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
