@@ -20,9 +20,10 @@ from . import registry
 from .compile_share import SharedCalls, work_through
 
 #: Seconds after which a compilation still running is announced (shorter ones stay silent), and between two
-#: lines while it goes on.
+#: lines while it goes on (a quarter under the 2 s a command may stay silent: the ticker's thread may be woken late
+#: while numba compiles in the main thread).
 ANNOUNCE_AFTER_S = 1.0
-REPEAT_S = 2.0
+REPEAT_S = 1.5
 
 
 def compile_kernels(*, announce: Callable[[str], None] | None = None, shapes: Iterable[BlockShape] | None = None,

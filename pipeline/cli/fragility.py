@@ -26,7 +26,7 @@ from .options import (
     _workers,
     log,
 )
-from .progress import _progress
+from .progress import _progress, _starting
 
 
 def fragility_parser() -> argparse.ArgumentParser:
@@ -77,28 +77,30 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    from ..levels import levels_unit, parse_levels
-    from ..records.intensity import display_unit
-    from ..run.executors import start_workers_early
-    from ..run.fragility import FragilityRequest, fragility
+    with _starting(args.quiet, _progress(args.quiet),
+                   "reading the inventory, loading the simulator and listing the records") as progress:
+        from ..levels import levels_unit, parse_levels
+        from ..records.intensity import display_unit
+        from ..run.executors import start_workers_early
+        from ..run.fragility import FragilityRequest, fragility
 
-    config, inventory = _config_and_inventory(args)
-    buildings = _buildings(args, inventory)
-    auto = args.levels.strip().lower() == "auto"
-    levels = None if auto else parse_levels(args.levels, args.im)
-    if args.bootstrap < 0:
-        raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
-    hazard, component = _hazard_and_component(args)
-    n = _workers(args)
-    start_workers_early(n_workers=n, scheduler=args.scheduler)     # its imports beside this process's
-    if config.fidelity.tier != "criterion":
-        _compile_simulator(args, inventory, config)
-    request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels, args.out,
-                               hazard=hazard, component=component,
-                               level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),
-                               buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
-                               command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
-    out = fragility(request, progress=_progress(args.quiet), say=None if args.quiet else _say)
+        config, inventory = _config_and_inventory(args)
+        buildings = _buildings(args, inventory)
+        auto = args.levels.strip().lower() == "auto"
+        levels = None if auto else parse_levels(args.levels, args.im)
+        if args.bootstrap < 0:
+            raise UsageError(f"--bootstrap {args.bootstrap}: must be >= 0")
+        hazard, component = _hazard_and_component(args)
+        n = _workers(args)
+        start_workers_early(n_workers=n, scheduler=args.scheduler)     # its imports beside this process's
+        if config.fidelity.tier != "criterion":
+            _compile_simulator(args, inventory, config)
+        request = FragilityRequest(_records_dir(args.records), args.blocks, inventory, config, args.im, levels,
+                                   args.out, hazard=hazard, component=component,
+                                   level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),
+                                   buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
+                                   command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
+        out = fragility(request, progress=progress, say=None if args.quiet else _say)
     for w in out["warnings"]:
         log.warning("%s", w)
     for f in out["failures"]:

@@ -17,6 +17,13 @@ from .options import _say
 PROGRESS_LINE_S = 2.0
 
 
+def _tick_s() -> float:
+    """The tickers' period [s]: :data:`PROGRESS_LINE_S` less one look of the ticker, which leaves that quarter for
+    the ticker's thread to be woken late (a busy machine, a long hold of the interpreter's lock: the bundled default's
+    longest silences in a terminal were 1.69-1.91 s with a 2 s period)."""
+    return PROGRESS_LINE_S * (1.0 - POLL_FRACTION)
+
+
 def _progress(quiet: bool):
     """How finished tasks are shown: nothing with ``-q``; a tqdm bar on a terminal of known width; otherwise a
     progress line at every tenth of the work, and whenever :data:`PROGRESS_LINE_S` seconds pass without one."""
@@ -47,7 +54,7 @@ def _progress_bar(items, total=None, running=None, label: str = "records screene
         bar.set_postfix_str("; ".join(running()) if running is not None else "", refresh=True)
 
     try:
-        with Ticker(refresh, every_s=PROGRESS_LINE_S * (1.0 - POLL_FRACTION)):
+        with Ticker(refresh, every_s=_tick_s()):
             yield from bar
     finally:
         bar.close()
@@ -67,7 +74,7 @@ def _progress_lines(items, total=None, running=None, label: str = "records scree
                   + (f"; running long: {'; '.join(busy)}" if busy else ""), file=sys.stderr, flush=True)
             ticker.said()
 
-    ticker = Ticker(line, every_s=PROGRESS_LINE_S)
+    ticker = Ticker(line, every_s=_tick_s())
     if not total:
         yield from items
         return
@@ -99,6 +106,30 @@ def _ticking(quiet: bool):
         if stage["text"]:
             _say(f"  ... {stage['text'].split(' (')[0]}: {time.monotonic() - started['t']:.0f} s")
 
-    ticker = Ticker(tick, every_s=PROGRESS_LINE_S)
+    ticker = Ticker(tick, every_s=_tick_s())
     with ticker:
         yield announce
+
+
+@contextlib.contextmanager
+def _starting(quiet: bool, progress, what: str = "loading the simulator and listing the records"):
+    """A command's start-up (``what`` it does before its first task), said at once and repeated with its time every
+    :func:`_tick_s` until the progress of its tasks starts: yields ``progress`` (as :func:`_progress` gives it, None
+    with ``-q``) made to end the start-up's lines when it starts. Without it the bundled assemblies' run and
+    ``screen fragility`` were silent for their first 2 s."""
+    if quiet:
+        yield progress
+        return
+    t0, begun = time.monotonic(), threading.Event()
+
+    def tick(_elapsed_s: float) -> None:
+        if not begun.is_set():
+            _say(f"  ... starting: {time.monotonic() - t0:.0f} s")
+
+    def started(*args, **kwargs):
+        begun.set()
+        yield from progress(*args, **kwargs)
+
+    _say(f"starting: {what} ...")
+    with Ticker(tick, every_s=_tick_s()):
+        yield None if progress is None else started

@@ -9,7 +9,7 @@ from pathlib import Path
 from ..config import CRITERION_MEASURED_MISSES
 from .exits import EXIT_INTERRUPTED, _run_exit
 from .options import _buildings, _compile_simulator, _config_and_inventory, _records_dir, _workers, log
-from .progress import _progress, _ticking
+from .progress import _progress, _starting, _ticking
 
 
 def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
@@ -106,25 +106,25 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     if last is not None:
         return _report_up_to_date(args, last, config)
     start_workers_early(n_workers=_workers(args), scheduler=args.scheduler)   # its imports beside this process's
+    with _starting(args.quiet, _progress(args.quiet)) as progress:
+        from ..run import RunInterrupted, ScreenRequest, screen
+        from ..run.stages import preflight
 
-    from ..run import RunInterrupted, ScreenRequest, screen
-    from ..run.stages import preflight
+        preflight(records_dir, args.out)             # an empty --records or an unwritable --out: said at once
+        if config.fidelity.tier != "criterion":
+            _compile_simulator(args, inventory, config)
 
-    preflight(records_dir, args.out)             # an empty --records or an unwritable --out: said at once
-    if config.fidelity.tier != "criterion":
-        _compile_simulator(args, inventory, config)
-
-    request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
-                            config=config, out_dir=args.out, stationxml=args.inventory,
-                            n_workers=_workers(args),
-                            scheduler=args.scheduler, force=args.force,
-                            command=list(argv), key=key, buildings=_buildings(args, inventory))
-    try:
-        with _ticking(args.quiet) as say:        # the writing's name, repeated while it runs
-            result = screen(request, progress=_progress(args.quiet), say=say)
-    except RunInterrupted as exc:
-        print(str(exc), file=sys.stderr)
-        return EXIT_INTERRUPTED
+        request = ScreenRequest(records_dir=records_dir, blocks_csv=args.blocks, inventory=inventory,
+                                config=config, out_dir=args.out, stationxml=args.inventory,
+                                n_workers=_workers(args),
+                                scheduler=args.scheduler, force=args.force,
+                                command=list(argv), key=key, buildings=_buildings(args, inventory))
+        try:
+            with _ticking(args.quiet) as say:        # the writing's name, repeated while it runs
+                result = screen(request, progress=progress, say=say)
+        except RunInterrupted as exc:
+            print(str(exc), file=sys.stderr)
+            return EXIT_INTERRUPTED
     if config.fidelity.tier == "criterion":
         log.warning("fidelity 'criterion' is not conservative: %s", CRITERION_MEASURED_MISSES)
     if not args.quiet:
