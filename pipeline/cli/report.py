@@ -9,6 +9,7 @@ from pathlib import Path
 
 from .exits import EXIT_OK
 from .options import _add_output_options, _epilog
+from .progress import _ticking
 
 
 def report_parser() -> argparse.ArgumentParser:
@@ -27,11 +28,14 @@ def report_parser() -> argparse.ArgumentParser:
 
 def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
-    from ..run.stages import rebuild_report
-
     if args.results.is_dir():                   # the output folder of a run: its screening.nc
         args.results = args.results / "screening.nc"
-    html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures,
-                                  command=shlex.join(["screen", *argv]))
+    with _ticking(args.quiet) as say:           # said at once, repeated while it runs
+        if say is not None:
+            say(f"writing the report from {args.results} ...")
+        from ..run.stages import rebuild_report
+
+        html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures,
+                                      command=shlex.join(["screen", *argv]))
     print(f"wrote {html} and {assets}", file=sys.stderr)
     return EXIT_OK
