@@ -22,11 +22,10 @@ from .options import (
     _epilog,
     _hazard_site,
     _records_dir,
-    _say,
     _workers,
     log,
 )
-from .progress import _progress, _starting
+from .progress import _after_stage, _progress, _ticking
 
 
 def fragility_parser() -> argparse.ArgumentParser:
@@ -77,8 +76,9 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    with _starting(args.quiet, _progress(args.quiet),
-                   "reading the inventory, loading the simulator and listing the records") as progress:
+    with _ticking(args.quiet) as say:                # each stage's name, repeated while it runs
+        if say is not None:
+            say("starting (reading the inventory, loading the simulator, listing the records) ...")
         from ..levels import levels_unit, parse_levels
         from ..records.intensity import display_unit
         from ..run.executors import start_workers_early
@@ -100,7 +100,7 @@ def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
                                    level_unit=display_unit(args.im) if auto else levels_unit(args.levels, args.im),
                                    buildings=buildings, n_workers=n, scheduler=args.scheduler, bootstrap=args.bootstrap,
                                    command=("screen", *argv), stationxml=args.inventory, orientation=args.orientation)
-        out = fragility(request, progress=progress, say=None if args.quiet else _say)
+        out = fragility(request, progress=_after_stage(_progress(args.quiet), say), say=say)
     for w in out["warnings"]:
         log.warning("%s", w)
     for f in out["failures"]:

@@ -101,7 +101,7 @@ def _run(command, args, argv: list[str], *, console: bool, received: list[int]) 
                     code = command(args, argv)
             else:
                 code = command(args, argv)
-        if received:                     # its KeyboardInterrupt was swallowed (raised in a finalizer) as it ended
+        if received and code != EXIT_INTERRUPTED:   # swallowed (raised in a finalizer), not reported by the command
             print("interrupted as the command ended: what it wrote above is complete", file=sys.stderr)
             return EXIT_INTERRUPTED
         return code

@@ -90,17 +90,19 @@ def _progress_lines(items, total=None, running=None, label: str = "records scree
 
 @contextlib.contextmanager
 def _ticking(quiet: bool):
-    """A stage announcer (None with ``-q``) that, while a stage runs, repeats its name with the time spent on it
-    every :data:`PROGRESS_LINE_S` seconds: nothing is silent for longer."""
+    """A stage announcer (None with ``-q``): ``announce(text)`` says a stage's name at once and, while it runs,
+    repeats it with the time spent on it every :func:`_tick_s`, so that nothing is silent for longer;
+    ``announce(None)`` ends the stage silently (its tasks' progress speaks from then on: :func:`_after_stage`)."""
     if quiet:
         yield None
         return
     stage, started = {"text": ""}, {"t": time.monotonic()}
 
-    def announce(text: str) -> None:
-        stage["text"], started["t"] = text, time.monotonic()
+    def announce(text: str | None) -> None:
+        stage["text"], started["t"] = text or "", time.monotonic()
         ticker.said()
-        _say(text)
+        if text:
+            _say(text)
 
     def tick(_elapsed_s: float) -> None:
         if stage["text"]:
@@ -111,25 +113,15 @@ def _ticking(quiet: bool):
         yield announce
 
 
-@contextlib.contextmanager
-def _starting(quiet: bool, progress, what: str = "loading the simulator and listing the records"):
-    """A command's start-up (``what`` it does before its first task), said at once and repeated with its time every
-    :func:`_tick_s` until the progress of its tasks starts: yields ``progress`` (as :func:`_progress` gives it, None
-    with ``-q``) made to end the start-up's lines when it starts. Without it the bundled assemblies' run and
-    ``screen fragility`` were silent for their first 2 s."""
-    if quiet:
-        yield progress
-        return
-    t0, begun = time.monotonic(), threading.Event()
-
-    def tick(_elapsed_s: float) -> None:
-        if not begun.is_set():
-            _say(f"  ... starting: {time.monotonic() - t0:.0f} s")
+def _after_stage(progress, announce):
+    """``progress`` (as :func:`_progress` gives it) that ends the stage ``announce`` (:func:`_ticking`) repeats when
+    it starts: a stage said before the tasks (the start-up: loading the simulator, listing the records; a round of
+    levels) stops repeating once their progress speaks. None where either is None (``-q``)."""
+    if progress is None or announce is None:
+        return progress
 
     def started(*args, **kwargs):
-        begun.set()
+        announce(None)
         yield from progress(*args, **kwargs)
 
-    _say(f"starting: {what} ...")
-    with Ticker(tick, every_s=_tick_s()):
-        yield None if progress is None else started
+    return started

@@ -9,7 +9,7 @@ from pathlib import Path
 from ..config import CRITERION_MEASURED_MISSES
 from .exits import EXIT_INTERRUPTED, _run_exit
 from .options import _buildings, _compile_simulator, _config_and_inventory, _records_dir, _workers, log
-from .progress import _progress, _starting, _ticking
+from .progress import _after_stage, _progress, _ticking
 
 
 def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
@@ -106,7 +106,9 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     if last is not None:
         return _report_up_to_date(args, last, config)
     start_workers_early(n_workers=_workers(args), scheduler=args.scheduler)   # its imports beside this process's
-    with _starting(args.quiet, _progress(args.quiet)) as progress:
+    with _ticking(args.quiet) as say:                # each stage's name, repeated while it runs
+        if say is not None:
+            say("starting (loading the simulator, listing the records) ...")
         from ..run import RunInterrupted, ScreenRequest, screen
         from ..run.stages import preflight
 
@@ -120,8 +122,7 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
                                 scheduler=args.scheduler, force=args.force,
                                 command=list(argv), key=key, buildings=_buildings(args, inventory))
         try:
-            with _ticking(args.quiet) as say:        # the writing's name, repeated while it runs
-                result = screen(request, progress=progress, say=say)
+            result = screen(request, progress=_after_stage(_progress(args.quiet), say), say=say)
         except RunInterrupted as exc:
             print(str(exc), file=sys.stderr)
             return EXIT_INTERRUPTED

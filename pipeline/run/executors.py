@@ -149,6 +149,12 @@ class ProcessExecutor:
 
     def __exit__(self, exc_type, *exc):
         if self._pool is not None:
+            if exc_type is not None:
+                # an interrupt or an error: the tasks in flight are given up, so their workers end now (SIGTERM,
+                # whose default the workers keep), also one the pool is still starting, which would otherwise
+                # print a traceback when the queues it was forked for are gone
+                for process in list(getattr(self._pool, "_processes", {}).values()):
+                    process.terminate()
             self._pool.shutdown(wait=exc_type is None, cancel_futures=True)
         self._pool = None
         self._entered = False
@@ -318,13 +324,13 @@ def _start_server() -> None:
 
 
 def start_workers_early(*, n_workers: int, scheduler: str | None) -> bool:
-    """Start the process pool's forkserver now, where the run will use the pool (:func:`make_executor` gives a
-    :class:`ProcessExecutor`), and return at once: the server imports the tasks' modules
+    """Start the process pool's forkserver now, where the run will use the pool (:func:`uses_processes`), and return
+    at once: the server imports the tasks' modules
     (:data:`FORKSERVER_PRELOAD`, over a second) while this process reads the inventory and loads the simulator,
     instead of after, when the first task starts the pool. The environment the workers run with
     (:func:`worker_environment`) is set first, as :meth:`ProcessExecutor.__enter__` sets it; the pool then forks its
     workers from this server. True where it was started (or already running)."""
-    if not isinstance(make_executor(n_workers=n_workers, scheduler=scheduler), ProcessExecutor):
+    if not uses_processes(n_workers=n_workers, scheduler=scheduler):
         return False
     os.environ.update(worker_environment())
     _forkserver_context()
@@ -481,14 +487,19 @@ class DaskExecutor:
             self.client.cancel(list(futures))
 
 
+def uses_processes(*, n_workers: int, scheduler: str | None) -> bool:
+    """Whether :func:`make_executor` gives a :class:`ProcessExecutor` for these options."""
+    return scheduler == "processes" or (scheduler in (None, "serial") and n_workers > 1)
+
+
 def make_executor(*, n_workers: int = 1, scheduler: str | None = None):
     """The executor for the command-line options ``-n`` and ``--scheduler``.
 
     ``scheduler`` is None/"serial", "processes", "local" (Dask LocalCluster)
     or a Dask scheduler address; with None, ``n_workers > 1`` means processes.
     """
-    if scheduler in (None, "serial", "processes"):
-        if scheduler == "processes" or n_workers > 1:
-            return ProcessExecutor(n_workers)
+    if uses_processes(n_workers=n_workers, scheduler=scheduler):
+        return ProcessExecutor(n_workers)
+    if scheduler in (None, "serial"):
         return SerialExecutor()
     return DaskExecutor(scheduler, n_workers=n_workers)
