@@ -4,10 +4,11 @@ The ground is linear between samples. From rest the first joint to open does so 
 lift-off condition on that piece (at rest the condition is linear in the ground's acceleration). While a joint is
 open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample; an
 event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located on the
-step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method, any other event by bisection. An impact
-whose rebound is slower than :data:`REST_RATIO` p alpha (the joint's scales) shuts the joint (a plastic stop). Block
-k falls when its rotation, or its rotation on the block below, reaches pi/2; the blocks above it fall with it. After
-the record the free motion is followed until every joint is shut or a block falls, for at most :data:`TAIL_S`.
+step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method started at the root of the step's Hermite
+cubic, any other event by bisection. An impact whose rebound is slower than :data:`REST_RATIO` p alpha (the joint's
+scales) shuts the joint (a plastic stop). Block k falls when its rotation, or its rotation on the block below,
+reaches pi/2; the blocks above it fall with it. After the record the free motion is followed until every joint is
+shut or a block falls, for at most :data:`TAIL_S`.
 
 The run may start from a moving state (the blocks left standing when those above them fell,
 :mod:`.n_block_verdicts`). The model holds while no joint slides and no block leaves its support in flight (its
@@ -31,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit, jit_lean, tuple_with
+from ..compiled import filled_like, jit, jit_lean, tuple_with
 from ..constants import G
 from ..errors import ParameterError
 from ..rocking.codes import STATUS_FRICTION, STATUS_GROUND_FLIGHT
@@ -66,11 +67,10 @@ from .stepping import (
     first_crossing,
     ground_on,
     ground_series,
+    impact_root,
     piece_at,
 )
 
-#: Steps tried by the Illinois method before an impact falls back to bisection [-]
-MAX_ROOT_TRIES = 60
 #: Stacks whose run set-up (:func:`_setup`) is kept [-]
 SETUPS_KEPT = 64
 #: No block falls (:attr:`NBlockOutcome.falls`)
@@ -318,7 +318,7 @@ def _keep(hist, t, t1, dt, y, n):
 
 
 @jit_lean
-def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
+def _locate(nb, y, f, js, piece, t, hh, y_end, f_end, wk):
     """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: an impact alone at the step's end
     by the Illinois method on the joint's rotation (:func:`_impact_root`), else, or where that finds another event
     first, the step's length bisected to :data:`EVENT_TIME_TOL_S`. Returns the length reaching the event, the state
@@ -326,7 +326,7 @@ def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
     kind, joint = _event(nb, y_end, js, piece, t + hh, wk)
     tries = 0
     if kind == EV_IMPACT:
-        ok, hi, y_hi, tries = _impact_root(nb, y, f, js, piece, t, hh, y_end, joint, wk)
+        ok, hi, y_hi, tries = _impact_root(nb, y, f, js, piece, t, hh, y_end, f_end, joint, wk)
         if ok:
             return hi, y_hi, tries
     lo, hi, y_hi = 0.0, hh, y_end
@@ -342,32 +342,14 @@ def _locate(nb, y, f, js, piece, t, hh, y_end, wk):
 
 
 @jit_lean
-def _impact_root(nb, y, f, js, piece, t, hh, y_end, joint, wk):
-    """The step's length at which ``joint``'s rotation reaches 0, bracketed to :data:`EVENT_TIME_TOL_S` by the
-    Illinois method (regula falsi, the end kept twice running having its value halved; Dowell & Jarratt 1971) on
-    g(h) = corner x its rotation after a step of h. Returns (ok, the length past the root, the state there, the steps
-    tried); ok is False where the bracket's near end is past another event (the caller then bisects)."""
-    s = js[joint]
-    lo, g_lo, hi, g_hi, y_hi, y_lo = 0.0, s * y[joint], hh, s * y_end[joint], y_end, y
-    kept, tries = 0, 0
-    while hi - lo > EVENT_TIME_TOL_S and tries < MAX_ROOT_TRIES:
-        mid = hi - g_hi * (hi - lo) / (g_hi - g_lo)
-        if not lo < mid < hi:
-            mid = 0.5 * (lo + hi)
-        trial = rk_step(_rhs, (nb, js, piece, wk), t, y, f, mid, DOPRI54).y
-        tries += 1
-        g = s * trial[joint]
-        if g <= 0.0:
-            hi, g_hi, y_hi = mid, g, trial
-            if kept == 1:
-                g_lo *= 0.5
-            kept = 1
-        else:
-            lo, g_lo, y_lo = mid, g, trial
-            if kept == -1:
-                g_hi *= 0.5
-            kept = -1
-    ok = hi - lo <= EVENT_TIME_TOL_S and _event(nb, y_lo, js, piece, t + lo, wk)[0] == EV_NONE
+def _impact_root(nb, y, f, js, piece, t, hh, y_end, f_end, joint, wk):
+    """The step's length at which ``joint``'s rotation reaches 0 (:func:`.stepping.impact_root` on its corner times
+    its rotation). Returns (ok, the length past the root, the state there, the steps tried); ok is False where the
+    bracket's near end is past another event, or the method did not converge (the caller then bisects)."""
+    weights = tuple_with(filled_like(0.0, y), joint, float(js[joint]))
+    converged, lo, y_lo, hi, y_hi, tries = impact_root(_rhs, (nb, js, piece, wk), t, y, f, hh, y_end, f_end,
+                                                              weights)
+    ok = converged and _event(nb, y_lo, js, piece, t + lo, wk)[0] == EV_NONE
     return ok, hi, y_hi, tries
 
 
@@ -483,7 +465,7 @@ def _run_loop(nb, ch, cg, ah, av, dt, tol, h_max, hist, y, t, wk, mu, peak, dema
             _keep(hist, t, t1, dt, y, nb.n)
             h = next_step(hh, norm)
             continue
-        hi, y, tries = _locate(nb, y, f, js, piece, t, hh, st.y, wk)
+        hi, y, tries = _locate(nb, y, f, js, piece, t, hh, st.y, st.f, wk)
         steps += tries
         kind, joint = _event(nb, y, js, piece, t + hi, wk)
         t += hi

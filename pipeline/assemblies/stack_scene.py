@@ -70,15 +70,15 @@ def judge(model: StackModel, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndar
     model; ``settings``: the rocking kernel's tolerances for the lower of two blocks left alone; ``bodies``: the
     stack's :class:`~.stack.StackBody` rows, whose friction follows a flight of the ground or a joint's slip
     (:mod:`.stack_contact`; None: the joints hold and a flight leaves the verdict open). Two blocks whose run meets
-    a flight, or needs more friction than a joint has, are judged again as the n-block stack of those bodies, and
-    are judged so at once where a joint slips while the stack is still at rest (:func:`.stack.slips_at_rest`;
-    ``slips_first``: its answer, when already known)."""
+    a flight, or needs more friction than a joint has (the two-block run ended where it first does), are judged
+    again as the n-block stack of those bodies, and are judged so at once where a joint slips while the stack is
+    still at rest (:func:`.stack.slips_at_rest`; ``slips_first``: its answer, when already known)."""
     mu = None if bodies is None else tuple(b.mu for b in bodies)
     if isinstance(model, TwoBlock) and bodies is not None and (
             slips_at_rest(bodies, ah_ms2, av_ms2) if slips_first is None else slips_first):
         model = n_blocks.n_block(bodies)            # the two-block run would need more friction than a joint has
     if isinstance(model, TwoBlock):
-        judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings))
+        judged = from_two_block(judge_two_block(model, ah_ms2, dt_s, av_ms2=av_ms2, settings=settings, stop_mu=mu))
         if mu is None or not (judged.status & STATUS_GROUND_FLIGHT or any(d > m for d, m in zip(judged.demand, mu))):
             return judged
         model = n_blocks.n_block(bodies)

@@ -1,5 +1,6 @@
 """What the stacks' runs (:mod:`.two_block_run`, :mod:`.n_block_run`) share: the step control, the ground as linear
-pieces between its samples, the caps that end a run, and the first instant at which a resting stack's joint opens.
+pieces between its samples, the caps that end a run, the first instant at which a resting stack's joint opens, and
+an impact's instant inside a step (the Illinois method on the joint's rotation).
 
 At rest each joint's lift-off condition on each corner is a linear function of the ground's acceleration,
 ch a_h + cg (g + a_v) > 0; the ground being linear on a piece, so is the condition, and its root on the piece is
@@ -13,10 +14,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import jit
+from ..compiled import jit, jit_inline
 from ..constants import G
 from ..errors import ParameterError
 from ..rocking.codes import STATUS_EVENT_CAP, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.numerics.dopri import first_crossing as cubic_crossing
+from ..rocking.numerics.rk import DOPRI54, rk_step
 from ..rocking.simulate import finite_series
 
 # Step control, named once (as scipy's _ivp names its own)
@@ -29,6 +32,7 @@ REST_RATIO = 1e-5           # an impact's rebound below REST_RATIO p alpha shuts
 TAIL_S = 60.0               # the free motion after the record followed for at most this long [s]
 MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
 MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
+MAX_ROOT_TRIES = 60         # steps tried by the Illinois method before an impact falls back to bisection [-]
 HALF_PI = 0.5 * math.pi
 
 
@@ -115,3 +119,54 @@ def first_crossing(ch, cg, count, piece, t):
     if best < 0:
         return math.nan, -1
     return t + best_x * (t1 - t), best
+
+
+@jit_inline
+def _along(weights, y):
+    """weights . y over the weights that are not 0 (one weight: that term alone, to the bit)."""
+    acc = 0.0
+    for q in range(len(weights)):
+        if weights[q] != 0.0:
+            acc += weights[q] * y[q]
+    return acc
+
+
+@jit_inline
+def impact_root(rhs, args, t, y, f, hh, y_end, f_end, weights):
+    """The length of the step from (t, y) (``f`` its derivative there) at which a joint's signed rotation
+    g = ``weights`` . y, positive at the start and at most 0 at ``y_end`` (after ``hh`` [s]), reaches 0, bracketed
+    to :data:`EVENT_TIME_TOL_S` by the Illinois method (regula falsi, the end kept twice running having its value
+    halved; Dowell & Jarratt 1971), each trial a step of the model ``rhs`` with ``args`` (DOPRI54) from (t, y). The
+    first trial is at the root of g's Hermite cubic over the step (g and its rate, ``weights`` . ``f`` and
+    ``weights`` . ``f_end``, at both ends: :func:`~pipeline.rocking.numerics.dopri.first_crossing`), where it has
+    one; the rest by the method.
+
+    Returns (converged, lo, y_lo, hi, y_hi, tries): the bracket's near end and the state there, its far end (past
+    the root) and the state there, and the steps tried; not converged after :data:`MAX_ROOT_TRIES`.
+
+    References
+    ----------
+    Dowell, M. & Jarratt, P. (1971). A modified regula falsi method for computing the root of an equation. BIT
+    11(2), 168-174.
+    """
+    lo, g_lo, hi, g_hi, y_hi, y_lo = 0.0, _along(weights, y), hh, _along(weights, y_end), y_end, y
+    kept, tries = 0, 0
+    guess = hh * cubic_crossing(g_lo, _along(weights, f), g_hi, _along(weights, f_end), hh, 1.0)
+    while hi - lo > EVENT_TIME_TOL_S and tries < MAX_ROOT_TRIES:
+        mid = guess if lo < guess < hi else (hi - g_hi * (hi - lo) / (g_hi - g_lo) if g_hi != g_lo else lo)
+        if not lo < mid < hi:
+            mid = 0.5 * (lo + hi)
+        trial = rk_step(rhs, args, t, y, f, mid, DOPRI54).y
+        tries, guess = tries + 1, -1.0
+        g = _along(weights, trial)
+        if g <= 0.0:
+            hi, g_hi, y_hi = mid, g, trial
+            if kept == 1:
+                g_lo *= 0.5
+            kept = 1
+        else:
+            lo, g_lo, y_lo = mid, g, trial
+            if kept == -1:
+                g_hi *= 0.5
+            kept = -1
+    return hi - lo <= EVENT_TIME_TOL_S, lo, y_lo, hi, y_hi, tries

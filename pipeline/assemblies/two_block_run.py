@@ -3,11 +3,12 @@
 The ground is linear between samples. From rest the first joint to open does so at the exact crossing of its
 lift-off condition on that piece (at rest the condition is linear in the ground's acceleration). While a joint is
 open the motion is stepped by the Dormand & Prince (1980) pair with error control, steps never crossing a sample;
-an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located by
-bisection on the step's length to :data:`EVENT_TIME_TOL_S`. An impact whose rebound is slower than
-:data:`REST_RATIO` p alpha shuts the joint (a plastic stop). A block falls when its rotation, or the upper block's
-rotation on the lower, reaches pi/2. After the record the free motion is followed until both joints are shut or a
-block falls, for at most :data:`TAIL_S`.
+an event inside a step (a joint's rotation reaching 0: an impact; a shut joint's lift-off; a fall) is located on the
+step's length to :data:`EVENT_TIME_TOL_S`, an impact by the Illinois method started at the root of the step's
+Hermite cubic, any other event by bisection. An impact whose rebound is slower than :data:`REST_RATIO` p alpha shuts
+the joint (a plastic stop). A block falls when its rotation, or the upper block's rotation on the lower, reaches
+pi/2. After the record the free motion is followed until both joints are shut or a block falls, for at most
+:data:`TAIL_S`.
 
 The model holds while neither joint slides and no block leaves its support in flight; within its tolerances it
 solves the equations of :mod:`.two_block` (against an independent solution: docs/validation.md, "Assemblies").
@@ -16,6 +17,8 @@ References
 ----------
 Dormand, J. R. & Prince, P. J. (1980). A family of embedded Runge-Kutta formulae. J. Comput. Appl. Math. 6(1),
 19-26.
+Dowell, M. & Jarratt, P. (1971). A modified regula falsi method for computing the root of an equation. BIT 11(2),
+168-174.
 Psycharis, I. N. (1990). Dynamic behaviour of rocking two-block assemblies. Earthquake Engineering & Structural
 Dynamics 19(4), 555-575.
 """
@@ -30,7 +33,7 @@ import numpy as np
 from ..compiled import jit
 from ..constants import G
 from ..errors import ParameterError
-from ..rocking.codes import STATUS_GROUND_FLIGHT
+from ..rocking.codes import STATUS_FRICTION, STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
 from .stepping import (
     ATOL,
@@ -45,6 +48,7 @@ from .stepping import (
     first_crossing,
     ground_on,
     ground_series,
+    impact_root,
     piece_at,
 )
 from .two_block import (
@@ -82,7 +86,8 @@ class TwoBlockOutcome(NamedTuple):
         bits :data:`OPENED_GROUND`, :data:`OPENED_JOINT`, :data:`OPENED_BOTH`
     status : int
         :class:`~pipeline.rocking.codes.Status` bits: ground_flight (g + a_v reached 0: not followed), step_cap,
-        event_cap, tail_cap (the run ended there without a verdict unless a block had fallen)
+        event_cap, tail_cap (the run ended there without a verdict unless a block had fallen), friction (it ended
+        where a joint's demand passed the friction it was given)
     final : Motion
         the state where the run ended
     demand_ground, demand_joint : float
@@ -249,9 +254,9 @@ def _keep(hist, t, t1, dt, y):
 
 
 @jit
-def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
-    """The run of :func:`simulate_two_block` (the scales, rest thresholds and largest step given; ``hist``: the
-    history's array, :func:`_keep`) [SI units]."""
+def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
+    """The run of :func:`simulate_two_block` (the scales, rest thresholds, largest step, the history's array
+    ``hist`` of :func:`_keep`, and the demands at the ground and the blocks' joint that end it given) [SI units]."""
     n = ah.shape[0]
     t_rec = (n - 2) * dt + dt                     # the last piece's end, as piece_at computes it
     tail_end = t_rec + TAIL_S
@@ -266,8 +271,8 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
     fresh = True                                  # f must be evaluated before the next step
     while True:
         capped = caps(steps, events, t, tail_end)
-        if capped:
-            status |= capped
+        if capped or peaks.demand1 > stop1 or peaks.demand2 > stop2:
+            status |= capped if capped else STATUS_FRICTION
             break
         modes |= _mode_bits(j1, j2)
         piece = piece_at(ah, av, dt, t, t_rec, tail_end)
@@ -311,7 +316,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
             _keep(hist, t, t1, dt, y)
             h = next_step(hh, norm)
             continue
-        hi, y, tries = _locate(tb, y, f, j1, j2, piece, t, hh, st.y)
+        hi, y, tries = _locate(tb, y, f, j1, j2, piece, t, hh, st.y, st.f)
         steps += tries
         kind = _event(tb, y, j1, j2, piece, t + hi)
         t += hi
@@ -332,10 +337,20 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist):
 
 
 @jit
-def _locate(tb, y, f, j1, j2, piece, t, hh, y_end):
-    """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: the step's length bisected to
-    :data:`EVENT_TIME_TOL_S`. Returns the length reaching the event, the state there and the steps tried."""
-    lo, hi, y_hi, tries = 0.0, hh, y_end, 0
+def _locate(tb, y, f, j1, j2, piece, t, hh, y_end, f_end):
+    """An event inside the step of ``hh`` [s] from (t, y) that ended at ``y_end``: an impact alone at the step's end
+    by the Illinois method on the joint's rotation (:func:`.stepping.impact_root`), else, or where that finds
+    another event first, the step's length bisected to :data:`EVENT_TIME_TOL_S`. Returns the length reaching the
+    event, the state there and the steps tried."""
+    kind = _event(tb, y_end, j1, j2, piece, t + hh)
+    tries = 0
+    if kind == 1 or kind == 2:
+        weights = (float(j1), 0.0, 0.0, 0.0) if kind == 1 else (-float(j2), float(j2), 0.0, 0.0)
+        converged, lo, y_lo, hi, y_hi, tries = impact_root(_rhs, (tb, j1, j2, piece), t, y, f, hh, y_end, f_end,
+                                                              weights)
+        if converged and _event(tb, y_lo, j1, j2, piece, t + lo) == 0:
+            return hi, y_hi, tries
+    lo, hi, y_hi = 0.0, hh, y_end
     while hi - lo > EVENT_TIME_TOL_S:
         mid = 0.5 * (lo + hi)
         trial = rk_step(_rhs, (tb, j1, j2, piece), t, y, f, mid, DOPRI54).y
@@ -389,12 +404,15 @@ def _impact(tb, y, j1, j2, joint, rest1, rest2):
 
 
 def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-                       rest_ratio: float = REST_RATIO, history: np.ndarray | None = None) -> TwoBlockOutcome:
+                       rest_ratio: float = REST_RATIO, history: np.ndarray | None = None,
+                       stop_mu: tuple | None = None) -> TwoBlockOutcome:
     """Two stacked blocks at rest under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given), from the record's start to rest or a fall after its end; an impact whose
     rebound is below ``rest_ratio`` p alpha [-] (each joint's scales, :func:`scales`) shuts its joint. ``history``:
     an array (2, samples) that receives phi_1 and psi = phi_2 - phi_1 [rad] at each sample the run reaches (left
-    as given after a fall).
+    as given after a fall). ``stop_mu``: the friction at the ground joint and at the blocks' joint [-]; the run then
+    ends (status ``friction``) where its largest demand at either first passes it, the run's outcome so far (its
+    peaks and demands those of the run without it to that instant).
 
     Returns
     -------
@@ -413,5 +431,6 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
     hist = np.zeros((2, 0)) if history is None else history
     if hist.shape not in ((2, 0), (2, ah.shape[0])):
         raise ParameterError(f"history: shape {hist.shape}, expected (2, {ah.shape[0]}), one column a sample")
+    stop1, stop2 = (math.inf, math.inf) if stop_mu is None else (float(stop_mu[0]), float(stop_mu[1]))
     return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha, min(g1, g2), min(k1, k2)),
-                rest_ratio * s.p1 * s.alpha1, rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist)
+                rest_ratio * s.p1 * s.alpha1, rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist, stop1, stop2)

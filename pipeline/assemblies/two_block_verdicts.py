@@ -25,6 +25,7 @@ from ..constants import G
 from ..rocking.block import BlockShape, dynamics, rigid_block
 from ..rocking.codes import (
     STATUS_EVENT_CAP,
+    STATUS_FRICTION,
     STATUS_GROUND_FLIGHT,
     STATUS_STEP_CAP,
     STATUS_STEP_UNDERFLOW,
@@ -71,11 +72,15 @@ class TwoBlockVerdict(NamedTuple):
 
 
 def judge_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-                    settings: SimulationConfig = SimulationConfig()) -> TwoBlockVerdict:
+                    settings: SimulationConfig = SimulationConfig(), stop_mu: tuple | None = None) -> TwoBlockVerdict:
     """Each body's verdict for the stack ``tb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given); ``settings``: the rocking kernel's tolerances for the lower block alone.
+    ``stop_mu``: the friction at the ground joint and at the blocks' joint [-]; where a joint's demand passes it,
+    the run ends there and both bodies are left without a verdict (the model does not hold).
     """
-    run = simulate_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2)
+    run = simulate_two_block(tb, ah_ms2, dt_s, av_ms2=av_ms2, stop_mu=stop_mu)
+    if run.status & STATUS_FRICTION:
+        return TwoBlockVerdict(Verdict.no_verdict, Verdict.no_verdict, run, 0)
     if run.falls == FALLS_STACK:
         return TwoBlockVerdict(Verdict.overturns, Verdict.overturns, run, 0)
     if run.falls == FALLS_NONE:
