@@ -60,7 +60,10 @@ from .stepping import (
     FIRST_STEP_FRACTION,
     HALF_PI,
     MAX_STEP_P,
+    REST_HOLDS,
+    REST_OPENS,
     REST_RATIO,
+    REST_SLIPS,
     RTOL,
     TAIL_S,
     caps,
@@ -69,6 +72,7 @@ from .stepping import (
     ground_series,
     impact_root,
     piece_at,
+    slip_at_rest,
 )
 
 #: Stacks whose run set-up (:func:`_setup`) is kept [-]
@@ -206,24 +210,6 @@ def _rest_demand(nb, demand, piece):
 
 
 @jit_lean
-def _slip_at_rest(mu, piece, t):
-    """The first instant in [t, piece's end] where the resting stack's demand |a_h| / (g + a_v) passes ``mu`` (the
-    smallest of its joints' friction), or NaN: each sign of a_h - mu (g + a_v) is linear on the piece."""
-    t1 = piece.t0 + piece.span
-    ah0, av0 = ground_on(piece, t)
-    ah1, av1 = ground_on(piece, t1)
-    first = math.nan
-    for sign in (1.0, -1.0):
-        f0, f1 = sign * ah0 - mu * (G + av0), sign * ah1 - mu * (G + av1)
-        if f0 > 0.0:
-            return t
-        if f1 > 0.0:
-            root = t + (t1 - t) * f0 / (f0 - f1)
-            first = root if math.isnan(first) else min(first, root)
-    return first
-
-
-@jit_lean
 def _open_bits(js, n):
     """Bit k set for each open joint k of the modes ``js``."""
     bits = 0
@@ -242,8 +228,6 @@ def _least(values, n):
     return out
 
 
-#: What a resting stack meets first on a piece (:func:`_rest_piece`): nothing, a joint opening, a joint slipping
-REST_HOLDS, REST_OPENS, REST_SLIPS = 0, 1, 2
 
 
 @jit_lean
@@ -252,7 +236,7 @@ def _rest_piece(nb, ch, cg, mu_rest, demand, piece, t):
     instant, the joint, its corner) or (REST_HOLDS, the piece's end, -1, 0); the piece's demands where it rests or
     slips on it."""
     t_open, joint, corner = _opening_at_rest(ch, cg, nb.n, piece, t)
-    t_slip = _slip_at_rest(mu_rest, piece, t)
+    t_slip = slip_at_rest(mu_rest, piece, t)
     if t_slip <= t_open or (joint < 0 and not math.isnan(t_slip)):
         _rest_demand(nb, demand, piece)
         return REST_SLIPS, t_slip, -1, 0

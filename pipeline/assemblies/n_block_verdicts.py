@@ -1,7 +1,8 @@
 """Each body's verdict for a stack of n blocks under a record: a body falls with the lowest block that falls under it,
 or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
 
-The run (:func:`.n_block_run.simulate_n_block`) ends at the first fall: the lowest falling block and every block
+The run (:func:`.exact_run.exact_run`: the two-block run for two blocks, the n-block run for more) ends at the
+first fall: the lowest falling block and every block
 above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack of
 those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where a
 joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on their
@@ -31,9 +32,10 @@ from ..rocking.codes import (
     Verdict,
 )
 from ..rocking.simulate import finite_series
+from .exact_run import exact_run
 from .flat_slip import STUCK, simulate_flat_slip
 from .n_block import MAX_BODIES, NBlock
-from .n_block_run import FALLS_NONE, simulate_n_block
+from .n_block_run import FALLS_NONE
 from .stack_contact import simulate_stack_contact
 from .stack_pose import shifted
 
@@ -139,8 +141,8 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     offsets, base = [0.0] * n, 0.0
     part, start, t0 = nb, None, 0.0
     while True:
-        run = simulate_n_block(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0,
-                               stop_mu=None if mu is None else tuple(mu[:part.n]))
+        run = exact_run(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0,
+                        stop_mu=None if mu is None else tuple(mu[:part.n]))
         for k in range(part.n):
             peaks[k] = max(peaks[k], run.peak_psi_rad[k])
             demand[k] = max(demand[k], run.demand[k])

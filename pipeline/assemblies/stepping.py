@@ -34,6 +34,8 @@ MAX_STEPS = 2_000_000       # steps tried, accepted or not, per run [-]
 MAX_EVENTS = 20_000         # impacts and lift-offs per run [-]
 MAX_ROOT_TRIES = 60         # steps tried by the Illinois method before an impact falls back to bisection [-]
 HALF_PI = 0.5 * math.pi
+#: What a resting stack meets first on a piece: nothing, a joint opening, a joint slipping
+REST_HOLDS, REST_OPENS, REST_SLIPS = 0, 1, 2
 
 
 def ground_series(ah_ms2, av_ms2, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
@@ -119,6 +121,24 @@ def first_crossing(ch, cg, count, piece, t):
     if best < 0:
         return math.nan, -1
     return t + best_x * (t1 - t), best
+
+
+@jit
+def slip_at_rest(mu, piece, t):
+    """The first instant in [t, piece's end] where the resting stack's demand |a_h| / (g + a_v) passes ``mu`` (the
+    smallest of its joints' friction), or NaN: each sign of a_h - mu (g + a_v) is linear on the piece."""
+    t1 = piece.t0 + piece.span
+    ah0, av0 = ground_on(piece, t)
+    ah1, av1 = ground_on(piece, t1)
+    first = math.nan
+    for sign in (1.0, -1.0):
+        f0, f1 = sign * ah0 - mu * (G + av0), sign * ah1 - mu * (G + av1)
+        if f0 > 0.0:
+            return t
+        if f1 > 0.0:
+            root = t + (t1 - t) * f0 / (f0 - f1)
+            first = root if math.isnan(first) else min(first, root)
+    return first
 
 
 @jit_inline

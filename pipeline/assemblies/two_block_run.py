@@ -41,7 +41,10 @@ from .stepping import (
     FIRST_STEP_FRACTION,
     HALF_PI,
     MAX_STEP_P,
+    REST_HOLDS,
+    REST_OPENS,
     REST_RATIO,
+    REST_SLIPS,
     RTOL,
     TAIL_S,
     caps,
@@ -50,6 +53,7 @@ from .stepping import (
     ground_series,
     impact_root,
     piece_at,
+    slip_at_rest,
 )
 from .two_block import (
     SHUT,
@@ -94,6 +98,10 @@ class TwoBlockOutcome(NamedTuple):
         the largest friction demand |F_t| / F_n at the ground joint and at the blocks' joint [-], at rest (at the
         samples) and in motion (at the steps' ends and events), to the run's end or first fall; inf where a face
         would pull
+    t_end_s : float
+        where the run ended [s]: the fall, the start of the ground's piece that falls faster than gravity, a cap, a
+        slip (at rest, at its instant; in motion, at the start of the step at whose end a joint's demand passes its
+        friction), or rest after the record
     """
 
     falls: int
@@ -108,6 +116,7 @@ class TwoBlockOutcome(NamedTuple):
     final: Motion
     demand_ground: float = 0.0
     demand_joint: float = 0.0
+    t_end_s: float = math.nan
 
 
 class Scales(NamedTuple):
@@ -145,15 +154,16 @@ class Peaks(NamedTuple):
 
 @jit
 def _peaks(tb, peaks, y, j1, j2, piece, t, sc):
-    """``peaks`` with the state ``y`` (phi_1, phi_2, rates) in the mode (j1, j2) at ``t`` on the ground's piece; the
-    demands only inside the joints' smaller tipping angles at rest (``sc[2]``, ``sc[3]``): beyond, a body is
-    falling, its demand no longer bearing on whether it falls (the rocking kernel's is likewise followed no further)."""
+    """``peaks`` with the state ``y`` (phi_1, phi_2, rates) in the mode (j1, j2) at ``t`` on the ground's piece, and
+    the state's demands at both joints; the demands only inside the joints' smaller tipping angles at rest
+    (``sc[2]``, ``sc[3]``; 0 beyond): beyond, a body is falling, its demand no longer bearing on whether it falls
+    (the rocking kernel's is likewise followed no further)."""
     ah, av = ground_on(piece, t)
     d1, d2 = 0.0, 0.0
     if abs(y[0]) < sc[2] and abs(y[1] - y[0]) < sc[3]:
         d1, d2 = demands(tb, _motion(y), j1, j2, ah, av)
     return Peaks(max(peaks.phi1, abs(y[0])), max(peaks.phi2, abs(y[1])), max(peaks.psi, abs(y[1] - y[0])),
-                 max(peaks.demand1, d1), max(peaks.demand2, d2))
+                 max(peaks.demand1, d1), max(peaks.demand2, d2)), d1, d2
 
 
 @jit
@@ -254,25 +264,45 @@ def _keep(hist, t, t1, dt, y):
 
 
 @jit
-def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
-    """The run of :func:`simulate_two_block` (the scales, rest thresholds, largest step, the history's array
-    ``hist`` of :func:`_keep`, and the demands at the ground and the blocks' joint that end it given) [SI units]."""
-    n = ah.shape[0]
-    t_rec = (n - 2) * dt + dt                     # the last piece's end, as piece_at computes it
+def _start_modes(y):
+    """The joints' states of a start (phi_1, phi_2, rates): each open on the side its rotation (or, at 0, its rate)
+    points; shut at 0 and 0."""
+    psi, rate = y[1] - y[0], y[3] - y[2]
+    j1 = SHUT if y[0] == 0.0 and y[2] == 0.0 else (1 if (y[0] > 0.0 or (y[0] == 0.0 and y[2] > 0.0)) else -1)
+    j2 = SHUT if psi == 0.0 and rate == 0.0 else (1 if (psi > 0.0 or (psi == 0.0 and rate > 0.0)) else -1)
+    return j1, j2
+
+
+@jit
+def _rest_piece(lift, mu_rest, piece, t):
+    """What the resting stack meets first on the piece from t: (REST_SLIPS, the instant, 0, 0) where its demand
+    |a_h| / (g + a_v) passes ``mu_rest`` first, (REST_OPENS, the instant, the joint, its corner), or (REST_HOLDS,
+    the piece's end, 0, 0)."""
+    t_open, joint, corner = _opening_at_rest(lift, piece, t)
+    t_slip = slip_at_rest(mu_rest, piece, t)
+    if t_slip <= t_open or (joint == 0 and not math.isnan(t_slip)):
+        return REST_SLIPS, t_slip, 0, 0
+    if joint == 0:
+        return REST_HOLDS, piece.t0 + piece.span, 0, 0
+    return REST_OPENS, t_open, joint, corner
+
+
+@jit
+def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, y, t, stop1, stop2):
+    """The run of :func:`simulate_two_block` from ``y`` at ``t`` (its scales, rest thresholds, largest step, history
+    ``hist`` (:func:`_keep`) and each joint's friction given) [SI units]."""
+    t_rec = (ah.shape[0] - 2) * dt + dt           # the last piece's end, as piece_at computes it
     tail_end = t_rec + TAIL_S
-    y = (0.0, 0.0, 0.0, 0.0)
-    j1, j2 = SHUT, SHUT
-    t = 0.0
+    j1, j2 = _start_modes(y)
     h = h_max * FIRST_STEP_FRACTION
     peaks = Peaks(0.0, 0.0, 0.0, 0.0, 0.0)
     impacts, liftoffs, modes, status, events, steps = 0, 0, 0, 0, 0, 0
     falls, t_fall = FALLS_NONE, math.nan
-    f = (0.0, 0.0, 0.0, 0.0)
-    fresh = True                                  # f must be evaluated before the next step
+    f, fresh = y, True                            # f must be evaluated before the next step
     while True:
         capped = caps(steps, events, t, tail_end)
-        if capped or peaks.demand1 > stop1 or peaks.demand2 > stop2:
-            status |= capped if capped else STATUS_FRICTION
+        if capped:
+            status |= capped
             break
         modes |= _mode_bits(j1, j2)
         piece = piece_at(ah, av, dt, t, t_rec, tail_end)
@@ -283,21 +313,22 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
         if j1 == SHUT and j2 == SHUT:
             if t >= t_rec:
                 break                               # at rest after the record: stands
-            t_open, joint, corner = _opening_at_rest(lift, piece, t)
-            if joint == 0:
-                events += 1 if t1 <= t else 0       # no advance (never met): counted, so that the run ends
-                t, peaks = t1, _rest_demand(peaks, piece)
+            kind, t_next, joint, corner = _rest_piece(lift, min(stop1, stop2), piece, t)
+            peaks = peaks if kind == REST_OPENS else _rest_demand(peaks, piece)
+            if kind == REST_SLIPS:
+                t, status = t_next, status | STATUS_FRICTION      # a joint slips first: the caller follows it
+                break
+            if kind == REST_HOLDS:
+                events, t = events + (1 if t1 <= t else 0), t1      # no advance (never met): counted
                 _keep(hist, t, t1, dt, y)
                 continue
-            t = t_open
+            t = t_next
             j1, j2 = (corner, j2) if joint == 1 else (j1, corner)
-            liftoffs, events, fresh = liftoffs + 1, events + 1, True
-            h = h_max * FIRST_STEP_FRACTION
+            liftoffs, events, fresh, h = liftoffs + 1, events + 1, True, h_max * FIRST_STEP_FRACTION
             continue
         if fresh:
             f, fresh = _rhs(t, y, (tb, j1, j2, piece))[0], False
-            kind = _event(tb, y, j1, j2, piece, t)
-            if kind == 4:                           # a joint shut by an impact opens at once
+            if _event(tb, y, j1, j2, piece, t) == 4:    # a joint shut by an impact opens at once
                 y, j1, j2 = _open(tb, y, j1, j2, piece, t)
                 liftoffs, events, fresh = liftoffs + 1, events + 1, True
                 continue
@@ -310,9 +341,12 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
             continue
         kind = _event(tb, st.y, j1, j2, piece, t + hh)
         if kind == 0:
-            t = t1 if hh == t1 - t else t + hh
-            y, f = st.y, st.f
-            peaks = _peaks(tb, peaks, y, j1, j2, piece, t, sc)
+            t_new = t1 if hh == t1 - t else t + hh
+            peaks, d1, d2 = _peaks(tb, peaks, st.y, j1, j2, piece, t_new, sc)
+            if d1 > stop1 or d2 > stop2:
+                status |= STATUS_FRICTION           # from the step's start the caller follows the slip
+                break
+            t, y, f = t_new, st.y, st.f
             _keep(hist, t, t1, dt, y)
             h = next_step(hh, norm)
             continue
@@ -320,7 +354,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
         steps += tries
         kind = _event(tb, y, j1, j2, piece, t + hi)
         t += hi
-        peaks = _peaks(tb, peaks, y, j1, j2, piece, t, sc)
+        peaks = _peaks(tb, peaks, y, j1, j2, piece, t, sc)[0]
         events, fresh = events + 1, True
         h = max(hi, h_max * FIRST_STEP_FRACTION)
         if kind == 3:
@@ -333,7 +367,7 @@ def _run(tb, lift, ah, av, dt, sc, rest1, rest2, h_max, hist, stop1, stop2):
             y, j1, j2 = _impact(tb, y, j1, j2, kind, rest1, rest2)
             impacts += 1
     return TwoBlockOutcome(falls, t_fall, peaks.phi1, peaks.phi2, peaks.psi, impacts, liftoffs, modes, status,
-                           _motion(y), peaks.demand1, peaks.demand2)
+                           _motion(y), peaks.demand1, peaks.demand2, t)
 
 
 @jit
@@ -405,14 +439,15 @@ def _impact(tb, y, j1, j2, joint, rest1, rest2):
 
 def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                        rest_ratio: float = REST_RATIO, history: np.ndarray | None = None,
-                       stop_mu: tuple | None = None) -> TwoBlockOutcome:
-    """Two stacked blocks at rest under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
-    vertical ``av_ms2`` [m s-2] when given), from the record's start to rest or a fall after its end; an impact whose
-    rebound is below ``rest_ratio`` p alpha [-] (each joint's scales, :func:`scales`) shuts its joint. ``history``:
-    an array (2, samples) that receives phi_1 and psi = phi_2 - phi_1 [rad] at each sample the run reaches (left
-    as given after a fall). ``stop_mu``: the friction at the ground joint and at the blocks' joint [-]; the run then
-    ends (status ``friction``) where its largest demand at either first passes it, the run's outcome so far (its
-    peaks and demands those of the run without it to that instant).
+                       start: Motion | None = None, t0_s: float = 0.0, stop_mu: tuple | None = None) -> TwoBlockOutcome:
+    """Two stacked blocks under the ground acceleration ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the vertical
+    ``av_ms2`` [m s-2] when given), from rest at the record's start (or from the state ``start`` at ``t0_s`` [s]) to
+    rest or a fall after its end; an impact whose rebound is below ``rest_ratio`` p alpha [-] (each joint's scales,
+    :func:`scales`) shuts its joint. ``history``: an array (2, samples) that receives phi_1 and psi = phi_2 - phi_1
+    [rad] at each sample the run reaches (left as given after a fall). ``stop_mu``: the friction at the ground joint
+    and at the blocks' joint [-]; the run then stops (status ``friction``) where a joint would slip, as
+    :func:`.n_block_run.simulate_n_block` does: at rest at the instant the ground's |a_h| / (g + a_v) passes the
+    smaller, in motion at the start of the step at whose end a joint's demand passes its own.
 
     Returns
     -------
@@ -432,5 +467,7 @@ def simulate_two_block(tb: TwoBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2:
     if hist.shape not in ((2, 0), (2, ah.shape[0])):
         raise ParameterError(f"history: shape {hist.shape}, expected (2, {ah.shape[0]}), one column a sample")
     stop1, stop2 = (math.inf, math.inf) if stop_mu is None else (float(stop_mu[0]), float(stop_mu[1]))
+    y = (0.0, 0.0, 0.0, 0.0) if start is None else tuple(float(v) for v in start)
     return _run(tb, rest_lift(tb), ah, av, float(dt_s), (alpha, p * alpha, min(g1, g2), min(k1, k2)),
-                rest_ratio * s.p1 * s.alpha1, rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist, stop1, stop2)
+                rest_ratio * s.p1 * s.alpha1, rest_ratio * s.p2 * s.alpha2, MAX_STEP_P / p, hist, y, float(t0_s),
+                stop1, stop2)
