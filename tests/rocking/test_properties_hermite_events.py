@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from pipeline.rocking.numerics import dopri
@@ -57,6 +57,7 @@ def test_the_first_crossing_is_a_root_of_the_cubic_in_the_first_bracket(th0, om0
 
 @settings(max_examples=300, deadline=None)
 @given(_scaled(1.0), rates, _scaled(1.0), rates, step, st.sampled_from([1.0, -1.0]))
+@example(0.01, -5e-324, 0.001, 1.0, 0.1, 1.0)     # h omega0 a subnormal: the rate's root just below 0, not at it
 def test_the_peak_is_the_cubics_value_at_its_turning_point(th0, om0, th1, om1, h, sign):
     th0, th1 = sign * th0, sign * th1
     assume(om0 * om1 < 0.0)

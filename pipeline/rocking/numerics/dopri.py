@@ -230,13 +230,14 @@ def hermite_peak(th0, om0, th1, om1, h):
 @jit
 def _unit_root(qa, qb, qc):
     """The root in [0, 1] of A x^2 + B x + C, whose values at 0 and 1 differ in sign (clamped to [0, 1] against
-    rounding)."""
+    rounding). C / q is not it where it lies outside [0, 1], nor where it is 0 and the other root, q / A, lies in
+    [0, 1]: C is then 0 or rounded to it (h omega0 a subnormal), and the rate changes sign at the other root."""
     disc = max(qb * qb - 4.0 * qa * qc, 0.0)
     q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))
     x = math.nan
     if q != 0.0:
         x = qc / q
-    if qa != 0.0 and not 0.0 <= x <= 1.0:
+    if qa != 0.0 and (not 0.0 <= x <= 1.0 or (x == 0.0 and 0.0 <= q / qa <= 1.0)):
         x = q / qa
     return min(max(x, 0.0), 1.0) if x == x else 0.5
 
