@@ -35,6 +35,9 @@ of block it has: it asks the registry for the first model that claims the block 
     before any worker needs them; a call each for kernels that compile apart, so that processes compiling together
     can each take one (the stack's two-block run and n-block run: 17 and 19 s to compile); none where it has no
     kernels of its own, only shared ones.
+``warmups_for(shapes, sampling)``
+    Optional: its warm-up calls where they depend on the run's blocks (``shapes``; None: not known) and on whether
+    it samples, read instead of ``warmups`` (the planar model's: its scene models that the blocks may reach).
 ``shared_warmups``
     Optional: warm-ups of kernels it shares with other models (the 3D contact model of the cylinder, the box and the
     scanned body in 3D), called once per warm-up whichever of those models it selects.
@@ -295,3 +298,4 @@ class BodyModel:
     stops: tuple[Stops, ...] = ()
     draws_warmups: tuple[Callable[[], None], ...] = ()
     warmups: tuple[Callable[[], None], ...] = ()
+    warmups_for: Callable[[list | None, bool], tuple[Callable[[], None], ...]] | None = None

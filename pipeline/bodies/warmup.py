@@ -89,7 +89,8 @@ def warmup_calls(shapes: list[BlockShape] | None, settings: SimulationConfig | N
     planar draws' (23 s) against 5-19 s for each model's own. Measured from an empty cache with one helper, every
     model (two runs each, 2 cores): 82.2 and 82.4 s in the order own, shared, draws; 76.8 and 72.8 s in this one."""
     models = registry.models_for(shapes, SimulationConfig() if settings is None else settings)
-    own = [f for m in models for f in m.warmups]
+    own = [f for m in models
+           for f in (m.warmups if m.warmups_for is None else m.warmups_for(shapes, sampling))]
     draws = [f for m in models for f in m.draws_warmups] if sampling else []
     return list(dict.fromkeys([f for m in models for f in m.shared_warmups] + draws + own))
 

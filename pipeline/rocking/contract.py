@@ -22,6 +22,11 @@ fields of one :class:`SceneModel`:
 ``warmup()``
     Calls its compiled kernels once on a tiny scene (:mod:`.warmup`), so that numba compiles them before any
     worker needs them.
+``may_claim(alpha, mu) -> bool``
+    Optional (default: every block): whether a block of that nominal slenderness [rad] and friction [-] may have a
+    scene the model takes, chosen or continuing another. A superset is safe (a warm-up then made for nothing); a
+    block left out would compile the model's kernels in a worker, unannounced. A run without draws warms up only
+    the models its blocks may reach (``pipeline.bodies.planar.scene_warmups``).
 
 A model whose certificate is ``never`` is not chosen up front: it continues other models (the general contact
 model takes over where pure rocking stops holding) or is run by name (``simulate_scene(physics=...)``).
@@ -165,6 +170,7 @@ class SceneModel:
     simulate: Callable[[SceneInput], Scene]
     twin: Callable
     warmup: Callable[[], None]
+    may_claim: Callable[[float, float], bool] = lambda alpha, mu: True
 
 
 def never(facts: SceneFacts) -> bool:

@@ -43,6 +43,7 @@ from .contract import SceneFacts, SceneInput, SceneModel, always, never
 from .numerics.ground import QuietTable
 from .planar.handoff import continue_rocking, from_rest, stopped_short
 from .planar.kernel import rock as rock_compiled
+from .rules import rocks
 from .scene import REST_SCENE, FreeFlight, Guard, Physics, Response, Scene, general_scene, rocking_scene
 from .settings import SimulationConfig
 from .simulate import continued, rock, slide
@@ -111,6 +112,16 @@ def _general_warmup() -> None:
 def cannot_rock(facts: SceneFacts) -> bool:
     """mu <= tan alpha (within the tie rule) or a block too squat to rock: it slides where it moves."""
     return not facts.rocks
+
+
+def _may_slide(alpha: float, mu: float) -> bool:
+    """A block that cannot rock (:func:`cannot_rock`'s facts: ``rocks`` is :func:`.rules.rocks` of its block)."""
+    return not rocks(alpha, mu)
+
+
+def _may_rock(alpha: float, mu: float) -> bool:
+    """A block that rocks: any other is taken at rest or by sliding before the rocking models are tried."""
+    return rocks(alpha, mu)
 
 
 def _sliding(scene: SceneInput) -> Scene:
@@ -208,11 +219,11 @@ def _rocking_warmup() -> None:
 MODELS: tuple[SceneModel, ...] = (
     SceneModel(physics=Physics.none, certificate=at_rest, simulate=_rest, twin=_rest_twin, warmup=_no_warmup),
     SceneModel(physics=Physics.sliding, certificate=cannot_rock, simulate=_sliding, twin=_sliding_twin,
-               warmup=_sliding_warmup),
+               warmup=_sliding_warmup, may_claim=_may_slide),
     SceneModel(physics=Physics.rocking_vertical, certificate=keeps_vertical, simulate=_rocking_vertical,
-               twin=_rocking_twin, warmup=_rocking_warmup),
+               twin=_rocking_twin, warmup=_rocking_warmup, may_claim=_may_rock),
     SceneModel(physics=Physics.rocking, certificate=always, simulate=_rocking, twin=_rocking_twin,
-               warmup=_no_warmup),
+               warmup=_no_warmup, may_claim=_may_rock),
     SceneModel(physics=Physics.general, certificate=never, simulate=_general, twin=_general_twin,
                warmup=_general_warmup),
 )

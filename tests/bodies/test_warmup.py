@@ -58,10 +58,11 @@ def test_every_warm_up_is_called_once_and_a_model_without_kernels_adds_none(monk
         return lambda: made.append(name)
 
     shared = call("shared")
-    models = [SimpleNamespace(warmups=(), shared_warmups=(shared,), draws_warmups=()),
-              SimpleNamespace(warmups=(call("a"),), shared_warmups=(), draws_warmups=()),
-              SimpleNamespace(warmups=(call("b"), call("b2")), shared_warmups=(shared,), draws_warmups=()),
-              SimpleNamespace(warmups=(call("c"),), shared_warmups=(), draws_warmups=())]
+    def model(own, shared_calls=()):
+        return SimpleNamespace(warmups=own, shared_warmups=shared_calls, draws_warmups=(), warmups_for=None)
+
+    models = [model((), (shared,)), model((call("a"),)), model((call("b"), call("b2")), (shared,)),
+              model((call("c"),))]
     monkeypatch.setattr(warmup.registry, "models_for", lambda shapes, settings: models)
     warmup.compile_kernels()
     assert made == ["shared", "a", "b", "b2", "c"]
@@ -205,3 +206,21 @@ def test_helpers_start_only_where_the_program_would_not_run_again_in_them(tmp_pa
             "module without the guard, -m": ["-m", "plain"]}[how]
     out = subprocess.run([sys.executable, *argv], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
     assert out.strip() == str(expected)
+
+
+def test_a_run_without_draws_warms_up_the_planar_scene_models_its_blocks_may_reach():
+    """Without draws, a block that cannot rock (mu = tan alpha) calls no rocking model's warm-up and a block that
+    rocks no sliding one, each model's warm-up a call of its own; with draws (which vary alpha and mu), every model."""
+    from pipeline.bodies.planar import scene_warmups
+    from pipeline.rocking import models
+    from pipeline.rocking.block import BlockShape
+
+    rocking = models.by_physics(models.Physics.rocking_vertical).warmup      # pure rocking's kernel
+    sliding = models.by_physics(models.Physics.sliding).warmup
+    general = models.by_physics(models.Physics.general).warmup
+    tie, slender = BlockShape(height_m=3.0, width_m=1.5, mu=0.5), BlockShape(height_m=3.0, width_m=1.0, mu=0.5)
+    assert rocking not in scene_warmups([tie], False) and {sliding, general} <= set(scene_warmups([tie], False))
+    assert sliding not in scene_warmups([slender], False) and {rocking, general} <= set(scene_warmups([slender], False))
+    everything = tuple(m.warmup for m in models.MODELS)
+    assert scene_warmups([tie], True) == everything and scene_warmups(None, False) == everything
+    assert set(scene_warmups([tie, slender], False)) == set(everything)
