@@ -50,8 +50,8 @@ def exact_run(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray
               start: tuple | None = None, t0_s: float = 0.0, stop_mu: tuple | None = None) -> NBlockOutcome:
     """:func:`.n_block_run.simulate_n_block`'s run and outcome, by the two-block run where ``nb`` has two blocks
     (the same arguments: the ground ``ah_ms2``, ``av_ms2`` [m s-2], ``dt_s`` [s] apart; the n-block state
-    ``start`` at ``t0_s`` [s], None: rest; each block's friction ``stop_mu`` [-]). Its ``steps`` are the two-block
-    run's, which does not count them (0)."""
+    ``start`` at ``t0_s`` [s], None: rest; each block's friction ``stop_mu`` [-]). For two blocks ``steps`` is 0:
+    the two-block run does not count its steps."""
     if nb.n != 2:
         return simulate_n_block(nb, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0_s, stop_mu=stop_mu)
     run = simulate_two_block(as_two_block(nb), ah_ms2, dt_s, av_ms2=av_ms2,

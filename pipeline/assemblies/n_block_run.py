@@ -72,6 +72,7 @@ from .stepping import (
     ground_series,
     impact_root,
     piece_at,
+    rest_choice,
     slip_at_rest,
 )
 
@@ -236,14 +237,11 @@ def _rest_piece(nb, ch, cg, mu_rest, demand, piece, t):
     instant, the joint, its corner) or (REST_HOLDS, the piece's end, -1, 0); the piece's demands where it rests or
     slips on it."""
     t_open, joint, corner = _opening_at_rest(ch, cg, nb.n, piece, t)
-    t_slip = slip_at_rest(mu_rest, piece, t)
-    if t_slip <= t_open or (joint < 0 and not math.isnan(t_slip)):
+    kind, t_next = rest_choice(t_open, joint >= 0, slip_at_rest(mu_rest, piece, t), piece.t0 + piece.span)
+    if kind != REST_OPENS:
         _rest_demand(nb, demand, piece)
-        return REST_SLIPS, t_slip, -1, 0
-    if joint < 0:
-        _rest_demand(nb, demand, piece)
-        return REST_HOLDS, piece.t0 + piece.span, -1, 0
-    return REST_OPENS, t_open, joint, corner
+        return kind, t_next, -1, 0
+    return kind, t_next, joint, corner
 
 
 @jit_lean

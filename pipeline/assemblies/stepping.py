@@ -141,6 +141,18 @@ def slip_at_rest(mu, piece, t):
     return first
 
 
+@jit
+def rest_choice(t_open, opens, t_slip, t_end):
+    """What a resting stack meets first on a piece: (REST_SLIPS, ``t_slip``) where a joint slips (``t_slip`` not
+    NaN) no later than one opens (at ``t_open``, where ``opens``), else (REST_OPENS, ``t_open``), or (REST_HOLDS,
+    ``t_end``, the piece's end) where nothing happens on it."""
+    if t_slip <= t_open or (not opens and not math.isnan(t_slip)):
+        return REST_SLIPS, t_slip
+    if not opens:
+        return REST_HOLDS, t_end
+    return REST_OPENS, t_open
+
+
 @jit_inline
 def _along(weights, y):
     """weights . y over the weights that are not 0 (one weight: that term alone, to the bit)."""

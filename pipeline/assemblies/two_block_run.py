@@ -53,6 +53,7 @@ from .stepping import (
     ground_series,
     impact_root,
     piece_at,
+    rest_choice,
     slip_at_rest,
 )
 from .two_block import (
@@ -279,12 +280,8 @@ def _rest_piece(lift, mu_rest, piece, t):
     |a_h| / (g + a_v) passes ``mu_rest`` first, (REST_OPENS, the instant, the joint, its corner), or (REST_HOLDS,
     the piece's end, 0, 0)."""
     t_open, joint, corner = _opening_at_rest(lift, piece, t)
-    t_slip = slip_at_rest(mu_rest, piece, t)
-    if t_slip <= t_open or (joint == 0 and not math.isnan(t_slip)):
-        return REST_SLIPS, t_slip, 0, 0
-    if joint == 0:
-        return REST_HOLDS, piece.t0 + piece.span, 0, 0
-    return REST_OPENS, t_open, joint, corner
+    kind, t_next = rest_choice(t_open, joint != 0, slip_at_rest(mu_rest, piece, t), piece.t0 + piece.span)
+    return (kind, t_next, joint, corner) if kind == REST_OPENS else (kind, t_next, 0, 0)
 
 
 @jit

@@ -214,8 +214,8 @@ def scene_warmups(shapes: list[BlockShape] | None, sampling: bool) -> tuple[Call
     compiling together can each take one: every model where the run samples (its draws vary each block's slenderness
     and friction) or its blocks are not known; else the models that one of the blocks' nominal (alpha, mu) may
     reach (:attr:`~pipeline.rocking.contract.SceneModel.may_claim`). A block that cannot rock (mu at or below tan
-    alpha) then compiles neither pure rocking's kernel nor its continuation: 26.8 of the 36.1 s of every model's,
-    from an empty cache in one process."""
+    alpha) then compiles neither pure rocking's kernel nor its continuation (26.8 of the 36.1 s of every model's in
+    one measurement, from an empty cache in one process)."""
     models = scene_models.MODELS
     if not sampling and shapes is not None:
         blocks = dynamics(list(shapes))

@@ -76,9 +76,8 @@ def fragility_parser() -> argparse.ArgumentParser:
 def cmd_fragility(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen fragility``: stripes, fits, IM ranking, hazard; writes fragility.nc, fragility.html and
     fragility_assets.csv."""
-    with _ticking(args.quiet) as say:                # each stage's name, repeated while it runs
-        if say is not None:
-            say("starting (reading the inventory, loading the simulator, listing the records) ...")
+    starting = "starting (reading the inventory, loading the simulator, listing the records) ..."
+    with _ticking(args.quiet, starting) as say:      # each stage's name, repeated while it runs
         from ..levels import levels_unit, parse_levels
         from ..records.intensity import display_unit
         from ..run.executors import start_workers_early

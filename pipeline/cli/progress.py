@@ -89,10 +89,11 @@ def _progress_lines(items, total=None, running=None, label: str = "records scree
 
 
 @contextlib.contextmanager
-def _ticking(quiet: bool):
+def _ticking(quiet: bool, first: str = ""):
     """A stage announcer (None with ``-q``): ``announce(text)`` says a stage's name at once and, while it runs,
     repeats it with the time spent on it every :func:`_tick_s`, so that nothing is silent for longer;
-    ``announce(None)`` ends the stage silently (its tasks' progress speaks from then on: :func:`_after_stage`)."""
+    ``announce(None)`` ends the stage silently (its tasks' progress speaks from then on: :func:`_after_stage`).
+    ``first``: the stage announced on entry (the command's start-up, said before its slow imports)."""
     if quiet:
         yield None
         return
@@ -110,6 +111,8 @@ def _ticking(quiet: bool):
 
     ticker = Ticker(tick, every_s=_tick_s())
     with ticker:
+        if first:
+            announce(first)
         yield announce
 
 

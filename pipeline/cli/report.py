@@ -30,9 +30,7 @@ def cmd_report(args: argparse.Namespace, argv: list[str]) -> int:
     """``screen report``: the asset-risk report from results alone."""
     if args.results.is_dir():                   # the output folder of a run: its screening.nc
         args.results = args.results / "screening.nc"
-    with _ticking(args.quiet) as say:           # said at once, repeated while it runs
-        if say is not None:
-            say(f"writing the report from {args.results} ...")
+    with _ticking(args.quiet, f"writing the report from {args.results} ..."):     # said at once, and repeated
         from ..run.stages import rebuild_report
 
         html, assets = rebuild_report(args.results, args.out, all_figures=args.all_figures,

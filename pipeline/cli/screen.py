@@ -106,9 +106,8 @@ def cmd_run(args: argparse.Namespace, argv: list[str]) -> int:
     if last is not None:
         return _report_up_to_date(args, last, config)
     start_workers_early(n_workers=_workers(args), scheduler=args.scheduler)   # its imports beside this process's
-    with _ticking(args.quiet) as say:                # each stage's name, repeated while it runs
-        if say is not None:
-            say("starting (loading the simulator, listing the records) ...")
+    starting = "starting (loading the simulator, listing the records) ..."
+    with _ticking(args.quiet, starting) as say:      # each stage's name, repeated while it runs
         from ..run import RunInterrupted, ScreenRequest, screen
         from ..run.stages import preflight
 

@@ -170,7 +170,7 @@ class SceneModel:
     simulate: Callable[[SceneInput], Scene]
     twin: Callable
     warmup: Callable[[], None]
-    may_claim: Callable[[float, float], bool] = lambda alpha, mu: True
+    may_claim: Callable[[float, float], bool] = lambda alpha, mu: True   # every block
 
 
 def never(facts: SceneFacts) -> bool:
