@@ -102,17 +102,24 @@ def _redelivering(received: list[int], previous_hook, timers: list[threading.Tim
     """A ``sys.unraisablehook`` that, for a ``KeyboardInterrupt`` of :func:`_signals_interrupt` swallowed in a
     finalizer, sends the last signal noted in ``received`` to this process again after :data:`REDELIVER_S` (at most
     :data:`MAX_REDELIVERIES` times; each timer in ``timers``), instead of printing it; every other report goes to
-    ``previous_hook``."""
+    ``previous_hook``. A signal sent again that arrives before the hook has returned (a loaded machine) raises its
+    KeyboardInterrupt inside the hook, where Python swallows it as well: it is sent once more."""
 
-    def hook(unraisable) -> None:
-        if not (isinstance(unraisable.exc_value, KeyboardInterrupt) and received):
-            previous_hook(unraisable)
-            return
+    def send_again() -> None:
         if len(timers) < MAX_REDELIVERIES:
             timer = threading.Timer(REDELIVER_S, os.kill, (os.getpid(), received[-1]))
             timer.daemon = True
             timers.append(timer)
             timer.start()
+
+    def hook(unraisable) -> None:
+        if not (isinstance(unraisable.exc_value, KeyboardInterrupt) and received):
+            previous_hook(unraisable)
+            return
+        try:
+            send_again()
+        except KeyboardInterrupt:        # the signal just sent again landed here, before the hook returned
+            send_again()
 
     return hook
 

@@ -97,3 +97,32 @@ def _swallowed_raise() -> None:
 
 def _raise() -> None:
     raise KeyboardInterrupt
+
+
+def test_a_resent_interrupt_landing_inside_the_hook_is_sent_once_more(ctrl_c_raises, monkeypatch):
+    """On a loaded machine the signal sent again may arrive before the hook that sent it has returned: its
+    KeyboardInterrupt is then raised inside the hook, where Python swallows it too. The first sending is made to
+    land there (the signal sent at once, while the hook runs); the command must still be interrupted."""
+    import os
+    import threading
+
+    from pipeline.cli import exits
+
+    real_timer, first = threading.Timer, []
+
+    class _LandsInTheHook(real_timer):
+        def start(self) -> None:
+            if not first:
+                first.append(True)
+                os.kill(os.getpid(), self.args[1])        # handled before the hook returns
+                return
+            super().start()
+
+    monkeypatch.setattr(exits.threading, "Timer", _LandsInTheHook)
+    with pytest.raises(KeyboardInterrupt):
+        with _signals_interrupt():
+            _swallowed(signal.SIGINT)
+            deadline = time.monotonic() + 5.0
+            while time.monotonic() < deadline:
+                time.sleep(0.01)
+    assert first
