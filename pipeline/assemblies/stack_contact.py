@@ -15,9 +15,11 @@ tangential relative velocities after the step U = H v+ obey the plastic impact l
 
     0 <= P_n  _|_  U_n >= 0,      |P_t| <= mu P_n,  U_t = 0 where |P_t| < mu P_n,  else P_t U_t < 0,
 
-mu the friction of the upper face of the contact (the block's own ``mu`` at its base). The impulses are found by
-projected Gauss-Seidel over the contacts, each contact's 2 x 2 problem solved by its cases (no contact, stick, or
-slide either way), started from the impulses of the step before; a step whose sweeps reach :data:`MAX_SWEEPS` keeps
+mu the friction of the upper face of the contact (the block's own ``mu`` at its base). The impulses are found first
+by the contacts' modes (:mod:`.stack_direct`: the modes of the step before, one linear solve, kept only where every
+contact's law holds to :data:`SWEEP_TOL_MS`), else by projected Gauss-Seidel over the contacts, each contact's 2 x 2
+problem solved by its cases (no contact, stick, or slide either way), started from the impulses of the step before,
+to a change of at most :data:`SWEEP_TOL_MS`; a step whose sweeps reach :data:`MAX_SWEEPS` keeps
 its last iterate, is counted (:attr:`StackContactOutcome.unconverged`) and flags the run step_cap (its verdict is
 kept, the scene flagged: ``simulation_guard``). For one block a plastic impact at a new
 sticking corner is, in the limit of short steps, Housner's (1963) (the angular momentum about the new corner kept,
@@ -58,7 +60,18 @@ from ..compiled import jit_lean
 from ..constants import G
 from ..rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
 from .n_block import MAX_BODIES, NBlock
-from .stack_pose import base_offset, bodies_of, corner_point, handback, local_point, state_of, tilt
+from .stack_direct import DirectWork, direct_work, solve_direct
+from .stack_pose import (
+    base_offset,
+    bodies_of,
+    corner_point,
+    handback,
+    point_at,
+    point_in,
+    rotations,
+    state_of,
+    tilt,
+)
 from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
 
 # Step control, named once
@@ -136,7 +149,8 @@ class StackContactOutcome(NamedTuple):
 class Work(NamedTuple):
     """Scratch arrays made once per run: the contacts' bodies, Jacobian rows (per contact: normal then tangent,
     each the two bodies' three entries), slots, the Delassus matrix, the free velocities' relative velocities, the
-    impulses, and the impulses kept per slot between steps."""
+    impulses, the impulses kept per slot between steps, the direct solve's scratch, the blocks' cos and sin of their
+    rotations (:func:`~.stack_pose.rotations`) and their inverse masses and moments of inertia (3, n)."""
 
     body: np.ndarray
     jac: np.ndarray
@@ -146,13 +160,18 @@ class Work(NamedTuple):
     p: np.ndarray
     kept: np.ndarray
     kept_next: np.ndarray
+    direct: DirectWork
+    trig: np.ndarray
+    inv: np.ndarray
 
 
 def work() -> Work:
     """A :class:`Work` for any stack of up to :data:`MAX_BODIES` blocks."""
     c = MAX_CONTACTS
     return Work(np.zeros((c, 2), dtype=np.int64), np.zeros((c, 2, 6)), np.zeros(c, dtype=np.int64),
-                np.zeros((2 * c, 2 * c)), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c))
+                np.zeros((2 * c, 2 * c)), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c), np.zeros(2 * c),
+                direct_work(c),
+                np.zeros((2, MAX_BODIES)), np.zeros((3, MAX_BODIES)))
 
 
 @jit_lean
@@ -176,10 +195,12 @@ def _add(wk, count, a, b, nx, nz, px, pz, q, slot):
 @jit_lean
 def _contacts(bd, n, q, wk):
     """The contacts at the configuration q (3, n): their count, their rows in ``wk``."""
+    cs = wk.trig
+    rotations(q, n, cs)
     count = 0
     for side in range(2):
         s = 2.0 * side - 1.0
-        px, pz = corner_point(q, 0, s * bd.b[0], -bd.h[0])
+        px, pz = point_at(q, cs, 0, s * bd.b[0], -bd.h[0])
         if pz <= WITHIN * bd.h[0]:
             count = _add(wk, count, 0, NO_BODY, 0.0, 1.0, px, pz, q, side)
     for k in range(1, n):
@@ -188,20 +209,20 @@ def _contacts(bd, n, q, wk):
         met = 0
         for side in range(2):
             s = 2.0 * side - 1.0
-            px, pz = corner_point(q, up, s * bd.b[up], -bd.h[up])
-            lx, lz = local_point(q, lo, px, pz)
+            px, pz = point_at(q, cs, up, s * bd.b[up], -bd.h[up])
+            lx, lz = point_in(q, cs, lo, px, pz)
             if lz - bd.h[lo] <= gap_tol and abs(lx) <= bd.b[lo] + tol:
-                c, sn = math.cos(q[2, lo]), math.sin(q[2, lo])
+                c, sn = cs[0, lo], cs[1, lo]
                 count = _add(wk, count, up, lo, sn, c, px, pz, q, 2 + 4 * (k - 1) + side)
                 met |= 1 << side
         for side in range(2):
             if met & (1 << side):
                 continue                            # the two corners meet: counted once
             s = 2.0 * side - 1.0
-            px, pz = corner_point(q, lo, s * bd.b[lo], bd.h[lo])
-            ux, uz = local_point(q, up, px, pz)
+            px, pz = point_at(q, cs, lo, s * bd.b[lo], bd.h[lo])
+            ux, uz = point_in(q, cs, up, px, pz)
             if -bd.h[up] - uz <= gap_tol and abs(ux) <= bd.b[up] + tol:
-                c, sn = math.cos(q[2, up]), math.sin(q[2, up])
+                c, sn = cs[0, up], cs[1, up]
                 count = _add(wk, count, up, lo, sn, c, px, pz, q, 4 + 4 * (k - 1) + side)
     return count
 
@@ -221,9 +242,8 @@ def _delassus(bd, count, wk):
                         for ej in range(2):
                             if wk.body[j, ej] != bi:
                                 continue
-                            inv = (1.0 / bd.m[bi], 1.0 / bd.m[bi], 1.0 / bd.i[bi])
                             for d in range(3):
-                                acc += wk.jac[i, ri, 3 * ei + d] * inv[d] * wk.jac[j, rj, 3 * ej + d]
+                                acc += wk.jac[i, ri, 3 * ei + d] * wk.inv[d, bi] * wk.jac[j, rj, 3 * ej + d]
                     wk.w[2 * i + ri, 2 * j + rj] = acc
 
 
@@ -267,7 +287,17 @@ def _local_solve(wnn, wnt, wtn, wtt, qn, qt, mu):
 
 @jit_lean
 def _solve(bd, count, wk):
-    """The step's impulses into ``wk.p`` by projected Gauss-Seidel; True where the sweeps converged."""
+    """The step's impulses into ``wk.p``: by the contacts' modes (:mod:`.stack_direct`), else by projected
+    Gauss-Seidel; True where either converged."""
+    if solve_direct(count, wk.w, wk.rhs, wk.kept, wk.slot, wk.body, bd.mu, wk.direct, wk.p, SWEEP_TOL_MS):
+        return True
+    return _sweeps(bd, count, wk)
+
+
+@jit_lean
+def _sweeps(bd, count, wk):
+    """The step's impulses into ``wk.p`` by projected Gauss-Seidel from the slots' impulses of the step before; True
+    where the sweeps converged."""
     for i in range(count):
         wk.p[2 * i], wk.p[2 * i + 1] = wk.kept[2 * wk.slot[i]], wk.kept[2 * wk.slot[i] + 1]
     for _ in range(MAX_SWEEPS):
@@ -297,19 +327,20 @@ def _apply(bd, count, v, wk):
             b = wk.body[i, e]
             if b == NO_BODY:
                 continue
-            inv = (1.0 / bd.m[b], 1.0 / bd.m[b], 1.0 / bd.i[b])
             for d in range(3):
-                v[d, b] += inv[d] * (wk.jac[i, 0, 3 * e + d] * wk.p[2 * i] + wk.jac[i, 1, 3 * e + d] * wk.p[2 * i + 1])
+                v[d, b] += wk.inv[d, b] * (wk.jac[i, 0, 3 * e + d] * wk.p[2 * i]
+                                           + wk.jac[i, 1, 3 * e + d] * wk.p[2 * i + 1])
 
 
 @jit_lean
-def _fallen(bd, n, q):
-    """The lowest block that has fallen (the module's rule), or n."""
+def _fallen(bd, n, q, cs):
+    """The lowest block that has fallen (the module's rule), or n (``cs``: the blocks' :func:`~.stack_pose.rotations`
+    at q)."""
     for k in range(n):
         if abs(q[2, k]) >= HALF_PI or abs(tilt(q, k)) >= HALF_PI:
             return k
         if k > 0:
-            _, lz = local_point(q, k - 1, q[0, k], q[1, k])
+            _, lz = point_in(q, cs, k - 1, q[0, k], q[1, k])
             if lz < bd.h[k - 1]:
                 return k
     return n
@@ -386,6 +417,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
     lift, ready = 0.0, 0
     for i in range(wk.kept.shape[0]):
         wk.kept[i] = 0.0
+    for k in range(n):
+        wk.inv[0, k], wk.inv[1, k], wk.inv[2, k] = 1.0 / bd.m[k], 1.0 / bd.m[k], 1.0 / bd.i[k]
     while n > 0:
         if steps >= MAX_CONTACT_STEPS:
             status |= STATUS_STEP_CAP
@@ -428,17 +461,18 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 q[d, k] += 0.5 * hh * v[d, k]
         t = t_end_piece if hh == t_end_piece - t else t + hh
         steps += 1
-        _, z_left = corner_point(q, 0, -bd.b[0], -bd.h[0])
-        _, z_right = corner_point(q, 0, bd.b[0], -bd.h[0])
+        cs = wk.trig
+        rotations(q, n, cs)
+        _, z_left = point_at(q, cs, 0, -bd.b[0], -bd.h[0])
+        _, z_right = point_at(q, cs, 0, bd.b[0], -bd.h[0])
         lift = max(lift, min(z_left, z_right))
         for k in range(n):
             peak[k] = max(peak[k], abs(tilt(q, k)))
+            base_x, base_z = point_at(q, cs, k, 0.0, -bd.h[k])
             if k > 0:
-                slide[k] = max(slide[k], abs(base_offset(bd, q, k) - origin[k]))
-            else:
-                base_x, _ = corner_point(q, 0, 0.0, -bd.h[0])
-                slide[0] = max(slide[0], abs(base_x - origin[0]))
-        fell = _fallen(bd, n, q)
+                base_x, _ = point_in(q, cs, k - 1, base_x, base_z)      # base_offset's
+            slide[k] = max(slide[k], abs(base_x - origin[k]))
+        fell = _fallen(bd, n, q, cs)
         if fell < n:
             for k in range(fell, n):
                 t_fall[k] = t

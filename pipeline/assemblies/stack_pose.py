@@ -46,6 +46,29 @@ def local_point(q, k, px, pz):
 
 
 @jit_lean
+def rotations(q, n, cs):
+    """Each of the ``n`` blocks' cos and sin of its rotation into ``cs`` (2, n), for :func:`point_at` and
+    :func:`point_in` (the step's configuration's trigonometry once)."""
+    for k in range(n):
+        cs[0, k], cs[1, k] = math.cos(q[2, k]), math.sin(q[2, k])
+
+
+@jit_lean
+def point_at(q, cs, k, rx, rz):
+    """:func:`corner_point` with block k's cos and sin from :func:`rotations`."""
+    c, s = cs[0, k], cs[1, k]
+    return q[0, k] + c * rx + s * rz, q[1, k] - s * rx + c * rz
+
+
+@jit_lean
+def point_in(q, cs, k, px, pz):
+    """:func:`local_point` with block k's cos and sin from :func:`rotations`."""
+    c, s = cs[0, k], cs[1, k]
+    dx, dz = px - q[0, k], pz - q[1, k]
+    return c * dx - s * dz, s * dx + c * dz
+
+
+@jit_lean
 def tilt(q, k):
     """Block k's rotation on what it stands on [rad]."""
     return q[2, k] - (q[2, k - 1] if k > 0 else 0.0)
