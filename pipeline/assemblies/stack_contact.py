@@ -404,6 +404,32 @@ def _holds(bd, n, piece, t):
 
 
 @jit_lean
+def _reset(bd, n, wk):
+    """No impulse kept from a step before; the blocks' inverse masses and moments of inertia."""
+    for i in range(wk.kept.shape[0]):
+        wk.kept[i] = 0.0
+    for k in range(n):
+        wk.inv[0, k], wk.inv[1, k], wk.inv[2, k] = 1.0 / bd.m[k], 1.0 / bd.m[k], 1.0 / bd.i[k]
+
+
+@jit_lean
+def _measure(bd, n, q, cs, peak, slide, origin):
+    """At the step's end q: the blocks' rotations into ``cs`` (:func:`~.stack_pose.rotations`), each joint's
+    largest rotation and slip into ``peak`` and ``slide`` (slips from ``origin``); returns the height of block 0's
+    lower base corner [m]."""
+    rotations(q, n, cs)
+    _, z_left = point_at(q, cs, 0, -bd.b[0], -bd.h[0])
+    _, z_right = point_at(q, cs, 0, bd.b[0], -bd.h[0])
+    for k in range(n):
+        peak[k] = max(peak[k], abs(tilt(q, k)))
+        base_x, base_z = point_at(q, cs, k, 0.0, -bd.h[k])
+        if k > 0:
+            base_x, _ = point_in(q, cs, k - 1, base_x, base_z)      # base_offset's
+        slide[k] = max(slide[k], abs(base_x - origin[k]))
+    return min(z_left, z_right)
+
+
+@jit_lean
 def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes):
     """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak, slide and, where it hands
     back, the joints' modes."""
@@ -415,10 +441,7 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
     status, steps, unconverged = 0, 0, 0
     rested = False
     lift, ready = 0.0, 0
-    for i in range(wk.kept.shape[0]):
-        wk.kept[i] = 0.0
-    for k in range(n):
-        wk.inv[0, k], wk.inv[1, k], wk.inv[2, k] = 1.0 / bd.m[k], 1.0 / bd.m[k], 1.0 / bd.i[k]
+    _reset(bd, n, wk)
     while n > 0:
         if steps >= MAX_CONTACT_STEPS:
             status |= STATUS_STEP_CAP
@@ -461,18 +484,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 q[d, k] += 0.5 * hh * v[d, k]
         t = t_end_piece if hh == t_end_piece - t else t + hh
         steps += 1
-        cs = wk.trig
-        rotations(q, n, cs)
-        _, z_left = point_at(q, cs, 0, -bd.b[0], -bd.h[0])
-        _, z_right = point_at(q, cs, 0, bd.b[0], -bd.h[0])
-        lift = max(lift, min(z_left, z_right))
-        for k in range(n):
-            peak[k] = max(peak[k], abs(tilt(q, k)))
-            base_x, base_z = point_at(q, cs, k, 0.0, -bd.h[k])
-            if k > 0:
-                base_x, _ = point_in(q, cs, k - 1, base_x, base_z)      # base_offset's
-            slide[k] = max(slide[k], abs(base_x - origin[k]))
-        fell = _fallen(bd, n, q, cs)
+        lift = max(lift, _measure(bd, n, q, wk.trig, peak, slide, origin))
+        fell = _fallen(bd, n, q, wk.trig)
         if fell < n:
             for k in range(fell, n):
                 t_fall[k] = t
