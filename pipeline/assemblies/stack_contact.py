@@ -393,10 +393,13 @@ def _all_shut(modes, n):
 
 
 @jit_lean
-def _holds(bd, n, piece, t):
-    """The ground at t neither falls faster than gravity nor asks a resting stack's joints for more friction than
-    the least they have (so that the exact model, handed the stack at rest, goes on from there)."""
+def _holds(bd, n, piece, t, at_rest):
+    """The ground at t does not fall faster than gravity, nor, where the stack is ``at_rest`` (every joint shut), ask
+    its joints for more friction than the least they have (so that the exact model, handed the stack at rest, goes on
+    from there; a stack handed back in motion has its joints' demands followed by the exact model)."""
     a_h, a_v = ground_on(piece, t)
+    if not at_rest:
+        return G + a_v > 0.0
     least = math.inf
     for k in range(n):
         least = min(least, bd.mu[k])
@@ -491,8 +494,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 t_fall[k] = t
             n = fell
             continue
-        if (hand_back or t >= t_rec) and count > 0 and _holds(bd, n, piece, t) and _joint_modes(
-                bd, n, q, v, count, wk, modes) and (hand_back or _all_shut(modes, n)):
+        if (hand_back or t >= t_rec) and count > 0 and _joint_modes(bd, n, q, v, count, wk, modes) and _holds(
+                bd, n, piece, t, _all_shut(modes, n)) and (hand_back or _all_shut(modes, n)):
             ready += 1
             if ready >= HANDBACK_STEPS:
                 rested = True

@@ -195,3 +195,18 @@ def test_the_state_it_hands_back_is_the_one_it_started_from(bodies):
         offsets, back = handback(bodies_of(nb, _mu(bodies)), q, v, modes, nb.n)
         np.testing.assert_allclose(back, y, atol=1e-12)
         np.testing.assert_allclose(offsets[1:nb.n], nb.off[1:nb.n], atol=1e-12)
+
+
+def test_a_stack_in_motion_is_handed_back_while_the_ground_asks_more_than_its_least_friction():
+    """The friction clause of the hand-back is a resting stack's: two drums rocking together on the lower one's
+    corner, their joint sticking, under 0.45 g held (above the joint's 0.4) are handed back within a few steps, still
+    rocking, and the exact model then follows the joint's demand (the rule before this one held them until the ground
+    asked for less)."""
+    nb = nbm.n_block([StackBody(0.6, 1.5, 2250.0, 0.9), StackBody(0.55, 1.2, 1650.0, 0.4)])
+    start = [0.0] * (2 * N)
+    start[0], start[N] = 0.02, 0.2                       # the lower drum's rotation [rad] and rate [rad/s]
+    out = simulate_stack_contact(nb, (0.9, 0.4), np.full(60, 0.45 * G), DT, start=tuple(start))
+    assert out.rested and out.standing == 2
+    assert out.t_end_s < 0.01                           # the record runs to 0.295 s
+    assert out.handback[0] > 0.02 and out.handback[N] > 0.0     # rocking on, the joint shut (its psi 0)
+    assert out.handback[1] == 0.0
