@@ -407,6 +407,14 @@ def _holds(bd, n, piece, t, at_rest):
 
 
 @jit_lean
+def _ready(bd, n, piece, t, modes, hand_back):
+    """Given the joints' ``modes`` (:func:`_joint_modes`), whether the stack may stop here: the ground :func:`_holds`
+    for it, and, without ``hand_back``, it is at rest (every joint shut)."""
+    at_rest = _all_shut(modes, n)
+    return _holds(bd, n, piece, t, at_rest) and (hand_back or at_rest)
+
+
+@jit_lean
 def _reset(bd, n, wk):
     """No impulse kept from a step before; the blocks' inverse masses and moments of inertia."""
     for i in range(wk.kept.shape[0]):
@@ -494,8 +502,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 t_fall[k] = t
             n = fell
             continue
-        if (hand_back or t >= t_rec) and count > 0 and _joint_modes(bd, n, q, v, count, wk, modes) and _holds(
-                bd, n, piece, t, _all_shut(modes, n)) and (hand_back or _all_shut(modes, n)):
+        if (hand_back or t >= t_rec) and count > 0 and _joint_modes(bd, n, q, v, count, wk, modes) and _ready(
+                bd, n, piece, t, modes, hand_back):
             ready += 1
             if ready >= HANDBACK_STEPS:
                 rested = True

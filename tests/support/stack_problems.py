@@ -5,6 +5,7 @@ and the ground's push applied over one step, and the contacts found at that conf
 from __future__ import annotations
 
 import numpy as np
+from stack_flights import RHO, STACKS
 
 from pipeline.assemblies import stack_contact as sc
 from pipeline.assemblies.n_block import MAX_BODIES, n_block
@@ -13,19 +14,16 @@ from pipeline.assemblies.stack_pose import bodies_of, state_of
 
 G = 9.80665
 STEP_S = 2.5e-4
-#: blocks (width, height) bottom first [m]: a statue on its plinth, two drums, three drums
-STACKS = {"statue": ((0.70, 1.00), (0.45, 1.70)), "two": ((0.60, 1.50), (0.55, 1.20)),
-          "three": ((0.62, 1.10), (0.60, 1.10), (0.58, 1.00))}
 
 
 def problem(family: str, psi: tuple, rates: tuple, push: tuple, mu_ground: float, mu_joint: float, a_h: float,
             kept: np.ndarray | None = None):
-    """The contact problem of one step of ``family`` from the n-block state (``psi`` [rad], ``rates`` [rad s-1] per
-    joint), each block's velocity then changed by ``push`` (3 per block: [m s-1, m s-1, rad s-1]) and the step's
+    """The contact problem of one step of the stack ``family`` (:data:`stack_flights.STACKS`) from the n-block state
+    (``psi`` [rad], ``rates`` [rad s-1] per joint), each block's velocity then changed by ``push`` (3 per block: [m s-1, m s-1, rad s-1]) and the step's
     gravity and ground ``a_h`` [m s-2]: (bodies, count, work) with the Delassus matrix and free velocities made, and
     the slots' impulses of the step before ``kept`` (None: none)."""
     boxes = STACKS[family]
-    blocks = [StackBody(w, h, 2500.0 * w * h, mu_ground if k == 0 else mu_joint) for k, (w, h) in enumerate(boxes)]
+    blocks = [StackBody(w, h, RHO * w * h, mu_ground if k == 0 else mu_joint) for k, (w, h) in enumerate(boxes)]
     nb = n_block(blocks)
     y = tuple(psi) + (0.0,) * (MAX_BODIES - nb.n) + tuple(rates) + (0.0,) * (MAX_BODIES - nb.n)
     q, v = state_of(nb, y)
