@@ -20,8 +20,8 @@ def problem(family: str, psi: tuple, rates: tuple, push: tuple, mu_ground: float
             kept: np.ndarray | None = None):
     """The contact problem of one step of the stack ``family`` (:data:`stack_flights.STACKS`) from the n-block state
     (``psi`` [rad], ``rates`` [rad s-1] per joint), each block's velocity then changed by ``push`` (3 per block:
-    [m s-1, m s-1, rad s-1]) and the step's gravity and ground ``a_h`` [m s-2]: (bodies, count, work) with the Delassus matrix and free velocities made, and
-    the slots' impulses of the step before ``kept`` (None: none)."""
+    [m s-1, m s-1, rad s-1]) and the step's gravity and ground ``a_h`` [m s-2]: (bodies, count, work) with the
+    Delassus matrix and free velocities made, and the slots' impulses of the step before ``kept`` (None: none)."""
     boxes = STACKS[family]
     blocks = [StackBody(w, h, RHO * w * h, mu_ground if k == 0 else mu_joint) for k, (w, h) in enumerate(boxes)]
     nb = n_block(blocks)
