@@ -39,6 +39,16 @@ they slid to (:func:`shifted`); a shut joint's rotation is dropped (a velocity-l
 from sinking further, not from having sunk within its step). After the record the ground is still, and the motion is
 followed for at most :data:`~.stepping.TAIL_S`.
 
+**Long steps** (an option, off by default: ``long_step_s`` of :func:`simulate_stack_contact`). During the record,
+where no corner clear of a face could reach it within :data:`IMPACT_SAFETY` long steps at its speed towards it
+(:func:`_clear_ahead`) and the hand-back's count of steps is not running, ``m`` of the steps are taken as one
+Moreau-Jean step of m h (the ground at its middle, linear between samples, as for every step): ``m`` the largest
+divisor of the steps a sampling interval is taken in with m h <= ``long_step_s``, a long step starting only at a
+multiple of ``m`` in the interval, so that it never straddles a sample; the 3D contact model's rule
+(:mod:`pipeline.rocking.solids.long_steps`). They are not the default: on stacks whose joint slips while they rock,
+every step short agrees with every step a quarter as long and long steps turn verdicts (docs/validation.md,
+``benchmarks/stack_steps.py``).
+
 References
 ----------
 Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics. In Nonsmooth Mechanics and
@@ -58,6 +68,7 @@ import numpy as np
 
 from ..compiled import jit_lean
 from ..constants import G
+from ..errors import ParameterError
 from ..rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
 from .n_block import MAX_BODIES, NBlock
 from .stack_direct import DirectWork, direct_work, solve_direct
@@ -76,6 +87,8 @@ from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
 
 # Step control, named once
 MAX_STEP_S = 2.5e-4          # the longest step [s]: the record's interval in the fewest equal parts of at most this
+IMPACT_SAFETY = 2.0          # with long steps, a corner that could reach a face within this many of them keeps the
+#                              steps short [-] (the 3D contact model's rule: pipeline.rocking.solids.long_steps)
 MAX_SWEEPS = 400             # Gauss-Seidel sweeps per step [-]
 SWEEP_TOL_MS = 1e-9          # a sweep that changes no contact's velocity by more than this ends them [m s-1]
 REST_SPEED = 1e-5            # a shut joint's rate times the block's half-diagonal below this [m s-1] ...
@@ -441,13 +454,64 @@ def _measure(bd, n, q, cs, peak, slide, origin):
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes):
-    """The run of :func:`simulate_stack_contact` from (q, v) at t; fills t_fall, peak, slide and, where it hands
-    back, the joints' modes."""
+def _normal_rate(q, v, a, b, nx, nz, px, pz):
+    """The velocity of body a's point (px, pz) relative to body b's (NO_BODY: the ground) along the normal (nx, nz)
+    of b's face towards a [m s-1]: a contact's U_n there (:func:`_add`'s normal row times v), negative where they
+    approach."""
+    dx, dz = px - q[0, a], pz - q[1, a]
+    u = nx * v[0, a] + nz * v[1, a] + (nx * dz - nz * dx) * v[2, a]
+    if b != NO_BODY:
+        dx, dz = px - q[0, b], pz - q[1, b]
+        u -= nx * v[0, b] + nz * v[1, b] + (nx * dz - nz * dx) * v[2, b]
+    return u
+
+
+@jit_lean
+def _clear_ahead(bd, n, q, v, cs, span_s):
+    """Whether no corner clear of a face it may touch (:func:`_contacts`' pairs: block 0's base corners and the
+    ground; at each joint the upper block's base corners and the lower's top face, the lower's top corners and the
+    upper's base) could reach it within :data:`IMPACT_SAFETY` ``span_s`` [s] at its present speed towards it, at the
+    configuration q (3, n) and velocities v (3, n); the blocks' cos and sin into ``cs``. A corner beyond a face's end
+    is held to the face's line, as if the face went on."""
+    rotations(q, n, cs)
+    reach = IMPACT_SAFETY * span_s
+    for side in range(2):
+        s = 2.0 * side - 1.0
+        px, pz = point_at(q, cs, 0, s * bd.b[0], -bd.h[0])
+        tol = WITHIN * bd.h[0]
+        if pz > tol and pz + reach * min(_normal_rate(q, v, 0, NO_BODY, 0.0, 1.0, px, pz), 0.0) <= tol:
+            return False
+    for k in range(1, n):
+        lo, up = k - 1, k
+        tol = WITHIN * (bd.h[lo] + bd.h[up])
+        for side in range(2):
+            s = 2.0 * side - 1.0
+            px, pz = point_at(q, cs, up, s * bd.b[up], -bd.h[up])
+            gap = point_in(q, cs, lo, px, pz)[1] - bd.h[lo]
+            if gap > tol and gap + reach * min(_normal_rate(q, v, up, lo, cs[1, lo], cs[0, lo], px, pz), 0.0) <= tol:
+                return False
+            px, pz = point_at(q, cs, lo, s * bd.b[lo], bd.h[lo])
+            gap = -bd.h[up] - point_in(q, cs, up, px, pz)[1]
+            if gap > tol and gap + reach * min(_normal_rate(q, v, up, lo, cs[1, up], cs[0, up], px, pz), 0.0) <= tol:
+                return False
+    return True
+
+
+def steps_merged(parts: int, dt_s: float, long_step_s: float) -> int:
+    """The steps of a sampling interval of ``dt_s`` [s], taken in ``parts`` steps, taken as one where no contact is
+    ahead: the largest divisor m of ``parts`` with m dt_s / parts <= ``long_step_s`` [s]; at least 1."""
+    h = dt_s / parts
+    return max((m for m in range(1, parts + 1) if parts % m == 0 and m * h <= long_step_s * (1.0 + 1e-9)), default=1)
+
+
+@jit_lean
+def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s):
+    """The run of :func:`simulate_stack_contact` from (q, v) at t, a sampling interval in ``parts`` steps, ``merge``
+    of them taken as one where no contact is ahead (the module's long steps; 1: none), steps of at most ``step_s`` [s]
+    after the record; fills t_fall, peak, slide and, where it hands back, the joints' modes."""
     n_samples = ah.shape[0]
     t_rec = (n_samples - 2) * dt + dt
     tail_end = t_rec + TAIL_S
-    parts = max(1, int(math.ceil(dt / MAX_STEP_S - 1e-9)))
     n = bd.n
     status, steps, unconverged = 0, 0, 0
     rested = False
@@ -462,8 +526,13 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
             break
         piece = piece_at(ah, av, dt, t, t_rec, tail_end)
         after = t >= t_rec - 1e-12 * dt
-        hh = min(piece.span / parts, MAX_STEP_S) if after else piece.span / parts
+        hh = min(piece.span / parts, step_s) if after else piece.span / parts
         t_end_piece = piece.t0 + piece.span
+        if merge > 1 and not after and ready == 0:
+            at = int(round((t - piece.t0) / hh))        # the step's place in its sampling interval
+            if at % merge == 0 and at + merge <= parts and abs(t - piece.t0 - at * hh) <= 1e-9 * hh and _clear_ahead(
+                    bd, n, q, v, wk.trig, merge * hh):
+                hh = merge * hh
         if t + hh > t_end_piece:
             hh = t_end_piece - t
         if hh <= 0.0:
@@ -514,13 +583,19 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
 
 
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-                           start: tuple | None = None, t0_s: float = 0.0,
-                           hand_back: bool = True, slid_m: tuple | None = None) -> StackContactOutcome:
+                           start: tuple | None = None, t0_s: float = 0.0, hand_back: bool = True,
+                           slid_m: tuple | None = None, step_s: float = MAX_STEP_S,
+                           long_step_s: float = 0.0) -> StackContactOutcome:
     """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
     (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
     model. With ``hand_back`` the run hands back where the module's rule says so; without, it stops only at rest
     (every joint shut) after the record. ``slid_m``: each joint's slip before the run [m] (block 0's along the
-    ground), from which its largest slip is measured (None: 0, from where the run starts)."""
+    ground), from which its largest slip is measured (None: 0, from where the run starts). ``step_s`` [s]: the longest
+    step (a sampling interval in the fewest equal steps of at most it); ``long_step_s`` [s]: with long steps (the
+    module's option), the longest of the steps taken several as one (0: every step short, the default)."""
+    if not (math.isfinite(step_s) and step_s > 0.0 and math.isfinite(long_step_s) and long_step_s >= 0.0):
+        raise ParameterError(f"step_s = {step_s!r}, long_step_s = {long_step_s!r}: expected a positive step and a "
+                             "long step of 0 (none) or more [s]")
     ah = np.ascontiguousarray(ah_ms2, dtype=float)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else start
@@ -532,13 +607,15 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     for k in range(nb.n):
         peak[k] = abs(q[2, k] - (q[2, k - 1] if k > 0 else 0.0))
     modes = np.zeros(MAX_BODIES, dtype=np.int64)
+    parts = max(1, int(math.ceil(dt_s / step_s - 1e-9)))
     origin = off0.copy()                                        # where each joint stood before any slip
     if slid_m is not None:
         origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
         slide[:nb.n] = np.abs(off0[:nb.n] - origin[:nb.n])
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
                                                             bool(hand_back), work(), t_fall, peak, slide, origin,
-                                                            modes)
+                                                            modes, parts, steps_merged(parts, float(dt_s), long_step_s),
+                                                            float(step_s))
     offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
