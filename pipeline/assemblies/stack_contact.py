@@ -505,7 +505,7 @@ def steps_merged(parts: int, dt_s: float, long_step_s: float) -> int:
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s):
+def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s, t_stop):
     """The run of :func:`simulate_stack_contact` from (q, v) at t, a sampling interval in ``parts`` steps, ``merge``
     of them taken as one where no contact is ahead (the module's long steps; 1: none), steps of at most ``step_s`` [s]
     after the record; fills t_fall, peak, slide and, where it hands back, the joints' modes."""
@@ -523,6 +523,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
             break
         if t >= tail_end * (1.0 - 1e-15):
             status |= STATUS_TAIL_CAP
+            break
+        if t >= t_stop:
             break
         piece = piece_at(ah, av, dt, t, t_rec, tail_end)
         after = t >= t_rec - 1e-12 * dt
@@ -585,14 +587,15 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                            start: tuple | None = None, t0_s: float = 0.0, hand_back: bool = True,
                            slid_m: tuple | None = None, step_s: float = MAX_STEP_S,
-                           long_step_s: float = 0.0) -> StackContactOutcome:
+                           long_step_s: float = 0.0, until_s: float = math.inf) -> StackContactOutcome:
     """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
     (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
     model. With ``hand_back`` the run hands back where the module's rule says so; without, it stops only at rest
     (every joint shut) after the record. ``slid_m``: each joint's slip before the run [m] (block 0's along the
     ground), from which its largest slip is measured (None: 0, from where the run starts). ``step_s`` [s]: the longest
     step (a sampling interval in the fewest equal steps of at most it); ``long_step_s`` [s]: with long steps (the
-    module's option), the longest of the steps taken several as one (0: every step short, the default)."""
+    module's option), the longest of the steps taken several as one (0: every step short, the default).
+    ``until_s`` [s]: the run stops at the end of the first step that reaches it (its state then in the outcome)."""
     if not (math.isfinite(step_s) and step_s > 0.0 and math.isfinite(long_step_s) and long_step_s >= 0.0):
         raise ParameterError(f"step_s = {step_s!r}, long_step_s = {long_step_s!r}: expected a positive step and a "
                              "long step of 0 (none) or more [s]")
@@ -615,7 +618,7 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
                                                             bool(hand_back), work(), t_fall, peak, slide, origin,
                                                             modes, parts, steps_merged(parts, float(dt_s), long_step_s),
-                                                            float(step_s))
+                                                            float(step_s), float(until_s))
     offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
