@@ -25,15 +25,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 sys.path.insert(0, str(ROOT / "tests" / "assemblies"))
 
-from rigid_body_peer import bullet_first_fall, perturbed_verdicts  # noqa: E402
+from rigid_body_peer import bullet_first_fall, perturbed_verdicts, short_records  # noqa: E402
 from test_n_block_peer import COLUMNS, MU, RHO  # noqa: E402
 
 from pipeline.assemblies.n_block import n_block  # noqa: E402
 from pipeline.assemblies.n_block_run import simulate_n_block  # noqa: E402
 from pipeline.assemblies.stack import StackBody  # noqa: E402
-from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
-from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
 
 
@@ -43,8 +41,7 @@ def main() -> None:
     ap.add_argument("--records", type=int, default=21, help="the first N bundled records of at most 60 s")
     ap.add_argument("--cost-only", action="store_true", help="time rockscreen and the 3D box only (no PyBullet)")
     args = ap.parse_args()
-    records = [r for r in iter_records(ROOT / "records", config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
+    records = short_records(ROOT / "records")[:args.records]
     for family, boxes in COLUMNS.items():
         nb = n_block([StackBody(w, h, RHO * w * h, MU) for w, h in boxes])
         simulate_n_block(nb, records[0].horizontal_ms2[0], records[0].dt_s)       # compiled before timing

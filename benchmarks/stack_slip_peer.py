@@ -37,12 +37,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
-from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts  # noqa: E402
+from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts, short_records  # noqa: E402
 from stack_flights import RHO, STACKS, difference, drawn_class, first_fall, screen_verdicts  # noqa: E402
 
-from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
-from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.codes import Verdict  # noqa: E402
 from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
 
@@ -59,8 +57,7 @@ def main() -> None:
     ap.add_argument("--cost-only", action="store_true", help="time rockscreen and the 3D box only (no PyBullet)")
     ap.add_argument("--profile", action="store_true", help="profile rockscreen's runs of each family")
     args = ap.parse_args()
-    records = [r for r in iter_records(ROOT / "records", config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
+    records = short_records(ROOT / "records")[:args.records]
     for family in args.families.split(","):
         boxes = STACKS[family]
         agree, any_agree, bodies_agree, slipped, differ, ours_s, engine_s = 0, 0, 0, 0, [], [], []

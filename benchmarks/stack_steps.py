@@ -28,13 +28,12 @@ from unittest import mock
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "support"))
 
+from rigid_body_peer import short_records  # noqa: E402
 from stack_flights import STACKS, screen_verdicts  # noqa: E402
 
 from pipeline.assemblies import n_block_verdicts  # noqa: E402
 from pipeline.assemblies.stack_contact import MAX_STEP_S, simulate_stack_contact  # noqa: E402
-from pipeline.config import Config  # noqa: E402
 from pipeline.constants import G  # noqa: E402
-from pipeline.records.loader import iter_records  # noqa: E402
 from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
 
 #: The reference's step, as a fraction of the shipped one [-].
@@ -68,8 +67,7 @@ def main() -> None:
     ap.add_argument("--records", type=int, default=21, help="the first N bundled records of at most 60 s")
     ap.add_argument("--long-step", default="5e-4,1e-3,1.25e-3", help="long steps to try, comma-separated [s]")
     args = ap.parse_args()
-    records = [r for r in iter_records(ROOT / "records", config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= 60.0][:args.records]
+    records = short_records(ROOT / "records")[:args.records]
     ways = [Stepping("every step short (shipped)", MAX_STEP_S, 0.0)]
     ways += [Stepping(f"long steps of {float(x) * 1e3:g} ms", MAX_STEP_S, float(x)) for x in args.long_step.split(",")]
     reference = Stepping(f"every step {MAX_STEP_S * REFERENCE_FRACTION * 1e3:g} ms (reference)",

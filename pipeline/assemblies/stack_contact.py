@@ -45,9 +45,10 @@ where no corner clear of a face could reach it within :data:`IMPACT_SAFETY` long
 Moreau-Jean step of m h (the ground at its middle, linear between samples, as for every step): ``m`` the largest
 divisor of the steps a sampling interval is taken in with m h <= ``long_step_s``, a long step starting only at a
 multiple of ``m`` in the interval, so that it never straddles a sample; the 3D contact model's rule
-(:mod:`pipeline.rocking.solids.long_steps`). They are not the default: on stacks whose joint slips while they rock,
-every step short agrees with every step a quarter as long and long steps turn verdicts (docs/validation.md,
-``benchmarks/stack_steps.py``).
+(:mod:`pipeline.rocking.solids.long_steps`, its :data:`~pipeline.rocking.solids.long_steps.IMPACT_SAFETY` and its
+divisor). They are not the default: on the 168 slipping-stack scenes of ``benchmarks/stack_steps.py`` every step short
+gives the verdicts of every step a quarter as long, and long steps of 0.5-1.25 ms turn one or two of them
+(docs/validation.md).
 
 References
 ----------
@@ -70,6 +71,7 @@ from ..compiled import jit_lean
 from ..constants import G
 from ..errors import ParameterError
 from ..rocking.codes import STATUS_GROUND_FLIGHT, STATUS_STEP_CAP, STATUS_TAIL_CAP
+from ..rocking.solids.long_steps import IMPACT_SAFETY, steps_merged
 from .n_block import MAX_BODIES, NBlock
 from .stack_direct import DirectWork, direct_work, solve_direct
 from .stack_pose import (
@@ -87,8 +89,6 @@ from .stepping import HALF_PI, TAIL_S, ground_on, piece_at
 
 # Step control, named once
 MAX_STEP_S = 2.5e-4          # the longest step [s]: the record's interval in the fewest equal parts of at most this
-IMPACT_SAFETY = 2.0          # with long steps, a corner that could reach a face within this many of them keeps the
-#                              steps short [-] (the 3D contact model's rule: pipeline.rocking.solids.long_steps)
 MAX_SWEEPS = 400             # Gauss-Seidel sweeps per step [-]
 SWEEP_TOL_MS = 1e-9          # a sweep that changes no contact's velocity by more than this ends them [m s-1]
 REST_SPEED = 1e-5            # a shut joint's rate times the block's half-diagonal below this [m s-1] ...
@@ -497,13 +497,6 @@ def _clear_ahead(bd, n, q, v, cs, span_s):
     return True
 
 
-def steps_merged(parts: int, dt_s: float, long_step_s: float) -> int:
-    """The steps of a sampling interval of ``dt_s`` [s], taken in ``parts`` steps, taken as one where no contact is
-    ahead: the largest divisor m of ``parts`` with m dt_s / parts <= ``long_step_s`` [s]; at least 1."""
-    h = dt_s / parts
-    return max((m for m in range(1, parts + 1) if parts % m == 0 and m * h <= long_step_s * (1.0 + 1e-9)), default=1)
-
-
 @jit_lean
 def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s, t_stop):
     """The run of :func:`simulate_stack_contact` from (q, v) at t, a sampling interval in ``parts`` steps, ``merge``
@@ -615,10 +608,10 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     if slid_m is not None:
         origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
         slide[:nb.n] = np.abs(off0[:nb.n] - origin[:nb.n])
+    merge = steps_merged(parts, float(dt_s) / parts, longest_s=long_step_s)
     count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
                                                             bool(hand_back), work(), t_fall, peak, slide, origin,
-                                                            modes, parts, steps_merged(parts, float(dt_s), long_step_s),
-                                                            float(step_s), float(until_s))
+                                                            modes, parts, merge, float(step_s), float(until_s))
     offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
     base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),

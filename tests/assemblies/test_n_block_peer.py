@@ -9,14 +9,12 @@ from __future__ import annotations
 from functools import partial
 
 import pytest
-from rigid_body_peer import bullet_first_fall, perturbed_verdicts
+from rigid_body_peer import bullet_first_fall, perturbed_verdicts, short_records
 
 from pipeline.assemblies.n_block import n_block
 from pipeline.assemblies.n_block_run import simulate_n_block
 from pipeline.assemblies.stack import StackBody
-from pipeline.config import Config
 from pipeline.constants import G
-from pipeline.records.loader import iter_records
 
 MU, RHO, PGA_G, MAX_DURATION_S = 2.0, 2500.0, 0.5, 60.0
 #: family -> (width, height) of each drum, bottom first [m]
@@ -29,8 +27,7 @@ COLUMNS = {"three drums": ((0.6, 1.0), (0.6, 1.0), (0.6, 0.8)),
 def test_the_first_fall_agrees_with_pybullet(records_dir, family):
     boxes = COLUMNS[family]
     nb = n_block([StackBody(w, h, RHO * w * h, MU) for w, h in boxes])
-    records = [r for r in iter_records(records_dir, config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= MAX_DURATION_S][::2]
+    records = short_records(records_dir, MAX_DURATION_S)[::2]
     agree, differ = 0, []
     for rec in records:
         a = rec.horizontal_ms2[0] * (PGA_G * G / abs(rec.horizontal_ms2[0]).max())

@@ -82,11 +82,11 @@ def test_a_landing_corner_keeps_the_steps_short_within_two_long_steps_of_it(rate
 def test_long_steps_are_whole_divisors_of_a_sampling_interval():
     """The steps merged: the largest divisor of a sampling interval's steps that keeps the long step within its
     bound, so that no long step straddles a sample."""
-    assert sc.steps_merged(20, 0.005, 1.25e-3) == 5
-    assert sc.steps_merged(20, 0.005, 1e-3) == 4
-    assert sc.steps_merged(40, 0.01, 1.25e-3) == 5
-    assert sc.steps_merged(1, 2e-4, 1.25e-3) == 1
-    assert sc.steps_merged(20, 0.005, 0.0) == 1
+    assert sc.steps_merged(20, 0.005 / 20, longest_s=1.25e-3) == 5
+    assert sc.steps_merged(20, 0.005 / 20, longest_s=1e-3) == 4
+    assert sc.steps_merged(40, 0.01 / 40, longest_s=1.25e-3) == 5
+    assert sc.steps_merged(1, 2e-4, longest_s=1.25e-3) == 1
+    assert sc.steps_merged(20, 0.005 / 20, longest_s=0.0) == 1
 
 
 @pytest.mark.parametrize("options", [{"step_s": 0.0}, {"step_s": math.nan}, {"long_step_s": -1e-3},

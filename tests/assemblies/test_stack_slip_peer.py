@@ -14,12 +14,10 @@ from __future__ import annotations
 from functools import partial
 
 import pytest
-from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts
+from rigid_body_peer import NONE_FALLS, bullet_first_fall, bullet_stack_fallen, perturbed_verdicts, short_records
 from stack_flights import RHO, STACKS, drawn_class, screen_verdicts
 
-from pipeline.config import Config
 from pipeline.constants import G
-from pipeline.records.loader import iter_records
 from pipeline.rocking.codes import Verdict
 from pipeline.uncertainty.robust import Robustness
 
@@ -32,8 +30,7 @@ SLIP, AGREE = 0.8, 0.9
 @pytest.mark.parametrize("family", ["statue", "three"])
 def test_stacks_whose_joints_slip_agree_with_pybullet(records_dir, family):
     boxes = STACKS[family]
-    records = [r for r in iter_records(records_dir, config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= MAX_DURATION_S][::2]
+    records = short_records(records_dir, MAX_DURATION_S)[::2]
     slipped, bodies_agree, any_agree, differ = 0, 0, 0, []
     for rec in records:
         a = rec.horizontal_ms2[0] * (PGA_G * G / abs(rec.horizontal_ms2[0]).max())

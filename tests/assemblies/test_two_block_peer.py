@@ -9,14 +9,12 @@ from __future__ import annotations
 from functools import partial
 
 import pytest
-from rigid_body_peer import bullet_stack_falls, perturbed_verdicts
+from rigid_body_peer import bullet_stack_falls, perturbed_verdicts, short_records
 
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.two_block import two_block
 from pipeline.assemblies.two_block_run import simulate_two_block
-from pipeline.config import Config
 from pipeline.constants import G
-from pipeline.records.loader import iter_records
 
 MU, RHO, PGA_G, MAX_DURATION_S = 2.0, 2500.0, 0.5, 60.0
 #: family -> ((width, height) of the lower block, of the upper) [m]
@@ -29,8 +27,7 @@ def test_what_falls_first_agrees_with_pybullet(records_dir, family):
     lower, upper = STACKS[family]
     tb = two_block(StackBody(lower[0], lower[1], RHO * lower[0] * lower[1], MU),
                    StackBody(upper[0], upper[1], RHO * upper[0] * upper[1], MU))
-    records = [r for r in iter_records(records_dir, config=Config())
-               if r.horizontal_ms2[0].size * r.dt_s <= MAX_DURATION_S][::2]
+    records = short_records(records_dir, MAX_DURATION_S)[::2]
     agree, differ = 0, []
     for rec in records:
         a = rec.horizontal_ms2[0] * (PGA_G * G / abs(rec.horizontal_ms2[0]).max())

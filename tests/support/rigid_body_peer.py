@@ -9,9 +9,13 @@ rebound). Calibrated on the half-sine threshold of a 2 m x 0.3 m block at omega/
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 from peers import missing_peer
+
+from pipeline.config import Config
+from pipeline.records.loader import iter_records
 
 #: Bullet's fixed step [s]: 1/2000 s is not converged on long chaotic records, 1/4000 s is where the verdicts
 #: on the bundled scenes stop changing (1/8000 and 1/16000 s give the same, measured on the disagreements).
@@ -233,3 +237,10 @@ def bullet_first_fall(ah_ms2: np.ndarray, dt_s: float, boxes, *, mu: float = 2.0
         return NONE_FALLS
     finally:
         pb.disconnect(cid)
+
+
+def short_records(records_dir: Path, max_duration_s: float = 60.0) -> list:
+    """The records of ``records_dir`` (rockscreen's reader) of at most ``max_duration_s`` [s], in its order: the
+    scenes the stacks' peer comparisons run on."""
+    return [r for r in iter_records(records_dir, config=Config())
+            if r.horizontal_ms2[0].size * r.dt_s <= max_duration_s]
