@@ -43,11 +43,12 @@ LONG_STEP_S = 1.3e-3
 IMPACT_SAFETY = 2.0
 
 
-def steps_merged(n_sub: int, h_s: float, *, longest_s: float = LONG_STEP_S) -> int:
+def steps_merged(n_sub: int, h_s: float, *, longest_s: float | None = None) -> int:
     """The steps of ``h_s`` [s] taken as one where the body rocks with no impact ahead: the largest divisor ``m`` of
-    ``n_sub`` (the steps a sampling interval is taken in) with ``m h_s <= longest_s`` [s] (the 3D contact model's
-    :data:`LONG_STEP_S`; the stacks' contact model's option); at least 1."""
-    most = min(n_sub, int(longest_s * (1.0 + 1e-9) / h_s))
+    ``n_sub`` (the steps a sampling interval is taken in) with ``m h_s <= longest_s`` [s] (None: the 3D contact
+    model's :data:`LONG_STEP_S`, as it stands when called; the stacks' contact model gives its option); at least 1."""
+    bound = LONG_STEP_S if longest_s is None else longest_s
+    most = min(n_sub, int(bound * (1.0 + 1e-9) / h_s))
     return max((m for m in range(1, most + 1) if n_sub % m == 0), default=1)
 
 
