@@ -1,13 +1,15 @@
-"""How long the stacks' contact model's steps may be: the verdicts of stacks whose joints slip, with every step as
-shipped (0.25 ms) and with the model's long steps (``long_step_s`` of
-:func:`pipeline.assemblies.stack_contact.simulate_stack_contact`, off by default), against every step a quarter as
-long; and what each costs.
+"""What the stacks' slipping joints cost and how their verdicts hold: the verdicts of stacks whose joints slip as
+shipped (two blocks rocking as one while their joint slips followed by the slide-rock model,
+:mod:`pipeline.assemblies.slide_rock`; the contact model's every step 0.25 ms), by the contact model alone (the
+slide-rock model off), and with the contact model's long steps (``long_step_s`` of
+:func:`pipeline.assemblies.stack_contact.simulate_stack_contact`, off by default), against the contact model alone
+with every step a quarter as long (the reference); and what each costs.
 
 The scenes are those of ``stack_slip_peer.py``: the four stacks of deep boxes of tests/support/stack_flights.py (a
 statue on its plinth, columns of two, three and five drums), friction mu on the floor and mu^2 between the boxes, on
 the bundled records of at most 60 s, each first horizontal scaled to a PGA, at each ``--mu``; rockscreen judges each
 stack as ``screen`` does (``stack_flights.screen_verdicts``), the contact model's steps set where the n-block
-verdicts call it (:mod:`pipeline.assemblies.n_block_verdicts`). For each way of stepping: the scenes whose body
+verdicts call it (:mod:`pipeline.assemblies.n_block_verdicts`). For each way: the scenes whose body
 verdicts differ from the reference's, and for each of those whether the shipped steps' verdict holds at 0.98 and
 1.02 of the record (robust); the contact model's steps; and per stack, the median time of a scene over the 3D box
 model's on the box of the stack's outline with a square base and the floor's friction (the single body a 3D scene of
@@ -22,6 +24,7 @@ import argparse
 import statistics
 import sys
 import time
+from functools import partial
 from pathlib import Path
 from unittest import mock
 
@@ -31,7 +34,7 @@ sys.path.insert(0, str(ROOT / "tests" / "support"))
 from rigid_body_peer import short_records  # noqa: E402
 from stack_flights import STACKS, screen_verdicts  # noqa: E402
 
-from pipeline.assemblies import n_block_verdicts  # noqa: E402
+from pipeline.assemblies import n_block_verdicts, stack_scene  # noqa: E402
 from pipeline.assemblies.stack_contact import MAX_STEP_S, simulate_stack_contact  # noqa: E402
 from pipeline.constants import G  # noqa: E402
 from pipeline.rocking.solids.box3d import Box, simulate_box  # noqa: E402
@@ -43,10 +46,11 @@ SCALES = (0.98, 1.02)
 
 
 class Stepping:
-    """The contact model's steps for a run: the longest step and the long step [s] (0: none)."""
+    """The contact model's steps for a run: the longest step and the long step [s] (0: none); whether the slide-rock
+    model follows two blocks rocking as one with their joint slipping (``rocking``)."""
 
-    def __init__(self, label: str, step_s: float, long_step_s: float) -> None:
-        self.label, self.step_s, self.long_step_s = label, step_s, long_step_s
+    def __init__(self, label: str, step_s: float, long_step_s: float, rocking: bool = True) -> None:
+        self.label, self.step_s, self.long_step_s, self.rocking = label, step_s, long_step_s, rocking
         self.steps = 0
 
     def __call__(self, *args, **kwargs):
@@ -56,7 +60,8 @@ class Stepping:
 
 
 def _judged(family: str, a, dt_s: float, mu: float, stepping: Stepping) -> tuple[int, ...]:
-    with mock.patch.object(n_block_verdicts, "simulate_stack_contact", stepping):
+    with mock.patch.object(n_block_verdicts, "simulate_stack_contact", stepping), mock.patch.object(
+            stack_scene, "judge_n_block", partial(n_block_verdicts.judge_n_block, slide_rock=stepping.rocking)):
         return tuple(int(v) for v in screen_verdicts(family, a, dt_s, mu=mu).verdicts)
 
 
@@ -68,10 +73,12 @@ def main() -> None:
     ap.add_argument("--long-step", default="5e-4,1e-3,1.25e-3", help="long steps to try, comma-separated [s]")
     args = ap.parse_args()
     records = short_records(ROOT / "records")[:args.records]
-    ways = [Stepping("every step short (shipped)", MAX_STEP_S, 0.0)]
-    ways += [Stepping(f"long steps of {float(x) * 1e3:g} ms", MAX_STEP_S, float(x)) for x in args.long_step.split(",")]
-    reference = Stepping(f"every step {MAX_STEP_S * REFERENCE_FRACTION * 1e3:g} ms (reference)",
-                         MAX_STEP_S * REFERENCE_FRACTION, 0.0)
+    ways = [Stepping("shipped: the slide-rock model, every contact step short", MAX_STEP_S, 0.0),
+            Stepping("the contact model alone, every step short", MAX_STEP_S, 0.0, rocking=False)]
+    ways += [Stepping(f"long contact steps of {float(x) * 1e3:g} ms", MAX_STEP_S, float(x))
+             for x in args.long_step.split(",") if x]
+    reference = Stepping(f"the contact model alone, every step {MAX_STEP_S * REFERENCE_FRACTION * 1e3:g} ms "
+                         "(reference)", MAX_STEP_S * REFERENCE_FRACTION, 0.0, rocking=False)
     scenes = [(float(mu), family, rec) for mu in args.mu.split(",") for family in STACKS for rec in records]
     print(f"{len(scenes)} scenes: {len(STACKS)} stacks x {len(args.mu.split(','))} frictions x {len(records)} records "
           f"at {args.pga} g")

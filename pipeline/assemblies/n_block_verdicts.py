@@ -7,14 +7,18 @@ above it overturn. Where blocks are left below it, they are followed from their 
 those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where a
 joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on their
 joints without rotating, each slip's stop and start located in closed form) follows it to where every joint sticks
-again, and the exact model goes on from there with the blocks where they slid to; where that model does not hold (a
-joint would open), where the ground falls faster than gravity, or where a joint would slip while the stack rocks (the
-blocks' friction given), the stack is followed from that instant by the contact model (:mod:`.stack_contact`: flight,
-landing, sliding and rocking at every joint), until every joint is shut or turns on a sticking corner again, when the
-exact model goes on from that state with the blocks where they slid to, or to the end of the record's free motion; a
-body that falls in it falls. A run that ended without a verdict (a cap on steps, events or the free motion after the
-record, or a flight without the friction to follow it) leaves the bodies still standing then without one: unknown,
-never standing."""
+again, and the exact model goes on from there with the blocks where they slid to. Where two blocks rock as one on a
+corner of the lower and their joint would slip (the blocks' friction given), the slide-rock model (:mod:`.slide_rock`:
+the joint sticking or sliding, the stack's landings by its impact law) follows them until its joint opens, the
+ground no longer holds the pivot, or a landing leaves its law; sticking, the exact model goes on from there, else
+the contact model. Where neither model holds (a joint would open), where the ground falls faster than gravity, or
+where a joint of a taller stack would slip while it rocks, the stack is followed from that instant by the contact
+model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until every joint is shut or
+turns on a sticking corner again, when the exact model goes on from that state with the blocks where they slid to
+(two blocks turning as one with their joint slipping: the slide-rock model), or to the end of the record's free
+motion; a body that falls in either falls. A run that ended without a verdict (a cap on steps, events or the free
+motion after the record, or a flight without the friction to follow it) leaves the bodies still standing then
+without one: unknown, never standing."""
 
 from __future__ import annotations
 
@@ -35,9 +39,12 @@ from ..rocking.simulate import finite_series
 from .exact_run import exact_run
 from .flat_slip import STUCK, simulate_flat_slip
 from .n_block import MAX_BODIES, NBlock
-from .n_block_run import FALLS_NONE
+from .n_block_run import FALLS_NONE, NBlockOutcome
+from .slide_rock import END_CAP, END_EXACT, END_FALLS, rock_start, simulate_slide_rock
+from .slide_rock import handback as rock_state
 from .stack_contact import simulate_stack_contact
-from .stack_pose import shifted
+from .stack_pose import shifted, slide_rock_pose
+from .stepping import ground_series
 
 #: The run's status bits that leave its verdict open
 UNDECIDED_RUN = STATUS_GROUND_FLIGHT | STATUS_STEP_CAP | STATUS_EVENT_CAP | STATUS_TAIL_CAP
@@ -99,6 +106,15 @@ def lower_part(nb: NBlock, count: int) -> NBlock:
     return NBlock(count, cut(nb.b), cut(nb.h), cut(nb.m), cut(nb.i), cut(nb.lo), cut(nb.hi), cut(nb.off))
 
 
+def rocks_as_one(part: NBlock, run: NBlockOutcome) -> bool:
+    """Whether the exact model's ``run`` of a two-block stack stopped where its blocks' joint would slip while the
+    stack rocks as one on a corner of the lower block (its joint shut, the ground's open), the ground not falling
+    faster than gravity: the slide-rock model's start (:mod:`.slide_rock`)."""
+    y = run.final
+    return (part.n == 2 and bool(run.status & STATUS_FRICTION) and not run.status & STATUS_GROUND_FLIGHT
+            and y[0] != 0.0 and y[1] == 0.0 and y[MAX_BODIES + 1] == 0.0)
+
+
 def _level_slip(part: NBlock, mu: tuple, ah_ms2: np.ndarray, dt_s: float, av_ms2: np.ndarray | None, run,
                 slid: tuple):
     """Where the exact model's ``run`` stopped at rest because a joint slips: the level stack's slip followed by
@@ -114,73 +130,150 @@ def _level_slip(part: NBlock, mu: tuple, ah_ms2: np.ndarray, dt_s: float, av_ms2
     return None if back is None else (back, level)
 
 
-def _slid(outcome, count: int, base: float, offsets: list, slides: list, n: int) -> tuple[float, list]:
-    """A run that followed a slip (:class:`.flat_slip.FlatSlipOutcome` or :class:`.stack_contact.
-    StackContactOutcome`) taken into the stack's record: the bottom body's total shift along the ground and the
-    joints' largest slips are returned, the offsets of the lowest ``count`` joints set in ``offsets`` in place."""
-    offsets[1:count] = outcome.offsets_m[1:count]
-    slides = slides or [0.0] * n
-    for k in range(count):
-        slides[k] = max(slides[k], outcome.peak_slide_m[k])
-    return base + outcome.base_shift_m, slides
+class _Record:
+    """What the runs of one stack have seen so far, bottom first (a mutable tally, gathered by :meth:`verdicts`)."""
+
+    def __init__(self, n: int) -> None:
+        self.verdicts = [int(Verdict.no_verdict)] * n
+        self.t_fall, self.peaks, self.demand = [math.nan] * n, [0.0] * n, [0.0] * n
+        self.impacts, self.opened, self.status, self.handovers = 0, False, 0, 0
+        self.slides: list[float] = []
+        self.offsets, self.base = [0.0] * n, 0.0
+
+    def exact(self, run: NBlockOutcome, count: int) -> None:
+        """The exact model's run of the lowest ``count`` blocks."""
+        for k in range(count):
+            self.peaks[k] = max(self.peaks[k], run.peak_psi_rad[k])
+            self.demand[k] = max(self.demand[k], run.demand[k])
+        self.impacts, self.opened = self.impacts + run.impacts, self.opened or run.modes != 0
+        self.status |= run.status
+
+    def slid(self, outcome, count: int) -> None:
+        """A run that followed a slip (:mod:`.flat_slip`'s, :mod:`.slide_rock`'s or :mod:`.stack_contact`'s): the
+        bottom body's shift along the ground, the joints' largest slips and the offsets of the lowest ``count``."""
+        self.offsets[1:count] = outcome.offsets_m[1:count]
+        self.slides = self.slides or [0.0] * len(self.offsets)
+        for k in range(count):
+            self.slides[k] = max(self.slides[k], outcome.peak_slide_m[k])
+        self.base += outcome.base_shift_m
+
+    def followed(self, flight, count: int) -> None:
+        """The contact model's run of the lowest ``count`` blocks: its slips, peaks and falls."""
+        self.opened, self.status = True, self.status | flight.status
+        self.slid(flight, count)
+        for k in range(count):
+            self.peaks[k] = max(self.peaks[k], flight.peak_rad[k])
+            if not math.isnan(flight.t_fall_s[k]):
+                self.verdicts[k], self.t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
+
+    def rocked(self, rock) -> None:
+        """The slide-rock model's run of two blocks (:class:`.slide_rock.SlideRockOutcome`)."""
+        self.opened, self.status, self.impacts = True, self.status | rock.status, self.impacts + rock.impacts
+        self.slid(rock, 2)
+        self.peaks[0], self.demand[0] = max(self.peaks[0], rock.peak_rad[0]), max(self.demand[0], rock.demand_ground)
+        if rock.end == END_FALLS:
+            self.verdicts[:2], self.t_fall[:2] = [int(Verdict.overturns)] * 2, [rock.t_fall_s] * 2
+
+    def result(self) -> StackVerdicts:
+        """The stack's :class:`StackVerdicts`."""
+        self.offsets[0] = self.base
+        residual = tuple(x if v == Verdict.stands else math.nan for x, v in zip(self.offsets, self.verdicts))
+        return StackVerdicts(tuple(self.verdicts), tuple(self.peaks), tuple(self.t_fall), self.impacts, self.opened,
+                             self.status, tuple(self.demand), tuple(self.slides), residual)
+
+
+class _Ground(NamedTuple):
+    """A record's ground, checked: as given to the exact and contact models [m s-2] (``av_ms2`` None where not
+    given), as contiguous arrays for the slide-rock model (``av`` empty where not given), and its interval [s]."""
+
+    ah_ms2: np.ndarray
+    av_ms2: np.ndarray | None
+    ah: np.ndarray
+    av: np.ndarray
+    dt_s: float
+
+
+def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlockOutcome, rec: _Record,
+                 rocking_model: bool):
+    """Where the exact model's ``run`` of ``part`` (the lowest blocks of ``nb``) stopped at a joint's slip or the
+    ground's flight: the slip followed (the module's rules: the level slip's model, the slide-rock model and the
+    contact model in turn) into ``rec``, to where the exact model goes on, returned as (the stack where its blocks
+    slid to, its n-block state (None: rest), the instant); None where the stack's runs ended (a fall of the whole
+    stack, rest after the record, a cap, the hand-overs' cap). ``rocking_model``: whether the slide-rock model
+    follows two blocks rocking as one with their joint slipping (else the contact model does)."""
+    ah_ms2, av_ms2, dt_s = ground.ah_ms2, ground.av_ms2, ground.dt_s
+    slid = (rec.base,) + tuple(part.off[k] - nb.off[k] for k in range(1, part.n))
+    level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)
+    if level is not None:
+        back, level_run = level
+        rec.slid(level_run, part.n)
+        return back, None, level_run.t_end_s
+    rocking = rock_start(part, run.final) if rocking_model and rocks_as_one(part, run) else None
+    pose, t_from = None, run.t_end_s
+    while True:
+        if rocking is not None:
+            rock = simulate_slide_rock(part, mu, ground.ah, ground.av, dt_s, start=rocking, t0_s=t_from,
+                                       origin_m=nb.off[1])
+            rec.rocked(rock)
+            if rock.end == END_FALLS or rock.end == END_CAP:
+                return None
+            back = shifted(part, rock.offsets_m, part.n) if rock.end == END_EXACT and rock.t_end_s > t_from else None
+            if back is not None:
+                return back, rock_state(rock), rock.t_end_s
+            pose, t_from = slide_rock_pose(part, rock.state, rock.pivot), rock.t_end_s
+            slid = (rec.base, rock.offsets_m[1] - nb.off[1])
+        flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final, pose=pose,
+                                        t0_s=t_from, slid_m=slid, rock_slide=rocking_model)
+        if flight.rocking:                          # two blocks rocking as one, their joint slipping
+            rec.followed(flight, part.n)
+            rec.handovers += 1
+            if rec.handovers >= MAX_HANDOVERS + ground.ah.shape[0]:
+                return None
+            rocking, t_from = flight.rocking, flight.t_end_s
+            continue
+        back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
+        if flight.rested and back is None:          # handed back where the exact model's stack could not stand
+            flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final, pose=pose,
+                                            t0_s=t_from, hand_back=False, slid_m=slid)
+        rec.followed(flight, part.n)
+        if back is not None:
+            return back, flight.handback, flight.t_end_s
+        if flight.rested:                           # at rest after the record
+            rec.verdicts[:flight.standing] = [int(Verdict.stands)] * flight.standing
+        return None
 
 
 def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
-                  mu: tuple | None = None) -> StackVerdicts:
+                  mu: tuple | None = None, slide_rock: bool = True) -> StackVerdicts:
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given), by the module's rules; ``mu``: each block's friction at its base [-],
     with which the ground's flight and a joint's slip are followed (None: the joints hold, their demands kept, and a
-    flight leaves the run without a verdict)."""
-    n = nb.n
+    flight leaves the run without a verdict). ``slide_rock``: two blocks rocking as one while their joint slips are
+    followed by the slide-rock model (:mod:`.slide_rock`; False: by the contact model alone, as the tests' reference
+    does)."""
     ah_ms2 = finite_series("horizontal acceleration", ah_ms2)        # checked once for the runs below
     av_ms2 = None if av_ms2 is None else finite_series("vertical acceleration", av_ms2)
-    verdicts = [int(Verdict.no_verdict)] * n
-    t_fall, peaks, demand = [math.nan] * n, [0.0] * n, [0.0] * n
-    impacts, opened, status, handovers = 0, False, 0, 0
-    slides: list[float] = []
-    offsets, base = [0.0] * n, 0.0
+    ground = _Ground(ah_ms2, av_ms2, *ground_series(ah_ms2, av_ms2, dt_s), dt_s)
+    rec = _Record(nb.n)
     part, start, t0 = nb, None, 0.0
     while True:
         run = exact_run(part, ah_ms2, dt_s, av_ms2=av_ms2, start=start, t0_s=t0,
                         stop_mu=None if mu is None else tuple(mu[:part.n]))
-        for k in range(part.n):
-            peaks[k] = max(peaks[k], run.peak_psi_rad[k])
-            demand[k] = max(demand[k], run.demand[k])
-        impacts, opened, status = impacts + run.impacts, opened or run.modes != 0, status | run.status
+        rec.exact(run, part.n)
         if (run.falls == FALLS_NONE and run.status & FOLLOWED and not run.status & CAPS and mu is not None
-                and handovers < MAX_HANDOVERS + ah_ms2.shape[0]):
-            handovers += 1
-            slid = (base,) + tuple(part.off[k] - nb.off[k] for k in range(1, part.n))
-            level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)
-            if level is not None:
-                back, level_run = level
-                base, slides = _slid(level_run, part.n, base, offsets, slides, n)
-                part, start, t0 = back, None, level_run.t_end_s
-                continue
-            flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
-                                            t0_s=run.t_end_s, slid_m=slid)
-            back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
-            if flight.rested and back is None:      # handed back where the exact model's stack could not stand
-                flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final,
-                                                t0_s=run.t_end_s, hand_back=False, slid_m=slid)
-            opened, status = True, status | flight.status
-            base, slides = _slid(flight, part.n, base, offsets, slides, n)
-            for k in range(part.n):
-                peaks[k] = max(peaks[k], flight.peak_rad[k])
-                if not math.isnan(flight.t_fall_s[k]):
-                    verdicts[k], t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
-            if back is not None:
-                part, start, t0 = back, flight.handback, flight.t_end_s
-                continue
-            if flight.rested:                       # at rest after the record
-                verdicts[:flight.standing] = [int(Verdict.stands)] * flight.standing
-            break
+                and rec.handovers < MAX_HANDOVERS + ah_ms2.shape[0]):
+            rec.handovers += 1
+            after = _follow_slip(nb, part, mu, ground, run, rec, slide_rock)
+            if after is None:
+                break
+            part, start, t0 = after
+            continue
         if run.falls == FALLS_NONE:
             verdict = Verdict.no_verdict if run.status & (UNDECIDED_RUN | STATUS_FRICTION) else Verdict.stands
-            verdicts[:part.n] = [int(verdict)] * part.n
+            rec.verdicts[:part.n] = [int(verdict)] * part.n
             break
         for k in range(run.falls, part.n):
-            verdicts[k], t_fall[k] = int(Verdict.overturns), run.t_fall_s
+            rec.verdicts[k], rec.t_fall[k] = int(Verdict.overturns), run.t_fall_s
         if run.falls == 0:
             break
         count = run.falls
@@ -188,7 +281,4 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
         start = tuple(state[:count]) + (0.0,) * (MAX_BODIES - count) + tuple(
             state[MAX_BODIES:MAX_BODIES + count]) + (0.0,) * (MAX_BODIES - count)
         part, t0 = lower_part(part, count), run.t_fall_s
-    offsets[0] = base
-    residual = tuple(x if v == Verdict.stands else math.nan for x, v in zip(offsets, verdicts))
-    return StackVerdicts(tuple(verdicts), tuple(peaks), tuple(t_fall), impacts, opened, status, tuple(demand),
-                         tuple(slides), residual)
+    return rec.result()

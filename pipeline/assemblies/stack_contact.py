@@ -36,8 +36,10 @@ one corner alone, the rotation towards it, on
 a ground not falling faster than gravity nor asking a resting stack for more friction than its least, the run stops
 (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from that state with the blocks' offsets where
 they slid to (:func:`shifted`); a shut joint's rotation is dropped (a velocity-level step stops a landing corner
-from sinking further, not from having sunk within its step). After the record the ground is still, and the motion is
-followed for at most :data:`~.stepping.TAIL_S`.
+from sinking further, not from having sunk within its step). With ``rock_slide``, two blocks are also handed back
+where, for :data:`HANDBACK_STEPS` steps in a row, they turn as one on a sticking corner of the lower, their joint
+shut but slipping: the slide-rock model (:mod:`.slide_rock`) goes on from that state. After the record the ground
+is still, and the motion is followed for at most :data:`~.stepping.TAIL_S`.
 
 **Long steps** (an option, off by default: ``long_step_s`` of :func:`simulate_stack_contact`). During the record,
 where no corner clear of a face could reach it within :data:`IMPACT_SAFETY` long steps at its speed towards it
@@ -82,6 +84,7 @@ from .stack_pose import (
     point_at,
     point_in,
     rotations,
+    slide_rock_state,
     state_of,
     tilt,
 )
@@ -101,6 +104,9 @@ WITHIN = 1e-9                # a corner within this fraction of the two blocks' 
 #                              counts as on it (their rest positions are sums of rounded lengths)
 #: The most contacts: two on the ground, four at each joint
 MAX_CONTACTS = 2 + 4 * (MAX_BODIES - 1)
+#: What a run's joints make of a step (:func:`_joint_modes`): nothing to hand back; a state of the exact model; two
+#: blocks rocking as one with their joint slipping (the slide-rock model's)
+HANDS_NONE, HANDS_EXACT, HANDS_ROCKING = 0, 1, 2
 #: The ground, as the second body of a contact (a contact's slot, which keeps its impulse to the next step: the
 #: ground's two corners, then per joint the upper's two corners and the lower's two)
 NO_BODY = -1
@@ -142,6 +148,10 @@ class StackContactOutcome(NamedTuple):
         offsets ``offsets_m`` (:mod:`.n_block`'s: each joint's psi, then its rate; a shut joint's 0)
     base_shift_m : float
         how far block 0's base centre moved on the ground from the run's start to its end [m]
+    rocking : tuple of float
+        where the run handed back two blocks turning as one with their joint slipping (``rock_slide``): the
+        slide-rock model's state (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]); else empty
+        (``handback`` then holds the exact model's state, or rest)
     """
 
     standing: int
@@ -157,6 +167,7 @@ class StackContactOutcome(NamedTuple):
     peak_lift_m: float
     handback: tuple = (0.0,) * (2 * MAX_BODIES)
     base_shift_m: float = 0.0
+    rocking: tuple = ()
 
 
 class Work(NamedTuple):
@@ -360,14 +371,18 @@ def _fallen(bd, n, q, cs):
 
 
 @jit_lean
-def _joint_modes(bd, n, q, v, count, wk, modes):
+def _joint_modes(bd, n, q, v, count, wk, modes, rock_slide):
     """Each joint's mode into ``modes`` (0 shut: both ends of its face pressed, the joint still and flat within the
-    rest thresholds; +1 or -1: turning on that end's corner alone, the rotation towards it), each sticking (the
-    friction of its pressed ends together within :data:`STICKING` of the cone of their normal impulses together);
-    False where a joint is neither (flying, slipping, or pressed on the side it turns away from)."""
+    rest thresholds; +1 or -1: turning on that end's corner alone, the rotation towards it), and what they make:
+    :data:`HANDS_EXACT` where each joint sticks (the friction of its pressed ends together within :data:`STICKING`
+    of the cone of their normal impulses together); with ``rock_slide``, :data:`HANDS_ROCKING` where two blocks turn
+    as one on a sticking corner of the lower, their joint shut and slipping (the slide-rock model's state,
+    :mod:`.slide_rock`); else :data:`HANDS_NONE` (a joint flying, slipping otherwise, or pressed on the side it turns
+    away from)."""
     ends = modes                                    # first each joint's ends pressed, as bits
     for k in range(n):
         ends[k] = 0
+    slipping = -1
     for k in range(n):
         normal, tangent = 0.0, 0.0
         for i in range(count):
@@ -378,22 +393,26 @@ def _joint_modes(bd, n, q, v, count, wk, modes):
             ends[k] |= 1 << side
             normal, tangent = normal + pn, tangent + wk.p[2 * i + 1]
         if abs(tangent) > STICKING * bd.mu[k] * normal:
-            return False
+            if not (rock_slide and n == 2 and k == 1):
+                return HANDS_NONE
+            slipping = k
     for k in range(n):
         bits, turn = ends[k], tilt(q, k)
         rate = v[2, k] - (v[2, k - 1] if k > 0 else 0.0)
         if bits == 3:
             if abs(turn) >= REST_TILT_RAD or abs(rate) * math.hypot(bd.b[k], bd.h[k]) >= REST_SPEED:
-                return False
+                return HANDS_NONE
             modes[k] = 0
         elif bits == 0:
-            return False
+            return HANDS_NONE
         else:
             side = 1 if bits == 2 else -1
             if turn * side <= 0.0:
-                return False
+                return HANDS_NONE
             modes[k] = side
-    return True
+    if slipping < 0:
+        return HANDS_EXACT
+    return HANDS_ROCKING if modes[0] != 0 and modes[1] == 0 else HANDS_NONE
 
 
 @jit_lean
@@ -498,17 +517,18 @@ def _clear_ahead(bd, n, q, v, cs, span_s):
 
 
 @jit_lean
-def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s, t_stop):
+def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, modes, parts, merge, step_s, t_stop,
+         rock_slide):
     """The run of :func:`simulate_stack_contact` from (q, v) at t, a sampling interval in ``parts`` steps, ``merge``
     of them taken as one where no contact is ahead (the module's long steps; 1: none), steps of at most ``step_s`` [s]
-    after the record; fills t_fall, peak, slide and, where it hands back, the joints' modes."""
+    after the record; fills t_fall, peak, slide and, where it hands back, the joints' modes (``rock_slide``: also to
+    the slide-rock model, :func:`_joint_modes`)."""
     n_samples = ah.shape[0]
     t_rec = (n_samples - 2) * dt + dt
     tail_end = t_rec + TAIL_S
     n = bd.n
     status, steps, unconverged = 0, 0, 0
-    rested = False
-    lift, ready = 0.0, 0
+    rested, lift, ready, hands = False, 0.0, 0, HANDS_NONE
     _reset(bd, n, wk)
     while n > 0:
         if steps >= MAX_CONTACT_STEPS:
@@ -566,21 +586,23 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 t_fall[k] = t
             n = fell
             continue
-        if (hand_back or t >= t_rec) and count > 0 and _joint_modes(bd, n, q, v, count, wk, modes) and _ready(
-                bd, n, piece, t, modes, hand_back):
+        hands = _joint_modes(bd, n, q, v, count, wk, modes, rock_slide and hand_back) if (
+            hand_back or t >= t_rec) and count > 0 else HANDS_NONE
+        if hands != HANDS_NONE and _ready(bd, n, piece, t, modes, hand_back):
             ready += 1
             if ready >= HANDBACK_STEPS:
                 rested = True
                 break
         else:
             ready = 0
-    return n, t, rested, status, steps, unconverged, lift
+    return n, t, rested, status, steps, unconverged, lift, hands
 
 
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
                            start: tuple | None = None, t0_s: float = 0.0, hand_back: bool = True,
                            slid_m: tuple | None = None, step_s: float = MAX_STEP_S,
-                           long_step_s: float = 0.0, until_s: float = math.inf) -> StackContactOutcome:
+                           long_step_s: float = 0.0, until_s: float = math.inf,
+                           pose: tuple | None = None, rock_slide: bool = False) -> StackContactOutcome:
     """The stack ``nb`` (friction ``mu`` [-] at each block's base) under the ground ``ah_ms2``, ``av_ms2`` [m s-2]
     (samples ``dt_s`` [s] apart), from the n-block state ``start`` (None: rest) at ``t0_s`` [s], by the module's
     model. With ``hand_back`` the run hands back where the module's rule says so; without, it stops only at rest
@@ -588,14 +610,18 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     ground), from which its largest slip is measured (None: 0, from where the run starts). ``step_s`` [s]: the longest
     step (a sampling interval in the fewest equal steps of at most it); ``long_step_s`` [s]: with long steps (the
     module's option), the longest of the steps taken several as one (0: every step short, the default).
-    ``until_s`` [s]: the run stops at the end of the first step that reaches it (its state then in the outcome)."""
+    ``until_s`` [s]: the run stops at the end of the first step that reaches it (its state then in the outcome).
+    ``pose``: (q, v), the blocks' centres and rotations (3, n) and their rates (3, n) in the ground's frame
+    (:func:`.stack_pose.state_of`'s), the start in place of ``start`` (a state the n-block model does not describe:
+    a joint sliding). ``rock_slide``: two blocks are also handed back where they turn as one on a sticking corner
+    of the lower with their joint shut and slipping (:attr:`StackContactOutcome.rocking`)."""
     if not (math.isfinite(step_s) and step_s > 0.0 and math.isfinite(long_step_s) and long_step_s >= 0.0):
         raise ParameterError(f"step_s = {step_s!r}, long_step_s = {long_step_s!r}: expected a positive step and a "
                              "long step of 0 (none) or more [s]")
     ah = np.ascontiguousarray(ah_ms2, dtype=float)
     av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float)
     y = (0.0,) * (2 * MAX_BODIES) if start is None else start
-    q, v = state_of(nb, y)
+    q, v = state_of(nb, y) if pose is None else (np.array(pose[0], dtype=float), np.array(pose[1], dtype=float))
     bd = bodies_of(nb, mu)
     t_fall, peak, slide = np.full(MAX_BODIES, np.nan), np.zeros(MAX_BODIES), np.zeros(MAX_BODIES)
     base_x, _ = corner_point(q, 0, 0.0, -nb.h[0])               # block 0's base centre on the ground
@@ -609,12 +635,14 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
         origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
         slide[:nb.n] = np.abs(off0[:nb.n] - origin[:nb.n])
     merge = steps_merged(parts, float(dt_s) / parts, longest_s=long_step_s)
-    count, t_end, rested, status, steps, unconverged, lift = _run(bd, ah, av, float(dt_s), float(t0_s), q, v,
-                                                            bool(hand_back), work(), t_fall, peak, slide, origin,
-                                                            modes, parts, merge, float(step_s), float(until_s))
-    offsets, y = handback(bd, q, v, modes if rested else np.zeros(MAX_BODIES, dtype=np.int64), count)
+    count, t_end, rested, status, steps, unconverged, lift, hands = _run(
+        bd, ah, av, float(dt_s), float(t0_s), q, v, bool(hand_back), work(), t_fall, peak, slide, origin, modes,
+        parts, merge, float(step_s), float(until_s), bool(rock_slide))
+    rocking = rested and hands == HANDS_ROCKING
+    offsets, y = handback(bd, q, v, modes if rested and not rocking else np.zeros(MAX_BODIES, dtype=np.int64), count)
     base_end, _ = corner_point(q, 0, 0.0, -nb.h[0])
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
-                               tuple(float(x) for x in slide), float(lift), y, float(base_end - off0[0]))
+                               tuple(float(x) for x in slide), float(lift), y, float(base_end - off0[0]),
+                               slide_rock_state(bd, q, v) if rocking else ())
 

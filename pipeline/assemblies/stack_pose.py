@@ -117,6 +117,35 @@ def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
     return q, v
 
 
+def slide_rock_pose(nb: NBlock, state: tuple, pivot: int) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks' centres and rotations q (3, 2) and their rates v (3, 2) of two blocks in the slide-rock model's
+    ``state`` (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) turning on the lower's corner
+    ``pivot``: the lower block turning about that corner, the upper turning with it and sliding u' along its top."""
+    phi, u, dphi, du = state
+    c, s = math.cos(phi), math.sin(phi)
+    big_h, r = 2.0 * nb.h[0] + nb.h[1], -pivot * nb.b[0] + u
+    q, v = np.zeros((3, 2)), np.zeros((3, 2))
+    q[:, 0] = (pivot * nb.b[0] + c * -pivot * nb.b[0] + s * nb.h[0], s * pivot * nb.b[0] + c * nb.h[0], phi)
+    q[:, 1] = (pivot * nb.b[0] + c * r + s * big_h, -s * r + c * big_h, phi)
+    # a point (x, z) from the pivot moves at phi' R(phi) (z, -x); the slip along R(phi) (1, 0)
+    v[:, 0] = (dphi * (c * nb.h[0] + s * pivot * nb.b[0]), dphi * (-s * nb.h[0] + c * pivot * nb.b[0]), dphi)
+    v[:, 1] = (dphi * (c * big_h - s * r) + du * c, dphi * (-s * big_h - c * r) - du * s, dphi)
+    return q, v
+
+
+def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray) -> tuple:
+    """Two blocks turning as one on a corner of the lower, their joint shut: the slide-rock model's state
+    (:mod:`.slide_rock`: phi, u, phi', u'), the lower's rotation and rate, the upper base centre's offset from the
+    centre of the lower's top along that face and its rate there (the upper base centre's velocity less the lower's
+    at the same point, along the face) [rad, m, rad s-1, m s-1]."""
+    phi = float(q[2, 0])
+    px, pz = corner_point(q, 1, 0.0, -bd.h[1])
+    vx1, vz1 = v[0, 1] + v[2, 1] * (pz - q[1, 1]), v[1, 1] - v[2, 1] * (px - q[0, 1])
+    vx0, vz0 = v[0, 0] + v[2, 0] * (pz - q[1, 0]), v[1, 0] - v[2, 0] * (px - q[0, 0])
+    du = math.cos(phi) * (vx1 - vx0) - math.sin(phi) * (vz1 - vz0)
+    return phi, float(base_offset(bd, q, 1)), float(v[2, 0]), float(du)
+
+
 def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
     """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
     the top of the block under it; None where a block's base no longer overlaps its support or the part above a

@@ -55,8 +55,8 @@ def _print_summary(summary: dict, out: Path, *, wrote: bool = True) -> None:
               "general, the modes in contact_modes", file=sys.stderr)
     if s.get("stack_contact"):
         print(f"stacks: {s['stack_contact']} body scene(s) where a joint would slip or the ground fell faster than "
-              f"gravity ({s.get('stack_flights', 0)}) were followed by the stack's contact model (sliding_max, "
-              "free_flight)", file=sys.stderr)
+              f"gravity ({s.get('stack_flights', 0)}) were followed by the stacks' slip and flight models (the level "
+              "slip, the slide-rock and the contact model; sliding_max, free_flight)", file=sys.stderr)
     guarded = s.get("guarded_scenes", [])
     if guarded:
         print(f"guards: {len(guarded)} scene(s) met a guard of the simulator and are flagged (simulation_guard in "

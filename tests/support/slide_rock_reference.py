@@ -73,6 +73,20 @@ def newton_euler(s: SlideRock, pivot: float, slip: float, phi, dphi, u, du, ah, 
     """phi'', u'' and N by Newton-Euler: each block's linear and angular momentum balance, the ground's reaction,
     the joint's normal force and couple and u'' unknowns, the pivot fixed, the blocks turning together and the upper
     block's centre where u puts it."""
+    x = _newton_euler(s, pivot, slip, phi, dphi, u, du, ah, av)
+    return float(x[2]), float(x[10]), float(x[8])
+
+
+def newton_euler_forces(s: SlideRock, pivot: float, slip: float, phi, dphi, u, du, ah, av) -> tuple:
+    """The contact forces of :func:`newton_euler`: the ground's reaction (R_x, R_z) [N] and the joint's centre of
+    pressure from the upper base's centre along the face [m] (its couple on the upper block C = -N x_p: the normal
+    force's moment about the base centre)."""
+    x = _newton_euler(s, pivot, slip, phi, dphi, u, du, ah, av)
+    return float(x[6]), float(x[7]), float(-x[9] / x[8])
+
+
+def _newton_euler(s: SlideRock, pivot: float, slip: float, phi, dphi, u, du, ah, av) -> np.ndarray:
+    """The unknowns of :func:`newton_euler`'s linear system, solved."""
     i0, i1 = s.m0 * (s.b0 ** 2 + s.h0 ** 2) / 3.0, s.m1 * (s.b1 ** 2 + s.h1 ** 2) / 3.0
     f = np.array([-ah, -(G + av)])
     g0 = _turned(phi, -pivot * s.b0, s.h0)
@@ -99,8 +113,7 @@ def newton_euler(s: SlideRock, pivot: float, slip: float, phi, dphi, u, du, ah, 
     for k in range(2):
         m[9 + k, 3 + k], m[9 + k, k], m[9 + k, 2], m[9 + k, 10] = 1.0, -1.0, -t1[k], -e[k]
         b[9 + k] = -dphi ** 2 * t2[k] - 2.0 * dphi * du * n[k]
-    x = np.linalg.solve(m, b)
-    return float(x[2]), float(x[10]), float(x[8])
+    return np.linalg.solve(m, b)
 
 
 class Trajectory(NamedTuple):
@@ -114,15 +127,16 @@ class Trajectory(NamedTuple):
 
 
 def slide_rock(s: SlideRock, ah_ms2: float, t_end_s: float, *, pivot: float, slip: float,
-               av_ms2: float = 0.0) -> Trajectory:
-    """The stack from rest under a constant ground acceleration (``ah_ms2``, ``av_ms2``), turning on its ``pivot``
-    corner with the upper block sliding the way ``slip`` says, by the equations integrated to ``t_end_s``."""
+               av_ms2: float = 0.0, y0: tuple = (0.0, 0.0, 0.0, 0.0)) -> Trajectory:
+    """The stack from ``y0`` = (phi, phi', u, u') (rest by default) under a constant ground acceleration
+    (``ah_ms2``, ``av_ms2``), turning on its ``pivot`` corner with the upper block sliding the way ``slip`` says, by
+    the equations integrated to ``t_end_s``."""
 
     def rhs(_t, y):
         ddphi, ddu, _ = accelerations(s, pivot, slip, y[0], y[1], y[2], y[3], ah_ms2, av_ms2)
         return [y[1], ddphi, y[3], ddu]
 
-    sol = solve_ivp(rhs, (0.0, t_end_s), [0.0, 0.0, 0.0, 0.0], rtol=1e-11, atol=1e-13, dense_output=True)
+    sol = solve_ivp(rhs, (0.0, t_end_s), list(y0), rtol=1e-11, atol=1e-13, dense_output=True)
     holds = True
     for t in np.linspace(0.0, t_end_s, 2001)[1:]:
         phi, dphi, u, du = sol.sol(t)
