@@ -77,8 +77,8 @@ END_EXACT, END_CONTACT, END_FALLS, END_CAP, END_STOPPED = 0, 1, 2, 3, 4
 #: Events (:func:`_event`): none, a fall, a landing on the other corner, a sliding joint stopping, a sticking joint
 #: slipping, the joint opening (or no longer pressed), the ground no longer holding the pivot
 _NONE, _FALL, _IMPACT, _STOP, _SLIPS, _OPENS, _GROUND = 0, 1, 2, 3, 4, 5, 6
-#: A joint sticking (its slip's sign otherwise)
-STUCK = 0
+#: A joint sticking (its slip's sign otherwise); a still joint that can neither stick nor slide its way
+STUCK, NEITHER = 0, 2
 #: A run going on past an event (:func:`_at_event`)
 _GO_ON = -1
 
@@ -119,13 +119,13 @@ class SlideRockOutcome(NamedTuple):
     Attributes
     ----------
     end : int
-        :data:`END_EXACT`, :data:`END_CONTACT`, :data:`END_FALLS` or :data:`END_CAP`
+        :data:`END_EXACT`, :data:`END_CONTACT`, :data:`END_FALLS`, :data:`END_CAP` or :data:`END_STOPPED`
     t_end_s : float
         where the run ended [s] (the fall's instant for a fall)
     state : tuple of float
         (phi [rad], u [m], phi' [rad s-1], u' [m s-1]) there
     pivot : int
-        the corner the stack turned on
+        the corner the stack turned on where the run ended (each landing changes it)
     t_fall_s : float
         when the stack fell [s] (NaN: it did not)
     peak_rad : tuple of float
@@ -252,12 +252,13 @@ def _event(sr, pivot, slip, y, piece, t):
 @jit
 def _slides_to(sr, pivot, y, ah, av):
     """Where the joint is still (u' = 0): :data:`STUCK` where it holds, else the side it slides to (its friction
-    opposing), or 2 where neither is consistent (a slide whose u'' would not go its way: left to the contact model)."""
+    opposing), or :data:`NEITHER` where neither is consistent (a slide whose u'' would not go its way: left to the
+    contact model)."""
     stuck = forces(sr, pivot, STUCK, y, ah, av)
     if abs(stuck.friction) <= sr.mu1 * stuck.normal:
         return STUCK
     slip = -1 if stuck.friction > 0.0 else 1
-    return slip if slip * forces(sr, pivot, slip, y, ah, av).ddu > 0.0 else 2
+    return slip if slip * forces(sr, pivot, slip, y, ah, av).ddu > 0.0 else NEITHER
 
 
 class Landing(NamedTuple):
@@ -377,7 +378,7 @@ def _at_event(sr, pivot, slip, piece, t, lo, y_lo, hi, y_hi, rest):
         y = (y_hi[0], y_hi[1], y_hi[2], 0.0)
         ah, av = ground_on(piece, t + hi)
         new = _slides_to(sr, pivot, y, ah, av)
-        return (END_CONTACT if new == 2 else _GO_ON), t + hi, y, pivot, (slip if new == 2 else new)
+        return (END_CONTACT if new == NEITHER else _GO_ON), t + hi, y, pivot, (slip if new == NEITHER else new)
     if kind == _IMPACT:
         ld = landing(sr, pivot, (0.0, y_hi[1], y_hi[2], y_hi[3]), rest)
         if ld.holds:
@@ -417,11 +418,11 @@ def _run(sr, ah, av, dt, y, t, pivot, slip, sc, h_max, origin_u, t_stop):
             kind = _event(sr, pivot, slip, y, piece, t)
             if kind == _SLIPS:                      # a sticking joint past its friction at the start: it slides
                 ah0, av0 = ground_on(piece, t)
-                slip = _slides_to(sr, pivot, y, ah0, av0)
-                if slip == 2:
+                new = _slides_to(sr, pivot, y, ah0, av0)
+                if new == NEITHER:
                     end = END_CONTACT
                     break
-                slips, events = slips + 1, events + 1
+                slip, slips, events = new, slips + 1, events + 1
                 continue
             if kind != _NONE:
                 end = END_EXACT if slip == STUCK and (kind == _IMPACT or kind == _OPENS) else END_CONTACT
