@@ -1,13 +1,14 @@
-"""Stacks whose joints slip, against PyBullet: the level slip model and the stack's contact model
-(pipeline.assemblies.flat_slip, stack_contact) where a joint needs more friction than it has, on grounds without a
-vertical (no flight).
+"""Stacks whose joints slip, against PyBullet: the level slip model, the slide-rock model and the stack's contact
+model (pipeline.assemblies.flat_slip, slide_rock, stack_contact) where a joint needs more friction than it has, on
+grounds without a vertical (no flight).
 
 The bundled records of at most 60 s, each first horizontal scaled to a PGA, in the stacks' plane; the four stacks of
 deep boxes of tests/support/stack_flights.py (a statue on its plinth, columns of two, three and five drums), friction
 mu on the floor and mu^2 between the boxes in both engines (PyBullet combines the two bodies' friction as their
 product), so that at mu 0.6 a joint slips where the ground's acceleration passes 0.36 g; rockscreen judges each stack
 as ``screen`` does (tests/support/stack_flights.screen_verdicts: the rest certificate, the two-block model for two
-bodies, the n-block model, and where a joint slips the level slip model or the stack's contact model). For each scene
+bodies, the n-block model, and where a joint slips the level slip model, the slide-rock model or the stack's contact
+model). For each scene
 the lowest box that has fallen at the first fall (none, or the box), whether any box falls (the stack's verdict under
 ``screen``'s default rule), which boxes have fallen by the end (each body's verdict; PyBullet's run followed to its
 end, :func:`rigid_body_peer.bullet_stack_fallen`), rockscreen's largest slip at a joint; each disagreement on the
