@@ -199,18 +199,25 @@ class RestLift(NamedTuple):
     cg: tuple
 
 
-def rest_lift(tb: TwoBlock) -> RestLift:
-    """The :class:`RestLift` of ``tb``, from the accelerations at rest under a unit horizontal and a unit g + a_v."""
+@jit
+def _lift(tb, cand):
+    """Candidate ``cand``'s lift-off condition at rest (:class:`RestLift`'s order): (ch, cg), s x the rotation's
+    acceleration of the joint released on corner s under a unit a_h, and under a unit g + a_v."""
     rest = Motion(0.0, 0.0, 0.0, 0.0)
-    ch: list[float] = []
-    cg: list[float] = []
-    for cand in range(4):
-        s = 1 if cand % 2 == 0 else -1
-        j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
-        for out, (ah, gv) in ((ch, (1.0, 0.0)), (cg, (0.0, 1.0))):
-            d1, d2 = accelerations(tb, rest, j1, j2, ah, gv - G)
-            out.append(s * d1 if cand < 2 else s * (d2 - d1))
-    return RestLift((ch[0], ch[1], ch[2], ch[3]), (cg[0], cg[1], cg[2], cg[3]))
+    s = 1 if cand % 2 == 0 else -1
+    j1, j2 = (s, SHUT) if cand < 2 else (SHUT, s)
+    d1h, d2h = accelerations(tb, rest, j1, j2, 1.0, -G)
+    d1g, d2g = accelerations(tb, rest, j1, j2, 0.0, 1.0 - G)
+    if cand < 2:
+        return s * d1h, s * d1g
+    return s * (d2h - d1h), s * (d2g - d1g)
+
+
+@jit
+def rest_lift(tb):
+    """The :class:`RestLift` of ``tb``, from the accelerations at rest under a unit horizontal and a unit g + a_v."""
+    c0, c1, c2, c3 = _lift(tb, 0), _lift(tb, 1), _lift(tb, 2), _lift(tb, 3)
+    return RestLift((c0[0], c1[0], c2[0], c3[0]), (c0[1], c1[1], c2[1], c3[1]))
 
 
 @jit
