@@ -184,13 +184,16 @@ class _Record:
 
 class _Ground(NamedTuple):
     """A record's ground, checked: as given to the exact and contact models [m s-2] (``av_ms2`` None where not
-    given), as contiguous arrays for the slide-rock model (``av`` empty where not given), and its interval [s]."""
+    given), as contiguous arrays for the slide-rock model (``av`` empty where not given; plain arrays, which its
+    compiled run takes), its interval [s], and the hand-overs its stack may make (:data:`MAX_HANDOVERS` plus one a
+    sample)."""
 
     ah_ms2: np.ndarray
     av_ms2: np.ndarray | None
     ah: np.ndarray
     av: np.ndarray
     dt_s: float
+    max_handovers: int
 
 
 def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlockOutcome, rec: _Record,
@@ -227,7 +230,7 @@ def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlo
         if flight.rocking:                          # two blocks rocking as one, their joint slipping
             rec.followed(flight, part.n)
             rec.handovers += 1
-            if rec.handovers >= MAX_HANDOVERS + ground.ah.shape[0]:
+            if rec.handovers >= ground.max_handovers:
                 return None
             rocking, t_from = flight.rocking, flight.t_end_s
             continue
@@ -253,7 +256,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     does)."""
     ah_ms2 = finite_series("horizontal acceleration", ah_ms2)        # checked once for the runs below
     av_ms2 = None if av_ms2 is None else finite_series("vertical acceleration", av_ms2)
-    ground = _Ground(ah_ms2, av_ms2, *ground_series(ah_ms2, av_ms2, dt_s), dt_s)
+    ground = _Ground(ah_ms2, av_ms2, *ground_series(ah_ms2, av_ms2, dt_s), dt_s, MAX_HANDOVERS + ah_ms2.shape[0])
     rec = _Record(nb.n)
     part, start, t0 = nb, None, 0.0
     while True:
@@ -261,7 +264,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
                         stop_mu=None if mu is None else tuple(mu[:part.n]))
         rec.exact(run, part.n)
         if (run.falls == FALLS_NONE and run.status & FOLLOWED and not run.status & CAPS and mu is not None
-                and rec.handovers < MAX_HANDOVERS + ah_ms2.shape[0]):
+                and rec.handovers < ground.max_handovers):
             rec.handovers += 1
             after = _follow_slip(nb, part, mu, ground, run, rec, slide_rock)
             if after is None:

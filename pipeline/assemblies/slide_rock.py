@@ -55,6 +55,7 @@ from ..compiled import jit
 from ..constants import G
 from ..rocking.codes import STATUS_GROUND_FLIGHT
 from ..rocking.numerics.rk import DOPRI54, next_step, rejected_step, rk_step
+from .exact_run import as_two_block
 from .n_block import MAX_BODIES, NBlock
 from .stepping import (
     ATOL,
@@ -70,6 +71,7 @@ from .stepping import (
     impact_root,
     piece_at,
 )
+from .two_block_run import scales
 
 #: How a run ends: handed back to the two-block model, to the stack's contact model; the stack fell; a cap; at the
 #: instant it was asked to stop at
@@ -111,6 +113,10 @@ class Forces(NamedTuple):
     x_p: float
     rx: float
     rz: float
+
+
+#: The forces not computed (:func:`_check` before it reaches them)
+_NO_FORCES = Forces(math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan)
 
 
 class SlideRockOutcome(NamedTuple):
@@ -228,25 +234,39 @@ def _rhs(t, y, args):
 
 
 @jit
-def _event(sr, pivot, slip, y, piece, t):
+def _check(sr, pivot, slip, y, piece, t):
     """The event the state y at t is past (the module's order: a fall, a landing, a sliding joint's stop, the
-    ground, the joint opening, a sticking joint slipping), or :data:`_NONE`."""
+    ground, the joint opening, a sticking joint slipping), or :data:`_NONE`; and the state's :class:`Forces` where
+    the checks reached them (NaN before: a fall, a landing or a stop is seen without them)."""
     if abs(y[0]) >= HALF_PI:
-        return _FALL
+        return _FALL, _NO_FORCES
     if pivot * y[0] < 0.0 or (y[0] == 0.0 and pivot * y[2] <= 0.0):
-        return _IMPACT
+        return _IMPACT, _NO_FORCES
     if slip != STUCK and slip * y[3] < 0.0:
-        return _STOP
+        return _STOP, _NO_FORCES
     ah, av = ground_on(piece, t)
     fo = forces(sr, pivot, slip, y, ah, av)
     if not (fo.rz > 0.0 and abs(fo.rx) <= sr.mu0 * fo.rz):
-        return _GROUND
+        return _GROUND, fo
     lo, hi = max(-sr.b1, -sr.b0 - y[1]), min(sr.b1, sr.b0 - y[1])
     if not (fo.normal > 0.0 and lo < fo.x_p < hi):
-        return _OPENS
+        return _OPENS, fo
     if slip == STUCK and abs(fo.friction) > sr.mu1 * fo.normal:
-        return _SLIPS
-    return _NONE
+        return _SLIPS, fo
+    return _NONE, fo
+
+
+@jit
+def _event(sr, pivot, slip, y, piece, t):
+    """:func:`_check`'s event alone."""
+    return _check(sr, pivot, slip, y, piece, t)[0]
+
+
+@jit
+def _handed_to(slip, kind):
+    """Where a run that stops at the event ``kind`` goes: a sticking stack landing outside the law or opening its
+    joint to the two-block model (:data:`END_EXACT`), anything else to the contact model (:data:`END_CONTACT`)."""
+    return END_EXACT if slip == STUCK and (kind == _IMPACT or kind == _OPENS) else END_CONTACT
 
 
 @jit
@@ -383,8 +403,7 @@ def _at_event(sr, pivot, slip, piece, t, lo, y_lo, hi, y_hi, rest):
         ld = landing(sr, pivot, (0.0, y_hi[1], y_hi[2], y_hi[3]), rest)
         if ld.holds:
             return _GO_ON, t + hi, (0.0, y_hi[1], ld.dphi, ld.du), -pivot, ld.slip
-    end = END_EXACT if slip == STUCK and (kind == _IMPACT or kind == _OPENS) else END_CONTACT
-    return end, t + lo, y_lo, pivot, slip
+    return _handed_to(slip, kind), t + lo, y_lo, pivot, slip
 
 
 @jit
@@ -425,7 +444,7 @@ def _run(sr, ah, av, dt, y, t, pivot, slip, sc, h_max, origin_u, t_stop):
                 slip, slips, events = new, slips + 1, events + 1
                 continue
             if kind != _NONE:
-                end = END_EXACT if slip == STUCK and (kind == _IMPACT or kind == _OPENS) else END_CONTACT
+                end = _handed_to(slip, kind)
                 break
             f, fresh = _rhs(t, y, args)[0], False
         hh = min(h, h_max, t1 - t)
@@ -435,11 +454,9 @@ def _run(sr, ah, av, dt, y, t, pivot, slip, sc, h_max, origin_u, t_stop):
         if not norm <= 1.0:
             h = rejected_step(hh, norm)
             continue
-        kind = _event(sr, pivot, slip, st.y, piece, t + hh)
+        kind, fo = _check(sr, pivot, slip, st.y, piece, t + hh)
         if kind == _NONE:
             t, y, f = (t1 if hh == t1 - t else t + hh), st.y, st.f
-            ah1, av1 = ground_on(piece, t)
-            fo = forces(sr, pivot, slip, y, ah1, av1)
             peak_phi, peak_u = max(peak_phi, abs(y[0])), max(peak_u, abs(y[1] - origin_u))
             demand = max(demand, abs(fo.rx) / fo.rz)
             h = next_step(hh, norm)
@@ -471,7 +488,8 @@ def simulate_slide_rock(nb: NBlock, mu, ah: np.ndarray, av: np.ndarray, dt_s: fl
     phi, u0, rate, du0 = (float(x) for x in start)
     pivot = 1 if phi > 0.0 else -1
     slip = STUCK if du0 == 0.0 else (1 if du0 > 0.0 else -1)
-    alpha, p, height = _scales(nb)
+    rocks = scales(as_two_block(nb))                # the stack rocking as one: the two-block run's own scales
+    alpha, p, height = rocks.alpha1, rocks.p1, 2.0 * (nb.h[0] + nb.h[1])
     sc = (alpha, p * alpha, alpha * height, p * alpha * height)
     end, t, y, _slip, t_fall, peak_phi, peak_u, demand, slips, impacts, steps, events, status = _run(
         slide_rock(nb, mu), ah, av, float(dt_s), (phi, u0, rate, du0), float(t0_s), pivot, slip, sc, MAX_STEP_P / p,
@@ -486,20 +504,6 @@ def rock_start(nb: NBlock, y: tuple) -> tuple:
     """The slide-rock state (phi, u, phi', u') of the n-block state ``y`` of two blocks whose blocks' joint is shut
     and sticking (u the upper's offset ``nb.off[1]``)."""
     return float(y[0]), float(nb.off[1]), float(y[MAX_BODIES]), 0.0
-
-
-def _scales(nb: NBlock) -> tuple[float, float, float]:
-    """The stack rocking as one at rest: its smaller tipping angle alpha [rad], its frequency p [rad s-1] on that
-    corner, and its height [m] (the scales of the error control)."""
-    m = nb.m[0] + nb.m[1]
-    xg = nb.m[1] * nb.off[1] / m
-    zg = (nb.m[0] * nb.h[0] + nb.m[1] * (2.0 * nb.h[0] + nb.h[1])) / m
-    alpha = min(math.atan2(nb.b[0] - xg, zg), math.atan2(nb.b[0] + xg, zg))
-    side = nb.b[0] if xg >= 0.0 else -nb.b[0]
-    r = math.hypot(side - xg, zg)
-    i_o = (nb.i[0] + nb.m[0] * (nb.b[0] ** 2 + nb.h[0] ** 2) + nb.i[1]
-           + nb.m[1] * ((side - nb.off[1]) ** 2 + (2.0 * nb.h[0] + nb.h[1]) ** 2))
-    return alpha, math.sqrt(m * G * r / i_o), 2.0 * (nb.h[0] + nb.h[1])
 
 
 def handback(out: SlideRockOutcome) -> tuple:
