@@ -1,5 +1,5 @@
 """What the stacks' slipping joints cost and how their verdicts hold: the verdicts of stacks whose joints slip as
-shipped (two blocks rocking as one while their joint slips followed by the slide-rock model,
+shipped (a stack rocking as one while one joint slips followed by the slide-rock model,
 :mod:`pipeline.assemblies.slide_rock`; the contact model's every step 0.25 ms), by the contact model alone (the
 slide-rock model off), and with the contact model's long steps (``long_step_s`` of
 :func:`pipeline.assemblies.stack_contact.simulate_stack_contact`, off by default), against the contact model alone
@@ -47,7 +47,7 @@ SCALES = (0.98, 1.02)
 
 class Stepping:
     """The contact model's steps for a run: the longest step and the long step [s] (0: none); whether the slide-rock
-    model follows two blocks rocking as one with their joint slipping (``rocking``)."""
+    model follows a stack rocking as one with one joint slipping (``rocking``)."""
 
     def __init__(self, label: str, step_s: float, long_step_s: float, rocking: bool = True) -> None:
         self.label, self.step_s, self.long_step_s, self.rocking = label, step_s, long_step_s, rocking

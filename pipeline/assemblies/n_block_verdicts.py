@@ -1,24 +1,24 @@
 """Each body's verdict for a stack of n blocks under a record: a body falls with the lowest block that falls under it,
 or stands; the blocks below a fall go on rocking, as a stack of their own, to the record's end.
 
-The run (:func:`.exact_run.exact_run`: the two-block run for two blocks, the n-block run for more) ends at the
-first fall: the lowest falling block and every block
-above it overturn. Where blocks are left below it, they are followed from their state at that instant as the stack of
-those blocks (the fallen ones assumed gone, no longer loading them), and so on until nothing more falls. Where a
-joint would slip while the stack is at rest, the level stack's slip (:mod:`.flat_slip`: the blocks sliding on their
-joints without rotating, each slip's stop and start located in closed form) follows it to where every joint sticks
-again, and the exact model goes on from there with the blocks where they slid to. Where two blocks rock as one on a
-corner of the lower and their joint would slip (the blocks' friction given), the slide-rock model (:mod:`.slide_rock`:
-the joint sticking or sliding, the stack's landings by its impact law) follows them until its joint opens, the
-ground no longer holds the pivot, or a landing leaves its law; sticking, the exact model goes on from there, else
-the contact model. Where neither model holds (a joint would open), where the ground falls faster than gravity, or
-where a joint of a taller stack would slip while it rocks, the stack is followed from that instant by the contact
-model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until every joint is shut or
-turns on a sticking corner again, when the exact model goes on from that state with the blocks where they slid to
-(two blocks turning as one with their joint slipping: the slide-rock model), or to the end of the record's free
-motion; a body that falls in either falls. A run that ended without a verdict (a cap on steps, events or the free
-motion after the record, or a flight without the friction to follow it) leaves the bodies still standing then
-without one: unknown, never standing."""
+The run (:func:`.exact_run.exact_run`: the two-block run for two blocks, the n-block run for more) ends at the first
+fall: the lowest falling block and every block above it overturn. Where blocks are left below it, they are followed from
+their state at that instant as the stack of those blocks (the fallen ones assumed gone, no longer loading them), and so
+on until nothing more falls. Where a joint would slip while the stack is at rest, the level stack's slip
+(:mod:`.flat_slip`: the blocks sliding on their joints without rotating, each slip's stop and start located in closed
+form) follows it to where every joint sticks again, and the exact model goes on from there with the blocks where they
+slid to. Where two blocks rock as one on a corner of the lower and their joint would slip (the blocks' friction given),
+the slide-rock model (:mod:`.slide_rock`: the joint sticking or sliding, the stack's landings by its impact law) follows
+them until its joint opens, the ground no longer holds the pivot, or a landing leaves its law; sticking, the exact model
+goes on from there, else the contact model. Where neither model holds (a joint would open), where the ground falls
+faster than gravity, or where a joint of a taller stack would slip while it rocks, the stack is followed from that
+instant by the contact model (:mod:`.stack_contact`: flight, landing, sliding and rocking at every joint), until every
+joint is shut or turns on a sticking corner again, when the exact model goes on from that state with the blocks where
+they slid to (a stack turning as one with one joint slipping and the others shut: the slide-rock model, on the stack's
+two parts below and above that joint, :mod:`.slide_rock_parts`), or to the end of the record's free motion; a body that
+falls in either falls. A run that ended without a verdict (a cap on steps, events or the free motion after the record,
+or a flight without the friction to follow it) leaves the bodies still standing then without one: unknown, never
+standing."""
 
 from __future__ import annotations
 
@@ -166,13 +166,13 @@ class _Record:
             if not math.isnan(flight.t_fall_s[k]):
                 self.verdicts[k], self.t_fall[k] = int(Verdict.overturns), flight.t_fall_s[k]
 
-    def rocked(self, rock) -> None:
-        """The slide-rock model's run of two blocks (:class:`.slide_rock.SlideRockOutcome`)."""
+    def rocked(self, rock, count: int) -> None:
+        """The slide-rock model's run of the lowest ``count`` blocks (:class:`.slide_rock.SlideRockOutcome`)."""
         self.opened, self.status, self.impacts = True, self.status | rock.status, self.impacts + rock.impacts
-        self.slid(rock, 2)
+        self.slid(rock, count)
         self.peaks[0], self.demand[0] = max(self.peaks[0], rock.peak_rad[0]), max(self.demand[0], rock.demand_ground)
         if rock.end == END_FALLS:
-            self.verdicts[:2], self.t_fall[:2] = [int(Verdict.overturns)] * 2, [rock.t_fall_s] * 2
+            self.verdicts[:count], self.t_fall[:count] = [int(Verdict.overturns)] * count, [rock.t_fall_s] * count
 
     def result(self) -> StackVerdicts:
         """The stack's :class:`StackVerdicts`."""
@@ -203,7 +203,7 @@ def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlo
     contact model in turn) into ``rec``, to where the exact model goes on, returned as (the stack where its blocks
     slid to, its n-block state (None: rest), the instant); None where the stack's runs ended (a fall of the whole
     stack, rest after the record, a cap, the hand-overs' cap). ``rocking_model``: whether the slide-rock model
-    follows two blocks rocking as one with their joint slipping (else the contact model does)."""
+    follows the stack rocking as one with one joint slipping (else the contact model does)."""
     ah_ms2, av_ms2, dt_s = ground.ah_ms2, ground.av_ms2, ground.dt_s
     slid = (rec.base,) + tuple(part.off[k] - nb.off[k] for k in range(1, part.n))
     level = _level_slip(part, mu, ah_ms2, dt_s, av_ms2, run, slid)
@@ -211,28 +211,31 @@ def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlo
         back, level_run = level
         rec.slid(level_run, part.n)
         return back, None, level_run.t_end_s
-    rocking = rock_start(part, run.final) if rocking_model and rocks_as_one(part, run) else None
+    rocking = rock_start(part, run.final) + (1,) if rocking_model and rocks_as_one(part, run) else None
     pose, t_from = None, run.t_end_s
     while True:
         if rocking is not None:
+            joint = int(rocking[4])
             rock = simulate_slide_rock(part, mu, ground.ah, ground.av, dt_s, start=rocking, t0_s=t_from,
-                                       origin_m=nb.off[1])
-            rec.rocked(rock)
+                                       origin_m=nb.off[joint], joint=joint)
+            rec.rocked(rock, part.n)
             if rock.end == END_FALLS or rock.end == END_CAP:
                 return None
             back = shifted(part, rock.offsets_m, part.n) if rock.end == END_EXACT and rock.t_end_s > t_from else None
             if back is not None:
                 return back, rock_state(rock), rock.t_end_s
-            pose, t_from = slide_rock_pose(part, rock.state, rock.pivot), rock.t_end_s
-            slid = (rec.base, rock.offsets_m[1] - nb.off[1])
+            pose, t_from = slide_rock_pose(part, rock.state, rock.pivot, joint), rock.t_end_s
+            slid = (rec.base,) + tuple(rock.offsets_m[k] - nb.off[k] for k in range(1, part.n))
         flight = simulate_stack_contact(part, mu, ah_ms2, dt_s, av_ms2=av_ms2, start=run.final, pose=pose,
                                         t0_s=t_from, slid_m=slid, rock_slide=rocking_model)
-        if flight.rocking:                          # two blocks rocking as one, their joint slipping
+        if flight.rocking:                          # the stack rocking as one, one joint slipping
             rec.followed(flight, part.n)
             rec.handovers += 1
             if rec.handovers >= ground.max_handovers:
                 return None
             rocking, t_from = flight.rocking, flight.t_end_s
+            if part.n > 2:                          # the other joints where the contact model left them
+                part = part._replace(off=tuple(flight.offsets_m))
             continue
         back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
         if flight.rested and back is None:          # handed back where the exact model's stack could not stand
@@ -251,7 +254,7 @@ def judge_n_block(nb: NBlock, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.nda
     """Each body's verdict for the stack ``nb`` at rest under ``ah_ms2`` [m s-2] (samples ``dt_s`` [s] apart, the
     vertical ``av_ms2`` [m s-2] when given), by the module's rules; ``mu``: each block's friction at its base [-],
     with which the ground's flight and a joint's slip are followed (None: the joints hold, their demands kept, and a
-    flight leaves the run without a verdict). ``slide_rock``: two blocks rocking as one while their joint slips are
+    flight leaves the run without a verdict). ``slide_rock``: a stack rocking as one while one joint slips is
     followed by the slide-rock model (:mod:`.slide_rock`; False: by the contact model alone, as the tests' reference
     does)."""
     ah_ms2 = finite_series("horizontal acceleration", ah_ms2)        # checked once for the runs below

@@ -36,9 +36,9 @@ one corner alone, the rotation towards it, on
 a ground not falling faster than gravity nor asking a resting stack for more friction than its least, the run stops
 (``rested``), so that the exact model (:mod:`.n_block_run`) goes on from that state with the blocks' offsets where
 they slid to (:func:`shifted`); a shut joint's rotation is dropped (a velocity-level step stops a landing corner
-from sinking further, not from having sunk within its step). With ``rock_slide``, two blocks are also handed back
-where, for :data:`HANDBACK_STEPS` steps in a row, they turn as one on a sticking corner of the lower, their joint
-shut but slipping: the slide-rock model (:mod:`.slide_rock`) goes on from that state. After the record the ground
+from sinking further, not from having sunk within its step). With ``rock_slide``, the stack is also handed back
+where, for :data:`HANDBACK_STEPS` steps in a row, it turns as one on a sticking corner of block 0, every joint shut
+and one of them slipping: the slide-rock model (:mod:`.slide_rock`) goes on from that state. After the record the ground
 is still, and the motion is followed for at most :data:`~.stepping.TAIL_S`.
 
 **Long steps** (an option, off by default: ``long_step_s`` of :func:`simulate_stack_contact`). During the record,
@@ -104,8 +104,8 @@ WITHIN = 1e-9                # a corner within this fraction of the two blocks' 
 #                              counts as on it (their rest positions are sums of rounded lengths)
 #: The most contacts: two on the ground, four at each joint
 MAX_CONTACTS = 2 + 4 * (MAX_BODIES - 1)
-#: What a run's joints make of a step (:func:`_joint_modes`): nothing to hand back; a state of the exact model; two
-#: blocks rocking as one with their joint slipping (the slide-rock model's)
+#: What a run's joints make of a step (:func:`_joint_modes`): nothing to hand back; a state of the exact model; the
+#: stack rocking as one with one joint slipping (the slide-rock model's)
 HANDS_NONE, HANDS_EXACT, HANDS_ROCKING = 0, 1, 2
 #: The ground, as the second body of a contact (a contact's slot, which keeps its impulse to the next step: the
 #: ground's two corners, then per joint the upper's two corners and the lower's two)
@@ -149,9 +149,9 @@ class StackContactOutcome(NamedTuple):
     base_shift_m : float
         how far block 0's base centre moved on the ground from the run's start to its end [m]
     rocking : tuple of float
-        where the run handed back two blocks turning as one with their joint slipping (``rock_slide``): the
-        slide-rock model's state (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]); else empty
-        (``handback`` then holds the exact model's state, or rest)
+        where the run handed back the stack turning as one with one joint slipping (``rock_slide``): the
+        slide-rock model's state (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) and the slipping
+        joint; else empty (``handback`` then holds the exact model's state, or rest)
     """
 
     standing: int
@@ -375,10 +375,10 @@ def _joint_modes(bd, n, q, v, count, wk, modes, rock_slide):
     """Each joint's mode into ``modes`` (0 shut: both ends of its face pressed, the joint still and flat within the
     rest thresholds; +1 or -1: turning on that end's corner alone, the rotation towards it), and what they make:
     :data:`HANDS_EXACT` where each joint sticks (the friction of its pressed ends together within :data:`STICKING`
-    of the cone of their normal impulses together); with ``rock_slide``, :data:`HANDS_ROCKING` where two blocks turn
-    as one on a sticking corner of the lower, their joint shut and slipping (the slide-rock model's state,
-    :mod:`.slide_rock`); else :data:`HANDS_NONE` (a joint flying, slipping otherwise, or pressed on the side it turns
-    away from)."""
+    of the cone of their normal impulses together); with ``rock_slide``, :data:`HANDS_ROCKING` where the stack turns
+    as one on a sticking corner of block 0, every other joint shut and one of them slipping (the slide-rock model's
+    state, :mod:`.slide_rock`); else :data:`HANDS_NONE` (a joint flying, slipping otherwise, or pressed on the side it
+    turns away from). Returns (what they make, the slipping joint or -1)."""
     ends = modes                                    # first each joint's ends pressed, as bits
     for k in range(n):
         ends[k] = 0
@@ -393,26 +393,31 @@ def _joint_modes(bd, n, q, v, count, wk, modes, rock_slide):
             ends[k] |= 1 << side
             normal, tangent = normal + pn, tangent + wk.p[2 * i + 1]
         if abs(tangent) > STICKING * bd.mu[k] * normal:
-            if not (rock_slide and n == 2 and k == 1):
-                return HANDS_NONE
+            if not rock_slide or k == 0 or slipping >= 0:
+                return HANDS_NONE, -1
             slipping = k
     for k in range(n):
         bits, turn = ends[k], tilt(q, k)
         rate = v[2, k] - (v[2, k - 1] if k > 0 else 0.0)
         if bits == 3:
             if abs(turn) >= REST_TILT_RAD or abs(rate) * math.hypot(bd.b[k], bd.h[k]) >= REST_SPEED:
-                return HANDS_NONE
+                return HANDS_NONE, -1
             modes[k] = 0
         elif bits == 0:
-            return HANDS_NONE
+            return HANDS_NONE, -1
         else:
             side = 1 if bits == 2 else -1
             if turn * side <= 0.0:
-                return HANDS_NONE
+                return HANDS_NONE, -1
             modes[k] = side
     if slipping < 0:
-        return HANDS_EXACT
-    return HANDS_ROCKING if modes[0] != 0 and modes[1] == 0 else HANDS_NONE
+        return HANDS_EXACT, -1
+    if modes[0] == 0:
+        return HANDS_NONE, -1
+    for k in range(1, n):
+        if modes[k] != 0:
+            return HANDS_NONE, -1
+    return HANDS_ROCKING, slipping
 
 
 @jit_lean
@@ -528,7 +533,7 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
     tail_end = t_rec + TAIL_S
     n = bd.n
     status, steps, unconverged = 0, 0, 0
-    rested, lift, ready, hands = False, 0.0, 0, HANDS_NONE
+    rested, lift, ready, hands, slipping = False, 0.0, 0, HANDS_NONE, -1
     _reset(bd, n, wk)
     while n > 0:
         if steps >= MAX_CONTACT_STEPS:
@@ -586,8 +591,8 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 t_fall[k] = t
             n = fell
             continue
-        hands = _joint_modes(bd, n, q, v, count, wk, modes, rock_slide and hand_back) if (
-            hand_back or t >= t_rec) and count > 0 else HANDS_NONE
+        hands, slipping = _joint_modes(bd, n, q, v, count, wk, modes, rock_slide and hand_back) if (
+            hand_back or t >= t_rec) and count > 0 else (HANDS_NONE, -1)
         if hands != HANDS_NONE and _ready(bd, n, piece, t, modes, hand_back):
             ready += 1
             if ready >= HANDBACK_STEPS:
@@ -595,7 +600,7 @@ def _run(bd, ah, av, dt, t, q, v, hand_back, wk, t_fall, peak, slide, origin, mo
                 break
         else:
             ready = 0
-    return n, t, rested, status, steps, unconverged, lift, hands
+    return n, t, rested, status, steps, unconverged, lift, hands, slipping
 
 
 def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, av_ms2: np.ndarray | None = None,
@@ -613,8 +618,8 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     ``until_s`` [s]: the run stops at the end of the first step that reaches it (its state then in the outcome).
     ``pose``: (q, v), the blocks' centres and rotations (3, n) and their rates (3, n) in the ground's frame
     (:func:`.stack_pose.state_of`'s), the start in place of ``start`` (a state the n-block model does not describe:
-    a joint sliding). ``rock_slide``: two blocks are also handed back where they turn as one on a sticking corner
-    of the lower with their joint shut and slipping (:attr:`StackContactOutcome.rocking`)."""
+    a joint sliding). ``rock_slide``: the stack is also handed back where it turns as one on a sticking corner of
+    block 0 with every joint shut and one slipping (:attr:`StackContactOutcome.rocking`)."""
     if not (math.isfinite(step_s) and step_s > 0.0 and math.isfinite(long_step_s) and long_step_s >= 0.0):
         raise ParameterError(f"step_s = {step_s!r}, long_step_s = {long_step_s!r}: expected a positive step and a "
                              "long step of 0 (none) or more [s]")
@@ -635,7 +640,7 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
         origin[:nb.n] -= [float(x) for x in slid_m[:nb.n]]
         slide[:nb.n] = np.abs(off0[:nb.n] - origin[:nb.n])
     merge = steps_merged(parts, float(dt_s) / parts, longest_s=long_step_s)
-    count, t_end, rested, status, steps, unconverged, lift, hands = _run(
+    count, t_end, rested, status, steps, unconverged, lift, hands, slipping = _run(
         bd, ah, av, float(dt_s), float(t0_s), q, v, bool(hand_back), work(), t_fall, peak, slide, origin, modes,
         parts, merge, float(step_s), float(until_s), bool(rock_slide))
     rocking = rested and hands == HANDS_ROCKING
@@ -644,5 +649,5 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
                                tuple(float(x) for x in slide), float(lift), y, float(base_end - off0[0]),
-                               slide_rock_state(bd, q, v) if rocking else ())
+                               slide_rock_state(bd, q, v, slipping) + (slipping,) if rocking else ())
 

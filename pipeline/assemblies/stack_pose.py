@@ -117,33 +117,39 @@ def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
     return q, v
 
 
-def slide_rock_pose(nb: NBlock, state: tuple, pivot: int) -> tuple[np.ndarray, np.ndarray]:
-    """The blocks' centres and rotations q (3, 2) and their rates v (3, 2) of two blocks in the slide-rock model's
-    ``state`` (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) turning on the lower's corner
-    ``pivot``: the lower block turning about that corner, the upper turning with it and sliding u' along its top."""
-    phi, u, dphi, du = state
+def slide_rock_pose(nb: NBlock, state: tuple, pivot: int, joint: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks' centres and rotations q (3, n) and their rates v (3, n) of the stack ``nb`` in the slide-rock
+    model's ``state`` (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) turning on block 0's corner
+    ``pivot``: the blocks below ``joint`` turning about that corner as one (their joints shut at their offsets), the
+    blocks above turning with them and sliding u' along the joint."""
+    phi, u, dphi, du = state[:4]
     c, s = math.cos(phi), math.sin(phi)
-    big_h, r = 2.0 * nb.h[0] + nb.h[1], -pivot * nb.b[0] + u
-    q, v = np.zeros((3, 2)), np.zeros((3, 2))
-    q[:, 0] = (pivot * nb.b[0] + c * -pivot * nb.b[0] + s * nb.h[0], s * pivot * nb.b[0] + c * nb.h[0], phi)
-    q[:, 1] = (pivot * nb.b[0] + c * r + s * big_h, -s * r + c * big_h, phi)
-    # a point (x, z) from the pivot moves at phi' R(phi) (z, -x); the slip along R(phi) (1, 0)
-    v[:, 0] = (dphi * (c * nb.h[0] + s * pivot * nb.b[0]), dphi * (-s * nb.h[0] + c * pivot * nb.b[0]), dphi)
-    v[:, 1] = (dphi * (c * big_h - s * r) + du * c, dphi * (-s * big_h - c * r) - du * s, dphi)
+    n = nb.n
+    q, v = np.zeros((3, n)), np.zeros((3, n))
+    x, z = -pivot * nb.b[0], 0.0                    # block k's base centre from the pivot, the blocks' frame
+    for k in range(n):
+        if k > 0:
+            x, z = x + (u if k == joint else nb.off[k]), z + 2.0 * nb.h[k - 1]
+        cz = z + nb.h[k]
+        # a point (x, z) from the pivot is at R(phi) (x, z), moving at phi' R(phi) (z, -x); the slip along R(phi) (1, 0)
+        q[:, k] = (pivot * nb.b[0] + c * x + s * cz, -s * x + c * cz, phi)
+        slide = du if k >= joint else 0.0
+        v[:, k] = (dphi * (c * cz - s * x) + slide * c, dphi * (-s * cz - c * x) - slide * s, dphi)
     return q, v
 
 
-def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray) -> tuple:
-    """Two blocks turning as one on a corner of the lower, their joint shut: the slide-rock model's state
-    (:mod:`.slide_rock`: phi, u, phi', u'), the lower's rotation and rate, the upper base centre's offset from the
-    centre of the lower's top along that face and its rate there (the upper base centre's velocity less the lower's
-    at the same point, along the face) [rad, m, rad s-1, m s-1]."""
+def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray, joint: int = 1) -> tuple:
+    """A stack turning as one on a corner of block 0, every joint shut and all but ``joint`` sticking: the slide-rock
+    model's state (:mod:`.slide_rock`: phi, u, phi', u'), block 0's rotation and rate, the base centre's offset of
+    block ``joint`` from the centre of the top under it along that face and its rate there (that base centre's
+    velocity less the lower block's at the same point, along the face) [rad, m, rad s-1, m s-1]."""
     phi = float(q[2, 0])
-    px, pz = corner_point(q, 1, 0.0, -bd.h[1])
-    vx1, vz1 = v[0, 1] + v[2, 1] * (pz - q[1, 1]), v[1, 1] - v[2, 1] * (px - q[0, 1])
-    vx0, vz0 = v[0, 0] + v[2, 0] * (pz - q[1, 0]), v[1, 0] - v[2, 0] * (px - q[0, 0])
+    lower = joint - 1
+    px, pz = corner_point(q, joint, 0.0, -bd.h[joint])
+    vx1, vz1 = v[0, joint] + v[2, joint] * (pz - q[1, joint]), v[1, joint] - v[2, joint] * (px - q[0, joint])
+    vx0, vz0 = v[0, lower] + v[2, lower] * (pz - q[1, lower]), v[1, lower] - v[2, lower] * (px - q[0, lower])
     du = math.cos(phi) * (vx1 - vx0) - math.sin(phi) * (vz1 - vz0)
-    return phi, float(base_offset(bd, q, 1)), float(v[2, 0]), float(du)
+    return phi, float(base_offset(bd, q, joint)), float(v[2, 0]), float(du)
 
 
 def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:

@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from pipeline.assemblies import n_block as nbm
 from pipeline.assemblies import slide_rock as srm
+from pipeline.assemblies.slide_rock_parts import Parts, SlideRock, slide_rock, stack_parts
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_pose import slide_rock_pose
 
@@ -18,10 +19,10 @@ heights = st.floats(0.3, 1.8)
 masses = st.floats(100.0, 3000.0)
 
 
-def _stack(b0, h0, m0, b1, h1, m1, mu1) -> tuple[nbm.NBlock, srm.SlideRock]:
+def _stack(b0, h0, m0, b1, h1, m1, mu1) -> tuple[nbm.NBlock, SlideRock, Parts]:
     """Two uniform blocks of half sizes b, h [m] and masses m [kg], the joint's friction mu1, the floor's 1."""
     nb = nbm.n_block([StackBody(2 * b0, 2 * h0, m0, 1.0), StackBody(2 * b1, 2 * h1, m1, mu1)])
-    return nb, srm.slide_rock(nb, (1.0, mu1))
+    return nb, slide_rock(nb, (1.0, mu1)), stack_parts(nb, (1.0, mu1))
 
 
 def _kinetic(nb: nbm.NBlock, pivot: int, state: tuple) -> float:
@@ -35,10 +36,10 @@ def _kinetic(nb: nbm.NBlock, pivot: int, state: tuple) -> float:
        st.floats(-0.9, 0.9), st.floats(-1.0, 1.0))
 def test_a_landing_never_gains_energy(b0, h0, m0, b1, h1, m1, mu1, w, u_share, du):
     """Wherever the landing's law holds, the kinetic energy after it is at most the energy before."""
-    nb, sr = _stack(b0, h0, m0, b1, h1, m1, mu1)
+    nb, sr, parts = _stack(b0, h0, m0, b1, h1, m1, mu1)
     u = u_share * min(b0, b1) * 0.5
     before = (0.0, u, -w, du)
-    ld = srm.landing(sr, 1, before, 0.0)
+    ld = srm.landing(sr, parts, 1, before, 0.0)
     assume(ld.holds)                                 # about 57 % of these draws hold, 16 % of them sliding
     assert _kinetic(nb, -1, (0.0, u, ld.dphi, ld.du)) <= _kinetic(nb, 1, before) * (1.0 + 1e-12) + 1e-12
 
@@ -49,9 +50,9 @@ def test_a_landing_never_gains_energy(b0, h0, m0, b1, h1, m1, mu1, w, u_share, d
 def test_a_mirrored_landing_mirrors(b0, h0, m0, b1, h1, m1, mu1, w, u_share, du):
     """The landing on the other side (the pivot, the offset and every rate mirrored) gives the mirrored rates, the
     same joint state mirrored and the same verdict on the law."""
-    _, sr = _stack(b0, h0, m0, b1, h1, m1, mu1)
+    _, sr, parts = _stack(b0, h0, m0, b1, h1, m1, mu1)
     u = u_share * min(b0, b1) * 0.5
-    right, left = srm.landing(sr, 1, (0.0, u, -w, du), 0.0), srm.landing(sr, -1, (0.0, -u, w, -du), 0.0)
+    right, left = srm.landing(sr, parts, 1, (0.0, u, -w, du), 0.0), srm.landing(sr, parts, -1, (0.0, -u, w, -du), 0.0)
     assert right.holds == left.holds
     assert np.allclose((right.dphi, right.du), (-left.dphi, -left.du), rtol=1e-12, atol=1e-14)
     assert right.slip == -left.slip
