@@ -39,6 +39,7 @@ import numpy as np
 
 from ..compiled import jit
 from ..constants import G
+from ..errors import ParameterError
 from .exact_run import as_two_block
 from .n_block import MAX_BODIES, NBlock
 from .two_block_run import scales
@@ -121,7 +122,7 @@ def _placed(nb: NBlock, joint: int) -> tuple[list, list]:
     """Each block's base centre from its part's base centre (x along the bases, z up) [m]: the lower part's from block
     0's, the upper's from block ``joint``'s."""
     if not 1 <= joint < nb.n:
-        raise ValueError(f"joint = {joint}: expected a joint between two blocks of the stack, 1 to {nb.n - 1}")
+        raise ParameterError(f"joint = {joint}: expected a joint between two blocks of the stack, 1 to {nb.n - 1}")
     px, pz = [0.0] * MAX_BODIES, [0.0] * MAX_BODIES
     for k in range(1, nb.n):
         if k != joint:

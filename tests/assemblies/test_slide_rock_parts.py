@@ -31,6 +31,7 @@ from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_contact import MAX_STEP_S, simulate_stack_contact
 from pipeline.assemblies.stack_pose import slide_rock_pose
 from pipeline.constants import G
+from pipeline.errors import ParameterError
 
 RHO = 2500.0
 ROOT = Path(__file__).resolve().parents[2]
@@ -194,3 +195,10 @@ def test_columns_have_the_reference_verdicts(columns):
                      for f in (0.98, 1.02)}
             assert again != {ours}, f"{name} {rec.record_id}: a robust difference"
     assert len(differ) <= 0.05 * len(scenes), differ
+
+
+@pytest.mark.parametrize("joint", [0, 3])
+def test_a_joint_outside_the_stack_is_refused(joint):
+    """The sliding joint must lie between two blocks of the stack: the error names it and the range."""
+    with pytest.raises(ParameterError, match=f"joint = {joint}: expected .* 1 to 2"):
+        slide_rock(_column(COLUMNS["three"], (0.5, 0.25, 0.25)), (0.5, 0.25, 0.25), joint)
