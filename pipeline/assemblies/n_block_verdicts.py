@@ -43,7 +43,7 @@ from .n_block_run import FALLS_NONE, NBlockOutcome
 from .slide_rock import END_CAP, END_EXACT, END_FALLS, rock_start, simulate_slide_rock
 from .slide_rock import handback as rock_state
 from .stack_contact import simulate_stack_contact
-from .stack_pose import shifted, slide_rock_pose
+from .stack_pose import shifted, slide_rock_pose, stack_of
 from .stepping import ground_series
 
 #: The run's status bits that leave its verdict open
@@ -211,11 +211,11 @@ def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlo
         back, level_run = level
         rec.slid(level_run, part.n)
         return back, None, level_run.t_end_s
-    rocking = rock_start(part, run.final) + (1,) if rocking_model and rocks_as_one(part, run) else None
+    rocking = rock_start(part, run.final) if rocking_model and rocks_as_one(part, run) else None
     pose, t_from = None, run.t_end_s
     while True:
         if rocking is not None:
-            joint = int(rocking[4])
+            joint = rocking.joint
             rock = simulate_slide_rock(part, mu, ground.ah, ground.av, dt_s, start=rocking, t0_s=t_from,
                                        origin_m=nb.off[joint], joint=joint)
             rec.rocked(rock, part.n)
@@ -234,8 +234,8 @@ def _follow_slip(nb: NBlock, part: NBlock, mu: tuple, ground: _Ground, run: NBlo
             if rec.handovers >= ground.max_handovers:
                 return None
             rocking, t_from = flight.rocking, flight.t_end_s
-            if part.n > 2:                          # the other joints where the contact model left them
-                part = part._replace(off=tuple(flight.offsets_m))
+            if part.n > 2:                          # the other joints where the contact model left them (two
+                part = stack_of(part, flight.offsets_m, part.n)     # blocks: the slide-rock state's u is the one)
             continue
         back = shifted(part, flight.offsets_m, flight.standing) if flight.rested else None
         if flight.rested and back is None:          # handed back where the exact model's stack could not stand

@@ -70,6 +70,7 @@ from .slide_rock_parts import (
     parts_of,
     rocking_scales,
 )
+from .stack_pose import SlideRockState
 from .stepping import (
     ATOL,
     EVENT_TIME_TOL_S,
@@ -102,7 +103,7 @@ _GO_ON = -1
 class Forces(NamedTuple):
     """The accelerations and the contact forces in a state: phi'' [rad s-2], u'' [m s-2], the joint's normal and
     friction force on the upper block N, F_t [N], its centre of pressure x_p [m], the ground's reaction R_x, R_z
-    [N]."""
+    [N]; the field per unit mass along the lower's base and normal to it f_e, f_n [m s-2]."""
 
     ddphi: float
     ddu: float
@@ -111,10 +112,12 @@ class Forces(NamedTuple):
     x_p: float
     rx: float
     rz: float
+    fe: float
+    fn: float
 
 
 #: The forces not computed (:func:`_check` before it reaches them)
-_NO_FORCES = Forces(math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan)
+_NO_FORCES = Forces(*(math.nan,) * 9)
 
 
 class SlideRockOutcome(NamedTuple):
@@ -212,7 +215,7 @@ def forces(sr, pivot, slip, y, ah, av):
     m = sr.m0 + sr.m1
     rx = sr.m0 * acc0x + sr.m1 * acc1x + m * ah
     rz = sr.m0 * acc0z + sr.m1 * acc1z + m * gv
-    return Forces(ddphi, ddu, normal, friction, x_p, rx, rz)
+    return Forces(ddphi, ddu, normal, friction, x_p, rx, rz, fe, fn)
 
 
 @jit
@@ -245,8 +248,7 @@ def _check(sr, parts, pivot, slip, y, piece, t):
     if slip == STUCK and abs(fo.friction) > sr.mu1 * fo.normal:
         return _SLIPS, fo
     if parts.n > 2:                                 # the parts' own joints, shut and sticking
-        c, s = math.cos(y[0]), math.sin(y[0])
-        kind = inner(parts, pivot, y, fo.ddphi, fo.ddu, -ah * c + (G + av) * s, -ah * s - (G + av) * c)
+        kind = inner(parts, pivot, y, fo.ddphi, fo.ddu, fo.fe, fo.fn)
         if kind != INNER_HOLDS:
             return (_OPENS if kind == INNER_OPENS else _INNER_SLIPS), fo
     return _NONE, fo
@@ -509,10 +511,10 @@ def simulate_slide_rock(nb: NBlock, mu, ah: np.ndarray, av: np.ndarray, dt_s: fl
                             float(demand), int(slips), int(impacts), int(steps), int(events), int(status))
 
 
-def rock_start(nb: NBlock, y: tuple) -> tuple:
-    """The slide-rock state (phi, u, phi', u') of the n-block state ``y`` of two blocks whose blocks' joint is shut
-    and sticking (u the upper's offset ``nb.off[1]``)."""
-    return float(y[0]), float(nb.off[1]), float(y[MAX_BODIES]), 0.0
+def rock_start(nb: NBlock, y: tuple) -> SlideRockState:
+    """The slide-rock state of the n-block state ``y`` of two blocks whose blocks' joint is shut and sticking (u the
+    upper's offset ``nb.off[1]``)."""
+    return SlideRockState(float(y[0]), float(nb.off[1]), float(y[MAX_BODIES]), 0.0, 1)
 
 
 def handback(out: SlideRockOutcome) -> tuple:

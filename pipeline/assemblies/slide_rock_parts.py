@@ -31,7 +31,6 @@ Dynamics 19(4), 555-575.
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import NamedTuple
 
@@ -134,50 +133,49 @@ def slide_rock(nb: NBlock, mu, joint: int = 1) -> SlideRock:
     """The :class:`SlideRock` of the stack ``nb`` (each block's friction at its base ``mu`` [-]) sliding at
     ``joint`` (1 .. n - 1), its other joints shut at their offsets ``nb.off`` (the sliding joint's own offset is the
     model's u)."""
-    px, pz = _placed(nb, joint)
+    return _slide_rock(nb, mu, joint, *_placed(nb, joint))
+
+
+def _slide_rock(nb: NBlock, mu, joint: int, px: list, pz: list) -> SlideRock:
+    """:func:`slide_rock` with the blocks placed (:func:`_placed`)."""
     lower, upper = _part(nb, range(joint), px, pz), _part(nb, range(joint, nb.n), px, pz)
     return SlideRock(nb.b[0], lower.z, lower.m, lower.i, nb.b[joint], upper.z, upper.m, upper.i, float(mu[0]),
                      float(mu[joint]), lower.x, pz[joint - 1] + 2.0 * nb.h[joint - 1], px[joint - 1], nb.b[joint - 1],
                      upper.x)
 
 
-@functools.lru_cache(maxsize=256)
-def parts_of(nb: NBlock, mu: tuple, joint: int) -> tuple[SlideRock, Parts]:
-    """:func:`slide_rock` and :func:`stack_parts` of a stack, made once for each stack, friction and joint (a stack
-    of two meets its model about 8 times a scene; ``mu`` a tuple)."""
-    return slide_rock(nb, mu, joint), stack_parts(nb, mu, joint)
+def parts_of(nb: NBlock, mu, joint: int) -> tuple[SlideRock, Parts]:
+    """:func:`slide_rock` and :func:`stack_parts` of a stack, its blocks placed once."""
+    px, pz = _placed(nb, joint)
+    return _slide_rock(nb, mu, joint, px, pz), _stack_parts(nb, mu, joint, px, pz)
 
 
 def stack_parts(nb: NBlock, mu, joint: int = 1) -> Parts:
     """The :class:`Parts` of the stack ``nb`` (each block's friction at its base ``mu`` [-]) sliding at ``joint``."""
-    px, pz = _placed(nb, joint)
+    return _stack_parts(nb, mu, joint, *_placed(nb, joint))
+
+
+def _stack_parts(nb: NBlock, mu, joint: int, px: list, pz: list) -> Parts:
+    """:func:`stack_parts` with the blocks placed (:func:`_placed`)."""
     mus = [float(x) for x in mu[:nb.n]] + [0.0] * (MAX_BODIES - nb.n)
     table = np.array([nb.b, nb.h, nb.m, nb.i, nb.off, px, pz, mus], dtype=float)
-    table.flags.writeable = False                   # shared by the runs of this stack (:func:`parts_of`)
     return Parts(table, nb.n, joint, nb.b[0], px[joint - 1], pz[joint - 1] + 2.0 * nb.h[joint - 1])
 
 
 def rocking_scales(nb: NBlock) -> tuple[float, float, float]:
-    """The stack rocking as one: its angle alpha [rad] and frequency p [rad s-1] on a base corner, and its height [m]
-    (two blocks: the two-block run's own scales)."""
+    """The stack rocking as one, the scales of the run's error control: its angle alpha [rad] and frequency p
+    [rad s-1] on a base corner (its centre of mass taken over the base's centre), and its height [m] (two blocks: the
+    two-block run's own scales)."""
     height = 2.0 * sum(nb.h[:nb.n])
     if nb.n == 2:
         rocks = scales(as_two_block(nb))
         return rocks.alpha1, rocks.p1, height
-    m = 0.0
-    x: list[float] = []
-    z: list[float] = []
-    base_x, base_z = 0.0, 0.0
-    for k in range(nb.n):
-        base_x += nb.off[k]
-        x.append(base_x)
-        z.append(base_z + nb.h[k])
-        base_z += 2.0 * nb.h[k]
-        m += nb.m[k]
-    zg = sum(nb.m[k] * z[k] for k in range(nb.n)) / m
-    radius = math.hypot(nb.b[0], zg)
-    inertia = sum(nb.i[k] + nb.m[k] * ((x[k] - nb.b[0]) ** 2 + z[k] ** 2) for k in range(nb.n))
-    return math.atan2(nb.b[0], zg), math.sqrt(m * G * radius / inertia), height
+    px, pz = [0.0] * nb.n, [0.0] * nb.n
+    for k in range(1, nb.n):
+        px[k], pz[k] = px[k - 1] + nb.off[k], pz[k - 1] + 2.0 * nb.h[k - 1]
+    whole = _part(nb, range(nb.n), px, pz)
+    inertia = whole.i + whole.m * ((whole.x - nb.b[0]) ** 2 + whole.z ** 2)        # about the corner
+    return math.atan2(nb.b[0], whole.z), math.sqrt(whole.m * G * math.hypot(nb.b[0], whole.z) / inertia), height
 
 
 @jit
@@ -190,51 +188,44 @@ def base_at(parts, pivot, u, k):
 
 
 @jit
+def _load(parts, pivot, u, k, turn, spin_sq, shift, slip_e, slip_n, fe, fn):
+    """The module's sums above joint k for a motion common to the blocks: each block's centre (x, z) from the pivot
+    changes by (turn z - spin_sq x - fe, -turn x - spin_sq z + shift - fn), plus (slip_e, slip_n) for the upper part's
+    blocks, and each turns by ``turn``; returns the sums along the face and normal to it and their centre from block
+    k's base centre along the face (NaN where the normal sum does not press)."""
+    ox, oz = base_at(parts, pivot, u, k)
+    s_e, s_n, moment, spin = 0.0, 0.0, 0.0, 0.0
+    t = parts.table
+    for i in range(k, parts.n):
+        cx, cz = base_at(parts, pivot, u, i)
+        cz += t[H, i]
+        de, dn = turn * cz - spin_sq * cx - fe, -turn * cx - spin_sq * cz + shift - fn
+        if i >= parts.joint:
+            de, dn = de + slip_e, dn + slip_n
+        pe, pn = t[M, i] * de, t[M, i] * dn
+        s_e, s_n = s_e + pe, s_n + pn
+        moment += (cx - ox) * pn - (cz - oz) * pe
+        spin += t[INERTIA, i]
+    moment -= spin * turn
+    return s_e, s_n, (moment / s_n if s_n > 0.0 else math.nan)
+
+
+@jit
 def joint_load(parts, pivot, y, ddphi, ddu, fe, fn, k):
     """What the blocks above joint k (k .. n - 1) ask of it in the state y = (phi, u, phi', u') with the
     accelerations phi'' [rad s-2] and u'' [m s-2] under the field (f_e, f_n) [m s-2] (the module's sums): the force on
     them along the face and normal to it [N], and its centre of pressure from block k's base centre along the face
     [m] (NaN where the force does not press)."""
-    u, dphi, du, w2 = y[1], y[2], y[3], y[2] * y[2]
-    ox, oz = base_at(parts, pivot, u, k)
-    f_e, f_n, moment, spin = 0.0, 0.0, 0.0, 0.0
-    t = parts.table
-    for i in range(k, parts.n):
-        cx, cz = base_at(parts, pivot, u, i)
-        cz += t[H, i]
-        ae, an = ddphi * cz - w2 * cx, -ddphi * cx - w2 * cz
-        if i >= parts.joint:
-            ae, an = ae + ddu, an - 2.0 * dphi * du
-        pe, pn = t[M, i] * (ae - fe), t[M, i] * (an - fn)
-        f_e, f_n = f_e + pe, f_n + pn
-        moment += (cx - ox) * pn - (cz - oz) * pe
-        spin += t[INERTIA, i]
-    moment -= spin * ddphi
-    return f_e, f_n, (moment / f_n if f_n > 0.0 else math.nan)
+    return _load(parts, pivot, y[1], k, ddphi, y[2] * y[2], 0.0, ddu, -2.0 * y[2] * y[3], fe, fn)
 
 
 @jit
 def landing_load(parts, pivot, u, w, du0, dphi, du, k):
     """:func:`joint_load` of an impulse: the blocks above joint k change their velocities from turning at ``w``
     [rad s-1] on ``pivot`` (the upper part sliding at ``du0`` [m s-1]) at phi = 0 to turning at ``dphi`` on the other
-    corner (sliding at ``du``); the impulse on them along the face and normal to it [N s] and its centre from block
-    k's base centre [m]."""
-    ox, oz = base_at(parts, pivot, u, k)
-    j_e, j_n, moment, spin = 0.0, 0.0, 0.0, 0.0
-    t = parts.table
-    for i in range(k, parts.n):
-        cx, cz = base_at(parts, pivot, u, i)
-        cz += t[H, i]
-        nx = cx + 2.0 * pivot * parts.b0                # the centre from the new corner
-        de, dn = dphi * cz - w * cz, -dphi * nx + w * cx
-        if i >= parts.joint:
-            de += du - du0
-        pe, pn = t[M, i] * de, t[M, i] * dn
-        j_e, j_n = j_e + pe, j_n + pn
-        moment += (cx - ox) * pn - (cz - oz) * pe
-        spin += t[INERTIA, i]
-    moment -= spin * (dphi - w)
-    return j_e, j_n, (moment / j_n if j_n > 0.0 else math.nan)
+    corner, 2 pivot b_0 along the base from the first (sliding at ``du``); the impulse on them along the face and
+    normal to it [N s] and its centre from block k's base centre [m]."""
+    return _load(parts, pivot, u, k, dphi - w, 0.0, -2.0 * pivot * parts.b0 * dphi, du - du0, 0.0, 0.0, 0.0)
 
 
 @jit

@@ -77,6 +77,7 @@ from ..rocking.solids.long_steps import IMPACT_SAFETY, steps_merged
 from .n_block import MAX_BODIES, NBlock
 from .stack_direct import DirectWork, direct_work, solve_direct
 from .stack_pose import (
+    SlideRockState,
     base_offset,
     bodies_of,
     corner_point,
@@ -150,8 +151,8 @@ class StackContactOutcome(NamedTuple):
         how far block 0's base centre moved on the ground from the run's start to its end [m]
     rocking : tuple of float
         where the run handed back the stack turning as one with one joint slipping (``rock_slide``): the
-        slide-rock model's state (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) and the slipping
-        joint; else empty (``handback`` then holds the exact model's state, or rest)
+        slide-rock model's state (:class:`.stack_pose.SlideRockState`: phi, u, their rates and the slipping joint);
+        else None (``handback`` then holds the exact model's state, or rest)
     """
 
     standing: int
@@ -167,7 +168,7 @@ class StackContactOutcome(NamedTuple):
     peak_lift_m: float
     handback: tuple = (0.0,) * (2 * MAX_BODIES)
     base_shift_m: float = 0.0
-    rocking: tuple = ()
+    rocking: SlideRockState | None = None
 
 
 class Work(NamedTuple):
@@ -649,5 +650,5 @@ def simulate_stack_contact(nb: NBlock, mu, ah_ms2: np.ndarray, dt_s: float, *, a
     return StackContactOutcome(int(count), tuple(float(x) for x in t_fall), tuple(float(x) for x in peak),
                                bool(rested), float(t_end), offsets, int(status), int(steps), int(unconverged),
                                tuple(float(x) for x in slide), float(lift), y, float(base_end - off0[0]),
-                               slide_rock_state(bd, q, v, slipping) + (slipping,) if rocking else ())
+                               slide_rock_state(bd, q, v, slipping) if rocking else None)
 

@@ -117,6 +117,18 @@ def state_of(nb: NBlock, y) -> tuple[np.ndarray, np.ndarray]:
     return q, v
 
 
+class SlideRockState(NamedTuple):
+    """Where the slide-rock model (:mod:`.slide_rock`) starts: the stack's rotation phi [rad] on a corner of block 0
+    (the side of its sign), the sliding joint's offset u [m] and their rates phi' [rad s-1] and u' [m s-1] (0: the
+    joint sticks), and that joint (1 .. n - 1)."""
+
+    phi: float
+    u: float
+    dphi: float
+    du: float
+    joint: int = 1
+
+
 def slide_rock_pose(nb: NBlock, state: tuple, pivot: int, joint: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """The blocks' centres and rotations q (3, n) and their rates v (3, n) of the stack ``nb`` in the slide-rock
     model's ``state`` (:mod:`.slide_rock`: phi [rad], u [m], phi' [rad s-1], u' [m s-1]) turning on block 0's corner
@@ -138,7 +150,7 @@ def slide_rock_pose(nb: NBlock, state: tuple, pivot: int, joint: int = 1) -> tup
     return q, v
 
 
-def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray, joint: int = 1) -> tuple:
+def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray, joint: int = 1) -> SlideRockState:
     """A stack turning as one on a corner of block 0, every joint shut and all but ``joint`` sticking: the slide-rock
     model's state (:mod:`.slide_rock`: phi, u, phi', u'), block 0's rotation and rate, the base centre's offset of
     block ``joint`` from the centre of the top under it along that face and its rate there (that base centre's
@@ -149,27 +161,31 @@ def slide_rock_state(bd: Bodies, q: np.ndarray, v: np.ndarray, joint: int = 1) -
     vx1, vz1 = v[0, joint] + v[2, joint] * (pz - q[1, joint]), v[1, joint] - v[2, joint] * (px - q[0, joint])
     vx0, vz0 = v[0, lower] + v[2, lower] * (pz - q[1, lower]), v[1, lower] - v[2, lower] * (px - q[0, lower])
     du = math.cos(phi) * (vx1 - vx0) - math.sin(phi) * (vz1 - vz0)
-    return phi, float(base_offset(bd, q, joint)), float(v[2, 0]), float(du)
+    return SlideRockState(phi, float(base_offset(bd, q, joint)), float(v[2, 0]), float(du), joint)
+
+
+def stack_of(nb: NBlock, offsets_m, count: int) -> NBlock:
+    """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
+    the top of the block under it, each joint's support the overlap of its faces there (empty where they no longer
+    overlap: ``hi <= lo``)."""
+    b, h = nb.b[:count], nb.h[:count]
+    off = (0.0,) + tuple(float(x) for x in offsets_m[1:count])
+    lo = [-b[0]] + [max(-b[k], -b[k - 1] - off[k]) for k in range(1, count)]
+    hi = [b[0]] + [min(b[k], b[k - 1] - off[k]) for k in range(1, count)]
+    pad = (0.0,) * (MAX_BODIES - count)
+    return NBlock(count, tuple(b) + pad, tuple(h) + pad, tuple(nb.m[:count]) + pad, tuple(nb.i[:count]) + pad,
+                  tuple(lo) + pad, tuple(hi) + pad, off + pad)
 
 
 def shifted(nb: NBlock, offsets_m, count: int) -> NBlock | None:
-    """The lowest ``count`` blocks of ``nb`` with each block's base centred ``offsets_m[k]`` [m] from the centre of
-    the top of the block under it; None where a block's base no longer overlaps its support or the part above a
-    joint would not stand at rest on it (its centre of mass outside the overlap)."""
-    b, h = nb.b[:count], nb.h[:count]
-    off = (0.0,) + tuple(float(x) for x in offsets_m[1:count])
-    lo, hi = [-b[0]], [b[0]]
-    for k in range(1, count):
-        lo.append(max(-b[k], -b[k - 1] - off[k]))
-        hi.append(min(b[k], b[k - 1] - off[k]))
-        if hi[k] <= lo[k]:
-            return None
-    pad = (0.0,) * (MAX_BODIES - count)
-    out = NBlock(count, tuple(b) + pad, tuple(h) + pad, tuple(nb.m[:count]) + pad, tuple(nb.i[:count]) + pad,
-                 tuple(lo) + pad, tuple(hi) + pad, off + pad)
+    """:func:`stack_of`, or None where a block's base no longer overlaps its support or the part above a joint would
+    not stand at rest on it (its centre of mass outside the overlap)."""
+    out = stack_of(nb, offsets_m, count)
     for k in range(count):
+        if out.hi[k] <= out.lo[k]:
+            return None
         xg, _ = part_centre(out, k)
-        if not lo[k] < xg < hi[k]:
+        if not out.lo[k] < xg < out.hi[k]:
             return None
     return out
 
