@@ -39,7 +39,10 @@ MIN_ROBUST_DRAWS = 25
 STAGES = (("pulses", "pulses_and_directions"), ("nominal scenes", "simulate_scene"),
           ("planar draws in all", "bodies/planar.py:_probability"),
           ("  draws of a blank azimuth", "orientation_probability"),
-          ("    the race over planes", "worst_orientation"), ("    the orientation at random", "random_orientation"),
+          ("    the race over planes", "worst_orientation"),
+          ("      its pilot, race and neighbours (selection draws)", "orientations.py:fill"),
+          ("      the chosen planes' estimates (independent draws)", "orientations.py:estimate"),
+          ("    the orientation at random", "random_orientation"),
           ("  draws of a scene (any orientation)", "scene_probability"),
           ("  compiled: sample_plane_outcomes", "sample_plane_outcomes"),
           ("  compiled: sample_verdicts", "sample_verdicts"),
@@ -144,7 +147,7 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
         where, _, name = function.rpartition(":")
         rows = [v for k, v in stats.items() if k[2] == name and k[0].endswith(where)]
         if rows:
-            print(f"  {label:40s} {sum(r[3] for r in rows):7.1f} s in {sum(r[1] for r in rows)} calls")
+            print(f"  {label:54s} {sum(r[3] for r in rows):7.1f} s in {sum(r[1] for r in rows)} calls")
 
 
 def _by_class(records: Path, blocks: Path, out: Path) -> None:

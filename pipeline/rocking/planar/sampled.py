@@ -107,8 +107,9 @@ def sampled_blocks(sb) -> SampledBlocks:
 
 
 @jit
-def _demand(h1, h2, c, s, eps, av_s, has_v, g):
-    """max_t |eps (c h1 + s h2)| / (g + a_v) (inf where g + a_v <= 0).
+def _demand(h1, h2, c, s, eps, av, has_v, g):
+    """max_t |eps (c h1 + s h2)| / (g + eps a_v) (inf where g + eps a_v <= 0), ``av`` the record's vertical
+    (unscaled; not read without one).
 
     Without a vertical the peak is divided by g once: dividing by a positive constant keeps the order of
     doubles, so the result is the same double as the largest quotient."""
@@ -120,13 +121,50 @@ def _demand(h1, h2, c, s, eps, av_s, has_v, g):
                 r = a
         return r / g
     for i in range(h1.size):
-        gv = g + av_s[i]
+        gv = g + eps * av[i]
         if gv <= 0.0:
             return math.inf
         a = abs(eps * (c * h1[i] + s * h2[i])) / gv
         if a > r:
             r = a
     return r
+
+
+@jit
+def _vector_demand(h1, h2, eps, av, has_v, g):
+    """max_t eps |(h1, h2)| / (g + eps a_v) (inf where g + eps a_v <= 0): the horizontal vector's peak demand,
+    which bounds every plane's."""
+    r = 0.0
+    for i in range(h1.size):
+        v = eps * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i])
+        if has_v:
+            gv = g + eps * av[i]
+            if gv <= 0.0:
+                return math.inf
+            v = v / gv
+        else:
+            v = v / g
+        if v > r:
+            r = v
+    return r
+
+
+@jit
+def _plane_demands(h1, h2, cosines, sines, k, eps, av, has_v, g, thr, ratios):
+    """Fill ``ratios`` with sample k's demand in each of its planes (:func:`_demand`); True where some plane's
+    exceeds ``thr`` (the sample moves)."""
+    moves = False
+    for j in range(ratios.size):
+        ratios[j] = _demand(h1, h2, cosines[k, j], sines[k, j], eps, av, has_v, g)
+        moves = moves or ratios[j] > thr
+    return moves
+
+
+@jit
+def _scale_vertical(av_s, av, eps):
+    """``av_s`` = eps ``av``, element by element (the sample's vertical; empty without one)."""
+    for i in range(av_s.size):
+        av_s[i] = eps * av[i]
 
 
 @jit
@@ -192,18 +230,21 @@ def sample_plane_outcomes(motion, cosines, sines, blocks, rules, outcome_out, pl
     w = _workspace(h1, av, dt)
     av_s = w.av_s
     n_s, n_p = cosines.shape
+    ratios = np.empty(n_p)
     for k in range(n_s):
-        for i in range(av_s.size):
-            av_s[i] = eps[k] * av[i]
         thr = motion_threshold_compiled(alpha[k], mu[k])
+        planes_out[k] = 0
+        if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, w.has_v, g, thr, ratios):
+            for j in range(n_p):          # at rest in every plane: the at-rest certificate, nothing integrated
+                outcome_out[k, j] = STANDS
+            continue
+        _scale_vertical(av_s, av, eps[k])
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         flight = use_v and _flight_at_some_sample(av_s, g)
         block = _sample_block(p[k], alpha[k], e[k], R[k], mu[k], g, control, contact_model)
-        planes_out[k] = 0
         for j in range(n_p):
-            ratio = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, w.has_v, g)
-            outcome, integrated = _judge(w, ratio, thr, rocks, use_v, flight, contact_model, h1, h2, cosines[k, j],
+            outcome, integrated = _judge(w, ratios[j], thr, rocks, use_v, flight, contact_model, h1, h2, cosines[k, j],
                                          sines[k, j], eps[k], dt, alpha[k], mu[k], block, control)
             outcome_out[k, j] = outcome
             planes_out[k] += integrated
@@ -230,33 +271,19 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
     eps, p, alpha, e, R, mu = blocks
     g, vertical_fraction, contact_model, control = rules
     w = _workspace(h1, av, dt)
-    n, has_v, av_s = w.n, w.has_v, w.av_s
+    has_v, av_s = w.has_v, w.av_s
     n_s, n_p = cosines.shape
     ratios = np.empty(n_p)
     for k in range(n_s):
-        for i in range(av_s.size):
-            av_s[i] = eps[k] * av[i]
         thr = motion_threshold_compiled(alpha[k], mu[k])
         verdict_out[k] = STANDS
         planes_out[k] = 0
-        if n_p > 1:                          # the horizontal vector bounds every plane's demand
-            r = 0.0
-            for i in range(n):
-                v = eps[k] * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i])
-                if has_v:
-                    gv = g + av_s[i]
-                    if gv <= 0.0:
-                        r = math.inf
-                        break
-                    v = v / gv
-                else:
-                    v = v / g
-                if v > r:
-                    r = v
-            if not r > thr:
-                continue
-        for j in range(n_p):
-            ratios[j] = _demand(h1, h2, cosines[k, j], sines[k, j], eps[k], av_s, has_v, g)
+        # the horizontal vector bounds every plane's demand; a sample no plane moves rests, nothing integrated
+        if n_p > 1 and not _vector_demand(h1, h2, eps[k], av, has_v, g) > thr:
+            continue
+        if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, has_v, g, thr, ratios):
+            continue
+        _scale_vertical(av_s, av, eps[k])
         order = np.argsort(-ratios, kind="mergesort")
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
