@@ -12,9 +12,13 @@ alternating, and reports the medians. ``--profile`` then runs each once more in 
 cProfile and prints the cumulative time of each stage (:data:`STAGES`) and its calls. ``--by-class`` runs the default
 once more in one process, without a profiler, and prints the time of each scene's draws by the model family that
 judged it and its robustness class (:data:`BY_CLASS`: the three functions that draw a scene, timed around their calls).
+``--by-path`` runs the default once more in one process and prints the blank-azimuth scenes' search for the worst
+orientation by the path it took (whether the nominal overturned, whether candidate planes were piloted or the
+governing plane's estimate settled it, the class), with the selection cells it simulated, and the random
+orientation's time and planes.
 
 Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--bundled] [--repeat 1] [--profile]
-[--by-class]``.
+[--by-class] [--by-path]``.
 """
 
 from __future__ import annotations
@@ -77,6 +81,40 @@ main(sys.argv[1:])
 print(f'  one process: {time.perf_counter() - t0:.1f} s, of which the draws {sum(v[1] for v in spent.values()):.1f} s')
 for (family, cls), (n, sec) in sorted(spent.items()):
     print(f'  {family:24s} {CLASSES.get(cls, cls)!s:16s} {n:5d} scenes {sec:7.2f} s')
+"""
+
+
+#: The one-process run of ``--by-path``: the worst orientation of each blank-azimuth scene timed by its path (the
+#: nominal overturned or stood; the search stopped at the governing plane's estimate or piloted candidate planes; the
+#: class it returned), with its selection cells; the random orientation's time and planes apart.
+_BY_PATH_CODE = """
+import collections, sys, time
+import pipeline.uncertainty.orientations as O
+from pipeline.cli import main
+spent = collections.defaultdict(lambda: [0, 0.0, 0])
+worst, average = O.worst_orientation, O.random_orientation
+def timed_worst(*a, nominal_overturned, **k):
+    t0 = time.perf_counter()
+    r = worst(*a, nominal_overturned=nominal_overturned, **k)
+    cells = int((r.cells.outcome != O.NOT_SIMULATED).sum())
+    key = ('nominal overturned' if nominal_overturned else 'nominal stood',
+           'candidates piloted' if cells else 'governing plane only', CLASSES.get(int(r.prob.robustness)))
+    spent[key][0] += 1; spent[key][1] += time.perf_counter() - t0; spent[key][2] += cells
+    return r
+def timed_average(*a, **k):
+    t0 = time.perf_counter()
+    r = average(*a, **k)
+    key = ('random orientation', '', '')
+    spent[key][0] += 1; spent[key][1] += time.perf_counter() - t0; spent[key][2] += r[3]
+    return r
+O.worst_orientation, O.random_orientation = timed_worst, timed_average
+t0 = time.perf_counter()
+main(sys.argv[1:])
+print(f'  one process: {time.perf_counter() - t0:.1f} s')
+for key, (n, sec, cells) in sorted(spent.items(), key=lambda kv: -kv[1][1]):
+    what = 'planes integrated' if key[0] == 'random orientation' else 'selection cells'
+    print(f'  {" / ".join(k for k in key if k):62s} {n:5d} scenes {sec:7.2f} s {1e3 * sec / n:6.1f} ms a scene'
+          f' {cells:7d} {what}')
 """
 
 
@@ -159,6 +197,15 @@ def _by_class(records: Path, blocks: Path, out: Path) -> None:
     subprocess.run([sys.executable, "-c", code, *argv], check=True)
 
 
+def _by_path(records: Path, blocks: Path, out: Path) -> None:
+    """The default once in one process: the blank-azimuth scenes' search for the worst orientation by path, and the
+    random orientation (:data:`_BY_PATH_CODE`)."""
+    classes = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn", -1: "not evaluated"}
+    argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
+            "-q", "-n", "1"]
+    subprocess.run([sys.executable, "-c", f"CLASSES = {classes!r}\n" + _BY_PATH_CODE, *argv], check=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--records", type=int, default=20)
@@ -168,6 +215,8 @@ def main() -> None:
     ap.add_argument("--profile", action="store_true", help="then each command once under cProfile, by stage")
     ap.add_argument("--by-class", action="store_true", help="then the default once in one process: its draws' time "
                     "by model family and robustness class")
+    ap.add_argument("--by-path", action="store_true", help="then the default once in one process: the blank-azimuth "
+                    "scenes' worst orientation by the path its search took, and the random orientation")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
@@ -195,6 +244,9 @@ def main() -> None:
         if args.by_class:
             print("the default's draws in one process, by family and class:")
             _by_class(records, blocks, root / "by-class")
+        if args.by_path:
+            print("the blank-azimuth scenes' draws in one process, by the worst orientation's path:")
+            _by_path(records, blocks, root / "by-path")
     print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
           f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
           f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")
