@@ -54,6 +54,8 @@ STAGES = (("pulses", "pulses_and_directions"), ("nominal scenes", "simulate_scen
           ("  compiled: the 3D contact model's loop", "contact3d.py:_run"),
           ("  compiled: the exact box model", "run_box"), ("  compiled: the exact cylinder model", "wobble"),
           ("margins", "factor_sweep"))
+#: The robustness classes' names by code (-1: a scene not evaluated)
+CLASSES = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn", -1: "not evaluated"}
 #: What ``--by-class`` times: (family, the module that calls it, the function drawing a scene).
 BY_CLASS = (("3D solid", "pipeline.bodies.solids", "solid_probability"),
             ("planar, one plane", "pipeline.bodies.planar", "scene_probability"),
@@ -188,22 +190,13 @@ def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
             print(f"  {label:54s} {sum(r[3] for r in rows):7.1f} s in {sum(r[1] for r in rows)} calls")
 
 
-def _by_class(records: Path, blocks: Path, out: Path) -> None:
-    """The default once in one process: its draws' seconds by family and class (:data:`BY_CLASS`)."""
-    classes = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn", -1: "not evaluated"}
-    code = f"FAMILIES = {BY_CLASS!r}\nCLASSES = {classes!r}\n" + _BY_CLASS_CODE
+def _in_one_process(code: str, records: Path, blocks: Path, out: Path) -> None:
+    """The default once in one process, run by ``code`` (:data:`_BY_CLASS_CODE`, :data:`_BY_PATH_CODE`: it wraps the
+    functions it times, then calls the command), :data:`CLASSES` and :data:`BY_CLASS` defined for it."""
     argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
             "-q", "-n", "1"]
-    subprocess.run([sys.executable, "-c", code, *argv], check=True)
-
-
-def _by_path(records: Path, blocks: Path, out: Path) -> None:
-    """The default once in one process: the blank-azimuth scenes' search for the worst orientation by path, and the
-    random orientation (:data:`_BY_PATH_CODE`)."""
-    classes = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn", -1: "not evaluated"}
-    argv = ["--records", str(records), "--blocks", str(blocks), "--out", str(out), "--force", "--tolerate-failures",
-            "-q", "-n", "1"]
-    subprocess.run([sys.executable, "-c", f"CLASSES = {classes!r}\n" + _BY_PATH_CODE, *argv], check=True)
+    prelude = f"FAMILIES = {BY_CLASS!r}\nCLASSES = {CLASSES!r}\n"
+    subprocess.run([sys.executable, "-c", prelude + code, *argv], check=True)
 
 
 def main() -> None:
@@ -243,18 +236,19 @@ def main() -> None:
                 _profile(records, blocks, root / f"{name}-profiled", *options)
         if args.by_class:
             print("the default's draws in one process, by family and class:")
-            _by_class(records, blocks, root / "by-class")
+            _in_one_process(_BY_CLASS_CODE, records, blocks, root / "by-class")
         if args.by_path:
             print("the blank-azimuth scenes' draws in one process, by the worst orientation's path:")
-            _by_path(records, blocks, root / "by-path")
+            _in_one_process(_BY_PATH_CODE, records, blocks, root / "by-path")
     print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
           f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
           f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")
     print(f"moving scenes {int(moving.sum())} of {moving.size}; sampled planes {int(sims[sims > 0].sum())}, "
           f"{sims[moving].clip(0).mean():.1f} per moving scene against {MIN_ROBUST_DRAWS} for a robust class in one "
           "plane")
-    names = {0: "robust_stand", 1: "sensitive", 2: "robust_overturn"}
-    for code, name in names.items():
+    for code, name in CLASSES.items():
+        if code < 0:
+            continue
         sel = (rob == code) & (sims > 0)
         print(f"  {name}: {int(sel.sum())} scenes, {int(sims[sel].sum())} planes, "
               f"{sims[sel].mean() if sel.any() else 0:.1f} per scene")

@@ -247,10 +247,9 @@ def _check(sr, parts, pivot, slip, y, piece, t):
         return _OPENS, fo
     if slip == STUCK and abs(fo.friction) > sr.mu1 * fo.normal:
         return _SLIPS, fo
-    if parts.n > 2:                                 # the parts' own joints, shut and sticking
-        kind = inner(parts, pivot, y, fo.ddphi, fo.ddu, fo.fe, fo.fn)
-        if kind != INNER_HOLDS:
-            return (_OPENS if kind == INNER_OPENS else _INNER_SLIPS), fo
+    kind = inner(parts, pivot, y, fo.ddphi, fo.ddu, fo.fe, fo.fn)     # the parts' own joints, shut and sticking
+    if kind != INNER_HOLDS:
+        return (_OPENS if kind == INNER_OPENS else _INNER_SLIPS), fo
     return _NONE, fo
 
 
@@ -351,7 +350,7 @@ def landing(sr, parts, pivot, y, rest):
     x_p = sr.x1 - (sr.i1 * (dphi - w) + sr.h1 * friction) / normal if normal > 0.0 else math.nan
     holds = (normal > 0.0 and lo < x_p < hi and (slip == STUCK or slip * du > 0.0)
              and gz > 0.0 and abs(gx) <= sr.mu0 * gz and -pivot * dphi > rest
-             and (parts.n <= 2 or inner_landing(parts, pivot, u, w, du0, dphi, du)))
+             and inner_landing(parts, pivot, u, w, du0, dphi, du))
     return Landing(holds, dphi, du, slip, normal, friction, gx, gz)
 
 
@@ -500,7 +499,7 @@ def simulate_slide_rock(nb: NBlock, mu, ah: np.ndarray, av: np.ndarray, dt_s: fl
     alpha, p, height = rocking_scales(nb)
     sc = (alpha, p * alpha, alpha * height, p * alpha * height)
     end, t, y, pivot, _slip, t_fall, peak_phi, peak_u, demand, slips, impacts, steps, events, status = _run(
-        *parts_of(nb, tuple(float(x) for x in mu[:nb.n]), joint), ah, av, float(dt_s), (phi, u0, rate, du0),
+        *parts_of(nb, mu, joint), ah, av, float(dt_s), (phi, u0, rate, du0),
         float(t0_s), pivot, slip, sc, MAX_STEP_P / p, float(origin_m), float(until_s))
     offsets = [0.0] + [float(nb.off[k]) for k in range(1, MAX_BODIES)]
     offsets[joint] = float(y[1])

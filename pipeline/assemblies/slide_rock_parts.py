@@ -119,9 +119,7 @@ def _part(nb: NBlock, blocks: range, px: list, pz: list) -> _Part:
 
 def _placed(nb: NBlock, joint: int) -> tuple[list, list]:
     """Each block's base centre from its part's base centre (x along the bases, z up) [m]: the lower part's from block
-    0's, the upper's from block ``joint``'s."""
-    if not 1 <= joint < nb.n:
-        raise ParameterError(f"joint = {joint}: expected a joint between two blocks of the stack, 1 to {nb.n - 1}")
+    0's, the upper's from block ``joint``'s (``joint`` = n: the whole stack from block 0's)."""
     px, pz = [0.0] * MAX_BODIES, [0.0] * MAX_BODIES
     for k in range(1, nb.n):
         if k != joint:
@@ -129,37 +127,20 @@ def _placed(nb: NBlock, joint: int) -> tuple[list, list]:
     return px, pz
 
 
-def slide_rock(nb: NBlock, mu, joint: int = 1) -> SlideRock:
-    """The :class:`SlideRock` of the stack ``nb`` (each block's friction at its base ``mu`` [-]) sliding at
-    ``joint`` (1 .. n - 1), its other joints shut at their offsets ``nb.off`` (the sliding joint's own offset is the
-    model's u)."""
-    return _slide_rock(nb, mu, joint, *_placed(nb, joint))
-
-
-def _slide_rock(nb: NBlock, mu, joint: int, px: list, pz: list) -> SlideRock:
-    """:func:`slide_rock` with the blocks placed (:func:`_placed`)."""
-    lower, upper = _part(nb, range(joint), px, pz), _part(nb, range(joint, nb.n), px, pz)
-    return SlideRock(nb.b[0], lower.z, lower.m, lower.i, nb.b[joint], upper.z, upper.m, upper.i, float(mu[0]),
-                     float(mu[joint]), lower.x, pz[joint - 1] + 2.0 * nb.h[joint - 1], px[joint - 1], nb.b[joint - 1],
-                     upper.x)
-
-
-def parts_of(nb: NBlock, mu, joint: int) -> tuple[SlideRock, Parts]:
-    """:func:`slide_rock` and :func:`stack_parts` of a stack, its blocks placed once."""
+def parts_of(nb: NBlock, mu, joint: int = 1) -> tuple[SlideRock, Parts]:
+    """The :class:`SlideRock` and the :class:`Parts` of the stack ``nb`` (each block's friction at its base ``mu``
+    [-]) sliding at ``joint`` (1 .. n - 1), its other joints shut at their offsets ``nb.off`` (the sliding joint's own
+    offset is the model's u)."""
+    if not 1 <= joint < nb.n:
+        raise ParameterError(f"joint = {joint}: expected a joint between two blocks of the stack, 1 to {nb.n - 1}")
     px, pz = _placed(nb, joint)
-    return _slide_rock(nb, mu, joint, px, pz), _stack_parts(nb, mu, joint, px, pz)
-
-
-def stack_parts(nb: NBlock, mu, joint: int = 1) -> Parts:
-    """The :class:`Parts` of the stack ``nb`` (each block's friction at its base ``mu`` [-]) sliding at ``joint``."""
-    return _stack_parts(nb, mu, joint, *_placed(nb, joint))
-
-
-def _stack_parts(nb: NBlock, mu, joint: int, px: list, pz: list) -> Parts:
-    """:func:`stack_parts` with the blocks placed (:func:`_placed`)."""
+    lower, upper = _part(nb, range(joint), px, pz), _part(nb, range(joint, nb.n), px, pz)
+    top0 = pz[joint - 1] + 2.0 * nb.h[joint - 1]                     # the joint's height above block 0's base
+    sr = SlideRock(nb.b[0], lower.z, lower.m, lower.i, nb.b[joint], upper.z, upper.m, upper.i, float(mu[0]),
+                   float(mu[joint]), lower.x, top0, px[joint - 1], nb.b[joint - 1], upper.x)
     mus = [float(x) for x in mu[:nb.n]] + [0.0] * (MAX_BODIES - nb.n)
     table = np.array([nb.b, nb.h, nb.m, nb.i, nb.off, px, pz, mus], dtype=float)
-    return Parts(table, nb.n, joint, nb.b[0], px[joint - 1], pz[joint - 1] + 2.0 * nb.h[joint - 1])
+    return sr, Parts(table, nb.n, joint, nb.b[0], px[joint - 1], top0)
 
 
 def rocking_scales(nb: NBlock) -> tuple[float, float, float]:
@@ -170,10 +151,7 @@ def rocking_scales(nb: NBlock) -> tuple[float, float, float]:
     if nb.n == 2:
         rocks = scales(as_two_block(nb))
         return rocks.alpha1, rocks.p1, height
-    px, pz = [0.0] * nb.n, [0.0] * nb.n
-    for k in range(1, nb.n):
-        px[k], pz[k] = px[k - 1] + nb.off[k], pz[k - 1] + 2.0 * nb.h[k - 1]
-    whole = _part(nb, range(nb.n), px, pz)
+    whole = _part(nb, range(nb.n), *_placed(nb, nb.n))
     inertia = whole.i + whole.m * ((whole.x - nb.b[0]) ** 2 + whole.z ** 2)        # about the corner
     return math.atan2(nb.b[0], whole.z), math.sqrt(whole.m * G * math.hypot(nb.b[0], whole.z) / inertia), height
 

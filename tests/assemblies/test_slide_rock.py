@@ -21,7 +21,7 @@ from pipeline.assemblies import n_block_verdicts
 from pipeline.assemblies import slide_rock as srm
 from pipeline.assemblies import two_block as tbm
 from pipeline.assemblies.n_block_verdicts import judge_n_block
-from pipeline.assemblies.slide_rock_parts import Parts, SlideRock, slide_rock, stack_parts
+from pipeline.assemblies.slide_rock_parts import Parts, SlideRock, parts_of
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_contact import MAX_STEP_S, simulate_stack_contact
 from pipeline.assemblies.stack_pose import slide_rock_pose
@@ -42,7 +42,7 @@ def _pair(rng) -> tuple[SlideRock, Parts, Reference]:
                               rng.uniform(0.1, 0.5), rng.uniform(0.3, 1.5), rng.uniform(100, 2000))
     mu1 = rng.uniform(0.05, 0.8)
     nb = nbm.n_block([StackBody(2 * b0, 2 * h0, m0, 0.9), StackBody(2 * b1, 2 * h1, m1, mu1)])
-    return slide_rock(nb, (0.9, mu1)), stack_parts(nb, (0.9, mu1)), Reference(b0, h0, m0, b1, h1, m1, mu1, 0.9)
+    return *parts_of(nb, (0.9, mu1)), Reference(b0, h0, m0, b1, h1, m1, mu1, 0.9)
 
 
 def test_sliding_forces_are_the_equations_and_newton_eulers():
@@ -138,7 +138,7 @@ def test_a_landing_is_the_contact_models_in_the_limit_of_short_steps(lower, uppe
     halves at 5 us, and Richardson's extrapolation of the two (2 x(h / 2) - x(h)) is the law's to 1e-6 (rad s-1 and
     m s-1)."""
     nb = _stack(lower, upper, mu)
-    ld = srm.landing(slide_rock(nb, mu), stack_parts(nb, mu), 1, (0.0, u, dphi, du), 0.0)
+    ld = srm.landing(*parts_of(nb, mu), 1, (0.0, u, dphi, du), 0.0)
     assert ld.holds
     rates = []
     for step_s in (1e-5, 5e-6):

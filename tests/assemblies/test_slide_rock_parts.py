@@ -24,8 +24,7 @@ from pipeline.assemblies.slide_rock_parts import (
     inner,
     joint_load,
     landing_load,
-    slide_rock,
-    stack_parts,
+    parts_of,
 )
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_contact import MAX_STEP_S, simulate_stack_contact
@@ -55,7 +54,7 @@ def _field(phi, ah, av):
 def test_two_blocks_are_each_a_part():
     """Two blocks: each part is its block, with the values the model took for them before it took parts."""
     nb = _column(((0.6, 1.5), (0.55, 1.2)), (0.5, 0.25))
-    sr = slide_rock(nb, (0.5, 0.25))
+    sr, _ = parts_of(nb, (0.5, 0.25))
     assert (sr.b0, sr.h0, sr.m0, sr.i0, sr.b1, sr.h1, sr.m1, sr.i1) == (nb.b[0], nb.h[0], nb.m[0], nb.i[0], nb.b[1],
                                                                        nb.h[1], nb.m[1], nb.i[1])
     assert (sr.x0, sr.top0, sr.xt0, sr.bt0, sr.x1, sr.mu0, sr.mu1) == (0.0, 2.0 * nb.h[0], 0.0, nb.b[0], 0.0, 0.5,
@@ -68,7 +67,7 @@ def test_glued_drums_are_the_block_of_their_outline(slip):
     the lower the one block of the two drums' outline, at 200 random states."""
     three = _column(((0.6, 1.0), (0.6, 0.8), (0.5, 1.2)), (0.8, 0.8, 0.3))
     two = _column(((0.6, 1.8), (0.5, 1.2)), (0.8, 0.3))
-    parts, blocks = slide_rock(three, (0.8, 0.8, 0.3), 2), slide_rock(two, (0.8, 0.3))
+    parts, blocks = parts_of(three, (0.8, 0.8, 0.3), 2)[0], parts_of(two, (0.8, 0.3))[0]
     rng = np.random.default_rng(5)
     for _ in range(200):
         pivot = int(rng.choice([-1, 1]))
@@ -91,7 +90,7 @@ def test_joint_loads_are_newton_and_euler_block_by_block(column):
     mu = (0.6,) + (0.3,) * (len(drums) - 1)
     nb = _column(drums, mu, (0.0,) + tuple(rng.uniform(-0.03, 0.03, len(drums) - 1)))
     for joint in range(1, nb.n):
-        sr, parts = slide_rock(nb, mu, joint), stack_parts(nb, mu, joint)
+        sr, parts = parts_of(nb, mu, joint)
         for _ in range(200):
             pivot, slip = int(rng.choice([-1, 1])), int(rng.choice([-1, 0, 1]))
             y = (pivot * rng.uniform(1e-3, 0.3), rng.uniform(-0.05, 0.05), rng.uniform(-1, 1),
@@ -121,7 +120,7 @@ def test_landing_impulses_are_the_blocks_momenta(column):
     mu = (5.0,) + (0.3,) * (len(drums) - 1)
     nb = _column(drums, mu)
     for joint in range(1, nb.n):
-        sr, parts = slide_rock(nb, mu, joint), stack_parts(nb, mu, joint)
+        sr, parts = parts_of(nb, mu, joint)
         for _ in range(100):
             u, w, du = rng.uniform(-0.03, 0.03), -rng.uniform(0.05, 1.0), rng.uniform(-0.3, 0.3)
             ld = srm.landing(sr, parts, 1, (0.0, u, w, du), 0.0)
@@ -153,7 +152,7 @@ def test_three_drums_follow_the_contact_model():
     assert flight.peak_rad[0] == pytest.approx(-phi, rel=2e-3)
     assert flight.offsets_m[2] == pytest.approx(u, rel=2e-3)
     assert abs(flight.offsets_m[1]) < 1e-5 and flight.peak_rad[1] < 1e-5
-    sr, parts = slide_rock(nb, mu, 2), stack_parts(nb, mu, 2)
+    sr, parts = parts_of(nb, mu, 2)
     fo = srm.forces(sr, -1, -1, out.state, 0.55 * G, 0.0)
     assert inner(parts, -1, out.state, fo.ddphi, fo.ddu, *_field(out.state[0], 0.55 * G, 0.0)) == INNER_HOLDS
 
@@ -201,4 +200,4 @@ def test_columns_have_the_reference_verdicts(columns):
 def test_a_joint_outside_the_stack_is_refused(joint):
     """The sliding joint must lie between two blocks of the stack: the error names it and the range."""
     with pytest.raises(ParameterError, match=f"joint = {joint}: expected .* 1 to 2"):
-        slide_rock(_column(COLUMNS["three"], (0.5, 0.25, 0.25)), (0.5, 0.25, 0.25), joint)
+        parts_of(_column(COLUMNS["three"], (0.5, 0.25, 0.25)), (0.5, 0.25, 0.25), joint)

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from pipeline.assemblies import n_block as nbm
 from pipeline.assemblies import slide_rock as srm
-from pipeline.assemblies.slide_rock_parts import Parts, SlideRock, slide_rock, stack_parts
+from pipeline.assemblies.slide_rock_parts import Parts, SlideRock, parts_of
 from pipeline.assemblies.stack import StackBody
 from pipeline.assemblies.stack_pose import slide_rock_pose
 
@@ -22,7 +22,7 @@ masses = st.floats(100.0, 3000.0)
 def _stack(b0, h0, m0, b1, h1, m1, mu1) -> tuple[nbm.NBlock, SlideRock, Parts]:
     """Two uniform blocks of half sizes b, h [m] and masses m [kg], the joint's friction mu1, the floor's 1."""
     nb = nbm.n_block([StackBody(2 * b0, 2 * h0, m0, 1.0), StackBody(2 * b1, 2 * h1, m1, mu1)])
-    return nb, slide_rock(nb, (1.0, mu1)), stack_parts(nb, (1.0, mu1))
+    return nb, *parts_of(nb, (1.0, mu1))
 
 
 def _kinetic(nb: nbm.NBlock, pivot: int, state: tuple) -> float:

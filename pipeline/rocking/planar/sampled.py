@@ -107,46 +107,24 @@ def sampled_blocks(sb) -> SampledBlocks:
 
 
 @jit
-def _demand(h1, h2, c, s, eps, av, has_v, g):
+def _demand(h1, h2, c, s, eps, av, has_v, g, vector=False):
     """max_t |eps (c h1 + s h2)| / (g + eps a_v) (inf where g + eps a_v <= 0), ``av`` the record's vertical
-    (unscaled; not read without one).
+    (unscaled; not read without one); with ``vector``, of the horizontal vector's magnitude eps |(h1, h2)| instead,
+    which bounds every plane's.
 
     Without a vertical the peak is divided by g once: dividing by a positive constant keeps the order of
     doubles, so the result is the same double as the largest quotient."""
     r = 0.0
-    if not has_v:
-        for i in range(h1.size):
-            a = abs(eps * (c * h1[i] + s * h2[i]))
-            if a > r:
-                r = a
-        return r / g
     for i in range(h1.size):
-        gv = g + eps * av[i]
-        if gv <= 0.0:
-            return math.inf
-        a = abs(eps * (c * h1[i] + s * h2[i])) / gv
-        if a > r:
-            r = a
-    return r
-
-
-@jit
-def _vector_demand(h1, h2, eps, av, has_v, g):
-    """max_t eps |(h1, h2)| / (g + eps a_v) (inf where g + eps a_v <= 0): the horizontal vector's peak demand,
-    which bounds every plane's."""
-    r = 0.0
-    for i in range(h1.size):
-        v = eps * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i])
+        a = eps * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i]) if vector else abs(eps * (c * h1[i] + s * h2[i]))
         if has_v:
             gv = g + eps * av[i]
             if gv <= 0.0:
                 return math.inf
-            v = v / gv
-        else:
-            v = v / g
-        if v > r:
-            r = v
-    return r
+            a = a / gv
+        if a > r:
+            r = a
+    return r if has_v else r / g
 
 
 @jit
@@ -279,7 +257,7 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
         verdict_out[k] = STANDS
         planes_out[k] = 0
         # the horizontal vector bounds every plane's demand; a sample no plane moves rests, nothing integrated
-        if n_p > 1 and not _vector_demand(h1, h2, eps[k], av, has_v, g) > thr:
+        if n_p > 1 and not _demand(h1, h2, 0.0, 0.0, eps[k], av, has_v, g, True) > thr:
             continue
         if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, has_v, g, thr, ratios):
             continue
