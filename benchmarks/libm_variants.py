@@ -51,15 +51,15 @@ _VALUES = (f"import math, numpy as np; x = {ARGUMENTS}; "
            "print(' '.join(math.atan2(v, 1.3).hex() for v in x))")
 
 
+def _env(tunables: str | None) -> dict[str, str]:
+    """This process's environment, with ``GLIBC_TUNABLES`` set to ``tunables`` where given."""
+    return dict(os.environ, **({"GLIBC_TUNABLES": tunables} if tunables else {}))
+
+
 def functions() -> None:
     """Print how many of sin, cos, exp and atan2's values at :data:`ARGUMENTS` differ between the two variants."""
-    got = []
-    for tunables in (None, NO_FMA):
-        env = dict(os.environ)
-        if tunables:
-            env["GLIBC_TUNABLES"] = tunables
-        got.append(subprocess.run([sys.executable, "-c", _VALUES], env=env, check=True, capture_output=True,
-                                  text=True).stdout.split())
+    got = [subprocess.run([sys.executable, "-c", _VALUES], env=_env(tunables), check=True, capture_output=True,
+                          text=True).stdout.split() for tunables in (None, NO_FMA)]
     a, b = (np.array([float.fromhex(v) for v in g]) for g in got)
     n = a.size // 4
     for k, name in enumerate(("sin", "cos", "exp", "atan2")):
@@ -71,11 +71,8 @@ def functions() -> None:
 
 
 def _screen(out: Path, records: str, blocks: str, tunables: str | None) -> None:
-    env = dict(os.environ)
-    if tunables:
-        env["GLIBC_TUNABLES"] = tunables
     subprocess.run([sys.executable, "-m", "pipeline.cli", "--records", records, "--blocks", blocks, "--out", str(out),
-                    "--tolerate-failures"], env=env, cwd=ROOT, check=True)       # its own progress shows
+                    "--tolerate-failures"], env=_env(tunables), cwd=ROOT, check=True)       # its own progress shows
 
 
 def _differs(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

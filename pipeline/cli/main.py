@@ -130,7 +130,30 @@ def _run(command, args, argv: list[str], *, console: bool, received: list[int]) 
               "directory exists, and you may write there; earlier results are intact.", file=sys.stderr)
         return EXIT_OUTPUT
     except KeyboardInterrupt:
-        print("interrupted: every output this run reported writing above is complete, and nothing else of it was "
-              "written; earlier results are intact.",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return _interrupted()
+    except Exception as exc:
+        if received and _from_an_interrupt(exc):        # an interrupt a C extension's import turned into its error
+            return _interrupted()
+        raise
+
+
+def _interrupted() -> int:
+    """Say what an interrupted command leaves; :data:`EXIT_INTERRUPTED`."""
+    print("interrupted: every output this run reported writing above is complete, and nothing else of it was "
+          "written; earlier results are intact.",
+          file=sys.stderr)
+    return EXIT_INTERRUPTED
+
+
+def _from_an_interrupt(exc: BaseException) -> bool:
+    """Whether ``exc`` was raised from or while handling a ``KeyboardInterrupt`` (its causes and contexts): a Ctrl-C
+    that lands while a C extension initialises becomes its ``ImportError: initialization failed``, raised from the
+    interrupt."""
+    seen: set[int] = set()
+    link: BaseException | None = exc
+    while link is not None and id(link) not in seen:
+        if isinstance(link, KeyboardInterrupt):
+            return True
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
+    return False

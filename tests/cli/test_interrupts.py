@@ -3,13 +3,15 @@ finalizer (where it can only report it) still stops the command, raised again by
 
 from __future__ import annotations
 
+import argparse
 import signal
 import time
 import weakref
 
 import pytest
 
-from pipeline.cli.exits import MAX_REDELIVERIES, _signals_interrupt
+from pipeline.cli.exits import EXIT_INTERRUPTED, MAX_REDELIVERIES, _signals_interrupt
+from pipeline.cli.main import _run
 
 
 @pytest.fixture
@@ -126,3 +128,34 @@ def test_a_resent_interrupt_landing_inside_the_hook_is_sent_once_more(ctrl_c_rai
             while time.monotonic() < deadline:
                 time.sleep(0.01)
     assert first
+
+
+def _importing_when_interrupted(args, argv) -> int:
+    """A command interrupted while a C extension initialises: Ctrl-C arrives, and the extension's import turns the
+    interrupt into its own error, raised from it (scipy's HiGHS wrapper: ``ImportError: initialization failed``)."""
+    try:
+        signal.raise_signal(signal.SIGINT)
+        time.sleep(5.0)
+    except KeyboardInterrupt as exc:
+        raise ImportError("initialization failed") from exc
+    return 0
+
+
+def test_an_interrupt_turned_into_an_import_error_stops_the_command_as_interrupted(ctrl_c_raises, capsys):
+    received: list[int] = []
+    code = _run(_importing_when_interrupted, argparse.Namespace(), [], console=False, received=received)
+    assert code == EXIT_INTERRUPTED and received == [signal.SIGINT]
+    assert "interrupted" in capsys.readouterr().err
+
+
+def test_an_import_error_without_an_interrupt_is_raised(ctrl_c_raises):
+    """The same error where no signal arrived (an interrupt raised by the command's own code, or none) is not
+    taken for an interrupt: it propagates."""
+    def failing(args, argv) -> int:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise ImportError("initialization failed") from exc
+
+    with pytest.raises(ImportError, match="initialization failed"):
+        _run(failing, argparse.Namespace(), [], console=False, received=[])
