@@ -71,7 +71,7 @@ def functions() -> None:
 
 
 def _screen(out: Path, records: str, blocks: str, tunables: str | None) -> None:
-    subprocess.run([sys.executable, "-m", "pipeline.cli", "--records", records, "--blocks", blocks, "--out", str(out),
+    subprocess.run([sys.executable, "-m", "pipeline", "--records", records, "--blocks", blocks, "--out", str(out),
                     "--tolerate-failures"], env=_env(tunables), cwd=ROOT, check=True)       # its own progress shows
 
 

@@ -138,6 +138,20 @@ class InterruptedAfterPublishing(RockscreenError, KeyboardInterrupt):
     whole, and the command stops there."""
 
 
+def raised_by_interrupt(exc: BaseException) -> bool:
+    """Whether ``exc`` is a ``KeyboardInterrupt`` or was raised from or while handling one (its causes and contexts):
+    a Ctrl-C that lands while a C extension initialises becomes that extension's error, raised from the interrupt
+    (scipy's HiGHS wrapper: ``ImportError: initialization failed``)."""
+    seen: set[int] = set()
+    link: BaseException | None = exc
+    while link is not None and id(link) not in seen:
+        if isinstance(link, KeyboardInterrupt):
+            return True
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
+    return False
+
+
 class OutputError(RockscreenError, OSError):
     """Results cannot be written (unwritable directory, disk full, ...)."""
 

@@ -9,7 +9,9 @@ its azimuth and the record's azimuth is known, else the record's first horizonta
 counter-clockwise of it seen from above; the horizontals are projected on both (one horizontal: along its own
 azimuth). **The yaw.** Where the body's azimuth is given on a record of known azimuth, the body stands as given;
 otherwise it is judged at every yaw of a :data:`YAW_STEP_DEG` grid, in turn, until one overturns it (the worst yaw:
-overturned first, then the largest tilt). **Probabilities**: each draw of the declared uncertainty (amplitude, the
+overturned first, then the largest tilt). Where several yaws overturn it, the worst is the first of them in the grid,
+not the one whose draws overturn it most often, and which comes first can turn with rounding
+(docs/validation.md, "Another machine"). **Probabilities**: each draw of the declared uncertainty (amplitude, the
 body's width and height about G, friction; :func:`~pipeline.uncertainty.two_sided.draw_factors`) is one run, at the
 worst yaw (``p_overturn``) and, where the yaw is not known, at the grid's yaws in turn (``p_random_orientation``: the
 draws cycle over the grid). The restitution draw does not apply: the contacts are plastic (Housner's rule at a

@@ -15,6 +15,7 @@ from ..errors import (
     OutputError,
     OutputLockedError,
     RockscreenError,
+    raised_by_interrupt,
 )
 from .bench import bench_parser, cmd_bench
 from .chart import chart_parser, cmd_chart
@@ -132,7 +133,7 @@ def _run(command, args, argv: list[str], *, console: bool, received: list[int]) 
     except KeyboardInterrupt:
         return _interrupted()
     except Exception as exc:
-        if received and _from_an_interrupt(exc):        # an interrupt a C extension's import turned into its error
+        if received and raised_by_interrupt(exc):       # an interrupt a C extension's import turned into its error
             return _interrupted()
         raise
 
@@ -144,16 +145,3 @@ def _interrupted() -> int:
           file=sys.stderr)
     return EXIT_INTERRUPTED
 
-
-def _from_an_interrupt(exc: BaseException) -> bool:
-    """Whether ``exc`` was raised from or while handling a ``KeyboardInterrupt`` (its causes and contexts): a Ctrl-C
-    that lands while a C extension initialises becomes its ``ImportError: initialization failed``, raised from the
-    interrupt."""
-    seen: set[int] = set()
-    link: BaseException | None = exc
-    while link is not None and id(link) not in seen:
-        if isinstance(link, KeyboardInterrupt):
-            return True
-        seen.add(id(link))
-        link = link.__cause__ or link.__context__
-    return False

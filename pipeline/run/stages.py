@@ -23,7 +23,7 @@ import xarray as xr
 from ..blocks import Inventory
 from ..config import Config
 from ..constants import REFERENCE_PAPER
-from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError
+from ..errors import NoRecordsError, RecordsNotFoundError, RockscreenError, raised_by_interrupt
 from ..records.listing import files_sha256, list_directory
 from ..records.side_files import read_declared_units, stationxml_paths
 from ..records.side_files import read_inventory as read_station_inventory
@@ -270,7 +270,9 @@ def screen(request: ScreenRequest, *, progress=None, say=None) -> ScreenResult:
             log.debug("report: %s, %s", report, assets)
             if request.key is not None:
                 uptodate.write_manifest(out_dir, request.key, counts=counts, margins=margins, failures=failed)
-    except KeyboardInterrupt:
+    except BaseException as exc:
+        if not raised_by_interrupt(exc):        # (a Ctrl-C a C extension's import turned into its own error is one)
+            raise
         cache_dir = scene_cache_dir(out_dir)
         kept = sum(1 for p in cache_dir.glob("*.npz") if p.stat().st_mtime >= started) if cache_dir.is_dir() else 0
         raise RunInterrupted(kept, cache_dir, out_dir, forced=request.force, published=published,

@@ -525,3 +525,24 @@ def _signal_at_every_rename(tmp_path, monkeypatch, names, real):
         assert published and n_renames >= 11
         assert [(out / n).read_text() for n in names] == ["new"] * 5
         at += 1
+
+
+def test_an_interrupt_a_c_extension_turned_into_its_error_mid_run_keeps_the_work_done(make_records, blocks_csv,
+                                                                                     tmp_path, monkeypatch, capsys):
+    """A Ctrl-C that a C extension's import turns into its own error while the run writes (scipy's HiGHS wrapper:
+    ``ImportError: initialization failed``, raised from the interrupt) stops the run as a Ctrl-C does: 130, and
+    the message says where the records it screened are kept."""
+    from pipeline.run import stages
+
+    def interrupted_import(*args, **kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise ImportError("initialization failed") from exc
+
+    monkeypatch.setattr(stages, "report_stage", interrupted_import)
+    root = make_records("knet/test.knet")
+    code = main([*NO_HANDOFF, "--samples", "0", "--records", str(root), "--blocks", str(blocks_csv),
+                 "--out", str(tmp_path / "out"), "-q"])
+    assert code == 130
+    assert "1 record(s) screened in this run are saved" in capsys.readouterr().err
