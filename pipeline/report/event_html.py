@@ -23,9 +23,8 @@ from ..event.assets import Basis, Level
 from ..event.shakemap import ShakeMapGrid
 from ..records.intensity import display_unit
 from ..uncertainty.fragility import FitStatus
-from .figures import png_bytes
 from .fragility_html import UNIT_WORDS
-from .mpl import new_figure
+from .mpl import new_figure, png_bytes
 
 #: Colour of each inspection level (map markers, table cells)
 LEVEL_COLOURS = {Level.high: "#d7301f", Level.medium: "#fc8d59", Level.low: "#fdd49e", Level.none: "#bdbdbd"}

@@ -1,6 +1,6 @@
-"""Figures of the asset-risk report, returned as PNG or SVG bytes for embedding.
+"""Figures of the asset-risk report, returned as SVG bytes for embedding.
 
-* :func:`scenes_chart`: the reference paper's normalized stability chart
+* :func:`scenes_chart`: the reference paper's normalized stability chart (SVG, :mod:`.chart_svg`)
   (Fig. 4) with every (record, block) scene as a point, coloured by the
   simulated response: a_p / (g tan alpha) against t_p over the block's
   transition duration. In these coordinates the criterion's boundary is the
@@ -17,37 +17,24 @@ Novel Energy Based Approach", Applied Sciences (MDPI), Fig. 4 and Eq. 7.
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 from ..constants import M_TO_CM
 from ..rocking.planner import Response
-from .mpl import new_figure
+from .chart_svg import Curve, Series, loglog_chart
 from .svg import Panel, panels_svg
 
-#: Colour and label of each simulated response code (store.SCHEMA "response").
-RESPONSE_STYLE = {Response.overturn: ("tab:red", "overturn"), Response.slide_rock: ("tab:orange", "slide + rock"),
-                  Response.rock: ("tab:blue", "rock"), Response.slide: ("tab:green", "slide"),
-                  Response.rest: ("0.6", "rest"), Response.free_flight: ("tab:purple", "free flight"),
-                  -1: ("0.85", "not simulated")}
-
-
-def png_bytes(fig) -> bytes:
-    """Render a matplotlib figure to PNG and close it."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90)
-    return buf.getvalue()
+#: Colour and label of each simulated response code (store.SCHEMA "response"): matplotlib's tab10 colours.
+RED = "#d62728"
+RESPONSE_STYLE = {Response.overturn: (RED, "overturn"), Response.slide_rock: ("#ff7f0e", "slide + rock"),
+                  Response.rock: ("#1f77b4", "rock"), Response.slide: ("#2ca02c", "slide"),
+                  Response.rest: ("#999999", "rest"), Response.free_flight: ("#9467bd", "free flight"),
+                  -1: ("#d9d9d9", "not simulated")}
 
 
 def scenes_chart(x: np.ndarray, y: np.ndarray, response: np.ndarray) -> bytes:
-    """PNG of :func:`scenes_chart_figure`."""
-    return png_bytes(scenes_chart_figure(x, y, response))
-
-
-def scenes_chart_figure(x: np.ndarray, y: np.ndarray, response: np.ndarray):
-    """Normalized stability chart with one point per scene; its legend outside the axes, so that it covers no
-    point and no line.
+    """SVG of the normalized stability chart with one point per scene, coloured by its simulated response; its
+    legend outside the axes, so that it covers no point and no line (:func:`.chart_svg.loglog_chart`).
 
     Parameters
     ----------
@@ -58,32 +45,24 @@ def scenes_chart_figure(x: np.ndarray, y: np.ndarray, response: np.ndarray):
     response : ndarray of int
         Simulated response code per scene.
     """
-    fig = new_figure(figsize=(9.5, 5.5), layout="constrained")
-    ax = fig.subplots()
+    x, y, response = (np.asarray(a).ravel() for a in (x, y, response))
     ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
     lo = min(0.05, float(np.min(x[ok])) / 1.5) if ok.any() else 0.05
     hi = max(20.0, float(np.max(x[ok])) * 1.5) if ok.any() else 20.0
+    ylim = (min(0.05, float(np.min(y[ok])) / 1.5) if ok.any() else 0.05,
+            max(10.0, float(np.max(y[ok])) * 1.5) if ok.any() else 10.0)
     xs = np.geomspace(lo, hi, 400)
-    ax.fill_between(xs, np.maximum(1.0, 1.0 / xs), 1e3, color="tab:red", alpha=0.07,
-                    label="overturns by the criterion")
-    ax.plot(xs, np.maximum(1.0, 1.0 / xs), color="tab:red", lw=2, label="criterion boundary (Eq. 7)")
+    boundary = Curve(xs, np.maximum(1.0, 1.0 / xs), RED, "criterion boundary (Eq. 7)",
+                     fill_label="overturns by the criterion")
+    series = []
     for code, (colour, label) in RESPONSE_STYLE.items():
         sel = ok & (response == code)
-        if sel.any():
-            ax.scatter(x[sel], y[sel], s=14, color=colour, edgecolor="k", linewidth=0.3,
-                       label=f"{label} ({int(sel.sum())})", zorder=3)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ymax = max(10.0, float(np.max(y[ok])) * 1.5) if ok.any() else 10.0
-    ax.set_xlim(lo, hi)
-    ax.set_ylim(min(0.05, float(np.min(y[ok])) / 1.5) if ok.any() else 0.05, ymax)
-    ax.set_xlabel("pulse duration / transition duration, t_p / t_bar")
-    ax.set_ylabel("pulse acceleration / uplift acceleration, a_p / (g tan alpha)")
-    ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), title="simulated response",
-              title_fontsize=8, borderaxespad=0.0)
-    ax.set_title(f"Every screened scene ({int(ok.sum())} with an extracted pulse)", fontsize=10)
-    return fig
+        series.append(Series(x[sel], y[sel], colour, f"{label} ({int(sel.sum())})"))
+    return loglog_chart(series, [boundary], xlim=(lo, hi), ylim=ylim,
+                        title=f"Every screened scene ({int(ok.sum())} with an extracted pulse)",
+                        xlabel="pulse duration / transition duration, t_p / t_bar",
+                        ylabel="pulse acceleration / uplift acceleration, a_p / (g tan alpha)",
+                        legend_title="simulated response")
 
 
 def theta_figure(theta_over_alpha: np.ndarray, dt_s: float, *, title: str) -> bytes:

@@ -30,3 +30,12 @@ def save_figure(fig, path: str | Path, **savefig_kwargs) -> Path:
     path = Path(path)
     return replace_atomically(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png",
                                                             **savefig_kwargs))
+
+
+def png_bytes(fig, *, dpi: int = 90) -> bytes:
+    """Render a matplotlib figure to PNG bytes (for embedding in a page)."""
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()

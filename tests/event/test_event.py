@@ -392,7 +392,7 @@ def test_the_map_names_its_assets_beside_it_with_leader_lines_and_its_legend_bel
     def capture(ds, grid, inv, order):
         fig = event_html.map_figure(ds, grid, inv, order)
         drawn.append(fig)
-        from pipeline.report.figures import png_bytes
+        from pipeline.report.mpl import png_bytes
         return png_bytes(fig)
 
     monkeypatch.setattr(event_html, "map_png", capture)
