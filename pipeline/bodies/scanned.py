@@ -15,7 +15,6 @@ import numpy as np
 from ..records.record import Record
 from ..rocking.block import Block, BlockShape
 from ..rocking.orientation import Orientation, PlaneResult, plane_grid
-from ..rocking.references.asymmetric import TwoSided
 from ..rocking.scanned.planes import (
     PlaneSearch,
     ScannedPlane,
@@ -29,6 +28,7 @@ from ..rocking.scanned.planes import (
 )
 from ..rocking.scanned.rolling import roll_on_hull
 from ..rocking.scanned.two_sided import rock_two_sided_fast
+from ..rocking.scanned.two_sided_body import TwoSided
 from ..rocking.scene import Physics
 from ..rocking.settings import ScannedModel, SimulationConfig
 from ..shapes.hull import rectangle_chain

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..rocking.references.asymmetric import TwoSided
+from ..rocking.scanned.two_sided_body import TwoSided
 from .hull import HullChain
 from .scan import FOOTPRINT_TOL_M, ScannedShape, pivots
 

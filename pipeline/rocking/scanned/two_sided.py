@@ -70,9 +70,9 @@ from ..planar.kernel import (
     reject,
     step_error,
 )
-from ..references.asymmetric import TwoSided
 from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled, min_advance_compiled
 from ..structures import StepControl
+from .two_sided_body import TwoSided
 
 HALF_PI = 0.5 * math.pi
 #: Impacts of the free motion after the record taken in closed form before it is given up (``tail_cap``)
