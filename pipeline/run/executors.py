@@ -51,8 +51,11 @@ MAX_TASK_ATTEMPTS = 3
 #: the workers share those pages with it and with each other (the memory a process tree holds, its summed PSS, is
 #: measured in docs/validation.md). The first module ignores, in the server, the signals the run's process handles.
 #: The server starts once a run knows it uses the pool (:func:`start_workers_early`), or with the first pool of a
-#: process, and keeps what it imported.
-FORKSERVER_PRELOAD = ("pipeline.run.quiet_server", "pipeline.run.batch")
+#: process, and keeps what it imported. Besides the pipeline's own imports, the two a record's processing imports when
+#: it first detrends and filters (obspy's Trace.detrend and Trace.filter import scipy.signal and obspy.signal, which
+#: imports its PPSD: 0.75-1.0 s and 0.8-0.9 s measured after the pipeline's imports), once in the server instead of
+#: in each worker.
+FORKSERVER_PRELOAD = ("pipeline.run.quiet_server", "pipeline.run.batch", "scipy.signal", "obspy.signal")
 
 #: The environment of the process workers, each variable unless the user set it, as Dask's Nanny sets its workers'
 #: (``distributed.nanny.pre-spawn-environ``; the numba pool's size and the mmap threshold are this one's own): one
