@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import functools
 from pathlib import Path
 
 import pytest
@@ -30,9 +31,11 @@ HOMONYMS = {
 MAX_FUNCTION_LINES = 80
 
 
-def _modules():
-    for path in sorted(PIPELINE.rglob("*.py")):
-        yield path.relative_to(PIPELINE).as_posix(), ast.parse(path.read_text())
+@functools.cache
+def _modules() -> tuple[tuple[str, ast.Module], ...]:
+    """Every module of the package, parsed once for the file's tests (which only read the trees)."""
+    return tuple((path.relative_to(PIPELINE).as_posix(), ast.parse(path.read_text()))
+                 for path in sorted(PIPELINE.rglob("*.py")))
 
 
 def test_per_scene_variables_are_named_as_strings_only_in_the_schema():
