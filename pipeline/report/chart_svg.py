@@ -47,28 +47,6 @@ class Curve(NamedTuple):
     fill_label: str = ""
 
 
-class Box(NamedTuple):
-    """A rectangle in the chart's pixels (x right, y down)."""
-
-    x0: float
-    y0: float
-    x1: float
-    y1: float
-
-
-#: Where the points are drawn and where the legend is (:func:`legend_box` for a given list of labels).
-PLOT_BOX = Box(LEFT, TOP, LEFT + PLOT_W, TOP + PLOT_H)
-#: Widest a character of the chart's sans-serif text is taken to be, as a share of the font size (wider than
-#: Helvetica's and DejaVu Sans's widest letters bar m and W: a bound for the legend's width) [-].
-CHAR_EM = 0.7
-
-
-def legend_box(labels: list[str]) -> Box:
-    """The box the legend of ``labels`` takes at most (its text at :data:`CHAR_EM` a character)."""
-    widest = max((len(t) for t in labels), default=0) * CHAR_EM * FONT_PX
-    return Box(LEGEND_X, TOP, LEGEND_X + 28 + widest, TOP + LEGEND_ROW * (len(labels) + 1))
-
-
 def _axis(lo: float, hi: float):
     """log10 of the range and the map from a value to [0, 1] along it."""
     a, b = math.log10(lo), math.log10(hi)
@@ -100,8 +78,8 @@ def _visible_cells(points: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarr
     key = (cx - cx.min()) * (int(cy.max() - cy.min()) + 1) + (cy - cy.min())
     order = np.lexsort((which, key))
     last = order[np.append(key[order][1:] != key[order][:-1], True)]       # the top series of each cell
-    return [np.column_stack([cx[last[which[last] == k]], cy[last[which[last] == k]]]) * SNAP_PX
-            for k in range(len(points))]
+    cells, top = np.column_stack([cx[last], cy[last]]) * SNAP_PX, which[last]
+    return [cells[top == k] for k in range(len(points))]
 
 
 def loglog_chart(series: list[Series], curves: list[Curve], *, xlim: tuple[float, float],

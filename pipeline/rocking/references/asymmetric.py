@@ -38,10 +38,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ...constants import G
-from ..scanned.two_sided_body import TwoSided, rectangle
+from ..scanned.two_sided_body import TwoSided
 from .reference import segment_events
-
-__all__ = ["AsymmetricOutcome", "TwoSided", "rectangle", "rock_two_sided"]
 
 #: Impacts after the record before the free motion is given up, flagged
 MAX_TAIL_IMPACTS = 10000

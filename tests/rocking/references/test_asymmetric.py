@@ -11,8 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from pipeline.rocking.references.asymmetric import TwoSided, rectangle, rock_two_sided
+from pipeline.rocking.references.asymmetric import rock_two_sided
 from pipeline.rocking.references.reference import rock_reference
+from pipeline.rocking.scanned.two_sided_body import TwoSided, rectangle
 
 G = 9.80665
 DT = 0.005

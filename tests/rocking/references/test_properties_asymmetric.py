@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pipeline.rocking.references.asymmetric import TwoSided
+from pipeline.rocking.scanned.two_sided_body import TwoSided
 
 
 @settings(max_examples=200, deadline=None)

@@ -14,8 +14,9 @@ import pytest
 from planar_reference import DT, PULSES, RECTANGLE, G, housner_block, pulse
 
 from pipeline.rocking.codes import STATUS_GROUND_FLIGHT
-from pipeline.rocking.references.asymmetric import TwoSided, rectangle, rock_two_sided
+from pipeline.rocking.references.asymmetric import rock_two_sided
 from pipeline.rocking.scanned.two_sided import rock_two_sided_fast
+from pipeline.rocking.scanned.two_sided_body import TwoSided, rectangle
 from pipeline.shapes.plane import rectangle_plane
 from pipeline.uncertainty.sampling import common_normals
 from pipeline.uncertainty.settings import UncertaintyConfig
