@@ -4,6 +4,7 @@ ones named in blocks.py and any field a new model declares there later."""
 from __future__ import annotations
 
 import dataclasses
+import pickle
 
 import numpy as np
 
@@ -41,7 +42,19 @@ def test_a_field_declared_later_enters_the_digest_where_it_is_set(monkeypatch):
         return _Anchored(**base, anchor_kN=anchors[self.ids[j]])
 
     monkeypatch.setattr(Inventory, "shape", shape)
-    assert inv.digests() == plain                                # at its default: the digest of today
+    assert _inventory().digests() == plain                       # at its default: the digest of today
     anchors["B"] = 2.5
-    changed = inv.digests()
+    changed = _inventory().digests()                             # (an inventory makes its digests once)
     assert changed[0] == plain[0] and changed[1] != plain[1]     # set: that block's digest changes, alone
+
+
+def test_what_an_inventory_makes_once_is_kept_and_not_pickled():
+    """Shapes, blocks and digests are made once per inventory (a record's task reads every block's), and left out
+    of its pickle (the executors send the inventory with every task)."""
+    inv = _inventory()
+    assert inv.shapes() is inv.shapes() and inv.shape(1) is inv.shapes()[1]
+    assert inv.digests() is inv.digests() and inv.rocking_blocks() is inv.rocking_blocks()
+    assert inv.rocking_blocks(g_ms2=9.81) is not inv.rocking_blocks()            # one per gravity
+    copy = pickle.loads(pickle.dumps(inv))
+    assert "_made" in vars(inv) and "_made" not in vars(copy)
+    assert copy.digests() == inv.digests() and copy.rocking_blocks() == inv.rocking_blocks()

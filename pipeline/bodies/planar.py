@@ -19,12 +19,12 @@ import numpy as np
 from ..constants import G
 from ..rocking import models as scene_models
 from ..rocking.block import Block, BlockShape, dynamics
-from ..rocking.numerics.ground import quiet_table, scaled_quiet_table
+from ..rocking.numerics.ground import quiet_table, scaled_demand_ratio, scaled_quiet_table
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
 from ..rocking.planar.sampled import SampledBlocks, SampledMotion, SampleRules, kernels
 from ..rocking.planner import ContactMode, Physics, guard_names, rocks, simulate_scene
 from ..rocking.settings import SimulationConfig
-from ..rocking.simulate import step_control
+from ..rocking.simulate import finite_series, step_control
 from ..uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
@@ -147,13 +147,27 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
         return math.inf, 0
     f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
     table = quiet_table(ah_ms2, av_ms2)
+    ah, av, peak = _scalable(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
 
     def verdict_at(factor: float) -> int:
-        av = None if av_ms2 is None else factor * av_ms2
-        return simulate_scene(factor * ah_ms2, av, dt_s, block=block, settings=settings,
-                              quiet=scaled_quiet_table(table, factor)).verdict
+        # the scaled scene's demand ratio as demand_ratio gives it: without a vertical max |f a| = f max |a| (a
+        # product with f > 0 is rounded monotonically), with one in a compiled pass over the unscaled series
+        ratio = factor * peak / block.g_ms2 if av is None else scaled_demand_ratio(ah, av, factor, block.g_ms2)
+        return simulate_scene(factor * ah, None if av is None else factor * av, dt_s, block=block, settings=settings,
+                              ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
 
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+
+
+def _scalable(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None, float]:
+    """The scan's series checked once (:func:`~pipeline.rocking.simulate.finite_series`) where every factor up to
+    ``top`` keeps them finite, so that their scaled copies skip the simulator's check at each factor (else as
+    given, checked at each); and max |a_h| [m s-2]."""
+    peak = float(np.max(np.abs(ah_ms2)))
+    if not (math.isfinite(top * peak) and (av_ms2 is None or math.isfinite(top * float(np.max(np.abs(av_ms2)))))):
+        return np.asarray(ah_ms2, dtype=float), av_ms2, peak
+    return (finite_series("horizontal acceleration", ah_ms2),
+            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2), peak)
 
 
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:

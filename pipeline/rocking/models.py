@@ -40,7 +40,7 @@ from ..constants import G
 from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
 from .contract import SceneFacts, SceneInput, SceneModel, always, never
-from .numerics.ground import QuietTable
+from .numerics.ground import QuietTable, scaled_demand_ratio
 from .planar.handoff import continue_rocking, from_rest, stopped_short
 from .planar.kernel import rock as rock_compiled
 from .rules import rocks
@@ -207,6 +207,7 @@ def _rocking_warmup() -> None:
     a = 3.0 * np.sin(2.0 * np.pi * t)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
+    scaled_demand_ratio(a, 0.1 * a, 1.5, G)                 # the margin's scan of a block that rocks
     blk = Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21)
     for history in (False, True):
         _rocking(SceneInput(ah_ms2=a, av_ms2=None, vertical_ms2=None, dt_s=0.01, block=blk,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -52,7 +53,7 @@ def solid_rows(scenes, inventory: Inventory, config: Config) -> list[dict]:
     return rows
 
 
-def _record(on, inventory: Inventory, blocks: list, model: BodyModel, v3: list, vp: list) -> tuple[float, float]:
+def _record(on, inventory: Inventory, blocks: Sequence, model: BodyModel, v3: list, vp: list) -> tuple[float, float]:
     """The record's scenes of the blocks ``model`` claims and their planar counterparts, timed; verdicts
     appended."""
     assert model.versus_planar is not None

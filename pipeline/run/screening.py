@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -276,7 +277,7 @@ def setup_of(cfg: Config) -> Setup:
 
 
 def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.ndarray | None = None, *,
-                    scan: bool = True, blocks: list[Block] | None = None) -> SceneColumns:
+                    scan: bool = True, blocks: Sequence[Block] | None = None) -> SceneColumns:
     """Simulate the blocks in ``mask`` (default all) against one record, each by the body model that claims it
     (:func:`pipeline.bodies.registry.body_model`).
 
@@ -296,7 +297,7 @@ def simulate_scenes(rec: Record, directions: np.ndarray, ctx: Context, mask: np.
         ctx.progress.scene(block_id)
         t_scene = time.perf_counter()
         shape = inv.shape(int(j))
-        got = body_model(shape, placement, on.setup.settings).scene(on, shape, blocks[j], float(directions[j]))
+        got = body_model(shape, placement, on.setup.settings).scene(on, shape, blocks[int(j)], float(directions[j]))
         scene_values(out, int(j), got.result, got.orientation, got.probability)
         ctx.progress.scene_done(block_id=block_id, seconds=time.perf_counter() - t_scene, detail=got.detail)
     return out

@@ -88,6 +88,21 @@ def quiet_table(ah_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
     return QuietTable(np.ascontiguousarray(peak), np.ascontiguousarray(least.min(axis=1)))
 
 
+@jit
+def scaled_demand_ratio(ah_ms2, av_ms2, factor, g):
+    """The demand ratio max |a_h| / (g + a_v) of the ground scaled by ``factor`` > 0 (the margin's scan), without
+    making the scaled series: inf where g + a_v <= 0 at a sample. Each sample's terms are the products, sum and
+    quotient :func:`~pipeline.rocking.planner.demand_ratio` rounds on the scaled series, and the largest of the
+    quotients is exact, so the ratio is equal to it [-]."""
+    worst = 0.0
+    for i in range(ah_ms2.size):
+        gv = g + factor * av_ms2[i]
+        if gv <= 0.0:
+            return np.inf
+        worst = max(worst, abs(factor * ah_ms2[i]) / gv)
+    return worst
+
+
 def scaled_quiet_table(table: QuietTable, factor: float) -> QuietTable:
     """The :class:`QuietTable` of the same ground scaled by ``factor`` > 0 (the margin's scan): the table's values
     times the factor, equal to :func:`quiet_table` of the scaled series (a product with a positive factor is
