@@ -137,7 +137,8 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
         (sliding or squat blocks never overturn in it), and when a scaled record reaches free flight before any
         overturning.
     runs : int
-        Scenes simulated.
+        Scenes simulated (not the factors below the one that first lifts the block: they stand by the at-rest
+        certificate).
     """
     if not rocks(block.alpha, block.mu):
         return math.nan, 0
@@ -156,7 +157,8 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
         return simulate_scene(factor * ah, None if av is None else factor * av, dt_s, block=block, settings=settings,
                               ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
 
-    return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one)
+    # below f no sample lifts the block (the at-rest certificate of every such factor): it stands, nothing simulated
+    return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=f)
 
 
 def _scalable(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None, float]:

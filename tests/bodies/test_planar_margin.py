@@ -1,7 +1,8 @@
 """The planar margin's scan on real records against the same scan with every factor's scene planned on the scaled
 series themselves (the second algorithm): :func:`~pipeline.bodies.planar.overturn_scale_simulated` takes each
-scaled scene's demand ratio from the unscaled series and checks the series once, not at every factor; the margins
-and the scenes simulated are the same."""
+scaled scene's demand ratio from the unscaled series and checks the series once, not at every factor, and does not
+plan the factors below the one that first lifts the block (they stand); the margins are the same, and so are the
+scenes simulated, less those factors."""
 
 from __future__ import annotations
 
@@ -19,19 +20,22 @@ from pipeline.rocking.planner import simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 
 SETTINGS = SimulationConfig()
-#: (height, width, mu): blocks that rock (mu above tan alpha), slender and stocky, some slipping at their pivot
-SHAPES = [(1.2, 0.3, 0.7), (2.5, 0.8, 0.6), (0.8, 0.3, 0.45), (3.0, 0.6, 0.25)]
+#: (height, width, mu): blocks that rock (mu above tan alpha), slender and stocky, some slipping at their pivot, the
+#: last lifted only by the record scaled above 1
+SHAPES = [(1.2, 0.3, 0.7), (2.5, 0.8, 0.6), (0.8, 0.3, 0.45), (3.0, 0.6, 0.25), (1.0, 0.7, 0.9)]
 
 
-def _direct(ah, av, dt, block):
-    """The scan, each factor's scene planned on ``f ah`` and ``f av`` (its ratio and checks from them)."""
+def _direct(ah, av, dt, block, *, below_lift: bool):
+    """The scan, each factor's scene planned on ``f ah`` and ``f av`` (its ratio and checks from them); with
+    ``below_lift``, the factors below the one that first lifts the block planned too."""
     tan_a = math.tan(block.alpha)
     lift = np.abs(ah) - (av * tan_a if av is not None else 0.0)
     if not np.any(lift > 0):
         return math.inf, 0
     first = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))
     return factor_sweep(first, lambda f: simulate_scene(f * ah, None if av is None else f * av, dt, block=block,
-                                                        settings=SETTINGS).verdict, settings=SETTINGS)
+                                                        settings=SETTINGS).verdict, settings=SETTINGS,
+                        stands_below=0.0 if below_lift else first)
 
 
 @pytest.fixture(scope="module")
@@ -48,5 +52,9 @@ def test_the_scan_is_the_scan_of_the_scaled_scenes(yarimca, compiled_simulator, 
     assert av is None or av.size == ah.size
     blocks = dynamics([BlockShape(height_m=h, width_m=w, mu=mu) for h, w, mu in SHAPES])
     found = [overturn_scale_simulated(ah, av, yarimca.dt_s, block=b, settings=SETTINGS) for b in blocks]
-    assert found == [_direct(ah, av, yarimca.dt_s, b) for b in blocks]
+    assert found == [_direct(ah, av, yarimca.dt_s, b, below_lift=False) for b in blocks]
+    every = [_direct(ah, av, yarimca.dt_s, b, below_lift=True) for b in blocks]
+    assert [m for m, _ in found] == [m for m, _ in every]              # below the lift, every factor stands
+    assert all(runs <= all_runs for (_, runs), (_, all_runs) in zip(found, every))
+    assert found[-1][1] < every[-1][1]                                  # the stocky block's factors up to its lift
     assert sum(runs for _, runs in found) > 4 * len(SHAPES)            # the scans ran: every block lifted
