@@ -26,12 +26,12 @@ from pathlib import Path
 import numpy as np
 
 from pipeline.bodies.factor_sweep import factor_sweep
-from pipeline.bodies.planar import overturn_scale_simulated
+from pipeline.bodies.planar import lift_factor, overturn_scale_simulated
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, dynamics
 from pipeline.rocking.planar import kernel
-from pipeline.rocking.planner import simulate_scene
+from pipeline.rocking.planner import rocks, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,16 +40,13 @@ PLANES_DEG = (0.0, 65.0)
 
 
 def planned_on_scaled(ah, av, dt_s, block):
-    """The scan with each factor's scene planned on the scaled series (its ratio and checks from them)."""
-    if math.tan(block.alpha) >= block.mu:
+    """The scan with each factor's scene planned on the scaled series (its ratio and checks from them), the factors
+    below the lift included."""
+    if not rocks(block.alpha, block.mu):
         return math.nan, 0
-    tan_a = math.tan(block.alpha)
-    lift = np.abs(ah) - (av * tan_a if av is not None else 0.0)
-    if not np.any(lift > 0):
-        return math.inf, 0
-    first = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))
-    return factor_sweep(first, lambda f: simulate_scene(f * ah, None if av is None else f * av, dt_s, block=block,
-                                                        settings=SETTINGS).verdict, settings=SETTINGS)
+    return factor_sweep(lift_factor(ah, av, alpha=block.alpha, g_ms2=block.g_ms2),
+                        lambda f: simulate_scene(f * ah, None if av is None else f * av, dt_s, block=block,
+                                                 settings=SETTINGS).verdict, settings=SETTINGS)
 
 
 def blocks(n: int):

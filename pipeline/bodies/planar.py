@@ -142,18 +142,15 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
     """
     if not rocks(block.alpha, block.mu):
         return math.nan, 0
-    tan_a = math.tan(block.alpha)
-    lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
-    if not np.any(lift > 0):
+    f = lift_factor(ah_ms2, av_ms2, alpha=block.alpha, g_ms2=block.g_ms2)
+    if math.isinf(f):
         return math.inf, 0
-    f = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))      # the factor that first lifts the block
     table = quiet_table(ah_ms2, av_ms2)
-    ah, av, peak = _scalable(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
+    ah, av = _checked_once(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
+    across, vertical = np.zeros_like(ah), np.zeros(0) if av is None else av
 
     def verdict_at(factor: float) -> int:
-        # the scaled scene's demand ratio as demand_ratio gives it: without a vertical max |f a| = f max |a| (a
-        # product with f > 0 is rounded monotonically), with one in a compiled pass over the unscaled series
-        ratio = factor * peak / block.g_ms2 if av is None else scaled_demand_ratio(ah, av, factor, block.g_ms2)
+        ratio = scaled_demand_ratio(ah, across, 1.0, 0.0, factor, vertical, av is not None, block.g_ms2)
         return simulate_scene(factor * ah, None if av is None else factor * av, dt_s, block=block, settings=settings,
                               ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
 
@@ -161,15 +158,30 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=f)
 
 
-def _scalable(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None, float]:
+def lift_factor(ah_ms2: np.ndarray, av_ms2, *, alpha: float, g_ms2: float = G) -> float:
+    """The smallest factor on the record at which the block at rest first lifts [-] (inf: never): the least f with
+    |f a_h| > (g + f a_v) tan alpha at a sample (the uplift condition with a vertical, Yim et al. 1980); below it no
+    sample lifts the block.
+
+    References
+    ----------
+    Yim, C.-S., Chopra, A. K. & Penzien, J. (1980). Rocking response of rigid blocks to earthquakes. Earthquake
+    Engineering & Structural Dynamics 8(6), 565-587.
+    """
+    tan_a = math.tan(alpha)
+    lift = np.abs(ah_ms2) - (av_ms2 * tan_a if av_ms2 is not None else 0.0)
+    return float(np.min(g_ms2 * tan_a / lift[lift > 0])) if np.any(lift > 0) else math.inf
+
+
+def _checked_once(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None]:
     """The scan's series checked once (:func:`~pipeline.rocking.simulate.finite_series`) where every factor up to
     ``top`` keeps them finite, so that their scaled copies skip the simulator's check at each factor (else as
-    given, checked at each); and max |a_h| [m s-2]."""
-    peak = float(np.max(np.abs(ah_ms2)))
-    if not (math.isfinite(top * peak) and (av_ms2 is None or math.isfinite(top * float(np.max(np.abs(av_ms2)))))):
-        return np.asarray(ah_ms2, dtype=float), av_ms2, peak
+    given, checked at each)."""
+    given = [a for a in (ah_ms2, av_ms2) if a is not None]
+    if not all(math.isfinite(top * float(np.max(np.abs(a)))) for a in given):
+        return np.asarray(ah_ms2, dtype=float), av_ms2
     return (finite_series("horizontal acceleration", ah_ms2),
-            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2), peak)
+            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2))
 
 
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:

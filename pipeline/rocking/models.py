@@ -207,7 +207,7 @@ def _rocking_warmup() -> None:
     a = 3.0 * np.sin(2.0 * np.pi * t)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
-    scaled_demand_ratio(a, 0.1 * a, 1.5, G)                 # the margin's scan of a block that rocks
+    scaled_demand_ratio(a, np.zeros_like(a), 1.0, 0.0, 1.5, 0.1 * a, True, G)     # the margin's scan of a block
     blk = Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21)
     for history in (False, True):
         _rocking(SceneInput(ah_ms2=a, av_ms2=None, vertical_ms2=None, dt_s=0.01, block=blk,

@@ -6,13 +6,11 @@ scenes simulated, less those factors."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
 from pipeline.bodies.factor_sweep import factor_sweep
-from pipeline.bodies.planar import overturn_scale_simulated
+from pipeline.bodies.planar import lift_factor, overturn_scale_simulated
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, dynamics
@@ -28,11 +26,7 @@ SHAPES = [(1.2, 0.3, 0.7), (2.5, 0.8, 0.6), (0.8, 0.3, 0.45), (3.0, 0.6, 0.25), 
 def _direct(ah, av, dt, block, *, below_lift: bool):
     """The scan, each factor's scene planned on ``f ah`` and ``f av`` (its ratio and checks from them); with
     ``below_lift``, the factors below the one that first lifts the block planned too."""
-    tan_a = math.tan(block.alpha)
-    lift = np.abs(ah) - (av * tan_a if av is not None else 0.0)
-    if not np.any(lift > 0):
-        return math.inf, 0
-    first = float(np.min(block.g_ms2 * tan_a / lift[lift > 0]))
+    first = lift_factor(ah, av, alpha=block.alpha, g_ms2=block.g_ms2)
     return factor_sweep(first, lambda f: simulate_scene(f * ah, None if av is None else f * av, dt, block=block,
                                                         settings=SETTINGS).verdict, settings=SETTINGS,
                         stands_below=0.0 if below_lift else first)

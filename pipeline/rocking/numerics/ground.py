@@ -9,6 +9,7 @@ the samples that cannot lift it in runs.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -89,18 +90,26 @@ def quiet_table(ah_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
 
 
 @jit
-def scaled_demand_ratio(ah_ms2, av_ms2, factor, g):
-    """The demand ratio max |a_h| / (g + a_v) of the ground scaled by ``factor`` > 0 (the margin's scan), without
-    making the scaled series: inf where g + a_v <= 0 at a sample. Each sample's terms are the products, sum and
-    quotient :func:`~pipeline.rocking.planner.demand_ratio` rounds on the scaled series, and the largest of the
-    quotients is exact, so the ratio is equal to it [-]."""
-    worst = 0.0
-    for i in range(ah_ms2.size):
-        gv = g + factor * av_ms2[i]
-        if gv <= 0.0:
-            return np.inf
-        worst = max(worst, abs(factor * ah_ms2[i]) / gv)
-    return worst
+def scaled_demand_ratio(h1, h2, c, s, eps, av, has_v, g, vector=False):
+    """The demand ratio max_t |eps (c h1 + s h2)| / (g + eps a_v) of the ground in the plane of weights (c, s) scaled
+    by ``eps`` > 0, without making the scaled series (the draws and the margin's scan; inf where g + eps a_v <= 0),
+    ``av`` the record's vertical (unscaled; not read without one, ``has_v`` False); with ``vector``, of the
+    horizontal vector's magnitude eps |(h1, h2)| instead, which bounds every plane's [-].
+
+    Each sample's terms are the products, sum and quotient :func:`~pipeline.rocking.planner.demand_ratio` rounds on
+    the scaled series, and the largest of the quotients is exact, so the ratio is the same double as its; without a
+    vertical the peak is divided by g once: dividing by a positive constant keeps the order of doubles."""
+    r = 0.0
+    for i in range(h1.size):
+        a = eps * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i]) if vector else abs(eps * (c * h1[i] + s * h2[i]))
+        if has_v:
+            gv = g + eps * av[i]
+            if gv <= 0.0:
+                return math.inf
+            a = a / gv
+        if a > r:
+            r = a
+    return r if has_v else r / g
 
 
 def scaled_quiet_table(table: QuietTable, factor: float) -> QuietTable:

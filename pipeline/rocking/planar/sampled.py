@@ -37,6 +37,7 @@ from ..block import rigid_block
 from ..codes import NO_VERDICT, OVERTURNS, STANDS
 from ..contract import PlaneSample, SampleWorkspace, SceneFacts
 from ..models import judge
+from ..numerics.ground import scaled_demand_ratio
 from ..rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
 from ..structures import RockingOutput, RockingState
 
@@ -107,33 +108,13 @@ def sampled_blocks(sb) -> SampledBlocks:
 
 
 @jit
-def _demand(h1, h2, c, s, eps, av, has_v, g, vector=False):
-    """max_t |eps (c h1 + s h2)| / (g + eps a_v) (inf where g + eps a_v <= 0), ``av`` the record's vertical
-    (unscaled; not read without one); with ``vector``, of the horizontal vector's magnitude eps |(h1, h2)| instead,
-    which bounds every plane's.
-
-    Without a vertical the peak is divided by g once: dividing by a positive constant keeps the order of
-    doubles, so the result is the same double as the largest quotient."""
-    r = 0.0
-    for i in range(h1.size):
-        a = eps * math.sqrt(h1[i] * h1[i] + h2[i] * h2[i]) if vector else abs(eps * (c * h1[i] + s * h2[i]))
-        if has_v:
-            gv = g + eps * av[i]
-            if gv <= 0.0:
-                return math.inf
-            a = a / gv
-        if a > r:
-            r = a
-    return r if has_v else r / g
-
-
-@jit
 def _plane_demands(h1, h2, cosines, sines, k, eps, av, has_v, g, thr, ratios):
-    """Fill ``ratios`` with sample k's demand in each of its planes (:func:`_demand`); True where some plane's
+    """Fill ``ratios`` with sample k's demand in each of its planes
+    (:func:`~pipeline.rocking.numerics.ground.scaled_demand_ratio`); True where some plane's
     exceeds ``thr`` (the sample moves)."""
     moves = False
     for j in range(ratios.size):
-        ratios[j] = _demand(h1, h2, cosines[k, j], sines[k, j], eps, av, has_v, g)
+        ratios[j] = scaled_demand_ratio(h1, h2, cosines[k, j], sines[k, j], eps, av, has_v, g)
         moves = moves or ratios[j] > thr
     return moves
 
@@ -257,7 +238,7 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
         verdict_out[k] = STANDS
         planes_out[k] = 0
         # the horizontal vector bounds every plane's demand; a sample no plane moves rests, nothing integrated
-        if n_p > 1 and not _demand(h1, h2, 0.0, 0.0, eps[k], av, has_v, g, True) > thr:
+        if n_p > 1 and not scaled_demand_ratio(h1, h2, 0.0, 0.0, eps[k], av, has_v, g, True) > thr:
             continue
         if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, has_v, g, thr, ratios):
             continue

@@ -1,8 +1,7 @@
-"""Hypothesis property test: the demand ratio of a record scaled by a positive factor (the margin's scan), taken
-without making the scaled series, is the ratio :func:`pipeline.rocking.planner.demand_ratio` gives the scaled
-series, double for double: with a vertical by :func:`ground.scaled_demand_ratio`'s one pass (inf where g + a_v
-reaches 0), without one as the factor times the unscaled peak over g (a product with a positive factor is rounded
-monotonically, so the peak commutes with it)."""
+"""Hypothesis property test: the demand ratio of a record scaled by a positive factor (the draws and the margin's
+scan), taken by :func:`ground.scaled_demand_ratio` without making the scaled series, is the ratio
+:func:`pipeline.rocking.planner.demand_ratio` gives the scaled series, double for double: in a record's own plane
+(weights 1, 0) and in a plane between two horizontals, with a vertical (inf where g + a_v reaches 0) and without."""
 
 from __future__ import annotations
 
@@ -21,9 +20,14 @@ factors = st.floats(min_value=1e-3, max_value=20.0) | st.sampled_from([0.1, 0.3,
 
 @settings(max_examples=300, deadline=None)
 @given(st.integers(min_value=1, max_value=300).flatmap(
-    lambda n: st.tuples(arrays(np.float64, n, elements=accel), arrays(np.float64, n, elements=accel))), factors)
-def test_the_scaled_ratio_is_the_ratio_of_the_scaled_record(series, factor):
-    ah, av = series
-    direct = demand_ratio(factor * ah, factor * av, g_ms2=G)
-    assert ground.scaled_demand_ratio(ah, av, factor, G) == direct         # inf where g + f a_v <= 0 somewhere
-    assert factor * float(np.max(np.abs(ah))) / G == demand_ratio(factor * ah, None, g_ms2=G)
+    lambda n: st.tuples(arrays(np.float64, n, elements=accel), arrays(np.float64, n, elements=accel),
+                        arrays(np.float64, n, elements=accel))), factors, st.floats(min_value=0.0, max_value=180.0))
+def test_the_scaled_ratio_is_the_ratio_of_the_scaled_record(series, factor, azimuth_deg):
+    h1, h2, av = series
+    c, s = float(np.cos(np.radians(azimuth_deg))), float(np.sin(np.radians(azimuth_deg)))
+    none = np.zeros(0)
+    for (w1, w2), along in (((1.0, 0.0), h1), ((c, s), c * h1 + s * h2)):
+        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, av, True, G) == \
+            demand_ratio(factor * along, factor * av, g_ms2=G)               # inf where g + f a_v <= 0 somewhere
+        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, none, False, G) == \
+            demand_ratio(factor * along, None, g_ms2=G)
