@@ -156,6 +156,7 @@ class SampleWorkspace(NamedTuple):
     t_end: float                # its end [s]
     a: np.ndarray               # buffer for a plane's projection [m s-2]
     av_s: np.ndarray            # buffer for a sample's scaled vertical [m s-2] (empty without one)
+    quiet: QuietTable           # buffers for the sample's quiet table: the record's vector table scaled (empty: none)
     none: np.ndarray            # an empty vertical
     no_output: RockingOutput    # no theta history, no impact log
     at_rest: RockingState       # the state at rest

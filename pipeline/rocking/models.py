@@ -40,7 +40,7 @@ from ..constants import G
 from .block import Block, rigid_block
 from .codes import NO_VERDICT, OVERTURNS, STANDS, STATUS_GROUND_FLIGHT, ContactMode
 from .contract import SceneFacts, SceneInput, SceneModel, always, never
-from .numerics.ground import QuietTable, scaled_demand_ratio
+from .numerics.ground import scaled_demand_ratio
 from .planar.handoff import continue_rocking, from_rest, stopped_short
 from .planar.kernel import rock as rock_compiled
 from .rules import rocks
@@ -187,11 +187,11 @@ def _rocking(scene: SceneInput) -> Scene:
 
 @jit
 def _rocking_twin(facts, x, block, control, w):
-    """Rock the sample in its plane (the vertical in ``x.av_s``); with the contact model, the general model
-    continues where pure rocking stops (no_verdict without it, where the ground reached free flight)."""
+    """Rock the sample in its plane (the vertical in ``x.av_s``; at rest, passing over the chunks its quiet table
+    ``w.quiet`` shows cannot lift it); with the contact model, the general model continues where pure rocking stops
+    (no_verdict without it, where the ground reached free flight)."""
     _project(x)
-    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, True, w.no_output,
-                        QuietTable(w.none, w.none))
+    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, True, w.no_output, w.quiet)
     if res.overturned:
         return OVERTURNS, True
     if x.contact_model:

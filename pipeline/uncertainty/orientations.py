@@ -53,9 +53,8 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.planar.sampled import SampledMotion, SampleRules, kernels, sampled_blocks
+from ..rocking.planar.sampled import SampleRules, kernels, sample_rules, sampled_blocks
 from ..rocking.settings import SimulationConfig
-from ..rocking.simulate import step_control
 from .robust import Robustness, spanning_interval, wilson_interval
 from .sampling import SampledBlock, common_normals, sample_block
 from .scenes import NOT_EVALUATED, Probability, SceneMotion, scene_probability
@@ -143,6 +142,11 @@ class _Block:
         """The blocks of the draws ``z`` (:func:`~.sampling.sample_block`)."""
         return sample_block(z, self.shape, settings=self.settings, g_ms2=self.g_ms2)
 
+    @functools.cached_property
+    def rules(self) -> SampleRules:
+        """The sampled kernels' :class:`~pipeline.rocking.planar.sampled.SampleRules`, made once."""
+        return sample_rules(self.simulation, self.g_ms2)
+
 
 class _Cells:
     """Outcomes of (draw, plane) cells on the selection draws: 1 overturns, 0 stands, -1 no verdict (free flight),
@@ -167,7 +171,7 @@ class _Cells:
         az = np.asarray(azimuths_deg, dtype=float)
         if self.planes_deg.size == 0:
             return np.full(az.size, -1)
-        near = np.isclose((self.planes_deg[None, :] - az[:, None] + 90.0) % 180.0 - 90.0, 0.0, atol=1e-6)
+        near = np.abs((self.planes_deg[None, :] - az[:, None] + 90.0) % 180.0 - 90.0) <= 1e-6    # isclose to 0
         return np.where(near.any(axis=1), near.argmax(axis=1), -1)
 
     def fill(self, rows: np.ndarray, columns: np.ndarray) -> None:
@@ -189,11 +193,8 @@ def simulate_cells(m: SceneMotion, sb: SampledBlock, planes_deg: np.ndarray,
     phi = np.deg2rad(np.asarray(planes_deg, dtype=float) - m.azimuth0_deg)
     out = np.zeros(phi.shape, dtype=np.int8)
     planes = np.zeros(phi.shape[0], dtype=np.int64)
-    s = blk.simulation
-    kernels().sample_plane_outcomes(SampledMotion(m.h1, m.h2, m.vertical, m.dt_s), np.ascontiguousarray(np.cos(phi)),
-                                    np.ascontiguousarray(np.sin(phi)), sampled_blocks(sb),
-                                    SampleRules(float(blk.g_ms2), float(s.vertical_fraction), bool(s.contact_model),
-                                                step_control(s)), out, planes)
+    kernels().sample_plane_outcomes(m.sampled, np.ascontiguousarray(np.cos(phi)), np.ascontiguousarray(np.sin(phi)),
+                                    sampled_blocks(sb), blk.rules, out, planes)
     return out, int(planes.sum())
 
 

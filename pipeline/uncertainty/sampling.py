@@ -21,7 +21,6 @@ Housner (1963) BSSA 53(2), eq. 5: e = 1 - 1.5 sin^2(alpha).
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,8 +68,9 @@ class SampledBlock:
     def rows(self, index) -> SampledBlock:
         """The samples ``index`` (a slice or an array of row numbers) of these: each derived value depends on its own
         row of the common random numbers alone, so that they equal :func:`sample_block` of those rows."""
-        return dataclasses.replace(self, **{f.name: getattr(self, f.name)[index] for f in dataclasses.fields(self)
-                                            if isinstance(getattr(self, f.name), np.ndarray)})
+        return SampledBlock(amplitude=self.amplitude[index], p=self.p[index], alpha=self.alpha[index],
+                            R_m=self.R_m[index], e=self.e[index], mu=self.mu[index],
+                            azimuth_deg=self.azimuth_deg[index], g_ms2=self.g_ms2)
 
     def block(self, k: int) -> Block:
         """Sample ``k`` as the planar simulator takes it."""

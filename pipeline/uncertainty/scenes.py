@@ -16,6 +16,7 @@ whose first batch holds no sample with a verdict stops there: p undetermined, it
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -25,9 +26,9 @@ import numpy as np
 from ..constants import G
 from ..rocking.block import BlockShape
 from ..rocking.codes import Verdict
-from ..rocking.planar.sampled import SampledMotion, SampleRules, kernels, sampled_blocks
+from ..rocking.numerics.ground import QuietTable, vector_quiet_table
+from ..rocking.planar.sampled import SampledBlocks, SampledMotion, kernels, sample_rules, sampled_blocks
 from ..rocking.settings import SimulationConfig
-from ..rocking.simulate import step_control
 from .robust import Robustness, classify, final_class, spanning_interval
 from .sampling import sample_block
 from .settings import UncertaintyConfig
@@ -66,7 +67,8 @@ class SceneMotion:
 
     ``planes_deg``: the scanned planes (the pulse axis and the grid) shared by every sample;
     None for a block with a given rocking plane (``given_deg``, sampled per sample). One
-    horizontal: ``h2`` is zeros and the one recorded plane is used.
+    horizontal: ``h2`` is zeros and the one recorded plane is used. ``quiet``: the record's
+    :func:`~pipeline.rocking.numerics.ground.vector_quiet_table`, which holds in every plane.
     """
 
     h1: np.ndarray
@@ -76,6 +78,14 @@ class SceneMotion:
     azimuth0_deg: float
     planes_deg: np.ndarray | None
     single: bool
+    quiet: QuietTable
+
+    @functools.cached_property
+    def sampled(self) -> SampledMotion:
+        """The record as the sampled kernels take it (:class:`~pipeline.rocking.planar.sampled.SampledMotion`), made
+        once."""
+        return SampledMotion(self.h1, self.h2, self.vertical, self.dt_s, self.quiet.peak_ah_ms2,
+                             self.quiet.least_av_ms2)
 
 
 def motion(horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.ndarray | None, dt_s: float,
@@ -86,7 +96,9 @@ def motion(horizontal_ms2: np.ndarray, azimuth0_deg: float, vertical_ms2: np.nda
     v = np.zeros(0) if vertical_ms2 is None else np.ascontiguousarray(vertical_ms2, dtype=float)
     single = h.shape[0] == 1
     planes = None if planes_deg is None or single else np.asarray(planes_deg, dtype=float)
-    return SceneMotion(h[0], np.ascontiguousarray(h2), v, float(dt_s), float(azimuth0_deg), planes, single)
+    h2 = np.ascontiguousarray(h2)
+    quiet = vector_quiet_table(h[0], h2, v if v.size else None)
+    return SceneMotion(h[0], h2, v, float(dt_s), float(azimuth0_deg), planes, single, quiet)
 
 
 def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, settings: UncertaintyConfig,
@@ -110,21 +122,22 @@ def scene_probability(m: SceneMotion, z: np.ndarray, shape: BlockShape, *, setti
         Gravity [m s-2].
     """
     draws = sample_block(z, shape, settings=settings, g_ms2=g_ms2)     # every draw's block, made once
+    # every draw's planes and the kernel's arguments, made once: each batch takes its rows
+    n = len(z)
+    if m.single:
+        phi = np.zeros((n, 1))
+    elif m.planes_deg is None:
+        phi = np.deg2rad(draws.azimuth_deg - m.azimuth0_deg)[:, None]
+    else:
+        phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (n, m.planes_deg.size))
+    cosines, sines = np.ascontiguousarray(np.cos(phi)), np.ascontiguousarray(np.sin(phi))
+    blocks = sampled_blocks(draws)
+    rules = sample_rules(simulation, g_ms2)
+    sample_verdicts = kernels().sample_verdicts
 
     def judge(sl: slice, verdicts: np.ndarray, planes: np.ndarray) -> None:
-        sb = draws.rows(sl)
-        n_rows = sl.stop - sl.start
-        if m.single:
-            phi = np.zeros((n_rows, 1))
-        elif m.planes_deg is None:
-            phi = np.deg2rad(sb.azimuth_deg - m.azimuth0_deg)[:, None]
-        else:
-            phi = np.broadcast_to(np.deg2rad(m.planes_deg - m.azimuth0_deg), (n_rows, m.planes_deg.size))
-        s = simulation
-        kernels().sample_verdicts(SampledMotion(m.h1, m.h2, m.vertical, m.dt_s), np.ascontiguousarray(np.cos(phi)),
-                                  np.ascontiguousarray(np.sin(phi)), sampled_blocks(sb),
-                                  SampleRules(float(g_ms2), float(s.vertical_fraction), bool(s.contact_model),
-                                              step_control(s)), verdicts[sl], planes[sl])
+        sample_verdicts(m.sampled, cosines[sl], sines[sl], SampledBlocks(*(column[sl] for column in blocks)), rules,
+                        verdicts[sl], planes[sl])
 
     return sample_until_decided(len(z), judge, settings=settings)
 

@@ -76,6 +76,14 @@ class QuietTable(NamedTuple):
 #: No table: the kernel tests every sample
 NO_QUIET = QuietTable(np.zeros(0), np.zeros(0))
 
+#: Relative margin of :func:`vector_quiet_table`'s peaks over the horizontal vector's magnitude: a plane's projection
+#: c h1 + s h2 (c^2 + s^2 = 1 to a few units in the last place) exceeds |(h1, h2)| by rounding alone, by far less
+#: than this [-]
+VECTOR_PEAK_MARGIN = 1e-12
+#: Absolute margin added to those peaks, for magnitudes so small that the projection's rounding is not relative to
+#: them (subnormal accelerations) [m s-2]
+VECTOR_PEAK_FLOOR_MS2 = 1e-300
+
 
 def quiet_table(ah_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
     """The :class:`QuietTable` of a plane's horizontal ``ah_ms2`` and the record's vertical ``av_ms2`` [m s-2]."""
@@ -117,6 +125,17 @@ def scaled_quiet_table(table: QuietTable, factor: float) -> QuietTable:
     times the factor, equal to :func:`quiet_table` of the scaled series (a product with a positive factor is
     rounded monotonically, so the chunk's max and min commute with it)."""
     return QuietTable(factor * table.peak_ah_ms2, factor * table.least_av_ms2)
+
+
+def vector_quiet_table(h1_ms2: np.ndarray, h2_ms2: np.ndarray, av_ms2: np.ndarray | None) -> QuietTable:
+    """A :class:`QuietTable` that holds for the ground in every vertical plane of two horizontals ``h1_ms2`` and
+    ``h2_ms2`` (zeros for one) [m s-2], with the vertical ``av_ms2`` (None: none): each chunk's peak is that of the
+    horizontal vector's magnitude, raised by :data:`VECTOR_PEAK_MARGIN` and :data:`VECTOR_PEAK_FLOOR_MS2`, so that it
+    is at least |c h1 + s h2| as rounded, whatever the plane (c, s). Its values times a factor eps > 0 hold for the
+    ground scaled by eps (a product with a positive factor is rounded monotonically): the draws' planes and
+    amplitudes, each draw's kernel passing over the chunks that cannot lift its block."""
+    magnitude = np.hypot(h1_ms2, h2_ms2) * (1.0 + VECTOR_PEAK_MARGIN) + VECTOR_PEAK_FLOOR_MS2
+    return quiet_table(magnitude, av_ms2)
 
 
 @jit

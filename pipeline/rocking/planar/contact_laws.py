@@ -142,22 +142,31 @@ def _contact_kept(force):
 
 
 @jit
-def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
-    """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
-    the lowest corner below the base in flight); the smallest of the mode's indicators."""
+def _event_branches(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
+    """The mode's event indicators, each negative once its event has happened (inf where the mode has fewer than
+    three): in flight each corner's height above the base; sliding the slip rate along its sign and the apparent
+    gravity; rocking or slide-rocking the tilt toward the pivot and the normal force, then the friction margin
+    mu N - |F| (rocking) or the pivot's slip rate along its sign (slide-rocking). Each is smooth in the state where
+    their smallest (:func:`_event`) has a kink."""
     b, h = blk.b, blk.h
     if mode == FLIGHT:
-        return y + h + min(corner_offsets(th, 1.0, b, h)[1], corner_offsets(th, -1.0, b, h)[1])
+        base = y + h
+        return base + corner_offsets(th, 1.0, b, h)[1], base + corner_offsets(th, -1.0, b, h)[1], math.inf
     if mode == SLIDE:
-        return min(sigma * u, _contact_kept(G))
+        return sigma * u, _contact_kept(G), math.inf
     _ax, _ay, _aw, N, F = accelerations(mode, c, sigma, th, w, a, G, blk)
-    ev = min(c * th, _contact_kept(N))
     if mode == ROCK:
-        ev = min(ev, blk.mu * N - abs(F))
-    else:
-        rx, ry = corner_offsets(th, c, b, h)
-        ev = min(ev, sigma * (u + ry * w))
-    return ev
+        return c * th, _contact_kept(N), blk.mu * N - abs(F)
+    _rx, ry = corner_offsets(th, c, b, h)
+    return c * th, _contact_kept(N), sigma * (u + ry * w)
+
+
+@jit
+def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
+    """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
+    the lowest corner below the base in flight); the smallest of the mode's indicators (:func:`_event_branches`)."""
+    e0, e1, e2 = _event_branches(mode, c, sigma, x, y, th, u, v, w, a, G, blk)
+    return min(min(e0, e1), e2)
 
 
 @jit

@@ -12,7 +12,9 @@ with the same kernels and the same decisions, but without Python between samples
    integrated, and its verdict is free flight where a plane moves it and the ground's g + a_v reaches 0
    at some sample (exactly what the Coulomb integration of that plane would find), else 0;
 4. otherwise the planes that move, strongest demand first, by rocking (with the vertical unless the
-   ``vertical_fraction`` approximation drops it); the first plane that overturns decides;
+   ``vertical_fraction`` approximation drops it; at rest, the kernel passes over the chunks of samples that the
+   record's vector quiet table, scaled by the sample's factor, shows cannot lift the block: the same verdict);
+   the first plane that overturns decides;
 5. verdict 1 (overturns in some plane), -1 (free flight in some plane and no overturn:
    undetermined), else 0.
 
@@ -37,8 +39,9 @@ from ..block import rigid_block
 from ..codes import NO_VERDICT, OVERTURNS, STANDS
 from ..contract import PlaneSample, SampleWorkspace, SceneFacts
 from ..models import judge
-from ..numerics.ground import scaled_demand_ratio
+from ..numerics.ground import NO_QUIET, QuietTable, scaled_demand_ratio
 from ..rules import motion_threshold_compiled, rocks_compiled, vertical_kept_compiled
+from ..simulate import step_control
 from ..structures import RockingOutput, RockingState
 
 
@@ -53,12 +56,18 @@ class SampledMotion(NamedTuple):
         Vertical [m s-2], empty without one.
     dt : float
         Sampling interval [s].
+    quiet_peak, quiet_least : ndarray
+        The record's :func:`~pipeline.rocking.numerics.ground.vector_quiet_table` (its peaks and least verticals,
+        unscaled), which each sample scales by its factor so that its rocking kernel passes over the chunks that
+        cannot lift its block; empty (the default): none, every sample tested.
     """
 
     h1: np.ndarray
     h2: np.ndarray
     av: np.ndarray
     dt: float
+    quiet_peak: np.ndarray = NO_QUIET.peak_ah_ms2
+    quiet_least: np.ndarray = NO_QUIET.least_av_ms2
 
 
 class SampledBlocks(NamedTuple):
@@ -102,6 +111,13 @@ class SampleRules(NamedTuple):
     control: object
 
 
+def sample_rules(settings, g_ms2: float) -> SampleRules:
+    """The :class:`SampleRules` of the simulator's settings (:class:`~..settings.SimulationConfig`) and gravity
+    ``g_ms2`` [m s-2]."""
+    return SampleRules(float(g_ms2), float(settings.vertical_fraction), bool(settings.contact_model),
+                       step_control(settings))
+
+
 def sampled_blocks(sb) -> SampledBlocks:
     """The :class:`SampledBlocks` of a :class:`~pipeline.uncertainty.sampling.SampledBlock`'s draws."""
     return SampledBlocks(sb.amplitude, sb.p, sb.alpha, sb.e, sb.R_m, sb.mu)
@@ -127,11 +143,23 @@ def _scale_vertical(av_s, av, eps):
 
 
 @jit
-def _workspace(h1, av, dt):
-    """The :class:`~.contract.SampleWorkspace` of a record ``h1`` (and vertical ``av``) sampled at ``dt``."""
+def _scale_quiet(quiet, motion, eps):
+    """Fill a sample's ``quiet`` table: the record's vector table (``motion.quiet_peak``, ``quiet_least``) times its
+    factor ``eps``, what :func:`~..numerics.ground.vector_quiet_table` of the scaled record would hold."""
+    for c in range(quiet.peak_ah_ms2.size):
+        quiet.peak_ah_ms2[c] = eps * motion.quiet_peak[c]
+        quiet.least_av_ms2[c] = eps * motion.quiet_least[c]
+
+
+@jit
+def _workspace(motion):
+    """The :class:`~.contract.SampleWorkspace` of a :class:`SampledMotion`."""
+    h1, av, dt = motion.h1, motion.av, motion.dt
     n = h1.size
     has_v = av.size == n
+    chunks = motion.quiet_peak.size
     return SampleWorkspace(n=n, has_v=has_v, t_end=(n - 1) * dt, a=np.empty(n), av_s=np.empty(n if has_v else 0),
+                           quiet=QuietTable(np.empty(chunks), np.empty(chunks)),
                            none=np.zeros(0), no_output=RockingOutput(theta=np.zeros(0), impacts=np.zeros((0, 3))),
                            at_rest=RockingState(theta=0.0, omega=0.0, t=0.0))
 
@@ -183,10 +211,10 @@ def sample_plane_outcomes(motion, cosines, sines, blocks, rules, outcome_out, pl
     once another overturns: ``outcome_out[k, j]`` is a :class:`~.codes.Verdict` (no_verdict: free flight before
     any overturning, no verdict) for sample k in plane j. ``planes_out[k]`` counts the planes integrated.
     """
-    h1, h2, av, dt = motion
+    h1, h2, av, dt = motion.h1, motion.h2, motion.av, motion.dt
     eps, p, alpha, e, R, mu = blocks
     g, vertical_fraction, contact_model, control = rules
-    w = _workspace(h1, av, dt)
+    w = _workspace(motion)
     av_s = w.av_s
     n_s, n_p = cosines.shape
     ratios = np.empty(n_p)
@@ -198,6 +226,7 @@ def sample_plane_outcomes(motion, cosines, sines, blocks, rules, outcome_out, pl
                 outcome_out[k, j] = STANDS
             continue
         _scale_vertical(av_s, av, eps[k])
+        _scale_quiet(w.quiet, motion, eps[k])
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
         flight = use_v and _flight_at_some_sample(av_s, g)
@@ -226,10 +255,10 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
     verdict_out, planes_out : ndarray (int64)
         Filled with each sample's :class:`~.codes.Verdict` and planes integrated.
     """
-    h1, h2, av, dt = motion
+    h1, h2, av, dt = motion.h1, motion.h2, motion.av, motion.dt
     eps, p, alpha, e, R, mu = blocks
     g, vertical_fraction, contact_model, control = rules
-    w = _workspace(h1, av, dt)
+    w = _workspace(motion)
     has_v, av_s = w.has_v, w.av_s
     n_s, n_p = cosines.shape
     ratios = np.empty(n_p)
@@ -243,6 +272,7 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
         if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, has_v, g, thr, ratios):
             continue
         _scale_vertical(av_s, av, eps[k])
+        _scale_quiet(w.quiet, motion, eps[k])
         order = np.argsort(-ratios, kind="mergesort")
         use_v = _vertical_kept(av_s, g, vertical_fraction)
         rocks = rocks_compiled(alpha[k], mu[k])
