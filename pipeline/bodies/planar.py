@@ -21,10 +21,10 @@ from ..rocking import models as scene_models
 from ..rocking.block import Block, BlockShape, dynamics
 from ..rocking.numerics.ground import quiet_table, scaled_demand_ratio, scaled_quiet_table
 from ..rocking.orientation import Orientation, PlaneResult, Planes, plane_grid, worst_plane
-from ..rocking.planar.sampled import SampledBlocks, SampledMotion, SampleRules, kernels
+from ..rocking.planar.sampled import SampledBlocks, SampledMotion, kernels, sample_rules
 from ..rocking.planner import ContactMode, Physics, guard_names, rocks, simulate_scene
 from ..rocking.settings import SimulationConfig
-from ..rocking.simulate import finite_series, step_control
+from ..rocking.simulate import finite_series
 from ..uncertainty.orientations import (
     NOT_EVALUATED_ORIENTATION,
     OrientationProbability,
@@ -257,7 +257,7 @@ def draws_warmup() -> None:
     one = np.ones(1)
     out = np.zeros(1, dtype=np.int64)
     blocks = SampledBlocks(one, 2.0 * one, 0.2 * one, 0.9 * one, one, 0.7 * one)
-    rules = SampleRules(G, 0.0, True, step_control(SimulationConfig()))
+    rules = sample_rules(SimulationConfig(), G)
     sample_verdicts, sample_plane_outcomes = kernels()                   # the registry's, as it stands
     for vertical in (np.zeros(0), 0.1 * a):
         motion = SampledMotion(a, np.zeros_like(a), vertical, 0.01)

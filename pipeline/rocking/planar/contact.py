@@ -65,6 +65,7 @@ from .contact_laws import (
     _slip_point,
     _transition,
     corner_offsets,
+    event_value,
     state_verdict,
 )
 from .kernel import HALF_PI, SAMPLE_INDEX_TOL, TINY, free_outcome
@@ -358,7 +359,7 @@ def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, f_hh, hh_branches, pc,
         tm = t + mid
         mid_branches = _event_branches(mode, c, sigma, xm_, ym_, thm, um, vm, wm, pc.a0 + pc.sa * (tm - t0),
                                        g + pc.v0 + pc.sv * (tm - t0), blk)
-        if min(min(mid_branches[0], mid_branches[1]), mid_branches[2]) < 0.0:     # the event has happened by mid
+        if event_value(mid_branches) < 0.0:                 # the event has happened by mid
             hi = mid
             k = _smallest(mid_branches)
             f_hi = _branch(mid_branches, k)
@@ -388,7 +389,7 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
     te = t + hh
     branches = _event_branches(mode, c, sigma, x1, y1, th1, u1, v1s, w1, pc.a0 + pc.sa * (te - t0),
                                g + pc.v0 + pc.sv * (te - t0), blk)
-    ev = min(min(branches[0], branches[1]), branches[2])       # the event function (contact_laws._event)
+    ev = event_value(branches)
     if ev < 0.0:
         hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, ev, branches, pc, blk)
         te = t + hh

@@ -147,7 +147,7 @@ def _event_branches(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     three): in flight each corner's height above the base; sliding the slip rate along its sign and the apparent
     gravity; rocking or slide-rocking the tilt toward the pivot and the normal force, then the friction margin
     mu N - |F| (rocking) or the pivot's slip rate along its sign (slide-rocking). Each is smooth in the state where
-    their smallest (:func:`_event`) has a kink."""
+    their smallest (:func:`event_value`) has a kink."""
     b, h = blk.b, blk.h
     if mode == FLIGHT:
         base = y + h
@@ -161,12 +161,11 @@ def _event_branches(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
     return c * th, _contact_kept(N), sigma * (u + ry * w)
 
 
-@jit
-def _event(mode, c, sigma, x, y, th, u, v, w, a, G, blk):
-    """Event function of the mode: negative once an event has happened (impact, lift-off, slip change,
-    the lowest corner below the base in flight); the smallest of the mode's indicators (:func:`_event_branches`)."""
-    e0, e1, e2 = _event_branches(mode, c, sigma, x, y, th, u, v, w, a, G, blk)
-    return min(min(e0, e1), e2)
+@jit_inline
+def event_value(branches):
+    """The event function of a state, from its indicators (:func:`_event_branches`): negative once an event has
+    happened (impact, lift-off, slip change, the lowest corner below the base in flight); their smallest."""
+    return min(min(branches[0], branches[1]), branches[2])
 
 
 @jit
