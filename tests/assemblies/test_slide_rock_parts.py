@@ -180,6 +180,7 @@ def columns():
     return out, runs
 
 
+@pytest.mark.slow       # the columns' fixture: 42 scenes by both models, 17-23 s
 def test_columns_have_the_reference_verdicts(columns):
     """Three and five drums whose joints slip while the column rocks (42 scenes): each drum's verdict as shipped (the
     slide-rock model on the column's two parts) is the reference's in at least 95 % of them, every scene that differs

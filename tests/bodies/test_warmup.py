@@ -136,6 +136,7 @@ def test_a_helper_that_took_no_call_is_ended_and_none_starts_after_the_end(tmp_p
     assert shared.start_helpers() == 0
 
 
+@pytest.mark.slow
 def test_the_wait_for_a_helper_leaves_the_announcements_free(tmp_path):
     """While the caller waits for a helper still making a call (a long compilation), the ticker's thread asks
     :meth:`start_helpers` on every line it says: that answers at once (the wait holds no lock it needs), so the

@@ -214,6 +214,7 @@ def test_configuration_change_rescreens_everything(few_records, blocks_csv, tmp_
     assert len(list((out / ".rockscreen" / "cache").glob("*.npz"))) == 6
 
 
+@pytest.mark.slow
 def test_force_recomputes_all(few_records, blocks_csv, tmp_path, capsys):
     out = tmp_path / "out"
     assert screen(few_records, blocks_csv, out) == EXIT_OK
@@ -818,6 +819,7 @@ def test_a_lost_worker_never_replaces_a_good_result_of_the_same_inputs(few_recor
     assert_same_results(after, before)
 
 
+@pytest.mark.slow
 def test_a_run_with_a_lost_worker_is_never_up_to_date(few_records, blocks_csv, tmp_path, monkeypatch, capsys):
     """The first run loses a record's worker (no earlier result to keep): it fails, exit 1; the next run is not
     'up to date' on that failure, it screens the record again."""

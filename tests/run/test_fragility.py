@@ -49,7 +49,8 @@ def _record(k: int, period: float) -> Record:
 
 @pytest.fixture(scope="module")
 def suite():
-    """The 16 records, judged by the pipeline (nominal verdicts) and by the independent solver."""
+    """The 16 records, judged by the pipeline (nominal verdicts) and by the independent solver (112 solve_ivp runs,
+    25-29 s: the tests on it are marked slow)."""
     inv = Inventory.single(**BLOCK, block_id="B")
     cfg = Config().with_uncertainty(samples=0)
     ctx = Context("", cfg, inv, {})
@@ -63,6 +64,7 @@ def suite():
     return ds, independent, results
 
 
+@pytest.mark.slow
 def test_stripe_counts_agree_with_the_independent_solver(suite):
     ds, independent, _ = suite
     counts = ds["overturned_sum"].values[0]
@@ -71,6 +73,7 @@ def test_stripe_counts_agree_with_the_independent_solver(suite):
     assert 0 < independent.sum() < independent.size          # the suite spans standing and overturning
 
 
+@pytest.mark.slow
 def test_fit_agrees_with_a_general_maximum_likelihood_fit(suite):
     ds, independent, _ = suite
     z, n = independent.sum(axis=0), np.full(len(LEVELS), 16.0)
@@ -88,6 +91,7 @@ def test_fit_agrees_with_a_general_maximum_likelihood_fit(suite):
     assert ds["median_low"].values[0] < ds["median"].values[0] < ds["median_high"].values[0]
 
 
+@pytest.mark.slow
 def test_hazard_integral_agrees_with_a_dense_numerical_integration(suite, tmp_path):
     ds, _, _ = suite
     theta, beta = float(ds["median"].values[0]), float(ds["beta"].values[0])
@@ -115,6 +119,7 @@ def test_fit_statuses_and_a_second_fit_path():
     assert float(sep.theta) == pytest.approx(math.sqrt(0.2 * 0.4))
 
 
+@pytest.mark.slow
 def test_im_ranking_and_sufficiency_are_reported(suite):
     ds, _, _ = suite
     ims = ds["im"].values.tolist()
@@ -160,6 +165,7 @@ def test_bad_hazard_curves_name_the_file_line_and_value(tmp_path, body, message)
     assert str(path) in str(err.value) and message in str(err.value)
 
 
+@pytest.mark.slow
 def test_an_unscalable_record_is_reported(suite):
     """ap is undefined where no pulse was extracted: the record cannot be scaled, and the run says why."""
     ds, _, results = suite

@@ -56,6 +56,7 @@ def test_a_missing_output_directory_is_fine_and_a_file_in_its_place_is_named(tmp
         check_output_tree(tmp_path / "file", output_names=FIVE)
 
 
+@pytest.mark.slow
 def test_screen_force_and_screen_report_refuse_a_planted_link_with_exit_3(make_records, tmp_path, capsys):
     """The findings as reported: ``.rockscreen/cache`` a link to another folder before ``screen --force`` and
     ``.rockscreen/figures`` one before ``screen report``; the lock a link to a file. Each command exits 3 naming the

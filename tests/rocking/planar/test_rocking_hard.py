@@ -155,7 +155,8 @@ def test_convergence_on_the_bundled_records(real_records, blocks_csv):
 
 
 @pytest.mark.parametrize("record_id, height, width", [("RSN77_SFERN_PUL164", 1.5, 0.6),
-                                                      ("RSN6_IMPVALL.I_I-ELC180", 20.0, 2.2),
+                                                      pytest.param("RSN6_IMPVALL.I_I-ELC180", 20.0, 2.2,
+                                                                   marks=pytest.mark.slow),  # 7-8 s
                                                       ("RSN4040_BAM_BAM", 2.0, 0.5)])
 def test_agrees_with_the_solve_ivp_reference(real_records, record_id, height, width):
     rec = next(r for r in real_records if r.record_id == record_id)

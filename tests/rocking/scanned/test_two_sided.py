@@ -42,7 +42,8 @@ def test_a_rectangle_is_the_planar_kernels_block(amp_g, period_s):
         assert abs(ours.n_impacts - ref.n_impacts) <= 1       # the closing cascade's last rebound, at the rest rule
 
 
-@pytest.mark.parametrize("seed", range(12))
+#: seeds from 3 on (2-5 s each) run with make test-slow
+@pytest.mark.parametrize("seed", [pytest.param(s, marks=() if s < 3 else pytest.mark.slow) for s in range(12)])
 def test_an_asymmetric_body_agrees_with_the_event_driven_solver(seed):
     rng = np.random.default_rng(100 + seed)
     body = TwoSided(rng.uniform(0.05, 0.2), rng.uniform(0.1, 0.4), rng.uniform(0.3, 0.8), rng.uniform(0.01, 0.08))
