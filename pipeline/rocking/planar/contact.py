@@ -57,12 +57,14 @@ from ..rules import MAX_EVENTS_AT_ONE_INSTANT, events_at_instant_compiled
 from ..structures import ContactOutcome, ContactState, GroundPiece
 from .contact_laws import (
     FLAT_ANGLE_ALPHA,
+    _branch,
     _constrain,
     _event_branches,
     _mode_bit,
     _onset,
     _rk4,
     _slip_point,
+    _smallest,
     _transition,
     corner_offsets,
     event_value,
@@ -320,24 +322,9 @@ def _lose_contact(progress):
 
 
 @jit_inline
-def _branch(branches, k):
-    """Indicator ``k`` of a triple of :func:`~.contact_laws._event_branches`."""
-    return branches[0] if k == 0 else (branches[1] if k == 1 else branches[2])
-
-
-@jit_inline
-def _smallest(branches):
-    """Which indicator of a triple is the smallest (the one negative where the event function is)."""
-    e0, e1, e2 = branches
-    if e0 <= e1 and e0 <= e2:
-        return 0
-    return 1 if e1 <= e2 else 2
-
-
-@jit_inline
-def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, f_hh, hh_branches, pc, blk):
+def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, hh_branches, pc, blk):
     """The length of a step from t that ends at the mode's first event inside ``hh`` (the event function is
-    negative at its end, ``f_hh``; ``hh_branches``: its indicators there): located on the step length by ITP
+    negative at its end, where the mode's indicators are ``hh_branches``): located on the step length by ITP
     (:mod:`..numerics.itp`) to a bracket of ``hh`` 2^-:data:`EVENT_BRACKET_BITS` across which the event function
     changes sign, its end returned (where the event has happened). The event function is the smallest of the mode's
     indicators, with a kink where two of them cross; ITP interpolates the indicator that is negative at the
@@ -348,7 +335,7 @@ def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, f_hh, hh_branches, pc,
                                   g + pc.v0 + pc.sv * (t - t0), blk)
     k = _smallest(hh_branches)
     f_lo = max(_branch(lo_branches, k), 0.0)            # no event yet at the step's start (a rounding below 0: 0)
-    f_hi = min(_branch(hh_branches, k), f_hh)
+    f_hi = min(_branch(hh_branches, k), 0.0)            # the event has happened at its end: the smallest is below 0
     width = hh * 2.0 ** -EVENT_BRACKET_BITS
     n_max = evaluations_cap(hh, width)
     j = 0
@@ -362,7 +349,7 @@ def _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, f_hh, hh_branches, pc,
         if event_value(mid_branches) < 0.0:                 # the event has happened by mid
             hi = mid
             k = _smallest(mid_branches)
-            f_hi = _branch(mid_branches, k)
+            f_hi = min(_branch(mid_branches, k), 0.0)
             f_lo = max(_branch(lo_branches, k), 0.0)
         else:
             lo, lo_branches = mid, mid_branches
@@ -391,7 +378,7 @@ def _step(pc, t_stop, hand_back, dt, blk, lim, progress, hist):
                                g + pc.v0 + pc.sv * (te - t0), blk)
     ev = event_value(branches)
     if ev < 0.0:
-        hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, ev, branches, pc, blk)
+        hh = _event_step(mode, c, sigma, x, y, th, u, v, w, t, hh, branches, pc, blk)
         te = t + hh
         x1, y1, th1, u1, v1s, w1 = _rk4(mode, c, sigma, x, y, th, u, v, w, t, hh, t0, pc.a0, pc.sa, pc.v0, pc.sv, blk)
     if abs(th1) >= HALF_PI:

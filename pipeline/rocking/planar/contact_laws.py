@@ -168,6 +168,22 @@ def event_value(branches):
     return min(min(branches[0], branches[1]), branches[2])
 
 
+@jit_inline
+def _smallest(branches):
+    """Which indicator of a triple (:func:`_event_branches`) is the smallest: the one negative where the event
+    function is."""
+    e0, e1, e2 = branches
+    if e0 <= e1 and e0 <= e2:
+        return 0
+    return 1 if e1 <= e2 else 2
+
+
+@jit_inline
+def _branch(branches, k):
+    """Indicator ``k`` of a triple of :func:`_event_branches`."""
+    return branches[0] if k == 0 else (branches[1] if k == 1 else branches[2])
+
+
 @jit
 def housner_restitution(alpha):
     """Housner's angular-velocity ratio of a sticking rocking impact of a rectangular block,

@@ -145,7 +145,8 @@ def _scale_vertical(av_s, av, eps):
 @jit
 def _scale_quiet(quiet, motion, eps):
     """Fill a sample's ``quiet`` table: the record's vector table (``motion.quiet_peak``, ``quiet_least``) times its
-    factor ``eps``, what :func:`~..numerics.ground.vector_quiet_table` of the scaled record would hold."""
+    factor ``eps``, what :func:`~..numerics.ground.vector_quiet_table` of the scaled record would hold: the values of
+    :func:`~..numerics.ground.scaled_quiet_table`, written into the workspace's buffers (no array made per sample)."""
     for c in range(quiet.peak_ah_ms2.size):
         quiet.peak_ah_ms2[c] = eps * motion.quiet_peak[c]
         quiet.least_av_ms2[c] = eps * motion.quiet_least[c]

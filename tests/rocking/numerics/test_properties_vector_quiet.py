@@ -38,7 +38,7 @@ def test_a_chunk_the_scaled_table_passes_over_cannot_lift_the_block(series, fact
     h1, h2, av = series
     c, s = math.cos(math.radians(azimuth_deg)), math.sin(math.radians(azimuth_deg))
     table = ground.vector_quiet_table(h1, h2, av if with_vertical else None)
-    scaled = ground.QuietTable(factor * table.peak_ah_ms2, factor * table.least_av_ms2)
+    scaled = ground.scaled_quiet_table(table, factor)
     a = factor * (c * h1 + s * h2)                          # the draw's projection, as the sampled kernels make it
     av_s = factor * av if with_vertical else None
     loud = _liftable(a, av_s, thr)
