@@ -3,13 +3,14 @@ series themselves.
 
 On every bundled record with two horizontals and a vertical, in two planes (0 and 65 deg from its first component),
 for a fixed set of blocks that rock (seeded, heights 0.5-5 m, mu above tan alpha): the product's scan
-(:func:`pipeline.bodies.planar.overturn_scale_simulated`: each scaled scene's demand ratio taken from the unscaled
-series, the series checked once, the factors below the one that first lifts the block not planned: they stand) and
+(:func:`pipeline.bodies.planar.overturn_scale_simulated`: each factor judged by the sampled kernel, one draw at that
+amplitude, the series checked once, the factors below the one that first lifts the block not judged: they stand) and
 the scan whose every factor's scene is planned on ``f a_h`` and ``f a_v`` (:func:`~pipeline.rocking.planner.
 simulate_scene` computing the ratio and checking both series itself, the factors below the lift included). Prints
-each way's scaled scenes planned, its best of ``--passes`` timed passes (after one pass that loads the compiled
-kernels, the two ways alternating), the time per block's scan, the rocking kernel's share of it, and whether the
-margins are the same.
+each way's scaled scenes judged, its best of ``--passes`` timed passes (after one pass that loads the compiled
+kernels, the two ways alternating), the time per block's scan, the share of it spent inside compiled calls (the
+rocking kernel and the general contact model's hand-off where planned; the sampled kernel in the product's), and
+whether the margins are the same.
 
 Usage::
 
@@ -30,7 +31,7 @@ from pipeline.bodies.planar import lift_factor, overturn_scale_simulated
 from pipeline.config import Config
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, dynamics
-from pipeline.rocking.planar import kernel
+from pipeline.rocking.planar import handoff, kernel, sampled
 from pipeline.rocking.planner import rocks, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 
@@ -68,28 +69,37 @@ def scenes():
                 yield np.ascontiguousarray(rec.along(rec.azimuths_deg[0] + az)), rec.vertical_ms2, rec.dt_s
 
 
+#: The compiled entry points the two scans call from Python: (module, name).
+COMPILED_CALLS = ((kernel, "rock"), (handoff, "continue_rocking"), (sampled, "sample_verdicts"))
+
+
 class KernelClock:
-    """The rocking kernel wrapped to sum the seconds spent in it."""
+    """The compiled entry points (:data:`COMPILED_CALLS`) wrapped to sum the seconds spent in them."""
 
     def __init__(self):
-        self.seconds, self._rock = 0.0, kernel.rock
+        self.seconds, self._saved = 0.0, [getattr(m, name) for m, name in COMPILED_CALLS]
 
     def __enter__(self):
+        for (module, name), compiled in zip(COMPILED_CALLS, self._saved):
+            setattr(module, name, self._timed(compiled))
+        return self
+
+    def _timed(self, compiled):
         def timed(*args):
             t0 = time.perf_counter()
             try:
-                return self._rock(*args)
+                return compiled(*args)
             finally:
                 self.seconds += time.perf_counter() - t0
-        kernel.rock = timed
-        return self
+        return timed
 
     def __exit__(self, *exc):
-        kernel.rock = self._rock
+        for (module, name), compiled in zip(COMPILED_CALLS, self._saved):
+            setattr(module, name, compiled)
 
 
 def one_pass(scan, cases, bs):
-    """Every scan of ``bs`` on ``cases``: the results, the wall time and the kernel's part of it [s]."""
+    """Every scan of ``bs`` on ``cases``: the results, the wall time and the compiled calls' part of it [s]."""
     with KernelClock() as clock:
         t0 = time.perf_counter()
         out = [scan(ah, av, dt, b) for ah, av, dt in cases for b in bs]
@@ -115,8 +125,8 @@ def main() -> None:
     print(f"{len(cases)} record planes x {len(bs)} blocks: {scans} scans, best of {a.passes} passes")
     for name, (wall, in_kernel) in best.items():
         runs = sum(r for _, r in results[name])
-        print(f"  {name:30s} {runs:6d} scaled scenes  {wall:7.2f} s  {wall / scans * 1e3:6.2f} ms a scan, the kernel "
-              f"{in_kernel / wall:.0%} of it")
+        print(f"  {name:30s} {runs:6d} scaled scenes  {wall:7.2f} s  {wall / scans * 1e3:6.2f} ms a scan, compiled "
+              f"calls {in_kernel / wall:.0%} of it")
     same = [m for m, _ in results["product"]] == [m for m, _ in results["planned on the scaled series"]]
     print(f"  ratio {best['planned on the scaled series'][0] / best['product'][0]:.2f}x; margins the same: {same}")
 

@@ -146,16 +146,49 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
     if math.isinf(f):
         return math.inf, 0
     table = quiet_table(ah_ms2, av_ms2)
-    ah, av = _checked_once(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
-    across, vertical = np.zeros_like(ah), np.zeros(0) if av is None else av
-
-    def verdict_at(factor: float) -> int:
-        ratio = scaled_demand_ratio(ah, across, 1.0, 0.0, factor, vertical, av is not None, block.g_ms2)
-        return simulate_scene(factor * ah, None if av is None else factor * av, dt_s, block=block, settings=settings,
-                              ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
-
+    ah, av, checked = _checked_once(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
+    # the sampled kernel checks nothing: series not finite times some factor keep the planner's scene, which refuses
+    verdict_at = (_compiled_verdict if checked else _planner_verdict)(ah, av, dt_s, table, block=block,
+                                                                      settings=settings)
     # below f no sample lifts the block (the at-rest certificate of every such factor): it stands, nothing simulated
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=f)
+
+
+def _planner_verdict(ah_ms2: np.ndarray, av_ms2, dt_s: float, table, *, block: Block,
+                     settings: SimulationConfig) -> Callable[[float], int]:
+    """The scan's ``verdict_at(factor)``: the planner's scene of the record scaled by ``factor`` (its quiet ``table``,
+    :func:`~pipeline.rocking.numerics.ground.quiet_table`, scaled with it)."""
+    across, vertical = np.zeros_like(ah_ms2), np.zeros(0) if av_ms2 is None else av_ms2
+
+    def verdict_at(factor: float) -> int:
+        ratio = scaled_demand_ratio(ah_ms2, across, 1.0, 0.0, factor, vertical, av_ms2 is not None, block.g_ms2)
+        return simulate_scene(factor * ah_ms2, None if av_ms2 is None else factor * av_ms2, dt_s, block=block,
+                              settings=settings, ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
+
+    return verdict_at
+
+
+def _compiled_verdict(ah_ms2: np.ndarray, av_ms2, dt_s: float, table, *, block: Block,
+                      settings: SimulationConfig) -> Callable[[float], int]:
+    """The scan's ``verdict_at(factor)`` by the sampled kernel
+    (:func:`~pipeline.rocking.planar.sampled.sample_verdicts`: one draw of the block at amplitude ``factor`` in the
+    one plane of ``ah_ms2``, its quiet ``table`` scaled with it): the verdict of :func:`_planner_verdict`, whose
+    equality tests/rocking/planar/test_sampled_kernels.py and tests/bodies/test_planar_margin.py check, without
+    the planner's Python at each factor (``benchmarks/margin_scan_cost.py`` times both)."""
+    h1 = np.ascontiguousarray(ah_ms2, dtype=float).view(np.ndarray)
+    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float).view(np.ndarray)
+    motion = SampledMotion(h1, np.zeros_like(h1), av, float(dt_s), table.peak_ah_ms2, table.least_av_ms2)
+    rules = sample_rules(settings, block.g_ms2)
+    sample_verdicts = kernels().sample_verdicts
+    one, zero = np.ones((1, 1)), np.zeros((1, 1))            # the plane of ah_ms2 itself: a = factor (1 h1 + 0 h2)
+    params = [np.array([float(x)]) for x in (block.p, block.alpha, block.e, block.R_m, block.mu)]
+    verdict, planes = np.empty(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
+
+    def verdict_at(factor: float) -> int:
+        sample_verdicts(motion, one, zero, SampledBlocks(np.array([float(factor)]), *params), rules, verdict, planes)
+        return int(verdict[0])
+
+    return verdict_at
 
 
 def lift_factor(ah_ms2: np.ndarray, av_ms2, *, alpha: float, g_ms2: float = G) -> float:
@@ -173,15 +206,15 @@ def lift_factor(ah_ms2: np.ndarray, av_ms2, *, alpha: float, g_ms2: float = G) -
     return float(np.min(g_ms2 * tan_a / lift[lift > 0])) if np.any(lift > 0) else math.inf
 
 
-def _checked_once(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None]:
+def _checked_once(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None, bool]:
     """The scan's series checked once (:func:`~pipeline.rocking.simulate.finite_series`) where every factor up to
     ``top`` keeps them finite, so that their scaled copies skip the simulator's check at each factor (else as
-    given, checked at each)."""
+    given, checked at each), and whether they were."""
     given = [a for a in (ah_ms2, av_ms2) if a is not None]
     if not all(math.isfinite(top * float(np.max(np.abs(a)))) for a in given):
-        return np.asarray(ah_ms2, dtype=float), av_ms2
+        return np.asarray(ah_ms2, dtype=float), av_ms2, False
     return (finite_series("horizontal acceleration", ah_ms2),
-            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2))
+            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2), True)
 
 
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:

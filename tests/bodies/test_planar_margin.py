@@ -1,8 +1,9 @@
 """The planar margin's scan on real records against the same scan with every factor's scene planned on the scaled
-series themselves (the second algorithm): :func:`~pipeline.bodies.planar.overturn_scale_simulated` takes each
-scaled scene's demand ratio from the unscaled series and checks the series once, not at every factor, and does not
-plan the factors below the one that first lifts the block (they stand); the margins are the same, and so are the
-scenes simulated, less those factors."""
+series themselves (the second algorithm): :func:`~pipeline.bodies.planar.overturn_scale_simulated` judges each
+factor by the sampled kernel (one draw at that amplitude, the series checked once, not at every factor) and does
+not judge the factors below the one that first lifts the block (they stand); the margins are the same, and so are
+the scenes simulated, less those factors. Series that are not finite times some factor of the scan are planned at each
+factor, which refuses a series that is not finite (with a gap, say)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import pytest
 from pipeline.bodies.factor_sweep import factor_sweep
 from pipeline.bodies.planar import lift_factor, overturn_scale_simulated
 from pipeline.config import Config
+from pipeline.errors import ParameterError
 from pipeline.records.loader import iter_records
 from pipeline.rocking.block import BlockShape, dynamics
 from pipeline.rocking.planner import simulate_scene
@@ -52,3 +54,13 @@ def test_the_scan_is_the_scan_of_the_scaled_scenes(yarimca, compiled_simulator, 
     assert all(runs <= all_runs for (_, runs), (_, all_runs) in zip(found, every))
     assert found[-1][1] < every[-1][1]                                  # the stocky block's factors up to its lift
     assert sum(runs for _, runs in found) > 4 * len(SHAPES)            # the scans ran: every block lifted
+
+
+def test_a_series_with_a_gap_is_refused_not_judged(compiled_simulator):
+    t = np.arange(0.0, 4.0, 0.01)
+    ah = 0.3 * 9.80665 * np.sin(2 * np.pi * t / 0.8)
+    block = dynamics([BlockShape(height_m=1.2, width_m=0.3, mu=0.7)])[0]
+    assert np.isfinite(overturn_scale_simulated(ah, None, 0.01, block=block, settings=SETTINGS)[0])
+    ah[150] = np.nan                            # the sampled kernel checks nothing: the planner refuses it
+    with pytest.raises(ParameterError, match="NaN or infinite values at sample 150"):
+        overturn_scale_simulated(ah, None, 0.01, block=block, settings=SETTINGS)
