@@ -146,10 +146,10 @@ def overturn_scale_simulated(ah_ms2: np.ndarray, av_ms2, dt_s: float, *, block: 
     if math.isinf(f):
         return math.inf, 0
     table = quiet_table(ah_ms2, av_ms2)
-    ah, av, checked = _checked_once(ah_ms2, av_ms2, max(1.0, settings.margin_max_factor))
     # the sampled kernel checks nothing: series not finite times some factor keep the planner's scene, which refuses
-    verdict_at = (_compiled_verdict if checked else _planner_verdict)(ah, av, dt_s, table, block=block,
-                                                                      settings=settings)
+    judged = _compiled_verdict if _stays_finite(max(1.0, settings.margin_max_factor), ah_ms2, av_ms2) \
+        else _planner_verdict
+    verdict_at = judged(ah_ms2, av_ms2, dt_s, table, block=block, settings=settings)
     # below f no sample lifts the block (the at-rest certificate of every such factor): it stands, nothing simulated
     return factor_sweep(f, verdict_at, settings=settings, overturns_at_one=overturns_at_one, stands_below=f)
 
@@ -175,8 +175,8 @@ def _compiled_verdict(ah_ms2: np.ndarray, av_ms2, dt_s: float, table, *, block: 
     one plane of ``ah_ms2``, its quiet ``table`` scaled with it): the verdict of :func:`_planner_verdict`, whose
     equality tests/rocking/planar/test_sampled_kernels.py and tests/bodies/test_planar_margin.py check, without
     the planner's Python at each factor (``benchmarks/margin_scan_cost.py`` times both)."""
-    h1 = np.ascontiguousarray(ah_ms2, dtype=float).view(np.ndarray)
-    av = np.zeros(0) if av_ms2 is None else np.ascontiguousarray(av_ms2, dtype=float).view(np.ndarray)
+    h1 = finite_series("horizontal acceleration", ah_ms2).view(np.ndarray)          # its shape checked once
+    av = np.zeros(0) if av_ms2 is None else finite_series("vertical acceleration", av_ms2).view(np.ndarray)
     motion = SampledMotion(h1, np.zeros_like(h1), av, float(dt_s), table.peak_ah_ms2, table.least_av_ms2)
     rules = sample_rules(settings, block.g_ms2)
     sample_verdicts = kernels().sample_verdicts
@@ -206,15 +206,10 @@ def lift_factor(ah_ms2: np.ndarray, av_ms2, *, alpha: float, g_ms2: float = G) -
     return float(np.min(g_ms2 * tan_a / lift[lift > 0])) if np.any(lift > 0) else math.inf
 
 
-def _checked_once(ah_ms2: np.ndarray, av_ms2, top: float) -> tuple[np.ndarray, np.ndarray | None, bool]:
-    """The scan's series checked once (:func:`~pipeline.rocking.simulate.finite_series`) where every factor up to
-    ``top`` keeps them finite, so that their scaled copies skip the simulator's check at each factor (else as
-    given, checked at each), and whether they were."""
-    given = [a for a in (ah_ms2, av_ms2) if a is not None]
-    if not all(math.isfinite(top * float(np.max(np.abs(a)))) for a in given):
-        return np.asarray(ah_ms2, dtype=float), av_ms2, False
-    return (finite_series("horizontal acceleration", ah_ms2),
-            None if av_ms2 is None else finite_series("vertical acceleration", av_ms2), True)
+def _stays_finite(top: float, *series) -> bool:
+    """Whether every series given (None: none) stays finite times any factor up to ``top`` (a NaN or an infinity
+    anywhere in one fails too: its peak is then not finite)."""
+    return all(a is None or math.isfinite(top * float(np.max(np.abs(a)))) for a in series)
 
 
 def theta_history(ah_ms2, av_ms2, dt_s: float, *, block: Block, settings) -> np.ndarray | None:
