@@ -42,7 +42,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .attitude import energy, rotation_matrix
-from .contact3d import Contact3DOutcome, simulate_contact3d
+from .contact3d import Contact3DOutcome, prepare, simulate_contact3d
 from .contact_start import Start
 from .convex_body import ConvexBody
 from .vec3 import FLAG_NONE
@@ -105,10 +105,10 @@ def alternate(ax, ay, az, dt_s: float, model: ExactModel, azimuth_deg: float, st
     ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
     az = None if az is None or np.size(az) == 0 else np.asarray(az, dtype=float)
     peak, costs = (0.0, math.nan), _Costs()
-    handbacks = 0
+    handbacks, prepared = 0, prepare(model.body, dt_s)
     while True:
         out = simulate_contact3d(ax, ay, az, dt_s, model.body, yaw_deg=azimuth_deg, g_ms2=g_ms2, start=start,
-                                 edges=model.edges if handbacks < MAX_HANDBACKS else None)
+                                 edges=model.edges if handbacks < MAX_HANDBACKS else None, prepared=prepared)
         peak, costs = _peak(peak, out.tilt_max_rad, out.lean_at_peak_deg), costs.add(out)
         if out.edge < 0:
             return _whole(out, peak, costs)

@@ -41,19 +41,23 @@ def box_model(box: Box, *, dt_s: float, g_ms2: float, rtol: float, atol_alpha: f
 def edge_state(out: Contact3DOutcome, box: Box) -> BoxState:
     """The exact model's state (q, omega) on edge ``out.edge`` where the contact model stopped: the orientation
     turned so that the edge lies level (the contact model lets a corner sink by up to a step's travel) and the rate
-    about the edge alone (the two sticking corners leave only that, to the solver's tolerance)."""
-    q = np.asarray(out.q_end, dtype=float)
-    u = rotation_matrix(q) @ (base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge))
-    u = u / np.linalg.norm(u)
-    level = np.array([u[0], u[1], 0.0]) / math.hypot(u[0], u[1])
-    axis = np.cross(u, level)
-    sine = float(np.linalg.norm(axis))
+    about the edge alone (the two sticking corners leave only that, to the solver's tolerance). In scalars: a few
+    products of 3-vectors, where numpy's calls would cost more than the exact model's step."""
+    q, w = np.asarray(out.q_end, dtype=float), np.asarray(out.rate_end_rad_s, dtype=float)
+    d = base_corner(box, (out.edge + 1) % 4) - base_corner(box, out.edge)
+    u0, u1, u2 = (row[0] * d[0] + row[1] * d[1] + row[2] * d[2] for row in rotation_matrix(q).tolist())
+    size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    u0, u1, u2 = u0 / size, u1 / size, u2 / size
+    flat = math.hypot(u0, u1)
+    l0, l1 = u0 / flat, u1 / flat                                   # the edge levelled, a unit vector
+    a0, a1, a2 = -u2 * l1, u2 * l0, u0 * l1 - u1 * l0               # the edge x the levelled edge
+    sine = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
     levelled = q.copy()
     if sine > 0.0:
-        turn = axis / sine * math.atan2(sine, float(np.dot(u, level)))
-        turned(q, turn[0], turn[1], turn[2], 1.0, levelled)
-    rate = float(np.dot(np.asarray(out.rate_end_rad_s, dtype=float), level)) * level
-    return BoxState(levelled, rate, EDGE, out.edge)
+        angle = math.atan2(sine, u0 * l0 + u1 * l1)
+        turned(q, a0 / sine * angle, a1 / sine * angle, a2 / sine * angle, 1.0, levelled)
+    along = w[0] * l0 + w[1] * l1
+    return BoxState(levelled, np.array([along * l0, along * l1, 0.0]), EDGE, out.edge)
 
 
 def _at_rest(exact: BoxOutcome) -> bool:

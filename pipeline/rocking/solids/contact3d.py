@@ -90,6 +90,7 @@ from .at_rest import ground_at, set_down, set_still
 from .attitude import energy, rotation, turned, world_inverse_inertia
 from .contact_pose import (
     LYING_SLACK_RAD,
+    Pose,
     degrees,
     extent,
     lean_of,
@@ -100,12 +101,13 @@ from .contact_pose import (
 )
 from .contact_problem import MAX_SWEEPS
 from .contact_reduced import solve_step, solvers
+from .contact_room import Room, made_fresh, room
 from .contact_start import Start, begin, place
 from .convex_body import ConvexBody, base_threshold, support_threshold
 from .edge_stop import handback
 from .flat_slide import flat_and_sliding, held_through, set_flat
 from .long_steps import impact_ahead, last_passed, steps_merged
-from .near_ground import listed, near
+from .near_ground import listed
 
 #: The largest step [s]: a sampling interval is taken in the fewest equal steps of at most this.
 MAX_STEP_S = 5e-4
@@ -230,7 +232,8 @@ class Contact3DOutcome(NamedTuple):
 
 def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *, yaw_deg: float = 0.0,
                        g_ms2: float = G, history: bool = False, start: Start | None = None,
-                       edges: np.ndarray | None = None, flat_slides: bool = True) -> Contact3DOutcome:
+                       edges: np.ndarray | None = None, flat_slides: bool = True,
+                       prepared: Prepared | None = None) -> Contact3DOutcome:
     """The body, standing on its base with its x axis at ``yaw_deg`` from the record's x (counter-clockwise seen
     from above), under the ground acceleration (ax, ay, az) [m s-2] (az None: none) sampled at ``dt_s``; with
     ``history`` its tilt and lean at each sample too; with ``start``, from that state at its time instead of from
@@ -240,22 +243,21 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     sticking, every other vertex without impulse: the outcome's ``edge``, ``t_end_s``, ``q_end`` and
     ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`). With ``flat_slides`` (and
     plastic contacts), a body flat on its base is stepped as the translation it is while each step's impulses allow
-    it (:mod:`.flat_slide`); without, every step is the contact problem's."""
+    it (:mod:`.flat_slide`); without, every step is the contact problem's. With ``prepared`` (:func:`prepare`'s, for
+    this ``body``, ``dt_s`` and ``flat_slides``), its arrays are taken, made fresh in place, instead of made again
+    (the same run: the kernel reads none of what a run before left in them)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
-    n_sub = steps_per_sample(dt_s)
+    kit = prepare(body, dt_s, flat_slides=flat_slides) if prepared is None else prepared._replace(
+        room=made_fresh(prepared.room))
     hist = np.full((ax.size if history else 0, 2), math.nan)
-    vertices = np.ascontiguousarray(body.vertices, dtype=float)
-    stance = pose(vertices, body.rest, body.tipping_rad, base=flat_slides and float(body.restitution) == 0.0)
-    room = _room(vertices)
     pairs = np.zeros((0, 2), dtype=np.int64) if edges is None else np.ascontiguousarray(edges, dtype=np.int64)
-    out = _run(ax, ay, az, float(dt_s), n_sub, vertices, np.ascontiguousarray(body.inertia, dtype=float),
-               float(body.mu), float(body.restitution), math.radians(yaw_deg), float(g_ms2),
-               solvers(len(body.vertices)), hist, stance, room,
-               begin(start, dt_s / n_sub, float(dt_s), stance.up, hist), pairs, steps_merged(n_sub, dt_s / n_sub))
+    out = _run(ax, ay, az, float(dt_s), kit.n_sub, kit.vertices, kit.inertia, float(body.mu), float(body.restitution),
+               math.radians(yaw_deg), float(g_ms2), kit.work, hist, kit.stance, kit.room,
+               begin(start, dt_s / kit.n_sub, float(dt_s), kit.stance.up, hist), pairs, kit.merge)
     if out.edge >= 0:
-        out = out._replace(q_end=room.q.copy(), rate_end_rad_s=room.w.copy())
+        out = out._replace(q_end=kit.room.q.copy(), rate_end_rad_s=kit.room.w.copy())
     return out._replace(tilt_rad=hist[:, 0], lean_deg=np.degrees(hist[:, 1])) if history else out
 
 
@@ -264,31 +266,29 @@ def steps_per_sample(dt_s: float) -> int:
     return max(1, int(math.ceil(dt_s / MAX_STEP_S - 1e-9)))
 
 
-class _Room(NamedTuple):
-    """The arrays the kernel works in, made once per run (the kernel makes none: :func:`~pipeline.compiled.jit_lean`):
-    ``contact`` the last impulse per vertex (the warm start), room for the contacts' arms, indices, velocities
-    and impulses, the vertices near the ground (:class:`~.near_ground.Near`) and the vertices the last step loaded
-    (how many, then which: the only impulses not zero, cleared at the next step rather than every vertex's);
-    ``frames`` room for a step's middle quaternion, rotation and world inverse inertia; ``r`` the rotation at a
-    step's end; the body's place ``x``, orientation ``q``, velocity ``v`` and rate ``w``."""
+class Prepared(NamedTuple):
+    """A body's arrays for the kernel on a record sampled at one interval (:func:`prepare`), made once for the runs
+    of one scene (:mod:`.alternate`'s, from each hand-back): its vertices and inertias as the kernel takes them, its
+    :class:`~.contact_pose.Pose`, the kernel's :class:`~.contact_room.Room` and solvers, the steps a sample is taken
+    in and those taken as one (:func:`~.long_steps.steps_merged`)."""
 
-    contact: tuple
-    frames: tuple
-    r: np.ndarray
-    x: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    w: np.ndarray
+    vertices: np.ndarray
+    inertia: np.ndarray
+    stance: Pose
+    room: Room
+    work: tuple
+    n_sub: int
+    merge: int
 
 
-def _room(vertices: np.ndarray) -> _Room:
-    """The kernel's arrays for a body of ``vertices`` (:class:`_Room`), the warm start at zero, no list of the
-    vertices near the ground yet."""
-    n_v = len(vertices)
-    return _Room((np.zeros((n_v, 3)), np.empty((n_v, 3)), np.empty(n_v, dtype=np.int64), np.empty(n_v),
-                  np.empty((n_v, 3)), near(vertices), np.zeros(n_v + 1, dtype=np.int64)),
-                 (np.empty(4), np.empty((3, 3)), np.empty((3, 3))),
-                 np.empty((3, 3)), np.empty(3), np.empty(4), np.empty(3), np.empty(3))
+def prepare(body: ConvexBody, dt_s: float, *, flat_slides: bool = True) -> Prepared:
+    """The :class:`Prepared` arrays of ``body`` on a record sampled at ``dt_s`` [s] (``flat_slides`` as
+    :func:`simulate_contact3d`'s)."""
+    vertices = np.ascontiguousarray(body.vertices, dtype=float)
+    n_sub = steps_per_sample(dt_s)
+    return Prepared(vertices, np.ascontiguousarray(body.inertia, dtype=float),
+                    pose(vertices, body.rest, body.tipping_rad, base=flat_slides and float(body.restitution) == 0.0),
+                    room(vertices), solvers(len(vertices)), n_sub, steps_merged(n_sub, dt_s / n_sub))
 
 
 @jit_inline

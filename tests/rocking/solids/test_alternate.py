@@ -18,7 +18,7 @@ from pipeline.constants import G
 from pipeline.rocking.solids.alternate import alternate, cannot_tip_over
 from pipeline.rocking.solids.box3d import EDGE, Box, simulate_box
 from pipeline.rocking.solids.box_handback import BOX_EDGES, box_model, edge_state
-from pipeline.rocking.solids.contact3d import simulate_contact3d
+from pipeline.rocking.solids.contact3d import prepare, simulate_contact3d
 from pipeline.rocking.solids.contact_scene import contact_scene, handoff
 from pipeline.rocking.solids.handoff3d import base_corner
 
@@ -106,3 +106,20 @@ def test_the_end_of_record_certificate_is_housners_free_rocking_threshold(share)
     assert b < d and cannot_tip_over((q, np.array([0.0, rate, 0.0]), corner), _model(), G) == (share < 1.0)
     wide = math.sqrt(2.0 * G * (math.hypot(d, h) - h) / (4.0 * (d * d + h * h) / 3.0))
     assert not cannot_tip_over((q, np.array([-0.99 * wide, 0.0, 0.0]), corner), _model(), G)
+
+
+def test_runs_on_prepared_arrays_are_runs_on_fresh_ones():
+    """The alternation's contact runs share one body's arrays (:func:`~.contact3d.prepare`), made fresh in place
+    before each: a run on arrays another scene's runs left behind gives, double for double, what a run on arrays made
+    for it gives (a second path: the arrays made anew, as a run without them makes them)."""
+    body = CABINET.convex()
+    prepared = prepare(body, DT_S)
+    for amplitude_g, frequency_hz, azimuth_deg in [(0.6, 2.0, 30.0), (0.4, 1.0, 30.0), (0.6, 2.0, 0.0)]:
+        ax, ay = sine_then_still(amplitude_g, frequency_hz, azimuth_deg)
+        start = handoff(simulate_box(ax, ay, None, DT_S, CABINET), CABINET, 0.0, DT_S)
+        for edges in (BOX_EDGES, None):
+            reused = simulate_contact3d(ax, ay, None, DT_S, body, start=start, edges=edges, prepared=prepared)
+            fresh = simulate_contact3d(ax, ay, None, DT_S, body, start=start, edges=edges)
+            assert reused.steps > 0 and (reused.edge >= 0) == (edges is not None)
+            for name, value in fresh._asdict().items():
+                np.testing.assert_array_equal(getattr(reused, name), value, err_msg=name)
