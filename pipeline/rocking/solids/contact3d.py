@@ -244,13 +244,15 @@ def simulate_contact3d(ax_ms2, ay_ms2, az_ms2, dt_s: float, body: ConvexBody, *,
     ``rate_end_rad_s`` say where (an exact model goes on from there: :mod:`.alternate`). With ``flat_slides`` (and
     plastic contacts), a body flat on its base is stepped as the translation it is while each step's impulses allow
     it (:mod:`.flat_slide`); without, every step is the contact problem's. With ``prepared`` (:func:`prepare`'s, for
-    this ``body``, ``dt_s`` and ``flat_slides``), its arrays are taken, made fresh in place, instead of made again
-    (the same run: the kernel reads none of what a run before left in them)."""
+    this ``body``, ``dt_s`` and ``flat_slides``), its arrays are taken instead of made again: the room made fresh in
+    place (:func:`~.contact_room.made_fresh`), and the rest the kernel writes before it reads, so the run is the one
+    new arrays give, double for double (tested)."""
     ax = np.ascontiguousarray(ax_ms2, dtype=float)
     ay = np.ascontiguousarray(ay_ms2, dtype=float)
     az = np.zeros_like(ax) if az_ms2 is None else np.ascontiguousarray(az_ms2, dtype=float)
-    kit = prepare(body, dt_s, flat_slides=flat_slides) if prepared is None else prepared._replace(
-        room=made_fresh(prepared.room))
+    kit = prepare(body, dt_s, flat_slides=flat_slides) if prepared is None else prepared
+    if prepared is not None:
+        made_fresh(kit.room)
     hist = np.full((ax.size if history else 0, 2), math.nan)
     pairs = np.zeros((0, 2), dtype=np.int64) if edges is None else np.ascontiguousarray(edges, dtype=np.int64)
     out = _run(ax, ay, az, float(dt_s), kit.n_sub, kit.vertices, kit.inertia, float(body.mu), float(body.restitution),

@@ -38,12 +38,11 @@ def room(vertices: np.ndarray) -> Room:
                 np.empty((3, 3)), np.empty(3), np.empty(4), np.empty(3), np.empty(3))
 
 
-def made_fresh(rm: Room) -> Room:
-    """``rm`` as :func:`room` makes it, in place: the warm start at zero, no list of the vertices near the ground,
-    no vertex loaded by a last step (the kernel writes the rest before it reads it)."""
+def made_fresh(rm: Room) -> None:
+    """``rm`` made, in place, as :func:`room` makes it: the warm start at zero, no list of the vertices near the
+    ground, no vertex loaded by a last step (the kernel writes the rest before it reads it)."""
     rm.contact[0].fill(0.0)
     nr = rm.contact[5]
     nr.n_listed[0] = -1
     nr.state[:4] = (0.0, 0.0, 1.0, 0.0)         # near_ground.near's, the body's reach kept
     rm.contact[6].fill(0)
-    return rm
