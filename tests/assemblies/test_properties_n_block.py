@@ -26,6 +26,7 @@ def _stack(shapes):
         return None
 
 
+@pytest.mark.slow                    # 9 s alone: make test-slow keeps make test under 5 min from a fresh clone
 @settings(max_examples=400, deadline=None)
 @given(shapes=st.lists(body, min_size=1, max_size=N), data=st.data(), ground=st.tuples(st.floats(-15, 15),
                                                                                       st.floats(-5, 5)))

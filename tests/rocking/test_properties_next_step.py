@@ -3,6 +3,7 @@ evaluated (``kernel._next_step`` returns the cap where the controller's step is 
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -22,6 +23,7 @@ def _controller(hh: float, err: float) -> float:
     return hh * min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT))
 
 
+@pytest.mark.slow                    # 11 s alone: make test-slow keeps make test under 5 min from a fresh clone
 @settings(max_examples=3000, deadline=None)
 @given(dt=st.floats(1e-4, 0.05), hh_frac=st.floats(1e-6, 1.0), err=st.floats(GROWTH_CERTAIN_BELOW, 1.0),
        left_frac=st.floats(1e-9, 1.0 + SAMPLE_INDEX_TOL), h_max=st.floats(1e-4, 1.0))
