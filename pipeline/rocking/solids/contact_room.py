@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .near_ground import near
+from .near_ground import emptied, near
 
 
 class Room(NamedTuple):
@@ -42,7 +42,5 @@ def made_fresh(rm: Room) -> None:
     """``rm`` made, in place, as :func:`room` makes it: the warm start at zero, no list of the vertices near the
     ground, no vertex loaded by a last step (the kernel writes the rest before it reads it)."""
     rm.contact[0].fill(0.0)
-    nr = rm.contact[5]
-    nr.n_listed[0] = -1
-    nr.state[:4] = (0.0, 0.0, 1.0, 0.0)         # near_ground.near's, the body's reach kept
+    emptied(rm.contact[5])
     rm.contact[6].fill(0)

@@ -58,8 +58,16 @@ class Near(NamedTuple):
 def near(vertices: np.ndarray) -> Near:
     """An empty list for the body's ``vertices`` about G [m] (made at its first step)."""
     reach = float(np.max(np.linalg.norm(vertices, axis=1))) if len(vertices) else 0.0
-    return Near(np.empty(len(vertices), dtype=np.int64), np.full(1, -1, dtype=np.int64),
-                np.array([0.0, 0.0, 1.0, 0.0, reach]))
+    nr = Near(np.empty(len(vertices), dtype=np.int64), np.empty(1, dtype=np.int64), np.array([0, 0, 0, 0, reach]))
+    emptied(nr)
+    return nr
+
+
+def emptied(nr: Near) -> None:
+    """``nr`` made, in place, the empty list :func:`near` makes (its body's reach kept): no vertex listed, made up
+    from the upright at no cut."""
+    nr.n_listed[0] = -1
+    nr.state[:4] = (0.0, 0.0, 1.0, 0.0)
 
 
 @jit_inline
