@@ -71,11 +71,20 @@ def _fresh_arrays(original):
     return run
 
 
-def replay(calls: list[Call]) -> tuple[float, list[tuple]]:
-    """Every call replayed; the wall time [s] and the outcomes."""
+#: Calls between two progress lines of a pass (about 1 s of them; a pass of the bundled default's calls takes 10-15 s)
+PROGRESS_EVERY = 150
+
+
+def replay(calls: list[Call], label: str = "") -> tuple[float, list[tuple]]:
+    """Every call replayed; the wall time [s] and the outcomes. With ``label``, a progress line every
+    :data:`PROGRESS_EVERY` calls (on stderr)."""
+    outs = []
     t0 = time.perf_counter()
-    outs = [alternation.alternate(c.ax, c.ay, c.az, c.dt_s, c.model, c.azimuth_deg, c.start, g_ms2=c.g_ms2)
-            for c in calls]
+    for i, c in enumerate(calls, 1):
+        outs.append(alternation.alternate(c.ax, c.ay, c.az, c.dt_s, c.model, c.azimuth_deg, c.start, g_ms2=c.g_ms2))
+        if label and i % PROGRESS_EVERY == 0:
+            print(f"  {label}: {i} of {len(calls)} calls, {time.perf_counter() - t0:.1f} s", file=sys.stderr,
+                  flush=True)
     wall = time.perf_counter() - t0
     return wall, [(o.overturned, o.tilt_max_rad, o.slide_max_m, o.lean_at_peak_deg, o.integrated_steps) for o in outs]
 
@@ -95,7 +104,7 @@ def main(argv: list[str]) -> int:
         for name in times:
             alternation.simulate_contact3d = original if name == "prepared once a scene" else _fresh_arrays(original)
             try:
-                wall, outcomes[name] = replay(calls)
+                wall, outcomes[name] = replay(calls, f"pass {k + 1}, {name}")
             finally:
                 alternation.simulate_contact3d = original
             times[name].append(wall)
