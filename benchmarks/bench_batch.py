@@ -25,6 +25,8 @@ Run: python benchmarks/bench_batch.py [--records N] [--blocks N] [--skip-dask] [
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import shutil
 import subprocess

@@ -9,6 +9,8 @@ record (RSN1063) in every 5-degree plane. Run: ``python benchmarks/bench_boundar
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import math
 import sys
@@ -18,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))          # the boundary scenes the tests draw
+sys.path[:0] = [str(ROOT / "tests" / "support"), str(ROOT / "tests" / "rocking")]   # the scenes the tests draw
 
 from boundary_scenes import block, mu_ties, run_scene  # noqa: E402
 from test_boundaries_fuzz import _draws  # noqa: E402

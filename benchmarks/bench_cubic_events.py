@@ -12,6 +12,8 @@ Run: .venv/bin/python benchmarks/bench_cubic_events.py [--steps N]
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import time
 
@@ -119,6 +121,7 @@ def main() -> None:
           f"{slope:.1e}")
     turn = _cases(args.steps, rng, crossing=False)
     p_new, t_new = time_per_case(_peaks, turn, True)
+    print("  turning points solved; bisecting them", flush=True)    # a compiled call of about 1 s follows
     p_old, t_old = time_per_case(_peaks, turn, False)
     rel = np.abs(p_new - p_old) / np.maximum(np.abs(p_old), 1e-300)
     print(f"turning points ({args.steps} steps): solved {1e6 * t_new:.4f} us, bisected {1e6 * t_old:.3f} us a call "

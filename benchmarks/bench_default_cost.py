@@ -23,6 +23,8 @@ Run: ``python benchmarks/bench_default_cost.py [--records 20] [--blocks 200] [--
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import pstats
 import shutil
@@ -166,10 +168,13 @@ def _inventory(path: Path, n: int, seed: int = 7) -> None:
 
 
 def _run(records: Path, blocks: Path, out: Path, *options: str) -> float:
+    label = f"screen {' '.join(options) or '(the default)'}"
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "pipeline.cli", "--records", str(records), "--blocks", str(blocks),
                     "--out", str(out), "--force", "--tolerate-failures", "-q", *options], check=True)
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    print(f"  {label}: {wall:.1f} s", flush=True)
+    return wall
 
 
 def _profile(records: Path, blocks: Path, out: Path, *options: str) -> None:
@@ -230,6 +235,9 @@ def main() -> None:
             n_rec, args.blocks = ds.sizes["record"], ds.sizes["block"]
         sims, rob, orient = ds["sample_simulations"].values, ds["robustness"].values, ds["orientation"].values
         moving = ds["physics"].values > 0
+        print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
+              f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
+              f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)", flush=True)
         if args.profile:
             for name, options in (("nominal", ("--samples", "0")), ("default", ())):
                 print(f"{name}, by stage:")
@@ -240,9 +248,6 @@ def main() -> None:
         if args.by_path:
             print("the blank-azimuth scenes' draws in one process, by the worst orientation's path:")
             _in_one_process(_BY_PATH_CODE, records, blocks, root / "by-path")
-    print(f"{n_rec} records x {args.blocks} blocks: --samples 0 {nominal:.1f} s, default {default:.1f} s: "
-          f"{default / nominal:.2f}x (wall, median of {len(times['nominal'])}: "
-          f"{', '.join(f'{a:.1f}/{b:.1f}' for a, b in zip(times['default'], times['nominal']))} s)")
     print(f"moving scenes {int(moving.sum())} of {moving.size}; sampled planes {int(sims[sims > 0].sum())}, "
           f"{sims[moving].clip(0).mean():.1f} per moving scene against {MIN_ROBUST_DRAWS} for a robust class in one "
           "plane")

@@ -12,6 +12,8 @@ Run: python benchmarks/bench_fragility.py [--records 16] [--blocks 16] [--levels
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import subprocess
 import sys

@@ -55,6 +55,8 @@ Run: ``python benchmarks/bench_granite.py ../shared/experiments/granite-pbr --ou
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import csv
 import dataclasses

@@ -18,6 +18,8 @@ Run: ``python benchmarks/bench_orientation_reference.py --compare base/screening
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import dataclasses
 import math

@@ -17,6 +17,8 @@ both paths must give identical candidates, and the pulses along each orientation
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import math
 import sys
 import time

@@ -12,6 +12,8 @@ Run: python benchmarks/bench_rocking.py [--limit N]
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import time
 from pathlib import Path

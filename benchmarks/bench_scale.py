@@ -14,6 +14,8 @@ Run: python benchmarks/bench_scale.py [--records 10,100] [--blocks 10,100,1000] 
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import re
 import sys

@@ -13,6 +13,8 @@ Run: .venv/bin/python benchmarks/bench_step_trig.py [--steps N]
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 
 import numba

@@ -24,6 +24,8 @@ the ratios it measured. Run: python benchmarks/bench_whole.py [--records 50]
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import shutil
 import subprocess

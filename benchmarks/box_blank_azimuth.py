@@ -14,6 +14,8 @@ Run: ``python benchmarks/box_blank_azimuth.py``.
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import time
 from pathlib import Path
 

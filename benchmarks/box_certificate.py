@@ -10,6 +10,8 @@ Run: ``python benchmarks/box_certificate.py [--draws 40]``.
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import time
 from pathlib import Path

@@ -22,6 +22,8 @@ end itself, its verdicts and peaks with the contact model's alone.
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import math
 import sys
 from pathlib import Path

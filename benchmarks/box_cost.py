@@ -13,6 +13,8 @@ Usage::
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import math
 import sys
 import time

@@ -14,6 +14,8 @@ Exit 0 when everything compared is identical, 1 otherwise (each difference print
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import sys
 from pathlib import Path

@@ -14,6 +14,8 @@ Run: ``python benchmarks/contact3d_flat.py [--records N]``.
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import math
 import time

@@ -14,6 +14,8 @@ About 2.5 minutes on 2 cores (one process).
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import math
 import tempfile

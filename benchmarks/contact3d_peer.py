@@ -11,6 +11,8 @@ Run: ``python benchmarks/contact3d_peer.py [--families statues,cabinets,boxes,cy
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import dataclasses
 import math

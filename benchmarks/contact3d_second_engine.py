@@ -14,6 +14,8 @@ in docs/validation.md; ``pip install mujoco``).
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import math
 import sys
 from pathlib import Path

@@ -17,6 +17,8 @@ test extras: ``pip install pybullet mujoco``).
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import math
 import sys
@@ -119,6 +121,14 @@ def main() -> None:
     ap.add_argument("--stations", default=",".join(STATIONS))
     ap.add_argument("--no-mujoco", action="store_true")
     args = ap.parse_args()
+    if not args.no_mujoco:
+        try:
+            import mujoco  # noqa: F401
+        except ImportError:
+            sys.exit("MuJoCo is not installed (a test extra): pip install mujoco, or run with --no-mujoco")
+    unknown = [s for s in args.stations.split(",") if s not in STATIONS]
+    if unknown:
+        sys.exit(f"--stations: {', '.join(unknown)} unknown; choose from {','.join(STATIONS)}")
     wanted = [STATIONS[s] for s in args.stations.split(",")]
     records = [r for r in iter_records(ROOT / "records", config=Config())
                if not r.single_component and r.azimuth_known and r.record_id[:7] in wanted]

@@ -21,6 +21,8 @@ Run: ``python benchmarks/contact3d_steps.py [--granite ../shared/experiments/gra
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import contextlib
 import csv

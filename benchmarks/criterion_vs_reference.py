@@ -13,6 +13,8 @@ Run: python benchmarks/criterion_vs_reference.py
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import csv
 from pathlib import Path
 

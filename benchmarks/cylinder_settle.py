@@ -11,6 +11,8 @@ Run: ``python benchmarks/cylinder_settle.py``.
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import math
 import sys
 import time

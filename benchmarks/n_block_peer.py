@@ -13,6 +13,8 @@ Run: ``python benchmarks/n_block_peer.py [--pga 0.5] [--records 21] [--cost-only
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import collections
 import statistics

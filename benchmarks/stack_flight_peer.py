@@ -18,6 +18,8 @@ Run: ``python benchmarks/stack_flight_peer.py [--families statue,two,three,five]
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import statistics
 import sys

@@ -26,6 +26,8 @@ Run: ``python benchmarks/stack_slip_peer.py [--mu 0.6] [--pga 0.5] [--records 21
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import cProfile
 import pstats

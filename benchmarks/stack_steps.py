@@ -20,6 +20,8 @@ Run: ``python benchmarks/stack_steps.py [--mu 0.5,0.6] [--pga 0.5] [--records 21
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import statistics
 import sys

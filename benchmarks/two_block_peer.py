@@ -15,6 +15,8 @@ PyBullet is a test extra).
 
 from __future__ import annotations
 
+import heartbeat  # noqa: F401  # isort: skip  (first: a line every 2 s of silence, imports included)
+
 import argparse
 import math
 import statistics

@@ -18,6 +18,8 @@ GRANITE = Path(__file__).resolve().parents[2] / "shared" / "experiments" / "gran
 
 @pytest.fixture(scope="module")
 def bench():
+    if str(BENCH.parent) not in sys.path:
+        sys.path.insert(0, str(BENCH.parent))           # the benchmarks' own imports (heartbeat), as when run
     spec = importlib.util.spec_from_file_location("bench_granite", BENCH)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)

@@ -29,6 +29,8 @@ OUTPUTS = PLAIN_BEFORE_SETS[Family.SCREENING]
 
 
 def _compare_dirs():
+    if str(PROJECT / "benchmarks") not in sys.path:
+        sys.path.insert(0, str(PROJECT / "benchmarks"))   # the benchmarks' own imports (heartbeat), as when run
     spec = importlib.util.spec_from_file_location("compare_outputs", PROJECT / "benchmarks" / "compare_outputs.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
