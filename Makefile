@@ -65,13 +65,14 @@ test: $(VENV)/.installed-test browser
 # The tests marked slow (each over 15 s: kill and interrupt runs, Dask runs against serial, re-measured
 # figures quoted to users; the process pools against serial, 7-8 s each; and whole screen runs of 4-9 s each
 # whose check a faster test also makes on fewer files or models: every bundled file, the pulse parity through the
-# command, a model added to the registry, four of the five outputs' failed writes; and nine checks of 2.6-5.3 s
+# command, a model added to the registry, four of the five outputs' failed writes; and eleven checks of 2.6-6 s
 # each, moved here because make test from a fresh clone, its install and compilation included, took 299 s: a
 # signal at exit, margins split into tasks, a stack's shared runs, the run layer against its stages, a fragility
-# link, the constrain page, a units.toml line, make's ticker, bench's failing record; and twenty checks whose file
-# keeps faster ones of the same code: the five on the fragility suite against solve_ivp (its fixture 25-29 s), the
-# drum columns' reference verdicts (17-23 s), nine of the twelve two-sided bodies (12-15 s together), the 20 m column on
-# El Centro, a forced re-run, a run that lost a worker, a planted link, a helper's wait (4-8 s each): without them
+# link, the constrain page, a units.toml line, make's ticker, the benchmarks' heartbeat and loading, bench's
+# failing record; and twenty checks whose file keeps faster ones of the same code: the five on the fragility
+# suite against solve_ivp (its fixture 25-29 s), the drum columns' reference verdicts (17-23 s), nine of the
+# twelve two-sided bodies (12-15 s together), the 20 m column on El Centro, a forced re-run, a run that lost a
+# worker, a planted link, a helper's wait (4-8 s each): without them
 # the suite took 260 s on 2 cores, with them 281-295 s, the same slower day, numba's cache warm); CI runs them after
 # make test
 test-slow: $(VENV)/.installed-test peers

@@ -8,7 +8,10 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+pytestmark = pytest.mark.slow       # about 6 s of waiting; the developers' tooling, not the product
 
 
 def _lines_with_times(code: str) -> list[tuple[float, str]]:

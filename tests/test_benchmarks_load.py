@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 #: The test extras a benchmark may need at import (the independent engines): without them it is not a failure here
 EXTRAS = ("pybullet", "mujoco", "openseespy", "openquake", "pelicun")
@@ -31,6 +33,7 @@ print(json.dumps(failed))
 """
 
 
+@pytest.mark.slow                   # about 5 s; the developers' benchmarks, not the product
 def test_every_benchmark_loads_with_the_package_and_the_tests_as_they_are():
     assert sorted(BENCHMARKS.glob("*.py")), "no benchmark found"
     out = subprocess.run([sys.executable, "-c", _LOAD_ALL, str(BENCHMARKS)], capture_output=True, text=True,
