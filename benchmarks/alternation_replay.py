@@ -6,8 +6,8 @@ The default run on the bundled records (``screen`` with its defaults, one proces
 family's alternation wrapped to keep its inputs (the ground, the exact model, the azimuth and the start of every
 call); then the calls are replayed, the two versions in alternating passes, each pass timed whole. Prints every
 pass, the medians and their ratio, and whether every outcome (verdict, peak tilt, slide, lean, steps) of the two
-versions is the same. The captured grounds are kept in memory (about 0.7 GB for the bundled default's 2,095 calls;
-``--limit`` keeps fewer).
+versions is the same. Every call's ground is kept in memory (the draws scale the record, so each call holds its
+own: three components of the record's length in doubles; ``--limit`` keeps fewer calls).
 
 Usage::
 

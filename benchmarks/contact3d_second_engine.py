@@ -71,11 +71,18 @@ def mujoco_overturns(kind, w, d, h, mu, ax, ay, az, dt, *, step_s=STEP_S, scale=
     return False
 
 
-def main() -> None:
+def require_mujoco(*, otherwise: str = "") -> None:
+    """Stop with the fix where MuJoCo (a test extra) is not installed; ``otherwise`` the way to run without it."""
     try:
-        import mujoco
+        import mujoco  # noqa: F401
     except ImportError:
-        sys.exit("MuJoCo is not installed (a test extra): pip install mujoco")
+        sys.exit("MuJoCo is not installed (a test extra): pip install mujoco" + (f", or {otherwise}" if otherwise
+                                                                                  else ""))
+
+
+def main() -> None:
+    require_mujoco()
+    import mujoco
     cases = ([(a, int(b), c) for a, b, c in (x.split(":") for x in sys.argv[1:])] if sys.argv[1:]
              else DISAGREEMENTS)
     records = {r.record_id: r for r in iter_records(ROOT / "records", config=Config())

@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT / "tests" / "support"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from contact3d_peer import _frame  # noqa: E402
-from contact3d_second_engine import mujoco_body  # noqa: E402
+from contact3d_second_engine import mujoco_body, require_mujoco  # noqa: E402
 from rigid_body_peer import STEP_S, _free_body, _world, ground_at, pybullet  # noqa: E402
 
 from pipeline.config import Config  # noqa: E402
@@ -122,10 +122,7 @@ def main() -> None:
     ap.add_argument("--no-mujoco", action="store_true")
     args = ap.parse_args()
     if not args.no_mujoco:
-        try:
-            import mujoco  # noqa: F401
-        except ImportError:
-            sys.exit("MuJoCo is not installed (a test extra): pip install mujoco, or run with --no-mujoco")
+        require_mujoco(otherwise="run with --no-mujoco")
     unknown = [s for s in args.stations.split(",") if s not in STATIONS]
     if unknown:
         sys.exit(f"--stations: {', '.join(unknown)} unknown; choose from {','.join(STATIONS)}")

@@ -5,7 +5,9 @@ A benchmark imports this module before anything else (``import heartbeat``). Run
 benchmarks/NAME.py``: this folder is then on ``sys.path`` and the script is ``__main__``), the heartbeat starts at
 that import and stops at the interpreter's exit. Imported otherwise (a test loading a benchmark's functions), it
 starts nothing. What the benchmark prints through ``sys.stdout`` or ``sys.stderr`` restarts the silence; a child
-process's output does not, so a line may come while a child prints.
+process's output does not, so a line may come while a child prints. The lines come from a thread: a compiled call
+that holds the interpreter (numba's code does) delays them until it returns, so a benchmark whose single compiled
+call lasts longer than the silence prints a line before it (as ``bench_cubic_events.py`` does).
 """
 
 from __future__ import annotations

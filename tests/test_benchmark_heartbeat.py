@@ -1,5 +1,5 @@
-"""The benchmarks' heartbeat (benchmarks/heartbeat.py): a benchmark run as a script is never silent for more than
-2 s, its own output restarts the silence, and a benchmark imported by a test starts nothing."""
+"""The benchmarks' heartbeat (benchmarks/heartbeat.py): a benchmark run as a script that waits in silence says every
+2 s that it runs, its own output restarts the silence, and a benchmark imported by a test starts nothing."""
 
 from __future__ import annotations
 

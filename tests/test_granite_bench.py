@@ -5,27 +5,19 @@ predictions the issue asks for. The data stays in ../shared (GPL-3): the slow te
 from __future__ import annotations
 
 import csv
-import importlib.util
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from benchmark_modules import load_benchmark
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_granite.py"
 GRANITE = Path(__file__).resolve().parents[2] / "shared" / "experiments" / "granite-pbr"
 
 
 @pytest.fixture(scope="module")
 def bench():
-    if str(BENCH.parent) not in sys.path:
-        sys.path.insert(0, str(BENCH.parent))           # the benchmarks' own imports (heartbeat), as when run
-    spec = importlib.util.spec_from_file_location("bench_granite", BENCH)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["bench_granite"] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_benchmark("bench_granite")
 
 
 def test_the_logistic_fit_recovers_a_known_curve(bench):

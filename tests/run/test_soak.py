@@ -5,7 +5,6 @@ an uninterrupted run's: the new one, or the one it showed before. ``make soak`` 
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import random
 import signal
@@ -15,6 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
+from benchmark_modules import load_benchmark
 
 from pipeline.store.sets import PLAIN_BEFORE_SETS, Family
 
@@ -29,12 +29,7 @@ OUTPUTS = PLAIN_BEFORE_SETS[Family.SCREENING]
 
 
 def _compare_dirs():
-    if str(PROJECT / "benchmarks") not in sys.path:
-        sys.path.insert(0, str(PROJECT / "benchmarks"))   # the benchmarks' own imports (heartbeat), as when run
-    spec = importlib.util.spec_from_file_location("compare_outputs", PROJECT / "benchmarks" / "compare_outputs.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.compare_dirs
+    return load_benchmark("compare_outputs").compare_dirs
 
 
 def _children(pid: int) -> list[int]:
