@@ -93,7 +93,7 @@ def _general_twin(facts, x, block, control, w):
     """The general contact model from rest on the sample's projection (overturns or stands)."""
     _project(x)
     from_zero = rigid_block(block.p, block.alpha, block.e, block.R, block.mu, block.g, block.rest_ratio)
-    return (OVERTURNS if from_rest(x.a, x.av_s, x.dt, from_zero, True).overturned else STANDS), True
+    return (OVERTURNS if from_rest(x.a, x.av_s, x.dt, from_zero, bool(True)).overturned else STANDS), True
 
 
 def _general_warmup() -> None:
@@ -191,12 +191,13 @@ def _rocking_twin(facts, x, block, control, w):
     ``w.quiet`` shows cannot lift it); with the contact model, the general model continues where pure rocking stops
     (no_verdict without it, where the ground reached free flight)."""
     _project(x)
-    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, True, w.no_output, w.quiet)
+    # bool(True): the kernels' version that Python's calls compile too, not one more for a constant
+    res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, bool(True), w.no_output, w.quiet)
     if res.overturned:
         return OVERTURNS, True
     if x.contact_model:
         if stopped_short(res):
-            return (OVERTURNS if continue_rocking(res, x.a, x.av_s, x.dt, block, control, True).overturned
+            return (OVERTURNS if continue_rocking(res, x.a, x.av_s, x.dt, block, control, bool(True)).overturned
                     else STANDS), True
         return STANDS, True
     return (NO_VERDICT if res.status & STATUS_GROUND_FLIGHT else STANDS), True

@@ -266,7 +266,8 @@ def _free_rocking(blk, progress):
     pr = progress[0]
     if pr.mode != ROCK:
         return
-    over, peak, extra = free_outcome(pr.theta, pr.w, blk.p * blk.p, blk.alpha, blk.e, False)
+    # bool(False): the version the rocking kernel compiles (numba would specialize on the constant)
+    over, peak, extra = free_outcome(pr.theta, pr.w, blk.p * blk.p, blk.alpha, blk.e, bool(False))
     pr.theta_max = max(pr.theta_max, peak)
     if over:
         pr.overturned, pr.t_overturn, pr.mode = True, pr.t, OVERTURNED

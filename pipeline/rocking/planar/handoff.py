@@ -120,7 +120,8 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
     for _ in range(MAX_SEGMENTS):
         if o.status & STATUS_GROUND_FLIGHT:
             status |= STATUS_GROUND_FLIGHT
-        g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, True, hist)
+        # bool(): one compiled version of the contact model for both hand-backs (numba specializes on a constant)
+        g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, bool(True), hist)
         theta_max = max(theta_max, g.theta_max_rad)
         n_imp += g.n_impacts
         slip, slip_max = g.slip_end, max(slip_max, g.slip_max)
@@ -159,4 +160,4 @@ def from_rest(ah, av, dt, blk: RigidBlock, tail_energy: bool, theta_out=None) ->
     at_rest = ContactState(t=0.0, mode=REST, corner=1.0, sigma=1.0, x=0.0, y=0.0, theta=0.0, u=0.0, v=0.0, w=0.0,
                            slip=0.0)
     hist = theta_out if theta_out is not None else ah[:0]
-    return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, False, hist)
+    return contact.move(ah, av, dt, blk, at_rest, tail_energy, math.inf, bool(False), hist)

@@ -268,7 +268,8 @@ def _impact(hh, x, dt, pc, b, control, lim, progress, theta_out):
     pr = progress[0]
     t, th, om, s = pr.t, pr.theta, pr.omega, pr.pivot
     alpha, _r, p2, ratio = side_of(b, s)
-    hs, ths, oms = locate_impact(t, th, om, hh, x, pc, s, p2, alpha, b.g, False)
+    # bool(False): the rocking kernel's version of the step (numba would specialize on the constant)
+    hs, ths, oms = locate_impact(t, th, om, hh, x, pc, s, p2, alpha, b.g, bool(False))
     peak = max(abs(th), abs(ths))
     if s * om > 0.0 and s * oms < 0.0:
         peak = max(peak, hermite_peak(th, om, ths, oms, hs))
@@ -305,7 +306,7 @@ def _rocking_step(has_v, dt, pc, b, control, lim, progress, theta_out):
     hh = min(pr.h, lim.h_max, pc.t1 - t)
     if hh <= min_step:
         hh = pc.t1 - t
-    th1, om1, et, eo, acc1, sin1, cos1 = dopri_step(t, th, om, hh, pc, s, p2, alpha, b.g, False)
+    th1, om1, et, eo, acc1, sin1, cos1 = dopri_step(t, th, om, hh, pc, s, p2, alpha, b.g, bool(False))
     err = step_error(th, om, th1, om1, et, eo, lim, control.rtol)
     if err > 1.0 and hh > min_step:
         reject(hh, err, min_step, progress)

@@ -276,7 +276,8 @@ def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, rho)
         q[3 * c + 1] = v[1] + w[2] * rx - w[0] * rz
         q[3 * c + 2] = v[2] + w[0] * ry - w[1] * rx + (e_n * u_before[c] if u_before[c] < 0.0 else 0.0)
         pv[3 * c], pv[3 * c + 1], pv[3 * c + 2] = p[c, 0], p[c, 1], p[c, 2]
-    size = _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, True)
+    # bool() and int() below: one compiled version of each callee, not one per constant (numba specializes on one)
+    size = _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, bool(True))
     goal = (NEWTON_TOL * SWEEP_TOL * scale) ** 2
     taken = 0
     damping = LM_DAMPING
@@ -287,7 +288,7 @@ def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, rho)
         for _ in range(LINE_SEARCH_HALVINGS):
             for i in range(m):
                 trial[i] = pv[i] + t * step[i]
-            new = _natural_map(big, q, trial, rho, mu, n_c, f_trial, jac, dp, False)
+            new = _natural_map(big, q, trial, rho, mu, n_c, f_trial, jac, dp, bool(False))
             if new < size:
                 better = True
                 break
@@ -302,7 +303,7 @@ def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, rho)
             pv[i] = trial[i]
         size = new
         if size > goal and taken < NEWTON_ITERATIONS:       # the Jacobian only where another iteration needs it
-            _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, True)
+            _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, bool(True))
     for c in range(n_c):
         p[c, 0], p[c, 1], p[c, 2] = pv[3 * c], pv[3 * c + 1], pv[3 * c + 2]
     return taken
@@ -403,7 +404,7 @@ def _reset(v, w, free):
 def _round(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
     """Newton from ``p``, then :data:`SWEEPS_PER_ROUND` sweeps: the sweeps taken, or -1."""
     newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, work.rho)
-    return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+    return sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, int(SWEEPS_PER_ROUND))
 
 
 @jit_inline
@@ -420,7 +421,7 @@ def _side_starts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, done
         for k in range(1, most + 1):
             _reset(v, w, free)
             _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k)
-            taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, SWEEPS_PER_ROUND)
+            taken = sweep_contacts(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, int(SWEEPS_PER_ROUND))
             if taken > 0:
                 return taken, done
             done += SWEEPS_PER_ROUND
@@ -469,7 +470,7 @@ def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
         s_before[j] = u_before[at]
         s_p[j, 0], s_p[j, 1], s_p[j, 2] = 0.0, 0.0, scale / k
     _step_sizes(inv_i, s_arms, k, work.block, work.cone, work.side_rho)
-    newton_start(v, w, inv_i, s_arms, k, s_before, mu, e_n, scale, s_p, work, work.side_rho)
+    newton_start(v, w, inv_i, s_arms, int(k), s_before, mu, e_n, scale, s_p, work, work.side_rho)   # int(): one version
     for c in range(n_c):
         p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, 0.0
     for j in range(k):
