@@ -191,7 +191,7 @@ def _rocking_twin(facts, x, block, control, w):
     ``w.quiet`` shows cannot lift it); with the contact model, the general model continues where pure rocking stops
     (no_verdict without it, where the ground reached free flight)."""
     _project(x)
-    # bool(True): the kernels' version that Python's calls compile too, not one more for a constant
+    # bool(True): one compiled version for every caller (pipeline.compiled)
     res = rock_compiled(x.a, x.av_s, x.dt, x.t_end, block, control, w.at_rest, bool(True), w.no_output, w.quiet)
     if res.overturned:
         return OVERTURNS, True

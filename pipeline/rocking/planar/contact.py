@@ -266,7 +266,7 @@ def _free_rocking(blk, progress):
     pr = progress[0]
     if pr.mode != ROCK:
         return
-    # bool(False): the version the rocking kernel compiles (numba would specialize on the constant)
+    # bool(False): one compiled version for every caller (pipeline.compiled)
     over, peak, extra = free_outcome(pr.theta, pr.w, blk.p * blk.p, blk.alpha, blk.e, bool(False))
     pr.theta_max = max(pr.theta_max, peak)
     if over:

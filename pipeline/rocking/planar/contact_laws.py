@@ -311,7 +311,7 @@ def state_verdict(mode, th, w, blk):
     |theta| still to come [rad]). A block on a corner (rock, slide-rock, flight) is judged by the energy of its
     free rocking from there (:func:`.kernel.free_outcome`: as if the ground stopped); a flat one stands."""
     if (mode == ROCK or mode == SLIDE_ROCK or mode == FLIGHT) and th != 0.0:
-        over, peak, _extra = free_outcome(th, w, blk.p * blk.p, blk.alpha, blk.e, bool(False))   # one version
+        over, peak, _extra = free_outcome(th, w, blk.p * blk.p, blk.alpha, blk.e, bool(False))
         return over, peak
     return False, abs(th)
 

@@ -120,7 +120,7 @@ def continue_rocking(first: RockingOutcome, ah, av, dt, blk: RigidBlock, control
     for _ in range(MAX_SEGMENTS):
         if o.status & STATUS_GROUND_FLIGHT:
             status |= STATUS_GROUND_FLIGHT
-        # bool(): one compiled version of the contact model for both hand-backs (numba specializes on a constant)
+        # bool(): one compiled version of the contact model for both hand-backs (pipeline.compiled)
         g = contact.move(ah, av, dt, blk, start_state(o, blk, slip), tail_energy, math.inf, bool(True), hist)
         theta_max = max(theta_max, g.theta_max_rad)
         n_imp += g.n_impacts

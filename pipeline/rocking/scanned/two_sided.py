@@ -268,7 +268,7 @@ def _impact(hh, x, dt, pc, b, control, lim, progress, theta_out):
     pr = progress[0]
     t, th, om, s = pr.t, pr.theta, pr.omega, pr.pivot
     alpha, _r, p2, ratio = side_of(b, s)
-    # bool(False): the rocking kernel's version of the step (numba would specialize on the constant)
+    # bool(False): the rocking kernel's version of the step (pipeline.compiled)
     hs, ths, oms = locate_impact(t, th, om, hh, x, pc, s, p2, alpha, b.g, bool(False))
     peak = max(abs(th), abs(ths))
     if s * om > 0.0 and s * oms < 0.0:

@@ -349,8 +349,7 @@ def _moreau_step(x, q, v, w, frames, vertices, inertia, contact, mu, e_n, g, h, 
     world_inverse_inertia(rm, inertia, inv_i)
     _free_velocity(v, w, rm, inv_i, inertia, h, gx, gy, g + gz)
     n_c = _contacts(vertices, rm, x[2], v, w, h * (g + gz), impulses, arms, index, u_before, p, nr)
-    # int(n_c): typed int64 from the start; numba would otherwise also compile the solver for the literal 0 that
-    # n_c is typed as before its loop is unified (a version never run)
+    # int(n_c): one compiled version, not one more for the literal 0 n_c starts at (pipeline.compiled)
     taken = 0 if n_c == 0 else solve_step(v, w, inv_i, arms, int(n_c), u_before, mu, e_n, g * h, p, work)
     for c in range(loaded[0]):              # the last step's impulses, the only ones not zero, cleared
         impulses[loaded[c + 1], 0], impulses[loaded[c + 1], 1], impulses[loaded[c + 1], 2] = 0.0, 0.0, 0.0

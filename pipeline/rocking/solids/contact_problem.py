@@ -276,7 +276,7 @@ def newton_start(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, rho)
         q[3 * c + 1] = v[1] + w[2] * rx - w[0] * rz
         q[3 * c + 2] = v[2] + w[0] * ry - w[1] * rx + (e_n * u_before[c] if u_before[c] < 0.0 else 0.0)
         pv[3 * c], pv[3 * c + 1], pv[3 * c + 2] = p[c, 0], p[c, 1], p[c, 2]
-    # bool() and int() below: one compiled version of each callee, not one per constant (numba specializes on one)
+    # bool() and int() below: one compiled version of each callee (pipeline.compiled)
     size = _natural_map(big, q, pv, rho, mu, n_c, f, jac, dp, bool(True))
     goal = (NEWTON_TOL * SWEEP_TOL * scale) ** 2
     taken = 0
@@ -470,7 +470,7 @@ def _tipping_side(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work, k):
         s_before[j] = u_before[at]
         s_p[j, 0], s_p[j, 1], s_p[j, 2] = 0.0, 0.0, scale / k
     _step_sizes(inv_i, s_arms, k, work.block, work.cone, work.side_rho)
-    newton_start(v, w, inv_i, s_arms, int(k), s_before, mu, e_n, scale, s_p, work, work.side_rho)   # int(): one version
+    newton_start(v, w, inv_i, s_arms, int(k), s_before, mu, e_n, scale, s_p, work, work.side_rho)
     for c in range(n_c):
         p[c, 0], p[c, 1], p[c, 2] = 0.0, 0.0, 0.0
     for j in range(k):

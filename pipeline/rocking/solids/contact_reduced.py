@@ -78,7 +78,7 @@ def solve_step(v, w, inv_i, arms, n_c, u_before, mu, e_n, scale, p, work):
         work.arms[j, 0], work.arms[j, 1], work.arms[j, 2] = arms[c, 0], arms[c, 1], arms[c, 2]
         work.before[j] = u_before[c]
         work.p[j, 0], work.p[j, 1], work.p[j, 2] = p[c, 0], p[c, 1], p[c, 2]
-    # int(k): typed int64 from the start (numba would also compile the solver for the literal 0 of k's first type)
+    # int(k): one compiled version, not one more for the literal 0 k starts at (pipeline.compiled)
     taken = solve_contacts(v, w, inv_i, work.arms, int(k), work.before, mu, e_n, scale, work.p, work.whole)
     if taken > 0 and _holds_without(v, w, arms, n_c, u_before, e_n, work.kept, k, VERIFY_TOL * scale):
         for c in range(n_c):
