@@ -23,6 +23,9 @@ from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import from_rest, rock, slide
 
 REST = contact.ContactState(0.0, codes.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: No history, as the simulator's own calls pass it: the compiled model's arguments typed as they are
+#: (pipeline.compiled, 'One version per solver'), so that the tests compile no version of their own
+NO_HISTORY = np.empty(0)
 
 
 def contact_block(height_m, width_m, mu, e=None):
@@ -86,7 +89,7 @@ def test_onset_from_rest_follows_zhang_makris_eq7(a_over_g, side):
     mu = side * onset_friction(a_over_g * G, alpha)
     cb = contact_block(2.0, 0.3, mu=mu)
     assert mu > math.tan(alpha)
-    out = contact.move(np.full(4, a_over_g * G), np.zeros(0), 0.01, cb, REST, True, 1e-4)
+    out = contact.move(np.full(4, a_over_g * G), np.zeros(0), 0.01, cb, REST, True, 1e-4, False, NO_HISTORY)
     expected = ContactMode.slide_rock if side < 1 else ContactMode.rock
     assert out.modes == expected
 
@@ -101,7 +104,7 @@ def test_initiation_regions_of_shenton(alpha, mu, a_over_g):
     H = 2.0
     cb = contact_block(H, H * math.tan(alpha), mu=mu)
     a = a_over_g * G
-    out = contact.move(np.full(4, a), np.zeros(0), 0.01, cb, REST, True, 1e-4)
+    out = contact.move(np.full(4, a), np.zeros(0), 0.01, cb, REST, True, 1e-4, False, NO_HISTORY)
     if a <= min(mu, math.tan(alpha)) * G:
         expected = 0
     elif mu <= math.tan(alpha) or alpha >= math.asin(math.sqrt(2 / 3)):
@@ -120,7 +123,7 @@ def test_free_flight_is_a_parabola_with_constant_spin():
     y0, u0, v0, w0, th0 = 0.5, 0.3, 1.0, 0.8, 0.1
     start = contact.ContactState(0.0, codes.FLIGHT, 1.0, 1.0, 0.0, y0, th0, u0, v0, w0, 0.0)
     t = 0.2
-    out = contact.move(np.zeros(1001), np.zeros(0), 0.001, cb, start, False, t)
+    out = contact.move(np.zeros(1001), np.zeros(0), 0.001, cb, start, False, t, False, NO_HISTORY)
     end = out.end
     assert end.t == pytest.approx(t, abs=1e-12)
     assert end.y == pytest.approx(y0 + v0 * t - 0.5 * G * t * t, abs=1e-12)
@@ -137,7 +140,7 @@ def test_flight_relative_to_a_moving_ground_integrates_it_exactly():
     ah = k * np.arange(1001) * dt                      # a_h = k t
     start = contact.ContactState(0.0, codes.FLIGHT, 1.0, 1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     t = 0.3
-    end = contact.move(ah, np.zeros(0), dt, cb, start, False, t).end
+    end = contact.move(ah, np.zeros(0), dt, cb, start, False, t, False, NO_HISTORY).end
     assert end.x == pytest.approx(-k * t ** 3 / 6, abs=1e-12)
     assert end.u == pytest.approx(-k * t ** 2 / 2, abs=1e-12)
 
@@ -153,7 +156,7 @@ def test_general_model_with_ample_friction_matches_the_rocking_kernel(amplitude_
     rocking kernel (Dormand-Prince, Housner's impact) give the same response."""
     cb = contact_block(2.0, 0.3, mu=100.0)
     ah, dt = half_sine(amplitude_g * G, 0.8)
-    general = contact.move(ah, np.zeros(0), dt, cb, REST, True)
+    general = contact.move(ah, np.zeros(0), dt, cb, REST, True, math.inf, False, NO_HISTORY)
     pure = rock(ah, dt, p=cb.p, alpha=cb.alpha, e=cb.e, R_m=cb.R)
     assert general.overturned == pure.overturned
     assert general.theta_max_rad / cb.alpha == pytest.approx(pure.theta_max, rel=1e-4)
