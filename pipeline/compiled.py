@@ -9,8 +9,9 @@ since they were cached are dropped (:func:`pipeline.kernel_cache.drop_stale_kern
 **One version per solver.** numba compiles a function once per set of argument types, and in compiled code a constant
 argument (``True``, ``0``, a module constant) is a literal type of its own, as is a counter before its loop's types
 are unified (the literal 0 it starts at): each such call compiled the callee again. A compiled call of a solver passes
-``bool(...)`` or ``int(...)`` of such a value, which numba types as Python's calls are typed, so that every caller
-shares one version (docs/validation.md, "One compiled version per solver": 288 compiled functions against 311).
+``bool(...)`` or ``int(...)`` of such a value, which numba types as Python's calls are typed, and gives every argument
+(an empty array for no history, not ``None`` or the default), so that every caller shares one version
+(docs/validation.md, "One compiled version per solver": 281 compiled functions against 311).
 """
 
 from __future__ import annotations

@@ -161,7 +161,7 @@ def _planner_verdict(ah_ms2: np.ndarray, av_ms2, dt_s: float, table, *, block: B
     across, vertical = np.zeros_like(ah_ms2), np.zeros(0) if av_ms2 is None else av_ms2
 
     def verdict_at(factor: float) -> int:
-        ratio = scaled_demand_ratio(ah_ms2, across, 1.0, 0.0, factor, vertical, av_ms2 is not None, block.g_ms2)
+        ratio = scaled_demand_ratio(ah_ms2, across, 1.0, 0.0, factor, vertical, av_ms2 is not None, block.g_ms2, False)
         return simulate_scene(factor * ah_ms2, None if av_ms2 is None else factor * av_ms2, dt_s, block=block,
                               settings=settings, ratio=ratio, quiet=scaled_quiet_table(table, factor)).verdict
 

@@ -92,8 +92,11 @@ def _project(x):
 def _general_twin(facts, x, block, control, w):
     """The general contact model from rest on the sample's projection (overturns or stands)."""
     _project(x)
-    from_zero = rigid_block(block.p, block.alpha, block.e, block.R, block.mu, block.g, block.rest_ratio)
-    return (OVERTURNS if from_rest(x.a, x.av_s, x.dt, from_zero, bool(True)).overturned else STANDS), True
+    from_zero = rigid_block(block.p, block.alpha, block.e, block.R, block.mu, block.g, block.rest_ratio, bool(False),
+                            math.inf)
+    # every argument given, typed as the simulator's other calls type them (pipeline.compiled)
+    return (OVERTURNS if from_rest(x.a, x.av_s, x.dt, from_zero, bool(True), w.no_output.theta).overturned
+            else STANDS), True
 
 
 def _general_warmup() -> None:
@@ -197,7 +200,8 @@ def _rocking_twin(facts, x, block, control, w):
         return OVERTURNS, True
     if x.contact_model:
         if stopped_short(res):
-            return (OVERTURNS if continue_rocking(res, x.a, x.av_s, x.dt, block, control, bool(True)).overturned
+            return (OVERTURNS if continue_rocking(res, x.a, x.av_s, x.dt, block, control, bool(True),
+                                                 w.no_output.theta).overturned
                     else STANDS), True
         return STANDS, True
     return (NO_VERDICT if res.status & STATUS_GROUND_FLIGHT else STANDS), True
@@ -208,7 +212,7 @@ def _rocking_warmup() -> None:
     a = 3.0 * np.sin(2.0 * np.pi * t)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0)
     rock(a, 0.01, p=2.0, alpha=0.2, e=0.9, R_m=1.0, av_ms2=0.1 * a, history=True, log_impacts=2)
-    scaled_demand_ratio(a, np.zeros_like(a), 1.0, 0.0, 1.5, 0.1 * a, True, G)     # the margin's scan of a block
+    scaled_demand_ratio(a, np.zeros_like(a), 1.0, 0.0, 1.5, 0.1 * a, True, G, False)     # the margin's scan of a block
     blk = Block(p=2.0, alpha=0.2, e=0.9, R_m=1.0, mu=0.21)
     for history in (False, True):
         _rocking(SceneInput(ah_ms2=a, av_ms2=None, vertical_ms2=None, dt_s=0.01, block=blk,

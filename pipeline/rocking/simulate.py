@@ -295,6 +295,12 @@ def contact_block(block, settings: SimulationConfig) -> RigidBlock:
                        float(block.g_ms2), float(settings.rest_ratio), False, float(block.mu))
 
 
+def _history(theta_out: np.ndarray | None) -> np.ndarray:
+    """The contact model's history argument: ``theta_out``, or an empty array for none (an array either way, so
+    that one compiled version serves both: pipeline.compiled, 'One version per solver')."""
+    return np.empty(0) if theta_out is None else theta_out
+
+
 def _contact_result(o) -> ContactResult:
     return ContactResult(bool(o.overturned), float(o.t_overturn), float(o.theta_max_rad), int(o.n_impacts),
                          float(o.slip_max), float(o.slip_end), int(o.modes), int(o.status))
@@ -312,7 +318,7 @@ def continued(ah_ms2, av_ms2, dt_s: float, rr: RockResult, *, block,
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     return _contact_result(handoff.continue_rocking(outcome, ah, av, float(dt_s), contact_block(block, settings),
-                                                    step_control(settings), True, rr.theta))
+                                                    step_control(settings), True, _history(rr.theta)))
 
 
 def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig = SimulationConfig(),
@@ -322,4 +328,5 @@ def from_rest(ah_ms2, av_ms2, dt_s: float, *, block, settings: SimulationConfig 
     ah = _series("horizontal acceleration", ah_ms2)
     av = np.zeros(0) if av_ms2 is None else _series("vertical acceleration", av_ms2, ah.size)
     _positive(dt_s=dt_s)
-    return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True, theta_out))
+    return _contact_result(handoff.from_rest(ah, av, float(dt_s), contact_block(block, settings), True,
+                                             _history(theta_out)))

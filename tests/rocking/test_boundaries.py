@@ -96,9 +96,9 @@ def test_tie_rule_1_mu_at_tan_alpha_slides_and_beyond_the_tolerance_rocks(alpha_
     assert rules.rocks(alpha, ties["above"])
     # the compiled twin and the contact model's onset say the same
     assert rules.rocks_compiled(alpha, ties["tie_up"]) is False
-    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6)
+    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["tie_up"], G, 1e-6, False, math.inf)
     assert contact_laws._onset(0.9 * G, G, blk)[0] == codes.SLIDE
-    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6)
+    blk = rigid_block(3.0, alpha, 0.9, 1.0, ties["above"], G, 1e-6, False, math.inf)
     assert contact_laws._onset(math.tan(alpha) * G * 1.0000001, G, blk)[0] in (codes.ROCK, codes.SLIDE_ROCK)
 
 
@@ -148,7 +148,7 @@ def test_tie_rule_2_exactly_at_the_threshold_rests_and_one_double_above_moves(al
 def test_tie_rule_2_the_sliding_kernel_and_the_general_model_agree_at_the_threshold():
     a = np.full(200, 0.3 * G)
     assert slide(a, 0.01, mu=0.3, g_ms2=G).sliding_max_m == 0.0
-    cb = rigid_block(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6)
+    cb = rigid_block(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6, False, math.inf)
     out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, np.empty(0))
     assert out.slip_max == 0.0 and out.modes == 0
 
@@ -241,7 +241,7 @@ def test_a_scene_at_its_step_budget_ends_with_the_verdict_of_its_state(monkeypat
     from pipeline.rocking.structures import RockingOutput, RockingState
 
     a = np.full(400, 0.5 * G)
-    o = rock_py(a, np.zeros(0), 0.01, 3.99, rigid_block(3.0, 0.2, 0.9, 1.0, math.inf, G, 1e-6),
+    o = rock_py(a, np.zeros(0), 0.01, 3.99, rigid_block(3.0, 0.2, 0.9, 1.0, math.inf, G, 1e-6, False, math.inf),
                 step_control(SimulationConfig()), RockingState(0.0, 0.0, 0.0), True,
                 RockingOutput(np.zeros(0), np.zeros((0, 3))), NO_QUIET)
     assert o.status & kernel.STATUS_STEP_CAP and o.t_stop < 3.99
@@ -265,7 +265,7 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     m = type("M", (), {"ah": a, "av": None, "dt": 0.01})()
     for mu in (0.1, 2.0):
         assert sampled_verdict(m, block(1.0, 0.2, mu)) in (0, 1)
-    cb = rigid_block(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6)
+    cb = rigid_block(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6, False, math.inf)
     out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, np.empty(0))
     assert not out.overturned or n == 2
 

@@ -130,7 +130,7 @@ def _plane_demands(h1, h2, cosines, sines, k, eps, av, has_v, g, thr, ratios):
     exceeds ``thr`` (the sample moves)."""
     moves = False
     for j in range(ratios.size):
-        ratios[j] = scaled_demand_ratio(h1, h2, cosines[k, j], sines[k, j], eps, av, has_v, g)
+        ratios[j] = scaled_demand_ratio(h1, h2, cosines[k, j], sines[k, j], eps, av, has_v, g, bool(False))
         moves = moves or ratios[j] > thr
     return moves
 
@@ -169,7 +169,7 @@ def _workspace(motion):
 def _sample_block(p, alpha, e, R, mu, g, control, contact_model):
     """A sample's compiled block; the rocking kernel stops where the pivot's friction demand exceeds mu when the
     contact model continues (else never)."""
-    return rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, False, mu if contact_model else math.inf)
+    return rigid_block(p, alpha, e, R, mu, g, control.rest_ratio, bool(False), mu if contact_model else math.inf)
 
 
 @jit
@@ -268,7 +268,7 @@ def sample_verdicts(motion, cosines, sines, blocks, rules, verdict_out, planes_o
         verdict_out[k] = STANDS
         planes_out[k] = 0
         # the horizontal vector bounds every plane's demand; a sample no plane moves rests, nothing integrated
-        if n_p > 1 and not scaled_demand_ratio(h1, h2, 0.0, 0.0, eps[k], av, has_v, g, True) > thr:
+        if n_p > 1 and not scaled_demand_ratio(h1, h2, 0.0, 0.0, eps[k], av, has_v, g, bool(True)) > thr:
             continue
         if not _plane_demands(h1, h2, cosines, sines, k, eps[k], av, has_v, g, thr, ratios):
             continue

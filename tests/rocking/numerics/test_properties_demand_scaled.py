@@ -27,7 +27,7 @@ def test_the_scaled_ratio_is_the_ratio_of_the_scaled_record(series, factor, azim
     c, s = float(np.cos(np.radians(azimuth_deg))), float(np.sin(np.radians(azimuth_deg)))
     none = np.zeros(0)
     for (w1, w2), along in (((1.0, 0.0), h1), ((c, s), c * h1 + s * h2)):
-        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, av, True, G) == \
+        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, av, True, G, False) == \
             demand_ratio(factor * along, factor * av, g_ms2=G)               # inf where g + f a_v <= 0 somewhere
-        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, none, False, G) == \
+        assert ground.scaled_demand_ratio(h1, h2, w1, w2, factor, none, False, G, False) == \
             demand_ratio(factor * along, None, g_ms2=G)

@@ -32,7 +32,7 @@ def contact_block(height_m, width_m, mu, e=None):
     b, h = width_m / 2, height_m / 2
     R, alpha = math.hypot(b, h), math.atan(b / h)
     e = contact_laws.housner_restitution(alpha) if e is None else e
-    return rigid_block(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6)
+    return rigid_block(math.sqrt(3 * G / (4 * R)), alpha, e, R, mu, G, 1e-6, False, math.inf)
 
 
 def rocking_block(cb):
