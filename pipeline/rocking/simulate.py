@@ -296,9 +296,9 @@ def contact_block(block, settings: SimulationConfig) -> RigidBlock:
 
 
 def _history(theta_out: np.ndarray | None) -> np.ndarray:
-    """The contact model's history argument: ``theta_out``, or an empty array for none (an array either way, so
-    that one compiled version serves both: pipeline.compiled, 'One version per solver')."""
-    return np.empty(0) if theta_out is None else theta_out
+    """The contact model's history argument: ``theta_out``, or the kernel's empty one for none (an array either way,
+    so that one compiled version serves both: pipeline.compiled, 'One version per solver')."""
+    return kernel.empty_theta() if theta_out is None else theta_out
 
 
 def _contact_result(o) -> ContactResult:

@@ -5,7 +5,8 @@ A worker the server forks reads its process object from the run's process before
 before the pool knew its pid and could end it), the semaphores and pipe that object names are gone, and the read fails
 with an ``OSError`` or ``EOFError``, which the server's child printed as a traceback under the run's "interrupted"
 line. :func:`worker_start_hook` ends such a worker without a word; every other exception is printed as Python prints
-it, and a run still there sees the worker lost (and says so)."""
+it. A run still there finds its pool broken and starts a new one (:meth:`.executors.ProcessExecutor.map_unordered`,
+with a warning where tasks were in flight)."""
 
 from __future__ import annotations
 

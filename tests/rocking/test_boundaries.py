@@ -149,7 +149,7 @@ def test_tie_rule_2_the_sliding_kernel_and_the_general_model_agree_at_the_thresh
     a = np.full(200, 0.3 * G)
     assert slide(a, 0.01, mu=0.3, g_ms2=G).sliding_max_m == 0.0
     cb = rigid_block(3.0, math.radians(40.0), 0.5, 1.0, 0.3, G, 1e-6, False, math.inf)
-    out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, np.empty(0))
+    out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, kernel.empty_theta())
     assert out.slip_max == 0.0 and out.modes == 0
 
 
@@ -266,7 +266,7 @@ def test_the_compiled_kernels_end_on_empty_and_one_sample_records(n):
     for mu in (0.1, 2.0):
         assert sampled_verdict(m, block(1.0, 0.2, mu)) in (0, 1)
     cb = rigid_block(3.0, 0.2, 0.9, 1.0, 2.0, G, 1e-6, False, math.inf)
-    out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, np.empty(0))
+    out = contact.move(a, np.zeros(0), 0.01, cb, AT_REST, True, math.inf, False, kernel.empty_theta())
     assert not out.overturned or n == 2
 
 

@@ -23,10 +23,13 @@ def _start_failure(payload: list[bytes]) -> tuple:
     with os.fdopen(w, "wb") as writer:
         for part in payload:
             writer.write(part)
+    sentinel = os.dup(r)
     try:
-        spawn._main(r, os.dup(r))
+        spawn._main(r, sentinel)
     except Exception:
         return sys.exc_info()
+    finally:
+        os.close(sentinel)                      # the worker's own run would have closed it; it never starts
     raise AssertionError("the worker's start did not fail")
 
 

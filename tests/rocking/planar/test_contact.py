@@ -17,15 +17,15 @@ import pytest
 from pipeline.constants import G
 from pipeline.rocking import codes
 from pipeline.rocking.block import Block, rigid_block
-from pipeline.rocking.planar import contact, contact_laws
+from pipeline.rocking.planar import contact, contact_laws, kernel
 from pipeline.rocking.planner import ContactMode, Physics, simulate_scene
 from pipeline.rocking.settings import SimulationConfig
 from pipeline.rocking.simulate import from_rest, rock, slide
 
 REST = contact.ContactState(0.0, codes.REST, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-#: No history, as the simulator's own calls pass it: the compiled model's arguments typed as they are
-#: (pipeline.compiled, 'One version per solver'), so that the tests compile no version of their own
-NO_HISTORY = np.empty(0)
+#: No history, as the simulator's own calls pass it (the compiled model's arguments typed as they are:
+#: pipeline.compiled, 'One version per solver'), so that the tests compile no version of their own
+NO_HISTORY = kernel.empty_theta()
 
 
 def contact_block(height_m, width_m, mu, e=None):
